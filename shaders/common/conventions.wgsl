@@ -1,0 +1,45 @@
+// Pipeline conventions (spec §1–3). PIPELINE: 0 built-in, 1 URP, 2 HDRP (an override constant,
+// so each (pipeline, model) pair compiles to its own specialised pipeline).
+override PIPELINE: u32 = 0u;
+
+// Material as the model receives it: metallic already converted by the pipeline (presets.md).
+struct Surface {
+    base_color: vec3<f32>,
+    metallic: f32,
+    smoothness: f32,
+};
+
+// Irradiance delivered per unit of light "intensity": built-in and URP intensities carry π (§1 "The π convention")
+fn irradiance_per_intensity() -> f32 {
+    if (PIPELINE == 2u) {
+        return 1.0;
+    }
+    return PI;
+}
+
+// Distance attenuation, d in metres (§1 built-in approximation, §2 URP, §3 HDRP); twin: pipelines::Attenuation
+fn distance_attenuation(d: f32, range: f32) -> f32 {
+    let d2 = d * d;
+    if (PIPELINE == 0u) {
+        // APPROXIMATION of the unpublished falloff texture: 1/(1 + 25x²)·smoothstep(1, 0.8, x)
+        let x = d / range;
+        let t = sat((x - 1.0) / (0.8 - 1.0));
+        return t * t * (3.0 - 2.0 * t) / (1.0 + 25.0 * x * x);
+    }
+    if (PIPELINE == 1u) {
+        // (1/max(d², HALF_MIN))·sat(1 − (d²/r²)²)²
+        let a = 1.0 / max(range * range, 1e-4);
+        let f = sat(1.0 - (d2 * a) * (d2 * a));
+        return f * f / max(d2, 6.103515625e-5);
+    }
+    // [min(1/d, 1/0.01)·sat(1 − (d²/r²)²)]²
+    let f = sat(1.0 - (d2 / (range * range)) * (d2 / (range * range)));
+    let g = min(1.0 / d, 100.0) * f;
+    return g * g;
+}
+
+// Spot cone: sat((S·L − cosOuter)/max(ε, cosInner − cosOuter))² (URP §2; HDRP's form is the same with ε = 1e-4)
+fn angle_attenuation(cos_angle: f32, cos_outer: f32, cos_inner: f32) -> f32 {
+    let a = sat((cos_angle - cos_outer) / max(0.001, cos_inner - cos_outer));
+    return a * a;
+}

@@ -1,0 +1,19 @@
+// Shared math and constants (spec/shading.md notation). Prepended to every model and pass.
+const PI: f32 = 3.14159265358979;
+const INV_PI: f32 = 0.318309886183791;
+
+// sat(x) = clamp(x, 0, 1) (spec notation)
+fn sat(x: f32) -> f32 {
+    return clamp(x, 0.0, 1.0);
+}
+
+// x⁵ by multiplies: pow() is undefined for x = 0 in WGSL (spec §6)
+fn pow5(x: f32) -> f32 {
+    let x2 = x * x;
+    return x2 * x2 * x;
+}
+
+// v·rsqrt(max(eps, |v|²)): normalize(0) is NaN in WGSL (spec §6, Unity_SafeNormalize)
+fn safe_normalize(v: vec3<f32>, eps: f32) -> vec3<f32> {
+    return v * inverseSqrt(max(eps, dot(v, v)));
+}

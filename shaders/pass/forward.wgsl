@@ -1,0 +1,90 @@
+// Forward pass: one draw per object, every light summed per pixel, ambient from the environment.
+
+@group(1) @binding(0) var<uniform> object: Object;
+
+struct VertexIn {
+    @location(0) position: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) uv: vec2<f32>,
+    @location(3) tangent: vec4<f32>,
+};
+
+struct VertexOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world_pos: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) uv: vec2<f32>,
+};
+
+struct FragmentOut {
+    @location(0) color: vec4<f32>,
+    @location(1) role: u32,
+};
+
+@vertex
+fn vs_main(in: VertexIn) -> VertexOut {
+    var out: VertexOut;
+    let world = object.model * vec4<f32>(in.position, 1.0);
+    out.world_pos = world.xyz;
+    out.clip = frame.view_proj * world;
+    out.normal = (object.normal_matrix * vec4<f32>(in.normal, 0.0)).xyz;
+    out.uv = in.uv;
+    return out;
+}
+
+fn material_at(uv: vec2<f32>) -> Surface {
+    var m = object.material;
+    if (object.flags.x == 1u) {
+        m = frame.subject;
+    }
+    var s: Surface;
+    s.base_color = m.base_color.rgb;
+    s.metallic = m.params.x;
+    s.smoothness = m.params.y;
+    if (m.params.z > 0.0) {
+        let cell = floor(uv / m.params.z);
+        if (((i32(cell.x) + i32(cell.y)) & 1) == 1) {
+            s.base_color = m.checker_color.rgb;
+        }
+    }
+    return s;
+}
+
+// Direction to the light and its attenuation at p (distance and cone; directional: 1)
+fn light_incidence(light: Light, p: vec3<f32>) -> vec4<f32> {
+    let kind = u32(light.position.w);
+    if (kind == 0u) {
+        return vec4<f32>(-normalize(light.direction.xyz), 1.0);
+    }
+    let to_light = light.position.xyz - p;
+    let d = length(to_light);
+    let l = to_light / max(d, 1e-6);
+    var atten = distance_attenuation(d, light.params.x);
+    if (kind == 2u) {
+        atten *= angle_attenuation(dot(normalize(light.direction.xyz), -l), light.params.y, light.params.z);
+    }
+    return vec4<f32>(l, atten);
+}
+
+@fragment
+fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> FragmentOut {
+    var n = normalize(in.normal);
+    if (!front) {
+        n = -n;
+    }
+    let v = normalize(frame.camera_pos.xyz - in.world_pos);
+    let s = material_at(in.uv);
+    var c = vec3<f32>(0.0);
+    for (var i = 0u; i < frame.counts.x; i++) {
+        let light = frame.lights[i];
+        let inc = light_incidence(light, in.world_pos);
+        if (inc.w > 0.0) {
+            c += model_direct(s, n, v, inc.xyz) * light.color.rgb * inc.w;
+        }
+    }
+    c += model_indirect(s, n, v, ambient_diffuse(n));
+    var out: FragmentOut;
+    out.color = vec4<f32>(c, 1.0);
+    out.role = object.flags.y;
+    return out;
+}

@@ -1,0 +1,69 @@
+// Frame and object data shared by the forward and background passes; twin: render::uniforms.
+
+struct Light {
+    position: vec4<f32>,   // xyz position; w: 0 directional, 1 point, 2 spot
+    direction: vec4<f32>,  // xyz direction the light travels
+    color: vec4<f32>,      // linear colour × intensity in the pipeline's units
+    params: vec4<f32>,     // range, cos outer, cos inner, unused
+};
+
+struct Material {
+    base_color: vec4<f32>,   // linear
+    params: vec4<f32>,       // metallic (as the shader receives it), smoothness, checker cell (0: none), unused
+    checker_color: vec4<f32>,
+};
+
+struct Frame {
+    view_proj: mat4x4<f32>,
+    inv_view_proj: mat4x4<f32>,
+    camera_pos: vec4<f32>,
+    lights: array<Light, 4>,
+    counts: vec4<u32>,        // x: light count
+    sh: array<vec4<f32>, 9>,  // cosine-convolved SH of the environment: E(n)/π = Σ sh[i]·Y_i(n)
+    env: vec4<f32>,           // x: probe levels − 1, y: radiance scale
+    subject: Material,
+};
+
+struct Object {
+    model: mat4x4<f32>,
+    normal_matrix: mat4x4<f32>,
+    material: Material,
+    flags: vec4<u32>,         // x: 1 = subject (uses the swept material), y: role id written to the mask
+};
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+@group(0) @binding(1) var env_probe: texture_2d_array<f32>;
+@group(0) @binding(2) var env_sampler: sampler;
+
+// Real SH basis, bands 0–2, times the coefficients: the ambient term E(n)/π (twin: environment::sh)
+fn ambient_diffuse(n: vec3<f32>) -> vec3<f32> {
+    var r = frame.sh[0].rgb * 0.282095;
+    r += frame.sh[1].rgb * (0.488603 * n.y);
+    r += frame.sh[2].rgb * (0.488603 * n.z);
+    r += frame.sh[3].rgb * (0.488603 * n.x);
+    r += frame.sh[4].rgb * (1.092548 * n.x * n.y);
+    r += frame.sh[5].rgb * (1.092548 * n.y * n.z);
+    r += frame.sh[6].rgb * (0.315392 * (3.0 * n.z * n.z - 1.0));
+    r += frame.sh[7].rgb * (1.092548 * n.x * n.z);
+    r += frame.sh[8].rgb * (0.546274 * (n.x * n.x - n.y * n.y));
+    return max(r, vec3<f32>(0.0)) * frame.env.y;
+}
+
+// Equirectangular lookup (u: azimuth from −Z towards +X, v: polar angle from +Y); twin: environment::dir_to_uv
+fn equirect_uv(d: vec3<f32>) -> vec2<f32> {
+    return vec2<f32>(atan2(d.x, -d.z) * (0.5 * INV_PI) + 0.5, acos(clamp(d.y, -1.0, 1.0)) * INV_PI);
+}
+
+fn probe_level(d: vec3<f32>, level: f32) -> vec3<f32> {
+    return textureSampleLevel(env_probe, env_sampler, equirect_uv(d), i32(level), 0.0).rgb;
+}
+
+// Prefiltered environment along r; mip = pr(1.7 − 0.7·pr)·6 (§1 reflection-probe mip), levels blended linearly
+fn env_specular(r: vec3<f32>, perceptual_roughness: f32) -> vec3<f32> {
+    let pr = perceptual_roughness;
+    let mip = clamp(pr * (1.7 - 0.7 * pr) * 6.0, 0.0, frame.env.x);
+    let lo = floor(mip);
+    let hi = min(lo + 1.0, frame.env.x);
+    let c = mix(probe_level(r, lo), probe_level(r, hi), mip - lo);
+    return c * frame.env.y;
+}

@@ -1,0 +1,41 @@
+//! Colour transfer functions and constants shared by every stage (spec/shading.md §5).
+
+/// Smallest normal half-precision value, 2⁻¹⁴ (URP's HALF_MIN).
+pub const HALF_MIN: f64 = 6.103_515_625e-5;
+
+/// sRGB decode (IEC 61966-2-1), extended above 1 with the same power law.
+pub fn srgb_to_linear(c: f64) -> f64 {
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// sRGB encode.
+pub fn linear_to_srgb(c: f64) -> f64 {
+    if c <= 0.003_130_8 {
+        12.92 * c
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// Rec. 709 / sRGB-primaries luminance of linear RGB.
+pub fn luminance(rgb: [f64; 3]) -> f64 {
+    0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn srgb_round_trips() {
+        for i in 0..=100 {
+            let c = i as f64 / 100.0;
+            assert!((linear_to_srgb(srgb_to_linear(c)) - c).abs() < 1e-12);
+        }
+        assert!((linear_to_srgb(0.04) - 0.220_916_301).abs() < 1e-6, "shading.md §1 gamma dielectric spec");
+    }
+}

@@ -1,0 +1,57 @@
+//! Sky radiance in linear RGB for the three environment kinds.
+
+use glam::DVec3;
+
+use crate::color::srgb_to_linear;
+use crate::spec::scene::Sky;
+
+fn lin(c: [f64; 3]) -> DVec3 {
+    DVec3::from(c.map(srgb_to_linear))
+}
+
+/// Radiance arriving from direction `d` (unit, pointing away from the scene).
+pub fn radiance(sky: &Sky, d: DVec3) -> DVec3 {
+    match sky {
+        Sky::Constant { color } => lin(*color),
+        // Unity's trilight: sky above, equator at the horizon, ground below, blended by height.
+        Sky::Gradient { sky, equator, ground } => {
+            let (s, e, g) = (lin(*sky), lin(*equator), lin(*ground));
+            if d.y >= 0.0 {
+                e.lerp(s, d.y)
+            } else {
+                e.lerp(g, -d.y)
+            }
+        }
+        Sky::Procedural { sun_direction, sun_size, atmosphere_thickness, sky_tint, ground, exposure } => {
+            procedural(DVec3::from(*sun_direction).normalize(), *sun_size, *atmosphere_thickness, lin(*sky_tint), lin(*ground), *exposure, d)
+        }
+    }
+}
+
+/// APPROXIMATION of Unity's procedural sky (not its scattering integral): a zenith-to-horizon
+/// gradient whose blue deepens with atmosphere thickness, tinted by sky_tint (0.5 grey = neutral),
+/// a Mie-like glow and a sun disc of angular radius sun_size/2 rad, a ground colour lit by the
+/// sun's elevation, all times exposure.
+fn procedural(sun: DVec3, sun_size: f64, thickness: f64, tint: DVec3, ground: DVec3, exposure: f64, d: DVec3) -> DVec3 {
+    let tint = tint / srgb_to_linear(0.5);
+    let zenith = DVec3::new(0.10, 0.22, 0.55) * (0.5 + 0.5 * thickness) * tint;
+    let horizon = DVec3::new(0.55, 0.62, 0.72) * tint;
+    let sun_light = DVec3::new(1.0, 0.93, 0.82) * sun.y.max(0.05).sqrt();
+    let sky = |y: f64| {
+        let y = y.max(0.0);
+        let base = horizon.lerp(zenith, y.sqrt());
+        let cos = d.dot(sun);
+        let glow = sun_light * 0.25 * (-(1.0 - cos) / 0.03).exp();
+        let disc_radius = (sun_size * 0.5).max(1e-4);
+        let disc = if cos > disc_radius.cos() { sun_light * 40.0 } else { DVec3::ZERO };
+        base + glow + disc
+    };
+    let ground_lit = ground * (0.2 + 0.8 * sun.y.max(0.0));
+    let c = if d.y >= 0.0 {
+        sky(d.y)
+    } else {
+        // Blend across a thin band below the horizon so the horizon has no hard seam.
+        ground_lit.lerp(horizon * tint.min_element().max(0.0), (1.0 + d.y / 0.02).clamp(0.0, 1.0))
+    };
+    c * exposure
+}

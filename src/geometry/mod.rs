@@ -1,0 +1,7 @@
+//! Meshes: procedural generators with analytic normals and UVs, and glTF import/export.
+
+pub mod gltf_io;
+pub mod mesh;
+pub mod procedural;
+
+pub use mesh::{Mesh, Vertex};

@@ -1,0 +1,148 @@
+//! Adapter selection and device creation, headless (no surface, no window).
+
+use serde::Serialize;
+use std::sync::{Arc, Mutex};
+
+use crate::error::{Error, ADAPTER_HELP};
+
+/// The adapter a run used, recorded in run.json: timings compare only within one adapter.
+#[derive(Debug, Clone, Serialize, serde::Deserialize, PartialEq)]
+pub struct AdapterRecord {
+    pub name: String,
+    pub backend: String,
+    pub device_type: String,
+    pub driver: String,
+    pub driver_info: String,
+    pub vendor: u32,
+    pub device: u32,
+    pub timestamp_queries: bool,
+}
+
+pub struct GpuContext {
+    pub adapter: wgpu::Adapter,
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+    pub record: AdapterRecord,
+    /// Errors wgpu reported outside an error scope, drained by `check_errors`.
+    uncaptured: Arc<Mutex<Vec<String>>>,
+}
+
+fn backend_choice() -> Result<Vec<wgpu::Backends>, Error> {
+    match std::env::var("SHADEMATRIX_BACKEND").ok().as_deref() {
+        None | Some("") => Ok(vec![wgpu::Backends::VULKAN, wgpu::Backends::GL]),
+        Some("vulkan") => Ok(vec![wgpu::Backends::VULKAN]),
+        Some("gl") => Ok(vec![wgpu::Backends::GL]),
+        Some(other) => Err(Error::Input(crate::spec::names::unknown_name(
+            "environment",
+            "SHADEMATRIX_BACKEND",
+            "backend",
+            other,
+            &["vulkan", "gl"],
+        ))),
+    }
+}
+
+fn type_rank(t: wgpu::DeviceType) -> u8 {
+    match t {
+        wgpu::DeviceType::DiscreteGpu => 0,
+        wgpu::DeviceType::IntegratedGpu => 1,
+        wgpu::DeviceType::VirtualGpu => 2,
+        wgpu::DeviceType::Cpu => 3,
+        wgpu::DeviceType::Other => 4,
+    }
+}
+
+impl GpuContext {
+    /// Vulkan first (timestamp queries, f64 shaders on lavapipe), GL only when Vulkan has no
+    /// adapter; a real GPU before a CPU rasteriser. SHADEMATRIX_ADAPTER narrows by name.
+    pub fn new() -> Result<GpuContext, Error> {
+        let wanted_name = std::env::var("SHADEMATRIX_ADAPTER").ok().filter(|s| !s.is_empty());
+        let mut seen = Vec::new();
+        for backends in backend_choice()? {
+            let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
+            desc.backends = backends;
+            let instance = wgpu::Instance::new(desc);
+            let mut adapters = pollster::block_on(instance.enumerate_adapters(backends));
+            for a in &adapters {
+                let i = a.get_info();
+                seen.push(format!("{} ({:?}, {:?})", i.name, i.backend, i.device_type));
+            }
+            if let Some(want) = &wanted_name {
+                let want = want.to_lowercase();
+                adapters.retain(|a| a.get_info().name.to_lowercase().contains(&want));
+            }
+            adapters.sort_by_key(|a| type_rank(a.get_info().device_type));
+            if let Some(adapter) = adapters.into_iter().next() {
+                return Self::open(adapter);
+            }
+        }
+        let found = if seen.is_empty() { "none found".to_string() } else { format!("found {}", seen.join(", ")) };
+        let filter = wanted_name.map(|n| format!(" matching SHADEMATRIX_ADAPTER=`{n}`")).unwrap_or_default();
+        Err(Error::NoAdapter(format!("no adapter{filter} ({found}); {ADAPTER_HELP}")))
+    }
+
+    fn open(adapter: wgpu::Adapter) -> Result<GpuContext, Error> {
+        let info = adapter.get_info();
+        let timestamp = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        let mut required_features = wgpu::Features::empty();
+        if timestamp {
+            required_features |= wgpu::Features::TIMESTAMP_QUERY;
+        }
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("shadematrix"),
+            required_features,
+            required_limits: adapter.limits(),
+            ..Default::default()
+        }))
+        .map_err(|e| Error::Device(format!("cannot open device on {}: {e}", info.name)))?;
+        let uncaptured = Arc::new(Mutex::new(Vec::new()));
+        let sink = uncaptured.clone();
+        device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+            if let Ok(mut v) = sink.lock() {
+                v.push(e.to_string());
+            }
+        }));
+        let record = AdapterRecord {
+            name: info.name.clone(),
+            backend: format!("{:?}", info.backend).to_lowercase(),
+            device_type: format!("{:?}", info.device_type),
+            driver: info.driver.clone(),
+            driver_info: info.driver_info.clone(),
+            vendor: info.vendor,
+            device: info.device,
+            timestamp_queries: timestamp,
+        };
+        Ok(GpuContext { adapter, device, queue, record, uncaptured })
+    }
+
+    /// Turn errors wgpu reported asynchronously into a device error.
+    pub fn check_errors(&self, during: &str) -> Result<(), Error> {
+        let mut v = self.uncaptured.lock().map_err(|_| Error::Device("error sink poisoned".into()))?;
+        if v.is_empty() {
+            Ok(())
+        } else {
+            let all = v.drain(..).collect::<Vec<_>>().join("; ");
+            Err(Error::Device(format!("{during}: {all}")))
+        }
+    }
+
+    pub fn wait_idle(&self) -> Result<(), Error> {
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map(|_| ())
+            .map_err(|e| Error::Device(format!("waiting for the GPU: {e}")))
+    }
+
+    /// Compile WGSL, reporting validation errors as a device error naming `label`.
+    pub fn shader_module(&self, label: &str, source: &str) -> Result<wgpu::ShaderModule, Error> {
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let module = self.device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(label),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
+        });
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(Error::Device(format!("shader `{label}` failed to compile: {e}")));
+        }
+        Ok(module)
+    }
+}

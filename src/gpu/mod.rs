@@ -1,0 +1,6 @@
+//! Device-level GPU code: adapter choice, device errors, readback. Knows nothing of matrices.
+
+pub mod context;
+pub mod readback;
+
+pub use context::{AdapterRecord, GpuContext};

@@ -1,0 +1,75 @@
+//! Linear HDR → display-referred sRGB 8-bit, per pipeline convention (pipelines::Tonemap).
+
+use crate::color::{linear_to_srgb, luminance};
+use crate::pipelines::Tonemap;
+
+/// Narkowicz's ACES fit (spec §5): sat(x(2.51x + 0.03)/(x(2.43x + 0.59) + 0.14)).
+pub fn aces_narkowicz(x: f64) -> f64 {
+    (x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14)).clamp(0.0, 1.0)
+}
+
+/// HDRP automatic exposure (spec §3): EV100 from the log-average luminance, EV = log2(L·100/12.5),
+/// clamped to −10..10, exposure = 1/(1.2·2^EV). Returns the exposure multiplier.
+pub fn auto_exposure(hdr: &[f32]) -> f64 {
+    let mut sum = 0.0;
+    let mut n = 0usize;
+    for px in hdr.chunks_exact(4) {
+        let l = luminance([px[0] as f64, px[1] as f64, px[2] as f64]);
+        if l.is_finite() {
+            sum += (l.max(0.0) + 1e-6).ln();
+            n += 1;
+        }
+    }
+    let avg = if n == 0 { 1e-6 } else { (sum / n as f64).exp() };
+    let ev = (avg * 100.0 / 12.5).log2().clamp(-10.0, 10.0);
+    1.0 / (1.2 * ev.exp2())
+}
+
+/// Tonemapped RGBA8 (alpha 255). Non-finite and negative values map to 0: the EXR keeps them.
+pub fn to_srgb8(hdr: &[f32], tonemap: Tonemap) -> (Vec<u8>, f64) {
+    let exposure = match tonemap {
+        Tonemap::None => 1.0,
+        Tonemap::AutoExposureAcesFit => auto_exposure(hdr),
+    };
+    let map = |v: f32| -> u8 {
+        let v = v as f64 * exposure;
+        let v = if v.is_finite() { v.max(0.0) } else { 0.0 };
+        let v = match tonemap {
+            Tonemap::None => v.min(1.0),
+            Tonemap::AutoExposureAcesFit => aces_narkowicz(v),
+        };
+        (linear_to_srgb(v) * 255.0 + 0.5).floor().clamp(0.0, 255.0) as u8
+    };
+    let mut out = Vec::with_capacity(hdr.len());
+    for px in hdr.chunks_exact(4) {
+        out.extend_from_slice(&[map(px[0]), map(px[1]), map(px[2]), 255]);
+    }
+    (out, exposure)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn aces_fit_reference_points() {
+        assert_eq!(aces_narkowicz(0.0), 0.0);
+        assert!((aces_narkowicz(1.0) - 0.8038).abs() < 1e-3, "1 → ≈0.8 (spec §5)");
+        assert_eq!(aces_narkowicz(1e6), 1.0);
+    }
+
+    #[test]
+    fn no_tonemap_clamps_and_encodes() {
+        let (px, e) = to_srgb8(&[0.0, 0.214, 2.0, 1.0, f32::NAN, -1.0, 1.0, 1.0], Tonemap::None);
+        assert_eq!(e, 1.0);
+        assert_eq!(&px[0..4], &[0, 128, 255, 255]);
+        assert_eq!(&px[4..7], &[0, 0, 255]);
+    }
+
+    #[test]
+    fn auto_exposure_maps_average_to_mid_grey() {
+        let img = vec![100.0f32; 16];
+        let e = auto_exposure(&img);
+        assert!((e * 100.0 - 12.5 / 120.0 * 1.0).abs() < 1e-3, "{e}");
+    }
+}

@@ -1,0 +1,80 @@
+//! GPU evaluation of one model for given inputs (compute pass), the counterpart of the f64 twins.
+
+use bytemuck::{Pod, Zeroable};
+use wgpu::util::DeviceExt;
+
+use crate::error::Error;
+use crate::gpu::{readback::map_read, GpuContext};
+use crate::pipelines::Pipeline;
+use crate::shading::{wgsl, ShaderModel};
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable, Default)]
+pub struct ProbeInput {
+    pub n: [f32; 4],
+    pub v: [f32; 4],
+    pub l: [f32; 4],
+    pub base_color: [f32; 4],
+    /// metallic (as the shader receives it), smoothness
+    pub params: [f32; 4],
+    pub gi_diffuse: [f32; 4],
+    pub gi_specular: [f32; 4],
+}
+
+/// (direct, indirect) per input, as `model_direct` and `model_indirect` return them.
+pub fn evaluate(gpu: &GpuContext, pipeline: Pipeline, model: &ShaderModel, inputs: &[ProbeInput]) -> Result<Vec<([f32; 3], [f32; 3])>, Error> {
+    if inputs.is_empty() {
+        return Ok(Vec::new());
+    }
+    let device = &gpu.device;
+    let source = wgsl::compose(wgsl::PassKind::BrdfProbe, Some(model));
+    let module = gpu.shader_module(&format!("probe {}/{}", pipeline.name(), model.name), &source)?;
+    let constants = [("PIPELINE", pipeline.shader_id() as f64)];
+    let compute = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some("brdf probe"),
+        layout: None,
+        module: &module,
+        entry_point: Some("probe_main"),
+        compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
+        cache: None,
+    });
+    let input_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("probe inputs"),
+        contents: bytemuck::cast_slice(inputs),
+        usage: wgpu::BufferUsages::STORAGE,
+    });
+    let out_size = (inputs.len() * 2 * 16) as u64;
+    let output_buf = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("probe outputs"),
+        size: out_size,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let staging = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("probe staging"),
+        size: out_size,
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("probe"),
+        layout: &compute.get_bind_group_layout(0),
+        entries: &[
+            wgpu::BindGroupEntry { binding: 0, resource: input_buf.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 1, resource: output_buf.as_entire_binding() },
+        ],
+    });
+    let mut encoder = device.create_command_encoder(&Default::default());
+    {
+        let mut pass = encoder.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&compute);
+        pass.set_bind_group(0, &bind, &[]);
+        pass.dispatch_workgroups((inputs.len() as u32).div_ceil(64), 1, 1);
+    }
+    encoder.copy_buffer_to_buffer(&output_buf, 0, &staging, 0, out_size);
+    gpu.queue.submit([encoder.finish()]);
+    let bytes = map_read(device, &staging)?;
+    gpu.check_errors("evaluating the BRDF probe")?;
+    let floats: &[[f32; 4]] = bytemuck::cast_slice(&bytes);
+    Ok(floats.chunks_exact(2).map(|p| ([p[0][0], p[0][1], p[0][2]], [p[1][0], p[1][1], p[1][2]])).collect())
+}

@@ -1,0 +1,548 @@
+//! The renderer. Everything that does not change between cells is built once: pipelines per
+//! (pipeline convention, model), meshes and the environment probe per composition, render
+//! targets per image size. A cell rewrites two small uniform buffers and draws.
+
+use glam::{DMat4, DVec3, Mat4};
+use std::collections::HashMap;
+use std::time::Instant;
+use wgpu::util::DeviceExt;
+
+use super::camera::view_projection;
+use super::uniforms::*;
+use crate::environment::EnvironmentMaps;
+use crate::error::Error;
+use crate::geometry::{procedural, Mesh, Vertex};
+use crate::gpu::readback::TextureReadback;
+use crate::gpu::GpuContext;
+use crate::pipelines::Pipeline;
+use crate::run::plan::FramePlan;
+use crate::shading::{find_model, wgsl, ShaderModel};
+use crate::spec::scene::{LightKind, Role, Scene};
+
+const HDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+const ROLE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Uint;
+const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// What one cell asks of the renderer (no matrix types: the renderer knows scenes, not sweeps).
+#[derive(Debug, Clone, Copy)]
+pub struct CellParams {
+    pub pipeline: Pipeline,
+    pub model: &'static ShaderModel,
+    /// Linear base colour, metallic slider value, smoothness.
+    pub base_color_linear: [f64; 3],
+    pub metallic_slider: f64,
+    pub smoothness: f64,
+    pub light_intensity: f64,
+    pub light_range: f64,
+    pub width: u32,
+    pub height: u32,
+}
+
+pub struct CellRender {
+    pub width: u32,
+    pub height: u32,
+    /// Linear RGBA, row-major, top row first.
+    pub hdr: Vec<f32>,
+    /// Per pixel: 0 background, 1 fixed object, 2 subject.
+    pub roles: Vec<u8>,
+    /// CPU wall time from submit to idle of each timed frame, ms.
+    pub frame_ms: Vec<f64>,
+}
+
+struct GpuObject {
+    vertices: wgpu::Buffer,
+    indices: wgpu::Buffer,
+    index_count: u32,
+    role: Role,
+    model: DMat4,
+    material: GpuMaterial,
+    fixed_metallic: f64,
+}
+
+pub struct PreparedScene {
+    pub scene: Scene,
+    pub plan: FramePlan,
+    pub env: EnvironmentMaps,
+    objects: Vec<GpuObject>,
+    object_buffer: wgpu::Buffer,
+    object_stride: u64,
+    object_bind_group: wgpu::BindGroup,
+    frame_buffer: wgpu::Buffer,
+    frame_bind_group: wgpu::BindGroup,
+    pub triangle_count: usize,
+}
+
+struct Targets {
+    width: u32,
+    height: u32,
+    color: wgpu::Texture,
+    role: wgpu::Texture,
+    depth_view: wgpu::TextureView,
+    color_view: wgpu::TextureView,
+    role_view: wgpu::TextureView,
+    color_readback: TextureReadback,
+    role_readback: TextureReadback,
+}
+
+pub struct Renderer {
+    pub gpu: GpuContext,
+    frame_layout: wgpu::BindGroupLayout,
+    object_layout: wgpu::BindGroupLayout,
+    pipeline_layout: wgpu::PipelineLayout,
+    sampler: wgpu::Sampler,
+    forward: HashMap<(Pipeline, &'static str), wgpu::RenderPipeline>,
+    background: Option<wgpu::RenderPipeline>,
+    targets: Option<Targets>,
+}
+
+impl Renderer {
+    pub fn new(gpu: GpuContext) -> Renderer {
+        let device = &gpu.device;
+        let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("frame"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: wgpu::BufferSize::new(std::mem::size_of::<FrameUniforms>() as u64),
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                        view_dimension: wgpu::TextureViewDimension::D2Array,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 2,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                    count: None,
+                },
+            ],
+        });
+        let object_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("object"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: true,
+                    min_binding_size: wgpu::BufferSize::new(std::mem::size_of::<ObjectUniforms>() as u64),
+                },
+                count: None,
+            }],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("scene"),
+            bind_group_layouts: &[Some(&frame_layout), Some(&object_layout)],
+            immediate_size: 0,
+        });
+        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("environment"),
+            address_mode_u: wgpu::AddressMode::Repeat,
+            address_mode_v: wgpu::AddressMode::ClampToEdge,
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
+        });
+        Renderer { gpu, frame_layout, object_layout, pipeline_layout, sampler, forward: HashMap::new(), background: None, targets: None }
+    }
+
+    /// Number of forward pipelines compiled so far (each (pipeline, model) pair once).
+    pub fn compiled_pipelines(&self) -> usize {
+        self.forward.len() + self.background.is_some() as usize
+    }
+
+    fn forward_pipeline(&mut self, pipeline: Pipeline, model: &'static ShaderModel) -> Result<(), Error> {
+        if self.forward.contains_key(&(pipeline, model.name)) {
+            return Ok(());
+        }
+        let source = wgsl::compose(wgsl::PassKind::Forward, Some(model));
+        let module = self.gpu.shader_module(&format!("forward {}/{}", pipeline.name(), model.name), &source)?;
+        let constants = [("PIPELINE", pipeline.shader_id() as f64)];
+        let options = wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() };
+        let p = self.gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(&format!("forward {}/{}", pipeline.name(), model.name)),
+            layout: Some(&self.pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_main"),
+                compilation_options: options.clone(),
+                buffers: &[Some(wgpu::VertexBufferLayout {
+                    array_stride: std::mem::size_of::<Vertex>() as u64,
+                    step_mode: wgpu::VertexStepMode::Vertex,
+                    attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4],
+                })],
+            },
+            // Both faces: imported and thin meshes are shaded from either side (normals flipped).
+            primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Less),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_main"),
+                compilation_options: options,
+                targets: &[Some(HDR_FORMAT.into()), Some(ROLE_FORMAT.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        self.gpu.check_errors("creating a forward pipeline")?;
+        self.forward.insert((pipeline, model.name), p);
+        Ok(())
+    }
+
+    fn background_pipeline(&mut self) -> Result<(), Error> {
+        if self.background.is_some() {
+            return Ok(());
+        }
+        let source = wgsl::compose(wgsl::PassKind::Background, None);
+        let module = self.gpu.shader_module("background", &source)?;
+        let p = self.gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("background"),
+            layout: Some(&self.pipeline_layout),
+            vertex: wgpu::VertexState { module: &module, entry_point: Some("vs_background"), compilation_options: Default::default(), buffers: &[] },
+            primitive: Default::default(),
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: DEPTH_FORMAT,
+                depth_write_enabled: Some(false),
+                depth_compare: Some(wgpu::CompareFunction::LessEqual),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_background"),
+                compilation_options: Default::default(),
+                targets: &[Some(HDR_FORMAT.into()), Some(ROLE_FORMAT.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        self.gpu.check_errors("creating the background pipeline")?;
+        self.background = Some(p);
+        Ok(())
+    }
+
+    /// Generate meshes, build the environment and upload everything a composition needs.
+    pub fn prepare_scene(&mut self, scene: &Scene) -> Result<PreparedScene, Error> {
+        let device = &self.gpu.device;
+        let plan = FramePlan::for_scene(scene);
+        let env = EnvironmentMaps::build(&scene.environment);
+        let mut objects = Vec::new();
+        let mut triangle_count = 0;
+        for (i, o) in scene.objects.iter().enumerate() {
+            let mesh: Mesh = procedural::build(&o.mesh, scene.base_dir.as_deref(), &scene.origin, &format!("objects[{i}].mesh"))?;
+            triangle_count += mesh.triangle_count();
+            let vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(&o.name),
+                contents: bytemuck::cast_slice(&mesh.vertices),
+                usage: wgpu::BufferUsages::VERTEX,
+            });
+            let indices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(&o.name),
+                contents: bytemuck::cast_slice(&mesh.indices),
+                usage: wgpu::BufferUsages::INDEX,
+            });
+            let (material, fixed_metallic) = match &o.material {
+                Some(m) => (
+                    GpuMaterial {
+                        base_color: rgba(m.base_color_linear),
+                        params: [0.0, m.smoothness as f32, m.checker.as_ref().map(|c| c.cell as f32).unwrap_or(0.0), 0.0],
+                        checker_color: m.checker.as_ref().map(|c| rgba(c.color_linear)).unwrap_or_default(),
+                    },
+                    m.metallic,
+                ),
+                None => (GpuMaterial::zeroed(), 0.0),
+            };
+            objects.push(GpuObject {
+                vertices,
+                indices,
+                index_count: mesh.indices.len() as u32,
+                role: o.role,
+                model: o.transform.matrix(),
+                material,
+                fixed_metallic,
+            });
+        }
+        let align = device.limits().min_uniform_buffer_offset_alignment as u64;
+        let object_stride = (std::mem::size_of::<ObjectUniforms>() as u64).div_ceil(align) * align;
+        let object_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("objects"),
+            size: object_stride * objects.len().max(1) as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let object_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("objects"),
+            layout: &self.object_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                    buffer: &object_buffer,
+                    offset: 0,
+                    size: wgpu::BufferSize::new(std::mem::size_of::<ObjectUniforms>() as u64),
+                }),
+            }],
+        });
+        let frame_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("frame"),
+            size: std::mem::size_of::<FrameUniforms>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let probe = &env.probe;
+        let texels: Vec<half::f16> = probe
+            .levels
+            .iter()
+            .flat_map(|l| l.texels.iter().flat_map(|t| [t.x, t.y, t.z, 1.0].map(|v| half::f16::from_f64(v.min(65000.0)))))
+            .collect();
+        let env_texture = device.create_texture_with_data(
+            &self.gpu.queue,
+            &wgpu::TextureDescriptor {
+                label: Some("environment probe"),
+                size: wgpu::Extent3d { width: probe.width as u32, height: probe.height as u32, depth_or_array_layers: probe.levels.len() as u32 },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: wgpu::TextureFormat::Rgba16Float,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+                view_formats: &[],
+            },
+            wgpu::util::TextureDataOrder::LayerMajor,
+            bytemuck::cast_slice(&texels),
+        );
+        let env_view = env_texture.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        });
+        let frame_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("frame"),
+            layout: &self.frame_layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: frame_buffer.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&env_view) },
+                wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::Sampler(&self.sampler) },
+            ],
+        });
+        self.gpu.check_errors(&format!("uploading composition `{}`", scene.name))?;
+        Ok(PreparedScene {
+            scene: scene.clone(),
+            plan,
+            env,
+            objects,
+            object_buffer,
+            object_stride,
+            object_bind_group,
+            frame_buffer,
+            frame_bind_group,
+            triangle_count,
+        })
+    }
+
+    fn targets(&mut self, width: u32, height: u32) -> &Targets {
+        if self.targets.as_ref().is_none_or(|t| t.width != width || t.height != height) {
+            let device = &self.gpu.device;
+            let make = |label: &str, format: wgpu::TextureFormat, usage: wgpu::TextureUsages| {
+                device.create_texture(&wgpu::TextureDescriptor {
+                    label: Some(label),
+                    size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format,
+                    usage,
+                    view_formats: &[],
+                })
+            };
+            let attach = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
+            let color = make("hdr", HDR_FORMAT, attach);
+            let role = make("role", ROLE_FORMAT, attach);
+            let depth = make("depth", DEPTH_FORMAT, wgpu::TextureUsages::RENDER_ATTACHMENT);
+            self.targets = Some(Targets {
+                width,
+                height,
+                color_view: color.create_view(&Default::default()),
+                role_view: role.create_view(&Default::default()),
+                depth_view: depth.create_view(&Default::default()),
+                color_readback: TextureReadback::new(device, "hdr readback", width, height, 16),
+                role_readback: TextureReadback::new(device, "role readback", width, height, 1),
+                color,
+                role,
+            });
+        }
+        self.targets.as_ref().expect("just created")
+    }
+
+    /// Render one cell: `warmup` untimed frames, then `frames` timed ones; the last is read back.
+    pub fn render(&mut self, prepared: &PreparedScene, cell: &CellParams, frames: u32, warmup: u32) -> Result<CellRender, Error> {
+        let fixed_model = find_model(cell.pipeline, cell.pipeline.fixed_object_shader())
+            .ok_or_else(|| Error::Other(format!("pipeline {} lacks its fixed-object shader", cell.pipeline.name())))?;
+        let subject_model = cell.model;
+        self.forward_pipeline(cell.pipeline, subject_model)?;
+        self.forward_pipeline(cell.pipeline, fixed_model)?;
+        if prepared.plan.background {
+            self.background_pipeline()?;
+        }
+        self.write_uniforms(prepared, cell);
+        self.targets(cell.width, cell.height);
+        let t = self.targets.as_ref().expect("targets exist");
+        let subject_pipeline = &self.forward[&(cell.pipeline, subject_model.name)];
+        let fixed_pipeline = &self.forward[&(cell.pipeline, fixed_model.name)];
+        let total = warmup + frames;
+        let mut frame_ms = Vec::with_capacity(frames as usize);
+        for f in 0..total {
+            let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
+            {
+                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("forward"),
+                    color_attachments: &[
+                        Some(wgpu::RenderPassColorAttachment {
+                            view: &t.color_view,
+                            depth_slice: None,
+                            resolve_target: None,
+                            ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::BLACK), store: wgpu::StoreOp::Store },
+                        }),
+                        Some(wgpu::RenderPassColorAttachment {
+                            view: &t.role_view,
+                            depth_slice: None,
+                            resolve_target: None,
+                            ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
+                        }),
+                    ],
+                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                        view: &t.depth_view,
+                        depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
+                        stencil_ops: None,
+                    }),
+                    timestamp_writes: None,
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+                pass.set_bind_group(0, &prepared.frame_bind_group, &[]);
+                for (i, o) in prepared.objects.iter().enumerate() {
+                    pass.set_pipeline(if o.role == Role::Subject { subject_pipeline } else { fixed_pipeline });
+                    pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
+                    pass.set_vertex_buffer(0, o.vertices.slice(..));
+                    pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);
+                    pass.draw_indexed(0..o.index_count, 0, 0..1);
+                }
+                if let (true, Some(bg)) = (prepared.plan.background, &self.background) {
+                    pass.set_pipeline(bg);
+                    pass.draw(0..3, 0..1);
+                }
+            }
+            let last = f + 1 == total;
+            if last {
+                t.color_readback.encode_copy(&mut encoder, &t.color);
+                t.role_readback.encode_copy(&mut encoder, &t.role);
+            }
+            let start = Instant::now();
+            self.gpu.queue.submit([encoder.finish()]);
+            self.gpu.wait_idle()?;
+            if f >= warmup {
+                frame_ms.push(start.elapsed().as_secs_f64() * 1e3);
+            }
+        }
+        let hdr_bytes = t.color_readback.read(&self.gpu.device)?;
+        let roles = t.role_readback.read(&self.gpu.device)?;
+        self.gpu.check_errors("rendering a cell")?;
+        Ok(CellRender { width: cell.width, height: cell.height, hdr: bytemuck::cast_slice(&hdr_bytes).to_vec(), roles, frame_ms })
+    }
+
+    fn write_uniforms(&self, prepared: &PreparedScene, cell: &CellParams) {
+        let scene = &prepared.scene;
+        let p = cell.pipeline;
+        let aspect = cell.width as f64 / cell.height as f64;
+        let vp = view_projection(&scene.camera, aspect);
+        let key = scene.key_light();
+        let mut frame = FrameUniforms::zeroed();
+        frame.view_proj = mat(vp);
+        frame.inv_view_proj = mat(vp.inverse());
+        frame.camera_pos = vec4(DVec3::from(scene.camera.position), 1.0);
+        let lights: Vec<_> = scene.lights.iter().enumerate().take(MAX_LIGHTS).collect();
+        for (slot, (i, l)) in lights.iter().enumerate() {
+            let is_key = Some(*i) == key;
+            let intensity = if is_key { cell.light_intensity } else { l.intensity };
+            let range = if is_key { cell.light_range } else { l.range };
+            let kind = match l.kind {
+                LightKind::Directional => 0.0,
+                LightKind::Point => 1.0,
+                LightKind::Spot => 2.0,
+            };
+            let outer = (l.spot_angle_deg * 0.5).to_radians();
+            // Unity's fallback inner angle: atan(tan(outer)·46/64) (shading.md §2).
+            let inner = l.inner_spot_angle_deg.map(|a| (a * 0.5).to_radians()).unwrap_or_else(|| (outer.tan() * 46.0 / 64.0).atan());
+            frame.lights[slot] = GpuLight {
+                position: vec4(DVec3::from(l.position), kind),
+                direction: vec4(DVec3::from(l.direction).normalize_or_zero(), 0.0),
+                color: vec4(DVec3::from(p.light_radiance(l.color, intensity)), 0.0),
+                params: [range as f32, outer.cos() as f32, inner.cos() as f32, 0.0],
+            };
+        }
+        frame.counts = [lights.len() as u32, 0, 0, 0];
+        for (dst, src) in frame.sh.iter_mut().zip(prepared.env.sh.iter()) {
+            *dst = [src[0] as f32, src[1] as f32, src[2] as f32, 0.0];
+        }
+        frame.env = [
+            (prepared.env.probe.levels.len() - 1) as f32,
+            (prepared.env.intensity * p.environment_scale()) as f32,
+            0.0,
+            0.0,
+        ];
+        frame.subject = GpuMaterial {
+            base_color: rgba(cell.base_color_linear),
+            params: [p.shader_metallic(cell.metallic_slider) as f32, cell.smoothness as f32, 0.0, 0.0],
+            checker_color: [0.0; 4],
+        };
+        self.gpu.queue.write_buffer(&prepared.frame_buffer, 0, bytemuck::bytes_of(&frame));
+        let mut objects = vec![0u8; (prepared.object_stride as usize) * prepared.objects.len()];
+        for (i, o) in prepared.objects.iter().enumerate() {
+            let mut material = o.material;
+            material.params[0] = p.shader_metallic(o.fixed_metallic) as f32;
+            let u = ObjectUniforms {
+                model: mat(o.model),
+                normal_matrix: mat(o.model.inverse().transpose()),
+                material,
+                flags: match o.role {
+                    Role::Subject => [1, ROLE_SUBJECT as u32, 0, 0],
+                    Role::Fixed => [0, ROLE_FIXED as u32, 0, 0],
+                },
+            };
+            let at = i * prepared.object_stride as usize;
+            objects[at..at + std::mem::size_of::<ObjectUniforms>()].copy_from_slice(bytemuck::bytes_of(&u));
+        }
+        self.gpu.queue.write_buffer(&prepared.object_buffer, 0, &objects);
+    }
+}
+
+use bytemuck::Zeroable;
+
+fn mat(m: DMat4) -> [[f32; 4]; 4] {
+    Mat4::from_cols_array(&m.to_cols_array().map(|v| v as f32)).to_cols_array_2d()
+}
+
+fn vec4(v: DVec3, w: f64) -> [f32; 4] {
+    [v.x as f32, v.y as f32, v.z as f32, w as f32]
+}
+
+fn rgba(c: [f64; 3]) -> [f32; 4] {
+    [c[0] as f32, c[1] as f32, c[2] as f32, 1.0]
+}

@@ -1,0 +1,62 @@
+//! CPU mirrors of the uniform structs in shaders/pass/scene.wgsl (layout checked by size tests).
+
+use bytemuck::{Pod, Zeroable};
+
+pub const MAX_LIGHTS: usize = 4;
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct GpuLight {
+    pub position: [f32; 4],
+    pub direction: [f32; 4],
+    pub color: [f32; 4],
+    pub params: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct GpuMaterial {
+    pub base_color: [f32; 4],
+    pub params: [f32; 4],
+    pub checker_color: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct FrameUniforms {
+    pub view_proj: [[f32; 4]; 4],
+    pub inv_view_proj: [[f32; 4]; 4],
+    pub camera_pos: [f32; 4],
+    pub lights: [GpuLight; MAX_LIGHTS],
+    pub counts: [u32; 4],
+    pub sh: [[f32; 4]; 9],
+    pub env: [f32; 4],
+    pub subject: GpuMaterial,
+}
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct ObjectUniforms {
+    pub model: [[f32; 4]; 4],
+    pub normal_matrix: [[f32; 4]; 4],
+    pub material: GpuMaterial,
+    pub flags: [u32; 4],
+}
+
+/// Roles written to the mask attachment.
+pub const ROLE_BACKGROUND: u8 = 0;
+pub const ROLE_FIXED: u8 = 1;
+pub const ROLE_SUBJECT: u8 = 2;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_match_wgsl_layout() {
+        assert_eq!(std::mem::size_of::<GpuLight>(), 64);
+        assert_eq!(std::mem::size_of::<GpuMaterial>(), 48);
+        assert_eq!(std::mem::size_of::<FrameUniforms>(), 64 + 64 + 16 + 256 + 16 + 144 + 16 + 48);
+        assert_eq!(std::mem::size_of::<ObjectUniforms>(), 64 + 64 + 48 + 16);
+    }
+}

@@ -1,0 +1,258 @@
+//! Matrix expansion: the cartesian product of the axes, filtered by `only`/`exclude`, with the
+//! cells that cannot exist (a shader a pipeline lacks) pruned and the cells whose shader ignores
+//! the axes they differ in marked as twins of the cell that is rendered.
+
+use serde::Serialize;
+use std::collections::HashMap;
+
+use crate::pipelines::{Pipeline, RenderPath};
+use crate::spec::matrix::{Axis, Filter, FilterValue, Matrix};
+use crate::spec::presets::Preset;
+use crate::shading::registry::{find_model, model_names_for, ShaderModel};
+
+/// Stable, readable, filesystem-safe id, e.g. `mitsuba__builtin-forward__standard__gold__m1.00_s0.80_i1_r10`.
+#[derive(Debug, Clone, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
+pub struct CellId(pub String);
+
+impl std::fmt::Display for CellId {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+/// Material as swept: preset values with the sliders that override them (slider units).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct MaterialParams {
+    /// Linear base colour (preset value, or the sRGB slider linearised).
+    pub base_color_linear: [f64; 3],
+    /// The sRGB slider colour when the colour axis overrides the preset.
+    pub slider_color_srgb: Option<[f64; 3]>,
+    /// Slider value; pipelines convert it (`Pipeline::shader_metallic`).
+    pub metallic: f64,
+    pub smoothness: f64,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct Cell {
+    pub id: CellId,
+    /// Index into `Matrix::compositions`.
+    #[serde(skip)]
+    pub composition_index: usize,
+    pub composition: String,
+    pub pipeline: Pipeline,
+    pub path: RenderPath,
+    pub shader: String,
+    pub preset: String,
+    pub material: MaterialParams,
+    /// Key light intensity (matrix units, 0–100) and range (m).
+    pub light_intensity: f64,
+    pub light_range: f64,
+    pub width: u32,
+    pub height: u32,
+    /// Set when an earlier cell renders the same image (the shader ignores the differing axes).
+    pub twin_of: Option<CellId>,
+}
+
+impl Cell {
+    pub fn model(&self) -> &'static ShaderModel {
+        find_model(self.pipeline, &self.shader).expect("cells are built only for existing (pipeline, shader) pairs")
+    }
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct PrunedCell {
+    pub description: String,
+    pub reason: String,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct Expansion {
+    pub cells: Vec<Cell>,
+    pub pruned: Vec<PrunedCell>,
+    /// Cells removed by `only`/`exclude`.
+    pub filtered_out: usize,
+}
+
+impl Expansion {
+    pub fn rendered(&self) -> impl Iterator<Item = &Cell> {
+        self.cells.iter().filter(|c| c.twin_of.is_none())
+    }
+}
+
+fn opt_list<T: Copy>(v: &[T]) -> Vec<Option<T>> {
+    if v.is_empty() {
+        vec![None]
+    } else {
+        v.iter().copied().map(Some).collect()
+    }
+}
+
+pub fn expand(m: &Matrix) -> Expansion {
+    let mut cells = Vec::new();
+    let mut pruned = Vec::new();
+    let mut filtered_out = 0;
+    for (ci, scene) in m.compositions.iter().enumerate() {
+        let key = scene.key_light().map(|k| &scene.lights[k]);
+        for &pipeline in &m.pipelines {
+            for &path in &m.paths {
+                for shader in &m.shaders {
+                    if find_model(pipeline, shader).is_none() {
+                        pruned.push(PrunedCell {
+                            description: format!("{} × {} × {}", scene.name, pipeline.name(), shader),
+                            reason: format!(
+                                "`{shader}` is not a shader of the {} pipeline (it has: {})",
+                                pipeline.name(),
+                                model_names_for(pipeline).join(", ")
+                            ),
+                        });
+                        continue;
+                    }
+                    for preset in &m.presets {
+                        for metallic in opt_list(&m.sweep.metallic) {
+                            for smoothness in opt_list(&m.sweep.smoothness) {
+                                for color in opt_list(&m.sweep.color) {
+                                    for intensity in opt_list(&m.sweep.light_intensity) {
+                                        for range in opt_list(&m.sweep.light_range) {
+                                            let material = material(preset, metallic, smoothness, color);
+                                            let cell = Cell {
+                                                id: CellId(String::new()),
+                                                composition_index: ci,
+                                                composition: scene.name.clone(),
+                                                pipeline,
+                                                path,
+                                                shader: shader.clone(),
+                                                preset: preset.name.to_string(),
+                                                material,
+                                                light_intensity: intensity.or(key.map(|l| l.intensity)).unwrap_or(0.0),
+                                                light_range: range.or(key.map(|l| l.range)).unwrap_or(0.0),
+                                                width: m.image.width,
+                                                height: m.image.height,
+                                                twin_of: None,
+                                            };
+                                            if passes_filters(&cell, &m.only, &m.exclude) {
+                                                cells.push(cell);
+                                            } else {
+                                                filtered_out += 1;
+                                            }
+                                        }
+                                    }
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+    for c in &mut cells {
+        c.id = cell_id(c);
+    }
+    // A value listed twice in a sweep gives the same cell twice: keep one.
+    let mut seen = std::collections::HashSet::new();
+    cells.retain(|c| seen.insert(c.id.clone()));
+    mark_twins(&mut cells);
+    Expansion { cells, pruned, filtered_out }
+}
+
+fn material(preset: &Preset, metallic: Option<f64>, smoothness: Option<f64>, color: Option<[f64; 3]>) -> MaterialParams {
+    MaterialParams {
+        base_color_linear: color.map(|c| c.map(crate::color::srgb_to_linear)).unwrap_or(preset.base_color),
+        slider_color_srgb: color,
+        metallic: metallic.unwrap_or(preset.metallic),
+        smoothness: smoothness.unwrap_or(preset.smoothness),
+    }
+}
+
+fn cell_id(c: &Cell) -> CellId {
+    let m = &c.material;
+    let mut id = format!(
+        "{}__{}-{}__{}__{}__m{:.2}_s{:.2}",
+        c.composition,
+        c.pipeline.name(),
+        c.path.name(),
+        c.shader,
+        c.preset,
+        m.metallic,
+        m.smoothness
+    );
+    if let Some(rgb) = m.slider_color_srgb {
+        let hex: String = rgb.iter().map(|v| format!("{:02x}", (v * 255.0).round() as u8)).collect();
+        id.push_str(&format!("_c{hex}"));
+    }
+    id.push_str(&format!("_i{}_r{}", short_number(c.light_intensity), short_number(c.light_range)));
+    CellId(id)
+}
+
+/// 1 → "1", 2.5 → "2.5", 0.125 → "0.125": readable and unambiguous in ids.
+fn short_number(v: f64) -> String {
+    let s = format!("{v:.4}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    s.to_string()
+}
+
+fn passes_filters(c: &Cell, only: &[Filter], exclude: &[Filter]) -> bool {
+    (only.is_empty() || only.iter().any(|f| matches_filter(c, f))) && !exclude.iter().any(|f| matches_filter(c, f))
+}
+
+pub fn matches_filter(c: &Cell, f: &Filter) -> bool {
+    f.terms.iter().all(|(axis, values)| {
+        values.iter().any(|v| match (axis, v) {
+            (Axis::Composition, FilterValue::Name(n)) => &c.composition == n,
+            (Axis::Pipeline, FilterValue::Name(n)) => c.pipeline.name() == n,
+            (Axis::Path, FilterValue::Name(n)) => c.path.name() == n,
+            (Axis::Shader, FilterValue::Name(n)) => &c.shader == n,
+            (Axis::Preset, FilterValue::Name(n)) => &c.preset == n,
+            (Axis::Metallic, FilterValue::Number(x)) => close(c.material.metallic, *x),
+            (Axis::Smoothness, FilterValue::Number(x)) => close(c.material.smoothness, *x),
+            (Axis::LightIntensity, FilterValue::Number(x)) => close(c.light_intensity, *x),
+            (Axis::LightRange, FilterValue::Number(x)) => close(c.light_range, *x),
+            _ => false,
+        })
+    })
+}
+
+fn close(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 1e-9 * a.abs().max(b.abs()).max(1.0)
+}
+
+/// What the image of a cell depends on, given the axes its shader reads.
+fn render_key(c: &Cell) -> String {
+    let r = c.model().reads;
+    let m = &c.material;
+    let mut key = format!("{}|{}|{}|{}", c.composition_index, c.pipeline.name(), c.path.name(), c.shader);
+    if r.color {
+        key.push_str(&format!("|c{:?}", m.base_color_linear));
+    }
+    if r.metallic {
+        key.push_str(&format!("|m{}", m.metallic));
+    }
+    if r.smoothness {
+        key.push_str(&format!("|s{}", m.smoothness));
+    }
+    // Fixed objects are lit by the key light whatever the shader, so light axes always count.
+    key.push_str(&format!("|i{}|r{}|{}x{}", c.light_intensity, c.light_range, c.width, c.height));
+    key
+}
+
+/// After cells were removed: a twin whose original is gone is re-marked against what remains.
+pub fn remark_twins(cells: &mut [Cell], present: &std::collections::HashSet<CellId>) {
+    if cells.iter().any(|c| c.twin_of.as_ref().is_some_and(|t| !present.contains(t))) {
+        for c in cells.iter_mut() {
+            c.twin_of = None;
+        }
+        mark_twins(cells);
+    }
+}
+
+fn mark_twins(cells: &mut [Cell]) {
+    let mut first: HashMap<String, CellId> = HashMap::new();
+    for c in cells.iter_mut() {
+        let key = render_key(c);
+        match first.get(&key) {
+            Some(id) => c.twin_of = Some(id.clone()),
+            None => {
+                first.insert(key, c.id.clone());
+            }
+        }
+    }
+}

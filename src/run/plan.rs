@@ -1,0 +1,42 @@
+//! The frame plan of a composition: which passes and resources a scene needs, and what was left
+//! out because it cannot change the image.
+
+use serde::Serialize;
+
+use crate::spec::scene::{Scene, Sky};
+
+#[derive(Debug, Clone, Serialize)]
+pub struct FramePlan {
+    /// Passes in order.
+    pub passes: Vec<&'static str>,
+    /// Whether the environment background pass is drawn.
+    pub background: bool,
+    /// (what, why) for everything left out.
+    pub left_out: Vec<(String, String)>,
+}
+
+impl FramePlan {
+    pub fn for_scene(scene: &Scene) -> FramePlan {
+        let mut passes = vec!["forward"];
+        let mut left_out = Vec::new();
+        let background = scene.environment.background;
+        if background {
+            passes.push("background");
+        } else {
+            left_out.push(("background pass".into(), "environment.background = false: the clear colour (black) shows".into()));
+        }
+        if matches!(scene.environment.sky, Sky::Constant { .. }) {
+            left_out.push(("probe prefiltering".into(), "constant sky: every roughness sees the same colour".into()));
+        }
+        let shadowed: Vec<String> =
+            scene.lights.iter().enumerate().filter(|(_, l)| l.shadows).map(|(i, _)| format!("lights[{i}]")).collect();
+        if shadowed.is_empty() {
+            left_out.push(("shadow pass".into(), "no light casts shadows".into()));
+        } else {
+            // Not a pruning decision: shadow maps are not implemented yet. Said here so that no one
+            // reads a shadowless image as the pipeline's behaviour.
+            left_out.push(("shadow pass".into(), format!("NOT IMPLEMENTED YET: {} ask for shadows; rendered without", shadowed.join(", "))));
+        }
+        FramePlan { passes, background, left_out }
+    }
+}

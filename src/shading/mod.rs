@@ -1,0 +1,8 @@
+//! Surface models: the registry (names, pipelines, which sweep axes each reads), WGSL composition,
+//! and the CPU f64 twin of every model.
+
+pub mod registry;
+pub mod twin;
+pub mod wgsl;
+
+pub use registry::{find_model, model_names_for, ShaderModel, MODELS};

@@ -1,0 +1,34 @@
+use glam::DVec3;
+use std::f64::consts::FRAC_1_PI;
+
+use super::{irradiance_per_intensity, Surface, SurfaceTwin};
+use crate::pipelines::Pipeline;
+
+/// Lambert, spec §4: ρ/π·E·max(0, NL).
+pub struct Lambert;
+
+impl SurfaceTwin for Lambert {
+    fn direct(&self, p: Pipeline, s: &Surface, n: DVec3, _v: DVec3, l: DVec3) -> DVec3 {
+        s.base_color * FRAC_1_PI * irradiance_per_intensity(p) * n.dot(l).max(0.0)
+    }
+
+    fn indirect(&self, _p: Pipeline, s: &Surface, _n: DVec3, _v: DVec3, gi_diffuse: DVec3, _gi_specular: DVec3) -> DVec3 {
+        s.base_color * gi_diffuse
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn unity_convention_is_albedo_times_nl() {
+        let s = Surface { base_color: DVec3::splat(0.5), metallic: 0.0, smoothness: 0.0 };
+        let n = DVec3::Y;
+        let l = DVec3::new(0.0, 0.5, 0.75f64.sqrt());
+        let c = Lambert.direct(Pipeline::Builtin, &s, n, DVec3::Y, l);
+        assert!((c.x - 0.25).abs() < 1e-12, "built-in: ρ·I·NL, got {c}");
+        let h = Lambert.direct(Pipeline::Hdrp, &s, n, DVec3::Y, l);
+        assert!((h.x - 0.25 / std::f64::consts::PI).abs() < 1e-12, "HDRP: ρ/π·E·NL");
+    }
+}

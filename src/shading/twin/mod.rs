@@ -1,0 +1,58 @@
+//! CPU f64 twins of the WGSL models, term by term, in the same pipeline conventions.
+
+mod lambert;
+mod standard;
+
+pub use lambert::Lambert;
+pub use standard::Standard;
+
+use glam::DVec3;
+
+use crate::pipelines::Pipeline;
+
+/// Material as the model receives it (metallic already converted by the pipeline).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Surface {
+    pub base_color: DVec3,
+    pub metallic: f64,
+    pub smoothness: f64,
+}
+
+pub trait SurfaceTwin: Sync {
+    /// Radiance for a light of colour 1 at attenuation 1, N·L included (WGSL `model_direct`).
+    fn direct(&self, pipeline: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3;
+    /// Ambient and environment term; `gi_diffuse` = E/π, `gi_specular` = the prefiltered
+    /// environment along the reflection (WGSL `model_indirect`).
+    fn indirect(&self, pipeline: Pipeline, s: &Surface, n: DVec3, v: DVec3, gi_diffuse: DVec3, gi_specular: DVec3) -> DVec3;
+}
+
+pub fn sat(x: f64) -> f64 {
+    x.clamp(0.0, 1.0)
+}
+
+pub fn pow5(x: f64) -> f64 {
+    let x2 = x * x;
+    x2 * x2 * x
+}
+
+pub fn safe_normalize(v: DVec3, eps: f64) -> DVec3 {
+    v / v.length_squared().max(eps).sqrt()
+}
+
+/// F0 + (1 − F0)(1 − c)⁵
+pub fn f_schlick(f0: DVec3, c: f64) -> DVec3 {
+    f0 + (DVec3::ONE - f0) * pow5(1.0 - c)
+}
+
+/// lerp(F0, F90, (1 − c)⁵)
+pub fn f_schlick_lerp(f0: DVec3, f90: DVec3, c: f64) -> DVec3 {
+    f0.lerp(f90, pow5(1.0 - c))
+}
+
+/// Irradiance per unit intensity (built-in and URP intensities carry π).
+pub fn irradiance_per_intensity(p: Pipeline) -> f64 {
+    match p {
+        Pipeline::Hdrp => 1.0,
+        Pipeline::Builtin | Pipeline::Urp => std::f64::consts::PI,
+    }
+}

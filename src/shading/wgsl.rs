@@ -1,0 +1,51 @@
+//! WGSL composition. WGSL has no includes: a module is the shared files followed by one model
+//! and one pass, concatenated in a fixed order.
+
+use super::registry::ShaderModel;
+
+const MATH: &str = include_str!("../../shaders/common/math.wgsl");
+const CONVENTIONS: &str = include_str!("../../shaders/common/conventions.wgsl");
+const BRDF_TERMS: &str = include_str!("../../shaders/common/brdf.wgsl");
+const SCENE: &str = include_str!("../../shaders/pass/scene.wgsl");
+const FORWARD: &str = include_str!("../../shaders/pass/forward.wgsl");
+const BACKGROUND: &str = include_str!("../../shaders/pass/background.wgsl");
+const PROBE: &str = include_str!("../../shaders/pass/brdf_probe.wgsl");
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PassKind {
+    /// Forward lighting of one model, with vertex entry `vs_main` and fragment entry `fs_main`.
+    Forward,
+    /// The environment background (no model).
+    Background,
+    /// Compute entry `probe_main`: the model evaluated for given directions.
+    BrdfProbe,
+}
+
+/// The full WGSL source for a pass, with the model where the pass needs one.
+pub fn compose(pass: PassKind, model: Option<&ShaderModel>) -> String {
+    let mut parts: Vec<(&str, &str)> = vec![
+        ("shaders/common/math.wgsl", MATH),
+        ("shaders/common/conventions.wgsl", CONVENTIONS),
+        ("shaders/common/brdf.wgsl", BRDF_TERMS),
+    ];
+    match pass {
+        PassKind::Forward => parts.push(("shaders/pass/scene.wgsl", SCENE)),
+        PassKind::Background => parts.push(("shaders/pass/scene.wgsl", SCENE)),
+        PassKind::BrdfProbe => {}
+    }
+    if let Some(m) = model {
+        parts.push((m.source_path, m.wgsl));
+    }
+    parts.push(match pass {
+        PassKind::Forward => ("shaders/pass/forward.wgsl", FORWARD),
+        PassKind::Background => ("shaders/pass/background.wgsl", BACKGROUND),
+        PassKind::BrdfProbe => ("shaders/pass/brdf_probe.wgsl", PROBE),
+    });
+    let mut out = String::new();
+    for (path, text) in parts {
+        out.push_str(&format!("// ---- {path}\n"));
+        out.push_str(text);
+        out.push('\n');
+    }
+    out
+}

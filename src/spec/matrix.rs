@@ -1,0 +1,362 @@
+//! Matrix files (`matrices/*.toml`): the axes to sweep, the image size, timing and filters.
+
+use serde::Deserialize;
+use sha2::{Digest, Sha256};
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use super::names::unknown_name;
+use super::presets::{find_preset, preset_names, Preset};
+use super::scene::Scene;
+use super::source::parse_toml;
+use super::validate::Checker;
+use crate::error::{Error, InputError};
+use crate::pipelines::{Pipeline, RenderPath};
+use crate::shading::registry::all_model_names;
+
+/// The matrix `shadematrix run` uses with no argument.
+pub const DEFAULT_MATRIX: &str = include_str!("../../matrices/default.toml");
+
+pub const MAX_IMAGE_SIZE: u32 = 8192;
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MatrixFile {
+    name: String,
+    #[serde(default)]
+    description: String,
+    compositions: Vec<String>,
+    pipelines: Vec<String>,
+    #[serde(default = "default_paths")]
+    paths: Vec<String>,
+    shaders: Vec<String>,
+    presets: Vec<String>,
+    #[serde(default)]
+    sweep: Sweep,
+    image: ImageSize,
+    #[serde(default)]
+    timing: Timing,
+    #[serde(default)]
+    only: Vec<toml::Table>,
+    #[serde(default)]
+    exclude: Vec<toml::Table>,
+}
+
+fn default_paths() -> Vec<String> {
+    vec!["forward".into()]
+}
+
+/// Value lists; an empty list means "the preset's (or the scene's) own value".
+#[derive(Debug, Clone, Default, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Sweep {
+    #[serde(default)]
+    pub metallic: Vec<f64>,
+    #[serde(default)]
+    pub smoothness: Vec<f64>,
+    /// sRGB slider colours, linearised before shading.
+    #[serde(default)]
+    pub color: Vec<[f64; 3]>,
+    #[serde(default)]
+    pub light_intensity: Vec<f64>,
+    #[serde(default)]
+    pub light_range: Vec<f64>,
+}
+
+#[derive(Debug, Clone, Copy, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ImageSize {
+    pub width: u32,
+    pub height: u32,
+}
+
+#[derive(Debug, Clone, Copy, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Timing {
+    /// Frames rendered and timed per cell (the image is the last one).
+    #[serde(default = "one_frame")]
+    pub frames: u32,
+    /// Untimed frames before those.
+    #[serde(default)]
+    pub warmup: u32,
+}
+
+fn one_frame() -> u32 {
+    1
+}
+
+impl Default for Timing {
+    fn default() -> Self {
+        Self { frames: 1, warmup: 0 }
+    }
+}
+
+/// Axes a filter can name.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Axis {
+    Composition,
+    Pipeline,
+    Path,
+    Shader,
+    Preset,
+    Metallic,
+    Smoothness,
+    LightIntensity,
+    LightRange,
+}
+
+impl Axis {
+    pub const ALL: [Axis; 9] = [
+        Axis::Composition,
+        Axis::Pipeline,
+        Axis::Path,
+        Axis::Shader,
+        Axis::Preset,
+        Axis::Metallic,
+        Axis::Smoothness,
+        Axis::LightIntensity,
+        Axis::LightRange,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Axis::Composition => "composition",
+            Axis::Pipeline => "pipeline",
+            Axis::Path => "path",
+            Axis::Shader => "shader",
+            Axis::Preset => "preset",
+            Axis::Metallic => "metallic",
+            Axis::Smoothness => "smoothness",
+            Axis::LightIntensity => "light_intensity",
+            Axis::LightRange => "light_range",
+        }
+    }
+
+    pub fn is_numeric(self) -> bool {
+        matches!(self, Axis::Metallic | Axis::Smoothness | Axis::LightIntensity | Axis::LightRange)
+    }
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum FilterValue {
+    Name(String),
+    Number(f64),
+}
+
+/// A conjunction: every named axis must take one of its listed values.
+#[derive(Debug, Clone, Default)]
+pub struct Filter {
+    pub terms: Vec<(Axis, Vec<FilterValue>)>,
+}
+
+#[derive(Debug, Clone)]
+pub struct Matrix {
+    pub name: String,
+    pub description: String,
+    /// Where it came from: a path or `<embedded default matrix>`.
+    pub origin: String,
+    /// SHA-256 of the matrix text.
+    pub hash: String,
+    pub compositions: Vec<Scene>,
+    pub pipelines: Vec<Pipeline>,
+    pub paths: Vec<RenderPath>,
+    pub shaders: Vec<String>,
+    pub presets: Vec<&'static Preset>,
+    pub sweep: Sweep,
+    pub image: ImageSize,
+    pub timing: Timing,
+    pub only: Vec<Filter>,
+    pub exclude: Vec<Filter>,
+}
+
+impl Matrix {
+    pub fn load_default() -> Result<Matrix, Error> {
+        Self::from_text("<embedded default matrix>", DEFAULT_MATRIX, Some(Path::new(".")))
+    }
+
+    pub fn load(path: &Path) -> Result<Matrix, Error> {
+        let shown = path.display().to_string();
+        let text =
+            std::fs::read_to_string(path).map_err(|e| InputError::new(&shown, format!("cannot read matrix file: {e}")))?;
+        Self::from_text(&shown, &text, path.parent())
+    }
+
+    /// Parse and validate; compositions given as paths resolve against `base_dir`.
+    pub fn from_text(origin: &str, text: &str, base_dir: Option<&Path>) -> Result<Matrix, Error> {
+        let file: MatrixFile = parse_toml(origin, text)?;
+        let c = Checker::new(origin);
+        c.name("name", &file.name)?;
+        non_empty(&c, "compositions", &file.compositions)?;
+        non_empty(&c, "pipelines", &file.pipelines)?;
+        non_empty(&c, "paths", &file.paths)?;
+        non_empty(&c, "shaders", &file.shaders)?;
+        non_empty(&c, "presets", &file.presets)?;
+
+        let mut compositions = Vec::new();
+        for (i, name) in file.compositions.iter().enumerate() {
+            let scene = Scene::load(name, base_dir, origin, &format!("compositions[{i}]"))?;
+            if compositions.iter().any(|s: &Scene| s.name == scene.name) {
+                return Err(c.err(&format!("compositions[{i}]"), format!("composition `{}` is listed twice", scene.name)).into());
+            }
+            compositions.push(scene);
+        }
+        let pipelines = names_to(&c, origin, "pipelines", "pipeline", &file.pipelines, &Pipeline::names(), Pipeline::from_name)?;
+        let paths = names_to(&c, origin, "paths", "rendering path", &file.paths, &RenderPath::names(), RenderPath::from_name)?;
+        let model_names = all_model_names();
+        for (i, s) in file.shaders.iter().enumerate() {
+            if !model_names.contains(&s.as_str()) {
+                return Err(unknown_name(origin, &format!("shaders[{i}]"), "shader", s, &model_names).into());
+            }
+        }
+        let presets = if file.presets.len() == 1 && file.presets[0] == "all" {
+            super::presets::PRESETS.iter().collect()
+        } else {
+            let valid = preset_names();
+            let mut v = Vec::new();
+            for (i, p) in file.presets.iter().enumerate() {
+                v.push(find_preset(p).ok_or_else(|| unknown_name(origin, &format!("presets[{i}]"), "preset", p, &valid))?);
+            }
+            v
+        };
+
+        let s = &file.sweep;
+        for (i, m) in s.metallic.iter().enumerate() {
+            c.unit(&format!("sweep.metallic[{i}]"), *m)?;
+        }
+        for (i, m) in s.smoothness.iter().enumerate() {
+            c.unit(&format!("sweep.smoothness[{i}]"), *m)?;
+        }
+        for (i, col) in s.color.iter().enumerate() {
+            c.color(&format!("sweep.color[{i}]"), *col)?;
+        }
+        for (i, v) in s.light_intensity.iter().enumerate() {
+            c.range(&format!("sweep.light_intensity[{i}]"), *v, 0.0, 100.0)?;
+        }
+        for (i, v) in s.light_range.iter().enumerate() {
+            c.range(&format!("sweep.light_range[{i}]"), *v, 1e-3, 40.0)?;
+        }
+        for (key, v) in [("image.width", file.image.width), ("image.height", file.image.height)] {
+            if v == 0 || v > MAX_IMAGE_SIZE {
+                return Err(c.err(key, format!("value {v} is out of range; allowed 1..={MAX_IMAGE_SIZE}")).into());
+            }
+        }
+        if file.timing.frames == 0 || file.timing.frames > 10_000 {
+            return Err(c.err("timing.frames", format!("value {} is out of range; allowed 1..=10000", file.timing.frames)).into());
+        }
+        let only: Vec<Filter> = file.only.iter().enumerate().map(|(i, t)| parse_filter(&c, &format!("only[{i}]"), t)).collect::<Result<_, _>>()?;
+        let exclude: Vec<Filter> =
+            file.exclude.iter().enumerate().map(|(i, t)| parse_filter(&c, &format!("exclude[{i}]"), t)).collect::<Result<_, _>>()?;
+
+        let known = |axis: Axis| -> Vec<String> {
+            match axis {
+                Axis::Composition => compositions.iter().map(|s| s.name.clone()).collect(),
+                Axis::Pipeline => Pipeline::names().iter().map(|s| s.to_string()).collect(),
+                Axis::Path => RenderPath::names().iter().map(|s| s.to_string()).collect(),
+                Axis::Shader => model_names.iter().map(|s| s.to_string()).collect(),
+                Axis::Preset => preset_names().iter().map(|s| s.to_string()).collect(),
+                _ => Vec::new(),
+            }
+        };
+        for (list, filters) in [("only", &only), ("exclude", &exclude)] {
+            for (i, f) in filters.iter().enumerate() {
+                for (axis, values) in &f.terms {
+                    let valid = known(*axis);
+                    for v in values {
+                        if let FilterValue::Name(n) = v {
+                            if !valid.contains(n) {
+                                let valid: Vec<&str> = valid.iter().map(String::as_str).collect();
+                                let key = format!("{list}[{i}].{}", axis.name());
+                                return Err(unknown_name(origin, &key, axis.name(), n, &valid).into());
+                            }
+                        }
+                    }
+                }
+            }
+        }
+
+        Ok(Matrix {
+            name: file.name,
+            description: file.description,
+            origin: origin.to_string(),
+            hash: hex(&Sha256::digest(text.as_bytes())),
+            compositions,
+            pipelines,
+            paths,
+            shaders: file.shaders,
+            presets,
+            sweep: file.sweep,
+            image: file.image,
+            timing: file.timing,
+            only,
+            exclude,
+        })
+    }
+}
+
+pub fn hex(bytes: &[u8]) -> String {
+    bytes.iter().map(|b| format!("{b:02x}")).collect()
+}
+
+fn non_empty(c: &Checker, key: &str, v: &[String]) -> Result<(), InputError> {
+    if v.is_empty() {
+        Err(c.err(key, "the list is empty; name at least one"))
+    } else {
+        Ok(())
+    }
+}
+
+fn names_to<T: PartialEq>(
+    c: &Checker,
+    origin: &str,
+    key: &str,
+    what: &str,
+    names: &[String],
+    valid: &[&str],
+    parse: impl Fn(&str) -> Option<T>,
+) -> Result<Vec<T>, InputError> {
+    let mut out = Vec::new();
+    for (i, n) in names.iter().enumerate() {
+        let v = parse(n).ok_or_else(|| unknown_name(origin, &format!("{key}[{i}]"), what, n, valid))?;
+        if out.contains(&v) {
+            return Err(c.err(&format!("{key}[{i}]"), format!("{what} `{n}` is listed twice")));
+        }
+        out.push(v);
+    }
+    Ok(out)
+}
+
+fn parse_filter(c: &Checker, key: &str, table: &toml::Table) -> Result<Filter, InputError> {
+    let axis_names: Vec<&str> = Axis::ALL.iter().map(|a| a.name()).collect();
+    let mut terms = BTreeMap::new();
+    for (k, v) in table {
+        let axis = Axis::ALL
+            .into_iter()
+            .find(|a| a.name() == k)
+            .ok_or_else(|| unknown_name(c_file(c), &format!("{key}.{k}"), "filter axis", k, &axis_names))?;
+        let items: Vec<&toml::Value> = match v {
+            toml::Value::Array(a) => a.iter().collect(),
+            other => vec![other],
+        };
+        let mut values = Vec::new();
+        for item in items {
+            let value = match (axis.is_numeric(), item) {
+                (true, toml::Value::Float(f)) => FilterValue::Number(*f),
+                (true, toml::Value::Integer(i)) => FilterValue::Number(*i as f64),
+                (false, toml::Value::String(s)) => FilterValue::Name(s.clone()),
+                (numeric, other) => {
+                    return Err(c.err(
+                        &format!("{key}.{k}"),
+                        format!("value {other} has the wrong type; allowed: {}", if numeric { "a number or a list of numbers" } else { "a name or a list of names" }),
+                    ))
+                }
+            };
+            values.push(value);
+        }
+        terms.insert(axis, values);
+    }
+    Ok(Filter { terms: terms.into_iter().collect() })
+}
+
+fn c_file<'a>(c: &'a Checker) -> &'a str {
+    c.file()
+}

@@ -1,0 +1,421 @@
+//! Scene files (`scenes/*.toml`): camera, lights, objects, environment.
+//!
+//! Convention, stated once: metres, Y up, right-handed (glTF's own convention, so glTF needs no
+//! axis conversion). Colours in scene files are sRGB unless a key says `_linear`.
+
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+use super::names::unknown_name;
+use super::source::parse_toml;
+use super::validate::Checker;
+use crate::error::{Error, InputError};
+
+/// The four compositions of `spec/scenes.md`, embedded so the binary works from any folder.
+pub const BUILTIN_SCENES: [(&str, &str); 4] = [
+    ("default", include_str!("../../scenes/default.toml")),
+    ("mitsuba", include_str!("../../scenes/mitsuba.toml")),
+    ("medusa", include_str!("../../scenes/medusa.toml")),
+    ("spikes", include_str!("../../scenes/spikes.toml")),
+];
+
+pub fn builtin_scene_names() -> Vec<&'static str> {
+    BUILTIN_SCENES.iter().map(|(n, _)| *n).collect()
+}
+
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    pub name: String,
+    #[serde(default)]
+    pub description: String,
+    pub camera: Camera,
+    #[serde(default)]
+    pub lights: Vec<Light>,
+    pub objects: Vec<Object>,
+    pub environment: Environment,
+    /// Where the scene came from: a built-in name or a file path (not part of the TOML).
+    #[serde(skip)]
+    pub origin: String,
+    /// Folder that relative glTF paths resolve against; `None` for embedded scenes.
+    #[serde(skip)]
+    pub base_dir: Option<PathBuf>,
+}
+
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Camera {
+    pub position: [f64; 3],
+    pub target: [f64; 3],
+    /// Vertical field of view in degrees.
+    pub fov_y_deg: f64,
+    #[serde(default = "default_near")]
+    pub near: f64,
+    #[serde(default = "default_far")]
+    pub far: f64,
+}
+
+fn default_near() -> f64 {
+    0.05
+}
+fn default_far() -> f64 {
+    100.0
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LightKind {
+    Directional,
+    Point,
+    Spot,
+}
+
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Light {
+    pub kind: LightKind,
+    /// Point and spot lights.
+    #[serde(default)]
+    pub position: [f64; 3],
+    /// Direction the light travels (directional, spot).
+    #[serde(default = "default_direction")]
+    pub direction: [f64; 3],
+    /// sRGB colour.
+    #[serde(default = "white")]
+    pub color: [f64; 3],
+    /// Unitless (built-in/URP convention); the HDRP emulation scales it (see `pipelines`).
+    #[serde(default = "one")]
+    pub intensity: f64,
+    #[serde(default = "default_range")]
+    pub range: f64,
+    /// Spot: full cone angle, and the inner angle where the falloff starts.
+    #[serde(default = "default_spot_angle")]
+    pub spot_angle_deg: f64,
+    #[serde(default)]
+    pub inner_spot_angle_deg: Option<f64>,
+    #[serde(default)]
+    pub shadows: bool,
+    /// The key light receives the matrix's light intensity and range axes; at most one, and when
+    /// no light says so, the first point light is the key.
+    #[serde(default)]
+    pub key: bool,
+}
+
+fn default_direction() -> [f64; 3] {
+    [0.0, -1.0, 0.0]
+}
+fn white() -> [f64; 3] {
+    [1.0, 1.0, 1.0]
+}
+fn one() -> f64 {
+    1.0
+}
+fn default_range() -> f64 {
+    10.0
+}
+fn default_spot_angle() -> f64 {
+    30.0
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Role {
+    /// Receives the swept material.
+    Subject,
+    /// Keeps its own material.
+    Fixed,
+}
+
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Object {
+    pub name: String,
+    pub role: Role,
+    pub mesh: MeshSpec,
+    #[serde(default)]
+    pub transform: Transform,
+    /// Required for fixed objects, ignored (and refused) for subjects.
+    #[serde(default)]
+    pub material: Option<FixedMaterial>,
+}
+
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Transform {
+    #[serde(default)]
+    pub translate: [f64; 3],
+    /// Euler angles in degrees, applied in the order Y, X, Z (Unity's order).
+    #[serde(default)]
+    pub rotate_deg: [f64; 3],
+    #[serde(default = "unit_scale")]
+    pub scale: [f64; 3],
+}
+
+fn unit_scale() -> [f64; 3] {
+    [1.0; 3]
+}
+
+impl Default for Transform {
+    fn default() -> Self {
+        Self { translate: [0.0; 3], rotate_deg: [0.0; 3], scale: unit_scale() }
+    }
+}
+
+impl Transform {
+    pub fn matrix(&self) -> glam::DMat4 {
+        let r = self.rotate_deg.map(f64::to_radians);
+        let rotation = glam::DQuat::from_euler(glam::EulerRot::YXZ, r[1], r[0], r[2]);
+        glam::DMat4::from_scale_rotation_translation(self.scale.into(), rotation, self.translate.into())
+    }
+}
+
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct FixedMaterial {
+    /// Linear base colour.
+    pub base_color_linear: [f64; 3],
+    #[serde(default)]
+    pub metallic: f64,
+    #[serde(default)]
+    pub smoothness: f64,
+    /// A UV checkerboard: second colour (linear) and cell size in UV units.
+    #[serde(default)]
+    pub checker: Option<Checkerboard>,
+}
+
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Checkerboard {
+    pub color_linear: [f64; 3],
+    pub cell: f64,
+}
+
+/// Mesh sources: procedural kinds with their parameters, or a glTF/GLB file.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum MeshSpec {
+    UvSphere { radius: f64, rings: u32, segments: u32 },
+    Box { size: [f64; 3] },
+    /// In the XZ plane, normal +Y, centred at the origin.
+    Plane { size: [f64; 2], subdivisions: u32 },
+    /// Surface of revolution about +Y of a 2-D profile of (radius, height) points.
+    Lathe { profile: Vec<[f64; 2]>, segments: u32 },
+    /// The material-preview knob's outer shell: a thick sphere shell with a bevelled window.
+    KnobShell {
+        center_height: f64,
+        outer_radius: f64,
+        inner_radius: f64,
+        window_half_angle_deg: f64,
+        /// Azimuth of the window axis about +Y, degrees, measured from +Z towards +X.
+        window_azimuth_deg: f64,
+        rings: u32,
+        segments: u32,
+    },
+    /// A floor bending up into a back wall (photographer's cyclorama), extruded along X.
+    Cyclorama { width: f64, depth: f64, height: f64, bend_radius: f64, segments: u32 },
+    /// BRDF-evaluation disc with sunflower-lattice bumps (spec: spikes).
+    Spikes { radius: f64, count: u32, bump_radius: f64, bump_height: f64, rings: u32, segments: u32 },
+    /// BRDF-evaluation disc with angle-modulated radial waves (spec: medusa).
+    Medusa { radius: f64, amplitude: f64, k: f64, n: u32, m: f64, rings: u32, segments: u32 },
+    /// A glTF or GLB file, relative to the scene file.
+    Gltf { path: String },
+}
+
+impl MeshSpec {
+    pub fn kind_name(&self) -> &'static str {
+        match self {
+            MeshSpec::UvSphere { .. } => "uv_sphere",
+            MeshSpec::Box { .. } => "box",
+            MeshSpec::Plane { .. } => "plane",
+            MeshSpec::Lathe { .. } => "lathe",
+            MeshSpec::KnobShell { .. } => "knob_shell",
+            MeshSpec::Cyclorama { .. } => "cyclorama",
+            MeshSpec::Spikes { .. } => "spikes",
+            MeshSpec::Medusa { .. } => "medusa",
+            MeshSpec::Gltf { .. } => "gltf",
+        }
+    }
+}
+
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Environment {
+    pub sky: Sky,
+    /// Multiplies the environment's radiance for ambient and reflections.
+    #[serde(default = "one")]
+    pub ambient_intensity: f64,
+    /// Whether the environment is drawn behind the scene (otherwise black).
+    #[serde(default = "yes")]
+    pub background: bool,
+}
+
+fn yes() -> bool {
+    true
+}
+
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Sky {
+    /// One sRGB colour in every direction.
+    Constant { color: [f64; 3] },
+    /// Unity's trilight ambient: sky above, equator at the horizon, ground below (sRGB).
+    Gradient { sky: [f64; 3], equator: [f64; 3], ground: [f64; 3] },
+    /// An analytic approximation of a procedural sky (see `environment::sky`).
+    Procedural {
+        /// Direction towards the sun.
+        sun_direction: [f64; 3],
+        #[serde(default = "sun_size")]
+        sun_size: f64,
+        #[serde(default = "one")]
+        atmosphere_thickness: f64,
+        #[serde(default = "sky_tint")]
+        sky_tint: [f64; 3],
+        #[serde(default = "ground_color")]
+        ground: [f64; 3],
+        #[serde(default = "sky_exposure")]
+        exposure: f64,
+    },
+}
+
+fn sun_size() -> f64 {
+    0.04
+}
+fn sky_tint() -> [f64; 3] {
+    [0.5, 0.5, 0.5]
+}
+fn ground_color() -> [f64; 3] {
+    [0.369, 0.349, 0.341]
+}
+fn sky_exposure() -> f64 {
+    1.3
+}
+
+impl Scene {
+    /// Load a composition: a built-in name, or a path to a scene TOML (relative to `base_dir`).
+    pub fn load(name_or_path: &str, base_dir: Option<&Path>, referenced_from: &str, key: &str) -> Result<Scene, Error> {
+        if let Some((_, text)) = BUILTIN_SCENES.iter().find(|(n, _)| *n == name_or_path) {
+            let origin = format!("<built-in scene {name_or_path}>");
+            let mut scene: Scene = parse_toml(&origin, text)?;
+            scene.origin = origin;
+            scene.validate()?;
+            return Ok(scene);
+        }
+        if !name_or_path.ends_with(".toml") {
+            return Err(unknown_name(
+                referenced_from,
+                key,
+                "composition",
+                name_or_path,
+                &builtin_scene_names(),
+            )
+            .into());
+        }
+        let path = match base_dir {
+            Some(d) => d.join(name_or_path),
+            None => PathBuf::from(name_or_path),
+        };
+        Self::load_file(&path)
+    }
+
+    pub fn load_file(path: &Path) -> Result<Scene, Error> {
+        let mut scene: Scene = super::source::read_toml(path)?;
+        scene.origin = path.display().to_string();
+        scene.base_dir = Some(path.parent().map(Path::to_path_buf).unwrap_or_default());
+        scene.validate()?;
+        Ok(scene)
+    }
+
+    /// Index of the key light (receives the intensity and range axes).
+    pub fn key_light(&self) -> Option<usize> {
+        self.lights
+            .iter()
+            .position(|l| l.key)
+            .or_else(|| self.lights.iter().position(|l| l.kind == LightKind::Point))
+    }
+
+    pub fn has_shadow_casting_light(&self) -> bool {
+        self.lights.iter().any(|l| l.shadows)
+    }
+
+    fn validate(&self) -> Result<(), InputError> {
+        let c = Checker::new(&self.origin);
+        c.name("name", &self.name)?;
+        c.positive("camera.fov_y_deg", self.camera.fov_y_deg)?;
+        c.range("camera.fov_y_deg", self.camera.fov_y_deg, 1.0, 170.0)?;
+        c.positive("camera.near", self.camera.near)?;
+        if self.camera.far <= self.camera.near {
+            return Err(c.err("camera.far", format!("far {} must be greater than near {}", self.camera.far, self.camera.near)));
+        }
+        if self.camera.position == self.camera.target {
+            return Err(c.err("camera.target", "target equals position: the view direction is undefined"));
+        }
+        if self.lights.iter().filter(|l| l.key).count() > 1 {
+            return Err(c.err("lights.key", "at most one light may be the key light"));
+        }
+        for (i, l) in self.lights.iter().enumerate() {
+            let k = |f: &str| format!("lights[{i}].{f}");
+            c.color(&k("color"), l.color)?;
+            c.non_negative(&k("intensity"), l.intensity)?;
+            c.positive(&k("range"), l.range)?;
+            if l.kind != LightKind::Point {
+                c.nonzero_vector(&k("direction"), l.direction)?;
+            }
+            if l.kind == LightKind::Spot {
+                c.range(&k("spot_angle_deg"), l.spot_angle_deg, 1.0, 179.0)?;
+                if let Some(inner) = l.inner_spot_angle_deg {
+                    c.range(&k("inner_spot_angle_deg"), inner, 0.0, l.spot_angle_deg)?;
+                }
+            }
+        }
+        if !self.objects.iter().any(|o| o.role == Role::Subject) {
+            return Err(c.err("objects", "a scene needs at least one object with role = \"subject\""));
+        }
+        for (i, o) in self.objects.iter().enumerate() {
+            let k = |f: &str| format!("objects[{i}].{f}");
+            c.name(&k("name"), &o.name)?;
+            for s in o.transform.scale {
+                if s == 0.0 || !s.is_finite() {
+                    return Err(c.err(&k("transform.scale"), format!("scale {s} must be finite and non-zero")));
+                }
+            }
+            match (o.role, &o.material) {
+                (Role::Fixed, None) => {
+                    return Err(c.err(&k("material"), "a fixed object needs its own material (base_color_linear, ...)"))
+                }
+                (Role::Subject, Some(_)) => {
+                    return Err(c.err(&k("material"), "a subject receives the swept material; remove its material"))
+                }
+                (_, Some(m)) => {
+                    c.color(&k("material.base_color_linear"), m.base_color_linear)?;
+                    c.unit(&k("material.metallic"), m.metallic)?;
+                    c.unit(&k("material.smoothness"), m.smoothness)?;
+                    if let Some(ch) = &m.checker {
+                        c.color(&k("material.checker.color_linear"), ch.color_linear)?;
+                        c.positive(&k("material.checker.cell"), ch.cell)?;
+                    }
+                }
+                _ => {}
+            }
+            crate::geometry::procedural::validate_spec(&o.mesh).map_err(|m| c.err(&k("mesh"), m))?;
+        }
+        let e = &self.environment;
+        c.non_negative("environment.ambient_intensity", e.ambient_intensity)?;
+        match &e.sky {
+            Sky::Constant { color } => c.color("environment.sky.color", *color)?,
+            Sky::Gradient { sky, equator, ground } => {
+                c.color("environment.sky.sky", *sky)?;
+                c.color("environment.sky.equator", *equator)?;
+                c.color("environment.sky.ground", *ground)?;
+            }
+            Sky::Procedural { sun_direction, sun_size, atmosphere_thickness, sky_tint, ground, exposure } => {
+                c.nonzero_vector("environment.sky.sun_direction", *sun_direction)?;
+                c.range("environment.sky.sun_size", *sun_size, 0.0, 1.0)?;
+                c.range("environment.sky.atmosphere_thickness", *atmosphere_thickness, 0.0, 5.0)?;
+                c.color("environment.sky.sky_tint", *sky_tint)?;
+                c.color("environment.sky.ground", *ground)?;
+                c.range("environment.sky.exposure", *exposure, 0.0, 8.0)?;
+            }
+        }
+        Ok(())
+    }
+}
