@@ -155,8 +155,8 @@ fn list(m: &Matrix) -> String {
     let _ = writeln!(out, "{} cells, {} rendered, {} twins, {} pruned, {} filtered out", exp.cells.len(), rendered, exp.cells.len() - rendered, exp.pruned.len(), exp.filtered_out);
     for c in &exp.cells {
         match &c.twin_of {
-            None => let _ = writeln!(out, "  {}", c.id),
-            Some(t) => let _ = writeln!(out, "  {}  = {} ({} ignores the differing axes)", c.id, t, c.shader),
+            None => { let _ = writeln!(out, "  {}", c.id); }
+            Some(t) => { let _ = writeln!(out, "  {}  = {} ({} ignores the differing axes)", c.id, t, c.shader); }
         }
     }
     for p in &exp.pruned {
