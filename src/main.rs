@@ -15,7 +15,11 @@ use shadematrix::spec::names::unknown_name;
 use shadematrix::spec::scene::{Role, Scene};
 
 #[derive(Parser)]
-#[command(name = "shadematrix", version, about = "Render a TOML matrix of pipelines × shaders × materials × compositions headlessly with wgpu")]
+#[command(
+    name = "shadematrix",
+    version,
+    about = "Render a TOML matrix of pipelines × shaders × materials × compositions headlessly with wgpu"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
@@ -41,9 +45,7 @@ enum Command {
         only: Option<String>,
     },
     /// List the expanded cells, the pruned ones and the passes each composition needs.
-    List {
-        matrix: Option<PathBuf>,
-    },
+    List { matrix: Option<PathBuf> },
     /// Write a composition's meshes (world space) as a GLB file.
     ExportMesh {
         /// A built-in composition name or a scene TOML path.
@@ -55,7 +57,13 @@ enum Command {
 fn main() -> ExitCode {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("error")).init();
     let cli = Cli::parse();
-    match dispatch(cli.command.unwrap_or(Command::Run { matrix: None, out: None, resume: false, shard: None, only: None })) {
+    match dispatch(cli.command.unwrap_or(Command::Run {
+        matrix: None,
+        out: None,
+        resume: false,
+        shard: None,
+        only: None,
+    })) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("shadematrix: {e}");
@@ -80,13 +88,20 @@ fn dispatch(cmd: Command) -> Result<(), Error> {
                 out,
                 resume,
                 shard: shard.as_deref().map(parse_shard).transpose()?,
-                only: only.as_deref().map(|f| parse_only(f)).transpose()?,
+                only: only.as_deref().map(parse_only).transpose()?,
                 progress: std::io::IsTerminal::is_terminal(&std::io::stderr()),
             };
             let s = runner::run(&m, &opts)?;
             println!(
                 "{} cells ({} rendered, {} twins copied, {} resumed; {} pruned, {} filtered out) in {:.1} s on {}",
-                s.counts.cells, s.counts.rendered, s.counts.twins, s.counts.resumed, s.counts.pruned, s.counts.filtered_out, s.wall_seconds, s.adapter
+                s.counts.cells,
+                s.counts.rendered,
+                s.counts.twins,
+                s.counts.resumed,
+                s.counts.pruned,
+                s.counts.filtered_out,
+                s.wall_seconds,
+                s.adapter
             );
             println!("results: {}", s.dir.display());
             Ok(())
@@ -127,7 +142,11 @@ fn parse_only(s: &str) -> Result<Filter, Error> {
             .map(|x| {
                 if axis.is_numeric() {
                     x.trim().parse::<f64>().map(FilterValue::Number).map_err(|_| {
-                        InputError::at_key("command line", format!("--only {}", axis.name()), format!("`{x}` is not a number"))
+                        InputError::at_key(
+                            "command line",
+                            format!("--only {}", axis.name()),
+                            format!("`{x}` is not a number"),
+                        )
                     })
                 } else {
                     Ok(FilterValue::Name(x.trim().to_string()))
@@ -152,11 +171,23 @@ fn list(m: &Matrix) -> String {
         }
     }
     let rendered = exp.cells.iter().filter(|c| c.twin_of.is_none()).count();
-    let _ = writeln!(out, "{} cells, {} rendered, {} twins, {} pruned, {} filtered out", exp.cells.len(), rendered, exp.cells.len() - rendered, exp.pruned.len(), exp.filtered_out);
+    let _ = writeln!(
+        out,
+        "{} cells, {} rendered, {} twins, {} pruned, {} filtered out",
+        exp.cells.len(),
+        rendered,
+        exp.cells.len() - rendered,
+        exp.pruned.len(),
+        exp.filtered_out
+    );
     for c in &exp.cells {
         match &c.twin_of {
-            None => { let _ = writeln!(out, "  {}", c.id); }
-            Some(t) => { let _ = writeln!(out, "  {}  = {} ({} ignores the differing axes)", c.id, t, c.shader); }
+            None => {
+                let _ = writeln!(out, "  {}", c.id);
+            }
+            Some(t) => {
+                let _ = writeln!(out, "  {}  = {} ({} ignores the differing axes)", c.id, t, c.shader);
+            }
         }
     }
     for p in &exp.pruned {

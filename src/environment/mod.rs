@@ -26,7 +26,12 @@ impl EnvironmentMaps {
             // A constant sky needs no prefiltering: every level is the same colour.
             Sky::Constant { .. } => (sh::project(&radiance, 16), prefilter::Probe::constant(radiance(DVec3::Y))),
             _ => {
-                let source = prefilter::EquirectImage::sample(&radiance, prefilter::SOURCE_WIDTH, prefilter::SOURCE_WIDTH / 2, 4);
+                let source = prefilter::EquirectImage::sample(
+                    &radiance,
+                    prefilter::SOURCE_WIDTH,
+                    prefilter::SOURCE_WIDTH / 2,
+                    4,
+                );
                 (sh::project_image(&source), prefilter::Probe::from_source(&source))
             }
         };

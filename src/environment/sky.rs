@@ -22,9 +22,15 @@ pub fn radiance(sky: &Sky, d: DVec3) -> DVec3 {
                 e.lerp(g, -d.y)
             }
         }
-        Sky::Procedural { sun_direction, sun_size, atmosphere_thickness, sky_tint, ground, exposure } => {
-            procedural(DVec3::from(*sun_direction).normalize(), *sun_size, *atmosphere_thickness, lin(*sky_tint), lin(*ground), *exposure, d)
-        }
+        Sky::Procedural { sun_direction, sun_size, atmosphere_thickness, sky_tint, ground, exposure } => procedural(
+            DVec3::from(*sun_direction).normalize(),
+            *sun_size,
+            *atmosphere_thickness,
+            lin(*sky_tint),
+            lin(*ground),
+            *exposure,
+            d,
+        ),
     }
 }
 

@@ -13,7 +13,9 @@ use crate::error::{Error, InputError};
 pub fn load(path: &Path) -> Result<Mesh, Error> {
     let shown = path.display().to_string();
     if !path.is_file() {
-        return Err(InputError::new(&shown, "glTF file not found (the path is resolved relative to the scene file)").into());
+        return Err(
+            InputError::new(&shown, "glTF file not found (the path is resolved relative to the scene file)").into()
+        );
     }
     let (doc, buffers, _images) =
         gltf::import(path).map_err(|e| InputError::new(&shown, format!("cannot read glTF: {e}")))?;
@@ -26,12 +28,22 @@ pub fn load(path: &Path) -> Result<Mesh, Error> {
         visit(&node, DMat4::IDENTITY, &buffers, &mut out, &shown)?;
     }
     if out.indices.is_empty() {
-        return Err(InputError::new(&shown, "the glTF file contains no triangles (only triangle-list primitives are used)").into());
+        return Err(InputError::new(
+            &shown,
+            "the glTF file contains no triangles (only triangle-list primitives are used)",
+        )
+        .into());
     }
     Ok(out)
 }
 
-fn visit(node: &gltf::Node, parent: DMat4, buffers: &[gltf::buffer::Data], out: &mut Mesh, shown: &str) -> Result<(), Error> {
+fn visit(
+    node: &gltf::Node,
+    parent: DMat4,
+    buffers: &[gltf::buffer::Data],
+    out: &mut Mesh,
+    shown: &str,
+) -> Result<(), Error> {
     let local = DMat4::from_cols_array_2d(&node.transform().matrix().map(|c| c.map(f64::from)));
     let world = parent * local;
     if let Some(mesh) = node.mesh() {
@@ -50,7 +62,15 @@ fn visit(node: &gltf::Node, parent: DMat4, buffers: &[gltf::buffer::Data], out: 
                 None => (0..positions.len() as u32).collect(),
             };
             if let Some(bad) = indices.iter().find(|&&i| i as usize >= positions.len()) {
-                return Err(InputError::new(shown, format!("mesh `{}` has index {bad} beyond its {} vertices", mesh.name().unwrap_or("?"), positions.len())).into());
+                return Err(InputError::new(
+                    shown,
+                    format!(
+                        "mesh `{}` has index {bad} beyond its {} vertices",
+                        mesh.name().unwrap_or("?"),
+                        positions.len()
+                    ),
+                )
+                .into());
             }
             let mut part = Mesh {
                 vertices: positions
@@ -95,7 +115,7 @@ pub fn to_glb(meshes: &[ExportMesh]) -> Result<Vec<u8>, Error> {
     let mut nodes = Vec::new();
     let mut materials = Vec::new();
     let mut push_view = |bin: &mut Vec<u8>, bytes: &[u8], target: u32| -> usize {
-        while bin.len() % 4 != 0 {
+        while !bin.len().is_multiple_of(4) {
             bin.push(0);
         }
         views.push(json!({"buffer": 0, "byteOffset": bin.len(), "byteLength": bytes.len(), "target": target}));
@@ -116,7 +136,8 @@ pub fn to_glb(meshes: &[ExportMesh]) -> Result<Vec<u8>, Error> {
         let tv = push_view(&mut bin, bytemuck::cast_slice(&uv), 34962);
         accessors.push(json!({"bufferView": tv, "componentType": 5126, "count": v.len(), "type": "VEC2"}));
         let iv = push_view(&mut bin, bytemuck::cast_slice(&m.mesh.indices), 34963);
-        accessors.push(json!({"bufferView": iv, "componentType": 5125, "count": m.mesh.indices.len(), "type": "SCALAR"}));
+        accessors
+            .push(json!({"bufferView": iv, "componentType": 5125, "count": m.mesh.indices.len(), "type": "SCALAR"}));
         materials.push(json!({
             "name": m.name,
             "pbrMetallicRoughness": {
@@ -131,7 +152,7 @@ pub fn to_glb(meshes: &[ExportMesh]) -> Result<Vec<u8>, Error> {
         }]}));
         nodes.push(json!({"name": m.name, "mesh": i}));
     }
-    while bin.len() % 4 != 0 {
+    while !bin.len().is_multiple_of(4) {
         bin.push(0);
     }
     let root = json!({
@@ -150,7 +171,11 @@ pub fn to_glb(meshes: &[ExportMesh]) -> Result<Vec<u8>, Error> {
         json_bytes.push(b' ');
     }
     let glb = gltf::binary::Glb {
-        header: gltf::binary::Header { magic: *b"glTF", version: 2, length: (12 + 8 + json_bytes.len() + 8 + bin.len()) as u32 },
+        header: gltf::binary::Header {
+            magic: *b"glTF",
+            version: 2,
+            length: (12 + 8 + json_bytes.len() + 8 + bin.len()) as u32,
+        },
         json: json_bytes.into(),
         bin: Some(bin.into()),
     };

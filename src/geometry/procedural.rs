@@ -14,7 +14,8 @@ const GOLDEN_ANGLE: f64 = 2.399_963_229_728_653;
 
 /// Parameter checks, so bad scene values fail before anything is generated.
 pub fn validate_spec(spec: &MeshSpec) -> Result<(), String> {
-    let pos = |name: &str, v: f64| if v.is_finite() && v > 0.0 { Ok(()) } else { Err(format!("{name} = {v} must be > 0")) };
+    let pos =
+        |name: &str, v: f64| if v.is_finite() && v > 0.0 { Ok(()) } else { Err(format!("{name} = {v} must be > 0")) };
     let tess = |name: &str, v: u32, lo: u32| {
         if (lo..=4096).contains(&v) {
             Ok(())
@@ -43,7 +44,15 @@ pub fn validate_spec(spec: &MeshSpec) -> Result<(), String> {
             }
             Ok(())
         }
-        MeshSpec::KnobShell { center_height: _, outer_radius, inner_radius, window_half_angle_deg, window_azimuth_deg: _, rings, segments } => {
+        MeshSpec::KnobShell {
+            center_height: _,
+            outer_radius,
+            inner_radius,
+            window_half_angle_deg,
+            window_azimuth_deg: _,
+            rings,
+            segments,
+        } => {
             pos("outer_radius", *outer_radius)?;
             pos("inner_radius", *inner_radius)?;
             if inner_radius >= outer_radius {
@@ -100,10 +109,26 @@ pub fn build(spec: &MeshSpec, base_dir: Option<&Path>, origin: &str, key: &str) 
         MeshSpec::Box { size } => cuboid(DVec3::from(*size)),
         MeshSpec::Plane { size, subdivisions } => plane(size[0], size[1], *subdivisions),
         MeshSpec::Lathe { profile, segments } => lathe(profile, *segments),
-        MeshSpec::KnobShell { center_height, outer_radius, inner_radius, window_half_angle_deg, window_azimuth_deg, rings, segments } => {
-            knob_shell(*center_height, *outer_radius, *inner_radius, window_half_angle_deg.to_radians(), window_azimuth_deg.to_radians(), *rings, *segments)
+        MeshSpec::KnobShell {
+            center_height,
+            outer_radius,
+            inner_radius,
+            window_half_angle_deg,
+            window_azimuth_deg,
+            rings,
+            segments,
+        } => knob_shell(
+            *center_height,
+            *outer_radius,
+            *inner_radius,
+            window_half_angle_deg.to_radians(),
+            window_azimuth_deg.to_radians(),
+            *rings,
+            *segments,
+        ),
+        MeshSpec::Cyclorama { width, depth, height, bend_radius, segments } => {
+            cyclorama(*width, *depth, *height, *bend_radius, *segments)
         }
-        MeshSpec::Cyclorama { width, depth, height, bend_radius, segments } => cyclorama(*width, *depth, *height, *bend_radius, *segments),
         MeshSpec::Spikes { radius, count, bump_radius, bump_height, rings, segments } => {
             let field = SpikesField::new(*radius, *count, *bump_radius, *bump_height);
             height_disc(*radius, *rings, *segments, |x, z| field.eval(x, z))
@@ -116,12 +141,30 @@ pub fn build(spec: &MeshSpec, base_dir: Option<&Path>, origin: &str, key: &str) 
             let resolved = match base_dir {
                 Some(d) => d.join(path),
                 None => {
-                    return Err(InputError::at_key(origin, format!("{key}.path"), format!("glTF path `{path}` cannot be resolved: the scene is embedded; load the scene from a file")).into())
+                    return Err(InputError::at_key(
+                        origin,
+                        format!("{key}.path"),
+                        format!(
+                            "glTF path `{path}` cannot be resolved: the scene is embedded; load the scene from a file"
+                        ),
+                    )
+                    .into())
                 }
             };
             super::gltf_io::load(&resolved)?
         }
     })
+}
+
+/// Every object's mesh of a scene in object space, in object order (generated in parallel).
+pub fn build_scene(scene: &crate::spec::scene::Scene) -> Result<Vec<Mesh>, Error> {
+    use rayon::prelude::*;
+    scene
+        .objects
+        .par_iter()
+        .enumerate()
+        .map(|(i, o)| build(&o.mesh, scene.base_dir.as_deref(), &scene.origin, &format!("objects[{i}].mesh")))
+        .collect()
 }
 
 pub fn uv_sphere(radius: f64, rings: u32, segments: u32) -> Mesh {
@@ -155,7 +198,9 @@ pub fn cuboid(size: DVec3) -> Mesh {
 
 /// XZ plane, normal +Y; UVs in metres so checkerboards have a physical size.
 pub fn plane(size_x: f64, size_z: f64, subdivisions: u32) -> Mesh {
-    let mut m = Mesh::grid(subdivisions, subdivisions, |u, v| (DVec3::new((u - 0.5) * size_x, 0.0, (v - 0.5) * size_z), DVec3::Y));
+    let mut m = Mesh::grid(subdivisions, subdivisions, |u, v| {
+        (DVec3::new((u - 0.5) * size_x, 0.0, (v - 0.5) * size_z), DVec3::Y)
+    });
     for vert in &mut m.vertices {
         vert.uv = [vert.position[0], vert.position[2]];
     }
@@ -181,7 +226,8 @@ pub fn lathe(profile: &[[f64; 2]], segments: u32) -> Mesh {
         }
     };
     let mut mesh = Mesh::default();
-    let total: f64 = profile.windows(2).map(|w| ((w[1][0] - w[0][0]).powi(2) + (w[1][1] - w[0][1]).powi(2)).sqrt()).sum();
+    let total: f64 =
+        profile.windows(2).map(|w| ((w[1][0] - w[0][0]).powi(2) + (w[1][1] - w[0][1]).powi(2)).sqrt()).sum();
     let mut travelled = 0.0;
     for i in 0..profile.len() - 1 {
         let own = seg_normal(i);
@@ -212,7 +258,15 @@ pub fn lathe(profile: &[[f64; 2]], segments: u32) -> Mesh {
 
 /// A sphere shell (outer and inner surfaces) with a circular window of half-angle `window` around
 /// the horizontal axis at `azimuth`, and the rim band joining the two radii at the window's edge.
-pub fn knob_shell(center_height: f64, outer: f64, inner: f64, window: f64, azimuth: f64, rings: u32, segments: u32) -> Mesh {
+pub fn knob_shell(
+    center_height: f64,
+    outer: f64,
+    inner: f64,
+    window: f64,
+    azimuth: f64,
+    rings: u32,
+    segments: u32,
+) -> Mesh {
     let c = DVec3::new(0.0, center_height, 0.0);
     let w = DVec3::new(azimuth.sin(), 0.0, azimuth.cos());
     let b1 = DVec3::Y;
@@ -274,7 +328,10 @@ pub fn height_disc(radius: f64, rings: u32, segments: u32, h: impl Fn(f64, f64) 
         (DVec3::new(x, y, z), DVec3::new(-dx, 1.0, -dz))
     });
     for vert in &mut m.vertices {
-        vert.uv = [(vert.position[0] as f64 / radius * 0.5 + 0.5) as f32, (vert.position[2] as f64 / radius * 0.5 + 0.5) as f32];
+        vert.uv = [
+            (vert.position[0] as f64 / radius * 0.5 + 0.5) as f32,
+            (vert.position[2] as f64 / radius * 0.5 + 0.5) as f32,
+        ];
     }
     m
 }
@@ -340,7 +397,8 @@ impl MedusaField {
         let ang = 1.0 + self.m * (self.n * phi).cos();
         let h = a * s1 * s1 * s2 * ang;
         let dh_dr = a * ang * (2.0 * s1 * c1 * (PI / rr) * s2 + s1 * s1 * c2 * (TAU * self.k / rr));
-        let dh_dphi_over_r = if r > 1e-12 { a * s1 * s1 * s2 * (-self.m * self.n * (self.n * phi).sin()) / r } else { 0.0 };
+        let dh_dphi_over_r =
+            if r > 1e-12 { a * s1 * s1 * s2 * (-self.m * self.n * (self.n * phi).sin()) / r } else { 0.0 };
         let (cp, sp) = (phi.cos(), phi.sin());
         (h, dh_dr * cp - dh_dphi_over_r * sp, dh_dr * sp + dh_dphi_over_r * cp)
     }
@@ -374,7 +432,7 @@ mod tests {
         let f = SpikesField::new(0.1, 100, 0.012, 0.021);
         check_gradient(|x, z| f.eval(x, z), &POINTS);
         // scenes.md: steepest tilt atan(Hπ/2ρ) ≈ 70° for H/ρ = 1.75.
-        let tilt = (0.021 * PI / (2.0 * 0.012) as f64).atan().to_degrees();
+        let tilt = (0.021 * PI / (2.0 * 0.012)).atan().to_degrees();
         assert!((tilt - 70.0).abs() < 1.0, "{tilt}");
     }
 
@@ -404,7 +462,11 @@ mod tests {
     fn knob_shell_has_a_window_towards_its_azimuth() {
         let m = knob_shell(1.0, 0.875, 0.7, 24f64.to_radians(), 0.0, 32, 64);
         let axis_point = DVec3::new(0.0, 1.0, 0.875);
-        let nearest = m.vertices.iter().map(|v| (DVec3::from(v.position.map(f64::from)) - axis_point).length()).fold(f64::INFINITY, f64::min);
+        let nearest = m
+            .vertices
+            .iter()
+            .map(|v| (DVec3::from(v.position.map(f64::from)) - axis_point).length())
+            .fold(f64::INFINITY, f64::min);
         assert!(nearest > 0.3, "the window must leave the +Z pole open, nearest vertex {nearest}");
     }
 }

@@ -60,9 +60,9 @@ mod tests {
 
     #[test]
     fn no_tonemap_clamps_and_encodes() {
-        let (px, e) = to_srgb8(&[0.0, 0.214, 2.0, 1.0, f32::NAN, -1.0, 1.0, 1.0], Tonemap::None);
+        let (px, e) = to_srgb8(&[0.0, 0.5, 2.0, 1.0, f32::NAN, -1.0, 1.0, 1.0], Tonemap::None);
         assert_eq!(e, 1.0);
-        assert_eq!(&px[0..4], &[0, 128, 255, 255]);
+        assert_eq!(&px[0..4], &[0, 188, 255, 255], "linear 0.5 encodes to sRGB 0.735");
         assert_eq!(&px[4..7], &[0, 0, 255]);
     }
 

@@ -54,7 +54,9 @@ impl Pipeline {
     pub fn light_radiance(self, srgb_color: [f64; 3], intensity: f64) -> [f64; 3] {
         match self {
             Pipeline::Builtin => srgb_color.map(|c| srgb_to_linear(c * intensity)),
-            Pipeline::Urp | Pipeline::Hdrp => srgb_color.map(|c| srgb_to_linear(c) * intensity * self.intensity_scale()),
+            Pipeline::Urp | Pipeline::Hdrp => {
+                srgb_color.map(|c| srgb_to_linear(c) * intensity * self.intensity_scale())
+            }
         }
     }
 

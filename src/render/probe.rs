@@ -21,8 +21,16 @@ pub struct ProbeInput {
     pub gi_specular: [f32; 4],
 }
 
+/// `model_direct` and `model_indirect` of one input, linear RGB.
+pub type ProbeOutput = ([f32; 3], [f32; 3]);
+
 /// (direct, indirect) per input, as `model_direct` and `model_indirect` return them.
-pub fn evaluate(gpu: &GpuContext, pipeline: Pipeline, model: &ShaderModel, inputs: &[ProbeInput]) -> Result<Vec<([f32; 3], [f32; 3])>, Error> {
+pub fn evaluate(
+    gpu: &GpuContext,
+    pipeline: Pipeline,
+    model: &ShaderModel,
+    inputs: &[ProbeInput],
+) -> Result<Vec<ProbeOutput>, Error> {
     if inputs.is_empty() {
         return Ok(Vec::new());
     }

@@ -155,7 +155,16 @@ impl Renderer {
             min_filter: wgpu::FilterMode::Linear,
             ..Default::default()
         });
-        Renderer { gpu, frame_layout, object_layout, pipeline_layout, sampler, forward: HashMap::new(), background: None, targets: None }
+        Renderer {
+            gpu,
+            frame_layout,
+            object_layout,
+            pipeline_layout,
+            sampler,
+            forward: HashMap::new(),
+            background: None,
+            targets: None,
+        }
     }
 
     /// Number of forward pipelines compiled so far (each (pipeline, model) pair once).
@@ -217,7 +226,12 @@ impl Renderer {
         let p = self.gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("background"),
             layout: Some(&self.pipeline_layout),
-            vertex: wgpu::VertexState { module: &module, entry_point: Some("vs_background"), compilation_options: Default::default(), buffers: &[] },
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_background"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
             primitive: Default::default(),
             depth_stencil: Some(wgpu::DepthStencilState {
                 format: DEPTH_FORMAT,
@@ -243,13 +257,18 @@ impl Renderer {
 
     /// Generate meshes, build the environment and upload everything a composition needs.
     pub fn prepare_scene(&mut self, scene: &Scene) -> Result<PreparedScene, Error> {
+        let meshes = procedural::build_scene(scene)?;
+        self.upload_scene(scene, meshes)
+    }
+
+    /// Upload a composition whose meshes (one per object, in order) were built already.
+    pub fn upload_scene(&mut self, scene: &Scene, meshes: Vec<Mesh>) -> Result<PreparedScene, Error> {
         let device = &self.gpu.device;
         let plan = FramePlan::for_scene(scene);
         let env = EnvironmentMaps::build(&scene.environment);
         let mut objects = Vec::new();
         let mut triangle_count = 0;
-        for (i, o) in scene.objects.iter().enumerate() {
-            let mesh: Mesh = procedural::build(&o.mesh, scene.base_dir.as_deref(), &scene.origin, &format!("objects[{i}].mesh"))?;
+        for (o, mesh) in scene.objects.iter().zip(meshes) {
             triangle_count += mesh.triangle_count();
             let vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some(&o.name),
@@ -265,7 +284,12 @@ impl Renderer {
                 Some(m) => (
                     GpuMaterial {
                         base_color: rgba(m.base_color_linear),
-                        params: [0.0, m.smoothness as f32, m.checker.as_ref().map(|c| c.cell as f32).unwrap_or(0.0), 0.0],
+                        params: [
+                            0.0,
+                            m.smoothness as f32,
+                            m.checker.as_ref().map(|c| c.cell as f32).unwrap_or(0.0),
+                            0.0,
+                        ],
                         checker_color: m.checker.as_ref().map(|c| rgba(c.color_linear)).unwrap_or_default(),
                     },
                     m.metallic,
@@ -312,13 +336,19 @@ impl Renderer {
         let texels: Vec<half::f16> = probe
             .levels
             .iter()
-            .flat_map(|l| l.texels.iter().flat_map(|t| [t.x, t.y, t.z, 1.0].map(|v| half::f16::from_f64(v.min(65000.0)))))
+            .flat_map(|l| {
+                l.texels.iter().flat_map(|t| [t.x, t.y, t.z, 1.0].map(|v| half::f16::from_f64(v.min(65000.0))))
+            })
             .collect();
         let env_texture = device.create_texture_with_data(
             &self.gpu.queue,
             &wgpu::TextureDescriptor {
                 label: Some("environment probe"),
-                size: wgpu::Extent3d { width: probe.width as u32, height: probe.height as u32, depth_or_array_layers: probe.levels.len() as u32 },
+                size: wgpu::Extent3d {
+                    width: probe.width as u32,
+                    height: probe.height as u32,
+                    depth_or_array_layers: probe.levels.len() as u32,
+                },
                 mip_level_count: 1,
                 sample_count: 1,
                 dimension: wgpu::TextureDimension::D2,
@@ -392,7 +422,13 @@ impl Renderer {
     }
 
     /// Render one cell: `warmup` untimed frames, then `frames` timed ones; the last is read back.
-    pub fn render(&mut self, prepared: &PreparedScene, cell: &CellParams, frames: u32, warmup: u32) -> Result<CellRender, Error> {
+    pub fn render(
+        &mut self,
+        prepared: &PreparedScene,
+        cell: &CellParams,
+        frames: u32,
+        warmup: u32,
+    ) -> Result<CellRender, Error> {
         let fixed_model = find_model(cell.pipeline, cell.pipeline.fixed_object_shader())
             .ok_or_else(|| Error::Other(format!("pipeline {} lacks its fixed-object shader", cell.pipeline.name())))?;
         let subject_model = cell.model;
@@ -418,18 +454,27 @@ impl Renderer {
                             view: &t.color_view,
                             depth_slice: None,
                             resolve_target: None,
-                            ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::BLACK), store: wgpu::StoreOp::Store },
+                            ops: wgpu::Operations {
+                                load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                                store: wgpu::StoreOp::Store,
+                            },
                         }),
                         Some(wgpu::RenderPassColorAttachment {
                             view: &t.role_view,
                             depth_slice: None,
                             resolve_target: None,
-                            ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
+                            ops: wgpu::Operations {
+                                load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                                store: wgpu::StoreOp::Store,
+                            },
                         }),
                     ],
                     depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                         view: &t.depth_view,
-                        depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
+                        depth_ops: Some(wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(1.0),
+                            store: wgpu::StoreOp::Discard,
+                        }),
                         stencil_ops: None,
                     }),
                     timestamp_writes: None,
@@ -464,7 +509,13 @@ impl Renderer {
         let hdr_bytes = t.color_readback.read(&self.gpu.device)?;
         let roles = t.role_readback.read(&self.gpu.device)?;
         self.gpu.check_errors("rendering a cell")?;
-        Ok(CellRender { width: cell.width, height: cell.height, hdr: bytemuck::cast_slice(&hdr_bytes).to_vec(), roles, frame_ms })
+        Ok(CellRender {
+            width: cell.width,
+            height: cell.height,
+            hdr: bytemuck::cast_slice(&hdr_bytes).to_vec(),
+            roles,
+            frame_ms,
+        })
     }
 
     fn write_uniforms(&self, prepared: &PreparedScene, cell: &CellParams) {
@@ -489,7 +540,10 @@ impl Renderer {
             };
             let outer = (l.spot_angle_deg * 0.5).to_radians();
             // Unity's fallback inner angle: atan(tan(outer)·46/64) (shading.md §2).
-            let inner = l.inner_spot_angle_deg.map(|a| (a * 0.5).to_radians()).unwrap_or_else(|| (outer.tan() * 46.0 / 64.0).atan());
+            let inner = l
+                .inner_spot_angle_deg
+                .map(|a| (a * 0.5).to_radians())
+                .unwrap_or_else(|| (outer.tan() * 46.0 / 64.0).atan());
             frame.lights[slot] = GpuLight {
                 position: vec4(DVec3::from(l.position), kind),
                 direction: vec4(DVec3::from(l.direction).normalize_or_zero(), 0.0),

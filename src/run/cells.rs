@@ -6,9 +6,9 @@ use serde::Serialize;
 use std::collections::HashMap;
 
 use crate::pipelines::{Pipeline, RenderPath};
+use crate::shading::registry::{find_model, model_names_for, ShaderModel};
 use crate::spec::matrix::{Axis, Filter, FilterValue, Matrix};
 use crate::spec::presets::Preset;
-use crate::shading::registry::{find_model, model_names_for, ShaderModel};
 
 /// Stable, readable, filesystem-safe id, e.g. `mitsuba__builtin-forward__standard__gold__m1.00_s0.80_i1_r10`.
 #[derive(Debug, Clone, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
@@ -154,7 +154,12 @@ pub fn expand(m: &Matrix) -> Expansion {
     Expansion { cells, pruned, filtered_out }
 }
 
-fn material(preset: &Preset, metallic: Option<f64>, smoothness: Option<f64>, color: Option<[f64; 3]>) -> MaterialParams {
+fn material(
+    preset: &Preset,
+    metallic: Option<f64>,
+    smoothness: Option<f64>,
+    color: Option<[f64; 3]>,
+) -> MaterialParams {
     MaterialParams {
         base_color_linear: color.map(|c| c.map(crate::color::srgb_to_linear)).unwrap_or(preset.base_color),
         slider_color_srgb: color,
@@ -254,5 +259,69 @@ fn mark_twins(cells: &mut [Cell]) {
                 first.insert(key, c.id.clone());
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn matrix(extra: &str) -> Matrix {
+        let text = format!(
+            "name = \"t\"\ncompositions = [\"medusa\", \"spikes\"]\npipelines = [\"builtin\", \"urp\"]\nshaders = [\"lambert\", \"standard\"]\npresets = [\"gold\", \"plastic\"]\n[image]\nwidth = 8\nheight = 8\n{extra}"
+        );
+        Matrix::from_text("t.toml", &text, None).unwrap()
+    }
+
+    #[test]
+    fn product_pruning_and_ids() {
+        let e = expand(&matrix("[sweep]\nsmoothness = [0.2, 0.8]\n"));
+        // 2 compositions × (builtin: 2 shaders + urp: lambert) × 2 presets × 2 smoothness.
+        assert_eq!(e.cells.len(), 2 * 3 * 2 * 2);
+        assert_eq!(e.pruned.len(), 2, "standard is not a URP shader, once per composition");
+        let ids: std::collections::HashSet<_> = e.cells.iter().map(|c| &c.id).collect();
+        assert_eq!(ids.len(), e.cells.len(), "ids are unique");
+        assert!(ids.contains(&CellId("medusa__builtin-forward__standard__gold__m1.00_s0.20_i1_r10".into())));
+        assert!(e.cells.iter().all(|c| c.id.0.chars().all(|ch| ch.is_ascii_alphanumeric() || "_-.".contains(ch))));
+    }
+
+    #[test]
+    fn lambert_cells_differing_in_smoothness_are_twins() {
+        let e = expand(&matrix("[sweep]\nsmoothness = [0.2, 0.8]\nmetallic = [0.0, 1.0]\n"));
+        for c in &e.cells {
+            let twin = c.twin_of.is_some();
+            if c.shader == "standard" {
+                assert!(!twin, "standard reads every axis: {}", c.id);
+            } else {
+                let first = c.material.smoothness == 0.2 && c.material.metallic == 0.0;
+                assert_eq!(twin, !first, "{}", c.id);
+            }
+        }
+    }
+
+    #[test]
+    fn only_and_exclude_filters() {
+        let e = expand(&matrix(
+            "[[only]]\ncomposition = \"spikes\"\n[[exclude]]\nshader = \"lambert\"\npipeline = \"urp\"\n",
+        ));
+        assert!(e.cells.iter().all(|c| c.composition == "spikes"));
+        assert!(!e.cells.iter().any(|c| c.shader == "lambert" && c.pipeline == Pipeline::Urp));
+        assert_eq!(e.cells.len(), 2 * 2, "builtin × {{lambert, standard}} × 2 presets");
+        assert_eq!(e.filtered_out, 6 + 2);
+    }
+
+    #[test]
+    fn colour_slider_is_linearised_and_named() {
+        let e = expand(&matrix("[sweep]\ncolor = [[1.0, 0.5, 0.0]]\n"));
+        let c = &e.cells[0];
+        assert!((c.material.base_color_linear[1] - crate::color::srgb_to_linear(0.5)).abs() < 1e-12);
+        assert!(c.id.0.contains("_cff8000_"), "{}", c.id);
+    }
+
+    #[test]
+    fn filter_names_are_checked() {
+        let text = "name = \"t\"\ncompositions = [\"medusa\"]\npipelines = [\"urp\"]\nshaders = [\"lambert\"]\npresets = [\"gold\"]\n[image]\nwidth = 8\nheight = 8\n[[only]]\npreset = \"gould\"\n";
+        let err = Matrix::from_text("t.toml", text, None).unwrap_err().to_string();
+        assert!(err.contains("only[0].preset") && err.contains("did you mean `gold`?"), "{err}");
     }
 }

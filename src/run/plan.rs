@@ -23,7 +23,10 @@ impl FramePlan {
         if background {
             passes.push("background");
         } else {
-            left_out.push(("background pass".into(), "environment.background = false: the clear colour (black) shows".into()));
+            left_out.push((
+                "background pass".into(),
+                "environment.background = false: the clear colour (black) shows".into(),
+            ));
         }
         if matches!(scene.environment.sky, Sky::Constant { .. }) {
             left_out.push(("probe prefiltering".into(), "constant sky: every roughness sees the same colour".into()));
@@ -35,7 +38,10 @@ impl FramePlan {
         } else {
             // Not a pruning decision: shadow maps are not implemented yet. Said here so that no one
             // reads a shadowless image as the pipeline's behaviour.
-            left_out.push(("shadow pass".into(), format!("NOT IMPLEMENTED YET: {} ask for shadows; rendered without", shadowed.join(", "))));
+            left_out.push((
+                "shadow pass".into(),
+                format!("NOT IMPLEMENTED YET: {} ask for shadows; rendered without", shadowed.join(", ")),
+            ));
         }
         FramePlan { passes, background, left_out }
     }

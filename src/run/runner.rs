@@ -60,6 +60,8 @@ pub fn select_cells(matrix: &Matrix, opts: &RunOptions) -> Expansion {
 pub fn run(matrix: &Matrix, opts: &RunOptions) -> Result<RunSummary, Error> {
     let started = Instant::now();
     let exp = select_cells(matrix, opts);
+    // Geometry first: a bad mesh or glTF file is bad input, found before any GPU work or output.
+    let geometry = build_geometry(matrix, &exp)?;
     let gpu = GpuContext::new()?;
     let adapter = gpu.record.clone();
     let dir = RunDir::open(&opts.results_root, opts.out.as_deref(), &matrix.name, opts.resume)?;
@@ -93,14 +95,19 @@ pub fn run(matrix: &Matrix, opts: &RunOptions) -> Result<RunSummary, Error> {
 
     let mut renderer = Renderer::new(gpu);
     let bar = progress_bar(opts.progress, exp.cells.len() as u64);
-    let result = render_all(matrix, &exp, &dir, &mut renderer, &mut record, &bar);
+    let result = render_all(matrix, &exp, geometry, &dir, &mut renderer, &mut record, &bar);
     bar.finish_and_clear();
     record.status = if result.is_ok() { RunStatus::Complete } else { RunStatus::Failed };
     record.finished = Some(chrono::Local::now().to_rfc3339());
     record.wall_seconds = Some(started.elapsed().as_secs_f64());
     write_json(&run_json, &record)?;
     result?;
-    Ok(RunSummary { dir: dir.root, counts: record.counts, wall_seconds: started.elapsed().as_secs_f64(), adapter: adapter.name })
+    Ok(RunSummary {
+        dir: dir.root,
+        counts: record.counts,
+        wall_seconds: started.elapsed().as_secs_f64(),
+        adapter: adapter.name,
+    })
 }
 
 fn progress_bar(show: bool, len: u64) -> indicatif::ProgressBar {
@@ -115,9 +122,26 @@ fn progress_bar(show: bool, len: u64) -> indicatif::ProgressBar {
     bar
 }
 
+/// Meshes of every composition that has cells, in composition order (None: no cells).
+fn build_geometry(matrix: &Matrix, exp: &Expansion) -> Result<Vec<Option<Vec<crate::geometry::Mesh>>>, Error> {
+    matrix
+        .compositions
+        .iter()
+        .enumerate()
+        .map(|(ci, scene)| {
+            if exp.cells.iter().any(|c| c.composition_index == ci) {
+                crate::geometry::procedural::build_scene(scene).map(Some)
+            } else {
+                Ok(None)
+            }
+        })
+        .collect()
+}
+
 fn render_all(
     matrix: &Matrix,
     exp: &Expansion,
+    mut geometry: Vec<Option<Vec<crate::geometry::Mesh>>>,
     dir: &RunDir,
     renderer: &mut Renderer,
     record: &mut RunRecord,
@@ -144,7 +168,8 @@ fn render_all(
         }
         // A composition whose every cell is already done needs no GPU resources at all.
         let t0 = Instant::now();
-        let prepared = if pending.is_empty() { None } else { Some(renderer.prepare_scene(scene)?) };
+        let meshes = geometry[ci].take().unwrap_or_default();
+        let prepared = if pending.is_empty() { None } else { Some(renderer.upload_scene(scene, meshes)?) };
         let plan = super::plan::FramePlan::for_scene(scene);
         record.compositions.push(CompositionRecord {
             name: scene.name.clone(),
@@ -206,7 +231,15 @@ pub struct PixelStats {
 }
 
 pub fn pixel_stats(r: &CellRender) -> PixelStats {
-    let mut s = PixelStats { pixels: r.roles.len(), subject_pixels: 0, nan: 0, inf: 0, negative: 0, subject_mean_luminance: None, max_luminance: 0.0 };
+    let mut s = PixelStats {
+        pixels: r.roles.len(),
+        subject_pixels: 0,
+        nan: 0,
+        inf: 0,
+        negative: 0,
+        subject_mean_luminance: None,
+        max_luminance: 0.0,
+    };
     let mut sum = 0.0;
     for (px, role) in r.hdr.chunks_exact(4).zip(&r.roles) {
         let rgb = &px[..3];
@@ -309,7 +342,10 @@ fn copy_twin(dir: &RunDir, matrix: &Matrix, cell: &Cell) -> Result<(), Error> {
     for k in ["adapter", "tonemap", "stats", "timing"] {
         v[k] = orig[k].clone();
     }
-    v["note"] = json!(format!("not rendered: `{}` ignores the axes this cell differs in; images copied from {original}", cell.shader));
+    v["note"] = json!(format!(
+        "not rendered: `{}` ignores the axes this cell differs in; images copied from {original}",
+        cell.shader
+    ));
     write_json(&to.join(CELL_FILE), &v)
 }
 

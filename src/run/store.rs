@@ -32,7 +32,10 @@ impl RunDir {
                 candidate
             }
             (None, true) => newest_run(results_root, matrix_name).ok_or_else(|| {
-                InputError::new(results_root.display().to_string(), format!("--resume: no earlier run of matrix `{matrix_name}` found here; give --out DIR"))
+                InputError::new(
+                    results_root.display().to_string(),
+                    format!("--resume: no earlier run of matrix `{matrix_name}` found here; give --out DIR"),
+                )
             })?,
         };
         if !resume && root.join(RUN_FILE).exists() {

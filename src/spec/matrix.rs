@@ -176,8 +176,8 @@ impl Matrix {
 
     pub fn load(path: &Path) -> Result<Matrix, Error> {
         let shown = path.display().to_string();
-        let text =
-            std::fs::read_to_string(path).map_err(|e| InputError::new(&shown, format!("cannot read matrix file: {e}")))?;
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| InputError::new(&shown, format!("cannot read matrix file: {e}")))?;
         Self::from_text(&shown, &text, path.parent())
     }
 
@@ -196,12 +196,16 @@ impl Matrix {
         for (i, name) in file.compositions.iter().enumerate() {
             let scene = Scene::load(name, base_dir, origin, &format!("compositions[{i}]"))?;
             if compositions.iter().any(|s: &Scene| s.name == scene.name) {
-                return Err(c.err(&format!("compositions[{i}]"), format!("composition `{}` is listed twice", scene.name)).into());
+                return Err(c
+                    .err(&format!("compositions[{i}]"), format!("composition `{}` is listed twice", scene.name))
+                    .into());
             }
             compositions.push(scene);
         }
-        let pipelines = names_to(&c, origin, "pipelines", "pipeline", &file.pipelines, &Pipeline::names(), Pipeline::from_name)?;
-        let paths = names_to(&c, origin, "paths", "rendering path", &file.paths, &RenderPath::names(), RenderPath::from_name)?;
+        let pipelines =
+            names_to(&c, origin, "pipelines", "pipeline", &file.pipelines, &Pipeline::names(), Pipeline::from_name)?;
+        let paths =
+            names_to(&c, origin, "paths", "rendering path", &file.paths, &RenderPath::names(), RenderPath::from_name)?;
         let model_names = all_model_names();
         for (i, s) in file.shaders.iter().enumerate() {
             if !model_names.contains(&s.as_str()) {
@@ -214,7 +218,10 @@ impl Matrix {
             let valid = preset_names();
             let mut v = Vec::new();
             for (i, p) in file.presets.iter().enumerate() {
-                v.push(find_preset(p).ok_or_else(|| unknown_name(origin, &format!("presets[{i}]"), "preset", p, &valid))?);
+                v.push(
+                    find_preset(p)
+                        .ok_or_else(|| unknown_name(origin, &format!("presets[{i}]"), "preset", p, &valid))?,
+                );
             }
             v
         };
@@ -241,11 +248,22 @@ impl Matrix {
             }
         }
         if file.timing.frames == 0 || file.timing.frames > 10_000 {
-            return Err(c.err("timing.frames", format!("value {} is out of range; allowed 1..=10000", file.timing.frames)).into());
+            return Err(c
+                .err("timing.frames", format!("value {} is out of range; allowed 1..=10000", file.timing.frames))
+                .into());
         }
-        let only: Vec<Filter> = file.only.iter().enumerate().map(|(i, t)| parse_filter(&c, &format!("only[{i}]"), t)).collect::<Result<_, _>>()?;
-        let exclude: Vec<Filter> =
-            file.exclude.iter().enumerate().map(|(i, t)| parse_filter(&c, &format!("exclude[{i}]"), t)).collect::<Result<_, _>>()?;
+        let only: Vec<Filter> = file
+            .only
+            .iter()
+            .enumerate()
+            .map(|(i, t)| parse_filter(&c, &format!("only[{i}]"), t))
+            .collect::<Result<_, _>>()?;
+        let exclude: Vec<Filter> = file
+            .exclude
+            .iter()
+            .enumerate()
+            .map(|(i, t)| parse_filter(&c, &format!("exclude[{i}]"), t))
+            .collect::<Result<_, _>>()?;
 
         let known = |axis: Axis| -> Vec<String> {
             match axis {
@@ -346,7 +364,10 @@ fn parse_filter(c: &Checker, key: &str, table: &toml::Table) -> Result<Filter, I
                 (numeric, other) => {
                     return Err(c.err(
                         &format!("{key}.{k}"),
-                        format!("value {other} has the wrong type; allowed: {}", if numeric { "a number or a list of numbers" } else { "a name or a list of names" }),
+                        format!(
+                            "value {other} has the wrong type; allowed: {}",
+                            if numeric { "a number or a list of numbers" } else { "a name or a list of names" }
+                        ),
                     ))
                 }
             };

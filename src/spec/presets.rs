@@ -13,7 +13,13 @@ pub struct Preset {
     pub note: &'static str,
 }
 
-const fn preset(name: &'static str, base_color: [f64; 3], metallic: f64, smoothness: f64, note: &'static str) -> Preset {
+const fn preset(
+    name: &'static str,
+    base_color: [f64; 3],
+    metallic: f64,
+    smoothness: f64,
+    note: &'static str,
+) -> Preset {
     Preset { name, base_color, metallic, smoothness, note }
 }
 

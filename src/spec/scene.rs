@@ -194,12 +194,24 @@ pub struct Checkerboard {
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum MeshSpec {
-    UvSphere { radius: f64, rings: u32, segments: u32 },
-    Box { size: [f64; 3] },
+    UvSphere {
+        radius: f64,
+        rings: u32,
+        segments: u32,
+    },
+    Box {
+        size: [f64; 3],
+    },
     /// In the XZ plane, normal +Y, centred at the origin.
-    Plane { size: [f64; 2], subdivisions: u32 },
+    Plane {
+        size: [f64; 2],
+        subdivisions: u32,
+    },
     /// Surface of revolution about +Y of a 2-D profile of (radius, height) points.
-    Lathe { profile: Vec<[f64; 2]>, segments: u32 },
+    Lathe {
+        profile: Vec<[f64; 2]>,
+        segments: u32,
+    },
     /// The material-preview knob's outer shell: a thick sphere shell with a bevelled window.
     KnobShell {
         center_height: f64,
@@ -212,13 +224,36 @@ pub enum MeshSpec {
         segments: u32,
     },
     /// A floor bending up into a back wall (photographer's cyclorama), extruded along X.
-    Cyclorama { width: f64, depth: f64, height: f64, bend_radius: f64, segments: u32 },
+    Cyclorama {
+        width: f64,
+        depth: f64,
+        height: f64,
+        bend_radius: f64,
+        segments: u32,
+    },
     /// BRDF-evaluation disc with sunflower-lattice bumps (spec: spikes).
-    Spikes { radius: f64, count: u32, bump_radius: f64, bump_height: f64, rings: u32, segments: u32 },
+    Spikes {
+        radius: f64,
+        count: u32,
+        bump_radius: f64,
+        bump_height: f64,
+        rings: u32,
+        segments: u32,
+    },
     /// BRDF-evaluation disc with angle-modulated radial waves (spec: medusa).
-    Medusa { radius: f64, amplitude: f64, k: f64, n: u32, m: f64, rings: u32, segments: u32 },
+    Medusa {
+        radius: f64,
+        amplitude: f64,
+        k: f64,
+        n: u32,
+        m: f64,
+        rings: u32,
+        segments: u32,
+    },
     /// A glTF or GLB file, relative to the scene file.
-    Gltf { path: String },
+    Gltf {
+        path: String,
+    },
 }
 
 impl MeshSpec {
@@ -301,14 +336,7 @@ impl Scene {
             return Ok(scene);
         }
         if !name_or_path.ends_with(".toml") {
-            return Err(unknown_name(
-                referenced_from,
-                key,
-                "composition",
-                name_or_path,
-                &builtin_scene_names(),
-            )
-            .into());
+            return Err(unknown_name(referenced_from, key, "composition", name_or_path, &builtin_scene_names()).into());
         }
         let path = match base_dir {
             Some(d) => d.join(name_or_path),
@@ -327,10 +355,7 @@ impl Scene {
 
     /// Index of the key light (receives the intensity and range axes).
     pub fn key_light(&self) -> Option<usize> {
-        self.lights
-            .iter()
-            .position(|l| l.key)
-            .or_else(|| self.lights.iter().position(|l| l.kind == LightKind::Point))
+        self.lights.iter().position(|l| l.key).or_else(|| self.lights.iter().position(|l| l.kind == LightKind::Point))
     }
 
     pub fn has_shadow_casting_light(&self) -> bool {
@@ -344,7 +369,9 @@ impl Scene {
         c.range("camera.fov_y_deg", self.camera.fov_y_deg, 1.0, 170.0)?;
         c.positive("camera.near", self.camera.near)?;
         if self.camera.far <= self.camera.near {
-            return Err(c.err("camera.far", format!("far {} must be greater than near {}", self.camera.far, self.camera.near)));
+            return Err(
+                c.err("camera.far", format!("far {} must be greater than near {}", self.camera.far, self.camera.near))
+            );
         }
         if self.camera.position == self.camera.target {
             return Err(c.err("camera.target", "target equals position: the view direction is undefined"));

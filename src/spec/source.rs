@@ -18,8 +18,7 @@ pub fn parse_toml<T: DeserializeOwned>(origin: &str, text: &str) -> Result<T, In
 /// Read and parse a TOML file; a missing or unreadable file is bad input.
 pub fn read_toml<T: DeserializeOwned>(path: &Path) -> Result<T, Error> {
     let shown = path.display().to_string();
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| InputError::new(&shown, format!("cannot read file: {e}")))?;
+    let text = std::fs::read_to_string(path).map_err(|e| InputError::new(&shown, format!("cannot read file: {e}")))?;
     Ok(parse_toml(&shown, &text)?)
 }
 

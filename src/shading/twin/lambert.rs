@@ -12,7 +12,15 @@ impl SurfaceTwin for Lambert {
         s.base_color * FRAC_1_PI * irradiance_per_intensity(p) * n.dot(l).max(0.0)
     }
 
-    fn indirect(&self, _p: Pipeline, s: &Surface, _n: DVec3, _v: DVec3, gi_diffuse: DVec3, _gi_specular: DVec3) -> DVec3 {
+    fn indirect(
+        &self,
+        _p: Pipeline,
+        s: &Surface,
+        _n: DVec3,
+        _v: DVec3,
+        gi_diffuse: DVec3,
+        _gi_specular: DVec3,
+    ) -> DVec3 {
         s.base_color * gi_diffuse
     }
 }

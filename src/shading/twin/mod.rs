@@ -23,7 +23,15 @@ pub trait SurfaceTwin: Sync {
     fn direct(&self, pipeline: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3;
     /// Ambient and environment term; `gi_diffuse` = E/π, `gi_specular` = the prefiltered
     /// environment along the reflection (WGSL `model_indirect`).
-    fn indirect(&self, pipeline: Pipeline, s: &Surface, n: DVec3, v: DVec3, gi_diffuse: DVec3, gi_specular: DVec3) -> DVec3;
+    fn indirect(
+        &self,
+        pipeline: Pipeline,
+        s: &Surface,
+        n: DVec3,
+        v: DVec3,
+        gi_diffuse: DVec3,
+        gi_specular: DVec3,
+    ) -> DVec3;
 }
 
 pub fn sat(x: f64) -> f64 {

@@ -93,10 +93,17 @@ mod tests {
     }
 
     #[test]
-    fn ggx_peak_matches_spec_stability_note() {
-        // §6: α = 0.002 gives a peak of 1/(π·4e-6) for D.
-        let peak = d_ggx_unity(1.0, 0.002);
-        assert!((peak - 1.0 / (PI * 4e-6)).abs() / peak < 0.03, "{peak}");
+    fn ggx_peak_is_capped_by_the_1e7_epsilon() {
+        // At α = 0.002 and NH = 1, d² = α⁴ = 1.6e-11 is far below Unity's +1e-7, so the peak is
+        // (1/π)·α²/(α⁴ + 1e-7) ≈ 12.7, not the 1/(π·α²) ≈ 8e4 that spec §6 quotes without the epsilon.
+        let a: f64 = 0.002;
+        let peak = d_ggx_unity(1.0, a);
+        let expected = FRAC_1_PI * a * a / (a.powi(4) + 1e-7);
+        assert!((peak - expected).abs() < 1e-9 * expected, "{peak} vs {expected}");
+        assert!(peak < 13.0 && peak > 12.0, "{peak}");
+        // At α = 0.3 the epsilon no longer matters: the textbook peak 1/(πα²) holds.
+        let p = d_ggx_unity(1.0, 0.3);
+        assert!((p - 1.0 / (PI * 0.09)).abs() / p < 1e-4);
     }
 
     #[test]

@@ -1,0 +1,146 @@
+//! Bad input through the binary: a clear message, exit code 2 (3 for no adapter), no panic, and
+//! no output folder left behind.
+
+mod common;
+
+use common::{fixture, shadematrix, write_matrix};
+use std::path::Path;
+
+const GOOD: &str = r#"
+name = "t"
+compositions = ["medusa"]
+pipelines = ["builtin"]
+shaders = ["lambert"]
+presets = ["gold"]
+[image]
+width = 16
+height = 16
+"#;
+
+/// Run `run MATRIX --out DIR` on a matrix derived from GOOD and check the failure.
+fn expect_bad(body: &str, code: i32, needles: &[&str]) {
+    let tmp = tempfile::tempdir().unwrap();
+    let m = write_matrix(tmp.path(), "m.toml", body);
+    let out = tmp.path().join("out");
+    let (rc, _stdout, stderr) =
+        shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", out.to_str().unwrap()], &[]);
+    assert_eq!(rc, code, "stderr: {stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    for n in needles {
+        assert!(stderr.contains(n), "missing `{n}` in: {stderr}");
+    }
+    assert!(!out.exists(), "bad input must not leave an output folder");
+}
+
+#[test]
+fn good_matrix_runs() {
+    let tmp = tempfile::tempdir().unwrap();
+    let m = write_matrix(tmp.path(), "m.toml", GOOD);
+    let (rc, stdout, stderr) = shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", "o"], &[]);
+    assert_eq!(rc, 0, "{stderr}");
+    assert!(stdout.contains("1 rendered"), "{stdout}");
+    assert!(tmp.path().join("o/cells/medusa__builtin-forward__lambert__gold__m1.00_s0.90_i1_r10/image.exr").is_file());
+}
+
+#[test]
+fn toml_syntax_error_names_file_line_and_column() {
+    expect_bad(&GOOD.replace("presets = [\"gold\"]", "presets = [\"gold\""), 2, &["m.toml:7:", "bad input"]);
+}
+
+#[test]
+fn unknown_names_suggest_the_nearest() {
+    expect_bad(
+        &GOOD.replace("\"lambert\"", "\"lambret\""),
+        2,
+        &["unknown shader `lambret`", "did you mean `lambert`?", "shaders[0]"],
+    );
+    expect_bad(
+        &GOOD.replace("\"medusa\"", "\"medusaa\""),
+        2,
+        &["unknown composition `medusaa`", "did you mean `medusa`?"],
+    );
+    expect_bad(&GOOD.replace("\"builtin\"", "\"urpp\""), 2, &["unknown pipeline `urpp`", "did you mean `urp`?"]);
+    expect_bad(&GOOD.replace("\"gold\"", "\"gld\""), 2, &["unknown preset `gld`", "did you mean `gold`?", "rubber"]);
+    expect_bad(
+        &GOOD.replace("[image]", "pipeline = \"x\"\n[image]"),
+        2,
+        &["unknown field `pipeline`", "did you mean `pipelines`?"],
+    );
+    expect_bad(
+        &format!("{GOOD}\n[[only]]\nshadr = \"lambert\"\n"),
+        2,
+        &["unknown filter axis `shadr`", "did you mean `shader`?"],
+    );
+}
+
+#[test]
+fn out_of_range_values_name_key_value_and_range() {
+    expect_bad(&format!("{GOOD}[sweep]\nmetallic = [0.5, 1.5]\n"), 2, &["sweep.metallic[1]", "1.5", "0..=1"]);
+    expect_bad(&format!("{GOOD}[sweep]\nsmoothness = [-0.1]\n"), 2, &["sweep.smoothness[0]", "-0.1"]);
+    expect_bad(&format!("{GOOD}[sweep]\ncolor = [[0.2, 1.2, 0.0]]\n"), 2, &["sweep.color[0]", "0..=1"]);
+    expect_bad(&format!("{GOOD}[sweep]\nlight_intensity = [-1.0]\n"), 2, &["sweep.light_intensity[0]", "-1"]);
+    expect_bad(&format!("{GOOD}[sweep]\nlight_range = [-2.0]\n"), 2, &["sweep.light_range[0]", "-2"]);
+    expect_bad(&GOOD.replace("width = 16", "width = 0"), 2, &["image.width", "value 0", "1..=8192"]);
+    expect_bad(&GOOD.replace("height = 16", "height = 9000"), 2, &["image.height", "9000", "1..=8192"]);
+}
+
+fn gltf_matrix(dir: &Path, mesh_path: &str) -> String {
+    let scene = std::fs::read_to_string(fixture("gltf_scene.toml")).unwrap().replace("MESH_PATH", mesh_path);
+    std::fs::write(dir.join("scene.toml"), scene).unwrap();
+    GOOD.replace("\"medusa\"", "\"scene.toml\"")
+}
+
+#[test]
+fn missing_or_empty_gltf_names_the_resolved_path() {
+    let tmp = tempfile::tempdir().unwrap();
+    let body = gltf_matrix(tmp.path(), "meshes/nope.glb");
+    let m = write_matrix(tmp.path(), "m.toml", &body);
+    let (rc, _, stderr) = shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", "o"], &[]);
+    assert_eq!(rc, 2, "{stderr}");
+    assert!(stderr.contains("meshes/nope.glb") && stderr.contains("not found"), "{stderr}");
+    assert!(stderr.contains(tmp.path().to_str().unwrap()), "the path as resolved: {stderr}");
+
+    std::fs::copy(fixture("empty.gltf"), tmp.path().join("empty.gltf")).unwrap();
+    let body = gltf_matrix(tmp.path(), "empty.gltf");
+    let m = write_matrix(tmp.path(), "m.toml", &body);
+    let (rc, _, stderr) = shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", "o2"], &[]);
+    assert_eq!(rc, 2, "{stderr}");
+    assert!(stderr.contains("empty.gltf") && stderr.contains("no triangles"), "{stderr}");
+    assert!(!tmp.path().join("o2/run.json").exists());
+}
+
+#[test]
+fn no_usable_adapter_exits_3_with_install_help() {
+    let tmp = tempfile::tempdir().unwrap();
+    let m = write_matrix(tmp.path(), "m.toml", GOOD);
+    let (rc, _, stderr) = shadematrix(
+        tmp.path(),
+        &["run", m.to_str().unwrap(), "--out", "o"],
+        &[("SHADEMATRIX_ADAPTER", "no-such-adapter-anywhere")],
+    );
+    assert_eq!(rc, 3, "{stderr}");
+    assert!(stderr.contains("no usable GPU adapter") && stderr.contains("mesa-vulkan-drivers"), "{stderr}");
+    assert!(!tmp.path().join("o").exists());
+}
+
+#[test]
+fn missing_matrix_file_is_bad_input() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (rc, _, stderr) = shadematrix(tmp.path(), &["run", "nope.toml"], &[]);
+    assert_eq!(rc, 2, "{stderr}");
+    assert!(stderr.contains("nope.toml") && stderr.contains("cannot read"), "{stderr}");
+}
+
+#[test]
+fn a_new_run_refuses_a_folder_that_holds_a_run() {
+    let tmp = tempfile::tempdir().unwrap();
+    let m = write_matrix(tmp.path(), "m.toml", GOOD);
+    let args = ["run", m.to_str().unwrap(), "--out", "o"];
+    assert_eq!(shadematrix(tmp.path(), &args, &[]).0, 0);
+    let (rc, _, stderr) = shadematrix(tmp.path(), &args, &[]);
+    assert_eq!(rc, 2, "{stderr}");
+    assert!(stderr.contains("--resume"), "{stderr}");
+    let (rc, stdout, _) = shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", "o", "--resume"], &[]);
+    assert_eq!(rc, 0);
+    assert!(stdout.contains("0 rendered") && stdout.contains("1 resumed"), "{stdout}");
+}
