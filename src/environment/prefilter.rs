@@ -123,20 +123,18 @@ impl Probe {
             coarse = coarse.half();
         }
         let (w, h) = (level0.width, level0.height);
+        let fine = TexelTable::new(&level0);
+        let coarse = TexelTable::new(&coarse);
         let mut levels = vec![level0.clone()];
         for level in 1..LEVELS {
             let alpha = level_alpha(level);
             // Level 1's lobe (α ≈ 0.01, < 1°) is narrower than a texel: the mirror image stands in.
-            let src = if alpha < 0.02 { None } else { Some(if alpha < 0.08 { &level0 } else { &coarse }) };
+            let src = if alpha < 0.02 { None } else { Some(if alpha < 0.08 { &fine } else { &coarse }) };
             let texels = (0..w * h)
                 .into_par_iter()
-                .map(|i| {
-                    let (x, y) = (i % w, i / w);
-                    let (r, _) = level0.texel_direction(x, y);
-                    match src {
-                        None => level0.get(x, y),
-                        Some(src) => convolve(src, r, alpha),
-                    }
+                .map(|i| match src {
+                    None => level0.texels[i],
+                    Some(src) => src.convolve(fine.direction[i], alpha),
                 })
                 .collect();
             levels.push(EquirectImage { width: w, height: h, texels });
@@ -145,26 +143,44 @@ impl Probe {
     }
 }
 
-/// ∫ L(ω)·D(h)·max(0, R·ω) dω / ∫ D(h)·max(0, R·ω) dω with N = V = R (split-sum prefilter).
-fn convolve(src: &EquirectImage, r: DVec3, alpha: f64) -> DVec3 {
-    let a2 = alpha * alpha;
-    let mut acc = DVec3::ZERO;
-    let mut wsum = 0.0;
-    for y in 0..src.height {
-        for x in 0..src.width {
-            let (d, d_omega) = src.texel_direction(x, y);
-            let nl = r.dot(d);
+/// Texel directions, solid angles and radiance laid out flat for the convolution's inner loop.
+struct TexelTable {
+    direction: Vec<DVec3>,
+    solid_angle: Vec<f64>,
+    radiance: Vec<DVec3>,
+}
+
+impl TexelTable {
+    fn new(img: &EquirectImage) -> Self {
+        let (mut direction, mut solid_angle) = (Vec::new(), Vec::new());
+        for y in 0..img.height {
+            for x in 0..img.width {
+                let (d, w) = img.texel_direction(x, y);
+                direction.push(d);
+                solid_angle.push(w);
+            }
+        }
+        Self { direction, solid_angle, radiance: img.texels.clone() }
+    }
+
+    /// ∫ L(ω)·D(h)·max(0, R·ω) dω / ∫ D(h)·max(0, R·ω) dω with N = V = R (split-sum prefilter).
+    fn convolve(&self, r: DVec3, alpha: f64) -> DVec3 {
+        let a2 = alpha * alpha;
+        let mut acc = DVec3::ZERO;
+        let mut wsum = 0.0;
+        for ((d, d_omega), l) in self.direction.iter().zip(&self.solid_angle).zip(&self.radiance) {
+            let nl = r.dot(*d);
             if nl <= 0.0 {
                 continue;
             }
-            let nh = ((1.0 + nl) * 0.5).sqrt();
-            let t = nh * nh * (a2 - 1.0) + 1.0;
+            // N·H² = (1 + N·L)/2 when N = V.
+            let t = (1.0 + nl) * 0.5 * (a2 - 1.0) + 1.0;
             let w = a2 / (PI * t * t) * nl * d_omega;
-            acc += src.get(x, y) * w;
+            acc += *l * w;
             wsum += w;
         }
+        acc / wsum.max(1e-300)
     }
-    acc / wsum.max(1e-300)
 }
 
 #[cfg(test)]
