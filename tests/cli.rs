@@ -144,3 +144,21 @@ fn a_new_run_refuses_a_folder_that_holds_a_run() {
     assert_eq!(rc, 0);
     assert!(stdout.contains("0 rendered") && stdout.contains("1 resumed"), "{stdout}");
 }
+
+#[test]
+fn scene_file_errors_name_the_scene_file() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = std::fs::read_to_string(fixture("black_room.toml")).unwrap().replace("\"uv_sphere\"", "\"uv_sphre\"");
+    std::fs::write(tmp.path().join("s.toml"), scene).unwrap();
+    let m = write_matrix(tmp.path(), "m.toml", &GOOD.replace("\"medusa\"", "\"s.toml\""));
+    let (rc, _, stderr) = shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", "o"], &[]);
+    assert_eq!(rc, 2, "{stderr}");
+    assert!(stderr.contains("s.toml:") && stderr.contains("uv_sphre") && stderr.contains("did you mean `uv_sphere`?"), "{stderr}");
+
+    let scene = std::fs::read_to_string(fixture("black_room.toml")).unwrap().replace("intensity = 2.0", "intensity = -2.0");
+    std::fs::write(tmp.path().join("s.toml"), scene).unwrap();
+    let (rc, _, stderr) = shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", "o"], &[]);
+    assert_eq!(rc, 2, "{stderr}");
+    assert!(stderr.contains("lights[0].intensity") && stderr.contains("-2"), "{stderr}");
+    assert!(!tmp.path().join("o").exists());
+}
