@@ -153,9 +153,13 @@ fn scene_file_errors_name_the_scene_file() {
     let m = write_matrix(tmp.path(), "m.toml", &GOOD.replace("\"medusa\"", "\"s.toml\""));
     let (rc, _, stderr) = shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", "o"], &[]);
     assert_eq!(rc, 2, "{stderr}");
-    assert!(stderr.contains("s.toml:") && stderr.contains("uv_sphre") && stderr.contains("did you mean `uv_sphere`?"), "{stderr}");
+    assert!(
+        stderr.contains("s.toml:") && stderr.contains("uv_sphre") && stderr.contains("did you mean `uv_sphere`?"),
+        "{stderr}"
+    );
 
-    let scene = std::fs::read_to_string(fixture("black_room.toml")).unwrap().replace("intensity = 2.0", "intensity = -2.0");
+    let scene =
+        std::fs::read_to_string(fixture("black_room.toml")).unwrap().replace("intensity = 2.0", "intensity = -2.0");
     std::fs::write(tmp.path().join("s.toml"), scene).unwrap();
     let (rc, _, stderr) = shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", "o"], &[]);
     assert_eq!(rc, 2, "{stderr}");

@@ -8,6 +8,7 @@ use shadematrix::gpu::GpuContext;
 use shadematrix::pipelines::Pipeline;
 use shadematrix::render::{CellParams, Renderer};
 use shadematrix::shading::find_model;
+use shadematrix::shading::twin::Surface;
 use shadematrix::spec::scene::Scene;
 
 /// θh per visible subject pixel: the rendered role mask says which pixels see the subject; the
@@ -22,9 +23,7 @@ fn theta_h_histogram(name: &str) -> [f64; 9] {
     let cell = CellParams {
         pipeline: Pipeline::Builtin,
         model: find_model(Pipeline::Builtin, "lambert").unwrap(),
-        base_color_linear: [1.0; 3],
-        metallic_slider: 0.0,
-        smoothness: 0.5,
+        surface: Surface::basic(DVec3::ONE, 0.0, 0.5),
         light_intensity: 1.0,
         light_range: 10.0,
         width: size,

@@ -8,6 +8,7 @@ use shadematrix::gpu::GpuContext;
 use shadematrix::pipelines::Pipeline;
 use shadematrix::render::probe::{evaluate, ProbeInput};
 use shadematrix::render::{CellParams, CellRender, Renderer};
+use shadematrix::shading::registry::Sliders;
 use shadematrix::shading::twin::Surface;
 use shadematrix::shading::{find_model, MODELS};
 use shadematrix::spec::scene::Scene;
@@ -17,12 +18,12 @@ fn renderer() -> Renderer {
 }
 
 fn params(pipeline: Pipeline, shader: &str, color: [f64; 3], metallic: f64, smoothness: f64, size: u32) -> CellParams {
+    let model = find_model(pipeline, shader).unwrap();
+    let sliders = Sliders { base_color_linear: color, metallic, smoothness };
     CellParams {
         pipeline,
-        model: find_model(pipeline, shader).unwrap(),
-        base_color_linear: color,
-        metallic_slider: metallic,
-        smoothness,
+        model,
+        surface: model.surface(pipeline, &sliders),
         light_intensity: 1.0,
         light_range: 10.0,
         width: size,
@@ -48,8 +49,16 @@ fn hemisphere(i: usize, n: usize, salt: f64) -> DVec3 {
     DVec3::new(sin_t * phi.cos(), cos_t, sin_t * phi.sin())
 }
 
-fn f32x4(v: DVec3) -> [f32; 4] {
-    [v.x as f32, v.y as f32, v.z as f32, 0.0]
+/// The surface rounded to f32, as the GPU receives it.
+fn rounded(s: &Surface) -> Surface {
+    let r = |x: DVec3| x.as_vec3().as_dvec3();
+    Surface {
+        base_color: r(s.base_color),
+        metallic: s.metallic as f32 as f64,
+        smoothness: s.smoothness as f32 as f64,
+        specular: r(s.specular),
+        params: s.params.map(|p| p as f32 as f64),
+    }
 }
 
 /// Parity of every model in every pipeline, GPU f32 against the f64 twin, on the well-conditioned
@@ -68,36 +77,25 @@ fn gpu_models_match_their_f64_twins() {
                 if v.y < 0.1 || l.y < 0.1 {
                     continue;
                 }
-                let s = Surface {
-                    base_color: DVec3::new(0.9, 0.5, 0.1 + 0.8 * (i % 5) as f64 / 5.0),
+                let sliders = Sliders {
+                    base_color_linear: [0.9, 0.5, 0.1 + 0.8 * (i % 5) as f64 / 5.0],
                     metallic: (i % 3) as f64 / 2.0,
                     smoothness: 0.95 * ((i * 13) % 17) as f64 / 16.0,
                 };
+                let s = model.surface(pipeline, &sliders);
                 let gi_d = DVec3::new(0.2, 0.3, 0.4);
                 let gi_s = DVec3::new(0.5, 0.4, 0.3);
-                inputs.push(ProbeInput {
-                    n: f32x4(DVec3::Y),
-                    v: f32x4(v),
-                    l: f32x4(l),
-                    base_color: f32x4(s.base_color),
-                    params: [s.metallic as f32, s.smoothness as f32, 0.0, 0.0],
-                    gi_diffuse: f32x4(gi_d),
-                    gi_specular: f32x4(gi_s),
-                });
-                cases.push((s, v, l, gi_d, gi_s));
+                let input = ProbeInput::new(&s, DVec3::Y, v, l, gi_d, gi_s);
+                inputs.push(input);
+                cases.push((rounded(&s), v, l, gi_d, gi_s));
             }
             let gpu_out = evaluate(&gpu, pipeline, model, &inputs).unwrap();
             let mut worst: f64 = 0.0;
-            for ((s, v, l, gd, gs), (d_gpu, i_gpu)) in cases.iter().zip(&gpu_out) {
+            for ((s32, v, l, gd, gs), (d_gpu, i_gpu)) in cases.iter().zip(&gpu_out) {
                 // The twin sees the f32-rounded inputs the GPU saw.
                 let r = |x: DVec3| x.as_vec3().as_dvec3();
-                let s32 = Surface {
-                    base_color: r(s.base_color),
-                    metallic: s.metallic as f32 as f64,
-                    smoothness: s.smoothness as f32 as f64,
-                };
-                let d_cpu = model.twin.direct(pipeline, &s32, DVec3::Y, r(*v), r(*l));
-                let i_cpu = model.twin.indirect(pipeline, &s32, DVec3::Y, r(*v), r(*gd), r(*gs));
+                let d_cpu = model.twin.direct(pipeline, s32, DVec3::Y, r(*v), r(*l));
+                let i_cpu = model.twin.indirect(pipeline, s32, DVec3::Y, r(*v), r(*gd), r(*gs));
                 for (cpu, g) in [(d_cpu, d_gpu), (i_cpu, i_gpu)] {
                     for k in 0..3 {
                         let rel = (g[k] as f64 - cpu[k]).abs() / cpu[k].abs().max(1e-3);
@@ -134,11 +132,7 @@ fn rendered_pixel_matches_cpu_evaluation_in_every_pipeline() {
             cell.light_intensity = 1.5;
             cell.light_range = 6.0;
             let got = centre(&renderer.render(&prepared, &cell, 1, 0).unwrap());
-            let s = Surface {
-                base_color: DVec3::new(0.6, 0.4, 0.2),
-                metallic: pipeline.shader_metallic(0.5),
-                smoothness: 0.6,
-            };
+            let s = cell.surface;
             let radiance = DVec3::from(pipeline.light_radiance(light.color, 1.5));
             let atten = pipeline.attenuation().eval(dist, 6.0);
             let env_scale = prepared.env.intensity * pipeline.environment_scale();

@@ -3,10 +3,15 @@
 override PIPELINE: u32 = 0u;
 
 // Material as the model receives it: metallic already converted by the pipeline (presets.md).
+// specular: the models that take a specular colour; params0/params1: the model's own parameters
+// by slot (registry ParamSpec). Twin: shading::twin::Surface.
 struct Surface {
     base_color: vec3<f32>,
     metallic: f32,
     smoothness: f32,
+    specular: vec3<f32>,
+    params0: vec4<f32>,
+    params1: vec4<f32>,
 };
 
 // Irradiance delivered per unit of light "intensity": built-in and URP intensities carry π (§1 "The π convention")

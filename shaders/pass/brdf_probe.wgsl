@@ -9,6 +9,9 @@ struct ProbeInput {
     params: vec4<f32>,       // metallic, smoothness
     gi_diffuse: vec4<f32>,
     gi_specular: vec4<f32>,
+    specular: vec4<f32>,
+    model0: vec4<f32>,
+    model1: vec4<f32>,
 };
 
 @group(0) @binding(0) var<storage, read> probe_inputs: array<ProbeInput>;
@@ -32,6 +35,9 @@ fn probe_main(@builtin(global_invocation_id) id: vec3<u32>) {
     s.base_color = p.base_color.rgb;
     s.metallic = p.params.x;
     s.smoothness = p.params.y;
+    s.specular = p.specular.rgb;
+    s.params0 = p.model0;
+    s.params1 = p.model1;
     probe_gi_specular = p.gi_specular.rgb;
     probe_outputs[2u * i] = vec4<f32>(model_direct(s, p.n.xyz, p.v.xyz, p.l.xyz), 0.0);
     probe_outputs[2u * i + 1u] = vec4<f32>(model_indirect(s, p.n.xyz, p.v.xyz, p.gi_diffuse.rgb), 0.0);

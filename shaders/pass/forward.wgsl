@@ -41,6 +41,9 @@ fn material_at(uv: vec2<f32>) -> Surface {
     s.base_color = m.base_color.rgb;
     s.metallic = m.params.x;
     s.smoothness = m.params.y;
+    s.specular = m.specular.rgb;
+    s.params0 = m.model0;
+    s.params1 = m.model1;
     if (m.params.z > 0.0) {
         let cell = floor(uv / m.params.z);
         if (((i32(cell.x) + i32(cell.y)) & 1) == 1) {

@@ -11,6 +11,9 @@ struct Material {
     base_color: vec4<f32>,   // linear
     params: vec4<f32>,       // metallic (as the shader receives it), smoothness, checker cell (0: none), unused
     checker_color: vec4<f32>,
+    specular: vec4<f32>,     // the model's specular colour
+    model0: vec4<f32>,       // the model's parameters, slots 0–3
+    model1: vec4<f32>,       // slots 4–7
 };
 
 struct Frame {

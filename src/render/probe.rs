@@ -6,7 +6,9 @@ use wgpu::util::DeviceExt;
 use crate::error::Error;
 use crate::gpu::{readback::map_read, GpuContext};
 use crate::pipelines::Pipeline;
+use crate::shading::twin::Surface;
 use crate::shading::{wgsl, ShaderModel};
+use glam::DVec3;
 
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable, Default)]
@@ -19,6 +21,29 @@ pub struct ProbeInput {
     pub params: [f32; 4],
     pub gi_diffuse: [f32; 4],
     pub gi_specular: [f32; 4],
+    pub specular: [f32; 4],
+    pub model0: [f32; 4],
+    pub model1: [f32; 4],
+}
+
+impl ProbeInput {
+    /// Directions and ambient for `s`, rounded to f32 as the GPU receives them.
+    pub fn new(s: &Surface, n: DVec3, v: DVec3, l: DVec3, gi_diffuse: DVec3, gi_specular: DVec3) -> Self {
+        let v4 = |x: DVec3| [x.x as f32, x.y as f32, x.z as f32, 0.0];
+        let p = s.params.map(|x| x as f32);
+        ProbeInput {
+            n: v4(n),
+            v: v4(v),
+            l: v4(l),
+            base_color: v4(s.base_color),
+            params: [s.metallic as f32, s.smoothness as f32, 0.0, 0.0],
+            gi_diffuse: v4(gi_diffuse),
+            gi_specular: v4(gi_specular),
+            specular: v4(s.specular),
+            model0: [p[0], p[1], p[2], p[3]],
+            model1: [p[4], p[5], p[6], p[7]],
+        }
+    }
 }
 
 /// `model_direct` and `model_indirect` of one input, linear RGB.

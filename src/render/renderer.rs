@@ -16,6 +16,8 @@ use crate::gpu::readback::TextureReadback;
 use crate::gpu::GpuContext;
 use crate::pipelines::Pipeline;
 use crate::run::plan::FramePlan;
+use crate::shading::registry::Sliders;
+use crate::shading::twin::Surface;
 use crate::shading::{find_model, wgsl, ShaderModel};
 use crate::spec::scene::{LightKind, Role, Scene};
 
@@ -28,10 +30,8 @@ const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 pub struct CellParams {
     pub pipeline: Pipeline,
     pub model: &'static ShaderModel,
-    /// Linear base colour, metallic slider value, smoothness.
-    pub base_color_linear: [f64; 3],
-    pub metallic_slider: f64,
-    pub smoothness: f64,
+    /// The subject's material as the model receives it (`ShaderModel::surface`).
+    pub surface: Surface,
     pub light_intensity: f64,
     pub light_range: f64,
     pub width: u32,
@@ -55,8 +55,9 @@ struct GpuObject {
     index_count: u32,
     role: Role,
     model: DMat4,
-    material: GpuMaterial,
-    fixed_metallic: f64,
+    /// Fixed objects: their own material in slider units (mapped per pipeline at draw time) and
+    /// their checkerboard.
+    fixed: Option<(Sliders, GpuMaterial)>,
 }
 
 pub struct PreparedScene {
@@ -280,30 +281,23 @@ impl Renderer {
                 contents: bytemuck::cast_slice(&mesh.indices),
                 usage: wgpu::BufferUsages::INDEX,
             });
-            let (material, fixed_metallic) = match &o.material {
-                Some(m) => (
-                    GpuMaterial {
-                        base_color: rgba(m.base_color_linear),
-                        params: [
-                            0.0,
-                            m.smoothness as f32,
-                            m.checker.as_ref().map(|c| c.cell as f32).unwrap_or(0.0),
-                            0.0,
-                        ],
-                        checker_color: m.checker.as_ref().map(|c| rgba(c.color_linear)).unwrap_or_default(),
-                    },
-                    m.metallic,
-                ),
-                None => (GpuMaterial::zeroed(), 0.0),
-            };
+            let fixed = o.material.as_ref().map(|m| {
+                let sliders =
+                    Sliders { base_color_linear: m.base_color_linear, metallic: m.metallic, smoothness: m.smoothness };
+                let mut pattern = GpuMaterial::zeroed();
+                if let Some(c) = &m.checker {
+                    pattern.params[2] = c.cell as f32;
+                    pattern.checker_color = rgba(c.color_linear);
+                }
+                (sliders, pattern)
+            });
             objects.push(GpuObject {
                 vertices,
                 indices,
                 index_count: mesh.indices.len() as u32,
                 role: o.role,
                 model: o.transform.matrix(),
-                material,
-                fixed_metallic,
+                fixed,
             });
         }
         let align = device.limits().min_uniform_buffer_offset_alignment as u64;
@@ -437,7 +431,7 @@ impl Renderer {
         if prepared.plan.background {
             self.background_pipeline()?;
         }
-        self.write_uniforms(prepared, cell);
+        self.write_uniforms(prepared, cell, fixed_model);
         self.targets(cell.width, cell.height);
         let t = self.targets.as_ref().expect("targets exist");
         let subject_pipeline = &self.forward[&(cell.pipeline, subject_model.name)];
@@ -518,7 +512,7 @@ impl Renderer {
         })
     }
 
-    fn write_uniforms(&self, prepared: &PreparedScene, cell: &CellParams) {
+    fn write_uniforms(&self, prepared: &PreparedScene, cell: &CellParams, fixed_model: &ShaderModel) {
         let scene = &prepared.scene;
         let p = cell.pipeline;
         let aspect = cell.width as f64 / cell.height as f64;
@@ -561,16 +555,14 @@ impl Renderer {
             0.0,
             0.0,
         ];
-        frame.subject = GpuMaterial {
-            base_color: rgba(cell.base_color_linear),
-            params: [p.shader_metallic(cell.metallic_slider) as f32, cell.smoothness as f32, 0.0, 0.0],
-            checker_color: [0.0; 4],
-        };
+        frame.subject = gpu_material(&cell.surface, GpuMaterial::zeroed());
         self.gpu.queue.write_buffer(&prepared.frame_buffer, 0, bytemuck::bytes_of(&frame));
         let mut objects = vec![0u8; (prepared.object_stride as usize) * prepared.objects.len()];
         for (i, o) in prepared.objects.iter().enumerate() {
-            let mut material = o.material;
-            material.params[0] = p.shader_metallic(o.fixed_metallic) as f32;
+            let material = match &o.fixed {
+                Some((sliders, pattern)) => gpu_material(&fixed_model.surface(p, sliders), *pattern),
+                None => GpuMaterial::zeroed(),
+            };
             let u = ObjectUniforms {
                 model: mat(o.model),
                 normal_matrix: mat(o.model.inverse().transpose()),
@@ -588,6 +580,20 @@ impl Renderer {
 }
 
 use bytemuck::Zeroable;
+
+/// A surface in the uniform layout; `pattern` carries the checkerboard, if any.
+fn gpu_material(s: &Surface, pattern: GpuMaterial) -> GpuMaterial {
+    let v = |x: DVec3| [x.x as f32, x.y as f32, x.z as f32, 0.0];
+    let q = s.params.map(|x| x as f32);
+    GpuMaterial {
+        base_color: v(s.base_color),
+        params: [s.metallic as f32, s.smoothness as f32, pattern.params[2], 0.0],
+        checker_color: pattern.checker_color,
+        specular: v(s.specular),
+        model0: [q[0], q[1], q[2], q[3]],
+        model1: [q[4], q[5], q[6], q[7]],
+    }
+}
 
 fn mat(m: DMat4) -> [[f32; 4]; 4] {
     Mat4::from_cols_array(&m.to_cols_array().map(|v| v as f32)).to_cols_array_2d()

@@ -19,6 +19,9 @@ pub struct GpuMaterial {
     pub base_color: [f32; 4],
     pub params: [f32; 4],
     pub checker_color: [f32; 4],
+    pub specular: [f32; 4],
+    pub model0: [f32; 4],
+    pub model1: [f32; 4],
 }
 
 #[repr(C)]
@@ -55,8 +58,8 @@ mod tests {
     #[test]
     fn sizes_match_wgsl_layout() {
         assert_eq!(std::mem::size_of::<GpuLight>(), 64);
-        assert_eq!(std::mem::size_of::<GpuMaterial>(), 48);
-        assert_eq!(std::mem::size_of::<FrameUniforms>(), 64 + 64 + 16 + 256 + 16 + 144 + 16 + 48);
-        assert_eq!(std::mem::size_of::<ObjectUniforms>(), 64 + 64 + 48 + 16);
+        assert_eq!(std::mem::size_of::<GpuMaterial>(), 96);
+        assert_eq!(std::mem::size_of::<FrameUniforms>(), 64 + 64 + 16 + 256 + 16 + 144 + 16 + 96);
+        assert_eq!(std::mem::size_of::<ObjectUniforms>(), 64 + 64 + 96 + 16);
     }
 }

@@ -6,7 +6,8 @@ use serde::Serialize;
 use std::collections::HashMap;
 
 use crate::pipelines::{Pipeline, RenderPath};
-use crate::shading::registry::{find_model, model_names_for, ShaderModel};
+use crate::shading::registry::{find_model, model_names_for, ShaderModel, Sliders};
+use crate::shading::twin::Surface;
 use crate::spec::matrix::{Axis, Filter, FilterValue, Matrix};
 use crate::spec::presets::Preset;
 
@@ -54,6 +55,16 @@ pub struct Cell {
 }
 
 impl Cell {
+    pub fn sliders(&self) -> Sliders {
+        let m = &self.material;
+        Sliders { base_color_linear: m.base_color_linear, metallic: m.metallic, smoothness: m.smoothness }
+    }
+
+    /// The subject's material as this cell's model receives it.
+    pub fn surface(&self) -> Surface {
+        self.model().surface(self.pipeline, &self.sliders())
+    }
+
     pub fn model(&self) -> &'static ShaderModel {
         find_model(self.pipeline, &self.shader).expect("cells are built only for existing (pipeline, shader) pairs")
     }

@@ -185,9 +185,7 @@ fn render_all(
             let params = CellParams {
                 pipeline: cell.pipeline,
                 model: cell.model(),
-                base_color_linear: cell.material.base_color_linear,
-                metallic_slider: cell.material.metallic,
-                smoothness: cell.material.smoothness,
+                surface: cell.surface(),
                 light_intensity: cell.light_intensity,
                 light_range: cell.light_range,
                 width: cell.width,
@@ -283,11 +281,7 @@ fn cell_json(matrix: &Matrix, cell: &Cell) -> serde_json::Value {
         "shader_source": cell.model().source_path,
         "preset": cell.preset,
         "sliders": cell.material,
-        "shader_inputs": {
-            "base_color_linear": cell.material.base_color_linear,
-            "metallic": p.shader_metallic(cell.material.metallic),
-            "smoothness": cell.material.smoothness,
-        },
+        "shader_inputs": surface_json(cell),
         "key_light": {
             "intensity": cell.light_intensity,
             "range": cell.light_range,
@@ -296,6 +290,22 @@ fn cell_json(matrix: &Matrix, cell: &Cell) -> serde_json::Value {
         },
         "image": { "width": cell.width, "height": cell.height, "exr": "image.exr", "png": "image.png" },
         "twin_of": cell.twin_of,
+    })
+}
+
+/// The model's inputs as the shader receives them, with its parameters by name.
+fn surface_json(cell: &Cell) -> serde_json::Value {
+    let model = cell.model();
+    let s = cell.surface();
+    let params: serde_json::Map<String, serde_json::Value> =
+        model.params.iter().map(|p| (p.name.to_string(), json!(s.params[p.slot]))).collect();
+    json!({
+        "base_color_linear": s.base_color.to_array(),
+        "metallic": s.metallic,
+        "smoothness": s.smoothness,
+        "specular": s.specular.to_array(),
+        "params": params,
+        "mapping": model.mapping,
     })
 }
 

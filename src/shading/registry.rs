@@ -4,7 +4,9 @@
 
 use serde::Serialize;
 
-use super::twin::{self, SurfaceTwin};
+use glam::DVec3;
+
+use super::twin::{self, Surface, SurfaceTwin};
 use crate::pipelines::Pipeline;
 
 /// Which sweep axes change a model's output. Cells that differ only in axes a model does not read
@@ -17,6 +19,25 @@ pub struct Reads {
     pub light: bool,
 }
 
+/// One of a model's own parameters: a named, ranged float in a slot of `Surface::params`.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct ParamSpec {
+    pub name: &'static str,
+    pub slot: usize,
+    pub default: f64,
+    pub min: f64,
+    pub max: f64,
+    pub doc: &'static str,
+}
+
+/// The sweep's values for a cell, in slider units (colour already linear).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sliders {
+    pub base_color_linear: [f64; 3],
+    pub metallic: f64,
+    pub smoothness: f64,
+}
+
 pub struct ShaderModel {
     pub name: &'static str,
     pub pipelines: &'static [Pipeline],
@@ -26,7 +47,43 @@ pub struct ShaderModel {
     pub reads: Reads,
     pub summary: &'static str,
     pub twin: &'static dyn SurfaceTwin,
+    /// The model's own parameters.
+    pub params: &'static [ParamSpec],
+    /// How the sweep's metallic / smoothness / colour become the model's inputs (for `shaders`).
+    pub mapping: &'static str,
+    /// That mapping, in code.
+    pub from_sliders: fn(&ShaderModel, Pipeline, &Sliders) -> Surface,
 }
+
+impl ShaderModel {
+    /// The model's inputs for a cell: the mapping applied to the sliders.
+    pub fn surface(&self, pipeline: Pipeline, sliders: &Sliders) -> Surface {
+        (self.from_sliders)(self, pipeline, sliders)
+    }
+
+    /// Parameters at their defaults, by slot.
+    pub fn default_params(&self) -> [f64; 8] {
+        let mut p = [0.0; 8];
+        for spec in self.params {
+            p[spec.slot] = spec.default;
+        }
+        p
+    }
+}
+
+/// Colour as base colour, the pipeline's metallic conversion, smoothness as is, defaults for the rest.
+fn metallic_workflow(model: &ShaderModel, pipeline: Pipeline, s: &Sliders) -> Surface {
+    Surface {
+        base_color: DVec3::from(s.base_color_linear),
+        metallic: pipeline.shader_metallic(s.metallic),
+        smoothness: s.smoothness,
+        specular: DVec3::ZERO,
+        params: model.default_params(),
+    }
+}
+
+const METALLIC_WORKFLOW: &str =
+    "colour → base colour; metallic → the pipeline's conversion (built-in/URP: sRGB-decoded); smoothness as is";
 
 impl std::fmt::Debug for ShaderModel {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -45,6 +102,9 @@ pub static MODELS: [ShaderModel; 2] = [
         reads: Reads { color: true, metallic: false, smoothness: false, light: true },
         summary: "Lambert: ρ/π·E·NL (spec §4)",
         twin: &twin::Lambert,
+        params: &[],
+        mapping: "colour → albedo ρ; metallic and smoothness unused",
+        from_sliders: metallic_workflow,
     },
     ShaderModel {
         name: "standard",
@@ -54,6 +114,9 @@ pub static MODELS: [ShaderModel; 2] = [
         reads: ALL_AXES,
         summary: "built-in Standard, BRDF1_Unity_PBS: Disney diffuse, approx. joint Smith, GGX (spec §1)",
         twin: &twin::Standard,
+        params: &[],
+        mapping: METALLIC_WORKFLOW,
+        from_sliders: metallic_workflow,
     },
 ];
 

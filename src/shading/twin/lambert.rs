@@ -31,7 +31,7 @@ mod tests {
 
     #[test]
     fn unity_convention_is_albedo_times_nl() {
-        let s = Surface { base_color: DVec3::splat(0.5), metallic: 0.0, smoothness: 0.0 };
+        let s = Surface::basic(DVec3::splat(0.5), 0.0, 0.0);
         let n = DVec3::Y;
         let l = DVec3::new(0.0, 0.5, 0.75f64.sqrt());
         let c = Lambert.direct(Pipeline::Builtin, &s, n, DVec3::Y, l);

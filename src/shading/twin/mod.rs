@@ -10,12 +10,24 @@ use glam::DVec3;
 
 use crate::pipelines::Pipeline;
 
-/// Material as the model receives it (metallic already converted by the pipeline).
+/// Material as the model receives it (metallic already converted by the pipeline). The WGSL
+/// `Surface` in shaders/common/conventions.wgsl has the same fields.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Surface {
     pub base_color: DVec3,
     pub metallic: f64,
     pub smoothness: f64,
+    /// Specular colour, for the models that take one (Phong, Blinn-Phong, Simple Lit, ...).
+    pub specular: DVec3,
+    /// The model's own parameters by slot (`registry::ParamSpec::slot`).
+    pub params: [f64; 8],
+}
+
+impl Surface {
+    /// Base colour, metallic and smoothness only; no specular colour, parameters zero.
+    pub fn basic(base_color: DVec3, metallic: f64, smoothness: f64) -> Surface {
+        Surface { base_color, metallic, smoothness, specular: DVec3::ZERO, params: [0.0; 8] }
+    }
 }
 
 pub trait SurfaceTwin: Sync {

@@ -81,7 +81,7 @@ mod tests {
     use super::*;
 
     fn surface(albedo: f64, metallic: f64, smoothness: f64) -> Surface {
-        Surface { base_color: DVec3::splat(albedo), metallic, smoothness }
+        Surface::basic(DVec3::splat(albedo), metallic, smoothness)
     }
 
     #[test]
