@@ -67,6 +67,7 @@ fn rounded(s: &Surface) -> Surface {
 fn gpu_models_match_their_f64_twins() {
     let gpu = GpuContext::new().unwrap();
     let n = 512;
+    let mut report = Vec::new();
     for model in MODELS.iter() {
         for &pipeline in model.pipelines {
             let mut inputs = Vec::new();
@@ -103,9 +104,14 @@ fn gpu_models_match_their_f64_twins() {
                     }
                 }
             }
-            assert!(worst <= 1e-4, "{}/{}: worst relative error {worst:e}", pipeline.name(), model.name);
+            report.push((format!("{}/{}", pipeline.name(), model.name), worst, model.parity_tolerance));
         }
     }
+    for (name, worst, tol) in &report {
+        eprintln!("parity {name:32} worst relative error {worst:.2e} (allowed {tol:.0e})");
+    }
+    let failed: Vec<_> = report.iter().filter(|(_, w, tol)| !(w <= tol)).collect();
+    assert!(failed.is_empty(), "over tolerance: {failed:?}");
 }
 
 fn centre(r: &CellRender) -> DVec3 {
@@ -221,6 +227,6 @@ fn gpu_resources_are_reused_across_cells() {
             renderer.render(&prepared, &params(p, "lambert", [0.5; 3], 0.0, s, 32), 1, 0).unwrap();
         }
     }
-    // builtin: lambert + standard (fixed objects); urp: lambert (subject and fixed); background once.
-    assert_eq!(renderer.compiled_pipelines(), 4);
+    // builtin: lambert + standard (fixed objects); urp: lambert + lit (fixed objects); background once.
+    assert_eq!(renderer.compiled_pipelines(), 5);
 }

@@ -1,11 +1,6 @@
 // Lambert (spec §4): f = ρ/π, so radiance = ρ/π·E·max(0, NL); E per unit intensity is the pipeline's.
 // Reads the base colour only (no metallic, no smoothness).
 
-// ρ/π
-fn fd_lambert(albedo: vec3<f32>) -> vec3<f32> {
-    return albedo * INV_PI;
-}
-
 fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
     return fd_lambert(s.base_color) * irradiance_per_intensity() * max(0.0, dot(n, l));
 }

@@ -1,5 +1,10 @@
 // BRDF terms shared by several models (spec §1, §4).
 
+// ρ/π (§4 Lambert)
+fn fd_lambert(albedo: vec3<f32>) -> vec3<f32> {
+    return albedo * INV_PI;
+}
+
 // F = F0 + (1 − F0)(1 − c)⁵ (§1 FresnelTerm, §4 Schlick)
 fn f_schlick(f0: vec3<f32>, c: f32) -> vec3<f32> {
     return f0 + (vec3<f32>(1.0) - f0) * pow5(1.0 - c);
@@ -8,4 +13,60 @@ fn f_schlick(f0: vec3<f32>, c: f32) -> vec3<f32> {
 // lerp(F0, F90, (1 − c)⁵) (§1 FresnelLerp)
 fn f_schlick_lerp(f0: vec3<f32>, f90: vec3<f32>, c: f32) -> vec3<f32> {
     return mix(f0, f90, pow5(1.0 - c));
+}
+
+// D_GGX = α²/(π(NH²(α² − 1) + 1)²) (§4 GGX / Torrance-Sparrow)
+fn d_ggx(nh: f32, a: f32) -> f32 {
+    let a2 = a * a;
+    let d = nh * nh * (a2 - 1.0) + 1.0;
+    return a2 / (PI * d * d);
+}
+
+// D_Beckmann = exp((NH² − 1)/(m²NH²))/(π m² NH⁴), NH² ≥ ε, m ≥ 1e-3 (§4 Beckmann, §6)
+fn d_beckmann(nh: f32, m: f32) -> f32 {
+    let m2 = max(m, 1e-3) * max(m, 1e-3);
+    let nh2 = max(nh * nh, 1e-8);
+    return exp((nh2 - 1.0) / (m2 * nh2)) / (PI * m2 * nh2 * nh2);
+}
+
+// G = min(1, 2NH·NV/VH, 2NH·NL/VH), VH ≥ ε (§4 Cook-Torrance G, §6)
+fn g_cook_torrance(nh: f32, nv: f32, nl: f32, vh: f32) -> f32 {
+    return min(1.0, 2.0 * nh * min(nv, nl) / max(vh, 1e-4));
+}
+
+// Full dielectric Fresnel, c = VH, g = √(η² + c² − 1); g² < 0 is TIR, F = 1 (§4, §6)
+fn f_fresnel_dielectric(c: f32, eta: f32) -> f32 {
+    let g2 = eta * eta + c * c - 1.0;
+    if (g2 < 0.0) {
+        return 1.0;
+    }
+    let g = sqrt(g2);
+    let a = (g - c) / (g + c);
+    let b = (c * (g + c) - 1.0) / (c * (g - c) + 1.0);
+    return 0.5 * a * a * (1.0 + b * b);
+}
+
+// G1(x) = x/(x(1 − k) + k): Vis = G1(NL)G1(NV)/(4NL·NV) = 1/(4(NL(1−k)+k)(NV(1−k)+k)) (§4 Smith-Schlick)
+fn v_smith_schlick(nl: f32, nv: f32, k: f32) -> f32 {
+    return 0.25 / ((nl * (1.0 - k) + k) * (nv * (1.0 - k) + k));
+}
+
+// exp2(10·s + 1): URP Simple Lit shininess, 2..2048 (§2); the classic models use it too
+fn shininess_from_smoothness(s: f32) -> f32 {
+    return exp2(10.0 * s + 1.0);
+}
+
+// HDRP's FGD table at (√NV, pr), texel centres at i/63, bilinear by hand so the f64 twin can do
+// exactly the same (twin: shading::fgd::FgdTable::lookup). x: F90 weight, y: reflectivity, z: diffuse − 0.5.
+fn fgd_sample(lut: texture_2d<f32>, nv: f32, pr: f32) -> vec3<f32> {
+    let fx = clamp(sqrt(clamp(nv, 0.0, 1.0)) * 63.0, 0.0, 63.0);
+    let fy = clamp(clamp(pr, 0.0, 1.0) * 63.0, 0.0, 63.0);
+    let x0 = min(floor(fx), 62.0);
+    let y0 = min(floor(fy), 62.0);
+    let tx = fx - x0;
+    let ty = fy - y0;
+    let i = vec2<i32>(i32(x0), i32(y0));
+    let a = mix(textureLoad(lut, i, 0).xyz, textureLoad(lut, i + vec2<i32>(1, 0), 0).xyz, tx);
+    let b = mix(textureLoad(lut, i + vec2<i32>(0, 1), 0).xyz, textureLoad(lut, i + vec2<i32>(1, 1), 0).xyz, tx);
+    return mix(a, b, ty);
 }

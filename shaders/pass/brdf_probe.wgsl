@@ -16,6 +16,11 @@ struct ProbeInput {
 
 @group(0) @binding(0) var<storage, read> probe_inputs: array<ProbeInput>;
 @group(0) @binding(1) var<storage, read_write> probe_outputs: array<vec4<f32>>;
+@group(0) @binding(2) var fgd_lut: texture_2d<f32>;
+
+fn fgd_lookup(nv: f32, pr: f32) -> vec3<f32> {
+    return fgd_sample(fgd_lut, nv, pr);
+}
 
 var<private> probe_gi_specular: vec3<f32>;
 

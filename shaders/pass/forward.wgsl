@@ -69,25 +69,54 @@ fn light_incidence(light: Light, p: vec3<f32>) -> vec4<f32> {
     return vec4<f32>(l, atten);
 }
 
+// The lighting sum at one point: every light's direct term plus the ambient and environment.
+fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>) -> vec3<f32> {
+    let v = normalize(frame.camera_pos.xyz - p);
+    var c = vec3<f32>(0.0);
+    for (var i = 0u; i < frame.counts.x; i++) {
+        let light = frame.lights[i];
+        let inc = light_incidence(light, p);
+        if (inc.w > 0.0) {
+            c += model_direct(s, n, v, inc.xyz) * light.color.rgb * inc.w;
+        }
+    }
+    return c + model_indirect(s, n, v, ambient_diffuse(n));
+}
+
 @fragment
 fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> FragmentOut {
     var n = normalize(in.normal);
     if (!front) {
         n = -n;
     }
-    let v = normalize(frame.camera_pos.xyz - in.world_pos);
-    let s = material_at(in.uv);
-    var c = vec3<f32>(0.0);
-    for (var i = 0u; i < frame.counts.x; i++) {
-        let light = frame.lights[i];
-        let inc = light_incidence(light, in.world_pos);
-        if (inc.w > 0.0) {
-            c += model_direct(s, n, v, inc.xyz) * light.color.rgb * inc.w;
-        }
-    }
-    c += model_indirect(s, n, v, ambient_diffuse(n));
     var out: FragmentOut;
-    out.color = vec4<f32>(c, 1.0);
+    out.color = vec4<f32>(shade(material_at(in.uv), n, in.world_pos), 1.0);
+    out.role = object.flags.y;
+    return out;
+}
+
+// Gouraud shading (spec §4): the same sum evaluated per vertex and interpolated. Highlights
+// smaller than a triangle are lost or smeared — the expected difference. Back faces are not
+// flipped here (the vertex stage cannot know which side is seen).
+struct GouraudOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) color: vec3<f32>,
+};
+
+@vertex
+fn vs_gouraud(in: VertexIn) -> GouraudOut {
+    let world = object.model * vec4<f32>(in.position, 1.0);
+    let n = normalize((object.normal_matrix * vec4<f32>(in.normal, 0.0)).xyz);
+    var out: GouraudOut;
+    out.clip = frame.view_proj * world;
+    out.color = shade(material_at(in.uv), n, world.xyz);
+    return out;
+}
+
+@fragment
+fn fs_gouraud(in: GouraudOut) -> FragmentOut {
+    var out: FragmentOut;
+    out.color = vec4<f32>(in.color, 1.0);
     out.role = object.flags.y;
     return out;
 }

@@ -37,6 +37,11 @@ struct Object {
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var env_probe: texture_2d_array<f32>;
 @group(0) @binding(2) var env_sampler: sampler;
+@group(0) @binding(3) var fgd_lut: texture_2d<f32>;
+
+fn fgd_lookup(nv: f32, pr: f32) -> vec3<f32> {
+    return fgd_sample(fgd_lut, nv, pr);
+}
 
 // Real SH basis, bands 0–2, times the coefficients: the ambient term E(n)/π (twin: environment::sh)
 fn ambient_diffuse(n: vec3<f32>) -> vec3<f32> {

@@ -89,12 +89,12 @@ impl Pipeline {
         }
     }
 
-    /// The shader that fixed objects (walls, backdrop, inner ball) are drawn with.
+    /// The shader that fixed objects (walls, backdrop, inner ball) are drawn with: the pipeline's
+    /// default lit shader, as a new material in that pipeline would be.
     pub fn fixed_object_shader(self) -> &'static str {
         match self {
             Pipeline::Builtin => "standard",
-            // Until URP Lit and HDRP Lit exist, fixed objects in those pipelines use Lambert.
-            Pipeline::Urp | Pipeline::Hdrp => "lambert",
+            Pipeline::Urp | Pipeline::Hdrp => "lit",
         }
     }
 }

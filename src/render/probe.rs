@@ -63,9 +63,33 @@ pub fn evaluate(
     let source = wgsl::compose(wgsl::PassKind::BrdfProbe, Some(model));
     let module = gpu.shader_module(&format!("probe {}/{}", pipeline.name(), model.name), &source)?;
     let constants = [("PIPELINE", pipeline.shader_id() as f64)];
+    let storage = |binding: u32, read_only: bool| wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    };
+    // Explicit: an automatic layout would drop the FGD table for models that never read it.
+    let bind_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("brdf probe"),
+        entries: &[
+            storage(0, true),
+            storage(1, false),
+            crate::render::luts::fgd_layout_entry(2, wgpu::ShaderStages::COMPUTE),
+        ],
+    });
+    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("brdf probe"),
+        bind_group_layouts: &[Some(&bind_layout)],
+        immediate_size: 0,
+    });
     let compute = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
         label: Some("brdf probe"),
-        layout: None,
+        layout: Some(&layout),
         module: &module,
         entry_point: Some("probe_main"),
         compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
@@ -89,12 +113,14 @@ pub fn evaluate(
         usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
         mapped_at_creation: false,
     });
+    let fgd = crate::render::luts::fgd_texture(gpu);
     let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("probe"),
-        layout: &compute.get_bind_group_layout(0),
+        layout: &bind_layout,
         entries: &[
             wgpu::BindGroupEntry { binding: 0, resource: input_buf.as_entire_binding() },
             wgpu::BindGroupEntry { binding: 1, resource: output_buf.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&fgd) },
         ],
     });
     let mut encoder = device.create_command_encoder(&Default::default());

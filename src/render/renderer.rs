@@ -91,6 +91,7 @@ pub struct Renderer {
     object_layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
     sampler: wgpu::Sampler,
+    fgd: wgpu::TextureView,
     forward: HashMap<(Pipeline, &'static str), wgpu::RenderPipeline>,
     background: Option<wgpu::RenderPipeline>,
     targets: Option<Targets>,
@@ -114,7 +115,7 @@ impl Renderer {
                 },
                 wgpu::BindGroupLayoutEntry {
                     binding: 1,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
                     ty: wgpu::BindingType::Texture {
                         sample_type: wgpu::TextureSampleType::Float { filterable: true },
                         view_dimension: wgpu::TextureViewDimension::D2Array,
@@ -124,10 +125,11 @@ impl Renderer {
                 },
                 wgpu::BindGroupLayoutEntry {
                     binding: 2,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
                     ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
                     count: None,
                 },
+                super::luts::fgd_layout_entry(3, wgpu::ShaderStages::VERTEX_FRAGMENT),
             ],
         });
         let object_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -156,12 +158,14 @@ impl Renderer {
             min_filter: wgpu::FilterMode::Linear,
             ..Default::default()
         });
+        let fgd = super::luts::fgd_texture(&gpu);
         Renderer {
             gpu,
             frame_layout,
             object_layout,
             pipeline_layout,
             sampler,
+            fgd,
             forward: HashMap::new(),
             background: None,
             targets: None,
@@ -186,7 +190,7 @@ impl Renderer {
             layout: Some(&self.pipeline_layout),
             vertex: wgpu::VertexState {
                 module: &module,
-                entry_point: Some("vs_main"),
+                entry_point: Some(if model.per_vertex { "vs_gouraud" } else { "vs_main" }),
                 compilation_options: options.clone(),
                 buffers: &[Some(wgpu::VertexBufferLayout {
                     array_stride: std::mem::size_of::<Vertex>() as u64,
@@ -206,7 +210,7 @@ impl Renderer {
             multisample: Default::default(),
             fragment: Some(wgpu::FragmentState {
                 module: &module,
-                entry_point: Some("fs_main"),
+                entry_point: Some(if model.per_vertex { "fs_gouraud" } else { "fs_main" }),
                 compilation_options: options,
                 targets: &[Some(HDR_FORMAT.into()), Some(ROLE_FORMAT.into())],
             }),
@@ -364,6 +368,7 @@ impl Renderer {
                 wgpu::BindGroupEntry { binding: 0, resource: frame_buffer.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&env_view) },
                 wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::Sampler(&self.sampler) },
+                wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(&self.fgd) },
             ],
         });
         self.gpu.check_errors(&format!("uploading composition `{}`", scene.name))?;

@@ -1,6 +1,7 @@
 //! Surface models: the registry (names, pipelines, which sweep axes each reads), WGSL composition,
 //! and the CPU f64 twin of every model.
 
+pub mod fgd;
 pub mod registry;
 pub mod twin;
 pub mod wgsl;

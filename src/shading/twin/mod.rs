@@ -1,10 +1,20 @@
 //! CPU f64 twins of the WGSL models, term by term, in the same pipeline conventions.
 
+mod builtin;
+mod classic;
+mod custom;
+mod hdrp;
 mod lambert;
 mod standard;
+mod urp;
 
+pub use builtin::{StandardBrdf2, StandardBrdf3};
+pub use classic::{BlinnPhong, CookTorrance, HalfLambert, OrenNayar, Phong};
+pub use custom::{FresnelView, TorranceSparrow};
+pub use hdrp::HdrpLit;
 pub use lambert::Lambert;
 pub use standard::Standard;
+pub use urp::{Unlit, UrpLit, UrpSimpleLit};
 
 use glam::DVec3;
 

@@ -1,0 +1,22 @@
+// Blinn-Phong (spec §4, §4c): diffuse kd·NL plus ks·max(0, N·H)ⁿ, per unit of E/π.
+// params0.x: normalise the lobe by (n + 8)/8 (1) or not (0, the textbook form, default).
+
+// max(0, N·H)ⁿ, with the optional ≈(n + 8)/8 normalisation
+fn spec_blinn_phong(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, shininess: f32, normalized: f32) -> f32 {
+    let h = safe_normalize(l + v, 1.175494e-38);
+    let lobe = pow(max(0.0, dot(n, h)), shininess);
+    return select(lobe, lobe * (shininess + 8.0) * 0.125, normalized > 0.5);
+}
+
+fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
+    let nl = max(0.0, dot(n, l));
+    if (nl <= 0.0) {
+        return vec3<f32>(0.0);
+    }
+    let spec = spec_blinn_phong(n, v, l, shininess_from_smoothness(s.smoothness), s.params0.x);
+    return (s.base_color * nl + s.specular * spec) * INV_PI * irradiance_per_intensity();
+}
+
+fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>) -> vec3<f32> {
+    return s.base_color * gi_diffuse;
+}

@@ -1,0 +1,50 @@
+// URP Lit (spec §2): InitializeBRDFData, DirectBRDFSpecular (minimal Cook-Torrance), Lambert
+// without 1/π, EnvironmentBRDF. Desktop precision (no REAL_IS_HALF clamps).
+
+const HALF_MIN: f32 = 6.103515625e-5;
+const HALF_MIN_SQRT: f32 = 0.0078125;
+
+struct UrpBrdfData {
+    diffuse: vec3<f32>,
+    specular: vec3<f32>,
+    perceptual_roughness: f32,
+    roughness: f32,
+    roughness2: f32,
+    grazing_term: f32,
+};
+
+// kDielectricSpec = (0.04, 0.96); α = max(pr², 2⁻⁷); α² = max(α², 2⁻¹⁴); grazing = sat(s + reflectivity)
+fn urp_brdf_data(s: Surface) -> UrpBrdfData {
+    var b: UrpBrdfData;
+    let one_minus_reflectivity = 0.96 - s.metallic * 0.96;
+    b.diffuse = s.base_color * one_minus_reflectivity;
+    b.specular = mix(vec3<f32>(0.04), s.base_color, s.metallic);
+    b.perceptual_roughness = 1.0 - s.smoothness;
+    b.roughness = max(b.perceptual_roughness * b.perceptual_roughness, HALF_MIN_SQRT);
+    b.roughness2 = max(b.roughness * b.roughness, HALF_MIN);
+    b.grazing_term = sat(s.smoothness + (1.0 - one_minus_reflectivity));
+    return b;
+}
+
+// spec = α²/(d²·max(0.1, LoH²)·(4α + 2)), d = NoH²(α² − 1) + 1.00001
+fn spec_urp(nh: f32, lh: f32, b: UrpBrdfData) -> f32 {
+    let d = nh * nh * (b.roughness2 - 1.0) + 1.00001;
+    return b.roughness2 / (d * d * max(0.1, lh * lh) * (b.roughness * 4.0 + 2.0));
+}
+
+fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
+    let b = urp_brdf_data(s);
+    let h = safe_normalize(l + v, 1.175494e-38);
+    let nh = sat(dot(n, h));
+    let lh = sat(dot(l, h));
+    return (b.diffuse + b.specular * spec_urp(nh, lh, b)) * sat(dot(n, l));
+}
+
+fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>) -> vec3<f32> {
+    let b = urp_brdf_data(s);
+    let x = 1.0 - sat(dot(n, v));
+    let fresnel_term = x * x * x * x;
+    let env = env_specular(reflect(-v, n), b.perceptual_roughness);
+    // c = bakedGI·diffuse + envSpec·1/(α² + 1)·lerp(specular, grazing, (1 − NoV)⁴)
+    return gi_diffuse * b.diffuse + env * (1.0 / (b.roughness2 + 1.0)) * mix(b.specular, vec3<f32>(b.grazing_term), fresnel_term);
+}

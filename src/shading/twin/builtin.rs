@@ -1,0 +1,67 @@
+//! Twins of the built-in Standard shader's BRDF2 and BRDF3 (spec §1).
+
+use glam::DVec3;
+
+use super::{safe_normalize, sat, Surface, SurfaceTwin};
+use crate::pipelines::Pipeline;
+
+fn spec_color(s: &Surface) -> DVec3 {
+    DVec3::splat(0.04).lerp(s.base_color, s.metallic)
+}
+
+fn one_minus_reflectivity(s: &Surface) -> f64 {
+    0.96 - s.metallic * 0.96
+}
+
+pub fn spec_brdf2(nh: f64, lh: f64, a: f64) -> f64 {
+    let a2 = a * a;
+    let d = nh * nh * (a2 - 1.0) + 1.00001;
+    a2 / ((lh * lh).max(0.1) * (a + 0.5) * d * d * 4.0)
+}
+
+pub struct StandardBrdf2;
+
+impl SurfaceTwin for StandardBrdf2 {
+    fn direct(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
+        let h = safe_normalize(l + v, 0.001);
+        let (nl, nh, lh) = (sat(n.dot(l)), sat(n.dot(h)), sat(l.dot(h)));
+        let pr = 1.0 - s.smoothness;
+        (s.base_color * one_minus_reflectivity(s) + spec_brdf2(nh, lh, pr * pr) * spec_color(s)) * nl
+    }
+
+    fn indirect(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, gi_d: DVec3, gi_s: DVec3) -> DVec3 {
+        let nv = sat(n.dot(v));
+        let pr = 1.0 - s.smoothness;
+        let a = pr * pr;
+        let omr = one_minus_reflectivity(s);
+        let surface_reduction = 1.0 - a * pr * (0.6 - 0.08 * pr);
+        let grazing = sat(s.smoothness + (1.0 - omr));
+        let fresnel = (1.0 - nv).powi(4);
+        gi_d * s.base_color * omr + surface_reduction * gi_s * spec_color(s).lerp(DVec3::splat(grazing), fresnel)
+    }
+}
+
+/// The approximated lookup lobe: min(16, (n + 2)/2·rlPow4^(n/4)), n = 2/α² − 2 (see the WGSL).
+pub fn spec_brdf3(rl_pow4: f64, pr: f64) -> f64 {
+    let a = pr * pr;
+    let n = (2.0 / (a * a).max(1e-4) - 2.0).max(1e-4);
+    ((n + 2.0) * 0.5 * rl_pow4.max(0.0).powf(n * 0.25)).min(16.0)
+}
+
+pub struct StandardBrdf3;
+
+impl SurfaceTwin for StandardBrdf3 {
+    fn direct(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
+        let nl = sat(n.dot(l));
+        let r = v - 2.0 * n.dot(v) * n;
+        let rl_pow4 = r.dot(l).powi(4);
+        (s.base_color * one_minus_reflectivity(s) + spec_brdf3(rl_pow4, 1.0 - s.smoothness) * spec_color(s)) * nl
+    }
+
+    fn indirect(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, gi_d: DVec3, gi_s: DVec3) -> DVec3 {
+        let nv = sat(n.dot(v));
+        let omr = one_minus_reflectivity(s);
+        let grazing = sat(s.smoothness + (1.0 - omr));
+        gi_d * s.base_color * omr + gi_s * spec_color(s).lerp(DVec3::splat(grazing), (1.0 - nv).powi(4))
+    }
+}

@@ -1,0 +1,187 @@
+//! Twins of the classic models (spec §4): half-Lambert, Phong, Blinn-Phong, Oren-Nayar (both
+//! forms), Cook-Torrance.
+
+use glam::DVec3;
+use std::f64::consts::{FRAC_1_PI, PI};
+
+use super::{f_schlick, irradiance_per_intensity as e_per_i, safe_normalize, sat, Surface, SurfaceTwin};
+use crate::pipelines::Pipeline;
+
+pub fn shininess_from_smoothness(s: f64) -> f64 {
+    (10.0 * s + 1.0).exp2()
+}
+
+fn ambient(s: &Surface, gi_diffuse: DVec3) -> DVec3 {
+    s.base_color * gi_diffuse
+}
+
+pub struct HalfLambert;
+
+impl SurfaceTwin for HalfLambert {
+    fn direct(&self, p: Pipeline, s: &Surface, n: DVec3, _v: DVec3, l: DVec3) -> DVec3 {
+        s.base_color * FRAC_1_PI * e_per_i(p) * (0.5 * n.dot(l) + 0.5)
+    }
+    fn indirect(&self, _: Pipeline, s: &Surface, _: DVec3, _: DVec3, gi_d: DVec3, _: DVec3) -> DVec3 {
+        ambient(s, gi_d)
+    }
+}
+
+pub struct Phong;
+
+impl SurfaceTwin for Phong {
+    fn direct(&self, p: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
+        let nl = n.dot(l).max(0.0);
+        if nl <= 0.0 {
+            return DVec3::ZERO;
+        }
+        let shininess = shininess_from_smoothness(s.smoothness);
+        let r = 2.0 * n.dot(l) * n - l;
+        let mut spec = r.dot(v).max(0.0).powf(shininess);
+        if s.params[0] > 0.5 {
+            spec *= (shininess + 2.0) * 0.5;
+        }
+        (s.base_color * nl + s.specular * spec) * FRAC_1_PI * e_per_i(p)
+    }
+    fn indirect(&self, _: Pipeline, s: &Surface, _: DVec3, _: DVec3, gi_d: DVec3, _: DVec3) -> DVec3 {
+        ambient(s, gi_d)
+    }
+}
+
+pub struct BlinnPhong;
+
+impl SurfaceTwin for BlinnPhong {
+    fn direct(&self, p: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
+        let nl = n.dot(l).max(0.0);
+        if nl <= 0.0 {
+            return DVec3::ZERO;
+        }
+        let shininess = shininess_from_smoothness(s.smoothness);
+        let h = safe_normalize(l + v, f32::MIN_POSITIVE as f64);
+        let mut spec = n.dot(h).max(0.0).powf(shininess);
+        if s.params[0] > 0.5 {
+            spec *= (shininess + 8.0) * 0.125;
+        }
+        (s.base_color * nl + s.specular * spec) * FRAC_1_PI * e_per_i(p)
+    }
+    fn indirect(&self, _: Pipeline, s: &Surface, _: DVec3, _: DVec3, gi_d: DVec3, _: DVec3) -> DVec3 {
+        ambient(s, gi_d)
+    }
+}
+
+/// Oren-Nayar; `interreflection_constant` 0.33 (qualitative model) or 0.57 (the custom shader's).
+pub struct OrenNayar {
+    pub trig_form: bool,
+}
+
+fn azimuth_cosine(n: DVec3, v: DVec3, l: DVec3, nl: f64, nv: f64) -> f64 {
+    let (lp, vp) = (l - n * nl, v - n * nv);
+    let d = lp.length_squared() * vp.length_squared();
+    if d < 1e-12 {
+        0.0
+    } else {
+        lp.dot(vp) / d.sqrt()
+    }
+}
+
+impl SurfaceTwin for OrenNayar {
+    fn direct(&self, p: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
+        let nl = n.dot(l);
+        if nl <= 0.0 {
+            return DVec3::ZERO;
+        }
+        let nv = n.dot(v).clamp(0.0, 1.0);
+        let sigma2 = s.params[0] * s.params[0];
+        let b = 0.45 * sigma2 / (sigma2 + 0.09);
+        let c = azimuth_cosine(n, v, l, nl, nv).max(0.0);
+        let term = if self.trig_form {
+            let a = 1.0 - 0.5 * sigma2 / (sigma2 + 0.33);
+            let (ti, tr) = (nl.clamp(-1.0, 1.0).acos(), nv.acos());
+            let (alpha, beta) = (ti.max(tr), ti.min(tr));
+            a + b * c * alpha.sin() * beta.sin() / beta.cos().max(1e-4)
+        } else {
+            let a = 1.0 - 0.5 * sigma2 / (sigma2 + 0.57);
+            let sin_product = ((1.0 - nl * nl).max(0.0) * (1.0 - nv * nv).max(0.0)).sqrt();
+            a + b * c * sin_product / nl.max(nv).max(1e-4)
+        };
+        s.base_color * FRAC_1_PI * e_per_i(p) * nl * term
+    }
+    fn indirect(&self, _: Pipeline, s: &Surface, _: DVec3, _: DVec3, gi_d: DVec3, _: DVec3) -> DVec3 {
+        ambient(s, gi_d)
+    }
+}
+
+pub fn d_beckmann(nh: f64, m: f64) -> f64 {
+    let m2 = m.max(1e-3).powi(2);
+    let nh2 = (nh * nh).max(1e-8);
+    ((nh2 - 1.0) / (m2 * nh2)).exp() / (PI * m2 * nh2 * nh2)
+}
+
+pub fn g_cook_torrance(nh: f64, nv: f64, nl: f64, vh: f64) -> f64 {
+    (2.0 * nh * nv.min(nl) / vh.max(1e-4)).min(1.0)
+}
+
+pub fn f_fresnel_dielectric(c: f64, eta: f64) -> f64 {
+    let g2 = eta * eta + c * c - 1.0;
+    if g2 < 0.0 {
+        return 1.0;
+    }
+    let g = g2.sqrt();
+    let a = (g - c) / (g + c);
+    let b = (c * (g + c) - 1.0) / (c * (g - c) + 1.0);
+    0.5 * a * a * (1.0 + b * b)
+}
+
+pub struct CookTorrance;
+
+impl SurfaceTwin for CookTorrance {
+    fn direct(&self, p: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
+        let (nl, nv) = (n.dot(l), n.dot(v));
+        if nl <= 0.0 || nv <= 0.0 {
+            return DVec3::ZERO;
+        }
+        let h = safe_normalize(l + v, f32::MIN_POSITIVE as f64);
+        let (nh, vh) = (sat(n.dot(h)), sat(v.dot(h)));
+        let pr = 1.0 - s.smoothness;
+        let f = DVec3::splat(f_fresnel_dielectric(vh, s.params[0])).lerp(f_schlick(s.base_color, vh), s.metallic);
+        let spec = f * d_beckmann(nh, pr * pr) * g_cook_torrance(nh, nv, nl, vh) / (4.0 * nl * nv);
+        let diffuse = s.base_color * (1.0 - s.metallic) * FRAC_1_PI;
+        (diffuse + spec) * nl * e_per_i(p)
+    }
+    fn indirect(&self, _: Pipeline, s: &Surface, _: DVec3, _: DVec3, gi_d: DVec3, _: DVec3) -> DVec3 {
+        s.base_color * (1.0 - s.metallic) * gi_d
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dielectric_fresnel_reference_values() {
+        // η = 1.5 at normal incidence: ((η − 1)/(η + 1))² = 0.04; grazing → 1; TIR below 1.
+        assert!((f_fresnel_dielectric(1.0, 1.5) - 0.04).abs() < 1e-12);
+        assert!((f_fresnel_dielectric(1e-9, 1.5) - 1.0).abs() < 1e-6);
+        assert_eq!(f_fresnel_dielectric(0.1, 0.5), 1.0);
+    }
+
+    #[test]
+    fn oren_nayar_forms_agree_apart_from_the_constant() {
+        // Both forms compute sin a·tan b = sinθi·sinθr/max(cosθi, cosθr); only A differs.
+        let n = DVec3::Y;
+        let v = DVec3::new(0.5, 0.6, 0.2).normalize();
+        let l = DVec3::new(0.4, 0.7, 0.3).normalize();
+        let mut s = Surface::basic(DVec3::ONE, 0.0, 0.0);
+        s.params[0] = 0.0;
+        let trig = OrenNayar { trig_form: true }.direct(Pipeline::Hdrp, &s, n, v, l);
+        let free = OrenNayar { trig_form: false }.direct(Pipeline::Hdrp, &s, n, v, l);
+        assert!((trig - free).length() < 1e-12, "σ = 0 is Lambert in both");
+        s.params[0] = 0.5;
+        let sigma2: f64 = 0.25;
+        let a33 = 1.0 - 0.5 * sigma2 / (sigma2 + 0.33);
+        let a57 = 1.0 - 0.5 * sigma2 / (sigma2 + 0.57);
+        let trig = OrenNayar { trig_form: true }.direct(Pipeline::Hdrp, &s, n, v, l).x;
+        let free = OrenNayar { trig_form: false }.direct(Pipeline::Hdrp, &s, n, v, l).x;
+        let scale = FRAC_1_PI * n.dot(l);
+        assert!(((trig - free) / scale - (a33 - a57)).abs() < 1e-9, "{trig} {free}");
+    }
+}

@@ -1,0 +1,58 @@
+//! Twins of the custom roughness/metallic PBR shader of spec §4b (`torrance_sparrow`) and of its
+//! Fresnel term shown as colour (`fresnel`). Quirks kept, as in the WGSL.
+
+use glam::DVec3;
+use std::f64::consts::PI;
+
+use super::{safe_normalize, sat, Surface, SurfaceTwin};
+use crate::pipelines::Pipeline;
+
+pub fn d_ggx(nh: f64, a: f64) -> f64 {
+    let a2 = a * a;
+    let d = nh * nh * (a2 - 1.0) + 1.0;
+    a2 / (PI * d * d)
+}
+
+pub fn v_smith_schlick(nl: f64, nv: f64, k: f64) -> f64 {
+    0.25 / ((nl * (1.0 - k) + k) * (nv * (1.0 - k) + k))
+}
+
+fn f0(s: &Surface) -> DVec3 {
+    let f = (1.0 - s.params[0]) / (1.0 + s.params[0]);
+    DVec3::splat(f * f).lerp(s.base_color, s.metallic)
+}
+
+pub struct TorranceSparrow;
+
+impl SurfaceTwin for TorranceSparrow {
+    fn direct(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
+        let r = 1.0 - s.smoothness;
+        let (nl, nv) = (sat(n.dot(l)), sat(n.dot(v)));
+        let h = safe_normalize(l + v, f32::MIN_POSITIVE as f64);
+        let nh = sat(n.dot(h));
+        let specular = (d_ggx(nh, r * r) * v_smith_schlick(nl, nv, r * r * 0.5) * PI * nl).max(0.0);
+        s.base_color * nl * (1.0 - s.metallic) + s.base_color * s.specular * specular
+    }
+
+    fn indirect(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, gi_d: DVec3, gi_s: DVec3) -> DVec3 {
+        let r = 1.0 - s.smoothness;
+        let nv = sat(n.dot(v));
+        let f0 = f0(s);
+        let f = f0 + (DVec3::splat(1.0 - r).max(f0) - f0) * (1.0 - nv).powf(s.params[1]);
+        let surface_reduction = 1.0 / (r * r + 1.0);
+        s.base_color * gi_d * (1.0 - s.metallic) + s.base_color * s.specular * surface_reduction * gi_s * f
+    }
+}
+
+pub struct FresnelView;
+
+impl SurfaceTwin for FresnelView {
+    fn direct(&self, _: Pipeline, _: &Surface, _: DVec3, _: DVec3, _: DVec3) -> DVec3 {
+        DVec3::ZERO
+    }
+
+    fn indirect(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, _: DVec3, _: DVec3) -> DVec3 {
+        let f0 = f0(s);
+        f0 + (DVec3::ONE - f0) * (1.0 - sat(n.dot(v))).powf(s.params[1])
+    }
+}
