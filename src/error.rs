@@ -55,6 +55,9 @@ pub enum Error {
         #[source]
         source: std::io::Error,
     },
+    /// A check ran and failed (thresholds, audit expectations): exit 1.
+    #[error("check failed: {0}")]
+    CheckFailed(String),
     #[error("{0}")]
     Other(String),
 }
@@ -64,7 +67,7 @@ impl Error {
         match self {
             Error::Input(_) => 2,
             Error::NoAdapter(_) | Error::Device(_) => 3,
-            Error::Io { .. } | Error::Other(_) => 1,
+            Error::Io { .. } | Error::Other(_) | Error::CheckFailed(_) => 1,
         }
     }
 

@@ -3,6 +3,8 @@
 //! Data flows one way: matrix → cells → plan → render → images → report.
 //! `spec` reads input, `run` expands and schedules, `render`/`gpu` draw, `images` encode.
 
+pub mod audit;
+pub mod cli;
 pub mod color;
 pub mod environment;
 pub mod error;

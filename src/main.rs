@@ -46,6 +46,40 @@ enum Command {
     },
     /// List the expanded cells, the pruned ones and the passes each composition needs.
     List { matrix: Option<PathBuf> },
+    /// Every shader: pipelines, parameters, the sweep axes it reads and how they map.
+    Shaders,
+    /// Evaluate one model for one set of directions (f64 twin; --gpu adds the WGSL on the adapter).
+    Brdf {
+        #[arg(long)]
+        pipeline: String,
+        #[arg(long)]
+        shader: String,
+        /// As the shader receives it: albedo=R,G,B (linear), metallic=X, smoothness=X, specular=R,G,B, or a model parameter.
+        #[arg(long = "param", value_name = "K=V")]
+        params: Vec<String>,
+        #[arg(long, allow_hyphen_values = true)]
+        n: String,
+        #[arg(long, allow_hyphen_values = true)]
+        l: String,
+        #[arg(long, allow_hyphen_values = true)]
+        v: String,
+        #[arg(long)]
+        gpu: bool,
+        #[arg(long)]
+        json: bool,
+    },
+    /// BRDF property audit: GPU-vs-f64 parity, positivity, reciprocity, energy. Exit 1 on a failed check.
+    Audit {
+        /// Only the models of this name (every pipeline that has it).
+        #[arg(long)]
+        shader: Option<String>,
+        /// Print the JSON report instead of the table.
+        #[arg(long)]
+        json: bool,
+        /// Where audit.md, .csv and .json go (default results/audit-<time>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
     /// Write a composition's meshes (world space) as a GLB file.
     ExportMesh {
         /// A built-in composition name or a scene TOML path.
@@ -80,7 +114,19 @@ fn load_matrix(path: Option<&Path>) -> Result<Matrix, Error> {
 }
 
 fn dispatch(cmd: Command) -> Result<(), Error> {
+    // User-supplied models (shaders/brdf/*.wgsl with a .toml beside) become shader names.
+    shadematrix::shading::user::load_dir(Path::new(shadematrix::shading::user::USER_MODEL_DIR))?;
     match cmd {
+        Command::Shaders => {
+            let _ = std::io::Write::write_all(&mut std::io::stdout(), shadematrix::cli::shaders::table().as_bytes());
+            Ok(())
+        }
+        Command::Brdf { pipeline, shader, params, n, l, v, gpu, json } => {
+            let req = shadematrix::cli::brdf::BrdfRequest { pipeline, shader, params, n, l, v, gpu };
+            println!("{}", shadematrix::cli::brdf::run(&req, json)?);
+            Ok(())
+        }
+        Command::Audit { shader, json, out } => audit(shader.as_deref(), json, out),
         Command::Run { matrix, out, resume, shard, only } => {
             let m = load_matrix(matrix.as_deref())?;
             let opts = RunOptions {
@@ -113,6 +159,36 @@ fn dispatch(cmd: Command) -> Result<(), Error> {
             Ok(())
         }
         Command::ExportMesh { composition, out } => export_mesh(&composition, &out),
+    }
+}
+
+fn audit(shader: Option<&str>, json: bool, out: Option<PathBuf>) -> Result<(), Error> {
+    use shadematrix::audit;
+    if let Some(name) = shader {
+        let names = shadematrix::shading::registry::all_model_names();
+        if !names.contains(&name) {
+            return Err(unknown_name("command line", "--shader", "shader", name, &names).into());
+        }
+    }
+    let gpu = shadematrix::gpu::GpuContext::new()?;
+    let audits = audit::audit_all(&gpu, shader)?;
+    let dir = out.unwrap_or_else(|| {
+        PathBuf::from("results").join(format!("audit-{}", chrono::Local::now().format("%Y%m%d-%H%M%S")))
+    });
+    audit::report::write(&dir, &audits, &gpu.record.name)?;
+    let text = if json {
+        serde_json::to_string_pretty(&serde_json::json!({ "adapter": gpu.record.name, "models": audits }))
+            .unwrap_or_default()
+    } else {
+        audit::report::markdown(&audits, &gpu.record.name)
+    };
+    let _ = std::io::Write::write_all(&mut std::io::stdout(), text.as_bytes());
+    eprintln!("audit written to {}", dir.display());
+    let failed: Vec<&str> = audits.iter().filter(|a| !a.failures.is_empty()).map(|a| a.key.as_str()).collect();
+    if failed.is_empty() {
+        Ok(())
+    } else {
+        Err(Error::CheckFailed(format!("audit failed for {}", failed.join(", "))))
     }
 }
 

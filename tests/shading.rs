@@ -95,8 +95,8 @@ fn gpu_models_match_their_f64_twins() {
             for ((s32, v, l, gd, gs), (d_gpu, i_gpu)) in cases.iter().zip(&gpu_out) {
                 // The twin sees the f32-rounded inputs the GPU saw.
                 let r = |x: DVec3| x.as_vec3().as_dvec3();
-                let d_cpu = model.twin.direct(pipeline, s32, DVec3::Y, r(*v), r(*l));
-                let i_cpu = model.twin.indirect(pipeline, s32, DVec3::Y, r(*v), r(*gd), r(*gs));
+                let d_cpu = model.twin.unwrap().direct(pipeline, s32, DVec3::Y, r(*v), r(*l));
+                let i_cpu = model.twin.unwrap().indirect(pipeline, s32, DVec3::Y, r(*v), r(*gd), r(*gs));
                 for (cpu, g) in [(d_cpu, d_gpu), (i_cpu, i_gpu)] {
                     for k in 0..3 {
                         let rel = (g[k] as f64 - cpu[k]).abs() / cpu[k].abs().max(1e-3);
@@ -110,7 +110,7 @@ fn gpu_models_match_their_f64_twins() {
     for (name, worst, tol) in &report {
         eprintln!("parity {name:32} worst relative error {worst:.2e} (allowed {tol:.0e})");
     }
-    let failed: Vec<_> = report.iter().filter(|(_, w, tol)| !(w <= tol)).collect();
+    let failed: Vec<_> = report.iter().filter(|(_, w, tol)| w.is_nan() || w > tol).collect();
     assert!(failed.is_empty(), "over tolerance: {failed:?}");
 }
 
@@ -144,8 +144,8 @@ fn rendered_pixel_matches_cpu_evaluation_in_every_pipeline() {
             let env_scale = prepared.env.intensity * pipeline.environment_scale();
             let gi_d = prepared.env.ambient_diffuse(n) * env_scale;
             let gi_s = prepared.env.probe.levels[0].texels[0] * env_scale;
-            let want = model.twin.direct(pipeline, &s, n, v, l) * radiance * atten
-                + model.twin.indirect(pipeline, &s, n, v, gi_d, gi_s);
+            let want = model.twin.unwrap().direct(pipeline, &s, n, v, l) * radiance * atten
+                + model.twin.unwrap().indirect(pipeline, &s, n, v, gi_d, gi_s);
             let rel = ((got - want).abs() / want.abs().max(DVec3::splat(1e-6))).max_element();
             // f16 storage of the probe colour bounds the agreement at ~5e-4.
             assert!(rel < 2e-3, "{}/{}: GPU {got} vs CPU {want} (rel {rel:e})", pipeline.name(), model.name);

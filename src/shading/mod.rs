@@ -4,6 +4,7 @@
 pub mod fgd;
 pub mod registry;
 pub mod twin;
+pub mod user;
 pub mod wgsl;
 
 pub use registry::{find_model, model_names_for, ShaderModel, MODELS};

@@ -46,7 +46,8 @@ pub struct ShaderModel {
     pub wgsl: &'static str,
     pub reads: Reads,
     pub summary: &'static str,
-    pub twin: &'static dyn SurfaceTwin,
+    /// The f64 twin; `None` for user-supplied WGSL models (GPU-side checks only).
+    pub twin: Option<&'static dyn SurfaceTwin>,
     /// The model's own parameters.
     pub params: &'static [ParamSpec],
     /// How the sweep's metallic / smoothness / colour become the model's inputs (for `shaders`).
@@ -78,7 +79,7 @@ impl ShaderModel {
 }
 
 /// Colour as base colour, the pipeline's metallic conversion, smoothness as is, defaults for the rest.
-fn metallic_workflow(model: &ShaderModel, pipeline: Pipeline, s: &Sliders) -> Surface {
+pub fn metallic_workflow(model: &ShaderModel, pipeline: Pipeline, s: &Sliders) -> Surface {
     Surface {
         base_color: DVec3::from(s.base_color_linear),
         metallic: pipeline.shader_metallic(s.metallic),
@@ -112,7 +113,13 @@ pub struct Expected {
 }
 
 const PHYSICAL: Expected = Expected { reciprocal: true, energy_conserving: true, is_brdf: true };
-const NOT_RECIPROCAL: Expected = Expected { reciprocal: false, energy_conserving: true, is_brdf: true };
+/// Symmetric in L and V, but adds a specular lobe to a diffuse term that is not reduced by 1 − F
+/// (Unity's constant 0.96, Cook-Torrance's Lambert, the custom shader's unweighted lobes), or
+/// approximates (qualitative Oren-Nayar): white surfaces exceed albedo 1 at grazing views.
+const RECIPROCAL_ONLY: Expected = Expected { reciprocal: true, energy_conserving: false, is_brdf: true };
+/// HDRP: view-only clamps (ClampNdotV, view-reflected normal) and an N·V-dependent energy
+/// compensation make it non-reciprocal; diffuse is not reduced by 1 − F either.
+const HDRP_LIT: Expected = Expected { reciprocal: false, energy_conserving: false, is_brdf: true };
 const NEITHER: Expected = Expected { reciprocal: false, energy_conserving: false, is_brdf: true };
 const NOT_A_BRDF: Expected = Expected { reciprocal: false, energy_conserving: false, is_brdf: false };
 
@@ -219,7 +226,7 @@ macro_rules! model {
             wgsl: include_str!(concat!("../../shaders/brdf/", $file)),
             reads: $reads,
             summary: $summary,
-            twin: $twin,
+            twin: Some($twin),
             params: $params,
             mapping: $mapping,
             from_sliders: $from,
@@ -257,34 +264,34 @@ pub static MODELS: [ShaderModel; 21] = [
     // lavapipe); the trig-free form of the same quantity (`oren_nayar_057`) reaches 2e-7.
     ShaderModel {
         parity_tolerance: 1e-3,
-        ..model!("oren_nayar", ALL_PIPELINES, "oren_nayar.wgsl", COLOR_SMOOTHNESS, PHYSICAL, &twin::OrenNayar { trig_form: true },
+        ..model!("oren_nayar", ALL_PIPELINES, "oren_nayar.wgsl", COLOR_SMOOTHNESS, RECIPROCAL_ONLY, &twin::OrenNayar { trig_form: true },
             &[SIGMA], ON_MAPPING, oren_nayar_sliders, "Oren-Nayar qualitative model, A with 0.33, trigonometric form (spec §4)")
     },
-    model!("oren_nayar_057", ALL_PIPELINES, "oren_nayar_057.wgsl", COLOR_SMOOTHNESS, PHYSICAL, &twin::OrenNayar { trig_form: false },
+    model!("oren_nayar_057", ALL_PIPELINES, "oren_nayar_057.wgsl", COLOR_SMOOTHNESS, RECIPROCAL_ONLY, &twin::OrenNayar { trig_form: false },
         &[SIGMA], ON_MAPPING, oren_nayar_sliders, "Oren-Nayar trig-free form with 0.57 in A (the custom shader's, spec §4)"),
-    model!("cook_torrance", ALL_PIPELINES, "cook_torrance.wgsl", ALL_AXES, PHYSICAL, &twin::CookTorrance, &[IOR_15],
+    model!("cook_torrance", ALL_PIPELINES, "cook_torrance.wgsl", ALL_AXES, RECIPROCAL_ONLY, &twin::CookTorrance, &[IOR_15],
         "colour → albedo (diffuse × (1 − metallic)) and metal F0; m = α = (1 − smoothness)²; F: dielectric from IOR, lerped to Schlick(colour) by metallic",
         metallic_as_is, "Cook-Torrance: Beckmann D, full dielectric Fresnel, Cook-Torrance G, 1/(4·NL·NV) (spec §4)"),
-    model!("torrance_sparrow", BUILTIN, "torrance_sparrow.wgsl", ALL_AXES, NOT_RECIPROCAL, &twin::TorranceSparrow,
+    model!("torrance_sparrow", BUILTIN, "torrance_sparrow.wgsl", ALL_AXES, RECIPROCAL_ONLY, &twin::TorranceSparrow,
         &[IOR_145, FRESNEL_POWER], CUSTOM_MAPPING, custom_shader_sliders,
         "custom roughness/metallic PBR shader: GGX D, Smith-Schlick k = r²/2, Schlick Fresnel on N·V (spec §4b)"),
     model!("fresnel", BUILTIN, "fresnel.wgsl", Reads { color: true, metallic: true, smoothness: false, light: false }, NOT_A_BRDF,
         &twin::FresnelView, &[IOR_145, FRESNEL_POWER], CUSTOM_MAPPING, custom_shader_sliders,
         "the Schlick term F0 + (1 − F0)(1 − N·V)^p shown as colour (spec §4b)"),
-    model!("standard", BUILTIN, "standard.wgsl", ALL_AXES, NOT_RECIPROCAL, &twin::Standard, &[], METALLIC_WORKFLOW, metallic_workflow,
+    model!("standard", BUILTIN, "standard.wgsl", ALL_AXES, RECIPROCAL_ONLY, &twin::Standard, &[], METALLIC_WORKFLOW, metallic_workflow,
         "built-in Standard, BRDF1: Disney diffuse, approx. joint Smith, GGX, clamps (spec §1)"),
-    model!("standard_brdf2", BUILTIN, "standard_brdf2.wgsl", ALL_AXES, NOT_RECIPROCAL, &twin::StandardBrdf2, &[], METALLIC_WORKFLOW,
+    model!("standard_brdf2", BUILTIN, "standard_brdf2.wgsl", ALL_AXES, RECIPROCAL_ONLY, &twin::StandardBrdf2, &[], METALLIC_WORKFLOW,
         metallic_workflow, "built-in Standard, BRDF2: minimalist Cook-Torrance (spec §1)"),
-    model!("standard_brdf3", BUILTIN, "standard_brdf3.wgsl", ALL_AXES, NOT_RECIPROCAL, &twin::StandardBrdf3, &[], METALLIC_WORKFLOW,
+    model!("standard_brdf3", BUILTIN, "standard_brdf3.wgsl", ALL_AXES, RECIPROCAL_ONLY, &twin::StandardBrdf3, &[], METALLIC_WORKFLOW,
         metallic_workflow, "built-in Standard, BRDF3; its lookup lobe APPROXIMATED by normalised Phong (spec §1)"),
-    model!("lit", URP, "urp_lit.wgsl", ALL_AXES, NOT_RECIPROCAL, &twin::UrpLit, &[], METALLIC_WORKFLOW, metallic_workflow,
+    model!("lit", URP, "urp_lit.wgsl", ALL_AXES, RECIPROCAL_ONLY, &twin::UrpLit, &[], METALLIC_WORKFLOW, metallic_workflow,
         "URP Lit: minimal Cook-Torrance specular, Lambert without 1/π, EnvironmentBRDF (spec §2)"),
     model!("simple_lit", URP, "urp_simple_lit.wgsl", COLOR_SMOOTHNESS, NEITHER, &twin::UrpSimpleLit, &[],
         "colour → albedo; specular colour 0.214 (URP's default _SpecColor 0.5 sRGB); shininess = exp2(10·smoothness + 1); metallic unused",
         simple_lit_sliders, "URP Simple Lit: Blinn-Phong without normalisation (spec §2)"),
     model!("unlit", URP, "unlit.wgsl", UNLIT_READS, NOT_A_BRDF, &twin::Unlit, &[], "colour → emitted colour; nothing else",
         metallic_workflow, "URP Unlit: the colour, no lighting"),
-    model!("lit", HDRP, "hdrp_lit.wgsl", ALL_AXES, NOT_RECIPROCAL, &twin::HdrpLit, &[ENERGY_COMPENSATION], METALLIC_WORKFLOW,
+    model!("lit", HDRP, "hdrp_lit.wgsl", ALL_AXES, HDRP_LIT, &twin::HdrpLit, &[ENERGY_COMPENSATION], METALLIC_WORKFLOW,
         metallic_workflow, "HDRP Lit: renormalised Disney diffuse, height-correlated Smith GGX, F_Schlick(f90), FGD energy compensation (spec §3)"),
     model!("unlit", HDRP, "unlit.wgsl", UNLIT_READS, NOT_A_BRDF, &twin::Unlit, &[], "colour → emitted colour; nothing else",
         metallic_workflow, "HDRP Unlit: the colour, no lighting"),
@@ -301,18 +308,31 @@ fn metallic_as_is(model: &ShaderModel, _: Pipeline, s: &Sliders) -> Surface {
     }
 }
 
+/// User-supplied models, registered at start-up (`shading::user`); they live for the process.
+static USER_MODELS: std::sync::RwLock<Vec<&'static ShaderModel>> = std::sync::RwLock::new(Vec::new());
+
+pub fn register_user_model(model: &'static ShaderModel) {
+    USER_MODELS.write().unwrap_or_else(|e| e.into_inner()).push(model);
+}
+
+/// Built-in models, then user-supplied ones.
+pub fn all_models() -> Vec<&'static ShaderModel> {
+    let user = USER_MODELS.read().unwrap_or_else(|e| e.into_inner());
+    MODELS.iter().chain(user.iter().copied()).collect()
+}
+
 pub fn find_model(pipeline: Pipeline, name: &str) -> Option<&'static ShaderModel> {
-    MODELS.iter().find(|m| m.name == name && m.pipelines.contains(&pipeline))
+    all_models().into_iter().find(|m| m.name == name && m.pipelines.contains(&pipeline))
 }
 
 /// All model names (any pipeline), for "did you mean" suggestions.
 pub fn all_model_names() -> Vec<&'static str> {
-    let mut names: Vec<&str> = MODELS.iter().map(|m| m.name).collect();
+    let mut names: Vec<&str> = all_models().iter().map(|m| m.name).collect();
     names.sort();
     names.dedup();
     names
 }
 
 pub fn model_names_for(pipeline: Pipeline) -> Vec<&'static str> {
-    MODELS.iter().filter(|m| m.pipelines.contains(&pipeline)).map(|m| m.name).collect()
+    all_models().iter().filter(|m| m.pipelines.contains(&pipeline)).map(|m| m.name).collect()
 }

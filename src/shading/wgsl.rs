@@ -23,6 +23,19 @@ pub enum PassKind {
 
 /// The full WGSL source for a pass, with the model where the pass needs one.
 pub fn compose(pass: PassKind, model: Option<&ShaderModel>) -> String {
+    compose_mapped(pass, model).0
+}
+
+/// Where each file starts in a composed module: (first line, 1-based, of the file's text; path).
+pub type LineMap = Vec<(usize, String)>;
+
+/// Map a line of the composed module back to (file, line in that file).
+pub fn locate(map: &LineMap, line: usize) -> (String, usize) {
+    let (start, path) = map.iter().rev().find(|(start, _)| *start <= line).cloned().unwrap_or((1, "<composed>".into()));
+    (path, line - start + 1)
+}
+
+pub fn compose_mapped(pass: PassKind, model: Option<&ShaderModel>) -> (String, LineMap) {
     let mut parts: Vec<(&str, &str)> = vec![
         ("shaders/common/math.wgsl", MATH),
         ("shaders/common/conventions.wgsl", CONVENTIONS),
@@ -42,10 +55,14 @@ pub fn compose(pass: PassKind, model: Option<&ShaderModel>) -> String {
         PassKind::BrdfProbe => ("shaders/pass/brdf_probe.wgsl", PROBE),
     });
     let mut out = String::new();
+    let mut map = Vec::new();
     for (path, text) in parts {
         out.push_str(&format!("// ---- {path}\n"));
+        map.push((out.lines().count() + 1, path.to_string()));
         out.push_str(text);
-        out.push('\n');
+        if !text.ends_with('\n') {
+            out.push('\n');
+        }
     }
-    out
+    (out, map)
 }

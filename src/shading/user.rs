@@ -1,0 +1,239 @@
+//! User-supplied surface models: `NAME.wgsl` in a `shaders/brdf/` folder, declared by `NAME.toml`
+//! beside it. They become shader names usable in any matrix, with no recompilation. The WGSL must
+//! define `model_direct` and `model_indirect` (see shaders/brdf/lambert.wgsl for the contract);
+//! it is parsed and validated with naga in every pass it takes part in, and errors name the user's
+//! file, line and column.
+
+use serde::Deserialize;
+use std::path::Path;
+
+use super::registry::{self, Expected, ParamSpec, Reads, ShaderModel};
+use super::twin::Surface;
+use super::wgsl::{compose_mapped, locate, PassKind};
+use crate::error::{Error, InputError};
+use crate::pipelines::Pipeline;
+use crate::spec::names::unknown_name;
+use crate::spec::source::parse_toml;
+
+/// Where user models are looked for, relative to the working directory.
+pub const USER_MODEL_DIR: &str = "shaders/brdf";
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Declaration {
+    /// The shader name in matrices (default: the file stem).
+    name: Option<String>,
+    #[serde(default)]
+    description: String,
+    /// Default: every pipeline.
+    pipelines: Option<Vec<String>>,
+    /// Which sweep axes the model reads (default all): color, metallic, smoothness.
+    reads: Option<Vec<String>>,
+    #[serde(default)]
+    reciprocal: bool,
+    #[serde(default)]
+    energy_conserving: bool,
+    #[serde(default)]
+    params: Vec<ParamDeclaration>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ParamDeclaration {
+    name: String,
+    slot: usize,
+    default: f64,
+    min: f64,
+    max: f64,
+    #[serde(default)]
+    doc: String,
+}
+
+/// Load and register every declared model in `dir`. Built-in WGSL files (the repository's own
+/// shaders/brdf) are recognised by name and skipped.
+pub fn load_dir(dir: &Path) -> Result<usize, Error> {
+    let Ok(entries) = std::fs::read_dir(dir) else { return Ok(0) };
+    let builtin: Vec<&str> = registry::MODELS.iter().map(|m| m.source_path.rsplit('/').next().unwrap_or("")).collect();
+    let mut paths: Vec<_> = entries.filter_map(|e| e.ok()).map(|e| e.path()).collect();
+    paths.sort();
+    let mut count = 0;
+    for wgsl_path in paths.iter().filter(|p| p.extension().is_some_and(|e| e == "wgsl")) {
+        let file_name = wgsl_path.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
+        let decl_path = wgsl_path.with_extension("toml");
+        if builtin.contains(&file_name.as_str()) && !decl_path.exists() {
+            continue;
+        }
+        if !decl_path.exists() {
+            return Err(InputError::new(
+                wgsl_path.display().to_string(),
+                format!(
+                    "a user model needs a declaration beside it: {} (name, pipelines, params)",
+                    decl_path.display()
+                ),
+            )
+            .into());
+        }
+        load_model(wgsl_path, &decl_path)?;
+        count += 1;
+    }
+    Ok(count)
+}
+
+fn leak<T>(v: Vec<T>) -> &'static [T] {
+    Box::leak(v.into_boxed_slice())
+}
+
+fn leak_str(s: String) -> &'static str {
+    Box::leak(s.into_boxed_str())
+}
+
+fn load_model(wgsl_path: &Path, decl_path: &Path) -> Result<(), Error> {
+    let decl_shown = decl_path.display().to_string();
+    let wgsl_shown = wgsl_path.display().to_string();
+    let text =
+        std::fs::read_to_string(decl_path).map_err(|e| InputError::new(&decl_shown, format!("cannot read: {e}")))?;
+    let decl: Declaration = parse_toml(&decl_shown, &text)?;
+    let wgsl =
+        std::fs::read_to_string(wgsl_path).map_err(|e| InputError::new(&wgsl_shown, format!("cannot read: {e}")))?;
+    let stem = wgsl_path.file_stem().map(|s| s.to_string_lossy().to_string()).unwrap_or_default();
+    let name = decl.name.clone().unwrap_or(stem);
+    crate::spec::validate::Checker::new(&decl_shown).name("name", &name)?;
+
+    let pipelines = match &decl.pipelines {
+        None => Pipeline::ALL.to_vec(),
+        Some(list) => list
+            .iter()
+            .enumerate()
+            .map(|(i, p)| {
+                Pipeline::from_name(p).ok_or_else(|| {
+                    unknown_name(&decl_shown, &format!("pipelines[{i}]"), "pipeline", p, &Pipeline::names())
+                })
+            })
+            .collect::<Result<_, _>>()?,
+    };
+    for &p in &pipelines {
+        if registry::find_model(p, &name).is_some() {
+            return Err(InputError::at_key(
+                &decl_shown,
+                "name",
+                format!("`{name}` is already a shader of the {} pipeline; choose another name", p.name()),
+            )
+            .into());
+        }
+    }
+    let reads = match &decl.reads {
+        None => Reads { color: true, metallic: true, smoothness: true, light: true },
+        Some(list) => {
+            let mut r = Reads { color: false, metallic: false, smoothness: false, light: true };
+            for (i, a) in list.iter().enumerate() {
+                match a.as_str() {
+                    "color" => r.color = true,
+                    "metallic" => r.metallic = true,
+                    "smoothness" => r.smoothness = true,
+                    other => {
+                        return Err(unknown_name(
+                            &decl_shown,
+                            &format!("reads[{i}]"),
+                            "axis",
+                            other,
+                            &["color", "metallic", "smoothness"],
+                        )
+                        .into())
+                    }
+                }
+            }
+            r
+        }
+    };
+    let mut params = Vec::new();
+    for (i, p) in decl.params.iter().enumerate() {
+        let c = crate::spec::validate::Checker::new(&decl_shown);
+        c.name(&format!("params[{i}].name"), &p.name)?;
+        if p.slot > 7 {
+            return Err(c
+                .err(&format!("params[{i}].slot"), format!("slot {} is out of range; allowed 0..=7", p.slot))
+                .into());
+        }
+        if !(p.min <= p.default && p.default <= p.max) {
+            return Err(c
+                .err(
+                    &format!("params[{i}].default"),
+                    format!("default {} is outside min..=max ({}..={})", p.default, p.min, p.max),
+                )
+                .into());
+        }
+        params.push(ParamSpec {
+            name: leak_str(p.name.clone()),
+            slot: p.slot,
+            default: p.default,
+            min: p.min,
+            max: p.max,
+            doc: leak_str(p.doc.clone()),
+        });
+    }
+
+    let model: &'static ShaderModel = Box::leak(Box::new(ShaderModel {
+        name: leak_str(name),
+        pipelines: leak(pipelines),
+        source_path: leak_str(wgsl_shown.clone()),
+        wgsl: leak_str(wgsl),
+        reads,
+        summary: leak_str(if decl.description.is_empty() { format!("user model from {wgsl_shown}") } else { decl.description }),
+        twin: None,
+        params: leak(params),
+        mapping: "user model: colour → base colour; metallic → the pipeline's conversion; smoothness as is; parameters at their defaults",
+        from_sliders: user_sliders,
+        expected: Expected { reciprocal: decl.reciprocal, energy_conserving: decl.energy_conserving, is_brdf: true },
+        per_vertex: false,
+        parity_tolerance: f64::INFINITY,
+    }));
+    for pass in [PassKind::Forward, PassKind::BrdfProbe] {
+        validate(model, pass)?;
+    }
+    registry::register_user_model(model);
+    Ok(())
+}
+
+fn user_sliders(model: &ShaderModel, p: Pipeline, s: &registry::Sliders) -> Surface {
+    registry::metallic_workflow(model, p, s)
+}
+
+/// Parse and validate the composed module with naga; report the position in the user's file.
+fn validate(model: &ShaderModel, pass: PassKind) -> Result<(), Error> {
+    let (source, map) = compose_mapped(pass, Some(model));
+    let located = |line: usize, col: usize, message: String| -> Error {
+        let (file, line) = locate(&map, line);
+        InputError { file, location: Some((line, col)), key: None, message: format!("WGSL: {message}") }.into()
+    };
+    let module = match naga::front::wgsl::parse_str(&source) {
+        Ok(m) => m,
+        Err(e) => {
+            let loc = e.location(&source);
+            return Err(match loc {
+                Some(l) => located(l.line_number as usize, l.line_position as usize, e.message().to_string()),
+                None => InputError::new(model.source_path, format!("WGSL: {}", e.message())).into(),
+            });
+        }
+    };
+    for entry in ["model_direct", "model_indirect"] {
+        if !module.functions.iter().any(|(_, f)| f.name.as_deref() == Some(entry)) {
+            return Err(InputError::new(
+                model.source_path,
+                format!("WGSL: the model must define `fn {entry}` (see shaders/brdf/lambert.wgsl for the signatures)"),
+            )
+            .into());
+        }
+    }
+    let mut validator =
+        naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all());
+    if let Err(e) = validator.validate(&module) {
+        let message = e.as_inner().to_string();
+        let detail: Vec<String> = e.spans().map(|(_, label)| label.clone()).filter(|l| !l.is_empty()).collect();
+        let full = if detail.is_empty() { message } else { format!("{message} ({})", detail.join("; ")) };
+        return Err(match e.spans().next().map(|(span, _)| span.location(&source)) {
+            Some(l) => located(l.line_number as usize, l.line_position as usize, full),
+            None => InputError::new(model.source_path, format!("WGSL: {full}")).into(),
+        });
+    }
+    Ok(())
+}
