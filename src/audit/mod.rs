@@ -319,7 +319,7 @@ fn judge(a: &mut ModelAudit) {
     if let Some(c) = a.cpu.filter(|c| !c.clean()) {
         a.failures.push(format!("f64 twin has {} NaN, {} Inf, {} negative values", c.nan, c.inf, c.negative));
     }
-    if let Some(w) = a.parity_well.filter(|w| !(w.max_rel <= a.parity_tolerance)) {
+    if let Some(w) = a.parity_well.filter(|w| w.max_rel.is_nan() || w.max_rel > a.parity_tolerance) {
         a.failures.push(format!(
             "parity {:.2e} over the tolerance {:.0e} on the well-conditioned domain",
             w.max_rel, a.parity_tolerance

@@ -198,8 +198,28 @@ fn user_sliders(model: &ShaderModel, p: Pipeline, s: &registry::Sliders) -> Surf
     registry::metallic_workflow(model, p, s)
 }
 
+/// Whether `source` declares `fn name(`, ignoring line comments.
+fn declares(source: &str, name: &str) -> bool {
+    source.lines().map(|l| l.split("//").next().unwrap_or("")).any(|l| {
+        l.split_once("fn ").is_some_and(|(_, rest)| {
+            rest.trim_start().strip_prefix(name).is_some_and(|r| r.trim_start().starts_with('('))
+        })
+    })
+}
+
 /// Parse and validate the composed module with naga; report the position in the user's file.
 fn validate(model: &ShaderModel, pass: PassKind) -> Result<(), Error> {
+    // Checked on the user's own text first: a missing entry point would otherwise surface as an
+    // unresolved name inside the pass that calls it.
+    for entry in ["model_direct", "model_indirect"] {
+        if !declares(model.wgsl, entry) {
+            return Err(InputError::new(
+                model.source_path,
+                format!("WGSL: the model must define `fn {entry}` (see shaders/brdf/lambert.wgsl for the signatures)"),
+            )
+            .into());
+        }
+    }
     let (source, map) = compose_mapped(pass, Some(model));
     let located = |line: usize, col: usize, message: String| -> Error {
         let (file, line) = locate(&map, line);
@@ -215,22 +235,20 @@ fn validate(model: &ShaderModel, pass: PassKind) -> Result<(), Error> {
             });
         }
     };
-    for entry in ["model_direct", "model_indirect"] {
-        if !module.functions.iter().any(|(_, f)| f.name.as_deref() == Some(entry)) {
-            return Err(InputError::new(
-                model.source_path,
-                format!("WGSL: the model must define `fn {entry}` (see shaders/brdf/lambert.wgsl for the signatures)"),
-            )
-            .into());
-        }
-    }
     let mut validator =
         naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all());
     if let Err(e) = validator.validate(&module) {
-        let message = e.as_inner().to_string();
+        // The outer error says which function; its sources say why.
+        let mut message = e.as_inner().to_string();
+        let mut cause: Option<&dyn std::error::Error> = std::error::Error::source(e.as_inner());
+        while let Some(c) = cause {
+            message.push_str(&format!(": {c}"));
+            cause = c.source();
+        }
         let detail: Vec<String> = e.spans().map(|(_, label)| label.clone()).filter(|l| !l.is_empty()).collect();
         let full = if detail.is_empty() { message } else { format!("{message} ({})", detail.join("; ")) };
-        return Err(match e.spans().next().map(|(span, _)| span.location(&source)) {
+        // The last span is the most specific (the expression rather than the whole function).
+        return Err(match e.spans().last().map(|(span, _)| span.location(&source)) {
             Some(l) => located(l.line_number as usize, l.line_position as usize, full),
             None => InputError::new(model.source_path, format!("WGSL: {full}")).into(),
         });
