@@ -6,6 +6,7 @@
 pub mod audit;
 pub mod cli;
 pub mod color;
+pub mod compare;
 pub mod environment;
 pub mod error;
 pub mod fsutil;

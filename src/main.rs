@@ -80,6 +80,16 @@ enum Command {
         #[arg(long)]
         out: Option<PathBuf>,
     },
+    /// FLIP and SSIM (and RMSE, PSNR, bad-value counts) of two PNGs or two EXRs; A is the reference.
+    Diff {
+        a: PathBuf,
+        b: PathBuf,
+        #[arg(long)]
+        json: bool,
+        /// Write flip.png and ssim.png (1 − SSIM) here.
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
     /// Write a composition's meshes (world space) as a GLB file.
     ExportMesh {
         /// A built-in composition name or a scene TOML path.
@@ -127,6 +137,7 @@ fn dispatch(cmd: Command) -> Result<(), Error> {
             Ok(())
         }
         Command::Audit { shader, json, out } => audit(shader.as_deref(), json, out),
+        Command::Diff { a, b, json, out } => diff(&a, &b, json, out.as_deref()),
         Command::Run { matrix, out, resume, shard, only } => {
             let m = load_matrix(matrix.as_deref())?;
             let opts = RunOptions {
@@ -160,6 +171,41 @@ fn dispatch(cmd: Command) -> Result<(), Error> {
         }
         Command::ExportMesh { composition, out } => export_mesh(&composition, &out),
     }
+}
+
+fn diff(a: &Path, b: &Path, json: bool, out: Option<&Path>) -> Result<(), Error> {
+    use shadematrix::compare::{compare, LoadedImage};
+    let c = compare(&LoadedImage::load(a)?, &LoadedImage::load(b)?, &format!("{} vs {}", a.display(), b.display()))?;
+    if let Some(dir) = out {
+        let png = |name: &str, px: &Option<Vec<u8>>| -> Result<(), Error> {
+            if let Some(px) = px {
+                let bytes = shadematrix::images::encode::png_bytes(c.width, c.height, px)?;
+                shadematrix::fsutil::write_atomic(&dir.join(name), &bytes)?;
+            }
+            Ok(())
+        };
+        png("flip.png", &c.flip_map_rgba8)?;
+        png("ssim.png", &c.ssim_map_rgba8)?;
+    }
+    if json {
+        println!("{}", serde_json::to_string_pretty(&c).unwrap_or_default());
+    } else {
+        let show = |m: &shadematrix::compare::images::Metric| match m {
+            shadematrix::compare::images::Metric::Value { mean } => format!("{mean:.6}"),
+            shadematrix::compare::images::Metric::Missing { missing } => format!("missing ({missing})"),
+        };
+        println!(
+            "{}×{}: {}-FLIP mean {}, SSIM mean {}, RMSE {:.6}, PSNR {}",
+            c.width,
+            c.height,
+            c.flip.kind.to_uppercase(),
+            show(&c.flip.value),
+            show(&c.ssim),
+            c.rmse,
+            c.psnr_db.map(|p| format!("{p:.2} dB")).unwrap_or_else(|| "—".into())
+        );
+    }
+    Ok(())
 }
 
 fn audit(shader: Option<&str>, json: bool, out: Option<PathBuf>) -> Result<(), Error> {

@@ -1,0 +1,8 @@
+//! Image comparison: FLIP (LDR and HDR), SSIM, and error statistics, with maps.
+
+pub mod flip;
+pub mod images;
+pub mod ssim;
+pub mod stats;
+
+pub use images::{compare, Comparison, LoadedImage};

@@ -1,0 +1,85 @@
+//! FLIP and SSIM against values measured with the reference implementations (NVIDIA's
+//! flip-evaluator, scikit-image) on committed fixture pairs; see tests/fixtures/compare/make_fixtures.py.
+
+mod common;
+
+use shadematrix::compare::{compare, LoadedImage};
+
+fn fixture(name: &str) -> std::path::PathBuf {
+    common::fixture(&format!("compare/{name}"))
+}
+
+fn expected() -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(fixture("expected.json")).unwrap()).unwrap()
+}
+
+#[test]
+fn ldr_flip_and_ssim_match_the_reference_implementations() {
+    let want = expected();
+    for pair in ["render", "synthetic"] {
+        let a = LoadedImage::load(&fixture(&format!("{pair}_a.png"))).unwrap();
+        let b = LoadedImage::load(&fixture(&format!("{pair}_b.png"))).unwrap();
+        let c = compare(&a, &b, pair).unwrap();
+        let flip = c.flip.value.mean().unwrap();
+        let ssim = c.ssim.mean().unwrap();
+        let (flip_ref, ssim_ref) =
+            (want[pair]["flip_mean"].as_f64().unwrap(), want[pair]["ssim_mean"].as_f64().unwrap());
+        eprintln!("{pair}: FLIP {flip} (flip-evaluator {flip_ref}), SSIM {ssim} (scikit-image {ssim_ref})");
+        assert!((flip - flip_ref).abs() <= 1e-5, "{pair}: FLIP {flip} vs {flip_ref}");
+        assert!((ssim - ssim_ref).abs() <= 1e-4, "{pair}: SSIM {ssim} vs {ssim_ref}");
+        assert!(c.flip_map_rgba8.is_some() && c.ssim_map_rgba8.is_some());
+    }
+}
+
+#[test]
+fn hdr_flip_matches_the_reference_implementation() {
+    let want = expected()["hdr"]["flip_mean"].as_f64().unwrap();
+    let c = compare(
+        &LoadedImage::load(&fixture("hdr_a.exr")).unwrap(),
+        &LoadedImage::load(&fixture("hdr_b.exr")).unwrap(),
+        "hdr",
+    )
+    .unwrap();
+    let got = c.flip.value.mean().unwrap();
+    eprintln!("hdr: FLIP {got} (flip-evaluator {want})");
+    assert_eq!(c.flip.kind, "hdr");
+    assert!((got - want).abs() <= 1e-5, "HDR-FLIP {got} vs {want}");
+    assert!(c.ssim.mean().is_none(), "SSIM on EXR is reported missing, never 0");
+}
+
+#[test]
+fn identical_images_have_zero_error_and_the_metric_can_fail() {
+    let a = LoadedImage::load(&fixture("synthetic_a.png")).unwrap();
+    let c = compare(&a, &a, "same").unwrap();
+    assert_eq!(c.flip.value.mean(), Some(0.0));
+    assert!((c.ssim.mean().unwrap() - 1.0).abs() < 1e-12);
+    assert_eq!(c.psnr_db, None);
+}
+
+#[test]
+fn diff_command_prints_json_and_writes_maps() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (a, b) = (fixture("render_a.png"), fixture("render_b.png"));
+    let out = tmp.path().join("maps");
+    let (rc, stdout, stderr) = common::shadematrix(
+        tmp.path(),
+        &["diff", a.to_str().unwrap(), b.to_str().unwrap(), "--json", "--out", out.to_str().unwrap()],
+        &[],
+    );
+    assert_eq!(rc, 0, "{stderr}");
+    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let want = expected();
+    assert!((v["flip"]["mean"].as_f64().unwrap() - want["render"]["flip_mean"].as_f64().unwrap()).abs() <= 1e-5);
+    assert!((v["ssim"]["mean"].as_f64().unwrap() - want["render"]["ssim_mean"].as_f64().unwrap()).abs() <= 1e-4);
+    for map in ["flip.png", "ssim.png"] {
+        let img = image::open(out.join(map)).unwrap();
+        assert_eq!((img.width(), img.height()), (96, 80), "{map}");
+    }
+    // Mixed kinds and missing files are bad input.
+    let exr = fixture("hdr_a.exr");
+    let (rc, _, stderr) = common::shadematrix(tmp.path(), &["diff", a.to_str().unwrap(), exr.to_str().unwrap()], &[]);
+    assert_eq!(rc, 2, "{stderr}");
+    let (rc, _, stderr) = common::shadematrix(tmp.path(), &["diff", "nope.png", a.to_str().unwrap()], &[]);
+    assert_eq!(rc, 2);
+    assert!(stderr.contains("nope.png") && stderr.contains("not found"), "{stderr}");
+}
