@@ -2,5 +2,6 @@
 
 pub mod context;
 pub mod readback;
+pub mod timing;
 
 pub use context::{AdapterRecord, GpuContext};

@@ -13,6 +13,7 @@ use crate::environment::EnvironmentMaps;
 use crate::error::Error;
 use crate::geometry::{procedural, Mesh, Vertex};
 use crate::gpu::readback::TextureReadback;
+use crate::gpu::timing::PassTimer;
 use crate::gpu::GpuContext;
 use crate::pipelines::Pipeline;
 use crate::run::plan::FramePlan;
@@ -47,6 +48,11 @@ pub struct CellRender {
     pub roles: Vec<u8>,
     /// CPU wall time from submit to idle of each timed frame, ms.
     pub frame_ms: Vec<f64>,
+    /// GPU time of the frame's render pass from timestamp queries, ms; None when the adapter has
+    /// no timestamp queries.
+    pub gpu_pass_ms: Option<Vec<f64>>,
+    /// CPU time to map and copy the image back, ms.
+    pub readback_ms: f64,
 }
 
 struct GpuObject {
@@ -95,6 +101,7 @@ pub struct Renderer {
     forward: HashMap<(Pipeline, &'static str), wgpu::RenderPipeline>,
     background: Option<wgpu::RenderPipeline>,
     targets: Option<Targets>,
+    timer: Option<PassTimer>,
 }
 
 impl Renderer {
@@ -169,6 +176,7 @@ impl Renderer {
             forward: HashMap::new(),
             background: None,
             targets: None,
+            timer: None,
         }
     }
 
@@ -438,6 +446,10 @@ impl Renderer {
         }
         self.write_uniforms(prepared, cell, fixed_model);
         self.targets(cell.width, cell.height);
+        if self.gpu.record.timestamp_queries && self.timer.as_ref().is_none_or(|t| t.capacity() < frames) {
+            self.timer = Some(PassTimer::new(&self.gpu.device, &self.gpu.queue, frames));
+        }
+        let timer = self.timer.as_ref().filter(|_| self.gpu.record.timestamp_queries);
         let t = self.targets.as_ref().expect("targets exist");
         let subject_pipeline = &self.forward[&(cell.pipeline, subject_model.name)];
         let fixed_pipeline = &self.forward[&(cell.pipeline, fixed_model.name)];
@@ -476,7 +488,7 @@ impl Renderer {
                         }),
                         stencil_ops: None,
                     }),
-                    timestamp_writes: None,
+                    timestamp_writes: timer.filter(|_| f >= warmup).map(|t| t.writes(f - warmup)),
                     occlusion_query_set: None,
                     multiview_mask: None,
                 });
@@ -497,6 +509,9 @@ impl Renderer {
             if last {
                 t.color_readback.encode_copy(&mut encoder, &t.color);
                 t.role_readback.encode_copy(&mut encoder, &t.role);
+                if let Some(timer) = timer {
+                    timer.encode_resolve(&mut encoder, frames);
+                }
             }
             let start = Instant::now();
             self.gpu.queue.submit([encoder.finish()]);
@@ -505,8 +520,11 @@ impl Renderer {
                 frame_ms.push(start.elapsed().as_secs_f64() * 1e3);
             }
         }
+        let read_start = Instant::now();
         let hdr_bytes = t.color_readback.read(&self.gpu.device)?;
         let roles = t.role_readback.read(&self.gpu.device)?;
+        let readback_ms = read_start.elapsed().as_secs_f64() * 1e3;
+        let gpu_pass_ms = timer.map(|t| t.read_ms(&self.gpu.device, frames)).transpose()?;
         self.gpu.check_errors("rendering a cell")?;
         Ok(CellRender {
             width: cell.width,
@@ -514,6 +532,8 @@ impl Renderer {
             hdr: bytemuck::cast_slice(&hdr_bytes).to_vec(),
             roles,
             frame_ms,
+            gpu_pass_ms,
+            readback_ms,
         })
     }
 
