@@ -15,6 +15,7 @@ pub mod gpu;
 pub mod images;
 pub mod pipelines;
 pub mod render;
+pub mod report;
 pub mod run;
 pub mod shading;
 pub mod spec;

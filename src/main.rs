@@ -90,6 +90,20 @@ enum Command {
         #[arg(long)]
         out: Option<PathBuf>,
     },
+    /// Compare a run with a baseline run: junit.xml and summary.md into the run; exit 1 on a regression.
+    Check {
+        run: PathBuf,
+        #[arg(long)]
+        baseline: PathBuf,
+        /// Largest FLIP mean a cell may have against its baseline (default 0.01).
+        #[arg(long)]
+        flip_mean: Option<f64>,
+        /// Smallest SSIM a cell may have against its baseline (default 0.99).
+        #[arg(long)]
+        ssim_min: Option<f64>,
+    },
+    /// Rebuild the reports of a run (tables) from its recorded files, without rendering.
+    Report { run: PathBuf },
     /// Write a composition's meshes (world space) as a GLB file.
     ExportMesh {
         /// A built-in composition name or a scene TOML path.
@@ -138,6 +152,32 @@ fn dispatch(cmd: Command) -> Result<(), Error> {
         }
         Command::Audit { shader, json, out } => audit(shader.as_deref(), json, out),
         Command::Diff { a, b, json, out } => diff(&a, &b, json, out.as_deref()),
+        Command::Check { run, baseline, flip_mean, ssim_min } => {
+            use shadematrix::report::check::{check, Thresholds};
+            let d = Thresholds::default();
+            let t =
+                Thresholds { flip_mean: flip_mean.unwrap_or(d.flip_mean), ssim_min: ssim_min.unwrap_or(d.ssim_min) };
+            let r = check(&run, &baseline, t)?;
+            println!(
+                "{} of {} cells regressed (junit.xml and summary.md in {})",
+                r.failures(),
+                r.cells.len(),
+                run.display()
+            );
+            if r.failures() > 0 {
+                return Err(Error::CheckFailed(format!(
+                    "{} cells regressed against {}",
+                    r.failures(),
+                    baseline.display()
+                )));
+            }
+            Ok(())
+        }
+        Command::Report { run } => {
+            shadematrix::report::build(&run)?;
+            println!("reports rebuilt in {}", run.display());
+            Ok(())
+        }
         Command::Run { matrix, out, resume, shard, only } => {
             let m = load_matrix(matrix.as_deref())?;
             let opts = RunOptions {

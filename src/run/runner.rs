@@ -102,6 +102,7 @@ pub fn run(matrix: &Matrix, opts: &RunOptions) -> Result<RunSummary, Error> {
     record.wall_seconds = Some(started.elapsed().as_secs_f64());
     write_json(&run_json, &record)?;
     result?;
+    crate::report::build(&dir.root)?;
     Ok(RunSummary {
         dir: dir.root,
         counts: record.counts,

@@ -1,0 +1,159 @@
+//! Performance tables from a run's records: tables/perf.md, .csv and .json, per cell and
+//! aggregated per pipeline × path × shader, with the adapter named at the top.
+
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::fmt::Write;
+
+use super::run_data::RunData;
+use crate::error::Error;
+use crate::fsutil::{write_atomic, write_json};
+
+#[derive(Debug, Clone, Serialize)]
+pub struct PerfRow {
+    pub id: String,
+    pub composition: String,
+    pub pipeline: String,
+    pub path: String,
+    pub shader: String,
+    /// Median GPU pass time (timestamp queries), ms; None when the adapter had none.
+    pub gpu_median_ms: Option<f64>,
+    pub gpu_min_ms: Option<f64>,
+    pub gpu_max_ms: Option<f64>,
+    pub cpu_wall_median_ms: Option<f64>,
+    pub readback_ms: Option<f64>,
+    pub encode_ms: Option<f64>,
+    pub frames: u64,
+    /// Copied from another cell (the shader ignores the axes they differ in).
+    pub twin: bool,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct PerfGroup {
+    pub pipeline: String,
+    pub path: String,
+    pub shader: String,
+    pub cells: usize,
+    /// Median over the group's rendered cells of their median GPU pass time.
+    pub gpu_median_ms: Option<f64>,
+    pub cpu_wall_median_ms: Option<f64>,
+}
+
+fn median(mut v: Vec<f64>) -> Option<f64> {
+    if v.is_empty() {
+        return None;
+    }
+    v.sort_by(|a, b| a.total_cmp(b));
+    Some(v[v.len() / 2])
+}
+
+pub fn rows(run: &RunData) -> Vec<PerfRow> {
+    run.cells
+        .iter()
+        .map(|(id, c)| {
+            let t = &c["timing"];
+            let s = |v: &serde_json::Value| v.as_str().unwrap_or("").to_string();
+            PerfRow {
+                id: id.clone(),
+                composition: s(&c["composition"]),
+                pipeline: s(&c["pipeline"]),
+                path: s(&c["path"]),
+                shader: s(&c["shader"]),
+                gpu_median_ms: t["gpu"]["median_ms"].as_f64(),
+                gpu_min_ms: t["gpu"]["min_ms"].as_f64(),
+                gpu_max_ms: t["gpu"]["max_ms"].as_f64(),
+                cpu_wall_median_ms: t["cpu_wall"]["median_ms"].as_f64(),
+                readback_ms: t["readback_ms"].as_f64(),
+                encode_ms: t["encode_ms"].as_f64(),
+                frames: t["frames"].as_u64().unwrap_or(0),
+                twin: !c["twin_of"].is_null(),
+            }
+        })
+        .collect()
+}
+
+pub fn groups(rows: &[PerfRow]) -> Vec<PerfGroup> {
+    let mut by: BTreeMap<(String, String, String), Vec<&PerfRow>> = BTreeMap::new();
+    for r in rows.iter().filter(|r| !r.twin) {
+        by.entry((r.pipeline.clone(), r.path.clone(), r.shader.clone())).or_default().push(r);
+    }
+    by.into_iter()
+        .map(|((pipeline, path, shader), rs)| PerfGroup {
+            cells: rs.len(),
+            gpu_median_ms: median(rs.iter().filter_map(|r| r.gpu_median_ms).collect()),
+            cpu_wall_median_ms: median(rs.iter().filter_map(|r| r.cpu_wall_median_ms).collect()),
+            pipeline,
+            path,
+            shader,
+        })
+        .collect()
+}
+
+fn ms(v: Option<f64>) -> String {
+    v.map(|x| format!("{x:.3}")).unwrap_or_else(|| "—".into())
+}
+
+pub fn write(run: &RunData) -> Result<(), Error> {
+    let rows = rows(run);
+    let groups = groups(&rows);
+    let dir = run.dir.join("tables");
+    let timing_kind = if rows.iter().any(|r| r.gpu_median_ms.is_some()) {
+        "GPU time of the forward render pass from timestamp queries"
+    } else {
+        "no timestamp queries on this adapter: GPU columns are missing; CPU wall time (submit → idle) only"
+    };
+    let mut md = format!("# Performance\n\nAdapter: **{}**. Timings compare only within one adapter.\n\n{timing_kind}; median, min and max over the timed frames after warm-up. Twins are copies and carry their original's times.\n\n## Per pipeline × path × shader\n\n| pipeline | path | shader | cells | GPU median (ms) | CPU wall median (ms) |\n|---|---|---|---|---|---|\n", run.adapter());
+    for g in &groups {
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {} | {} |",
+            g.pipeline,
+            g.path,
+            g.shader,
+            g.cells,
+            ms(g.gpu_median_ms),
+            ms(g.cpu_wall_median_ms)
+        );
+    }
+    md.push_str("\n## Per cell\n\n| cell | GPU median | GPU min | GPU max | CPU wall median | readback | encode | frames |\n|---|---|---|---|---|---|---|---|\n");
+    let mut csv = String::from("cell,composition,pipeline,path,shader,twin,gpu_median_ms,gpu_min_ms,gpu_max_ms,cpu_wall_median_ms,readback_ms,encode_ms,frames\n");
+    for r in &rows {
+        let twin = if r.twin { " (twin)" } else { "" };
+        let _ = writeln!(
+            md,
+            "| `{}`{twin} | {} | {} | {} | {} | {} | {} | {} |",
+            r.id,
+            ms(r.gpu_median_ms),
+            ms(r.gpu_min_ms),
+            ms(r.gpu_max_ms),
+            ms(r.cpu_wall_median_ms),
+            ms(r.readback_ms),
+            ms(r.encode_ms),
+            r.frames
+        );
+        let o = |v: Option<f64>| v.map(|x| x.to_string()).unwrap_or_default();
+        let _ = writeln!(
+            csv,
+            "{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            r.id,
+            r.composition,
+            r.pipeline,
+            r.path,
+            r.shader,
+            r.twin,
+            o(r.gpu_median_ms),
+            o(r.gpu_min_ms),
+            o(r.gpu_max_ms),
+            o(r.cpu_wall_median_ms),
+            o(r.readback_ms),
+            o(r.encode_ms),
+            r.frames
+        );
+    }
+    write_atomic(&dir.join("perf.md"), md.as_bytes())?;
+    write_atomic(&dir.join("perf.csv"), csv.as_bytes())?;
+    write_json(
+        &dir.join("perf.json"),
+        &serde_json::json!({ "adapter": run.adapter(), "timing": timing_kind, "groups": groups, "cells": rows }),
+    )
+}
