@@ -1,11 +1,13 @@
 //! Reports built from a run's recorded files (never from rendering): the CI check, tables.
 
 pub mod check;
+pub mod error_time;
 pub mod perf;
 pub mod run_data;
 
 /// Every report of a run, from its recorded files.
 pub fn build(run_dir: &std::path::Path) -> Result<(), crate::error::Error> {
     let run = run_data::RunData::load(run_dir)?;
-    perf::write(&run)
+    perf::write(&run)?;
+    error_time::write(&run)
 }

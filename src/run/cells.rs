@@ -179,7 +179,7 @@ fn material(
     }
 }
 
-fn cell_id(c: &Cell) -> CellId {
+pub fn cell_id(c: &Cell) -> CellId {
     let m = &c.material;
     let mut id = format!(
         "{}__{}-{}__{}__{}__m{:.2}_s{:.2}",
@@ -204,6 +204,29 @@ fn short_number(v: f64) -> String {
     let s = format!("{v:.4}");
     let s = s.trim_end_matches('0').trim_end_matches('.');
     s.to_string()
+}
+
+/// The id of the cell `c` is compared against under a cell reference: `c` with the named axes
+/// changed. None when a named composition is not in the matrix.
+pub fn reference_cell_id(c: &Cell, m: &Matrix, terms: &[(Axis, FilterValue)]) -> Option<CellId> {
+    let mut r = c.clone();
+    for (axis, v) in terms {
+        match (axis, v) {
+            (Axis::Composition, FilterValue::Name(n)) => {
+                r.composition_index = m.compositions.iter().position(|s| &s.name == n)?;
+                r.composition = n.clone();
+            }
+            (Axis::Pipeline, FilterValue::Name(n)) => r.pipeline = crate::pipelines::Pipeline::from_name(n)?,
+            (Axis::Path, FilterValue::Name(n)) => r.path = RenderPath::from_name(n)?,
+            (Axis::Shader, FilterValue::Name(n)) => r.shader = n.clone(),
+            (Axis::Metallic, FilterValue::Number(x)) => r.material.metallic = *x,
+            (Axis::Smoothness, FilterValue::Number(x)) => r.material.smoothness = *x,
+            (Axis::LightIntensity, FilterValue::Number(x)) => r.light_intensity = *x,
+            (Axis::LightRange, FilterValue::Number(x)) => r.light_range = *x,
+            _ => return None,
+        }
+    }
+    Some(cell_id(&r))
 }
 
 fn passes_filters(c: &Cell, only: &[Filter], exclude: &[Filter]) -> bool {

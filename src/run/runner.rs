@@ -14,7 +14,7 @@ use crate::fsutil::{write_atomic, write_json};
 use crate::gpu::GpuContext;
 use crate::images::{encode, tonemap};
 use crate::render::{CellParams, CellRender, Renderer};
-use crate::spec::matrix::{hex, Filter, Matrix};
+use crate::spec::matrix::{hex, Filter, Matrix, ReferenceSpec};
 
 #[derive(Debug, Clone, Default)]
 pub struct RunOptions {
@@ -193,6 +193,9 @@ fn render_all(
                 height: cell.height,
             };
             let render = renderer.render(prepared, &params, matrix.timing.frames, matrix.timing.warmup)?;
+            if let Some(ReferenceSpec::Supersampled(k)) = matrix.reference {
+                supersampled_reference(renderer, prepared, &params, k, &dir.cell_dir(&cell.id.0), cell)?;
+            }
             write_cell(dir, matrix, cell, &render, &adapter_name)?;
             record.counts.rendered += 1;
             bar.inc(1);
@@ -202,7 +205,51 @@ fn render_all(
             bar.inc(1);
         }
     }
+    // Every image exists now: compare each cell with its reference.
+    for cell in &exp.cells {
+        bar.set_message(format!("metrics {}", cell.id));
+        super::metrics::cell_metrics(matrix, dir, cell)?;
+    }
     Ok(())
+}
+
+/// The same cell at k× the resolution, box-filtered down: reference.exr and reference.png.
+fn supersampled_reference(
+    renderer: &mut Renderer,
+    prepared: &crate::render::PreparedScene,
+    params: &CellParams,
+    k: u32,
+    cdir: &Path,
+    cell: &Cell,
+) -> Result<(), Error> {
+    let max = renderer.gpu.device.limits().max_texture_dimension_2d;
+    let (w, h) = (params.width * k, params.height * k);
+    if w > max || h > max {
+        // Recorded, not fatal: the metrics pass reports the reference as missing.
+        return write_json(
+            &cdir.join("reference_missing.json"),
+            &json!({ "reason": format!("{w}×{h} exceeds the adapter's {max}") }),
+        );
+    }
+    let big = renderer.render(prepared, &CellParams { width: w, height: h, ..*params }, 1, 0)?;
+    let (pw, ph) = (params.width as usize, params.height as usize);
+    let mut small = vec![0f32; pw * ph * 4];
+    let norm = 1.0 / (k * k) as f32;
+    for y in 0..ph {
+        for x in 0..pw {
+            for dy in 0..k as usize {
+                for dx in 0..k as usize {
+                    let src = ((y * k as usize + dy) * w as usize + x * k as usize + dx) * 4;
+                    for c in 0..4 {
+                        small[(y * pw + x) * 4 + c] += big.hdr[src + c] * norm;
+                    }
+                }
+            }
+        }
+    }
+    let (srgb, _) = tonemap::to_srgb8(&small, cell.pipeline.tonemap());
+    write_atomic(&cdir.join("reference.exr"), &encode::exr_bytes(params.width, params.height, &small)?)?;
+    write_atomic(&cdir.join("reference.png"), &encode::png_bytes(params.width, params.height, &srgb)?)
 }
 
 /// Hash of everything a cell's image depends on, so --resume re-renders changed cells.
@@ -213,6 +260,7 @@ pub fn input_hash(matrix: &Matrix, cell: &Cell) -> String {
         "cell": cell,
         "scene": scene,
         "frames": matrix.timing.frames,
+        "reference": format!("{:?}", matrix.reference),
     });
     hex(&Sha256::digest(text.to_string().as_bytes()))
 }

@@ -38,6 +38,10 @@ struct MatrixFile {
     timing: Timing,
     #[serde(default)]
     only: Vec<toml::Table>,
+    /// What cells are compared against: `{ pipeline = "hdrp", shader = "lit" }` (another cell with
+    /// the other axes equal), `"supersampled"` or `{ supersampled = N }`, or `{ run = "DIR" }`.
+    #[serde(default)]
+    reference: Option<toml::Value>,
     #[serde(default)]
     exclude: Vec<toml::Table>,
 }
@@ -167,6 +171,71 @@ pub struct Matrix {
     pub timing: Timing,
     pub only: Vec<Filter>,
     pub exclude: Vec<Filter>,
+    pub reference: Option<ReferenceSpec>,
+}
+
+/// What each cell is compared against.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ReferenceSpec {
+    /// The cell with these axes changed and the others equal.
+    Cell(Vec<(Axis, FilterValue)>),
+    /// The same cell rendered at N× the resolution and box-filtered down.
+    Supersampled(u32),
+    /// The cell of the same id in an earlier run folder.
+    Run(std::path::PathBuf),
+}
+
+pub const REFERENCE_AXES: [Axis; 8] = [
+    Axis::Composition,
+    Axis::Pipeline,
+    Axis::Path,
+    Axis::Shader,
+    Axis::Metallic,
+    Axis::Smoothness,
+    Axis::LightIntensity,
+    Axis::LightRange,
+];
+
+fn parse_reference(c: &Checker, value: &toml::Value, base_dir: Option<&Path>) -> Result<ReferenceSpec, InputError> {
+    let allowed = "\"supersampled\", { supersampled = N }, { run = \"DIR\" } or a table of axes to change";
+    match value {
+        toml::Value::String(s) if s == "supersampled" => Ok(ReferenceSpec::Supersampled(4)),
+        toml::Value::String(s) => Err(c.err("reference", format!("`{s}` is not a reference; allowed: {allowed}"))),
+        toml::Value::Table(t) if t.contains_key("supersampled") => match (t.len(), &t["supersampled"]) {
+            (1, toml::Value::Integer(n)) if (2..=8).contains(n) => Ok(ReferenceSpec::Supersampled(*n as u32)),
+            _ => Err(c.err("reference.supersampled", "the factor must be an integer in 2..=8, alone in the table")),
+        },
+        toml::Value::Table(t) if t.contains_key("run") => match (t.len(), &t["run"]) {
+            (1, toml::Value::String(dir)) => Ok(ReferenceSpec::Run(match base_dir {
+                Some(b) => b.join(dir),
+                None => dir.into(),
+            })),
+            _ => Err(c.err("reference.run", "give the run folder as a string, alone in the table")),
+        },
+        toml::Value::Table(t) => {
+            let names: Vec<&str> = REFERENCE_AXES.iter().map(|a| a.name()).collect();
+            let filter = parse_filter(c, "reference", t)?;
+            for (axis, values) in &filter.terms {
+                if !REFERENCE_AXES.contains(axis) {
+                    return Err(crate::spec::names::unknown_name(
+                        c.file(),
+                        &format!("reference.{}", axis.name()),
+                        "reference axis",
+                        axis.name(),
+                        &names,
+                    ));
+                }
+                if values.len() != 1 {
+                    return Err(c.err(&format!("reference.{}", axis.name()), "a reference names one value per axis"));
+                }
+            }
+            if filter.terms.is_empty() {
+                return Err(c.err("reference", format!("the table is empty; allowed: {allowed}")));
+            }
+            Ok(ReferenceSpec::Cell(filter.terms.into_iter().map(|(a, mut v)| (a, v.remove(0))).collect()))
+        }
+        other => Err(c.err("reference", format!("{other} is not a reference; allowed: {allowed}"))),
+    }
 }
 
 impl Matrix {
@@ -292,6 +361,26 @@ impl Matrix {
             }
         }
 
+        let reference = file.reference.as_ref().map(|r| parse_reference(&c, r, base_dir)).transpose()?;
+        if let Some(ReferenceSpec::Cell(terms)) = &reference {
+            for (axis, v) in terms {
+                if let FilterValue::Name(n) = v {
+                    let valid = known(*axis);
+                    if !valid.contains(n) {
+                        let valid: Vec<&str> = valid.iter().map(String::as_str).collect();
+                        return Err(unknown_name(
+                            origin,
+                            &format!("reference.{}", axis.name()),
+                            axis.name(),
+                            n,
+                            &valid,
+                        )
+                        .into());
+                    }
+                }
+            }
+        }
+
         Ok(Matrix {
             name: file.name,
             description: file.description,
@@ -307,6 +396,7 @@ impl Matrix {
             timing: file.timing,
             only,
             exclude,
+            reference,
         })
     }
 }

@@ -1,0 +1,165 @@
+//! Error against run time, per composition: each cell's LDR-FLIP mean against its reference next
+//! to its GPU time (CPU wall time where the adapter has no timestamp queries, labelled), as
+//! tables/error_vs_time.md|csv and plots/error_vs_time_<composition>.svg with the Pareto front.
+
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::fmt::Write;
+
+use super::run_data::RunData;
+use crate::error::Error;
+use crate::fsutil::write_atomic;
+
+#[derive(Debug, Clone, Serialize)]
+pub struct Point {
+    pub id: String,
+    pub label: String,
+    pub time_ms: f64,
+    pub flip: f64,
+    pub pareto: bool,
+}
+
+/// Points not dominated by another (no other is at most as slow and at most as wrong, and better in one).
+pub fn mark_pareto(points: &mut [Point]) {
+    for i in 0..points.len() {
+        let (t, e) = (points[i].time_ms, points[i].flip);
+        points[i].pareto = !points.iter().any(|q| q.time_ms <= t && q.flip <= e && (q.time_ms < t || q.flip < e));
+    }
+}
+
+fn esc(s: &str) -> String {
+    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
+}
+
+pub fn svg(title: &str, time_label: &str, points: &[Point]) -> String {
+    let (w, h, ml, mr, mt, mb) = (720.0, 460.0, 70.0, 20.0, 40.0, 50.0);
+    let tmax = points.iter().map(|p| p.time_ms).fold(0.0f64, f64::max).max(1e-3) * 1.1;
+    let emax = points.iter().map(|p| p.flip).fold(0.0f64, f64::max).max(1e-3) * 1.1;
+    let x = |t: f64| ml + t / tmax * (w - ml - mr);
+    let y = |e: f64| h - mb - e / emax * (h - mt - mb);
+    let mut s = format!("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\" font-family=\"sans-serif\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n");
+    let _ =
+        writeln!(s, "<text x=\"{}\" y=\"22\" font-size=\"15\" text-anchor=\"middle\">{}</text>", w / 2.0, esc(title));
+    let _ = writeln!(s, "<line x1=\"{ml}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"black\"/><line x1=\"{ml}\" y1=\"{mt}\" x2=\"{ml}\" y2=\"{}\" stroke=\"black\"/>", h - mb, w - mr, h - mb, h - mb);
+    for i in 0..=5 {
+        let (tv, ev) = (tmax * i as f64 / 5.0, emax * i as f64 / 5.0);
+        let _ = writeln!(
+            s,
+            "<text x=\"{:.1}\" y=\"{}\" font-size=\"10\" text-anchor=\"middle\">{tv:.1}</text>",
+            x(tv),
+            h - mb + 14.0
+        );
+        let _ = writeln!(
+            s,
+            "<text x=\"{}\" y=\"{:.1}\" font-size=\"10\" text-anchor=\"end\">{ev:.3}</text>",
+            ml - 6.0,
+            y(ev) + 3.0
+        );
+    }
+    let _ = writeln!(
+        s,
+        "<text x=\"{}\" y=\"{}\" font-size=\"12\" text-anchor=\"middle\">{}</text>",
+        w / 2.0,
+        h - 12.0,
+        esc(time_label)
+    );
+    let _ = writeln!(s, "<text x=\"16\" y=\"{}\" font-size=\"12\" text-anchor=\"middle\" transform=\"rotate(-90 16 {})\">FLIP mean against the reference</text>", h / 2.0, h / 2.0);
+    let mut front: Vec<&Point> = points.iter().filter(|p| p.pareto).collect();
+    front.sort_by(|a, b| a.time_ms.total_cmp(&b.time_ms));
+    if front.len() > 1 {
+        let pts: Vec<String> = front.iter().map(|p| format!("{:.1},{:.1}", x(p.time_ms), y(p.flip))).collect();
+        let _ = writeln!(
+            s,
+            "<polyline points=\"{}\" fill=\"none\" stroke=\"#d62728\" stroke-width=\"1.5\" stroke-dasharray=\"4 3\"/>",
+            pts.join(" ")
+        );
+    }
+    for p in points {
+        let colour = if p.pareto { "#d62728" } else { "#1f77b4" };
+        let _ = writeln!(s, "<circle cx=\"{:.1}\" cy=\"{:.1}\" r=\"4\" fill=\"{colour}\"><title>{} — {:.3} ms, FLIP {:.4}</title></circle>", x(p.time_ms), y(p.flip), esc(&p.id), p.time_ms, p.flip);
+        // Labels on the front only: dense clusters would bury them; every point has a hover title.
+        if p.pareto {
+            let _ = writeln!(
+                s,
+                "<text x=\"{:.1}\" y=\"{:.1}\" font-size=\"10\" fill=\"#333\">{}</text>",
+                x(p.time_ms) + 6.0,
+                y(p.flip) - 4.0,
+                esc(&p.label)
+            );
+        }
+    }
+    let _ = writeln!(s, "<text x=\"{}\" y=\"{}\" font-size=\"10\" fill=\"#d62728\" text-anchor=\"end\">red, labelled: Pareto front (hover a point for its cell)</text>", w - mr, mt - 4.0);
+    s.push_str("</svg>\n");
+    s
+}
+
+/// Build per-composition points; cells without a reference or a time are left out and counted.
+pub fn points(run: &RunData) -> (BTreeMap<String, Vec<Point>>, bool, usize) {
+    let gpu = run.cells.iter().any(|(_, c)| c["timing"]["gpu"]["median_ms"].is_f64());
+    let mut by: BTreeMap<String, Vec<Point>> = BTreeMap::new();
+    let mut skipped = 0;
+    for (id, c) in &run.cells {
+        let time =
+            if gpu { c["timing"]["gpu"]["median_ms"].as_f64() } else { c["timing"]["cpu_wall"]["median_ms"].as_f64() };
+        let flip = c["metrics"]["ldr"]["flip"]["mean"].as_f64();
+        match (time, flip) {
+            (Some(time_ms), Some(flip)) => {
+                by.entry(c["composition"].as_str().unwrap_or("?").to_string()).or_default().push(Point {
+                    id: id.clone(),
+                    label: format!("{}/{}", c["pipeline"].as_str().unwrap_or("?"), c["shader"].as_str().unwrap_or("?")),
+                    time_ms,
+                    flip,
+                    pareto: false,
+                })
+            }
+            _ => skipped += 1,
+        }
+    }
+    for pts in by.values_mut() {
+        mark_pareto(pts);
+    }
+    (by, gpu, skipped)
+}
+
+pub fn write(run: &RunData) -> Result<(), Error> {
+    let (by, gpu, skipped) = points(run);
+    let time_label = if gpu {
+        "GPU time, ms (timestamp queries)"
+    } else {
+        "CPU wall time, ms (no timestamp queries on this adapter)"
+    };
+    let mut md = format!("# Error against run time\n\nAdapter: **{}**. Time: {time_label}. Error: LDR-FLIP mean against each cell's reference. {skipped} cells have no reference (or no time) and are left out.\n", run.adapter());
+    let mut csv = String::from("composition,cell,pipeline_shader,time_ms,flip_mean,pareto\n");
+    for (comp, pts) in &by {
+        let _ = writeln!(md, "\n## {comp}\n\n![error vs time](../plots/error_vs_time_{comp}.svg)\n\n| cell | time (ms) | FLIP mean | Pareto |\n|---|---|---|---|");
+        let mut sorted: Vec<&Point> = pts.iter().collect();
+        sorted.sort_by(|a, b| a.time_ms.total_cmp(&b.time_ms));
+        for p in sorted {
+            let _ =
+                writeln!(md, "| `{}` | {:.3} | {:.5} | {} |", p.id, p.time_ms, p.flip, if p.pareto { "●" } else { "" });
+            let _ = writeln!(csv, "{comp},{},{},{},{},{}", p.id, p.label, p.time_ms, p.flip, p.pareto);
+        }
+        write_atomic(
+            &run.dir.join("plots").join(format!("error_vs_time_{comp}.svg")),
+            svg(&format!("{comp}: error against run time"), time_label, pts).as_bytes(),
+        )?;
+    }
+    write_atomic(&run.dir.join("tables/error_vs_time.md"), md.as_bytes())?;
+    write_atomic(&run.dir.join("tables/error_vs_time.csv"), csv.as_bytes())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pareto_front_keeps_the_undominated() {
+        let p =
+            |t: f64, e: f64| Point { id: format!("{t}-{e}"), label: String::new(), time_ms: t, flip: e, pareto: false };
+        let mut pts = vec![p(1.0, 0.5), p(2.0, 0.2), p(3.0, 0.3), p(4.0, 0.1), p(2.0, 0.2)];
+        mark_pareto(&mut pts);
+        let front: Vec<bool> = pts.iter().map(|q| q.pareto).collect();
+        assert_eq!(front, vec![true, true, false, true, true]);
+        assert!(svg("t", "ms", &pts).contains("<polyline"));
+    }
+}
