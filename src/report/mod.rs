@@ -4,10 +4,17 @@ pub mod check;
 pub mod error_time;
 pub mod perf;
 pub mod run_data;
+pub mod sheets;
 
 /// Every report of a run, from its recorded files.
 pub fn build(run_dir: &std::path::Path) -> Result<(), crate::error::Error> {
     let run = run_data::RunData::load(run_dir)?;
     perf::write(&run)?;
-    error_time::write(&run)
+    error_time::write(&run)?;
+    let specs: Vec<sheets::SheetSpec> = serde_json::from_value(run.run["matrix"]["sheets"].clone())
+        .ok()
+        .filter(|v: &Vec<sheets::SheetSpec>| !v.is_empty())
+        .unwrap_or_else(sheets::default_specs);
+    sheets::write(&run, &specs)?;
+    Ok(())
 }

@@ -76,6 +76,7 @@ pub fn run(matrix: &Matrix, opts: &RunOptions) -> Result<RunSummary, Error> {
             frames: matrix.timing.frames,
             warmup: matrix.timing.warmup,
             shard: opts.shard.map(|(k, n)| format!("{k}/{n}")),
+            sheets: matrix.sheets.clone(),
         },
         adapter: adapter.clone(),
         started: chrono::Local::now().to_rfc3339(),

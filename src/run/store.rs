@@ -110,6 +110,9 @@ pub struct MatrixRecord {
     pub frames: u32,
     pub warmup: u32,
     pub shard: Option<String>,
+    /// The contact sheets `report` draws.
+    #[serde(default)]
+    pub sheets: Vec<crate::report::sheets::SheetSpec>,
 }
 
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]

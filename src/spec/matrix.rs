@@ -42,6 +42,10 @@ struct MatrixFile {
     /// the other axes equal), `"supersampled"` or `{ supersampled = N }`, or `{ run = "DIR" }`.
     #[serde(default)]
     reference: Option<toml::Value>,
+    /// Contact sheets: `[{ rows = "smoothness", cols = "metallic" }]`; default: pipelines × presets
+    /// and smoothness × metallic, the other axes as separate sheets.
+    #[serde(default)]
+    sheets: Option<Vec<crate::report::sheets::SheetSpec>>,
     #[serde(default)]
     exclude: Vec<toml::Table>,
 }
@@ -172,6 +176,7 @@ pub struct Matrix {
     pub only: Vec<Filter>,
     pub exclude: Vec<Filter>,
     pub reference: Option<ReferenceSpec>,
+    pub sheets: Vec<crate::report::sheets::SheetSpec>,
 }
 
 /// What each cell is compared against.
@@ -381,6 +386,25 @@ impl Matrix {
             }
         }
 
+        let sheets = file.sheets.clone().unwrap_or_else(crate::report::sheets::default_specs);
+        for (i, sheet) in sheets.iter().enumerate() {
+            for (k, axis) in [("rows", &sheet.rows), ("cols", &sheet.cols)] {
+                if !crate::report::sheets::AXES.contains(&axis.as_str()) {
+                    return Err(unknown_name(
+                        origin,
+                        &format!("sheets[{i}].{k}"),
+                        "axis",
+                        axis,
+                        &crate::report::sheets::AXES,
+                    )
+                    .into());
+                }
+            }
+            if sheet.rows == sheet.cols {
+                return Err(c.err(&format!("sheets[{i}]"), "rows and cols must be different axes").into());
+            }
+        }
+
         Ok(Matrix {
             name: file.name,
             description: file.description,
@@ -397,6 +421,7 @@ impl Matrix {
             only,
             exclude,
             reference,
+            sheets,
         })
     }
 }

@@ -1,0 +1,233 @@
+//! Contact sheets: PNG grids of cells, any two axes as rows × columns, the remaining axes as
+//! separate sheets, with row and column labels; and difference sheets (cell | reference | FLIP).
+//! Labels are drawn with the font8x8 bitmap font at 2× (no font files, no system fonts).
+
+use font8x8::{UnicodeFonts, BASIC_FONTS};
+use image::{imageops, Rgba, RgbaImage};
+use std::collections::{BTreeMap, BTreeSet};
+
+use super::run_data::RunData;
+use crate::error::Error;
+use crate::fsutil::write_atomic;
+
+pub const AXES: [&str; 9] =
+    ["composition", "pipeline", "path", "shader", "preset", "metallic", "smoothness", "light_intensity", "light_range"];
+const SCALE: u32 = 2;
+const GLYPH: u32 = 8 * SCALE;
+const TILE_MAX: u32 = 192;
+const BG: Rgba<u8> = Rgba([32, 32, 36, 255]);
+const FG: Rgba<u8> = Rgba([235, 235, 235, 255]);
+
+#[derive(Debug, Clone, serde::Deserialize, serde::Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SheetSpec {
+    pub rows: String,
+    pub cols: String,
+}
+
+/// The comparison application's views: pipelines × presets, and metallic × smoothness.
+pub fn default_specs() -> Vec<SheetSpec> {
+    vec![
+        SheetSpec { rows: "pipeline".into(), cols: "preset".into() },
+        SheetSpec { rows: "smoothness".into(), cols: "metallic".into() },
+    ]
+}
+
+/// A cell's value on an axis, as shown in labels and file names.
+pub fn axis_value(cell: &serde_json::Value, axis: &str) -> String {
+    let num = |v: &serde_json::Value| v.as_f64().map(|x| format!("{x:.2}")).unwrap_or_else(|| "?".into());
+    match axis {
+        "metallic" => num(&cell["sliders"]["metallic"]),
+        "smoothness" => num(&cell["sliders"]["smoothness"]),
+        "light_intensity" => num(&cell["key_light"]["intensity"]),
+        "light_range" => num(&cell["key_light"]["range"]),
+        other => cell[other].as_str().unwrap_or("?").to_string(),
+    }
+}
+
+pub fn draw_text(img: &mut RgbaImage, x: u32, y: u32, text: &str, colour: Rgba<u8>) {
+    for (i, ch) in text.chars().enumerate() {
+        let Some(glyph) = BASIC_FONTS.get(ch).or_else(|| BASIC_FONTS.get('?')) else { continue };
+        for (row, bits) in glyph.iter().enumerate() {
+            for col in 0..8u32 {
+                if bits & (1 << col) != 0 {
+                    for dy in 0..SCALE {
+                        for dx in 0..SCALE {
+                            let (px, py) = (x + (i as u32 * 8 + col) * SCALE + dx, y + row as u32 * SCALE + dy);
+                            if px < img.width() && py < img.height() {
+                                img.put_pixel(px, py, colour);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+fn text_width(s: &str) -> u32 {
+    s.chars().count() as u32 * GLYPH
+}
+
+fn load_tile(path: &std::path::Path, tile: u32) -> Option<RgbaImage> {
+    let img = image::open(path).ok()?.to_rgba8();
+    if img.width() <= tile && img.height() <= tile {
+        return Some(img);
+    }
+    let s = tile as f64 / img.width().max(img.height()) as f64;
+    Some(imageops::resize(
+        &img,
+        (img.width() as f64 * s) as u32,
+        (img.height() as f64 * s) as u32,
+        imageops::FilterType::Triangle,
+    ))
+}
+
+/// Compose a labelled grid; `tiles[r][c]` is an image path or None (drawn as an empty tile).
+pub fn grid(
+    title: &str,
+    row_labels: &[String],
+    col_labels: &[String],
+    tiles: &[Vec<Option<std::path::PathBuf>>],
+) -> RgbaImage {
+    let loaded: Vec<Vec<Option<RgbaImage>>> =
+        tiles.iter().map(|r| r.iter().map(|p| p.as_ref().and_then(|p| load_tile(p, TILE_MAX))).collect()).collect();
+    let tile_w = loaded
+        .iter()
+        .flatten()
+        .flatten()
+        .map(|i| i.width())
+        .max()
+        .unwrap_or(64)
+        .max(col_labels.iter().map(|l| text_width(l) + 8).max().unwrap_or(0).min(TILE_MAX * 2));
+    let tile_h = loaded.iter().flatten().flatten().map(|i| i.height()).max().unwrap_or(64);
+    let label_w = row_labels.iter().map(|l| text_width(l)).max().unwrap_or(0) + 12;
+    let (pad, header) = (4, GLYPH * 2 + 16);
+    let width = (label_w + col_labels.len() as u32 * (tile_w + pad) + pad).max(text_width(title) + 16);
+    let height = header + row_labels.len() as u32 * (tile_h + pad) + pad;
+    let mut img = RgbaImage::from_pixel(width, height, BG);
+    draw_text(&mut img, 8, 4, title, FG);
+    for (c, l) in col_labels.iter().enumerate() {
+        draw_text(&mut img, label_w + c as u32 * (tile_w + pad) + 4, GLYPH + 10, l, FG);
+    }
+    for (r, l) in row_labels.iter().enumerate() {
+        let y0 = header + r as u32 * (tile_h + pad);
+        draw_text(&mut img, 6, y0 + tile_h / 2 - GLYPH / 2, l, FG);
+        for c in 0..col_labels.len() {
+            let x0 = label_w + c as u32 * (tile_w + pad);
+            match loaded.get(r).and_then(|row| row.get(c)).and_then(|t| t.as_ref()) {
+                Some(t) => imageops::overlay(&mut img, t, x0 as i64, y0 as i64),
+                None => draw_text(
+                    &mut img,
+                    x0 + tile_w / 2 - GLYPH,
+                    y0 + tile_h / 2 - GLYPH / 2,
+                    "--",
+                    Rgba([120, 120, 120, 255]),
+                ),
+            }
+        }
+    }
+    img
+}
+
+fn file_safe(s: &str) -> String {
+    s.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '.' { c } else { '_' }).collect()
+}
+
+fn sort_values(axis: &str, values: BTreeSet<String>) -> Vec<String> {
+    let mut v: Vec<String> = values.into_iter().collect();
+    if ["metallic", "smoothness", "light_intensity", "light_range"].contains(&axis) {
+        v.sort_by(|a, b| a.parse::<f64>().unwrap_or(0.0).total_cmp(&b.parse::<f64>().unwrap_or(0.0)));
+    }
+    v
+}
+
+/// Write every sheet of `specs`; returns the files written (relative to the run folder).
+pub fn write(run: &RunData, specs: &[SheetSpec]) -> Result<Vec<String>, Error> {
+    let mut written = Vec::new();
+    for spec in specs {
+        // Axes that follow from the row and column values (metallic from the preset when the
+        // matrix does not sweep it) would only split sheets apart: they are not "per" axes.
+        let determined = |axis: &str| {
+            let mut seen: BTreeMap<(String, String), String> = BTreeMap::new();
+            run.cells.iter().all(|(_, c)| {
+                let key = (axis_value(c, &spec.rows), axis_value(c, &spec.cols));
+                let v = axis_value(c, axis);
+                seen.entry(key).or_insert_with(|| v.clone()) == &v
+            })
+        };
+        let per: Vec<&str> =
+            AXES.iter().copied().filter(|a| *a != spec.rows && *a != spec.cols && !determined(a)).collect();
+        let mut groups: BTreeMap<Vec<String>, Vec<&(String, serde_json::Value)>> = BTreeMap::new();
+        for cell in &run.cells {
+            groups.entry(per.iter().map(|a| axis_value(&cell.1, a)).collect()).or_default().push(cell);
+        }
+        for (key, cells) in groups {
+            let rows = sort_values(&spec.rows, cells.iter().map(|c| axis_value(&c.1, &spec.rows)).collect());
+            let cols = sort_values(&spec.cols, cells.iter().map(|c| axis_value(&c.1, &spec.cols)).collect());
+            if rows.len() * cols.len() < 2 {
+                continue;
+            }
+            let tiles: Vec<Vec<Option<std::path::PathBuf>>> = rows
+                .iter()
+                .map(|r| {
+                    cols.iter()
+                        .map(|c| {
+                            cells
+                                .iter()
+                                .find(|cell| {
+                                    axis_value(&cell.1, &spec.rows) == *r && axis_value(&cell.1, &spec.cols) == *c
+                                })
+                                .map(|cell| run.cell_dir(&cell.0).join("image.png"))
+                        })
+                        .collect()
+                })
+                .collect();
+            let title: Vec<String> =
+                per.iter().zip(&key).filter(|(a, _)| **a != "path").map(|(a, v)| format!("{a} {v}")).collect();
+            let img = grid(&title.join("  "), &rows, &cols, &tiles);
+            let name = format!("sheets/{}_x_{}__{}.png", spec.rows, spec.cols, file_safe(&key.join("_")));
+            let mut bytes = Vec::new();
+            img.write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png)
+                .map_err(|e| Error::Other(format!("encoding {name}: {e}")))?;
+            write_atomic(&run.dir.join(&name), &bytes)?;
+            written.push(name);
+        }
+    }
+    // Difference sheets: cell | reference | FLIP map, one row per cell that has a reference.
+    let mut by_comp: BTreeMap<String, Vec<(String, Vec<Option<std::path::PathBuf>>)>> = BTreeMap::new();
+    for (id, c) in &run.cells {
+        let Some(reference) = c["metrics"]["reference"]["cell"].as_str() else { continue };
+        let row = vec![
+            Some(run.cell_dir(id).join("image.png")),
+            Some(run.cell_dir(reference).join("image.png")),
+            Some(run.cell_dir(id).join("flip.png")),
+        ];
+        let label = format!(
+            "{}/{} {} m{} s{}",
+            axis_value(c, "pipeline"),
+            axis_value(c, "shader"),
+            axis_value(c, "preset"),
+            axis_value(c, "metallic"),
+            axis_value(c, "smoothness")
+        );
+        by_comp.entry(axis_value(c, "composition")).or_default().push((label, row));
+    }
+    for (comp, rows) in by_comp {
+        let labels: Vec<String> = rows.iter().map(|r| r.0.clone()).collect();
+        let tiles: Vec<Vec<Option<std::path::PathBuf>>> = rows.into_iter().map(|r| r.1).collect();
+        let img = grid(
+            &format!("{comp}: cell, reference, FLIP"),
+            &labels,
+            &["cell".into(), "reference".into(), "FLIP".into()],
+            &tiles,
+        );
+        let name = format!("sheets/diff_{}.png", file_safe(&comp));
+        let mut bytes = Vec::new();
+        img.write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png)
+            .map_err(|e| Error::Other(format!("encoding {name}: {e}")))?;
+        write_atomic(&run.dir.join(&name), &bytes)?;
+        written.push(name);
+    }
+    Ok(written)
+}
