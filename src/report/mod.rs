@@ -2,6 +2,7 @@
 
 pub mod check;
 pub mod error_time;
+pub mod gallery;
 pub mod perf;
 pub mod run_data;
 pub mod sheets;
@@ -15,6 +16,6 @@ pub fn build(run_dir: &std::path::Path) -> Result<(), crate::error::Error> {
         .ok()
         .filter(|v: &Vec<sheets::SheetSpec>| !v.is_empty())
         .unwrap_or_else(sheets::default_specs);
-    sheets::write(&run, &specs)?;
-    Ok(())
+    let written = sheets::write(&run, &specs)?;
+    gallery::write(&run, &written)
 }
