@@ -41,4 +41,37 @@ fn ci_matrix_renders_every_cell_at_the_requested_size() {
     }
     let expected: BTreeSet<String> = ["default", "mitsuba", "medusa", "spikes"].iter().map(|s| s.to_string()).collect();
     assert_eq!(compositions, expected);
+
+    // Reports: maps where a reference exists, GPU times from timestamp queries, plots, sheets, gallery.
+    let mut with_reference = 0;
+    for dir in &cells {
+        let cell: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join("cell.json")).unwrap()).unwrap();
+        if cell["metrics"]["ldr"].is_object() {
+            with_reference += 1;
+            assert!(dir.join("flip.png").is_file() && dir.join("ssim.png").is_file(), "{}", dir.display());
+            assert!(cell["metrics"]["ldr"]["flip"]["mean"].as_f64().unwrap() >= 0.0);
+        } else {
+            assert_eq!(cell["metrics"]["reference"]["missing"], "this cell is the reference", "{}", dir.display());
+        }
+    }
+    assert!(with_reference > cells.len() / 2);
+    let perf: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("tables/perf.json")).unwrap()).unwrap();
+    if run_json["adapter"]["timestamp_queries"] == true {
+        for c in perf["cells"].as_array().unwrap() {
+            assert!(c["gpu_median_ms"].as_f64().unwrap() > 0.0, "{c}");
+        }
+    }
+    assert!(!perf["groups"].as_array().unwrap().is_empty());
+    for comp in &expected {
+        let svg = std::fs::read_to_string(out.join(format!("plots/error_vs_time_{comp}.svg"))).unwrap();
+        assert!(svg.contains("<circle") && svg.contains("Pareto"), "{comp}");
+    }
+    assert!(std::fs::read_dir(out.join("sheets")).unwrap().any(|e| e
+        .unwrap()
+        .file_name()
+        .to_string_lossy()
+        .starts_with("diff_")));
+    assert!(std::fs::read_to_string(out.join("index.html")).unwrap().contains("data-broken-images"));
 }

@@ -23,6 +23,8 @@ pub struct PerfRow {
     pub cpu_wall_median_ms: Option<f64>,
     pub readback_ms: Option<f64>,
     pub encode_ms: Option<f64>,
+    /// CPU time of the metrics pass for the cell (FLIP, SSIM, maps), ms.
+    pub metrics_ms: Option<f64>,
     pub frames: u64,
     /// Copied from another cell (the shader ignores the axes they differ in).
     pub twin: bool,
@@ -65,6 +67,7 @@ pub fn rows(run: &RunData) -> Vec<PerfRow> {
                 cpu_wall_median_ms: t["cpu_wall"]["median_ms"].as_f64(),
                 readback_ms: t["readback_ms"].as_f64(),
                 encode_ms: t["encode_ms"].as_f64(),
+                metrics_ms: t["metrics_ms"].as_f64(),
                 frames: t["frames"].as_u64().unwrap_or(0),
                 twin: !c["twin_of"].is_null(),
             }
@@ -115,13 +118,13 @@ pub fn write(run: &RunData) -> Result<(), Error> {
             ms(g.cpu_wall_median_ms)
         );
     }
-    md.push_str("\n## Per cell\n\n| cell | GPU median | GPU min | GPU max | CPU wall median | readback | encode | frames |\n|---|---|---|---|---|---|---|---|\n");
-    let mut csv = String::from("cell,composition,pipeline,path,shader,twin,gpu_median_ms,gpu_min_ms,gpu_max_ms,cpu_wall_median_ms,readback_ms,encode_ms,frames\n");
+    md.push_str("\n## Per cell\n\n| cell | GPU median | GPU min | GPU max | CPU wall median | readback | encode | metrics | frames |\n|---|---|---|---|---|---|---|---|---|\n");
+    let mut csv = String::from("cell,composition,pipeline,path,shader,twin,gpu_median_ms,gpu_min_ms,gpu_max_ms,cpu_wall_median_ms,readback_ms,encode_ms,metrics_ms,frames\n");
     for r in &rows {
         let twin = if r.twin { " (twin)" } else { "" };
         let _ = writeln!(
             md,
-            "| `{}`{twin} | {} | {} | {} | {} | {} | {} | {} |",
+            "| `{}`{twin} | {} | {} | {} | {} | {} | {} | {} | {} |",
             r.id,
             ms(r.gpu_median_ms),
             ms(r.gpu_min_ms),
@@ -129,12 +132,13 @@ pub fn write(run: &RunData) -> Result<(), Error> {
             ms(r.cpu_wall_median_ms),
             ms(r.readback_ms),
             ms(r.encode_ms),
+            ms(r.metrics_ms),
             r.frames
         );
         let o = |v: Option<f64>| v.map(|x| x.to_string()).unwrap_or_default();
         let _ = writeln!(
             csv,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             r.id,
             r.composition,
             r.pipeline,
@@ -147,6 +151,7 @@ pub fn write(run: &RunData) -> Result<(), Error> {
             o(r.cpu_wall_median_ms),
             o(r.readback_ms),
             o(r.encode_ms),
+            o(r.metrics_ms),
             r.frames
         );
     }
