@@ -130,6 +130,9 @@ pub fn grid(
     img
 }
 
+/// A row label and its tiles.
+type LabelledRow = (String, Vec<Option<std::path::PathBuf>>);
+
 fn file_safe(s: &str) -> String {
     s.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '.' { c } else { '_' }).collect()
 }
@@ -195,7 +198,7 @@ pub fn write(run: &RunData, specs: &[SheetSpec]) -> Result<Vec<String>, Error> {
         }
     }
     // Difference sheets: cell | reference | FLIP map, one row per cell that has a reference.
-    let mut by_comp: BTreeMap<String, Vec<(String, Vec<Option<std::path::PathBuf>>)>> = BTreeMap::new();
+    let mut by_comp: BTreeMap<String, Vec<LabelledRow>> = BTreeMap::new();
     for (id, c) in &run.cells {
         let Some(reference) = c["metrics"]["reference"]["cell"].as_str() else { continue };
         let row = vec![
