@@ -153,17 +153,16 @@ pub fn html(run: &RunData, sheets: &[String], plots: &[String]) -> String {
             );
         }
         let t = &c["timing"];
-        let _ = write!(
+        let origin = if c["twin_of"].is_null() {
+            "rendered".to_string()
+        } else {
+            format!("twin of {}", esc(c["twin_of"].as_str().unwrap_or("")))
+        };
+        let _ = writeln!(
             s,
-            "<div>GPU {} ms · CPU wall {} ms · {} · {}</div></div>\n",
+            "<div>GPU {} ms · CPU wall {} ms · {origin} · <a href=\"{dir}/cell.json\">cell.json</a></div></div>",
             num(&t["gpu"]["median_ms"], 3),
             num(&t["cpu_wall"]["median_ms"], 3),
-            if c["twin_of"].is_null() {
-                "rendered".to_string()
-            } else {
-                format!("twin of {}", esc(c["twin_of"].as_str().unwrap_or("")))
-            },
-            format!("<a href=\"{dir}/cell.json\">cell.json</a>")
         );
     }
     s.push_str("</div>\n<h2 id=\"perf\">Performance</h2><p>Click a column to sort.</p><table class=\"sortable\"><thead><tr><th>cell</th><th>pipeline</th><th>shader</th><th>GPU median ms</th><th>GPU min</th><th>GPU max</th><th>CPU wall ms</th><th>readback ms</th><th>encode ms</th></tr></thead><tbody>\n");
