@@ -89,6 +89,9 @@ enum Command {
         /// Write flip.png and ssim.png (1 − SSIM) here.
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Also SSIM of R, G and B separately.
+        #[arg(long)]
+        per_channel: bool,
     },
     /// Compare a run with a baseline run: junit.xml and summary.md into the run; exit 1 on a regression.
     Check {
@@ -151,7 +154,7 @@ fn dispatch(cmd: Command) -> Result<(), Error> {
             Ok(())
         }
         Command::Audit { shader, json, out } => audit(shader.as_deref(), json, out),
-        Command::Diff { a, b, json, out } => diff(&a, &b, json, out.as_deref()),
+        Command::Diff { a, b, json, out, per_channel } => diff(&a, &b, json, out.as_deref(), per_channel),
         Command::Check { run, baseline, flip_mean, ssim_min } => {
             use shadematrix::report::check::{check, Thresholds};
             let d = Thresholds::default();
@@ -213,9 +216,11 @@ fn dispatch(cmd: Command) -> Result<(), Error> {
     }
 }
 
-fn diff(a: &Path, b: &Path, json: bool, out: Option<&Path>) -> Result<(), Error> {
-    use shadematrix::compare::{compare, LoadedImage};
-    let c = compare(&LoadedImage::load(a)?, &LoadedImage::load(b)?, &format!("{} vs {}", a.display(), b.display()))?;
+fn diff(a: &Path, b: &Path, json: bool, out: Option<&Path>, per_channel: bool) -> Result<(), Error> {
+    use shadematrix::compare::images::compare_with;
+    use shadematrix::compare::LoadedImage;
+    let what = format!("{} vs {}", a.display(), b.display());
+    let c = compare_with(&LoadedImage::load(a)?, &LoadedImage::load(b)?, &what, per_channel)?;
     if let Some(dir) = out {
         let png = |name: &str, px: &Option<Vec<u8>>| -> Result<(), Error> {
             if let Some(px) = px {

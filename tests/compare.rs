@@ -75,6 +75,18 @@ fn diff_command_prints_json_and_writes_maps() {
         let img = image::open(out.join(map)).unwrap();
         assert_eq!((img.width(), img.height()), (96, 80), "{map}");
     }
+    // Per-channel SSIM on request; a grey-world check: the mean of the channels is near the luma SSIM.
+    let (rc, stdout, _) = common::shadematrix(
+        tmp.path(),
+        &["diff", a.to_str().unwrap(), b.to_str().unwrap(), "--json", "--per-channel"],
+        &[],
+    );
+    assert_eq!(rc, 0);
+    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let channels: Vec<f64> =
+        v["ssim_channels"].as_array().unwrap().iter().map(|c| c["mean"].as_f64().unwrap()).collect();
+    assert_eq!(channels.len(), 3);
+    assert!(channels.iter().all(|c| *c > 0.5 && *c <= 1.0), "{channels:?}");
     // Mixed kinds and missing files are bad input.
     let exr = fixture("hdr_a.exr");
     let (rc, _, stderr) = common::shadematrix(tmp.path(), &["diff", a.to_str().unwrap(), exr.to_str().unwrap()], &[]);

@@ -76,6 +76,9 @@ pub struct Comparison {
     pub flip: FlipMetric,
     /// On the luma of the sRGB values (PNG inputs only).
     pub ssim: Metric,
+    /// SSIM of R, G and B separately, when asked for (PNG inputs only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ssim_channels: Option<[Metric; 3]>,
     /// Over RGB: sRGB values in [0, 1] for PNGs, linear values for EXRs.
     pub rmse: f64,
     /// PNGs: peak 1; None for identical images, and for EXRs (no fixed peak).
@@ -96,6 +99,16 @@ fn ssim_heat(map: &[f64], w: usize, h: usize) -> Option<Vec<u8>> {
 
 /// Compare `test` against `reference` (same kind and size).
 pub fn compare(reference: &LoadedImage, test: &LoadedImage, what: &str) -> Result<Comparison, Error> {
+    compare_with(reference, test, what, false)
+}
+
+/// As `compare`, with per-channel SSIM when `per_channel` is set.
+pub fn compare_with(
+    reference: &LoadedImage,
+    test: &LoadedImage,
+    what: &str,
+    per_channel: bool,
+) -> Result<Comparison, Error> {
     let (w, h) = reference.size();
     if test.size() != (w, h) {
         return Err(
@@ -115,11 +128,18 @@ pub fn compare(reference: &LoadedImage, test: &LoadedImage, what: &str) -> Resul
             };
             let to_f = |v: &[u8]| v.iter().map(|x| *x as f64 / 255.0).collect::<Vec<f64>>();
             let e = rmse(&to_f(r), &to_f(t));
+            let ssim_channels = per_channel.then(|| {
+                [0, 1, 2].map(|c| match ssim::ssim(&ssim::channel(r, c), &ssim::channel(t, c), wu, hu) {
+                    Ok(s) => Metric::Value { mean: s.mean },
+                    Err(e) => Metric::Missing { missing: e },
+                })
+            });
             Ok(Comparison {
                 width: w,
                 height: h,
                 flip: FlipMetric { kind: "ldr", ppd: flip::PPD, value: flip_value.0 },
                 ssim: ssim_value,
+                ssim_channels,
                 rmse: e,
                 psnr_db: psnr(e, 1.0),
                 reference_bad: BadValues::default(),
@@ -149,6 +169,7 @@ pub fn compare(reference: &LoadedImage, test: &LoadedImage, what: &str) -> Resul
                 ssim: Metric::Missing {
                     missing: "SSIM is defined here on display-referred sRGB: compare the PNGs".into(),
                 },
+                ssim_channels: None,
                 rmse: rmse(&to_f(r), &to_f(t)),
                 psnr_db: None,
                 reference_bad,
