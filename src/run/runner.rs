@@ -206,12 +206,11 @@ fn render_all(
             bar.inc(1);
         }
     }
-    // Every image exists now: compare each cell with its reference.
-    for cell in &exp.cells {
-        bar.set_message(format!("metrics {}", cell.id));
-        super::metrics::cell_metrics(matrix, dir, cell)?;
-    }
-    Ok(())
+    // Every image exists now: compare each cell with its reference, cells in parallel (each
+    // reads its own and its reference's files and writes only into its own folder).
+    use rayon::prelude::*;
+    bar.set_message("metrics");
+    exp.cells.par_iter().try_for_each(|cell| super::metrics::cell_metrics(matrix, dir, cell))
 }
 
 /// The same cell at k× the resolution, box-filtered down: reference.exr and reference.png.
