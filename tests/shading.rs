@@ -9,7 +9,6 @@ use shadematrix::pipelines::Pipeline;
 use shadematrix::render::probe::{evaluate, ProbeInput};
 use shadematrix::render::{CellParams, CellRender, Renderer};
 use shadematrix::shading::registry::Sliders;
-use shadematrix::shading::twin::Surface;
 use shadematrix::shading::{find_model, MODELS};
 use shadematrix::spec::scene::Scene;
 
@@ -49,18 +48,6 @@ fn hemisphere(i: usize, n: usize, salt: f64) -> DVec3 {
     DVec3::new(sin_t * phi.cos(), cos_t, sin_t * phi.sin())
 }
 
-/// The surface rounded to f32, as the GPU receives it.
-fn rounded(s: &Surface) -> Surface {
-    let r = |x: DVec3| x.as_vec3().as_dvec3();
-    Surface {
-        base_color: r(s.base_color),
-        metallic: s.metallic as f32 as f64,
-        smoothness: s.smoothness as f32 as f64,
-        specular: r(s.specular),
-        params: s.params.map(|p| p as f32 as f64),
-    }
-}
-
 /// Parity of every model in every pipeline, GPU f32 against the f64 twin, on the well-conditioned
 /// domain (N·L and N·V ≥ 0.1, smoothness ≤ 0.95 — grazing and mirror-like cases belong to the audit).
 #[test]
@@ -88,7 +75,7 @@ fn gpu_models_match_their_f64_twins() {
                 let gi_s = DVec3::new(0.5, 0.4, 0.3);
                 let input = ProbeInput::new(&s, DVec3::Y, v, l, gi_d, gi_s);
                 inputs.push(input);
-                cases.push((rounded(&s), v, l, gi_d, gi_s));
+                cases.push((s.rounded_f32(), v, l, gi_d, gi_s));
             }
             let gpu_out = evaluate(&gpu, pipeline, model, &inputs).unwrap();
             let mut worst: f64 = 0.0;

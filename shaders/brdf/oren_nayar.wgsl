@@ -2,17 +2,6 @@
 // A = 1 − 0.5σ²/(σ² + 0.33), B = 0.45σ²/(σ² + 0.09),
 // radiance = ρ/π·E·NL·(A + B·max(0, cos(φi − φr))·sin a·tan b), a = max(θi, θr), b = min(θi, θr).
 
-// cos(φi − φr) from the tangent-plane projections of L and V; 0 when either is along N
-fn cos_azimuth_difference(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, nl: f32, nv: f32) -> f32 {
-    let lp = l - n * nl;
-    let vp = v - n * nv;
-    let d = dot(lp, lp) * dot(vp, vp);
-    if (d < 1e-12) {
-        return 0.0;
-    }
-    return dot(lp, vp) * inverseSqrt(d);
-}
-
 fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
     let nl = dot(n, l);
     if (nl <= 0.0) {

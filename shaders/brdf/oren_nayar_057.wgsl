@@ -12,13 +12,7 @@ fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f3
     let sigma2 = s.params0.x * s.params0.x;
     let a = 1.0 - 0.5 * sigma2 / (sigma2 + 0.57);
     let b = 0.45 * sigma2 / (sigma2 + 0.09);
-    let lp = l - n * nl;
-    let vp = v - n * nv;
-    let d = dot(lp, lp) * dot(vp, vp);
-    var p = 0.0;
-    if (d > 1e-12) {
-        p = max(0.0, dot(lp, vp) * inverseSqrt(d));
-    }
+    let p = max(0.0, cos_azimuth_difference(n, v, l, nl, nv));
     // 1 − NL², 1 − NV² ≥ 0 and max(NL, NV) ≥ ε (§6)
     let sin_product = sqrt(max(0.0, 1.0 - nl * nl) * max(0.0, 1.0 - nv * nv));
     return fd_lambert(s.base_color) * irradiance_per_intensity() * nl * (a + b * p * sin_product / max(max(nl, nv), 1e-4));

@@ -15,6 +15,17 @@ fn f_schlick_lerp(f0: vec3<f32>, f90: vec3<f32>, c: f32) -> vec3<f32> {
     return mix(f0, f90, pow5(1.0 - c));
 }
 
+// cos(φi − φr): the tangent-plane projections of L and V, normalised; 0 when either is along N (§4 Oren-Nayar)
+fn cos_azimuth_difference(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, nl: f32, nv: f32) -> f32 {
+    let lp = l - n * nl;
+    let vp = v - n * nv;
+    let d = dot(lp, lp) * dot(vp, vp);
+    if (d < 1e-12) {
+        return 0.0;
+    }
+    return dot(lp, vp) * inverseSqrt(d);
+}
+
 // D_GGX = α²/(π(NH²(α² − 1) + 1)²) (§4 GGX / Torrance-Sparrow)
 fn d_ggx(nh: f32, a: f32) -> f32 {
     let a2 = a * a;

@@ -11,12 +11,13 @@ use glam::DVec3;
 use serde::Serialize;
 use std::f64::consts::TAU;
 
+use crate::compare::stats::{bad_values, BadValues};
 use crate::error::Error;
 use crate::gpu::GpuContext;
 use crate::pipelines::Pipeline;
 use crate::render::probe::{evaluate, ProbeInput};
 use crate::shading::registry::{Expected, ShaderModel, Sliders};
-use crate::shading::twin::{irradiance_per_intensity, Surface};
+use crate::shading::twin::irradiance_per_intensity;
 use samples::{around_y, audit_samples, hammersley, AuditSample};
 
 /// Samples per directional-albedo integral (≥ 4096, as the issue asks).
@@ -46,29 +47,6 @@ impl ErrorStats {
     }
 }
 
-#[derive(Debug, Clone, Copy, Default, Serialize)]
-pub struct Sanity {
-    pub nan: usize,
-    pub inf: usize,
-    pub negative: usize,
-}
-
-impl Sanity {
-    fn add(&mut self, v: f64) {
-        if v.is_nan() {
-            self.nan += 1;
-        } else if v.is_infinite() {
-            self.inf += 1;
-        } else if v < 0.0 {
-            self.negative += 1;
-        }
-    }
-
-    pub fn clean(&self) -> bool {
-        self.nan == 0 && self.inf == 0 && self.negative == 0
-    }
-}
-
 #[derive(Debug, Clone, Serialize)]
 pub struct Energy {
     /// Largest directional albedo over the parameter grid and view angles (white base colour).
@@ -91,8 +69,8 @@ pub struct ModelAudit {
     /// None without a twin.
     pub parity_well: Option<ErrorStats>,
     pub parity_extreme: Option<ErrorStats>,
-    pub gpu: Sanity,
-    pub cpu: Option<Sanity>,
+    pub gpu: BadValues,
+    pub cpu: Option<BadValues>,
     /// Max |f(l,v) − f(v,l)|/max(f) on the well-conditioned domain; None for non-BRDFs.
     pub reciprocity: Option<f64>,
     pub energy: Option<Energy>,
@@ -112,17 +90,6 @@ fn probe_inputs(model: &ShaderModel, p: Pipeline, set: &[AuditSample], swap: boo
         .collect()
 }
 
-fn rounded(s: &Surface) -> Surface {
-    let r = |x: DVec3| x.as_vec3().as_dvec3();
-    Surface {
-        base_color: r(s.base_color),
-        metallic: s.metallic as f32 as f64,
-        smoothness: s.smoothness as f32 as f64,
-        specular: r(s.specular),
-        params: s.params.map(|p| p as f32 as f64),
-    }
-}
-
 /// f·cosθ as the physical BRDF sees it: the model's radiance per unit intensity over the
 /// irradiance that intensity delivers.
 fn physical(p: Pipeline, radiance: DVec3) -> DVec3 {
@@ -140,22 +107,18 @@ pub fn audit_model(gpu: &GpuContext, model: &'static ShaderModel, p: Pipeline) -
         parity_tolerance: model.parity_tolerance,
         parity_well: None,
         parity_extreme: None,
-        gpu: Sanity::default(),
+        gpu: BadValues::default(),
         cpu: None,
         reciprocity: None,
         energy: None,
         failures: Vec::new(),
         findings: Vec::new(),
     };
-    for (d, i) in &gpu_out {
-        for v in d.iter().chain(i) {
-            audit.gpu.add(*v as f64);
-        }
-    }
+    audit.gpu = bad_values(gpu_out.iter().flat_map(|(d, i)| d.iter().chain(i).map(|v| *v as f64)));
     if let Some(twin) = model.twin {
-        let (mut well, mut extreme, mut cpu) = (ErrorStats::default(), ErrorStats::default(), Sanity::default());
+        let (mut well, mut extreme, mut cpu_values) = (ErrorStats::default(), ErrorStats::default(), Vec::new());
         for (s, (gd, gi)) in set.iter().zip(&gpu_out) {
-            let surface = rounded(&model.surface(p, &s.sliders));
+            let surface = model.surface(p, &s.sliders).rounded_f32();
             let r = |x: DVec3| x.as_vec3().as_dvec3();
             let d = twin.direct(p, &surface, s.n, r(s.v), r(s.l));
             let i = twin.indirect(
@@ -170,14 +133,13 @@ pub fn audit_model(gpu: &GpuContext, model: &'static ShaderModel, p: Pipeline) -
             for k in 0..3 {
                 stats.add(gd[k] as f64, d[k]);
                 stats.add(gi[k] as f64, i[k]);
-                cpu.add(d[k]);
-                cpu.add(i[k]);
+                cpu_values.extend([d[k], i[k]]);
             }
             stats.samples += 1;
         }
         audit.parity_well = Some(well);
         audit.parity_extreme = Some(extreme);
-        audit.cpu = Some(cpu);
+        audit.cpu = Some(bad_values(cpu_values.into_iter()));
     }
     if model.expected.is_brdf {
         audit.reciprocity = Some(reciprocity(model, p, &set, &gpu_out, &gpu_swapped));

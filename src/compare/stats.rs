@@ -9,6 +9,12 @@ pub struct BadValues {
     pub negative: usize,
 }
 
+impl BadValues {
+    pub fn clean(&self) -> bool {
+        *self == BadValues::default()
+    }
+}
+
 pub fn bad_values(values: impl Iterator<Item = f64>) -> BadValues {
     let mut b = BadValues::default();
     for v in values {

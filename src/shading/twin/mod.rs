@@ -38,6 +38,18 @@ impl Surface {
     pub fn basic(base_color: DVec3, metallic: f64, smoothness: f64) -> Surface {
         Surface { base_color, metallic, smoothness, specular: DVec3::ZERO, params: [0.0; 8] }
     }
+
+    /// Every value rounded to f32, as the GPU receives it: the twin's input for parity checks.
+    pub fn rounded_f32(&self) -> Surface {
+        let r = |x: DVec3| x.as_vec3().as_dvec3();
+        Surface {
+            base_color: r(self.base_color),
+            metallic: self.metallic as f32 as f64,
+            smoothness: self.smoothness as f32 as f64,
+            specular: r(self.specular),
+            params: self.params.map(|p| p as f32 as f64),
+        }
+    }
 }
 
 pub trait SurfaceTwin: Sync {
