@@ -7,7 +7,7 @@ use glam::DVec3;
 use shadematrix::audit::{audit_all, directional_albedo};
 use shadematrix::gpu::GpuContext;
 use shadematrix::pipelines::Pipeline;
-use shadematrix::render::probe::{evaluate, ProbeInput};
+use shadematrix::render::probe::{evaluate, BrdfProbe, ProbeInput};
 use shadematrix::shading::registry::{find_model, Sliders};
 use shadematrix::shading::twin::Surface;
 
@@ -41,13 +41,14 @@ fn audit_of_every_builtin_model_has_no_failure() {
 #[test]
 fn lambert_directional_albedo_is_its_albedo_in_every_pipeline() {
     let gpu = GpuContext::new().unwrap();
+    let mut probe = BrdfProbe::new(&gpu);
     for p in Pipeline::ALL {
         let model = find_model(p, "lambert").unwrap();
         for rho in [0.25, 0.5, 0.9] {
             for deg in [0.0f64, 45.0, 80.0] {
                 let v = DVec3::new(deg.to_radians().sin(), deg.to_radians().cos(), 0.0);
                 let sliders = Sliders { base_color_linear: [rho; 3], metallic: 0.0, smoothness: 0.5 };
-                let (a, samples, _) = directional_albedo(&gpu, model, p, &sliders, v).unwrap();
+                let (a, samples, _) = directional_albedo(&gpu, &mut probe, model, p, &sliders, v).unwrap();
                 assert!(samples >= 4096);
                 assert!((a - rho).abs() < 1e-3, "{}: albedo {a} for ρ = {rho} at {deg}°", p.name());
             }
@@ -61,7 +62,7 @@ fn hdrp_energy_compensation_brings_a_rough_white_metal_closer_to_one() {
     let model = find_model(Pipeline::Hdrp, "lit").unwrap();
     let sliders = Sliders { base_color_linear: [1.0; 3], metallic: 1.0, smoothness: 0.0 };
     let v = DVec3::new(0.5, 0.75f64.sqrt(), 0.0);
-    let with = directional_albedo(&gpu, model, Pipeline::Hdrp, &sliders, v).unwrap().0;
+    let with = directional_albedo(&gpu, &mut BrdfProbe::new(&gpu), model, Pipeline::Hdrp, &sliders, v).unwrap().0;
     // Off: the same model with its energy_compensation parameter at 0, through the f64 twin.
     let twin = model.twin.unwrap();
     let mut s = model.surface(Pipeline::Hdrp, &sliders);

@@ -15,7 +15,7 @@ use crate::compare::stats::{bad_values, BadValues};
 use crate::error::Error;
 use crate::gpu::GpuContext;
 use crate::pipelines::Pipeline;
-use crate::render::probe::{evaluate, ProbeInput};
+use crate::render::probe::{BrdfProbe, ProbeInput};
 use crate::shading::registry::{Expected, ShaderModel, Sliders};
 use crate::shading::twin::irradiance_per_intensity;
 use samples::{around_y, audit_samples, hammersley, AuditSample};
@@ -96,10 +96,15 @@ fn physical(p: Pipeline, radiance: DVec3) -> DVec3 {
     radiance / irradiance_per_intensity(p)
 }
 
-pub fn audit_model(gpu: &GpuContext, model: &'static ShaderModel, p: Pipeline) -> Result<ModelAudit, Error> {
+pub fn audit_model(
+    gpu: &GpuContext,
+    probe: &mut BrdfProbe,
+    model: &'static ShaderModel,
+    p: Pipeline,
+) -> Result<ModelAudit, Error> {
     let set = audit_samples();
-    let gpu_out = evaluate(gpu, p, model, &probe_inputs(model, p, &set, false))?;
-    let gpu_swapped = evaluate(gpu, p, model, &probe_inputs(model, p, &set, true))?;
+    let gpu_out = probe.evaluate(gpu, p, model, &probe_inputs(model, p, &set, false))?;
+    let gpu_swapped = probe.evaluate(gpu, p, model, &probe_inputs(model, p, &set, true))?;
     let mut audit = ModelAudit {
         key: format!("{}/{}", p.name(), model.name),
         expected: model.expected,
@@ -143,7 +148,7 @@ pub fn audit_model(gpu: &GpuContext, model: &'static ShaderModel, p: Pipeline) -
     }
     if model.expected.is_brdf {
         audit.reciprocity = Some(reciprocity(model, p, &set, &gpu_out, &gpu_swapped));
-        audit.energy = Some(energy(gpu, model, p)?);
+        audit.energy = Some(energy(gpu, probe, model, p)?);
     }
     judge(&mut audit);
     Ok(audit)
@@ -178,7 +183,7 @@ fn reciprocity(
 
 /// White furnace: directional albedo ∫ f·cosθ dω of a white surface, for smoothness
 /// {0, 0.25, 0.5, 0.75, 0.9} × metallic {0, 1} × view angle {0, 30, 60, 75, 85}°; the worst case.
-fn energy(gpu: &GpuContext, model: &'static ShaderModel, p: Pipeline) -> Result<Energy, Error> {
+fn energy(gpu: &GpuContext, probe: &mut BrdfProbe, model: &'static ShaderModel, p: Pipeline) -> Result<Energy, Error> {
     let mut best = Energy {
         max_albedo: f64::NEG_INFINITY,
         worst_view_deg: 0.0,
@@ -192,7 +197,7 @@ fn energy(gpu: &GpuContext, model: &'static ShaderModel, p: Pipeline) -> Result<
             let sliders = Sliders { base_color_linear: [1.0; 3], metallic: m, smoothness: s };
             for &deg in &[0.0f64, 30.0, 60.0, 75.0, 85.0] {
                 let v = around_y(deg.to_radians().cos(), 0.0);
-                let (a, samples, source) = directional_albedo(gpu, model, p, &sliders, v)?;
+                let (a, samples, source) = directional_albedo(gpu, probe, model, p, &sliders, v)?;
                 if a > best.max_albedo {
                     best = Energy {
                         max_albedo: a,
@@ -215,6 +220,7 @@ fn energy(gpu: &GpuContext, model: &'static ShaderModel, p: Pipeline) -> Result<
 /// diffuse or Phong-like models still meet the cosine half.
 pub fn directional_albedo(
     gpu: &GpuContext,
+    probe: &mut BrdfProbe,
     model: &'static ShaderModel,
     p: Pipeline,
     sliders: &Sliders,
@@ -229,7 +235,8 @@ pub fn directional_albedo(
         None => {
             let inputs: Vec<ProbeInput> =
                 dirs.iter().map(|l| ProbeInput::new(&surface, DVec3::Y, v, *l, DVec3::ZERO, DVec3::ZERO)).collect();
-            evaluate(gpu, p, model, &inputs)?
+            probe
+                .evaluate(gpu, p, model, &inputs)?
                 .iter()
                 .map(|(d, _)| DVec3::new(d[0] as f64, d[1] as f64, d[2] as f64))
                 .collect()
@@ -312,12 +319,13 @@ fn judge(a: &mut ModelAudit) {
 /// Audit every (pipeline, model), or only the models named `shader`.
 pub fn audit_all(gpu: &GpuContext, shader: Option<&str>) -> Result<Vec<ModelAudit>, Error> {
     let mut out = Vec::new();
+    let mut probe = BrdfProbe::new(gpu);
     for model in crate::shading::registry::all_models() {
         if shader.is_some_and(|s| s != model.name) {
             continue;
         }
         for &p in model.pipelines {
-            out.push(audit_model(gpu, model, p)?);
+            out.push(audit_model(gpu, &mut probe, model, p)?);
         }
     }
     Ok(out)

@@ -49,91 +49,133 @@ impl ProbeInput {
 /// `model_direct` and `model_indirect` of one input, linear RGB.
 pub type ProbeOutput = ([f32; 3], [f32; 3]);
 
-/// (direct, indirect) per input, as `model_direct` and `model_indirect` return them.
+/// The compute layouts, the FGD table and one pipeline per (pipeline, model), built once per
+/// device and reused for every evaluation (the audit evaluates each model several times).
+pub struct BrdfProbe {
+    bind_layout: wgpu::BindGroupLayout,
+    layout: wgpu::PipelineLayout,
+    fgd: wgpu::TextureView,
+    pipelines: std::collections::HashMap<(Pipeline, String, String), wgpu::ComputePipeline>,
+}
+
+impl BrdfProbe {
+    pub fn new(gpu: &GpuContext) -> BrdfProbe {
+        let device = &gpu.device;
+        let storage = |binding: u32, read_only: bool| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Storage { read_only },
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+        // Explicit: an automatic layout would drop the FGD table for models that never read it.
+        let bind_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("brdf probe"),
+            entries: &[
+                storage(0, true),
+                storage(1, false),
+                crate::render::luts::fgd_layout_entry(2, wgpu::ShaderStages::COMPUTE),
+            ],
+        });
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("brdf probe"),
+            bind_group_layouts: &[Some(&bind_layout)],
+            immediate_size: 0,
+        });
+        BrdfProbe { bind_layout, layout, fgd: crate::render::luts::fgd_texture(gpu), pipelines: Default::default() }
+    }
+
+    fn pipeline(
+        &mut self,
+        gpu: &GpuContext,
+        pipeline: Pipeline,
+        model: &ShaderModel,
+    ) -> Result<&wgpu::ComputePipeline, Error> {
+        // Keyed by source path too: user models may share a name across folders in one process.
+        let key = (pipeline, model.name.to_string(), model.source_path.to_string());
+        if !self.pipelines.contains_key(&key) {
+            let source = wgsl::compose(wgsl::PassKind::BrdfProbe, Some(model));
+            let module = gpu.shader_module(&format!("probe {}/{}", pipeline.name(), model.name), &source)?;
+            let constants = [("PIPELINE", pipeline.shader_id() as f64)];
+            let compute = gpu.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some("brdf probe"),
+                layout: Some(&self.layout),
+                module: &module,
+                entry_point: Some("probe_main"),
+                compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
+                cache: None,
+            });
+            self.pipelines.insert(key.clone(), compute);
+        }
+        Ok(&self.pipelines[&key])
+    }
+
+    /// (direct, indirect) per input, as `model_direct` and `model_indirect` return them.
+    pub fn evaluate(
+        &mut self,
+        gpu: &GpuContext,
+        pipeline: Pipeline,
+        model: &ShaderModel,
+        inputs: &[ProbeInput],
+    ) -> Result<Vec<ProbeOutput>, Error> {
+        if inputs.is_empty() {
+            return Ok(Vec::new());
+        }
+        self.pipeline(gpu, pipeline, model)?;
+        let compute = &self.pipelines[&(pipeline, model.name.to_string(), model.source_path.to_string())];
+        let device = &gpu.device;
+        let input_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("probe inputs"),
+            contents: bytemuck::cast_slice(inputs),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let out_size = (inputs.len() * 2 * 16) as u64;
+        let output_buf = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("probe outputs"),
+            size: out_size,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let staging = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("probe staging"),
+            size: out_size,
+            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+            mapped_at_creation: false,
+        });
+        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("probe"),
+            layout: &self.bind_layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: input_buf.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: output_buf.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&self.fgd) },
+            ],
+        });
+        let mut encoder = device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            pass.set_pipeline(compute);
+            pass.set_bind_group(0, &bind, &[]);
+            pass.dispatch_workgroups((inputs.len() as u32).div_ceil(64), 1, 1);
+        }
+        encoder.copy_buffer_to_buffer(&output_buf, 0, &staging, 0, out_size);
+        gpu.queue.submit([encoder.finish()]);
+        let bytes = map_read(device, &staging)?;
+        gpu.check_errors("evaluating the BRDF probe")?;
+        let floats: &[[f32; 4]] = bytemuck::cast_slice(&bytes);
+        Ok(floats.chunks_exact(2).map(|p| ([p[0][0], p[0][1], p[0][2]], [p[1][0], p[1][1], p[1][2]])).collect())
+    }
+}
+
+/// One-shot evaluation (builds a probe for this call); prefer a `BrdfProbe` for many calls.
 pub fn evaluate(
     gpu: &GpuContext,
     pipeline: Pipeline,
     model: &ShaderModel,
     inputs: &[ProbeInput],
 ) -> Result<Vec<ProbeOutput>, Error> {
-    if inputs.is_empty() {
-        return Ok(Vec::new());
-    }
-    let device = &gpu.device;
-    let source = wgsl::compose(wgsl::PassKind::BrdfProbe, Some(model));
-    let module = gpu.shader_module(&format!("probe {}/{}", pipeline.name(), model.name), &source)?;
-    let constants = [("PIPELINE", pipeline.shader_id() as f64)];
-    let storage = |binding: u32, read_only: bool| wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    };
-    // Explicit: an automatic layout would drop the FGD table for models that never read it.
-    let bind_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some("brdf probe"),
-        entries: &[
-            storage(0, true),
-            storage(1, false),
-            crate::render::luts::fgd_layout_entry(2, wgpu::ShaderStages::COMPUTE),
-        ],
-    });
-    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: Some("brdf probe"),
-        bind_group_layouts: &[Some(&bind_layout)],
-        immediate_size: 0,
-    });
-    let compute = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some("brdf probe"),
-        layout: Some(&layout),
-        module: &module,
-        entry_point: Some("probe_main"),
-        compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
-        cache: None,
-    });
-    let input_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("probe inputs"),
-        contents: bytemuck::cast_slice(inputs),
-        usage: wgpu::BufferUsages::STORAGE,
-    });
-    let out_size = (inputs.len() * 2 * 16) as u64;
-    let output_buf = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("probe outputs"),
-        size: out_size,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let staging = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("probe staging"),
-        size: out_size,
-        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-        mapped_at_creation: false,
-    });
-    let fgd = crate::render::luts::fgd_texture(gpu);
-    let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("probe"),
-        layout: &bind_layout,
-        entries: &[
-            wgpu::BindGroupEntry { binding: 0, resource: input_buf.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 1, resource: output_buf.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&fgd) },
-        ],
-    });
-    let mut encoder = device.create_command_encoder(&Default::default());
-    {
-        let mut pass = encoder.begin_compute_pass(&Default::default());
-        pass.set_pipeline(&compute);
-        pass.set_bind_group(0, &bind, &[]);
-        pass.dispatch_workgroups((inputs.len() as u32).div_ceil(64), 1, 1);
-    }
-    encoder.copy_buffer_to_buffer(&output_buf, 0, &staging, 0, out_size);
-    gpu.queue.submit([encoder.finish()]);
-    let bytes = map_read(device, &staging)?;
-    gpu.check_errors("evaluating the BRDF probe")?;
-    let floats: &[[f32; 4]] = bytemuck::cast_slice(&bytes);
-    Ok(floats.chunks_exact(2).map(|p| ([p[0][0], p[0][1], p[0][2]], [p[1][0], p[1][1], p[1][2]])).collect())
+    BrdfProbe::new(gpu).evaluate(gpu, pipeline, model, inputs)
 }
