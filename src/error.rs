@@ -2,7 +2,6 @@
 //! 2 bad input, 3 no usable adapter or a device error, 1 any other failure.
 
 use std::fmt;
-use std::path::PathBuf;
 
 /// Bad input: names the file, the key (when there is one) and what is allowed.
 #[derive(Debug, Clone, PartialEq)]
@@ -86,13 +85,3 @@ pub type Result<T, E = Error> = std::result::Result<T, E>;
 pub const ADAPTER_HELP: &str = "install a Vulkan driver; on a machine without a GPU install Mesa's lavapipe \
 (Debian/Ubuntu: `apt-get install -y mesa-vulkan-drivers`). SHADEMATRIX_BACKEND (vulkan|gl) and \
 SHADEMATRIX_ADAPTER (a substring of the adapter name) choose among adapters.";
-
-/// Helper for paths in messages.
-pub fn display_path(p: &std::path::Path) -> String {
-    p.display().to_string()
-}
-
-/// Resolve `rel` against the folder of `base_file`.
-pub fn relative_to(base_file: &std::path::Path, rel: &str) -> PathBuf {
-    base_file.parent().map(|d| d.join(rel)).unwrap_or_else(|| PathBuf::from(rel))
-}

@@ -465,7 +465,7 @@ fn parse_filter(c: &Checker, key: &str, table: &toml::Table) -> Result<Filter, I
         let axis = Axis::ALL
             .into_iter()
             .find(|a| a.name() == k)
-            .ok_or_else(|| unknown_name(c_file(c), &format!("{key}.{k}"), "filter axis", k, &axis_names))?;
+            .ok_or_else(|| unknown_name(c.file(), &format!("{key}.{k}"), "filter axis", k, &axis_names))?;
         let items: Vec<&toml::Value> = match v {
             toml::Value::Array(a) => a.iter().collect(),
             other => vec![other],
@@ -491,8 +491,4 @@ fn parse_filter(c: &Checker, key: &str, table: &toml::Table) -> Result<Filter, I
         terms.insert(axis, values);
     }
     Ok(Filter { terms: terms.into_iter().collect() })
-}
-
-fn c_file<'a>(c: &'a Checker) -> &'a str {
-    c.file()
 }
