@@ -54,6 +54,13 @@ pub enum Error {
         #[source]
         source: std::io::Error,
     },
+    /// Encoding or decoding a file format (EXR, PNG, JSON) failed; the library's error is kept.
+    #[error("{what}: {source}")]
+    Encode {
+        what: String,
+        #[source]
+        source: Box<dyn std::error::Error + Send + Sync>,
+    },
     /// A check ran and failed (thresholds, audit expectations): exit 1.
     #[error("check failed: {0}")]
     CheckFailed(String),
@@ -61,13 +68,29 @@ pub enum Error {
     Other(String),
 }
 
+/// The CLI's exit codes (DESIGN.md).
+pub mod exit {
+    pub const OK: u8 = 0;
+    /// A check failed (thresholds, audit expectations), or anything else went wrong.
+    pub const FAILURE: u8 = 1;
+    /// Bad input: the message names the file, the key, the value and what is allowed.
+    pub const BAD_INPUT: u8 = 2;
+    /// No usable adapter, or a device error.
+    pub const DEVICE: u8 = 3;
+}
+
 impl Error {
-    pub fn exit_code(&self) -> i32 {
+    pub fn exit_code(&self) -> u8 {
         match self {
-            Error::Input(_) => 2,
-            Error::NoAdapter(_) | Error::Device(_) => 3,
-            Error::Io { .. } | Error::Other(_) | Error::CheckFailed(_) => 1,
+            Error::Input(_) => exit::BAD_INPUT,
+            Error::NoAdapter(_) | Error::Device(_) => exit::DEVICE,
+            Error::Io { .. } | Error::Other(_) | Error::CheckFailed(_) | Error::Encode { .. } => exit::FAILURE,
         }
+    }
+
+    /// An error of a library we call, with what we were doing.
+    pub fn encode(what: impl Into<String>, source: impl std::error::Error + Send + Sync + 'static) -> Self {
+        Error::Encode { what: what.into(), source: Box::new(source) }
     }
 
     pub fn io(context: impl Into<String>, source: std::io::Error) -> Self {

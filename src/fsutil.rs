@@ -25,7 +25,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), Error> {
 
 pub fn write_json<T: serde::Serialize>(path: &Path, value: &T) -> Result<(), Error> {
     let bytes =
-        serde_json::to_vec_pretty(value).map_err(|e| Error::Other(format!("encoding {}: {e}", path.display())))?;
+        serde_json::to_vec_pretty(value).map_err(|e| Error::encode(format!("encoding {}", path.display()), e))?;
     write_atomic(path, &bytes)
 }
 

@@ -104,5 +104,22 @@ pub fn csv(audits: &[ModelAudit]) -> String {
 pub fn write(dir: &Path, audits: &[ModelAudit], adapter: &str) -> Result<(), Error> {
     write_atomic(&dir.join("audit.md"), markdown(audits, adapter).as_bytes())?;
     write_atomic(&dir.join("audit.csv"), csv(audits).as_bytes())?;
-    write_json(&dir.join("audit.json"), &serde_json::json!({ "adapter": adapter, "models": audits }))
+    write_json(&dir.join("audit.json"), &AuditRecord::new(adapter, audits))
+}
+
+/// Version of `audit.json`.
+pub const AUDIT_SCHEMA: u32 = 1;
+
+/// `audit.json`: the adapter and every model's audit.
+#[derive(serde::Serialize)]
+pub struct AuditRecord<'a> {
+    pub schema: u32,
+    pub adapter: &'a str,
+    pub models: &'a [ModelAudit],
+}
+
+impl<'a> AuditRecord<'a> {
+    pub fn new(adapter: &'a str, models: &'a [ModelAudit]) -> Self {
+        AuditRecord { schema: AUDIT_SCHEMA, adapter, models }
+    }
 }

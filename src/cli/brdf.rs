@@ -5,10 +5,10 @@ use serde_json::json;
 
 use crate::error::{Error, InputError};
 use crate::gpu::GpuContext;
+use crate::input::names::unknown_name;
 use crate::pipelines::Pipeline;
 use crate::render::probe::{evaluate, ProbeInput};
 use crate::shading::registry::{all_model_names, find_model, model_names_for, Sliders};
-use crate::spec::names::unknown_name;
 
 pub struct BrdfRequest {
     pub pipeline: String,
@@ -41,7 +41,13 @@ fn direction(key: &str, text: &str) -> Result<DVec3, InputError> {
     Ok(d.normalize())
 }
 
-pub fn run(req: &BrdfRequest, json_out: bool) -> Result<String, Error> {
+pub fn print(req: &BrdfRequest, json_out: bool, models: &super::ModelsArg) -> Result<(), Error> {
+    super::load_models(models)?;
+    println!("{}", evaluate_request(req, json_out)?);
+    Ok(())
+}
+
+pub fn evaluate_request(req: &BrdfRequest, json_out: bool) -> Result<String, Error> {
     let pipeline = Pipeline::from_name(&req.pipeline)
         .ok_or_else(|| unknown_name(ORIGIN, "--pipeline", "pipeline", &req.pipeline, &Pipeline::names()))?;
     let model = find_model(pipeline, &req.shader).ok_or_else(|| {

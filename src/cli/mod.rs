@@ -1,4 +1,198 @@
-//! Commands that are more than a call into the library: argument handling and text output.
+//! The command line: the grammar (clap) and one function per command. `main.rs` only parses and
+//! maps the result to an exit code.
 
+pub mod audit;
+pub mod bench;
 pub mod brdf;
+pub mod diff;
+pub mod export_mesh;
+pub mod list;
+pub mod runs;
 pub mod shaders;
+
+use clap::{Parser, Subcommand};
+use std::path::{Path, PathBuf};
+
+use crate::error::Error;
+use crate::spec::matrix::Matrix;
+
+/// Where user-supplied models are read from.
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct ModelsArg {
+    /// A folder of user models (NAME.wgsl with NAME.toml beside it). Default: the matrix's `models`
+    /// key, else ./shaders/brdf.
+    #[arg(long, value_name = "DIR")]
+    pub models: Option<PathBuf>,
+}
+
+#[derive(Parser)]
+#[command(
+    name = "shadematrix",
+    version,
+    about = "Render a TOML matrix of pipelines × shaders × materials × compositions headlessly with wgpu"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+#[derive(Subcommand)]
+pub enum Command {
+    /// Render every cell of a matrix (default: the embedded default matrix).
+    Run {
+        /// Matrix TOML file.
+        matrix: Option<PathBuf>,
+        /// Run folder (default: results/<matrix>-<timestamp>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Continue an interrupted run: cells already finished are kept.
+        #[arg(long)]
+        resume: bool,
+        /// Render shard K of N (e.g. 2/4).
+        #[arg(long, value_name = "K/N")]
+        shard: Option<String>,
+        /// Only cells matching, e.g. `composition=medusa,shader=standard|lit` (the grammar of `[[only]]`).
+        #[arg(long, value_name = "FILTER")]
+        only: Option<String>,
+        #[command(flatten)]
+        models: ModelsArg,
+    },
+    /// Run a matrix and report cells/s, time per stage, stage overlap and peak memory
+    /// (also written to tables/bench.md and .json in the run folder).
+    Bench {
+        /// Matrix TOML file (default: the embedded default matrix).
+        matrix: Option<PathBuf>,
+        /// Run folder (default: results/<matrix>-<timestamp>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        #[command(flatten)]
+        models: ModelsArg,
+    },
+    /// List the expanded cells, the pruned ones and the passes each composition needs.
+    List {
+        matrix: Option<PathBuf>,
+        #[command(flatten)]
+        models: ModelsArg,
+    },
+    /// Every shader: pipelines, parameters, the sweep axes it reads and how they map.
+    Shaders {
+        #[command(flatten)]
+        models: ModelsArg,
+    },
+    /// Evaluate one model for one set of directions (f64 twin; --gpu adds the WGSL on the adapter).
+    Brdf {
+        #[arg(long)]
+        pipeline: String,
+        #[arg(long)]
+        shader: String,
+        /// As the shader receives it: albedo=R,G,B (linear), metallic=X, smoothness=X, specular=R,G,B, or a model parameter.
+        #[arg(long = "param", value_name = "K=V")]
+        params: Vec<String>,
+        #[arg(long, allow_hyphen_values = true)]
+        n: String,
+        #[arg(long, allow_hyphen_values = true)]
+        l: String,
+        #[arg(long, allow_hyphen_values = true)]
+        v: String,
+        #[arg(long)]
+        gpu: bool,
+        #[arg(long)]
+        json: bool,
+        #[command(flatten)]
+        models: ModelsArg,
+    },
+    /// BRDF property audit: GPU-vs-f64 parity, positivity, reciprocity, energy. Exit 1 on a failed check.
+    Audit {
+        /// Only the models of this name (every pipeline that has it).
+        #[arg(long)]
+        shader: Option<String>,
+        /// Print the JSON report instead of the table.
+        #[arg(long)]
+        json: bool,
+        /// Where audit.md, .csv and .json go (default results/audit-<time>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        #[command(flatten)]
+        models: ModelsArg,
+    },
+    /// FLIP and SSIM (and RMSE, PSNR, bad-value counts) of two PNGs or two EXRs; A is the reference.
+    Diff {
+        a: PathBuf,
+        b: PathBuf,
+        #[arg(long)]
+        json: bool,
+        /// Write flip.png and ssim.png (1 − SSIM) here.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Also SSIM of R, G and B separately.
+        #[arg(long)]
+        per_channel: bool,
+    },
+    /// Compare a run with a baseline run: junit.xml and summary.md into the run; exit 1 on a regression.
+    Check {
+        run: PathBuf,
+        #[arg(long)]
+        baseline: PathBuf,
+        /// Largest FLIP mean a cell may have against its baseline (default 0.01).
+        #[arg(long)]
+        flip_mean: Option<f64>,
+        /// Smallest SSIM a cell may have against its baseline (default 0.99).
+        #[arg(long)]
+        ssim_min: Option<f64>,
+    },
+    /// Rebuild the reports of a run (tables) from its recorded files, without rendering.
+    Report { run: PathBuf },
+    /// Write a composition's meshes (world space) as a GLB file.
+    ExportMesh {
+        /// A built-in composition name or a scene TOML path.
+        composition: String,
+        out: PathBuf,
+    },
+}
+
+impl Default for Command {
+    /// No command: the main job, the embedded default matrix.
+    fn default() -> Self {
+        Command::Run { matrix: None, out: None, resume: false, shard: None, only: None, models: ModelsArg::default() }
+    }
+}
+
+pub fn dispatch(cmd: Command) -> Result<(), Error> {
+    match cmd {
+        Command::Run { matrix, out, resume, shard, only, models } => {
+            runs::run(matrix.as_deref(), out, resume, shard.as_deref(), only.as_deref(), &models)
+        }
+        Command::Bench { matrix, out, models } => runs::bench(matrix.as_deref(), out, &models),
+        Command::List { matrix, models } => list::list(matrix.as_deref(), &models),
+        Command::Shaders { models } => shaders::print(&models),
+        Command::Brdf { pipeline, shader, params, n, l, v, gpu, json, models } => {
+            let req = brdf::BrdfRequest { pipeline, shader, params, n, l, v, gpu };
+            brdf::print(&req, json, &models)
+        }
+        Command::Audit { shader, json, out, models } => audit::audit(shader.as_deref(), json, out, &models),
+        Command::Diff { a, b, json, out, per_channel } => diff::diff(&a, &b, json, out.as_deref(), per_channel),
+        Command::Check { run, baseline, flip_mean, ssim_min } => runs::check(&run, &baseline, flip_mean, ssim_min),
+        Command::Report { run } => runs::report(&run),
+        Command::ExportMesh { composition, out } => export_mesh::export_mesh(&composition, &out),
+    }
+}
+
+/// The matrix at `path`, or the embedded default one.
+pub fn load_matrix(path: Option<&Path>) -> Result<Matrix, Error> {
+    match path {
+        Some(p) => Matrix::load(p),
+        None => Matrix::load_default(),
+    }
+}
+
+/// Register the user models of `--models DIR`, else of ./shaders/brdf.
+pub fn load_models(models: &ModelsArg) -> Result<(), Error> {
+    let dir = models.models.clone().unwrap_or_else(|| PathBuf::from(crate::shading::user::USER_MODEL_DIR));
+    crate::shading::user::load_dir(&dir)?;
+    Ok(())
+}
+
+/// Print to stdout; a closed pipe (`| head`) is not an error of ours.
+pub fn print_out(text: &str) {
+    let _ = std::io::Write::write_all(&mut std::io::stdout(), text.as_bytes());
+}

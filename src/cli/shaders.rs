@@ -2,7 +2,14 @@
 
 use std::fmt::Write;
 
+use crate::error::Error;
 use crate::shading::registry::all_models;
+
+pub fn print(models: &super::ModelsArg) -> Result<(), Error> {
+    super::load_models(models)?;
+    super::print_out(&table());
+    Ok(())
+}
 
 pub fn table() -> String {
     let mut s = String::from("| shader | pipelines | per vertex | reads | parameters | mapping from the sweep | source | summary |\n|---|---|---|---|---|---|---|---|\n");

@@ -2,7 +2,7 @@
 //! EXRs (linear: HDR-FLIP, RMSE, counts). A metric that cannot be computed is reported as missing,
 //! with the reason, never as 0.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 use super::stats::{bad_values, psnr, rmse, BadValues};
@@ -44,7 +44,7 @@ impl LoadedImage {
     }
 }
 
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 #[serde(untagged)]
 pub enum Metric {
     Value { mean: f64 },
@@ -60,16 +60,16 @@ impl Metric {
     }
 }
 
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 pub struct FlipMetric {
     /// "ldr" or "hdr".
-    pub kind: &'static str,
+    pub kind: String,
     pub ppd: f32,
     #[serde(flatten)]
     pub value: Metric,
 }
 
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Comparison {
     pub width: u32,
     pub height: u32,
@@ -77,7 +77,7 @@ pub struct Comparison {
     /// On the luma of the sRGB values (PNG inputs only).
     pub ssim: Metric,
     /// SSIM of R, G and B separately, when asked for (PNG inputs only).
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ssim_channels: Option<[Metric; 3]>,
     /// Over RGB: sRGB values in [0, 1] for PNGs, linear values for EXRs.
     pub rmse: f64,
@@ -137,7 +137,7 @@ pub fn compare_with(
             Ok(Comparison {
                 width: w,
                 height: h,
-                flip: FlipMetric { kind: "ldr", ppd: flip::PPD, value: flip_value.0 },
+                flip: FlipMetric { kind: "ldr".into(), ppd: flip::PPD, value: flip_value.0 },
                 ssim: ssim_value,
                 ssim_channels,
                 rmse: e,
@@ -165,7 +165,7 @@ pub fn compare_with(
             Ok(Comparison {
                 width: w,
                 height: h,
-                flip: FlipMetric { kind: "hdr", ppd: flip::PPD, value: flip_value.0 },
+                flip: FlipMetric { kind: "hdr".into(), ppd: flip::PPD, value: flip_value.0 },
                 ssim: Metric::Missing {
                     missing: "SSIM is defined here on display-referred sRGB: compare the PNGs".into(),
                 },

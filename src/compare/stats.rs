@@ -1,8 +1,8 @@
 //! Pixel statistics: RMSE, PSNR and the counts of NaN, Inf and negative values.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
-#[derive(Debug, Clone, Copy, Default, Serialize, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, Serialize, Deserialize, PartialEq)]
 pub struct BadValues {
     pub nan: usize,
     pub inf: usize,

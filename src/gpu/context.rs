@@ -32,7 +32,7 @@ fn backend_choice() -> Result<Vec<wgpu::Backends>, Error> {
         None | Some("") => Ok(vec![wgpu::Backends::VULKAN, wgpu::Backends::GL]),
         Some("vulkan") => Ok(vec![wgpu::Backends::VULKAN]),
         Some("gl") => Ok(vec![wgpu::Backends::GL]),
-        Some(other) => Err(Error::Input(crate::spec::names::unknown_name(
+        Some(other) => Err(Error::Input(crate::input::names::unknown_name(
             "environment",
             "SHADEMATRIX_BACKEND",
             "backend",

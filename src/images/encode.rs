@@ -14,7 +14,7 @@ pub fn exr_bytes(width: u32, height: u32, rgba: &[f32]) -> Result<Vec<u8>, AppEr
     });
     let image = Image::from_channels((w, h), channels);
     let mut cursor = Cursor::new(Vec::new());
-    image.write().to_buffered(&mut cursor).map_err(|e| AppError::Other(format!("encoding EXR: {e}")))?;
+    image.write().to_buffered(&mut cursor).map_err(|e| AppError::encode("encoding EXR", e))?;
     Ok(cursor.into_inner())
 }
 
@@ -29,7 +29,7 @@ pub fn read_exr(path: &std::path::Path) -> Result<(u32, u32, Vec<f32>), AppError
             px[i..i + 4].copy_from_slice(&[r, g, b, a]);
         },
     )
-    .map_err(|e| AppError::Other(format!("reading {}: {e}", path.display())))?;
+    .map_err(|e| AppError::encode(format!("reading {}", path.display()), e))?;
     let size = image.layer_data.size;
     Ok((size.width() as u32, size.height() as u32, image.layer_data.channel_data.pixels.1))
 }
@@ -39,6 +39,6 @@ pub fn png_bytes(width: u32, height: u32, rgba8: &[u8]) -> Result<Vec<u8>, AppEr
     let mut out = Vec::new();
     image::codecs::png::PngEncoder::new(&mut out)
         .write_image(rgba8, width, height, image::ExtendedColorType::Rgba8)
-        .map_err(|e| AppError::Other(format!("encoding PNG: {e}")))?;
+        .map_err(|e| AppError::encode("encoding PNG", e))?;
     Ok(out)
 }

@@ -1,4 +1,5 @@
-//! Images: display transforms and encoding (OpenEXR linear float, PNG 8-bit sRGB).
+//! Images: display transforms, encoding (OpenEXR linear float, PNG 8-bit sRGB) and pixel statistics.
 
 pub mod encode;
+pub mod stats;
 pub mod tonemap;

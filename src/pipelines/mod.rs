@@ -1,12 +1,12 @@
 //! Emulations of the three engine pipelines' conventions (spec/shading.md §1–3, §5): light units
 //! and colour handling, distance attenuation, tonemapping, and which shaders exist in each.
-//! Per-pass plans live in `run::plan`; this module only states conventions.
+//! Per-pass plans live in `plan`; this module only states conventions.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::color::srgb_to_linear;
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Pipeline {
     Builtin,
@@ -100,7 +100,7 @@ impl Pipeline {
 }
 
 /// Rendering path. Only forward exists so far; deferred slots in here.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum RenderPath {
     Forward,
@@ -125,7 +125,7 @@ impl RenderPath {
 }
 
 /// Point/spot distance attenuation, x = d / range (shading.md §1–3).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Attenuation {
     /// Built-in's falloff texture is not public. APPROXIMATION: 1/(1 + 25x²)·smoothstep(1, 0.8, x).
@@ -162,7 +162,7 @@ impl Attenuation {
 }
 
 /// Display transform from linear HDR to the PNG (spec §3 "Exposure", §5).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Tonemap {
     /// Built-in and URP default: clamp, sRGB encode.

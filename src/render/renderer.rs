@@ -16,7 +16,7 @@ use crate::gpu::readback::TextureReadback;
 use crate::gpu::timing::PassTimer;
 use crate::gpu::GpuContext;
 use crate::pipelines::Pipeline;
-use crate::run::plan::FramePlan;
+use crate::plan::FramePlan;
 use crate::shading::registry::Sliders;
 use crate::shading::twin::Surface;
 use crate::shading::{find_model, wgsl, ShaderModel};

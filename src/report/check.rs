@@ -52,16 +52,12 @@ pub fn check(run_dir: &Path, baseline_dir: &Path, t: Thresholds) -> Result<Check
     let run = RunData::load(run_dir)?;
     let baseline = RunData::load(baseline_dir)?;
     let mut cells = Vec::new();
-    for (id, cell) in &run.cells {
-        let classname = format!(
-            "{}.{}.{}",
-            cell["composition"].as_str().unwrap_or("?"),
-            cell["pipeline"].as_str().unwrap_or("?"),
-            cell["shader"].as_str().unwrap_or("?")
-        );
+    for cell in &run.cells {
+        let id = &cell.id.0;
+        let classname = format!("{}.{}.{}", cell.composition, cell.pipeline.name(), cell.shader);
         let base_png = baseline.cell_dir(id).join("image.png");
         let mut c = CellCheck { id: id.clone(), classname, flip_mean: None, ssim: None, failure: None };
-        if !baseline.cells.iter().any(|(b, _)| b == id) {
+        if !baseline.has_cell(id) {
             c.failure = Some("not in the baseline".into());
         } else {
             let cmp =
@@ -85,9 +81,9 @@ pub fn check(run_dir: &Path, baseline_dir: &Path, t: Thresholds) -> Result<Check
         }
         cells.push(c);
     }
-    for (id, _) in baseline.cells.iter().filter(|(b, _)| !run.cells.iter().any(|(r, _)| r == b)) {
+    for b in baseline.cells.iter().filter(|b| !run.has_cell(&b.id.0)) {
         cells.push(CellCheck {
-            id: id.clone(),
+            id: b.id.0.clone(),
             classname: "missing".into(),
             flip_mean: None,
             ssim: None,

@@ -95,23 +95,20 @@ pub fn svg(title: &str, time_label: &str, points: &[Point]) -> String {
 
 /// Build per-composition points; cells without a reference or a time are left out and counted.
 pub fn points(run: &RunData) -> (BTreeMap<String, Vec<Point>>, bool, usize) {
-    let gpu = run.cells.iter().any(|(_, c)| c["timing"]["gpu"]["median_ms"].is_f64());
+    let gpu = run.cells.iter().any(|c| c.gpu_median_ms().is_some());
     let mut by: BTreeMap<String, Vec<Point>> = BTreeMap::new();
     let mut skipped = 0;
-    for (id, c) in &run.cells {
-        let time =
-            if gpu { c["timing"]["gpu"]["median_ms"].as_f64() } else { c["timing"]["cpu_wall"]["median_ms"].as_f64() };
-        let flip = c["metrics"]["ldr"]["flip"]["mean"].as_f64();
+    for c in &run.cells {
+        let time = if gpu { c.gpu_median_ms() } else { c.timing.cpu_wall.median_ms };
+        let flip = c.metrics.ldr_flip();
         match (time, flip) {
-            (Some(time_ms), Some(flip)) => {
-                by.entry(c["composition"].as_str().unwrap_or("?").to_string()).or_default().push(Point {
-                    id: id.clone(),
-                    label: format!("{}/{}", c["pipeline"].as_str().unwrap_or("?"), c["shader"].as_str().unwrap_or("?")),
-                    time_ms,
-                    flip,
-                    pareto: false,
-                })
-            }
+            (Some(time_ms), Some(flip)) => by.entry(c.composition.clone()).or_default().push(Point {
+                id: c.id.0.clone(),
+                label: format!("{}/{}", c.pipeline.name(), c.shader),
+                time_ms,
+                flip,
+                pareto: false,
+            }),
             _ => skipped += 1,
         }
     }

@@ -85,38 +85,38 @@ const SCRIPT: &str = r#"
 })();
 "#;
 
-fn num(v: &serde_json::Value, digits: usize) -> String {
-    v.as_f64().map(|x| format!("{x:.digits$}")).unwrap_or_else(|| "—".into())
+fn num(v: Option<f64>, digits: usize) -> String {
+    v.map(|x| format!("{x:.digits$}")).unwrap_or_else(|| "—".into())
 }
 
 pub fn html(run: &RunData, sheets: &[String], plots: &[String]) -> String {
-    let m = &run.run["matrix"];
-    let counts = &run.run["counts"];
+    let m = &run.run.matrix;
+    let counts = &run.run.counts;
     let mut s = String::new();
     let _ = write!(
         s,
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>shadematrix: {}</title><style>{STYLE}</style></head>\n<body data-errors=\"-1\" data-broken-images=\"-1\">\n",
-        esc(m["name"].as_str().unwrap_or("run"))
+        esc(&m.name)
     );
     let _ = writeln!(
         s,
         "<h1>{}</h1><p>Matrix <code>{}</code> (sha256 {}…), adapter <b>{}</b>. {} cells: {} rendered, {} twins, {} resumed; {} pruned. Status: {}.</p><p id=\"status\" class=\"status\">checking…</p>",
-        esc(m["name"].as_str().unwrap_or("run")),
-        esc(m["origin"].as_str().unwrap_or("")),
-        esc(&m["sha256"].as_str().unwrap_or("").chars().take(12).collect::<String>()),
+        esc(&m.name),
+        esc(&m.origin),
+        esc(&m.sha256.chars().take(12).collect::<String>()),
         esc(&run.adapter()),
-        counts["cells"],
-        counts["rendered"],
-        counts["twins"],
-        counts["resumed"],
-        counts["pruned"],
-        esc(run.run["status"].as_str().unwrap_or("?"))
+        counts.cells,
+        counts.rendered,
+        counts.twins,
+        counts.resumed,
+        counts.pruned,
+        run.run.status.name()
     );
     let _ = writeln!(s, "<p><a href=\"#cells\">cells</a> · <a href=\"#perf\">performance</a> · <a href=\"#plots\">error vs time</a> · <a href=\"#sheets\">contact sheets</a> · <a href=\"tables/perf.md\">perf.md</a> · <a href=\"tables/error_vs_time.md\">error_vs_time.md</a></p>");
 
     s.push_str("<h2 id=\"cells\">Cells</h2><div class=\"filters\">");
     for axis in FILTER_AXES {
-        let values: BTreeSet<String> = run.cells.iter().map(|(_, c)| super::sheets::axis_value(c, axis)).collect();
+        let values: BTreeSet<String> = run.cells.iter().map(|c| c.axis_value(axis)).collect();
         let _ = write!(s, "<label>{axis} <select data-axis=\"{axis}\"><option value=\"\">all</option>");
         for v in values {
             let _ = write!(s, "<option value=\"{0}\">{0}</option>", esc(&v));
@@ -124,45 +124,43 @@ pub fn html(run: &RunData, sheets: &[String], plots: &[String]) -> String {
         s.push_str("</select></label>");
     }
     s.push_str("</div><div class=\"cells\">\n");
-    for (id, c) in &run.cells {
+    for c in &run.cells {
+        let id = &c.id.0;
         let dir = format!("cells/{}", url(id));
-        let data: String =
-            FILTER_AXES.iter().map(|a| format!(" data-{a}=\"{}\"", esc(&super::sheets::axis_value(c, a)))).collect();
+        let data: String = FILTER_AXES.iter().map(|a| format!(" data-{a}=\"{}\"", esc(&c.axis_value(a)))).collect();
         let _ = write!(s, "<div class=\"cell\"{data}><div class=\"id\">{}</div>", esc(id));
         let _ = write!(
             s,
             "<a href=\"{dir}/image.exr\" title=\"linear EXR\"><img src=\"{dir}/image.png\" alt=\"{}\"></a>",
             esc(id)
         );
-        let metrics = &c["metrics"];
-        if metrics["ldr"].is_object() {
+        let metrics = &c.metrics;
+        if metrics.ldr.is_some() {
             let _ = write!(s, "<img src=\"{dir}/flip.png\" alt=\"FLIP map\" title=\"FLIP\"><img src=\"{dir}/ssim.png\" alt=\"1 − SSIM\" title=\"1 − SSIM\">");
             let _ = write!(
                 s,
                 "<div>against <code>{}</code>: FLIP {} · SSIM {} · HDR-FLIP {}</div>",
-                esc(metrics["reference"]["cell"].as_str().or(metrics["reference"]["kind"].as_str()).unwrap_or("")),
-                num(&metrics["ldr"]["flip"]["mean"], 4),
-                num(&metrics["ldr"]["ssim"]["mean"], 4),
-                num(&metrics["hdr"]["flip"]["mean"], 4)
+                esc(&metrics.reference.value().map(|r| r.label()).unwrap_or_default()),
+                num(metrics.ldr_flip(), 4),
+                num(metrics.ldr_ssim(), 4),
+                num(metrics.hdr_flip(), 4)
             );
         } else {
             let _ = write!(
                 s,
                 "<div class=\"missing\">no metrics: {}</div>",
-                esc(metrics["reference"]["missing"].as_str().unwrap_or("not computed"))
+                esc(metrics.reference.why_missing().unwrap_or("not computed"))
             );
         }
-        let t = &c["timing"];
-        let origin = if c["twin_of"].is_null() {
-            "rendered".to_string()
-        } else {
-            format!("twin of {}", esc(c["twin_of"].as_str().unwrap_or("")))
+        let origin = match &c.twin_of {
+            None => "rendered".to_string(),
+            Some(t) => format!("twin of {}", esc(&t.0)),
         };
         let _ = writeln!(
             s,
             "<div>GPU {} ms · CPU wall {} ms · {origin} · <a href=\"{dir}/cell.json\">cell.json</a></div></div>",
-            num(&t["gpu"]["median_ms"], 3),
-            num(&t["cpu_wall"]["median_ms"], 3),
+            num(c.gpu_median_ms(), 3),
+            num(c.timing.cpu_wall.median_ms, 3),
         );
     }
     s.push_str("</div>\n<h2 id=\"perf\">Performance</h2><p>Click a column to sort.</p><table class=\"sortable\"><thead><tr><th>cell</th><th>pipeline</th><th>shader</th><th>GPU median ms</th><th>GPU min</th><th>GPU max</th><th>CPU wall ms</th><th>readback ms</th><th>encode ms</th></tr></thead><tbody>\n");

@@ -12,10 +12,10 @@ pub fn build(run_dir: &std::path::Path) -> Result<(), crate::error::Error> {
     let run = run_data::RunData::load(run_dir)?;
     perf::write(&run)?;
     error_time::write(&run)?;
-    let specs: Vec<sheets::SheetSpec> = serde_json::from_value(run.run["matrix"]["sheets"].clone())
-        .ok()
-        .filter(|v: &Vec<sheets::SheetSpec>| !v.is_empty())
-        .unwrap_or_else(sheets::default_specs);
+    let specs = match &run.run.matrix.sheets {
+        s if s.is_empty() => crate::spec::sheets::default_specs(),
+        s => s.clone(),
+    };
     let written = sheets::write(&run, &specs)?;
     gallery::write(&run, &written)
 }

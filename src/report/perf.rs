@@ -1,7 +1,7 @@
 //! Performance tables from a run's records: tables/perf.md, .csv and .json, per cell and
 //! aggregated per pipeline × path × shader, with the adapter named at the top.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::fmt::Write;
 
@@ -9,7 +9,21 @@ use super::run_data::RunData;
 use crate::error::Error;
 use crate::fsutil::{write_atomic, write_json};
 
-#[derive(Debug, Clone, Serialize)]
+/// Version of `tables/perf.json`.
+pub const PERF_SCHEMA: u32 = 1;
+
+/// `tables/perf.json`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct PerfTable {
+    pub schema: u32,
+    pub adapter: String,
+    /// What the GPU columns measure, or why they are missing.
+    pub timing: String,
+    pub groups: Vec<PerfGroup>,
+    pub cells: Vec<PerfRow>,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct PerfRow {
     pub id: String,
     pub composition: String,
@@ -30,7 +44,7 @@ pub struct PerfRow {
     pub twin: bool,
 }
 
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct PerfGroup {
     pub pipeline: String,
     pub path: String,
@@ -52,24 +66,24 @@ fn median(mut v: Vec<f64>) -> Option<f64> {
 pub fn rows(run: &RunData) -> Vec<PerfRow> {
     run.cells
         .iter()
-        .map(|(id, c)| {
-            let t = &c["timing"];
-            let s = |v: &serde_json::Value| v.as_str().unwrap_or("").to_string();
+        .map(|c| {
+            let t = &c.timing;
+            let gpu = t.gpu.value();
             PerfRow {
-                id: id.clone(),
-                composition: s(&c["composition"]),
-                pipeline: s(&c["pipeline"]),
-                path: s(&c["path"]),
-                shader: s(&c["shader"]),
-                gpu_median_ms: t["gpu"]["median_ms"].as_f64(),
-                gpu_min_ms: t["gpu"]["min_ms"].as_f64(),
-                gpu_max_ms: t["gpu"]["max_ms"].as_f64(),
-                cpu_wall_median_ms: t["cpu_wall"]["median_ms"].as_f64(),
-                readback_ms: t["readback_ms"].as_f64(),
-                encode_ms: t["encode_ms"].as_f64(),
-                metrics_ms: t["metrics_ms"].as_f64(),
-                frames: t["frames"].as_u64().unwrap_or(0),
-                twin: !c["twin_of"].is_null(),
+                id: c.id.0.clone(),
+                composition: c.composition.clone(),
+                pipeline: c.pipeline.name().into(),
+                path: c.path.name().into(),
+                shader: c.shader.clone(),
+                gpu_median_ms: gpu.and_then(|g| g.median_ms),
+                gpu_min_ms: gpu.and_then(|g| g.min_ms),
+                gpu_max_ms: gpu.and_then(|g| g.max_ms),
+                cpu_wall_median_ms: t.cpu_wall.median_ms,
+                readback_ms: Some(t.readback_ms),
+                encode_ms: Some(t.encode_ms),
+                metrics_ms: t.metrics_ms,
+                frames: t.frames as u64,
+                twin: c.twin_of.is_some(),
             }
         })
         .collect()
@@ -159,6 +173,6 @@ pub fn write(run: &RunData) -> Result<(), Error> {
     write_atomic(&dir.join("perf.csv"), csv.as_bytes())?;
     write_json(
         &dir.join("perf.json"),
-        &serde_json::json!({ "adapter": run.adapter(), "timing": timing_kind, "groups": groups, "cells": rows }),
+        &PerfTable { schema: PERF_SCHEMA, adapter: run.adapter(), timing: timing_kind.into(), groups, cells: rows },
     )
 }

@@ -1,36 +1,37 @@
-//! Reading a run folder back: run.json and every cell's cell.json.
+//! Reading a run folder back: its run record and every finished cell's record, typed.
 
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, InputError};
-use crate::run::store::{CELL_FILE, RUN_FILE};
+use crate::record::{CellRecord, RecordError, RunRecord, CELL_FILE};
 
 pub struct RunData {
     pub dir: PathBuf,
-    pub run: serde_json::Value,
-    /// (cell id, cell.json), sorted by id.
-    pub cells: Vec<(String, serde_json::Value)>,
+    pub run: RunRecord,
+    /// Sorted by id.
+    pub cells: Vec<CellRecord>,
 }
 
 impl RunData {
     pub fn load(dir: &Path) -> Result<RunData, Error> {
         let shown = dir.display().to_string();
-        let run_text = std::fs::read_to_string(dir.join(RUN_FILE))
-            .map_err(|e| InputError::new(&shown, format!("not a run folder (no readable {RUN_FILE}): {e}")))?;
-        let run: serde_json::Value = serde_json::from_str(&run_text)
-            .map_err(|e| InputError::new(dir.join(RUN_FILE).display().to_string(), format!("invalid JSON: {e}")))?;
+        if !dir.join(crate::record::RUN_FILE).is_file() {
+            return Err(InputError::new(&shown, "not a run folder (no run.json)").into());
+        }
+        let run = RunRecord::load(dir)?;
         let mut cells = Vec::new();
         let entries = std::fs::read_dir(dir.join("cells"))
             .map_err(|e| InputError::new(&shown, format!("no cells folder: {e}")))?;
         for entry in entries.filter_map(|e| e.ok()) {
             let path = entry.path().join(CELL_FILE);
-            // A cell without its record never finished: it is not part of the run.
-            let Ok(text) = std::fs::read_to_string(&path) else { continue };
-            let v: serde_json::Value = serde_json::from_str(&text)
-                .map_err(|e| InputError::new(path.display().to_string(), format!("invalid JSON: {e}")))?;
-            cells.push((entry.file_name().to_string_lossy().to_string(), v));
+            match CellRecord::load(&path) {
+                Ok(c) => cells.push(c),
+                // A cell without its record never finished: it is not part of the run.
+                Err(RecordError::Absent) => {}
+                Err(e) => return Err(e.into_error(&path, "cell record")),
+            }
         }
-        cells.sort_by(|a, b| a.0.cmp(&b.0));
+        cells.sort_by(|a, b| a.id.cmp(&b.id));
         Ok(RunData { dir: dir.to_path_buf(), run, cells })
     }
 
@@ -39,12 +40,10 @@ impl RunData {
     }
 
     pub fn adapter(&self) -> String {
-        let a = &self.run["adapter"];
-        format!(
-            "{} ({}, {})",
-            a["name"].as_str().unwrap_or("?"),
-            a["backend"].as_str().unwrap_or("?"),
-            a["driver_info"].as_str().unwrap_or("")
-        )
+        self.run.adapter_label()
+    }
+
+    pub fn has_cell(&self, id: &str) -> bool {
+        self.cells.binary_search_by(|c| c.id.0.as_str().cmp(id)).is_ok()
     }
 }

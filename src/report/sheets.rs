@@ -9,41 +9,14 @@ use std::collections::{BTreeMap, BTreeSet};
 use super::run_data::RunData;
 use crate::error::Error;
 use crate::fsutil::write_atomic;
+use crate::record::CellRecord;
+use crate::spec::sheets::{SheetSpec, AXES};
 
-pub const AXES: [&str; 9] =
-    ["composition", "pipeline", "path", "shader", "preset", "metallic", "smoothness", "light_intensity", "light_range"];
 const SCALE: u32 = 2;
 const GLYPH: u32 = 8 * SCALE;
 const TILE_MAX: u32 = 192;
 const BG: Rgba<u8> = Rgba([32, 32, 36, 255]);
 const FG: Rgba<u8> = Rgba([235, 235, 235, 255]);
-
-#[derive(Debug, Clone, serde::Deserialize, serde::Serialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct SheetSpec {
-    pub rows: String,
-    pub cols: String,
-}
-
-/// The comparison application's views: pipelines × presets, and metallic × smoothness.
-pub fn default_specs() -> Vec<SheetSpec> {
-    vec![
-        SheetSpec { rows: "pipeline".into(), cols: "preset".into() },
-        SheetSpec { rows: "smoothness".into(), cols: "metallic".into() },
-    ]
-}
-
-/// A cell's value on an axis, as shown in labels and file names.
-pub fn axis_value(cell: &serde_json::Value, axis: &str) -> String {
-    let num = |v: &serde_json::Value| v.as_f64().map(|x| format!("{x:.2}")).unwrap_or_else(|| "?".into());
-    match axis {
-        "metallic" => num(&cell["sliders"]["metallic"]),
-        "smoothness" => num(&cell["sliders"]["smoothness"]),
-        "light_intensity" => num(&cell["key_light"]["intensity"]),
-        "light_range" => num(&cell["key_light"]["range"]),
-        other => cell[other].as_str().unwrap_or("?").to_string(),
-    }
-}
 
 pub fn draw_text(img: &mut RgbaImage, x: u32, y: u32, text: &str, colour: Rgba<u8>) {
     for (i, ch) in text.chars().enumerate() {
@@ -153,21 +126,21 @@ pub fn write(run: &RunData, specs: &[SheetSpec]) -> Result<Vec<String>, Error> {
         // matrix does not sweep it) would only split sheets apart: they are not "per" axes.
         let determined = |axis: &str| {
             let mut seen: BTreeMap<(String, String), String> = BTreeMap::new();
-            run.cells.iter().all(|(_, c)| {
-                let key = (axis_value(c, &spec.rows), axis_value(c, &spec.cols));
-                let v = axis_value(c, axis);
+            run.cells.iter().all(|c| {
+                let key = (c.axis_value(&spec.rows), c.axis_value(&spec.cols));
+                let v = c.axis_value(axis);
                 seen.entry(key).or_insert_with(|| v.clone()) == &v
             })
         };
         let per: Vec<&str> =
             AXES.iter().copied().filter(|a| *a != spec.rows && *a != spec.cols && !determined(a)).collect();
-        let mut groups: BTreeMap<Vec<String>, Vec<&(String, serde_json::Value)>> = BTreeMap::new();
+        let mut groups: BTreeMap<Vec<String>, Vec<&CellRecord>> = BTreeMap::new();
         for cell in &run.cells {
-            groups.entry(per.iter().map(|a| axis_value(&cell.1, a)).collect()).or_default().push(cell);
+            groups.entry(per.iter().map(|a| cell.axis_value(a)).collect()).or_default().push(cell);
         }
         for (key, cells) in groups {
-            let rows = sort_values(&spec.rows, cells.iter().map(|c| axis_value(&c.1, &spec.rows)).collect());
-            let cols = sort_values(&spec.cols, cells.iter().map(|c| axis_value(&c.1, &spec.cols)).collect());
+            let rows = sort_values(&spec.rows, cells.iter().map(|c| c.axis_value(&spec.rows)).collect());
+            let cols = sort_values(&spec.cols, cells.iter().map(|c| c.axis_value(&spec.cols)).collect());
             if rows.len() * cols.len() < 2 {
                 continue;
             }
@@ -178,10 +151,8 @@ pub fn write(run: &RunData, specs: &[SheetSpec]) -> Result<Vec<String>, Error> {
                         .map(|c| {
                             cells
                                 .iter()
-                                .find(|cell| {
-                                    axis_value(&cell.1, &spec.rows) == *r && axis_value(&cell.1, &spec.cols) == *c
-                                })
-                                .map(|cell| run.cell_dir(&cell.0).join("image.png"))
+                                .find(|cell| cell.axis_value(&spec.rows) == *r && cell.axis_value(&spec.cols) == *c)
+                                .map(|cell| run.cell_dir(&cell.id.0).join("image.png"))
                         })
                         .collect()
                 })
@@ -199,22 +170,23 @@ pub fn write(run: &RunData, specs: &[SheetSpec]) -> Result<Vec<String>, Error> {
     }
     // Difference sheets: cell | reference | FLIP map, one row per cell that has a reference.
     let mut by_comp: BTreeMap<String, Vec<LabelledRow>> = BTreeMap::new();
-    for (id, c) in &run.cells {
-        let Some(reference) = c["metrics"]["reference"]["cell"].as_str() else { continue };
+    for c in &run.cells {
+        let Some(reference) = c.metrics.reference_cell() else { continue };
+        let id = &c.id.0;
         let row = vec![
             Some(run.cell_dir(id).join("image.png")),
-            Some(run.cell_dir(reference).join("image.png")),
+            Some(run.cell_dir(&reference.0).join("image.png")),
             Some(run.cell_dir(id).join("flip.png")),
         ];
         let label = format!(
             "{}/{} {} m{} s{}",
-            axis_value(c, "pipeline"),
-            axis_value(c, "shader"),
-            axis_value(c, "preset"),
-            axis_value(c, "metallic"),
-            axis_value(c, "smoothness")
+            c.axis_value("pipeline"),
+            c.axis_value("shader"),
+            c.axis_value("preset"),
+            c.axis_value("metallic"),
+            c.axis_value("smoothness")
         );
-        by_comp.entry(axis_value(c, "composition")).or_default().push((label, row));
+        by_comp.entry(c.axis_value("composition")).or_default().push((label, row));
     }
     for (comp, rows) in by_comp {
         let labels: Vec<String> = rows.iter().map(|r| r.0.clone()).collect();

@@ -1,98 +1,156 @@
-//! The metrics pass, after rendering: each cell against its reference (the matrix's `reference`),
-//! from the files on disk. LDR-FLIP and SSIM on the PNGs, HDR-FLIP on the EXRs, RMSE and PSNR;
-//! flip.png and ssim.png into the cell folder; the figures, or why they are missing, into cell.json.
+//! The metrics stage: each cell against its reference (the matrix's `reference`). LDR-FLIP and
+//! SSIM on the sRGB values, HDR-FLIP on the linear values, RMSE and PSNR; flip.png and ssim.png
+//! into the cell folder. The cell's own images come from memory when the encode stage hands them
+//! over, else from its files; references are read from their files.
 
-use serde_json::json;
-use std::path::PathBuf;
-use std::time::Instant;
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
 
-use super::cells::{reference_cell_id, Cell};
-use super::store::{RunDir, CELL_FILE};
+use super::encode::CellImages;
+use crate::cells::{reference_cell_id, Cell, CellId};
 use crate::compare::{compare, LoadedImage};
 use crate::error::Error;
-use crate::fsutil::{write_atomic, write_json};
+use crate::fsutil::write_atomic;
 use crate::images::encode::png_bytes;
+use crate::record::cell::{CellMetrics, HdrComparison, MetricMaps, ReferenceRecord};
+use crate::record::{Maybe, RunDir};
 use crate::spec::matrix::{Matrix, ReferenceSpec};
 
-/// Where a cell's reference images are, or why there are none.
-pub enum ReferenceImages {
-    Found { png: PathBuf, exr: PathBuf, describe: serde_json::Value },
+/// Where a cell's reference is.
+pub enum ReferenceSource {
+    /// A cell of this run: its images are final once the encode stage has written them.
+    RunCell(CellId),
+    /// Files that exist now (supersampled render in the cell's folder, or an earlier run).
+    Files {
+        png: PathBuf,
+        exr: PathBuf,
+        record: ReferenceRecord,
+    },
     Missing(String),
 }
 
-pub fn reference_for(matrix: &Matrix, dir: &RunDir, cell: &Cell) -> ReferenceImages {
+/// Resolve the matrix's reference for `cell`; `in_run` says whether a cell id is one of this run's.
+pub fn reference_source(
+    matrix: &Matrix,
+    dir: &RunDir,
+    cell: &Cell,
+    in_run: &dyn Fn(&CellId) -> bool,
+) -> ReferenceSource {
     match &matrix.reference {
-        None => ReferenceImages::Missing("the matrix names no reference".into()),
+        None => ReferenceSource::Missing("the matrix names no reference".into()),
         Some(ReferenceSpec::Cell(terms)) => match reference_cell_id(cell, matrix, terms) {
-            None => ReferenceImages::Missing("the reference cell's axes are not in this matrix".into()),
-            Some(id) if id == cell.id => ReferenceImages::Missing("this cell is the reference".into()),
-            Some(id) => {
-                let d = dir.cell_dir(&id.0);
-                if d.join(CELL_FILE).is_file() {
-                    ReferenceImages::Found {
-                        png: d.join("image.png"),
-                        exr: d.join("image.exr"),
-                        describe: json!({ "kind": "cell", "cell": id }),
-                    }
-                } else {
-                    ReferenceImages::Missing(format!("reference cell `{id}` is not in this run"))
-                }
-            }
+            None => ReferenceSource::Missing("the reference cell's axes are not in this matrix".into()),
+            Some(id) if id == cell.id => ReferenceSource::Missing("this cell is the reference".into()),
+            Some(id) if in_run(&id) => ReferenceSource::RunCell(id),
+            Some(id) => ReferenceSource::Missing(format!("reference cell `{id}` is not in this run")),
         },
         Some(ReferenceSpec::Supersampled(k)) => {
             let d = dir.cell_dir(&cell.id.0);
-            if d.join("reference.exr").is_file() {
-                ReferenceImages::Found {
-                    png: d.join("reference.png"),
-                    exr: d.join("reference.exr"),
-                    describe: json!({ "kind": "supersampled", "factor": k }),
-                }
-            } else {
-                ReferenceImages::Missing(format!("no {k}× supersampled render (see the cell's reference_missing)"))
+            ReferenceSource::Files {
+                png: d.join("reference.png"),
+                exr: d.join("reference.exr"),
+                record: ReferenceRecord::Supersampled { factor: *k },
             }
         }
         Some(ReferenceSpec::Run(run)) => {
             let d = run.join("cells").join(&cell.id.0);
             if d.join("image.png").is_file() {
-                ReferenceImages::Found {
+                ReferenceSource::Files {
                     png: d.join("image.png"),
                     exr: d.join("image.exr"),
-                    describe: json!({ "kind": "run", "run": run, "cell": cell.id }),
+                    record: ReferenceRecord::Run { run: run.display().to_string(), cell: cell.id.clone() },
                 }
             } else {
-                ReferenceImages::Missing(format!("{} has no cell `{}`", run.display(), cell.id))
+                ReferenceSource::Missing(format!("{} has no cell `{}`", run.display(), cell.id))
             }
         }
     }
 }
 
-/// Compute and record the metrics of one cell.
-pub fn cell_metrics(matrix: &Matrix, dir: &RunDir, cell: &Cell) -> Result<(), Error> {
-    let t0 = Instant::now();
-    let cdir = dir.cell_dir(&cell.id.0);
-    let metrics = match reference_for(matrix, dir, cell) {
-        ReferenceImages::Missing(why) => json!({ "reference": { "missing": why } }),
-        ReferenceImages::Found { png, exr, describe } => {
-            let ldr = compare(&LoadedImage::load(&png)?, &LoadedImage::load(&cdir.join("image.png"))?, &cell.id.0)?;
-            for (name, px) in [("flip.png", &ldr.flip_map_rgba8), ("ssim.png", &ldr.ssim_map_rgba8)] {
-                if let Some(px) = px {
-                    write_atomic(&cdir.join(name), &png_bytes(ldr.width, ldr.height, px)?)?;
-                }
-            }
-            let hdr = if exr.is_file() {
-                let h = compare(&LoadedImage::load(&exr)?, &LoadedImage::load(&cdir.join("image.exr"))?, &cell.id.0)?;
-                json!({ "flip": h.flip, "rmse": h.rmse, "reference_bad": h.reference_bad, "test_bad": h.test_bad })
-            } else {
-                json!({ "missing": "the reference has no EXR" })
-            };
-            json!({ "reference": describe, "ldr": ldr, "hdr": hdr, "maps": { "flip": "flip.png", "ssim": "ssim.png" } })
+/// A reference's images, decoded once and shared by the cells compared with it.
+pub struct ReferenceImages {
+    ldr: LoadedImage,
+    /// None when the reference has no EXR.
+    hdr: Option<LoadedImage>,
+}
+
+impl ReferenceImages {
+    pub fn load(png: &Path, exr: &Path) -> Result<ReferenceImages, Error> {
+        Ok(ReferenceImages {
+            ldr: LoadedImage::load(png)?,
+            hdr: if exr.is_file() { Some(LoadedImage::load(exr)?) } else { None },
+        })
+    }
+}
+
+/// The last few references decoded. Cells of one reference are rendered close together, so a
+/// handful of entries saves nearly every decode, and memory stays bounded whatever the matrix.
+pub struct ReferenceCache {
+    entries: Mutex<Vec<(PathBuf, Arc<ReferenceImages>)>>,
+    capacity: usize,
+}
+
+impl ReferenceCache {
+    pub fn new(capacity: usize) -> ReferenceCache {
+        ReferenceCache { entries: Mutex::new(Vec::new()), capacity }
+    }
+
+    pub fn get(&self, png: &Path, exr: &Path) -> Result<Arc<ReferenceImages>, Error> {
+        if let Some(hit) = self.lock().iter().find(|(p, _)| p == png).map(|(_, r)| r.clone()) {
+            return Ok(hit);
         }
+        let loaded = Arc::new(ReferenceImages::load(png, exr)?);
+        let mut entries = self.lock();
+        entries.retain(|(p, _)| p != png);
+        entries.push((png.to_path_buf(), loaded.clone()));
+        if entries.len() > self.capacity {
+            entries.remove(0);
+        }
+        Ok(loaded)
+    }
+
+    fn lock(&self) -> std::sync::MutexGuard<'_, Vec<(PathBuf, Arc<ReferenceImages>)>> {
+        self.entries.lock().unwrap_or_else(|e| e.into_inner())
+    }
+}
+
+/// Compare a cell's images with its reference's; writes flip.png and ssim.png into `cell_dir`.
+pub fn compare_cell(
+    cell: &Cell,
+    cell_dir: &Path,
+    images: Option<CellImages>,
+    reference: &ReferenceImages,
+    record: ReferenceRecord,
+) -> Result<CellMetrics, Error> {
+    let (ldr, hdr) = match images {
+        Some(i) => (
+            LoadedImage::Ldr { width: i.width, height: i.height, rgba8: i.srgb8 },
+            LoadedImage::Hdr { width: i.width, height: i.height, rgba: i.hdr },
+        ),
+        None => (LoadedImage::load(&cell_dir.join("image.png"))?, LoadedImage::load(&cell_dir.join("image.exr"))?),
     };
-    let path = cdir.join(CELL_FILE);
-    let text = std::fs::read_to_string(&path).map_err(|e| Error::io_path("reading", &path, e))?;
-    let mut v: serde_json::Value =
-        serde_json::from_str(&text).map_err(|e| Error::Other(format!("{}: {e}", path.display())))?;
-    v["metrics"] = metrics;
-    v["timing"]["metrics_ms"] = json!(t0.elapsed().as_secs_f64() * 1e3);
-    write_json(&path, &v)
+    let c = compare(&reference.ldr, &ldr, &cell.id.0)?;
+    for (name, px) in [("flip.png", &c.flip_map_rgba8), ("ssim.png", &c.ssim_map_rgba8)] {
+        if let Some(px) = px {
+            write_atomic(&cell_dir.join(name), &png_bytes(c.width, c.height, px)?)?;
+        }
+    }
+    let hdr = match &reference.hdr {
+        Some(r) => {
+            let h = compare(r, &hdr, &cell.id.0)?;
+            Maybe::Value(HdrComparison {
+                flip: h.flip,
+                rmse: h.rmse,
+                reference_bad: h.reference_bad,
+                test_bad: h.test_bad,
+            })
+        }
+        None => Maybe::missing("the reference has no EXR"),
+    };
+    Ok(CellMetrics {
+        reference: Maybe::Value(record),
+        ldr: Some(c),
+        hdr: Some(hdr),
+        maps: Some(MetricMaps { flip: "flip.png".into(), ssim: "ssim.png".into() }),
+    })
 }

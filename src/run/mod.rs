@@ -1,7 +1,12 @@
-//! Matrix expansion, frame plans, the results store and the run loop.
+//! The run: cells streamed through render → encode → metrics, each stage on its own threads,
+//! writing one typed record per cell.
 
-pub mod cells;
-pub mod metrics;
-pub mod plan;
+mod clock;
+mod describe;
+mod encode;
+mod metrics;
 pub mod runner;
-pub mod store;
+
+pub use clock::ProcessUsage;
+pub use describe::input_hash;
+pub use runner::{run, RunOptions, RunSummary, Workers};

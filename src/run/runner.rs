@@ -1,20 +1,32 @@
-//! The run loop: matrix → cells → plan → render → images → files. GPU resources are built once
-//! per composition and pipeline; cells only rewrite uniforms.
+//! The run: cells stream through the stages. The thread that owns the device renders; finished
+//! frames go through a bounded queue to the encode workers, and encoded cells through another to
+//! the metric workers, so the CPU encodes and compares while the GPU (or lavapipe) renders the next
+//! cells. Memory is bounded by the queue depths, not by the number of cells: a cell whose reference
+//! is not final yet is parked without its pixels and re-read from its files when the reference is.
+//! References are rendered first in each composition, so parking is rare.
 
-use serde::Serialize;
-use serde_json::json;
+use crossbeam_channel::{bounded, Receiver, Sender};
 use sha2::{Digest, Sha256};
+use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::Mutex;
 use std::time::Instant;
 
-use super::cells::{expand, Cell, Expansion};
-use super::store::*;
+use super::clock::{StageClock, ThreadTimer};
+use super::describe::input_hash;
+use super::encode::{copy_images, encode_cell, twin_record, CellImages, RenderedCell};
+use super::metrics::{compare_cell, reference_source, ReferenceCache, ReferenceSource};
+use crate::cells::{expand, matches_filter, reference_cell_id, remark_twins, Cell, CellId, Expansion};
 use crate::error::Error;
-use crate::fsutil::{write_atomic, write_json};
+use crate::fsutil::write_json;
 use crate::gpu::GpuContext;
-use crate::images::{encode, tonemap};
-use crate::render::{CellParams, CellRender, Renderer};
-use crate::spec::matrix::{hex, Filter, Matrix, ReferenceSpec};
+use crate::plan::FramePlan;
+use crate::record::cell::{CellMetrics, CellRecord, ReferenceRecord};
+use crate::record::run::{CompositionRecord, MatrixRecord, RunCounts, RunStatus, StageTimes};
+use crate::record::{RunDir, RunRecord, CELL_FILE, RUN_FILE, RUN_SCHEMA};
+use crate::render::{CellParams, Renderer};
+use crate::spec::matrix::{Filter, Matrix, ReferenceSpec};
 
 #[derive(Debug, Clone, Default)]
 pub struct RunOptions {
@@ -26,6 +38,26 @@ pub struct RunOptions {
     pub shard: Option<(u32, u32)>,
     pub only: Option<Filter>,
     pub progress: bool,
+    /// Threads for the encode and metric stages (default: from the core count).
+    pub workers: Option<Workers>,
+}
+
+/// Threads per CPU stage and the depth of each queue.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Workers {
+    pub encode: usize,
+    pub metrics: usize,
+    pub queue_depth: usize,
+}
+
+impl Workers {
+    /// Metrics cost several times what encoding does, so they get the cores; one encoder keeps up.
+    /// Each queue holds two jobs per consumer: enough to keep them busy, little enough memory.
+    pub fn for_cores(cores: usize) -> Workers {
+        let metrics = cores.max(1);
+        let encode = (cores / 4).max(1);
+        Workers { encode, metrics, queue_depth: 2 * metrics.max(encode) }
+    }
 }
 
 #[derive(Debug)]
@@ -34,6 +66,7 @@ pub struct RunSummary {
     pub counts: RunCounts,
     pub wall_seconds: f64,
     pub adapter: String,
+    pub stages: StageTimes,
 }
 
 /// Cells of the matrix after `--only` and `--shard` (twins stay with the cell they copy).
@@ -41,11 +74,11 @@ pub fn select_cells(matrix: &Matrix, opts: &RunOptions) -> Expansion {
     let mut exp = expand(matrix);
     if let Some(f) = &opts.only {
         let before = exp.cells.len();
-        exp.cells.retain(|c| super::cells::matches_filter(c, f));
+        exp.cells.retain(|c| matches_filter(c, f));
         exp.filtered_out += before - exp.cells.len();
         // A twin whose original was filtered away becomes an original itself.
-        let ids: std::collections::HashSet<_> = exp.cells.iter().map(|c| c.id.clone()).collect();
-        super::cells::remark_twins(&mut exp.cells, &ids);
+        let ids: HashSet<_> = exp.cells.iter().map(|c| c.id.clone()).collect();
+        remark_twins(&mut exp.cells, &ids);
     }
     if let Some((k, n)) = opts.shard {
         exp.cells.retain(|c| {
@@ -66,6 +99,7 @@ pub fn run(matrix: &Matrix, opts: &RunOptions) -> Result<RunSummary, Error> {
     let adapter = gpu.record.clone();
     let dir = RunDir::open(&opts.results_root, opts.out.as_deref(), &matrix.name, opts.resume)?;
     let mut record = RunRecord {
+        schema: RUN_SCHEMA,
         shadematrix_version: env!("CARGO_PKG_VERSION").into(),
         status: RunStatus::Running,
         matrix: MatrixRecord {
@@ -90,25 +124,35 @@ pub fn run(matrix: &Matrix, opts: &RunOptions) -> Result<RunSummary, Error> {
             ..Default::default()
         },
         compositions: Vec::new(),
+        stages: None,
     };
     let run_json = dir.root.join(RUN_FILE);
     write_json(&run_json, &record)?;
 
-    let mut renderer = Renderer::new(gpu);
+    let workers = opts
+        .workers
+        .unwrap_or_else(|| Workers::for_cores(std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1)));
+    let clock = StageClock::default();
     let bar = progress_bar(opts.progress, exp.cells.len() as u64);
-    let result = render_all(matrix, &exp, geometry, &dir, &mut renderer, &mut record, &bar);
+    let stream = Stream::new(matrix, &exp, &dir, adapter.name.clone(), &clock, &bar);
+    let mut renderer = Renderer::new(gpu);
+    let result = stream.run(&mut renderer, geometry, workers, &mut record);
     bar.finish_and_clear();
+    record.counts.rendered = stream.rendered.load(Ordering::Relaxed);
+    record.counts.resumed = stream.resumed.load(Ordering::Relaxed);
     record.status = if result.is_ok() { RunStatus::Complete } else { RunStatus::Failed };
     record.finished = Some(chrono::Local::now().to_rfc3339());
     record.wall_seconds = Some(started.elapsed().as_secs_f64());
+    let stages = clock.times(workers.encode, workers.metrics, workers.queue_depth);
+    record.stages = Some(stages.clone());
     write_json(&run_json, &record)?;
     result?;
-    crate::report::build(&dir.root)?;
     Ok(RunSummary {
         dir: dir.root,
         counts: record.counts,
         wall_seconds: started.elapsed().as_secs_f64(),
         adapter: adapter.name,
+        stages,
     })
 }
 
@@ -140,294 +184,371 @@ fn build_geometry(matrix: &Matrix, exp: &Expansion) -> Result<Vec<Option<Vec<cra
         .collect()
 }
 
-fn render_all(
-    matrix: &Matrix,
-    exp: &Expansion,
-    mut geometry: Vec<Option<Vec<crate::geometry::Mesh>>>,
-    dir: &RunDir,
-    renderer: &mut Renderer,
-    record: &mut RunRecord,
-    bar: &indicatif::ProgressBar,
-) -> Result<(), Error> {
-    let adapter_name = renderer.gpu.record.name.clone();
-    for (ci, scene) in matrix.compositions.iter().enumerate() {
-        let cells: Vec<&Cell> = exp.cells.iter().filter(|c| c.composition_index == ci).collect();
-        let pending: Vec<&Cell> = cells
-            .iter()
-            .copied()
-            .filter(|c| c.twin_of.is_none())
-            .filter(|c| {
-                let done = dir.cell_done(&c.id.0, &input_hash(matrix, c));
-                if done {
-                    record.counts.resumed += 1;
-                    bar.inc(1);
-                }
-                !done
-            })
-            .collect();
-        if cells.is_empty() {
-            continue;
+/// An encoded cell on its way to the metric workers.
+struct MetricsJob<'a> {
+    cell: &'a Cell,
+    record: CellRecord,
+    /// The cell's pixels, when they are still in memory (dropped when the job is parked).
+    images: Option<CellImages>,
+    /// Why the supersampled reference is missing, when it is.
+    reference_missing: Option<String>,
+}
+
+/// Which cells' images are final, and who waits for which.
+#[derive(Default)]
+struct Tracker<'a> {
+    final_images: HashSet<CellId>,
+    /// Metric jobs parked until their reference cell's images are final.
+    waiting: HashMap<CellId, Vec<MetricsJob<'a>>>,
+    /// Twins waiting for their original's images.
+    twins: HashMap<CellId, Vec<&'a Cell>>,
+}
+
+struct Stream<'a> {
+    matrix: &'a Matrix,
+    exp: &'a Expansion,
+    dir: &'a RunDir,
+    adapter: String,
+    clock: &'a StageClock,
+    bar: &'a indicatif::ProgressBar,
+    cells: HashSet<CellId>,
+    references: ReferenceCache,
+    tracker: Mutex<Tracker<'a>>,
+    abort: AtomicBool,
+    first_error: Mutex<Option<Error>>,
+    rendered: AtomicUsize,
+    resumed: AtomicUsize,
+}
+
+impl<'a> Stream<'a> {
+    fn new(
+        matrix: &'a Matrix,
+        exp: &'a Expansion,
+        dir: &'a RunDir,
+        adapter: String,
+        clock: &'a StageClock,
+        bar: &'a indicatif::ProgressBar,
+    ) -> Stream<'a> {
+        Stream {
+            matrix,
+            exp,
+            dir,
+            adapter,
+            clock,
+            bar,
+            cells: exp.cells.iter().map(|c| c.id.clone()).collect(),
+            references: ReferenceCache::new(8),
+            tracker: Mutex::new(Tracker::default()),
+            abort: AtomicBool::new(false),
+            first_error: Mutex::new(None),
+            rendered: AtomicUsize::new(0),
+            resumed: AtomicUsize::new(0),
         }
-        // A composition whose every cell is already done needs no GPU resources at all.
-        let t0 = Instant::now();
-        let meshes = geometry[ci].take().unwrap_or_default();
-        let prepared = if pending.is_empty() { None } else { Some(renderer.upload_scene(scene, meshes)?) };
-        let plan = super::plan::FramePlan::for_scene(scene);
-        record.compositions.push(CompositionRecord {
-            name: scene.name.clone(),
-            origin: scene.origin.clone(),
-            passes: plan.passes.iter().map(|s| s.to_string()).collect(),
-            left_out: plan.left_out.clone(),
-            triangles: prepared.as_ref().map(|p| p.triangle_count).unwrap_or(0),
-            prepare_seconds: t0.elapsed().as_secs_f64(),
-        });
-        for cell in &pending {
-            bar.set_message(cell.id.0.clone());
-            let prepared = prepared.as_ref().expect("prepared when cells are pending");
-            let params = CellParams {
-                pipeline: cell.pipeline,
-                model: cell.model(),
-                surface: cell.surface(),
-                light_intensity: cell.light_intensity,
-                light_range: cell.light_range,
-                width: cell.width,
-                height: cell.height,
+    }
+
+    fn tracker(&self) -> std::sync::MutexGuard<'_, Tracker<'a>> {
+        self.tracker.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    fn fail(&self, e: Error) {
+        self.abort.store(true, Ordering::SeqCst);
+        let mut first = self.first_error.lock().unwrap_or_else(|e| e.into_inner());
+        if first.is_none() {
+            *first = Some(e);
+        }
+    }
+
+    fn aborted(&self) -> bool {
+        self.abort.load(Ordering::SeqCst)
+    }
+
+    fn run(
+        &self,
+        renderer: &mut Renderer,
+        geometry: Vec<Option<Vec<crate::geometry::Mesh>>>,
+        workers: Workers,
+        record: &mut RunRecord,
+    ) -> Result<(), Error> {
+        // Resume: finished cells are final from the start; twins of unfinished originals wait.
+        let mut pending_twins = Vec::new();
+        {
+            let mut t = self.tracker();
+            for c in &self.exp.cells {
+                if self.dir.cell_done(&c.id.0, &input_hash(self.matrix, c)) {
+                    t.final_images.insert(c.id.clone());
+                    self.resumed.fetch_add(1, Ordering::Relaxed);
+                    self.bar.inc(1);
+                } else if let Some(original) = &c.twin_of {
+                    pending_twins.push(c);
+                    t.twins.entry(original.clone()).or_default().push(c);
+                }
+            }
+        }
+        let (encode_tx, encode_rx) = bounded::<RenderedCell<'a>>(workers.queue_depth);
+        let (metrics_tx, metrics_rx) = bounded::<MetricsJob<'a>>(workers.queue_depth);
+        let render_result = std::thread::scope(|s| {
+            for _ in 0..workers.encode {
+                let (rx, tx) = (encode_rx.clone(), metrics_tx.clone());
+                s.spawn(move || self.encode_worker(rx, tx));
+            }
+            for _ in 0..workers.metrics {
+                let rx = metrics_rx.clone();
+                s.spawn(move || self.metrics_worker(rx));
+            }
+            drop(encode_rx);
+            drop(metrics_rx);
+            // Twins whose original finished in an earlier run are copied now.
+            let resumed_originals: Vec<CellId> = {
+                let t = self.tracker();
+                t.twins.keys().filter(|o| t.final_images.contains(*o)).cloned().collect()
             };
-            let render = renderer.render(prepared, &params, matrix.timing.frames, matrix.timing.warmup)?;
-            if let Some(ReferenceSpec::Supersampled(k)) = matrix.reference {
-                supersampled_reference(renderer, prepared, &params, k, &dir.cell_dir(&cell.id.0), cell)?;
-            }
-            write_cell(dir, matrix, cell, &render, &adapter_name)?;
-            record.counts.rendered += 1;
-            bar.inc(1);
-        }
-        for cell in cells.iter().filter(|c| c.twin_of.is_some()) {
-            copy_twin(dir, matrix, cell)?;
-            bar.inc(1);
-        }
-    }
-    // Every image exists now: compare each cell with its reference, cells in parallel (each
-    // reads its own and its reference's files and writes only into its own folder).
-    use rayon::prelude::*;
-    bar.set_message("metrics");
-    exp.cells.par_iter().try_for_each(|cell| super::metrics::cell_metrics(matrix, dir, cell))
-}
-
-/// The same cell at k× the resolution, box-filtered down: reference.exr and reference.png.
-fn supersampled_reference(
-    renderer: &mut Renderer,
-    prepared: &crate::render::PreparedScene,
-    params: &CellParams,
-    k: u32,
-    cdir: &Path,
-    cell: &Cell,
-) -> Result<(), Error> {
-    let max = renderer.gpu.device.limits().max_texture_dimension_2d;
-    let (w, h) = (params.width * k, params.height * k);
-    if w > max || h > max {
-        // Recorded, not fatal: the metrics pass reports the reference as missing.
-        return write_json(
-            &cdir.join("reference_missing.json"),
-            &json!({ "reason": format!("{w}×{h} exceeds the adapter's {max}") }),
-        );
-    }
-    let big = renderer.render(prepared, &CellParams { width: w, height: h, ..*params }, 1, 0)?;
-    let (pw, ph) = (params.width as usize, params.height as usize);
-    let mut small = vec![0f32; pw * ph * 4];
-    let norm = 1.0 / (k * k) as f32;
-    for y in 0..ph {
-        for x in 0..pw {
-            for dy in 0..k as usize {
-                for dx in 0..k as usize {
-                    let src = ((y * k as usize + dy) * w as usize + x * k as usize + dx) * 4;
-                    for c in 0..4 {
-                        small[(y * pw + x) * 4 + c] += big.hdr[src + c] * norm;
-                    }
+            for original in resumed_originals {
+                if let Err(e) = self.release_resumed_twins(&original, &metrics_tx) {
+                    self.fail(e);
                 }
             }
+            drop(metrics_tx);
+            let r = self.render_all(renderer, geometry, record, &encode_tx);
+            drop(encode_tx);
+            r
+        });
+        if let Err(e) = render_result {
+            self.fail(e);
+        }
+        if let Some(e) = self.first_error.lock().unwrap_or_else(|e| e.into_inner()).take() {
+            return Err(e);
+        }
+        // Nothing should be left waiting: every cell of the run became final. Anything that is
+        // has a reference that failed to appear, and is recorded as such rather than lost.
+        let left: Vec<MetricsJob> = self.tracker().waiting.drain().flat_map(|(_, v)| v).collect();
+        for job in left {
+            self.finish(job, CellMetrics::without_reference("the reference cell was not rendered"), None)?;
+        }
+        Ok(())
+    }
+
+    /// The render thread: every pending original, references first in each composition.
+    fn render_all(
+        &self,
+        renderer: &mut Renderer,
+        mut geometry: Vec<Option<Vec<crate::geometry::Mesh>>>,
+        record: &mut RunRecord,
+        encode_tx: &Sender<RenderedCell<'a>>,
+    ) -> Result<(), Error> {
+        let references = self.reference_cells();
+        for (ci, scene) in self.matrix.compositions.iter().enumerate() {
+            let cells: Vec<&Cell> = self.exp.cells.iter().filter(|c| c.composition_index == ci).collect();
+            if cells.is_empty() {
+                continue;
+            }
+            let mut pending: Vec<&Cell> = {
+                let t = self.tracker();
+                cells.iter().copied().filter(|c| c.twin_of.is_none() && !t.final_images.contains(&c.id)).collect()
+            };
+            pending.sort_by_key(|c| !references.contains(&c.id));
+            // A composition whose every cell is already done needs no GPU resources at all.
+            let t0 = Instant::now();
+            let meshes = geometry[ci].take().unwrap_or_default();
+            let prepared = if pending.is_empty() { None } else { Some(renderer.upload_scene(scene, meshes)?) };
+            let plan = FramePlan::for_scene(scene);
+            record.compositions.push(CompositionRecord {
+                name: scene.name.clone(),
+                origin: scene.origin.clone(),
+                passes: plan.passes.iter().map(|s| s.to_string()).collect(),
+                left_out: plan.left_out.clone(),
+                triangles: prepared.as_ref().map(|p| p.triangle_count).unwrap_or(0),
+                prepare_seconds: t0.elapsed().as_secs_f64(),
+            });
+            StageClock::add(&self.clock.prepare, t0);
+            let Some(prepared) = prepared else { continue };
+            for cell in pending {
+                if self.aborted() {
+                    return Ok(());
+                }
+                self.bar.set_message(cell.id.0.clone());
+                let params = CellParams {
+                    pipeline: cell.pipeline,
+                    model: cell.model(),
+                    surface: cell.surface(),
+                    light_intensity: cell.light_intensity,
+                    light_range: cell.light_range,
+                    width: cell.width,
+                    height: cell.height,
+                };
+                let t = Instant::now();
+                let render =
+                    renderer.render(&prepared, &params, self.matrix.timing.frames, self.matrix.timing.warmup)?;
+                let supersampled = match self.matrix.reference {
+                    Some(ReferenceSpec::Supersampled(k)) => {
+                        let max = renderer.gpu.device.limits().max_texture_dimension_2d;
+                        let (w, h) = (params.width * k, params.height * k);
+                        Some(if w > max || h > max {
+                            Err(format!("no {k}× supersampled render: {w}×{h} exceeds the adapter's {max}"))
+                        } else {
+                            let big =
+                                renderer.render(&prepared, &CellParams { width: w, height: h, ..params }, 1, 0)?;
+                            Ok((k, big.hdr))
+                        })
+                    }
+                    _ => None,
+                };
+                let readback = render.readback_ms;
+                StageClock::add_ms(&self.clock.render, t.elapsed().as_secs_f64() * 1e3 - readback);
+                StageClock::add_ms(&self.clock.readback, readback);
+                self.rendered.fetch_add(1, Ordering::Relaxed);
+                let t = Instant::now();
+                if encode_tx.send(RenderedCell { cell, render, supersampled }).is_err() {
+                    return Ok(()); // the workers stopped: an error is recorded
+                }
+                StageClock::add(&self.clock.render_blocked, t);
+            }
+        }
+        Ok(())
+    }
+
+    /// Ids of the cells some other cell is compared with.
+    fn reference_cells(&self) -> HashSet<CellId> {
+        match &self.matrix.reference {
+            Some(ReferenceSpec::Cell(terms)) => {
+                self.exp.cells.iter().filter_map(|c| reference_cell_id(c, self.matrix, terms)).collect()
+            }
+            _ => HashSet::new(),
         }
     }
-    let (srgb, _) = tonemap::to_srgb8(&small, cell.pipeline.tonemap());
-    write_atomic(&cdir.join("reference.exr"), &encode::exr_bytes(params.width, params.height, &small)?)?;
-    write_atomic(&cdir.join("reference.png"), &encode::png_bytes(params.width, params.height, &srgb)?)
-}
 
-/// Hash of everything a cell's image depends on, so --resume re-renders changed cells.
-pub fn input_hash(matrix: &Matrix, cell: &Cell) -> String {
-    let scene = &matrix.compositions[cell.composition_index];
-    let text = json!({
-        "version": env!("CARGO_PKG_VERSION"),
-        "cell": cell,
-        "scene": scene,
-        "frames": matrix.timing.frames,
-        "reference": format!("{:?}", matrix.reference),
-    });
-    hex(&Sha256::digest(text.to_string().as_bytes()))
-}
-
-#[derive(Debug, Clone, Serialize)]
-pub struct PixelStats {
-    pub pixels: usize,
-    pub subject_pixels: usize,
-    pub nan: usize,
-    pub inf: usize,
-    pub negative: usize,
-    /// Mean linear luminance over subject pixels (None when the subject is not visible).
-    pub subject_mean_luminance: Option<f64>,
-    pub max_luminance: f64,
-}
-
-pub fn pixel_stats(r: &CellRender) -> PixelStats {
-    let mut s = PixelStats {
-        pixels: r.roles.len(),
-        subject_pixels: 0,
-        nan: 0,
-        inf: 0,
-        negative: 0,
-        subject_mean_luminance: None,
-        max_luminance: 0.0,
-    };
-    let mut sum = 0.0;
-    for (px, role) in r.hdr.chunks_exact(4).zip(&r.roles) {
-        let rgb = &px[..3];
-        s.nan += rgb.iter().filter(|v| v.is_nan()).count();
-        s.inf += rgb.iter().filter(|v| v.is_infinite()).count();
-        s.negative += rgb.iter().filter(|v| **v < 0.0).count();
-        let l = crate::color::luminance([rgb[0] as f64, rgb[1] as f64, rgb[2] as f64]);
-        if l.is_finite() {
-            s.max_luminance = s.max_luminance.max(l);
-        }
-        if *role == crate::render::uniforms::ROLE_SUBJECT {
-            s.subject_pixels += 1;
-            sum += l;
+    fn encode_worker(&self, rx: Receiver<RenderedCell<'a>>, metrics_tx: Sender<MetricsJob<'a>>) {
+        for job in rx {
+            if self.aborted() {
+                continue;
+            }
+            let t = ThreadTimer::start();
+            let cell = job.cell;
+            let cdir = self.dir.cell_dir(&cell.id.0);
+            let encoded = encode_cell(self.matrix, &cdir, &self.adapter, job);
+            StageClock::add_cpu(&self.clock.encode, t);
+            let result = encoded.and_then(|e| {
+                let job = MetricsJob {
+                    cell,
+                    record: e.record,
+                    images: Some(e.images),
+                    reference_missing: e.reference_missing,
+                };
+                self.images_final(job, &metrics_tx)
+            });
+            if let Err(e) = result {
+                self.fail(e);
+            }
         }
     }
-    if s.subject_pixels > 0 {
-        s.subject_mean_luminance = Some(sum / s.subject_pixels as f64);
-    }
-    s
-}
 
-fn median(v: &[f64]) -> Option<f64> {
-    if v.is_empty() {
-        return None;
-    }
-    let mut s = v.to_vec();
-    s.sort_by(|a, b| a.total_cmp(b));
-    Some(s[s.len() / 2])
-}
-
-fn cell_json(matrix: &Matrix, cell: &Cell) -> serde_json::Value {
-    let p = cell.pipeline;
-    json!({
-        "id": cell.id,
-        "input_hash": input_hash(matrix, cell),
-        "matrix_sha256": matrix.hash,
-        "composition": cell.composition,
-        "pipeline": p,
-        "path": cell.path,
-        "shader": cell.shader,
-        "shader_source": cell.model().source_path,
-        "preset": cell.preset,
-        "sliders": cell.material,
-        "shader_inputs": surface_json(cell),
-        "key_light": {
-            "intensity": cell.light_intensity,
-            "range": cell.light_range,
-            "intensity_scale": p.intensity_scale(),
-            "attenuation": p.attenuation(),
-        },
-        "image": { "width": cell.width, "height": cell.height, "exr": "image.exr", "png": "image.png" },
-        "twin_of": cell.twin_of,
-    })
-}
-
-/// The model's inputs as the shader receives them, with its parameters by name.
-fn surface_json(cell: &Cell) -> serde_json::Value {
-    let model = cell.model();
-    let s = cell.surface();
-    let params: serde_json::Map<String, serde_json::Value> =
-        model.params.iter().map(|p| (p.name.to_string(), json!(s.params[p.slot]))).collect();
-    json!({
-        "base_color_linear": s.base_color.to_array(),
-        "metallic": s.metallic,
-        "smoothness": s.smoothness,
-        "specular": s.specular.to_array(),
-        "params": params,
-        "mapping": model.mapping,
-    })
-}
-
-fn write_cell(dir: &RunDir, matrix: &Matrix, cell: &Cell, r: &CellRender, adapter: &str) -> Result<(), Error> {
-    let cdir = dir.cell_dir(&cell.id.0);
-    let t0 = Instant::now();
-    let exr = encode::exr_bytes(r.width, r.height, &r.hdr)?;
-    let (srgb, exposure) = tonemap::to_srgb8(&r.hdr, cell.pipeline.tonemap());
-    let png = encode::png_bytes(r.width, r.height, &srgb)?;
-    let encode_ms = t0.elapsed().as_secs_f64() * 1e3;
-    write_atomic(&cdir.join("image.exr"), &exr)?;
-    write_atomic(&cdir.join("image.png"), &png)?;
-    let mut v = cell_json(matrix, cell);
-    v["adapter"] = json!(adapter);
-    v["tonemap"] = json!({ "kind": cell.pipeline.tonemap(), "exposure": exposure });
-    v["stats"] = json!(pixel_stats(r));
-    v["timing"] = timing_json(r, matrix.timing.warmup, encode_ms);
-    write_json(&cdir.join(CELL_FILE), &v)
-}
-
-fn series(ms: &[f64]) -> serde_json::Value {
-    json!({
-        "frame_ms": ms,
-        "median_ms": median(ms),
-        "min_ms": ms.iter().cloned().reduce(f64::min),
-        "max_ms": ms.iter().cloned().reduce(f64::max),
-    })
-}
-
-/// GPU pass time from timestamp queries where the adapter has them (else reported missing, with
-/// the reason), CPU wall time submit→idle, and the CPU cost of readback and encoding.
-fn timing_json(r: &CellRender, warmup: u32, encode_ms: f64) -> serde_json::Value {
-    let gpu = match &r.gpu_pass_ms {
-        Some(ms) => {
-            let mut g = series(ms);
-            g["kind"] = json!("timestamp_query: forward render pass, begin to end");
-            g
+    /// A cell's image files are final: hand it to the metric workers, release the cells that were
+    /// waiting for it as their reference, and copy its twins.
+    fn images_final(&self, job: MetricsJob<'a>, metrics_tx: &Sender<MetricsJob<'a>>) -> Result<(), Error> {
+        let id = job.cell.id.clone();
+        let (waiting, twins) = {
+            let mut t = self.tracker();
+            t.final_images.insert(id.clone());
+            (t.waiting.remove(&id).unwrap_or_default(), t.twins.remove(&id).unwrap_or_default())
+        };
+        let twin_source = (!twins.is_empty()).then(|| (job.record.clone(), job.images.clone()));
+        let _ = metrics_tx.send(job);
+        for w in waiting {
+            let _ = metrics_tx.send(w);
         }
-        None => json!({ "missing": "the adapter has no timestamp queries; see cpu_wall" }),
-    };
-    let mut cpu = series(&r.frame_ms);
-    cpu["kind"] = json!("CPU wall time from queue submit to device idle");
-    json!({
-        "frames": r.frame_ms.len(),
-        "warmup": warmup,
-        "gpu": gpu,
-        "cpu_wall": cpu,
-        "readback_ms": r.readback_ms,
-        "encode_ms": encode_ms,
-    })
-}
+        match twin_source {
+            Some((record, images)) => self.copy_twins(&id, twins, &record, images, metrics_tx),
+            None => Ok(()),
+        }
+    }
 
-/// A twin's images are its original's: copy them, and say so in cell.json.
-fn copy_twin(dir: &RunDir, matrix: &Matrix, cell: &Cell) -> Result<(), Error> {
-    let original = cell.twin_of.as_ref().expect("twin");
-    let (from, to) = (dir.cell_dir(&original.0), dir.cell_dir(&cell.id.0));
-    for name in ["image.exr", "image.png"] {
-        let bytes = std::fs::read(from.join(name)).map_err(|e| Error::io_path("reading", &from.join(name), e))?;
-        write_atomic(&to.join(name), &bytes)?;
+    /// Twins of a cell that finished in an earlier run: its record is read from its folder.
+    fn release_resumed_twins(&self, original: &CellId, metrics_tx: &Sender<MetricsJob<'a>>) -> Result<(), Error> {
+        let twins = self.tracker().twins.remove(original).unwrap_or_default();
+        let path = self.dir.cell_dir(&original.0).join(CELL_FILE);
+        let record = CellRecord::load(&path).map_err(|e| e.into_error(&path, "cell record"))?;
+        self.copy_twins(original, twins, &record, None, metrics_tx)
     }
-    let mut v = cell_json(matrix, cell);
-    let orig: serde_json::Value = std::fs::read_to_string(from.join(CELL_FILE))
-        .ok()
-        .and_then(|t| serde_json::from_str(&t).ok())
-        .unwrap_or_default();
-    for k in ["adapter", "tonemap", "stats", "timing"] {
-        v[k] = orig[k].clone();
+
+    fn copy_twins(
+        &self,
+        original: &CellId,
+        twins: Vec<&'a Cell>,
+        record: &CellRecord,
+        images: Option<CellImages>,
+        metrics_tx: &Sender<MetricsJob<'a>>,
+    ) -> Result<(), Error> {
+        let from = self.dir.cell_dir(&original.0);
+        for twin in twins {
+            let t = ThreadTimer::start();
+            copy_images(&from, &self.dir.cell_dir(&twin.id.0))?;
+            let job = MetricsJob {
+                cell: twin,
+                record: twin_record(self.matrix, twin, record),
+                images: images.clone(),
+                reference_missing: None,
+            };
+            StageClock::add_cpu(&self.clock.encode, t);
+            self.images_final(job, metrics_tx)?;
+        }
+        Ok(())
     }
-    v["note"] = json!(format!(
-        "not rendered: `{}` ignores the axes this cell differs in; images copied from {original}",
-        cell.shader
-    ));
-    write_json(&to.join(CELL_FILE), &v)
+
+    fn metrics_worker(&self, rx: Receiver<MetricsJob<'a>>) {
+        for job in rx {
+            if self.aborted() {
+                continue;
+            }
+            if let Err(e) = self.measure(job) {
+                self.fail(e);
+            }
+        }
+    }
+
+    fn measure(&self, mut job: MetricsJob<'a>) -> Result<(), Error> {
+        let t = ThreadTimer::start();
+        let cell = job.cell;
+        let cdir = self.dir.cell_dir(&cell.id.0);
+        let in_run = |id: &CellId| self.cells.contains(id);
+        let (png, exr, what) = match reference_source(self.matrix, self.dir, cell, &in_run) {
+            ReferenceSource::Missing(why) => return self.finish(job, CellMetrics::without_reference(why), None),
+            ReferenceSource::RunCell(id) => {
+                let mut tracker = self.tracker();
+                if !tracker.final_images.contains(&id) {
+                    // Parked without its pixels: memory stays bounded by the queues.
+                    job.images = None;
+                    tracker.waiting.entry(id).or_default().push(job);
+                    return Ok(());
+                }
+                let d = self.dir.cell_dir(&id.0);
+                (d.join("image.png"), d.join("image.exr"), ReferenceRecord::Cell { cell: id })
+            }
+            ReferenceSource::Files { png, exr, record } => {
+                if !png.is_file() {
+                    let why =
+                        job.reference_missing.take().unwrap_or_else(|| format!("{} does not exist", png.display()));
+                    return self.finish(job, CellMetrics::without_reference(why), None);
+                }
+                (png, exr, record)
+            }
+        };
+        let reference = self.references.get(&png, &exr)?;
+        let metrics = compare_cell(cell, &cdir, job.images.take(), &reference, what)?;
+        self.finish(job, metrics, Some(t))
+    }
+
+    /// Write the cell's record, last: its presence marks the cell finished.
+    fn finish(&self, job: MetricsJob<'a>, metrics: CellMetrics, started: Option<ThreadTimer>) -> Result<(), Error> {
+        let mut record = job.record;
+        record.timing.metrics_ms = started.map(|t| t.elapsed_ns() as f64 / 1e6);
+        record.metrics = metrics;
+        let path = self.dir.cell_dir(&job.cell.id.0).join(CELL_FILE);
+        write_json(&path, &record)?;
+        if let Some(t) = started {
+            StageClock::add_cpu(&self.clock.metrics, t);
+        }
+        self.bar.inc(1);
+        Ok(())
+    }
 }
 
 pub fn default_results_root() -> PathBuf {

@@ -11,9 +11,9 @@ use super::registry::{self, Expected, ParamSpec, Reads, ShaderModel};
 use super::twin::Surface;
 use super::wgsl::{compose_mapped, locate, PassKind};
 use crate::error::{Error, InputError};
+use crate::input::names::unknown_name;
+use crate::input::source::parse_toml;
 use crate::pipelines::Pipeline;
-use crate::spec::names::unknown_name;
-use crate::spec::source::parse_toml;
 
 /// Where user models are looked for, relative to the working directory.
 pub const USER_MODEL_DIR: &str = "shaders/brdf";
@@ -97,7 +97,7 @@ fn load_model(wgsl_path: &Path, decl_path: &Path) -> Result<(), Error> {
         std::fs::read_to_string(wgsl_path).map_err(|e| InputError::new(&wgsl_shown, format!("cannot read: {e}")))?;
     let stem = wgsl_path.file_stem().map(|s| s.to_string_lossy().to_string()).unwrap_or_default();
     let name = decl.name.clone().unwrap_or(stem);
-    crate::spec::validate::Checker::new(&decl_shown).name("name", &name)?;
+    crate::input::validate::Checker::new(&decl_shown).name("name", &name)?;
 
     let pipelines = match &decl.pipelines {
         None => Pipeline::ALL.to_vec(),
@@ -147,7 +147,7 @@ fn load_model(wgsl_path: &Path, decl_path: &Path) -> Result<(), Error> {
     };
     let mut params = Vec::new();
     for (i, p) in decl.params.iter().enumerate() {
-        let c = crate::spec::validate::Checker::new(&decl_shown);
+        let c = crate::input::validate::Checker::new(&decl_shown);
         c.name(&format!("params[{i}].name"), &p.name)?;
         if p.slot > 7 {
             return Err(c

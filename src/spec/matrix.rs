@@ -5,12 +5,12 @@ use sha2::{Digest, Sha256};
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use super::names::unknown_name;
 use super::presets::{find_preset, preset_names, Preset};
 use super::scene::Scene;
-use super::source::parse_toml;
-use super::validate::Checker;
 use crate::error::{Error, InputError};
+use crate::input::names::unknown_name;
+use crate::input::source::parse_toml;
+use crate::input::validate::Checker;
 use crate::pipelines::{Pipeline, RenderPath};
 use crate::shading::registry::all_model_names;
 
@@ -45,7 +45,7 @@ struct MatrixFile {
     /// Contact sheets: `[{ rows = "smoothness", cols = "metallic" }]`; default: pipelines × presets
     /// and smoothness × metallic, the other axes as separate sheets.
     #[serde(default)]
-    sheets: Option<Vec<crate::report::sheets::SheetSpec>>,
+    sheets: Option<Vec<crate::spec::sheets::SheetSpec>>,
     #[serde(default)]
     exclude: Vec<toml::Table>,
 }
@@ -176,7 +176,7 @@ pub struct Matrix {
     pub only: Vec<Filter>,
     pub exclude: Vec<Filter>,
     pub reference: Option<ReferenceSpec>,
-    pub sheets: Vec<crate::report::sheets::SheetSpec>,
+    pub sheets: Vec<crate::spec::sheets::SheetSpec>,
 }
 
 /// What each cell is compared against.
@@ -222,7 +222,7 @@ fn parse_reference(c: &Checker, value: &toml::Value, base_dir: Option<&Path>) ->
             let filter = parse_filter(c, "reference", t)?;
             for (axis, values) in &filter.terms {
                 if !REFERENCE_AXES.contains(axis) {
-                    return Err(crate::spec::names::unknown_name(
+                    return Err(crate::input::names::unknown_name(
                         c.file(),
                         &format!("reference.{}", axis.name()),
                         "reference axis",
@@ -386,16 +386,16 @@ impl Matrix {
             }
         }
 
-        let sheets = file.sheets.clone().unwrap_or_else(crate::report::sheets::default_specs);
+        let sheets = file.sheets.clone().unwrap_or_else(crate::spec::sheets::default_specs);
         for (i, sheet) in sheets.iter().enumerate() {
             for (k, axis) in [("rows", &sheet.rows), ("cols", &sheet.cols)] {
-                if !crate::report::sheets::AXES.contains(&axis.as_str()) {
+                if !crate::spec::sheets::AXES.contains(&axis.as_str()) {
                     return Err(unknown_name(
                         origin,
                         &format!("sheets[{i}].{k}"),
                         "axis",
                         axis,
-                        &crate::report::sheets::AXES,
+                        &crate::spec::sheets::AXES,
                     )
                     .into());
                 }
@@ -423,6 +423,55 @@ impl Matrix {
             reference,
             sheets,
         })
+    }
+}
+
+impl Matrix {
+    /// `--only axis=v1|v2,axis=v`: the grammar of a matrix's `[[only]]` table on one line, parsed
+    /// and checked by the same code (names against this matrix, with the nearest valid one).
+    pub fn parse_only(&self, text: &str) -> Result<Filter, InputError> {
+        const ORIGIN: &str = "command line";
+        let mut table = toml::Table::new();
+        for term in text.split(',').filter(|t| !t.trim().is_empty()) {
+            let (k, v) = term
+                .split_once('=')
+                .ok_or_else(|| InputError::at_key(ORIGIN, "--only", format!("`{term}` is not axis=value")))?;
+            let numeric = Axis::ALL.iter().any(|a| a.name() == k.trim() && a.is_numeric());
+            let values = v
+                .split('|')
+                .map(|x| match (numeric, x.trim().parse::<f64>()) {
+                    (true, Ok(n)) => Ok(toml::Value::Float(n)),
+                    (true, Err(_)) => Err(InputError::at_key(
+                        ORIGIN,
+                        format!("--only {}", k.trim()),
+                        format!("`{}` is not a number", x.trim()),
+                    )),
+                    (false, _) => Ok(toml::Value::String(x.trim().to_string())),
+                })
+                .collect::<Result<Vec<_>, _>>()?;
+            table.insert(k.trim().to_string(), toml::Value::Array(values));
+        }
+        let filter = parse_filter(&Checker::new(ORIGIN), "--only", &table)?;
+        for (axis, values) in &filter.terms {
+            let valid: Vec<String> = match axis {
+                Axis::Composition => self.compositions.iter().map(|s| s.name.clone()).collect(),
+                Axis::Pipeline => self.pipelines.iter().map(|p| p.name().to_string()).collect(),
+                Axis::Path => self.paths.iter().map(|p| p.name().to_string()).collect(),
+                Axis::Shader => self.shaders.clone(),
+                Axis::Preset => self.presets.iter().map(|p| p.name.to_string()).collect(),
+                _ => continue,
+            };
+            for v in values {
+                if let FilterValue::Name(n) = v {
+                    if !valid.contains(n) {
+                        let valid: Vec<&str> = valid.iter().map(String::as_str).collect();
+                        let key = format!("--only {}", axis.name());
+                        return Err(unknown_name(ORIGIN, &key, axis.name(), n, &valid));
+                    }
+                }
+            }
+        }
+        Ok(filter)
     }
 }
 

@@ -1,8 +1,6 @@
-//! Declarative input: TOML schemas and validation for scenes, matrices and presets.
+//! Declarative input: TOML schemas and validation for scenes, matrices, presets and sheets.
 
 pub mod matrix;
-pub mod names;
 pub mod presets;
 pub mod scene;
-pub mod source;
-pub mod validate;
+pub mod sheets;

@@ -6,10 +6,10 @@
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
-use super::names::unknown_name;
-use super::source::parse_toml;
-use super::validate::Checker;
 use crate::error::{Error, InputError};
+use crate::input::names::unknown_name;
+use crate::input::source::parse_toml;
+use crate::input::validate::Checker;
 
 /// The four compositions of `spec/scenes.md`, embedded so the binary works from any folder.
 pub const BUILTIN_SCENES: [(&str, &str); 4] = [
@@ -257,6 +257,106 @@ pub enum MeshSpec {
 }
 
 impl MeshSpec {
+    /// Parameter checks, so bad scene values fail before anything is generated.
+    pub fn validate(&self) -> Result<(), String> {
+        let spec = self;
+        let pos = |name: &str, v: f64| {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(format!("{name} = {v} must be > 0"))
+            }
+        };
+        let tess = |name: &str, v: u32, lo: u32| {
+            if (lo..=4096).contains(&v) {
+                Ok(())
+            } else {
+                Err(format!("{name} = {v} is out of range; allowed {lo}..=4096"))
+            }
+        };
+        match spec {
+            MeshSpec::UvSphere { radius, rings, segments } => {
+                pos("radius", *radius)?;
+                tess("rings", *rings, 2)?;
+                tess("segments", *segments, 3)
+            }
+            MeshSpec::Box { size } => size.iter().try_for_each(|s| pos("size", *s)),
+            MeshSpec::Plane { size, subdivisions } => {
+                size.iter().try_for_each(|s| pos("size", *s))?;
+                tess("subdivisions", *subdivisions, 1)
+            }
+            MeshSpec::Lathe { profile, segments } => {
+                tess("segments", *segments, 3)?;
+                if profile.len() < 2 {
+                    return Err("profile needs at least 2 points".into());
+                }
+                if profile.iter().any(|p| p[0] < 0.0 || !p[0].is_finite() || !p[1].is_finite()) {
+                    return Err("profile radii must be finite and >= 0".into());
+                }
+                Ok(())
+            }
+            MeshSpec::KnobShell {
+                center_height: _,
+                outer_radius,
+                inner_radius,
+                window_half_angle_deg,
+                window_azimuth_deg: _,
+                rings,
+                segments,
+            } => {
+                pos("outer_radius", *outer_radius)?;
+                pos("inner_radius", *inner_radius)?;
+                if inner_radius >= outer_radius {
+                    return Err(format!(
+                        "inner_radius {inner_radius} must be smaller than outer_radius {outer_radius}"
+                    ));
+                }
+                if !(1.0..=89.0).contains(window_half_angle_deg) {
+                    return Err(format!(
+                        "window_half_angle_deg = {window_half_angle_deg} is out of range; allowed 1..=89"
+                    ));
+                }
+                tess("rings", *rings, 4)?;
+                tess("segments", *segments, 8)
+            }
+            MeshSpec::Cyclorama { width, depth, height, bend_radius, segments } => {
+                pos("width", *width)?;
+                pos("depth", *depth)?;
+                pos("height", *height)?;
+                pos("bend_radius", *bend_radius)?;
+                if *bend_radius > depth.min(*height) {
+                    return Err(format!("bend_radius {bend_radius} must not exceed depth and height"));
+                }
+                tess("segments", *segments, 4)
+            }
+            MeshSpec::Spikes { radius, count, bump_radius, bump_height, rings, segments } => {
+                pos("radius", *radius)?;
+                pos("bump_radius", *bump_radius)?;
+                pos("bump_height", *bump_height)?;
+                if !(1..=2000).contains(count) {
+                    return Err(format!("count = {count} is out of range; allowed 1..=2000"));
+                }
+                tess("rings", *rings, 8)?;
+                tess("segments", *segments, 8)
+            }
+            MeshSpec::Medusa { radius, amplitude, k, n: _, m, rings, segments } => {
+                pos("radius", *radius)?;
+                if !amplitude.is_finite() || !k.is_finite() || !m.is_finite() {
+                    return Err("amplitude, k and m must be finite".into());
+                }
+                tess("rings", *rings, 8)?;
+                tess("segments", *segments, 8)
+            }
+            MeshSpec::Gltf { path } => {
+                if path.is_empty() {
+                    Err("path is empty".into())
+                } else {
+                    Ok(())
+                }
+            }
+        }
+    }
+
     pub fn kind_name(&self) -> &'static str {
         match self {
             MeshSpec::UvSphere { .. } => "uv_sphere",
@@ -346,7 +446,7 @@ impl Scene {
     }
 
     pub fn load_file(path: &Path) -> Result<Scene, Error> {
-        let mut scene: Scene = super::source::read_toml(path)?;
+        let mut scene: Scene = crate::input::source::read_toml(path)?;
         scene.origin = path.display().to_string();
         scene.base_dir = Some(path.parent().map(Path::to_path_buf).unwrap_or_default());
         scene.validate()?;
@@ -423,7 +523,7 @@ impl Scene {
                 }
                 _ => {}
             }
-            crate::geometry::procedural::validate_spec(&o.mesh).map_err(|m| c.err(&k("mesh"), m))?;
+            o.mesh.validate().map_err(|m| c.err(&k("mesh"), m))?;
         }
         let e = &self.environment;
         c.non_negative("environment.ambient_intensity", e.ambient_intensity)?;

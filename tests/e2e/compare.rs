@@ -1,12 +1,10 @@
 //! FLIP and SSIM against values measured with the reference implementations (NVIDIA's
 //! flip-evaluator, scikit-image) on committed fixture pairs; see tests/fixtures/compare/make_fixtures.py.
 
-mod common;
-
 use shadematrix::compare::{compare, LoadedImage};
 
 fn fixture(name: &str) -> std::path::PathBuf {
-    common::fixture(&format!("compare/{name}"))
+    crate::common::fixture(&format!("compare/{name}"))
 }
 
 fn expected() -> serde_json::Value {
@@ -61,7 +59,7 @@ fn diff_command_prints_json_and_writes_maps() {
     let tmp = tempfile::tempdir().unwrap();
     let (a, b) = (fixture("render_a.png"), fixture("render_b.png"));
     let out = tmp.path().join("maps");
-    let (rc, stdout, stderr) = common::shadematrix(
+    let (rc, stdout, stderr) = crate::common::shadematrix(
         tmp.path(),
         &["diff", a.to_str().unwrap(), b.to_str().unwrap(), "--json", "--out", out.to_str().unwrap()],
         &[],
@@ -76,7 +74,7 @@ fn diff_command_prints_json_and_writes_maps() {
         assert_eq!((img.width(), img.height()), (96, 80), "{map}");
     }
     // Per-channel SSIM on request; a grey-world check: the mean of the channels is near the luma SSIM.
-    let (rc, stdout, _) = common::shadematrix(
+    let (rc, stdout, _) = crate::common::shadematrix(
         tmp.path(),
         &["diff", a.to_str().unwrap(), b.to_str().unwrap(), "--json", "--per-channel"],
         &[],
@@ -89,9 +87,10 @@ fn diff_command_prints_json_and_writes_maps() {
     assert!(channels.iter().all(|c| *c > 0.5 && *c <= 1.0), "{channels:?}");
     // Mixed kinds and missing files are bad input.
     let exr = fixture("hdr_a.exr");
-    let (rc, _, stderr) = common::shadematrix(tmp.path(), &["diff", a.to_str().unwrap(), exr.to_str().unwrap()], &[]);
+    let (rc, _, stderr) =
+        crate::common::shadematrix(tmp.path(), &["diff", a.to_str().unwrap(), exr.to_str().unwrap()], &[]);
     assert_eq!(rc, 2, "{stderr}");
-    let (rc, _, stderr) = common::shadematrix(tmp.path(), &["diff", "nope.png", a.to_str().unwrap()], &[]);
+    let (rc, _, stderr) = crate::common::shadematrix(tmp.path(), &["diff", "nope.png", a.to_str().unwrap()], &[]);
     assert_eq!(rc, 2);
     assert!(stderr.contains("nope.png") && stderr.contains("not found"), "{stderr}");
 }

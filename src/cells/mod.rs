@@ -2,7 +2,7 @@
 //! cells that cannot exist (a shader a pipeline lacks) pruned and the cells whose shader ignores
 //! the axes they differ in marked as twins of the cell that is rendered.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
 
 use crate::pipelines::{Pipeline, RenderPath};
@@ -12,7 +12,7 @@ use crate::spec::matrix::{Axis, Filter, FilterValue, Matrix};
 use crate::spec::presets::Preset;
 
 /// Stable, readable, filesystem-safe id, e.g. `mitsuba__builtin-forward__standard__gold__m1.00_s0.80_i1_r10`.
-#[derive(Debug, Clone, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
+#[derive(Debug, Clone, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 pub struct CellId(pub String);
 
 impl std::fmt::Display for CellId {
@@ -22,7 +22,7 @@ impl std::fmt::Display for CellId {
 }
 
 /// Material as swept: preset values with the sliders that override them (slider units).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct MaterialParams {
     /// Linear base colour (preset value, or the sRGB slider linearised).
     pub base_color_linear: [f64; 3],

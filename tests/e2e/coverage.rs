@@ -1,8 +1,6 @@
 //! scenes.md: medusa and spikes must cover many half-vector angles in one image. The histogram of
 //! θh = ∠(N, H) over the visible subject pixels should spread over roughly 0–60°.
 
-mod common;
-
 use glam::DVec3;
 use shadematrix::gpu::GpuContext;
 use shadematrix::pipelines::Pipeline;

@@ -1,8 +1,6 @@
 //! `check` against a baseline: a run against itself passes; altering one shader's images in the
 //! baseline fails exactly those cells, named in junit.xml.
 
-mod common;
-
 use std::path::Path;
 
 fn copy_dir(from: &Path, to: &Path) {
@@ -21,16 +19,16 @@ fn copy_dir(from: &Path, to: &Path) {
 #[test]
 fn check_passes_against_itself_and_names_exactly_the_altered_cells() {
     let tmp = tempfile::tempdir().unwrap();
-    let m = common::write_matrix(
+    let m = crate::common::write_matrix(
         tmp.path(),
         "m.toml",
         "name = \"c\"\ncompositions = [\"default\", \"medusa\"]\npipelines = [\"urp\"]\nshaders = [\"lambert\", \"lit\"]\npresets = [\"plastic\", \"gold\"]\n[image]\nwidth = 48\nheight = 48\n",
     );
-    let (rc, _, stderr) = common::shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", "run"], &[]);
+    let (rc, _, stderr) = crate::common::shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", "run"], &[]);
     assert_eq!(rc, 0, "{stderr}");
     assert!(tmp.path().join("run/tables/perf.md").is_file());
 
-    let (rc, stdout, stderr) = common::shadematrix(tmp.path(), &["check", "run", "--baseline", "run"], &[]);
+    let (rc, stdout, stderr) = crate::common::shadematrix(tmp.path(), &["check", "run", "--baseline", "run"], &[]);
     assert_eq!(rc, 0, "{stdout}{stderr}");
     assert!(stdout.contains("0 of 8 cells regressed"), "{stdout}");
     let junit = std::fs::read_to_string(tmp.path().join("run/junit.xml")).unwrap();
@@ -53,7 +51,7 @@ fn check_passes_against_itself_and_names_exactly_the_altered_cells() {
         }
     }
     assert_eq!(altered.len(), 4);
-    let (rc, stdout, stderr) = common::shadematrix(tmp.path(), &["check", "run", "--baseline", "baseline"], &[]);
+    let (rc, stdout, stderr) = crate::common::shadematrix(tmp.path(), &["check", "run", "--baseline", "baseline"], &[]);
     assert_eq!(rc, 1, "{stdout}{stderr}");
     let junit = std::fs::read_to_string(tmp.path().join("run/junit.xml")).unwrap();
     let failed: Vec<&str> = junit

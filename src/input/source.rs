@@ -4,8 +4,8 @@
 use serde::de::DeserializeOwned;
 use std::path::Path;
 
-use super::names::nearest;
 use crate::error::{Error, InputError};
+use crate::input::names::nearest;
 
 /// Parse `text` (from `origin`, a file name for messages) into `T`.
 pub fn parse_toml<T: DeserializeOwned>(origin: &str, text: &str) -> Result<T, InputError> {

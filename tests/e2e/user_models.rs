@@ -1,15 +1,13 @@
 //! A WGSL model dropped into shaders/brdf/ (with its declaration) is a shader name in any matrix,
 //! with no recompilation; a broken one is bad input naming the file and line.
 
-mod common;
-
 use std::path::Path;
 
 fn install_example(dir: &Path) {
     let brdf = dir.join("shaders/brdf");
     std::fs::create_dir_all(&brdf).unwrap();
     for f in ["wrap_diffuse.wgsl", "wrap_diffuse.toml"] {
-        std::fs::copy(common::repo().join("examples/user_models").join(f), brdf.join(f)).unwrap();
+        std::fs::copy(crate::common::repo().join("examples/user_models").join(f), brdf.join(f)).unwrap();
     }
 }
 
@@ -19,8 +17,8 @@ const MATRIX: &str = "name = \"u\"\ncompositions = [\"default\"]\npipelines = [\
 fn user_model_renders_in_a_matrix_and_is_audited() {
     let tmp = tempfile::tempdir().unwrap();
     install_example(tmp.path());
-    let m = common::write_matrix(tmp.path(), "m.toml", MATRIX);
-    let (rc, stdout, stderr) = common::shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", "o"], &[]);
+    let m = crate::common::write_matrix(tmp.path(), "m.toml", MATRIX);
+    let (rc, stdout, stderr) = crate::common::shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", "o"], &[]);
     assert_eq!(rc, 0, "{stderr}");
     assert!(stdout.contains("4 rendered"), "{stdout}");
     let cell = tmp.path().join("o/cells/default__urp-forward__wrap_diffuse__plastic__m0.00_s0.75_i2_r10");
@@ -37,10 +35,10 @@ fn user_model_renders_in_a_matrix_and_is_audited() {
     assert!(sum(&wrap) > sum(&lambert), "wrap {} vs lambert {}", sum(&wrap), sum(&lambert));
 
     let (rc, stdout, stderr) =
-        common::shadematrix(tmp.path(), &["audit", "--shader", "wrap_diffuse", "--out", "audit"], &[]);
+        crate::common::shadematrix(tmp.path(), &["audit", "--shader", "wrap_diffuse", "--out", "audit"], &[]);
     assert_eq!(rc, 0, "{stderr}");
     assert!(stdout.contains("`urp/wrap_diffuse`") && stdout.contains("no twin") && stdout.contains("gpu"), "{stdout}");
-    let (_, shaders, _) = common::shadematrix(tmp.path(), &["shaders"], &[]);
+    let (_, shaders, _) = crate::common::shadematrix(tmp.path(), &["shaders"], &[]);
     assert!(shaders.contains("wrap_diffuse") && shaders.contains("wrap = 0.5"), "{shaders}");
 }
 
@@ -51,8 +49,8 @@ fn broken_user_model_names_file_line_and_column() {
     let wgsl = tmp.path().join("shaders/brdf/wrap_diffuse.wgsl");
     let text = std::fs::read_to_string(&wgsl).unwrap().replace("let w = s.params0.x;", "let w = s.params0.x");
     std::fs::write(&wgsl, text).unwrap();
-    let m = common::write_matrix(tmp.path(), "m.toml", MATRIX);
-    let (rc, _, stderr) = common::shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", "o"], &[]);
+    let m = crate::common::write_matrix(tmp.path(), "m.toml", MATRIX);
+    let (rc, _, stderr) = crate::common::shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", "o"], &[]);
     assert_eq!(rc, 2, "{stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
     assert!(
@@ -64,19 +62,19 @@ fn broken_user_model_names_file_line_and_column() {
 
     // A model without its entry points.
     std::fs::write(&wgsl, "fn something_else() -> f32 { return 1.0; }\n").unwrap();
-    let (rc, _, stderr) = common::shadematrix(tmp.path(), &["list", m.to_str().unwrap()], &[]);
+    let (rc, _, stderr) = crate::common::shadematrix(tmp.path(), &["list", m.to_str().unwrap()], &[]);
     assert_eq!(rc, 2, "{stderr}");
     assert!(stderr.contains("wrap_diffuse.wgsl") && stderr.contains("model_direct"), "{stderr}");
 
     // A type error, found by validation rather than parsing.
     std::fs::write(
         &wgsl,
-        std::fs::read_to_string(common::repo().join("examples/user_models/wrap_diffuse.wgsl"))
+        std::fs::read_to_string(crate::common::repo().join("examples/user_models/wrap_diffuse.wgsl"))
             .unwrap()
             .replace("max(0.0, (dot(n, l) + w) / (1.0 + w))", "vec2<f32>(1.0)"),
     )
     .unwrap();
-    let (rc, _, stderr) = common::shadematrix(tmp.path(), &["list", m.to_str().unwrap()], &[]);
+    let (rc, _, stderr) = crate::common::shadematrix(tmp.path(), &["list", m.to_str().unwrap()], &[]);
     assert_eq!(rc, 2, "{stderr}");
     assert!(stderr.contains("wrap_diffuse.wgsl"), "{stderr}");
 }

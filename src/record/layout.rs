@@ -2,11 +2,10 @@
 //! image.png, cell.json}`. cell.json is written last, so its presence (with a matching input
 //! hash) marks a finished cell and lets `--resume` skip it.
 
-use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
+use super::cell::{CellRecord, CELL_SCHEMA};
 use crate::error::{Error, InputError};
-use crate::gpu::AdapterRecord;
 
 pub const RUN_FILE: &str = "run.json";
 pub const CELL_FILE: &str = "cell.json";
@@ -56,8 +55,8 @@ impl RunDir {
     /// A cell is done when its cell.json exists, parses, has this input hash, and its images exist.
     pub fn cell_done(&self, id: &str, input_hash: &str) -> bool {
         let dir = self.cell_dir(id);
-        let Ok(text) = std::fs::read_to_string(dir.join(CELL_FILE)) else { return false };
-        let Ok(rec) = serde_json::from_str::<CellRecordHead>(&text) else { return false };
+        // A record of another schema version is stale: the cell is rendered again.
+        let Ok(rec) = super::read_record::<CellRecord>(&dir.join(CELL_FILE), CELL_SCHEMA) else { return false };
         rec.input_hash == input_hash && dir.join("image.exr").is_file() && dir.join("image.png").is_file()
     }
 }
@@ -72,68 +71,4 @@ fn newest_run(results_root: &Path, matrix_name: &str) -> Option<PathBuf> {
         .collect();
     runs.sort();
     runs.pop()
-}
-
-/// The part of cell.json that resume reads.
-#[derive(Deserialize)]
-struct CellRecordHead {
-    input_hash: String,
-}
-
-#[derive(Debug, Clone, Serialize, Deserialize)]
-pub struct RunRecord {
-    pub shadematrix_version: String,
-    pub status: RunStatus,
-    pub matrix: MatrixRecord,
-    pub adapter: AdapterRecord,
-    pub started: String,
-    pub finished: Option<String>,
-    pub wall_seconds: Option<f64>,
-    pub counts: RunCounts,
-    pub compositions: Vec<CompositionRecord>,
-}
-
-#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq)]
-#[serde(rename_all = "snake_case")]
-pub enum RunStatus {
-    Running,
-    Complete,
-    Failed,
-}
-
-#[derive(Debug, Clone, Serialize, Deserialize)]
-pub struct MatrixRecord {
-    pub name: String,
-    pub origin: String,
-    pub sha256: String,
-    pub image: [u32; 2],
-    pub frames: u32,
-    pub warmup: u32,
-    pub shard: Option<String>,
-    /// The contact sheets `report` draws.
-    #[serde(default)]
-    pub sheets: Vec<crate::report::sheets::SheetSpec>,
-}
-
-#[derive(Debug, Clone, Default, Serialize, Deserialize)]
-pub struct RunCounts {
-    /// Cells of the matrix after filters (this shard's share when sharded).
-    pub cells: usize,
-    pub rendered: usize,
-    /// Cells equal to an earlier cell because the shader ignores the axes they differ in.
-    pub twins: usize,
-    /// Cells found finished by --resume.
-    pub resumed: usize,
-    pub pruned: usize,
-    pub filtered_out: usize,
-}
-
-#[derive(Debug, Clone, Serialize, Deserialize)]
-pub struct CompositionRecord {
-    pub name: String,
-    pub origin: String,
-    pub passes: Vec<String>,
-    pub left_out: Vec<(String, String)>,
-    pub triangles: usize,
-    pub prepare_seconds: f64,
 }

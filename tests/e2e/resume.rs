@@ -1,14 +1,12 @@
 //! An interrupted run loses nothing that finished: --resume renders only what is missing.
 
-mod common;
-
 use shadematrix::run::runner::{run, RunOptions};
 use shadematrix::spec::matrix::Matrix;
 
 #[test]
 fn resume_renders_only_unfinished_cells() {
     let tmp = tempfile::tempdir().unwrap();
-    let m = common::write_matrix(
+    let m = crate::common::write_matrix(
         tmp.path(),
         "m.toml",
         "name = \"r\"\ncompositions = [\"medusa\"]\npipelines = [\"builtin\"]\nshaders = [\"lambert\", \"standard\"]\npresets = [\"gold\", \"plastic\"]\n[image]\nwidth = 24\nheight = 24\n",

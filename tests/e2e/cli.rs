@@ -1,9 +1,7 @@
 //! Bad input through the binary: a clear message, exit code 2 (3 for no adapter), no panic, and
 //! no output folder left behind.
 
-mod common;
-
-use common::{fixture, shadematrix, write_matrix};
+use crate::common::{fixture, shadematrix, write_matrix};
 use std::path::Path;
 
 const GOOD: &str = r#"

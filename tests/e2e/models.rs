@@ -1,8 +1,6 @@
 //! The shading library's must-shows: the audit passes for every built-in model, known physics
 //! holds, and the three pipelines' lit shaders differ exactly where the spec says they do.
 
-mod common;
-
 use glam::DVec3;
 use shadematrix::audit::{audit_all, directional_albedo};
 use shadematrix::gpu::GpuContext;
@@ -168,7 +166,7 @@ fn brdf_command_reports_cpu_and_gpu() {
         "--gpu",
         "--json",
     ];
-    let (rc, stdout, stderr) = common::shadematrix(tmp.path(), &args, &[]);
+    let (rc, stdout, stderr) = crate::common::shadematrix(tmp.path(), &args, &[]);
     assert_eq!(rc, 0, "{stderr}");
     let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
     let radiance: Vec<f64> = v["radiance"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
@@ -179,7 +177,7 @@ fn brdf_command_reports_cpu_and_gpu() {
         assert!(d.as_f64().unwrap() < 1e-4, "{stdout}");
     }
     // Unknown parameter: exit 2 with the nearest.
-    let (rc, _, stderr) = common::shadematrix(
+    let (rc, _, stderr) = crate::common::shadematrix(
         tmp.path(),
         &[
             "brdf",
@@ -200,7 +198,7 @@ fn brdf_command_reports_cpu_and_gpu() {
     );
     assert_eq!(rc, 2, "{stderr}");
     assert!(stderr.contains("did you mean `energy_compensation`?"), "{stderr}");
-    let (rc, _, stderr) = common::shadematrix(
+    let (rc, _, stderr) = crate::common::shadematrix(
         tmp.path(),
         &["brdf", "--pipeline", "urp", "--shader", "standard", "--n", "0,1,0", "--l", "0,1,0", "--v", "0,1,0"],
         &[],

@@ -1,7 +1,5 @@
 //! Shading on the GPU against the f64 twins, and the visible behaviour the foundation must show.
 
-mod common;
-
 use glam::DVec3;
 use shadematrix::color::luminance;
 use shadematrix::gpu::GpuContext;
@@ -32,7 +30,7 @@ fn params(pipeline: Pipeline, shader: &str, color: [f64; 3], metallic: f64, smoo
 
 fn scene(name_or_fixture: &str) -> Scene {
     if name_or_fixture.ends_with(".toml") {
-        Scene::load_file(&common::fixture(name_or_fixture)).unwrap()
+        Scene::load_file(&crate::common::fixture(name_or_fixture)).unwrap()
     } else {
         Scene::load(name_or_fixture, None, "test", "composition").unwrap()
     }

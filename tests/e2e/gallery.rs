@@ -1,8 +1,6 @@
 //! The offline gallery in headless Chromium (Debian `chromium`, installed by .ci/run): no script
 //! errors, no broken images, a screenshot taken; and the check catches a broken image.
 
-mod common;
-
 use std::path::Path;
 use std::process::Command;
 
@@ -59,12 +57,12 @@ fn gallery_loads_cleanly_in_headless_chromium() {
     };
     let tmp = tempfile::tempdir().unwrap();
     // The matrix file's name reaches the page (as the run's origin): it must arrive escaped.
-    let m = common::write_matrix(
+    let m = crate::common::write_matrix(
         tmp.path(),
         "m&<x>.toml",
         "name = \"g\"\ncompositions = [\"default\", \"medusa\"]\npipelines = [\"urp\", \"hdrp\"]\nshaders = [\"lambert\", \"lit\"]\npresets = [\"plastic\", \"gold\"]\nreference = { pipeline = \"hdrp\", shader = \"lit\" }\n[image]\nwidth = 48\nheight = 48\n",
     );
-    let (rc, _, stderr) = common::shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", "run"], &[]);
+    let (rc, _, stderr) = crate::common::shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", "run"], &[]);
     assert_eq!(rc, 0, "{stderr}");
     let run = tmp.path().join("run");
     for p in [

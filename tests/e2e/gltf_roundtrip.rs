@@ -1,7 +1,5 @@
 //! `export-mesh` writes GLB that the importer reads back with the same vertices and bounds.
 
-mod common;
-
 use shadematrix::geometry::{gltf_io, procedural, Mesh};
 use shadematrix::spec::scene::Scene;
 
@@ -9,7 +7,8 @@ use shadematrix::spec::scene::Scene;
 fn exported_composition_loads_back_identically() {
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("mitsuba.glb");
-    let (rc, stdout, stderr) = common::shadematrix(tmp.path(), &["export-mesh", "mitsuba", out.to_str().unwrap()], &[]);
+    let (rc, stdout, stderr) =
+        crate::common::shadematrix(tmp.path(), &["export-mesh", "mitsuba", out.to_str().unwrap()], &[]);
     assert_eq!(rc, 0, "{stderr}");
     assert!(stdout.contains("7 objects"), "{stdout}");
 
@@ -35,16 +34,17 @@ fn exported_composition_loads_back_identically() {
 #[test]
 fn gltf_meshes_render_in_a_scene() {
     let tmp = tempfile::tempdir().unwrap();
-    let (rc, _, stderr) = common::shadematrix(tmp.path(), &["export-mesh", "default", "room.glb"], &[]);
+    let (rc, _, stderr) = crate::common::shadematrix(tmp.path(), &["export-mesh", "default", "room.glb"], &[]);
     assert_eq!(rc, 0, "{stderr}");
-    let scene = std::fs::read_to_string(common::fixture("gltf_scene.toml")).unwrap().replace("MESH_PATH", "room.glb");
+    let scene =
+        std::fs::read_to_string(crate::common::fixture("gltf_scene.toml")).unwrap().replace("MESH_PATH", "room.glb");
     std::fs::write(tmp.path().join("scene.toml"), scene).unwrap();
-    let m = common::write_matrix(
+    let m = crate::common::write_matrix(
         tmp.path(),
         "m.toml",
         "name = \"g\"\ncompositions = [\"scene.toml\"]\npipelines = [\"urp\"]\nshaders = [\"lambert\"]\npresets = [\"plastic\"]\n[image]\nwidth = 32\nheight = 32\n",
     );
-    let (rc, stdout, stderr) = common::shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", "o"], &[]);
+    let (rc, stdout, stderr) = crate::common::shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", "o"], &[]);
     assert_eq!(rc, 0, "{stderr}");
     assert!(stdout.contains("1 rendered"), "{stdout}");
 }

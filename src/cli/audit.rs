@@ -1,0 +1,37 @@
+//! `shadematrix audit`: the BRDF property audit of every model (or one), written and printed.
+
+use std::path::PathBuf;
+
+use super::{load_models, print_out, ModelsArg};
+use crate::audit;
+use crate::error::Error;
+use crate::input::names::unknown_name;
+
+pub fn audit(shader: Option<&str>, json: bool, out: Option<PathBuf>, models: &ModelsArg) -> Result<(), Error> {
+    load_models(models)?;
+    if let Some(name) = shader {
+        let names = crate::shading::registry::all_model_names();
+        if !names.contains(&name) {
+            return Err(unknown_name("command line", "--shader", "shader", name, &names).into());
+        }
+    }
+    let gpu = crate::gpu::GpuContext::new()?;
+    let audits = audit::audit_all(&gpu, shader)?;
+    let dir = out.unwrap_or_else(|| {
+        PathBuf::from("results").join(format!("audit-{}", chrono::Local::now().format("%Y%m%d-%H%M%S")))
+    });
+    audit::report::write(&dir, &audits, &gpu.record.name)?;
+    let text = if json {
+        serde_json::to_string_pretty(&audit::report::AuditRecord::new(&gpu.record.name, &audits)).unwrap_or_default()
+    } else {
+        audit::report::markdown(&audits, &gpu.record.name)
+    };
+    print_out(&text);
+    eprintln!("audit written to {}", dir.display());
+    let failed: Vec<&str> = audits.iter().filter(|a| !a.failures.is_empty()).map(|a| a.key.as_str()).collect();
+    if failed.is_empty() {
+        Ok(())
+    } else {
+        Err(Error::CheckFailed(format!("audit failed for {}", failed.join(", "))))
+    }
+}

@@ -1,0 +1,231 @@
+//! `cell.json`: everything about one cell — its axes, the model's inputs, the light, the files,
+//! pixel statistics, timings, and its comparison with the reference. Written once, last, when the
+//! cell has passed every stage, so its presence marks a finished cell.
+
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use super::{read_record, Maybe, RecordError};
+use crate::cells::{CellId, MaterialParams};
+use crate::compare::images::FlipMetric;
+use crate::compare::stats::BadValues;
+use crate::compare::Comparison;
+use crate::images::stats::PixelStats;
+use crate::pipelines::{Attenuation, Pipeline, RenderPath, Tonemap};
+
+/// Version of the `cell.json` layout. 1: untyped, before versioning; 2: typed, written once with
+/// metrics.
+pub const CELL_SCHEMA: u32 = 2;
+
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct CellRecord {
+    pub schema: u32,
+    pub id: CellId,
+    /// Hash of everything the cell's image depends on; `--resume` keeps a cell whose hash matches.
+    pub input_hash: String,
+    pub matrix_sha256: String,
+    pub composition: String,
+    pub pipeline: Pipeline,
+    pub path: RenderPath,
+    pub shader: String,
+    pub shader_source: String,
+    pub preset: String,
+    /// The sweep's values (slider units).
+    pub sliders: MaterialParams,
+    /// The model's inputs as the shader receives them.
+    pub shader_inputs: ShaderInputs,
+    pub key_light: KeyLight,
+    pub image: ImageFiles,
+    /// Set when the images are a copy of this cell's (the shader ignores the differing axes).
+    pub twin_of: Option<CellId>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub note: Option<String>,
+    pub adapter: String,
+    pub tonemap: TonemapRecord,
+    pub stats: PixelStats,
+    pub timing: CellTiming,
+    pub metrics: CellMetrics,
+}
+
+impl CellRecord {
+    pub fn load(path: &Path) -> Result<CellRecord, RecordError> {
+        read_record(path, CELL_SCHEMA)
+    }
+
+    /// The cell's value on a sheet axis (`spec::sheets::AXES`), as labels and file names show it.
+    pub fn axis_value(&self, axis: &str) -> String {
+        let num = |v: f64| format!("{v:.2}");
+        match axis {
+            "composition" => self.composition.clone(),
+            "pipeline" => self.pipeline.name().into(),
+            "path" => self.path.name().into(),
+            "shader" => self.shader.clone(),
+            "preset" => self.preset.clone(),
+            "metallic" => num(self.sliders.metallic),
+            "smoothness" => num(self.sliders.smoothness),
+            "light_intensity" => num(self.key_light.intensity),
+            "light_range" => num(self.key_light.range),
+            _ => "?".into(),
+        }
+    }
+
+    /// The time error-against-time plots use: GPU pass time where measured, else CPU wall.
+    pub fn gpu_median_ms(&self) -> Option<f64> {
+        self.timing.gpu.value().and_then(|s| s.median_ms)
+    }
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct ShaderInputs {
+    pub base_color_linear: [f64; 3],
+    pub metallic: f64,
+    pub smoothness: f64,
+    pub specular: [f64; 3],
+    /// The model's own parameters by name.
+    pub params: BTreeMap<String, f64>,
+    /// How the sweep's values became these inputs.
+    pub mapping: String,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct KeyLight {
+    /// Matrix units (0–100) and metres.
+    pub intensity: f64,
+    pub range: f64,
+    /// Factor from matrix units to the pipeline's units.
+    pub intensity_scale: f64,
+    pub attenuation: Attenuation,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct ImageFiles {
+    pub width: u32,
+    pub height: u32,
+    pub exr: String,
+    pub png: String,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct TonemapRecord {
+    pub kind: Tonemap,
+    /// Exposure multiplier applied before the curve (1 without automatic exposure).
+    pub exposure: f64,
+}
+
+/// Times of a series of frames, ms.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct FrameSeries {
+    /// What was timed.
+    pub kind: String,
+    pub frame_ms: Vec<f64>,
+    pub median_ms: Option<f64>,
+    pub min_ms: Option<f64>,
+    pub max_ms: Option<f64>,
+}
+
+impl FrameSeries {
+    pub fn new(kind: impl Into<String>, ms: &[f64]) -> FrameSeries {
+        let mut sorted = ms.to_vec();
+        sorted.sort_by(|a, b| a.total_cmp(b));
+        FrameSeries {
+            kind: kind.into(),
+            frame_ms: ms.to_vec(),
+            median_ms: sorted.get(sorted.len() / 2).copied(),
+            min_ms: sorted.first().copied(),
+            max_ms: sorted.last().copied(),
+        }
+    }
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct CellTiming {
+    /// Timed frames, after `warmup` untimed ones.
+    pub frames: usize,
+    pub warmup: u32,
+    /// GPU time of the render pass from timestamp queries, or why there is none.
+    pub gpu: Maybe<FrameSeries>,
+    /// CPU wall time from queue submit to device idle.
+    pub cpu_wall: FrameSeries,
+    pub readback_ms: f64,
+    /// Tonemapping, statistics and encoding of EXR and PNG.
+    pub encode_ms: f64,
+    /// Comparing with the reference and writing the maps (None: not compared).
+    pub metrics_ms: Option<f64>,
+}
+
+/// What a cell was compared against.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum ReferenceRecord {
+    /// Another cell of this run.
+    Cell { cell: CellId },
+    /// The same cell rendered at `factor`× and box-filtered down (reference.exr/png in the cell).
+    Supersampled { factor: u32 },
+    /// The cell of the same id in an earlier run.
+    Run { run: String, cell: CellId },
+}
+
+impl ReferenceRecord {
+    /// A short label for tables: the reference cell's id, or the kind.
+    pub fn label(&self) -> String {
+        match self {
+            ReferenceRecord::Cell { cell } => cell.0.clone(),
+            ReferenceRecord::Supersampled { factor } => format!("supersampled {factor}×"),
+            ReferenceRecord::Run { run, .. } => format!("run {run}"),
+        }
+    }
+}
+
+/// HDR comparison of the EXRs.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct HdrComparison {
+    pub flip: FlipMetric,
+    pub rmse: f64,
+    pub reference_bad: BadValues,
+    pub test_bad: BadValues,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct MetricMaps {
+    pub flip: String,
+    pub ssim: String,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct CellMetrics {
+    pub reference: Maybe<ReferenceRecord>,
+    /// LDR comparison of the PNGs (absent without a reference).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ldr: Option<Comparison>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hdr: Option<Maybe<HdrComparison>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub maps: Option<MetricMaps>,
+}
+
+impl CellMetrics {
+    pub fn without_reference(why: impl Into<String>) -> CellMetrics {
+        CellMetrics { reference: Maybe::missing(why), ldr: None, hdr: None, maps: None }
+    }
+
+    pub fn ldr_flip(&self) -> Option<f64> {
+        self.ldr.as_ref().and_then(|c| c.flip.value.mean())
+    }
+
+    pub fn ldr_ssim(&self) -> Option<f64> {
+        self.ldr.as_ref().and_then(|c| c.ssim.mean())
+    }
+
+    pub fn hdr_flip(&self) -> Option<f64> {
+        self.hdr.as_ref().and_then(|h| h.value()).and_then(|h| h.flip.value.mean())
+    }
+
+    /// The reference cell's id, when the reference is a cell of this run.
+    pub fn reference_cell(&self) -> Option<&CellId> {
+        match self.reference.value() {
+            Some(ReferenceRecord::Cell { cell }) => Some(cell),
+            _ => None,
+        }
+    }
+}

@@ -1,0 +1,125 @@
+//! `run.json`: what a run was (matrix, adapter, pass plans), how far it got, and what its stages
+//! cost.
+
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+use super::{read_record, Maybe};
+use crate::error::Error;
+use crate::gpu::AdapterRecord;
+use crate::spec::sheets::SheetSpec;
+
+/// Version of the `run.json` layout. 2: `schema`, `stages`.
+pub const RUN_SCHEMA: u32 = 2;
+
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct RunRecord {
+    pub schema: u32,
+    pub shadematrix_version: String,
+    pub status: RunStatus,
+    pub matrix: MatrixRecord,
+    pub adapter: AdapterRecord,
+    pub started: String,
+    pub finished: Option<String>,
+    pub wall_seconds: Option<f64>,
+    pub counts: RunCounts,
+    pub compositions: Vec<CompositionRecord>,
+    /// Time spent in each stage, summed over cells (absent while running).
+    #[serde(default)]
+    pub stages: Option<StageTimes>,
+}
+
+impl RunRecord {
+    pub fn load(dir: &Path) -> Result<RunRecord, Error> {
+        let path = dir.join(super::RUN_FILE);
+        read_record(&path, RUN_SCHEMA).map_err(|e| e.into_error(&path, "run record"))
+    }
+
+    /// "name (backend, driver)": how reports name the adapter.
+    pub fn adapter_label(&self) -> String {
+        let a = &self.adapter;
+        format!("{} ({}, {})", a.name, a.backend, a.driver_info)
+    }
+}
+
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum RunStatus {
+    Running,
+    Complete,
+    Failed,
+}
+
+impl RunStatus {
+    pub fn name(self) -> &'static str {
+        match self {
+            RunStatus::Running => "running",
+            RunStatus::Complete => "complete",
+            RunStatus::Failed => "failed",
+        }
+    }
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct MatrixRecord {
+    pub name: String,
+    pub origin: String,
+    pub sha256: String,
+    pub image: [u32; 2],
+    pub frames: u32,
+    pub warmup: u32,
+    pub shard: Option<String>,
+    /// The contact sheets `report` draws.
+    #[serde(default)]
+    pub sheets: Vec<SheetSpec>,
+}
+
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct RunCounts {
+    /// Cells of the matrix after filters (this shard's share when sharded).
+    pub cells: usize,
+    pub rendered: usize,
+    /// Cells equal to an earlier cell because the shader ignores the axes they differ in.
+    pub twins: usize,
+    /// Cells found finished by --resume.
+    pub resumed: usize,
+    pub pruned: usize,
+    pub filtered_out: usize,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct CompositionRecord {
+    pub name: String,
+    pub origin: String,
+    pub passes: Vec<String>,
+    pub left_out: Vec<(String, String)>,
+    pub triangles: usize,
+    pub prepare_seconds: f64,
+}
+
+/// Time spent in each stage, summed over its jobs (ms): wall time for the render thread (submit and
+/// wait for the device), CPU time of the worker threads for the CPU stages, so that contention for
+/// the cores does not inflate them. Stages overlap; the sum can exceed the run's wall time.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct StageTimes {
+    /// Scene upload, probe prefiltering and pipeline creation.
+    pub prepare_ms: f64,
+    /// Queue submit to device idle, every frame of every rendered cell (supersampled references included).
+    pub render_ms: f64,
+    /// Mapping the frame back to the CPU.
+    pub readback_ms: f64,
+    /// Tonemapping, pixel statistics, EXR and PNG encoding and writing (twins' copies included).
+    pub encode_ms: f64,
+    /// FLIP, SSIM, maps, and the cell record.
+    pub metrics_ms: f64,
+    /// Time the render thread waited for room in the encode queue (back-pressure).
+    pub render_blocked_ms: f64,
+    /// Threads per CPU stage and queue depths.
+    pub encode_workers: usize,
+    pub metrics_workers: usize,
+    pub queue_depth: usize,
+    /// Process CPU time (user + system) over the whole run, where the OS reports it.
+    pub process_cpu: Maybe<f64>,
+    /// Peak resident set size of the process, bytes, where the OS reports it.
+    pub peak_rss_bytes: Maybe<u64>,
+}

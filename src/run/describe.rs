@@ -1,0 +1,49 @@
+//! A cell's record before it is measured: its axes, the model's inputs and the light, and the
+//! hash of everything its image depends on.
+
+use serde_json::json;
+use sha2::{Digest, Sha256};
+
+use crate::cells::Cell;
+use crate::record::cell::{ImageFiles, KeyLight, ShaderInputs};
+use crate::spec::matrix::{hex, Matrix};
+
+/// Hash of everything a cell's image depends on, so `--resume` re-renders changed cells.
+pub fn input_hash(matrix: &Matrix, cell: &Cell) -> String {
+    let scene = &matrix.compositions[cell.composition_index];
+    let text = json!({
+        "version": env!("CARGO_PKG_VERSION"),
+        "cell": cell,
+        "scene": scene,
+        "frames": matrix.timing.frames,
+        "reference": format!("{:?}", matrix.reference),
+    });
+    hex(&Sha256::digest(text.to_string().as_bytes()))
+}
+
+/// The model's inputs as the shader receives them, with its parameters by name.
+pub fn shader_inputs(cell: &Cell) -> ShaderInputs {
+    let model = cell.model();
+    let s = cell.surface();
+    ShaderInputs {
+        base_color_linear: s.base_color.to_array(),
+        metallic: s.metallic,
+        smoothness: s.smoothness,
+        specular: s.specular.to_array(),
+        params: model.params.iter().map(|p| (p.name.to_string(), s.params[p.slot])).collect(),
+        mapping: model.mapping.to_string(),
+    }
+}
+
+pub fn key_light(cell: &Cell) -> KeyLight {
+    KeyLight {
+        intensity: cell.light_intensity,
+        range: cell.light_range,
+        intensity_scale: cell.pipeline.intensity_scale(),
+        attenuation: cell.pipeline.attenuation(),
+    }
+}
+
+pub fn image_files(cell: &Cell) -> ImageFiles {
+    ImageFiles { width: cell.width, height: cell.height, exr: "image.exr".into(), png: "image.png".into() }
+}

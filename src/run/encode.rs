@@ -1,0 +1,160 @@
+//! The encode stage: a rendered frame becomes image.exr and image.png (and, for a supersampled
+//! reference, reference.exr and reference.png), with its pixel statistics and the cell's record
+//! short of its metrics.
+
+use std::path::Path;
+
+use super::clock::ThreadTimer;
+use super::describe::{image_files, input_hash, key_light, shader_inputs};
+use crate::cells::Cell;
+use crate::error::Error;
+use crate::fsutil::write_atomic;
+use crate::images::stats::pixel_stats;
+use crate::images::{encode, tonemap};
+use crate::record::cell::{CellMetrics, CellRecord, CellTiming, FrameSeries, TonemapRecord, CELL_SCHEMA};
+use crate::record::Maybe;
+use crate::render::CellRender;
+use crate::spec::matrix::Matrix;
+
+/// A frame the render thread finished, on its way to the encode workers.
+pub struct RenderedCell<'a> {
+    pub cell: &'a Cell,
+    pub render: CellRender,
+    /// The same cell at k× the resolution (k, pixels), or why it could not be rendered.
+    pub supersampled: Option<Result<(u32, Vec<f32>), String>>,
+}
+
+/// The images of a cell in memory, as written to disk (PNG values are the RGBA8 written).
+#[derive(Clone)]
+pub struct CellImages {
+    pub width: u32,
+    pub height: u32,
+    pub srgb8: Vec<u8>,
+    pub hdr: Vec<f32>,
+}
+
+/// An encoded cell: files written, record complete but for the metrics.
+pub struct EncodedCell {
+    pub record: CellRecord,
+    pub images: CellImages,
+    /// Why the supersampled reference is missing, when the matrix asked for one and it is.
+    pub reference_missing: Option<String>,
+}
+
+pub fn encode_cell(matrix: &Matrix, dir: &Path, adapter: &str, job: RenderedCell) -> Result<EncodedCell, Error> {
+    let RenderedCell { cell, render: r, supersampled } = job;
+    let t0 = ThreadTimer::start();
+    let exr = encode::exr_bytes(r.width, r.height, &r.hdr)?;
+    let (srgb8, exposure) = tonemap::to_srgb8(&r.hdr, cell.pipeline.tonemap());
+    let png = encode::png_bytes(r.width, r.height, &srgb8)?;
+    let stats = pixel_stats(&r);
+    let encode_ms = t0.elapsed_ns() as f64 / 1e6;
+    write_atomic(&dir.join("image.exr"), &exr)?;
+    write_atomic(&dir.join("image.png"), &png)?;
+    let reference_missing = match supersampled {
+        None => None,
+        Some(Err(why)) => Some(why),
+        Some(Ok((k, big))) => {
+            write_supersampled(dir, cell, k, &big)?;
+            None
+        }
+    };
+    let timing = CellTiming {
+        frames: r.frame_ms.len(),
+        warmup: matrix.timing.warmup,
+        gpu: match &r.gpu_pass_ms {
+            Some(ms) => Maybe::Value(FrameSeries::new("timestamp_query: forward render pass, begin to end", ms)),
+            None => Maybe::missing("the adapter has no timestamp queries; see cpu_wall"),
+        },
+        cpu_wall: FrameSeries::new("CPU wall time from queue submit to device idle", &r.frame_ms),
+        readback_ms: r.readback_ms,
+        encode_ms,
+        metrics_ms: None,
+    };
+    let record = CellRecord {
+        schema: CELL_SCHEMA,
+        id: cell.id.clone(),
+        input_hash: input_hash(matrix, cell),
+        matrix_sha256: matrix.hash.clone(),
+        composition: cell.composition.clone(),
+        pipeline: cell.pipeline,
+        path: cell.path,
+        shader: cell.shader.clone(),
+        shader_source: cell.model().source_path.to_string(),
+        preset: cell.preset.clone(),
+        sliders: cell.material,
+        shader_inputs: shader_inputs(cell),
+        key_light: key_light(cell),
+        image: image_files(cell),
+        twin_of: None,
+        note: None,
+        adapter: adapter.to_string(),
+        tonemap: TonemapRecord { kind: cell.pipeline.tonemap(), exposure },
+        stats,
+        timing,
+        metrics: CellMetrics::without_reference("not compared yet"),
+    };
+    Ok(EncodedCell {
+        record,
+        images: CellImages { width: r.width, height: r.height, srgb8, hdr: r.hdr },
+        reference_missing,
+    })
+}
+
+/// Box-filter the k× render down to the cell's size: reference.exr and reference.png.
+fn write_supersampled(dir: &Path, cell: &Cell, k: u32, big: &[f32]) -> Result<(), Error> {
+    let (pw, ph, k) = (cell.width as usize, cell.height as usize, k as usize);
+    let w = pw * k;
+    let mut small = vec![0f32; pw * ph * 4];
+    let norm = 1.0 / (k * k) as f32;
+    for y in 0..ph {
+        for x in 0..pw {
+            for dy in 0..k {
+                for dx in 0..k {
+                    let src = ((y * k + dy) * w + x * k + dx) * 4;
+                    for c in 0..4 {
+                        small[(y * pw + x) * 4 + c] += big[src + c] * norm;
+                    }
+                }
+            }
+        }
+    }
+    let (srgb, _) = tonemap::to_srgb8(&small, cell.pipeline.tonemap());
+    write_atomic(&dir.join("reference.exr"), &encode::exr_bytes(cell.width, cell.height, &small)?)?;
+    write_atomic(&dir.join("reference.png"), &encode::png_bytes(cell.width, cell.height, &srgb)?)
+}
+
+/// A twin's record: its own axes and hash, its original's images, statistics and timings.
+pub fn twin_record(matrix: &Matrix, cell: &Cell, original: &CellRecord) -> CellRecord {
+    let twin_of = cell.twin_of.clone().expect("a twin");
+    CellRecord {
+        id: cell.id.clone(),
+        input_hash: input_hash(matrix, cell),
+        composition: cell.composition.clone(),
+        pipeline: cell.pipeline,
+        path: cell.path,
+        shader: cell.shader.clone(),
+        shader_source: cell.model().source_path.to_string(),
+        preset: cell.preset.clone(),
+        sliders: cell.material,
+        shader_inputs: shader_inputs(cell),
+        key_light: key_light(cell),
+        image: image_files(cell),
+        note: Some(format!(
+            "not rendered: `{}` ignores the axes this cell differs in; images copied from {twin_of}",
+            cell.shader
+        )),
+        twin_of: Some(twin_of),
+        metrics: CellMetrics::without_reference("not compared yet"),
+        ..original.clone()
+    }
+}
+
+/// Copy a twin's images from its original's folder.
+pub fn copy_images(from: &Path, to: &Path) -> Result<(), Error> {
+    for name in ["image.exr", "image.png"] {
+        let bytes = std::fs::read(from.join(name)).map_err(|e| Error::io_path("reading", &from.join(name), e))?;
+        write_atomic(&to.join(name), &bytes)?;
+    }
+    Ok(())
+}

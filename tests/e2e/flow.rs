@@ -1,0 +1,175 @@
+//! Data flows one way: matrix → cells → plan → render → images → metrics → report. Every
+//! top-level module of `src/` has a place in `STAGES`, and may import (`crate::…`) only from
+//! itself and the modules before it. A new module must be placed here; an import against the
+//! flow fails this test with the file, the line and both modules.
+
+use std::path::{Path, PathBuf};
+
+/// The order of the stages; the vocabulary every stage shares comes first.
+const STAGES: &[&str] = &[
+    // Shared vocabulary: errors, colour math, atomic files, input parsing, engine conventions,
+    // the device, the shading models.
+    "error",
+    "color",
+    "fsutil",
+    "input",
+    "pipelines",
+    "gpu",
+    "shading",
+    // matrix (and the scenes it names) → cells → plan → render → images → metrics.
+    "spec",
+    "geometry",
+    "environment",
+    "cells",
+    "plan",
+    "render",
+    "images",
+    "compare",
+    // Records of cells and runs; the run that streams cells through the stages; what reads the
+    // records afterwards; the property audit; the command line.
+    "record",
+    "run",
+    "report",
+    "audit",
+    "cli",
+];
+
+/// The top-level module a source file belongs to (`src/run/encode.rs` → `run`).
+fn module_of(src: &Path, file: &Path) -> Option<String> {
+    let rel = file.strip_prefix(src).ok()?;
+    let first = rel.components().next()?.as_os_str().to_string_lossy().to_string();
+    Some(first.trim_end_matches(".rs").to_string())
+}
+
+/// Top-level modules named after `crate::` on each line, with 1-based line numbers; handles
+/// `use crate::{a::b, c}` groups spanning lines.
+fn crate_imports(text: &str) -> Vec<(usize, String)> {
+    let code: Vec<String> = text.lines().map(|l| l.split("//").next().unwrap_or("").to_string()).collect();
+    let joined = code.join("\n");
+    let bytes = joined.as_bytes();
+    let line_at = |pos: usize| joined[..pos].matches('\n').count() + 1;
+    let ident = |from: usize| -> String {
+        joined[from..].chars().take_while(|c| c.is_ascii_alphanumeric() || *c == '_').collect()
+    };
+    let mut out = Vec::new();
+    let mut search = 0;
+    while let Some(found) = joined[search..].find("crate::") {
+        let at = search + found;
+        search = at + "crate::".len();
+        // `shadematrix::crate::` cannot occur; skip identifiers that merely end in "crate".
+        if at > 0 && (bytes[at - 1].is_ascii_alphanumeric() || bytes[at - 1] == b'_') {
+            continue;
+        }
+        if bytes.get(search) == Some(&b'{') {
+            // Names at brace depth 1 are top-level modules (or items of the crate root).
+            let (mut depth, mut i, mut expect_name) = (0usize, search, true);
+            while i < bytes.len() {
+                match bytes[i] {
+                    b'{' => {
+                        depth += 1;
+                        expect_name = depth == 1;
+                    }
+                    b'}' => {
+                        depth -= 1;
+                        if depth == 0 {
+                            break;
+                        }
+                    }
+                    b',' if depth == 1 => expect_name = true,
+                    c if expect_name && depth == 1 && (c.is_ascii_alphabetic() || c == b'_') => {
+                        out.push((line_at(i), ident(i)));
+                        expect_name = false;
+                    }
+                    _ => {}
+                }
+                i += 1;
+            }
+        } else {
+            out.push((line_at(search), ident(search)));
+        }
+    }
+    out
+}
+
+fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    for entry in std::fs::read_dir(dir).unwrap().filter_map(|e| e.ok()) {
+        let p = entry.path();
+        if p.is_dir() {
+            rust_files(&p, out);
+        } else if p.extension().is_some_and(|e| e == "rs") {
+            out.push(p);
+        }
+    }
+}
+
+/// Every import against the flow under `src`, and every module without a stage.
+fn violations(src: &Path) -> Vec<String> {
+    let rank = |m: &str| STAGES.iter().position(|s| *s == m);
+    let mut files = Vec::new();
+    rust_files(src, &mut files);
+    files.sort();
+    let mut bad = Vec::new();
+    for file in files {
+        let Some(module) = module_of(src, &file) else { continue };
+        if module == "lib" || module == "main" {
+            continue;
+        }
+        let Some(own) = rank(&module) else {
+            bad.push(format!("{}: module `{module}` has no place in STAGES", file.display()));
+            continue;
+        };
+        let text = std::fs::read_to_string(&file).unwrap();
+        for (line, imported) in crate_imports(&text) {
+            match rank(&imported) {
+                Some(r) if r > own => bad.push(format!(
+                    "{}:{line}: `{module}` imports `{imported}`, a later stage (order: {})",
+                    file.display(),
+                    STAGES.join(" → ")
+                )),
+                // Items of the crate root (re-exports in lib.rs) are the vocabulary's.
+                _ => {}
+            }
+        }
+    }
+    bad
+}
+
+#[test]
+fn no_import_points_back_up_the_flow() {
+    let src = crate::common::repo().join("src");
+    let bad = violations(&src);
+    assert!(bad.is_empty(), "imports against the data flow:\n{}", bad.join("\n"));
+    // Every top-level module has a stage.
+    for entry in std::fs::read_dir(&src).unwrap().filter_map(|e| e.ok()) {
+        let name = entry.file_name().to_string_lossy().trim_end_matches(".rs").to_string();
+        assert!(name == "lib" || name == "main" || STAGES.contains(&name.as_str()), "`{name}` has no stage");
+    }
+}
+
+#[test]
+fn a_back_arrow_is_caught() {
+    // A copy of two modules, one of which reaches forward: the check must name it.
+    let tmp = tempfile::tempdir().unwrap();
+    let src = tmp.path().join("src");
+    std::fs::create_dir_all(src.join("render")).unwrap();
+    std::fs::create_dir_all(src.join("report")).unwrap();
+    std::fs::write(src.join("report/mod.rs"), "use crate::render::Renderer;\n").unwrap();
+    std::fs::write(
+        src.join("render/mod.rs"),
+        "use crate::{\n    gpu::GpuContext,\n    report::build, // against the flow\n};\n",
+    )
+    .unwrap();
+    let bad = violations(&src);
+    assert_eq!(bad.len(), 1, "{bad:?}");
+    assert!(bad[0].contains("render/mod.rs:3: `render` imports `report`"), "{}", bad[0]);
+    // Single-path imports and inline paths count too.
+    std::fs::write(src.join("render/mod.rs"), "fn f() { crate::report::build(); }\n").unwrap();
+    assert_eq!(violations(&src).len(), 1);
+}
+
+#[test]
+fn grouped_imports_are_read() {
+    let text = "use crate::{error::Error, gpu::{GpuContext, readback}, record};\nlet x = crate::cells::expand(m);\n";
+    let names: Vec<String> = crate_imports(text).into_iter().map(|(_, m)| m).collect();
+    assert_eq!(names, vec!["error", "gpu", "record", "cells"]);
+}

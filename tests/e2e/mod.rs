@@ -1,0 +1,15 @@
+//! One module per area, each driving the library or the `shadematrix` binary for real.
+
+mod check;
+mod cli;
+mod compare;
+mod coverage;
+mod flow;
+mod gallery;
+mod gltf_roundtrip;
+mod models;
+mod references;
+mod render_ci;
+mod resume;
+mod shading;
+mod user_models;
