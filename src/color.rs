@@ -1,4 +1,4 @@
-//! Colour transfer functions and constants shared by every stage (spec/shading.md §5).
+//! Colour transfer functions and constants shared by every stage (models.md#display).
 
 /// Smallest normal half-precision value, 2⁻¹⁴ (URP's HALF_MIN).
 pub const HALF_MIN: f64 = 6.103_515_625e-5;
@@ -36,6 +36,6 @@ mod tests {
             let c = i as f64 / 100.0;
             assert!((linear_to_srgb(srgb_to_linear(c)) - c).abs() < 1e-12);
         }
-        assert!((linear_to_srgb(0.04) - 0.220_916_301).abs() < 1e-6, "shading.md §1 gamma dielectric spec");
+        assert!((linear_to_srgb(0.04) - 0.220_916_301).abs() < 1e-6, "models.md#builtin gamma dielectric spec");
     }
 }

@@ -1,4 +1,4 @@
-// Blinn-Phong (spec §4, §4c): diffuse kd·NL plus ks·max(0, N·H)ⁿ, per unit of E/π.
+// Blinn-Phong (models.md#blinn-phong, models.md#blinn-phong): diffuse kd·NL plus ks·max(0, N·H)ⁿ, per unit of E/π.
 // params0.x: normalise the lobe by (n + 8)/8 (1) or not (0, the textbook form, default).
 
 // max(0, N·H)ⁿ, with the optional ≈(n + 8)/8 normalisation

@@ -1,4 +1,4 @@
-// Cook-Torrance (spec §4), modern normalised form f = kd·ρ/π + F·D·G/(4·NL·NV): Beckmann D with
+// Cook-Torrance (models.md#cook-torrance), modern normalised form f = kd·ρ/π + F·D·G/(4·NL·NV): Beckmann D with
 // m = α = pr², full dielectric Fresnel at c = VH from the IOR (params0.x), the Cook-Torrance G.
 // Metallic blends the dielectric Fresnel towards Schlick with F0 = base colour, and removes diffuse.
 

@@ -1,4 +1,4 @@
-// The Schlick term of spec §4b shown as colour: F = F0 + (1 − F0)(1 − NV)^p — N·V, not V·H.
+// The Schlick term of models.md#fresnel shown as colour: F = F0 + (1 − F0)(1 − NV)^p — N·V, not V·H.
 // F0 = ((1 − IOR)/(1 + IOR))² lerped to the base colour by metallic; params0.x IOR, params0.y p.
 // A visualisation, not a BRDF: no light is involved.
 

@@ -1,4 +1,4 @@
-// Half-Lambert (spec §4, §4c): h = 0.5·NL + 0.5, NOT squared (Unity's directional-lightmap decode;
+// Half-Lambert (models.md#half-lambert, models.md#half-lambert): h = 0.5·NL + 0.5, NOT squared (Unity's directional-lightmap decode;
 // Valve's Source paper squares it). radiance = ρ/π·E·h. Not energy conserving: a look, not a BRDF.
 
 // h = 0.5·NL + 0.5

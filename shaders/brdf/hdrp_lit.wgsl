@@ -1,11 +1,11 @@
-// HDRP Lit (spec §3): renormalised Disney diffuse, height-correlated Smith GGX (DV_SmithJointGGX),
+// HDRP Lit (models.md#hdrp-lit): renormalised Disney diffuse, height-correlated Smith GGX (DV_SmithJointGGX),
 // F_Schlick with F90 = 1, GGX energy compensation from the pre-integrated FGD table (fgd_lookup,
 // computed by the tool). params0.x: energy compensation on (1, default) or off (0).
 // Physical units: E in lux, radiance = f·E·NL.
 
 const HDRP_FLT_EPS: f32 = 5.960464478e-8;
 const HDRP_REAL_MIN: f32 = 1.175494351e-38;
-// Punctual light, shape radius 0: minRoughness = (1 − clamp01(1.1725/(1.01 + 0.1²) − 0.15))² (§3)
+// Punctual light, shape radius 0: minRoughness = (1 − clamp01(1.1725/(1.01 + 0.1²) − 0.15))² (models.md#hdrp-lit)
 const HDRP_MIN_ROUGHNESS_PUNCTUAL: f32 = 2.402922e-7;
 
 // F0·(1 − x⁵) + F90·x⁵, x = 1 − LH
@@ -47,7 +47,7 @@ fn hdrp_f0(s: Surface) -> vec3<f32> {
     return mix(vec3<f32>(0.04), s.base_color, s.metallic);
 }
 
-// Specular multiplier 1 + F0·(1/y − 1), y = reflectivity from the FGD table (§3)
+// Specular multiplier 1 + F0·(1/y − 1), y = reflectivity from the FGD table (models.md#hdrp-lit)
 fn hdrp_energy_compensation(s: Surface, nv: f32) -> vec3<f32> {
     if (s.params0.x < 0.5) {
         return vec3<f32>(1.0);

@@ -1,4 +1,4 @@
-// Lambert (spec §4): f = ρ/π, so radiance = ρ/π·E·max(0, NL); E per unit intensity is the pipeline's.
+// Lambert (models.md#lambert): f = ρ/π, so radiance = ρ/π·E·max(0, NL); E per unit intensity is the pipeline's.
 // Reads the base colour only (no metallic, no smoothness).
 
 fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {

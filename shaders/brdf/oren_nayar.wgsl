@@ -1,4 +1,4 @@
-// Oren-Nayar, qualitative model with its trigonometric form (spec §4): σ in radians (params0.x),
+// Oren-Nayar, qualitative model with its trigonometric form (models.md#oren-nayar): σ in radians (params0.x),
 // A = 1 − 0.5σ²/(σ² + 0.33), B = 0.45σ²/(σ² + 0.09),
 // radiance = ρ/π·E·NL·(A + B·max(0, cos(φi − φr))·sin a·tan b), a = max(θi, θr), b = min(θi, θr).
 
@@ -16,7 +16,7 @@ fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f3
     let alpha = max(theta_i, theta_r);
     let beta = min(theta_i, theta_r);
     let c = max(0.0, cos_azimuth_difference(n, v, l, nl, nv));
-    // tan b with cos b ≥ ε: b ≤ a < π/2 on the visible hemisphere (§6)
+    // tan b with cos b ≥ ε: b ≤ a < π/2 on the visible hemisphere (models.md#stability)
     let tan_beta = sin(beta) / max(cos(beta), 1e-4);
     return fd_lambert(s.base_color) * irradiance_per_intensity() * nl * (a + b * c * sin(alpha) * tan_beta);
 }

@@ -1,4 +1,4 @@
-// Phong (spec §4, §4c): diffuse kd·NL plus ks·max(0, R·V)ⁿ with R = 2NL·N − L, per unit of E/π.
+// Phong (models.md#phong, models.md#phong): diffuse kd·NL plus ks·max(0, R·V)ⁿ with R = 2NL·N − L, per unit of E/π.
 // params0.x: normalise the lobe by (n + 2)/2 (1) or not (0, the textbook form, default).
 
 // R = 2·NL·N − L

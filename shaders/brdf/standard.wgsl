@@ -1,7 +1,7 @@
-// Built-in Standard shader (metallic), BRDF1_Unity_PBS in linear colour space (spec §1).
+// Built-in Standard shader (metallic), BRDF1_Unity_PBS in linear colour space (models.md#standard).
 // Unity convention: diffuse not divided by π, specular multiplied by π (light intensity = π·irradiance).
 
-// unity_ColorSpaceDielectricSpec in linear space: rgb 0.04, a 0.96 (§1)
+// unity_ColorSpaceDielectricSpec in linear space: rgb 0.04, a 0.96 (models.md#standard)
 const DIELECTRIC_SPEC: vec4<f32> = vec4<f32>(0.04, 0.04, 0.04, 0.96);
 
 struct StandardSetup {
@@ -11,7 +11,7 @@ struct StandardSetup {
     perceptual_roughness: f32,
 };
 
-// specColor = lerp(0.04, albedo, m); oneMinusReflectivity = 0.96(1 − m); diffColor = albedo·that (§1)
+// specColor = lerp(0.04, albedo, m); oneMinusReflectivity = 0.96(1 − m); diffColor = albedo·that (models.md#standard)
 fn standard_setup(s: Surface) -> StandardSetup {
     var st: StandardSetup;
     st.spec_color = mix(DIELECTRIC_SPEC.rgb, s.base_color, s.metallic);
@@ -21,12 +21,12 @@ fn standard_setup(s: Surface) -> StandardSetup {
     return st;
 }
 
-// α = max(pr², 0.002) (§1 roughness clamp, "to match HDRP")
+// α = max(pr², 0.002) (models.md#standard roughness clamp, "to match HDRP")
 fn roughness_clamped(pr: f32) -> f32 {
     return max(pr * pr, 0.002);
 }
 
-// (1 + (fd90−1)(1−nl)⁵)(1 + (fd90−1)(1−nv)⁵), fd90 = 0.5 + 2·lh²·pr, no 1/π (§1 Disney diffuse)
+// (1 + (fd90−1)(1−nl)⁵)(1 + (fd90−1)(1−nv)⁵), fd90 = 0.5 + 2·lh²·pr, no 1/π (models.md#standard Disney diffuse)
 fn fd_disney_unity(nv: f32, nl: f32, lh: f32, pr: f32) -> f32 {
     let fd90 = 0.5 + 2.0 * lh * lh * pr;
     let light_scatter = 1.0 + (fd90 - 1.0) * pow5(1.0 - nl);
@@ -34,14 +34,14 @@ fn fd_disney_unity(nv: f32, nl: f32, lh: f32, pr: f32) -> f32 {
     return light_scatter * view_scatter;
 }
 
-// V = 0.5/(λV + λL + 1e-5), λV = nl(nv(1−α)+α), λL = nv(nl(1−α)+α) (§1 approximate SmithJointGGX)
+// V = 0.5/(λV + λL + 1e-5), λV = nl(nv(1−α)+α), λL = nv(nl(1−α)+α) (models.md#standard approximate SmithJointGGX)
 fn v_smith_joint_approx(nl: f32, nv: f32, a: f32) -> f32 {
     let lambda_v = nl * (nv * (1.0 - a) + a);
     let lambda_l = nv * (nl * (1.0 - a) + a);
     return 0.5 / (lambda_v + lambda_l + 1e-5);
 }
 
-// D = (1/π)·α²/(d² + 1e-7), d = nh²(α² − 1) + 1 (§1 GGXTerm)
+// D = (1/π)·α²/(d² + 1e-7), d = nh²(α² − 1) + 1 (models.md#standard GGXTerm)
 fn d_ggx_unity(nh: f32, a: f32) -> f32 {
     let a2 = a * a;
     let d = (nh * a2 - nh) * nh + 1.0;
@@ -58,7 +58,7 @@ fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f3
     let diffuse_term = fd_disney_unity(nv, nl, lh, st.perceptual_roughness) * nl;
     let a = roughness_clamped(st.perceptual_roughness);
     var specular_term = max(0.0, v_smith_joint_approx(nl, nv, a) * d_ggx_unity(nh, a) * PI * nl);
-    // Pure Lambert is possible: no specular when specColor is black (§1).
+    // Pure Lambert is possible: no specular when specColor is black (models.md#standard).
     if (all(st.spec_color == vec3<f32>(0.0))) {
         specular_term = 0.0;
     }
@@ -69,7 +69,7 @@ fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>)
     let st = standard_setup(s);
     let nv = abs(dot(n, v));
     let a = roughness_clamped(st.perceptual_roughness);
-    // surfaceReduction = 1/(α² + 1), linear space (§1)
+    // surfaceReduction = 1/(α² + 1), linear space (models.md#standard)
     let surface_reduction = 1.0 / (a * a + 1.0);
     let grazing_term = sat(s.smoothness + (1.0 - st.one_minus_reflectivity));
     let gi_specular = env_specular(reflect(-v, n), st.perceptual_roughness);

@@ -1,7 +1,7 @@
-// Built-in Standard, BRDF2_Unity_PBS ("minimalist Cook-Torrance"), linear colour space (spec §1).
+// Built-in Standard, BRDF2_Unity_PBS ("minimalist Cook-Torrance"), linear colour space (models.md#standard-brdf2).
 // No roughness clamp; nv = sat(NV); desktop (no fp16 clamps). Unity convention (no 1/π).
 
-// specColor, oneMinusReflectivity, diffColor as BRDF1 (§1 material setup)
+// specColor, oneMinusReflectivity, diffColor as BRDF1 (models.md#standard-brdf2 material setup)
 fn brdf2_spec_color(s: Surface) -> vec3<f32> {
     return mix(vec3<f32>(0.04), s.base_color, s.metallic);
 }
@@ -10,7 +10,7 @@ fn brdf2_one_minus_reflectivity(s: Surface) -> f32 {
     return 0.96 - s.metallic * 0.96;
 }
 
-// spec = α²/(max(0.1, lh²)·(α + 0.5)·d²·4), d = nh²(α² − 1) + 1.00001 (§1 BRDF2, linear)
+// spec = α²/(max(0.1, lh²)·(α + 0.5)·d²·4), d = nh²(α² − 1) + 1.00001 (models.md#standard-brdf2 BRDF2, linear)
 fn spec_brdf2(nh: f32, lh: f32, a: f32) -> f32 {
     let a2 = a * a;
     let d = nh * nh * (a2 - 1.0) + 1.00001;

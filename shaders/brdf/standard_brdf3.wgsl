@@ -1,4 +1,4 @@
-// Built-in Standard, BRDF3_Unity_PBS (SM2, lowest tier), spec §1. Unity convention (no 1/π).
+// Built-in Standard, BRDF3_Unity_PBS (SM2, lowest tier), models.md#standard-brdf3. Unity convention (no 1/π).
 // APPROXIMATION: the engine's unity_NHxRoughness lookup texture is not public. It is replaced by
 // a normalised Phong lobe in Unity convention, π·(n + 2)/(2π)·(R·L)ⁿ with n = 2/α² − 2
 // (PerceptualRoughnessToSpecPower, n ≥ 1e-4), evaluated from rlPow4 = (R·L)⁴ as rlPow4^(n/4) and
@@ -15,7 +15,7 @@ fn spec_brdf3(rl_pow4: f32, pr: f32) -> f32 {
 
 fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
     let nl = sat(dot(n, l));
-    // R = reflect(V, N) = −(true reflection); the even power cancels the sign (§1)
+    // R = reflect(V, N) = −(true reflection); the even power cancels the sign (models.md#standard-brdf3)
     let r = reflect(v, n);
     let rl = dot(r, l);
     let rl_pow4 = rl * rl * rl * rl;

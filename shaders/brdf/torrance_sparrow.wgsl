@@ -1,4 +1,4 @@
-// The custom roughness/metallic PBR shader of spec §4b, final (IBL) stage, quirks kept and named.
+// The custom roughness/metallic PBR shader of models.md#torrance-sparrow, final (IBL) stage, quirks kept and named.
 // Inputs: roughness r = 1 − smoothness; params0.x IOR (default 1.45), params0.y Fresnel power p
 // (default 5); specular: the metallic tint colour (default white). Built-in convention (no 1/π).
 

@@ -1,4 +1,4 @@
-// URP Lit (spec §2): InitializeBRDFData, DirectBRDFSpecular (minimal Cook-Torrance), Lambert
+// URP Lit (models.md#urp-lit): InitializeBRDFData, DirectBRDFSpecular (minimal Cook-Torrance), Lambert
 // without 1/π, EnvironmentBRDF. Desktop precision (no REAL_IS_HALF clamps).
 
 const HALF_MIN: f32 = 6.103515625e-5;

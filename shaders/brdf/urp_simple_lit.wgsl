@@ -1,4 +1,4 @@
-// URP Simple Lit (spec §2): Blinn-Phong without normalisation, Fresnel or NL on the specular.
+// URP Simple Lit (models.md#urp-simple-lit): Blinn-Phong without normalisation, Fresnel or NL on the specular.
 // diffuse = albedo·sat(NL); spec = specColor·pow(sat(NH), exp2(10·s + 1)); ambient = bakedGI·albedo.
 // The specular colour is `specular` (URP's _SpecColor). Light units: no 1/π, as URP.
 

@@ -1,21 +1,21 @@
-// BRDF terms shared by several models (spec §1, §4).
+// BRDF terms shared by several models (models.md#builtin, models.md#classic).
 
-// ρ/π (§4 Lambert)
+// ρ/π (models.md#classic Lambert)
 fn fd_lambert(albedo: vec3<f32>) -> vec3<f32> {
     return albedo * INV_PI;
 }
 
-// F = F0 + (1 − F0)(1 − c)⁵ (§1 FresnelTerm, §4 Schlick)
+// F = F0 + (1 − F0)(1 − c)⁵ (models.md#builtin FresnelTerm, models.md#classic Schlick)
 fn f_schlick(f0: vec3<f32>, c: f32) -> vec3<f32> {
     return f0 + (vec3<f32>(1.0) - f0) * pow5(1.0 - c);
 }
 
-// lerp(F0, F90, (1 − c)⁵) (§1 FresnelLerp)
+// lerp(F0, F90, (1 − c)⁵) (models.md#builtin FresnelLerp)
 fn f_schlick_lerp(f0: vec3<f32>, f90: vec3<f32>, c: f32) -> vec3<f32> {
     return mix(f0, f90, pow5(1.0 - c));
 }
 
-// cos(φi − φr): the tangent-plane projections of L and V, normalised; 0 when either is along N (§4 Oren-Nayar)
+// cos(φi − φr): the tangent-plane projections of L and V, normalised; 0 when either is along N (models.md#classic Oren-Nayar)
 fn cos_azimuth_difference(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, nl: f32, nv: f32) -> f32 {
     let lp = l - n * nl;
     let vp = v - n * nv;
@@ -26,26 +26,26 @@ fn cos_azimuth_difference(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, nl: f32, nv:
     return dot(lp, vp) * inverseSqrt(d);
 }
 
-// D_GGX = α²/(π(NH²(α² − 1) + 1)²) (§4 GGX / Torrance-Sparrow)
+// D_GGX = α²/(π(NH²(α² − 1) + 1)²) (models.md#classic GGX / Torrance-Sparrow)
 fn d_ggx(nh: f32, a: f32) -> f32 {
     let a2 = a * a;
     let d = nh * nh * (a2 - 1.0) + 1.0;
     return a2 / (PI * d * d);
 }
 
-// D_Beckmann = exp((NH² − 1)/(m²NH²))/(π m² NH⁴), NH² ≥ ε, m ≥ 1e-3 (§4 Beckmann, §6)
+// D_Beckmann = exp((NH² − 1)/(m²NH²))/(π m² NH⁴), NH² ≥ ε, m ≥ 1e-3 (models.md#classic Beckmann, models.md#stability)
 fn d_beckmann(nh: f32, m: f32) -> f32 {
     let m2 = max(m, 1e-3) * max(m, 1e-3);
     let nh2 = max(nh * nh, 1e-8);
     return exp((nh2 - 1.0) / (m2 * nh2)) / (PI * m2 * nh2 * nh2);
 }
 
-// G = min(1, 2NH·NV/VH, 2NH·NL/VH), VH ≥ ε (§4 Cook-Torrance G, §6)
+// G = min(1, 2NH·NV/VH, 2NH·NL/VH), VH ≥ ε (models.md#classic Cook-Torrance G, models.md#stability)
 fn g_cook_torrance(nh: f32, nv: f32, nl: f32, vh: f32) -> f32 {
     return min(1.0, 2.0 * nh * min(nv, nl) / max(vh, 1e-4));
 }
 
-// Full dielectric Fresnel, c = VH, g = √(η² + c² − 1); g² < 0 is TIR, F = 1 (§4, §6)
+// Full dielectric Fresnel, c = VH, g = √(η² + c² − 1); g² < 0 is TIR, F = 1 (models.md#classic, models.md#stability)
 fn f_fresnel_dielectric(c: f32, eta: f32) -> f32 {
     let g2 = eta * eta + c * c - 1.0;
     if (g2 < 0.0) {
@@ -57,12 +57,12 @@ fn f_fresnel_dielectric(c: f32, eta: f32) -> f32 {
     return 0.5 * a * a * (1.0 + b * b);
 }
 
-// G1(x) = x/(x(1 − k) + k): Vis = G1(NL)G1(NV)/(4NL·NV) = 1/(4(NL(1−k)+k)(NV(1−k)+k)) (§4 Smith-Schlick)
+// G1(x) = x/(x(1 − k) + k): Vis = G1(NL)G1(NV)/(4NL·NV) = 1/(4(NL(1−k)+k)(NV(1−k)+k)) (models.md#classic Smith-Schlick)
 fn v_smith_schlick(nl: f32, nv: f32, k: f32) -> f32 {
     return 0.25 / ((nl * (1.0 - k) + k) * (nv * (1.0 - k) + k));
 }
 
-// exp2(10·s + 1): URP Simple Lit shininess, 2..2048 (§2); the classic models use it too
+// exp2(10·s + 1): URP Simple Lit shininess, 2..2048 (models.md#urp); the classic models use it too
 fn shininess_from_smoothness(s: f32) -> f32 {
     return exp2(10.0 * s + 1.0);
 }

@@ -1,4 +1,4 @@
-// Pipeline conventions (spec §1–3). PIPELINE: 0 built-in, 1 URP, 2 HDRP (an override constant,
+// Pipeline conventions (models.md#conventions). PIPELINE: 0 built-in, 1 URP, 2 HDRP (an override constant,
 // so each (pipeline, model) pair compiles to its own specialised pipeline).
 override PIPELINE: u32 = 0u;
 
@@ -14,7 +14,7 @@ struct Surface {
     params1: vec4<f32>,
 };
 
-// Irradiance delivered per unit of light "intensity": built-in and URP intensities carry π (§1 "The π convention")
+// Irradiance delivered per unit of light "intensity": built-in and URP intensities carry π (models.md#builtin "The π convention")
 fn irradiance_per_intensity() -> f32 {
     if (PIPELINE == 2u) {
         return 1.0;
@@ -22,7 +22,7 @@ fn irradiance_per_intensity() -> f32 {
     return PI;
 }
 
-// Distance attenuation, d in metres (§1 built-in approximation, §2 URP, §3 HDRP); twin: pipelines::Attenuation
+// Distance attenuation, d in metres (models.md#builtin built-in approximation, models.md#urp URP, models.md#hdrp HDRP); twin: pipelines::Attenuation
 fn distance_attenuation(d: f32, range: f32) -> f32 {
     let d2 = d * d;
     if (PIPELINE == 0u) {
@@ -43,7 +43,7 @@ fn distance_attenuation(d: f32, range: f32) -> f32 {
     return g * g;
 }
 
-// Spot cone: sat((S·L − cosOuter)/max(ε, cosInner − cosOuter))² (URP §2; HDRP's form is the same with ε = 1e-4)
+// Spot cone: sat((S·L − cosOuter)/max(ε, cosInner − cosOuter))² (URP models.md#urp; HDRP's form is the same with ε = 1e-4)
 fn angle_attenuation(cos_angle: f32, cos_outer: f32, cos_inner: f32) -> f32 {
     let a = sat((cos_angle - cos_outer) / max(0.001, cos_inner - cos_outer));
     return a * a;

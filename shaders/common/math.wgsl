@@ -7,13 +7,13 @@ fn sat(x: f32) -> f32 {
     return clamp(x, 0.0, 1.0);
 }
 
-// x⁵ by multiplies: pow() is undefined for x = 0 in WGSL (spec §6)
+// x⁵ by multiplies: pow() is undefined for x = 0 in WGSL (models.md#stability)
 fn pow5(x: f32) -> f32 {
     let x2 = x * x;
     return x2 * x2 * x;
 }
 
-// v·rsqrt(max(eps, |v|²)): normalize(0) is NaN in WGSL (spec §6, Unity_SafeNormalize)
+// v·rsqrt(max(eps, |v|²)): normalize(0) is NaN in WGSL (models.md#stability, Unity_SafeNormalize)
 fn safe_normalize(v: vec3<f32>, eps: f32) -> vec3<f32> {
     return v * inverseSqrt(max(eps, dot(v, v)));
 }

@@ -95,7 +95,7 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> FragmentOut {
     return out;
 }
 
-// Gouraud shading (spec §4): the same sum evaluated per vertex and interpolated. Highlights
+// Gouraud shading (models.md#classic): the same sum evaluated per vertex and interpolated. Highlights
 // smaller than a triangle are lost or smeared — the expected difference. Back faces are not
 // flipped here (the vertex stage cannot know which side is seen).
 struct GouraudOut {

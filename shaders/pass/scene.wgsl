@@ -66,7 +66,7 @@ fn probe_level(d: vec3<f32>, level: f32) -> vec3<f32> {
     return textureSampleLevel(env_probe, env_sampler, equirect_uv(d), i32(level), 0.0).rgb;
 }
 
-// Prefiltered environment along r; mip = pr(1.7 − 0.7·pr)·6 (§1 reflection-probe mip), levels blended linearly
+// Prefiltered environment along r; mip = pr(1.7 − 0.7·pr)·6 (models.md#builtin reflection-probe mip), levels blended linearly
 fn env_specular(r: vec3<f32>, perceptual_roughness: f32) -> vec3<f32> {
     let pr = perceptual_roughness;
     let mip = clamp(pr * (1.7 - 0.7 * pr) * 6.0, 0.0, frame.env.x);

@@ -1,5 +1,5 @@
 //! The reflection probe: an equirectangular image of the sky prefiltered for GGX at Unity's
-//! seven mip levels (mip = pr'·6 with pr' = pr(1.7 − 0.7pr), spec §1), as layers of one array.
+//! seven mip levels (mip = pr'·6 with pr' = pr(1.7 − 0.7pr), models.md#builtin), as layers of one array.
 //! Brute-force convolution on the CPU (split-sum assumption N = V = R): small images, done once
 //! per composition, exact for the lobe and free of sampling noise.
 

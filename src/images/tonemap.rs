@@ -3,7 +3,7 @@
 use crate::color::{linear_to_srgb, luminance};
 use crate::pipelines::Tonemap;
 
-/// Narkowicz's ACES fit (spec §5): sat(x(2.51x + 0.03)/(x(2.43x + 0.59) + 0.14)).
+/// Narkowicz's ACES fit (models.md#display): sat(x(2.51x + 0.03)/(x(2.43x + 0.59) + 0.14)).
 pub fn aces_narkowicz(x: f64) -> f64 {
     (x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14)).clamp(0.0, 1.0)
 }
@@ -11,7 +11,7 @@ pub fn aces_narkowicz(x: f64) -> f64 {
 /// HDRP's default histogram range: pixels between these luminance percentiles set the exposure.
 pub const METERING_PERCENTILES: (f64, f64) = (0.40, 0.90);
 
-/// HDRP automatic exposure (spec §3): the mean log2 luminance of the pixels between the 40th and
+/// HDRP automatic exposure (models.md#hdrp): the mean log2 luminance of the pixels between the 40th and
 /// 90th percentile (HDRP's default histogram percentages; black backgrounds and highlights do not
 /// drag it), EV100 = log2(L·100/12.5) clamped to −10..10, exposure = 1/(1.2·2^EV). APPROXIMATION of
 /// HDRP's histogram: exact percentiles instead of its 128 bins, and no temporal adaptation.
@@ -63,7 +63,7 @@ mod tests {
     #[test]
     fn aces_fit_reference_points() {
         assert_eq!(aces_narkowicz(0.0), 0.0);
-        assert!((aces_narkowicz(1.0) - 0.8038).abs() < 1e-3, "1 → ≈0.8 (spec §5)");
+        assert!((aces_narkowicz(1.0) - 0.8038).abs() < 1e-3, "1 → ≈0.8 (models.md#display)");
         assert_eq!(aces_narkowicz(1e6), 1.0);
     }
 

@@ -1,4 +1,4 @@
-//! Emulations of the three engine pipelines' conventions (spec/shading.md §1–3, §5): light units
+//! Emulations of the three engine pipelines' conventions (models.md#conventions, models.md#display): light units
 //! and colour handling, distance attenuation, tonemapping, and which shaders exist in each.
 //! Per-pass plans live in `plan`; this module only states conventions.
 
@@ -39,7 +39,7 @@ impl Pipeline {
     }
 
     /// Scale from the matrix's light-intensity axis (0–100) to the pipeline's light units.
-    /// HDRP works in physical units: the spec's "×10000 in the HDRP emulation" (shading.md §3
+    /// HDRP works in physical units: the spec's "×10000 in the HDRP emulation" (models.md#hdrp
     /// derives ~3×10⁴ from 100 klux/π; 10⁴ is the order the comparison application uses).
     pub fn intensity_scale(self) -> f64 {
         match self {
@@ -50,7 +50,7 @@ impl Pipeline {
 
     /// Linear light colour × intensity as the pipeline's shaders receive it.
     /// Built-in defaults to `lightsUseLinearIntensity = false`: the gamma-space colour is multiplied
-    /// by the intensity *before* linearising (shading.md §1). URP and HDRP linearise first.
+    /// by the intensity *before* linearising (models.md#builtin). URP and HDRP linearise first.
     pub fn light_radiance(self, srgb_color: [f64; 3], intensity: f64) -> [f64; 3] {
         match self {
             Pipeline::Builtin => srgb_color.map(|c| srgb_to_linear(c * intensity)),
@@ -124,7 +124,7 @@ impl RenderPath {
     }
 }
 
-/// Point/spot distance attenuation, x = d / range (shading.md §1–3).
+/// Point/spot distance attenuation, x = d / range (models.md#conventions).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Attenuation {
@@ -161,7 +161,7 @@ impl Attenuation {
     }
 }
 
-/// Display transform from linear HDR to the PNG (spec §3 "Exposure", §5).
+/// Display transform from linear HDR to the PNG (models.md#hdrp "Exposure", models.md#display).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Tonemap {

@@ -558,7 +558,7 @@ impl Renderer {
                 LightKind::Spot => 2.0,
             };
             let outer = (l.spot_angle_deg * 0.5).to_radians();
-            // Unity's fallback inner angle: atan(tan(outer)·46/64) (shading.md §2).
+            // Unity's fallback inner angle: atan(tan(outer)·46/64) (models.md#urp).
             let inner = l
                 .inner_spot_angle_deg
                 .map(|a| (a * 0.5).to_radians())

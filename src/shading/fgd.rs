@@ -1,4 +1,4 @@
-//! HDRP's pre-integrated FGD table (spec §3), computed by the tool: for (√NV, pr) on a 64×64 grid,
+//! HDRP's pre-integrated FGD table (models.md#hdrp), computed by the tool: for (√NV, pr) on a 64×64 grid,
 //! x = mean(w·(1 − VH)⁵), y = mean(w) over 4096 GGX-distributed Hammersley samples with
 //! w = 4·V_SmithJointGGX·NL·VH/NH, and z = mean(DisneyDiffuseNoPI) over cosine samples − 0.5.
 //! Built once per process and shared by the GPU (a texture) and the f64 twin (the same f32 values,

@@ -1,4 +1,4 @@
-//! Twins of the built-in Standard shader's BRDF2 and BRDF3 (spec §1).
+//! Twins of the built-in Standard shader's BRDF2 and BRDF3 (models.md#builtin).
 
 use glam::DVec3;
 

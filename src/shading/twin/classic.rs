@@ -1,4 +1,4 @@
-//! Twins of the classic models (spec §4): half-Lambert, Phong, Blinn-Phong, Oren-Nayar (both
+//! Twins of the classic models (models.md#classic): half-Lambert, Phong, Blinn-Phong, Oren-Nayar (both
 //! forms), Cook-Torrance.
 
 use glam::DVec3;

@@ -1,4 +1,4 @@
-//! Twins of the custom roughness/metallic PBR shader of spec §4b (`torrance_sparrow`) and of its
+//! Twins of the custom roughness/metallic PBR shader of models.md#torrance-sparrow (`torrance_sparrow`) and of its
 //! Fresnel term shown as colour (`fresnel`). Quirks kept, as in the WGSL.
 
 use glam::DVec3;

@@ -1,4 +1,4 @@
-//! Twin of HDRP Lit (spec §3).
+//! Twin of HDRP Lit (models.md#hdrp-lit).
 
 use glam::DVec3;
 use std::f64::consts::FRAC_1_PI;

@@ -4,7 +4,7 @@ use std::f64::consts::FRAC_1_PI;
 use super::{irradiance_per_intensity, Surface, SurfaceTwin};
 use crate::pipelines::Pipeline;
 
-/// Lambert, spec §4: ρ/π·E·max(0, NL).
+/// Lambert, models.md#lambert: ρ/π·E·max(0, NL).
 pub struct Lambert;
 
 impl SurfaceTwin for Lambert {

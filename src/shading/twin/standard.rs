@@ -4,7 +4,7 @@ use std::f64::consts::{FRAC_1_PI, PI};
 use super::{f_schlick, f_schlick_lerp, pow5, safe_normalize, sat, Surface, SurfaceTwin};
 use crate::pipelines::Pipeline;
 
-/// Built-in Standard, BRDF1_Unity_PBS, linear colour space (spec §1). Twin of shaders/brdf/standard.wgsl.
+/// Built-in Standard, BRDF1_Unity_PBS, linear colour space (models.md#standard). Twin of shaders/brdf/standard.wgsl.
 pub struct Standard;
 
 const DIELECTRIC_SPEC_RGB: f64 = 0.04;
@@ -95,7 +95,7 @@ mod tests {
     #[test]
     fn ggx_peak_is_capped_by_the_1e7_epsilon() {
         // At α = 0.002 and NH = 1, d² = α⁴ = 1.6e-11 is far below Unity's +1e-7, so the peak is
-        // (1/π)·α²/(α⁴ + 1e-7) ≈ 12.7, not the 1/(π·α²) ≈ 8e4 that spec §6 quotes without the epsilon.
+        // (1/π)·α²/(α⁴ + 1e-7) ≈ 12.7, not the 1/(π·α²) ≈ 8e4 it would be without the epsilon.
         let a: f64 = 0.002;
         let peak = d_ggx_unity(1.0, a);
         let expected = FRAC_1_PI * a * a / (a.powi(4) + 1e-7);

@@ -1,4 +1,4 @@
-//! Twins of URP Lit and URP Simple Lit (spec §2), and of Unlit.
+//! Twins of URP Lit and URP Simple Lit (models.md#urp), and of Unlit.
 
 use glam::DVec3;
 
