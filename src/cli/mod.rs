@@ -192,6 +192,22 @@ pub fn load_models(models: &ModelsArg) -> Result<(), Error> {
     Ok(())
 }
 
+/// As `load_models`, where a matrix is named: its `models` key comes before the default folder.
+pub fn load_models_for(models: &ModelsArg, matrix: Option<&Path>) -> Result<(), Error> {
+    let from_matrix = match (&models.models, matrix) {
+        (None, Some(m)) => crate::spec::matrix::models_dir(m)?,
+        _ => None,
+    };
+    if let Some(dir) = &from_matrix {
+        if !dir.is_dir() {
+            let shown = matrix.map(|m| m.display().to_string()).unwrap_or_default();
+            let why = format!("`{}` is not a folder", dir.display());
+            return Err(crate::error::InputError::at_key(shown, "models", why).into());
+        }
+    }
+    load_models(&ModelsArg { models: from_matrix.or_else(|| models.models.clone()) })
+}
+
 /// Print to stdout; a closed pipe (`| head`) is not an error of ours.
 pub fn print_out(text: &str) {
     let _ = std::io::Write::write_all(&mut std::io::stdout(), text.as_bytes());

@@ -48,6 +48,24 @@ struct MatrixFile {
     sheets: Option<Vec<crate::spec::sheets::SheetSpec>>,
     #[serde(default)]
     exclude: Vec<toml::Table>,
+    /// A folder of user models (NAME.wgsl + NAME.toml), relative to the matrix file. Read before
+    /// the matrix is validated, so its models can be named in `shaders` (`models_dir`).
+    #[serde(default)]
+    #[allow(dead_code)]
+    models: Option<String>,
+}
+
+/// The `models` key of a matrix file, resolved against the file's folder, without validating the
+/// rest: user models must be registered before the matrix's shader names are checked.
+pub fn models_dir(path: &Path) -> Result<Option<std::path::PathBuf>, Error> {
+    #[derive(Deserialize)]
+    struct ModelsKey {
+        models: Option<String>,
+    }
+    let shown = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| InputError::new(&shown, format!("cannot read: {e}")))?;
+    let key: ModelsKey = parse_toml(&shown, &text)?;
+    Ok(key.models.map(|m| path.parent().unwrap_or(Path::new(".")).join(m)))
 }
 
 fn default_paths() -> Vec<String> {

@@ -78,3 +78,32 @@ fn broken_user_model_names_file_line_and_column() {
     assert_eq!(rc, 2, "{stderr}");
     assert!(stderr.contains("wrap_diffuse.wgsl"), "{stderr}");
 }
+
+#[test]
+fn models_come_from_the_folder_the_user_names() {
+    let tmp = tempfile::tempdir().unwrap();
+    let mine = tmp.path().join("my_models");
+    std::fs::create_dir_all(&mine).unwrap();
+    for f in ["wrap_diffuse.wgsl", "wrap_diffuse.toml"] {
+        std::fs::copy(crate::common::repo().join("examples/user_models").join(f), mine.join(f)).unwrap();
+    }
+    // Not in ./shaders/brdf: unknown without being named.
+    let m = crate::common::write_matrix(tmp.path(), "m.toml", MATRIX);
+    let (rc, _, stderr) = crate::common::shadematrix(tmp.path(), &["list", m.to_str().unwrap()], &[]);
+    assert_eq!(rc, 2, "{stderr}");
+    assert!(stderr.contains("wrap_diffuse"), "{stderr}");
+    // --models DIR names them.
+    let (rc, stdout, stderr) =
+        crate::common::shadematrix(tmp.path(), &["list", m.to_str().unwrap(), "--models", "my_models"], &[]);
+    assert_eq!(rc, 0, "{stderr}");
+    assert!(stdout.contains("__wrap_diffuse__"), "{stdout}");
+    // So does the matrix's `models` key, relative to the matrix file.
+    let keyed = crate::common::write_matrix(tmp.path(), "keyed.toml", &format!("models = \"my_models\"\n{MATRIX}"));
+    let (rc, stdout, stderr) = crate::common::shadematrix(tmp.path(), &["list", keyed.to_str().unwrap()], &[]);
+    assert_eq!(rc, 0, "{stderr}");
+    assert!(stdout.contains("__wrap_diffuse__"), "{stdout}");
+    let wrong = crate::common::write_matrix(tmp.path(), "wrong.toml", &format!("models = \"nope\"\n{MATRIX}"));
+    let (rc, _, stderr) = crate::common::shadematrix(tmp.path(), &["list", wrong.to_str().unwrap()], &[]);
+    assert_eq!(rc, 2, "{stderr}");
+    assert!(stderr.contains("wrong.toml") && stderr.contains("models") && stderr.contains("nope"), "{stderr}");
+}
