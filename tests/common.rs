@@ -32,3 +32,22 @@ pub fn write_matrix(dir: &Path, name: &str, body: &str) -> PathBuf {
     std::fs::write(&p, body).unwrap();
     p
 }
+
+/// The built-in models, built once for the tests.
+pub fn models() -> &'static shadematrix::shading::Registry {
+    static MODELS: std::sync::OnceLock<shadematrix::shading::Registry> = std::sync::OnceLock::new();
+    MODELS.get_or_init(shadematrix::shading::Registry::builtin)
+}
+
+pub fn find_model(
+    pipeline: shadematrix::pipelines::Pipeline,
+    name: &str,
+) -> Option<&'static shadematrix::shading::ShaderModel> {
+    models().find(pipeline, name).map(|m| &**m)
+}
+
+/// A matrix file, its shaders resolved among the built-in models.
+pub fn load_matrix(path: &Path) -> shadematrix::spec::matrix::Matrix {
+    let registry = std::sync::Arc::new(shadematrix::shading::Registry::builtin());
+    shadematrix::spec::matrix::Matrix::load(path, registry).unwrap()
+}

@@ -16,7 +16,7 @@ use crate::error::Error;
 use crate::gpu::GpuContext;
 use crate::pipelines::Pipeline;
 use crate::render::probe::{BrdfProbe, ProbeInput};
-use crate::shading::registry::{Expected, ShaderModel, Sliders};
+use crate::shading::registry::{Expected, Registry, ShaderModel, Sliders};
 use crate::shading::twin::irradiance_per_intensity;
 use samples::{around_y, audit_samples, hammersley, AuditSample};
 
@@ -99,7 +99,7 @@ fn physical(p: Pipeline, radiance: DVec3) -> DVec3 {
 pub fn audit_model(
     gpu: &GpuContext,
     probe: &mut BrdfProbe,
-    model: &'static ShaderModel,
+    model: &ShaderModel,
     p: Pipeline,
 ) -> Result<ModelAudit, Error> {
     let set = audit_samples();
@@ -183,7 +183,7 @@ fn reciprocity(
 
 /// White furnace: directional albedo ∫ f·cosθ dω of a white surface, for smoothness
 /// {0, 0.25, 0.5, 0.75, 0.9} × metallic {0, 1} × view angle {0, 30, 60, 75, 85}°; the worst case.
-fn energy(gpu: &GpuContext, probe: &mut BrdfProbe, model: &'static ShaderModel, p: Pipeline) -> Result<Energy, Error> {
+fn energy(gpu: &GpuContext, probe: &mut BrdfProbe, model: &ShaderModel, p: Pipeline) -> Result<Energy, Error> {
     let mut best = Energy {
         max_albedo: f64::NEG_INFINITY,
         worst_view_deg: 0.0,
@@ -221,7 +221,7 @@ fn energy(gpu: &GpuContext, probe: &mut BrdfProbe, model: &'static ShaderModel, 
 pub fn directional_albedo(
     gpu: &GpuContext,
     probe: &mut BrdfProbe,
-    model: &'static ShaderModel,
+    model: &ShaderModel,
     p: Pipeline,
     sliders: &Sliders,
     v: DVec3,
@@ -317,14 +317,14 @@ fn judge(a: &mut ModelAudit) {
 }
 
 /// Audit every (pipeline, model), or only the models named `shader`.
-pub fn audit_all(gpu: &GpuContext, shader: Option<&str>) -> Result<Vec<ModelAudit>, Error> {
+pub fn audit_all(gpu: &GpuContext, registry: &Registry, shader: Option<&str>) -> Result<Vec<ModelAudit>, Error> {
     let mut out = Vec::new();
     let mut probe = BrdfProbe::new(gpu);
-    for model in crate::shading::registry::all_models() {
+    for model in registry.models() {
         if shader.is_some_and(|s| s != model.name) {
             continue;
         }
-        for &p in model.pipelines {
+        for &p in &model.pipelines {
             out.push(audit_model(gpu, &mut probe, model, p)?);
         }
     }

@@ -6,10 +6,11 @@ use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
 
 use crate::pipelines::{Pipeline, RenderPath};
-use crate::shading::registry::{find_model, model_names_for, ShaderModel, Sliders};
+use crate::shading::registry::{ShaderModel, Sliders};
 use crate::shading::twin::Surface;
 use crate::spec::matrix::{Axis, Filter, FilterValue, Matrix};
 use crate::spec::presets::Preset;
+use std::sync::Arc;
 
 /// Stable, readable, filesystem-safe id, e.g. `mitsuba__builtin-forward__standard__gold__m1.00_s0.80_i1_r10`.
 #[derive(Debug, Clone, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
@@ -52,6 +53,9 @@ pub struct Cell {
     pub height: u32,
     /// Set when an earlier cell renders the same image (the shader ignores the differing axes).
     pub twin_of: Option<CellId>,
+    /// The model `shader` names in `pipeline`.
+    #[serde(skip)]
+    pub model: Arc<ShaderModel>,
 }
 
 impl Cell {
@@ -65,8 +69,8 @@ impl Cell {
         self.model().surface(self.pipeline, &self.sliders())
     }
 
-    pub fn model(&self) -> &'static ShaderModel {
-        find_model(self.pipeline, &self.shader).expect("cells are built only for existing (pipeline, shader) pairs")
+    pub fn model(&self) -> &ShaderModel {
+        &self.model
     }
 }
 
@@ -107,17 +111,17 @@ pub fn expand(m: &Matrix) -> Expansion {
         for &pipeline in &m.pipelines {
             for &path in &m.paths {
                 for shader in &m.shaders {
-                    if find_model(pipeline, shader).is_none() {
+                    let Some(model) = m.registry.find(pipeline, shader) else {
                         pruned.push(PrunedCell {
                             description: format!("{} × {} × {}", scene.name, pipeline.name(), shader),
                             reason: format!(
                                 "`{shader}` is not a shader of the {} pipeline (it has: {})",
                                 pipeline.name(),
-                                model_names_for(pipeline).join(", ")
+                                m.registry.names_for(pipeline).join(", ")
                             ),
                         });
                         continue;
-                    }
+                    };
                     for preset in &m.presets {
                         for metallic in opt_list(&m.sweep.metallic) {
                             for smoothness in opt_list(&m.sweep.smoothness) {
@@ -139,6 +143,7 @@ pub fn expand(m: &Matrix) -> Expansion {
                                                 width: m.image.width,
                                                 height: m.image.height,
                                                 twin_of: None,
+                                                model: model.clone(),
                                             };
                                             if passes_filters(&cell, &m.only, &m.exclude) {
                                                 cells.push(cell);
@@ -304,7 +309,7 @@ mod tests {
         let text = format!(
             "name = \"t\"\ncompositions = [\"medusa\", \"spikes\"]\npipelines = [\"builtin\", \"urp\"]\nshaders = [\"lambert\", \"standard\"]\npresets = [\"gold\", \"plastic\"]\n[image]\nwidth = 8\nheight = 8\n{extra}"
         );
-        Matrix::from_text("t.toml", &text, None).unwrap()
+        Matrix::from_text("t.toml", &text, None, Arc::new(crate::shading::Registry::builtin())).unwrap()
     }
 
     #[test]
@@ -355,7 +360,9 @@ mod tests {
     #[test]
     fn filter_names_are_checked() {
         let text = "name = \"t\"\ncompositions = [\"medusa\"]\npipelines = [\"urp\"]\nshaders = [\"lambert\"]\npresets = [\"gold\"]\n[image]\nwidth = 8\nheight = 8\n[[only]]\npreset = \"gould\"\n";
-        let err = Matrix::from_text("t.toml", text, None).unwrap_err().to_string();
+        let err = Matrix::from_text("t.toml", text, None, Arc::new(crate::shading::Registry::builtin()))
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("only[0].preset") && err.contains("did you mean `gold`?"), "{err}");
     }
 }

@@ -2,21 +2,21 @@
 
 use std::path::PathBuf;
 
-use super::{load_models, print_out, ModelsArg};
+use super::{print_out, registry, ModelsArg};
 use crate::audit;
 use crate::error::Error;
 use crate::input::names::unknown_name;
 
 pub fn audit(shader: Option<&str>, json: bool, out: Option<PathBuf>, models: &ModelsArg) -> Result<(), Error> {
-    load_models(models)?;
+    let registry = registry(models)?;
     if let Some(name) = shader {
-        let names = crate::shading::registry::all_model_names();
+        let names = registry.names();
         if !names.contains(&name) {
             return Err(unknown_name("command line", "--shader", "shader", name, &names).into());
         }
     }
     let gpu = crate::gpu::GpuContext::new()?;
-    let audits = audit::audit_all(&gpu, shader)?;
+    let audits = audit::audit_all(&gpu, &registry, shader)?;
     let dir = out.unwrap_or_else(|| {
         PathBuf::from("results").join(format!("audit-{}", chrono::Local::now().format("%Y%m%d-%H%M%S")))
     });

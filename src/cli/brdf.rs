@@ -8,7 +8,7 @@ use crate::gpu::GpuContext;
 use crate::input::names::unknown_name;
 use crate::pipelines::Pipeline;
 use crate::render::probe::{evaluate, ProbeInput};
-use crate::shading::registry::{all_model_names, find_model, model_names_for, Sliders};
+use crate::shading::registry::{Registry, Sliders};
 
 pub struct BrdfRequest {
     pub pipeline: String,
@@ -42,16 +42,15 @@ fn direction(key: &str, text: &str) -> Result<DVec3, InputError> {
 }
 
 pub fn print(req: &BrdfRequest, json_out: bool, models: &super::ModelsArg) -> Result<(), Error> {
-    super::load_models(models)?;
-    println!("{}", evaluate_request(req, json_out)?);
+    println!("{}", evaluate_request(req, json_out, &*super::registry(models)?)?);
     Ok(())
 }
 
-pub fn evaluate_request(req: &BrdfRequest, json_out: bool) -> Result<String, Error> {
+pub fn evaluate_request(req: &BrdfRequest, json_out: bool, registry: &Registry) -> Result<String, Error> {
     let pipeline = Pipeline::from_name(&req.pipeline)
         .ok_or_else(|| unknown_name(ORIGIN, "--pipeline", "pipeline", &req.pipeline, &Pipeline::names()))?;
-    let model = find_model(pipeline, &req.shader).ok_or_else(|| {
-        if all_model_names().contains(&req.shader.as_str()) {
+    let model = registry.find(pipeline, &req.shader).ok_or_else(|| {
+        if registry.names().contains(&req.shader.as_str()) {
             InputError::at_key(
                 ORIGIN,
                 "--shader",
@@ -59,11 +58,11 @@ pub fn evaluate_request(req: &BrdfRequest, json_out: bool) -> Result<String, Err
                     "`{}` is not a shader of {} (it has: {})",
                     req.shader,
                     pipeline.name(),
-                    model_names_for(pipeline).join(", ")
+                    registry.names_for(pipeline).join(", ")
                 ),
             )
         } else {
-            unknown_name(ORIGIN, "--shader", "shader", &req.shader, &model_names_for(pipeline))
+            unknown_name(ORIGIN, "--shader", "shader", &req.shader, &registry.names_for(pipeline))
         }
     })?;
     let (n, l, v) = (direction("--n", &req.n)?, direction("--l", &req.l)?, direction("--v", &req.v)?);
@@ -71,7 +70,7 @@ pub fn evaluate_request(req: &BrdfRequest, json_out: bool) -> Result<String, Err
     let mut s = model.surface(pipeline, &Sliders { base_color_linear: [0.5; 3], metallic: 0.0, smoothness: 0.5 });
     s.metallic = 0.0;
     let mut keys: Vec<&str> = vec!["albedo", "metallic", "smoothness", "specular"];
-    keys.extend(model.params.iter().map(|p| p.name));
+    keys.extend(model.params.iter().map(|p| p.name.as_ref()));
     for kv in &req.params {
         let (k, val) = kv
             .split_once('=')

@@ -3,15 +3,14 @@
 use std::fmt::Write;
 use std::path::Path;
 
-use super::{load_matrix, load_models_for, print_out, ModelsArg};
+use super::{load_matrix, print_out, registry_for, ModelsArg};
 use crate::cells::expand;
 use crate::error::Error;
 use crate::plan::FramePlan;
 use crate::spec::matrix::Matrix;
 
 pub fn list(matrix: Option<&Path>, models: &ModelsArg) -> Result<(), Error> {
-    load_models_for(models, matrix)?;
-    print_out(&text(&load_matrix(matrix)?));
+    print_out(&text(&load_matrix(matrix, registry_for(models, matrix)?)?));
     Ok(())
 }
 

@@ -14,7 +14,9 @@ use clap::{Parser, Subcommand};
 use std::path::{Path, PathBuf};
 
 use crate::error::Error;
+use crate::shading::Registry;
 use crate::spec::matrix::Matrix;
+use std::sync::Arc;
 
 /// Where user-supplied models are read from.
 #[derive(clap::Args, Debug, Clone, Default)]
@@ -177,23 +179,22 @@ pub fn dispatch(cmd: Command) -> Result<(), Error> {
     }
 }
 
-/// The matrix at `path`, or the embedded default one.
-pub fn load_matrix(path: Option<&Path>) -> Result<Matrix, Error> {
+/// The matrix at `path`, or the embedded default one, its shaders resolved in `registry`.
+pub fn load_matrix(path: Option<&Path>, registry: Arc<Registry>) -> Result<Matrix, Error> {
     match path {
-        Some(p) => Matrix::load(p),
-        None => Matrix::load_default(),
+        Some(p) => Matrix::load(p, registry),
+        None => Matrix::load_default(registry),
     }
 }
 
-/// Register the user models of `--models DIR`, else of ./shaders/brdf.
-pub fn load_models(models: &ModelsArg) -> Result<(), Error> {
+/// The models of this command: the built-in ones and those of `--models DIR`, else ./shaders/brdf.
+pub fn registry(models: &ModelsArg) -> Result<Arc<Registry>, Error> {
     let dir = models.models.clone().unwrap_or_else(|| PathBuf::from(crate::shading::user::USER_MODEL_DIR));
-    crate::shading::user::load_dir(&dir)?;
-    Ok(())
+    Ok(Arc::new(Registry::with_user_models(&dir)?))
 }
 
-/// As `load_models`, where a matrix is named: its `models` key comes before the default folder.
-pub fn load_models_for(models: &ModelsArg, matrix: Option<&Path>) -> Result<(), Error> {
+/// As `registry`, where a matrix is named: its `models` key comes before the default folder.
+pub fn registry_for(models: &ModelsArg, matrix: Option<&Path>) -> Result<Arc<Registry>, Error> {
     let from_matrix = match (&models.models, matrix) {
         (None, Some(m)) => crate::spec::matrix::models_dir(m)?,
         _ => None,
@@ -205,7 +206,7 @@ pub fn load_models_for(models: &ModelsArg, matrix: Option<&Path>) -> Result<(), 
             return Err(crate::error::InputError::at_key(shown, "models", why).into());
         }
     }
-    load_models(&ModelsArg { models: from_matrix.or_else(|| models.models.clone()) })
+    registry(&ModelsArg { models: from_matrix.or_else(|| models.models.clone()) })
 }
 
 /// Print to stdout; a closed pipe (`| head`) is not an error of ours.

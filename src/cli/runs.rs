@@ -2,7 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::{load_matrix, load_models_for, ModelsArg};
+use super::{load_matrix, registry_for, ModelsArg};
 use crate::error::{Error, InputError};
 use crate::report::check::{check as check_run, Thresholds};
 use crate::run::runner::{default_results_root, RunOptions};
@@ -29,8 +29,7 @@ pub fn run(
     only: Option<&str>,
     models: &ModelsArg,
 ) -> Result<(), Error> {
-    load_models_for(models, matrix)?;
-    let m = load_matrix(matrix)?;
+    let m = load_matrix(matrix, registry_for(models, matrix)?)?;
     let opts = RunOptions {
         results_root: default_results_root(),
         out,
@@ -58,8 +57,7 @@ pub fn run(
 }
 
 pub fn bench(matrix: Option<&Path>, out: Option<PathBuf>, models: &ModelsArg) -> Result<(), Error> {
-    load_models_for(models, matrix)?;
-    let m = load_matrix(matrix)?;
+    let m = load_matrix(matrix, registry_for(models, matrix)?)?;
     let opts = RunOptions { results_root: default_results_root(), out, progress: progress(), ..Default::default() };
     let b = super::bench::bench(&m, &opts)?;
     super::print_out(&super::bench::markdown(&b));

@@ -3,17 +3,16 @@
 use std::fmt::Write;
 
 use crate::error::Error;
-use crate::shading::registry::all_models;
+use crate::shading::Registry;
 
 pub fn print(models: &super::ModelsArg) -> Result<(), Error> {
-    super::load_models(models)?;
-    super::print_out(&table());
+    super::print_out(&table(&*super::registry(models)?));
     Ok(())
 }
 
-pub fn table() -> String {
+pub fn table(registry: &Registry) -> String {
     let mut s = String::from("| shader | pipelines | per vertex | reads | parameters | mapping from the sweep | source | summary |\n|---|---|---|---|---|---|---|---|\n");
-    for m in all_models() {
+    for m in registry.models() {
         let pipelines: Vec<&str> = m.pipelines.iter().map(|p| p.name()).collect();
         let mut reads = Vec::new();
         if m.reads.color {

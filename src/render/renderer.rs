@@ -19,7 +19,7 @@ use crate::pipelines::Pipeline;
 use crate::plan::FramePlan;
 use crate::shading::registry::Sliders;
 use crate::shading::twin::Surface;
-use crate::shading::{find_model, wgsl, ShaderModel};
+use crate::shading::{wgsl, Registry, ShaderModel};
 use crate::spec::scene::{LightKind, Role, Scene};
 
 const HDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
@@ -28,9 +28,9 @@ const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// What one cell asks of the renderer (no matrix types: the renderer knows scenes, not sweeps).
 #[derive(Debug, Clone, Copy)]
-pub struct CellParams {
+pub struct CellParams<'a> {
     pub pipeline: Pipeline,
-    pub model: &'static ShaderModel,
+    pub model: &'a ShaderModel,
     /// The subject's material as the model receives it (`ShaderModel::surface`).
     pub surface: Surface,
     pub light_intensity: f64,
@@ -98,7 +98,9 @@ pub struct Renderer {
     pipeline_layout: wgpu::PipelineLayout,
     sampler: wgpu::Sampler,
     fgd: wgpu::TextureView,
-    forward: HashMap<(Pipeline, &'static str), wgpu::RenderPipeline>,
+    forward: HashMap<(Pipeline, String), wgpu::RenderPipeline>,
+    /// Fixed objects are drawn with each pipeline's default lit shader, a built-in model.
+    fixed_models: Registry,
     background: Option<wgpu::RenderPipeline>,
     targets: Option<Targets>,
     timer: Option<PassTimer>,
@@ -174,6 +176,7 @@ impl Renderer {
             sampler,
             fgd,
             forward: HashMap::new(),
+            fixed_models: Registry::builtin(),
             background: None,
             targets: None,
             timer: None,
@@ -185,8 +188,8 @@ impl Renderer {
         self.forward.len() + self.background.is_some() as usize
     }
 
-    fn forward_pipeline(&mut self, pipeline: Pipeline, model: &'static ShaderModel) -> Result<(), Error> {
-        if self.forward.contains_key(&(pipeline, model.name)) {
+    fn forward_pipeline(&mut self, pipeline: Pipeline, model: &ShaderModel) -> Result<(), Error> {
+        if self.forward.contains_key(&(pipeline, model.name.to_string())) {
             return Ok(());
         }
         let source = wgsl::compose(wgsl::PassKind::Forward, Some(model));
@@ -226,7 +229,7 @@ impl Renderer {
             cache: None,
         });
         self.gpu.check_errors("creating a forward pipeline")?;
-        self.forward.insert((pipeline, model.name), p);
+        self.forward.insert((pipeline, model.name.to_string()), p);
         Ok(())
     }
 
@@ -436,23 +439,25 @@ impl Renderer {
         frames: u32,
         warmup: u32,
     ) -> Result<CellRender, Error> {
-        let fixed_model = find_model(cell.pipeline, cell.pipeline.fixed_object_shader())
-            .ok_or_else(|| Error::Other(format!("pipeline {} lacks its fixed-object shader", cell.pipeline.name())))?;
+        let fixed_model =
+            self.fixed_models.find(cell.pipeline, cell.pipeline.fixed_object_shader()).cloned().ok_or_else(|| {
+                Error::Other(format!("pipeline {} lacks its fixed-object shader", cell.pipeline.name()))
+            })?;
         let subject_model = cell.model;
         self.forward_pipeline(cell.pipeline, subject_model)?;
-        self.forward_pipeline(cell.pipeline, fixed_model)?;
+        self.forward_pipeline(cell.pipeline, &fixed_model)?;
         if prepared.plan.background {
             self.background_pipeline()?;
         }
-        self.write_uniforms(prepared, cell, fixed_model);
+        self.write_uniforms(prepared, cell, &fixed_model);
         self.targets(cell.width, cell.height);
         if self.gpu.record.timestamp_queries && self.timer.as_ref().is_none_or(|t| t.capacity() < frames) {
             self.timer = Some(PassTimer::new(&self.gpu.device, &self.gpu.queue, frames));
         }
         let timer = self.timer.as_ref().filter(|_| self.gpu.record.timestamp_queries);
         let t = self.targets.as_ref().expect("targets exist");
-        let subject_pipeline = &self.forward[&(cell.pipeline, subject_model.name)];
-        let fixed_pipeline = &self.forward[&(cell.pipeline, fixed_model.name)];
+        let subject_pipeline = &self.forward[&(cell.pipeline, subject_model.name.to_string())];
+        let fixed_pipeline = &self.forward[&(cell.pipeline, fixed_model.name.to_string())];
         let total = warmup + frames;
         let mut frame_ms = Vec::with_capacity(frames as usize);
         for f in 0..total {

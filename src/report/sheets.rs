@@ -106,6 +106,9 @@ pub fn grid(
 /// A row label and its tiles.
 type LabelledRow = (String, Vec<Option<std::path::PathBuf>>);
 
+/// Rows per difference sheet.
+const DIFF_ROWS_PER_SHEET: usize = 32;
+
 fn file_safe(s: &str) -> String {
     s.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '.' { c } else { '_' }).collect()
 }
@@ -163,7 +166,7 @@ pub fn write(run: &RunData, specs: &[SheetSpec]) -> Result<Vec<String>, Error> {
             let name = format!("sheets/{}_x_{}__{}.png", spec.rows, spec.cols, file_safe(&key.join("_")));
             let mut bytes = Vec::new();
             img.write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png)
-                .map_err(|e| Error::Other(format!("encoding {name}: {e}")))?;
+                .map_err(|e| Error::encode(format!("encoding {name}"), e))?;
             write_atomic(&run.dir.join(&name), &bytes)?;
             written.push(name);
         }
@@ -189,20 +192,27 @@ pub fn write(run: &RunData, specs: &[SheetSpec]) -> Result<Vec<String>, Error> {
         by_comp.entry(c.axis_value("composition")).or_default().push((label, row));
     }
     for (comp, rows) in by_comp {
-        let labels: Vec<String> = rows.iter().map(|r| r.0.clone()).collect();
-        let tiles: Vec<Vec<Option<std::path::PathBuf>>> = rows.into_iter().map(|r| r.1).collect();
-        let img = grid(
-            &format!("{comp}: cell, reference, FLIP"),
-            &labels,
-            &["cell".into(), "reference".into(), "FLIP".into()],
-            &tiles,
-        );
-        let name = format!("sheets/diff_{}.png", file_safe(&comp));
-        let mut bytes = Vec::new();
-        img.write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png)
-            .map_err(|e| Error::Other(format!("encoding {name}: {e}")))?;
-        write_atomic(&run.dir.join(&name), &bytes)?;
-        written.push(name);
+        // Pages of a fixed number of rows: a sheet's size (and the memory to draw it) stays the
+        // same however many cells the matrix has.
+        let pages: Vec<&[LabelledRow]> = rows.chunks(DIFF_ROWS_PER_SHEET).collect();
+        for (k, page) in pages.iter().enumerate() {
+            let labels: Vec<String> = page.iter().map(|r| r.0.clone()).collect();
+            let tiles: Vec<Vec<Option<std::path::PathBuf>>> = page.iter().map(|r| r.1.clone()).collect();
+            let (title, name) = if pages.len() == 1 {
+                (format!("{comp}: cell, reference, FLIP"), format!("sheets/diff_{}.png", file_safe(&comp)))
+            } else {
+                (
+                    format!("{comp}: cell, reference, FLIP ({} of {})", k + 1, pages.len()),
+                    format!("sheets/diff_{}_{:02}.png", file_safe(&comp), k + 1),
+                )
+            };
+            let img = grid(&title, &labels, &["cell".into(), "reference".into(), "FLIP".into()], &tiles);
+            let mut bytes = Vec::new();
+            img.write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png)
+                .map_err(|e| Error::encode(format!("encoding {name}"), e))?;
+            write_atomic(&run.dir.join(&name), &bytes)?;
+            written.push(name);
+        }
     }
     Ok(written)
 }

@@ -7,4 +7,4 @@ pub mod twin;
 pub mod user;
 pub mod wgsl;
 
-pub use registry::{find_model, model_names_for, ShaderModel, MODELS};
+pub use registry::{Registry, ShaderModel};

@@ -3,6 +3,9 @@
 //! can be different models with one name.
 
 use serde::Serialize;
+use std::borrow::Cow;
+use std::path::Path;
+use std::sync::Arc;
 
 use glam::DVec3;
 
@@ -20,14 +23,14 @@ pub struct Reads {
 }
 
 /// One of a model's own parameters: a named, ranged float in a slot of `Surface::params`.
-#[derive(Debug, Clone, Copy, Serialize)]
+#[derive(Debug, Clone, Serialize)]
 pub struct ParamSpec {
-    pub name: &'static str,
+    pub name: Cow<'static, str>,
     pub slot: usize,
     pub default: f64,
     pub min: f64,
     pub max: f64,
-    pub doc: &'static str,
+    pub doc: Cow<'static, str>,
 }
 
 /// The sweep's values for a cell, in slider units (colour already linear).
@@ -39,19 +42,20 @@ pub struct Sliders {
 }
 
 pub struct ShaderModel {
-    pub name: &'static str,
-    pub pipelines: &'static [Pipeline],
-    /// Path of the WGSL file, relative to the repository (for messages and `shaders` listings).
-    pub source_path: &'static str,
-    pub wgsl: &'static str,
+    pub name: Cow<'static, str>,
+    pub pipelines: Vec<Pipeline>,
+    /// Path of the WGSL file, relative to the repository or as the user named it (for messages and
+    /// `shaders` listings).
+    pub source_path: Cow<'static, str>,
+    pub wgsl: Cow<'static, str>,
     pub reads: Reads,
-    pub summary: &'static str,
+    pub summary: Cow<'static, str>,
     /// The f64 twin; `None` for user-supplied WGSL models (GPU-side checks only).
     pub twin: Option<&'static dyn SurfaceTwin>,
     /// The model's own parameters.
-    pub params: &'static [ParamSpec],
+    pub params: Vec<ParamSpec>,
     /// How the sweep's metallic / smoothness / colour become the model's inputs (for `shaders`).
-    pub mapping: &'static str,
+    pub mapping: Cow<'static, str>,
     /// That mapping, in code.
     pub from_sliders: fn(&ShaderModel, Pipeline, &Sliders) -> Surface,
     pub expected: Expected,
@@ -71,7 +75,7 @@ impl ShaderModel {
     /// Parameters at their defaults, by slot.
     pub fn default_params(&self) -> [f64; 8] {
         let mut p = [0.0; 8];
-        for spec in self.params {
+        for spec in &self.params {
             p[spec.slot] = spec.default;
         }
         p
@@ -133,34 +137,52 @@ const COLOR_SMOOTHNESS: Reads = Reads { color: true, metallic: false, smoothness
 const UNLIT_READS: Reads = Reads { color: true, metallic: false, smoothness: false, light: false };
 
 const NORMALIZE: ParamSpec = ParamSpec {
-    name: "normalize",
+    name: Cow::Borrowed("normalize"),
     slot: 0,
     default: 0.0,
     min: 0.0,
     max: 1.0,
-    doc: "1: energy-normalise the lobe; 0: the textbook form",
+    doc: Cow::Borrowed("1: energy-normalise the lobe; 0: the textbook form"),
 };
 const SIGMA: ParamSpec = ParamSpec {
-    name: "sigma",
+    name: Cow::Borrowed("sigma"),
     slot: 0,
     default: 0.5,
     min: 0.0,
     max: std::f64::consts::FRAC_PI_2,
-    doc: "surface slope deviation σ, radians (from smoothness: σ = 1 − s)",
+    doc: Cow::Borrowed("surface slope deviation σ, radians (from smoothness: σ = 1 − s)"),
 };
-const IOR_15: ParamSpec =
-    ParamSpec { name: "ior", slot: 0, default: 1.5, min: 1.0, max: 5.0, doc: "index of refraction" };
-const IOR_145: ParamSpec =
-    ParamSpec { name: "ior", slot: 0, default: 1.45, min: 1.0, max: 5.0, doc: "index of refraction" };
-const FRESNEL_POWER: ParamSpec =
-    ParamSpec { name: "fresnel_power", slot: 1, default: 5.0, min: 1.0, max: 8.0, doc: "exponent p of (1 − N·V)^p" };
+const IOR_15: ParamSpec = ParamSpec {
+    name: Cow::Borrowed("ior"),
+    slot: 0,
+    default: 1.5,
+    min: 1.0,
+    max: 5.0,
+    doc: Cow::Borrowed("index of refraction"),
+};
+const IOR_145: ParamSpec = ParamSpec {
+    name: Cow::Borrowed("ior"),
+    slot: 0,
+    default: 1.45,
+    min: 1.0,
+    max: 5.0,
+    doc: Cow::Borrowed("index of refraction"),
+};
+const FRESNEL_POWER: ParamSpec = ParamSpec {
+    name: Cow::Borrowed("fresnel_power"),
+    slot: 1,
+    default: 5.0,
+    min: 1.0,
+    max: 8.0,
+    doc: Cow::Borrowed("exponent p of (1 − N·V)^p"),
+};
 const ENERGY_COMPENSATION: ParamSpec = ParamSpec {
-    name: "energy_compensation",
+    name: Cow::Borrowed("energy_compensation"),
     slot: 0,
     default: 1.0,
     min: 0.0,
     max: 1.0,
-    doc: "1: multiply specular by 1 + F0·(1/y − 1) from the FGD table (HDRP default); 0: off",
+    doc: Cow::Borrowed("1: multiply specular by 1 + F0·(1/y − 1) from the FGD table (HDRP default); 0: off"),
 };
 
 /// Phong-type models: kd = colour·(1 − metallic), ks = lerp(0.5 grey, colour, metallic),
@@ -214,87 +236,317 @@ fn simple_lit_sliders(model: &ShaderModel, _: Pipeline, s: &Sliders) -> Surface 
     }
 }
 
-macro_rules! model {
-    ($name:expr, $pipelines:expr, $file:expr, $reads:expr, $expected:expr, $twin:expr, $params:expr, $mapping:expr, $from:expr, $summary:expr) => {
-        model!($name, $pipelines, $file, $reads, $expected, $twin, $params, $mapping, $from, $summary, false)
-    };
-    ($name:expr, $pipelines:expr, $file:expr, $reads:expr, $expected:expr, $twin:expr, $params:expr, $mapping:expr, $from:expr, $summary:expr, $per_vertex:expr) => {
-        ShaderModel {
-            name: $name,
-            pipelines: $pipelines,
-            source_path: concat!("shaders/brdf/", $file),
-            wgsl: include_str!(concat!("../../shaders/brdf/", $file)),
-            reads: $reads,
-            summary: $summary,
-            twin: Some($twin),
-            params: $params,
-            mapping: $mapping,
-            from_sliders: $from,
-            expected: $expected,
-            per_vertex: $per_vertex,
-            parity_tolerance: 1e-4,
-        }
-    };
-}
-
 const LAMBERT_MAPPING: &str = "colour → albedo ρ; metallic and smoothness unused";
 const ON_MAPPING: &str = "colour → albedo ρ; σ = 1 − smoothness (radians); metallic unused";
 const CUSTOM_MAPPING: &str =
     "colour → albedo; metallic as is (no gamma decode); roughness r = 1 − smoothness; metallic tint white";
 
-pub static MODELS: [ShaderModel; 21] = [
-    model!("lambert", ALL_PIPELINES, "lambert.wgsl", COLOR_ONLY, PHYSICAL, &twin::Lambert, &[], LAMBERT_MAPPING, metallic_workflow,
-        "Lambert: ρ/π·E·NL (models.md#lambert)"),
-    model!("lambert_vertex", ALL_PIPELINES, "lambert.wgsl", COLOR_ONLY, PHYSICAL, &twin::Lambert, &[], LAMBERT_MAPPING, metallic_workflow,
-        "Lambert evaluated per vertex (Gouraud, models.md#gouraud)", true),
-    model!("half_lambert", ALL_PIPELINES, "half_lambert.wgsl", COLOR_ONLY, NEITHER, &twin::HalfLambert, &[], LAMBERT_MAPPING,
-        metallic_workflow, "Half-Lambert: ρ/π·E·(0.5·NL + 0.5), not squared (models.md#half-lambert)"),
-    model!("half_lambert_vertex", ALL_PIPELINES, "half_lambert.wgsl", COLOR_ONLY, NEITHER, &twin::HalfLambert, &[], LAMBERT_MAPPING,
-        metallic_workflow, "Half-Lambert per vertex (Gouraud)", true),
-    model!("phong", ALL_PIPELINES, "phong.wgsl", ALL_AXES, NEITHER, &twin::Phong, &[NORMALIZE], CLASSIC_SPECULAR, classic_specular,
-        "Phong: kd·NL + ks·max(0, R·V)ⁿ, unnormalised by default (models.md#phong)"),
-    model!("phong_vertex", ALL_PIPELINES, "phong.wgsl", ALL_AXES, NEITHER, &twin::Phong, &[NORMALIZE], CLASSIC_SPECULAR, classic_specular,
-        "Phong per vertex (Gouraud)", true),
-    model!("blinn_phong", ALL_PIPELINES, "blinn_phong.wgsl", ALL_AXES, NEITHER, &twin::BlinnPhong, &[NORMALIZE], CLASSIC_SPECULAR,
-        classic_specular, "Blinn-Phong: kd·NL + ks·max(0, N·H)ⁿ, unnormalised by default (models.md#blinn-phong)"),
-    model!("blinn_phong_vertex", ALL_PIPELINES, "blinn_phong.wgsl", ALL_AXES, NEITHER, &twin::BlinnPhong, &[NORMALIZE],
-        CLASSIC_SPECULAR, classic_specular, "Blinn-Phong per vertex (Gouraud)", true),
+/// A WGSL file of `shaders/brdf/`, embedded: its path (for messages) and text.
+macro_rules! brdf_file {
+    ($file:literal) => {
+        WgslSource { path: concat!("shaders/brdf/", $file), text: include_str!(concat!("../../shaders/brdf/", $file)) }
+    };
+}
+
+/// The built-in models, one entry of named fields each.
+static BUILTIN_MODELS: &[BuiltinModel] = &[
+    BuiltinModel {
+        name: "lambert",
+        pipelines: ALL_PIPELINES,
+        wgsl: brdf_file!("lambert.wgsl"),
+        reads: COLOR_ONLY,
+        expected: PHYSICAL,
+        twin: &twin::Lambert,
+        params: &[],
+        mapping: LAMBERT_MAPPING,
+        from_sliders: metallic_workflow,
+        summary: "Lambert: ρ/π·E·NL (models.md#lambert)",
+        per_vertex: false,
+        parity_tolerance: 1e-4,
+    },
+    BuiltinModel {
+        name: "lambert_vertex",
+        pipelines: ALL_PIPELINES,
+        wgsl: brdf_file!("lambert.wgsl"),
+        reads: COLOR_ONLY,
+        expected: PHYSICAL,
+        twin: &twin::Lambert,
+        params: &[],
+        mapping: LAMBERT_MAPPING,
+        from_sliders: metallic_workflow,
+        summary: "Lambert evaluated per vertex (Gouraud, models.md#gouraud)",
+        per_vertex: true,
+        parity_tolerance: 1e-4,
+    },
+    BuiltinModel {
+        name: "half_lambert",
+        pipelines: ALL_PIPELINES,
+        wgsl: brdf_file!("half_lambert.wgsl"),
+        reads: COLOR_ONLY,
+        expected: NEITHER,
+        twin: &twin::HalfLambert,
+        params: &[],
+        mapping: LAMBERT_MAPPING,
+        from_sliders: metallic_workflow,
+        summary: "Half-Lambert: ρ/π·E·(0.5·NL + 0.5), not squared (models.md#half-lambert)",
+        per_vertex: false,
+        parity_tolerance: 1e-4,
+    },
+    BuiltinModel {
+        name: "half_lambert_vertex",
+        pipelines: ALL_PIPELINES,
+        wgsl: brdf_file!("half_lambert.wgsl"),
+        reads: COLOR_ONLY,
+        expected: NEITHER,
+        twin: &twin::HalfLambert,
+        params: &[],
+        mapping: LAMBERT_MAPPING,
+        from_sliders: metallic_workflow,
+        summary: "Half-Lambert per vertex (Gouraud)",
+        per_vertex: true,
+        parity_tolerance: 1e-4,
+    },
+    BuiltinModel {
+        name: "phong",
+        pipelines: ALL_PIPELINES,
+        wgsl: brdf_file!("phong.wgsl"),
+        reads: ALL_AXES,
+        expected: NEITHER,
+        twin: &twin::Phong,
+        params: &[NORMALIZE],
+        mapping: CLASSIC_SPECULAR,
+        from_sliders: classic_specular,
+        summary: "Phong: kd·NL + ks·max(0, R·V)ⁿ, unnormalised by default (models.md#phong)",
+        per_vertex: false,
+        parity_tolerance: 1e-4,
+    },
+    BuiltinModel {
+        name: "phong_vertex",
+        pipelines: ALL_PIPELINES,
+        wgsl: brdf_file!("phong.wgsl"),
+        reads: ALL_AXES,
+        expected: NEITHER,
+        twin: &twin::Phong,
+        params: &[NORMALIZE],
+        mapping: CLASSIC_SPECULAR,
+        from_sliders: classic_specular,
+        summary: "Phong per vertex (Gouraud)",
+        per_vertex: true,
+        parity_tolerance: 1e-4,
+    },
+    BuiltinModel {
+        name: "blinn_phong",
+        pipelines: ALL_PIPELINES,
+        wgsl: brdf_file!("blinn_phong.wgsl"),
+        reads: ALL_AXES,
+        expected: NEITHER,
+        twin: &twin::BlinnPhong,
+        params: &[NORMALIZE],
+        mapping: CLASSIC_SPECULAR,
+        from_sliders: classic_specular,
+        summary: "Blinn-Phong: kd·NL + ks·max(0, N·H)ⁿ, unnormalised by default (models.md#blinn-phong)",
+        per_vertex: false,
+        parity_tolerance: 1e-4,
+    },
+    BuiltinModel {
+        name: "blinn_phong_vertex",
+        pipelines: ALL_PIPELINES,
+        wgsl: brdf_file!("blinn_phong.wgsl"),
+        reads: ALL_AXES,
+        expected: NEITHER,
+        twin: &twin::BlinnPhong,
+        params: &[NORMALIZE],
+        mapping: CLASSIC_SPECULAR,
+        from_sliders: classic_specular,
+        summary: "Blinn-Phong per vertex (Gouraud)",
+        per_vertex: true,
+        parity_tolerance: 1e-4,
+    },
     // f32 cannot reach 1e-4 with the trigonometric form: near θ → 0, acos(x) turns the rounding of
     // x (~6e-8) into ~6e-8/sinθ of angle, so sin a·tan b carries ~5e-4 relative (measured 4.9e-4 on
     // lavapipe); the trig-free form of the same quantity (`oren_nayar_057`) reaches 2e-7.
-    ShaderModel {
+    BuiltinModel {
+        name: "oren_nayar",
+        pipelines: ALL_PIPELINES,
+        wgsl: brdf_file!("oren_nayar.wgsl"),
+        reads: COLOR_SMOOTHNESS,
+        expected: RECIPROCAL_ONLY,
+        twin: &twin::OrenNayar { trig_form: true },
+        params: &[SIGMA],
+        mapping: ON_MAPPING,
+        from_sliders: oren_nayar_sliders,
+        summary: "Oren-Nayar qualitative model, A with 0.33, trigonometric form (models.md#oren-nayar)",
+        per_vertex: false,
         parity_tolerance: 1e-3,
-        ..model!("oren_nayar", ALL_PIPELINES, "oren_nayar.wgsl", COLOR_SMOOTHNESS, RECIPROCAL_ONLY, &twin::OrenNayar { trig_form: true },
-            &[SIGMA], ON_MAPPING, oren_nayar_sliders, "Oren-Nayar qualitative model, A with 0.33, trigonometric form (models.md#oren-nayar)")
     },
-    model!("oren_nayar_057", ALL_PIPELINES, "oren_nayar_057.wgsl", COLOR_SMOOTHNESS, RECIPROCAL_ONLY, &twin::OrenNayar { trig_form: false },
-        &[SIGMA], ON_MAPPING, oren_nayar_sliders, "Oren-Nayar trig-free form with 0.57 in A (the custom shader's, models.md#oren-nayar-057)"),
-    model!("cook_torrance", ALL_PIPELINES, "cook_torrance.wgsl", ALL_AXES, RECIPROCAL_ONLY, &twin::CookTorrance, &[IOR_15],
-        "colour → albedo (diffuse × (1 − metallic)) and metal F0; m = α = (1 − smoothness)²; F: dielectric from IOR, lerped to Schlick(colour) by metallic",
-        metallic_as_is, "Cook-Torrance: Beckmann D, full dielectric Fresnel, Cook-Torrance G, 1/(4·NL·NV) (models.md#cook-torrance)"),
-    model!("torrance_sparrow", BUILTIN, "torrance_sparrow.wgsl", ALL_AXES, RECIPROCAL_ONLY, &twin::TorranceSparrow,
-        &[IOR_145, FRESNEL_POWER], CUSTOM_MAPPING, custom_shader_sliders,
-        "custom roughness/metallic PBR shader: GGX D, Smith-Schlick k = r²/2, Schlick Fresnel on N·V (models.md#torrance-sparrow)"),
-    model!("fresnel", BUILTIN, "fresnel.wgsl", Reads { color: true, metallic: true, smoothness: false, light: false }, NOT_A_BRDF,
-        &twin::FresnelView, &[IOR_145, FRESNEL_POWER], CUSTOM_MAPPING, custom_shader_sliders,
-        "the Schlick term F0 + (1 − F0)(1 − N·V)^p shown as colour (models.md#fresnel)"),
-    model!("standard", BUILTIN, "standard.wgsl", ALL_AXES, RECIPROCAL_ONLY, &twin::Standard, &[], METALLIC_WORKFLOW, metallic_workflow,
-        "built-in Standard, BRDF1: Disney diffuse, approx. joint Smith, GGX, clamps (models.md#standard)"),
-    model!("standard_brdf2", BUILTIN, "standard_brdf2.wgsl", ALL_AXES, RECIPROCAL_ONLY, &twin::StandardBrdf2, &[], METALLIC_WORKFLOW,
-        metallic_workflow, "built-in Standard, BRDF2: minimalist Cook-Torrance (models.md#standard-brdf2)"),
-    model!("standard_brdf3", BUILTIN, "standard_brdf3.wgsl", ALL_AXES, RECIPROCAL_ONLY, &twin::StandardBrdf3, &[], METALLIC_WORKFLOW,
-        metallic_workflow, "built-in Standard, BRDF3; its lookup lobe APPROXIMATED by normalised Phong (models.md#standard-brdf3)"),
-    model!("lit", URP, "urp_lit.wgsl", ALL_AXES, RECIPROCAL_ONLY, &twin::UrpLit, &[], METALLIC_WORKFLOW, metallic_workflow,
-        "URP Lit: minimal Cook-Torrance specular, Lambert without 1/π, EnvironmentBRDF (models.md#urp-lit)"),
-    model!("simple_lit", URP, "urp_simple_lit.wgsl", COLOR_SMOOTHNESS, NEITHER, &twin::UrpSimpleLit, &[],
-        "colour → albedo; specular colour 0.214 (URP's default _SpecColor 0.5 sRGB); shininess = exp2(10·smoothness + 1); metallic unused",
-        simple_lit_sliders, "URP Simple Lit: Blinn-Phong without normalisation (models.md#urp-simple-lit)"),
-    model!("unlit", URP, "unlit.wgsl", UNLIT_READS, NOT_A_BRDF, &twin::Unlit, &[], "colour → emitted colour; nothing else",
-        metallic_workflow, "URP Unlit: the colour, no lighting"),
-    model!("lit", HDRP, "hdrp_lit.wgsl", ALL_AXES, HDRP_LIT, &twin::HdrpLit, &[ENERGY_COMPENSATION], METALLIC_WORKFLOW,
-        metallic_workflow, "HDRP Lit: renormalised Disney diffuse, height-correlated Smith GGX, F_Schlick(f90), FGD energy compensation (models.md#hdrp-lit)"),
-    model!("unlit", HDRP, "unlit.wgsl", UNLIT_READS, NOT_A_BRDF, &twin::Unlit, &[], "colour → emitted colour; nothing else",
-        metallic_workflow, "HDRP Unlit: the colour, no lighting"),
+    BuiltinModel {
+        name: "oren_nayar_057",
+        pipelines: ALL_PIPELINES,
+        wgsl: brdf_file!("oren_nayar_057.wgsl"),
+        reads: COLOR_SMOOTHNESS,
+        expected: RECIPROCAL_ONLY,
+        twin: &twin::OrenNayar { trig_form: false },
+        params: &[SIGMA],
+        mapping: ON_MAPPING,
+        from_sliders: oren_nayar_sliders,
+        summary: "Oren-Nayar trig-free form with 0.57 in A (the custom shader's, models.md#oren-nayar-057)",
+        per_vertex: false,
+        parity_tolerance: 1e-4,
+    },
+    BuiltinModel {
+        name: "cook_torrance",
+        pipelines: ALL_PIPELINES,
+        wgsl: brdf_file!("cook_torrance.wgsl"),
+        reads: ALL_AXES,
+        expected: RECIPROCAL_ONLY,
+        twin: &twin::CookTorrance,
+        params: &[IOR_15],
+        mapping: "colour → albedo (diffuse × (1 − metallic)) and metal F0; m = α = (1 − smoothness)²; F: dielectric from IOR, lerped to Schlick(colour) by metallic",
+        from_sliders: metallic_as_is,
+        summary: "Cook-Torrance: Beckmann D, full dielectric Fresnel, Cook-Torrance G, 1/(4·NL·NV) (models.md#cook-torrance)",
+        per_vertex: false,
+        parity_tolerance: 1e-4,
+    },
+    BuiltinModel {
+        name: "torrance_sparrow",
+        pipelines: BUILTIN,
+        wgsl: brdf_file!("torrance_sparrow.wgsl"),
+        reads: ALL_AXES,
+        expected: RECIPROCAL_ONLY,
+        twin: &twin::TorranceSparrow,
+        params: &[IOR_145, FRESNEL_POWER],
+        mapping: CUSTOM_MAPPING,
+        from_sliders: custom_shader_sliders,
+        summary: "custom roughness/metallic PBR shader: GGX D, Smith-Schlick k = r²/2, Schlick Fresnel on N·V (models.md#torrance-sparrow)",
+        per_vertex: false,
+        parity_tolerance: 1e-4,
+    },
+    BuiltinModel {
+        name: "fresnel",
+        pipelines: BUILTIN,
+        wgsl: brdf_file!("fresnel.wgsl"),
+        reads: Reads { color: true, metallic: true, smoothness: false, light: false },
+        expected: NOT_A_BRDF,
+        twin: &twin::FresnelView,
+        params: &[IOR_145, FRESNEL_POWER],
+        mapping: CUSTOM_MAPPING,
+        from_sliders: custom_shader_sliders,
+        summary: "the Schlick term F0 + (1 − F0)(1 − N·V)^p shown as colour (models.md#fresnel)",
+        per_vertex: false,
+        parity_tolerance: 1e-4,
+    },
+    BuiltinModel {
+        name: "standard",
+        pipelines: BUILTIN,
+        wgsl: brdf_file!("standard.wgsl"),
+        reads: ALL_AXES,
+        expected: RECIPROCAL_ONLY,
+        twin: &twin::Standard,
+        params: &[],
+        mapping: METALLIC_WORKFLOW,
+        from_sliders: metallic_workflow,
+        summary: "built-in Standard, BRDF1: Disney diffuse, approx. joint Smith, GGX, clamps (models.md#standard)",
+        per_vertex: false,
+        parity_tolerance: 1e-4,
+    },
+    BuiltinModel {
+        name: "standard_brdf2",
+        pipelines: BUILTIN,
+        wgsl: brdf_file!("standard_brdf2.wgsl"),
+        reads: ALL_AXES,
+        expected: RECIPROCAL_ONLY,
+        twin: &twin::StandardBrdf2,
+        params: &[],
+        mapping: METALLIC_WORKFLOW,
+        from_sliders: metallic_workflow,
+        summary: "built-in Standard, BRDF2: minimalist Cook-Torrance (models.md#standard-brdf2)",
+        per_vertex: false,
+        parity_tolerance: 1e-4,
+    },
+    BuiltinModel {
+        name: "standard_brdf3",
+        pipelines: BUILTIN,
+        wgsl: brdf_file!("standard_brdf3.wgsl"),
+        reads: ALL_AXES,
+        expected: RECIPROCAL_ONLY,
+        twin: &twin::StandardBrdf3,
+        params: &[],
+        mapping: METALLIC_WORKFLOW,
+        from_sliders: metallic_workflow,
+        summary: "built-in Standard, BRDF3; its lookup lobe APPROXIMATED by normalised Phong (models.md#standard-brdf3)",
+        per_vertex: false,
+        parity_tolerance: 1e-4,
+    },
+    BuiltinModel {
+        name: "lit",
+        pipelines: URP,
+        wgsl: brdf_file!("urp_lit.wgsl"),
+        reads: ALL_AXES,
+        expected: RECIPROCAL_ONLY,
+        twin: &twin::UrpLit,
+        params: &[],
+        mapping: METALLIC_WORKFLOW,
+        from_sliders: metallic_workflow,
+        summary: "URP Lit: minimal Cook-Torrance specular, Lambert without 1/π, EnvironmentBRDF (models.md#urp-lit)",
+        per_vertex: false,
+        parity_tolerance: 1e-4,
+    },
+    BuiltinModel {
+        name: "simple_lit",
+        pipelines: URP,
+        wgsl: brdf_file!("urp_simple_lit.wgsl"),
+        reads: COLOR_SMOOTHNESS,
+        expected: NEITHER,
+        twin: &twin::UrpSimpleLit,
+        params: &[],
+        mapping: "colour → albedo; specular colour 0.214 (URP's default _SpecColor 0.5 sRGB); shininess = exp2(10·smoothness + 1); metallic unused",
+        from_sliders: simple_lit_sliders,
+        summary: "URP Simple Lit: Blinn-Phong without normalisation (models.md#urp-simple-lit)",
+        per_vertex: false,
+        parity_tolerance: 1e-4,
+    },
+    BuiltinModel {
+        name: "unlit",
+        pipelines: URP,
+        wgsl: brdf_file!("unlit.wgsl"),
+        reads: UNLIT_READS,
+        expected: NOT_A_BRDF,
+        twin: &twin::Unlit,
+        params: &[],
+        mapping: "colour → emitted colour; nothing else",
+        from_sliders: metallic_workflow,
+        summary: "URP Unlit: the colour, no lighting",
+        per_vertex: false,
+        parity_tolerance: 1e-4,
+    },
+    BuiltinModel {
+        name: "lit",
+        pipelines: HDRP,
+        wgsl: brdf_file!("hdrp_lit.wgsl"),
+        reads: ALL_AXES,
+        expected: HDRP_LIT,
+        twin: &twin::HdrpLit,
+        params: &[ENERGY_COMPENSATION],
+        mapping: METALLIC_WORKFLOW,
+        from_sliders: metallic_workflow,
+        summary: "HDRP Lit: renormalised Disney diffuse, height-correlated Smith GGX, F_Schlick(f90), FGD energy compensation (models.md#hdrp-lit)",
+        per_vertex: false,
+        parity_tolerance: 1e-4,
+    },
+    BuiltinModel {
+        name: "unlit",
+        pipelines: HDRP,
+        wgsl: brdf_file!("unlit.wgsl"),
+        reads: UNLIT_READS,
+        expected: NOT_A_BRDF,
+        twin: &twin::Unlit,
+        params: &[],
+        mapping: "colour → emitted colour; nothing else",
+        from_sliders: metallic_workflow,
+        summary: "HDRP Unlit: the colour, no lighting",
+        per_vertex: false,
+        parity_tolerance: 1e-4,
+    },
 ];
 
 /// Metallic taken as the slider gives it in every pipeline (models that are not Unity's).
@@ -308,31 +560,92 @@ fn metallic_as_is(model: &ShaderModel, _: Pipeline, s: &Sliders) -> Surface {
     }
 }
 
-/// User-supplied models, registered at start-up (`shading::user`); they live for the process.
-static USER_MODELS: std::sync::RwLock<Vec<&'static ShaderModel>> = std::sync::RwLock::new(Vec::new());
-
-pub fn register_user_model(model: &'static ShaderModel) {
-    USER_MODELS.write().unwrap_or_else(|e| e.into_inner()).push(model);
+/// An embedded WGSL file.
+pub struct WgslSource {
+    pub path: &'static str,
+    pub text: &'static str,
 }
 
-/// Built-in models, then user-supplied ones.
-pub fn all_models() -> Vec<&'static ShaderModel> {
-    let user = USER_MODELS.read().unwrap_or_else(|e| e.into_inner());
-    MODELS.iter().chain(user.iter().copied()).collect()
+/// A row of the built-in model table: every field named.
+pub struct BuiltinModel {
+    pub name: &'static str,
+    pub pipelines: &'static [Pipeline],
+    pub wgsl: WgslSource,
+    pub reads: Reads,
+    pub expected: Expected,
+    pub twin: &'static dyn SurfaceTwin,
+    pub params: &'static [ParamSpec],
+    pub mapping: &'static str,
+    pub from_sliders: fn(&ShaderModel, Pipeline, &Sliders) -> Surface,
+    pub summary: &'static str,
+    pub per_vertex: bool,
+    pub parity_tolerance: f64,
 }
 
-pub fn find_model(pipeline: Pipeline, name: &str) -> Option<&'static ShaderModel> {
-    all_models().into_iter().find(|m| m.name == name && m.pipelines.contains(&pipeline))
+impl BuiltinModel {
+    fn model(&self) -> ShaderModel {
+        ShaderModel {
+            name: Cow::Borrowed(self.name),
+            pipelines: self.pipelines.to_vec(),
+            source_path: Cow::Borrowed(self.wgsl.path),
+            wgsl: Cow::Borrowed(self.wgsl.text),
+            reads: self.reads,
+            summary: Cow::Borrowed(self.summary),
+            twin: Some(self.twin),
+            params: self.params.to_vec(),
+            mapping: Cow::Borrowed(self.mapping),
+            from_sliders: self.from_sliders,
+            expected: self.expected,
+            per_vertex: self.per_vertex,
+            parity_tolerance: self.parity_tolerance,
+        }
+    }
 }
 
-/// All model names (any pipeline), for "did you mean" suggestions.
-pub fn all_model_names() -> Vec<&'static str> {
-    let mut names: Vec<&str> = all_models().iter().map(|m| m.name).collect();
-    names.sort();
-    names.dedup();
-    names
+/// Every model a matrix can name: the built-in ones, then the user's. A value, built once per
+/// command and passed where it is needed; models are keyed by (pipeline, name).
+#[derive(Debug, Clone)]
+pub struct Registry {
+    models: Vec<Arc<ShaderModel>>,
 }
 
-pub fn model_names_for(pipeline: Pipeline) -> Vec<&'static str> {
-    all_models().iter().filter(|m| m.pipelines.contains(&pipeline)).map(|m| m.name).collect()
+impl Registry {
+    /// The built-in models only.
+    pub fn builtin() -> Registry {
+        Registry { models: BUILTIN_MODELS.iter().map(|m| Arc::new(m.model())).collect() }
+    }
+
+    /// The built-in models and the user models declared in `dir` (none when it does not exist).
+    pub fn with_user_models(dir: &Path) -> Result<Registry, crate::error::Error> {
+        let mut registry = Registry::builtin();
+        for model in super::user::load_dir(dir, &registry)? {
+            registry.models.push(Arc::new(model));
+        }
+        Ok(registry)
+    }
+
+    pub fn models(&self) -> &[Arc<ShaderModel>] {
+        &self.models
+    }
+
+    pub fn find(&self, pipeline: Pipeline, name: &str) -> Option<&Arc<ShaderModel>> {
+        self.models.iter().find(|m| m.name == name && m.pipelines.contains(&pipeline))
+    }
+
+    /// All model names (any pipeline), sorted, for "did you mean" suggestions.
+    pub fn names(&self) -> Vec<&str> {
+        let mut names: Vec<&str> = self.models.iter().map(|m| m.name.as_ref()).collect();
+        names.sort();
+        names.dedup();
+        names
+    }
+
+    pub fn names_for(&self, pipeline: Pipeline) -> Vec<&str> {
+        self.models.iter().filter(|m| m.pipelines.contains(&pipeline)).map(|m| m.name.as_ref()).collect()
+    }
+
+    /// The WGSL file names of the built-in models (a user folder may hold copies of them).
+    pub fn builtin_files() -> Vec<&'static str> {
+        BUILTIN_MODELS.iter().map(|m| m.wgsl.path.rsplit('/').next().unwrap_or("")).collect()
+    }
 }

@@ -7,7 +7,7 @@
 use serde::Deserialize;
 use std::path::Path;
 
-use super::registry::{self, Expected, ParamSpec, Reads, ShaderModel};
+use super::registry::{self, Expected, ParamSpec, Reads, Registry, ShaderModel};
 use super::twin::Surface;
 use super::wgsl::{compose_mapped, locate, PassKind};
 use crate::error::{Error, InputError};
@@ -49,14 +49,14 @@ struct ParamDeclaration {
     doc: String,
 }
 
-/// Load and register every declared model in `dir`. Built-in WGSL files (the repository's own
-/// shaders/brdf) are recognised by name and skipped.
-pub fn load_dir(dir: &Path) -> Result<usize, Error> {
-    let Ok(entries) = std::fs::read_dir(dir) else { return Ok(0) };
-    let builtin: Vec<&str> = registry::MODELS.iter().map(|m| m.source_path.rsplit('/').next().unwrap_or("")).collect();
+/// Every model declared in `dir`, checked against the names `known` has. Built-in WGSL files (the
+/// repository's own shaders/brdf) are recognised by name and skipped.
+pub fn load_dir(dir: &Path, known: &Registry) -> Result<Vec<ShaderModel>, Error> {
+    let Ok(entries) = std::fs::read_dir(dir) else { return Ok(Vec::new()) };
+    let builtin = Registry::builtin_files();
     let mut paths: Vec<_> = entries.filter_map(|e| e.ok()).map(|e| e.path()).collect();
     paths.sort();
-    let mut count = 0;
+    let mut models: Vec<ShaderModel> = Vec::new();
     for wgsl_path in paths.iter().filter(|p| p.extension().is_some_and(|e| e == "wgsl")) {
         let file_name = wgsl_path.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
         let decl_path = wgsl_path.with_extension("toml");
@@ -73,21 +73,18 @@ pub fn load_dir(dir: &Path) -> Result<usize, Error> {
             )
             .into());
         }
-        load_model(wgsl_path, &decl_path)?;
-        count += 1;
+        let model = load_model(wgsl_path, &decl_path, known, &models)?;
+        models.push(model);
     }
-    Ok(count)
+    Ok(models)
 }
 
-fn leak<T>(v: Vec<T>) -> &'static [T] {
-    Box::leak(v.into_boxed_slice())
-}
-
-fn leak_str(s: String) -> &'static str {
-    Box::leak(s.into_boxed_str())
-}
-
-fn load_model(wgsl_path: &Path, decl_path: &Path) -> Result<(), Error> {
+fn load_model(
+    wgsl_path: &Path,
+    decl_path: &Path,
+    known: &Registry,
+    loaded: &[ShaderModel],
+) -> Result<ShaderModel, Error> {
     let decl_shown = decl_path.display().to_string();
     let wgsl_shown = wgsl_path.display().to_string();
     let text =
@@ -112,7 +109,8 @@ fn load_model(wgsl_path: &Path, decl_path: &Path) -> Result<(), Error> {
             .collect::<Result<_, _>>()?,
     };
     for &p in &pipelines {
-        if registry::find_model(p, &name).is_some() {
+        let taken = |m: &ShaderModel| m.name == name && m.pipelines.contains(&p);
+        if known.find(p, &name).is_some() || loaded.iter().any(taken) {
             return Err(InputError::at_key(
                 &decl_shown,
                 "name",
@@ -163,35 +161,35 @@ fn load_model(wgsl_path: &Path, decl_path: &Path) -> Result<(), Error> {
                 .into());
         }
         params.push(ParamSpec {
-            name: leak_str(p.name.clone()),
+            name: p.name.clone().into(),
             slot: p.slot,
             default: p.default,
             min: p.min,
             max: p.max,
-            doc: leak_str(p.doc.clone()),
+            doc: p.doc.clone().into(),
         });
     }
 
-    let model: &'static ShaderModel = Box::leak(Box::new(ShaderModel {
-        name: leak_str(name),
-        pipelines: leak(pipelines),
-        source_path: leak_str(wgsl_shown.clone()),
-        wgsl: leak_str(wgsl),
+    let model = ShaderModel {
+        name: name.into(),
+        pipelines,
+        source_path: wgsl_shown.clone().into(),
+        wgsl: wgsl.into(),
         reads,
-        summary: leak_str(if decl.description.is_empty() { format!("user model from {wgsl_shown}") } else { decl.description }),
+        summary: if decl.description.is_empty() { format!("user model from {wgsl_shown}") } else { decl.description }
+            .into(),
         twin: None,
-        params: leak(params),
-        mapping: "user model: colour → base colour; metallic → the pipeline's conversion; smoothness as is; parameters at their defaults",
+        params,
+        mapping: "user model: colour → base colour; metallic → the pipeline's conversion; smoothness as is; parameters at their defaults".into(),
         from_sliders: user_sliders,
         expected: Expected { reciprocal: decl.reciprocal, energy_conserving: decl.energy_conserving, is_brdf: true },
         per_vertex: false,
         parity_tolerance: f64::INFINITY,
-    }));
+    };
     for pass in [PassKind::Forward, PassKind::BrdfProbe] {
-        validate(model, pass)?;
+        validate(&model, pass)?;
     }
-    registry::register_user_model(model);
-    Ok(())
+    Ok(model)
 }
 
 fn user_sliders(model: &ShaderModel, p: Pipeline, s: &registry::Sliders) -> Surface {
@@ -212,9 +210,9 @@ fn validate(model: &ShaderModel, pass: PassKind) -> Result<(), Error> {
     // Checked on the user's own text first: a missing entry point would otherwise surface as an
     // unresolved name inside the pass that calls it.
     for entry in ["model_direct", "model_indirect"] {
-        if !declares(model.wgsl, entry) {
+        if !declares(&model.wgsl, entry) {
             return Err(InputError::new(
-                model.source_path,
+                model.source_path.as_ref(),
                 format!("WGSL: the model must define `fn {entry}` (see shaders/brdf/lambert.wgsl for the signatures)"),
             )
             .into());
@@ -231,7 +229,7 @@ fn validate(model: &ShaderModel, pass: PassKind) -> Result<(), Error> {
             let loc = e.location(&source);
             return Err(match loc {
                 Some(l) => located(l.line_number as usize, l.line_position as usize, e.message().to_string()),
-                None => InputError::new(model.source_path, format!("WGSL: {}", e.message())).into(),
+                None => InputError::new(model.source_path.as_ref(), format!("WGSL: {}", e.message())).into(),
             });
         }
     };
@@ -250,7 +248,7 @@ fn validate(model: &ShaderModel, pass: PassKind) -> Result<(), Error> {
         // The last span is the most specific (the expression rather than the whole function).
         return Err(match e.spans().last().map(|(span, _)| span.location(&source)) {
             Some(l) => located(l.line_number as usize, l.line_position as usize, full),
-            None => InputError::new(model.source_path, format!("WGSL: {full}")).into(),
+            None => InputError::new(model.source_path.as_ref(), format!("WGSL: {full}")).into(),
         });
     }
     Ok(())

@@ -47,7 +47,7 @@ pub fn compose_mapped(pass: PassKind, model: Option<&ShaderModel>) -> (String, L
         PassKind::BrdfProbe => {}
     }
     if let Some(m) = model {
-        parts.push((m.source_path, m.wgsl));
+        parts.push((&m.source_path, &m.wgsl));
     }
     parts.push(match pass {
         PassKind::Forward => ("shaders/pass/forward.wgsl", FORWARD),

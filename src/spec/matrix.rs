@@ -12,7 +12,8 @@ use crate::input::names::unknown_name;
 use crate::input::source::parse_toml;
 use crate::input::validate::Checker;
 use crate::pipelines::{Pipeline, RenderPath};
-use crate::shading::registry::all_model_names;
+use crate::shading::Registry;
+use std::sync::Arc;
 
 /// The matrix `shadematrix run` uses with no argument.
 pub const DEFAULT_MATRIX: &str = include_str!("../../matrices/default.toml");
@@ -177,6 +178,8 @@ pub struct Filter {
 
 #[derive(Debug, Clone)]
 pub struct Matrix {
+    /// The models its shader names resolve to.
+    pub registry: Arc<Registry>,
     pub name: String,
     pub description: String,
     /// Where it came from: a path or `<embedded default matrix>`.
@@ -262,19 +265,25 @@ fn parse_reference(c: &Checker, value: &toml::Value, base_dir: Option<&Path>) ->
 }
 
 impl Matrix {
-    pub fn load_default() -> Result<Matrix, Error> {
-        Self::from_text("<embedded default matrix>", DEFAULT_MATRIX, Some(Path::new(".")))
+    pub fn load_default(registry: Arc<Registry>) -> Result<Matrix, Error> {
+        Self::from_text("<embedded default matrix>", DEFAULT_MATRIX, Some(Path::new(".")), registry)
     }
 
-    pub fn load(path: &Path) -> Result<Matrix, Error> {
+    /// Shader names are checked against `registry`, which the matrix keeps for its cells.
+    pub fn load(path: &Path, registry: Arc<Registry>) -> Result<Matrix, Error> {
         let shown = path.display().to_string();
         let text = std::fs::read_to_string(path)
             .map_err(|e| InputError::new(&shown, format!("cannot read matrix file: {e}")))?;
-        Self::from_text(&shown, &text, path.parent())
+        Self::from_text(&shown, &text, path.parent(), registry)
     }
 
     /// Parse and validate; compositions given as paths resolve against `base_dir`.
-    pub fn from_text(origin: &str, text: &str, base_dir: Option<&Path>) -> Result<Matrix, Error> {
+    pub fn from_text(
+        origin: &str,
+        text: &str,
+        base_dir: Option<&Path>,
+        registry: Arc<Registry>,
+    ) -> Result<Matrix, Error> {
         let file: MatrixFile = parse_toml(origin, text)?;
         let c = Checker::new(origin);
         c.name("name", &file.name)?;
@@ -298,7 +307,7 @@ impl Matrix {
             names_to(&c, origin, "pipelines", "pipeline", &file.pipelines, &Pipeline::names(), Pipeline::from_name)?;
         let paths =
             names_to(&c, origin, "paths", "rendering path", &file.paths, &RenderPath::names(), RenderPath::from_name)?;
-        let model_names = all_model_names();
+        let model_names = registry.names();
         for (i, s) in file.shaders.iter().enumerate() {
             if !model_names.contains(&s.as_str()) {
                 return Err(unknown_name(origin, &format!("shaders[{i}]"), "shader", s, &model_names).into());
@@ -424,6 +433,7 @@ impl Matrix {
         }
 
         Ok(Matrix {
+            registry: registry.clone(),
             name: file.name,
             description: file.description,
             origin: origin.to_string(),

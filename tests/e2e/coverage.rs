@@ -1,11 +1,11 @@
 //! scenes.md: medusa and spikes must cover many half-vector angles in one image. The histogram of
 //! θh = ∠(N, H) over the visible subject pixels should spread over roughly 0–60°.
 
+use crate::common::find_model;
 use glam::DVec3;
 use shadematrix::gpu::GpuContext;
 use shadematrix::pipelines::Pipeline;
 use shadematrix::render::{CellParams, Renderer};
-use shadematrix::shading::find_model;
 use shadematrix::shading::twin::Surface;
 use shadematrix::spec::scene::Scene;
 

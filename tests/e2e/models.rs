@@ -1,18 +1,19 @@
 //! The shading library's must-shows: the audit passes for every built-in model, known physics
 //! holds, and the three pipelines' lit shaders differ exactly where the spec says they do.
 
+use crate::common::find_model;
 use glam::DVec3;
 use shadematrix::audit::{audit_all, directional_albedo};
 use shadematrix::gpu::GpuContext;
 use shadematrix::pipelines::Pipeline;
 use shadematrix::render::probe::{evaluate, BrdfProbe, ProbeInput};
-use shadematrix::shading::registry::{find_model, Sliders};
+use shadematrix::shading::registry::Sliders;
 use shadematrix::shading::twin::Surface;
 
 #[test]
 fn audit_of_every_builtin_model_has_no_failure() {
     let gpu = GpuContext::new().unwrap();
-    let audits = audit_all(&gpu, None).unwrap();
+    let audits = audit_all(&gpu, crate::common::models(), None).unwrap();
     assert!(audits.len() >= 40, "every (pipeline, model): {}", audits.len());
     for a in &audits {
         assert!(a.failures.is_empty(), "{}: {:?}", a.key, a.failures);

@@ -4,12 +4,11 @@
 use shadematrix::images::encode::read_exr;
 use shadematrix::record::{CellRecord, RunRecord};
 use shadematrix::run::{run, RunOptions};
-use shadematrix::spec::matrix::Matrix;
 use std::collections::BTreeSet;
 
 #[test]
 fn ci_matrix_renders_every_cell_at_the_requested_size() {
-    let matrix = Matrix::load(&crate::common::repo().join("matrices/ci.toml")).unwrap();
+    let matrix = crate::common::load_matrix(&crate::common::repo().join("matrices/ci.toml"));
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("run");
     let summary =

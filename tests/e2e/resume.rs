@@ -1,7 +1,6 @@
 //! An interrupted run loses nothing that finished: --resume renders only what is missing.
 
 use shadematrix::run::runner::{run, RunOptions};
-use shadematrix::spec::matrix::Matrix;
 
 #[test]
 fn resume_renders_only_unfinished_cells() {
@@ -11,7 +10,7 @@ fn resume_renders_only_unfinished_cells() {
         "m.toml",
         "name = \"r\"\ncompositions = [\"medusa\"]\npipelines = [\"builtin\"]\nshaders = [\"lambert\", \"standard\"]\npresets = [\"gold\", \"plastic\"]\n[image]\nwidth = 24\nheight = 24\n",
     );
-    let matrix = Matrix::load(&m).unwrap();
+    let matrix = crate::common::load_matrix(&m);
     let out = tmp.path().join("run");
     let opts = RunOptions { results_root: tmp.path().into(), out: Some(out.clone()), ..Default::default() };
     let first = run(&matrix, &opts).unwrap();

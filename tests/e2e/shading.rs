@@ -1,5 +1,6 @@
 //! Shading on the GPU against the f64 twins, and the visible behaviour the foundation must show.
 
+use crate::common::find_model;
 use glam::DVec3;
 use shadematrix::color::luminance;
 use shadematrix::gpu::GpuContext;
@@ -7,14 +8,20 @@ use shadematrix::pipelines::Pipeline;
 use shadematrix::render::probe::{evaluate, ProbeInput};
 use shadematrix::render::{CellParams, CellRender, Renderer};
 use shadematrix::shading::registry::Sliders;
-use shadematrix::shading::{find_model, MODELS};
 use shadematrix::spec::scene::Scene;
 
 fn renderer() -> Renderer {
     Renderer::new(GpuContext::new().expect("a GPU adapter (lavapipe in CI)"))
 }
 
-fn params(pipeline: Pipeline, shader: &str, color: [f64; 3], metallic: f64, smoothness: f64, size: u32) -> CellParams {
+fn params(
+    pipeline: Pipeline,
+    shader: &str,
+    color: [f64; 3],
+    metallic: f64,
+    smoothness: f64,
+    size: u32,
+) -> CellParams<'static> {
     let model = find_model(pipeline, shader).unwrap();
     let sliders = Sliders { base_color_linear: color, metallic, smoothness };
     CellParams {
@@ -53,8 +60,8 @@ fn gpu_models_match_their_f64_twins() {
     let gpu = GpuContext::new().unwrap();
     let n = 512;
     let mut report = Vec::new();
-    for model in MODELS.iter() {
-        for &pipeline in model.pipelines {
+    for model in crate::common::models().models() {
+        for &pipeline in &model.pipelines {
             let mut inputs = Vec::new();
             let mut cases = Vec::new();
             for i in 0..n {
@@ -117,9 +124,9 @@ fn rendered_pixel_matches_cpu_evaluation_in_every_pipeline() {
     let v = (cam - p).normalize();
     let l = (DVec3::from(light.position) - p).normalize();
     let dist = (DVec3::from(light.position) - p).length();
-    for model in MODELS.iter() {
-        for &pipeline in model.pipelines {
-            let mut cell = params(pipeline, model.name, [0.6, 0.4, 0.2], 0.5, 0.6, 65);
+    for model in crate::common::models().models() {
+        for &pipeline in &model.pipelines {
+            let mut cell = params(pipeline, &model.name, [0.6, 0.4, 0.2], 0.5, 0.6, 65);
             cell.light_intensity = 1.5;
             cell.light_range = 6.0;
             let got = centre(&renderer.render(&prepared, &cell, 1, 0).unwrap());
