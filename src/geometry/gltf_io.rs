@@ -166,7 +166,7 @@ pub fn to_glb(meshes: &[ExportMesh]) -> Result<Vec<u8>, Error> {
         "bufferViews": views,
         "buffers": [{"byteLength": bin.len()}]
     });
-    let mut json_bytes = serde_json::to_vec(&root).map_err(|e| Error::Other(format!("encoding glTF JSON: {e}")))?;
+    let mut json_bytes = serde_json::to_vec(&root).map_err(|e| Error::encode("encoding glTF JSON", e))?;
     while json_bytes.len() % 4 != 0 {
         json_bytes.push(b' ');
     }
@@ -179,5 +179,5 @@ pub fn to_glb(meshes: &[ExportMesh]) -> Result<Vec<u8>, Error> {
         json: json_bytes.into(),
         bin: Some(bin.into()),
     };
-    glb.to_vec().map_err(|e| Error::Other(format!("encoding GLB: {e}")))
+    glb.to_vec().map_err(|e| Error::encode("encoding GLB", e))
 }

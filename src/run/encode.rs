@@ -9,7 +9,7 @@ use super::describe::{image_files, input_hash, key_light, shader_inputs};
 use crate::cells::Cell;
 use crate::error::Error;
 use crate::fsutil::write_atomic;
-use crate::images::stats::pixel_stats;
+use crate::images::stats::{pixel_stats, PixelStats};
 use crate::images::{encode, tonemap};
 use crate::record::cell::{CellMetrics, CellRecord, CellTiming, FrameSeries, TonemapRecord, CELL_SCHEMA};
 use crate::record::Maybe;
@@ -71,29 +71,8 @@ pub fn encode_cell(matrix: &Matrix, dir: &Path, adapter: &str, job: RenderedCell
         encode_ms,
         metrics_ms: None,
     };
-    let record = CellRecord {
-        schema: CELL_SCHEMA,
-        id: cell.id.clone(),
-        input_hash: input_hash(matrix, cell),
-        matrix_sha256: matrix.hash.clone(),
-        composition: cell.composition.clone(),
-        pipeline: cell.pipeline,
-        path: cell.path,
-        shader: cell.shader.clone(),
-        shader_source: cell.model().source_path.to_string(),
-        preset: cell.preset.clone(),
-        sliders: cell.material,
-        shader_inputs: shader_inputs(cell),
-        key_light: key_light(cell),
-        image: image_files(cell),
-        twin_of: None,
-        note: None,
-        adapter: adapter.to_string(),
-        tonemap: TonemapRecord { kind: cell.pipeline.tonemap(), exposure },
-        stats,
-        timing,
-        metrics: CellMetrics::without_reference("not compared yet"),
-    };
+    let tonemap = TonemapRecord { kind: cell.pipeline.tonemap(), exposure };
+    let record = cell_record(matrix, cell, adapter, tonemap, stats, timing);
     Ok(EncodedCell {
         record,
         images: CellImages { width: r.width, height: r.height, srgb8, hdr: r.hdr },
@@ -124,12 +103,33 @@ fn write_supersampled(dir: &Path, cell: &Cell, k: u32, big: &[f32]) -> Result<()
     write_atomic(&dir.join("reference.png"), &encode::png_bytes(cell.width, cell.height, &srgb)?)
 }
 
-/// A twin's record: its own axes and hash, its original's images, statistics and timings.
+/// A twin's record: its own axes and hash, its original's adapter, statistics and timings.
 pub fn twin_record(matrix: &Matrix, cell: &Cell, original: &CellRecord) -> CellRecord {
+    let o = original.clone();
     let twin_of = cell.twin_of.clone().expect("a twin");
+    let note =
+        format!("not rendered: `{}` ignores the axes this cell differs in; images copied from {twin_of}", cell.shader);
     CellRecord {
+        twin_of: Some(twin_of),
+        note: Some(note),
+        ..cell_record(matrix, cell, &o.adapter, o.tonemap, o.stats, o.timing)
+    }
+}
+
+/// A cell's record before its metrics: its axes and inputs, and what rendering it measured.
+fn cell_record(
+    matrix: &Matrix,
+    cell: &Cell,
+    adapter: &str,
+    tonemap: TonemapRecord,
+    stats: PixelStats,
+    timing: CellTiming,
+) -> CellRecord {
+    CellRecord {
+        schema: CELL_SCHEMA,
         id: cell.id.clone(),
         input_hash: input_hash(matrix, cell),
+        matrix_sha256: matrix.hash.clone(),
         composition: cell.composition.clone(),
         pipeline: cell.pipeline,
         path: cell.path,
@@ -140,13 +140,13 @@ pub fn twin_record(matrix: &Matrix, cell: &Cell, original: &CellRecord) -> CellR
         shader_inputs: shader_inputs(cell),
         key_light: key_light(cell),
         image: image_files(cell),
-        note: Some(format!(
-            "not rendered: `{}` ignores the axes this cell differs in; images copied from {twin_of}",
-            cell.shader
-        )),
-        twin_of: Some(twin_of),
+        twin_of: None,
+        note: None,
+        adapter: adapter.to_string(),
+        tonemap,
+        stats,
+        timing,
         metrics: CellMetrics::without_reference("not compared yet"),
-        ..original.clone()
     }
 }
 

@@ -8,6 +8,7 @@ mod flow;
 mod gallery;
 mod gltf_roundtrip;
 mod models;
+mod records;
 mod references;
 mod render_ci;
 mod resume;
