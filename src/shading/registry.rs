@@ -1,6 +1,8 @@
 //! The shader registry: every model the matrix can name, the pipelines it exists in, its WGSL
 //! source and its f64 twin. Models are keyed by (pipeline, name), so `urp/lit` and `hdrp/lit`
-//! can be different models with one name.
+//! can be different models with one name. The built-in models are a table of named fields
+//! (`BUILTIN_MODELS`); a `Registry` is a value, built once per command with the user's models and
+//! passed to whatever resolves names — no global state.
 
 use serde::Serialize;
 use std::borrow::Cow;
