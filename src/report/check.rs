@@ -51,36 +51,45 @@ impl CheckReport {
 pub fn check(run_dir: &Path, baseline_dir: &Path, t: Thresholds) -> Result<CheckReport, Error> {
     let run = RunData::load(run_dir)?;
     let baseline = RunData::load(baseline_dir)?;
-    let mut cells = Vec::new();
-    for cell in &run.cells {
-        let id = &cell.id.0;
-        let classname = format!("{}.{}.{}", cell.composition, cell.pipeline.name(), cell.shader);
-        let base_png = baseline.cell_dir(id).join("image.png");
-        let mut c = CellCheck { id: id.clone(), classname, flip_mean: None, ssim: None, failure: None };
-        if !baseline.has_cell(id) {
-            c.failure = Some("not in the baseline".into());
-        } else {
-            let cmp =
-                compare(&LoadedImage::load(&base_png)?, &LoadedImage::load(&run.cell_dir(id).join("image.png"))?, id)?;
-            c.flip_mean = cmp.flip.value.mean();
-            c.ssim = cmp.ssim.mean();
-            let mut why = Vec::new();
-            match c.flip_mean {
-                Some(f) if f > t.flip_mean => why.push(format!("FLIP mean {f:.5} > {}", t.flip_mean)),
-                None => why.push("FLIP could not be computed".into()),
-                _ => {}
+    // Cells in parallel: each comparison is single-threaded (see flip-rs in Cargo.toml).
+    use rayon::prelude::*;
+    let checked: Vec<Result<CellCheck, Error>> = run
+        .cells
+        .par_iter()
+        .map(|cell| {
+            let id = &cell.id.0;
+            let classname = format!("{}.{}.{}", cell.composition, cell.pipeline.name(), cell.shader);
+            let base_png = baseline.cell_dir(id).join("image.png");
+            let mut c = CellCheck { id: id.clone(), classname, flip_mean: None, ssim: None, failure: None };
+            if !baseline.has_cell(id) {
+                c.failure = Some("not in the baseline".into());
+            } else {
+                let cmp = compare(
+                    &LoadedImage::load(&base_png)?,
+                    &LoadedImage::load(&run.cell_dir(id).join("image.png"))?,
+                    id,
+                )?;
+                c.flip_mean = cmp.flip.value.mean();
+                c.ssim = cmp.ssim.mean();
+                let mut why = Vec::new();
+                match c.flip_mean {
+                    Some(f) if f > t.flip_mean => why.push(format!("FLIP mean {f:.5} > {}", t.flip_mean)),
+                    None => why.push("FLIP could not be computed".into()),
+                    _ => {}
+                }
+                match c.ssim {
+                    Some(s) if s < t.ssim_min => why.push(format!("SSIM {s:.5} < {}", t.ssim_min)),
+                    None => why.push("SSIM could not be computed".into()),
+                    _ => {}
+                }
+                if !why.is_empty() {
+                    c.failure = Some(why.join("; "));
+                }
             }
-            match c.ssim {
-                Some(s) if s < t.ssim_min => why.push(format!("SSIM {s:.5} < {}", t.ssim_min)),
-                None => why.push("SSIM could not be computed".into()),
-                _ => {}
-            }
-            if !why.is_empty() {
-                c.failure = Some(why.join("; "));
-            }
-        }
-        cells.push(c);
-    }
+            Ok(c)
+        })
+        .collect();
+    let mut cells = checked.into_iter().collect::<Result<Vec<_>, _>>()?;
     for b in baseline.cells.iter().filter(|b| !run.has_cell(&b.id.0)) {
         cells.push(CellCheck {
             id: b.id.0.clone(),
