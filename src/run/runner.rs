@@ -270,7 +270,6 @@ impl<'a> Stream<'a> {
         record: &mut RunRecord,
     ) -> Result<(), Error> {
         // Resume: finished cells are final from the start; twins of unfinished originals wait.
-        let mut pending_twins = Vec::new();
         {
             let mut t = self.tracker();
             for c in &self.exp.cells {
@@ -279,7 +278,6 @@ impl<'a> Stream<'a> {
                     self.resumed.fetch_add(1, Ordering::Relaxed);
                     self.bar.inc(1);
                 } else if let Some(original) = &c.twin_of {
-                    pending_twins.push(c);
                     t.twins.entry(original.clone()).or_default().push(c);
                 }
             }
