@@ -12,6 +12,18 @@ pub fn srgb_to_linear(c: f64) -> f64 {
     }
 }
 
+/// UnityCG.cginc GammaToLinearSpaceExact: the sRGB curve up to 1 and pow(v, 2.2) above, which is
+/// how the built-in pipeline linearises a light's gamma-space colour × intensity (models.md#builtin).
+pub fn gamma_to_linear_space_exact(v: f64) -> f64 {
+    if v <= 0.04045 {
+        v / 12.92
+    } else if v < 1.0 {
+        ((v + 0.055) / 1.055).powf(2.4)
+    } else {
+        v.powf(2.2)
+    }
+}
+
 /// sRGB encode.
 pub fn linear_to_srgb(c: f64) -> f64 {
     if c <= 0.003_130_8 {

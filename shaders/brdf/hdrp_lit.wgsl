@@ -5,8 +5,6 @@
 
 const HDRP_FLT_EPS: f32 = 5.960464478e-8;
 const HDRP_REAL_MIN: f32 = 1.175494351e-38;
-// Punctual light, shape radius 0: minRoughness = (1 − clamp01(1.1725/(1.01 + 0.1²) − 0.15))² (models.md#hdrp-lit)
-const HDRP_MIN_ROUGHNESS_PUNCTUAL: f32 = 2.402922e-7;
 
 // F0·(1 − x⁵) + F90·x⁵, x = 1 − LH
 fn f_schlick_f90(f0: vec3<f32>, f90: f32, lh: f32) -> vec3<f32> {
@@ -14,11 +12,17 @@ fn f_schlick_f90(f0: vec3<f32>, f90: f32, lh: f32) -> vec3<f32> {
     return f0 * (1.0 - x5) + vec3<f32>(f90 * x5);
 }
 
-// (1/π)·0.5·α²/max(s²(λV + λL), REAL_MIN), s = (NH·α² − NH)·NH + 1, height-correlated
-fn dv_smith_joint_ggx(nh: f32, nl: f32, nv: f32, a: f32) -> f32 {
+// GetSmithJointGGXPartLambdaV: √((−NV·α² + NV)·NV + α²), from the material's roughness before the per-light clamp (Lit.hlsl)
+fn smith_joint_ggx_part_lambda_v(nv: f32, a: f32) -> f32 {
+    let a2 = a * a;
+    return sqrt((-nv * a2 + nv) * nv + a2);
+}
+
+// (1/π)·0.5·α²/max(s²(λV + λL), REAL_MIN), s = (NH·α² − NH)·NH + 1, λV = NL·partLambdaV, λL = NV·√((−NL·α² + NL)·NL + α²)
+fn dv_smith_joint_ggx(nh: f32, nl: f32, nv: f32, a: f32, part_lambda_v: f32) -> f32 {
     let a2 = a * a;
     let s = (nh * a2 - nh) * nh + 1.0;
-    let lambda_v = nl * sqrt((-nv * a2 + nv) * nv + a2);
+    let lambda_v = nl * part_lambda_v;
     let lambda_l = nv * sqrt((-nl * a2 + nl) * nl + a2);
     return INV_PI * 0.5 * a2 / max(s * s * (lambda_v + lambda_l), HDRP_REAL_MIN);
 }
@@ -29,18 +33,9 @@ fn fd_disney_renormalized_no_pi(nl: f32, nv: f32, lv: f32, pr: f32) -> f32 {
     return (1.0 / 1.03571) * (1.0 + (fd90 - 1.0) * pow5(1.0 - nl)) * (1.0 + (fd90 - 1.0) * pow5(1.0 - nv));
 }
 
-struct HdrpAngles {
-    n: vec3<f32>,
-    nv: f32,
-};
-
-// GetViewReflectedNormal: N += 2·sat(−NV)·V; then ClampNdotV: max(NV, 1e-4)
-fn hdrp_view_normal(n_in: vec3<f32>, v: vec3<f32>) -> HdrpAngles {
-    var a: HdrpAngles;
-    let nv = dot(n_in, v);
-    a.n = n_in + 2.0 * sat(-nv) * v;
-    a.nv = max(abs(nv), 1e-4);
-    return a;
+// ClampNdotV: max(NV, 1e-4). HDRP Lit keeps N as is (no GetViewReflectedNormal).
+fn clamp_n_dot_v(nv: f32) -> f32 {
+    return max(nv, 1e-4);
 }
 
 fn hdrp_f0(s: Surface) -> vec3<f32> {
@@ -48,42 +43,61 @@ fn hdrp_f0(s: Surface) -> vec3<f32> {
 }
 
 // Specular multiplier 1 + F0·(1/y − 1), y = reflectivity from the FGD table (models.md#hdrp-lit)
-fn hdrp_energy_compensation(s: Surface, nv: f32) -> vec3<f32> {
+fn hdrp_energy_compensation(s: Surface, clamped_nv: f32) -> vec3<f32> {
     if (s.params0.x < 0.5) {
         return vec3<f32>(1.0);
     }
-    let y = fgd_lookup(nv, 1.0 - s.smoothness).y;
+    let y = fgd_lookup(clamped_nv, 1.0 - s.smoothness).y;
     return vec3<f32>(1.0) + hdrp_f0(s) * (1.0 / y - 1.0);
 }
 
-fn model_direct(s: Surface, n_in: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
-    let ang = hdrp_view_normal(n_in, v);
-    let n = ang.n;
-    let nv = ang.nv;
+// GetSpecularDominantDir (Frostbite, p. 69): a = 1 − pr², lerp(N, R, (√a + pr²)·sat(a² + lerp(0, a, NV²)))
+fn get_specular_dominant_dir(n: vec3<f32>, r: vec3<f32>, pr: f32, clamped_nv: f32) -> vec3<f32> {
+    let a = 1.0 - pr * pr;
+    let lerp_factor = (sqrt(a) + pr * pr) * sat(a * a + mix(0.0, a, clamped_nv * clamped_nv));
+    return mix(n, r, lerp_factor);
+}
+
+// EvaluateBSDF_Env's fetch direction: the dominant direction, lerped back to iblR by sat(smoothstep(0, 1, α²));
+// normalised here because the probe is an equirectangular map (a cubemap fetch ignores the length)
+fn hdrp_ibl_direction(n: vec3<f32>, v: vec3<f32>, pr: f32, clamped_nv: f32) -> vec3<f32> {
+    let ibl_r = reflect(-v, n);
+    let a = pr * pr;
+    let r = mix(get_specular_dominant_dir(n, ibl_r, pr, clamped_nv), ibl_r, sat(smoothstep(0.0, 1.0, a * a)));
+    return r * inverseSqrt(max(dot(r, r), HDRP_FLT_EPS));
+}
+
+fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
     let nl = dot(n, l);
     if (nl <= 0.0) {
         return vec3<f32>(0.0);
     }
+    // GetBSDFAngle takes the unclamped NV; V, FGD and the diffuse take ClampNdotV
+    let nv = dot(n, v);
+    let clamped_nv = clamp_n_dot_v(nv);
     let lv = dot(l, v);
     let inv_len = inverseSqrt(max(2.0 * lv + 2.0, HDRP_FLT_EPS));
     let nh = sat((nl + nv) * inv_len);
     let lh = sat(inv_len * lv + inv_len);
     let pr = 1.0 - s.smoothness;
-    let a = max(pr * pr, HDRP_MIN_ROUGHNESS_PUNCTUAL);
+    let a_material = pr * pr;
+    let a = max(a_material, light_min_roughness);
     let f0 = hdrp_f0(s);
-    let spec = f_schlick_f90(f0, 1.0, lh) * dv_smith_joint_ggx(nh, abs(nl), nv, a) * hdrp_energy_compensation(s, nv);
-    let diffuse = s.base_color * (1.0 - s.metallic) * INV_PI * fd_disney_renormalized_no_pi(abs(nl), nv, lv, pr);
+    let part_lambda_v = smith_joint_ggx_part_lambda_v(clamped_nv, a_material);
+    let dv = dv_smith_joint_ggx(nh, abs(nl), clamped_nv, a, part_lambda_v);
+    let spec = f_schlick_f90(f0, 1.0, lh) * dv * hdrp_energy_compensation(s, clamped_nv);
+    let diffuse = s.base_color * (1.0 - s.metallic) * INV_PI * fd_disney_renormalized_no_pi(abs(nl), clamped_nv, lv, pr);
     return (diffuse + spec) * sat(nl);
 }
 
-fn model_indirect(s: Surface, n_in: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>) -> vec3<f32> {
-    let ang = hdrp_view_normal(n_in, v);
+fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>) -> vec3<f32> {
+    let clamped_nv = clamp_n_dot_v(dot(n, v));
     let pr = 1.0 - s.smoothness;
-    let fgd = fgd_lookup(ang.nv, pr);
+    let fgd = fgd_lookup(clamped_nv, pr);
     let f0 = hdrp_f0(s);
     // specularFGD = (F90 − F0)·x + F0·y; diffuseFGD = z + 0.5 (the table stores z − 0.5)
     let specular_fgd = (vec3<f32>(1.0) - f0) * fgd.x + f0 * fgd.y;
     let diffuse_fgd = fgd.z + 0.5;
-    let env = env_specular(reflect(-v, ang.n), pr);
-    return s.base_color * (1.0 - s.metallic) * gi_diffuse * diffuse_fgd + specular_fgd * env * hdrp_energy_compensation(s, ang.nv);
+    let env = env_specular(hdrp_ibl_direction(n, v, pr, clamped_nv), pr);
+    return s.base_color * (1.0 - s.metallic) * gi_diffuse * diffuse_fgd + specular_fgd * env * hdrp_energy_compensation(s, clamped_nv);
 }

@@ -2,6 +2,14 @@
 // so each (pipeline, model) pair compiles to its own specialised pipeline).
 override PIPELINE: u32 = 0u;
 
+// Per light, set by the pass before each model_direct call (a model's signature stays (s, n, v, l)):
+// HDRP's roughness floor from the light's shape, minRoughness = (1 − maxSmoothness)² (models.md#hdrp-lit;
+// twin: pipelines::Emitter::hdrp_min_roughness). Default: a point light of HDRP's radius 0.025.
+var<private> light_min_roughness: f32 = 4.617e-5;
+// The main directional light's colour × intensity, for models whose ambient term is scaled by it
+// (the custom shader as written, models.md#torrance-sparrow); zero when the scene has none.
+var<private> main_light_color: vec3<f32> = vec3<f32>(1.0);
+
 // Material as the model receives it: metallic already converted by the pipeline (presets.md).
 // specular: the models that take a specular colour; params0/params1: the model's own parameters
 // by slot (registry ParamSpec). Twin: shading::twin::Surface.

@@ -4,7 +4,7 @@
 struct ProbeInput {
     n: vec4<f32>,
     v: vec4<f32>,
-    l: vec4<f32>,
+    l: vec4<f32>,            // w: the light's HDRP minRoughness
     base_color: vec4<f32>,
     params: vec4<f32>,       // metallic, smoothness
     gi_diffuse: vec4<f32>,
@@ -23,9 +23,12 @@ fn fgd_lookup(nv: f32, pr: f32) -> vec3<f32> {
 }
 
 var<private> probe_gi_specular: vec3<f32>;
+var<private> probe_env_dir: vec3<f32>;
 
-// The probe stands in for the environment: the prefiltered radiance is given per input.
+// The probe stands in for the environment: the prefiltered radiance is given per input, and the
+// direction the model fetched along is kept for the parity check of the lookup direction.
 fn env_specular(r: vec3<f32>, perceptual_roughness: f32) -> vec3<f32> {
+    probe_env_dir = r;
     return probe_gi_specular;
 }
 
@@ -44,6 +47,10 @@ fn probe_main(@builtin(global_invocation_id) id: vec3<u32>) {
     s.params0 = p.model0;
     s.params1 = p.model1;
     probe_gi_specular = p.gi_specular.rgb;
-    probe_outputs[2u * i] = vec4<f32>(model_direct(s, p.n.xyz, p.v.xyz, p.l.xyz), 0.0);
-    probe_outputs[2u * i + 1u] = vec4<f32>(model_indirect(s, p.n.xyz, p.v.xyz, p.gi_diffuse.rgb), 0.0);
+    probe_env_dir = vec3<f32>(0.0);
+    light_min_roughness = p.l.w;
+    main_light_color = vec3<f32>(1.0);
+    probe_outputs[3u * i] = vec4<f32>(model_direct(s, p.n.xyz, p.v.xyz, p.l.xyz), 0.0);
+    probe_outputs[3u * i + 1u] = vec4<f32>(model_indirect(s, p.n.xyz, p.v.xyz, p.gi_diffuse.rgb), 0.0);
+    probe_outputs[3u * i + 2u] = vec4<f32>(probe_env_dir, 0.0);
 }

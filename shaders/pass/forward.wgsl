@@ -69,14 +69,27 @@ fn light_incidence(light: Light, p: vec3<f32>) -> vec4<f32> {
     return vec4<f32>(l, atten);
 }
 
+// 1: the model is a built-in ForwardBase-only shader, lit by the main directional light alone
+// (points and spots would need its ForwardAdd pass, which it does not have).
+override MAIN_LIGHT_ONLY: u32 = 0u;
+
 // The lighting sum at one point: every light's direct term plus the ambient and environment.
 fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>) -> vec3<f32> {
     let v = normalize(frame.camera_pos.xyz - p);
+    // counts.y: 1 + index of the main directional light (the brightest), 0 when there is none
+    main_light_color = vec3<f32>(0.0);
+    if (frame.counts.y > 0u) {
+        main_light_color = frame.lights[frame.counts.y - 1u].color.rgb;
+    }
     var c = vec3<f32>(0.0);
     for (var i = 0u; i < frame.counts.x; i++) {
+        if (MAIN_LIGHT_ONLY == 1u && i + 1u != frame.counts.y) {
+            continue;
+        }
         let light = frame.lights[i];
         let inc = light_incidence(light, p);
         if (inc.w > 0.0) {
+            light_min_roughness = light.params.w;
             c += model_direct(s, n, v, inc.xyz) * light.color.rgb * inc.w;
         }
     }

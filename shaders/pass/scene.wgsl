@@ -4,7 +4,7 @@ struct Light {
     position: vec4<f32>,   // xyz position; w: 0 directional, 1 point, 2 spot
     direction: vec4<f32>,  // xyz direction the light travels
     color: vec4<f32>,      // linear colour × intensity in the pipeline's units
-    params: vec4<f32>,     // range, cos outer, cos inner, unused
+    params: vec4<f32>,     // range, cos outer, cos inner, HDRP minRoughness of the light's shape
 };
 
 struct Material {
@@ -21,7 +21,7 @@ struct Frame {
     inv_view_proj: mat4x4<f32>,
     camera_pos: vec4<f32>,
     lights: array<Light, 4>,
-    counts: vec4<u32>,        // x: light count
+    counts: vec4<u32>,        // x: light count, y: 1 + main directional light index (0: none)
     sh: array<vec4<f32>, 9>,  // cosine-convolved SH of the environment: E(n)/π = Σ sh[i]·Y_i(n)
     env: vec4<f32>,           // x: probe levels − 1, y: radiance scale
     subject: Material,

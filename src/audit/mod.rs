@@ -69,6 +69,9 @@ pub struct ModelAudit {
     /// None without a twin.
     pub parity_well: Option<ErrorStats>,
     pub parity_extreme: Option<ErrorStats>,
+    /// Largest angle, radians, between the GPU's and the twin's environment fetch directions on
+    /// the well-conditioned domain; None where the twin does not state the direction.
+    pub env_direction_error: Option<f64>,
     pub gpu: BadValues,
     pub cpu: Option<BadValues>,
     /// Max |f(l,v) − f(v,l)|/max(f) on the well-conditioned domain; None for non-BRDFs.
@@ -103,7 +106,8 @@ pub fn audit_model(
     p: Pipeline,
 ) -> Result<ModelAudit, Error> {
     let set = audit_samples();
-    let gpu_out = probe.evaluate(gpu, p, model, &probe_inputs(model, p, &set, false))?;
+    let gpu_full = probe.evaluate_full(gpu, p, model, &probe_inputs(model, p, &set, false))?;
+    let gpu_out: Vec<_> = gpu_full.iter().map(|(d, i, _)| (*d, *i)).collect();
     let gpu_swapped = probe.evaluate(gpu, p, model, &probe_inputs(model, p, &set, true))?;
     let mut audit = ModelAudit {
         key: format!("{}/{}", p.name(), model.name),
@@ -112,6 +116,7 @@ pub fn audit_model(
         parity_tolerance: model.parity_tolerance,
         parity_well: None,
         parity_extreme: None,
+        env_direction_error: None,
         gpu: BadValues::default(),
         cpu: None,
         reciprocity: None,
@@ -142,6 +147,17 @@ pub fn audit_model(
             }
             stats.samples += 1;
         }
+        let mut worst_angle: Option<f64> = None;
+        for (s, (_, _, dir)) in set.iter().zip(&gpu_full).filter(|(s, _)| s.well_conditioned) {
+            let surface = model.surface(p, &s.sliders).rounded_f32();
+            if let Some(expected) = twin.env_direction(p, &surface, s.n, s.v.as_vec3().as_dvec3()) {
+                let got = DVec3::new(dir[0] as f64, dir[1] as f64, dir[2] as f64);
+                let cos = got.normalize_or_zero().dot(expected.normalize_or_zero()).clamp(-1.0, 1.0);
+                let angle = cos.acos();
+                worst_angle = Some(worst_angle.unwrap_or(0.0).max(if angle.is_nan() { f64::INFINITY } else { angle }));
+            }
+        }
+        audit.env_direction_error = worst_angle;
         audit.parity_well = Some(well);
         audit.parity_extreme = Some(extreme);
         audit.cpu = Some(bad_values(cpu_values.into_iter()));
@@ -280,6 +296,9 @@ pub fn mis_directions(v: DVec3, alpha: f64, n: u32) -> (Vec<DVec3>, Vec<f64>) {
     (dirs, weights)
 }
 
+/// f32 directions carry ~1e-7 rad; 1e-4 leaves room for the √ and normalisations.
+const ENV_DIRECTION_TOLERANCE: f64 = 1e-4;
+
 fn judge(a: &mut ModelAudit) {
     if !a.gpu.clean() {
         a.failures
@@ -292,6 +311,11 @@ fn judge(a: &mut ModelAudit) {
         a.failures.push(format!(
             "parity {:.2e} over the tolerance {:.0e} on the well-conditioned domain",
             w.max_rel, a.parity_tolerance
+        ));
+    }
+    if let Some(e) = a.env_direction_error.filter(|e| *e > ENV_DIRECTION_TOLERANCE) {
+        a.failures.push(format!(
+            "environment fetch direction differs from the twin's by {e:.2e} rad (tolerance {ENV_DIRECTION_TOLERANCE:.0e})"
         ));
     }
     if let Some(r) = a.reciprocity {

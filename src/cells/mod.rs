@@ -3,12 +3,12 @@
 //! the axes they differ in marked as twins of the cell that is rendered.
 
 use serde::{Deserialize, Serialize};
-use std::collections::HashMap;
+use std::collections::{BTreeMap, HashMap};
 
-use crate::pipelines::{Pipeline, RenderPath};
+use crate::pipelines::{DisplayTransform, Pipeline, RenderPath};
 use crate::shading::registry::{ShaderModel, Sliders};
 use crate::shading::twin::Surface;
-use crate::spec::matrix::{Axis, Filter, FilterValue, Matrix};
+use crate::spec::matrix::{color_code, Axis, Filter, FilterValue, Matrix};
 use crate::spec::presets::Preset;
 use std::sync::Arc;
 
@@ -51,6 +51,13 @@ pub struct Cell {
     pub light_range: f64,
     pub width: u32,
     pub height: u32,
+    /// Model parameters the sweep sets (`[sweep.params]`), by name; only the model's own.
+    pub params: BTreeMap<String, f64>,
+    /// The view axes, when swept: metres from the camera target, degrees between light and view.
+    pub camera_distance: Option<f64>,
+    pub light_angle: Option<f64>,
+    /// HDRP exposure (from the scene's volume) and the pipeline's tonemapper.
+    pub display: DisplayTransform,
     /// Set when an earlier cell renders the same image (the shader ignores the differing axes).
     pub twin_of: Option<CellId>,
     /// The model `shader` names in `pipeline`.
@@ -64,9 +71,15 @@ impl Cell {
         Sliders { base_color_linear: m.base_color_linear, metallic: m.metallic, smoothness: m.smoothness }
     }
 
-    /// The subject's material as this cell's model receives it.
+    /// The subject's material as this cell's model receives it, with the swept parameters.
     pub fn surface(&self) -> Surface {
-        self.model().surface(self.pipeline, &self.sliders())
+        let mut s = self.model().surface(self.pipeline, &self.sliders());
+        for spec in &self.model().params {
+            if let Some(v) = self.params.get(spec.name.as_ref()) {
+                s.params[spec.slot] = *v;
+            }
+        }
+        s
     }
 
     pub fn model(&self) -> &ShaderModel {
@@ -122,33 +135,46 @@ pub fn expand(m: &Matrix) -> Expansion {
                         });
                         continue;
                     };
+                    let display = DisplayTransform::new(pipeline, m.tonemap_for(pipeline), &scene.hdrp);
+                    let param_sets = param_product(&model.params, &m.sweep.params);
                     for preset in &m.presets {
                         for metallic in opt_list(&m.sweep.metallic) {
                             for smoothness in opt_list(&m.sweep.smoothness) {
                                 for color in opt_list(&m.sweep.color) {
                                     for intensity in opt_list(&m.sweep.light_intensity) {
                                         for range in opt_list(&m.sweep.light_range) {
-                                            let material = material(preset, metallic, smoothness, color);
-                                            let cell = Cell {
-                                                id: CellId(String::new()),
-                                                composition_index: ci,
-                                                composition: scene.name.clone(),
-                                                pipeline,
-                                                path,
-                                                shader: shader.clone(),
-                                                preset: preset.name.to_string(),
-                                                material,
-                                                light_intensity: intensity.or(key.map(|l| l.intensity)).unwrap_or(0.0),
-                                                light_range: range.or(key.map(|l| l.range)).unwrap_or(0.0),
-                                                width: m.image.width,
-                                                height: m.image.height,
-                                                twin_of: None,
-                                                model: model.clone(),
-                                            };
-                                            if passes_filters(&cell, &m.only, &m.exclude) {
-                                                cells.push(cell);
-                                            } else {
-                                                filtered_out += 1;
+                                            for camera_distance in opt_list(&m.sweep.camera_distance) {
+                                                for light_angle in opt_list(&m.sweep.light_angle) {
+                                                    for params in &param_sets {
+                                                        let cell = Cell {
+                                                            id: CellId(String::new()),
+                                                            composition_index: ci,
+                                                            composition: scene.name.clone(),
+                                                            pipeline,
+                                                            path,
+                                                            shader: shader.clone(),
+                                                            preset: preset.name.to_string(),
+                                                            material: material(preset, metallic, smoothness, color),
+                                                            light_intensity: intensity
+                                                                .or(key.map(|l| l.intensity))
+                                                                .unwrap_or(0.0),
+                                                            light_range: range.or(key.map(|l| l.range)).unwrap_or(0.0),
+                                                            width: m.image.width,
+                                                            height: m.image.height,
+                                                            params: params.clone(),
+                                                            camera_distance,
+                                                            light_angle,
+                                                            display,
+                                                            twin_of: None,
+                                                            model: model.clone(),
+                                                        };
+                                                        if passes_filters(&cell, &m.only, &m.exclude) {
+                                                            cells.push(cell);
+                                                        } else {
+                                                            filtered_out += 1;
+                                                        }
+                                                    }
+                                                }
                                             }
                                         }
                                     }
@@ -168,6 +194,31 @@ pub fn expand(m: &Matrix) -> Expansion {
     cells.retain(|c| seen.insert(c.id.clone()));
     mark_twins(&mut cells);
     Expansion { cells, pruned, filtered_out }
+}
+
+/// Every combination of the swept values of the parameters `model_params` has; one empty set
+/// when it has none of them (a parameter the model lacks makes no new cells).
+fn param_product(
+    model_params: &[crate::shading::registry::ParamSpec],
+    swept: &BTreeMap<String, Vec<f64>>,
+) -> Vec<BTreeMap<String, f64>> {
+    let mut sets = vec![BTreeMap::new()];
+    for (name, values) in swept {
+        if !model_params.iter().any(|p| p.name == name.as_str()) {
+            continue;
+        }
+        sets = sets
+            .into_iter()
+            .flat_map(|set| {
+                values.iter().map(move |v| {
+                    let mut next = set.clone();
+                    next.insert(name.clone(), *v);
+                    next
+                })
+            })
+            .collect();
+    }
+    sets
 }
 
 fn material(
@@ -196,11 +247,19 @@ pub fn cell_id(c: &Cell) -> CellId {
         m.metallic,
         m.smoothness
     );
-    if let Some(rgb) = m.slider_color_srgb {
-        let hex: String = rgb.iter().map(|v| format!("{:02x}", (v * 255.0).round() as u8)).collect();
-        id.push_str(&format!("_c{hex}"));
+    if m.slider_color_srgb.is_some() {
+        id.push_str(&format!("_c{}", color_code(m.slider_color_srgb)));
     }
     id.push_str(&format!("_i{}_r{}", short_number(c.light_intensity), short_number(c.light_range)));
+    if let Some(d) = c.camera_distance {
+        id.push_str(&format!("_d{}", short_number(d)));
+    }
+    if let Some(a) = c.light_angle {
+        id.push_str(&format!("_a{}", short_number(a)));
+    }
+    for (name, v) in &c.params {
+        id.push_str(&format!("_{name}{}", short_number(*v)));
+    }
     CellId(id)
 }
 
@@ -228,6 +287,8 @@ pub fn reference_cell_id(c: &Cell, m: &Matrix, terms: &[(Axis, FilterValue)]) ->
             (Axis::Smoothness, FilterValue::Number(x)) => r.material.smoothness = *x,
             (Axis::LightIntensity, FilterValue::Number(x)) => r.light_intensity = *x,
             (Axis::LightRange, FilterValue::Number(x)) => r.light_range = *x,
+            (Axis::CameraDistance, FilterValue::Number(x)) => r.camera_distance = Some(*x),
+            (Axis::LightAngle, FilterValue::Number(x)) => r.light_angle = Some(*x),
             _ => return None,
         }
     }
@@ -250,6 +311,9 @@ pub fn matches_filter(c: &Cell, f: &Filter) -> bool {
             (Axis::Smoothness, FilterValue::Number(x)) => close(c.material.smoothness, *x),
             (Axis::LightIntensity, FilterValue::Number(x)) => close(c.light_intensity, *x),
             (Axis::LightRange, FilterValue::Number(x)) => close(c.light_range, *x),
+            (Axis::Color, FilterValue::Color(code)) => color_code(c.material.slider_color_srgb) == *code,
+            (Axis::CameraDistance, FilterValue::Number(x)) => c.camera_distance.is_some_and(|d| close(d, *x)),
+            (Axis::LightAngle, FilterValue::Number(x)) => c.light_angle.is_some_and(|a| close(a, *x)),
             _ => false,
         })
     })
@@ -273,8 +337,9 @@ fn render_key(c: &Cell) -> String {
     if r.smoothness {
         key.push_str(&format!("|s{}", m.smoothness));
     }
-    // Fixed objects are lit by the key light whatever the shader, so light axes always count.
+    // Fixed objects are lit by the key light whatever the shader, so light and view axes always count.
     key.push_str(&format!("|i{}|r{}|{}x{}", c.light_intensity, c.light_range, c.width, c.height));
+    key.push_str(&format!("|d{:?}|a{:?}|p{:?}|{:?}", c.camera_distance, c.light_angle, c.params, c.display));
     key
 }
 

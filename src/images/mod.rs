@@ -1,5 +1,7 @@
 //! Images: display transforms, encoding (OpenEXR linear float, PNG 8-bit sRGB) and pixel statistics.
 
+pub mod aces;
 pub mod encode;
+pub mod exposure;
 pub mod stats;
 pub mod tonemap;

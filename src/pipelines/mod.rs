@@ -4,7 +4,9 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::color::srgb_to_linear;
+pub mod volume;
+
+use crate::color::{gamma_to_linear_space_exact, srgb_to_linear};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -38,9 +40,9 @@ impl Pipeline {
         self as u32
     }
 
-    /// Scale from the matrix's light-intensity axis (0–100) to the pipeline's light units.
-    /// HDRP works in physical units: the spec's "×10000 in the HDRP emulation" (models.md#hdrp
-    /// derives ~3×10⁴ from 100 klux/π; 10⁴ is the order the comparison application uses).
+    /// Scale from the matrix's light-intensity axis (0–100) to the pipeline's UI unit. HDRP works
+    /// in physical units and the comparison application's HDRP slider is ×10000: lumen for point
+    /// and spot lights, lux for directional ones (`Emitter::candela_per_ui_unit`, models.md#hdrp-units).
     pub fn intensity_scale(self) -> f64 {
         match self {
             Pipeline::Builtin | Pipeline::Urp => 1.0,
@@ -48,14 +50,29 @@ impl Pipeline {
         }
     }
 
-    /// Linear light colour × intensity as the pipeline's shaders receive it.
-    /// Built-in defaults to `lightsUseLinearIntensity = false`: the gamma-space colour is multiplied
-    /// by the intensity *before* linearising (models.md#builtin). URP and HDRP linearise first.
-    pub fn light_radiance(self, srgb_color: [f64; 3], intensity: f64) -> [f64; 3] {
+    /// The unit the key light's intensity axis stands for in this pipeline, for records and `list`.
+    pub fn intensity_unit(self, emitter: Emitter) -> &'static str {
+        match (self, emitter) {
+            (Pipeline::Builtin | Pipeline::Urp, _) => "unitless (an intensity I delivers irradiance π·I)",
+            (Pipeline::Hdrp, Emitter::Directional { .. }) => "lux (axis × 10000)",
+            (Pipeline::Hdrp, _) => "lumen (axis × 10000), converted to candela by the light's shape",
+        }
+    }
+
+    /// Linear light colour × intensity as the pipeline's shaders receive it (per unit attenuation).
+    /// - Built-in defaults to `GraphicsSettings.lightsUseLinearIntensity = false`: the gamma-space
+    ///   colour is multiplied by the intensity and then linearised with UnityCG.cginc
+    ///   GammaToLinearSpaceExact, which is pow(v, 2.2) above 1 (models.md#builtin).
+    /// - URP linearises the colour first and multiplies by the unitless intensity.
+    /// - HDRP: point and spot intensities are lumen (the UI unit) and the shader receives candela
+    ///   (LightUtils.cs); directional lights are lux, used as is.
+    pub fn light_radiance(self, srgb_color: [f64; 3], intensity: f64, emitter: Emitter) -> [f64; 3] {
         match self {
-            Pipeline::Builtin => srgb_color.map(|c| srgb_to_linear(c * intensity)),
-            Pipeline::Urp | Pipeline::Hdrp => {
-                srgb_color.map(|c| srgb_to_linear(c) * intensity * self.intensity_scale())
+            Pipeline::Builtin => srgb_color.map(|c| gamma_to_linear_space_exact(c * intensity)),
+            Pipeline::Urp => srgb_color.map(|c| srgb_to_linear(c) * intensity),
+            Pipeline::Hdrp => {
+                let scale = intensity * self.intensity_scale() * emitter.candela_per_ui_unit();
+                srgb_color.map(|c| srgb_to_linear(c) * scale)
             }
         }
     }
@@ -65,12 +82,13 @@ impl Pipeline {
         self.intensity_scale()
     }
 
-    /// The metallic slider as the shader receives it: built-in Standard and URP Lit gamma-decode it
-    /// in linear colour space (0.5 → ≈0.214); HDRP takes it as is (presets.md).
+    /// The metallic slider as the shader receives it. Built-in Standard declares `[Gamma] _Metallic`,
+    /// so in linear colour space it is sRGB-decoded (0.5 → ≈0.214). URP Lit dropped the tag in 2020
+    /// (ScriptableRenderPipeline PR #6194) and HDRP never had it: both take the slider as is (presets.md).
     pub fn shader_metallic(self, slider: f64) -> f64 {
         match self {
-            Pipeline::Builtin | Pipeline::Urp => srgb_to_linear(slider),
-            Pipeline::Hdrp => slider,
+            Pipeline::Builtin => srgb_to_linear(slider),
+            Pipeline::Urp | Pipeline::Hdrp => slider,
         }
     }
 
@@ -82,10 +100,13 @@ impl Pipeline {
         }
     }
 
-    pub fn tonemap(self) -> Tonemap {
+    /// The tonemapper each pipeline ships with: none for built-in (no post-processing stack) and
+    /// URP (its Tonemapping override defaults to None); ACES for HDRP, whose default volume profile
+    /// sets Tonemapping mode ACES (DefaultSettingsVolumeProfile.asset, models.md#display).
+    pub fn default_tonemap(self) -> Tonemap {
         match self {
             Pipeline::Builtin | Pipeline::Urp => Tonemap::None,
-            Pipeline::Hdrp => Tonemap::AutoExposureAcesFit,
+            Pipeline::Hdrp => Tonemap::Aces,
         }
     }
 
@@ -161,15 +182,119 @@ impl Attenuation {
     }
 }
 
-/// Display transform from linear HDR to the PNG (models.md#hdrp "Exposure", models.md#display).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+/// The curve from exposed linear HDR to display-linear values before sRGB encoding
+/// (models.md#display); the matrix's `tonemap` key picks one per pipeline.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Tonemap {
-    /// Built-in and URP default: clamp, sRGB encode.
+    /// Clamp to [0, 1].
     None,
-    /// HDRP default volume: automatic exposure (EV limits −10..10) then ACES. APPROXIMATION: the
-    /// Narkowicz fit stands in for Unity's ACES LUT; exposure from the log-average luminance.
-    AutoExposureAcesFit,
+    /// Unity's fitted ACES (core ACES.hlsl / Color.hlsl `AcesTonemap`), fed sRGB→AP0.
+    Aces,
+    /// Unity's Neutral curve (core Color.hlsl `NeutralTonemap`).
+    Neutral,
+    /// Narkowicz's luminance fit of ACES, per channel; not Unity's (×2.8 brighter at the exposure target).
+    Narkowicz,
+}
+
+impl Tonemap {
+    pub const ALL: [Tonemap; 4] = [Tonemap::None, Tonemap::Aces, Tonemap::Neutral, Tonemap::Narkowicz];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Tonemap::None => "none",
+            Tonemap::Aces => "aces",
+            Tonemap::Neutral => "neutral",
+            Tonemap::Narkowicz => "narkowicz",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<Tonemap> {
+        Self::ALL.into_iter().find(|t| t.name() == name)
+    }
+
+    pub fn names() -> Vec<&'static str> {
+        Self::ALL.iter().map(|t| t.name()).collect()
+    }
+}
+
+/// How a cell's HDR image becomes its PNG: HDRP's exposure (None elsewhere: built-in and URP
+/// have no exposure stage) and the tonemapper.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct DisplayTransform {
+    pub tonemap: Tonemap,
+    pub exposure: Option<volume::ExposureSettings>,
+}
+
+impl DisplayTransform {
+    /// `tonemap` in `pipeline`, with the scene's HDRP volume where the pipeline has one.
+    pub fn new(pipeline: Pipeline, tonemap: Tonemap, hdrp: &volume::HdrpVolume) -> DisplayTransform {
+        DisplayTransform { tonemap, exposure: (pipeline == Pipeline::Hdrp).then_some(hdrp.exposure) }
+    }
+}
+
+/// What a light is, as far as units and specular size go (spec's `LightKind` with its shape).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", tag = "kind")]
+pub enum Emitter {
+    Directional {
+        /// Angular diameter of the sun disc, degrees (HDRP default 0.5°).
+        angular_diameter_deg: f64,
+    },
+    Point {
+        /// Shape radius, metres (HDRP default 0.025).
+        radius: f64,
+    },
+    Spot {
+        radius: f64,
+        /// Full outer cone angle, degrees.
+        angle_deg: f64,
+        /// HDRP "Reflector": the lumen go into the cone instead of the sphere (HDAdditionalLightData
+        /// `m_EnableSpotReflector = true` by default).
+        reflector: bool,
+    },
+}
+
+/// HDRP's default light shapes (HDAdditionalLightData): point/spot radius 0.025 m, sun 0.5°.
+pub const HDRP_DEFAULT_SHAPE_RADIUS: f64 = 0.025;
+pub const HDRP_DEFAULT_ANGULAR_DIAMETER_DEG: f64 = 0.5;
+
+impl Emitter {
+    /// Candela per lumen for points and spots, 1 for directional lux (LightUtils.cs): point
+    /// I = Φ/(4π); spot with reflector I = Φ/(2π(1 − cos(θ/2))), without Φ/(4π).
+    pub fn candela_per_ui_unit(self) -> f64 {
+        use std::f64::consts::PI;
+        match self {
+            Emitter::Directional { .. } => 1.0,
+            Emitter::Point { .. } => 1.0 / (4.0 * PI),
+            Emitter::Spot { angle_deg, reflector: true, .. } => {
+                1.0 / (2.0 * PI * (1.0 - (0.5 * angle_deg).to_radians().cos()))
+            }
+            Emitter::Spot { reflector: false, .. } => 1.0 / (4.0 * PI),
+        }
+    }
+
+    /// HDRP's per-light roughness floor, minRoughness = (1 − maxSmoothness)² (models.md#hdrp-lit):
+    /// punctual maxSmoothness = clamp01(1.1725/(1.01 + (radius + 0.1)²) − 0.15); directional
+    /// clamp01(1.35/(1 + (1.15·(0.0315·angularDiameter + 0.4))²) − 0.11).
+    pub fn hdrp_min_roughness(self) -> f64 {
+        let max_smoothness = match self {
+            Emitter::Directional { angular_diameter_deg: d } => {
+                1.35 / (1.0 + (1.15 * (0.0315 * d + 0.4)).powi(2)) - 0.11
+            }
+            Emitter::Point { radius } | Emitter::Spot { radius, .. } => 1.1725 / (1.01 + (radius + 0.1).powi(2)) - 0.15,
+        };
+        (1.0 - max_smoothness.clamp(0.0, 1.0)).powi(2)
+    }
+
+    /// Shader light kind: 0 directional, 1 point, 2 spot (shaders/pass/scene.wgsl `Light`).
+    pub fn shader_kind(self) -> u32 {
+        match self {
+            Emitter::Directional { .. } => 0,
+            Emitter::Point { .. } => 1,
+            Emitter::Spot { .. } => 2,
+        }
+    }
 }
 
 #[cfg(test)]
@@ -178,10 +303,35 @@ mod tests {
 
     #[test]
     fn builtin_multiplies_intensity_in_gamma_space() {
-        let c = Pipeline::Builtin.light_radiance([0.5, 0.5, 0.5], 2.0);
+        let point = Emitter::Point { radius: 0.0 };
+        let c = Pipeline::Builtin.light_radiance([0.5, 0.5, 0.5], 2.0, point);
         assert!((c[0] - 1.0).abs() < 1e-12, "gamma 0.5·2 = 1 → linear 1, got {}", c[0]);
-        let u = Pipeline::Urp.light_radiance([0.5, 0.5, 0.5], 2.0);
+        let u = Pipeline::Urp.light_radiance([0.5, 0.5, 0.5], 2.0, point);
         assert!((u[0] - 2.0 * srgb_to_linear(0.5)).abs() < 1e-12);
+        // GammaToLinearSpaceExact: pow(v, 2.2) above 1, so white × 2 → 2^2.2, not the sRGB curve's 4.95.
+        let w = Pipeline::Builtin.light_radiance([1.0; 3], 2.0, point);
+        assert!((w[0] - 2f64.powf(2.2)).abs() < 1e-12 && (w[0] - 4.595).abs() < 1e-3, "{}", w[0]);
+    }
+
+    #[test]
+    fn hdrp_lumen_become_candela_by_shape() {
+        use std::f64::consts::PI;
+        let lm = |e| Pipeline::Hdrp.light_radiance([1.0; 3], 0.06, e)[0];
+        // 600 lm (HDRP's default punctual intensity) is ≈ 47.7 cd.
+        assert!((lm(Emitter::Point { radius: 0.025 }) - 600.0 / (4.0 * PI)).abs() < 1e-9);
+        let spot = Emitter::Spot { radius: 0.025, angle_deg: 60.0, reflector: true };
+        assert!((lm(spot) - 600.0 / (2.0 * PI * (1.0 - 30f64.to_radians().cos()))).abs() < 1e-9);
+        assert_eq!(lm(Emitter::Directional { angular_diameter_deg: 0.5 }), 600.0, "directional: lux as is");
+    }
+
+    #[test]
+    fn hdrp_min_roughness_from_light_shape() {
+        let p = Emitter::Point { radius: HDRP_DEFAULT_SHAPE_RADIUS }.hdrp_min_roughness();
+        assert!((p - 4.6e-5).abs() < 0.1e-5, "spec: ≈4.6e-5, got {p:e}");
+        let p0 = Emitter::Point { radius: 0.0 }.hdrp_min_roughness();
+        assert!((p0 - 2.4e-7).abs() < 0.1e-7, "spec: ≈2.4e-7, got {p0:e}");
+        let d = Emitter::Directional { angular_diameter_deg: HDRP_DEFAULT_ANGULAR_DIAMETER_DEG }.hdrp_min_roughness();
+        assert!((d - 1.25e-4).abs() < 0.05e-4, "spec: ≈1.25e-4, got {d:e}");
     }
 
     #[test]
@@ -195,8 +345,9 @@ mod tests {
     }
 
     #[test]
-    fn metallic_slider_is_gamma_decoded_except_hdrp() {
+    fn metallic_slider_is_gamma_decoded_in_builtin_only() {
         assert!((Pipeline::Builtin.shader_metallic(0.5) - 0.214).abs() < 1e-3);
+        assert_eq!(Pipeline::Urp.shader_metallic(0.5), 0.5);
         assert_eq!(Pipeline::Hdrp.shader_metallic(0.5), 0.5);
     }
 }

@@ -12,11 +12,13 @@ use crate::compare::images::FlipMetric;
 use crate::compare::stats::BadValues;
 use crate::compare::Comparison;
 use crate::images::stats::PixelStats;
-use crate::pipelines::{Attenuation, Pipeline, RenderPath, Tonemap};
+use crate::images::tonemap::DisplayRecord;
+use crate::pipelines::{Attenuation, Pipeline, RenderPath};
 
 /// Version of the `cell.json` layout. 1: untyped, before versioning; 2: typed, written once with
-/// metrics.
-pub const CELL_SCHEMA: u32 = 2;
+/// metrics; 3: the display transform (tonemapper, HDRP exposure mode, EV and multiplier), light
+/// units and the model parameters the sweep set.
+pub const CELL_SCHEMA: u32 = 3;
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct CellRecord {
@@ -36,13 +38,15 @@ pub struct CellRecord {
     /// The model's inputs as the shader receives them.
     pub shader_inputs: ShaderInputs,
     pub key_light: KeyLight,
+    /// The view and parameter axes the cell sets (absent: the scene's and the model's own).
+    pub view: ViewRecord,
     pub image: ImageFiles,
     /// Set when the images are a copy of this cell's (the shader ignores the differing axes).
     pub twin_of: Option<CellId>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub note: Option<String>,
     pub adapter: String,
-    pub tonemap: TonemapRecord,
+    pub display: DisplayRecord,
     pub stats: PixelStats,
     pub timing: CellTiming,
     pub metrics: CellMetrics,
@@ -64,6 +68,17 @@ impl CellRecord {
             "preset" => self.preset.clone(),
             "metallic" => num(self.sliders.metallic),
             "smoothness" => num(self.sliders.smoothness),
+            "color" => crate::spec::matrix::color_code(self.sliders.slider_color_srgb),
+            "camera_distance" => self.view.camera_distance.map_or_else(|| "scene".into(), num),
+            "light_angle" => self.view.light_angle.map_or_else(|| "scene".into(), num),
+            "params" => {
+                let swept: Vec<String> = self.view.params.iter().map(|(k, v)| format!("{k}={v}")).collect();
+                if swept.is_empty() {
+                    "defaults".into()
+                } else {
+                    swept.join(",")
+                }
+            }
             "light_intensity" => num(self.key_light.intensity),
             "light_range" => num(self.key_light.range),
             _ => "?".into(),
@@ -93,9 +108,20 @@ pub struct KeyLight {
     /// Matrix units (0–100) and metres.
     pub intensity: f64,
     pub range: f64,
-    /// Factor from matrix units to the pipeline's units.
+    /// Factor from matrix units to the pipeline's UI unit.
     pub intensity_scale: f64,
+    /// What the intensity axis means in this pipeline (HDRP: lumen for points and spots, lux
+    /// for directional lights).
+    pub unit: String,
     pub attenuation: Attenuation,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct ViewRecord {
+    pub camera_distance: Option<f64>,
+    pub light_angle: Option<f64>,
+    /// `[sweep.params]` values this cell's model takes.
+    pub params: BTreeMap<String, f64>,
 }
 
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
@@ -104,13 +130,6 @@ pub struct ImageFiles {
     pub height: u32,
     pub exr: String,
     pub png: String,
-}
-
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
-pub struct TonemapRecord {
-    pub kind: Tonemap,
-    /// Exposure multiplier applied before the curve (1 without automatic exposure).
-    pub exposure: f64,
 }
 
 /// Times of a series of frames, ms.

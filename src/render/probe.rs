@@ -34,7 +34,7 @@ impl ProbeInput {
         ProbeInput {
             n: v4(n),
             v: v4(v),
-            l: v4(l),
+            l: [l.x as f32, l.y as f32, l.z as f32, crate::shading::twin::default_light_min_roughness() as f32],
             base_color: v4(s.base_color),
             params: [s.metallic as f32, s.smoothness as f32, 0.0, 0.0],
             gi_diffuse: v4(gi_diffuse),
@@ -46,8 +46,19 @@ impl ProbeInput {
     }
 }
 
+impl ProbeInput {
+    /// The light's HDRP roughness floor (`Emitter::hdrp_min_roughness`).
+    pub fn with_min_roughness(mut self, min_roughness: f64) -> Self {
+        self.l[3] = min_roughness as f32;
+        self
+    }
+}
+
 /// `model_direct` and `model_indirect` of one input, linear RGB.
 pub type ProbeOutput = ([f32; 3], [f32; 3]);
+
+/// With the direction the model fetched the environment along (zero if it did not).
+pub type ProbeOutputFull = ([f32; 3], [f32; 3], [f32; 3]);
 
 /// The compute layouts, the FGD table and one pipeline per (pipeline, model), built once per
 /// device and reused for every evaluation (the audit evaluates each model several times).
@@ -121,6 +132,17 @@ impl BrdfProbe {
         model: &ShaderModel,
         inputs: &[ProbeInput],
     ) -> Result<Vec<ProbeOutput>, Error> {
+        Ok(self.evaluate_full(gpu, pipeline, model, inputs)?.into_iter().map(|(d, i, _)| (d, i)).collect())
+    }
+
+    /// (direct, indirect, environment fetch direction) per input.
+    pub fn evaluate_full(
+        &mut self,
+        gpu: &GpuContext,
+        pipeline: Pipeline,
+        model: &ShaderModel,
+        inputs: &[ProbeInput],
+    ) -> Result<Vec<ProbeOutputFull>, Error> {
         if inputs.is_empty() {
             return Ok(Vec::new());
         }
@@ -132,7 +154,7 @@ impl BrdfProbe {
             contents: bytemuck::cast_slice(inputs),
             usage: wgpu::BufferUsages::STORAGE,
         });
-        let out_size = (inputs.len() * 2 * 16) as u64;
+        let out_size = (inputs.len() * 3 * 16) as u64;
         let output_buf = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("probe outputs"),
             size: out_size,
@@ -166,7 +188,8 @@ impl BrdfProbe {
         let bytes = map_read(device, &staging)?;
         gpu.check_errors("evaluating the BRDF probe")?;
         let floats: &[[f32; 4]] = bytemuck::cast_slice(&bytes);
-        Ok(floats.chunks_exact(2).map(|p| ([p[0][0], p[0][1], p[0][2]], [p[1][0], p[1][1], p[1][2]])).collect())
+        let rgb = |v: [f32; 4]| [v[0], v[1], v[2]];
+        Ok(floats.chunks_exact(3).map(|p| (rgb(p[0]), rgb(p[1]), rgb(p[2]))).collect())
     }
 }
 

@@ -7,7 +7,7 @@ use std::collections::HashMap;
 use std::time::Instant;
 use wgpu::util::DeviceExt;
 
-use super::camera::view_projection;
+use super::camera::{posed_camera, posed_key_light, view_projection, ViewAxes};
 use super::uniforms::*;
 use crate::environment::EnvironmentMaps;
 use crate::error::Error;
@@ -37,6 +37,8 @@ pub struct CellParams<'a> {
     pub light_range: f64,
     pub width: u32,
     pub height: u32,
+    /// Camera distance and light angle, where the cell sets them.
+    pub view: ViewAxes,
 }
 
 pub struct CellRender {
@@ -194,7 +196,8 @@ impl Renderer {
         }
         let source = wgsl::compose(wgsl::PassKind::Forward, Some(model));
         let module = self.gpu.shader_module(&format!("forward {}/{}", pipeline.name(), model.name), &source)?;
-        let constants = [("PIPELINE", pipeline.shader_id() as f64)];
+        let constants =
+            [("PIPELINE", pipeline.shader_id() as f64), ("MAIN_LIGHT_ONLY", model.main_light_only as u32 as f64)];
         let options = wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() };
         let p = self.gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(&format!("forward {}/{}", pipeline.name(), model.name)),
@@ -546,36 +549,46 @@ impl Renderer {
         let scene = &prepared.scene;
         let p = cell.pipeline;
         let aspect = cell.width as f64 / cell.height as f64;
-        let vp = view_projection(&scene.camera, aspect);
+        let camera = posed_camera(&scene.camera, &cell.view);
+        let vp = view_projection(&camera, aspect);
         let key = scene.key_light();
         let mut frame = FrameUniforms::zeroed();
         frame.view_proj = mat(vp);
         frame.inv_view_proj = mat(vp.inverse());
-        frame.camera_pos = vec4(DVec3::from(scene.camera.position), 1.0);
+        frame.camera_pos = vec4(DVec3::from(camera.position), 1.0);
         let lights: Vec<_> = scene.lights.iter().enumerate().take(MAX_LIGHTS).collect();
+        let mut main_light: Option<(usize, f64)> = None;
         for (slot, (i, l)) in lights.iter().enumerate() {
             let is_key = Some(*i) == key;
+            let posed;
+            let l = if is_key {
+                posed = posed_key_light(l, &camera, &cell.view);
+                &posed
+            } else {
+                *l
+            };
             let intensity = if is_key { cell.light_intensity } else { l.intensity };
             let range = if is_key { cell.light_range } else { l.range };
-            let kind = match l.kind {
-                LightKind::Directional => 0.0,
-                LightKind::Point => 1.0,
-                LightKind::Spot => 2.0,
-            };
+            let emitter = l.emitter();
             let outer = (l.spot_angle_deg * 0.5).to_radians();
             // Unity's fallback inner angle: atan(tan(outer)·46/64) (models.md#urp).
             let inner = l
                 .inner_spot_angle_deg
                 .map(|a| (a * 0.5).to_radians())
                 .unwrap_or_else(|| (outer.tan() * 46.0 / 64.0).atan());
+            let color = DVec3::from(p.light_radiance(l.color, intensity, emitter));
+            // The main light of a ForwardBase pass: the brightest directional light.
+            if l.kind == LightKind::Directional && main_light.is_none_or(|(_, b)| color.max_element() > b) {
+                main_light = Some((slot, color.max_element()));
+            }
             frame.lights[slot] = GpuLight {
-                position: vec4(DVec3::from(l.position), kind),
+                position: vec4(DVec3::from(l.position), emitter.shader_kind() as f64),
                 direction: vec4(DVec3::from(l.direction).normalize_or_zero(), 0.0),
-                color: vec4(DVec3::from(p.light_radiance(l.color, intensity)), 0.0),
-                params: [range as f32, outer.cos() as f32, inner.cos() as f32, 0.0],
+                color: vec4(color, 0.0),
+                params: [range as f32, outer.cos() as f32, inner.cos() as f32, emitter.hdrp_min_roughness() as f32],
             };
         }
-        frame.counts = [lights.len() as u32, 0, 0, 0];
+        frame.counts = [lights.len() as u32, main_light.map_or(0, |(slot, _)| slot as u32 + 1), 0, 0];
         for (dst, src) in frame.sh.iter_mut().zip(prepared.env.sh.iter()) {
             *dst = [src[0] as f32, src[1] as f32, src[2] as f32, 0.0];
         }

@@ -121,49 +121,77 @@ fn sort_values(axis: &str, values: BTreeSet<String>) -> Vec<String> {
     v
 }
 
+/// One contact sheet: its file name, title, row and column values and the cell of each tile.
+#[derive(Debug, Clone)]
+pub struct SheetLayout {
+    pub name: String,
+    pub title: String,
+    pub rows: Vec<String>,
+    pub cols: Vec<String>,
+    /// `tiles[r][c]`: the id of the cell at row r, column c.
+    pub tiles: Vec<Vec<Option<String>>>,
+}
+
+/// The sheets of one spec. Every axis not on the rows or columns that varies independently of
+/// them splits the cells into separate sheets, so no two cells share a tile; a group with a single
+/// cell gets no sheet.
+pub fn layout(run: &RunData, spec: &SheetSpec) -> Vec<SheetLayout> {
+    // Axes that follow from the row and column values (metallic from the preset when the
+    // matrix does not sweep it) would only split sheets apart: they are not "per" axes.
+    let determined = |axis: &str| {
+        let mut seen: BTreeMap<(String, String), String> = BTreeMap::new();
+        run.cells.iter().all(|c| {
+            let key = (c.axis_value(&spec.rows), c.axis_value(&spec.cols));
+            let v = c.axis_value(axis);
+            seen.entry(key).or_insert_with(|| v.clone()) == &v
+        })
+    };
+    let per: Vec<&str> =
+        AXES.iter().copied().filter(|a| *a != spec.rows && *a != spec.cols && !determined(a)).collect();
+    let mut groups: BTreeMap<Vec<String>, Vec<&CellRecord>> = BTreeMap::new();
+    for cell in &run.cells {
+        groups.entry(per.iter().map(|a| cell.axis_value(a)).collect()).or_default().push(cell);
+    }
+    let mut out = Vec::new();
+    for (key, cells) in groups {
+        let rows = sort_values(&spec.rows, cells.iter().map(|c| c.axis_value(&spec.rows)).collect());
+        let cols = sort_values(&spec.cols, cells.iter().map(|c| c.axis_value(&spec.cols)).collect());
+        if rows.len() * cols.len() < 2 {
+            continue;
+        }
+        let tiles = rows
+            .iter()
+            .map(|r| {
+                cols.iter()
+                    .map(|c| {
+                        cells
+                            .iter()
+                            .find(|cell| cell.axis_value(&spec.rows) == *r && cell.axis_value(&spec.cols) == *c)
+                            .map(|cell| cell.id.0.clone())
+                    })
+                    .collect()
+            })
+            .collect();
+        let title: Vec<String> =
+            per.iter().zip(&key).filter(|(a, _)| **a != "path").map(|(a, v)| format!("{a} {v}")).collect();
+        let name = format!("sheets/{}_x_{}__{}.png", spec.rows, spec.cols, file_safe(&key.join("_")));
+        out.push(SheetLayout { name, title: title.join("  "), rows, cols, tiles });
+    }
+    out
+}
+
 /// Write every sheet of `specs`; returns the files written (relative to the run folder).
 pub fn write(run: &RunData, specs: &[SheetSpec]) -> Result<Vec<String>, Error> {
     let mut written = Vec::new();
     for spec in specs {
-        // Axes that follow from the row and column values (metallic from the preset when the
-        // matrix does not sweep it) would only split sheets apart: they are not "per" axes.
-        let determined = |axis: &str| {
-            let mut seen: BTreeMap<(String, String), String> = BTreeMap::new();
-            run.cells.iter().all(|c| {
-                let key = (c.axis_value(&spec.rows), c.axis_value(&spec.cols));
-                let v = c.axis_value(axis);
-                seen.entry(key).or_insert_with(|| v.clone()) == &v
-            })
-        };
-        let per: Vec<&str> =
-            AXES.iter().copied().filter(|a| *a != spec.rows && *a != spec.cols && !determined(a)).collect();
-        let mut groups: BTreeMap<Vec<String>, Vec<&CellRecord>> = BTreeMap::new();
-        for cell in &run.cells {
-            groups.entry(per.iter().map(|a| cell.axis_value(a)).collect()).or_default().push(cell);
-        }
-        for (key, cells) in groups {
-            let rows = sort_values(&spec.rows, cells.iter().map(|c| c.axis_value(&spec.rows)).collect());
-            let cols = sort_values(&spec.cols, cells.iter().map(|c| c.axis_value(&spec.cols)).collect());
-            if rows.len() * cols.len() < 2 {
-                continue;
-            }
-            let tiles: Vec<Vec<Option<std::path::PathBuf>>> = rows
+        for sheet in layout(run, spec) {
+            let tiles: Vec<Vec<Option<std::path::PathBuf>>> = sheet
+                .tiles
                 .iter()
-                .map(|r| {
-                    cols.iter()
-                        .map(|c| {
-                            cells
-                                .iter()
-                                .find(|cell| cell.axis_value(&spec.rows) == *r && cell.axis_value(&spec.cols) == *c)
-                                .map(|cell| run.cell_dir(&cell.id.0).join("image.png"))
-                        })
-                        .collect()
-                })
+                .map(|row| row.iter().map(|t| t.as_ref().map(|id| run.cell_dir(id).join("image.png"))).collect())
                 .collect();
-            let title: Vec<String> =
-                per.iter().zip(&key).filter(|(a, _)| **a != "path").map(|(a, v)| format!("{a} {v}")).collect();
-            let img = grid(&title.join("  "), &rows, &cols, &tiles);
-            let name = format!("sheets/{}_x_{}__{}.png", spec.rows, spec.cols, file_safe(&key.join("_")));
+            let img = grid(&sheet.title, &sheet.rows, &sheet.cols, &tiles);
+            let name = sheet.name;
             let mut bytes = Vec::new();
             img.write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png)
                 .map_err(|e| Error::encode(format!("encoding {name}"), e))?;

@@ -35,8 +35,11 @@ pub fn shader_inputs(cell: &Cell) -> ShaderInputs {
     }
 }
 
-pub fn key_light(cell: &Cell) -> KeyLight {
+pub fn key_light(matrix: &Matrix, cell: &Cell) -> KeyLight {
+    let scene = &matrix.compositions[cell.composition_index];
+    let emitter = scene.key_light().map(|k| scene.lights[k].emitter());
     KeyLight {
+        unit: emitter.map_or_else(|| "no key light".to_string(), |e| cell.pipeline.intensity_unit(e).to_string()),
         intensity: cell.light_intensity,
         range: cell.light_range,
         intensity_scale: cell.pipeline.intensity_scale(),

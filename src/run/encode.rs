@@ -10,8 +10,9 @@ use crate::cells::Cell;
 use crate::error::Error;
 use crate::fsutil::write_atomic;
 use crate::images::stats::{pixel_stats, PixelStats};
+use crate::images::tonemap::DisplayRecord;
 use crate::images::{encode, tonemap};
-use crate::record::cell::{CellMetrics, CellRecord, CellTiming, FrameSeries, TonemapRecord, CELL_SCHEMA};
+use crate::record::cell::{CellMetrics, CellRecord, CellTiming, FrameSeries, ViewRecord, CELL_SCHEMA};
 use crate::record::Maybe;
 use crate::render::CellRender;
 use crate::spec::matrix::Matrix;
@@ -45,7 +46,7 @@ pub fn encode_cell(matrix: &Matrix, dir: &Path, adapter: &str, job: RenderedCell
     let RenderedCell { cell, render: r, supersampled } = job;
     let t0 = ThreadTimer::start();
     let exr = encode::exr_bytes(r.width, r.height, &r.hdr)?;
-    let (srgb8, exposure) = tonemap::to_srgb8(&r.hdr, cell.pipeline.tonemap());
+    let (srgb8, display) = tonemap::to_srgb8(&r.hdr, r.width, r.height, &cell.display);
     let png = encode::png_bytes(r.width, r.height, &srgb8)?;
     let stats = pixel_stats(&r);
     let encode_ms = t0.elapsed_ns() as f64 / 1e6;
@@ -71,8 +72,7 @@ pub fn encode_cell(matrix: &Matrix, dir: &Path, adapter: &str, job: RenderedCell
         encode_ms,
         metrics_ms: None,
     };
-    let tonemap = TonemapRecord { kind: cell.pipeline.tonemap(), exposure };
-    let record = cell_record(matrix, cell, adapter, tonemap, stats, timing);
+    let record = cell_record(matrix, cell, adapter, display, stats, timing);
     Ok(EncodedCell {
         record,
         images: CellImages { width: r.width, height: r.height, srgb8, hdr: r.hdr },
@@ -98,7 +98,7 @@ fn write_supersampled(dir: &Path, cell: &Cell, k: u32, big: &[f32]) -> Result<()
             }
         }
     }
-    let (srgb, _) = tonemap::to_srgb8(&small, cell.pipeline.tonemap());
+    let (srgb, _) = tonemap::to_srgb8(&small, cell.width, cell.height, &cell.display);
     write_atomic(&dir.join("reference.exr"), &encode::exr_bytes(cell.width, cell.height, &small)?)?;
     write_atomic(&dir.join("reference.png"), &encode::png_bytes(cell.width, cell.height, &srgb)?)
 }
@@ -112,7 +112,7 @@ pub fn twin_record(matrix: &Matrix, cell: &Cell, original: &CellRecord) -> CellR
     CellRecord {
         twin_of: Some(twin_of),
         note: Some(note),
-        ..cell_record(matrix, cell, &o.adapter, o.tonemap, o.stats, o.timing)
+        ..cell_record(matrix, cell, &o.adapter, o.display, o.stats, o.timing)
     }
 }
 
@@ -121,7 +121,7 @@ fn cell_record(
     matrix: &Matrix,
     cell: &Cell,
     adapter: &str,
-    tonemap: TonemapRecord,
+    display: DisplayRecord,
     stats: PixelStats,
     timing: CellTiming,
 ) -> CellRecord {
@@ -138,12 +138,17 @@ fn cell_record(
         preset: cell.preset.clone(),
         sliders: cell.material,
         shader_inputs: shader_inputs(cell),
-        key_light: key_light(cell),
+        key_light: key_light(matrix, cell),
+        view: ViewRecord {
+            camera_distance: cell.camera_distance,
+            light_angle: cell.light_angle,
+            params: cell.params.clone(),
+        },
         image: image_files(cell),
         twin_of: None,
         note: None,
         adapter: adapter.to_string(),
-        tonemap,
+        display,
         stats,
         timing,
         metrics: CellMetrics::without_reference("not compared yet"),

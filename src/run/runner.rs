@@ -25,6 +25,7 @@ use crate::plan::FramePlan;
 use crate::record::cell::{CellMetrics, CellRecord, ReferenceRecord};
 use crate::record::run::{CompositionRecord, MatrixRecord, RunCounts, RunStatus, StageTimes};
 use crate::record::{RunDir, RunRecord, CELL_FILE, RUN_FILE, RUN_SCHEMA};
+use crate::render::camera::ViewAxes;
 use crate::render::{CellParams, Renderer};
 use crate::spec::matrix::{Filter, Matrix, ReferenceSpec};
 
@@ -372,6 +373,7 @@ impl<'a> Stream<'a> {
                     light_range: cell.light_range,
                     width: cell.width,
                     height: cell.height,
+                    view: ViewAxes { camera_distance: cell.camera_distance, light_angle: cell.light_angle },
                 };
                 let t = Instant::now();
                 let render =

@@ -63,6 +63,8 @@ pub struct ShaderModel {
     pub expected: Expected,
     /// Gouraud: the lighting sum evaluated per vertex and interpolated.
     pub per_vertex: bool,
+    /// A built-in ForwardBase-only shader: lit by the main directional light alone.
+    pub main_light_only: bool,
     /// Largest relative GPU-f32 vs f64 error allowed on the well-conditioned domain: 1e-4, unless
     /// f32 cannot reach it for a reason stated at the model.
     pub parity_tolerance: f64,
@@ -123,7 +125,7 @@ const PHYSICAL: Expected = Expected { reciprocal: true, energy_conserving: true,
 /// (Unity's constant 0.96, Cook-Torrance's Lambert, the custom shader's unweighted lobes), or
 /// approximates (qualitative Oren-Nayar): white surfaces exceed albedo 1 at grazing views.
 const RECIPROCAL_ONLY: Expected = Expected { reciprocal: true, energy_conserving: false, is_brdf: true };
-/// HDRP: view-only clamps (ClampNdotV, view-reflected normal) and an N·V-dependent energy
+/// HDRP: view-only clamps (ClampNdotV, partLambdaV from the unclamped roughness) and an N·V-dependent energy
 /// compensation make it non-reciprocal; diffuse is not reduced by 1 − F either.
 const HDRP_LIT: Expected = Expected { reciprocal: false, energy_conserving: false, is_brdf: true };
 const NEITHER: Expected = Expected { reciprocal: false, energy_conserving: false, is_brdf: true };
@@ -177,6 +179,16 @@ const FRESNEL_POWER: ParamSpec = ParamSpec {
     min: 1.0,
     max: 8.0,
     doc: Cow::Borrowed("exponent p of (1 − N·V)^p"),
+};
+const SPECULAR_HIGHLIGHTS: ParamSpec = ParamSpec {
+    name: Cow::Borrowed("specular_highlights"),
+    slot: 0,
+    default: 0.0,
+    min: 0.0,
+    max: 1.0,
+    doc: Cow::Borrowed(
+        "1: _SPECULAR_COLOR on; 0 (default): off, as a new Simple Lit material ships (_SpecularHighlights = 1 = SpecularSource.NoSpecular)",
+    ),
 };
 const ENERGY_COMPENSATION: ParamSpec = ParamSpec {
     name: Cow::Borrowed("energy_compensation"),
@@ -264,6 +276,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         from_sliders: metallic_workflow,
         summary: "Lambert: ρ/π·E·NL (models.md#lambert)",
         per_vertex: false,
+        main_light_only: false,
         parity_tolerance: 1e-4,
     },
     BuiltinModel {
@@ -278,6 +291,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         from_sliders: metallic_workflow,
         summary: "Lambert evaluated per vertex (Gouraud, models.md#gouraud)",
         per_vertex: true,
+        main_light_only: false,
         parity_tolerance: 1e-4,
     },
     BuiltinModel {
@@ -292,6 +306,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         from_sliders: metallic_workflow,
         summary: "Half-Lambert: ρ/π·E·(0.5·NL + 0.5), not squared (models.md#half-lambert)",
         per_vertex: false,
+        main_light_only: false,
         parity_tolerance: 1e-4,
     },
     BuiltinModel {
@@ -306,6 +321,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         from_sliders: metallic_workflow,
         summary: "Half-Lambert per vertex (Gouraud)",
         per_vertex: true,
+        main_light_only: false,
         parity_tolerance: 1e-4,
     },
     BuiltinModel {
@@ -320,6 +336,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         from_sliders: classic_specular,
         summary: "Phong: kd·NL + ks·max(0, R·V)ⁿ, unnormalised by default (models.md#phong)",
         per_vertex: false,
+        main_light_only: false,
         parity_tolerance: 1e-4,
     },
     BuiltinModel {
@@ -334,6 +351,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         from_sliders: classic_specular,
         summary: "Phong per vertex (Gouraud)",
         per_vertex: true,
+        main_light_only: false,
         parity_tolerance: 1e-4,
     },
     BuiltinModel {
@@ -348,6 +366,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         from_sliders: classic_specular,
         summary: "Blinn-Phong: kd·NL + ks·max(0, N·H)ⁿ, unnormalised by default (models.md#blinn-phong)",
         per_vertex: false,
+        main_light_only: false,
         parity_tolerance: 1e-4,
     },
     BuiltinModel {
@@ -362,6 +381,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         from_sliders: classic_specular,
         summary: "Blinn-Phong per vertex (Gouraud)",
         per_vertex: true,
+        main_light_only: false,
         parity_tolerance: 1e-4,
     },
     // f32 cannot reach 1e-4 with the trigonometric form: near θ → 0, acos(x) turns the rounding of
@@ -379,6 +399,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         from_sliders: oren_nayar_sliders,
         summary: "Oren-Nayar qualitative model, A with 0.33, trigonometric form (models.md#oren-nayar)",
         per_vertex: false,
+        main_light_only: false,
         parity_tolerance: 1e-3,
     },
     BuiltinModel {
@@ -393,6 +414,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         from_sliders: oren_nayar_sliders,
         summary: "Oren-Nayar trig-free form with 0.57 in A (the custom shader's, models.md#oren-nayar-057)",
         per_vertex: false,
+        main_light_only: false,
         parity_tolerance: 1e-4,
     },
     BuiltinModel {
@@ -407,6 +429,22 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         from_sliders: metallic_as_is,
         summary: "Cook-Torrance: Beckmann D, full dielectric Fresnel, Cook-Torrance G, 1/(4·NL·NV) (models.md#cook-torrance)",
         per_vertex: false,
+        main_light_only: false,
+        parity_tolerance: 1e-4,
+    },
+    BuiltinModel {
+        name: "cook_torrance_1982",
+        pipelines: ALL_PIPELINES,
+        wgsl: brdf_file!("cook_torrance_1982.wgsl"),
+        reads: ALL_AXES,
+        expected: RECIPROCAL_ONLY,
+        twin: &twin::CookTorrance1982,
+        params: &[IOR_15],
+        mapping: "as cook_torrance",
+        from_sliders: metallic_as_is,
+        summary: "Cook-Torrance as the 1982 paper writes it: (F/π)·D·G/(NL·NV), un-normalised Beckmann D; specular 4× the modern form (models.md#cook-torrance-1982)",
+        per_vertex: false,
+        main_light_only: false,
         parity_tolerance: 1e-4,
     },
     BuiltinModel {
@@ -415,12 +453,28 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         wgsl: brdf_file!("torrance_sparrow.wgsl"),
         reads: ALL_AXES,
         expected: RECIPROCAL_ONLY,
-        twin: &twin::TorranceSparrow,
+        twin: &twin::TorranceSparrow { as_written: true },
         params: &[IOR_145, FRESNEL_POWER],
         mapping: CUSTOM_MAPPING,
         from_sliders: custom_shader_sliders,
-        summary: "custom roughness/metallic PBR shader: GGX D, Smith-Schlick k = r²/2, Schlick Fresnel on N·V (models.md#torrance-sparrow)",
+        summary: "custom roughness/metallic PBR shader AS WRITTEN: scalar Fresnel (red channel), reflect(v, n), ambient × light colour, main directional light only (models.md#torrance-sparrow)",
         per_vertex: false,
+        main_light_only: true,
+        parity_tolerance: 1e-4,
+    },
+    BuiltinModel {
+        name: "torrance_sparrow_corrected",
+        pipelines: BUILTIN,
+        wgsl: brdf_file!("torrance_sparrow_corrected.wgsl"),
+        reads: ALL_AXES,
+        expected: RECIPROCAL_ONLY,
+        twin: &twin::TorranceSparrow { as_written: false },
+        params: &[IOR_145, FRESNEL_POWER],
+        mapping: CUSTOM_MAPPING,
+        from_sliders: custom_shader_sliders,
+        summary: "the custom shader corrected: colour Fresnel, reflect(−v, n), ambient alone, every light (models.md#torrance-sparrow-corrected)",
+        per_vertex: false,
+        main_light_only: false,
         parity_tolerance: 1e-4,
     },
     BuiltinModel {
@@ -435,6 +489,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         from_sliders: custom_shader_sliders,
         summary: "the Schlick term F0 + (1 − F0)(1 − N·V)^p shown as colour (models.md#fresnel)",
         per_vertex: false,
+        main_light_only: false,
         parity_tolerance: 1e-4,
     },
     BuiltinModel {
@@ -449,6 +504,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         from_sliders: metallic_workflow,
         summary: "built-in Standard, BRDF1: Disney diffuse, approx. joint Smith, GGX, clamps (models.md#standard)",
         per_vertex: false,
+        main_light_only: false,
         parity_tolerance: 1e-4,
     },
     BuiltinModel {
@@ -463,6 +519,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         from_sliders: metallic_workflow,
         summary: "built-in Standard, BRDF2: minimalist Cook-Torrance (models.md#standard-brdf2)",
         per_vertex: false,
+        main_light_only: false,
         parity_tolerance: 1e-4,
     },
     BuiltinModel {
@@ -477,6 +534,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         from_sliders: metallic_workflow,
         summary: "built-in Standard, BRDF3; its lookup lobe APPROXIMATED by normalised Phong (models.md#standard-brdf3)",
         per_vertex: false,
+        main_light_only: false,
         parity_tolerance: 1e-4,
     },
     BuiltinModel {
@@ -491,6 +549,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         from_sliders: metallic_workflow,
         summary: "URP Lit: minimal Cook-Torrance specular, Lambert without 1/π, EnvironmentBRDF (models.md#urp-lit)",
         per_vertex: false,
+        main_light_only: false,
         parity_tolerance: 1e-4,
     },
     BuiltinModel {
@@ -500,11 +559,12 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         reads: COLOR_SMOOTHNESS,
         expected: NEITHER,
         twin: &twin::UrpSimpleLit,
-        params: &[],
-        mapping: "colour → albedo; specular colour 0.214 (URP's default _SpecColor 0.5 sRGB); shininess = exp2(10·smoothness + 1); metallic unused",
+        params: &[SPECULAR_HIGHLIGHTS],
+        mapping: "colour → albedo; specular colour 0.214 (URP's default _SpecColor 0.5 sRGB); shininess = exp2(10·smoothness + 1); metallic unused; highlights off unless specular_highlights = 1",
         from_sliders: simple_lit_sliders,
-        summary: "URP Simple Lit: Blinn-Phong without normalisation (models.md#urp-simple-lit)",
+        summary: "URP Simple Lit: Lambert, plus unnormalised Blinn-Phong when specular_highlights = 1 (off in a new material) (models.md#urp-simple-lit)",
         per_vertex: false,
+        main_light_only: false,
         parity_tolerance: 1e-4,
     },
     BuiltinModel {
@@ -519,6 +579,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         from_sliders: metallic_workflow,
         summary: "URP Unlit: the colour, no lighting",
         per_vertex: false,
+        main_light_only: false,
         parity_tolerance: 1e-4,
     },
     BuiltinModel {
@@ -533,6 +594,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         from_sliders: metallic_workflow,
         summary: "HDRP Lit: renormalised Disney diffuse, height-correlated Smith GGX, F_Schlick(f90), FGD energy compensation (models.md#hdrp-lit)",
         per_vertex: false,
+        main_light_only: false,
         parity_tolerance: 1e-4,
     },
     BuiltinModel {
@@ -547,6 +609,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         from_sliders: metallic_workflow,
         summary: "HDRP Unlit: the colour, no lighting",
         per_vertex: false,
+        main_light_only: false,
         parity_tolerance: 1e-4,
     },
 ];
@@ -581,6 +644,7 @@ pub struct BuiltinModel {
     pub from_sliders: fn(&ShaderModel, Pipeline, &Sliders) -> Surface,
     pub summary: &'static str,
     pub per_vertex: bool,
+    pub main_light_only: bool,
     pub parity_tolerance: f64,
 }
 
@@ -599,6 +663,7 @@ impl BuiltinModel {
             from_sliders: self.from_sliders,
             expected: self.expected,
             per_vertex: self.per_vertex,
+            main_light_only: self.main_light_only,
             parity_tolerance: self.parity_tolerance,
         }
     }

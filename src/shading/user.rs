@@ -184,6 +184,7 @@ fn load_model(
         from_sliders: user_sliders,
         expected: Expected { reciprocal: decl.reciprocal, energy_conserving: decl.energy_conserving, is_brdf: true },
         per_vertex: false,
+        main_light_only: false,
         parity_tolerance: f64::INFINITY,
     };
     for pass in [PassKind::Forward, PassKind::BrdfProbe] {

@@ -11,7 +11,7 @@ use crate::error::{Error, InputError};
 use crate::input::names::unknown_name;
 use crate::input::source::parse_toml;
 use crate::input::validate::Checker;
-use crate::pipelines::{Pipeline, RenderPath};
+use crate::pipelines::{Pipeline, RenderPath, Tonemap};
 use crate::shading::Registry;
 use std::sync::Arc;
 
@@ -34,7 +34,12 @@ struct MatrixFile {
     presets: Vec<String>,
     #[serde(default)]
     sweep: Sweep,
+    #[serde(default)]
     image: ImageSize,
+    /// The tonemapper: one name for every pipeline, or a table by pipeline
+    /// (`tonemap = { hdrp = "neutral" }`); pipelines left out keep the one they ship with.
+    #[serde(default)]
+    tonemap: Option<toml::Value>,
     #[serde(default)]
     timing: Timing,
     #[serde(default)]
@@ -88,13 +93,37 @@ pub struct Sweep {
     pub light_intensity: Vec<f64>,
     #[serde(default)]
     pub light_range: Vec<f64>,
+    /// Metres from the camera target (the subject's centre in the built-in scenes) along the
+    /// scene's view direction.
+    #[serde(default)]
+    pub camera_distance: Vec<f64>,
+    /// Degrees between the directions from the camera target to the camera and to the key light.
+    #[serde(default)]
+    pub light_angle: Vec<f64>,
+    /// A list per model parameter (`ior = [1.3, 1.5]`); a cell whose model lacks a parameter is
+    /// not multiplied by it.
+    #[serde(default)]
+    pub params: BTreeMap<String, Vec<f64>>,
 }
 
+/// Optional in a matrix: 256×256 unless given.
 #[derive(Debug, Clone, Copy, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ImageSize {
+    #[serde(default = "default_side")]
     pub width: u32,
+    #[serde(default = "default_side")]
     pub height: u32,
+}
+
+fn default_side() -> u32 {
+    256
+}
+
+impl Default for ImageSize {
+    fn default() -> Self {
+        ImageSize { width: default_side(), height: default_side() }
+    }
 }
 
 #[derive(Debug, Clone, Copy, Deserialize, serde::Serialize)]
@@ -130,10 +159,13 @@ pub enum Axis {
     Smoothness,
     LightIntensity,
     LightRange,
+    Color,
+    CameraDistance,
+    LightAngle,
 }
 
 impl Axis {
-    pub const ALL: [Axis; 9] = [
+    pub const ALL: [Axis; 12] = [
         Axis::Composition,
         Axis::Pipeline,
         Axis::Path,
@@ -143,6 +175,9 @@ impl Axis {
         Axis::Smoothness,
         Axis::LightIntensity,
         Axis::LightRange,
+        Axis::Color,
+        Axis::CameraDistance,
+        Axis::LightAngle,
     ];
 
     pub fn name(self) -> &'static str {
@@ -156,11 +191,22 @@ impl Axis {
             Axis::Smoothness => "smoothness",
             Axis::LightIntensity => "light_intensity",
             Axis::LightRange => "light_range",
+            Axis::Color => "color",
+            Axis::CameraDistance => "camera_distance",
+            Axis::LightAngle => "light_angle",
         }
     }
 
     pub fn is_numeric(self) -> bool {
-        matches!(self, Axis::Metallic | Axis::Smoothness | Axis::LightIntensity | Axis::LightRange)
+        matches!(
+            self,
+            Axis::Metallic
+                | Axis::Smoothness
+                | Axis::LightIntensity
+                | Axis::LightRange
+                | Axis::CameraDistance
+                | Axis::LightAngle
+        )
     }
 }
 
@@ -168,6 +214,16 @@ impl Axis {
 pub enum FilterValue {
     Name(String),
     Number(f64),
+    /// An sRGB slider colour as its 6-digit hex code (`ff8000`), or `preset` for the preset's own.
+    Color(String),
+}
+
+/// The colour axis's value of a cell: the slider colour's hex code, or `preset`.
+pub fn color_code(srgb: Option<[f64; 3]>) -> String {
+    match srgb {
+        Some(rgb) => rgb.iter().map(|v| format!("{:02x}", (v * 255.0).round() as u8)).collect(),
+        None => "preset".into(),
+    }
 }
 
 /// A conjunction: every named axis must take one of its listed values.
@@ -193,6 +249,8 @@ pub struct Matrix {
     pub presets: Vec<&'static Preset>,
     pub sweep: Sweep,
     pub image: ImageSize,
+    /// The tonemapper of each pipeline, by `Pipeline::shader_id`.
+    pub tonemaps: [Tonemap; 3],
     pub timing: Timing,
     pub only: Vec<Filter>,
     pub exclude: Vec<Filter>,
@@ -211,7 +269,7 @@ pub enum ReferenceSpec {
     Run(std::path::PathBuf),
 }
 
-pub const REFERENCE_AXES: [Axis; 8] = [
+pub const REFERENCE_AXES: [Axis; 10] = [
     Axis::Composition,
     Axis::Pipeline,
     Axis::Path,
@@ -220,6 +278,8 @@ pub const REFERENCE_AXES: [Axis; 8] = [
     Axis::Smoothness,
     Axis::LightIntensity,
     Axis::LightRange,
+    Axis::CameraDistance,
+    Axis::LightAngle,
 ];
 
 fn parse_reference(c: &Checker, value: &toml::Value, base_dir: Option<&Path>) -> Result<ReferenceSpec, InputError> {
@@ -265,6 +325,11 @@ fn parse_reference(c: &Checker, value: &toml::Value, base_dir: Option<&Path>) ->
 }
 
 impl Matrix {
+    /// The tonemapper cells of `p` use.
+    pub fn tonemap_for(&self, p: Pipeline) -> Tonemap {
+        self.tonemaps[p.shader_id() as usize]
+    }
+
     pub fn load_default(registry: Arc<Registry>) -> Result<Matrix, Error> {
         Self::from_text("<embedded default matrix>", DEFAULT_MATRIX, Some(Path::new(".")), registry)
     }
@@ -343,6 +408,14 @@ impl Matrix {
         for (i, v) in s.light_range.iter().enumerate() {
             c.range(&format!("sweep.light_range[{i}]"), *v, 1e-3, 40.0)?;
         }
+        for (i, v) in s.camera_distance.iter().enumerate() {
+            c.range(&format!("sweep.camera_distance[{i}]"), *v, 1e-3, 1000.0)?;
+        }
+        for (i, v) in s.light_angle.iter().enumerate() {
+            c.range(&format!("sweep.light_angle[{i}]"), *v, 0.0, 180.0)?;
+        }
+        check_params(&c, origin, &s.params, &file.shaders, &pipelines, &registry)?;
+        let tonemaps = parse_tonemaps(&c, origin, file.tonemap.as_ref())?;
         for (key, v) in [("image.width", file.image.width), ("image.height", file.image.height)] {
             if v == 0 || v > MAX_IMAGE_SIZE {
                 return Err(c.err(key, format!("value {v} is out of range; allowed 1..={MAX_IMAGE_SIZE}")).into());
@@ -373,6 +446,13 @@ impl Matrix {
                 Axis::Path => RenderPath::names().iter().map(|s| s.to_string()).collect(),
                 Axis::Shader => model_names.iter().map(|s| s.to_string()).collect(),
                 Axis::Preset => preset_names().iter().map(|s| s.to_string()).collect(),
+                Axis::Color => {
+                    let mut v: Vec<String> = file.sweep.color.iter().map(|c| color_code(Some(*c))).collect();
+                    if v.is_empty() {
+                        v.push(color_code(None));
+                    }
+                    v
+                }
                 _ => Vec::new(),
             }
         };
@@ -381,7 +461,7 @@ impl Matrix {
                 for (axis, values) in &f.terms {
                     let valid = known(*axis);
                     for v in values {
-                        if let FilterValue::Name(n) = v {
+                        if let FilterValue::Name(n) | FilterValue::Color(n) = v {
                             if !valid.contains(n) {
                                 let valid: Vec<&str> = valid.iter().map(String::as_str).collect();
                                 let key = format!("{list}[{i}].{}", axis.name());
@@ -445,6 +525,7 @@ impl Matrix {
             presets,
             sweep: file.sweep,
             image: file.image,
+            tonemaps,
             timing: file.timing,
             only,
             exclude,
@@ -487,10 +568,17 @@ impl Matrix {
                 Axis::Path => self.paths.iter().map(|p| p.name().to_string()).collect(),
                 Axis::Shader => self.shaders.clone(),
                 Axis::Preset => self.presets.iter().map(|p| p.name.to_string()).collect(),
+                Axis::Color => {
+                    let mut v: Vec<String> = self.sweep.color.iter().map(|c| color_code(Some(*c))).collect();
+                    if v.is_empty() {
+                        v.push(color_code(None));
+                    }
+                    v
+                }
                 _ => continue,
             };
             for v in values {
-                if let FilterValue::Name(n) = v {
+                if let FilterValue::Name(n) | FilterValue::Color(n) = v {
                     if !valid.contains(n) {
                         let valid: Vec<&str> = valid.iter().map(String::as_str).collect();
                         let key = format!("--only {}", axis.name());
@@ -549,6 +637,10 @@ fn parse_filter(c: &Checker, key: &str, table: &toml::Table) -> Result<Filter, I
         };
         let mut values = Vec::new();
         for item in items {
+            if axis == Axis::Color {
+                values.push(parse_color_value(c, &format!("{key}.{k}"), item)?);
+                continue;
+            }
             let value = match (axis.is_numeric(), item) {
                 (true, toml::Value::Float(f)) => FilterValue::Number(*f),
                 (true, toml::Value::Integer(i)) => FilterValue::Number(*i as f64),
@@ -568,4 +660,93 @@ fn parse_filter(c: &Checker, key: &str, table: &toml::Table) -> Result<Filter, I
         terms.insert(axis, values);
     }
     Ok(Filter { terms: terms.into_iter().collect() })
+}
+
+/// A colour in a filter: a hex code (`"ff8000"`, `"#ff8000"`), `"preset"`, or [r, g, b] in 0..1.
+fn parse_color_value(c: &Checker, key: &str, item: &toml::Value) -> Result<FilterValue, InputError> {
+    let allowed = "a hex code such as \"ff8000\", \"preset\", or [r, g, b] in 0..1";
+    match item {
+        toml::Value::String(s) => {
+            let hex = s.trim_start_matches('#').to_ascii_lowercase();
+            if hex == "preset" || (hex.len() == 6 && hex.chars().all(|ch| ch.is_ascii_hexdigit())) {
+                Ok(FilterValue::Color(hex))
+            } else {
+                Err(c.err(key, format!("`{s}` is not a colour; allowed: {allowed}")))
+            }
+        }
+        toml::Value::Array(a) if a.len() == 3 => {
+            let mut rgb = [0.0; 3];
+            for (i, v) in a.iter().enumerate() {
+                rgb[i] = match v {
+                    toml::Value::Float(f) => *f,
+                    toml::Value::Integer(n) => *n as f64,
+                    other => return Err(c.err(key, format!("{other} is not a number; allowed: {allowed}"))),
+                };
+            }
+            c.color(key, rgb)?;
+            Ok(FilterValue::Color(color_code(Some(rgb))))
+        }
+        other => Err(c.err(key, format!("value {other} is not a colour; allowed: {allowed}"))),
+    }
+}
+
+/// `tonemap = "aces"` or `tonemap = { hdrp = "neutral", urp = "aces" }`; defaults as each pipeline ships.
+fn parse_tonemaps(c: &Checker, origin: &str, value: Option<&toml::Value>) -> Result<[Tonemap; 3], InputError> {
+    let mut out = Pipeline::ALL.map(Pipeline::default_tonemap);
+    let name = |key: &str, v: &toml::Value| -> Result<Tonemap, InputError> {
+        match v {
+            toml::Value::String(s) => {
+                Tonemap::from_name(s).ok_or_else(|| unknown_name(origin, key, "tonemapper", s, &Tonemap::names()))
+            }
+            other => Err(c.err(key, format!("{other} is not a name; allowed: {}", Tonemap::names().join(", ")))),
+        }
+    };
+    match value {
+        None => {}
+        Some(toml::Value::Table(t)) => {
+            for (k, v) in t {
+                let p = Pipeline::from_name(k)
+                    .ok_or_else(|| unknown_name(origin, &format!("tonemap.{k}"), "pipeline", k, &Pipeline::names()))?;
+                out[p.shader_id() as usize] = name(&format!("tonemap.{k}"), v)?;
+            }
+        }
+        Some(v) => out = [name("tonemap", v)?; 3],
+    }
+    Ok(out)
+}
+
+/// Every `[sweep.params]` name must be a parameter of one of the matrix's models, each value in
+/// that parameter's range.
+fn check_params(
+    c: &Checker,
+    origin: &str,
+    params: &BTreeMap<String, Vec<f64>>,
+    shaders: &[String],
+    pipelines: &[Pipeline],
+    registry: &Registry,
+) -> Result<(), InputError> {
+    let specs: Vec<&crate::shading::registry::ParamSpec> = pipelines
+        .iter()
+        .flat_map(|p| shaders.iter().filter_map(move |s| registry.find(*p, s)))
+        .flat_map(|m| m.params.iter())
+        .collect();
+    let mut valid: Vec<&str> = specs.iter().map(|p| p.name.as_ref()).collect();
+    valid.sort();
+    valid.dedup();
+    for (name, values) in params {
+        let key = format!("sweep.params.{name}");
+        let Some(spec) = specs.iter().find(|p| p.name == name.as_str()) else {
+            if valid.is_empty() {
+                return Err(c.err(&key, "none of the matrix's shaders has parameters"));
+            }
+            return Err(unknown_name(origin, &key, "model parameter", name, &valid));
+        };
+        if values.is_empty() {
+            return Err(c.err(&key, "the list is empty; give at least one value"));
+        }
+        for (i, v) in values.iter().enumerate() {
+            c.range(&format!("{key}[{i}]"), *v, spec.min, spec.max)?;
+        }
+    }
+    Ok(())
 }

@@ -34,6 +34,9 @@ pub struct Scene {
     pub lights: Vec<Light>,
     pub objects: Vec<Object>,
     pub environment: Environment,
+    /// HDRP volume overrides (exposure) for this scene; HDRP's default volume where absent.
+    #[serde(default)]
+    pub hdrp: crate::pipelines::volume::HdrpVolume,
     /// Where the scene came from: a built-in name or a file path (not part of the TOML).
     #[serde(skip)]
     pub origin: String,
@@ -95,6 +98,16 @@ pub struct Light {
     pub inner_spot_angle_deg: Option<f64>,
     #[serde(default)]
     pub shadows: bool,
+    /// Point and spot: the light's shape radius in metres (HDRP's default 0.025); sets HDRP's
+    /// per-light minimum roughness.
+    #[serde(default)]
+    pub shape_radius: Option<f64>,
+    /// Directional: the sun's angular diameter in degrees (HDRP's default 0.5).
+    #[serde(default)]
+    pub angular_diameter_deg: Option<f64>,
+    /// Spot: HDRP's "Reflector" (lumen focused into the cone); on by default as in HDRP.
+    #[serde(default)]
+    pub reflector: Option<bool>,
     /// The key light receives the matrix's light intensity and range axes; at most one, and when
     /// no light says so, the first point light is the key.
     #[serde(default)]
@@ -425,6 +438,23 @@ fn sky_exposure() -> f64 {
     1.3
 }
 
+impl Light {
+    /// Units and shape as the pipelines see them, with HDRP's defaults where the scene is silent.
+    pub fn emitter(&self) -> crate::pipelines::Emitter {
+        use crate::pipelines::{Emitter, HDRP_DEFAULT_ANGULAR_DIAMETER_DEG, HDRP_DEFAULT_SHAPE_RADIUS};
+        let radius = self.shape_radius.unwrap_or(HDRP_DEFAULT_SHAPE_RADIUS);
+        match self.kind {
+            LightKind::Directional => Emitter::Directional {
+                angular_diameter_deg: self.angular_diameter_deg.unwrap_or(HDRP_DEFAULT_ANGULAR_DIAMETER_DEG),
+            },
+            LightKind::Point => Emitter::Point { radius },
+            LightKind::Spot => {
+                Emitter::Spot { radius, angle_deg: self.spot_angle_deg, reflector: self.reflector.unwrap_or(true) }
+            }
+        }
+    }
+}
+
 impl Scene {
     /// Load a composition: a built-in name, or a path to a scene TOML (relative to `base_dir`).
     pub fn load(name_or_path: &str, base_dir: Option<&Path>, referenced_from: &str, key: &str) -> Result<Scene, Error> {
@@ -487,6 +517,30 @@ impl Scene {
             if l.kind != LightKind::Point {
                 c.nonzero_vector(&k("direction"), l.direction)?;
             }
+            let only = |key: &str, set: bool, kinds: &str| -> Result<(), InputError> {
+                if set {
+                    Err(c.err(&k(key), format!("only {kinds} lights have this key; this one is {:?}", l.kind)))
+                } else {
+                    Ok(())
+                }
+            };
+            match l.kind {
+                LightKind::Directional => {
+                    only("shape_radius", l.shape_radius.is_some(), "point and spot")?;
+                    only("reflector", l.reflector.is_some(), "spot")?;
+                }
+                LightKind::Point => {
+                    only("angular_diameter_deg", l.angular_diameter_deg.is_some(), "directional")?;
+                    only("reflector", l.reflector.is_some(), "spot")?;
+                }
+                LightKind::Spot => only("angular_diameter_deg", l.angular_diameter_deg.is_some(), "directional")?,
+            }
+            if let Some(r) = l.shape_radius {
+                c.range(&k("shape_radius"), r, 0.0, 100.0)?;
+            }
+            if let Some(d) = l.angular_diameter_deg {
+                c.range(&k("angular_diameter_deg"), d, 0.0, 90.0)?;
+            }
             if l.kind == LightKind::Spot {
                 c.range(&k("spot_angle_deg"), l.spot_angle_deg, 1.0, 179.0)?;
                 if let Some(inner) = l.inner_spot_angle_deg {
@@ -525,6 +579,13 @@ impl Scene {
             }
             o.mesh.validate().map_err(|m| c.err(&k("mesh"), m))?;
         }
+        let x = &self.hdrp.exposure;
+        c.range("hdrp.exposure.limit_min", x.limit_min, -20.0, 30.0)?;
+        c.range("hdrp.exposure.limit_max", x.limit_max, x.limit_min, 30.0)?;
+        c.range("hdrp.exposure.compensation", x.compensation, -20.0, 20.0)?;
+        c.range("hdrp.exposure.fixed_ev", x.fixed_ev, -20.0, 30.0)?;
+        c.range("hdrp.exposure.histogram_percent[0]", x.histogram_percent[0], 0.0, 100.0)?;
+        c.range("hdrp.exposure.histogram_percent[1]", x.histogram_percent[1], x.histogram_percent[0], 100.0)?;
         let e = &self.environment;
         c.non_negative("environment.ambient_intensity", e.ambient_intensity)?;
         match &e.sky {

@@ -2,8 +2,21 @@
 //! matrix (`sheets = [...]`) and of the run record; the report stage draws them.
 
 /// The axes a sheet can lay out, as named in matrices and cell records.
-pub const AXES: [&str; 9] =
-    ["composition", "pipeline", "path", "shader", "preset", "metallic", "smoothness", "light_intensity", "light_range"];
+pub const AXES: [&str; 13] = [
+    "composition",
+    "pipeline",
+    "path",
+    "shader",
+    "preset",
+    "metallic",
+    "smoothness",
+    "color",
+    "light_intensity",
+    "light_range",
+    "camera_distance",
+    "light_angle",
+    "params",
+];
 #[derive(Debug, Clone, serde::Deserialize, serde::Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct SheetSpec {

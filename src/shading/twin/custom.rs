@@ -22,7 +22,16 @@ fn f0(s: &Surface) -> DVec3 {
     DVec3::splat(f * f).lerp(s.base_color, s.metallic)
 }
 
-pub struct TorranceSparrow;
+/// The custom shader's final stage; `as_written` keeps the source's quirks (scalar Fresnel from F0's
+/// red channel, reflect(v, n), ambient × the main light's colour), otherwise the corrected variant.
+pub struct TorranceSparrow {
+    pub as_written: bool,
+}
+
+/// QUIRK of the source: its Fresnel returns a float, F0 truncated to red.
+pub fn ts_fresnel_scalar(f0: DVec3, r: f64, nv: f64, p: f64) -> f64 {
+    f0.x + ((1.0 - r).max(f0.x) - f0.x) * (1.0 - nv).powf(p)
+}
 
 impl SurfaceTwin for TorranceSparrow {
     fn direct(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
@@ -38,9 +47,20 @@ impl SurfaceTwin for TorranceSparrow {
         let r = 1.0 - s.smoothness;
         let nv = sat(n.dot(v));
         let f0 = f0(s);
-        let f = f0 + (DVec3::splat(1.0 - r).max(f0) - f0) * (1.0 - nv).powf(s.params[1]);
+        let f = if self.as_written {
+            // The main light's colour scales ambient in the source; the twin's light has colour 1.
+            DVec3::splat(ts_fresnel_scalar(f0, r, nv, s.params[1]))
+        } else {
+            f0 + (DVec3::splat(1.0 - r).max(f0) - f0) * (1.0 - nv).powf(s.params[1])
+        };
         let surface_reduction = 1.0 / (r * r + 1.0);
         s.base_color * gi_d * (1.0 - s.metallic) + s.base_color * s.specular * surface_reduction * gi_s * f
+    }
+
+    fn env_direction(&self, _: Pipeline, _: &Surface, n: DVec3, v: DVec3) -> Option<DVec3> {
+        // reflect(i, n) = i − 2(n·i)n: as written i = v (towards the eye), corrected i = −v.
+        let i = if self.as_written { v } else { -v };
+        Some(i - 2.0 * n.dot(i) * n)
     }
 }
 

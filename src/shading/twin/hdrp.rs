@@ -1,73 +1,145 @@
-//! Twin of HDRP Lit (models.md#hdrp-lit).
+//! Twin of HDRP Lit (models.md#hdrp-lit), term by term with shaders/brdf/hdrp_lit.wgsl.
 
 use glam::DVec3;
 use std::f64::consts::FRAC_1_PI;
 
 use super::{pow5, sat, Surface, SurfaceTwin};
-use crate::pipelines::Pipeline;
+use crate::pipelines::{Emitter, Pipeline, HDRP_DEFAULT_SHAPE_RADIUS};
 use crate::shading::fgd::{fd_disney_renormalized_no_pi, FgdTable};
 
 const FLT_EPS: f64 = 5.960_464_478e-8;
 
-/// minRoughness of a punctual light of radius 0: (1 − clamp01(1.1725/(1.01 + 0.1²) − 0.15))².
-pub fn min_roughness_punctual() -> f64 {
-    let max_smoothness = (1.1725 / (1.01 + 0.1 * 0.1) - 0.15f64).clamp(0.0, 1.0);
-    (1.0 - max_smoothness).powi(2)
+/// minRoughness of a point light of HDRP's default radius (0.025 m): what `direct` assumes.
+pub fn default_light_min_roughness() -> f64 {
+    Emitter::Point { radius: HDRP_DEFAULT_SHAPE_RADIUS }.hdrp_min_roughness()
 }
 
-pub fn dv_smith_joint_ggx(nh: f64, nl: f64, nv: f64, a: f64) -> f64 {
+/// GetSmithJointGGXPartLambdaV: √((−NV·α² + NV)·NV + α²).
+pub fn smith_joint_ggx_part_lambda_v(nv: f64, a: f64) -> f64 {
+    let a2 = a * a;
+    ((-nv * a2 + nv) * nv + a2).sqrt()
+}
+
+/// DV_SmithJointGGX with λV = NL·partLambdaV (partLambdaV from the unclamped roughness).
+pub fn dv_smith_joint_ggx(nh: f64, nl: f64, nv: f64, a: f64, part_lambda_v: f64) -> f64 {
     let a2 = a * a;
     let s = (nh * a2 - nh) * nh + 1.0;
-    let lambda_v = nl * ((-nv * a2 + nv) * nv + a2).sqrt();
+    let lambda_v = nl * part_lambda_v;
     let lambda_l = nv * ((-nl * a2 + nl) * nl + a2).sqrt();
     FRAC_1_PI * 0.5 * a2 / (s * s * (lambda_v + lambda_l)).max(f32::MIN_POSITIVE as f64)
 }
 
-fn view_normal(n: DVec3, v: DVec3) -> (DVec3, f64) {
-    let nv = n.dot(v);
-    (n + 2.0 * sat(-nv) * v, nv.abs().max(1e-4))
+/// ClampNdotV: max(NV, 1e-4). No GetViewReflectedNormal in HDRP Lit.
+pub fn clamp_n_dot_v(nv: f64) -> f64 {
+    nv.max(1e-4)
+}
+
+/// GetSpecularDominantDir: a = 1 − pr², lerp(N, R, (√a + pr²)·sat(a² + lerp(0, a, NV²))).
+pub fn get_specular_dominant_dir(n: DVec3, r: DVec3, pr: f64, clamped_nv: f64) -> DVec3 {
+    let a = 1.0 - pr * pr;
+    let lerp_factor = (a.sqrt() + pr * pr) * sat(a * a + a * clamped_nv * clamped_nv);
+    n.lerp(r, lerp_factor)
+}
+
+fn smoothstep01(x: f64) -> f64 {
+    let t = sat(x);
+    t * t * (3.0 - 2.0 * t)
+}
+
+/// EvaluateBSDF_Env's fetch direction, normalised: the dominant direction lerped back to
+/// iblR = reflect(−V, N) by sat(smoothstep(0, 1, α²)).
+pub fn hdrp_ibl_direction(n: DVec3, v: DVec3, pr: f64, clamped_nv: f64) -> DVec3 {
+    let ibl_r = 2.0 * n.dot(v) * n - v;
+    let a = pr * pr;
+    let r = get_specular_dominant_dir(n, ibl_r, pr, clamped_nv).lerp(ibl_r, smoothstep01(a * a));
+    r / r.length_squared().max(FLT_EPS).sqrt()
 }
 
 fn f0(s: &Surface) -> DVec3 {
     DVec3::splat(0.04).lerp(s.base_color, s.metallic)
 }
 
-fn energy_compensation(s: &Surface, nv: f64) -> DVec3 {
+fn energy_compensation(s: &Surface, clamped_nv: f64) -> DVec3 {
     if s.params[0] < 0.5 {
         return DVec3::ONE;
     }
-    let y = FgdTable::get().lookup(nv, 1.0 - s.smoothness).y;
+    let y = FgdTable::get().lookup(clamped_nv, 1.0 - s.smoothness).y;
     DVec3::ONE + f0(s) * (1.0 / y - 1.0)
 }
 
 pub struct HdrpLit;
 
 impl SurfaceTwin for HdrpLit {
-    fn direct(&self, _: Pipeline, s: &Surface, n_in: DVec3, v: DVec3, l: DVec3) -> DVec3 {
-        let (n, nv) = view_normal(n_in, v);
+    fn direct(&self, p: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
+        self.direct_for_light(p, s, n, v, l, default_light_min_roughness() as f32 as f64)
+    }
+
+    fn direct_for_light(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3, min_roughness: f64) -> DVec3 {
         let nl = n.dot(l);
         if nl <= 0.0 {
             return DVec3::ZERO;
         }
+        let nv = n.dot(v);
+        let clamped_nv = clamp_n_dot_v(nv);
         let lv = l.dot(v);
         let inv_len = 1.0 / (2.0 * lv + 2.0).max(FLT_EPS).sqrt();
         let nh = sat((nl + nv) * inv_len);
         let lh = sat(inv_len * lv + inv_len);
         let pr = 1.0 - s.smoothness;
-        let a = (pr * pr).max(min_roughness_punctual() as f32 as f64);
+        let a_material = pr * pr;
+        let a = a_material.max(min_roughness);
         let x5 = pow5(1.0 - lh);
         let f = f0(s) * (1.0 - x5) + DVec3::splat(x5);
-        let spec = f * dv_smith_joint_ggx(nh, nl.abs(), nv, a) * energy_compensation(s, nv);
+        let dv = dv_smith_joint_ggx(nh, nl.abs(), clamped_nv, a, smith_joint_ggx_part_lambda_v(clamped_nv, a_material));
+        let spec = f * dv * energy_compensation(s, clamped_nv);
         let diffuse =
-            s.base_color * (1.0 - s.metallic) * FRAC_1_PI * fd_disney_renormalized_no_pi(nl.abs(), nv, lv, pr);
+            s.base_color * (1.0 - s.metallic) * FRAC_1_PI * fd_disney_renormalized_no_pi(nl.abs(), clamped_nv, lv, pr);
         (diffuse + spec) * sat(nl)
     }
 
-    fn indirect(&self, _: Pipeline, s: &Surface, n_in: DVec3, v: DVec3, gi_d: DVec3, gi_s: DVec3) -> DVec3 {
-        let (_, nv) = view_normal(n_in, v);
-        let fgd = FgdTable::get().lookup(nv, 1.0 - s.smoothness);
+    fn indirect(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, gi_d: DVec3, gi_s: DVec3) -> DVec3 {
+        let clamped_nv = clamp_n_dot_v(n.dot(v));
+        let fgd = FgdTable::get().lookup(clamped_nv, 1.0 - s.smoothness);
         let f0 = f0(s);
         let specular_fgd = (DVec3::ONE - f0) * fgd.x + f0 * fgd.y;
-        s.base_color * (1.0 - s.metallic) * gi_d * (fgd.z + 0.5) + specular_fgd * gi_s * energy_compensation(s, nv)
+        s.base_color * (1.0 - s.metallic) * gi_d * (fgd.z + 0.5)
+            + specular_fgd * gi_s * energy_compensation(s, clamped_nv)
+    }
+
+    fn env_direction(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3) -> Option<DVec3> {
+        Some(hdrp_ibl_direction(n, v, 1.0 - s.smoothness, clamp_n_dot_v(n.dot(v))))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rough_surfaces_fetch_towards_the_normal() {
+        // Spec: pr 0.8, NV 0.5 gives a lerp factor ≈ 0.27 before the blend back to iblR.
+        let (pr, nv) = (0.8f64, 0.5f64);
+        let a = 1.0 - pr * pr;
+        let factor = (a.sqrt() + pr * pr) * sat(a * a + a * nv * nv);
+        assert!((factor - 0.27).abs() < 0.01, "{factor}");
+        let n = DVec3::Y;
+        let v = DVec3::new((1.0 - nv * nv).sqrt(), nv, 0.0);
+        let r = hdrp_ibl_direction(n, v, pr, nv);
+        let ibl_r = 2.0 * nv * n - v;
+        assert!(r.dot(n) > ibl_r.dot(n), "towards N: {r} vs iblR {ibl_r}");
+        // A mirror fetches along iblR itself.
+        let mirror = hdrp_ibl_direction(n, v, 0.0, nv);
+        assert!((mirror - ibl_r).length() < 1e-12);
+    }
+
+    #[test]
+    fn a_sharper_light_shape_gives_a_higher_peak() {
+        let s = Surface::basic(DVec3::ONE, 1.0, 1.0);
+        let n = DVec3::Y;
+        let v = DVec3::new(0.6, 0.8, 0.0);
+        let l = DVec3::new(-0.6, 0.8, 0.0);
+        let small = HdrpLit.direct_for_light(Pipeline::Hdrp, &s, n, v, l, 2.4e-7);
+        let default = HdrpLit.direct(Pipeline::Hdrp, &s, n, v, l);
+        assert!(small.x > 100.0 * default.x, "radius 0 vs 0.025: {small} vs {default}");
     }
 }

@@ -9,9 +9,9 @@ mod standard;
 mod urp;
 
 pub use builtin::{StandardBrdf2, StandardBrdf3};
-pub use classic::{BlinnPhong, CookTorrance, HalfLambert, OrenNayar, Phong};
+pub use classic::{BlinnPhong, CookTorrance, CookTorrance1982, HalfLambert, OrenNayar, Phong};
 pub use custom::{FresnelView, TorranceSparrow};
-pub use hdrp::HdrpLit;
+pub use hdrp::{default_light_min_roughness, HdrpLit};
 pub use lambert::Lambert;
 pub use standard::Standard;
 pub use urp::{Unlit, UrpLit, UrpSimpleLit};
@@ -55,6 +55,16 @@ impl Surface {
 pub trait SurfaceTwin: Sync {
     /// Radiance for a light of colour 1 at attenuation 1, N·L included (WGSL `model_direct`).
     fn direct(&self, pipeline: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3;
+    /// `direct` for a light whose HDRP roughness floor (from its shape) is `min_roughness`; only
+    /// HDRP Lit reads it (WGSL `light_min_roughness`).
+    fn direct_for_light(&self, p: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3, _min_roughness: f64) -> DVec3 {
+        self.direct(p, s, n, v, l)
+    }
+    /// The direction the model fetches the prefiltered environment along (WGSL `env_specular`'s
+    /// first argument), where the twin states it.
+    fn env_direction(&self, _p: Pipeline, _s: &Surface, _n: DVec3, _v: DVec3) -> Option<DVec3> {
+        None
+    }
     /// Ambient and environment term; `gi_diffuse` = E/π, `gi_specular` = the prefiltered
     /// environment along the reflection (WGSL `model_indirect`).
     fn indirect(

@@ -57,7 +57,8 @@ impl SurfaceTwin for UrpSimpleLit {
     fn direct(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
         let h = safe_normalize(l + v, f32::MIN_POSITIVE as f64);
         let nh = sat(n.dot(h));
-        s.base_color * sat(n.dot(l)) + s.specular * nh.powf(shininess_from_smoothness(s.smoothness))
+        let highlights = if s.params[0] > 0.5 { 1.0 } else { 0.0 };
+        s.base_color * sat(n.dot(l)) + s.specular * highlights * nh.powf(shininess_from_smoothness(s.smoothness))
     }
 
     fn indirect(&self, _: Pipeline, s: &Surface, _: DVec3, _: DVec3, gi_d: DVec3, _: DVec3) -> DVec3 {
