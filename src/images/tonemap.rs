@@ -41,6 +41,10 @@ pub struct DisplayRecord {
     pub tonemap: Tonemap,
     /// HDRP's exposure; None in pipelines without one (the multiplier is 1).
     pub exposure: Option<ExposureRecord>,
+    /// Mean of the PNG's R, G and B values over all pixels, 0–255.
+    pub png_mean: f64,
+    /// Share of pixels with a channel at 255 (clipped highlights, or over-exposure).
+    pub png_clipped: f64,
 }
 
 impl DisplayRecord {
@@ -53,8 +57,7 @@ impl DisplayRecord {
 /// keeps them); the result is clamped to [0, 1] and sRGB-encoded as an sRGB render target would.
 pub fn to_srgb8(hdr: &[f32], width: u32, height: u32, display: &DisplayTransform) -> (Vec<u8>, DisplayRecord) {
     let exposure = display.exposure.as_ref().map(|s| meter(hdr, width, height, s));
-    let record = DisplayRecord { tonemap: display.tonemap, exposure };
-    let k = record.multiplier();
+    let k = exposure.map_or(1.0, |e| e.exposure);
     let clean = |v: f32| {
         let v = v as f64 * k;
         if v.is_finite() {
@@ -65,10 +68,21 @@ pub fn to_srgb8(hdr: &[f32], width: u32, height: u32, display: &DisplayTransform
     };
     let encode = |v: f64| (linear_to_srgb(v.clamp(0.0, 1.0)) * 255.0 + 0.5).floor().clamp(0.0, 255.0) as u8;
     let mut out = Vec::with_capacity(hdr.len());
+    let (mut sum, mut clipped) = (0u64, 0usize);
     for px in hdr.chunks_exact(4) {
         let rgb = apply(display.tonemap, [clean(px[0]), clean(px[1]), clean(px[2])]);
-        out.extend_from_slice(&[encode(rgb[0]), encode(rgb[1]), encode(rgb[2]), 255]);
+        let v = [encode(rgb[0]), encode(rgb[1]), encode(rgb[2])];
+        sum += v.iter().map(|&c| c as u64).sum::<u64>();
+        clipped += v.contains(&255) as usize;
+        out.extend_from_slice(&[v[0], v[1], v[2], 255]);
     }
+    let n = (hdr.len() / 4).max(1);
+    let record = DisplayRecord {
+        tonemap: display.tonemap,
+        exposure,
+        png_mean: sum as f64 / (3 * n) as f64,
+        png_clipped: clipped as f64 / n as f64,
+    };
     (out, record)
 }
 

@@ -3,6 +3,7 @@
 mod check;
 mod cli;
 mod compare;
+mod conventions;
 mod coverage;
 mod flow;
 mod gallery;
