@@ -325,7 +325,7 @@ fn close(a: f64, b: f64) -> bool {
 
 /// What the image of a cell depends on, given the axes its shader reads.
 fn render_key(c: &Cell) -> String {
-    let r = c.model().reads;
+    let r = c.model().reads_for(&c.surface().params);
     let m = &c.material;
     let mut key = format!("{}|{}|{}|{}", c.composition_index, c.pipeline.name(), c.path.name(), c.shader);
     if r.color {
@@ -401,6 +401,20 @@ mod tests {
                 assert_eq!(twin, !first, "{}", c.id);
             }
         }
+    }
+
+    #[test]
+    fn simple_lit_reads_smoothness_only_with_highlights_on() {
+        let text = "name = \"t\"\ncompositions = [\"medusa\"]\npipelines = [\"urp\"]\nshaders = [\"simple_lit\"]\npresets = [\"gold\"]\n[sweep]\nsmoothness = [0.2, 0.8]\n";
+        let m = |extra: &str| {
+            Matrix::from_text("t.toml", &format!("{text}{extra}"), None, Arc::new(crate::shading::Registry::builtin()))
+                .unwrap()
+        };
+        let off = expand(&m(""));
+        assert_eq!(off.rendered().count(), 1, "highlights off by default: smoothness changes nothing");
+        let on = expand(&m("[sweep.params]\nspecular_highlights = [1.0]\n"));
+        assert_eq!(on.rendered().count(), 2);
+        assert!(on.cells.iter().all(|c| c.id.0.ends_with("_specular_highlights1")), "{:?}", on.cells[0].id);
     }
 
     #[test]

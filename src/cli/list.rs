@@ -6,6 +6,7 @@ use std::path::Path;
 use super::{load_matrix, print_out, registry_for, ModelsArg};
 use crate::cells::expand;
 use crate::error::Error;
+use crate::pipelines::Pipeline;
 use crate::plan::FramePlan;
 use crate::spec::matrix::Matrix;
 
@@ -24,11 +25,30 @@ pub fn text(m: &Matrix) -> String {
         for (what, why) in &plan.left_out {
             let _ = writeln!(out, "  left out: {what}: {why}");
         }
+        if let Some(key) = scene.key_light().map(|k| &scene.lights[k]) {
+            for p in &m.pipelines {
+                let _ = writeln!(out, "  key light in {}: {}", p.name(), p.intensity_unit(key.emitter()));
+            }
+        }
+        if m.pipelines.contains(&Pipeline::Hdrp) {
+            let x = &scene.hdrp.exposure;
+            let _ = writeln!(
+                out,
+                "  HDRP exposure: {:?}, metering {:?}, limits {}..{} EV100, compensation {}",
+                x.mode, x.metering, x.limit_min, x.limit_max, x.compensation
+            );
+        }
+    }
+    for p in &m.pipelines {
+        let _ = writeln!(out, "pipeline {}: tonemap {}", p.name(), m.tonemap_for(*p).name());
+    }
+    if m.pipelines.contains(&Pipeline::Hdrp) {
+        let _ = writeln!(out, "left out: {}", crate::pipelines::volume::LEFT_OUT_EFFECTS);
     }
     let rendered = exp.cells.iter().filter(|c| c.twin_of.is_none()).count();
     let _ = writeln!(
         out,
-        "{} cells, {} rendered, {} twins, {} pruned, {} filtered out",
+        "{} cells before twins, {} to render after twins ({} twins); {} pruned, {} filtered out",
         exp.cells.len(),
         rendered,
         exp.cells.len() - rendered,

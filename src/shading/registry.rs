@@ -65,6 +65,8 @@ pub struct ShaderModel {
     pub per_vertex: bool,
     /// A built-in ForwardBase-only shader: lit by the main directional light alone.
     pub main_light_only: bool,
+    /// The parameter slot without which smoothness is not read (Simple Lit's highlights toggle).
+    pub smoothness_gate: Option<usize>,
     /// Largest relative GPU-f32 vs f64 error allowed on the well-conditioned domain: 1e-4, unless
     /// f32 cannot reach it for a reason stated at the model.
     pub parity_tolerance: f64,
@@ -74,6 +76,16 @@ impl ShaderModel {
     /// The model's inputs for a cell: the mapping applied to the sliders.
     pub fn surface(&self, pipeline: Pipeline, sliders: &Sliders) -> Surface {
         (self.from_sliders)(self, pipeline, sliders)
+    }
+
+    /// The axes a cell with these parameter values reads: `reads`, less smoothness when the
+    /// model's smoothness gate is off (Simple Lit without highlights is Lambert).
+    pub fn reads_for(&self, params: &[f64; 8]) -> Reads {
+        let mut r = self.reads;
+        if self.smoothness_gate.is_some_and(|slot| params[slot] < 0.5) {
+            r.smoothness = false;
+        }
+        r
     }
 
     /// Parameters at their defaults, by slot.
@@ -277,6 +289,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         summary: "Lambert: ρ/π·E·NL (models.md#lambert)",
         per_vertex: false,
         main_light_only: false,
+        smoothness_gate: None,
         parity_tolerance: 1e-4,
     },
     BuiltinModel {
@@ -292,6 +305,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         summary: "Lambert evaluated per vertex (Gouraud, models.md#gouraud)",
         per_vertex: true,
         main_light_only: false,
+        smoothness_gate: None,
         parity_tolerance: 1e-4,
     },
     BuiltinModel {
@@ -307,6 +321,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         summary: "Half-Lambert: ρ/π·E·(0.5·NL + 0.5), not squared (models.md#half-lambert)",
         per_vertex: false,
         main_light_only: false,
+        smoothness_gate: None,
         parity_tolerance: 1e-4,
     },
     BuiltinModel {
@@ -322,6 +337,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         summary: "Half-Lambert per vertex (Gouraud)",
         per_vertex: true,
         main_light_only: false,
+        smoothness_gate: None,
         parity_tolerance: 1e-4,
     },
     BuiltinModel {
@@ -337,6 +353,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         summary: "Phong: kd·NL + ks·max(0, R·V)ⁿ, unnormalised by default (models.md#phong)",
         per_vertex: false,
         main_light_only: false,
+        smoothness_gate: None,
         parity_tolerance: 1e-4,
     },
     BuiltinModel {
@@ -352,6 +369,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         summary: "Phong per vertex (Gouraud)",
         per_vertex: true,
         main_light_only: false,
+        smoothness_gate: None,
         parity_tolerance: 1e-4,
     },
     BuiltinModel {
@@ -367,6 +385,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         summary: "Blinn-Phong: kd·NL + ks·max(0, N·H)ⁿ, unnormalised by default (models.md#blinn-phong)",
         per_vertex: false,
         main_light_only: false,
+        smoothness_gate: None,
         parity_tolerance: 1e-4,
     },
     BuiltinModel {
@@ -382,6 +401,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         summary: "Blinn-Phong per vertex (Gouraud)",
         per_vertex: true,
         main_light_only: false,
+        smoothness_gate: None,
         parity_tolerance: 1e-4,
     },
     // f32 cannot reach 1e-4 with the trigonometric form: near θ → 0, acos(x) turns the rounding of
@@ -400,6 +420,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         summary: "Oren-Nayar qualitative model, A with 0.33, trigonometric form (models.md#oren-nayar)",
         per_vertex: false,
         main_light_only: false,
+        smoothness_gate: None,
         parity_tolerance: 1e-3,
     },
     BuiltinModel {
@@ -415,6 +436,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         summary: "Oren-Nayar trig-free form with 0.57 in A (the custom shader's, models.md#oren-nayar-057)",
         per_vertex: false,
         main_light_only: false,
+        smoothness_gate: None,
         parity_tolerance: 1e-4,
     },
     BuiltinModel {
@@ -430,6 +452,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         summary: "Cook-Torrance: Beckmann D, full dielectric Fresnel, Cook-Torrance G, 1/(4·NL·NV) (models.md#cook-torrance)",
         per_vertex: false,
         main_light_only: false,
+        smoothness_gate: None,
         parity_tolerance: 1e-4,
     },
     BuiltinModel {
@@ -445,6 +468,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         summary: "Cook-Torrance as the 1982 paper writes it: (F/π)·D·G/(NL·NV), un-normalised Beckmann D; specular 4× the modern form (models.md#cook-torrance-1982)",
         per_vertex: false,
         main_light_only: false,
+        smoothness_gate: None,
         parity_tolerance: 1e-4,
     },
     BuiltinModel {
@@ -460,6 +484,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         summary: "custom roughness/metallic PBR shader AS WRITTEN: scalar Fresnel (red channel), reflect(v, n), ambient × light colour, main directional light only (models.md#torrance-sparrow)",
         per_vertex: false,
         main_light_only: true,
+        smoothness_gate: None,
         parity_tolerance: 1e-4,
     },
     BuiltinModel {
@@ -475,6 +500,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         summary: "the custom shader corrected: colour Fresnel, reflect(−v, n), ambient alone, every light (models.md#torrance-sparrow-corrected)",
         per_vertex: false,
         main_light_only: false,
+        smoothness_gate: None,
         parity_tolerance: 1e-4,
     },
     BuiltinModel {
@@ -490,6 +516,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         summary: "the Schlick term F0 + (1 − F0)(1 − N·V)^p shown as colour (models.md#fresnel)",
         per_vertex: false,
         main_light_only: false,
+        smoothness_gate: None,
         parity_tolerance: 1e-4,
     },
     BuiltinModel {
@@ -505,6 +532,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         summary: "built-in Standard, BRDF1: Disney diffuse, approx. joint Smith, GGX, clamps (models.md#standard)",
         per_vertex: false,
         main_light_only: false,
+        smoothness_gate: None,
         parity_tolerance: 1e-4,
     },
     BuiltinModel {
@@ -520,6 +548,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         summary: "built-in Standard, BRDF2: minimalist Cook-Torrance (models.md#standard-brdf2)",
         per_vertex: false,
         main_light_only: false,
+        smoothness_gate: None,
         parity_tolerance: 1e-4,
     },
     BuiltinModel {
@@ -535,6 +564,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         summary: "built-in Standard, BRDF3; its lookup lobe APPROXIMATED by normalised Phong (models.md#standard-brdf3)",
         per_vertex: false,
         main_light_only: false,
+        smoothness_gate: None,
         parity_tolerance: 1e-4,
     },
     BuiltinModel {
@@ -550,6 +580,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         summary: "URP Lit: minimal Cook-Torrance specular, Lambert without 1/π, EnvironmentBRDF (models.md#urp-lit)",
         per_vertex: false,
         main_light_only: false,
+        smoothness_gate: None,
         parity_tolerance: 1e-4,
     },
     BuiltinModel {
@@ -565,6 +596,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         summary: "URP Simple Lit: Lambert, plus unnormalised Blinn-Phong when specular_highlights = 1 (off in a new material) (models.md#urp-simple-lit)",
         per_vertex: false,
         main_light_only: false,
+        smoothness_gate: Some(SPECULAR_HIGHLIGHTS.slot),
         parity_tolerance: 1e-4,
     },
     BuiltinModel {
@@ -580,6 +612,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         summary: "URP Unlit: the colour, no lighting",
         per_vertex: false,
         main_light_only: false,
+        smoothness_gate: None,
         parity_tolerance: 1e-4,
     },
     BuiltinModel {
@@ -595,6 +628,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         summary: "HDRP Lit: renormalised Disney diffuse, height-correlated Smith GGX, F_Schlick(f90), FGD energy compensation (models.md#hdrp-lit)",
         per_vertex: false,
         main_light_only: false,
+        smoothness_gate: None,
         parity_tolerance: 1e-4,
     },
     BuiltinModel {
@@ -610,6 +644,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         summary: "HDRP Unlit: the colour, no lighting",
         per_vertex: false,
         main_light_only: false,
+        smoothness_gate: None,
         parity_tolerance: 1e-4,
     },
 ];
@@ -645,6 +680,7 @@ pub struct BuiltinModel {
     pub summary: &'static str,
     pub per_vertex: bool,
     pub main_light_only: bool,
+    pub smoothness_gate: Option<usize>,
     pub parity_tolerance: f64,
 }
 
@@ -664,6 +700,7 @@ impl BuiltinModel {
             expected: self.expected,
             per_vertex: self.per_vertex,
             main_light_only: self.main_light_only,
+            smoothness_gate: self.smoothness_gate,
             parity_tolerance: self.parity_tolerance,
         }
     }

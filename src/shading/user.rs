@@ -185,6 +185,7 @@ fn load_model(
         expected: Expected { reciprocal: decl.reciprocal, energy_conserving: decl.energy_conserving, is_brdf: true },
         per_vertex: false,
         main_light_only: false,
+        smoothness_gate: None,
         parity_tolerance: f64::INFINITY,
     };
     for pass in [PassKind::Forward, PassKind::BrdfProbe] {

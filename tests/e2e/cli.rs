@@ -164,3 +164,45 @@ fn scene_file_errors_name_the_scene_file() {
     assert!(stderr.contains("lights[0].intensity") && stderr.contains("-2"), "{stderr}");
     assert!(!tmp.path().join("o").exists());
 }
+
+#[test]
+fn tonemap_parameter_and_colour_errors_name_key_value_and_what_is_allowed() {
+    expect_bad(
+        &GOOD.replace("[image]", "tonemap = \"acse\"\n[image]"),
+        2,
+        &["tonemap", "`acse`", "did you mean `aces`?"],
+    );
+    expect_bad(
+        &GOOD.replace("[image]", "tonemap = { hdrpp = \"aces\" }\n[image]"),
+        2,
+        &["tonemap.hdrpp", "did you mean `hdrp`?"],
+    );
+    let ct = GOOD.replace("\"lambert\"", "\"cook_torrance\"");
+    expect_bad(&format!("{ct}[sweep.params]\nirr = [1.5]\n"), 2, &["sweep.params.irr", "did you mean `ior`?"]);
+    expect_bad(&format!("{ct}[sweep.params]\nior = [0.5]\n"), 2, &["sweep.params.ior[0]", "0.5", "1..=5"]);
+    expect_bad(
+        &format!("{GOOD}[sweep.params]\nior = [1.5]\n"),
+        2,
+        &["sweep.params.ior", "none of the matrix's shaders has parameters"],
+    );
+    expect_bad(
+        &format!("{GOOD}[sweep]\ncolor = [[1.0, 0.0, 0.0]]\n[[only]]\ncolor = \"00ff00\"\n"),
+        2,
+        &["only[0].color", "`00ff00`", "ff0000"],
+    );
+    expect_bad(&format!("{GOOD}[[only]]\ncolor = \"red\"\n"), 2, &["only[0].color", "`red` is not a colour"]);
+    expect_bad(&format!("{GOOD}[sweep]\nlight_angle = [200.0]\n"), 2, &["sweep.light_angle[0]", "200"]);
+}
+
+#[test]
+fn light_shape_keys_belong_to_their_kind() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = std::fs::read_to_string(fixture("black_room.toml"))
+        .unwrap()
+        .replace("intensity = 2.0", "intensity = 2.0\nangular_diameter_deg = 0.5");
+    std::fs::write(tmp.path().join("s.toml"), scene).unwrap();
+    let m = write_matrix(tmp.path(), "m.toml", &GOOD.replace("\"medusa\"", "\"s.toml\""));
+    let (rc, _, stderr) = shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", "o"], &[]);
+    assert_eq!(rc, 2, "{stderr}");
+    assert!(stderr.contains("lights[0].angular_diameter_deg") && stderr.contains("directional"), "{stderr}");
+}
