@@ -32,8 +32,8 @@ fn expected(a: &ModelAudit) -> String {
 pub fn markdown(audits: &[ModelAudit], adapter: &str) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "# BRDF audit\n\nAdapter: {adapter}. Parity: GPU f32 against the f64 twin; relative error with values below {PARITY_FLOOR:e} compared absolutely. Reciprocity tolerance {RECIPROCITY_TOLERANCE:e}; energy tolerance {ENERGY_TOLERANCE:e} above 1 (QMC). Energy: directional albedo of a white surface, physical BRDF (built-in and URP radiance divided by π).\n");
-    let _ = writeln!(s, "| model | expected | parity (well) | parity (extreme) | NaN/Inf/neg GPU | NaN/Inf/neg f64 | reciprocity | max albedo (worst at) | verdict |");
-    let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|");
+    let _ = writeln!(s, "| model | expected | parity (well) | parity (extreme) | env. direction (rad) | NaN/Inf/neg GPU | NaN/Inf/neg f64 | reciprocity | max albedo (worst at) | verdict |");
+    let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|");
     for a in audits {
         let sanity = |n: usize, i: usize, g: usize| format!("{n}/{i}/{g}");
         let energy = a
@@ -55,11 +55,12 @@ pub fn markdown(audits: &[ModelAudit], adapter: &str) -> String {
         };
         let _ = writeln!(
             s,
-            "| `{}` | {} | {} | {} | {} | {} | {} | {} | {} |",
+            "| `{}` | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
             a.key,
             expected(a),
             opt(a.parity_well.map(|p| p.max_rel), |v| format!("{v:.2e}")),
             opt(a.parity_extreme.map(|p| p.max_rel), |v| format!("{v:.2e}")),
+            opt(a.env_direction_error, |v| format!("{v:.1e}")),
             sanity(a.gpu.nan, a.gpu.inf, a.gpu.negative),
             a.cpu.map(|c| sanity(c.nan, c.inf, c.negative)).unwrap_or_else(|| "no twin".into()),
             opt(a.reciprocity, |v| format!("{v:.2e}")),
@@ -71,13 +72,13 @@ pub fn markdown(audits: &[ModelAudit], adapter: &str) -> String {
 }
 
 pub fn csv(audits: &[ModelAudit]) -> String {
-    let mut s = String::from("model,expected_reciprocal,expected_energy_conserving,is_brdf,parity_well_max_rel,parity_well_max_abs,parity_extreme_max_rel,parity_extreme_max_abs,gpu_nan,gpu_inf,gpu_negative,reciprocity,max_albedo,worst_view_deg,worst_smoothness,worst_metallic,failures,findings\n");
+    let mut s = String::from("model,expected_reciprocal,expected_energy_conserving,is_brdf,parity_well_max_rel,parity_well_max_abs,parity_extreme_max_rel,parity_extreme_max_abs,env_direction_max_rad,gpu_nan,gpu_inf,gpu_negative,reciprocity,max_albedo,worst_view_deg,worst_smoothness,worst_metallic,failures,findings\n");
     let f = |v: Option<f64>| v.map(|x| format!("{x:e}")).unwrap_or_default();
     for a in audits {
         let e = a.energy.as_ref();
         let _ = writeln!(
             s,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},\"{}\",\"{}\"",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},\"{}\",\"{}\"",
             a.key,
             a.expected.reciprocal,
             a.expected.energy_conserving,
@@ -86,6 +87,7 @@ pub fn csv(audits: &[ModelAudit]) -> String {
             f(a.parity_well.map(|p| p.max_abs)),
             f(a.parity_extreme.map(|p| p.max_rel)),
             f(a.parity_extreme.map(|p| p.max_abs)),
+            f(a.env_direction_error),
             a.gpu.nan,
             a.gpu.inf,
             a.gpu.negative,
