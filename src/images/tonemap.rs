@@ -43,8 +43,10 @@ pub struct DisplayRecord {
     pub exposure: Option<ExposureRecord>,
     /// Mean of the PNG's R, G and B values over all pixels, 0–255.
     pub png_mean: f64,
-    /// Share of pixels with a channel at 255 (clipped highlights, or over-exposure).
-    pub png_clipped: f64,
+    /// Share of pixels with a channel within 2 % of the tonemapper's white (its value at HALF_MAX,
+    /// or 1 where it clips): highlights at the curve's top, or over-exposure. ACES never reaches
+    /// 255, so "at 255" would miss it.
+    pub png_saturated: f64,
 }
 
 impl DisplayRecord {
@@ -67,13 +69,14 @@ pub fn to_srgb8(hdr: &[f32], width: u32, height: u32, display: &DisplayTransform
         }
     };
     let encode = |v: f64| (linear_to_srgb(v.clamp(0.0, 1.0)) * 255.0 + 0.5).floor().clamp(0.0, 255.0) as u8;
+    let white = apply(display.tonemap, [65504.0; 3]).into_iter().fold(0.0, f64::max).min(1.0);
     let mut out = Vec::with_capacity(hdr.len());
-    let (mut sum, mut clipped) = (0u64, 0usize);
+    let (mut sum, mut saturated) = (0u64, 0usize);
     for px in hdr.chunks_exact(4) {
         let rgb = apply(display.tonemap, [clean(px[0]), clean(px[1]), clean(px[2])]);
         let v = [encode(rgb[0]), encode(rgb[1]), encode(rgb[2])];
         sum += v.iter().map(|&c| c as u64).sum::<u64>();
-        clipped += v.contains(&255) as usize;
+        saturated += (rgb.into_iter().fold(0.0, f64::max) >= 0.98 * white) as usize;
         out.extend_from_slice(&[v[0], v[1], v[2], 255]);
     }
     let n = (hdr.len() / 4).max(1);
@@ -81,7 +84,7 @@ pub fn to_srgb8(hdr: &[f32], width: u32, height: u32, display: &DisplayTransform
         tonemap: display.tonemap,
         exposure,
         png_mean: sum as f64 / (3 * n) as f64,
-        png_clipped: clipped as f64 / n as f64,
+        png_saturated: saturated as f64 / n as f64,
     };
     (out, record)
 }

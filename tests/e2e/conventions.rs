@@ -147,3 +147,18 @@ fn sweeps_over_model_parameters_colour_and_view_render_and_sheet_every_cell() {
         assert_eq!(placed, all, "{spec:?}: every cell in exactly one tile");
     }
 }
+
+#[test]
+fn the_sky_lit_knob_meters_inside_its_scene_limits_in_hdrp() {
+    // Under the default volume's limit of 10 EV100 the knob (metering ≈ 13) would be over-exposed
+    // by three stops; the scene's own volume contains it, so the EV used is the metered one.
+    let tmp = tempfile::tempdir().unwrap();
+    let run = run(
+        tmp.path(),
+        "name = \"knob\"\ncompositions = [\"mitsuba\"]\npipelines = [\"hdrp\"]\nshaders = [\"lit\"]\n\
+         presets = [\"plastic\"]\n[image]\nwidth = 64\nheight = 64\n",
+    );
+    let e = run.cells[0].display.exposure.unwrap();
+    assert!(e.metered_ev100 > 10.0, "the knob meters above the default limit: {e:?}");
+    assert!(!e.clamped && e.ev100 == e.metered_ev100 && e.limits[1] > e.metered_ev100, "{e:?}");
+}
