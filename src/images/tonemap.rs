@@ -55,6 +55,8 @@ impl DisplayRecord {
     }
 }
 
+const MEMO_SIZE: usize = 4096;
+
 /// Tonemapped RGBA8 (alpha 255) of a w×h image. Non-finite and negative values map to 0 (the EXR
 /// keeps them); the result is clamped to [0, 1] and sRGB-encoded as an sRGB render target would.
 pub fn to_srgb8(hdr: &[f32], width: u32, height: u32, display: &DisplayTransform) -> (Vec<u8>, DisplayRecord) {
@@ -72,11 +74,26 @@ pub fn to_srgb8(hdr: &[f32], width: u32, height: u32, display: &DisplayTransform
     let white = apply(display.tonemap, [65504.0; 3]).into_iter().fold(0.0, f64::max).min(1.0);
     let mut out = Vec::with_capacity(hdr.len());
     let (mut sum, mut saturated) = (0u64, 0usize);
+    // Flat backgrounds repeat the same HDR value many times; Unity's ACES costs a few hundred ns a
+    // pixel in f64, so a small direct-mapped memo of exact inputs skips the repeats.
+    let mut memo = vec![([u32::MAX; 3], [0u8; 3], false); MEMO_SIZE];
     for px in hdr.chunks_exact(4) {
-        let rgb = apply(display.tonemap, [clean(px[0]), clean(px[1]), clean(px[2])]);
-        let v = [encode(rgb[0]), encode(rgb[1]), encode(rgb[2])];
+        let key = [px[0].to_bits(), px[1].to_bits(), px[2].to_bits()];
+        let slot = (key[0].wrapping_mul(0x9E37_79B1)
+            ^ key[1].wrapping_mul(0x85EB_CA77)
+            ^ key[2].wrapping_mul(0xC2B2_AE3D)) as usize
+            % MEMO_SIZE;
+        let (v, at_white) = if memo[slot].0 == key {
+            (memo[slot].1, memo[slot].2)
+        } else {
+            let rgb = apply(display.tonemap, [clean(px[0]), clean(px[1]), clean(px[2])]);
+            let v = [encode(rgb[0]), encode(rgb[1]), encode(rgb[2])];
+            let at_white = rgb.into_iter().fold(0.0, f64::max) >= 0.98 * white;
+            memo[slot] = (key, v, at_white);
+            (v, at_white)
+        };
         sum += v.iter().map(|&c| c as u64).sum::<u64>();
-        saturated += (rgb.into_iter().fold(0.0, f64::max) >= 0.98 * white) as usize;
+        saturated += at_white as usize;
         out.extend_from_slice(&[v[0], v[1], v[2], 255]);
     }
     let n = (hdr.len() / 4).max(1);
