@@ -437,6 +437,17 @@ mod tests {
     }
 
     #[test]
+    fn colour_is_an_axis_of_filters() {
+        let m = matrix("[sweep]\ncolor = [[1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]\n[[exclude]]\ncolor = [[0.0, 0.0, 1.0]]\n");
+        let e = expand(&m);
+        assert!(!e.cells.is_empty() && e.cells.iter().all(|c| c.id.0.contains("_cff0000_")), "blue excluded");
+        let only = m.parse_only("color=#ff0000").unwrap();
+        assert!(e.cells.iter().all(|c| matches_filter(c, &only)));
+        let err = m.parse_only("color=00ff00").unwrap_err().to_string();
+        assert!(err.contains("00ff00") && err.contains("ff0000"), "{err}");
+    }
+
+    #[test]
     fn filter_names_are_checked() {
         let text = "name = \"t\"\ncompositions = [\"medusa\"]\npipelines = [\"urp\"]\nshaders = [\"lambert\"]\npresets = [\"gold\"]\n[image]\nwidth = 8\nheight = 8\n[[only]]\npreset = \"gould\"\n";
         let err = Matrix::from_text("t.toml", text, None, Arc::new(crate::shading::Registry::builtin()))

@@ -31,7 +31,7 @@ fn url(s: &str) -> String {
         .collect()
 }
 
-const FILTER_AXES: [&str; 5] = ["composition", "pipeline", "shader", "preset", "smoothness"];
+const FILTER_AXES: [&str; 6] = ["composition", "pipeline", "shader", "preset", "smoothness", "color"];
 
 const STYLE: &str = r#"
 body { font-family: system-ui, sans-serif; margin: 1.5em; background: #16161a; color: #e8e8ea; }
