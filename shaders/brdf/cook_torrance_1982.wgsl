@@ -8,21 +8,12 @@ fn d_beckmann_unnormalised(nh: f32, m: f32) -> f32 {
 }
 
 fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
-    let nl = dot(n, l);
-    let nv = dot(n, v);
-    if (nl <= 0.0 || nv <= 0.0) {
+    let a = cook_torrance_angles(s, n, v, l);
+    if (!a.valid) {
         return vec3<f32>(0.0);
     }
-    let h = safe_normalize(l + v, 1.175494e-38);
-    let nh = sat(dot(n, h));
-    let vh = sat(dot(v, h));
-    let pr = 1.0 - s.smoothness;
-    let m = pr * pr;
-    let f_dielectric = vec3<f32>(f_fresnel_dielectric(vh, s.params0.x));
-    let f = mix(f_dielectric, f_schlick(s.base_color, vh), s.metallic);
-    let spec = f * INV_PI * d_beckmann_unnormalised(nh, m) * g_cook_torrance(nh, nv, nl, vh) / (nl * nv);
-    let diffuse = s.base_color * (1.0 - s.metallic) * INV_PI;
-    return (diffuse + spec) * nl * irradiance_per_intensity();
+    let spec = a.f * INV_PI * d_beckmann_unnormalised(a.nh, a.m) * g_cook_torrance(a.nh, a.nv, a.nl, a.vh) / (a.nl * a.nv);
+    return cook_torrance_sum(s, a, spec);
 }
 
 fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>) -> vec3<f32> {

@@ -4,29 +4,9 @@
 // Inputs: roughness r = 1 − smoothness; params0.x IOR (default 1.45), params0.y Fresnel power p
 // (default 5); specular: the metallic tint colour (default white). Built-in convention (no 1/π).
 
-// F0 = ((1 − IOR)/(1 + IOR))², then lerp(F0, albedo, metallic)
-fn ts_f0(s: Surface) -> vec3<f32> {
-    let f = (1.0 - s.params0.x) / (1.0 + s.params0.x);
-    return mix(vec3<f32>(f * f), s.base_color, s.metallic);
-}
-
-// D = a²/(π(NH²(a² − 1) + 1)²), a = r² ("UE4 roughness")
-fn ts_d(nh: f32, r: f32) -> f32 {
-    return d_ggx(nh, r * r);
-}
-
+// The final stage's direct term, shared with the other variant (shaders/common/brdf.wgsl ts_direct)
 fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
-    let r = 1.0 - s.smoothness;
-    let nl = sat(dot(n, l));
-    let nv = sat(dot(n, v));
-    let h = safe_normalize(l + v, 1.175494e-38);
-    let nh = sat(dot(n, h));
-    // Visibility: Smith-Schlick with k = r²/2 (the shader's own choice)
-    let vis = v_smith_schlick(nl, nv, r * r * 0.5);
-    let specular = max(0.0, ts_d(nh, r) * vis * PI * nl);
-    // QUIRK: the final stage drops F from the direct specular, and multiplies the specular by
-    // albedo even for dielectrics.
-    return s.base_color * nl * (1.0 - s.metallic) + s.base_color * s.specular * specular;
+    return ts_direct(s, n, v, l);
 }
 
 fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>) -> vec3<f32> {

@@ -81,3 +81,60 @@ fn fgd_sample(lut: texture_2d<f32>, nv: f32, pr: f32) -> vec3<f32> {
     let b = mix(textureLoad(lut, i + vec2<i32>(0, 1), 0).xyz, textureLoad(lut, i + vec2<i32>(1, 1), 0).xyz, tx);
     return mix(a, b, ty);
 }
+
+// The custom roughness/metallic shader's terms, shared by `torrance_sparrow` (as written) and
+// `torrance_sparrow_corrected` (models.md#torrance-sparrow). F0 = ((1 − IOR)/(1 + IOR))², lerped to albedo by metallic
+fn ts_f0(s: Surface) -> vec3<f32> {
+    let f = (1.0 - s.params0.x) / (1.0 + s.params0.x);
+    return mix(vec3<f32>(f * f), s.base_color, s.metallic);
+}
+
+// The final stage's direct term: albedo·NL·(1 − metallic) + albedo·tint·max(0, D·Vis·π·NL), D GGX with
+// a = r², Vis Smith-Schlick with k = r²/2. QUIRKS: no F on the direct specular, and the specular is
+// multiplied by albedo even for dielectrics
+fn ts_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
+    let r = 1.0 - s.smoothness;
+    let nl = sat(dot(n, l));
+    let nv = sat(dot(n, v));
+    let h = safe_normalize(l + v, 1.175494e-38);
+    let nh = sat(dot(n, h));
+    let specular = max(0.0, d_ggx(nh, r * r) * v_smith_schlick(nl, nv, r * r * 0.5) * PI * nl);
+    return s.base_color * nl * (1.0 - s.metallic) + s.base_color * s.specular * specular;
+}
+
+// Cook-Torrance's Fresnel as both forms use it: the full dielectric Fresnel at VH from the IOR,
+// lerped by metallic to Schlick with F0 = base colour (models.md#cook-torrance)
+fn ct_fresnel(s: Surface, vh: f32) -> vec3<f32> {
+    return mix(vec3<f32>(f_fresnel_dielectric(vh, s.params0.x)), f_schlick(s.base_color, vh), s.metallic);
+}
+
+// What both Cook-Torrance forms share at one (n, v, l): F, NH, VH, NL, NV, m = α = pr²; valid = false
+// below the horizon (twin: shading::twin::classic::cook_torrance_angles)
+struct CookTorranceAngles {
+    f: vec3<f32>,
+    nh: f32,
+    vh: f32,
+    nl: f32,
+    nv: f32,
+    m: f32,
+    valid: bool,
+};
+
+fn cook_torrance_angles(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> CookTorranceAngles {
+    var a: CookTorranceAngles;
+    a.nl = dot(n, l);
+    a.nv = dot(n, v);
+    a.valid = a.nl > 0.0 && a.nv > 0.0;
+    let h = safe_normalize(l + v, 1.175494e-38);
+    a.nh = sat(dot(n, h));
+    a.vh = sat(dot(v, h));
+    let pr = 1.0 - s.smoothness;
+    a.m = pr * pr;
+    a.f = ct_fresnel(s, a.vh);
+    return a;
+}
+
+// Both forms' kd·ρ/π plus the specular, times NL and the pipeline's irradiance per intensity
+fn cook_torrance_sum(s: Surface, a: CookTorranceAngles, spec: vec3<f32>) -> vec3<f32> {
+    return (s.base_color * (1.0 - s.metallic) * INV_PI + spec) * a.nl * irradiance_per_intensity();
+}

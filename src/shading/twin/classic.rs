@@ -115,20 +115,13 @@ pub struct CookTorrance1982;
 
 impl SurfaceTwin for CookTorrance1982 {
     fn direct(&self, p: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
-        let (nl, nv) = (n.dot(l), n.dot(v));
-        if nl <= 0.0 || nv <= 0.0 {
-            return DVec3::ZERO;
-        }
-        let h = safe_normalize(l + v, f32::MIN_POSITIVE as f64);
-        let (nh, vh) = (sat(n.dot(h)), sat(v.dot(h)));
-        let pr = 1.0 - s.smoothness;
-        let f = DVec3::splat(f_fresnel_dielectric(vh, s.params[0])).lerp(f_schlick(s.base_color, vh), s.metallic);
-        let spec = f * FRAC_1_PI * d_beckmann_unnormalised(nh, pr * pr) * g_cook_torrance(nh, nv, nl, vh) / (nl * nv);
-        let diffuse = s.base_color * (1.0 - s.metallic) * FRAC_1_PI;
-        (diffuse + spec) * nl * e_per_i(p)
+        let Some(a) = cook_torrance_angles(s, n, v, l) else { return DVec3::ZERO };
+        let g = g_cook_torrance(a.nh, a.nv, a.nl, a.vh);
+        let spec = a.f * FRAC_1_PI * d_beckmann_unnormalised(a.nh, a.m) * g / (a.nl * a.nv);
+        cook_torrance_sum(p, s, &a, spec)
     }
-    fn indirect(&self, _: Pipeline, s: &Surface, _: DVec3, _: DVec3, gi_d: DVec3, _: DVec3) -> DVec3 {
-        s.base_color * (1.0 - s.metallic) * gi_d
+    fn indirect(&self, p: Pipeline, s: &Surface, n: DVec3, v: DVec3, gi_d: DVec3, gi_s: DVec3) -> DVec3 {
+        CookTorrance.indirect(p, s, n, v, gi_d, gi_s)
     }
 }
 
@@ -160,19 +153,43 @@ pub fn f_fresnel_dielectric(c: f64, eta: f64) -> f64 {
 
 pub struct CookTorrance;
 
+/// What both Cook-Torrance forms share at one (n, v, l): F (`ct_fresnel`), NH, VH, NL, NV and
+/// m = α; None below the horizon.
+struct CookTorranceAngles {
+    f: DVec3,
+    nh: f64,
+    vh: f64,
+    nl: f64,
+    nv: f64,
+    m: f64,
+}
+
+fn cook_torrance_angles(s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> Option<CookTorranceAngles> {
+    let (nl, nv) = (n.dot(l), n.dot(v));
+    if nl <= 0.0 || nv <= 0.0 {
+        return None;
+    }
+    let h = safe_normalize(l + v, f32::MIN_POSITIVE as f64);
+    let (nh, vh) = (sat(n.dot(h)), sat(v.dot(h)));
+    let pr = 1.0 - s.smoothness;
+    Some(CookTorranceAngles { f: ct_fresnel(s, vh), nh, vh, nl, nv, m: pr * pr })
+}
+
+/// The dielectric Fresnel at VH from the IOR, lerped by metallic to Schlick(base colour).
+pub fn ct_fresnel(s: &Surface, vh: f64) -> DVec3 {
+    DVec3::splat(f_fresnel_dielectric(vh, s.params[0])).lerp(f_schlick(s.base_color, vh), s.metallic)
+}
+
+/// Both forms' diffuse kd·ρ/π plus `spec`, times NL and the pipeline's irradiance per intensity.
+fn cook_torrance_sum(p: Pipeline, s: &Surface, a: &CookTorranceAngles, spec: DVec3) -> DVec3 {
+    (s.base_color * (1.0 - s.metallic) * FRAC_1_PI + spec) * a.nl * e_per_i(p)
+}
+
 impl SurfaceTwin for CookTorrance {
     fn direct(&self, p: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
-        let (nl, nv) = (n.dot(l), n.dot(v));
-        if nl <= 0.0 || nv <= 0.0 {
-            return DVec3::ZERO;
-        }
-        let h = safe_normalize(l + v, f32::MIN_POSITIVE as f64);
-        let (nh, vh) = (sat(n.dot(h)), sat(v.dot(h)));
-        let pr = 1.0 - s.smoothness;
-        let f = DVec3::splat(f_fresnel_dielectric(vh, s.params[0])).lerp(f_schlick(s.base_color, vh), s.metallic);
-        let spec = f * d_beckmann(nh, pr * pr) * g_cook_torrance(nh, nv, nl, vh) / (4.0 * nl * nv);
-        let diffuse = s.base_color * (1.0 - s.metallic) * FRAC_1_PI;
-        (diffuse + spec) * nl * e_per_i(p)
+        let Some(a) = cook_torrance_angles(s, n, v, l) else { return DVec3::ZERO };
+        let spec = a.f * d_beckmann(a.nh, a.m) * g_cook_torrance(a.nh, a.nv, a.nl, a.vh) / (4.0 * a.nl * a.nv);
+        cook_torrance_sum(p, s, &a, spec)
     }
     fn indirect(&self, _: Pipeline, s: &Surface, _: DVec3, _: DVec3, gi_d: DVec3, _: DVec3) -> DVec3 {
         s.base_color * (1.0 - s.metallic) * gi_d
