@@ -11,7 +11,7 @@ pub fn print(models: &super::ModelsArg) -> Result<(), Error> {
 }
 
 pub fn table(registry: &Registry) -> String {
-    let mut s = String::from("| shader | pipelines | per vertex | reads | parameters | mapping from the sweep | source | summary |\n|---|---|---|---|---|---|---|---|\n");
+    let mut s = String::from("| shader | pipelines | per vertex | lights | reads | parameters | mapping from the sweep | source | summary |\n|---|---|---|---|---|---|---|---|---|\n");
     for m in registry.models() {
         let pipelines: Vec<&str> = m.pipelines.iter().map(|p| p.name()).collect();
         let mut reads = Vec::new();
@@ -22,7 +22,7 @@ pub fn table(registry: &Registry) -> String {
             reads.push("metallic");
         }
         if m.reads.smoothness {
-            reads.push("smoothness");
+            reads.push(if m.smoothness_gate.is_some() { "smoothness (with its highlights on)" } else { "smoothness" });
         }
         if m.reads.light {
             reads.push("light");
@@ -31,10 +31,11 @@ pub fn table(registry: &Registry) -> String {
             m.params.iter().map(|p| format!("{} = {} ({}..={}; {})", p.name, p.default, p.min, p.max, p.doc)).collect();
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} |",
             m.name,
             pipelines.join(", "),
             if m.per_vertex { "yes" } else { "no" },
+            if m.main_light_only { "main directional only (ForwardBase)" } else { "all" },
             reads.join(", "),
             if params.is_empty() { "—".into() } else { params.join("<br>") },
             m.mapping,

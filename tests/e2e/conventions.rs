@@ -162,3 +162,46 @@ fn the_sky_lit_knob_meters_inside_its_scene_limits_in_hdrp() {
     assert!(e.metered_ev100 > 10.0, "the knob meters above the default limit: {e:?}");
     assert!(!e.clamped && e.ev100 == e.metered_ev100 && e.limits[1] > e.metered_ev100, "{e:?}");
 }
+
+#[test]
+fn the_custom_shader_as_written_sees_the_sun_alone_and_scales_ambient_by_it() {
+    let scene = Scene::load_file(&fixture("sun_and_point.toml")).unwrap();
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let prepared = renderer.prepare_scene(&scene).unwrap();
+    let sliders = Sliders { base_color_linear: [0.8, 0.5, 0.3], metallic: 0.3, smoothness: 0.6 };
+    let mut centre = |shader: &str, intensity: f64| {
+        let model = find_model(Pipeline::Builtin, shader).unwrap();
+        let cell = CellParams {
+            pipeline: Pipeline::Builtin,
+            model,
+            surface: model.surface(Pipeline::Builtin, &sliders),
+            light_intensity: intensity,
+            light_range: 6.0,
+            width: 33,
+            height: 33,
+            view: Default::default(),
+        };
+        let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
+        let i = (16 * 33 + 16) * 4;
+        DVec3::new(r.hdr[i] as f64, r.hdr[i + 1] as f64, r.hdr[i + 2] as f64)
+    };
+    let (dim, bright) = (centre("torrance_sparrow", 0.5), centre("torrance_sparrow", 3.0));
+    assert_eq!(dim, bright, "the point light does not reach a ForwardBase-only shader");
+    assert_ne!(centre("torrance_sparrow_corrected", 0.5), centre("torrance_sparrow_corrected", 3.0));
+
+    // The pixel against the twin: the sun's direct term plus ambient scaled by the sun's colour.
+    let model = find_model(Pipeline::Builtin, "torrance_sparrow").unwrap();
+    let s = model.surface(Pipeline::Builtin, &sliders);
+    let sun = &scene.lights[0];
+    let sun_color = DVec3::from(Pipeline::Builtin.light_radiance(sun.color, sun.intensity, sun.emitter()));
+    let (n, v) = (DVec3::Y, DVec3::from(scene.camera.position).normalize());
+    let l = -DVec3::from(sun.direction).normalize();
+    let env = prepared.env.intensity * Pipeline::Builtin.environment_scale();
+    let gi_d = prepared.env.ambient_diffuse(n) * env;
+    let gi_s = prepared.env.probe.levels[0].texels[0] * env;
+    let twin = model.twin.unwrap();
+    let want = twin.direct(Pipeline::Builtin, &s, n, v, l) * sun_color
+        + twin.indirect(Pipeline::Builtin, &s, n, v, gi_d * sun_color, gi_s);
+    let rel = ((dim - want).abs() / want.abs().max(DVec3::splat(1e-6))).max_element();
+    assert!(rel < 2e-3, "GPU {dim} vs twin {want} (rel {rel:e})");
+}
