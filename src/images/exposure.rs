@@ -155,6 +155,25 @@ mod tests {
     }
 
     #[test]
+    fn histogram_band_ignores_the_dark_and_the_bright_ends_and_fixed_ignores_the_image() {
+        // 30 % black, 60 % at L = 1 (EV 3), 10 % at L = 1000: the 40–90 % band holds only L = 1.
+        let mut img = vec![0.0f32; 30 * 4];
+        img.extend(std::iter::repeat_n(1.0f32, 60 * 4));
+        img.extend(std::iter::repeat_n(1000.0f32, 10 * 4));
+        let s = ExposureSettings {
+            mode: ExposureMode::AutomaticHistogram,
+            metering: MeteringMode::Average,
+            ..Default::default()
+        };
+        let r = meter(&img, 10, 10, &s);
+        assert!((r.ev100 - 3.0).abs() < 1e-6, "{r:?}");
+        let fixed = ExposureSettings { mode: ExposureMode::Fixed, fixed_ev: 12.0, compensation: 1.0, ..s };
+        let r = meter(&img, 10, 10, &fixed);
+        assert_eq!((r.ev100, r.clamped), (11.0, false), "EV − compensation, no limits");
+        assert!((r.exposure - 1.0 / (1.2 * 2f64.powi(11))).abs() < 1e-15);
+    }
+
+    #[test]
     fn centre_weight_falls_to_zero_at_half_the_diagonal_sum() {
         assert_eq!(metering_weight(MeteringMode::CenterWeighted, 50, 50, 100, 100), 1.0);
         assert!(metering_weight(MeteringMode::CenterWeighted, 0, 0, 100, 100) > 0.29);

@@ -562,7 +562,8 @@ impl Renderer {
             let is_key = Some(*i) == key;
             let posed;
             let l = if is_key {
-                posed = posed_key_light(l, &camera, &cell.view);
+                let view = ViewAxes { light_angle: cell.view.light_angle.or(scene.light_angle_deg), ..cell.view };
+                posed = posed_key_light(l, &camera, &view);
                 &posed
             } else {
                 *l

@@ -34,6 +34,11 @@ pub struct Scene {
     pub lights: Vec<Light>,
     pub objects: Vec<Object>,
     pub environment: Environment,
+    /// Degrees between the directions from the camera target to the camera and to the key light;
+    /// when set, the key light is turned about the target to make it (the matrix's `light_angle`
+    /// axis overrides it). Medusa and spikes state their 50°.
+    #[serde(default)]
+    pub light_angle_deg: Option<f64>,
     /// HDRP volume overrides (exposure) for this scene; HDRP's default volume where absent.
     #[serde(default)]
     pub hdrp: crate::pipelines::volume::HdrpVolume,
@@ -578,6 +583,12 @@ impl Scene {
                 _ => {}
             }
             o.mesh.validate().map_err(|m| c.err(&k("mesh"), m))?;
+        }
+        if let Some(a) = self.light_angle_deg {
+            c.range("light_angle_deg", a, 0.0, 180.0)?;
+            if self.key_light().is_none() {
+                return Err(c.err("light_angle_deg", "the scene has no key light to turn"));
+            }
         }
         let x = &self.hdrp.exposure;
         c.range("hdrp.exposure.limit_min", x.limit_min, -20.0, 30.0)?;
