@@ -72,6 +72,11 @@ fn hdrp_png_is_unity_aces_of_the_exposed_exr_and_metallic_follows_each_pipeline(
         within += (0..3).all(|k| (want[k] - png[k] as f64).abs() <= 1.0) as usize;
     }
     let share = within as f64 / (width * height) as f64;
+    eprintln!(
+        "HDRP PNG within 1/255 of ACES(EXR × exposure): {:.2} % of pixels; EV {:.4} (independent {ev:.4})",
+        100.0 * share,
+        exposure.metered_ev100
+    );
     assert!(share >= 0.99, "PNG within 1/255 of ACES(EXR × exposure) on {:.2} % of pixels", 100.0 * share);
 
     // The metallic slider 0.5: built-in Standard gamma-decodes it, URP and HDRP take it as is.
@@ -108,6 +113,7 @@ fn builtin_white_light_of_intensity_two_delivers_two_to_the_2_2() {
     };
     let (ambient, one, two) = (centre(0.0), centre(1.0), centre(2.0));
     let ratio = (two.y - ambient.y) / (one.y - ambient.y);
+    eprintln!("built-in white light, intensity 2 over intensity 1 on a Lambert plane: {ratio:.5}");
     assert!((ratio - 2f64.powf(2.2)).abs() < 2e-3, "irradiance ratio {ratio}, want 4.595");
 }
 
