@@ -14,6 +14,8 @@ struct VertexOut {
     @location(0) world_pos: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) uv: vec2<f32>,
+    // The object's per-vertex lights, added to the ambient term
+    @location(3) vertex_gi: vec3<f32>,
 };
 
 struct FragmentOut {
@@ -29,7 +31,27 @@ fn vs_main(in: VertexIn) -> VertexOut {
     out.clip = frame.view_proj * world;
     out.normal = (object.normal_matrix * vec4<f32>(in.normal, 0.0)).xyz;
     out.uv = in.uv;
+    out.vertex_gi = vertex_lights(world.xyz, normalize(out.normal));
     return out;
+}
+
+// Built-in's Shade4PointLights (UnityCG.cginc): for each vertex light, Lambert with
+// atten = 1/(1 + max(d², 1e-6)·25/range²) and no range cut-off, summed into the ambient term
+// (models.md#vertex-lights). Only built-in forward assigns vertex lights (plan::lights).
+fn vertex_lights(p: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
+    var c = vec3<f32>(0.0);
+    for (var i = 0u; i < frame.counts.x; i++) {
+        if (light_mode(object.flags.z, i) != 1u) {
+            continue;
+        }
+        let light = lights[i];
+        let to_light = light.position.xyz - p;
+        let d2 = max(dot(to_light, to_light), 1e-6);
+        let ndotl = max(0.0, dot(n, to_light * inverseSqrt(d2)));
+        let k = 25.0 / (light.params.x * light.params.x);
+        c += light.color.rgb * (ndotl / (1.0 + d2 * k));
+    }
+    return c * irradiance_per_intensity() * INV_PI;
 }
 
 fn material_at(uv: vec2<f32>) -> Surface {
@@ -73,27 +95,29 @@ fn light_incidence(light: Light, p: vec3<f32>) -> vec4<f32> {
 // (points and spots would need its ForwardAdd pass, which it does not have).
 override MAIN_LIGHT_ONLY: u32 = 0u;
 
-// The lighting sum at one point: every light's direct term plus the ambient and environment.
-fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>) -> vec3<f32> {
+// The lighting sum at one point: the object's per-pixel lights' direct terms plus the ambient
+// (environment SH, the object's SH lights and its vertex lights) and the environment.
+fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>, vertex_gi: vec3<f32>) -> vec3<f32> {
     let v = normalize(frame.camera_pos.xyz - p);
     // counts.y: 1 + index of the main directional light (the brightest), 0 when there is none
     main_light_color = vec3<f32>(0.0);
     if (frame.counts.y > 0u) {
-        main_light_color = frame.lights[frame.counts.y - 1u].color.rgb;
+        main_light_color = lights[frame.counts.y - 1u].color.rgb;
     }
     var c = vec3<f32>(0.0);
     for (var i = 0u; i < frame.counts.x; i++) {
-        if (MAIN_LIGHT_ONLY == 1u && i + 1u != frame.counts.y) {
+        if (light_mode(object.flags.z, i) != 0u || (MAIN_LIGHT_ONLY == 1u && i + 1u != frame.counts.y)) {
             continue;
         }
-        let light = frame.lights[i];
+        let light = lights[i];
         let inc = light_incidence(light, p);
         if (inc.w > 0.0) {
             light_min_roughness = light.params.w;
             c += model_direct(s, n, v, inc.xyz) * light.color.rgb * inc.w;
         }
     }
-    return c + model_indirect(s, n, v, ambient_diffuse(n));
+    let gi = ambient_diffuse(n) + max(sh_eval(object.light_sh, n), vec3<f32>(0.0)) + vertex_gi;
+    return c + model_indirect(s, n, v, gi);
 }
 
 @fragment
@@ -103,7 +127,7 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> FragmentOut {
         n = -n;
     }
     var out: FragmentOut;
-    out.color = vec4<f32>(shade(material_at(in.uv), n, in.world_pos), 1.0);
+    out.color = vec4<f32>(shade(material_at(in.uv), n, in.world_pos, in.vertex_gi), 1.0);
     out.role = object.flags.y;
     return out;
 }
@@ -122,7 +146,7 @@ fn vs_gouraud(in: VertexIn) -> GouraudOut {
     let n = normalize((object.normal_matrix * vec4<f32>(in.normal, 0.0)).xyz);
     var out: GouraudOut;
     out.clip = frame.view_proj * world;
-    out.color = shade(material_at(in.uv), n, world.xyz);
+    out.color = shade(material_at(in.uv), n, world.xyz, vertex_lights(world.xyz, n));
     return out;
 }
 

@@ -20,7 +20,6 @@ struct Frame {
     view_proj: mat4x4<f32>,
     inv_view_proj: mat4x4<f32>,
     camera_pos: vec4<f32>,
-    lights: array<Light, 4>,
     counts: vec4<u32>,        // x: light count, y: 1 + main directional light index (0: none)
     sh: array<vec4<f32>, 9>,  // cosine-convolved SH of the environment: E(n)/π = Σ sh[i]·Y_i(n)
     env: vec4<f32>,           // x: probe levels − 1, y: radiance scale
@@ -31,30 +30,44 @@ struct Object {
     model: mat4x4<f32>,
     normal_matrix: mat4x4<f32>,
     material: Material,
-    flags: vec4<u32>,         // x: 1 = subject (uses the swept material), y: role id written to the mask
+    flags: vec4<u32>,         // x: 1 = subject (uses the swept material), y: role id written to the mask, z: object index
+    light_sh: array<vec4<f32>, 9>, // the lights this object takes as SH (plan::lights), unscaled
 };
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var env_probe: texture_2d_array<f32>;
 @group(0) @binding(2) var env_sampler: sampler;
 @group(0) @binding(3) var fgd_lut: texture_2d<f32>;
+// Every light of the scene, and per object × light how it is rendered (plan::lights::LightMode:
+// 0 per-pixel, 1 per-vertex, 2 SH, 3 dropped), index object·counts.x + light.
+@group(0) @binding(4) var<storage, read> lights: array<Light>;
+@group(0) @binding(5) var<storage, read> light_modes: array<u32>;
+
+fn light_mode(object_index: u32, light: u32) -> u32 {
+    return light_modes[object_index * frame.counts.x + light];
+}
+
+// Real SH basis, bands 0–2, times nine coefficients (twin: environment::sh)
+fn sh_eval(c: array<vec4<f32>, 9>, n: vec3<f32>) -> vec3<f32> {
+    var r = c[0].rgb * 0.282095;
+    r += c[1].rgb * (0.488603 * n.y);
+    r += c[2].rgb * (0.488603 * n.z);
+    r += c[3].rgb * (0.488603 * n.x);
+    r += c[4].rgb * (1.092548 * n.x * n.y);
+    r += c[5].rgb * (1.092548 * n.y * n.z);
+    r += c[6].rgb * (0.315392 * (3.0 * n.z * n.z - 1.0));
+    r += c[7].rgb * (1.092548 * n.x * n.z);
+    r += c[8].rgb * (0.546274 * (n.x * n.x - n.y * n.y));
+    return r;
+}
 
 fn fgd_lookup(nv: f32, pr: f32) -> vec3<f32> {
     return fgd_sample(fgd_lut, nv, pr);
 }
 
-// Real SH basis, bands 0–2, times the coefficients: the ambient term E(n)/π (twin: environment::sh)
+// The environment's ambient term E(n)/π from its SH (twin: environment::sh)
 fn ambient_diffuse(n: vec3<f32>) -> vec3<f32> {
-    var r = frame.sh[0].rgb * 0.282095;
-    r += frame.sh[1].rgb * (0.488603 * n.y);
-    r += frame.sh[2].rgb * (0.488603 * n.z);
-    r += frame.sh[3].rgb * (0.488603 * n.x);
-    r += frame.sh[4].rgb * (1.092548 * n.x * n.y);
-    r += frame.sh[5].rgb * (1.092548 * n.y * n.z);
-    r += frame.sh[6].rgb * (0.315392 * (3.0 * n.z * n.z - 1.0));
-    r += frame.sh[7].rgb * (1.092548 * n.x * n.z);
-    r += frame.sh[8].rgb * (0.546274 * (n.x * n.x - n.y * n.y));
-    return max(r, vec3<f32>(0.0)) * frame.env.y;
+    return max(sh_eval(frame.sh, n), vec3<f32>(0.0)) * frame.env.y;
 }
 
 // Equirectangular lookup (u: azimuth from −Z towards +X, v: polar angle from +Y); twin: environment::dir_to_uv

@@ -58,6 +58,8 @@ pub struct Cell {
     pub light_angle: Option<f64>,
     /// HDRP exposure (from the scene's volume) and the pipeline's tonemapper.
     pub display: DisplayTransform,
+    /// The matrix's light budgets (`[lights]`).
+    pub light_budget: crate::pipelines::LightBudget,
     /// Set when an earlier cell renders the same image (the shader ignores the differing axes).
     pub twin_of: Option<CellId>,
     /// The model `shader` names in `pipeline`.
@@ -165,6 +167,7 @@ pub fn expand(m: &Matrix) -> Expansion {
                                                             camera_distance,
                                                             light_angle,
                                                             display,
+                                                            light_budget: m.light_budget,
                                                             twin_of: None,
                                                             model: model.clone(),
                                                         };
@@ -339,7 +342,10 @@ fn render_key(c: &Cell) -> String {
     }
     // Fixed objects are lit by the key light whatever the shader, so light and view axes always count.
     key.push_str(&format!("|i{}|r{}|{}x{}", c.light_intensity, c.light_range, c.width, c.height));
-    key.push_str(&format!("|d{:?}|a{:?}|p{:?}|{:?}", c.camera_distance, c.light_angle, c.params, c.display));
+    key.push_str(&format!(
+        "|d{:?}|a{:?}|p{:?}|{:?}|{:?}",
+        c.camera_distance, c.light_angle, c.params, c.display, c.light_budget
+    ));
     key
 }
 

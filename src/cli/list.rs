@@ -7,6 +7,7 @@ use super::{load_matrix, print_out, registry_for, ModelsArg};
 use crate::cells::expand;
 use crate::error::Error;
 use crate::pipelines::Pipeline;
+use crate::plan::lights::{assign, LightMode};
 use crate::plan::FramePlan;
 use crate::spec::matrix::Matrix;
 
@@ -30,6 +31,7 @@ pub fn text(m: &Matrix) -> String {
                 let _ = writeln!(out, "  key light in {}: {}", p.name(), p.intensity_unit(key.emitter()));
             }
         }
+        let _ = write!(out, "{}", light_plan(m, scene));
         if m.pipelines.contains(&Pipeline::Hdrp) {
             let x = &scene.hdrp.exposure;
             let _ = writeln!(
@@ -63,6 +65,65 @@ pub fn text(m: &Matrix) -> String {
     }
     for p in &exp.pruned {
         let _ = writeln!(out, "  pruned {}: {}", p.description, p.reason);
+    }
+    out
+}
+
+/// How each light reaches each object in every pipeline × path of the matrix, at the scene's own
+/// key-light values (a cell's sweep values can reorder lights by brightness; `cell.json` has each
+/// cell's).
+fn light_plan(m: &Matrix, scene: &crate::spec::scene::Scene) -> String {
+    let mut out = String::new();
+    if scene.lights.is_empty() {
+        let _ = writeln!(out, "  lights: none");
+        return out;
+    }
+    let centres: Vec<(String, glam::DVec3)> = match crate::geometry::procedural::build_scene(scene) {
+        Ok(meshes) => scene
+            .objects
+            .iter()
+            .zip(&meshes)
+            .map(|(o, mesh)| {
+                let (lo, hi) = mesh.bounds();
+                (o.name.clone(), o.transform.matrix().transform_point3((lo.as_dvec3() + hi.as_dvec3()) * 0.5))
+            })
+            .collect(),
+        Err(e) => {
+            let _ = writeln!(out, "  lights: cannot place the objects ({e})");
+            return out;
+        }
+    };
+    let mut lights = scene.lights.clone();
+    if let (Some(k), Some(angle)) = (scene.key_light(), scene.light_angle_deg) {
+        let view = crate::render::camera::ViewAxes { light_angle: Some(angle), camera_distance: None };
+        lights[k] = crate::render::camera::posed_key_light(&lights[k], &scene.camera, &view);
+    }
+    for p in &m.pipelines {
+        for path in &m.paths {
+            let plan = assign(*p, *path, &m.light_budget, &lights, &centres);
+            let label = format!("{}-{}", p.name(), path.name());
+            if plan.iter().all(|o| o.lights.iter().all(|u| u.mode == LightMode::PerPixel)) {
+                let _ = writeln!(out, "  lights in {label}: all {} per-pixel on every object", lights.len());
+                continue;
+            }
+            let _ = writeln!(out, "  lights in {label}:");
+            for o in &plan {
+                let group = |mode: LightMode| -> Vec<String> {
+                    o.lights.iter().filter(|u| u.mode == mode).map(|u| u.light.to_string()).collect()
+                };
+                let parts: Vec<String> = [LightMode::PerPixel, LightMode::PerVertex, LightMode::Sh, LightMode::Dropped]
+                    .into_iter()
+                    .filter_map(|mode| {
+                        let g = group(mode);
+                        (!g.is_empty()).then(|| format!("{} [{}]", mode.name(), g.join(", ")))
+                    })
+                    .collect();
+                let _ = writeln!(out, "    {}: {}", o.object, parts.join("; "));
+                for u in o.lights.iter().filter(|u| u.mode == LightMode::Dropped) {
+                    let _ = writeln!(out, "      lights[{}] dropped: {}", u.light, u.reason);
+                }
+            }
+        }
     }
     out
 }

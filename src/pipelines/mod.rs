@@ -121,9 +121,10 @@ impl Pipeline {
 }
 
 /// Rendering path. Only forward exists so far; deferred slots in here.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum RenderPath {
+    #[default]
     Forward,
 }
 
@@ -230,6 +231,28 @@ impl DisplayTransform {
     /// `tonemap` in `pipeline`, with the scene's HDRP volume where the pipeline has one.
     pub fn new(pipeline: Pipeline, tonemap: Tonemap, hdrp: &volume::HdrpVolume) -> DisplayTransform {
         DisplayTransform { tonemap, exposure: (pipeline == Pipeline::Hdrp).then_some(hdrp.exposure) }
+    }
+}
+
+/// The budgets, with Unity's defaults; the matrix's `[lights]` table sets them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LightBudget {
+    /// QualitySettings.pixelLightCount (built-in forward), default 4.
+    #[serde(default = "four")]
+    pub pixel_light_count: u32,
+    /// URP asset's per-object limit of additional lights, default 4, at most 8.
+    #[serde(default = "four")]
+    pub urp_per_object_limit: u32,
+}
+
+fn four() -> u32 {
+    4
+}
+
+impl Default for LightBudget {
+    fn default() -> Self {
+        LightBudget { pixel_light_count: 4, urp_per_object_limit: 4 }
     }
 }
 

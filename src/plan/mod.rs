@@ -3,6 +3,8 @@
 
 use serde::Serialize;
 
+pub mod lights;
+
 use crate::spec::scene::{Scene, Sky};
 
 #[derive(Debug, Clone, Serialize)]

@@ -14,6 +14,7 @@ use crate::compare::Comparison;
 use crate::images::stats::PixelStats;
 use crate::images::tonemap::DisplayRecord;
 use crate::pipelines::{Attenuation, Pipeline, RenderPath};
+use crate::plan::lights::ObjectLights;
 
 /// Version of the `cell.json` layout. 1: untyped, before versioning; 2: typed, written once with
 /// metrics; 3: the display transform (tonemapper, HDRP exposure mode, EV and multiplier), light
@@ -47,6 +48,8 @@ pub struct CellRecord {
     pub note: Option<String>,
     pub adapter: String,
     pub display: DisplayRecord,
+    /// How each light reached each object (per-pixel, per-vertex, SH, dropped) and why.
+    pub lights: Vec<ObjectLights>,
     pub stats: PixelStats,
     pub timing: CellTiming,
     pub metrics: CellMetrics,

@@ -7,4 +7,4 @@ pub mod probe;
 pub mod renderer;
 pub mod uniforms;
 
-pub use renderer::{CellParams, CellRender, PreparedScene, Renderer};
+pub use renderer::{CellParams, CellRender, CellSettings, PreparedScene, Renderer};

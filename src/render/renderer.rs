@@ -15,7 +15,8 @@ use crate::geometry::{procedural, Mesh, Vertex};
 use crate::gpu::readback::TextureReadback;
 use crate::gpu::timing::PassTimer;
 use crate::gpu::GpuContext;
-use crate::pipelines::Pipeline;
+use crate::pipelines::{Pipeline, RenderPath};
+use crate::plan::lights::{assign, cell_lights, sh_of_light, LightBudget, LightMode, ObjectLights};
 use crate::plan::FramePlan;
 use crate::shading::registry::Sliders;
 use crate::shading::twin::Surface;
@@ -39,6 +40,15 @@ pub struct CellParams<'a> {
     pub height: u32,
     /// Camera distance and light angle, where the cell sets them.
     pub view: ViewAxes,
+    /// The rendering path and the light budgets.
+    pub settings: CellSettings,
+}
+
+/// What a cell sets besides its material and light: the path and the light budgets.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct CellSettings {
+    pub path: RenderPath,
+    pub light_budget: LightBudget,
 }
 
 pub struct CellRender {
@@ -55,6 +65,8 @@ pub struct CellRender {
     pub gpu_pass_ms: Option<Vec<f64>>,
     /// CPU time to map and copy the image back, ms.
     pub readback_ms: f64,
+    /// How each light reached each object.
+    pub lights: Vec<ObjectLights>,
 }
 
 struct GpuObject {
@@ -78,6 +90,10 @@ pub struct PreparedScene {
     object_bind_group: wgpu::BindGroup,
     frame_buffer: wgpu::Buffer,
     frame_bind_group: wgpu::BindGroup,
+    lights_buffer: wgpu::Buffer,
+    modes_buffer: wgpu::Buffer,
+    /// Each object's name and world-space bounds centre (what the light budget ranks lights by).
+    pub object_centres: Vec<(String, DVec3)>,
     pub triangle_count: usize,
 }
 
@@ -141,6 +157,8 @@ impl Renderer {
                     count: None,
                 },
                 super::luts::fgd_layout_entry(3, wgpu::ShaderStages::VERTEX_FRAGMENT),
+                storage_entry(4),
+                storage_entry(5),
             ],
         });
         let object_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -287,6 +305,7 @@ impl Renderer {
         let env = EnvironmentMaps::build(&scene.environment);
         let mut objects = Vec::new();
         let mut triangle_count = 0;
+        let object_centres = object_centres(scene, &meshes);
         for (o, mesh) in scene.objects.iter().zip(meshes) {
             triangle_count += mesh.triangle_count();
             let vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -375,6 +394,18 @@ impl Renderer {
             dimension: Some(wgpu::TextureViewDimension::D2Array),
             ..Default::default()
         });
+        // A scene without lights still binds one (unused) element: a runtime-sized array needs one.
+        let storage = |label: &str, bytes: u64, element: u64| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: bytes.max(element).next_multiple_of(16),
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        };
+        let light_size = std::mem::size_of::<GpuLight>() as u64;
+        let lights_buffer = storage("lights", scene.lights.len() as u64 * light_size, light_size);
+        let modes_buffer = storage("light modes", (scene.lights.len() * objects.len() * 4) as u64, 4);
         let frame_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("frame"),
             layout: &self.frame_layout,
@@ -383,6 +414,8 @@ impl Renderer {
                 wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&env_view) },
                 wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::Sampler(&self.sampler) },
                 wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(&self.fgd) },
+                wgpu::BindGroupEntry { binding: 4, resource: lights_buffer.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 5, resource: modes_buffer.as_entire_binding() },
             ],
         });
         self.gpu.check_errors(&format!("uploading composition `{}`", scene.name))?;
@@ -396,6 +429,9 @@ impl Renderer {
             object_bind_group,
             frame_buffer,
             frame_bind_group,
+            lights_buffer,
+            modes_buffer,
+            object_centres,
             triangle_count,
         })
     }
@@ -452,7 +488,7 @@ impl Renderer {
         if prepared.plan.background {
             self.background_pipeline()?;
         }
-        self.write_uniforms(prepared, cell, &fixed_model);
+        let lights = self.write_uniforms(prepared, cell, &fixed_model);
         self.targets(cell.width, cell.height);
         if self.gpu.record.timestamp_queries && self.timer.as_ref().is_none_or(|t| t.capacity() < frames) {
             self.timer = Some(PassTimer::new(&self.gpu.device, &self.gpu.queue, frames));
@@ -542,10 +578,17 @@ impl Renderer {
             frame_ms,
             gpu_pass_ms,
             readback_ms,
+            lights,
         })
     }
 
-    fn write_uniforms(&self, prepared: &PreparedScene, cell: &CellParams, fixed_model: &ShaderModel) {
+    /// Write the frame and object uniforms and the light buffers; returns the light assignment.
+    fn write_uniforms(
+        &self,
+        prepared: &PreparedScene,
+        cell: &CellParams,
+        fixed_model: &ShaderModel,
+    ) -> Vec<ObjectLights> {
         let scene = &prepared.scene;
         let p = cell.pipeline;
         let aspect = cell.width as f64 / cell.height as f64;
@@ -556,20 +599,16 @@ impl Renderer {
         frame.view_proj = mat(vp);
         frame.inv_view_proj = mat(vp.inverse());
         frame.camera_pos = vec4(DVec3::from(camera.position), 1.0);
-        let lights: Vec<_> = scene.lights.iter().enumerate().take(MAX_LIGHTS).collect();
+        let mut lights = cell_lights(scene, cell.light_intensity, cell.light_range);
+        if let Some(k) = key {
+            let view = ViewAxes { light_angle: cell.view.light_angle.or(scene.light_angle_deg), ..cell.view };
+            lights[k] = posed_key_light(&lights[k], &camera, &view);
+        }
+        let assignment = assign(p, cell.settings.path, &cell.settings.light_budget, &lights, &prepared.object_centres);
+        let mut gpu_lights = Vec::with_capacity(lights.len());
+        let mut colors = Vec::with_capacity(lights.len());
         let mut main_light: Option<(usize, f64)> = None;
-        for (slot, (i, l)) in lights.iter().enumerate() {
-            let is_key = Some(*i) == key;
-            let posed;
-            let l = if is_key {
-                let view = ViewAxes { light_angle: cell.view.light_angle.or(scene.light_angle_deg), ..cell.view };
-                posed = posed_key_light(l, &camera, &view);
-                &posed
-            } else {
-                *l
-            };
-            let intensity = if is_key { cell.light_intensity } else { l.intensity };
-            let range = if is_key { cell.light_range } else { l.range };
+        for (slot, l) in lights.iter().enumerate() {
             let emitter = l.emitter();
             let outer = (l.spot_angle_deg * 0.5).to_radians();
             // Unity's fallback inner angle: atan(tan(outer)·46/64) (models.md#urp).
@@ -577,18 +616,51 @@ impl Renderer {
                 .inner_spot_angle_deg
                 .map(|a| (a * 0.5).to_radians())
                 .unwrap_or_else(|| (outer.tan() * 46.0 / 64.0).atan());
-            let color = DVec3::from(p.light_radiance(l.color, intensity, emitter));
+            let color = DVec3::from(p.light_radiance(l.color, l.intensity, emitter));
             // The main light of a ForwardBase pass: the brightest directional light.
             if l.kind == LightKind::Directional && main_light.is_none_or(|(_, b)| color.max_element() > b) {
                 main_light = Some((slot, color.max_element()));
             }
-            frame.lights[slot] = GpuLight {
+            colors.push(color);
+            gpu_lights.push(GpuLight {
                 position: vec4(DVec3::from(l.position), emitter.shader_kind() as f64),
                 direction: vec4(DVec3::from(l.direction).normalize_or_zero(), 0.0),
                 color: vec4(color, 0.0),
-                params: [range as f32, outer.cos() as f32, inner.cos() as f32, emitter.hdrp_min_roughness() as f32],
-            };
+                params: [l.range as f32, outer.cos() as f32, inner.cos() as f32, emitter.hdrp_min_roughness() as f32],
+            });
         }
+        if !gpu_lights.is_empty() {
+            self.gpu.queue.write_buffer(&prepared.lights_buffer, 0, bytemuck::cast_slice(&gpu_lights));
+        }
+        let modes: Vec<u32> = assignment.iter().flat_map(|o| o.lights.iter().map(|u| u.mode.shader_value())).collect();
+        if !modes.is_empty() {
+            self.gpu.queue.write_buffer(&prepared.modes_buffer, 0, bytemuck::cast_slice(&modes));
+        }
+        // Lights folded into an object's SH: a directional light from its direction, a point or
+        // spot from the object's centre with its attenuation there, in the ambient term's units.
+        let sh_per_object: Vec<[[f32; 4]; 9]> = assignment
+            .iter()
+            .zip(&prepared.object_centres)
+            .map(|(o, (_, centre))| {
+                let mut sh = [DVec3::ZERO; 9];
+                for u in o.lights.iter().filter(|u| u.mode == LightMode::Sh) {
+                    let l = &lights[u.light];
+                    let color = colors[u.light];
+                    let (dir, atten) = match l.kind {
+                        LightKind::Directional => (-DVec3::from(l.direction), 1.0),
+                        _ => {
+                            let to = DVec3::from(l.position) - *centre;
+                            (to, p.attenuation().eval(to.length(), l.range))
+                        }
+                    };
+                    let scale = crate::shading::twin::irradiance_per_intensity(p) / std::f64::consts::PI;
+                    for (acc, c) in sh.iter_mut().zip(sh_of_light(dir, color * atten * scale)) {
+                        *acc += c;
+                    }
+                }
+                sh.map(|c| [c.x as f32, c.y as f32, c.z as f32, 0.0])
+            })
+            .collect();
         frame.counts = [lights.len() as u32, main_light.map_or(0, |(slot, _)| slot as u32 + 1), 0, 0];
         for (dst, src) in frame.sh.iter_mut().zip(prepared.env.sh.iter()) {
             *dst = [src[0] as f32, src[1] as f32, src[2] as f32, 0.0];
@@ -612,18 +684,48 @@ impl Renderer {
                 normal_matrix: mat(o.model.inverse().transpose()),
                 material,
                 flags: match o.role {
-                    Role::Subject => [1, ROLE_SUBJECT as u32, 0, 0],
-                    Role::Fixed => [0, ROLE_FIXED as u32, 0, 0],
+                    Role::Subject => [1, ROLE_SUBJECT as u32, i as u32, 0],
+                    Role::Fixed => [0, ROLE_FIXED as u32, i as u32, 0],
                 },
+                light_sh: sh_per_object[i],
             };
             let at = i * prepared.object_stride as usize;
             objects[at..at + std::mem::size_of::<ObjectUniforms>()].copy_from_slice(bytemuck::bytes_of(&u));
         }
         self.gpu.queue.write_buffer(&prepared.object_buffer, 0, &objects);
+        assignment
     }
 }
 
 use bytemuck::Zeroable;
+
+/// Each object's name and the centre of its world-space bounds.
+fn object_centres(scene: &Scene, meshes: &[Mesh]) -> Vec<(String, DVec3)> {
+    scene
+        .objects
+        .iter()
+        .zip(meshes)
+        .map(|(o, mesh)| {
+            let (lo, hi) = mesh.bounds();
+            let centre = (lo.as_dvec3() + hi.as_dvec3()) * 0.5;
+            (o.name.clone(), o.transform.matrix().transform_point3(centre))
+        })
+        .collect()
+}
+
+/// A read-only storage buffer of the frame group, seen by both stages (vertex lights read it).
+fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only: true },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
 
 /// A surface in the uniform layout; `pattern` carries the checkerboard, if any.
 fn gpu_material(s: &Surface, pattern: GpuMaterial) -> GpuMaterial {

@@ -2,8 +2,6 @@
 
 use bytemuck::{Pod, Zeroable};
 
-pub const MAX_LIGHTS: usize = 4;
-
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
 pub struct GpuLight {
@@ -30,7 +28,6 @@ pub struct FrameUniforms {
     pub view_proj: [[f32; 4]; 4],
     pub inv_view_proj: [[f32; 4]; 4],
     pub camera_pos: [f32; 4],
-    pub lights: [GpuLight; MAX_LIGHTS],
     pub counts: [u32; 4],
     pub sh: [[f32; 4]; 9],
     pub env: [f32; 4],
@@ -44,6 +41,9 @@ pub struct ObjectUniforms {
     pub normal_matrix: [[f32; 4]; 4],
     pub material: GpuMaterial,
     pub flags: [u32; 4],
+    /// The lights this object takes as spherical harmonics (`plan::lights::sh_of_light`), in the
+    /// units of the ambient term, not scaled by the environment.
+    pub light_sh: [[f32; 4]; 9],
 }
 
 /// Roles written to the mask attachment.
@@ -59,7 +59,7 @@ mod tests {
     fn sizes_match_wgsl_layout() {
         assert_eq!(std::mem::size_of::<GpuLight>(), 64);
         assert_eq!(std::mem::size_of::<GpuMaterial>(), 96);
-        assert_eq!(std::mem::size_of::<FrameUniforms>(), 64 + 64 + 16 + 256 + 16 + 144 + 16 + 96);
-        assert_eq!(std::mem::size_of::<ObjectUniforms>(), 64 + 64 + 96 + 16);
+        assert_eq!(std::mem::size_of::<FrameUniforms>(), 64 + 64 + 16 + 16 + 144 + 16 + 96);
+        assert_eq!(std::mem::size_of::<ObjectUniforms>(), 64 + 64 + 96 + 16 + 144);
     }
 }

@@ -72,7 +72,8 @@ pub fn encode_cell(matrix: &Matrix, dir: &Path, adapter: &str, job: RenderedCell
         encode_ms,
         metrics_ms: None,
     };
-    let record = cell_record(matrix, cell, adapter, display, stats, timing);
+    let mut record = cell_record(matrix, cell, adapter, display, stats, timing);
+    record.lights = r.lights.clone();
     Ok(EncodedCell {
         record,
         images: CellImages { width: r.width, height: r.height, srgb8, hdr: r.hdr },
@@ -112,6 +113,7 @@ pub fn twin_record(matrix: &Matrix, cell: &Cell, original: &CellRecord) -> CellR
     CellRecord {
         twin_of: Some(twin_of),
         note: Some(note),
+        lights: o.lights.clone(),
         ..cell_record(matrix, cell, &o.adapter, o.display, o.stats, o.timing)
     }
 }
@@ -149,6 +151,7 @@ fn cell_record(
         note: None,
         adapter: adapter.to_string(),
         display,
+        lights: Vec::new(),
         stats,
         timing,
         metrics: CellMetrics::without_reference("not compared yet"),

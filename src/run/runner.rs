@@ -26,7 +26,7 @@ use crate::record::cell::{CellMetrics, CellRecord, ReferenceRecord};
 use crate::record::run::{CompositionRecord, MatrixRecord, RunCounts, RunStatus, StageTimes};
 use crate::record::{RunDir, RunRecord, CELL_FILE, RUN_FILE, RUN_SCHEMA};
 use crate::render::camera::ViewAxes;
-use crate::render::{CellParams, Renderer};
+use crate::render::{CellParams, CellSettings, Renderer};
 use crate::spec::matrix::{Filter, Matrix, ReferenceSpec};
 
 #[derive(Debug, Clone, Default)]
@@ -374,6 +374,7 @@ impl<'a> Stream<'a> {
                     width: cell.width,
                     height: cell.height,
                     view: ViewAxes { camera_distance: cell.camera_distance, light_angle: cell.light_angle },
+                    settings: CellSettings { path: cell.path, light_budget: cell.light_budget },
                 };
                 let t = Instant::now();
                 let render =

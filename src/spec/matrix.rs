@@ -11,7 +11,7 @@ use crate::error::{Error, InputError};
 use crate::input::names::unknown_name;
 use crate::input::source::parse_toml;
 use crate::input::validate::Checker;
-use crate::pipelines::{Pipeline, RenderPath, Tonemap};
+use crate::pipelines::{LightBudget, Pipeline, RenderPath, Tonemap};
 use crate::shading::Registry;
 use std::sync::Arc;
 
@@ -42,6 +42,10 @@ struct MatrixFile {
     tonemap: Option<toml::Value>,
     #[serde(default)]
     timing: Timing,
+    /// Light budgets: `pixel_light_count` (built-in forward, default 4) and
+    /// `urp_per_object_limit` (default 4, at most 8).
+    #[serde(default)]
+    lights: LightBudget,
     #[serde(default)]
     only: Vec<toml::Table>,
     /// What cells are compared against: `{ pipeline = "hdrp", shader = "lit" }` (another cell with
@@ -251,6 +255,7 @@ pub struct Matrix {
     pub image: ImageSize,
     /// The tonemapper of each pipeline, by `Pipeline::shader_id`.
     pub tonemaps: [Tonemap; 3],
+    pub light_budget: LightBudget,
     pub timing: Timing,
     pub only: Vec<Filter>,
     pub exclude: Vec<Filter>,
@@ -415,6 +420,8 @@ impl Matrix {
             c.range(&format!("sweep.light_angle[{i}]"), *v, 0.0, 180.0)?;
         }
         check_params(&c, origin, &s.params, &file.shaders, &pipelines, &registry)?;
+        c.range("lights.pixel_light_count", file.lights.pixel_light_count as f64, 0.0, 64.0)?;
+        c.range("lights.urp_per_object_limit", file.lights.urp_per_object_limit as f64, 0.0, 8.0)?;
         let tonemaps = parse_tonemaps(&c, origin, file.tonemap.as_ref())?;
         for (key, v) in [("image.width", file.image.width), ("image.height", file.image.height)] {
             if v == 0 || v > MAX_IMAGE_SIZE {
@@ -526,6 +533,7 @@ impl Matrix {
             sweep: file.sweep,
             image: file.image,
             tonemaps,
+            light_budget: file.lights,
             timing: file.timing,
             only,
             exclude,

@@ -113,10 +113,24 @@ pub struct Light {
     /// Spot: HDRP's "Reflector" (lumen focused into the cone); on by default as in HDRP.
     #[serde(default)]
     pub reflector: Option<bool>,
+    /// Unity's Light.renderMode: `auto` (default), `important` (always per-pixel) or
+    /// `not_important` (per-vertex or SH in built-in forward).
+    #[serde(default)]
+    pub render_mode: RenderMode,
     /// The key light receives the matrix's light intensity and range axes; at most one, and when
     /// no light says so, the first point light is the key.
     #[serde(default)]
     pub key: bool,
+}
+
+/// Unity's LightRenderMode.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RenderMode {
+    #[default]
+    Auto,
+    Important,
+    NotImportant,
 }
 
 fn default_direction() -> [f64; 3] {

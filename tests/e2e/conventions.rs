@@ -106,6 +106,7 @@ fn builtin_white_light_of_intensity_two_delivers_two_to_the_2_2() {
             width: 33,
             height: 33,
             view: Default::default(),
+            settings: Default::default(),
         };
         let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
         let i = (16 * 33 + 16) * 4;
@@ -186,6 +187,7 @@ fn the_custom_shader_as_written_sees_the_sun_alone_and_scales_ambient_by_it() {
             width: 33,
             height: 33,
             view: Default::default(),
+            settings: Default::default(),
         };
         let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
         let i = (16 * 33 + 16) * 4;

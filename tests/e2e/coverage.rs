@@ -27,6 +27,7 @@ fn theta_h_histogram(name: &str) -> [f64; 9] {
         width: size,
         height: size,
         view: Default::default(),
+        settings: Default::default(),
     };
     let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
     // Visible subject surface: the rendered mask tells which pixels see the disc; the mesh vertices

@@ -33,6 +33,7 @@ fn params(
         width: size,
         height: size,
         view: Default::default(),
+        settings: Default::default(),
     }
 }
 

@@ -1,0 +1,347 @@
+//! Which lights light which object, and how: the light budget of each pipeline's path, so that no
+//! light is dropped without a word (`list` and `cell.json` say which light went where and why).
+//!
+//! - Built-in forward (Unity manual, "Forward rendering path details"): the brightest directional
+//!   light is per-pixel (the base pass); lights with render mode Important are per-pixel; further
+//!   lights are per-pixel in decreasing brightness at the object until the quality setting's pixel
+//!   light count (default 4, the main light included); then up to 4 point lights are per-vertex
+//!   (Shade4PointLights); the rest go into the object's spherical harmonics. Not Important lights
+//!   are never per-pixel.
+//! - URP forward: the main light (brightest directional) plus additional lights up to the
+//!   per-object limit (URP asset default 4, at most 8), brightest first; the rest are not rendered.
+//! - HDRP: the clustered light loop has no per-object limit: every light is per-pixel.
+//!
+//! "Brightness at the object" is the luminance of the light's colour × intensity in the pipeline's
+//! units times its distance attenuation at the object's bounds centre (1 for directional lights).
+
+use glam::DVec3;
+use serde::{Deserialize, Serialize};
+
+use crate::color::luminance;
+pub use crate::pipelines::LightBudget;
+use crate::pipelines::{Pipeline, RenderPath};
+use crate::spec::scene::{Light, LightKind, RenderMode, Scene};
+
+/// How one light reaches one object.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LightMode {
+    PerPixel,
+    /// Built-in's Shade4PointLights: Lambert per vertex, added to the ambient term.
+    PerVertex,
+    /// Projected into the object's order-2 spherical harmonics.
+    Sh,
+    /// Not rendered (over URP's per-object limit).
+    Dropped,
+}
+
+impl LightMode {
+    /// The value the forward pass reads (shaders/pass/forward.wgsl `light_mode`).
+    pub fn shader_value(self) -> u32 {
+        match self {
+            LightMode::PerPixel => 0,
+            LightMode::PerVertex => 1,
+            LightMode::Sh => 2,
+            LightMode::Dropped => 3,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            LightMode::PerPixel => "per-pixel",
+            LightMode::PerVertex => "per-vertex",
+            LightMode::Sh => "SH",
+            LightMode::Dropped => "dropped",
+        }
+    }
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LightUse {
+    /// Index into the scene's lights.
+    pub light: usize,
+    pub mode: LightMode,
+    pub reason: String,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ObjectLights {
+    pub object: String,
+    /// One entry per scene light, in the scene's order.
+    pub lights: Vec<LightUse>,
+}
+
+/// Built-in forward's vertex lights (Shade4PointLights takes four).
+pub const VERTEX_LIGHT_COUNT: usize = 4;
+
+/// The key light's values for this cell, and the lights as the cell sees them.
+pub fn cell_lights(scene: &Scene, key_intensity: f64, key_range: f64) -> Vec<Light> {
+    let key = scene.key_light();
+    scene
+        .lights
+        .iter()
+        .enumerate()
+        .map(|(i, l)| {
+            let mut l = l.clone();
+            if Some(i) == key {
+                l.intensity = key_intensity;
+                l.range = key_range;
+            }
+            l
+        })
+        .collect()
+}
+
+/// Brightness of `light` at `centre` in `pipeline`'s units (see the module comment).
+pub fn brightness_at(pipeline: Pipeline, light: &Light, centre: DVec3) -> f64 {
+    let c = luminance(pipeline.light_radiance(light.color, light.intensity, light.emitter()));
+    match light.kind {
+        LightKind::Directional => c,
+        _ => c * pipeline.attenuation().eval((DVec3::from(light.position) - centre).length(), light.range),
+    }
+}
+
+/// Every object's light assignment. `centres` are the objects' bounds centres in world space.
+pub fn assign(
+    pipeline: Pipeline,
+    path: RenderPath,
+    budget: &LightBudget,
+    lights: &[Light],
+    objects: &[(String, DVec3)],
+) -> Vec<ObjectLights> {
+    objects
+        .iter()
+        .map(|(name, centre)| ObjectLights {
+            object: name.clone(),
+            lights: assign_object(pipeline, path, budget, lights, *centre),
+        })
+        .collect()
+}
+
+fn use_(light: usize, mode: LightMode, reason: impl Into<String>) -> LightUse {
+    LightUse { light, mode, reason: reason.into() }
+}
+
+/// The brightest directional light (ties: the first), the main light of built-in and URP.
+fn main_light(pipeline: Pipeline, lights: &[Light], allowed: impl Fn(&Light) -> bool) -> Option<usize> {
+    let mut best: Option<(usize, f64)> = None;
+    for (i, l) in lights.iter().enumerate() {
+        if l.kind == LightKind::Directional && allowed(l) {
+            let b = brightness_at(pipeline, l, DVec3::ZERO);
+            if best.is_none_or(|(_, bb)| b > bb) {
+                best = Some((i, b));
+            }
+        }
+    }
+    best.map(|(i, _)| i)
+}
+
+/// Indices of `candidates` by decreasing brightness at `centre` (ties: scene order).
+fn by_brightness(pipeline: Pipeline, lights: &[Light], centre: DVec3, mut candidates: Vec<usize>) -> Vec<usize> {
+    candidates.sort_by(|&a, &b| {
+        brightness_at(pipeline, &lights[b], centre)
+            .total_cmp(&brightness_at(pipeline, &lights[a], centre))
+            .then(a.cmp(&b))
+    });
+    candidates
+}
+
+fn assign_object(
+    pipeline: Pipeline,
+    _path: RenderPath,
+    budget: &LightBudget,
+    lights: &[Light],
+    centre: DVec3,
+) -> Vec<LightUse> {
+    let mut out: Vec<Option<LightUse>> = vec![None; lights.len()];
+    match pipeline {
+        Pipeline::Hdrp => {
+            for (i, slot) in out.iter_mut().enumerate() {
+                *slot = Some(use_(i, LightMode::PerPixel, "HDRP's light loop has no per-object limit"));
+            }
+        }
+        Pipeline::Urp => {
+            let main = main_light(pipeline, lights, |_| true);
+            if let Some(m) = main {
+                out[m] = Some(use_(m, LightMode::PerPixel, "the main light (brightest directional)"));
+            }
+            let rest: Vec<usize> = (0..lights.len()).filter(|&i| Some(i) != main).collect();
+            let limit = budget.urp_per_object_limit as usize;
+            for (rank, i) in by_brightness(pipeline, lights, centre, rest).into_iter().enumerate() {
+                out[i] = Some(if rank < limit {
+                    use_(
+                        i,
+                        LightMode::PerPixel,
+                        format!("additional light {} of the per-object limit {limit}", rank + 1),
+                    )
+                } else {
+                    use_(
+                        i,
+                        LightMode::Dropped,
+                        format!(
+                            "beyond URP's per-object limit of {limit} additional lights (brightness rank {})",
+                            rank + 1
+                        ),
+                    )
+                });
+            }
+        }
+        Pipeline::Builtin => {
+            let main = main_light(pipeline, lights, |l| l.render_mode != RenderMode::NotImportant);
+            let mut pixel = 0usize;
+            if let Some(m) = main {
+                out[m] = Some(use_(m, LightMode::PerPixel, "the brightest directional light (base pass)"));
+                pixel += 1;
+            }
+            for (i, l) in lights.iter().enumerate() {
+                if out[i].is_none() && l.render_mode == RenderMode::Important {
+                    out[i] = Some(use_(i, LightMode::PerPixel, "render_mode = important"));
+                    pixel += 1;
+                }
+            }
+            let limit = budget.pixel_light_count as usize;
+            let auto: Vec<usize> =
+                (0..lights.len()).filter(|&i| out[i].is_none() && lights[i].render_mode == RenderMode::Auto).collect();
+            for i in by_brightness(pipeline, lights, centre, auto) {
+                if pixel < limit {
+                    out[i] =
+                        Some(use_(i, LightMode::PerPixel, format!("among the {limit} brightest (pixel light count)")));
+                    pixel += 1;
+                }
+            }
+            let left: Vec<usize> = (0..lights.len()).filter(|&i| out[i].is_none()).collect();
+            let mut vertex = 0usize;
+            for i in by_brightness(pipeline, lights, centre, left) {
+                let why_not_pixel = if lights[i].render_mode == RenderMode::NotImportant {
+                    "render_mode = not_important".to_string()
+                } else {
+                    format!("beyond the pixel light count {limit}")
+                };
+                out[i] = Some(if lights[i].kind == LightKind::Point && vertex < VERTEX_LIGHT_COUNT {
+                    vertex += 1;
+                    use_(
+                        i,
+                        LightMode::PerVertex,
+                        format!("{why_not_pixel}: vertex light {vertex} of {VERTEX_LIGHT_COUNT}"),
+                    )
+                } else {
+                    let why = if lights[i].kind == LightKind::Point {
+                        format!("{why_not_pixel} and the {VERTEX_LIGHT_COUNT} vertex lights")
+                    } else {
+                        format!("{why_not_pixel}; only point lights can be vertex lights")
+                    };
+                    use_(i, LightMode::Sh, format!("{why}: spherical harmonics"))
+                });
+            }
+        }
+    }
+    out.into_iter().map(|u| u.expect("every light assigned")).collect()
+}
+
+/// Order-2 SH coefficients (the basis of shaders/pass/scene.wgsl `ambient_diffuse`) of a light's
+/// clamped-cosine irradiance, Σ Â_l·Y_lm(l)·Y_lm(n) ≈ max(0, n·l) with Â = (π, 2π/3, π/4)
+/// (Ramamoorthi & Hanrahan 2001), times `color`: how a light folded into SH reaches an object.
+pub fn sh_of_light(direction_to_light: DVec3, color: DVec3) -> [DVec3; 9] {
+    let d = direction_to_light.normalize_or_zero();
+    let (x, y, z) = (d.x, d.y, d.z);
+    use std::f64::consts::PI;
+    let (a0, a1, a2) = (PI, 2.0 * PI / 3.0, PI / 4.0);
+    let basis = [
+        a0 * 0.282095,
+        a1 * 0.488603 * y,
+        a1 * 0.488603 * z,
+        a1 * 0.488603 * x,
+        a2 * 1.092548 * x * y,
+        a2 * 1.092548 * y * z,
+        a2 * 0.315392 * (3.0 * z * z - 1.0),
+        a2 * 1.092548 * x * z,
+        a2 * 0.546274 * (x * x - y * y),
+    ];
+    basis.map(|b| color * b)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scene_with(n_points: usize) -> Vec<Light> {
+        let mut scene = Scene::load("default", None, "t", "k").unwrap();
+        let template = scene.lights[0].clone();
+        scene.lights = (0..n_points)
+            .map(|i| {
+                let mut l = template.clone();
+                l.key = false;
+                l.position = [i as f64 * 0.5 - 3.0, 2.0, 1.0];
+                l.intensity = 1.0 + i as f64 * 0.1;
+                l
+            })
+            .collect();
+        scene.lights
+    }
+
+    #[test]
+    fn builtin_forward_twelve_points_four_pixel_four_vertex_four_sh() {
+        let lights = scene_with(12);
+        let plan = assign(
+            Pipeline::Builtin,
+            RenderPath::Forward,
+            &LightBudget::default(),
+            &lights,
+            &[("o".into(), DVec3::ZERO)],
+        );
+        let count = |m: LightMode| plan[0].lights.iter().filter(|u| u.mode == m).count();
+        assert_eq!((count(LightMode::PerPixel), count(LightMode::PerVertex), count(LightMode::Sh)), (4, 4, 4));
+        // The per-pixel ones are the brightest at the object.
+        let b = |i: usize| brightness_at(Pipeline::Builtin, &lights[i], DVec3::ZERO);
+        let min_pixel = plan[0]
+            .lights
+            .iter()
+            .filter(|u| u.mode == LightMode::PerPixel)
+            .map(|u| b(u.light))
+            .fold(f64::MAX, f64::min);
+        let max_other =
+            plan[0].lights.iter().filter(|u| u.mode != LightMode::PerPixel).map(|u| b(u.light)).fold(0.0, f64::max);
+        assert!(min_pixel >= max_other);
+    }
+
+    #[test]
+    fn render_modes_and_urp_limit() {
+        let mut lights = scene_with(6);
+        lights[0].render_mode = RenderMode::NotImportant;
+        lights[5].render_mode = RenderMode::Important;
+        let one = [("o".to_string(), DVec3::ZERO)];
+        let b = assign(Pipeline::Builtin, RenderPath::Forward, &LightBudget::default(), &lights, &one);
+        assert_eq!(b[0].lights[5].mode, LightMode::PerPixel);
+        assert_ne!(b[0].lights[0].mode, LightMode::PerPixel);
+        let u = assign(Pipeline::Urp, RenderPath::Forward, &LightBudget::default(), &lights, &one);
+        let dropped: Vec<&LightUse> = u[0].lights.iter().filter(|u| u.mode == LightMode::Dropped).collect();
+        assert_eq!(dropped.len(), 2, "six points, four additional lights per object");
+        assert!(dropped[0].reason.contains("per-object limit of 4"));
+        let h = assign(Pipeline::Hdrp, RenderPath::Forward, &LightBudget::default(), &lights, &one);
+        assert!(h[0].lights.iter().all(|u| u.mode == LightMode::PerPixel));
+    }
+
+    #[test]
+    fn sh_of_a_light_approximates_the_clamped_cosine() {
+        let l = DVec3::new(0.3, 0.8, 0.2).normalize();
+        let sh = sh_of_light(l, DVec3::ONE);
+        let eval = |n: DVec3| {
+            let (x, y, z) = (n.x, n.y, n.z);
+            let basis = [
+                0.282095,
+                0.488603 * y,
+                0.488603 * z,
+                0.488603 * x,
+                1.092548 * x * y,
+                1.092548 * y * z,
+                0.315392 * (3.0 * z * z - 1.0),
+                1.092548 * x * z,
+                0.546274 * (x * x - y * y),
+            ];
+            sh.iter().zip(basis).map(|(c, b)| c.x * b).sum::<f64>()
+        };
+        // Order 2 reproduces the clamped cosine within ~0.1 (its known ringing), exactly in mean.
+        assert!((eval(l) - 1.0).abs() < 0.12, "{}", eval(l));
+        assert!(eval(-l).abs() < 0.12, "{}", eval(-l));
+    }
+}
