@@ -8,6 +8,7 @@ mod coverage;
 mod flow;
 mod gallery;
 mod gltf_roundtrip;
+mod lights;
 mod models;
 mod records;
 mod references;
