@@ -91,6 +91,54 @@ fn light_incidence(light: Light, p: vec3<f32>) -> vec4<f32> {
     return vec4<f32>(l, atten);
 }
 
+// Visibility of `light` at p (1 lit, 0 in shadow), mixed by the light's strength: the receiver
+// offset along n by the normal bias and towards the light by the bias, both in texels; 3×3
+// bilinear comparison taps when soft (render::shadows)
+fn shadow_visibility(light: Light, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>) -> f32 {
+    if (light.shadow.x < 0.0 || object.flags.w == 0u) {
+        return 1.0;
+    }
+    var index = u32(light.shadow.x);
+    if (u32(light.position.w) == 1u) {
+        // A point light's cube: the face of the major axis, in the order +X, −X, +Y, −Y, +Z, −Z
+        let d = p - light.position.xyz;
+        let a = abs(d);
+        var face = 4u + select(1u, 0u, d.z > 0.0);
+        if (a.x >= a.y && a.x >= a.z) {
+            face = select(1u, 0u, d.x > 0.0);
+        } else if (a.y >= a.z) {
+            face = 2u + select(1u, 0u, d.y > 0.0);
+        }
+        index += face;
+    }
+    let info = shadow_layers[index];
+    var texel = info.params.x;
+    if (info.params.y > 0.5) {
+        texel *= (info.view_proj * vec4<f32>(p, 1.0)).w;
+    }
+    let q = p + n * (light.shadow_bias.y * texel) + l * (light.shadow_bias.x * texel);
+    let clip = info.view_proj * vec4<f32>(q, 1.0);
+    let ndc = clip.xyz / clip.w;
+    let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
+    if (clip.w <= 0.0 || any(uv < vec2<f32>(0.0)) || any(uv > vec2<f32>(1.0)) || ndc.z > 1.0) {
+        return 1.0;
+    }
+    var vis = 0.0;
+    if (light.shadow.w > 0.5) {
+        let step = 1.0 / f32(textureDimensions(shadow_maps).x);
+        for (var dy = -1; dy <= 1; dy++) {
+            for (var dx = -1; dx <= 1; dx++) {
+                let o = vec2<f32>(f32(dx), f32(dy)) * step;
+                vis += textureSampleCompareLevel(shadow_maps, shadow_sampler, uv + o, index, ndc.z);
+            }
+        }
+        vis /= 9.0;
+    } else {
+        vis = textureSampleCompareLevel(shadow_maps, shadow_sampler, uv, index, ndc.z);
+    }
+    return mix(1.0, vis, light.shadow.z);
+}
+
 // 1: the model is a built-in ForwardBase-only shader, lit by the main directional light alone
 // (points and spots would need its ForwardAdd pass, which it does not have).
 override MAIN_LIGHT_ONLY: u32 = 0u;
@@ -112,8 +160,11 @@ fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>, vertex_gi: vec3<f32>) -> vec3<f
         let light = lights[i];
         let inc = light_incidence(light, p);
         if (inc.w > 0.0) {
-            light_min_roughness = light.params.w;
-            c += model_direct(s, n, v, inc.xyz) * light.color.rgb * inc.w;
+            let visible = shadow_visibility(light, p, n, inc.xyz);
+            if (visible > 0.0) {
+                light_min_roughness = light.params.w;
+                c += model_direct(s, n, v, inc.xyz) * light.color.rgb * (inc.w * visible);
+            }
         }
     }
     let gi = ambient_diffuse(n) + max(sh_eval(object.light_sh, n), vec3<f32>(0.0)) + vertex_gi;

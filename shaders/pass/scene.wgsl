@@ -5,6 +5,15 @@ struct Light {
     direction: vec4<f32>,  // xyz direction the light travels
     color: vec4<f32>,      // linear colour × intensity in the pipeline's units
     params: vec4<f32>,     // range, cos outer, cos inner, HDRP minRoughness of the light's shape
+    shadow: vec4<f32>,     // first shadow layer (−1: none), layer count, strength, soft
+    shadow_bias: vec4<f32>, // bias, normal bias (shadow-map texels)
+};
+
+// One shadow-map layer (render::shadows): view-projection; params.x texel size (world units, or
+// per unit of view depth when params.y = 1, perspective)
+struct ShadowLayer {
+    view_proj: mat4x4<f32>,
+    params: vec4<f32>,
 };
 
 struct Material {
@@ -42,6 +51,9 @@ struct Object {
 // 0 per-pixel, 1 per-vertex, 2 SH, 3 dropped), index object·counts.x + light.
 @group(0) @binding(4) var<storage, read> lights: array<Light>;
 @group(0) @binding(5) var<storage, read> light_modes: array<u32>;
+@group(0) @binding(6) var shadow_maps: texture_depth_2d_array;
+@group(0) @binding(7) var shadow_sampler: sampler_comparison;
+@group(0) @binding(8) var<storage, read> shadow_layers: array<ShadowLayer>;
 
 fn light_mode(object_index: u32, light: u32) -> u32 {
     return light_modes[object_index * frame.counts.x + light];

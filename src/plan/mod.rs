@@ -33,17 +33,9 @@ impl FramePlan {
         if matches!(scene.environment.sky, Sky::Constant { .. }) {
             left_out.push(("probe prefiltering".into(), "constant sky: every roughness sees the same colour".into()));
         }
-        let shadowed: Vec<String> =
-            scene.lights.iter().enumerate().filter(|(_, l)| l.shadows).map(|(i, _)| format!("lights[{i}]")).collect();
-        if shadowed.is_empty() {
-            left_out.push(("shadow pass".into(), "no light casts shadows".into()));
-        } else {
-            // Not a pruning decision: shadow maps are not implemented yet. Said here so that no one
-            // reads a shadowless image as the pipeline's behaviour.
-            left_out.push((
-                "shadow pass".into(),
-                format!("NOT IMPLEMENTED YET: {} ask for shadows; rendered without", shadowed.join(", ")),
-            ));
+        match scene.shadow_pass_needed() {
+            Ok(()) => passes.insert(0, "shadow"),
+            Err(why) => left_out.push(("shadow pass".into(), why)),
         }
         FramePlan { passes, background, left_out }
     }

@@ -5,6 +5,7 @@ pub mod camera;
 pub mod luts;
 pub mod probe;
 pub mod renderer;
+pub mod shadows;
 pub mod uniforms;
 
 pub use renderer::{CellParams, CellRender, CellSettings, PreparedScene, Renderer};

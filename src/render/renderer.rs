@@ -8,6 +8,7 @@ use std::time::Instant;
 use wgpu::util::DeviceExt;
 
 use super::camera::{posed_camera, posed_key_light, view_projection, ViewAxes};
+use super::shadows::{light_layers, shadow_slot, SHADOW_FORMAT};
 use super::uniforms::*;
 use crate::environment::EnvironmentMaps;
 use crate::error::Error;
@@ -78,6 +79,26 @@ struct GpuObject {
     /// Fixed objects: their own material in slider units (mapped per pipeline at draw time) and
     /// their checkerboard.
     fixed: Option<(Sliders, GpuMaterial)>,
+    cast_shadows: bool,
+    receive_shadows: bool,
+}
+
+/// A composition's shadow maps: the depth array, a view per layer to render into, the layer
+/// matrices (a uniform slot per layer for the shadow pass, a storage array for the forward pass).
+struct ShadowResources {
+    /// Whether the frame has a shadow pass (`FramePlan`); otherwise one unused 1×1 layer is bound.
+    active: bool,
+    layer_views: Vec<wgpu::TextureView>,
+    array_view: wgpu::TextureView,
+    layer_uniforms: wgpu::Buffer,
+    layer_stride: u64,
+    layer_bind_group: wgpu::BindGroup,
+    layers_storage: wgpu::Buffer,
+    resolution: u32,
+    /// Per scene light: its first layer when it casts shadows.
+    first_layer: Vec<Option<usize>>,
+    /// World-space bounds of every object (directional maps fit them).
+    scene_bounds: (DVec3, DVec3),
 }
 
 pub struct PreparedScene {
@@ -92,6 +113,7 @@ pub struct PreparedScene {
     frame_bind_group: wgpu::BindGroup,
     lights_buffer: wgpu::Buffer,
     modes_buffer: wgpu::Buffer,
+    shadows: ShadowResources,
     /// Each object's name and world-space bounds centre (what the light budget ranks lights by).
     pub object_centres: Vec<(String, DVec3)>,
     pub triangle_count: usize,
@@ -120,6 +142,9 @@ pub struct Renderer {
     /// Fixed objects are drawn with each pipeline's default lit shader, a built-in model.
     fixed_models: Registry,
     background: Option<wgpu::RenderPipeline>,
+    shadow_layer_layout: wgpu::BindGroupLayout,
+    shadow_pipeline: wgpu::RenderPipeline,
+    shadow_sampler: wgpu::Sampler,
     targets: Option<Targets>,
     timer: Option<PassTimer>,
 }
@@ -159,6 +184,23 @@ impl Renderer {
                 super::luts::fgd_layout_entry(3, wgpu::ShaderStages::VERTEX_FRAGMENT),
                 storage_entry(4),
                 storage_entry(5),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 6,
+                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Depth,
+                        view_dimension: wgpu::TextureViewDimension::D2Array,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 7,
+                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
+                    count: None,
+                },
+                storage_entry(8),
             ],
         });
         let object_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -188,6 +230,27 @@ impl Renderer {
             ..Default::default()
         });
         let fgd = super::luts::fgd_texture(&gpu);
+        let shadow_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("shadow comparison"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            compare: Some(wgpu::CompareFunction::LessEqual),
+            ..Default::default()
+        });
+        let shadow_layer_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("shadow layer"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::VERTEX,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: true,
+                    min_binding_size: wgpu::BufferSize::new(64),
+                },
+                count: None,
+            }],
+        });
+        let shadow_pipeline = shadow_pipeline(&gpu, &shadow_layer_layout, &object_layout);
         Renderer {
             gpu,
             frame_layout,
@@ -198,6 +261,9 @@ impl Renderer {
             forward: HashMap::new(),
             fixed_models: Registry::builtin(),
             background: None,
+            shadow_layer_layout,
+            shadow_pipeline,
+            shadow_sampler,
             targets: None,
             timer: None,
         }
@@ -306,6 +372,7 @@ impl Renderer {
         let mut objects = Vec::new();
         let mut triangle_count = 0;
         let object_centres = object_centres(scene, &meshes);
+        let scene_bounds = world_bounds(scene, &meshes);
         for (o, mesh) in scene.objects.iter().zip(meshes) {
             triangle_count += mesh.triangle_count();
             let vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -335,6 +402,8 @@ impl Renderer {
                 role: o.role,
                 model: o.transform.matrix(),
                 fixed,
+                cast_shadows: o.cast_shadows,
+                receive_shadows: o.receive_shadows,
             });
         }
         let align = device.limits().min_uniform_buffer_offset_alignment as u64;
@@ -406,6 +475,7 @@ impl Renderer {
         let light_size = std::mem::size_of::<GpuLight>() as u64;
         let lights_buffer = storage("lights", scene.lights.len() as u64 * light_size, light_size);
         let modes_buffer = storage("light modes", (scene.lights.len() * objects.len() * 4) as u64, 4);
+        let shadows = self.shadow_resources(scene, &plan, scene_bounds);
         let frame_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("frame"),
             layout: &self.frame_layout,
@@ -416,6 +486,9 @@ impl Renderer {
                 wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(&self.fgd) },
                 wgpu::BindGroupEntry { binding: 4, resource: lights_buffer.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 5, resource: modes_buffer.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 6, resource: wgpu::BindingResource::TextureView(&shadows.array_view) },
+                wgpu::BindGroupEntry { binding: 7, resource: wgpu::BindingResource::Sampler(&self.shadow_sampler) },
+                wgpu::BindGroupEntry { binding: 8, resource: shadows.layers_storage.as_entire_binding() },
             ],
         });
         self.gpu.check_errors(&format!("uploading composition `{}`", scene.name))?;
@@ -431,9 +504,92 @@ impl Renderer {
             frame_bind_group,
             lights_buffer,
             modes_buffer,
+            shadows,
             object_centres,
             triangle_count,
         })
+    }
+
+    /// The shadow layers a composition needs (1 for a directional or spot light that casts
+    /// shadows, 6 for a point light), at the largest resolution its lights ask for.
+    fn shadow_resources(&self, scene: &Scene, plan: &FramePlan, scene_bounds: (DVec3, DVec3)) -> ShadowResources {
+        let device = &self.gpu.device;
+        let active = plan.passes.contains(&"shadow");
+        let mut first_layer = Vec::with_capacity(scene.lights.len());
+        let mut count = 0usize;
+        let mut resolution = 1u32;
+        for l in &scene.lights {
+            if active && l.shadows {
+                first_layer.push(Some(count));
+                count += if l.kind == LightKind::Point { 6 } else { 1 };
+                resolution = resolution.max(l.shadow.resolution);
+            } else {
+                first_layer.push(None);
+            }
+        }
+        let layers = count.max(1) as u32;
+        let texture = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("shadow maps"),
+            size: wgpu::Extent3d { width: resolution, height: resolution, depth_or_array_layers: layers },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: SHADOW_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        });
+        let layer_views = (0..layers)
+            .map(|i| {
+                texture.create_view(&wgpu::TextureViewDescriptor {
+                    dimension: Some(wgpu::TextureViewDimension::D2),
+                    base_array_layer: i,
+                    array_layer_count: Some(1),
+                    ..Default::default()
+                })
+            })
+            .collect();
+        let array_view = texture.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        });
+        let align = device.limits().min_uniform_buffer_offset_alignment as u64;
+        let layer_stride = 64u64.div_ceil(align) * align;
+        let layer_uniforms = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("shadow layer matrices"),
+            size: layer_stride * layers as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let layer_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("shadow layer"),
+            layout: &self.shadow_layer_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                    buffer: &layer_uniforms,
+                    offset: 0,
+                    size: wgpu::BufferSize::new(64),
+                }),
+            }],
+        });
+        let layers_storage = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("shadow layers"),
+            size: (std::mem::size_of::<ShadowLayer>() * layers as usize) as u64,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        ShadowResources {
+            active,
+            layer_views,
+            array_view,
+            layer_uniforms,
+            layer_stride,
+            layer_bind_group,
+            layers_storage,
+            resolution,
+            first_layer,
+            scene_bounds,
+        }
     }
 
     fn targets(&mut self, width: u32, height: u32) -> &Targets {
@@ -501,6 +657,9 @@ impl Renderer {
         let mut frame_ms = Vec::with_capacity(frames as usize);
         for f in 0..total {
             let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
+            if prepared.shadows.active {
+                encode_shadow_passes(&mut encoder, &self.shadow_pipeline, prepared);
+            }
             {
                 let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                     label: Some("forward"),
@@ -605,6 +764,8 @@ impl Renderer {
             lights[k] = posed_key_light(&lights[k], &camera, &view);
         }
         let assignment = assign(p, cell.settings.path, &cell.settings.light_budget, &lights, &prepared.object_centres);
+        let sh = &prepared.shadows;
+        let mut shadow_layers: Vec<ShadowLayer> = Vec::new();
         let mut gpu_lights = Vec::with_capacity(lights.len());
         let mut colors = Vec::with_capacity(lights.len());
         let mut main_light: Option<(usize, f64)> = None;
@@ -622,15 +783,34 @@ impl Renderer {
                 main_light = Some((slot, color.max_element()));
             }
             colors.push(color);
+            let first = sh.first_layer[slot];
+            let mut layer_count = 0;
+            if first.is_some() {
+                let layers = light_layers(l, sh.resolution, sh.scene_bounds);
+                layer_count = layers.len();
+                shadow_layers.extend(layers);
+            }
+            let (shadow, shadow_bias) = shadow_slot(l, first, layer_count);
             gpu_lights.push(GpuLight {
                 position: vec4(DVec3::from(l.position), emitter.shader_kind() as f64),
                 direction: vec4(DVec3::from(l.direction).normalize_or_zero(), 0.0),
                 color: vec4(color, 0.0),
                 params: [l.range as f32, outer.cos() as f32, inner.cos() as f32, emitter.hdrp_min_roughness() as f32],
+                shadow,
+                shadow_bias,
             });
         }
         if !gpu_lights.is_empty() {
             self.gpu.queue.write_buffer(&prepared.lights_buffer, 0, bytemuck::cast_slice(&gpu_lights));
+        }
+        if !shadow_layers.is_empty() {
+            self.gpu.queue.write_buffer(&sh.layers_storage, 0, bytemuck::cast_slice(&shadow_layers));
+            let mut slots = vec![0u8; (sh.layer_stride as usize) * shadow_layers.len()];
+            for (i, layer) in shadow_layers.iter().enumerate() {
+                let at = i * sh.layer_stride as usize;
+                slots[at..at + 64].copy_from_slice(bytemuck::bytes_of(&layer.view_proj));
+            }
+            self.gpu.queue.write_buffer(&sh.layer_uniforms, 0, &slots);
         }
         let modes: Vec<u32> = assignment.iter().flat_map(|o| o.lights.iter().map(|u| u.mode.shader_value())).collect();
         if !modes.is_empty() {
@@ -684,8 +864,8 @@ impl Renderer {
                 normal_matrix: mat(o.model.inverse().transpose()),
                 material,
                 flags: match o.role {
-                    Role::Subject => [1, ROLE_SUBJECT as u32, i as u32, 0],
-                    Role::Fixed => [0, ROLE_FIXED as u32, i as u32, 0],
+                    Role::Subject => [1, ROLE_SUBJECT as u32, i as u32, o.receive_shadows as u32],
+                    Role::Fixed => [0, ROLE_FIXED as u32, i as u32, o.receive_shadows as u32],
                 },
                 light_sh: sh_per_object[i],
             };
@@ -698,6 +878,103 @@ impl Renderer {
 }
 
 use bytemuck::Zeroable;
+
+/// Depth of every casting object into every shadow layer.
+fn encode_shadow_passes(encoder: &mut wgpu::CommandEncoder, pipeline: &wgpu::RenderPipeline, prepared: &PreparedScene) {
+    let sh = &prepared.shadows;
+    for (layer, view) in sh.layer_views.iter().enumerate() {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("shadow"),
+            color_attachments: &[],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view,
+                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, &sh.layer_bind_group, &[(layer as u64 * sh.layer_stride) as u32]);
+        for (i, o) in prepared.objects.iter().enumerate().filter(|(_, o)| o.cast_shadows) {
+            pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
+            pass.set_vertex_buffer(0, o.vertices.slice(..));
+            pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(0..o.index_count, 0, 0..1);
+        }
+    }
+}
+
+/// The depth-only pipeline of the shadow pass; slope-scaled depth bias against acne on top of the
+/// lights' own biases.
+fn shadow_pipeline(
+    gpu: &GpuContext,
+    layer_layout: &wgpu::BindGroupLayout,
+    object_layout: &wgpu::BindGroupLayout,
+) -> wgpu::RenderPipeline {
+    let device = &gpu.device;
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("shadow"),
+        source: wgpu::ShaderSource::Wgsl(include_str!("../../shaders/pass/shadow.wgsl").into()),
+    });
+    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("shadow"),
+        bind_group_layouts: &[Some(layer_layout), Some(object_layout)],
+        immediate_size: 0,
+    });
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("shadow"),
+        layout: Some(&layout),
+        vertex: wgpu::VertexState {
+            module: &module,
+            entry_point: Some("vs_shadow"),
+            compilation_options: Default::default(),
+            buffers: &[Some(wgpu::VertexBufferLayout {
+                array_stride: std::mem::size_of::<Vertex>() as u64,
+                step_mode: wgpu::VertexStepMode::Vertex,
+                attributes: &wgpu::vertex_attr_array![0 => Float32x3],
+            })],
+        },
+        primitive: Default::default(),
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: SHADOW_FORMAT,
+            depth_write_enabled: Some(true),
+            depth_compare: Some(wgpu::CompareFunction::Less),
+            stencil: Default::default(),
+            bias: wgpu::DepthBiasState { constant: 2, slope_scale: 1.5, clamp: 0.0 },
+        }),
+        multisample: Default::default(),
+        fragment: None,
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+/// World-space bounds of every object together.
+fn world_bounds(scene: &Scene, meshes: &[Mesh]) -> (DVec3, DVec3) {
+    let mut lo = DVec3::splat(f64::MAX);
+    let mut hi = DVec3::splat(f64::MIN);
+    for (o, mesh) in scene.objects.iter().zip(meshes) {
+        let (a, b) = mesh.bounds();
+        let m = o.transform.matrix();
+        for corner in 0..8 {
+            let c = DVec3::new(
+                if corner & 1 == 0 { a.x } else { b.x } as f64,
+                if corner & 2 == 0 { a.y } else { b.y } as f64,
+                if corner & 4 == 0 { a.z } else { b.z } as f64,
+            );
+            let w = m.transform_point3(c);
+            lo = lo.min(w);
+            hi = hi.max(w);
+        }
+    }
+    if lo.x > hi.x {
+        (DVec3::ZERO, DVec3::ZERO)
+    } else {
+        (lo, hi)
+    }
+}
 
 /// Each object's name and the centre of its world-space bounds.
 fn object_centres(scene: &Scene, meshes: &[Mesh]) -> Vec<(String, DVec3)> {

@@ -9,6 +9,19 @@ pub struct GpuLight {
     pub direction: [f32; 4],
     pub color: [f32; 4],
     pub params: [f32; 4],
+    /// First shadow layer (−1: none), layer count, strength, soft (render::shadows).
+    pub shadow: [f32; 4],
+    /// Bias and normal bias in shadow-map texels.
+    pub shadow_bias: [f32; 4],
+}
+
+/// One shadow-map layer: its view-projection and (texel size: world units for orthographic, per
+/// unit of view depth for perspective; 1 = perspective).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct ShadowLayer {
+    pub view_proj: [[f32; 4]; 4],
+    pub params: [f32; 4],
 }
 
 #[repr(C)]
@@ -57,7 +70,8 @@ mod tests {
 
     #[test]
     fn sizes_match_wgsl_layout() {
-        assert_eq!(std::mem::size_of::<GpuLight>(), 64);
+        assert_eq!(std::mem::size_of::<GpuLight>(), 96);
+        assert_eq!(std::mem::size_of::<ShadowLayer>(), 80);
         assert_eq!(std::mem::size_of::<GpuMaterial>(), 96);
         assert_eq!(std::mem::size_of::<FrameUniforms>(), 64 + 64 + 16 + 16 + 144 + 16 + 96);
         assert_eq!(std::mem::size_of::<ObjectUniforms>(), 64 + 64 + 96 + 16 + 144);

@@ -103,6 +103,10 @@ pub struct Light {
     pub inner_spot_angle_deg: Option<f64>,
     #[serde(default)]
     pub shadows: bool,
+    /// Shadow settings with the built-in light's defaults (strength 1, bias 0.05, normal bias 0.4,
+    /// soft): biases in shadow-map texels, as Unity's are.
+    #[serde(default)]
+    pub shadow: ShadowSettings,
     /// Point and spot: the light's shape radius in metres (HDRP's default 0.025); sets HDRP's
     /// per-light minimum roughness.
     #[serde(default)]
@@ -121,6 +125,48 @@ pub struct Light {
     /// no light says so, the first point light is the key.
     #[serde(default)]
     pub key: bool,
+}
+
+/// A light's shadow settings (Unity's Light inspector: Strength, Bias, Normal Bias, Soft/Hard).
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ShadowSettings {
+    #[serde(default = "one")]
+    pub strength: f64,
+    /// Along the light direction, in shadow-map texels.
+    #[serde(default = "default_shadow_bias")]
+    pub bias: f64,
+    /// Along the surface normal, in shadow-map texels.
+    #[serde(default = "default_normal_bias")]
+    pub normal_bias: f64,
+    /// Percentage-closer filtering (3×3 bilinear taps) instead of one bilinear tap.
+    #[serde(default = "yes")]
+    pub soft: bool,
+    /// Shadow-map resolution in texels (each cube face for point lights).
+    #[serde(default = "default_shadow_resolution")]
+    pub resolution: u32,
+}
+
+fn default_shadow_bias() -> f64 {
+    0.05
+}
+fn default_normal_bias() -> f64 {
+    0.4
+}
+fn default_shadow_resolution() -> u32 {
+    1024
+}
+
+impl Default for ShadowSettings {
+    fn default() -> Self {
+        ShadowSettings {
+            strength: 1.0,
+            bias: default_shadow_bias(),
+            normal_bias: default_normal_bias(),
+            soft: true,
+            resolution: default_shadow_resolution(),
+        }
+    }
 }
 
 /// Unity's LightRenderMode.
@@ -169,6 +215,11 @@ pub struct Object {
     /// Required for fixed objects, ignored (and refused) for subjects.
     #[serde(default)]
     pub material: Option<FixedMaterial>,
+    /// Unity's Mesh Renderer "Cast Shadows" and "Receive Shadows", both on by default.
+    #[serde(default = "yes")]
+    pub cast_shadows: bool,
+    #[serde(default = "yes")]
+    pub receive_shadows: bool,
 }
 
 #[derive(Debug, Clone, Deserialize, Serialize)]
@@ -511,6 +562,21 @@ impl Scene {
         self.lights.iter().any(|l| l.shadows)
     }
 
+    /// Whether a shadow pass can change the image: a light that casts shadows, an object that
+    /// casts and one that receives. None, or why not.
+    pub fn shadow_pass_needed(&self) -> Result<(), String> {
+        if !self.has_shadow_casting_light() {
+            return Err("no light casts shadows".into());
+        }
+        if !self.objects.iter().any(|o| o.cast_shadows) {
+            return Err("no object casts shadows".into());
+        }
+        if !self.objects.iter().any(|o| o.receive_shadows) {
+            return Err("no object receives shadows".into());
+        }
+        Ok(())
+    }
+
     fn validate(&self) -> Result<(), InputError> {
         let c = Checker::new(&self.origin);
         c.name("name", &self.name)?;
@@ -554,6 +620,10 @@ impl Scene {
                 }
                 LightKind::Spot => only("angular_diameter_deg", l.angular_diameter_deg.is_some(), "directional")?,
             }
+            c.unit(&k("shadow.strength"), l.shadow.strength)?;
+            c.range(&k("shadow.bias"), l.shadow.bias, 0.0, 10.0)?;
+            c.range(&k("shadow.normal_bias"), l.shadow.normal_bias, 0.0, 10.0)?;
+            c.range(&k("shadow.resolution"), l.shadow.resolution as f64, 16.0, 8192.0)?;
             if let Some(r) = l.shape_radius {
                 c.range(&k("shape_radius"), r, 0.0, 100.0)?;
             }

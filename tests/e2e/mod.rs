@@ -15,4 +15,5 @@ mod references;
 mod render_ci;
 mod resume;
 mod shading;
+mod shadows;
 mod user_models;
