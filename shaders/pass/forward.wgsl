@@ -94,8 +94,8 @@ fn light_incidence(light: Light, p: vec3<f32>) -> vec4<f32> {
 // Visibility of `light` at p (1 lit, 0 in shadow), mixed by the light's strength: the receiver
 // offset along n by the normal bias and towards the light by the bias, both in texels; 3×3
 // bilinear comparison taps when soft (render::shadows)
-fn shadow_visibility(light: Light, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>) -> f32 {
-    if (light.shadow.x < 0.0 || object.flags.w == 0u) {
+fn shadow_visibility(light: Light, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, receives: bool) -> f32 {
+    if (light.shadow.x < 0.0 || !receives) {
         return 1.0;
     }
     var index = u32(light.shadow.x);
@@ -160,7 +160,7 @@ fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>, vertex_gi: vec3<f32>) -> vec3<f
         let light = lights[i];
         let inc = light_incidence(light, p);
         if (inc.w > 0.0) {
-            let visible = shadow_visibility(light, p, n, inc.xyz);
+            let visible = shadow_visibility(light, p, n, inc.xyz, object.flags.w != 0u);
             if (visible > 0.0) {
                 light_min_roughness = light.params.w;
                 c += model_direct(s, n, v, inc.xyz) * light.color.rgb * (inc.w * visible);
@@ -207,4 +207,97 @@ fn fs_gouraud(in: GouraudOut) -> FragmentOut {
     out.color = vec4<f32>(in.color, 1.0);
     out.role = object.flags.y;
     return out;
+}
+
+// ---- Deferred path (render::deferred): a G-buffer pass, then a screen-space lighting pass per role.
+
+// The G-buffer: base colour + occlusion (8-bit sRGB), metallic + smoothness (8-bit), the normal
+// (n·0.5 + 0.5 in the pipeline's normal format; a: receives shadows), the ambient/environment
+// term (RT3, half float) and the role.
+struct GBufferOut {
+    @location(0) albedo: vec4<f32>,
+    @location(1) material: vec4<f32>,
+    @location(2) normal: vec4<f32>,
+    @location(3) lighting: vec4<f32>,
+    @location(4) role: u32,
+};
+
+@fragment
+fn fs_gbuffer(in: VertexOut, @builtin(front_facing) front: bool) -> GBufferOut {
+    var n = normalize(in.normal);
+    if (!front) {
+        n = -n;
+    }
+    let s = material_at(in.uv);
+    let v = normalize(frame.camera_pos.xyz - in.world_pos);
+    main_light_color = vec3<f32>(0.0);
+    if (frame.counts.y > 0u) {
+        main_light_color = lights[frame.counts.y - 1u].color.rgb;
+    }
+    let gi = ambient_diffuse(n) + max(sh_eval(object.light_sh, n), vec3<f32>(0.0));
+    var out: GBufferOut;
+    out.albedo = vec4<f32>(s.base_color, 1.0);
+    out.material = vec4<f32>(s.metallic, s.smoothness, 0.0, 0.0);
+    out.normal = vec4<f32>(n * 0.5 + 0.5, f32(object.flags.w));
+    out.lighting = vec4<f32>(model_indirect(s, n, v, gi), 1.0);
+    out.role = object.flags.y;
+    return out;
+}
+
+@group(2) @binding(0) var gb_albedo: texture_2d<f32>;
+@group(2) @binding(1) var gb_material: texture_2d<f32>;
+@group(2) @binding(2) var gb_normal: texture_2d<f32>;
+@group(2) @binding(3) var gb_lighting: texture_2d<f32>;
+@group(2) @binding(4) var gb_role: texture_2d<u32>;
+@group(2) @binding(5) var gb_depth: texture_depth_2d;
+
+// The role whose pixels this lighting pipeline shades: 2 subject (the cell's model), 1 fixed.
+override DEFERRED_ROLE: u32 = 2u;
+
+@vertex
+fn vs_fullscreen(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
+    let uv = vec2<f32>(f32((i << 1u) & 2u), f32(i & 2u));
+    return vec4<f32>(uv * 2.0 - 1.0, 0.0, 1.0);
+}
+
+// Every light per pixel from the G-buffer (deferred lighting has no per-object limit), plus RT3.
+@fragment
+fn fs_deferred(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+    let px = vec2<i32>(pos.xy);
+    if (textureLoad(gb_role, px, 0).x != DEFERRED_ROLE) {
+        discard;
+    }
+    let size = vec2<f32>(textureDimensions(gb_role));
+    let depth = textureLoad(gb_depth, px, 0);
+    let ndc = vec4<f32>(pos.x / size.x * 2.0 - 1.0, 1.0 - pos.y / size.y * 2.0, depth, 1.0);
+    let world = frame.inv_view_proj * ndc;
+    let p = world.xyz / world.w;
+    var m = frame.fixed;
+    if (DEFERRED_ROLE == 2u) {
+        m = frame.subject;
+    }
+    var s: Surface;
+    s.base_color = textureLoad(gb_albedo, px, 0).rgb;
+    let mat = textureLoad(gb_material, px, 0);
+    s.metallic = mat.x;
+    s.smoothness = mat.y;
+    s.specular = m.specular.rgb;
+    s.params0 = m.model0;
+    s.params1 = m.model1;
+    let nb = textureLoad(gb_normal, px, 0);
+    let n = normalize(nb.xyz * 2.0 - 1.0);
+    let v = normalize(frame.camera_pos.xyz - p);
+    var c = textureLoad(gb_lighting, px, 0).rgb;
+    for (var i = 0u; i < frame.counts.x; i++) {
+        let light = lights[i];
+        let inc = light_incidence(light, p);
+        if (inc.w > 0.0) {
+            let visible = shadow_visibility(light, p, n, inc.xyz, nb.a > 0.5);
+            if (visible > 0.0) {
+                light_min_roughness = light.params.w;
+                c += model_direct(s, n, v, inc.xyz) * light.color.rgb * (inc.w * visible);
+            }
+        }
+    }
+    return vec4<f32>(c, 1.0);
 }

@@ -33,6 +33,7 @@ struct Frame {
     sh: array<vec4<f32>, 9>,  // cosine-convolved SH of the environment: E(n)/π = Σ sh[i]·Y_i(n)
     env: vec4<f32>,           // x: probe levels − 1, y: radiance scale
     subject: Material,
+    fixed: Material,          // the fixed objects' model inputs besides the G-buffer's (deferred lighting)
 };
 
 struct Object {

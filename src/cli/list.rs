@@ -22,7 +22,15 @@ pub fn text(m: &Matrix) -> String {
     let _ = writeln!(out, "matrix `{}` ({}), sha256 {}", m.name, m.origin, &m.hash[..12]);
     for scene in &m.compositions {
         let plan = FramePlan::for_scene(scene);
-        let _ = writeln!(out, "composition {}: passes {}", scene.name, plan.passes.join(" → "));
+        for path in &m.paths {
+            let _ = writeln!(
+                out,
+                "composition {} ({}): passes {}",
+                scene.name,
+                path.name(),
+                plan.passes_for(*path).join(" → ")
+            );
+        }
         for (what, why) in &plan.left_out {
             let _ = writeln!(out, "  left out: {what}: {why}");
         }

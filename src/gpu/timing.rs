@@ -53,6 +53,24 @@ impl PassTimer {
         }
     }
 
+    /// The begin write of frame `slot`, for the first of several passes.
+    pub fn begin_write(&self, slot: u32) -> wgpu::RenderPassTimestampWrites<'_> {
+        wgpu::RenderPassTimestampWrites {
+            query_set: &self.query_set,
+            beginning_of_pass_write_index: Some(2 * slot),
+            end_of_pass_write_index: None,
+        }
+    }
+
+    /// The end write of frame `slot`, for the last of several passes.
+    pub fn end_write(&self, slot: u32) -> wgpu::RenderPassTimestampWrites<'_> {
+        wgpu::RenderPassTimestampWrites {
+            query_set: &self.query_set,
+            beginning_of_pass_write_index: None,
+            end_of_pass_write_index: Some(2 * slot + 1),
+        }
+    }
+
     /// Resolve the first `frames` pairs into the readback buffer (encode after the last pass).
     pub fn encode_resolve(&self, encoder: &mut wgpu::CommandEncoder, frames: u32) {
         encoder.resolve_query_set(&self.query_set, 0..2 * frames, &self.resolve, 0);

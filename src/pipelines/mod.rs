@@ -120,20 +120,23 @@ impl Pipeline {
     }
 }
 
-/// Rendering path. Only forward exists so far; deferred slots in here.
+/// Rendering path: forward (lights per object, with each pipeline's budget) or deferred (a
+/// G-buffer lit in screen space, every light per pixel; `render::deferred`). Every pipeline has both.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum RenderPath {
     #[default]
     Forward,
+    Deferred,
 }
 
 impl RenderPath {
-    pub const ALL: [RenderPath; 1] = [RenderPath::Forward];
+    pub const ALL: [RenderPath; 2] = [RenderPath::Forward, RenderPath::Deferred];
 
     pub fn name(self) -> &'static str {
         match self {
             RenderPath::Forward => "forward",
+            RenderPath::Deferred => "deferred",
         }
     }
 

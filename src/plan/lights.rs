@@ -10,6 +10,7 @@
 //! - URP forward: the main light (brightest directional) plus additional lights up to the
 //!   per-object limit (URP asset default 4, at most 8), brightest first; the rest are not rendered.
 //! - HDRP: the clustered light loop has no per-object limit: every light is per-pixel.
+//! - Deferred (every pipeline): the G-buffer is lit in screen space, every light per pixel.
 //!
 //! "Brightness at the object" is the luminance of the light's colour × intensity in the pipeline's
 //! units times its distance attenuation at the object's bounds centre (1 for directional lights).
@@ -148,12 +149,17 @@ fn by_brightness(pipeline: Pipeline, lights: &[Light], centre: DVec3, mut candid
 
 fn assign_object(
     pipeline: Pipeline,
-    _path: RenderPath,
+    path: RenderPath,
     budget: &LightBudget,
     lights: &[Light],
     centre: DVec3,
 ) -> Vec<LightUse> {
     let mut out: Vec<Option<LightUse>> = vec![None; lights.len()];
+    if path == RenderPath::Deferred {
+        return (0..lights.len())
+            .map(|i| use_(i, LightMode::PerPixel, "deferred lighting has no per-object limit"))
+            .collect();
+    }
     match pipeline {
         Pipeline::Hdrp => {
             for (i, slot) in out.iter_mut().enumerate() {

@@ -18,6 +18,26 @@ pub struct FramePlan {
 }
 
 impl FramePlan {
+    /// The passes of a frame on `path`: forward draws every object lit in one pass; deferred fills
+    /// the G-buffer, lights it in screen space, then draws forward what the G-buffer cannot carry
+    /// (per-vertex and ForwardBase-only models) with the background.
+    pub fn passes_for(&self, path: crate::pipelines::RenderPath) -> Vec<&'static str> {
+        let mut passes: Vec<&'static str> = Vec::new();
+        if self.passes.contains(&"shadow") {
+            passes.push("shadow");
+        }
+        match path {
+            crate::pipelines::RenderPath::Forward => passes.push("forward"),
+            crate::pipelines::RenderPath::Deferred => {
+                passes.extend(["gbuffer", "deferred lighting", "forward (models the G-buffer cannot carry)"])
+            }
+        }
+        if self.background {
+            passes.push("background");
+        }
+        passes
+    }
+
     pub fn for_scene(scene: &Scene) -> FramePlan {
         let mut passes = vec!["forward"];
         let mut left_out = Vec::new();

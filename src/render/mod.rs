@@ -2,6 +2,7 @@
 //! (pipeline, model) pair, and per-cell frames that only rewrite uniforms.
 
 pub mod camera;
+pub mod deferred;
 pub mod luts;
 pub mod probe;
 pub mod renderer;

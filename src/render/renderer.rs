@@ -8,6 +8,7 @@ use std::time::Instant;
 use wgpu::util::DeviceExt;
 
 use super::camera::{posed_camera, posed_key_light, view_projection, ViewAxes};
+use super::deferred::{deferrable, GBuffer};
 use super::shadows::{light_layers, shadow_slot, SHADOW_FORMAT};
 use super::uniforms::*;
 use crate::environment::EnvironmentMaps;
@@ -122,6 +123,7 @@ pub struct PreparedScene {
 struct Targets {
     width: u32,
     height: u32,
+    gbuffer: GBuffer,
     color: wgpu::Texture,
     role: wgpu::Texture,
     depth_view: wgpu::TextureView,
@@ -144,6 +146,10 @@ pub struct Renderer {
     background: Option<wgpu::RenderPipeline>,
     shadow_layer_layout: wgpu::BindGroupLayout,
     shadow_pipeline: wgpu::RenderPipeline,
+    gbuffer_read_layout: wgpu::BindGroupLayout,
+    deferred_layout: wgpu::PipelineLayout,
+    gbuffer_pipelines: HashMap<(Pipeline, String), wgpu::RenderPipeline>,
+    lighting_pipelines: HashMap<(Pipeline, String, u32), wgpu::RenderPipeline>,
     shadow_sampler: wgpu::Sampler,
     targets: Option<Targets>,
     timer: Option<PassTimer>,
@@ -251,6 +257,12 @@ impl Renderer {
             }],
         });
         let shadow_pipeline = shadow_pipeline(&gpu, &shadow_layer_layout, &object_layout);
+        let gbuffer_read_layout = super::deferred::read_layout(device);
+        let deferred_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("deferred lighting"),
+            bind_group_layouts: &[Some(&frame_layout), Some(&object_layout), Some(&gbuffer_read_layout)],
+            immediate_size: 0,
+        });
         Renderer {
             gpu,
             frame_layout,
@@ -264,6 +276,10 @@ impl Renderer {
             shadow_layer_layout,
             shadow_pipeline,
             shadow_sampler,
+            gbuffer_read_layout,
+            deferred_layout,
+            gbuffer_pipelines: HashMap::new(),
+            lighting_pipelines: HashMap::new(),
             targets: None,
             timer: None,
         }
@@ -317,6 +333,94 @@ impl Renderer {
         });
         self.gpu.check_errors("creating a forward pipeline")?;
         self.forward.insert((pipeline, model.name.to_string()), p);
+        Ok(())
+    }
+
+    /// The deferred path's G-buffer pipeline of a model in a pipeline convention.
+    fn gbuffer_pipeline(&mut self, pipeline: Pipeline, model: &ShaderModel) -> Result<(), Error> {
+        let key = (pipeline, model.name.to_string());
+        if self.gbuffer_pipelines.contains_key(&key) {
+            return Ok(());
+        }
+        let source = wgsl::compose(wgsl::PassKind::Forward, Some(model));
+        let module = self.gpu.shader_module(&format!("gbuffer {}/{}", pipeline.name(), model.name), &source)?;
+        let constants = [("PIPELINE", pipeline.shader_id() as f64)];
+        let options = wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() };
+        let p = self.gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(&format!("gbuffer {}/{}", pipeline.name(), model.name)),
+            layout: Some(&self.pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_main"),
+                compilation_options: options.clone(),
+                buffers: &[Some(wgpu::VertexBufferLayout {
+                    array_stride: std::mem::size_of::<Vertex>() as u64,
+                    step_mode: wgpu::VertexStepMode::Vertex,
+                    attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4],
+                })],
+            },
+            primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Less),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_gbuffer"),
+                compilation_options: options,
+                targets: &[
+                    Some(super::deferred::GB_ALBEDO.into()),
+                    Some(super::deferred::GB_MATERIAL.into()),
+                    Some(super::deferred::normal_format(pipeline).into()),
+                    Some(super::deferred::GB_LIGHTING.into()),
+                    Some(ROLE_FORMAT.into()),
+                ],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        self.gpu.check_errors("creating a G-buffer pipeline")?;
+        self.gbuffer_pipelines.insert(key, p);
+        Ok(())
+    }
+
+    /// The deferred lighting pipeline shading the pixels of `role` with `model`.
+    fn lighting_pipeline(&mut self, pipeline: Pipeline, model: &ShaderModel, role: u8) -> Result<(), Error> {
+        let key = (pipeline, model.name.to_string(), role as u32);
+        if self.lighting_pipelines.contains_key(&key) {
+            return Ok(());
+        }
+        let source = wgsl::compose(wgsl::PassKind::Forward, Some(model));
+        let module = self.gpu.shader_module(&format!("deferred {}/{}", pipeline.name(), model.name), &source)?;
+        let constants = [("PIPELINE", pipeline.shader_id() as f64), ("DEFERRED_ROLE", role as f64)];
+        let options = wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() };
+        let p = self.gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(&format!("deferred lighting {}/{}", pipeline.name(), model.name)),
+            layout: Some(&self.deferred_layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_fullscreen"),
+                compilation_options: options.clone(),
+                buffers: &[],
+            },
+            primitive: Default::default(),
+            depth_stencil: None,
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_deferred"),
+                compilation_options: options,
+                targets: &[Some(HDR_FORMAT.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        self.gpu.check_errors("creating a deferred lighting pipeline")?;
+        self.lighting_pipelines.insert(key, p);
         Ok(())
     }
 
@@ -609,14 +713,22 @@ impl Renderer {
             };
             let attach = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
             let color = make("hdr", HDR_FORMAT, attach);
-            let role = make("role", ROLE_FORMAT, attach);
-            let depth = make("depth", DEPTH_FORMAT, wgpu::TextureUsages::RENDER_ATTACHMENT);
+            let role = make("role", ROLE_FORMAT, attach | wgpu::TextureUsages::TEXTURE_BINDING);
+            let depth = make(
+                "depth",
+                DEPTH_FORMAT,
+                wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            );
+            let role_view = role.create_view(&Default::default());
+            let depth_view = depth.create_view(&Default::default());
+            let gbuffer = GBuffer::new(device, &self.gbuffer_read_layout, width, height, &role_view, &depth_view);
             self.targets = Some(Targets {
                 width,
                 height,
+                gbuffer,
                 color_view: color.create_view(&Default::default()),
-                role_view: role.create_view(&Default::default()),
-                depth_view: depth.create_view(&Default::default()),
+                role_view,
+                depth_view,
                 color_readback: TextureReadback::new(device, "hdr readback", width, height, 16),
                 role_readback: TextureReadback::new(device, "role readback", width, height, 1),
                 color,
@@ -641,6 +753,15 @@ impl Renderer {
         let subject_model = cell.model;
         self.forward_pipeline(cell.pipeline, subject_model)?;
         self.forward_pipeline(cell.pipeline, &fixed_model)?;
+        let deferred = cell.settings.path == RenderPath::Deferred;
+        if deferred {
+            for (model, role) in [(subject_model, ROLE_SUBJECT), (&*fixed_model, ROLE_FIXED)] {
+                if deferrable(model) {
+                    self.gbuffer_pipeline(cell.pipeline, model)?;
+                    self.lighting_pipeline(cell.pipeline, model, role)?;
+                }
+            }
+        }
         if prepared.plan.background {
             self.background_pipeline()?;
         }
@@ -660,7 +781,10 @@ impl Renderer {
             if prepared.shadows.active {
                 encode_shadow_passes(&mut encoder, &self.shadow_pipeline, prepared);
             }
-            {
+            let slot = timer.filter(|_| f >= warmup).map(|t| (t, f - warmup));
+            if deferred {
+                self.encode_deferred(&mut encoder, prepared, cell, &fixed_model, slot);
+            } else {
                 let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                     label: Some("forward"),
                     color_attachments: &[
@@ -739,6 +863,103 @@ impl Renderer {
             readback_ms,
             lights,
         })
+    }
+
+    /// One deferred frame: G-buffer, lighting per role, then what the G-buffer cannot carry drawn
+    /// forward, and the background. The frame's timestamps bracket all three passes.
+    fn encode_deferred(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        prepared: &PreparedScene,
+        cell: &CellParams,
+        fixed_model: &ShaderModel,
+        slot: Option<(&PassTimer, u32)>,
+    ) {
+        let p = cell.pipeline;
+        let t = self.targets.as_ref().expect("targets exist");
+        let gb = &t.gbuffer;
+        let color = |view, clear| {
+            Some(wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations { load: clear, store: wgpu::StoreOp::Store },
+            })
+        };
+        let clear = wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT);
+        let model_of = |o: &GpuObject| if o.role == Role::Subject { cell.model } else { fixed_model };
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("gbuffer"),
+                color_attachments: &[
+                    color(&gb.albedo, clear),
+                    color(&gb.material, clear),
+                    color(gb.normal(p), clear),
+                    color(&gb.lighting, clear),
+                    color(&t.role_view, clear),
+                ],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &t.depth_view,
+                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: slot.map(|(timer, s)| timer.begin_write(s)),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_bind_group(0, &prepared.frame_bind_group, &[]);
+            for (i, o) in prepared.objects.iter().enumerate().filter(|(_, o)| deferrable(model_of(o))) {
+                pass.set_pipeline(&self.gbuffer_pipelines[&(p, model_of(o).name.to_string())]);
+                pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
+                pass.set_vertex_buffer(0, o.vertices.slice(..));
+                pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);
+                pass.draw_indexed(0..o.index_count, 0, 0..1);
+            }
+        }
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("deferred lighting"),
+                color_attachments: &[color(&t.color_view, wgpu::LoadOp::Clear(wgpu::Color::BLACK))],
+                depth_stencil_attachment: None,
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_bind_group(0, &prepared.frame_bind_group, &[]);
+            pass.set_bind_group(1, &prepared.object_bind_group, &[0]);
+            pass.set_bind_group(2, gb.read(p), &[]);
+            for (model, role) in [(cell.model, ROLE_SUBJECT), (fixed_model, ROLE_FIXED)] {
+                if let Some(pipeline) = self.lighting_pipelines.get(&(p, model.name.to_string(), role as u32)) {
+                    pass.set_pipeline(pipeline);
+                    pass.draw(0..3, 0..1);
+                }
+            }
+        }
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("forward-only and background"),
+            color_attachments: &[color(&t.color_view, wgpu::LoadOp::Load), color(&t.role_view, wgpu::LoadOp::Load)],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &t.depth_view,
+                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Discard }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: slot.map(|(timer, s)| timer.end_write(s)),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_bind_group(0, &prepared.frame_bind_group, &[]);
+        pass.set_bind_group(1, &prepared.object_bind_group, &[0]);
+        for (i, o) in prepared.objects.iter().enumerate().filter(|(_, o)| !deferrable(model_of(o))) {
+            pass.set_pipeline(&self.forward[&(p, model_of(o).name.to_string())]);
+            pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
+            pass.set_vertex_buffer(0, o.vertices.slice(..));
+            pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(0..o.index_count, 0, 0..1);
+        }
+        if let (true, Some(bg)) = (prepared.plan.background, &self.background) {
+            pass.set_pipeline(bg);
+            pass.draw(0..3, 0..1);
+        }
     }
 
     /// Write the frame and object uniforms and the light buffers; returns the light assignment.
@@ -852,6 +1073,8 @@ impl Renderer {
             0.0,
         ];
         frame.subject = gpu_material(&cell.surface, GpuMaterial::zeroed());
+        let any = Sliders { base_color_linear: [1.0; 3], metallic: 0.0, smoothness: 0.5 };
+        frame.fixed = gpu_material(&fixed_model.surface(p, &any), GpuMaterial::zeroed());
         self.gpu.queue.write_buffer(&prepared.frame_buffer, 0, bytemuck::bytes_of(&frame));
         let mut objects = vec![0u8; (prepared.object_stride as usize) * prepared.objects.len()];
         for (i, o) in prepared.objects.iter().enumerate() {

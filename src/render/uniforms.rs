@@ -45,6 +45,9 @@ pub struct FrameUniforms {
     pub sh: [[f32; 4]; 9],
     pub env: [f32; 4],
     pub subject: GpuMaterial,
+    /// The fixed model's specular colour and parameters (the G-buffer holds colour, metallic and
+    /// smoothness).
+    pub fixed: GpuMaterial,
 }
 
 #[repr(C)]
@@ -73,7 +76,7 @@ mod tests {
         assert_eq!(std::mem::size_of::<GpuLight>(), 96);
         assert_eq!(std::mem::size_of::<ShadowLayer>(), 80);
         assert_eq!(std::mem::size_of::<GpuMaterial>(), 96);
-        assert_eq!(std::mem::size_of::<FrameUniforms>(), 64 + 64 + 16 + 16 + 144 + 16 + 96);
+        assert_eq!(std::mem::size_of::<FrameUniforms>(), 64 + 64 + 16 + 16 + 144 + 16 + 96 + 96);
         assert_eq!(std::mem::size_of::<ObjectUniforms>(), 64 + 64 + 96 + 16 + 144);
     }
 }

@@ -10,6 +10,7 @@ mod gallery;
 mod gltf_roundtrip;
 mod lights;
 mod models;
+mod paths;
 mod records;
 mod references;
 mod render_ci;

@@ -1,0 +1,105 @@
+//! Rendering paths: deferred renders what forward renders (within the G-buffer's quantisation),
+//! lights add up on the deferred path, and `list` shows each path's passes.
+
+use crate::common::{find_model, fixture, shadematrix, write_matrix};
+use shadematrix::gpu::GpuContext;
+use shadematrix::pipelines::{Pipeline, RenderPath};
+use shadematrix::render::{CellParams, CellSettings, Renderer};
+use shadematrix::report::run_data::RunData;
+use shadematrix::shading::registry::Sliders;
+use shadematrix::spec::scene::Scene;
+
+#[test]
+fn deferred_renders_like_forward_within_the_gbuffer_quantisation() {
+    let tmp = tempfile::tempdir().unwrap();
+    let m = write_matrix(
+        tmp.path(),
+        "m.toml",
+        "name = \"paths\"\ncompositions = [\"default\", \"mitsuba\"]\npipelines = [\"builtin\", \"urp\", \"hdrp\"]\n\
+         paths = [\"forward\", \"deferred\"]\nshaders = [\"standard\", \"lit\", \"torrance_sparrow\"]\npresets = [\"gold\", \"plastic\"]\n\
+         reference = { path = \"forward\" }\n[image]\nwidth = 96\nheight = 96\n",
+    );
+    let out = tmp.path().join("out");
+    let (code, _, err) = shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", out.to_str().unwrap()], &[]);
+    assert_eq!(code, 0, "{err}");
+    let run = RunData::load(&out).unwrap();
+    let deferred: Vec<_> = run.cells.iter().filter(|c| c.path == RenderPath::Deferred).collect();
+    assert_eq!(
+        deferred.len(),
+        2 * 4 * 2,
+        "2 compositions × (standard, torrance_sparrow, urp lit, hdrp lit) × 2 presets"
+    );
+    let mut worst: f64 = 0.0;
+    for c in deferred {
+        let flip = c.metrics.ldr_flip().unwrap_or_else(|| panic!("{}: no FLIP against forward", c.id));
+        eprintln!("{}: mean FLIP against forward {flip:.4}", c.id);
+        worst = worst.max(flip);
+    }
+    assert!(worst <= 0.02, "worst mean FLIP {worst}");
+}
+
+#[test]
+fn twelve_lights_add_up_on_the_deferred_path() {
+    let base = Scene::load_file(&fixture("twelve_points.toml")).unwrap();
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    for pipeline in [Pipeline::Builtin, Pipeline::Hdrp] {
+        let model = find_model(pipeline, "lambert").unwrap();
+        let sliders = Sliders { base_color_linear: [0.7, 0.6, 0.5], metallic: 0.0, smoothness: 0.5 };
+        let mut render = |scene: &Scene, intensity: f64| {
+            let prepared = renderer.prepare_scene(scene).unwrap();
+            let cell = CellParams {
+                pipeline,
+                model,
+                surface: model.surface(pipeline, &sliders),
+                light_intensity: intensity,
+                light_range: 8.0,
+                width: 49,
+                height: 49,
+                view: Default::default(),
+                settings: CellSettings { path: RenderPath::Deferred, light_budget: Default::default() },
+            };
+            renderer.render(&prepared, &cell, 1, 0).unwrap()
+        };
+        let key = base.lights[0].intensity;
+        let all = render(&base, key);
+        assert!(all.lights[0].lights.iter().all(|u| u.reason.contains("deferred")), "{:?}", all.lights);
+        let mut sum = vec![0.0f64; all.hdr.len()];
+        for i in 0..base.lights.len() {
+            let mut one = base.clone();
+            for (j, l) in one.lights.iter_mut().enumerate() {
+                if j != i {
+                    l.intensity = 0.0;
+                }
+            }
+            let r = render(&one, if i == 0 { key } else { 0.0 });
+            for (acc, v) in sum.iter_mut().zip(&r.hdr) {
+                *acc += *v as f64;
+            }
+        }
+        let mut worst: f64 = 0.0;
+        for (k, (a, s)) in all.hdr.iter().zip(&sum).enumerate() {
+            if k % 4 != 3 && *s > 1e-6 {
+                worst = worst.max((*a as f64 - s).abs() / s);
+            }
+        }
+        eprintln!("superposition of 12 lights, {} deferred: worst relative difference {worst:.2e}", pipeline.name());
+        assert!(worst < 1e-3, "{}: {worst}", pipeline.name());
+    }
+}
+
+#[test]
+fn list_shows_each_paths_passes() {
+    let tmp = tempfile::tempdir().unwrap();
+    let m = write_matrix(
+        tmp.path(),
+        "m.toml",
+        "name = \"p\"\ncompositions = [\"default\"]\npipelines = [\"urp\"]\npaths = [\"forward\", \"deferred\"]\nshaders = [\"lit\"]\npresets = [\"gold\"]\n",
+    );
+    let (code, out, err) = shadematrix(tmp.path(), &["list", m.to_str().unwrap()], &[]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("composition default (forward): passes shadow → forward → background"), "{out}");
+    assert!(
+        out.contains("composition default (deferred): passes shadow → gbuffer → deferred lighting → forward (models the G-buffer cannot carry) → background"),
+        "{out}"
+    );
+}
