@@ -18,7 +18,7 @@ use crate::plan::lights::ObjectLights;
 
 /// Version of the `cell.json` layout. 1: untyped, before versioning; 2: typed, written once with
 /// metrics; 3: the display transform (tonemapper, HDRP exposure mode, EV and multiplier), light
-/// units and the model parameters the sweep set.
+/// units, the model parameters the sweep set, the light assignment and GPU time per pass.
 pub const CELL_SCHEMA: u32 = 3;
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -165,8 +165,10 @@ pub struct CellTiming {
     /// Timed frames, after `warmup` untimed ones.
     pub frames: usize,
     pub warmup: u32,
-    /// GPU time of the render pass from timestamp queries, or why there is none.
+    /// GPU time of the frame from timestamp queries (its passes summed), or why there is none.
     pub gpu: Maybe<FrameSeries>,
+    /// GPU time of each pass of the frame (`kind` names the pass), or why there is none.
+    pub gpu_passes: Maybe<Vec<FrameSeries>>,
     /// CPU wall time from queue submit to device idle.
     pub cpu_wall: FrameSeries,
     pub readback_ms: f64,

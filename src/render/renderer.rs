@@ -65,6 +65,9 @@ pub struct CellRender {
     /// GPU time of the frame's render pass from timestamp queries, ms; None when the adapter has
     /// no timestamp queries.
     pub gpu_pass_ms: Option<Vec<f64>>,
+    /// GPU time of each timed pass per frame, ms, by pass name (`shadow`, `forward`, `gbuffer`,
+    /// `deferred lighting`, `forward-only and background`); None without timestamp queries.
+    pub gpu_passes: Option<Vec<(String, Vec<f64>)>>,
     /// CPU time to map and copy the image back, ms.
     pub readback_ms: f64,
     /// How each light reached each object.
@@ -767,8 +770,19 @@ impl Renderer {
         }
         let lights = self.write_uniforms(prepared, cell, &fixed_model);
         self.targets(cell.width, cell.height);
-        if self.gpu.record.timestamp_queries && self.timer.as_ref().is_none_or(|t| t.capacity() < frames) {
-            self.timer = Some(PassTimer::new(&self.gpu.device, &self.gpu.queue, frames));
+        // The timed passes of a frame, in order: one span over the shadow layers, then the path's passes.
+        let mut pass_names: Vec<&'static str> = Vec::new();
+        if prepared.shadows.active {
+            pass_names.push("shadow");
+        }
+        pass_names.extend(if deferred {
+            &["gbuffer", "deferred lighting", "forward-only and background"][..]
+        } else {
+            &["forward"][..]
+        });
+        let per_frame = pass_names.len() as u32;
+        if self.gpu.record.timestamp_queries && self.timer.as_ref().is_none_or(|t| t.capacity() < frames * per_frame) {
+            self.timer = Some(PassTimer::new(&self.gpu.device, &self.gpu.queue, frames * per_frame));
         }
         let timer = self.timer.as_ref().filter(|_| self.gpu.record.timestamp_queries);
         let t = self.targets.as_ref().expect("targets exist");
@@ -778,12 +792,21 @@ impl Renderer {
         let mut frame_ms = Vec::with_capacity(frames as usize);
         for f in 0..total {
             let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
+            // Pair of timed pass k in this frame; None for warm-up frames.
+            let timed = |k: u32| timer.filter(|_| f >= warmup).map(|t| (t, (f - warmup) * per_frame + k));
+            let mut k = 0;
             if prepared.shadows.active {
-                encode_shadow_passes(&mut encoder, &self.shadow_pipeline, prepared);
+                encode_shadow_passes(&mut encoder, &self.shadow_pipeline, prepared, timed(k));
+                k += 1;
             }
-            let slot = timer.filter(|_| f >= warmup).map(|t| (t, f - warmup));
             if deferred {
-                self.encode_deferred(&mut encoder, prepared, cell, &fixed_model, slot);
+                self.encode_deferred(
+                    &mut encoder,
+                    prepared,
+                    cell,
+                    &fixed_model,
+                    [timed(k), timed(k + 1), timed(k + 2)],
+                );
             } else {
                 let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                     label: Some("forward"),
@@ -815,7 +838,7 @@ impl Renderer {
                         }),
                         stencil_ops: None,
                     }),
-                    timestamp_writes: timer.filter(|_| f >= warmup).map(|t| t.writes(f - warmup)),
+                    timestamp_writes: timed(k).map(|(t, pair)| t.writes(pair, true, true)),
                     occlusion_query_set: None,
                     multiview_mask: None,
                 });
@@ -837,7 +860,7 @@ impl Renderer {
                 t.color_readback.encode_copy(&mut encoder, &t.color);
                 t.role_readback.encode_copy(&mut encoder, &t.role);
                 if let Some(timer) = timer {
-                    timer.encode_resolve(&mut encoder, frames);
+                    timer.encode_resolve(&mut encoder, frames * per_frame);
                 }
             }
             let start = Instant::now();
@@ -851,7 +874,16 @@ impl Renderer {
         let hdr_bytes = t.color_readback.read(&self.gpu.device)?;
         let roles = t.role_readback.read(&self.gpu.device)?;
         let readback_ms = read_start.elapsed().as_secs_f64() * 1e3;
-        let gpu_pass_ms = timer.map(|t| t.read_ms(&self.gpu.device, frames)).transpose()?;
+        let pairs = timer.map(|t| t.read_ms(&self.gpu.device, frames * per_frame)).transpose()?;
+        let gpu_pass_ms =
+            pairs.as_ref().map(|p| p.chunks(per_frame as usize).map(|frame| frame.iter().sum()).collect());
+        let gpu_passes = pairs.as_ref().map(|p| {
+            pass_names
+                .iter()
+                .enumerate()
+                .map(|(k, name)| (name.to_string(), p.iter().skip(k).step_by(per_frame as usize).copied().collect()))
+                .collect()
+        });
         self.gpu.check_errors("rendering a cell")?;
         Ok(CellRender {
             width: cell.width,
@@ -860,6 +892,7 @@ impl Renderer {
             roles,
             frame_ms,
             gpu_pass_ms,
+            gpu_passes,
             readback_ms,
             lights,
         })
@@ -873,7 +906,7 @@ impl Renderer {
         prepared: &PreparedScene,
         cell: &CellParams,
         fixed_model: &ShaderModel,
-        slot: Option<(&PassTimer, u32)>,
+        timed: [Option<(&PassTimer, u32)>; 3],
     ) {
         let p = cell.pipeline;
         let t = self.targets.as_ref().expect("targets exist");
@@ -903,7 +936,7 @@ impl Renderer {
                     depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
                     stencil_ops: None,
                 }),
-                timestamp_writes: slot.map(|(timer, s)| timer.begin_write(s)),
+                timestamp_writes: timed[0].map(|(t, pair)| t.writes(pair, true, true)),
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
@@ -921,7 +954,7 @@ impl Renderer {
                 label: Some("deferred lighting"),
                 color_attachments: &[color(&t.color_view, wgpu::LoadOp::Clear(wgpu::Color::BLACK))],
                 depth_stencil_attachment: None,
-                timestamp_writes: None,
+                timestamp_writes: timed[1].map(|(t, pair)| t.writes(pair, true, true)),
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
@@ -943,7 +976,7 @@ impl Renderer {
                 depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Discard }),
                 stencil_ops: None,
             }),
-            timestamp_writes: slot.map(|(timer, s)| timer.end_write(s)),
+            timestamp_writes: timed[2].map(|(t, pair)| t.writes(pair, true, true)),
             occlusion_query_set: None,
             multiview_mask: None,
         });
@@ -1103,8 +1136,14 @@ impl Renderer {
 use bytemuck::Zeroable;
 
 /// Depth of every casting object into every shadow layer.
-fn encode_shadow_passes(encoder: &mut wgpu::CommandEncoder, pipeline: &wgpu::RenderPipeline, prepared: &PreparedScene) {
+fn encode_shadow_passes(
+    encoder: &mut wgpu::CommandEncoder,
+    pipeline: &wgpu::RenderPipeline,
+    prepared: &PreparedScene,
+    timed: Option<(&PassTimer, u32)>,
+) {
     let sh = &prepared.shadows;
+    let last = sh.layer_views.len().saturating_sub(1);
     for (layer, view) in sh.layer_views.iter().enumerate() {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("shadow"),
@@ -1114,7 +1153,10 @@ fn encode_shadow_passes(encoder: &mut wgpu::CommandEncoder, pipeline: &wgpu::Ren
                 depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
                 stencil_ops: None,
             }),
-            timestamp_writes: None,
+            // One timed span over every layer: begin on the first, end on the last.
+            timestamp_writes: timed
+                .filter(|_| layer == 0 || layer == last)
+                .map(|(t, pair)| t.writes(pair, layer == 0, layer == last)),
             occlusion_query_set: None,
             multiview_mask: None,
         });

@@ -9,8 +9,8 @@ use super::run_data::RunData;
 use crate::error::Error;
 use crate::fsutil::{write_atomic, write_json};
 
-/// Version of `tables/perf.json`.
-pub const PERF_SCHEMA: u32 = 1;
+/// Version of `tables/perf.json`. 2: GPU time per pass.
+pub const PERF_SCHEMA: u32 = 2;
 
 /// `tables/perf.json`.
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -42,6 +42,9 @@ pub struct PerfRow {
     pub frames: u64,
     /// Copied from another cell (the shader ignores the axes they differ in).
     pub twin: bool,
+    /// Median GPU time of each pass of the frame, ms, in frame order (empty without timestamps).
+    #[serde(default)]
+    pub gpu_passes: Vec<(String, f64)>,
 }
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -84,6 +87,11 @@ pub fn rows(run: &RunData) -> Vec<PerfRow> {
                 metrics_ms: t.metrics_ms,
                 frames: t.frames as u64,
                 twin: c.twin_of.is_some(),
+                gpu_passes: t
+                    .gpu_passes
+                    .value()
+                    .map(|ps| ps.iter().filter_map(|p| p.median_ms.map(|m| (p.kind.clone(), m))).collect())
+                    .unwrap_or_default(),
             }
         })
         .collect()
@@ -115,7 +123,7 @@ pub fn write(run: &RunData) -> Result<(), Error> {
     let groups = groups(&rows);
     let dir = run.dir.join("tables");
     let timing_kind = if rows.iter().any(|r| r.gpu_median_ms.is_some()) {
-        "GPU time of the forward render pass from timestamp queries"
+        "GPU time of the frame from timestamp queries (its passes summed; per pass in the last column)"
     } else {
         "no timestamp queries on this adapter: GPU columns are missing; CPU wall time (submit → idle) only"
     };
@@ -132,13 +140,13 @@ pub fn write(run: &RunData) -> Result<(), Error> {
             ms(g.cpu_wall_median_ms)
         );
     }
-    md.push_str("\n## Per cell\n\n| cell | GPU median | GPU min | GPU max | CPU wall median | readback | encode | metrics | frames |\n|---|---|---|---|---|---|---|---|---|\n");
+    md.push_str("\n## Per cell\n\n| cell | GPU median | GPU min | GPU max | CPU wall median | readback | encode | metrics | frames | GPU per pass (median) |\n|---|---|---|---|---|---|---|---|---|---|\n");
     let mut csv = String::from("cell,composition,pipeline,path,shader,twin,gpu_median_ms,gpu_min_ms,gpu_max_ms,cpu_wall_median_ms,readback_ms,encode_ms,metrics_ms,frames\n");
     for r in &rows {
         let twin = if r.twin { " (twin)" } else { "" };
         let _ = writeln!(
             md,
-            "| `{}`{twin} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            "| `{}`{twin} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
             r.id,
             ms(r.gpu_median_ms),
             ms(r.gpu_min_ms),
@@ -147,7 +155,12 @@ pub fn write(run: &RunData) -> Result<(), Error> {
             ms(r.readback_ms),
             ms(r.encode_ms),
             ms(r.metrics_ms),
-            r.frames
+            r.frames,
+            if r.gpu_passes.is_empty() {
+                "—".to_string()
+            } else {
+                r.gpu_passes.iter().map(|(name, m)| format!("{name} {m:.3}")).collect::<Vec<_>>().join("; ")
+            }
         );
         let o = |v: Option<f64>| v.map(|x| x.to_string()).unwrap_or_default();
         let _ = writeln!(

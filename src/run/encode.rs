@@ -64,8 +64,12 @@ pub fn encode_cell(matrix: &Matrix, dir: &Path, adapter: &str, job: RenderedCell
         frames: r.frame_ms.len(),
         warmup: matrix.timing.warmup,
         gpu: match &r.gpu_pass_ms {
-            Some(ms) => Maybe::Value(FrameSeries::new("timestamp_query: forward render pass, begin to end", ms)),
+            Some(ms) => Maybe::Value(FrameSeries::new("timestamp queries: every pass of the frame, summed", ms)),
             None => Maybe::missing("the adapter has no timestamp queries; see cpu_wall"),
+        },
+        gpu_passes: match &r.gpu_passes {
+            Some(passes) => Maybe::Value(passes.iter().map(|(name, ms)| FrameSeries::new(name.clone(), ms)).collect()),
+            None => Maybe::missing("the adapter has no timestamp queries"),
         },
         cpu_wall: FrameSeries::new("CPU wall time from queue submit to device idle", &r.frame_ms),
         readback_ms: r.readback_ms,
