@@ -103,3 +103,36 @@ fn list_shows_each_paths_passes() {
         "{out}"
     );
 }
+
+#[test]
+fn forward_time_grows_faster_with_the_light_count_than_deferred() {
+    // Six spheres drawn back to front: forward evaluates every light for every overdrawn fragment,
+    // deferred once per pixel. Ordering only: the slope of time against lights.
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let model = find_model(Pipeline::Hdrp, "lit").unwrap();
+    let sliders = Sliders { base_color_linear: [0.5; 3], metallic: 0.0, smoothness: 0.5 };
+    let mut time = |lights: u32, path: RenderPath| -> f64 {
+        let scene =
+            Scene::load_file(&crate::common::repo().join(format!("scenes/light_count/lights_{lights}.toml"))).unwrap();
+        let prepared = renderer.prepare_scene(&scene).unwrap();
+        let cell = CellParams {
+            pipeline: Pipeline::Hdrp,
+            model,
+            surface: model.surface(Pipeline::Hdrp, &sliders),
+            light_intensity: scene.lights[0].intensity,
+            light_range: 6.0,
+            width: 96,
+            height: 96,
+            view: Default::default(),
+            settings: CellSettings { path, light_budget: Default::default() },
+        };
+        let r = renderer.render(&prepared, &cell, 3, 1).unwrap();
+        let mut ms = r.gpu_pass_ms.unwrap_or(r.frame_ms);
+        ms.sort_by(|a, b| a.total_cmp(b));
+        ms[ms.len() / 2]
+    };
+    let forward = time(32, RenderPath::Forward) - time(1, RenderPath::Forward);
+    let deferred = time(32, RenderPath::Deferred) - time(1, RenderPath::Deferred);
+    eprintln!("31 more lights cost {forward:.2} ms forward, {deferred:.2} ms deferred");
+    assert!(forward > deferred, "forward {forward} ms vs deferred {deferred} ms");
+}
