@@ -40,6 +40,9 @@ fn vs_main(in: VertexIn) -> VertexOut {
 // (models.md#vertex-lights). Only built-in forward assigns vertex lights (plan::lights).
 fn vertex_lights(p: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
     var c = vec3<f32>(0.0);
+    if (VERTEX_LIT == 1u) {
+        return c;
+    }
     for (var i = 0u; i < frame.counts.x; i++) {
         if (light_mode(object.flags.z, i) != 1u) {
             continue;
@@ -139,6 +142,11 @@ fn shadow_visibility(light: Light, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, rec
     return mix(1.0, vis, light.shadow.z);
 }
 
+// 1: built-in's legacy vertex-lit path: shade() runs at the vertices and its lights are the ones
+// the plan marks per-vertex (up to 8, ShadeVertexLightsFull's count), evaluated with the model; no
+// shadows.
+override VERTEX_LIT: u32 = 0u;
+
 // 1: the model is a built-in ForwardBase-only shader, lit by the main directional light alone
 // (points and spots would need its ForwardAdd pass, which it does not have).
 override MAIN_LIGHT_ONLY: u32 = 0u;
@@ -154,13 +162,15 @@ fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>, vertex_gi: vec3<f32>) -> vec3<f
     }
     var c = vec3<f32>(0.0);
     for (var i = 0u; i < frame.counts.x; i++) {
-        if (light_mode(object.flags.z, i) != 0u || (MAIN_LIGHT_ONLY == 1u && i + 1u != frame.counts.y)) {
+        // The model's own lights: per-pixel ones, or on the vertex-lit path the per-vertex ones
+        let own = select(0u, 1u, VERTEX_LIT == 1u);
+        if (light_mode(object.flags.z, i) != own || (MAIN_LIGHT_ONLY == 1u && i + 1u != frame.counts.y)) {
             continue;
         }
         let light = lights[i];
         let inc = light_incidence(light, p);
         if (inc.w > 0.0) {
-            let visible = shadow_visibility(light, p, n, inc.xyz, object.flags.w != 0u);
+            let visible = shadow_visibility(light, p, n, inc.xyz, object.flags.w != 0u && VERTEX_LIT == 0u);
             if (visible > 0.0) {
                 light_min_roughness = light.params.w;
                 c += model_direct(s, n, v, inc.xyz) * light.color.rgb * (inc.w * visible);

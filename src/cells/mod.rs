@@ -125,6 +125,13 @@ pub fn expand(m: &Matrix) -> Expansion {
         let key = scene.key_light().map(|k| &scene.lights[k]);
         for &pipeline in &m.pipelines {
             for &path in &m.paths {
+                if !pipeline.paths().contains(&path) {
+                    pruned.push(PrunedCell {
+                        description: format!("{} × {} × {}", scene.name, pipeline.name(), path.name()),
+                        reason: format!("the {} pipeline has no {} path", pipeline.name(), path.name()),
+                    });
+                    continue;
+                }
                 for shader in &m.shaders {
                     let Some(model) = m.registry.find(pipeline, shader) else {
                         pruned.push(PrunedCell {

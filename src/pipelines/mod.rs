@@ -110,6 +110,14 @@ impl Pipeline {
         }
     }
 
+    /// The rendering paths the pipeline has: built-in also keeps its legacy vertex-lit path.
+    pub fn paths(self) -> &'static [RenderPath] {
+        match self {
+            Pipeline::Builtin => &[RenderPath::Forward, RenderPath::Deferred, RenderPath::VertexLit],
+            Pipeline::Urp | Pipeline::Hdrp => &[RenderPath::Forward, RenderPath::Deferred],
+        }
+    }
+
     /// The shader that fixed objects (walls, backdrop, inner ball) are drawn with: the pipeline's
     /// default lit shader, as a new material in that pipeline would be.
     pub fn fixed_object_shader(self) -> &'static str {
@@ -128,15 +136,18 @@ pub enum RenderPath {
     #[default]
     Forward,
     Deferred,
+    /// Built-in's legacy vertex-lit path: lighting at the vertices, up to 8 lights, no shadows.
+    VertexLit,
 }
 
 impl RenderPath {
-    pub const ALL: [RenderPath; 2] = [RenderPath::Forward, RenderPath::Deferred];
+    pub const ALL: [RenderPath; 3] = [RenderPath::Forward, RenderPath::Deferred, RenderPath::VertexLit];
 
     pub fn name(self) -> &'static str {
         match self {
             RenderPath::Forward => "forward",
             RenderPath::Deferred => "deferred",
+            RenderPath::VertexLit => "vertex_lit",
         }
     }
 

@@ -11,6 +11,8 @@
 //!   per-object limit (URP asset default 4, at most 8), brightest first; the rest are not rendered.
 //! - HDRP: the clustered light loop has no per-object limit: every light is per-pixel.
 //! - Deferred (every pipeline): the G-buffer is lit in screen space, every light per pixel.
+//! - Built-in vertex-lit: the 8 brightest lights at the vertices (ShadeVertexLightsFull), the
+//!   rest not rendered.
 //!
 //! "Brightness at the object" is the luminance of the light's colour × intensity in the pipeline's
 //! units times its distance attenuation at the object's bounds centre (1 for directional lights).
@@ -74,6 +76,9 @@ pub struct ObjectLights {
 
 /// Built-in forward's vertex lights (Shade4PointLights takes four).
 pub const VERTEX_LIGHT_COUNT: usize = 4;
+
+/// Built-in's legacy vertex-lit path: ShadeVertexLightsFull loops over 8 lights.
+pub const VERTEX_LIT_LIGHT_COUNT: usize = 8;
 
 /// The key light's values for this cell, and the lights as the cell sees them.
 pub fn cell_lights(scene: &Scene, key_intensity: f64, key_range: f64) -> Vec<Light> {
@@ -159,6 +164,21 @@ fn assign_object(
         return (0..lights.len())
             .map(|i| use_(i, LightMode::PerPixel, "deferred lighting has no per-object limit"))
             .collect();
+    }
+    if path == RenderPath::VertexLit {
+        let all: Vec<usize> = (0..lights.len()).collect();
+        for (rank, i) in by_brightness(pipeline, lights, centre, all).into_iter().enumerate() {
+            out[i] = Some(if rank < VERTEX_LIT_LIGHT_COUNT {
+                use_(
+                    i,
+                    LightMode::PerVertex,
+                    format!("vertex-lit path: light {} of {VERTEX_LIT_LIGHT_COUNT}", rank + 1),
+                )
+            } else {
+                use_(i, LightMode::Dropped, format!("beyond the vertex-lit path's {VERTEX_LIT_LIGHT_COUNT} lights"))
+            });
+        }
+        return out.into_iter().map(|u| u.expect("every light assigned")).collect();
     }
     match pipeline {
         Pipeline::Hdrp => {

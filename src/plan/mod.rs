@@ -23,11 +23,12 @@ impl FramePlan {
     /// (per-vertex and ForwardBase-only models) with the background.
     pub fn passes_for(&self, path: crate::pipelines::RenderPath) -> Vec<&'static str> {
         let mut passes: Vec<&'static str> = Vec::new();
-        if self.passes.contains(&"shadow") {
+        if self.passes.contains(&"shadow") && path != crate::pipelines::RenderPath::VertexLit {
             passes.push("shadow");
         }
         match path {
             crate::pipelines::RenderPath::Forward => passes.push("forward"),
+            crate::pipelines::RenderPath::VertexLit => passes.push("forward (lighting per vertex)"),
             crate::pipelines::RenderPath::Deferred => {
                 passes.extend(["gbuffer", "deferred lighting", "forward (models the G-buffer cannot carry)"])
             }

@@ -48,6 +48,10 @@ pub struct CellRecord {
     pub note: Option<String>,
     pub adapter: String,
     pub display: DisplayRecord,
+    /// The passes of this cell's frame, in order (`FramePlan::passes_for` its path), and what the
+    /// composition's plan left out and why.
+    pub passes: Vec<String>,
+    pub left_out: Vec<(String, String)>,
     /// How each light reached each object (per-pixel, per-vertex, SH, dropped) and why.
     pub lights: Vec<ObjectLights>,
     pub stats: PixelStats,

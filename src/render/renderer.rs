@@ -143,7 +143,7 @@ pub struct Renderer {
     pipeline_layout: wgpu::PipelineLayout,
     sampler: wgpu::Sampler,
     fgd: wgpu::TextureView,
-    forward: HashMap<(Pipeline, String), wgpu::RenderPipeline>,
+    forward: HashMap<(Pipeline, String, bool), wgpu::RenderPipeline>,
     /// Fixed objects are drawn with each pipeline's default lit shader, a built-in model.
     fixed_models: Registry,
     background: Option<wgpu::RenderPipeline>,
@@ -293,21 +293,28 @@ impl Renderer {
         self.forward.len() + self.background.is_some() as usize
     }
 
-    fn forward_pipeline(&mut self, pipeline: Pipeline, model: &ShaderModel) -> Result<(), Error> {
-        if self.forward.contains_key(&(pipeline, model.name.to_string())) {
+    /// The forward pipeline of a model; `vertex_lit`: built-in's legacy vertex-lit path, which
+    /// evaluates the lighting at the vertices (Gouraud) with its own light list.
+    fn forward_pipeline(&mut self, pipeline: Pipeline, model: &ShaderModel, vertex_lit: bool) -> Result<(), Error> {
+        let key = (pipeline, model.name.to_string(), vertex_lit);
+        if self.forward.contains_key(&key) {
             return Ok(());
         }
+        let per_vertex = model.per_vertex || vertex_lit;
         let source = wgsl::compose(wgsl::PassKind::Forward, Some(model));
         let module = self.gpu.shader_module(&format!("forward {}/{}", pipeline.name(), model.name), &source)?;
-        let constants =
-            [("PIPELINE", pipeline.shader_id() as f64), ("MAIN_LIGHT_ONLY", model.main_light_only as u32 as f64)];
+        let constants = [
+            ("PIPELINE", pipeline.shader_id() as f64),
+            ("MAIN_LIGHT_ONLY", model.main_light_only as u32 as f64),
+            ("VERTEX_LIT", vertex_lit as u32 as f64),
+        ];
         let options = wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() };
         let p = self.gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(&format!("forward {}/{}", pipeline.name(), model.name)),
             layout: Some(&self.pipeline_layout),
             vertex: wgpu::VertexState {
                 module: &module,
-                entry_point: Some(if model.per_vertex { "vs_gouraud" } else { "vs_main" }),
+                entry_point: Some(if per_vertex { "vs_gouraud" } else { "vs_main" }),
                 compilation_options: options.clone(),
                 buffers: &[Some(wgpu::VertexBufferLayout {
                     array_stride: std::mem::size_of::<Vertex>() as u64,
@@ -327,7 +334,7 @@ impl Renderer {
             multisample: Default::default(),
             fragment: Some(wgpu::FragmentState {
                 module: &module,
-                entry_point: Some(if model.per_vertex { "fs_gouraud" } else { "fs_main" }),
+                entry_point: Some(if per_vertex { "fs_gouraud" } else { "fs_main" }),
                 compilation_options: options,
                 targets: &[Some(HDR_FORMAT.into()), Some(ROLE_FORMAT.into())],
             }),
@@ -335,7 +342,7 @@ impl Renderer {
             cache: None,
         });
         self.gpu.check_errors("creating a forward pipeline")?;
-        self.forward.insert((pipeline, model.name.to_string()), p);
+        self.forward.insert(key, p);
         Ok(())
     }
 
@@ -754,9 +761,10 @@ impl Renderer {
                 Error::Other(format!("pipeline {} lacks its fixed-object shader", cell.pipeline.name()))
             })?;
         let subject_model = cell.model;
-        self.forward_pipeline(cell.pipeline, subject_model)?;
-        self.forward_pipeline(cell.pipeline, &fixed_model)?;
         let deferred = cell.settings.path == RenderPath::Deferred;
+        let vertex_lit = cell.settings.path == RenderPath::VertexLit;
+        self.forward_pipeline(cell.pipeline, subject_model, vertex_lit)?;
+        self.forward_pipeline(cell.pipeline, &fixed_model, vertex_lit)?;
         if deferred {
             for (model, role) in [(subject_model, ROLE_SUBJECT), (&*fixed_model, ROLE_FIXED)] {
                 if deferrable(model) {
@@ -771,8 +779,10 @@ impl Renderer {
         let lights = self.write_uniforms(prepared, cell, &fixed_model);
         self.targets(cell.width, cell.height);
         // The timed passes of a frame, in order: one span over the shadow layers, then the path's passes.
+        // The vertex-lit path has no shadows (Unity's legacy vertex-lit renders none).
+        let shadows = prepared.shadows.active && !vertex_lit;
         let mut pass_names: Vec<&'static str> = Vec::new();
-        if prepared.shadows.active {
+        if shadows {
             pass_names.push("shadow");
         }
         pass_names.extend(if deferred {
@@ -786,8 +796,8 @@ impl Renderer {
         }
         let timer = self.timer.as_ref().filter(|_| self.gpu.record.timestamp_queries);
         let t = self.targets.as_ref().expect("targets exist");
-        let subject_pipeline = &self.forward[&(cell.pipeline, subject_model.name.to_string())];
-        let fixed_pipeline = &self.forward[&(cell.pipeline, fixed_model.name.to_string())];
+        let subject_pipeline = &self.forward[&(cell.pipeline, subject_model.name.to_string(), vertex_lit)];
+        let fixed_pipeline = &self.forward[&(cell.pipeline, fixed_model.name.to_string(), vertex_lit)];
         let total = warmup + frames;
         let mut frame_ms = Vec::with_capacity(frames as usize);
         for f in 0..total {
@@ -795,7 +805,7 @@ impl Renderer {
             // Pair of timed pass k in this frame; None for warm-up frames.
             let timed = |k: u32| timer.filter(|_| f >= warmup).map(|t| (t, (f - warmup) * per_frame + k));
             let mut k = 0;
-            if prepared.shadows.active {
+            if shadows {
                 encode_shadow_passes(&mut encoder, &self.shadow_pipeline, prepared, timed(k));
                 k += 1;
             }
@@ -983,7 +993,7 @@ impl Renderer {
         pass.set_bind_group(0, &prepared.frame_bind_group, &[]);
         pass.set_bind_group(1, &prepared.object_bind_group, &[0]);
         for (i, o) in prepared.objects.iter().enumerate().filter(|(_, o)| !deferrable(model_of(o))) {
-            pass.set_pipeline(&self.forward[&(p, model_of(o).name.to_string())]);
+            pass.set_pipeline(&self.forward[&(p, model_of(o).name.to_string(), false)]);
             pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
             pass.set_vertex_buffer(0, o.vertices.slice(..));
             pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);

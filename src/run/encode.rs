@@ -131,6 +131,7 @@ fn cell_record(
     stats: PixelStats,
     timing: CellTiming,
 ) -> CellRecord {
+    let plan = crate::plan::FramePlan::for_scene(&matrix.compositions[cell.composition_index]);
     CellRecord {
         schema: CELL_SCHEMA,
         id: cell.id.clone(),
@@ -155,6 +156,8 @@ fn cell_record(
         note: None,
         adapter: adapter.to_string(),
         display,
+        passes: plan.passes_for(cell.path).iter().map(|p| p.to_string()).collect(),
+        left_out: plan.left_out,
         lights: Vec::new(),
         stats,
         timing,

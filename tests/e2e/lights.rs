@@ -190,3 +190,51 @@ fn each_pipeline_falls_off_as_its_source_says() {
         }
     }
 }
+
+#[test]
+fn the_vertex_lit_path_lights_eight_lights_at_the_vertices_and_drops_the_rest() {
+    use shadematrix::pipelines::RenderPath;
+    use shadematrix::render::CellSettings;
+    let base = Scene::load_file(&fixture("twelve_points.toml")).unwrap();
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let model = find_model(Pipeline::Builtin, "lambert").unwrap();
+    let sliders = Sliders { base_color_linear: [0.7, 0.6, 0.5], metallic: 0.0, smoothness: 0.5 };
+    let mut render = |scene: &Scene, intensity: f64| {
+        let prepared = renderer.prepare_scene(scene).unwrap();
+        let cell = CellParams {
+            pipeline: Pipeline::Builtin,
+            model,
+            surface: model.surface(Pipeline::Builtin, &sliders),
+            light_intensity: intensity,
+            light_range: 8.0,
+            width: SIZE,
+            height: SIZE,
+            view: Default::default(),
+            settings: CellSettings { path: RenderPath::VertexLit, light_budget: Default::default() },
+        };
+        renderer.render(&prepared, &cell, 1, 0).unwrap()
+    };
+    let all = render(&base, base.lights[0].intensity);
+    let count = |m: LightMode| all.lights[0].lights.iter().filter(|u| u.mode == m).count();
+    assert_eq!((count(LightMode::PerVertex), count(LightMode::Dropped)), (8, 4), "{:?}", all.lights);
+    // One light: the model's own Lambert term at the vertex under the image centre.
+    let mut one = base.clone();
+    one.lights.truncate(1);
+    one.lights[0].position = [0.3, 1.1, -0.2];
+    let r = render(&one, 1.5);
+    let l = &one.lights[0];
+    let c = DVec3::from(Pipeline::Builtin.light_radiance(l.color, 1.5, l.emitter()));
+    let to = DVec3::from(l.position);
+    let atten = Pipeline::Builtin.attenuation().eval(to.length(), 8.0);
+    let want = model.twin.unwrap().direct(
+        Pipeline::Builtin,
+        &model.surface(Pipeline::Builtin, &sliders),
+        DVec3::Y,
+        DVec3::Y,
+        to.normalize(),
+    ) * c
+        * atten;
+    let got = centre(&r);
+    let rel = ((got - want).abs() / want).max_element();
+    assert!(rel < 1e-2, "vertex-lit: GPU {got} vs twin {want} (rel {rel:e})");
+}
