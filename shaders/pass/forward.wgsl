@@ -102,7 +102,23 @@ fn shadow_visibility(light: Light, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, rec
         return 1.0;
     }
     var index = u32(light.shadow.x);
-    if (u32(light.position.w) == 1u) {
+    if (u32(light.position.w) == 0u) {
+        // Directional: the first cascade whose sphere holds p; beyond the last, no shadow
+        let count = u32(light.shadow.y);
+        var found = false;
+        for (var c = 0u; c < count; c++) {
+            let sphere = shadow_layers[index + c].sphere;
+            let d = p - sphere.xyz;
+            if (dot(d, d) < sphere.w * sphere.w) {
+                index += c;
+                found = true;
+                break;
+            }
+        }
+        if (!found) {
+            return 1.0;
+        }
+    } else if (u32(light.position.w) == 1u) {
         // A point light's cube: the face of the major axis, in the order +X, −X, +Y, −Y, +Z, −Z
         let d = p - light.position.xyz;
         let a = abs(d);

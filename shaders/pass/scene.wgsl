@@ -14,6 +14,7 @@ struct Light {
 struct ShadowLayer {
     view_proj: mat4x4<f32>,
     params: vec4<f32>,
+    sphere: vec4<f32>,     // directional cascades: the bounding sphere of the frustum slice it covers
 };
 
 struct Material {

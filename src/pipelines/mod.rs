@@ -110,6 +110,18 @@ impl Pipeline {
         }
     }
 
+    /// The directional-light shadow cascades each pipeline ships with: built-in QualitySettings
+    /// (4 cascades, 150 m, splits 0.067/0.2/0.467), URP's asset (1 cascade, 50 m:
+    /// UniversalRenderPipelineAsset m_ShadowCascadeCount = 1, m_ShadowDistance = 50), HDRP's
+    /// HDShadowSettings (4 cascades, 500 m, splits 0.05/0.15/0.3).
+    pub fn shadow_cascades(self) -> ShadowCascades {
+        match self {
+            Pipeline::Builtin => ShadowCascades { splits: vec![0.067, 0.2, 0.467, 1.0], max_distance: 150.0 },
+            Pipeline::Urp => ShadowCascades { splits: vec![1.0], max_distance: 50.0 },
+            Pipeline::Hdrp => ShadowCascades { splits: vec![0.05, 0.15, 0.3, 1.0], max_distance: 500.0 },
+        }
+    }
+
     /// The rendering paths the pipeline has: built-in also keeps its legacy vertex-lit path.
     pub fn paths(self) -> &'static [RenderPath] {
         match self {
@@ -291,6 +303,17 @@ pub enum Emitter {
         reflector: bool,
     },
 }
+
+/// Cascaded shadow maps of a directional light: each cascade's far edge as a fraction of the
+/// shadow distance (the last is 1); beyond the distance nothing is shadowed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ShadowCascades {
+    pub splits: Vec<f64>,
+    pub max_distance: f64,
+}
+
+/// Most cascades any pipeline uses (the layers a directional light reserves).
+pub const MAX_CASCADES: usize = 4;
 
 /// HDRP's default light shapes (HDAdditionalLightData): point/spot radius 0.025 m, sun 0.5°.
 pub const HDRP_DEFAULT_SHAPE_RADIUS: f64 = 0.025;

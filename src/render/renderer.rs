@@ -9,7 +9,7 @@ use wgpu::util::DeviceExt;
 
 use super::camera::{posed_camera, posed_key_light, view_projection, ViewAxes};
 use super::deferred::{deferrable, GBuffer};
-use super::shadows::{light_layers, shadow_slot, SHADOW_FORMAT};
+use super::shadows::{light_layers, shadow_slot, CascadeView, SHADOW_FORMAT};
 use super::uniforms::*;
 use crate::environment::EnvironmentMaps;
 use crate::error::Error;
@@ -635,7 +635,11 @@ impl Renderer {
         for l in &scene.lights {
             if active && l.shadows {
                 first_layer.push(Some(count));
-                count += if l.kind == LightKind::Point { 6 } else { 1 };
+                count += match l.kind {
+                    LightKind::Point => 6,
+                    LightKind::Directional => crate::pipelines::MAX_CASCADES,
+                    LightKind::Spot => 1,
+                };
                 resolution = resolution.max(l.shadow.resolution);
             } else {
                 first_layer.push(None);
@@ -776,11 +780,11 @@ impl Renderer {
         if prepared.plan.background {
             self.background_pipeline()?;
         }
-        let lights = self.write_uniforms(prepared, cell, &fixed_model);
+        let (lights, shadow_layers) = self.write_uniforms(prepared, cell, &fixed_model);
         self.targets(cell.width, cell.height);
         // The timed passes of a frame, in order: one span over the shadow layers, then the path's passes.
         // The vertex-lit path has no shadows (Unity's legacy vertex-lit renders none).
-        let shadows = prepared.shadows.active && !vertex_lit;
+        let shadows = prepared.shadows.active && !vertex_lit && !shadow_layers.is_empty();
         let mut pass_names: Vec<&'static str> = Vec::new();
         if shadows {
             pass_names.push("shadow");
@@ -806,7 +810,7 @@ impl Renderer {
             let timed = |k: u32| timer.filter(|_| f >= warmup).map(|t| (t, (f - warmup) * per_frame + k));
             let mut k = 0;
             if shadows {
-                encode_shadow_passes(&mut encoder, &self.shadow_pipeline, prepared, timed(k));
+                encode_shadow_passes(&mut encoder, &self.shadow_pipeline, prepared, &shadow_layers, timed(k));
                 k += 1;
             }
             if deferred {
@@ -1005,13 +1009,14 @@ impl Renderer {
         }
     }
 
-    /// Write the frame and object uniforms and the light buffers; returns the light assignment.
+    /// Write the frame and object uniforms and the light buffers; returns the light assignment
+    /// and the shadow layers this cell renders.
     fn write_uniforms(
         &self,
         prepared: &PreparedScene,
         cell: &CellParams,
         fixed_model: &ShaderModel,
-    ) -> Vec<ObjectLights> {
+    ) -> (Vec<ObjectLights>, Vec<usize>) {
         let scene = &prepared.scene;
         let p = cell.pipeline;
         let aspect = cell.width as f64 / cell.height as f64;
@@ -1029,7 +1034,10 @@ impl Renderer {
         }
         let assignment = assign(p, cell.settings.path, &cell.settings.light_budget, &lights, &prepared.object_centres);
         let sh = &prepared.shadows;
-        let mut shadow_layers: Vec<ShadowLayer> = Vec::new();
+        // Indexed by layer: a light's layers sit from its first layer on (a directional light
+        // reserves MAX_CASCADES and uses its pipeline's count).
+        let mut shadow_layers: Vec<ShadowLayer> = vec![ShadowLayer::zeroed(); sh.layer_views.len()];
+        let mut used_layers: Vec<usize> = Vec::new();
         let mut gpu_lights = Vec::with_capacity(lights.len());
         let mut colors = Vec::with_capacity(lights.len());
         let mut main_light: Option<(usize, f64)> = None;
@@ -1050,9 +1058,15 @@ impl Renderer {
             let first = sh.first_layer[slot];
             let mut layer_count = 0;
             if first.is_some() {
-                let layers = light_layers(l, sh.resolution, sh.scene_bounds);
+                let cascades = p.shadow_cascades();
+                let cascade_view = CascadeView { camera: &camera, aspect, cascades: &cascades };
+                let layers = light_layers(l, sh.resolution, sh.scene_bounds, &cascade_view);
+                let at = first.unwrap_or(0);
+                used_layers.extend(at..at + layers.len());
                 layer_count = layers.len();
-                shadow_layers.extend(layers);
+                for (k, layer) in layers.into_iter().enumerate() {
+                    shadow_layers[at + k] = layer;
+                }
             }
             let (shadow, shadow_bias) = shadow_slot(l, first, layer_count);
             gpu_lights.push(GpuLight {
@@ -1067,7 +1081,7 @@ impl Renderer {
         if !gpu_lights.is_empty() {
             self.gpu.queue.write_buffer(&prepared.lights_buffer, 0, bytemuck::cast_slice(&gpu_lights));
         }
-        if !shadow_layers.is_empty() {
+        if !used_layers.is_empty() {
             self.gpu.queue.write_buffer(&sh.layers_storage, 0, bytemuck::cast_slice(&shadow_layers));
             let mut slots = vec![0u8; (sh.layer_stride as usize) * shadow_layers.len()];
             for (i, layer) in shadow_layers.iter().enumerate() {
@@ -1139,7 +1153,7 @@ impl Renderer {
             objects[at..at + std::mem::size_of::<ObjectUniforms>()].copy_from_slice(bytemuck::bytes_of(&u));
         }
         self.gpu.queue.write_buffer(&prepared.object_buffer, 0, &objects);
-        assignment
+        (assignment, used_layers)
     }
 }
 
@@ -1150,11 +1164,13 @@ fn encode_shadow_passes(
     encoder: &mut wgpu::CommandEncoder,
     pipeline: &wgpu::RenderPipeline,
     prepared: &PreparedScene,
+    layers: &[usize],
     timed: Option<(&PassTimer, u32)>,
 ) {
     let sh = &prepared.shadows;
-    let last = sh.layer_views.len().saturating_sub(1);
-    for (layer, view) in sh.layer_views.iter().enumerate() {
+    let last = layers.len().saturating_sub(1);
+    for (n, &layer) in layers.iter().enumerate() {
+        let view = &sh.layer_views[layer];
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("shadow"),
             color_attachments: &[],
@@ -1164,9 +1180,7 @@ fn encode_shadow_passes(
                 stencil_ops: None,
             }),
             // One timed span over every layer: begin on the first, end on the last.
-            timestamp_writes: timed
-                .filter(|_| layer == 0 || layer == last)
-                .map(|(t, pair)| t.writes(pair, layer == 0, layer == last)),
+            timestamp_writes: timed.filter(|_| n == 0 || n == last).map(|(t, pair)| t.writes(pair, n == 0, n == last)),
             occlusion_query_set: None,
             multiview_mask: None,
         });

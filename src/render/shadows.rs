@@ -2,21 +2,36 @@
 //! faces) per point light, in one depth texture array, re-rendered every frame as an engine does.
 //! The forward pass samples them with a comparison sampler: one bilinear tap (hard) or 3×3
 //! bilinear taps (soft), the receiver offset along its normal and towards the light by the light's
-//! biases in shadow-map texels. APPROXIMATIONS, stated: one map per directional light fitted to the
-//! whole scene (no cascades yet); Unity's soft-shadow tent filters are stood in for by the 3×3 PCF.
+//! biases in shadow-map texels. Directional lights have each pipeline's cascades
+//! (`Pipeline::shadow_cascades`): each covers a slice of the camera frustum by view depth, fitted
+//! with its bounding sphere (Unity's "stable fit"), its depth range stretched back to every caster.
+//! APPROXIMATION, stated: Unity's soft-shadow tent filters are stood in for by the 3×3 PCF.
 
 use glam::{DMat4, DVec3};
 
 use super::uniforms::ShadowLayer;
-use crate::spec::scene::{Light, LightKind};
+use crate::pipelines::ShadowCascades;
+use crate::spec::scene::{Camera, Light, LightKind};
 
 pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// Near plane of spot and point shadow frusta, metres.
 const SHADOW_NEAR: f64 = 0.02;
 
+/// What a directional light's cascades are fitted to: the camera and the cascades of the pipeline.
+pub struct CascadeView<'a> {
+    pub camera: &'a Camera,
+    pub aspect: f64,
+    pub cascades: &'a ShadowCascades,
+}
+
 /// The layers of one light: view-projection matrices and the texel size they imply.
-pub fn light_layers(light: &Light, resolution: u32, scene_bounds: (DVec3, DVec3)) -> Vec<ShadowLayer> {
+pub fn light_layers(
+    light: &Light,
+    resolution: u32,
+    scene_bounds: (DVec3, DVec3),
+    view: &CascadeView,
+) -> Vec<ShadowLayer> {
     let up_for = |dir: DVec3| if dir.cross(DVec3::Y).length() < 1e-6 { DVec3::Z } else { DVec3::Y };
     let res = resolution as f64;
     let perspective = |eye: DVec3, dir: DVec3, fov: f64, up: DVec3, far: f64| {
@@ -29,12 +44,37 @@ pub fn light_layers(light: &Light, resolution: u32, scene_bounds: (DVec3, DVec3)
         LightKind::Directional => {
             let dir = DVec3::from(light.direction).normalize();
             let (lo, hi) = scene_bounds;
-            let centre = (lo + hi) * 0.5;
-            let radius = ((hi - lo).length() * 0.5).max(1e-3);
-            let eye = centre - dir * radius * 2.0;
-            let view = DMat4::look_at_rh(eye, centre, up_for(dir));
-            let proj = DMat4::orthographic_rh(-radius, radius, -radius, radius, radius, radius * 3.0);
-            vec![layer(proj * view, [(2.0 * radius / res) as f32, 0.0, 0.0, 0.0])]
+            let scene_centre = (lo + hi) * 0.5;
+            let scene_radius = ((hi - lo).length() * 0.5).max(1e-3);
+            let cam = view.camera;
+            let eye = DVec3::from(cam.position);
+            let forward = (DVec3::from(cam.target) - eye).normalize();
+            let tan_y = (cam.fov_y_deg.to_radians() * 0.5).tan();
+            let tan_x = tan_y * view.aspect;
+            let mut near = cam.near;
+            view.cascades
+                .splits
+                .iter()
+                .map(|split| {
+                    let far = split * view.cascades.max_distance;
+                    // Bounding sphere of the frustum slice [near, far]: on the axis, at the point
+                    // equidistant from the near and far corners (or at the far centre when closer).
+                    let k2 = tan_x * tan_x + tan_y * tan_y;
+                    let z = ((far * far - near * near) * (1.0 + k2) / (2.0 * (far - near))).min(far);
+                    let corner = |d: f64| ((d - z).powi(2) + d * d * k2).sqrt();
+                    let radius = corner(near).max(corner(far)).max(1e-3);
+                    let centre = eye + forward * z;
+                    near = far;
+                    // The light's near plane goes back far enough to take every caster of the scene.
+                    let back = radius + (centre - scene_centre).length() + scene_radius;
+                    let light_eye = centre - dir * back;
+                    let view_m = DMat4::look_at_rh(light_eye, centre, up_for(dir));
+                    let proj = DMat4::orthographic_rh(-radius, radius, -radius, radius, 0.0, back + radius);
+                    let mut l = layer(proj * view_m, [(2.0 * radius / res) as f32, 0.0, 0.0, 0.0]);
+                    l.sphere = [centre.x as f32, centre.y as f32, centre.z as f32, radius as f32];
+                    l
+                })
+                .collect()
         }
         LightKind::Spot => {
             let dir = DVec3::from(light.direction).normalize();
@@ -64,7 +104,7 @@ pub fn light_layers(light: &Light, resolution: u32, scene_bounds: (DVec3, DVec3)
 }
 
 fn layer(view_proj: DMat4, params: [f32; 4]) -> ShadowLayer {
-    ShadowLayer { view_proj: view_proj.as_mat4().to_cols_array_2d(), params }
+    ShadowLayer { view_proj: view_proj.as_mat4().to_cols_array_2d(), params, sphere: [0.0; 4] }
 }
 
 /// The shader's GpuLight.shadow: (first layer or −1, layer count, strength, soft).
@@ -83,10 +123,35 @@ mod tests {
     use super::*;
 
     #[test]
+    fn cascades_cover_the_view_in_order() {
+        let scene = crate::spec::scene::Scene::load("default", None, "t", "k").unwrap();
+        let mut sun = scene.lights[0].clone();
+        sun.kind = LightKind::Directional;
+        sun.direction = [0.3, -1.0, 0.2];
+        for p in crate::pipelines::Pipeline::ALL {
+            let cascades = p.shadow_cascades();
+            let view = CascadeView { camera: &scene.camera, aspect: 1.0, cascades: &cascades };
+            let layers = light_layers(&sun, 1024, (DVec3::splat(-5.0), DVec3::splat(5.0)), &view);
+            assert_eq!(layers.len(), cascades.splits.len());
+            // Each sphere holds the point on the view axis at its slice's far edge, and they grow.
+            let eye = DVec3::from(scene.camera.position);
+            let fwd = (DVec3::from(scene.camera.target) - eye).normalize();
+            for (l, split) in layers.iter().zip(&cascades.splits) {
+                let c = DVec3::new(l.sphere[0] as f64, l.sphere[1] as f64, l.sphere[2] as f64);
+                let at = eye + fwd * (split * cascades.max_distance * 0.999);
+                assert!((at - c).length() <= l.sphere[3] as f64 * 1.0001, "{p:?}");
+            }
+            assert!(layers.windows(2).all(|w| w[1].sphere[3] > w[0].sphere[3]), "{p:?}");
+        }
+    }
+
+    #[test]
     fn a_point_light_has_six_faces_each_seeing_its_axis() {
         let scene = crate::spec::scene::Scene::load("default", None, "t", "k").unwrap();
         let light = &scene.lights[scene.key_light().unwrap()];
-        let layers = light_layers(light, 512, (DVec3::splat(-5.0), DVec3::splat(5.0)));
+        let cascades = crate::pipelines::Pipeline::Hdrp.shadow_cascades();
+        let view = CascadeView { camera: &scene.camera, aspect: 1.0, cascades: &cascades };
+        let layers = light_layers(light, 512, (DVec3::splat(-5.0), DVec3::splat(5.0)), &view);
         assert_eq!(layers.len(), 6);
         let eye = DVec3::from(light.position);
         for (face, dir) in [DVec3::X, -DVec3::X, DVec3::Y, -DVec3::Y, DVec3::Z, -DVec3::Z].iter().enumerate() {

@@ -22,6 +22,8 @@ pub struct GpuLight {
 pub struct ShadowLayer {
     pub view_proj: [[f32; 4]; 4],
     pub params: [f32; 4],
+    /// A directional cascade's bounding sphere (centre, radius): the points it shadows.
+    pub sphere: [f32; 4],
 }
 
 #[repr(C)]
@@ -74,7 +76,7 @@ mod tests {
     #[test]
     fn sizes_match_wgsl_layout() {
         assert_eq!(std::mem::size_of::<GpuLight>(), 96);
-        assert_eq!(std::mem::size_of::<ShadowLayer>(), 80);
+        assert_eq!(std::mem::size_of::<ShadowLayer>(), 96);
         assert_eq!(std::mem::size_of::<GpuMaterial>(), 96);
         assert_eq!(std::mem::size_of::<FrameUniforms>(), 64 + 64 + 16 + 16 + 144 + 16 + 96 + 96);
         assert_eq!(std::mem::size_of::<ObjectUniforms>(), 64 + 64 + 96 + 16 + 144);

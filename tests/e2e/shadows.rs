@@ -41,7 +41,7 @@ fn a_caster_darkens_the_receiver_under_it_only_with_shadows_on() {
     let base = Scene::load_file(&fixture("shadow_box.toml")).unwrap();
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     for kind in [LightKind::Point, LightKind::Spot, LightKind::Directional] {
-        for pipeline in [Pipeline::Builtin, Pipeline::Hdrp] {
+        for pipeline in Pipeline::ALL {
             let mut on = base.clone();
             on.lights[0].kind = kind;
             let mut off = on.clone();
