@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use crate::error::Error;
 use crate::fsutil::{write_atomic, write_json};
-use crate::record::bench::{BenchRecord, BENCH_SCHEMA};
+use crate::record::bench::{BenchRecord, GpuPassRow, BENCH_SCHEMA};
 use crate::record::Maybe;
 use crate::run::{run, ProcessUsage, RunOptions};
 use crate::spec::matrix::Matrix;
@@ -45,11 +45,57 @@ pub fn bench(matrix: &Matrix, opts: &RunOptions) -> Result<BenchRecord, Error> {
             Maybe::Missing { missing } => Maybe::Missing { missing },
         },
         peak_rss_bytes: usage.peak_rss_bytes,
+        gpu_passes: gpu_pass_rows(&summary.dir)?,
     };
     let tables = summary.dir.join("tables");
     write_atomic(&tables.join("bench.md"), markdown(&record).as_bytes())?;
     write_json(&tables.join("bench.json"), &record)?;
     Ok(record)
+}
+
+/// Median GPU time per pass of each composition × pipeline × path × shader, from the run's records.
+fn gpu_pass_rows(dir: &std::path::Path) -> Result<Maybe<Vec<GpuPassRow>>, Error> {
+    let data = crate::report::run_data::RunData::load(dir)?;
+    let rows = crate::report::perf::rows(&data);
+    let mut groups: std::collections::BTreeMap<(String, String, String, String), Vec<&crate::report::perf::PerfRow>> =
+        Default::default();
+    for r in rows.iter().filter(|r| !r.twin && r.gpu_median_ms.is_some()) {
+        groups
+            .entry((r.composition.clone(), r.pipeline.clone(), r.path.clone(), r.shader.clone()))
+            .or_default()
+            .push(r);
+    }
+    if groups.is_empty() {
+        return Ok(Maybe::missing("no timestamp queries on this adapter"));
+    }
+    let median = |mut v: Vec<f64>| {
+        v.sort_by(|a, b| a.total_cmp(b));
+        v[v.len() / 2]
+    };
+    Ok(Maybe::Value(
+        groups
+            .into_iter()
+            .map(|((composition, pipeline, path, shader), rs)| {
+                let names: Vec<String> = rs[0].gpu_passes.iter().map(|(n, _)| n.clone()).collect();
+                let passes = names
+                    .iter()
+                    .map(|name| {
+                        let v = rs.iter().filter_map(|r| r.gpu_passes.iter().find(|(n, _)| n == name).map(|p| p.1));
+                        (name.clone(), median(v.collect()))
+                    })
+                    .collect();
+                GpuPassRow {
+                    cells: rs.len(),
+                    frame_ms: median(rs.iter().filter_map(|r| r.gpu_median_ms).collect()),
+                    passes,
+                    composition,
+                    pipeline,
+                    path,
+                    shader,
+                }
+            })
+            .collect(),
+    ))
 }
 
 pub fn markdown(b: &BenchRecord) -> String {
@@ -102,5 +148,30 @@ pub fn markdown(b: &BenchRecord) -> String {
         Maybe::Missing { missing } => format!("missing ({missing})"),
     };
     let _ = writeln!(out, "- peak RSS = {rss}");
+    match &b.gpu_passes {
+        Maybe::Value(rows) => {
+            let _ = writeln!(
+                out,
+                "\n## GPU time per pass (median over each group's rendered cells, ms)\n\n| composition | pipeline | path | shader | cells | frame | passes |\n|---|---|---|---|---|---|---|"
+            );
+            for r in rows {
+                let passes: Vec<String> = r.passes.iter().map(|(n, ms)| format!("{n} {ms:.3}")).collect();
+                let _ = writeln!(
+                    out,
+                    "| {} | {} | {} | {} | {} | {:.3} | {} |",
+                    r.composition,
+                    r.pipeline,
+                    r.path,
+                    r.shader,
+                    r.cells,
+                    r.frame_ms,
+                    passes.join("; ")
+                );
+            }
+        }
+        Maybe::Missing { missing } => {
+            let _ = writeln!(out, "\nGPU time per pass: missing ({missing})");
+        }
+    }
     out
 }

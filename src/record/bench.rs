@@ -5,8 +5,22 @@ use serde::{Deserialize, Serialize};
 use super::run::StageTimes;
 use super::Maybe;
 
-/// Version of `tables/bench.json`.
-pub const BENCH_SCHEMA: u32 = 1;
+/// Version of `tables/bench.json`. 2: GPU time per pass by composition × pipeline × path.
+pub const BENCH_SCHEMA: u32 = 2;
+
+/// Median GPU times of one composition × pipeline × path × shader group of rendered cells, ms.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct GpuPassRow {
+    pub composition: String,
+    pub pipeline: String,
+    pub path: String,
+    pub shader: String,
+    pub cells: usize,
+    /// The frame (every pass summed).
+    pub frame_ms: f64,
+    /// Each pass, in frame order.
+    pub passes: Vec<(String, f64)>,
+}
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct BenchRecord {
@@ -29,4 +43,6 @@ pub struct BenchRecord {
     /// Process CPU time ÷ (wall × cores): how much of the machine the run used.
     pub utilisation: Maybe<f64>,
     pub peak_rss_bytes: Maybe<u64>,
+    /// GPU time per pass by group, or why there is none (no timestamp queries).
+    pub gpu_passes: Maybe<Vec<GpuPassRow>>,
 }
