@@ -51,3 +51,27 @@ pub fn load_matrix(path: &Path) -> shadematrix::spec::matrix::Matrix {
     let registry = std::sync::Arc::new(shadematrix::shading::Registry::builtin());
     shadematrix::spec::matrix::Matrix::load(path, registry).unwrap()
 }
+
+/// A cell of `shader` in `pipeline` with the sweep values `sliders`, the key light at
+/// `intensity`/`range`, a square image, on `path`.
+pub fn cell_params(
+    pipeline: shadematrix::pipelines::Pipeline,
+    shader: &str,
+    sliders: shadematrix::shading::registry::Sliders,
+    (intensity, range): (f64, f64),
+    size: u32,
+    path: shadematrix::pipelines::RenderPath,
+) -> shadematrix::render::CellParams<'static> {
+    let model = find_model(pipeline, shader).unwrap_or_else(|| panic!("no {shader} in {}", pipeline.name()));
+    shadematrix::render::CellParams {
+        pipeline,
+        model,
+        surface: model.surface(pipeline, &sliders),
+        light_intensity: intensity,
+        light_range: range,
+        width: size,
+        height: size,
+        view: Default::default(),
+        settings: shadematrix::render::CellSettings { path, light_budget: Default::default() },
+    }
+}

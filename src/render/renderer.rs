@@ -308,13 +308,32 @@ impl Renderer {
             ("MAIN_LIGHT_ONLY", model.main_light_only as u32 as f64),
             ("VERTEX_LIT", vertex_lit as u32 as f64),
         ];
-        let options = wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() };
-        let p = self.gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some(&format!("forward {}/{}", pipeline.name(), model.name)),
+        let entries = if per_vertex { ("vs_gouraud", "fs_gouraud") } else { ("vs_main", "fs_main") };
+        let label = format!("forward {}/{}", pipeline.name(), model.name);
+        let targets = [Some(HDR_FORMAT.into()), Some(ROLE_FORMAT.into())];
+        let p = self.mesh_pipeline(&label, &module, entries, &constants, &targets);
+        self.gpu.check_errors("creating a forward pipeline")?;
+        self.forward.insert(key, p);
+        Ok(())
+    }
+
+    /// A pipeline that draws scene meshes: both faces (imported and thin meshes are shaded from
+    /// either side, normals flipped), depth test Less with writes.
+    fn mesh_pipeline(
+        &self,
+        label: &str,
+        module: &wgpu::ShaderModule,
+        (vs, fs): (&str, &str),
+        constants: &[(&str, f64)],
+        targets: &[Option<wgpu::ColorTargetState>],
+    ) -> wgpu::RenderPipeline {
+        let options = wgpu::PipelineCompilationOptions { constants, ..Default::default() };
+        self.gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(label),
             layout: Some(&self.pipeline_layout),
             vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some(if per_vertex { "vs_gouraud" } else { "vs_main" }),
+                module,
+                entry_point: Some(vs),
                 compilation_options: options.clone(),
                 buffers: &[Some(wgpu::VertexBufferLayout {
                     array_stride: std::mem::size_of::<Vertex>() as u64,
@@ -322,7 +341,6 @@ impl Renderer {
                     attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4],
                 })],
             },
-            // Both faces: imported and thin meshes are shaded from either side (normals flipped).
             primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
             depth_stencil: Some(wgpu::DepthStencilState {
                 format: DEPTH_FORMAT,
@@ -333,17 +351,14 @@ impl Renderer {
             }),
             multisample: Default::default(),
             fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some(if per_vertex { "fs_gouraud" } else { "fs_main" }),
+                module,
+                entry_point: Some(fs),
                 compilation_options: options,
-                targets: &[Some(HDR_FORMAT.into()), Some(ROLE_FORMAT.into())],
+                targets,
             }),
             multiview_mask: None,
             cache: None,
-        });
-        self.gpu.check_errors("creating a forward pipeline")?;
-        self.forward.insert(key, p);
-        Ok(())
+        })
     }
 
     /// The deferred path's G-buffer pipeline of a model in a pipeline convention.
@@ -355,44 +370,15 @@ impl Renderer {
         let source = wgsl::compose(wgsl::PassKind::Forward, Some(model));
         let module = self.gpu.shader_module(&format!("gbuffer {}/{}", pipeline.name(), model.name), &source)?;
         let constants = [("PIPELINE", pipeline.shader_id() as f64)];
-        let options = wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() };
-        let p = self.gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some(&format!("gbuffer {}/{}", pipeline.name(), model.name)),
-            layout: Some(&self.pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_main"),
-                compilation_options: options.clone(),
-                buffers: &[Some(wgpu::VertexBufferLayout {
-                    array_stride: std::mem::size_of::<Vertex>() as u64,
-                    step_mode: wgpu::VertexStepMode::Vertex,
-                    attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4],
-                })],
-            },
-            primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_gbuffer"),
-                compilation_options: options,
-                targets: &[
-                    Some(super::deferred::GB_ALBEDO.into()),
-                    Some(super::deferred::GB_MATERIAL.into()),
-                    Some(super::deferred::normal_format(pipeline).into()),
-                    Some(super::deferred::GB_LIGHTING.into()),
-                    Some(ROLE_FORMAT.into()),
-                ],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        let targets = [
+            Some(super::deferred::GB_ALBEDO.into()),
+            Some(super::deferred::GB_MATERIAL.into()),
+            Some(super::deferred::normal_format(pipeline).into()),
+            Some(super::deferred::GB_LIGHTING.into()),
+            Some(ROLE_FORMAT.into()),
+        ];
+        let label = format!("gbuffer {}/{}", pipeline.name(), model.name);
+        let p = self.mesh_pipeline(&label, &module, ("vs_main", "fs_gbuffer"), &constants, &targets);
         self.gpu.check_errors("creating a G-buffer pipeline")?;
         self.gbuffer_pipelines.insert(key, p);
         Ok(())

@@ -2,15 +2,15 @@
 //! metallic slider per pipeline, the built-in light colour, and sweeps over model parameters,
 //! colour and the view.
 
-use crate::common::{find_model, fixture, shadematrix, write_matrix};
+use crate::common::{cell_params, find_model, fixture, shadematrix, write_matrix};
 use glam::DVec3;
 use shadematrix::color::linear_to_srgb;
 use shadematrix::compare::images::LoadedImage;
 use shadematrix::gpu::GpuContext;
 use shadematrix::images::aces::aces_display;
-use shadematrix::pipelines::Pipeline;
+use shadematrix::pipelines::{Pipeline, RenderPath};
 use shadematrix::record::CellRecord;
-use shadematrix::render::{CellParams, Renderer};
+use shadematrix::render::Renderer;
 use shadematrix::report::run_data::RunData;
 use shadematrix::shading::registry::Sliders;
 use shadematrix::spec::scene::Scene;
@@ -94,20 +94,9 @@ fn builtin_white_light_of_intensity_two_delivers_two_to_the_2_2() {
     scene.lights[0].color = [1.0; 3];
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     let prepared = renderer.prepare_scene(&scene).unwrap();
-    let model = find_model(Pipeline::Builtin, "lambert").unwrap();
     let sliders = Sliders { base_color_linear: [0.5; 3], metallic: 0.0, smoothness: 0.5 };
     let mut centre = |intensity: f64| {
-        let cell = CellParams {
-            pipeline: Pipeline::Builtin,
-            model,
-            surface: model.surface(Pipeline::Builtin, &sliders),
-            light_intensity: intensity,
-            light_range: 6.0,
-            width: 33,
-            height: 33,
-            view: Default::default(),
-            settings: Default::default(),
-        };
+        let cell = cell_params(Pipeline::Builtin, "lambert", sliders, (intensity, 6.0), 33, RenderPath::Forward);
         let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
         let i = (16 * 33 + 16) * 4;
         DVec3::new(r.hdr[i] as f64, r.hdr[i + 1] as f64, r.hdr[i + 2] as f64)
@@ -177,18 +166,7 @@ fn the_custom_shader_as_written_sees_the_sun_alone_and_scales_ambient_by_it() {
     let prepared = renderer.prepare_scene(&scene).unwrap();
     let sliders = Sliders { base_color_linear: [0.8, 0.5, 0.3], metallic: 0.3, smoothness: 0.6 };
     let mut centre = |shader: &str, intensity: f64| {
-        let model = find_model(Pipeline::Builtin, shader).unwrap();
-        let cell = CellParams {
-            pipeline: Pipeline::Builtin,
-            model,
-            surface: model.surface(Pipeline::Builtin, &sliders),
-            light_intensity: intensity,
-            light_range: 6.0,
-            width: 33,
-            height: 33,
-            view: Default::default(),
-            settings: Default::default(),
-        };
+        let cell = cell_params(Pipeline::Builtin, shader, sliders, (intensity, 6.0), 33, RenderPath::Forward);
         let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
         let i = (16 * 33 + 16) * 4;
         DVec3::new(r.hdr[i] as f64, r.hdr[i + 1] as f64, r.hdr[i + 2] as f64)

@@ -1,32 +1,31 @@
 //! Every light kept or accounted for: each pipeline's light budget, vertex and SH lights against
 //! their formulas, and superposition where every light is per-pixel.
 
-use crate::common::{find_model, fixture, shadematrix, write_matrix};
+use crate::common::{cell_params, find_model, fixture, shadematrix, write_matrix};
 use glam::DVec3;
 use shadematrix::gpu::GpuContext;
-use shadematrix::pipelines::Pipeline;
+use shadematrix::pipelines::{Pipeline, RenderPath};
 use shadematrix::plan::lights::{sh_of_light, LightMode};
-use shadematrix::render::{CellParams, CellRender, PreparedScene, Renderer};
+use shadematrix::render::{CellRender, PreparedScene, Renderer};
 use shadematrix::shading::registry::Sliders;
 use shadematrix::spec::scene::{LightKind, RenderMode, Scene};
 
 const SIZE: u32 = 49;
 
+const ALBEDO: Sliders = Sliders { base_color_linear: [0.7, 0.6, 0.5], metallic: 0.0, smoothness: 0.5 };
+
+fn render_on(
+    renderer: &mut Renderer,
+    prepared: &PreparedScene,
+    pipeline: Pipeline,
+    intensity: f64,
+    path: RenderPath,
+) -> CellRender {
+    renderer.render(prepared, &cell_params(pipeline, "lambert", ALBEDO, (intensity, 8.0), SIZE, path), 1, 0).unwrap()
+}
+
 fn render(renderer: &mut Renderer, prepared: &PreparedScene, pipeline: Pipeline, intensity: f64) -> CellRender {
-    let model = find_model(pipeline, "lambert").unwrap();
-    let sliders = Sliders { base_color_linear: [0.7, 0.6, 0.5], metallic: 0.0, smoothness: 0.5 };
-    let cell = CellParams {
-        pipeline,
-        model,
-        surface: model.surface(pipeline, &sliders),
-        light_intensity: intensity,
-        light_range: 8.0,
-        width: SIZE,
-        height: SIZE,
-        view: Default::default(),
-        settings: Default::default(),
-    };
-    renderer.render(prepared, &cell, 1, 0).unwrap()
+    render_on(renderer, prepared, pipeline, intensity, RenderPath::Forward)
 }
 
 fn centre(r: &CellRender) -> DVec3 {
@@ -193,26 +192,13 @@ fn each_pipeline_falls_off_as_its_source_says() {
 
 #[test]
 fn the_vertex_lit_path_lights_eight_lights_at_the_vertices_and_drops_the_rest() {
-    use shadematrix::pipelines::RenderPath;
-    use shadematrix::render::CellSettings;
     let base = Scene::load_file(&fixture("twelve_points.toml")).unwrap();
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     let model = find_model(Pipeline::Builtin, "lambert").unwrap();
-    let sliders = Sliders { base_color_linear: [0.7, 0.6, 0.5], metallic: 0.0, smoothness: 0.5 };
+    let sliders = ALBEDO;
     let mut render = |scene: &Scene, intensity: f64| {
         let prepared = renderer.prepare_scene(scene).unwrap();
-        let cell = CellParams {
-            pipeline: Pipeline::Builtin,
-            model,
-            surface: model.surface(Pipeline::Builtin, &sliders),
-            light_intensity: intensity,
-            light_range: 8.0,
-            width: SIZE,
-            height: SIZE,
-            view: Default::default(),
-            settings: CellSettings { path: RenderPath::VertexLit, light_budget: Default::default() },
-        };
-        renderer.render(&prepared, &cell, 1, 0).unwrap()
+        render_on(&mut renderer, &prepared, Pipeline::Builtin, intensity, RenderPath::VertexLit)
     };
     let all = render(&base, base.lights[0].intensity);
     let count = |m: LightMode| all.lights[0].lights.iter().filter(|u| u.mode == m).count();

@@ -1,10 +1,10 @@
 //! Rendering paths: deferred renders what forward renders (within the G-buffer's quantisation),
 //! lights add up on the deferred path, and `list` shows each path's passes.
 
-use crate::common::{find_model, fixture, shadematrix, write_matrix};
+use crate::common::{cell_params, fixture, shadematrix, write_matrix};
 use shadematrix::gpu::GpuContext;
 use shadematrix::pipelines::{Pipeline, RenderPath};
-use shadematrix::render::{CellParams, CellSettings, Renderer};
+use shadematrix::render::Renderer;
 use shadematrix::report::run_data::RunData;
 use shadematrix::shading::registry::Sliders;
 use shadematrix::spec::scene::Scene;
@@ -43,21 +43,10 @@ fn twelve_lights_add_up_on_the_deferred_path() {
     let base = Scene::load_file(&fixture("twelve_points.toml")).unwrap();
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     for pipeline in [Pipeline::Builtin, Pipeline::Hdrp] {
-        let model = find_model(pipeline, "lambert").unwrap();
         let sliders = Sliders { base_color_linear: [0.7, 0.6, 0.5], metallic: 0.0, smoothness: 0.5 };
         let mut render = |scene: &Scene, intensity: f64| {
             let prepared = renderer.prepare_scene(scene).unwrap();
-            let cell = CellParams {
-                pipeline,
-                model,
-                surface: model.surface(pipeline, &sliders),
-                light_intensity: intensity,
-                light_range: 8.0,
-                width: 49,
-                height: 49,
-                view: Default::default(),
-                settings: CellSettings { path: RenderPath::Deferred, light_budget: Default::default() },
-            };
+            let cell = cell_params(pipeline, "lambert", sliders, (intensity, 8.0), 49, RenderPath::Deferred);
             renderer.render(&prepared, &cell, 1, 0).unwrap()
         };
         let key = base.lights[0].intensity;
@@ -109,23 +98,12 @@ fn forward_time_grows_faster_with_the_light_count_than_deferred() {
     // Six spheres drawn back to front: forward evaluates every light for every overdrawn fragment,
     // deferred once per pixel. Ordering only: the slope of time against lights.
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
-    let model = find_model(Pipeline::Hdrp, "lit").unwrap();
     let sliders = Sliders { base_color_linear: [0.5; 3], metallic: 0.0, smoothness: 0.5 };
     let mut time = |lights: u32, path: RenderPath| -> f64 {
         let scene =
             Scene::load_file(&crate::common::repo().join(format!("scenes/light_count/lights_{lights}.toml"))).unwrap();
         let prepared = renderer.prepare_scene(&scene).unwrap();
-        let cell = CellParams {
-            pipeline: Pipeline::Hdrp,
-            model,
-            surface: model.surface(Pipeline::Hdrp, &sliders),
-            light_intensity: scene.lights[0].intensity,
-            light_range: 6.0,
-            width: 96,
-            height: 96,
-            view: Default::default(),
-            settings: CellSettings { path, light_budget: Default::default() },
-        };
+        let cell = cell_params(Pipeline::Hdrp, "lit", sliders, (scene.lights[0].intensity, 6.0), 96, path);
         let r = renderer.render(&prepared, &cell, 3, 1).unwrap();
         let mut ms = r.gpu_pass_ms.unwrap_or(r.frame_ms);
         ms.sort_by(|a, b| a.total_cmp(b));

@@ -1,12 +1,12 @@
 //! Shadow maps: a caster darkens what lies under it when its light casts shadows, for every light
 //! kind and pipeline; and the frame plan leaves the shadow pass out when nothing can cast.
 
-use crate::common::{find_model, fixture};
+use crate::common::{cell_params, fixture};
 use shadematrix::color::luminance;
 use shadematrix::gpu::GpuContext;
-use shadematrix::pipelines::Pipeline;
+use shadematrix::pipelines::{Pipeline, RenderPath};
 use shadematrix::plan::FramePlan;
-use shadematrix::render::{CellParams, Renderer};
+use shadematrix::render::Renderer;
 use shadematrix::shading::registry::Sliders;
 use shadematrix::spec::scene::{LightKind, Scene};
 
@@ -15,19 +15,8 @@ const SIZE: u32 = 65;
 /// Luminance at the image centre (under the box) and near the bottom edge (floor in the open).
 fn centre_and_open_floor(renderer: &mut Renderer, scene: &Scene, pipeline: Pipeline) -> (f64, f64) {
     let prepared = renderer.prepare_scene(scene).unwrap();
-    let model = find_model(pipeline, "lambert").unwrap();
     let sliders = Sliders { base_color_linear: [0.8; 3], metallic: 0.0, smoothness: 0.5 };
-    let cell = CellParams {
-        pipeline,
-        model,
-        surface: model.surface(pipeline, &sliders),
-        light_intensity: 1.5,
-        light_range: 10.0,
-        width: SIZE,
-        height: SIZE,
-        view: Default::default(),
-        settings: Default::default(),
-    };
+    let cell = cell_params(pipeline, "lambert", sliders, (1.5, 10.0), SIZE, RenderPath::Forward);
     let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
     let at = |row: u32| {
         let i = (row * SIZE + SIZE / 2) as usize * 4;
