@@ -75,3 +75,33 @@ pub fn cell_params(
         settings: shadematrix::render::CellSettings { path, light_budget: Default::default() },
     }
 }
+
+/// The worst relative difference, over lit colour channels, between the image of all of `base`'s
+/// lights and the sum of the images of one light each (the others at intensity 0); `render(scene,
+/// key intensity)` returns a scene's linear RGBA.
+pub fn superposition_error(
+    base: &shadematrix::spec::scene::Scene,
+    mut render: impl FnMut(&shadematrix::spec::scene::Scene, f64) -> Vec<f32>,
+) -> f64 {
+    let key = base.lights[0].intensity;
+    let all = render(base, key);
+    let mut sum = vec![0.0f64; all.len()];
+    for i in 0..base.lights.len() {
+        let mut one = base.clone();
+        for (j, l) in one.lights.iter_mut().enumerate() {
+            if j != i {
+                l.intensity = 0.0;
+            }
+        }
+        for (acc, v) in sum.iter_mut().zip(render(&one, if i == 0 { key } else { 0.0 })) {
+            *acc += v as f64;
+        }
+    }
+    let mut worst: f64 = 0.0;
+    for (k, (a, s)) in all.iter().zip(&sum).enumerate() {
+        if k % 4 != 3 && *s > 1e-6 {
+            worst = worst.max((*a as f64 - s).abs() / s);
+        }
+    }
+    worst
+}

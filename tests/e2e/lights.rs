@@ -73,30 +73,10 @@ fn all_twelve_lights_add_up_where_every_light_is_per_pixel() {
     // of one light each (no ambient), within f32 rounding.
     let base = Scene::load_file(&fixture("twelve_points.toml")).unwrap();
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
-    let key_intensity = base.lights[0].intensity;
-    let prepared = renderer.prepare_scene(&base).unwrap();
-    let all = render(&mut renderer, &prepared, Pipeline::Hdrp, key_intensity);
-    let mut sum = vec![0.0f64; all.hdr.len()];
-    for i in 0..base.lights.len() {
-        let mut one = base.clone();
-        for (j, l) in one.lights.iter_mut().enumerate() {
-            if j != i {
-                l.intensity = 0.0;
-            }
-        }
-        let prepared = renderer.prepare_scene(&one).unwrap();
-        let r = render(&mut renderer, &prepared, Pipeline::Hdrp, if i == 0 { key_intensity } else { 0.0 });
-        for (acc, v) in sum.iter_mut().zip(&r.hdr) {
-            *acc += *v as f64;
-        }
-    }
-    let mut worst: f64 = 0.0;
-    for (k, (a, s)) in all.hdr.iter().zip(&sum).enumerate() {
-        if k % 4 == 3 || *s < 1e-6 {
-            continue;
-        }
-        worst = worst.max((*a as f64 - s).abs() / s);
-    }
+    let worst = crate::common::superposition_error(&base, |scene, intensity| {
+        let prepared = renderer.prepare_scene(scene).unwrap();
+        render(&mut renderer, &prepared, Pipeline::Hdrp, intensity).hdr
+    });
     eprintln!("superposition of 12 lights, HDRP forward: worst relative difference {worst:.2e}");
     assert!(worst < 1e-3, "{worst}");
 }

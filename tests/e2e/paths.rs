@@ -49,28 +49,9 @@ fn twelve_lights_add_up_on_the_deferred_path() {
             let cell = cell_params(pipeline, "lambert", sliders, (intensity, 8.0), 49, RenderPath::Deferred);
             renderer.render(&prepared, &cell, 1, 0).unwrap()
         };
-        let key = base.lights[0].intensity;
-        let all = render(&base, key);
-        assert!(all.lights[0].lights.iter().all(|u| u.reason.contains("deferred")), "{:?}", all.lights);
-        let mut sum = vec![0.0f64; all.hdr.len()];
-        for i in 0..base.lights.len() {
-            let mut one = base.clone();
-            for (j, l) in one.lights.iter_mut().enumerate() {
-                if j != i {
-                    l.intensity = 0.0;
-                }
-            }
-            let r = render(&one, if i == 0 { key } else { 0.0 });
-            for (acc, v) in sum.iter_mut().zip(&r.hdr) {
-                *acc += *v as f64;
-            }
-        }
-        let mut worst: f64 = 0.0;
-        for (k, (a, s)) in all.hdr.iter().zip(&sum).enumerate() {
-            if k % 4 != 3 && *s > 1e-6 {
-                worst = worst.max((*a as f64 - s).abs() / s);
-            }
-        }
+        let plan = render(&base, base.lights[0].intensity).lights;
+        assert!(plan[0].lights.iter().all(|u| u.reason.contains("deferred")), "{plan:?}");
+        let worst = crate::common::superposition_error(&base, |scene, intensity| render(scene, intensity).hdr);
         eprintln!("superposition of 12 lights, {} deferred: worst relative difference {worst:.2e}", pipeline.name());
         assert!(worst < 1e-3, "{}: {worst}", pipeline.name());
     }
