@@ -314,16 +314,112 @@ fn fs_deferred(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let n = normalize(nb.xyz * 2.0 - 1.0);
     let v = normalize(frame.camera_pos.xyz - p);
     var c = textureLoad(gb_lighting, px, 0).rgb;
-    for (var i = 0u; i < frame.counts.x; i++) {
-        let light = lights[i];
-        let inc = light_incidence(light, p);
-        if (inc.w > 0.0) {
-            let visible = shadow_visibility(light, p, n, inc.xyz, nb.a > 0.5);
-            if (visible > 0.0) {
-                light_min_roughness = light.params.w;
-                c += model_direct(s, n, v, inc.xyz) * light.color.rgb * (inc.w * visible);
+    if (TILED_LIGHTS == 1u) {
+        // HDRP's light loop: only the lights binned into this pixel's tile (cs_light_tiles)
+        let words = frame.counts.z;
+        let tile = (u32(pos.y) / LIGHT_TILE) * frame.counts.w + u32(pos.x) / LIGHT_TILE;
+        for (var w = 0u; w < words; w++) {
+            var bits = tile_masks[tile * words + w];
+            while (bits != 0u) {
+                let i = w * 32u + firstTrailingBit(bits);
+                bits &= bits - 1u;
+                c += deferred_light(lights[i], s, p, n, v, nb.a > 0.5);
             }
+        }
+    } else {
+        for (var i = 0u; i < frame.counts.x; i++) {
+            c += deferred_light(lights[i], s, p, n, v, nb.a > 0.5);
         }
     }
     return vec4<f32>(c, 1.0);
+}
+
+// One light's direct term at a G-buffer pixel
+fn deferred_light(light: Light, s: Surface, p: vec3<f32>, n: vec3<f32>, v: vec3<f32>, receives: bool) -> vec3<f32> {
+    let inc = light_incidence(light, p);
+    if (inc.w <= 0.0) {
+        return vec3<f32>(0.0);
+    }
+    let visible = shadow_visibility(light, p, n, inc.xyz, receives);
+    if (visible <= 0.0) {
+        return vec3<f32>(0.0);
+    }
+    light_min_roughness = light.params.w;
+    return model_direct(s, n, v, inc.xyz) * light.color.rgb * (inc.w * visible);
+}
+
+// ---- HDRP's tiled light loop: a compute pass bins every light into the 16×16 screen tiles its
+// range can reach (render::deferred). The tile's depth bounds from the G-buffer, the tile frustum
+// slice's world-space box, the light's sphere against it; directional lights reach every tile.
+
+const LIGHT_TILE: u32 = 16u;
+// 1: the deferred lighting pass reads the tile lists (HDRP)
+override TILED_LIGHTS: u32 = 0u;
+
+@group(3) @binding(2) var<storage, read> tile_masks: array<u32>;
+@group(3) @binding(0) var tile_depth: texture_depth_2d;
+@group(3) @binding(1) var<storage, read_write> tile_masks_out: array<atomic<u32>>;
+
+var<workgroup> tile_min_depth: atomic<u32>;
+var<workgroup> tile_max_depth: atomic<u32>;
+
+fn world_at(ndc: vec3<f32>) -> vec3<f32> {
+    let w = frame.inv_view_proj * vec4<f32>(ndc, 1.0);
+    return w.xyz / w.w;
+}
+
+@compute @workgroup_size(16, 16)
+fn cs_light_tiles(
+    @builtin(workgroup_id) group: vec3<u32>,
+    @builtin(local_invocation_id) local: vec3<u32>,
+    @builtin(local_invocation_index) index: u32,
+) {
+    if (index == 0u) {
+        atomicStore(&tile_min_depth, 0x7f7fffffu);
+        atomicStore(&tile_max_depth, 0u);
+    }
+    workgroupBarrier();
+    let size = textureDimensions(tile_depth);
+    let px = group.xy * LIGHT_TILE + local.xy;
+    if (px.x < size.x && px.y < size.y) {
+        let d = textureLoad(tile_depth, vec2<i32>(px), 0);
+        if (d < 1.0) {
+            // Non-negative floats order like their bit patterns
+            atomicMin(&tile_min_depth, bitcast<u32>(d));
+            atomicMax(&tile_max_depth, bitcast<u32>(d));
+        }
+    }
+    workgroupBarrier();
+    let dmin = bitcast<f32>(atomicLoad(&tile_min_depth));
+    let dmax = bitcast<f32>(atomicLoad(&tile_max_depth));
+    if (dmin > dmax) {
+        return; // only sky in this tile: nothing to light
+    }
+    let sizef = vec2<f32>(size);
+    let lo = vec2<f32>(group.xy * LIGHT_TILE) / sizef;
+    let hi = min(vec2<f32>((group.xy + 1u) * LIGHT_TILE) / sizef, vec2<f32>(1.0));
+    var box_min = vec3<f32>(3.4e38);
+    var box_max = vec3<f32>(-3.4e38);
+    for (var k = 0u; k < 8u; k++) {
+        let uv = vec2<f32>(select(lo.x, hi.x, (k & 1u) != 0u), select(lo.y, hi.y, (k & 2u) != 0u));
+        let z = select(dmin, dmax, (k & 4u) != 0u);
+        let q = world_at(vec3<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0, z));
+        box_min = min(box_min, q);
+        box_max = max(box_max, q);
+    }
+    let words = frame.counts.z;
+    let tile = group.y * frame.counts.w + group.x;
+    for (var i = index; i < frame.counts.x; i += 256u) {
+        let light = lights[i];
+        var reaches = u32(light.position.w) == 0u;
+        if (!reaches) {
+            // Sphere (position, range) against the box: closest point distance ≤ range
+            let closest = clamp(light.position.xyz, box_min, box_max);
+            let d = light.position.xyz - closest;
+            reaches = dot(d, d) <= light.params.x * light.params.x;
+        }
+        if (reaches) {
+            atomicOr(&tile_masks_out[tile * words + i / 32u], 1u << (i % 32u));
+        }
+    }
 }

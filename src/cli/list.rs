@@ -22,14 +22,11 @@ pub fn text(m: &Matrix) -> String {
     let _ = writeln!(out, "matrix `{}` ({}), sha256 {}", m.name, m.origin, &m.hash[..12]);
     for scene in &m.compositions {
         let plan = FramePlan::for_scene(scene);
-        for path in &m.paths {
-            let _ = writeln!(
-                out,
-                "composition {} ({}): passes {}",
-                scene.name,
-                path.name(),
-                plan.passes_for(*path).join(" → ")
-            );
+        for p in &m.pipelines {
+            for path in m.paths.iter().filter(|path| p.paths().contains(path)) {
+                let passes = plan.passes_for(*path, *p).join(" → ");
+                let _ = writeln!(out, "composition {} ({}-{}): passes {passes}", scene.name, p.name(), path.name());
+            }
         }
         for (what, why) in &plan.left_out {
             let _ = writeln!(out, "  left out: {what}: {why}");

@@ -56,6 +56,15 @@ impl PassTimer {
         }
     }
 
+    /// Both writes of pair `pair` for a compute pass.
+    pub fn compute_writes(&self, pair: u32) -> wgpu::ComputePassTimestampWrites<'_> {
+        wgpu::ComputePassTimestampWrites {
+            query_set: &self.query_set,
+            beginning_of_pass_write_index: Some(2 * pair),
+            end_of_pass_write_index: Some(2 * pair + 1),
+        }
+    }
+
     /// Resolve the first `pairs` pairs into the readback buffer (encode after the last pass).
     pub fn encode_resolve(&self, encoder: &mut wgpu::CommandEncoder, pairs: u32) {
         encoder.resolve_query_set(&self.query_set, 0..2 * pairs, &self.resolve, 0);

@@ -122,6 +122,12 @@ impl Pipeline {
         }
     }
 
+    /// Whether the deferred path lights through a tiled light loop (HDRP's compute light list);
+    /// built-in and URP deferred draw light volumes instead, emulated by looping over every light.
+    pub fn tiled_light_loop(self) -> bool {
+        self == Pipeline::Hdrp
+    }
+
     /// The rendering paths the pipeline has: built-in also keeps its legacy vertex-lit path.
     pub fn paths(self) -> &'static [RenderPath] {
         match self {

@@ -21,7 +21,11 @@ impl FramePlan {
     /// The passes of a frame on `path`: forward draws every object lit in one pass; deferred fills
     /// the G-buffer, lights it in screen space, then draws forward what the G-buffer cannot carry
     /// (per-vertex and ForwardBase-only models) with the background.
-    pub fn passes_for(&self, path: crate::pipelines::RenderPath) -> Vec<&'static str> {
+    pub fn passes_for(
+        &self,
+        path: crate::pipelines::RenderPath,
+        pipeline: crate::pipelines::Pipeline,
+    ) -> Vec<&'static str> {
         let mut passes: Vec<&'static str> = Vec::new();
         if self.passes.contains(&"shadow") && path != crate::pipelines::RenderPath::VertexLit {
             passes.push("shadow");
@@ -30,7 +34,11 @@ impl FramePlan {
             crate::pipelines::RenderPath::Forward => passes.push("forward"),
             crate::pipelines::RenderPath::VertexLit => passes.push("forward (lighting per vertex)"),
             crate::pipelines::RenderPath::Deferred => {
-                passes.extend(["gbuffer", "deferred lighting", "forward (models the G-buffer cannot carry)"])
+                passes.push("gbuffer");
+                if pipeline.tiled_light_loop() {
+                    passes.push("light tiles");
+                }
+                passes.extend(["deferred lighting", "forward (models the G-buffer cannot carry)"])
             }
         }
         if self.background {

@@ -151,6 +151,7 @@ pub struct Renderer {
     shadow_pipeline: wgpu::RenderPipeline,
     gbuffer_read_layout: wgpu::BindGroupLayout,
     deferred_layout: wgpu::PipelineLayout,
+    tiles: super::deferred::LightTiles,
     gbuffer_pipelines: HashMap<(Pipeline, String), wgpu::RenderPipeline>,
     lighting_pipelines: HashMap<(Pipeline, String, u32), wgpu::RenderPipeline>,
     shadow_sampler: wgpu::Sampler,
@@ -166,7 +167,8 @@ impl Renderer {
             entries: &[
                 wgpu::BindGroupLayoutEntry {
                     binding: 0,
-                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                    // Compute too: the tiled light loop reads the frame and the lights.
+                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT.union(wgpu::ShaderStages::COMPUTE),
                     ty: wgpu::BindingType::Buffer {
                         ty: wgpu::BufferBindingType::Uniform,
                         has_dynamic_offset: false,
@@ -261,9 +263,15 @@ impl Renderer {
         });
         let shadow_pipeline = shadow_pipeline(&gpu, &shadow_layer_layout, &object_layout);
         let gbuffer_read_layout = super::deferred::read_layout(device);
+        let tiles = super::deferred::LightTiles::new(device, &frame_layout);
         let deferred_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("deferred lighting"),
-            bind_group_layouts: &[Some(&frame_layout), Some(&object_layout), Some(&gbuffer_read_layout)],
+            bind_group_layouts: &[
+                Some(&frame_layout),
+                Some(&object_layout),
+                Some(&gbuffer_read_layout),
+                Some(&tiles.read_layout),
+            ],
             immediate_size: 0,
         });
         Renderer {
@@ -281,6 +289,7 @@ impl Renderer {
             shadow_sampler,
             gbuffer_read_layout,
             deferred_layout,
+            tiles,
             gbuffer_pipelines: HashMap::new(),
             lighting_pipelines: HashMap::new(),
             targets: None,
@@ -392,7 +401,11 @@ impl Renderer {
         }
         let source = wgsl::compose(wgsl::PassKind::Forward, Some(model));
         let module = self.gpu.shader_module(&format!("deferred {}/{}", pipeline.name(), model.name), &source)?;
-        let constants = [("PIPELINE", pipeline.shader_id() as f64), ("DEFERRED_ROLE", role as f64)];
+        let constants = [
+            ("PIPELINE", pipeline.shader_id() as f64),
+            ("DEFERRED_ROLE", role as f64),
+            ("TILED_LIGHTS", super::deferred::tiled(pipeline) as u32 as f64),
+        ];
         let options = wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() };
         let p = self.gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(&format!("deferred lighting {}/{}", pipeline.name(), model.name)),
@@ -775,11 +788,13 @@ impl Renderer {
         if shadows {
             pass_names.push("shadow");
         }
-        pass_names.extend(if deferred {
-            &["gbuffer", "deferred lighting", "forward-only and background"][..]
-        } else {
-            &["forward"][..]
+        let tiled = deferred && super::deferred::tiled(cell.pipeline);
+        pass_names.extend(match (deferred, tiled) {
+            (true, true) => &["gbuffer", "light tiles", "deferred lighting", "forward-only and background"][..],
+            (true, false) => &["gbuffer", "deferred lighting", "forward-only and background"][..],
+            _ => &["forward"][..],
         });
+        let tile_group = if tiled { Some(self.prepare_light_tiles(cell, prepared.scene.lights.len())?) } else { None };
         let per_frame = pass_names.len() as u32;
         if self.gpu.record.timestamp_queries && self.timer.as_ref().is_none_or(|t| t.capacity() < frames * per_frame) {
             self.timer = Some(PassTimer::new(&self.gpu.device, &self.gpu.queue, frames * per_frame));
@@ -800,13 +815,8 @@ impl Renderer {
                 k += 1;
             }
             if deferred {
-                self.encode_deferred(
-                    &mut encoder,
-                    prepared,
-                    cell,
-                    &fixed_model,
-                    [timed(k), timed(k + 1), timed(k + 2)],
-                );
+                let timed: Vec<_> = (k..per_frame).map(timed).collect();
+                self.encode_deferred(&mut encoder, prepared, cell, &fixed_model, tile_group.as_ref(), &timed);
             } else {
                 let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                     label: Some("forward"),
@@ -898,6 +908,34 @@ impl Renderer {
         })
     }
 
+    /// The tiled light loop for a frame: its compute pipeline, room for the masks, and the compute
+    /// pass's bind group on this frame's depth.
+    fn prepare_light_tiles(&mut self, cell: &CellParams, lights: usize) -> Result<wgpu::BindGroup, Error> {
+        if self.tiles.pipeline.is_none() {
+            let model = self
+                .fixed_models
+                .find(Pipeline::Hdrp, Pipeline::Hdrp.fixed_object_shader())
+                .cloned()
+                .ok_or_else(|| Error::Other("HDRP lacks its fixed-object shader".into()))?;
+            let source = wgsl::compose(wgsl::PassKind::Forward, Some(&model));
+            let module = self.gpu.shader_module("light tiles", &source)?;
+            let pipeline = self.gpu.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some("light tiles"),
+                layout: Some(&self.tiles.compute_layout),
+                module: &module,
+                entry_point: Some("cs_light_tiles"),
+                compilation_options: Default::default(),
+                cache: None,
+            });
+            self.gpu.check_errors("creating the light-tile pipeline")?;
+            self.tiles.pipeline = Some(pipeline);
+        }
+        let (tx, ty, words) = super::deferred::tile_grid(cell.width, cell.height, lights);
+        self.tiles.reserve(&self.gpu.device, (tx * ty * words) as u64 * 4);
+        let t = self.targets.as_ref().expect("targets exist");
+        Ok(self.tiles.write_group(&self.gpu.device, &t.depth_view))
+    }
+
     /// One deferred frame: G-buffer, lighting per role, then what the G-buffer cannot carry drawn
     /// forward, and the background. The frame's timestamps bracket all three passes.
     fn encode_deferred(
@@ -906,9 +944,12 @@ impl Renderer {
         prepared: &PreparedScene,
         cell: &CellParams,
         fixed_model: &ShaderModel,
-        timed: [Option<(&PassTimer, u32)>; 3],
+        tile_group: Option<&wgpu::BindGroup>,
+        timed: &[Option<(&PassTimer, u32)>],
     ) {
         let p = cell.pipeline;
+        // With the tiled loop, its compute pass sits between the G-buffer and the lighting.
+        let (light_at, last_at) = if tile_group.is_some() { (2, 3) } else { (1, 2) };
         let t = self.targets.as_ref().expect("targets exist");
         let gb = &t.gbuffer;
         let color = |view, clear| {
@@ -949,18 +990,31 @@ impl Renderer {
                 pass.draw_indexed(0..o.index_count, 0, 0..1);
             }
         }
+        if let (Some(group), Some(pipeline)) = (tile_group, &self.tiles.pipeline) {
+            encoder.clear_buffer(&self.tiles.masks, 0, None);
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("light tiles"),
+                timestamp_writes: timed[1].map(|(t, pair)| t.compute_writes(pair)),
+            });
+            let (tx, ty, _) = super::deferred::tile_grid(t.width, t.height, 0);
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, &prepared.frame_bind_group, &[]);
+            pass.set_bind_group(3, group, &[]);
+            pass.dispatch_workgroups(tx, ty, 1);
+        }
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("deferred lighting"),
                 color_attachments: &[color(&t.color_view, wgpu::LoadOp::Clear(wgpu::Color::BLACK))],
                 depth_stencil_attachment: None,
-                timestamp_writes: timed[1].map(|(t, pair)| t.writes(pair, true, true)),
+                timestamp_writes: timed[light_at].map(|(t, pair)| t.writes(pair, true, true)),
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
             pass.set_bind_group(0, &prepared.frame_bind_group, &[]);
             pass.set_bind_group(1, &prepared.object_bind_group, &[0]);
             pass.set_bind_group(2, gb.read(p), &[]);
+            pass.set_bind_group(3, &self.tiles.read, &[]);
             for (model, role) in [(cell.model, ROLE_SUBJECT), (fixed_model, ROLE_FIXED)] {
                 if let Some(pipeline) = self.lighting_pipelines.get(&(p, model.name.to_string(), role as u32)) {
                     pass.set_pipeline(pipeline);
@@ -976,7 +1030,7 @@ impl Renderer {
                 depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Discard }),
                 stencil_ops: None,
             }),
-            timestamp_writes: timed[2].map(|(t, pair)| t.writes(pair, true, true)),
+            timestamp_writes: timed[last_at].map(|(t, pair)| t.writes(pair, true, true)),
             occlusion_query_set: None,
             multiview_mask: None,
         });
@@ -1105,7 +1159,8 @@ impl Renderer {
                 sh.map(|c| [c.x as f32, c.y as f32, c.z as f32, 0.0])
             })
             .collect();
-        frame.counts = [lights.len() as u32, main_light.map_or(0, |(slot, _)| slot as u32 + 1), 0, 0];
+        let (tiles_x, _, words) = super::deferred::tile_grid(cell.width, cell.height, lights.len());
+        frame.counts = [lights.len() as u32, main_light.map_or(0, |(slot, _)| slot as u32 + 1), words, tiles_x];
         for (dst, src) in frame.sh.iter_mut().zip(prepared.env.sh.iter()) {
             *dst = [src[0] as f32, src[1] as f32, src[2] as f32, 0.0];
         }
@@ -1269,7 +1324,7 @@ fn object_centres(scene: &Scene, meshes: &[Mesh]) -> Vec<(String, DVec3)> {
 fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
-        visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+        visibility: wgpu::ShaderStages::VERTEX_FRAGMENT.union(wgpu::ShaderStages::COMPUTE),
         ty: wgpu::BindingType::Buffer {
             ty: wgpu::BufferBindingType::Storage { read_only: true },
             has_dynamic_offset: false,

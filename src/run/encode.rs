@@ -156,7 +156,7 @@ fn cell_record(
         note: None,
         adapter: adapter.to_string(),
         display,
-        passes: plan.passes_for(cell.path).iter().map(|p| p.to_string()).collect(),
+        passes: plan.passes_for(cell.path, cell.pipeline).iter().map(|p| p.to_string()).collect(),
         left_out: plan.left_out,
         lights: Vec::new(),
         stats,

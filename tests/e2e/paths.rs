@@ -63,15 +63,16 @@ fn list_shows_each_paths_passes() {
     let m = write_matrix(
         tmp.path(),
         "m.toml",
-        "name = \"p\"\ncompositions = [\"default\"]\npipelines = [\"urp\"]\npaths = [\"forward\", \"deferred\"]\nshaders = [\"lit\"]\npresets = [\"gold\"]\n",
+        "name = \"p\"\ncompositions = [\"default\"]\npipelines = [\"urp\", \"hdrp\"]\npaths = [\"forward\", \"deferred\"]\nshaders = [\"lit\"]\npresets = [\"gold\"]\n",
     );
     let (code, out, err) = shadematrix(tmp.path(), &["list", m.to_str().unwrap()], &[]);
     assert_eq!(code, 0, "{err}");
-    assert!(out.contains("composition default (forward): passes shadow → forward → background"), "{out}");
+    assert!(out.contains("composition default (urp-forward): passes shadow → forward → background"), "{out}");
     assert!(
-        out.contains("composition default (deferred): passes shadow → gbuffer → deferred lighting → forward (models the G-buffer cannot carry) → background"),
+        out.contains("composition default (urp-deferred): passes shadow → gbuffer → deferred lighting → forward (models the G-buffer cannot carry) → background"),
         "{out}"
     );
+    assert!(out.contains("(hdrp-deferred): passes shadow → gbuffer → light tiles → deferred lighting"), "{out}");
 }
 
 #[test]
@@ -94,4 +95,41 @@ fn forward_time_grows_faster_with_the_light_count_than_deferred() {
     let deferred = time(32, RenderPath::Deferred) - time(1, RenderPath::Deferred);
     eprintln!("31 more lights cost {forward:.2} ms forward, {deferred:.2} ms deferred");
     assert!(forward > deferred, "forward {forward} ms vs deferred {deferred} ms");
+}
+
+#[test]
+fn hdrp_tiled_light_loop_keeps_every_light_where_it_reaches() {
+    // Short ranges make most lights miss most tiles: the tiled deferred image must still match
+    // forward (every light per pixel) everywhere, within the G-buffer's 8-bit quantisation.
+    let mut scene = Scene::load_file(&fixture("twelve_points.toml")).unwrap();
+    for l in &mut scene.lights {
+        l.range = 1.6;
+        l.position[1] = 0.3;
+    }
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let prepared = renderer.prepare_scene(&scene).unwrap();
+    let sliders = Sliders { base_color_linear: [0.7, 0.6, 0.5], metallic: 0.0, smoothness: 0.5 };
+    let mut render = |path: RenderPath| {
+        let cell = cell_params(Pipeline::Hdrp, "lambert", sliders, (scene.lights[0].intensity, 1.6), 128, path);
+        renderer.render(&prepared, &cell, 1, 0).unwrap()
+    };
+    let deferred = render(RenderPath::Deferred);
+    assert!(
+        deferred.gpu_passes.as_ref().is_none_or(|p| p.iter().any(|(n, _)| n == "light tiles")),
+        "{:?}",
+        deferred.gpu_passes
+    );
+    let forward = render(RenderPath::Forward);
+    let peak = forward.hdr.iter().copied().fold(0.0f32, f32::max) as f64;
+    let mut worst: f64 = 0.0;
+    let mut lit = 0;
+    for (k, (d, f)) in deferred.hdr.iter().zip(&forward.hdr).enumerate() {
+        if k % 4 != 3 && (*f as f64) > 0.05 * peak {
+            lit += 1;
+            worst = worst.max((*d as f64 - *f as f64).abs() / *f as f64);
+        }
+    }
+    eprintln!("tiled HDRP deferred vs forward: worst relative difference {worst:.2e} over {lit} lit channels");
+    assert!(lit > 1000, "the lights reach the plane: {lit}");
+    assert!(worst < 0.03, "{worst}");
 }
