@@ -83,26 +83,16 @@ fn light_plan(m: &Matrix, scene: &crate::spec::scene::Scene) -> String {
         let _ = writeln!(out, "  lights: none");
         return out;
     }
-    let centres: Vec<(String, glam::DVec3)> = match crate::geometry::procedural::build_scene(scene) {
-        Ok(meshes) => scene
-            .objects
-            .iter()
-            .zip(&meshes)
-            .map(|(o, mesh)| {
-                let (lo, hi) = mesh.bounds();
-                (o.name.clone(), o.transform.matrix().transform_point3((lo.as_dvec3() + hi.as_dvec3()) * 0.5))
-            })
-            .collect(),
+    let centres = match crate::geometry::procedural::build_scene(scene) {
+        Ok(meshes) => crate::geometry::placement::object_centres(scene, &meshes),
         Err(e) => {
             let _ = writeln!(out, "  lights: cannot place the objects ({e})");
             return out;
         }
     };
-    let mut lights = scene.lights.clone();
-    if let (Some(k), Some(angle)) = (scene.key_light(), scene.light_angle_deg) {
-        let view = crate::render::camera::ViewAxes { light_angle: Some(angle), camera_distance: None };
-        lights[k] = crate::render::camera::posed_key_light(&lights[k], &scene.camera, &view);
-    }
+    let key = scene.key_light().map(|k| &scene.lights[k]);
+    let (intensity, range) = key.map_or((0.0, 0.0), |k| (k.intensity, k.range));
+    let lights = crate::render::camera::cell_lights(scene, intensity, range, &scene.camera, &Default::default());
     for p in &m.pipelines {
         for path in &m.paths {
             let plan = assign(*p, *path, &m.light_budget, &lights, &centres);

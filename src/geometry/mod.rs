@@ -2,6 +2,7 @@
 
 pub mod gltf_io;
 pub mod mesh;
+pub mod placement;
 pub mod procedural;
 
 pub use mesh::{Mesh, Vertex};

@@ -49,12 +49,6 @@ pub struct DisplayRecord {
     pub png_saturated: f64,
 }
 
-impl DisplayRecord {
-    pub fn multiplier(&self) -> f64 {
-        self.exposure.map_or(1.0, |e| e.exposure)
-    }
-}
-
 const MEMO_SIZE: usize = 4096;
 
 /// Tonemapped RGBA8 (alpha 255) of a w×h image. Non-finite and negative values map to 0 (the EXR
@@ -133,7 +127,7 @@ mod tests {
     fn no_tonemap_clamps_and_encodes() {
         let display = DisplayTransform { tonemap: Tonemap::None, exposure: None };
         let (px, r) = to_srgb8(&[0.0, 0.5, 2.0, 1.0, f32::NAN, -1.0, 1.0, 1.0], 2, 1, &display);
-        assert_eq!(r.multiplier(), 1.0);
+        assert!(r.exposure.is_none(), "no exposure stage without HDRP");
         assert_eq!(&px[0..4], &[0, 188, 255, 255], "linear 0.5 encodes to sRGB 0.735");
         assert_eq!(&px[4..7], &[0, 0, 255]);
     }

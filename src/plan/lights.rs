@@ -128,8 +128,16 @@ fn use_(light: usize, mode: LightMode, reason: impl Into<String>) -> LightUse {
     LightUse { light, mode, reason: reason.into() }
 }
 
-/// The brightest directional light (ties: the first), the main light of built-in and URP.
-fn main_light(pipeline: Pipeline, lights: &[Light], allowed: impl Fn(&Light) -> bool) -> Option<usize> {
+/// The main light — the base pass's in built-in (a Not Important light cannot be it), URP's main
+/// light — and the one whose colour scales a ForwardBase shader's ambient.
+pub fn main_light(pipeline: Pipeline, lights: &[Light]) -> Option<usize> {
+    brightest_directional(pipeline, lights, |l| {
+        pipeline != Pipeline::Builtin || l.render_mode != RenderMode::NotImportant
+    })
+}
+
+/// The brightest directional light that `allowed` admits (ties: the first).
+fn brightest_directional(pipeline: Pipeline, lights: &[Light], allowed: impl Fn(&Light) -> bool) -> Option<usize> {
     let mut best: Option<(usize, f64)> = None;
     for (i, l) in lights.iter().enumerate() {
         if l.kind == LightKind::Directional && allowed(l) {
@@ -187,7 +195,7 @@ fn assign_object(
             }
         }
         Pipeline::Urp => {
-            let main = main_light(pipeline, lights, |_| true);
+            let main = main_light(pipeline, lights);
             if let Some(m) = main {
                 out[m] = Some(use_(m, LightMode::PerPixel, "the main light (brightest directional)"));
             }
@@ -213,7 +221,7 @@ fn assign_object(
             }
         }
         Pipeline::Builtin => {
-            let main = main_light(pipeline, lights, |l| l.render_mode != RenderMode::NotImportant);
+            let main = main_light(pipeline, lights);
             let mut pixel = 0usize;
             if let Some(m) = main {
                 out[m] = Some(use_(m, LightMode::PerPixel, "the brightest directional light (base pass)"));

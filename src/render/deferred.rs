@@ -44,19 +44,9 @@ impl GBuffer {
         role: &wgpu::TextureView,
         depth: &wgpu::TextureView,
     ) -> GBuffer {
+        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
         let make = |label: &str, format: wgpu::TextureFormat| {
-            device
-                .create_texture(&wgpu::TextureDescriptor {
-                    label: Some(label),
-                    size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
-                    mip_level_count: 1,
-                    sample_count: 1,
-                    dimension: wgpu::TextureDimension::D2,
-                    format,
-                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-                    view_formats: &[],
-                })
-                .create_view(&Default::default())
+            super::texture_2d(device, label, (width, height), format, usage).create_view(&Default::default())
         };
         let albedo = make("gbuffer albedo", GB_ALBEDO);
         let material = make("gbuffer material", GB_MATERIAL);
@@ -128,13 +118,6 @@ pub fn read_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
 /// Whether a model can be drawn into the G-buffer (otherwise it draws forward after lighting).
 pub fn deferrable(model: &crate::shading::ShaderModel) -> bool {
     !model.per_vertex && !model.main_light_only
-}
-
-/// HDRP lights its G-buffer with a tiled light loop; built-in and URP deferred draw light volumes,
-/// emulated here by looping over every light (the same image: a light is binned only where its
-/// attenuation is not zero).
-pub fn tiled(p: Pipeline) -> bool {
-    p.tiled_light_loop()
 }
 
 /// Screen tiles of the light loop (shaders/pass/forward.wgsl `LIGHT_TILE`).

@@ -10,3 +10,77 @@ pub mod shadows;
 pub mod uniforms;
 
 pub use renderer::{CellParams, CellRender, CellSettings, PreparedScene, Renderer};
+
+/// A single-sample 2-D texture of one layer, as every render target here is.
+pub(crate) fn texture_2d(
+    device: &wgpu::Device,
+    label: &str,
+    (width, height): (u32, u32),
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats: &[],
+    })
+}
+
+/// The layout `uniform_slots` binds: one uniform of `size` bytes at a dynamic offset.
+pub(crate) fn uniform_slot_layout(
+    device: &wgpu::Device,
+    label: &str,
+    visibility: wgpu::ShaderStages,
+    size: u64,
+) -> wgpu::BindGroupLayout {
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some(label),
+        entries: &[wgpu::BindGroupLayoutEntry {
+            binding: 0,
+            visibility,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                has_dynamic_offset: true,
+                min_binding_size: wgpu::BufferSize::new(size),
+            },
+            count: None,
+        }],
+    })
+}
+
+/// A uniform buffer of `count` slots of `size` bytes at the device's offset alignment, and a bind
+/// group (`layout`: one uniform binding with a dynamic offset) that sees one slot at a time.
+pub(crate) fn uniform_slots(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    label: &str,
+    size: u64,
+    count: usize,
+) -> (wgpu::Buffer, u64, wgpu::BindGroup) {
+    let align = device.limits().min_uniform_buffer_offset_alignment as u64;
+    let stride = size.div_ceil(align) * align;
+    let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: stride * count.max(1) as u64,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout,
+        entries: &[wgpu::BindGroupEntry {
+            binding: 0,
+            resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                buffer: &buffer,
+                offset: 0,
+                size: wgpu::BufferSize::new(size),
+            }),
+        }],
+    });
+    (buffer, stride, group)
+}

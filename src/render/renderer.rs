@@ -7,18 +7,18 @@ use std::collections::HashMap;
 use std::time::Instant;
 use wgpu::util::DeviceExt;
 
-use super::camera::{posed_camera, posed_key_light, view_projection, ViewAxes};
+use super::camera::{posed_camera, view_projection, ViewAxes};
 use super::deferred::{deferrable, GBuffer};
 use super::shadows::{light_layers, shadow_slot, CascadeView, SHADOW_FORMAT};
 use super::uniforms::*;
 use crate::environment::EnvironmentMaps;
 use crate::error::Error;
-use crate::geometry::{procedural, Mesh, Vertex};
+use crate::geometry::{placement, procedural, Mesh, Vertex};
 use crate::gpu::readback::TextureReadback;
 use crate::gpu::timing::PassTimer;
 use crate::gpu::GpuContext;
 use crate::pipelines::{Pipeline, RenderPath};
-use crate::plan::lights::{assign, cell_lights, sh_of_light, LightBudget, LightMode, ObjectLights};
+use crate::plan::lights::{assign, sh_of_light, LightBudget, LightMode, ObjectLights};
 use crate::plan::FramePlan;
 use crate::shading::registry::Sliders;
 use crate::shading::twin::Surface;
@@ -214,19 +214,12 @@ impl Renderer {
                 storage_entry(8),
             ],
         });
-        let object_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("object"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: true,
-                    min_binding_size: wgpu::BufferSize::new(std::mem::size_of::<ObjectUniforms>() as u64),
-                },
-                count: None,
-            }],
-        });
+        let object_layout = super::uniform_slot_layout(
+            device,
+            "object",
+            wgpu::ShaderStages::VERTEX_FRAGMENT,
+            std::mem::size_of::<ObjectUniforms>() as u64,
+        );
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("scene"),
             bind_group_layouts: &[Some(&frame_layout), Some(&object_layout)],
@@ -248,19 +241,7 @@ impl Renderer {
             compare: Some(wgpu::CompareFunction::LessEqual),
             ..Default::default()
         });
-        let shadow_layer_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("shadow layer"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::VERTEX,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: true,
-                    min_binding_size: wgpu::BufferSize::new(64),
-                },
-                count: None,
-            }],
-        });
+        let shadow_layer_layout = super::uniform_slot_layout(device, "shadow layer", wgpu::ShaderStages::VERTEX, 64);
         let shadow_pipeline = shadow_pipeline(&gpu, &shadow_layer_layout, &object_layout);
         let gbuffer_read_layout = super::deferred::read_layout(device);
         let tiles = super::deferred::LightTiles::new(device, &frame_layout);
@@ -404,7 +385,7 @@ impl Renderer {
         let constants = [
             ("PIPELINE", pipeline.shader_id() as f64),
             ("DEFERRED_ROLE", role as f64),
-            ("TILED_LIGHTS", super::deferred::tiled(pipeline) as u32 as f64),
+            ("TILED_LIGHTS", pipeline.tiled_light_loop() as u32 as f64),
         ];
         let options = wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() };
         let p = self.gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -484,8 +465,8 @@ impl Renderer {
         let env = EnvironmentMaps::build(&scene.environment);
         let mut objects = Vec::new();
         let mut triangle_count = 0;
-        let object_centres = object_centres(scene, &meshes);
-        let scene_bounds = world_bounds(scene, &meshes);
+        let object_centres = placement::object_centres(scene, &meshes);
+        let scene_bounds = placement::world_bounds(scene, &meshes);
         for (o, mesh) in scene.objects.iter().zip(meshes) {
             triangle_count += mesh.triangle_count();
             let vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -519,26 +500,13 @@ impl Renderer {
                 receive_shadows: o.receive_shadows,
             });
         }
-        let align = device.limits().min_uniform_buffer_offset_alignment as u64;
-        let object_stride = (std::mem::size_of::<ObjectUniforms>() as u64).div_ceil(align) * align;
-        let object_buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("objects"),
-            size: object_stride * objects.len().max(1) as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let object_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("objects"),
-            layout: &self.object_layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                    buffer: &object_buffer,
-                    offset: 0,
-                    size: wgpu::BufferSize::new(std::mem::size_of::<ObjectUniforms>() as u64),
-                }),
-            }],
-        });
+        let (object_buffer, object_stride, object_bind_group) = super::uniform_slots(
+            device,
+            &self.object_layout,
+            "objects",
+            std::mem::size_of::<ObjectUniforms>() as u64,
+            objects.len(),
+        );
         let frame_buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("frame"),
             size: std::mem::size_of::<FrameUniforms>() as u64,
@@ -669,26 +637,8 @@ impl Renderer {
             dimension: Some(wgpu::TextureViewDimension::D2Array),
             ..Default::default()
         });
-        let align = device.limits().min_uniform_buffer_offset_alignment as u64;
-        let layer_stride = 64u64.div_ceil(align) * align;
-        let layer_uniforms = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("shadow layer matrices"),
-            size: layer_stride * layers as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let layer_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("shadow layer"),
-            layout: &self.shadow_layer_layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                    buffer: &layer_uniforms,
-                    offset: 0,
-                    size: wgpu::BufferSize::new(64),
-                }),
-            }],
-        });
+        let (layer_uniforms, layer_stride, layer_bind_group) =
+            super::uniform_slots(device, &self.shadow_layer_layout, "shadow layer matrices", 64, layers as usize);
         let layers_storage = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("shadow layers"),
             size: (std::mem::size_of::<ShadowLayer>() * layers as usize) as u64,
@@ -713,16 +663,7 @@ impl Renderer {
         if self.targets.as_ref().is_none_or(|t| t.width != width || t.height != height) {
             let device = &self.gpu.device;
             let make = |label: &str, format: wgpu::TextureFormat, usage: wgpu::TextureUsages| {
-                device.create_texture(&wgpu::TextureDescriptor {
-                    label: Some(label),
-                    size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
-                    mip_level_count: 1,
-                    sample_count: 1,
-                    dimension: wgpu::TextureDimension::D2,
-                    format,
-                    usage,
-                    view_formats: &[],
-                })
+                super::texture_2d(device, label, (width, height), format, usage)
             };
             let attach = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
             let color = make("hdr", HDR_FORMAT, attach);
@@ -788,7 +729,7 @@ impl Renderer {
         if shadows {
             pass_names.push("shadow");
         }
-        let tiled = deferred && super::deferred::tiled(cell.pipeline);
+        let tiled = deferred && cell.pipeline.tiled_light_loop();
         pass_names.extend(match (deferred, tiled) {
             (true, true) => &["gbuffer", "light tiles", "deferred lighting", "forward-only and background"][..],
             (true, false) => &["gbuffer", "deferred lighting", "forward-only and background"][..],
@@ -1062,16 +1003,11 @@ impl Renderer {
         let aspect = cell.width as f64 / cell.height as f64;
         let camera = posed_camera(&scene.camera, &cell.view);
         let vp = view_projection(&camera, aspect);
-        let key = scene.key_light();
         let mut frame = FrameUniforms::zeroed();
         frame.view_proj = mat(vp);
         frame.inv_view_proj = mat(vp.inverse());
         frame.camera_pos = vec4(DVec3::from(camera.position), 1.0);
-        let mut lights = cell_lights(scene, cell.light_intensity, cell.light_range);
-        if let Some(k) = key {
-            let view = ViewAxes { light_angle: cell.view.light_angle.or(scene.light_angle_deg), ..cell.view };
-            lights[k] = posed_key_light(&lights[k], &camera, &view);
-        }
+        let lights = super::camera::cell_lights(scene, cell.light_intensity, cell.light_range, &camera, &cell.view);
         let assignment = assign(p, cell.settings.path, &cell.settings.light_budget, &lights, &prepared.object_centres);
         let sh = &prepared.shadows;
         // Indexed by layer: a light's layers sit from its first layer on (a directional light
@@ -1080,7 +1016,7 @@ impl Renderer {
         let mut used_layers: Vec<usize> = Vec::new();
         let mut gpu_lights = Vec::with_capacity(lights.len());
         let mut colors = Vec::with_capacity(lights.len());
-        let mut main_light: Option<(usize, f64)> = None;
+        let main_light = crate::plan::lights::main_light(p, &lights);
         for (slot, l) in lights.iter().enumerate() {
             let emitter = l.emitter();
             let outer = (l.spot_angle_deg * 0.5).to_radians();
@@ -1090,10 +1026,6 @@ impl Renderer {
                 .map(|a| (a * 0.5).to_radians())
                 .unwrap_or_else(|| (outer.tan() * 46.0 / 64.0).atan());
             let color = DVec3::from(p.light_radiance(l.color, l.intensity, emitter));
-            // The main light of a ForwardBase pass: the brightest directional light.
-            if l.kind == LightKind::Directional && main_light.is_none_or(|(_, b)| color.max_element() > b) {
-                main_light = Some((slot, color.max_element()));
-            }
             colors.push(color);
             let first = sh.first_layer[slot];
             let mut layer_count = 0;
@@ -1160,7 +1092,7 @@ impl Renderer {
             })
             .collect();
         let (tiles_x, _, words) = super::deferred::tile_grid(cell.width, cell.height, lights.len());
-        frame.counts = [lights.len() as u32, main_light.map_or(0, |(slot, _)| slot as u32 + 1), words, tiles_x];
+        frame.counts = [lights.len() as u32, main_light.map_or(0, |slot| slot as u32 + 1), words, tiles_x];
         for (dst, src) in frame.sh.iter_mut().zip(prepared.env.sh.iter()) {
             *dst = [src[0] as f32, src[1] as f32, src[2] as f32, 0.0];
         }
@@ -1279,45 +1211,6 @@ fn shadow_pipeline(
         multiview_mask: None,
         cache: None,
     })
-}
-
-/// World-space bounds of every object together.
-fn world_bounds(scene: &Scene, meshes: &[Mesh]) -> (DVec3, DVec3) {
-    let mut lo = DVec3::splat(f64::MAX);
-    let mut hi = DVec3::splat(f64::MIN);
-    for (o, mesh) in scene.objects.iter().zip(meshes) {
-        let (a, b) = mesh.bounds();
-        let m = o.transform.matrix();
-        for corner in 0..8 {
-            let c = DVec3::new(
-                if corner & 1 == 0 { a.x } else { b.x } as f64,
-                if corner & 2 == 0 { a.y } else { b.y } as f64,
-                if corner & 4 == 0 { a.z } else { b.z } as f64,
-            );
-            let w = m.transform_point3(c);
-            lo = lo.min(w);
-            hi = hi.max(w);
-        }
-    }
-    if lo.x > hi.x {
-        (DVec3::ZERO, DVec3::ZERO)
-    } else {
-        (lo, hi)
-    }
-}
-
-/// Each object's name and the centre of its world-space bounds.
-fn object_centres(scene: &Scene, meshes: &[Mesh]) -> Vec<(String, DVec3)> {
-    scene
-        .objects
-        .iter()
-        .zip(meshes)
-        .map(|(o, mesh)| {
-            let (lo, hi) = mesh.bounds();
-            let centre = (lo.as_dvec3() + hi.as_dvec3()) * 0.5;
-            (o.name.clone(), o.transform.matrix().transform_point3(centre))
-        })
-        .collect()
 }
 
 /// A read-only storage buffer of the frame group, seen by both stages (vertex lights read it).
