@@ -72,7 +72,7 @@ pub fn cell_params(
         width: size,
         height: size,
         view: Default::default(),
-        settings: shadematrix::render::CellSettings { path, light_budget: Default::default() },
+        settings: shadematrix::render::CellSettings { path, ..Default::default() },
     }
 }
 

@@ -60,6 +60,8 @@ pub struct Cell {
     pub display: DisplayTransform,
     /// The matrix's light budgets (`[lights]`).
     pub light_budget: crate::pipelines::LightBudget,
+    /// The anti-aliasing the matrix asks of this cell's pipeline (deferred paths render one sample).
+    pub antialiasing: crate::pipelines::Antialiasing,
     /// Set when an earlier cell renders the same image (the shader ignores the differing axes).
     pub twin_of: Option<CellId>,
     /// The model `shader` names in `pipeline`.
@@ -175,6 +177,7 @@ pub fn expand(m: &Matrix) -> Expansion {
                                                             light_angle,
                                                             display,
                                                             light_budget: m.light_budget,
+                                                            antialiasing: m.antialiasing_for(pipeline),
                                                             twin_of: None,
                                                             model: model.clone(),
                                                         };
@@ -350,8 +353,8 @@ fn render_key(c: &Cell) -> String {
     // Fixed objects are lit by the key light whatever the shader, so light and view axes always count.
     key.push_str(&format!("|i{}|r{}|{}x{}", c.light_intensity, c.light_range, c.width, c.height));
     key.push_str(&format!(
-        "|d{:?}|a{:?}|p{:?}|{:?}|{:?}",
-        c.camera_distance, c.light_angle, c.params, c.display, c.light_budget
+        "|d{:?}|a{:?}|p{:?}|{:?}|{:?}|{:?}",
+        c.camera_distance, c.light_angle, c.params, c.display, c.light_budget, c.antialiasing
     ));
     key
 }

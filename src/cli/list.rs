@@ -25,7 +25,14 @@ pub fn text(m: &Matrix) -> String {
         for p in &m.pipelines {
             for path in m.paths.iter().filter(|path| p.paths().contains(path)) {
                 let passes = plan.passes_for(*path, *p).join(" → ");
-                let _ = writeln!(out, "composition {} ({}-{}): passes {passes}", scene.name, p.name(), path.name());
+                let (samples, why_one) = m.antialiasing_for(*p).samples_on(*path);
+                let aa = match (samples, why_one) {
+                    (1, Some(why)) => format!("1 sample ({} asked: {why})", m.antialiasing_for(*p).name()),
+                    (1, None) => "1 sample".to_string(),
+                    (n, _) => format!("{n}× MSAA asked (cell.json says what the adapter rendered)"),
+                };
+                let _ =
+                    writeln!(out, "composition {} ({}-{}): passes {passes}; {aa}", scene.name, p.name(), path.name());
             }
         }
         for (what, why) in &plan.left_out {

@@ -88,6 +88,12 @@ impl GpuContext {
         if timestamp {
             required_features |= wgpu::Features::TIMESTAMP_QUERY;
         }
+        // Core WebGPU multisamples 4× and not 32-bit float targets; the adapter's own format
+        // features allow the HDR target's MSAA and 2×/8× where the hardware has them.
+        let adapter_formats = wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES;
+        if adapter.features().contains(adapter_formats) {
+            required_features |= adapter_formats;
+        }
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("shadematrix"),
             required_features,
@@ -113,6 +119,26 @@ impl GpuContext {
             timestamp_queries: timestamp,
         };
         Ok(GpuContext { adapter, device, queue, record, uncaptured })
+    }
+
+    /// The MSAA sample counts (> 1) that every one of `formats` can render with and resolve.
+    pub fn multisample_counts(&self, formats: &[wgpu::TextureFormat]) -> Vec<u32> {
+        use wgpu::TextureFormatFeatureFlags as F;
+        let adapter_formats = self.device.features().contains(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES);
+        [2, 4, 8, 16]
+            .into_iter()
+            .filter(|&n| {
+                formats.iter().all(|&f| {
+                    let flags = if adapter_formats {
+                        self.adapter.get_texture_format_features(f).flags
+                    } else {
+                        f.guaranteed_format_features(self.device.features()).flags
+                    };
+                    let resolves = f.is_depth_stencil_format() || flags.contains(F::MULTISAMPLE_RESOLVE);
+                    flags.sample_count_supported(n) && resolves
+                })
+            })
+            .collect()
     }
 
     /// Turn errors wgpu reported asynchronously into a device error.

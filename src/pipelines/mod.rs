@@ -110,6 +110,18 @@ impl Pipeline {
         }
     }
 
+    /// The anti-aliasing each pipeline ships with: built-in's top quality level (Ultra) sets
+    /// `antiAliasing: 4` (the default ProjectSettings/QualitySettings.asset); URP's asset has
+    /// `m_MSAA = MsaaQuality.Disabled` (UniversalRenderPipelineAsset.cs); HDRP's
+    /// RenderPipelineSettings default `msaaSampleCount` is None, and HDRP multisamples only in
+    /// forward-only lit mode anyway.
+    pub fn default_antialiasing(self) -> Antialiasing {
+        match self {
+            Pipeline::Builtin => Antialiasing::Msaa4,
+            Pipeline::Urp | Pipeline::Hdrp => Antialiasing::None,
+        }
+    }
+
     /// The directional-light shadow cascades each pipeline ships with: built-in QualitySettings
     /// (4 cascades, 150 m, splits 0.067/0.2/0.467), URP's asset (1 cascade, 50 m:
     /// UniversalRenderPipelineAsset m_ShadowCascadeCount = 1, m_ShadowDistance = 50), HDRP's
@@ -248,6 +260,62 @@ impl Tonemap {
 
     pub fn names() -> Vec<&'static str> {
         Self::ALL.iter().map(|t| t.name()).collect()
+    }
+}
+
+/// Multisample anti-aliasing. It applies to forward paths only: Unity renders its deferred paths
+/// without MSAA (built-in and URP ignore the setting there; HDRP multisamples only in forward-only
+/// mode), so a deferred cell renders one sample and its record says why.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Antialiasing {
+    #[default]
+    None,
+    Msaa2,
+    Msaa4,
+    Msaa8,
+}
+
+impl Antialiasing {
+    pub const ALL: [Antialiasing; 4] =
+        [Antialiasing::None, Antialiasing::Msaa2, Antialiasing::Msaa4, Antialiasing::Msaa8];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Antialiasing::None => "none",
+            Antialiasing::Msaa2 => "msaa2",
+            Antialiasing::Msaa4 => "msaa4",
+            Antialiasing::Msaa8 => "msaa8",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<Antialiasing> {
+        Self::ALL.into_iter().find(|a| a.name() == name)
+    }
+
+    pub fn names() -> Vec<&'static str> {
+        Self::ALL.iter().map(|a| a.name()).collect()
+    }
+
+    /// Samples per pixel asked for.
+    pub fn samples(self) -> u32 {
+        match self {
+            Antialiasing::None => 1,
+            Antialiasing::Msaa2 => 2,
+            Antialiasing::Msaa4 => 4,
+            Antialiasing::Msaa8 => 8,
+        }
+    }
+
+    /// Samples per pixel on `path`: one on deferred paths, with the reason.
+    pub fn samples_on(self, path: RenderPath) -> (u32, Option<&'static str>) {
+        match (self, path) {
+            (Antialiasing::None, _) => (1, None),
+            (_, RenderPath::Deferred) => {
+                (1, Some("MSAA applies to forward paths only: Unity renders its deferred paths without it"))
+            }
+            (a, _) => (a.samples(), None),
+        }
     }
 }
 

@@ -18,8 +18,9 @@ use crate::plan::lights::ObjectLights;
 
 /// Version of the `cell.json` layout. 1: untyped, before versioning; 2: typed, written once with
 /// metrics; 3: the display transform (tonemapper, HDRP exposure mode, EV and multiplier), light
-/// units, the model parameters the sweep set, the light assignment and GPU time per pass.
-pub const CELL_SCHEMA: u32 = 3;
+/// units, the model parameters the sweep set, the light assignment and GPU time per pass;
+/// 4: anti-aliasing (asked, rendered samples and why they differ).
+pub const CELL_SCHEMA: u32 = 4;
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct CellRecord {
@@ -54,6 +55,7 @@ pub struct CellRecord {
     pub left_out: Vec<(String, String)>,
     /// How each light reached each object (per-pixel, per-vertex, SH, dropped) and why.
     pub lights: Vec<ObjectLights>,
+    pub antialiasing: AntialiasingRecord,
     pub stats: PixelStats,
     pub timing: CellTiming,
     pub metrics: CellMetrics,
@@ -108,6 +110,16 @@ pub struct ShaderInputs {
     pub params: BTreeMap<String, f64>,
     /// How the sweep's values became these inputs.
     pub mapping: String,
+}
+
+/// The anti-aliasing a cell asked for and the samples per pixel it rendered with.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct AntialiasingRecord {
+    pub asked: crate::pipelines::Antialiasing,
+    pub samples: u32,
+    /// Why `samples` differs from what was asked (deferred path, adapter), when it does.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub note: Option<String>,
 }
 
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]

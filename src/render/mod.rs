@@ -11,19 +11,31 @@ pub mod uniforms;
 
 pub use renderer::{CellParams, CellRender, CellSettings, PreparedScene, Renderer};
 
-/// A single-sample 2-D texture of one layer, as every render target here is.
+/// A single-sample 2-D texture of one layer, as every render target here is but the MSAA ones.
 pub(crate) fn texture_2d(
+    device: &wgpu::Device,
+    label: &str,
+    size: (u32, u32),
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    multisampled_2d(device, label, size, format, usage, 1)
+}
+
+/// A 2-D render target of one layer with `samples` samples per pixel.
+pub(crate) fn multisampled_2d(
     device: &wgpu::Device,
     label: &str,
     (width, height): (u32, u32),
     format: wgpu::TextureFormat,
     usage: wgpu::TextureUsages,
+    samples: u32,
 ) -> wgpu::Texture {
     device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
         size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
         mip_level_count: 1,
-        sample_count: 1,
+        sample_count: samples,
         dimension: wgpu::TextureDimension::D2,
         format,
         usage,

@@ -17,7 +17,7 @@ use crate::geometry::{placement, procedural, Mesh, Vertex};
 use crate::gpu::readback::TextureReadback;
 use crate::gpu::timing::PassTimer;
 use crate::gpu::GpuContext;
-use crate::pipelines::{Pipeline, RenderPath};
+use crate::pipelines::{Antialiasing, Pipeline, RenderPath};
 use crate::plan::lights::{assign, sh_of_light, LightBudget, LightMode, ObjectLights};
 use crate::plan::FramePlan;
 use crate::shading::registry::Sliders;
@@ -46,11 +46,19 @@ pub struct CellParams<'a> {
     pub settings: CellSettings,
 }
 
-/// What a cell sets besides its material and light: the path and the light budgets.
+/// What a cell sets besides its material and light: the path, the light budgets and MSAA.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct CellSettings {
     pub path: RenderPath,
     pub light_budget: LightBudget,
+    pub antialiasing: Antialiasing,
+}
+
+/// The samples per pixel a cell rendered with, and why they differ from what it asked, if they do.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Multisampling {
+    pub samples: u32,
+    pub note: Option<String>,
 }
 
 pub struct CellRender {
@@ -72,6 +80,7 @@ pub struct CellRender {
     pub readback_ms: f64,
     /// How each light reached each object.
     pub lights: Vec<ObjectLights>,
+    pub multisampling: Multisampling,
 }
 
 struct GpuObject {
@@ -134,6 +143,17 @@ struct Targets {
     role_view: wgpu::TextureView,
     color_readback: TextureReadback,
     role_readback: TextureReadback,
+    /// The forward pass's multisampled targets, when a cell renders with MSAA.
+    msaa: Option<MsaaTargets>,
+}
+
+/// A forward frame's multisampled colour, role and depth, resolved into `Targets`' own at the end
+/// of the pass (the role of sample 0: an integer target resolves by taking one sample).
+struct MsaaTargets {
+    samples: u32,
+    color: wgpu::TextureView,
+    role: wgpu::TextureView,
+    depth: wgpu::TextureView,
 }
 
 pub struct Renderer {
@@ -143,10 +163,12 @@ pub struct Renderer {
     pipeline_layout: wgpu::PipelineLayout,
     sampler: wgpu::Sampler,
     fgd: wgpu::TextureView,
-    forward: HashMap<(Pipeline, String, bool), wgpu::RenderPipeline>,
+    /// By pipeline, model, vertex-lit and sample count.
+    forward: HashMap<(Pipeline, String, bool, u32), wgpu::RenderPipeline>,
     /// Fixed objects are drawn with each pipeline's default lit shader, a built-in model.
     fixed_models: Registry,
-    background: Option<wgpu::RenderPipeline>,
+    /// By sample count.
+    background: HashMap<u32, wgpu::RenderPipeline>,
     shadow_layer_layout: wgpu::BindGroupLayout,
     shadow_pipeline: wgpu::RenderPipeline,
     gbuffer_read_layout: wgpu::BindGroupLayout,
@@ -157,6 +179,8 @@ pub struct Renderer {
     shadow_sampler: wgpu::Sampler,
     targets: Option<Targets>,
     timer: Option<PassTimer>,
+    /// The sample counts the adapter multisamples and resolves the forward targets with.
+    msaa_counts: Vec<u32>,
 }
 
 impl Renderer {
@@ -255,6 +279,7 @@ impl Renderer {
             ],
             immediate_size: 0,
         });
+        let msaa_counts = gpu.multisample_counts(&[HDR_FORMAT, ROLE_FORMAT, DEPTH_FORMAT]);
         Renderer {
             gpu,
             frame_layout,
@@ -264,7 +289,7 @@ impl Renderer {
             fgd,
             forward: HashMap::new(),
             fixed_models: Registry::builtin(),
-            background: None,
+            background: HashMap::new(),
             shadow_layer_layout,
             shadow_pipeline,
             shadow_sampler,
@@ -275,18 +300,25 @@ impl Renderer {
             lighting_pipelines: HashMap::new(),
             targets: None,
             timer: None,
+            msaa_counts,
         }
     }
 
     /// Number of forward pipelines compiled so far (each (pipeline, model) pair once).
     pub fn compiled_pipelines(&self) -> usize {
-        self.forward.len() + self.background.is_some() as usize
+        self.forward.len() + self.background.len()
     }
 
     /// The forward pipeline of a model; `vertex_lit`: built-in's legacy vertex-lit path, which
     /// evaluates the lighting at the vertices (Gouraud) with its own light list.
-    fn forward_pipeline(&mut self, pipeline: Pipeline, model: &ShaderModel, vertex_lit: bool) -> Result<(), Error> {
-        let key = (pipeline, model.name.to_string(), vertex_lit);
+    fn forward_pipeline(
+        &mut self,
+        pipeline: Pipeline,
+        model: &ShaderModel,
+        vertex_lit: bool,
+        samples: u32,
+    ) -> Result<(), Error> {
+        let key = (pipeline, model.name.to_string(), vertex_lit, samples);
         if self.forward.contains_key(&key) {
             return Ok(());
         }
@@ -301,7 +333,7 @@ impl Renderer {
         let entries = if per_vertex { ("vs_gouraud", "fs_gouraud") } else { ("vs_main", "fs_main") };
         let label = format!("forward {}/{}", pipeline.name(), model.name);
         let targets = [Some(HDR_FORMAT.into()), Some(ROLE_FORMAT.into())];
-        let p = self.mesh_pipeline(&label, &module, entries, &constants, &targets);
+        let p = self.mesh_pipeline(&label, &module, entries, &constants, &targets, samples);
         self.gpu.check_errors("creating a forward pipeline")?;
         self.forward.insert(key, p);
         Ok(())
@@ -316,6 +348,7 @@ impl Renderer {
         (vs, fs): (&str, &str),
         constants: &[(&str, f64)],
         targets: &[Option<wgpu::ColorTargetState>],
+        samples: u32,
     ) -> wgpu::RenderPipeline {
         let options = wgpu::PipelineCompilationOptions { constants, ..Default::default() };
         self.gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -339,7 +372,7 @@ impl Renderer {
                 stencil: Default::default(),
                 bias: Default::default(),
             }),
-            multisample: Default::default(),
+            multisample: wgpu::MultisampleState { count: samples, ..Default::default() },
             fragment: Some(wgpu::FragmentState {
                 module,
                 entry_point: Some(fs),
@@ -368,7 +401,7 @@ impl Renderer {
             Some(ROLE_FORMAT.into()),
         ];
         let label = format!("gbuffer {}/{}", pipeline.name(), model.name);
-        let p = self.mesh_pipeline(&label, &module, ("vs_main", "fs_gbuffer"), &constants, &targets);
+        let p = self.mesh_pipeline(&label, &module, ("vs_main", "fs_gbuffer"), &constants, &targets, 1);
         self.gpu.check_errors("creating a G-buffer pipeline")?;
         self.gbuffer_pipelines.insert(key, p);
         Ok(())
@@ -414,8 +447,8 @@ impl Renderer {
         Ok(())
     }
 
-    fn background_pipeline(&mut self) -> Result<(), Error> {
-        if self.background.is_some() {
+    fn background_pipeline(&mut self, samples: u32) -> Result<(), Error> {
+        if self.background.contains_key(&samples) {
             return Ok(());
         }
         let source = wgsl::compose(wgsl::PassKind::Background, None);
@@ -437,7 +470,7 @@ impl Renderer {
                 stencil: Default::default(),
                 bias: Default::default(),
             }),
-            multisample: Default::default(),
+            multisample: wgpu::MultisampleState { count: samples, ..Default::default() },
             fragment: Some(wgpu::FragmentState {
                 module: &module,
                 entry_point: Some("fs_background"),
@@ -448,7 +481,7 @@ impl Renderer {
             cache: None,
         });
         self.gpu.check_errors("creating the background pipeline")?;
-        self.background = Some(p);
+        self.background.insert(samples, p);
         Ok(())
     }
 
@@ -687,9 +720,54 @@ impl Renderer {
                 role_readback: TextureReadback::new(device, "role readback", width, height, 1),
                 color,
                 role,
+                msaa: None,
             });
         }
         self.targets.as_ref().expect("just created")
+    }
+
+    /// The samples a cell asking `asked` (after its path's rule, `why_one`) renders with: the
+    /// largest count up to `asked` the adapter multisamples and resolves every forward target with.
+    fn multisampling(&self, asked: u32, why_one: Option<&str>) -> Multisampling {
+        let used = self.msaa_counts.iter().copied().filter(|&n| n <= asked).max().unwrap_or(1);
+        let note = if used != asked {
+            let counts: Vec<String> = self.msaa_counts.iter().map(|n| format!("{n}×")).collect();
+            Some(format!(
+                "{asked}× MSAA asked; {} multisamples {HDR_FORMAT:?}, {ROLE_FORMAT:?} and {DEPTH_FORMAT:?} at {}: \
+                 rendered {used}×",
+                self.gpu.record.name,
+                if counts.is_empty() { "no count".to_string() } else { counts.join(", ") }
+            ))
+        } else {
+            why_one.map(str::to_string)
+        };
+        Multisampling { samples: used, note }
+    }
+
+    /// Make the multisampled forward targets match `samples` (the single-sample targets exist).
+    fn ensure_msaa_targets(&mut self, samples: u32) {
+        let device = &self.gpu.device;
+        let t = self.targets.as_mut().expect("targets exist");
+        if samples == 1 || t.msaa.as_ref().is_some_and(|m| m.samples == samples) {
+            return;
+        }
+        let make = |label: &str, format| {
+            super::multisampled_2d(
+                device,
+                label,
+                (t.width, t.height),
+                format,
+                wgpu::TextureUsages::RENDER_ATTACHMENT,
+                samples,
+            )
+            .create_view(&Default::default())
+        };
+        t.msaa = Some(MsaaTargets {
+            samples,
+            color: make("hdr msaa", HDR_FORMAT),
+            role: make("role msaa", ROLE_FORMAT),
+            depth: make("depth msaa", DEPTH_FORMAT),
+        });
     }
 
     /// Render one cell: `warmup` untimed frames, then `frames` timed ones; the last is read back.
@@ -707,8 +785,11 @@ impl Renderer {
         let subject_model = cell.model;
         let deferred = cell.settings.path == RenderPath::Deferred;
         let vertex_lit = cell.settings.path == RenderPath::VertexLit;
-        self.forward_pipeline(cell.pipeline, subject_model, vertex_lit)?;
-        self.forward_pipeline(cell.pipeline, &fixed_model, vertex_lit)?;
+        let (asked, why_one) = cell.settings.antialiasing.samples_on(cell.settings.path);
+        let multisampling = self.multisampling(asked, why_one);
+        let samples = multisampling.samples;
+        self.forward_pipeline(cell.pipeline, subject_model, vertex_lit, samples)?;
+        self.forward_pipeline(cell.pipeline, &fixed_model, vertex_lit, samples)?;
         if deferred {
             for (model, role) in [(subject_model, ROLE_SUBJECT), (&*fixed_model, ROLE_FIXED)] {
                 if deferrable(model) {
@@ -718,10 +799,11 @@ impl Renderer {
             }
         }
         if prepared.plan.background {
-            self.background_pipeline()?;
+            self.background_pipeline(samples)?;
         }
         let (lights, shadow_layers) = self.write_uniforms(prepared, cell, &fixed_model);
         self.targets(cell.width, cell.height);
+        self.ensure_msaa_targets(samples);
         // The timed passes of a frame, in order: one span over the shadow layers, then the path's passes.
         // The vertex-lit path has no shadows (Unity's legacy vertex-lit renders none).
         let shadows = prepared.shadows.active && !vertex_lit && !shadow_layers.is_empty();
@@ -742,8 +824,19 @@ impl Renderer {
         }
         let timer = self.timer.as_ref().filter(|_| self.gpu.record.timestamp_queries);
         let t = self.targets.as_ref().expect("targets exist");
-        let subject_pipeline = &self.forward[&(cell.pipeline, subject_model.name.to_string(), vertex_lit)];
-        let fixed_pipeline = &self.forward[&(cell.pipeline, fixed_model.name.to_string(), vertex_lit)];
+        let subject_pipeline = &self.forward[&(cell.pipeline, subject_model.name.to_string(), vertex_lit, samples)];
+        let fixed_pipeline = &self.forward[&(cell.pipeline, fixed_model.name.to_string(), vertex_lit, samples)];
+        // With MSAA the pass draws into the multisampled targets and resolves into the frame's own.
+        let msaa = t.msaa.as_ref().filter(|_| samples > 1);
+        let (color_view, role_view, depth_view) = match msaa {
+            Some(m) => (&m.color, &m.role, &m.depth),
+            None => (&t.color_view, &t.role_view, &t.depth_view),
+        };
+        let (color_resolve, role_resolve) = match msaa {
+            Some(_) => (Some(&t.color_view), Some(&t.role_view)),
+            None => (None, None),
+        };
+        let keep = if msaa.is_some() { wgpu::StoreOp::Discard } else { wgpu::StoreOp::Store };
         let total = warmup + frames;
         let mut frame_ms = Vec::with_capacity(frames as usize);
         for f in 0..total {
@@ -763,26 +856,20 @@ impl Renderer {
                     label: Some("forward"),
                     color_attachments: &[
                         Some(wgpu::RenderPassColorAttachment {
-                            view: &t.color_view,
+                            view: color_view,
                             depth_slice: None,
-                            resolve_target: None,
-                            ops: wgpu::Operations {
-                                load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                                store: wgpu::StoreOp::Store,
-                            },
+                            resolve_target: color_resolve,
+                            ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::BLACK), store: keep },
                         }),
                         Some(wgpu::RenderPassColorAttachment {
-                            view: &t.role_view,
+                            view: role_view,
                             depth_slice: None,
-                            resolve_target: None,
-                            ops: wgpu::Operations {
-                                load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                                store: wgpu::StoreOp::Store,
-                            },
+                            resolve_target: role_resolve,
+                            ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: keep },
                         }),
                     ],
                     depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                        view: &t.depth_view,
+                        view: depth_view,
                         depth_ops: Some(wgpu::Operations {
                             load: wgpu::LoadOp::Clear(1.0),
                             store: wgpu::StoreOp::Discard,
@@ -801,7 +888,7 @@ impl Renderer {
                     pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);
                     pass.draw_indexed(0..o.index_count, 0, 0..1);
                 }
-                if let (true, Some(bg)) = (prepared.plan.background, &self.background) {
+                if let (true, Some(bg)) = (prepared.plan.background, self.background.get(&samples)) {
                     pass.set_pipeline(bg);
                     pass.draw(0..3, 0..1);
                 }
@@ -846,6 +933,7 @@ impl Renderer {
             gpu_passes,
             readback_ms,
             lights,
+            multisampling,
         })
     }
 
@@ -978,13 +1066,13 @@ impl Renderer {
         pass.set_bind_group(0, &prepared.frame_bind_group, &[]);
         pass.set_bind_group(1, &prepared.object_bind_group, &[0]);
         for (i, o) in prepared.objects.iter().enumerate().filter(|(_, o)| !deferrable(model_of(o))) {
-            pass.set_pipeline(&self.forward[&(p, model_of(o).name.to_string(), false)]);
+            pass.set_pipeline(&self.forward[&(p, model_of(o).name.to_string(), false, 1)]);
             pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
             pass.set_vertex_buffer(0, o.vertices.slice(..));
             pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);
             pass.draw_indexed(0..o.index_count, 0, 0..1);
         }
-        if let (true, Some(bg)) = (prepared.plan.background, &self.background) {
+        if let (true, Some(bg)) = (prepared.plan.background, self.background.get(&1)) {
             pass.set_pipeline(bg);
             pass.draw(0..3, 0..1);
         }

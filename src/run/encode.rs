@@ -12,7 +12,9 @@ use crate::fsutil::write_atomic;
 use crate::images::stats::{pixel_stats, PixelStats};
 use crate::images::tonemap::DisplayRecord;
 use crate::images::{encode, tonemap};
-use crate::record::cell::{CellMetrics, CellRecord, CellTiming, FrameSeries, ViewRecord, CELL_SCHEMA};
+use crate::record::cell::{
+    AntialiasingRecord, CellMetrics, CellRecord, CellTiming, FrameSeries, ViewRecord, CELL_SCHEMA,
+};
 use crate::record::Maybe;
 use crate::render::CellRender;
 use crate::spec::matrix::Matrix;
@@ -78,6 +80,8 @@ pub fn encode_cell(matrix: &Matrix, dir: &Path, adapter: &str, job: RenderedCell
     };
     let mut record = cell_record(matrix, cell, adapter, display, stats, timing);
     record.lights = r.lights.clone();
+    record.antialiasing.samples = r.multisampling.samples;
+    record.antialiasing.note = r.multisampling.note.clone();
     Ok(EncodedCell {
         record,
         images: CellImages { width: r.width, height: r.height, srgb8, hdr: r.hdr },
@@ -159,6 +163,11 @@ fn cell_record(
         passes: plan.passes_for(cell.path, cell.pipeline).iter().map(|p| p.to_string()).collect(),
         left_out: plan.left_out,
         lights: Vec::new(),
+        antialiasing: AntialiasingRecord {
+            asked: cell.antialiasing,
+            samples: 1,
+            note: Some("not rendered yet".into()),
+        },
         stats,
         timing,
         metrics: CellMetrics::without_reference("not compared yet"),

@@ -374,7 +374,11 @@ impl<'a> Stream<'a> {
                     width: cell.width,
                     height: cell.height,
                     view: ViewAxes { camera_distance: cell.camera_distance, light_angle: cell.light_angle },
-                    settings: CellSettings { path: cell.path, light_budget: cell.light_budget },
+                    settings: CellSettings {
+                        path: cell.path,
+                        light_budget: cell.light_budget,
+                        antialiasing: cell.antialiasing,
+                    },
                 };
                 let t = Instant::now();
                 let render =

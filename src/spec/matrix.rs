@@ -11,7 +11,7 @@ use crate::error::{Error, InputError};
 use crate::input::names::unknown_name;
 use crate::input::source::parse_toml;
 use crate::input::validate::Checker;
-use crate::pipelines::{LightBudget, Pipeline, RenderPath, Tonemap};
+use crate::pipelines::{Antialiasing, LightBudget, Pipeline, RenderPath, Tonemap};
 use crate::shading::Registry;
 use std::sync::Arc;
 
@@ -40,6 +40,10 @@ struct MatrixFile {
     /// (`tonemap = { hdrp = "neutral" }`); pipelines left out keep the one they ship with.
     #[serde(default)]
     tonemap: Option<toml::Value>,
+    /// MSAA on forward paths: `antialiasing = "msaa4"` for every pipeline or a table by pipeline;
+    /// pipelines left out keep their default (built-in msaa4, URP and HDRP none).
+    #[serde(default)]
+    antialiasing: Option<toml::Value>,
     #[serde(default)]
     timing: Timing,
     /// Light budgets: `pixel_light_count` (built-in forward, default 4) and
@@ -255,6 +259,8 @@ pub struct Matrix {
     pub image: ImageSize,
     /// The tonemapper of each pipeline, by `Pipeline::shader_id`.
     pub tonemaps: [Tonemap; 3],
+    /// The anti-aliasing of each pipeline, by `Pipeline::shader_id`.
+    pub antialiasing: [Antialiasing; 3],
     pub light_budget: LightBudget,
     pub timing: Timing,
     pub only: Vec<Filter>,
@@ -333,6 +339,11 @@ impl Matrix {
     /// The tonemapper cells of `p` use.
     pub fn tonemap_for(&self, p: Pipeline) -> Tonemap {
         self.tonemaps[p.shader_id() as usize]
+    }
+
+    /// The anti-aliasing cells of `p` ask for (forward paths use it; `Antialiasing::samples_on`).
+    pub fn antialiasing_for(&self, p: Pipeline) -> Antialiasing {
+        self.antialiasing[p.shader_id() as usize]
     }
 
     pub fn load_default(registry: Arc<Registry>) -> Result<Matrix, Error> {
@@ -422,7 +433,24 @@ impl Matrix {
         check_params(&c, origin, &s.params, &file.shaders, &pipelines, &registry)?;
         c.range("lights.pixel_light_count", file.lights.pixel_light_count as f64, 0.0, 64.0)?;
         c.range("lights.urp_per_object_limit", file.lights.urp_per_object_limit as f64, 0.0, 8.0)?;
-        let tonemaps = parse_tonemaps(&c, origin, file.tonemap.as_ref())?;
+        let tonemaps = parse_per_pipeline(
+            &c,
+            origin,
+            ("tonemap", "tonemapper"),
+            file.tonemap.as_ref(),
+            Pipeline::default_tonemap,
+            Tonemap::from_name,
+            &Tonemap::names(),
+        )?;
+        let antialiasing = parse_per_pipeline(
+            &c,
+            origin,
+            ("antialiasing", "anti-aliasing"),
+            file.antialiasing.as_ref(),
+            Pipeline::default_antialiasing,
+            Antialiasing::from_name,
+            &Antialiasing::names(),
+        )?;
         for (key, v) in [("image.width", file.image.width), ("image.height", file.image.height)] {
             if v == 0 || v > MAX_IMAGE_SIZE {
                 return Err(c.err(key, format!("value {v} is out of range; allowed 1..={MAX_IMAGE_SIZE}")).into());
@@ -533,6 +561,7 @@ impl Matrix {
             sweep: file.sweep,
             image: file.image,
             tonemaps,
+            antialiasing,
             light_budget: file.lights,
             timing: file.timing,
             only,
@@ -698,15 +727,22 @@ fn parse_color_value(c: &Checker, key: &str, item: &toml::Value) -> Result<Filte
     }
 }
 
-/// `tonemap = "aces"` or `tonemap = { hdrp = "neutral", urp = "aces" }`; defaults as each pipeline ships.
-fn parse_tonemaps(c: &Checker, origin: &str, value: Option<&toml::Value>) -> Result<[Tonemap; 3], InputError> {
-    let mut out = Pipeline::ALL.map(Pipeline::default_tonemap);
-    let name = |key: &str, v: &toml::Value| -> Result<Tonemap, InputError> {
+/// A per-pipeline setting: one name for every pipeline (`tonemap = "aces"`) or a table by pipeline
+/// (`tonemap = { hdrp = "neutral", urp = "aces" }`); pipelines left out keep `default`.
+fn parse_per_pipeline<T: Copy>(
+    c: &Checker,
+    origin: &str,
+    (key, kind): (&str, &str),
+    value: Option<&toml::Value>,
+    default: fn(Pipeline) -> T,
+    from_name: fn(&str) -> Option<T>,
+    names: &[&str],
+) -> Result<[T; 3], InputError> {
+    let mut out = Pipeline::ALL.map(default);
+    let name = |key: &str, v: &toml::Value| -> Result<T, InputError> {
         match v {
-            toml::Value::String(s) => {
-                Tonemap::from_name(s).ok_or_else(|| unknown_name(origin, key, "tonemapper", s, &Tonemap::names()))
-            }
-            other => Err(c.err(key, format!("{other} is not a name; allowed: {}", Tonemap::names().join(", ")))),
+            toml::Value::String(s) => from_name(s).ok_or_else(|| unknown_name(origin, key, kind, s, names)),
+            other => Err(c.err(key, format!("{other} is not a name; allowed: {}", names.join(", ")))),
         }
     };
     match value {
@@ -714,11 +750,11 @@ fn parse_tonemaps(c: &Checker, origin: &str, value: Option<&toml::Value>) -> Res
         Some(toml::Value::Table(t)) => {
             for (k, v) in t {
                 let p = Pipeline::from_name(k)
-                    .ok_or_else(|| unknown_name(origin, &format!("tonemap.{k}"), "pipeline", k, &Pipeline::names()))?;
-                out[p.shader_id() as usize] = name(&format!("tonemap.{k}"), v)?;
+                    .ok_or_else(|| unknown_name(origin, &format!("{key}.{k}"), "pipeline", k, &Pipeline::names()))?;
+                out[p.shader_id() as usize] = name(&format!("{key}.{k}"), v)?;
             }
         }
-        Some(v) => out = [name("tonemap", v)?; 3],
+        Some(v) => out = [name(key, v)?; 3],
     }
     Ok(out)
 }

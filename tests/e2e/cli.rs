@@ -177,6 +177,11 @@ fn tonemap_parameter_and_colour_errors_name_key_value_and_what_is_allowed() {
         2,
         &["tonemap.hdrpp", "did you mean `hdrp`?"],
     );
+    expect_bad(
+        &GOOD.replace("[image]", "antialiasing = { urp = \"msaa3\" }\n[image]"),
+        2,
+        &["antialiasing.urp", "`msaa3`", "none, msaa2, msaa4, msaa8"],
+    );
     let ct = GOOD.replace("\"lambert\"", "\"cook_torrance\"");
     expect_bad(&format!("{ct}[sweep.params]\nirr = [1.5]\n"), 2, &["sweep.params.irr", "did you mean `ior`?"]);
     expect_bad(&format!("{ct}[sweep.params]\nior = [0.5]\n"), 2, &["sweep.params.ior[0]", "0.5", "1..=5"]);

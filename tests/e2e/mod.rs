@@ -1,5 +1,6 @@
 //! One module per area, each driving the library or the `shadematrix` binary for real.
 
+mod antialiasing;
 mod check;
 mod cli;
 mod compare;

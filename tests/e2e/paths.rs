@@ -9,6 +9,8 @@ use shadematrix::report::run_data::RunData;
 use shadematrix::shading::registry::Sliders;
 use shadematrix::spec::scene::Scene;
 
+/// Without MSAA on either side: built-in forward's default 4× MSAA would add its edge blending to
+/// the difference (worst FLIP 0.0199 instead of 0.0094, measured).
 #[test]
 fn deferred_renders_like_forward_within_the_gbuffer_quantisation() {
     let tmp = tempfile::tempdir().unwrap();
@@ -17,7 +19,7 @@ fn deferred_renders_like_forward_within_the_gbuffer_quantisation() {
         "m.toml",
         "name = \"paths\"\ncompositions = [\"default\", \"mitsuba\"]\npipelines = [\"builtin\", \"urp\", \"hdrp\"]\n\
          paths = [\"forward\", \"deferred\"]\nshaders = [\"standard\", \"lit\", \"torrance_sparrow\"]\npresets = [\"gold\", \"plastic\"]\n\
-         reference = { path = \"forward\" }\n[image]\nwidth = 96\nheight = 96\n",
+         reference = { path = \"forward\" }\nantialiasing = \"none\"\n[image]\nwidth = 96\nheight = 96\n",
     );
     let out = tmp.path().join("out");
     let (code, _, err) = shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", out.to_str().unwrap()], &[]);
