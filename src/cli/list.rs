@@ -102,8 +102,23 @@ fn light_plan(m: &Matrix, scene: &crate::spec::scene::Scene) -> String {
     let lights = crate::render::camera::cell_lights(scene, intensity, range, &scene.camera, &Default::default());
     for p in &m.pipelines {
         for path in &m.paths {
-            let plan = assign(*p, *path, &m.light_budget, &lights, &centres);
+            let plan = assign(*p, *path, &m.light_budget, &lights, &centres, |_| false);
             let label = format!("{}-{}", p.name(), path.name());
+            let forward_only: Vec<&str> = m
+                .shaders
+                .iter()
+                .filter(|s| m.registry.find(*p, s).is_some_and(|model| !model.deferrable()))
+                .map(|s| s.as_str())
+                .collect();
+            if *path == crate::pipelines::RenderPath::Deferred && !forward_only.is_empty() {
+                let _ = writeln!(
+                    out,
+                    "  {label}: {} cannot be drawn into the G-buffer: the subject draws forward after the \
+                     lighting, with {}-forward's light budget",
+                    forward_only.join(", "),
+                    p.name()
+                );
+            }
             if plan.iter().all(|o| o.lights.iter().all(|u| u.mode == LightMode::PerPixel)) {
                 let _ = writeln!(out, "  lights in {label}: all {} per-pixel on every object", lights.len());
                 continue;

@@ -107,21 +107,37 @@ pub fn brightness_at(pipeline: Pipeline, light: &Light, centre: DVec3) -> f64 {
     }
 }
 
-/// Every object's light assignment. `centres` are the objects' bounds centres in world space.
+/// Every object's light assignment. `objects`: names and bounds centres in world space;
+/// `forward_only(i)`: object i's model cannot be drawn into a G-buffer (`ShaderModel::deferrable`).
 pub fn assign(
     pipeline: Pipeline,
     path: RenderPath,
     budget: &LightBudget,
     lights: &[Light],
     objects: &[(String, DVec3)],
+    forward_only: impl Fn(usize) -> bool,
 ) -> Vec<ObjectLights> {
     objects
         .iter()
-        .map(|(name, centre)| ObjectLights {
+        .enumerate()
+        .map(|(i, (name, centre))| ObjectLights {
             object: name.clone(),
-            lights: assign_object(pipeline, path, budget, lights, *centre),
+            lights: assign_object(pipeline, lit_path(path, forward_only(i)), budget, lights, *centre),
         })
         .collect()
+}
+
+/// The path whose budget lights an object: on a deferred path, what the G-buffer cannot carry is
+/// drawn in a forward pass after the deferred lighting and lit as forward lights it — built-in
+/// deferred falls back to ForwardBase/ForwardAdd with the pixel light count, URP deferred draws
+/// forward-only passes with the per-object limit, HDRP's forward-only materials read the same
+/// light list as its forward path.
+pub fn lit_path(path: RenderPath, forward_only: bool) -> RenderPath {
+    if path == RenderPath::Deferred && forward_only {
+        RenderPath::Forward
+    } else {
+        path
+    }
 }
 
 fn use_(light: usize, mode: LightMode, reason: impl Into<String>) -> LightUse {
@@ -322,6 +338,7 @@ mod tests {
             &LightBudget::default(),
             &lights,
             &[("o".into(), DVec3::ZERO)],
+            |_| false,
         );
         let count = |m: LightMode| plan[0].lights.iter().filter(|u| u.mode == m).count();
         assert_eq!((count(LightMode::PerPixel), count(LightMode::PerVertex), count(LightMode::Sh)), (4, 4, 4));
@@ -339,19 +356,29 @@ mod tests {
     }
 
     #[test]
+    fn forward_only_models_on_deferred_get_the_forward_budget() {
+        let lights = scene_with(12);
+        let two = [("subject".to_string(), DVec3::ZERO), ("wall".to_string(), DVec3::ZERO)];
+        let plan = assign(Pipeline::Builtin, RenderPath::Deferred, &LightBudget::default(), &lights, &two, |i| i == 0);
+        let per_pixel = |o: &ObjectLights| o.lights.iter().filter(|u| u.mode == LightMode::PerPixel).count();
+        assert_eq!(per_pixel(&plan[0]), 4, "drawn forward: the pixel light count");
+        assert_eq!(per_pixel(&plan[1]), 12, "in the G-buffer: every light per pixel");
+    }
+
+    #[test]
     fn render_modes_and_urp_limit() {
         let mut lights = scene_with(6);
         lights[0].render_mode = RenderMode::NotImportant;
         lights[5].render_mode = RenderMode::Important;
         let one = [("o".to_string(), DVec3::ZERO)];
-        let b = assign(Pipeline::Builtin, RenderPath::Forward, &LightBudget::default(), &lights, &one);
+        let b = assign(Pipeline::Builtin, RenderPath::Forward, &LightBudget::default(), &lights, &one, |_| false);
         assert_eq!(b[0].lights[5].mode, LightMode::PerPixel);
         assert_ne!(b[0].lights[0].mode, LightMode::PerPixel);
-        let u = assign(Pipeline::Urp, RenderPath::Forward, &LightBudget::default(), &lights, &one);
+        let u = assign(Pipeline::Urp, RenderPath::Forward, &LightBudget::default(), &lights, &one, |_| false);
         let dropped: Vec<&LightUse> = u[0].lights.iter().filter(|u| u.mode == LightMode::Dropped).collect();
         assert_eq!(dropped.len(), 2, "six points, four additional lights per object");
         assert!(dropped[0].reason.contains("per-object limit of 4"));
-        let h = assign(Pipeline::Hdrp, RenderPath::Forward, &LightBudget::default(), &lights, &one);
+        let h = assign(Pipeline::Hdrp, RenderPath::Forward, &LightBudget::default(), &lights, &one, |_| false);
         assert!(h[0].lights.iter().all(|u| u.mode == LightMode::PerPixel));
     }
 

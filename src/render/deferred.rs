@@ -115,11 +115,6 @@ pub fn read_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     })
 }
 
-/// Whether a model can be drawn into the G-buffer (otherwise it draws forward after lighting).
-pub fn deferrable(model: &crate::shading::ShaderModel) -> bool {
-    !model.per_vertex && !model.main_light_only
-}
-
 /// Screen tiles of the light loop (shaders/pass/forward.wgsl `LIGHT_TILE`).
 pub const LIGHT_TILE: u32 = 16;
 

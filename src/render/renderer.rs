@@ -8,7 +8,7 @@ use std::time::Instant;
 use wgpu::util::DeviceExt;
 
 use super::camera::{posed_camera, view_projection, ViewAxes};
-use super::deferred::{deferrable, GBuffer};
+use super::deferred::GBuffer;
 use super::shadows::{light_layers, shadow_slot, CascadeView, SHADOW_FORMAT};
 use super::uniforms::*;
 use crate::environment::EnvironmentMaps;
@@ -792,7 +792,7 @@ impl Renderer {
         self.forward_pipeline(cell.pipeline, &fixed_model, vertex_lit, samples)?;
         if deferred {
             for (model, role) in [(subject_model, ROLE_SUBJECT), (&*fixed_model, ROLE_FIXED)] {
-                if deferrable(model) {
+                if model.deferrable() {
                     self.gbuffer_pipeline(cell.pipeline, model)?;
                     self.lighting_pipeline(cell.pipeline, model, role)?;
                 }
@@ -1011,7 +1011,7 @@ impl Renderer {
                 multiview_mask: None,
             });
             pass.set_bind_group(0, &prepared.frame_bind_group, &[]);
-            for (i, o) in prepared.objects.iter().enumerate().filter(|(_, o)| deferrable(model_of(o))) {
+            for (i, o) in prepared.objects.iter().enumerate().filter(|(_, o)| model_of(o).deferrable()) {
                 pass.set_pipeline(&self.gbuffer_pipelines[&(p, model_of(o).name.to_string())]);
                 pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
                 pass.set_vertex_buffer(0, o.vertices.slice(..));
@@ -1065,7 +1065,7 @@ impl Renderer {
         });
         pass.set_bind_group(0, &prepared.frame_bind_group, &[]);
         pass.set_bind_group(1, &prepared.object_bind_group, &[0]);
-        for (i, o) in prepared.objects.iter().enumerate().filter(|(_, o)| !deferrable(model_of(o))) {
+        for (i, o) in prepared.objects.iter().enumerate().filter(|(_, o)| !model_of(o).deferrable()) {
             pass.set_pipeline(&self.forward[&(p, model_of(o).name.to_string(), false, 1)]);
             pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
             pass.set_vertex_buffer(0, o.vertices.slice(..));
@@ -1096,7 +1096,11 @@ impl Renderer {
         frame.inv_view_proj = mat(vp.inverse());
         frame.camera_pos = vec4(DVec3::from(camera.position), 1.0);
         let lights = super::camera::cell_lights(scene, cell.light_intensity, cell.light_range, &camera, &cell.view);
-        let assignment = assign(p, cell.settings.path, &cell.settings.light_budget, &lights, &prepared.object_centres);
+        let model_of = |i: usize| if prepared.objects[i].role == Role::Subject { cell.model } else { fixed_model };
+        let assignment =
+            assign(p, cell.settings.path, &cell.settings.light_budget, &lights, &prepared.object_centres, |i| {
+                !model_of(i).deferrable()
+            });
         let sh = &prepared.shadows;
         // Indexed by layer: a light's layers sit from its first layer on (a directional light
         // reserves MAX_CASCADES and uses its pipeline's count).

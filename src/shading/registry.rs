@@ -73,6 +73,12 @@ pub struct ShaderModel {
 }
 
 impl ShaderModel {
+    /// Whether the model can be drawn into a G-buffer: a per-vertex (Gouraud) or main-light-only
+    /// model cannot, and a deferred path draws it forward after the lighting.
+    pub fn deferrable(&self) -> bool {
+        !self.per_vertex && !self.main_light_only
+    }
+
     /// The model's inputs for a cell: the mapping applied to the sliders.
     pub fn surface(&self, pipeline: Pipeline, sliders: &Sliders) -> Surface {
         (self.from_sliders)(self, pipeline, sliders)
