@@ -138,10 +138,12 @@ fn shadow_visibility(light: Light, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, rec
     let q = p + n * (light.shadow_bias.y * texel) + l * (light.shadow_bias.x * texel);
     let clip = info.view_proj * vec4<f32>(q, 1.0);
     let ndc = clip.xyz / clip.w;
-    let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
-    if (clip.w <= 0.0 || any(uv < vec2<f32>(0.0)) || any(uv > vec2<f32>(1.0)) || ndc.z > 1.0) {
+    let map_uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
+    if (clip.w <= 0.0 || any(map_uv < vec2<f32>(0.0)) || any(map_uv > vec2<f32>(1.0)) || ndc.z > 1.0) {
         return 1.0;
     }
+    // The light's map fills the top-left params.w of the layer
+    let uv = map_uv * info.params.w;
     var vis = 0.0;
     if (light.shadow.w > 0.5) {
         let step = 1.0 / f32(textureDimensions(shadow_maps).x);

@@ -10,7 +10,8 @@ struct Light {
 };
 
 // One shadow-map layer (render::shadows): view-projection; params.x texel size (world units, or
-// per unit of view depth when params.y = 1, perspective)
+// per unit of view depth when params.y = 1, perspective), params.z the map's resolution, params.w
+// the share of the layer's side it fills (from the top-left)
 struct ShadowLayer {
     view_proj: mat4x4<f32>,
     params: vec4<f32>,

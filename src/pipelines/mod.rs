@@ -122,6 +122,36 @@ impl Pipeline {
         }
     }
 
+    /// The shadow-map resolution (texels per side; per cube face for a point light) a light gets
+    /// when its scene entry sets none. `pixel_size`: the larger screen extent in pixels of what the
+    /// light can reach (the whole image for a directional light).
+    ///
+    /// Built-in (Unity manual, "Shadow resolution in the Built-In Render Pipeline"):
+    /// NextPowerOfTwo(pixel size × quality multiplier × 3.8 directional, 2 spot, 1 point), at most
+    /// 4096 / 2048 / 1024; the multiplier is 0.5 at the Ultra level's `shadowResolution: 2` (High).
+    /// URP: the asset's `m_MainLightShadowmapResolution = 2048` for the directional light, the
+    /// additional lights' default tier High (`AdditionalLightsShadowDefaultResolutionTier`) =
+    /// `AdditionalLightsDefaultShadowResolutionTierHigh` = 1024 for spots and point faces.
+    /// HDRP: HDAdditionalLightData `m_ShadowResolution` override 512 for every light.
+    pub fn default_shadow_resolution(self, emitter: Emitter, pixel_size: f64) -> u32 {
+        match self {
+            Pipeline::Builtin => {
+                let (factor, max) = match emitter {
+                    Emitter::Directional { .. } => (3.8, 4096),
+                    Emitter::Spot { .. } => (2.0, 2048),
+                    Emitter::Point { .. } => (1.0, 1024),
+                };
+                let size = (pixel_size * 0.5 * factor).ceil().max(1.0) as u32;
+                size.next_power_of_two().min(max)
+            }
+            Pipeline::Urp => match emitter {
+                Emitter::Directional { .. } => 2048,
+                _ => 1024,
+            },
+            Pipeline::Hdrp => 512,
+        }
+    }
+
     /// The directional-light shadow cascades each pipeline ships with: built-in QualitySettings
     /// (4 cascades, 150 m, splits 0.067/0.2/0.467), URP's asset (1 cascade, 50 m:
     /// UniversalRenderPipelineAsset m_ShadowCascadeCount = 1, m_ShadowDistance = 50), HDRP's
@@ -434,6 +464,20 @@ impl Emitter {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn shadow_resolution_defaults_follow_each_pipeline() {
+        let sun = Emitter::Directional { angular_diameter_deg: 0.5 };
+        let point = Emitter::Point { radius: 0.025 };
+        // Built-in at a 256-pixel image: NextPow2(256 × 0.5 × 3.8 = 486.4) = 512; a point light
+        // covering 100 pixels: NextPow2(50) = 64; capped at 4096 for a 4000-pixel image.
+        assert_eq!(Pipeline::Builtin.default_shadow_resolution(sun, 256.0), 512);
+        assert_eq!(Pipeline::Builtin.default_shadow_resolution(point, 100.0), 64);
+        assert_eq!(Pipeline::Builtin.default_shadow_resolution(sun, 4000.0), 4096);
+        assert_eq!(Pipeline::Urp.default_shadow_resolution(sun, 256.0), 2048);
+        assert_eq!(Pipeline::Urp.default_shadow_resolution(point, 256.0), 1024);
+        assert_eq!(Pipeline::Hdrp.default_shadow_resolution(point, 256.0), 512);
+    }
 
     #[test]
     fn builtin_multiplies_intensity_in_gamma_space() {

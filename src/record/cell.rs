@@ -19,7 +19,7 @@ use crate::plan::lights::ObjectLights;
 /// Version of the `cell.json` layout. 1: untyped, before versioning; 2: typed, written once with
 /// metrics; 3: the display transform (tonemapper, HDRP exposure mode, EV and multiplier), light
 /// units, the model parameters the sweep set, the light assignment and GPU time per pass;
-/// 4: anti-aliasing (asked, rendered samples and why they differ).
+/// 4: anti-aliasing (asked, rendered samples and why they differ) and shadow-map resolutions.
 pub const CELL_SCHEMA: u32 = 4;
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -56,6 +56,8 @@ pub struct CellRecord {
     /// How each light reached each object (per-pixel, per-vertex, SH, dropped) and why.
     pub lights: Vec<ObjectLights>,
     pub antialiasing: AntialiasingRecord,
+    /// Each shadowed light's map resolution (the pipeline's default unless the scene sets one).
+    pub shadow_maps: Vec<crate::render::ShadowMapUse>,
     pub stats: PixelStats,
     pub timing: CellTiming,
     pub metrics: CellMetrics,

@@ -9,7 +9,7 @@ pub mod renderer;
 pub mod shadows;
 pub mod uniforms;
 
-pub use renderer::{CellParams, CellRender, CellSettings, PreparedScene, Renderer};
+pub use renderer::{CellParams, CellRender, CellSettings, PreparedScene, Renderer, ShadowMapUse};
 
 /// A single-sample 2-D texture of one layer, as every render target here is but the MSAA ones.
 pub(crate) fn texture_2d(

@@ -9,7 +9,7 @@ use wgpu::util::DeviceExt;
 
 use super::camera::{posed_camera, view_projection, ViewAxes};
 use super::deferred::GBuffer;
-use super::shadows::{light_layers, shadow_slot, CascadeView, SHADOW_FORMAT};
+use super::shadows::{array_side, cell_resolution, light_layers, shadow_slot, CascadeView, SHADOW_FORMAT};
 use super::uniforms::*;
 use crate::environment::EnvironmentMaps;
 use crate::error::Error;
@@ -81,6 +81,20 @@ pub struct CellRender {
     /// How each light reached each object.
     pub lights: Vec<ObjectLights>,
     pub multisampling: Multisampling,
+    /// Each shadowed light's map resolution in this cell (its pipeline's default unless the scene
+    /// sets one); empty when the frame has no shadow pass.
+    pub shadow_maps: Vec<ShadowMapUse>,
+}
+
+/// A shadowed light's map in a cell: its resolution, and why it differs from the pipeline's default.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ShadowMapUse {
+    /// Index into the scene's lights.
+    pub light: usize,
+    /// Texels per side (per cube face for a point light).
+    pub resolution: u32,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub note: Option<String>,
 }
 
 struct GpuObject {
@@ -625,7 +639,8 @@ impl Renderer {
     }
 
     /// The shadow layers a composition needs (1 for a directional or spot light that casts
-    /// shadows, 6 for a point light), at the largest resolution its lights ask for.
+    /// shadows, 6 for a point light), as large as the largest map its lights can ask for
+    /// (`shadows::array_side`).
     fn shadow_resources(&self, scene: &Scene, plan: &FramePlan, scene_bounds: (DVec3, DVec3)) -> ShadowResources {
         let device = &self.gpu.device;
         let active = plan.passes.contains(&"shadow");
@@ -640,7 +655,7 @@ impl Renderer {
                     LightKind::Directional => crate::pipelines::MAX_CASCADES,
                     LightKind::Spot => 1,
                 };
-                resolution = resolution.max(l.shadow.resolution);
+                resolution = resolution.max(array_side(l));
             } else {
                 first_layer.push(None);
             }
@@ -801,7 +816,7 @@ impl Renderer {
         if prepared.plan.background {
             self.background_pipeline(samples)?;
         }
-        let (lights, shadow_layers) = self.write_uniforms(prepared, cell, &fixed_model);
+        let (lights, shadow_layers, shadow_maps) = self.write_uniforms(prepared, cell, &fixed_model);
         self.targets(cell.width, cell.height);
         self.ensure_msaa_targets(samples);
         // The timed passes of a frame, in order: one span over the shadow layers, then the path's passes.
@@ -934,6 +949,7 @@ impl Renderer {
             readback_ms,
             lights,
             multisampling,
+            shadow_maps,
         })
     }
 
@@ -1085,7 +1101,7 @@ impl Renderer {
         prepared: &PreparedScene,
         cell: &CellParams,
         fixed_model: &ShaderModel,
-    ) -> (Vec<ObjectLights>, Vec<usize>) {
+    ) -> (Vec<ObjectLights>, Vec<(usize, u32)>, Vec<ShadowMapUse>) {
         let scene = &prepared.scene;
         let p = cell.pipeline;
         let aspect = cell.width as f64 / cell.height as f64;
@@ -1105,7 +1121,8 @@ impl Renderer {
         // Indexed by layer: a light's layers sit from its first layer on (a directional light
         // reserves MAX_CASCADES and uses its pipeline's count).
         let mut shadow_layers: Vec<ShadowLayer> = vec![ShadowLayer::zeroed(); sh.layer_views.len()];
-        let mut used_layers: Vec<usize> = Vec::new();
+        let mut used_layers: Vec<(usize, u32)> = Vec::new();
+        let mut shadow_maps = Vec::new();
         let mut gpu_lights = Vec::with_capacity(lights.len());
         let mut colors = Vec::with_capacity(lights.len());
         let main_light = crate::plan::lights::main_light(p, &lights);
@@ -1124,9 +1141,11 @@ impl Renderer {
             if first.is_some() {
                 let cascades = p.shadow_cascades();
                 let cascade_view = CascadeView { camera: &camera, aspect, cascades: &cascades };
-                let layers = light_layers(l, sh.resolution, sh.scene_bounds, &cascade_view);
+                let (resolution, note) = cell_resolution(p, l, &camera, (cell.width, cell.height), sh.resolution);
+                shadow_maps.push(ShadowMapUse { light: slot, resolution, note });
+                let layers = light_layers(l, (resolution, sh.resolution), sh.scene_bounds, &cascade_view);
                 let at = first.unwrap_or(0);
-                used_layers.extend(at..at + layers.len());
+                used_layers.extend((at..at + layers.len()).map(|layer| (layer, resolution)));
                 layer_count = layers.len();
                 for (k, layer) in layers.into_iter().enumerate() {
                     shadow_layers[at + k] = layer;
@@ -1218,7 +1237,7 @@ impl Renderer {
             objects[at..at + std::mem::size_of::<ObjectUniforms>()].copy_from_slice(bytemuck::bytes_of(&u));
         }
         self.gpu.queue.write_buffer(&prepared.object_buffer, 0, &objects);
-        (assignment, used_layers)
+        (assignment, used_layers, shadow_maps)
     }
 }
 
@@ -1229,12 +1248,12 @@ fn encode_shadow_passes(
     encoder: &mut wgpu::CommandEncoder,
     pipeline: &wgpu::RenderPipeline,
     prepared: &PreparedScene,
-    layers: &[usize],
+    layers: &[(usize, u32)],
     timed: Option<(&PassTimer, u32)>,
 ) {
     let sh = &prepared.shadows;
     let last = layers.len().saturating_sub(1);
-    for (n, &layer) in layers.iter().enumerate() {
+    for (n, &(layer, resolution)) in layers.iter().enumerate() {
         let view = &sh.layer_views[layer];
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("shadow"),
@@ -1250,6 +1269,8 @@ fn encode_shadow_passes(
             multiview_mask: None,
         });
         pass.set_pipeline(pipeline);
+        // The light's map is the top-left resolution² of the layer (render::shadows).
+        pass.set_viewport(0.0, 0.0, resolution as f32, resolution as f32, 0.0, 1.0);
         pass.set_bind_group(0, &sh.layer_bind_group, &[(layer as u64 * sh.layer_stride) as u32]);
         for (i, o) in prepared.objects.iter().enumerate().filter(|(_, o)| o.cast_shadows) {
             pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);

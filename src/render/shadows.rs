@@ -6,17 +6,71 @@
 //! (`Pipeline::shadow_cascades`): each covers a slice of the camera frustum by view depth, fitted
 //! with its bounding sphere (Unity's "stable fit"), its depth range stretched back to every caster.
 //! APPROXIMATION, stated: Unity's soft-shadow tent filters are stood in for by the 3×3 PCF.
+//! Each light's map has its pipeline's default resolution (`Pipeline::default_shadow_resolution`)
+//! unless its scene entry sets one: it is rendered into the top-left square of its layer and
+//! sampled there, so one array serves every pipeline's resolutions.
 
 use glam::{DMat4, DVec3};
 
 use super::uniforms::ShadowLayer;
-use crate::pipelines::ShadowCascades;
+use crate::pipelines::{Pipeline, ShadowCascades};
 use crate::spec::scene::{Camera, Light, LightKind};
 
 pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// Near plane of spot and point shadow frusta, metres.
 const SHADOW_NEAR: f64 = 0.02;
+
+/// The side of the array layers a light needs: its own resolution, or the largest default any
+/// pipeline gives it at images up to `ARRAY_IMAGE_SIDE` pixels (built-in's default grows with the
+/// image; past that it is clamped to the layer and the cell record says so).
+pub fn array_side(light: &Light) -> u32 {
+    light.shadow.resolution.unwrap_or_else(|| {
+        Pipeline::ALL.iter().map(|p| p.default_shadow_resolution(light.emitter(), ARRAY_IMAGE_SIDE)).max().unwrap_or(1)
+    })
+}
+
+/// The image side up to which default shadow resolutions fit the array unclamped.
+const ARRAY_IMAGE_SIDE: f64 = 1024.0;
+
+/// A light's shadow-map resolution in a cell, at most the array's `side`, and a note when the
+/// pipeline's default had to be clamped to it.
+pub fn cell_resolution(
+    pipeline: Pipeline,
+    light: &Light,
+    camera: &Camera,
+    (width, height): (u32, u32),
+    side: u32,
+) -> (u32, Option<String>) {
+    let wanted = light.shadow.resolution.unwrap_or_else(|| {
+        pipeline.default_shadow_resolution(light.emitter(), screen_extent(light, camera, (width, height)))
+    });
+    if wanted <= side {
+        (wanted, None)
+    } else {
+        (
+            side,
+            Some(format!("{} would use {wanted}² at {width}×{height}; clamped to the {side}² layer", pipeline.name())),
+        )
+    }
+}
+
+/// The larger on-screen extent, in pixels, of what a light can reach: the whole image for a
+/// directional light; for a point or spot light the projection of its range sphere, as Unity's
+/// built-in pipeline sizes shadow maps (the spot's cone is bounded by its sphere: an upper bound).
+fn screen_extent(light: &Light, camera: &Camera, (width, height): (u32, u32)) -> f64 {
+    let full = width.max(height) as f64;
+    if light.kind == LightKind::Directional {
+        return full;
+    }
+    let d = (DVec3::from(light.position) - DVec3::from(camera.position)).length();
+    if d <= light.range {
+        return full;
+    }
+    let half_angle = (light.range / d).asin();
+    let tan_half_fov = (camera.fov_y_deg.to_radians() * 0.5).tan();
+    (half_angle.tan() / tan_half_fov * height as f64).min(full)
+}
 
 /// What a directional light's cascades are fitted to: the camera and the cascades of the pipeline.
 pub struct CascadeView<'a> {
@@ -28,7 +82,7 @@ pub struct CascadeView<'a> {
 /// The layers of one light: view-projection matrices and the texel size they imply.
 pub fn light_layers(
     light: &Light,
-    resolution: u32,
+    (resolution, array_side): (u32, u32),
     scene_bounds: (DVec3, DVec3),
     view: &CascadeView,
 ) -> Vec<ShadowLayer> {
@@ -38,7 +92,7 @@ pub fn light_layers(
         let view = DMat4::look_at_rh(eye, eye + dir, up);
         let proj = DMat4::perspective_rh(fov, 1.0, SHADOW_NEAR, far.max(SHADOW_NEAR * 2.0));
         // World size of a texel per unit of view depth: 2·tan(fov/2)/resolution.
-        layer(proj * view, [(2.0 * (fov * 0.5).tan() / res) as f32, 1.0, 0.0, 0.0])
+        layer(proj * view, [(2.0 * (fov * 0.5).tan() / res) as f32, 1.0, 0.0, 0.0], resolution, array_side)
     };
     match light.kind {
         LightKind::Directional => {
@@ -70,7 +124,8 @@ pub fn light_layers(
                     let light_eye = centre - dir * back;
                     let view_m = DMat4::look_at_rh(light_eye, centre, up_for(dir));
                     let proj = DMat4::orthographic_rh(-radius, radius, -radius, radius, 0.0, back + radius);
-                    let mut l = layer(proj * view_m, [(2.0 * radius / res) as f32, 0.0, 0.0, 0.0]);
+                    let mut l =
+                        layer(proj * view_m, [(2.0 * radius / res) as f32, 0.0, 0.0, 0.0], resolution, array_side);
                     l.sphere = [centre.x as f32, centre.y as f32, centre.z as f32, radius as f32];
                     l
                 })
@@ -103,7 +158,11 @@ pub fn light_layers(
     }
 }
 
-fn layer(view_proj: DMat4, params: [f32; 4]) -> ShadowLayer {
+/// A layer whose map is `resolution`² texels in the top-left of an `array_side`² layer: params.z
+/// its resolution, params.w the share of the layer it covers (the shader scales its UV by it).
+fn layer(view_proj: DMat4, mut params: [f32; 4], resolution: u32, array_side: u32) -> ShadowLayer {
+    params[2] = resolution as f32;
+    params[3] = resolution as f32 / array_side as f32;
     ShadowLayer { view_proj: view_proj.as_mat4().to_cols_array_2d(), params, sphere: [0.0; 4] }
 }
 
@@ -131,7 +190,7 @@ mod tests {
         for p in crate::pipelines::Pipeline::ALL {
             let cascades = p.shadow_cascades();
             let view = CascadeView { camera: &scene.camera, aspect: 1.0, cascades: &cascades };
-            let layers = light_layers(&sun, 1024, (DVec3::splat(-5.0), DVec3::splat(5.0)), &view);
+            let layers = light_layers(&sun, (1024, 1024), (DVec3::splat(-5.0), DVec3::splat(5.0)), &view);
             assert_eq!(layers.len(), cascades.splits.len());
             // Each sphere holds the point on the view axis at its slice's far edge, and they grow.
             let eye = DVec3::from(scene.camera.position);
@@ -151,7 +210,7 @@ mod tests {
         let light = &scene.lights[scene.key_light().unwrap()];
         let cascades = crate::pipelines::Pipeline::Hdrp.shadow_cascades();
         let view = CascadeView { camera: &scene.camera, aspect: 1.0, cascades: &cascades };
-        let layers = light_layers(light, 512, (DVec3::splat(-5.0), DVec3::splat(5.0)), &view);
+        let layers = light_layers(light, (512, 512), (DVec3::splat(-5.0), DVec3::splat(5.0)), &view);
         assert_eq!(layers.len(), 6);
         let eye = DVec3::from(light.position);
         for (face, dir) in [DVec3::X, -DVec3::X, DVec3::Y, -DVec3::Y, DVec3::Z, -DVec3::Z].iter().enumerate() {
@@ -160,5 +219,40 @@ mod tests {
             let ndc = clip.truncate() / clip.w;
             assert!(ndc.x.abs() < 1e-6 && ndc.y.abs() < 1e-6 && (0.0..1.0).contains(&ndc.z), "face {face}: {ndc}");
         }
+    }
+
+    #[test]
+    fn cell_resolutions_follow_the_pipeline_and_clamp_to_the_layer() {
+        let scene = crate::spec::scene::Scene::load("default", None, "t", "k").unwrap();
+        let mut sun = scene.lights[0].clone();
+        sun.kind = LightKind::Directional;
+        sun.shadow.resolution = None;
+        let side = array_side(&sun);
+        assert_eq!(side, 2048, "URP's main-light map is the largest default up to 1024-pixel images");
+        let at = |sun: &Light, p: Pipeline, size: u32| cell_resolution(p, sun, &scene.camera, (size, size), side);
+        assert_eq!(at(&sun, Pipeline::Builtin, 256), (512, None));
+        assert_eq!(at(&sun, Pipeline::Hdrp, 256), (512, None));
+        assert_eq!(at(&sun, Pipeline::Urp, 256), (2048, None));
+        let (clamped, note) = at(&sun, Pipeline::Builtin, 3000);
+        assert_eq!(clamped, 2048);
+        assert!(note.is_some_and(|n| n.contains("4096")));
+        sun.shadow.resolution = Some(300);
+        assert_eq!(array_side(&sun), 300);
+        assert_eq!(at(&sun, Pipeline::Urp, 256).0, 300, "the scene's own resolution wins");
+    }
+
+    #[test]
+    fn a_point_light_sized_by_its_projected_range_in_builtin() {
+        let scene = crate::spec::scene::Scene::load("default", None, "t", "k").unwrap();
+        let mut light = scene.lights[scene.key_light().unwrap()].clone();
+        light.shadow.resolution = None;
+        let d = (DVec3::from(light.position) - DVec3::from(scene.camera.position)).length();
+        // A range well inside the distance: the sphere covers a fraction of the image.
+        light.range = d * 0.1;
+        let (small, _) = cell_resolution(Pipeline::Builtin, &light, &scene.camera, (1024, 1024), 4096);
+        light.range = d * 2.0;
+        let (full, _) = cell_resolution(Pipeline::Builtin, &light, &scene.camera, (1024, 1024), 4096);
+        assert_eq!(full, 512, "camera inside the range: the whole image, NextPow2(1024 × 0.5)");
+        assert!(small < full, "{small} vs {full}");
     }
 }

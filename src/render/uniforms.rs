@@ -16,7 +16,8 @@ pub struct GpuLight {
 }
 
 /// One shadow-map layer: its view-projection and (texel size: world units for orthographic, per
-/// unit of view depth for perspective; 1 = perspective).
+/// unit of view depth for perspective; 1 = perspective; the map's resolution; the share of the
+/// layer's side it fills from the top-left).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
 pub struct ShadowLayer {

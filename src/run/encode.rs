@@ -82,6 +82,7 @@ pub fn encode_cell(matrix: &Matrix, dir: &Path, adapter: &str, job: RenderedCell
     record.lights = r.lights.clone();
     record.antialiasing.samples = r.multisampling.samples;
     record.antialiasing.note = r.multisampling.note.clone();
+    record.shadow_maps = r.shadow_maps.clone();
     Ok(EncodedCell {
         record,
         images: CellImages { width: r.width, height: r.height, srgb8, hdr: r.hdr },
@@ -168,6 +169,7 @@ fn cell_record(
             samples: 1,
             note: Some("not rendered yet".into()),
         },
+        shadow_maps: Vec::new(),
         stats,
         timing,
         metrics: CellMetrics::without_reference("not compared yet"),

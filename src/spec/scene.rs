@@ -142,9 +142,10 @@ pub struct ShadowSettings {
     /// Percentage-closer filtering (3×3 bilinear taps) instead of one bilinear tap.
     #[serde(default = "yes")]
     pub soft: bool,
-    /// Shadow-map resolution in texels (each cube face for point lights).
-    #[serde(default = "default_shadow_resolution")]
-    pub resolution: u32,
+    /// Shadow-map resolution in texels (each cube face for point lights); absent: the pipeline's
+    /// default (`Pipeline::default_shadow_resolution`).
+    #[serde(default)]
+    pub resolution: Option<u32>,
 }
 
 fn default_shadow_bias() -> f64 {
@@ -152,9 +153,6 @@ fn default_shadow_bias() -> f64 {
 }
 fn default_normal_bias() -> f64 {
     0.4
-}
-fn default_shadow_resolution() -> u32 {
-    1024
 }
 
 impl Default for ShadowSettings {
@@ -164,7 +162,7 @@ impl Default for ShadowSettings {
             bias: default_shadow_bias(),
             normal_bias: default_normal_bias(),
             soft: true,
-            resolution: default_shadow_resolution(),
+            resolution: None,
         }
     }
 }
@@ -623,7 +621,9 @@ impl Scene {
             c.unit(&k("shadow.strength"), l.shadow.strength)?;
             c.range(&k("shadow.bias"), l.shadow.bias, 0.0, 10.0)?;
             c.range(&k("shadow.normal_bias"), l.shadow.normal_bias, 0.0, 10.0)?;
-            c.range(&k("shadow.resolution"), l.shadow.resolution as f64, 16.0, 8192.0)?;
+            if let Some(r) = l.shadow.resolution {
+                c.range(&k("shadow.resolution"), r as f64, 16.0, 8192.0)?;
+            }
             if let Some(r) = l.shape_radius {
                 c.range(&k("shape_radius"), r, 0.0, 100.0)?;
             }
