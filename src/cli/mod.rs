@@ -56,6 +56,10 @@ pub enum Command {
         /// Only cells matching, e.g. `composition=medusa,shader=standard|lit` (the grammar of `[[only]]`).
         #[arg(long, value_name = "FILTER")]
         only: Option<String>,
+        /// Exit 1 when any cell's image holds these (comma-separated): nan, inf, negative,
+        /// overflow (finite values above the half-float maximum 65504).
+        #[arg(long, value_name = "KINDS", value_delimiter = ',')]
+        fail_on: Vec<String>,
         #[command(flatten)]
         models: ModelsArg,
     },
@@ -155,14 +159,24 @@ pub enum Command {
 impl Default for Command {
     /// No command: the main job, the embedded default matrix.
     fn default() -> Self {
-        Command::Run { matrix: None, out: None, resume: false, shard: None, only: None, models: ModelsArg::default() }
+        Command::Run {
+            matrix: None,
+            out: None,
+            resume: false,
+            shard: None,
+            only: None,
+            fail_on: Vec::new(),
+            models: ModelsArg::default(),
+        }
     }
 }
 
 pub fn dispatch(cmd: Command) -> Result<(), Error> {
     match cmd {
-        Command::Run { matrix, out, resume, shard, only, models } => {
-            runs::run(matrix.as_deref(), out, resume, shard.as_deref(), only.as_deref(), &models)
+        Command::Run { matrix, out, resume, shard, only, fail_on, models } => {
+            let fail_on = runs::parse_fail_on(&fail_on)?;
+            let opts = runs::RunArgs { out, resume, shard: shard.as_deref(), only: only.as_deref(), fail_on: &fail_on };
+            runs::run(matrix.as_deref(), opts, &models)
         }
         Command::Bench { matrix, out, models } => runs::bench(matrix.as_deref(), out, &models),
         Command::List { matrix, models } => list::list(matrix.as_deref(), &models),

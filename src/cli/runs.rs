@@ -4,6 +4,7 @@ use std::path::{Path, PathBuf};
 
 use super::{load_matrix, registry_for, ModelsArg};
 use crate::error::{Error, InputError};
+use crate::images::stats::Defect;
 use crate::report::check::{check as check_run, Thresholds};
 use crate::run::runner::{default_results_root, RunOptions};
 
@@ -21,14 +22,36 @@ fn progress() -> bool {
     std::io::IsTerminal::is_terminal(&std::io::stderr())
 }
 
-pub fn run(
-    matrix: Option<&Path>,
-    out: Option<PathBuf>,
-    resume: bool,
-    shard: Option<&str>,
-    only: Option<&str>,
-    models: &ModelsArg,
-) -> Result<(), Error> {
+/// What `shadematrix run` was asked besides the matrix.
+pub struct RunArgs<'a> {
+    pub out: Option<PathBuf>,
+    pub resume: bool,
+    pub shard: Option<&'a str>,
+    pub only: Option<&'a str>,
+    /// Bad-value kinds that make the run exit 1.
+    pub fail_on: &'a [Defect],
+}
+
+/// `--fail-on nan,inf`: each name a `Defect`, the nearest offered for a typo (exit 2).
+pub fn parse_fail_on(names: &[String]) -> Result<Vec<Defect>, Error> {
+    names
+        .iter()
+        .map(|n| {
+            Defect::from_name(n.trim()).ok_or_else(|| {
+                Error::Input(crate::input::names::unknown_name(
+                    "command line",
+                    "--fail-on",
+                    "bad-value kind",
+                    n.trim(),
+                    &Defect::names(),
+                ))
+            })
+        })
+        .collect()
+}
+
+pub fn run(matrix: Option<&Path>, args: RunArgs, models: &ModelsArg) -> Result<(), Error> {
+    let RunArgs { out, resume, shard, only, fail_on } = args;
     let m = load_matrix(matrix, registry_for(models, matrix)?)?;
     let opts = RunOptions {
         results_root: default_results_root(),
@@ -53,7 +76,44 @@ pub fn run(
         s.adapter
     );
     println!("results: {}", s.dir.display());
-    Ok(())
+    fail_on_defects(&s.dir, fail_on)
+}
+
+/// Exit 1 (a failed check) when any cell of the run holds a bad value of the kinds asked for,
+/// naming the first cells, pixels and passes.
+fn fail_on_defects(dir: &Path, kinds: &[Defect]) -> Result<(), Error> {
+    if kinds.is_empty() {
+        return Ok(());
+    }
+    let run = crate::report::run_data::RunData::load(dir)?;
+    let mut found = Vec::new();
+    for c in &run.cells {
+        for d in c.stats.first.iter().filter(|d| kinds.contains(&d.kind)) {
+            found.push(format!(
+                "{}: {} {} value(s), first at pixel ({}, {}) channel {} = {} ({}, written by {})",
+                c.id.0,
+                c.stats.count(d.kind),
+                d.kind.name(),
+                d.x,
+                d.y,
+                d.channel,
+                d.value,
+                d.role,
+                d.pass
+            ));
+        }
+    }
+    if found.is_empty() {
+        return Ok(());
+    }
+    let shown: Vec<&String> = found.iter().take(10).collect();
+    let more = if found.len() > 10 { format!("\n… and {} more", found.len() - 10) } else { String::new() };
+    Err(Error::CheckFailed(format!(
+        "--fail-on {}: {} finding(s)\n{}{more}",
+        kinds.iter().map(|k| k.name()).collect::<Vec<_>>().join(","),
+        found.len(),
+        shown.iter().map(|s| s.as_str()).collect::<Vec<_>>().join("\n")
+    )))
 }
 
 pub fn bench(matrix: Option<&Path>, out: Option<PathBuf>, models: &ModelsArg) -> Result<(), Error> {

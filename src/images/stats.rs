@@ -1,10 +1,78 @@
 //! Pixel statistics of a rendered frame: bad values and the subject's brightness, recorded with
-//! every cell so a NaN or a black subject is visible without opening the image.
+//! every cell so a NaN or a black subject is visible without opening the image. The bad values are
+//! counted in the linear HDR colour target the images come from: NaN, ±Inf, negative, and finite
+//! values above the half-float maximum (65504, where an engine's Rgba16Float or R11G11B10 target
+//! would overflow), each kind with its first pixel (row-major from the top-left), the channel, the
+//! value and the pass that wrote it.
 
 use serde::{Deserialize, Serialize};
 
-use crate::render::uniforms::ROLE_SUBJECT;
+use crate::render::uniforms::{ROLE_FIXED, ROLE_SUBJECT};
 use crate::render::CellRender;
+
+/// The largest finite half-float value.
+pub const HALF_MAX: f32 = 65504.0;
+
+/// A kind of bad value.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Defect {
+    Nan,
+    Inf,
+    Negative,
+    /// Finite and above `HALF_MAX`.
+    Overflow,
+}
+
+impl Defect {
+    pub const ALL: [Defect; 4] = [Defect::Nan, Defect::Inf, Defect::Negative, Defect::Overflow];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Defect::Nan => "nan",
+            Defect::Inf => "inf",
+            Defect::Negative => "negative",
+            Defect::Overflow => "overflow",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<Defect> {
+        Self::ALL.into_iter().find(|d| d.name() == name)
+    }
+
+    pub fn names() -> Vec<&'static str> {
+        Self::ALL.iter().map(|d| d.name()).collect()
+    }
+
+    pub fn of(v: f32) -> Option<Defect> {
+        if v.is_nan() {
+            Some(Defect::Nan)
+        } else if v.is_infinite() {
+            Some(Defect::Inf)
+        } else if v < 0.0 {
+            Some(Defect::Negative)
+        } else if v > HALF_MAX {
+            Some(Defect::Overflow)
+        } else {
+            None
+        }
+    }
+}
+
+/// The first pixel holding a kind of bad value.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct DefectPixel {
+    pub kind: Defect,
+    pub x: u32,
+    pub y: u32,
+    pub channel: char,
+    /// As text: JSON has no NaN or Inf.
+    pub value: String,
+    /// subject, fixed or background.
+    pub role: String,
+    /// The pass that wrote the pixel (`FramePlan::passes_for`'s names).
+    pub pass: String,
+}
 
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 pub struct PixelStats {
@@ -13,27 +81,57 @@ pub struct PixelStats {
     pub nan: usize,
     pub inf: usize,
     pub negative: usize,
+    /// Finite values above the half-float maximum.
+    pub overflow: usize,
+    /// The first pixel of each kind found, in `Defect` order.
+    pub first: Vec<DefectPixel>,
     /// Mean linear luminance over subject pixels (None when the subject is not visible).
     pub subject_mean_luminance: Option<f64>,
     pub max_luminance: f64,
 }
 
-pub fn pixel_stats(r: &CellRender) -> PixelStats {
+/// `pass_of(role)`: the pass that wrote a pixel of that role in this cell's frame.
+pub fn pixel_stats(r: &CellRender, pass_of: impl Fn(u8) -> String) -> PixelStats {
     let mut s = PixelStats {
         pixels: r.roles.len(),
         subject_pixels: 0,
         nan: 0,
         inf: 0,
         negative: 0,
+        overflow: 0,
+        first: Vec::new(),
         subject_mean_luminance: None,
         max_luminance: 0.0,
     };
     let mut sum = 0.0;
-    for (px, role) in r.hdr.chunks_exact(4).zip(&r.roles) {
+    for (i, (px, role)) in r.hdr.chunks_exact(4).zip(&r.roles).enumerate() {
         let rgb = &px[..3];
-        s.nan += rgb.iter().filter(|v| v.is_nan()).count();
-        s.inf += rgb.iter().filter(|v| v.is_infinite()).count();
-        s.negative += rgb.iter().filter(|v| **v < 0.0).count();
+        for (c, &v) in rgb.iter().enumerate() {
+            let Some(kind) = Defect::of(v) else { continue };
+            let count = match kind {
+                Defect::Nan => &mut s.nan,
+                Defect::Inf => &mut s.inf,
+                Defect::Negative => &mut s.negative,
+                Defect::Overflow => &mut s.overflow,
+            };
+            *count += 1;
+            if *count == 1 {
+                s.first.push(DefectPixel {
+                    kind,
+                    x: (i % r.width as usize) as u32,
+                    y: (i / r.width as usize) as u32,
+                    channel: ['r', 'g', 'b'][c],
+                    value: v.to_string(),
+                    role: match *role {
+                        ROLE_SUBJECT => "subject",
+                        ROLE_FIXED => "fixed",
+                        _ => "background",
+                    }
+                    .into(),
+                    pass: pass_of(*role),
+                });
+            }
+        }
         let l = crate::color::luminance([rgb[0] as f64, rgb[1] as f64, rgb[2] as f64]);
         if l.is_finite() {
             s.max_luminance = s.max_luminance.max(l);
@@ -46,5 +144,17 @@ pub fn pixel_stats(r: &CellRender) -> PixelStats {
     if s.subject_pixels > 0 {
         s.subject_mean_luminance = Some(sum / s.subject_pixels as f64);
     }
+    s.first.sort_by_key(|d| d.kind);
     s
+}
+
+impl PixelStats {
+    pub fn count(&self, kind: Defect) -> usize {
+        match kind {
+            Defect::Nan => self.nan,
+            Defect::Inf => self.inf,
+            Defect::Negative => self.negative,
+            Defect::Overflow => self.overflow,
+        }
+    }
 }

@@ -47,6 +47,26 @@ impl FramePlan {
         passes
     }
 
+    /// The pass that writes the final colour of a pixel showing `role` (None: no object) on
+    /// `path`, in the names of `passes_for`; `forward_only`: the object's model cannot be drawn
+    /// into a G-buffer.
+    pub fn pass_writing(
+        &self,
+        path: crate::pipelines::RenderPath,
+        role: Option<crate::spec::scene::Role>,
+        forward_only: bool,
+    ) -> &'static str {
+        use crate::pipelines::RenderPath;
+        match (role, path) {
+            (None, _) if self.background => "background",
+            (None, _) => "clear (no background pass)",
+            (Some(_), RenderPath::Forward) => "forward",
+            (Some(_), RenderPath::VertexLit) => "forward (lighting per vertex)",
+            (Some(_), RenderPath::Deferred) if forward_only => "forward (models the G-buffer cannot carry)",
+            (Some(_), RenderPath::Deferred) => "deferred lighting",
+        }
+    }
+
     pub fn for_scene(scene: &Scene) -> FramePlan {
         let mut passes = vec!["forward"];
         let mut left_out = Vec::new();

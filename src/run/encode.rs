@@ -16,8 +16,10 @@ use crate::record::cell::{
     AntialiasingRecord, CellMetrics, CellRecord, CellTiming, FrameSeries, ViewRecord, CELL_SCHEMA,
 };
 use crate::record::Maybe;
+use crate::render::uniforms::{ROLE_FIXED, ROLE_SUBJECT};
 use crate::render::CellRender;
 use crate::spec::matrix::Matrix;
+use crate::spec::scene::Role;
 
 /// A frame the render thread finished, on its way to the encode workers.
 pub struct RenderedCell<'a> {
@@ -50,7 +52,15 @@ pub fn encode_cell(matrix: &Matrix, dir: &Path, adapter: &str, job: RenderedCell
     let exr = encode::exr_bytes(r.width, r.height, &r.hdr)?;
     let (srgb8, display) = tonemap::to_srgb8(&r.hdr, r.width, r.height, &cell.display);
     let png = encode::png_bytes(r.width, r.height, &srgb8)?;
-    let stats = pixel_stats(&r);
+    let plan = crate::plan::FramePlan::for_scene(&matrix.compositions[cell.composition_index]);
+    let stats = pixel_stats(&r, |role| {
+        let (role, forward_only) = match role {
+            ROLE_SUBJECT => (Some(Role::Subject), !cell.model().deferrable()),
+            ROLE_FIXED => (Some(Role::Fixed), false),
+            _ => (None, false),
+        };
+        plan.pass_writing(cell.path, role, forward_only).to_string()
+    });
     let encode_ms = t0.elapsed_ns() as f64 / 1e6;
     write_atomic(&dir.join("image.exr"), &exr)?;
     write_atomic(&dir.join("image.png"), &png)?;

@@ -107,3 +107,42 @@ fn models_come_from_the_folder_the_user_names() {
     assert_eq!(rc, 2, "{stderr}");
     assert!(stderr.contains("wrong.toml") && stderr.contains("models") && stderr.contains("nope"), "{stderr}");
 }
+
+#[test]
+fn an_unstable_user_model_is_reported_with_its_pixel_and_fails_the_run_on_request() {
+    let tmp = tempfile::tempdir().unwrap();
+    let models = crate::common::fixture("unstable_models");
+    let m = crate::common::write_matrix(
+        tmp.path(),
+        "m.toml",
+        &format!(
+            "name = \"unstable\"\nmodels = \"{}\"\ncompositions = [\"default\"]\npipelines = [\"urp\"]\n\
+             shaders = [\"unstable\"]\npresets = [\"plastic\"]\n[image]\nwidth = 32\nheight = 32\n",
+            models.display()
+        ),
+    );
+    // Reported, not a crash: the run succeeds and the record names the first NaN.
+    let (rc, _, stderr) = crate::common::shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", "a"], &[]);
+    assert_eq!(rc, 0, "{stderr}");
+    let run = shadematrix::report::run_data::RunData::load(&tmp.path().join("a")).unwrap();
+    let stats = &run.cells[0].stats;
+    assert!(stats.nan > 0, "{stats:?}");
+    let first = stats.first.iter().find(|d| d.kind == shadematrix::images::stats::Defect::Nan).unwrap();
+    assert_eq!((first.role.as_str(), first.pass.as_str(), first.value.as_str()), ("subject", "forward", "NaN"));
+    eprintln!("unstable model: {} NaN values, first at ({}, {}) {}", stats.nan, first.x, first.y, first.channel);
+    // --fail-on nan: exit 1 with the cell, the pixel and the pass.
+    let (rc, _, stderr) = crate::common::shadematrix(
+        tmp.path(),
+        &["run", m.to_str().unwrap(), "--out", "b", "--fail-on", "nan,overflow"],
+        &[],
+    );
+    assert_eq!(rc, 1, "{stderr}");
+    let pixel = format!("pixel ({}, {})", first.x, first.y);
+    assert!(stderr.contains("nan value(s)") && stderr.contains(&pixel) && stderr.contains("forward"), "{stderr}");
+    // A typo in the kinds is bad input.
+    let (rc, _, stderr) =
+        crate::common::shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", "c", "--fail-on", "nann"], &[]);
+    assert_eq!(rc, 2, "{stderr}");
+    assert!(stderr.contains("--fail-on") && stderr.contains("did you mean `nan`?"), "{stderr}");
+    assert!(!tmp.path().join("c").exists());
+}
