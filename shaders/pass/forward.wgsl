@@ -23,6 +23,30 @@ struct FragmentOut {
     @location(1) role: u32,
 };
 
+// A vertex's world normal, normalised; a zero normal (a mesh that has them) faces the camera
+// instead: normalize(0) is NaN in WGSL (spec §6)
+fn vertex_normal(n: vec3<f32>, p: vec3<f32>) -> vec3<f32> {
+    if (dot(n, n) > 1e-30) {
+        return normalize(n);
+    }
+    return safe_normalize(frame.camera_pos.xyz - p, 1e-30);
+}
+
+// The shading normal of a fragment: the interpolated normal, normalised and flipped on back faces;
+// where it is zero (zero normals in the mesh) the triangle's own normal, turned to the viewer
+// (spec §6: normalize(0) is NaN). `face` = cross(dpdx(p), dpdy(p)), taken in uniform control flow.
+fn shading_normal(interpolated: vec3<f32>, face: vec3<f32>, p: vec3<f32>, front: bool) -> vec3<f32> {
+    if (dot(interpolated, interpolated) > 1e-30) {
+        let n = normalize(interpolated);
+        return select(-n, n, front);
+    }
+    let to_eye = frame.camera_pos.xyz - p;
+    if (dot(face, face) > 1e-30) {
+        return normalize(select(-face, face, dot(face, to_eye) >= 0.0));
+    }
+    return safe_normalize(to_eye, 1e-30);
+}
+
 @vertex
 fn vs_main(in: VertexIn) -> VertexOut {
     var out: VertexOut;
@@ -31,7 +55,7 @@ fn vs_main(in: VertexIn) -> VertexOut {
     out.clip = frame.view_proj * world;
     out.normal = (object.normal_matrix * vec4<f32>(in.normal, 0.0)).xyz;
     out.uv = in.uv;
-    out.vertex_gi = vertex_lights(world.xyz, normalize(out.normal));
+    out.vertex_gi = vertex_lights(world.xyz, vertex_normal(out.normal, world.xyz));
     return out;
 }
 
@@ -201,10 +225,7 @@ fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>, vertex_gi: vec3<f32>) -> vec3<f
 
 @fragment
 fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> FragmentOut {
-    var n = normalize(in.normal);
-    if (!front) {
-        n = -n;
-    }
+    let n = shading_normal(in.normal, cross(dpdx(in.world_pos), dpdy(in.world_pos)), in.world_pos, front);
     var out: FragmentOut;
     out.color = vec4<f32>(shade(material_at(in.uv), n, in.world_pos, in.vertex_gi), 1.0);
     out.role = object.flags.y;
@@ -222,7 +243,7 @@ struct GouraudOut {
 @vertex
 fn vs_gouraud(in: VertexIn) -> GouraudOut {
     let world = object.model * vec4<f32>(in.position, 1.0);
-    let n = normalize((object.normal_matrix * vec4<f32>(in.normal, 0.0)).xyz);
+    let n = vertex_normal((object.normal_matrix * vec4<f32>(in.normal, 0.0)).xyz, world.xyz);
     var out: GouraudOut;
     out.clip = frame.view_proj * world;
     out.color = shade(material_at(in.uv), n, world.xyz, vertex_lights(world.xyz, n));
@@ -252,10 +273,7 @@ struct GBufferOut {
 
 @fragment
 fn fs_gbuffer(in: VertexOut, @builtin(front_facing) front: bool) -> GBufferOut {
-    var n = normalize(in.normal);
-    if (!front) {
-        n = -n;
-    }
+    let n = shading_normal(in.normal, cross(dpdx(in.world_pos), dpdy(in.world_pos)), in.world_pos, front);
     let s = material_at(in.uv);
     let v = normalize(frame.camera_pos.xyz - in.world_pos);
     main_light_color = vec3<f32>(0.0);

@@ -2,8 +2,9 @@
 //! every cell so a NaN or a black subject is visible without opening the image. The bad values are
 //! counted in the linear HDR colour target the images come from: NaN, ±Inf, negative, and finite
 //! values above the half-float maximum (65504, where an engine's Rgba16Float or R11G11B10 target
-//! would overflow), each kind with its first pixel (row-major from the top-left), the channel, the
-//! value and the pass that wrote it.
+//! would overflow) once multiplied by the pre-exposure the pipeline writes with (HDRP renders
+//! pre-exposed; built-in and URP write unexposed), each kind with its first pixel (row-major from
+//! the top-left), the channel, the value and the pass that wrote it.
 
 use serde::{Deserialize, Serialize};
 
@@ -44,14 +45,15 @@ impl Defect {
         Self::ALL.iter().map(|d| d.name()).collect()
     }
 
-    pub fn of(v: f32) -> Option<Defect> {
+    /// The defect of a value that an engine writes multiplied by `pre_exposure`.
+    pub fn of(v: f32, pre_exposure: f64) -> Option<Defect> {
         if v.is_nan() {
             Some(Defect::Nan)
         } else if v.is_infinite() {
             Some(Defect::Inf)
         } else if v < 0.0 {
             Some(Defect::Negative)
-        } else if v > HALF_MAX {
+        } else if v as f64 * pre_exposure > HALF_MAX as f64 {
             Some(Defect::Overflow)
         } else {
             None
@@ -66,7 +68,7 @@ pub struct DefectPixel {
     pub x: u32,
     pub y: u32,
     pub channel: char,
-    /// As text: JSON has no NaN or Inf.
+    /// As text (JSON has no NaN or Inf), before any pre-exposure.
     pub value: String,
     /// subject, fixed or background.
     pub role: String,
@@ -90,8 +92,9 @@ pub struct PixelStats {
     pub max_luminance: f64,
 }
 
-/// `pass_of(role)`: the pass that wrote a pixel of that role in this cell's frame.
-pub fn pixel_stats(r: &CellRender, pass_of: impl Fn(u8) -> String) -> PixelStats {
+/// `pass_of(role)`: the pass that wrote a pixel of that role in this cell's frame; `pre_exposure`:
+/// what the pipeline multiplies its colour target by (HDRP's exposure, else 1).
+pub fn pixel_stats(r: &CellRender, pre_exposure: f64, pass_of: impl Fn(u8) -> String) -> PixelStats {
     let mut s = PixelStats {
         pixels: r.roles.len(),
         subject_pixels: 0,
@@ -107,7 +110,7 @@ pub fn pixel_stats(r: &CellRender, pass_of: impl Fn(u8) -> String) -> PixelStats
     for (i, (px, role)) in r.hdr.chunks_exact(4).zip(&r.roles).enumerate() {
         let rgb = &px[..3];
         for (c, &v) in rgb.iter().enumerate() {
-            let Some(kind) = Defect::of(v) else { continue };
+            let Some(kind) = Defect::of(v, pre_exposure) else { continue };
             let count = match kind {
                 Defect::Nan => &mut s.nan,
                 Defect::Inf => &mut s.inf,

@@ -53,7 +53,8 @@ pub fn encode_cell(matrix: &Matrix, dir: &Path, adapter: &str, job: RenderedCell
     let (srgb8, display) = tonemap::to_srgb8(&r.hdr, r.width, r.height, &cell.display);
     let png = encode::png_bytes(r.width, r.height, &srgb8)?;
     let plan = crate::plan::FramePlan::for_scene(&matrix.compositions[cell.composition_index]);
-    let stats = pixel_stats(&r, |role| {
+    let pre_exposure = display.exposure.as_ref().map_or(1.0, |e| e.exposure);
+    let stats = pixel_stats(&r, pre_exposure, |role| {
         let (role, forward_only) = match role {
             ROLE_SUBJECT => (Some(Role::Subject), !cell.model().deferrable()),
             ROLE_FIXED => (Some(Role::Fixed), false),
