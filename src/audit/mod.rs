@@ -4,6 +4,7 @@
 //! BRDF: built-in and URP intensities carry π, so their radiance is divided by π (and HDRP's is
 //! not), so that a Lambert surface of albedo ρ has directional albedo ρ in every pipeline.
 
+pub mod conditioning;
 pub mod report;
 pub mod samples;
 

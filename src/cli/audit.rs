@@ -21,13 +21,18 @@ pub fn audit(shader: Option<&str>, json: bool, out: Option<PathBuf>, models: &Mo
         PathBuf::from("results").join(format!("audit-{}", chrono::Local::now().format("%Y%m%d-%H%M%S")))
     });
     audit::report::write(&dir, &audits, &gpu.record.name)?;
+    let conditioning = audit::conditioning::condition_all(&gpu, &registry, shader)?;
+    audit::conditioning::write(&dir, &conditioning, &gpu.record.name)?;
     let text = if json {
         serde_json::to_string_pretty(&audit::report::AuditRecord::new(&gpu.record.name, &audits)).unwrap_or_default()
     } else {
         audit::report::markdown(&audits, &gpu.record.name)
     };
     print_out(&text);
-    eprintln!("audit written to {}", dir.display());
+    if !json {
+        print_out(&audit::conditioning::markdown(&conditioning, &gpu.record.name));
+    }
+    eprintln!("audit written to {} (conditioning: tables/conditioning.md, plots/conditioning_*.svg)", dir.display());
     let failed: Vec<&str> = audits.iter().filter(|a| !a.failures.is_empty()).map(|a| a.key.as_str()).collect();
     if failed.is_empty() {
         Ok(())

@@ -87,6 +87,11 @@ pub struct PixelStats {
     pub overflow: usize,
     /// The first pixel of each kind found, in `Defect` order.
     pub first: Vec<DefectPixel>,
+    /// Largest and smallest finite channel values (linear, before any pre-exposure).
+    #[serde(default)]
+    pub max_value: f64,
+    #[serde(default)]
+    pub min_value: f64,
     /// Mean linear luminance over subject pixels (None when the subject is not visible).
     pub subject_mean_luminance: Option<f64>,
     pub max_luminance: f64,
@@ -103,6 +108,8 @@ pub fn pixel_stats(r: &CellRender, pre_exposure: f64, pass_of: impl Fn(u8) -> St
         negative: 0,
         overflow: 0,
         first: Vec::new(),
+        max_value: 0.0,
+        min_value: 0.0,
         subject_mean_luminance: None,
         max_luminance: 0.0,
     };
@@ -110,6 +117,10 @@ pub fn pixel_stats(r: &CellRender, pre_exposure: f64, pass_of: impl Fn(u8) -> St
     for (i, (px, role)) in r.hdr.chunks_exact(4).zip(&r.roles).enumerate() {
         let rgb = &px[..3];
         for (c, &v) in rgb.iter().enumerate() {
+            if v.is_finite() {
+                s.max_value = s.max_value.max(v as f64);
+                s.min_value = s.min_value.min(v as f64);
+            }
             let Some(kind) = Defect::of(v, pre_exposure) else { continue };
             let count = match kind {
                 Defect::Nan => &mut s.nan,

@@ -6,12 +6,14 @@ pub mod gallery;
 pub mod perf;
 pub mod run_data;
 pub mod sheets;
+pub mod stability;
 
 /// Every report of a run, from its recorded files.
 pub fn build(run_dir: &std::path::Path) -> Result<(), crate::error::Error> {
     let run = run_data::RunData::load(run_dir)?;
     perf::write(&run)?;
     error_time::write(&run)?;
+    stability::write(&run)?;
     let specs = match &run.run.matrix.sheets {
         s if s.is_empty() => crate::spec::sheets::default_specs(),
         s => s.clone(),

@@ -18,4 +18,5 @@ mod render_ci;
 mod resume;
 mod shading;
 mod shadows;
+mod stability;
 mod user_models;

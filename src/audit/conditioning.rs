@@ -1,0 +1,279 @@
+//! Conditioning: where each model's GPU f32 result drifts from its f64 twin as the roughness
+//! α = (1 − smoothness)² goes from 1 to 1e-4 and N·V from 1 to 1e-4. Every point sits at the
+//! specular peak — L the mirror of V about N, so N·H = 1 and N·L = N·V — where the D and V terms are
+//! stiffest; white metal, so the specular lobe is all there is. The twin receives the f32-rounded
+//! inputs the GPU received, so the difference is the f32 arithmetic alone. Per model: α*, the
+//! largest α at which some N·V of the grid has a relative error above 1e-3 (below α* precision is
+//! lost somewhere), N·V* likewise over every α; and the guard (the WGSL function) that bounds the
+//! stiff terms there.
+
+use glam::DVec3;
+use serde::Serialize;
+use std::fmt::Write;
+
+use crate::error::Error;
+use crate::gpu::GpuContext;
+use crate::pipelines::Pipeline;
+use crate::render::probe::{BrdfProbe, ProbeInput};
+use crate::shading::registry::{Registry, ShaderModel, Sliders};
+
+/// Relative error that counts as lost precision.
+pub const TOLERANCE: f64 = 1e-3;
+/// Grid steps per decade and decades: 10^(−k/4), k = 0..=16.
+const STEPS_PER_DECADE: i32 = 4;
+const DECADES: i32 = 4;
+/// The column the N·V plot shows: a moderately rough α.
+pub const NV_COLUMN_ALPHA: f64 = 0.316_227_766_016_837_94;
+
+/// The grid values, 1 down to 1e-4.
+pub fn grid() -> Vec<f64> {
+    (0..=STEPS_PER_DECADE * DECADES).map(|k| 10f64.powf(-k as f64 / STEPS_PER_DECADE as f64)).collect()
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct ConditioningPoint {
+    pub alpha: f64,
+    pub nv: f64,
+    /// max over RGB of |gpu − twin| / |twin| (∞ when either is not finite; 0 when both are 0).
+    pub relative_error: f64,
+    pub twin: f64,
+    pub gpu: f64,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct ModelConditioning {
+    /// `pipeline/name`.
+    pub key: String,
+    pub points: Vec<ConditioningPoint>,
+    /// Largest α at which some grid point has a relative error above `TOLERANCE`; None: none
+    /// down to 1e-4.
+    pub alpha_threshold: Option<f64>,
+    /// Largest N·V at which some grid point has a relative error above `TOLERANCE`.
+    pub nv_threshold: Option<f64>,
+    /// The function that bounds the stiff terms, as the model's WGSL names it.
+    pub guard: &'static str,
+}
+
+/// The guard of each built-in model's stiff terms (its WGSL function and what it clamps).
+fn guard(name: &str, p: Pipeline) -> &'static str {
+    let base = name.trim_end_matches("_vertex");
+    match base {
+        "lit" if p == Pipeline::Hdrp => {
+            "dv_smith_joint_ggx (max(…, REAL_MIN)), clamp_n_dot_v (NV ≥ 1e-4), light_min_roughness (per light)"
+        }
+        "standard" => "roughness_clamped (α ≥ 0.002); v_smith_joint_approx (+1e-5)",
+        "standard_brdf2" => "spec_brdf2 (d = NH²(α² − 1) + 1.00001, max(0.1, LH²))",
+        "standard_brdf3" => "spec_brdf3 (n ≥ 1e-4, LUT range cap)",
+        "lit" => "urp_brdf_data (α ≥ 2⁻⁷, α² ≥ 2⁻¹⁴), spec_urp (+1.00001, max(0.1, LH²))",
+        "simple_lit" | "phong" | "blinn_phong" => "shininess_from_smoothness (n = 2..2048)",
+        "cook_torrance" => "d_beckmann (NH² ≥ ε, m ≥ 1e-3), g_cook_torrance (VH ≥ ε)",
+        "cook_torrance_1982" => "d_beckmann_unnormalised (NH² ≥ ε, m ≥ 1e-3), g_cook_torrance (VH ≥ ε)",
+        "torrance_sparrow" | "torrance_sparrow_corrected" => "ts_direct (d_ggx, v_smith_schlick: no floor on α)",
+        "oren_nayar" => "model_direct: tan β over max(cos β, 1e-4)",
+        "oren_nayar_057" => "model_direct: max(max(NL, NV), 1e-4)",
+        _ => "none needed: the model reads no roughness",
+    }
+}
+
+/// The conditioning grid of one model in one pipeline.
+pub fn condition_model(
+    gpu: &GpuContext,
+    probe: &mut BrdfProbe,
+    model: &ShaderModel,
+    p: Pipeline,
+) -> Result<Option<ModelConditioning>, Error> {
+    let Some(twin) = model.twin else { return Ok(None) };
+    let values = grid();
+    let n = DVec3::Y;
+    let mut cases = Vec::new();
+    for &alpha in &values {
+        for &nv in &values {
+            let sin = (1.0 - nv * nv).max(0.0).sqrt();
+            let v = DVec3::new(sin, nv, 0.0);
+            let l = DVec3::new(-sin, nv, 0.0);
+            let sliders = Sliders { base_color_linear: [1.0; 3], metallic: 1.0, smoothness: 1.0 - alpha.sqrt() };
+            cases.push((alpha, nv, model.surface(p, &sliders), v, l));
+        }
+    }
+    let inputs: Vec<ProbeInput> =
+        cases.iter().map(|(_, _, s, v, l)| ProbeInput::new(s, n, *v, *l, DVec3::ZERO, DVec3::ZERO)).collect();
+    let out = probe.evaluate(gpu, p, model, &inputs)?;
+    let points: Vec<ConditioningPoint> = cases
+        .iter()
+        .zip(&out)
+        .map(|((alpha, nv, s, v, l), (direct, _))| {
+            let r = |x: DVec3| x.as_vec3().as_dvec3();
+            let expected = twin.direct(p, &s.rounded_f32(), n, r(*v), r(*l));
+            let mut worst: f64 = 0.0;
+            for k in 0..3 {
+                let (g, c) = (direct[k] as f64, expected[k]);
+                let e = if !g.is_finite() || !c.is_finite() {
+                    f64::INFINITY
+                } else if g == c {
+                    0.0
+                } else {
+                    (g - c).abs() / c.abs().max(f64::MIN_POSITIVE)
+                };
+                worst = worst.max(e);
+            }
+            ConditioningPoint {
+                alpha: *alpha,
+                nv: *nv,
+                relative_error: worst,
+                twin: expected.max_element(),
+                gpu: direct.iter().fold(f32::MIN, |a, b| a.max(*b)) as f64,
+            }
+        })
+        .collect();
+    let exceeds = |pt: &&ConditioningPoint| pt.relative_error > TOLERANCE;
+    let alpha_threshold = points.iter().filter(exceeds).map(|pt| pt.alpha).reduce(f64::max);
+    let nv_threshold = points.iter().filter(exceeds).map(|pt| pt.nv).reduce(f64::max);
+    Ok(Some(ModelConditioning {
+        key: format!("{}/{}", p.name(), model.name),
+        points,
+        alpha_threshold,
+        nv_threshold,
+        guard: guard(&model.name, p),
+    }))
+}
+
+/// Every model with a twin (or those of one name), every pipeline it has.
+pub fn condition_all(
+    gpu: &GpuContext,
+    registry: &Registry,
+    shader: Option<&str>,
+) -> Result<Vec<ModelConditioning>, Error> {
+    let mut probe = BrdfProbe::new(gpu);
+    let mut out = Vec::new();
+    for model in registry.models() {
+        if shader.is_some_and(|s| s != model.name) {
+            continue;
+        }
+        for &p in &model.pipelines {
+            out.extend(condition_model(gpu, &mut probe, model, p)?);
+        }
+    }
+    Ok(out)
+}
+
+fn threshold(v: Option<f64>) -> String {
+    v.map_or_else(|| "none down to 1e-4".into(), |x| format!("{x:.3e}"))
+}
+
+pub fn markdown(models: &[ModelConditioning], adapter: &str) -> String {
+    let mut s = format!(
+        "# Conditioning: GPU f32 against the f64 twin\n\nAdapter: {adapter}. At the specular peak (L the mirror of V, \
+         N·H = 1), white metal. α*: the largest α at which some N·V of the grid has a relative error above \
+         {TOLERANCE:e}; N·V*: the largest N·V at which some α does. The grid runs 1 → 1e-4, four \
+         steps a decade; tables/conditioning.csv has every point, plots/conditioning_*.svg the rows and columns.\n\n\
+         | model | α* | N·V* | worst relative error (at α, N·V) | guard |\n|---|---|---|---|---|\n"
+    );
+    for m in models {
+        let worst = m.points.iter().max_by(|a, b| a.relative_error.total_cmp(&b.relative_error));
+        let w = worst
+            .map_or_else(String::new, |p| format!("{:.2e} (α {:.1e}, N·V {:.1e})", p.relative_error, p.alpha, p.nv));
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {w} | {} |",
+            m.key,
+            threshold(m.alpha_threshold),
+            threshold(m.nv_threshold),
+            m.guard
+        );
+    }
+    s
+}
+
+pub fn csv(models: &[ModelConditioning]) -> String {
+    let mut s = String::from("model,alpha,nv,relative_error,twin_max,gpu_max\n");
+    for m in models {
+        for p in &m.points {
+            let _ = writeln!(s, "{},{:e},{:e},{:e},{:e},{:e}", m.key, p.alpha, p.nv, p.relative_error, p.twin, p.gpu);
+        }
+    }
+    s
+}
+
+/// A log–log plot of relative error against one grid axis, a line per model: the N·V = 1 row
+/// against α, or the α = `NV_COLUMN_ALPHA` column against N·V.
+pub fn svg(models: &[ModelConditioning], against_alpha: bool) -> String {
+    let (w, h, ml, mr, mt, mb) = (760.0, 480.0, 70.0, 230.0, 40.0, 50.0);
+    let (lo_e, hi_e) = (-8.0f64, 2.0f64);
+    let x = |v: f64| ml + (-v.log10() / DECADES as f64) * (w - ml - mr);
+    let y = |e: f64| {
+        let le = if e.is_finite() { e.max(1e-8).log10().min(hi_e) } else { hi_e };
+        h - mb - (le - lo_e) / (hi_e - lo_e) * (h - mt - mb)
+    };
+    let axis = if against_alpha { "α (N·V = 1)" } else { "N·V (α = 0.316)" };
+    let mut s = format!("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\" font-family=\"sans-serif\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n");
+    let _ = writeln!(s, "<text x=\"{}\" y=\"22\" font-size=\"15\" text-anchor=\"middle\">GPU f32 vs f64 twin: relative error against {axis}</text>", (w - mr + ml) / 2.0);
+    let _ = writeln!(s, "<line x1=\"{ml}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"black\"/><line x1=\"{ml}\" y1=\"{mt}\" x2=\"{ml}\" y2=\"{}\" stroke=\"black\"/>", h - mb, w - mr, h - mb, h - mb);
+    for d in 0..=DECADES {
+        let v = 10f64.powi(-d);
+        let _ = writeln!(
+            s,
+            "<text x=\"{:.1}\" y=\"{}\" font-size=\"10\" text-anchor=\"middle\">1e-{d}</text>",
+            x(v),
+            h - mb + 14.0
+        );
+    }
+    for e in (lo_e as i32..=hi_e as i32).step_by(2) {
+        let _ = writeln!(
+            s,
+            "<text x=\"{}\" y=\"{:.1}\" font-size=\"10\" text-anchor=\"end\">1e{e}</text>",
+            ml - 6.0,
+            y(10f64.powi(e)) + 3.0
+        );
+    }
+    let tol = y(TOLERANCE);
+    let _ = writeln!(
+        s,
+        "<line x1=\"{ml}\" y1=\"{tol:.1}\" x2=\"{}\" y2=\"{tol:.1}\" stroke=\"#999\" stroke-dasharray=\"4 3\"/>",
+        w - mr
+    );
+    let _ = writeln!(
+        s,
+        "<text x=\"{}\" y=\"{}\" font-size=\"12\" text-anchor=\"middle\">{axis}, log scale</text>",
+        (w - mr + ml) / 2.0,
+        h - 12.0
+    );
+    let palette =
+        ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"];
+    let mut shown = 0;
+    for m in models {
+        let line: Vec<&ConditioningPoint> = m
+            .points
+            .iter()
+            .filter(|p| if against_alpha { p.nv == 1.0 } else { (p.alpha - NV_COLUMN_ALPHA).abs() < 1e-12 })
+            .collect();
+        if line.iter().all(|p| p.relative_error == 0.0) {
+            continue;
+        }
+        let colour = palette[shown % palette.len()];
+        let dash = if (shown / palette.len()) % 2 == 1 { " stroke-dasharray=\"5 2\"" } else { "" };
+        let pts: Vec<String> = line
+            .iter()
+            .map(|p| format!("{:.1},{:.1}", x(if against_alpha { p.alpha } else { p.nv }), y(p.relative_error)))
+            .collect();
+        let _ = writeln!(s, "<polyline points=\"{}\" fill=\"none\" stroke=\"{colour}\" stroke-width=\"1.5\"{dash}><title>{}</title></polyline>", pts.join(" "), m.key);
+        let _ = writeln!(
+            s,
+            "<text x=\"{}\" y=\"{}\" font-size=\"10\" fill=\"{colour}\">{}</text>",
+            w - mr + 10.0,
+            mt + 12.0 * shown as f64,
+            m.key
+        );
+        shown += 1;
+    }
+    s.push_str("</svg>\n");
+    s
+}
+
+/// tables/conditioning.{md,csv} and plots/conditioning_{alpha,nv}.svg under `dir`.
+pub fn write(dir: &std::path::Path, models: &[ModelConditioning], adapter: &str) -> Result<(), Error> {
+    use crate::fsutil::write_atomic;
+    write_atomic(&dir.join("tables/conditioning.md"), markdown(models, adapter).as_bytes())?;
+    write_atomic(&dir.join("tables/conditioning.csv"), csv(models).as_bytes())?;
+    write_atomic(&dir.join("plots/conditioning_alpha.svg"), svg(models, true).as_bytes())?;
+    write_atomic(&dir.join("plots/conditioning_nv.svg"), svg(models, false).as_bytes())
+}

@@ -1,0 +1,57 @@
+//! Numerical stability: the stability matrix's extreme cells keep every built-in shader free of
+//! NaN, Inf and negative values (`--fail-on`), tables/stability.md sums them, and the conditioning
+//! table finds where f32 loses precision against the f64 twin.
+
+use crate::common::{repo, shadematrix};
+use shadematrix::gpu::GpuContext;
+use shadematrix::pipelines::Pipeline;
+
+#[test]
+fn the_stability_matrix_extremes_leave_no_nan_inf_or_negative_value() {
+    let tmp = tempfile::tempdir().unwrap();
+    let matrix = repo().join("matrices/stability.toml");
+    let out = tmp.path().join("run");
+    // The stiffest corner of every shader × pipeline × path: mirror-smooth and fully rough white
+    // metal under the strongest key light at the shortest and longest range (the full matrix:
+    // `shadematrix run matrices/stability.toml`, README).
+    let only = "metallic=1,color=ffffff,light_intensity=100,light_range=0.001|40,smoothness=0|1";
+    let (rc, stdout, stderr) = shadematrix(
+        tmp.path(),
+        &[
+            "run",
+            matrix.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--only",
+            only,
+            "--fail-on",
+            "nan,inf,negative",
+        ],
+        &[],
+    );
+    assert_eq!(rc, 0, "{stdout}\n{stderr}");
+    eprintln!("{}", stdout.lines().next().unwrap_or_default());
+    let table = std::fs::read_to_string(out.join("tables/stability.md")).unwrap();
+    for shader in ["standard", "lit", "simple_lit", "cook_torrance_1982", "oren_nayar_057", "lambert_vertex"] {
+        assert!(table.contains(&format!("| {shader} |")), "{shader} missing from\n{table}");
+    }
+}
+
+#[test]
+fn conditioning_finds_where_f32_loses_the_twin() {
+    let gpu = GpuContext::new().unwrap();
+    let registry = shadematrix::shading::Registry::builtin();
+    let mut probe = shadematrix::render::probe::BrdfProbe::new(&gpu);
+    let at = |probe: &mut shadematrix::render::probe::BrdfProbe, p: Pipeline, name: &str| {
+        let model = registry.find(p, name).unwrap();
+        shadematrix::audit::conditioning::condition_model(&gpu, probe, model, p).unwrap().unwrap()
+    };
+    // HDRP Lit: 1 − α² rounds to 1 in f32 near the mirror direction, its denominator cancels.
+    let hdrp = at(&mut probe, Pipeline::Hdrp, "lit");
+    // Built-in Standard: α ≥ 0.002 (roughness_clamped) keeps it within 1e-3 everywhere.
+    let standard = at(&mut probe, Pipeline::Builtin, "standard");
+    eprintln!("α* hdrp/lit {:?}, builtin/standard {:?}", hdrp.alpha_threshold, standard.alpha_threshold);
+    assert!(hdrp.alpha_threshold.is_some_and(|a| a > 1e-3), "{:?}", hdrp.alpha_threshold);
+    assert_eq!(standard.alpha_threshold, None);
+    assert_eq!(hdrp.points.len(), 17 * 17);
+}
