@@ -89,11 +89,19 @@ pub fn encode_cell(matrix: &Matrix, dir: &Path, adapter: &str, job: RenderedCell
         encode_ms,
         metrics_ms: None,
     };
-    let mut record = cell_record(matrix, cell, adapter, display, stats, timing);
-    record.lights = r.lights.clone();
-    record.antialiasing.samples = r.multisampling.samples;
-    record.antialiasing.note = r.multisampling.note.clone();
-    record.shadow_maps = r.shadow_maps.clone();
+    let measured = Measured {
+        display,
+        stats,
+        timing,
+        lights: r.lights.clone(),
+        antialiasing: AntialiasingRecord {
+            asked: cell.antialiasing,
+            samples: r.multisampling.samples,
+            note: r.multisampling.note.clone(),
+        },
+        shadow_maps: r.shadow_maps.clone(),
+    };
+    let record = cell_record(matrix, cell, adapter, measured);
     Ok(EncodedCell {
         record,
         images: CellImages { width: r.width, height: r.height, srgb8, hdr: r.hdr },
@@ -124,29 +132,35 @@ fn write_supersampled(dir: &Path, cell: &Cell, k: u32, big: &[f32]) -> Result<()
     write_atomic(&dir.join("reference.png"), &encode::png_bytes(cell.width, cell.height, &srgb)?)
 }
 
-/// A twin's record: its own axes and hash, its original's adapter, statistics and timings.
+/// A twin's record: its own axes and hash; its original's adapter and everything rendering measured.
 pub fn twin_record(matrix: &Matrix, cell: &Cell, original: &CellRecord) -> CellRecord {
     let o = original.clone();
     let twin_of = cell.twin_of.clone().expect("a twin");
     let note =
         format!("not rendered: `{}` ignores the axes this cell differs in; images copied from {twin_of}", cell.shader);
-    CellRecord {
-        twin_of: Some(twin_of),
-        note: Some(note),
-        lights: o.lights.clone(),
-        ..cell_record(matrix, cell, &o.adapter, o.display, o.stats, o.timing)
-    }
+    let measured = Measured {
+        display: o.display,
+        stats: o.stats,
+        timing: o.timing,
+        lights: o.lights,
+        antialiasing: o.antialiasing,
+        shadow_maps: o.shadow_maps,
+    };
+    CellRecord { twin_of: Some(twin_of), note: Some(note), ..cell_record(matrix, cell, &o.adapter, measured) }
 }
 
-/// A cell's record before its metrics: its axes and inputs, and what rendering it measured.
-fn cell_record(
-    matrix: &Matrix,
-    cell: &Cell,
-    adapter: &str,
+/// What rendering and encoding a cell measured and decided, as its record carries it.
+struct Measured {
     display: DisplayRecord,
     stats: PixelStats,
     timing: CellTiming,
-) -> CellRecord {
+    lights: Vec<crate::plan::lights::ObjectLights>,
+    antialiasing: AntialiasingRecord,
+    shadow_maps: Vec<crate::render::ShadowMapUse>,
+}
+
+/// A cell's record before its metrics: its axes and inputs, and what rendering it measured.
+fn cell_record(matrix: &Matrix, cell: &Cell, adapter: &str, m: Measured) -> CellRecord {
     let plan = crate::plan::FramePlan::for_scene(&matrix.compositions[cell.composition_index]);
     CellRecord {
         schema: CELL_SCHEMA,
@@ -171,18 +185,14 @@ fn cell_record(
         twin_of: None,
         note: None,
         adapter: adapter.to_string(),
-        display,
+        display: m.display,
         passes: plan.passes_for(cell.path, cell.pipeline).iter().map(|p| p.to_string()).collect(),
         left_out: plan.left_out,
-        lights: Vec::new(),
-        antialiasing: AntialiasingRecord {
-            asked: cell.antialiasing,
-            samples: 1,
-            note: Some("not rendered yet".into()),
-        },
-        shadow_maps: Vec::new(),
-        stats,
-        timing,
+        lights: m.lights,
+        antialiasing: m.antialiasing,
+        shadow_maps: m.shadow_maps,
+        stats: m.stats,
+        timing: m.timing,
         metrics: CellMetrics::without_reference("not compared yet"),
     }
 }

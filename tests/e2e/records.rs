@@ -32,6 +32,12 @@ fn other_schema_versions_are_refused_or_rerendered() {
     let twin = CellRecord::load(&lambert_twin.join("cell.json")).unwrap();
     assert_eq!(twin.schema, CELL_SCHEMA);
     assert!(twin.twin_of.is_some() && twin.note.is_some());
+    // What rendering decided is its original's: lights, samples, shadow maps.
+    let original =
+        CellRecord::load(&cells.join("spikes__urp-forward__lambert__plastic__m0.00_s0.30_i1_r10/cell.json")).unwrap();
+    assert_eq!(twin.antialiasing, original.antialiasing);
+    assert_eq!(twin.shadow_maps, original.shadow_maps);
+    assert_eq!(twin.lights.len(), original.lights.len());
     assert_eq!(
         twin.metrics.reference_cell().map(|c| c.0.as_str()),
         Some("spikes__urp-forward__lit__plastic__m0.00_s0.80_i1_r10"),
