@@ -17,6 +17,11 @@ pub struct FramePlan {
     pub left_out: Vec<(String, String)>,
 }
 
+/// The vertex-lit path's one pass.
+const VERTEX_LIT_PASS: &str = "forward (lighting per vertex)";
+/// The deferred path's forward pass for the models the G-buffer cannot carry.
+const FORWARD_ONLY_PASS: &str = "forward (models the G-buffer cannot carry)";
+
 impl FramePlan {
     /// The passes of a frame on `path`: forward draws every object lit in one pass; deferred fills
     /// the G-buffer, lights it in screen space, then draws forward what the G-buffer cannot carry
@@ -32,13 +37,13 @@ impl FramePlan {
         }
         match path {
             crate::pipelines::RenderPath::Forward => passes.push("forward"),
-            crate::pipelines::RenderPath::VertexLit => passes.push("forward (lighting per vertex)"),
+            crate::pipelines::RenderPath::VertexLit => passes.push(VERTEX_LIT_PASS),
             crate::pipelines::RenderPath::Deferred => {
                 passes.push("gbuffer");
                 if pipeline.tiled_light_loop() {
                     passes.push("light tiles");
                 }
-                passes.extend(["deferred lighting", "forward (models the G-buffer cannot carry)"])
+                passes.extend(["deferred lighting", FORWARD_ONLY_PASS])
             }
         }
         if self.background {
@@ -61,8 +66,8 @@ impl FramePlan {
             (None, _) if self.background => "background",
             (None, _) => "clear (no background pass)",
             (Some(_), RenderPath::Forward) => "forward",
-            (Some(_), RenderPath::VertexLit) => "forward (lighting per vertex)",
-            (Some(_), RenderPath::Deferred) if forward_only => "forward (models the G-buffer cannot carry)",
+            (Some(_), RenderPath::VertexLit) => VERTEX_LIT_PASS,
+            (Some(_), RenderPath::Deferred) if forward_only => FORWARD_ONLY_PASS,
             (Some(_), RenderPath::Deferred) => "deferred lighting",
         }
     }
