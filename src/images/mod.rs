@@ -4,4 +4,5 @@ pub mod aces;
 pub mod encode;
 pub mod exposure;
 pub mod stats;
+pub mod target;
 pub mod tonemap;

@@ -4,7 +4,8 @@
 //! values above the half-float maximum (65504, where an engine's Rgba16Float or R11G11B10 target
 //! would overflow) once multiplied by the pre-exposure the pipeline writes with (HDRP renders
 //! pre-exposed; built-in and URP write unexposed), each kind with its first pixel (row-major from
-//! the top-left), the channel, the value and the pass that wrote it.
+//! the top-left), the channel, the value and the pass that wrote it. They are counted in what the
+//! passes wrote, before the half-float store (`images::target`) saturates the overflow.
 
 use serde::{Deserialize, Serialize};
 
@@ -83,7 +84,9 @@ pub struct PixelStats {
     pub nan: usize,
     pub inf: usize,
     pub negative: usize,
-    /// Finite values above the half-float maximum.
+    /// Finite values the shaders wrote above the half-float maximum (after pre-exposure). The camera
+    /// target saturates them at 65504 (`images::target`), so the written images hold none: a count
+    /// here says the guard acted, and where.
     pub overflow: usize,
     /// The first pixel of each kind found, in `Defect` order.
     pub first: Vec<DefectPixel>,

@@ -1,7 +1,9 @@
 //! tables/stability.{md,csv}: per pipeline × path × shader, each bad-value check (NaN, Inf,
 //! negative, above half-float maximum after pre-exposure) passed or failed over the run's cells, the
 //! worst values, the first offending cell and pixel, and the guards that keep the built-in shaders
-//! clear of each (spec §6). A user model's findings show the same way: reported, never a crash.
+//! clear of each (spec §6), and per shader the guard of its stiff terms. Overflow is counted in what
+//! the passes wrote: the half-float store saturates it, so the row says how often that guard acted.
+//! A user model's findings show the same way: reported, never a crash.
 
 use std::collections::BTreeMap;
 use std::fmt::Write;
@@ -10,6 +12,9 @@ use super::run_data::RunData;
 use crate::error::Error;
 use crate::fsutil::write_atomic;
 use crate::images::stats::Defect;
+use crate::pipelines::Pipeline;
+use crate::shading::guards::stiff_terms;
+use crate::shading::registry::Registry;
 
 /// What keeps the built-in shaders and passes clear of each kind (spec §6).
 pub fn guard(kind: Defect) -> &'static str {
@@ -24,8 +29,8 @@ pub fn guard(kind: Defect) -> &'static str {
         }
         Defect::Negative => "max(0, N·L) on every light, max(sh_eval, 0), sat() on cosines",
         Defect::Overflow => {
-            "HDRP pre-exposure (the check multiplies by it); built-in and URP write unexposed, unclamped: a \
-             finding, as in the engine's half-float target"
+            "images::target::store_half_float: the half-float camera target saturates finite values at 65504 \
+             after pre-exposure (URP's min(…, HALF_MAX)); the written images hold none"
         }
     }
 }
@@ -60,26 +65,34 @@ pub fn write(run: &RunData) -> Result<(), Error> {
     }
     let mut md = format!(
         "# Numerical stability\n\nRun `{}`, {} cells on {}. Each check counts the values of every cell's HDR image \
-         (NaN, ±Inf, negative, and above the half-float maximum 65504 after the pipeline's pre-exposure); `pass` \
-         means none in any cell of the row. `run --fail-on nan,inf,negative,overflow` turns findings into exit 1.\n\n\
-         | pipeline | path | shader | cells | NaN | Inf | negative | overflow | largest value | smallest value | first finding |\n\
-         |---|---|---|---|---|---|---|---|---|---|---|\n",
+         (NaN, ±Inf, negative, and above the half-float maximum 65504 after the pipeline's pre-exposure) as the \
+         passes wrote them; `pass` means none in any cell of the row. Overflow passes when the half-float store \
+         saturated it: the written images hold no value above 65504. `run --fail-on nan,inf,negative,overflow` turns findings into exit 1.\n\n\
+         | pipeline | path | shader | cells | NaN | Inf | negative | overflow | largest value | smallest value | first finding | stiff-term guard |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|\n",
         run.run.matrix.name,
         run.cells.len(),
         run.run.adapter.name
     );
     let mut csv = String::from(
-        "pipeline,path,shader,cells,nan_values,nan_cells,inf_values,inf_cells,negative_values,negative_cells,overflow_values,overflow_cells,max_value,min_value\n",
+        "pipeline,path,shader,cells,nan_values,nan_cells,inf_values,inf_cells,negative_values,negative_cells,overflow_values,overflow_cells,max_value,min_value,guard\n",
     );
+    let builtin = Registry::builtin();
     for ((p, path, shader), g) in &groups {
         let verdict = |k: Defect| match g.counts.get(&k) {
             Some((0, _)) | None => "pass".to_string(),
+            Some((n, cells)) if k == Defect::Overflow => format!("pass: {n} saturated in {cells} cells"),
             Some((n, cells)) => format!("**fail** {n} in {cells} cells"),
+        };
+        let pipeline = Pipeline::from_name(p);
+        let guards = match pipeline.filter(|&pl| builtin.find(pl, shader).is_some()) {
+            Some(pl) => stiff_terms(shader, pl),
+            None => "a user model: its findings are reported, not guarded",
         };
         let first = g.first.values().next().cloned().unwrap_or_else(|| "—".into());
         let _ = writeln!(
             md,
-            "| {p} | {path} | {shader} | {} | {} | {} | {} | {} | {:.4e} | {:.4e} | {first} |",
+            "| {p} | {path} | {shader} | {} | {} | {} | {} | {} | {:.4e} | {:.4e} | {first} | {guards} |",
             g.cells,
             verdict(Defect::Nan),
             verdict(Defect::Inf),
@@ -91,7 +104,7 @@ pub fn write(run: &RunData) -> Result<(), Error> {
         let c = |k: Defect| g.counts.get(&k).copied().unwrap_or_default();
         let _ = writeln!(
             csv,
-            "{p},{path},{shader},{},{},{},{},{},{},{},{},{},{:e},{:e}",
+            "{p},{path},{shader},{},{},{},{},{},{},{},{},{},{:e},{:e},\"{}\"",
             g.cells,
             c(Defect::Nan).0,
             c(Defect::Nan).1,
@@ -102,7 +115,8 @@ pub fn write(run: &RunData) -> Result<(), Error> {
             c(Defect::Overflow).0,
             c(Defect::Overflow).1,
             g.max_value,
-            g.min_value
+            g.min_value,
+            guards.replace('"', "'")
         );
     }
     md.push_str("\n## Guards\n\n| check | what keeps the built-in shaders clear of it |\n|---|---|\n");

@@ -10,6 +10,7 @@ use crate::cells::Cell;
 use crate::error::Error;
 use crate::fsutil::write_atomic;
 use crate::images::stats::{pixel_stats, PixelStats};
+use crate::images::target::store_half_float;
 use crate::images::tonemap::DisplayRecord;
 use crate::images::{encode, tonemap};
 use crate::record::cell::{
@@ -47,11 +48,9 @@ pub struct EncodedCell {
 }
 
 pub fn encode_cell(matrix: &Matrix, dir: &Path, adapter: &str, job: RenderedCell) -> Result<EncodedCell, Error> {
-    let RenderedCell { cell, render: r, supersampled } = job;
+    let RenderedCell { cell, render: mut r, supersampled } = job;
     let t0 = ThreadTimer::start();
-    let exr = encode::exr_bytes(r.width, r.height, &r.hdr)?;
-    let (srgb8, display) = tonemap::to_srgb8(&r.hdr, r.width, r.height, &cell.display);
-    let png = encode::png_bytes(r.width, r.height, &srgb8)?;
+    let (mut srgb8, mut display) = tonemap::to_srgb8(&r.hdr, r.width, r.height, &cell.display);
     let plan = crate::plan::FramePlan::for_scene(&matrix.compositions[cell.composition_index]);
     let pre_exposure = display.exposure.as_ref().map_or(1.0, |e| e.exposure);
     let stats = pixel_stats(&r, pre_exposure, |role| {
@@ -62,6 +61,12 @@ pub fn encode_cell(matrix: &Matrix, dir: &Path, adapter: &str, job: RenderedCell
         };
         plan.pass_writing(cell.path, role, forward_only).to_string()
     });
+    // The images are what the half-float camera target holds; the tonemapper sees the same values.
+    if store_half_float(&mut r.hdr, pre_exposure) > 0 {
+        (srgb8, display) = tonemap::to_srgb8(&r.hdr, r.width, r.height, &cell.display);
+    }
+    let exr = encode::exr_bytes(r.width, r.height, &r.hdr)?;
+    let png = encode::png_bytes(r.width, r.height, &srgb8)?;
     let encode_ms = t0.elapsed_ns() as f64 / 1e6;
     write_atomic(&dir.join("image.exr"), &exr)?;
     write_atomic(&dir.join("image.png"), &png)?;
@@ -127,7 +132,10 @@ fn write_supersampled(dir: &Path, cell: &Cell, k: u32, big: &[f32]) -> Result<()
             }
         }
     }
-    let (srgb, _) = tonemap::to_srgb8(&small, cell.width, cell.height, &cell.display);
+    let (mut srgb, display) = tonemap::to_srgb8(&small, cell.width, cell.height, &cell.display);
+    if store_half_float(&mut small, display.exposure.as_ref().map_or(1.0, |e| e.exposure)) > 0 {
+        srgb = tonemap::to_srgb8(&small, cell.width, cell.height, &cell.display).0;
+    }
     write_atomic(&dir.join("reference.exr"), &encode::exr_bytes(cell.width, cell.height, &small)?)?;
     write_atomic(&dir.join("reference.png"), &encode::png_bytes(cell.width, cell.height, &srgb)?)
 }
