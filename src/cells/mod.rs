@@ -205,7 +205,7 @@ pub fn expand(m: &Matrix) -> Expansion {
     // A value listed twice in a sweep gives the same cell twice: keep one.
     let mut seen = std::collections::HashSet::new();
     cells.retain(|c| seen.insert(c.id.clone()));
-    mark_twins(&mut cells);
+    mark_twins(&mut cells, &m.invariant_filters(), &keyless(m));
     Expansion { cells, pruned, filtered_out }
 }
 
@@ -336,8 +336,9 @@ fn close(a: f64, b: f64) -> bool {
     (a - b).abs() <= 1e-9 * a.abs().max(b.abs()).max(1.0)
 }
 
-/// What the image of a cell depends on, given the axes its shader reads.
-fn render_key(c: &Cell) -> String {
+/// What the image of a cell depends on, given the axes its shader reads (`keyless`: its composition
+/// has no key light for the light axes to change).
+fn render_key(c: &Cell, keyless: bool) -> String {
     let r = c.model().reads_for(&c.surface().params);
     let m = &c.material;
     let mut key = format!("{}|{}|{}|{}", c.composition_index, c.pipeline.name(), c.path.name(), c.shader);
@@ -350,29 +351,42 @@ fn render_key(c: &Cell) -> String {
     if r.smoothness {
         key.push_str(&format!("|s{}", m.smoothness));
     }
-    // Fixed objects are lit by the key light whatever the shader, so light and view axes always count.
-    key.push_str(&format!("|i{}|r{}|{}x{}", c.light_intensity, c.light_range, c.width, c.height));
+    // Fixed objects are lit by the key light whatever the shader, so light and view axes count
+    // wherever there is a key light.
+    if !keyless {
+        key.push_str(&format!("|i{}|r{}|a{:?}", c.light_intensity, c.light_range, c.light_angle));
+    }
     key.push_str(&format!(
-        "|d{:?}|a{:?}|p{:?}|{:?}|{:?}|{:?}",
-        c.camera_distance, c.light_angle, c.params, c.display, c.light_budget, c.antialiasing
+        "|{}x{}|d{:?}|p{:?}|{:?}|{:?}|{:?}",
+        c.width, c.height, c.camera_distance, c.params, c.display, c.light_budget, c.antialiasing
     ));
     key
 }
 
 /// After cells were removed: a twin whose original is gone is re-marked against what remains.
-pub fn remark_twins(cells: &mut [Cell], present: &std::collections::HashSet<CellId>) {
+pub fn remark_twins(cells: &mut [Cell], present: &std::collections::HashSet<CellId>, m: &Matrix) {
     if cells.iter().any(|c| c.twin_of.as_ref().is_some_and(|t| !present.contains(t))) {
         for c in cells.iter_mut() {
             c.twin_of = None;
         }
-        mark_twins(cells);
+        mark_twins(cells, &m.invariant_filters(), &keyless(m));
     }
 }
 
-fn mark_twins(cells: &mut [Cell]) {
+/// Per composition: it has no key light, so the light intensity and range axes change nothing.
+fn keyless(m: &Matrix) -> Vec<bool> {
+    m.compositions.iter().map(|s| s.key_light().is_none()).collect()
+}
+
+/// `asserted`: the cells an `invariant` assert covers are all rendered — the assert tests the very
+/// independence that twinning would take on trust.
+fn mark_twins(cells: &mut [Cell], asserted: &[Filter], keyless: &[bool]) {
     let mut first: HashMap<String, CellId> = HashMap::new();
     for c in cells.iter_mut() {
-        let key = render_key(c);
+        if asserted.iter().any(|f| matches_filter(c, f)) {
+            continue;
+        }
+        let key = render_key(c, keyless[c.composition_index]);
         match first.get(&key) {
             Some(id) => c.twin_of = Some(id.clone()),
             None => {

@@ -134,11 +134,12 @@ pub enum Command {
         #[arg(long)]
         per_channel: bool,
     },
-    /// Compare a run with a baseline run: junit.xml and summary.md into the run; exit 1 on a regression.
+    /// Compare a run with a baseline run and check its matrix's [[assert]] invariants: junit.xml and
+    /// summary.md into the run; exit 1 on a regression or a failed invariant.
     Check {
         run: PathBuf,
         #[arg(long)]
-        baseline: PathBuf,
+        baseline: Option<PathBuf>,
         /// Largest FLIP mean a cell may have against its baseline (default 0.01).
         #[arg(long)]
         flip_mean: Option<f64>,
@@ -187,7 +188,9 @@ pub fn dispatch(cmd: Command) -> Result<(), Error> {
         }
         Command::Audit { shader, json, out, models } => audit::audit(shader.as_deref(), json, out, &models),
         Command::Diff { a, b, json, out, per_channel } => diff::diff(&a, &b, json, out.as_deref(), per_channel),
-        Command::Check { run, baseline, flip_mean, ssim_min } => runs::check(&run, &baseline, flip_mean, ssim_min),
+        Command::Check { run, baseline, flip_mean, ssim_min } => {
+            runs::check(&run, baseline.as_deref(), flip_mean, ssim_min)
+        }
         Command::Report { run } => runs::report(&run),
         Command::ExportMesh { composition, out } => export_mesh::export_mesh(&composition, &out),
     }

@@ -124,13 +124,30 @@ pub fn bench(matrix: Option<&Path>, out: Option<PathBuf>, models: &ModelsArg) ->
     Ok(())
 }
 
-pub fn check(run: &Path, baseline: &Path, flip_mean: Option<f64>, ssim_min: Option<f64>) -> Result<(), Error> {
+pub fn check(run: &Path, baseline: Option<&Path>, flip_mean: Option<f64>, ssim_min: Option<f64>) -> Result<(), Error> {
     let d = Thresholds::default();
     let t = Thresholds { flip_mean: flip_mean.unwrap_or(d.flip_mean), ssim_min: ssim_min.unwrap_or(d.ssim_min) };
     let r = check_run(run, baseline, t)?;
-    println!("{} of {} cells regressed (junit.xml and summary.md in {})", r.failures(), r.cells.len(), run.display());
+    if let Some(b) = baseline {
+        println!("{} of {} cells regressed against {}", r.failures(), r.cells.len(), b.display());
+    }
+    for i in &r.invariants {
+        match i.message() {
+            None => println!("assert `{}` ({}): pass over {} groups", i.name, i.kind, i.groups),
+            Some(m) => println!("assert `{}` ({}): FAIL — {m}", i.name, i.kind),
+        }
+    }
+    println!("junit.xml and summary.md in {}", run.display());
+    let mut failed = Vec::new();
     if r.failures() > 0 {
-        return Err(Error::CheckFailed(format!("{} cells regressed against {}", r.failures(), baseline.display())));
+        failed.push(format!("{} cells regressed", r.failures()));
+    }
+    if r.failed_invariants() > 0 {
+        let names: Vec<&str> = r.invariants.iter().filter(|i| !i.passed()).map(|i| i.name.as_str()).collect();
+        failed.push(format!("{} invariant(s) failed: {}", names.len(), names.join(", ")));
+    }
+    if !failed.is_empty() {
+        return Err(Error::CheckFailed(failed.join("; ")));
     }
     Ok(())
 }

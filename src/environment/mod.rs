@@ -23,8 +23,8 @@ impl EnvironmentMaps {
     pub fn build(env: &Environment) -> EnvironmentMaps {
         let radiance = |d: DVec3| sky::radiance(&env.sky, d);
         let (sh, probe) = match &env.sky {
-            // A constant sky needs no prefiltering: every level is the same colour.
-            Sky::Constant { .. } => (sh::project(&radiance, 16), prefilter::Probe::constant(radiance(DVec3::Y))),
+            // A constant sky needs no prefiltering: every level is the same colour; its SH is exact.
+            Sky::Constant { .. } => (sh::constant(radiance(DVec3::Y)), prefilter::Probe::constant(radiance(DVec3::Y))),
             _ => {
                 let source = prefilter::EquirectImage::sample(
                     &radiance,

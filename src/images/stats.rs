@@ -97,6 +97,9 @@ pub struct PixelStats {
     pub min_value: f64,
     /// Mean linear luminance over subject pixels (None when the subject is not visible).
     pub subject_mean_luminance: Option<f64>,
+    /// Largest finite linear luminance over subject pixels (None when the subject is not visible).
+    #[serde(default)]
+    pub subject_max_luminance: Option<f64>,
     pub max_luminance: f64,
 }
 
@@ -114,6 +117,7 @@ pub fn pixel_stats(r: &CellRender, pre_exposure: f64, pass_of: impl Fn(u8) -> St
         max_value: 0.0,
         min_value: 0.0,
         subject_mean_luminance: None,
+        subject_max_luminance: None,
         max_luminance: 0.0,
     };
     let mut sum = 0.0;
@@ -156,6 +160,9 @@ pub fn pixel_stats(r: &CellRender, pre_exposure: f64, pass_of: impl Fn(u8) -> St
         if *role == ROLE_SUBJECT {
             s.subject_pixels += 1;
             sum += l;
+            if l.is_finite() {
+                s.subject_max_luminance = Some(s.subject_max_luminance.map_or(l, |m: f64| m.max(l)));
+            }
         }
     }
     if s.subject_pixels > 0 {

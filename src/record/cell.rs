@@ -19,8 +19,9 @@ use crate::plan::lights::ObjectLights;
 /// Version of the `cell.json` layout. 1: untyped, before versioning; 2: typed, written once with
 /// metrics; 3: the display transform (tonemapper, HDRP exposure mode, EV and multiplier), light
 /// units, the model parameters the sweep set, the light assignment and GPU time per pass;
-/// 4: anti-aliasing (asked, rendered samples and why they differ) and shadow-map resolutions.
-pub const CELL_SCHEMA: u32 = 4;
+/// 4: anti-aliasing (asked, rendered samples and why they differ) and shadow-map resolutions;
+/// 5: the subject's peak luminance, and overflow counted before the half-float store saturates it.
+pub const CELL_SCHEMA: u32 = 5;
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct CellRecord {

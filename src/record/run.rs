@@ -72,6 +72,9 @@ pub struct MatrixRecord {
     /// The contact sheets `report` draws.
     #[serde(default)]
     pub sheets: Vec<SheetSpec>,
+    /// The matrix's `[[assert]]` invariants, which `report` checks.
+    #[serde(default)]
+    pub asserts: Vec<crate::spec::asserts::InvariantSpec>,
 }
 
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]

@@ -1,11 +1,14 @@
-//! `shadematrix check RUN --baseline DIR`: every cell's image against the baseline run's image of
-//! the same cell id (LDR-FLIP mean and SSIM on the PNGs). Writes junit.xml (one testcase per cell)
-//! and summary.md (a table fit for a CI job summary) into the run folder.
+//! `shadematrix check RUN [--baseline DIR]`: every cell's image against the baseline run's image of
+//! the same cell id (LDR-FLIP mean and SSIM on the PNGs), and the matrix's `[[assert]]` invariants
+//! (`report::invariants`). Writes junit.xml (a testsuite of cells, one testcase per cell, and a
+//! testsuite of invariants, one testcase per assert) and summary.md (tables fit for a CI job
+//! summary) into the run folder.
 
 use serde::Serialize;
 use std::fmt::Write;
 use std::path::Path;
 
+use super::invariants::InvariantResult;
 use super::run_data::RunData;
 use crate::compare::{compare, LoadedImage};
 use crate::error::Error;
@@ -38,19 +41,45 @@ pub struct CellCheck {
 }
 
 pub struct CheckReport {
+    /// Against the baseline; empty without one.
     pub cells: Vec<CellCheck>,
     pub thresholds: Thresholds,
+    pub baseline: Option<std::path::PathBuf>,
+    pub invariants: Vec<InvariantResult>,
 }
 
 impl CheckReport {
+    /// Cells that regressed.
     pub fn failures(&self) -> usize {
         self.cells.iter().filter(|c| c.failure.is_some()).count()
     }
+
+    pub fn failed_invariants(&self) -> usize {
+        self.invariants.iter().filter(|r| !r.passed()).count()
+    }
 }
 
-pub fn check(run_dir: &Path, baseline_dir: &Path, t: Thresholds) -> Result<CheckReport, Error> {
+pub fn check(run_dir: &Path, baseline_dir: Option<&Path>, t: Thresholds) -> Result<CheckReport, Error> {
     let run = RunData::load(run_dir)?;
-    let baseline = RunData::load(baseline_dir)?;
+    let invariants = super::invariants::evaluate(&run)?;
+    if baseline_dir.is_none() && invariants.is_empty() {
+        return Err(crate::error::InputError::new(
+            run_dir.display().to_string(),
+            "nothing to check: give --baseline DIR, or declare [[assert]] invariants in the matrix",
+        )
+        .into());
+    }
+    let cells = match baseline_dir {
+        Some(b) => against_baseline(&run, &RunData::load(b)?, t)?,
+        None => Vec::new(),
+    };
+    let report = CheckReport { cells, thresholds: t, baseline: baseline_dir.map(Path::to_path_buf), invariants };
+    write_atomic(&run_dir.join("junit.xml"), junit(&report, &run.adapter()).as_bytes())?;
+    write_atomic(&run_dir.join("summary.md"), summary(&report, &run.adapter()).as_bytes())?;
+    Ok(report)
+}
+
+fn against_baseline(run: &RunData, baseline: &RunData, t: Thresholds) -> Result<Vec<CellCheck>, Error> {
     // Cells in parallel: each comparison is single-threaded (see flip-rs in Cargo.toml).
     use rayon::prelude::*;
     let checked: Vec<Result<CellCheck, Error>> = run
@@ -99,10 +128,7 @@ pub fn check(run_dir: &Path, baseline_dir: &Path, t: Thresholds) -> Result<Check
             failure: Some("in the baseline but not in this run".into()),
         });
     }
-    let report = CheckReport { cells, thresholds: t };
-    write_atomic(&run_dir.join("junit.xml"), junit(&report, &run.adapter()).as_bytes())?;
-    write_atomic(&run_dir.join("summary.md"), summary(&report, baseline_dir, &run.adapter()).as_bytes())?;
-    Ok(report)
+    Ok(cells)
 }
 
 fn xml_escape(s: &str) -> String {
@@ -111,22 +137,12 @@ fn xml_escape(s: &str) -> String {
 
 pub fn junit(r: &CheckReport, adapter: &str) -> String {
     let mut s = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
-    let _ = writeln!(
-        s,
-        "<testsuites name=\"shadematrix check\" tests=\"{}\" failures=\"{}\">",
-        r.cells.len(),
-        r.failures()
-    );
-    let _ = writeln!(
-        s,
-        "  <testsuite name=\"shadematrix check\" tests=\"{}\" failures=\"{}\">",
-        r.cells.len(),
-        r.failures()
-    );
-    let _ = writeln!(s, "    <properties><property name=\"adapter\" value=\"{}\"/></properties>", xml_escape(adapter));
-    for c in &r.cells {
-        let _ = write!(s, "    <testcase classname=\"{}\" name=\"{}\"", xml_escape(&c.classname), xml_escape(&c.id));
-        match &c.failure {
+    let tests = r.cells.len() + r.invariants.len();
+    let failures = r.failures() + r.failed_invariants();
+    let _ = writeln!(s, "<testsuites name=\"shadematrix check\" tests=\"{tests}\" failures=\"{failures}\">");
+    let testcase = |s: &mut String, classname: &str, name: &str, failure: Option<&str>| {
+        let _ = write!(s, "    <testcase classname=\"{}\" name=\"{}\"", xml_escape(classname), xml_escape(name));
+        match failure {
             None => {
                 let _ = writeln!(s, "/>");
             }
@@ -134,13 +150,55 @@ pub fn junit(r: &CheckReport, adapter: &str) -> String {
                 let _ = writeln!(s, ">\n      <failure message=\"{}\"/>\n    </testcase>", xml_escape(why));
             }
         }
+    };
+    let properties =
+        format!("    <properties><property name=\"adapter\" value=\"{}\"/></properties>", xml_escape(adapter));
+    if r.baseline.is_some() {
+        let _ = writeln!(
+            s,
+            "  <testsuite name=\"shadematrix check\" tests=\"{}\" failures=\"{}\">\n{properties}",
+            r.cells.len(),
+            r.failures()
+        );
+        for c in &r.cells {
+            testcase(&mut s, &c.classname, &c.id, c.failure.as_deref());
+        }
+        s.push_str("  </testsuite>\n");
     }
-    s.push_str("  </testsuite>\n</testsuites>\n");
+    if !r.invariants.is_empty() {
+        let _ = writeln!(
+            s,
+            "  <testsuite name=\"shadematrix invariants\" tests=\"{}\" failures=\"{}\">\n{properties}",
+            r.invariants.len(),
+            r.failed_invariants()
+        );
+        for i in &r.invariants {
+            testcase(&mut s, &format!("assert.{}", i.kind), &i.name, i.message().as_deref());
+        }
+        s.push_str("  </testsuite>\n");
+    }
+    s.push_str("</testsuites>\n");
     s
 }
 
-pub fn summary(r: &CheckReport, baseline: &Path, adapter: &str) -> String {
+pub fn summary(r: &CheckReport, adapter: &str) -> String {
     let mut s = String::new();
+    if !r.invariants.is_empty() {
+        let _ = writeln!(
+            s,
+            "### shadematrix invariants: {} of {} failed\n\n| assert | kind | statement | result |\n|---|---|---|---|",
+            r.failed_invariants(),
+            r.invariants.len()
+        );
+        for i in &r.invariants {
+            let result = i.message().map(|m| format!("❌ {m}")).unwrap_or_else(|| "✅".into());
+            let _ = writeln!(s, "| {} | {} | {} | {} |", i.name, i.kind, i.statement, result.replace('|', "/"));
+        }
+        s.push('\n');
+    }
+    let Some(baseline) = &r.baseline else {
+        return s;
+    };
     let _ = writeln!(s, "### shadematrix check: {} of {} cells regressed\n", r.failures(), r.cells.len());
     let _ = writeln!(
         s,

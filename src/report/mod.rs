@@ -3,6 +3,7 @@
 pub mod check;
 pub mod error_time;
 pub mod gallery;
+pub mod invariants;
 pub mod perf;
 pub mod run_data;
 pub mod sheets;
@@ -14,6 +15,7 @@ pub fn build(run_dir: &std::path::Path) -> Result<(), crate::error::Error> {
     perf::write(&run)?;
     error_time::write(&run)?;
     stability::write(&run)?;
+    invariants::write(&run)?;
     let specs = match &run.run.matrix.sheets {
         s if s.is_empty() => crate::spec::sheets::default_specs(),
         s => s.clone(),

@@ -79,7 +79,7 @@ pub fn select_cells(matrix: &Matrix, opts: &RunOptions) -> Expansion {
         exp.filtered_out += before - exp.cells.len();
         // A twin whose original was filtered away becomes an original itself.
         let ids: HashSet<_> = exp.cells.iter().map(|c| c.id.clone()).collect();
-        remark_twins(&mut exp.cells, &ids);
+        remark_twins(&mut exp.cells, &ids, matrix);
     }
     if let Some((k, n)) = opts.shard {
         exp.cells.retain(|c| {
@@ -112,6 +112,7 @@ pub fn run(matrix: &Matrix, opts: &RunOptions) -> Result<RunSummary, Error> {
             warmup: matrix.timing.warmup,
             shard: opts.shard.map(|(k, n)| format!("{k}/{n}")),
             sheets: matrix.sheets.clone(),
+            asserts: matrix.asserts.clone(),
         },
         adapter: adapter.clone(),
         started: chrono::Local::now().to_rfc3339(),

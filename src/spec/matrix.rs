@@ -5,6 +5,7 @@ use sha2::{Digest, Sha256};
 use std::collections::BTreeMap;
 use std::path::Path;
 
+use super::asserts::{parse_assert, InvariantKind, InvariantSpec};
 use super::presets::{find_preset, preset_names, Preset};
 use super::scene::Scene;
 use crate::error::{Error, InputError};
@@ -62,6 +63,9 @@ struct MatrixFile {
     sheets: Option<Vec<crate::spec::sheets::SheetSpec>>,
     #[serde(default)]
     exclude: Vec<toml::Table>,
+    /// Invariants checked after the run (`spec::asserts`).
+    #[serde(default, rename = "assert")]
+    asserts: Vec<toml::Table>,
     /// A folder of user models (NAME.wgsl + NAME.toml), relative to the matrix file. Read before
     /// the matrix is validated, so its models can be named in `shaders` (`models_dir`).
     #[serde(default)]
@@ -114,6 +118,29 @@ pub struct Sweep {
     pub params: BTreeMap<String, Vec<f64>>,
 }
 
+impl Sweep {
+    /// How many distinct values the sweep gives a numeric axis (metallic and smoothness without a
+    /// sweep take each preset's own: one per preset, not a swept axis).
+    pub fn values_of(&self, axis: Axis) -> usize {
+        let v = match axis {
+            Axis::Metallic => &self.metallic,
+            Axis::Smoothness => &self.smoothness,
+            Axis::LightIntensity => &self.light_intensity,
+            Axis::LightRange => &self.light_range,
+            Axis::CameraDistance => &self.camera_distance,
+            Axis::LightAngle => &self.light_angle,
+            _ => return 0,
+        };
+        let mut distinct: Vec<f64> = Vec::new();
+        for x in v {
+            if !distinct.iter().any(|d| (d - x).abs() <= 1e-12 * x.abs().max(1.0)) {
+                distinct.push(*x);
+            }
+        }
+        distinct.len()
+    }
+}
+
 /// Optional in a matrix: 256×256 unless given.
 #[derive(Debug, Clone, Copy, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
@@ -156,7 +183,8 @@ impl Default for Timing {
 }
 
 /// Axes a filter can name.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, serde::Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Axis {
     Composition,
     Pipeline,
@@ -218,7 +246,8 @@ impl Axis {
     }
 }
 
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum FilterValue {
     Name(String),
     Number(f64),
@@ -235,7 +264,7 @@ pub fn color_code(srgb: Option<[f64; 3]>) -> String {
 }
 
 /// A conjunction: every named axis must take one of its listed values.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, Deserialize)]
 pub struct Filter {
     pub terms: Vec<(Axis, Vec<FilterValue>)>,
 }
@@ -267,6 +296,8 @@ pub struct Matrix {
     pub exclude: Vec<Filter>,
     pub reference: Option<ReferenceSpec>,
     pub sheets: Vec<crate::spec::sheets::SheetSpec>,
+    /// `[[assert]]` invariants, checked after the run.
+    pub asserts: Vec<InvariantSpec>,
 }
 
 /// What each cell is compared against.
@@ -336,6 +367,11 @@ fn parse_reference(c: &Checker, value: &toml::Value, base_dir: Option<&Path>) ->
 }
 
 impl Matrix {
+    /// The cells `invariant` asserts cover: rendered, never copied as twins.
+    pub fn invariant_filters(&self) -> Vec<Filter> {
+        self.asserts.iter().filter(|a| a.kind == InvariantKind::Invariant).map(|a| a.filter.clone()).collect()
+    }
+
     /// The tonemapper cells of `p` use.
     pub fn tonemap_for(&self, p: Pipeline) -> Tonemap {
         self.tonemaps[p.shader_id() as usize]
@@ -491,7 +527,28 @@ impl Matrix {
                 _ => Vec::new(),
             }
         };
-        for (list, filters) in [("only", &only), ("exclude", &exclude)] {
+        let asserts: Vec<InvariantSpec> =
+            file.asserts.iter().enumerate().map(|(i, t)| parse_assert(&c, i, t)).collect::<Result<_, _>>()?;
+        for (i, a) in asserts.iter().enumerate() {
+            let Some(axis) = a.along else { continue };
+            let values = file.sweep.values_of(axis);
+            let needed = if a.kind == (InvariantKind::Linear { through_zero: false }) { 3 } else { 2 };
+            if values < needed {
+                return Err(c
+                    .err(
+                        &format!("assert[{i}].along"),
+                        format!(
+                            "a `{}` assert along {} needs at least {needed} values of sweep.{}; the matrix sweeps {values}",
+                            a.kind.name(),
+                            axis.name(),
+                            axis.name()
+                        ),
+                    )
+                    .into());
+            }
+        }
+        let assert_filters: Vec<Filter> = asserts.iter().map(|a| a.filter.clone()).collect();
+        for (list, filters) in [("only", &only), ("exclude", &exclude), ("assert", &assert_filters)] {
             for (i, f) in filters.iter().enumerate() {
                 for (axis, values) in &f.terms {
                     let valid = known(*axis);
@@ -499,7 +556,10 @@ impl Matrix {
                         if let FilterValue::Name(n) | FilterValue::Color(n) = v {
                             if !valid.contains(n) {
                                 let valid: Vec<&str> = valid.iter().map(String::as_str).collect();
-                                let key = format!("{list}[{i}].{}", axis.name());
+                                let key = match list {
+                                    "assert" => format!("assert[{i}].where.{}", axis.name()),
+                                    _ => format!("{list}[{i}].{}", axis.name()),
+                                };
                                 return Err(unknown_name(origin, &key, axis.name(), n, &valid).into());
                             }
                         }
@@ -568,6 +628,7 @@ impl Matrix {
             exclude,
             reference,
             sheets,
+            asserts,
         })
     }
 }
@@ -660,7 +721,7 @@ fn names_to<T: PartialEq>(
     Ok(out)
 }
 
-fn parse_filter(c: &Checker, key: &str, table: &toml::Table) -> Result<Filter, InputError> {
+pub(crate) fn parse_filter(c: &Checker, key: &str, table: &toml::Table) -> Result<Filter, InputError> {
     let axis_names: Vec<&str> = Axis::ALL.iter().map(|a| a.name()).collect();
     let mut terms = BTreeMap::new();
     for (k, v) in table {

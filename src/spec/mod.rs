@@ -1,5 +1,6 @@
 //! Declarative input: TOML schemas and validation for scenes, matrices, presets and sheets.
 
+pub mod asserts;
 pub mod matrix;
 pub mod presets;
 pub mod scene;

@@ -9,6 +9,7 @@ mod coverage;
 mod flow;
 mod gallery;
 mod gltf_roundtrip;
+mod invariants;
 mod lights;
 mod models;
 mod paths;

@@ -16,6 +16,11 @@ fn ci_matrix_renders_every_cell_at_the_requested_size() {
             .unwrap();
     assert!(summary.counts.rendered > 0 && summary.counts.twins > 0, "{:?}", summary.counts);
     shadematrix::report::build(&out).unwrap();
+    // The matrix's [[assert]] invariants hold, and check's JUnit says so.
+    let checked = shadematrix::report::check::check(&out, None, Default::default()).unwrap();
+    let failed: Vec<_> =
+        checked.invariants.iter().filter_map(|i| i.message().map(|m| format!("{}: {m}", i.name))).collect();
+    assert!(checked.invariants.len() >= 3 && failed.is_empty(), "{failed:#?}");
 
     let run_record = RunRecord::load(&out).unwrap();
     assert_eq!(run_record.status.name(), "complete");
