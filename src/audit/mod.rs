@@ -5,6 +5,7 @@
 //! not), so that a Lambert surface of albedo ρ has directional albedo ρ in every pipeline.
 
 pub mod conditioning;
+pub mod convergence;
 pub mod report;
 pub mod samples;
 
@@ -244,27 +245,45 @@ pub fn directional_albedo(
     v: DVec3,
 ) -> Result<(f64, u32, &'static str), Error> {
     let surface = model.surface(p, sliders);
-    let alpha = ((1.0 - sliders.smoothness).powi(2)).max(1e-3);
+    let alpha = albedo_alpha(sliders);
     let n_samples = if model.twin.is_some() { ENERGY_SAMPLES_TWIN } else { ENERGY_SAMPLES_GPU };
+    if let Some(t) = model.twin {
+        return Ok((twin_albedo(t, p, &surface, v, alpha, n_samples), n_samples, "f64 twin"));
+    }
     let (dirs, weights) = mis_directions(v, alpha, n_samples);
-    let values: Vec<DVec3> = match model.twin {
-        Some(t) => dirs.iter().map(|l| t.direct(p, &surface, DVec3::Y, v, *l)).collect(),
-        None => {
-            let inputs: Vec<ProbeInput> =
-                dirs.iter().map(|l| ProbeInput::new(&surface, DVec3::Y, v, *l, DVec3::ZERO, DVec3::ZERO)).collect();
-            probe
-                .evaluate(gpu, p, model, &inputs)?
-                .iter()
-                .map(|(d, _)| DVec3::new(d[0] as f64, d[1] as f64, d[2] as f64))
-                .collect()
-        }
-    };
+    let inputs: Vec<ProbeInput> =
+        dirs.iter().map(|l| ProbeInput::new(&surface, DVec3::Y, v, *l, DVec3::ZERO, DVec3::ZERO)).collect();
+    let values: Vec<DVec3> = probe
+        .evaluate(gpu, p, model, &inputs)?
+        .iter()
+        .map(|(d, _)| DVec3::new(d[0] as f64, d[1] as f64, d[2] as f64))
+        .collect();
     let sum: DVec3 = values.iter().zip(&weights).map(|(r, w)| physical(p, *r) * *w).sum();
-    Ok(((sum / n_samples as f64).element_sum() / 3.0, n_samples, if model.twin.is_some() { "f64 twin" } else { "gpu" }))
+    Ok(((sum / n_samples as f64).element_sum() / 3.0, n_samples, "gpu"))
 }
 
 /// Sample directions above the surface (N = +Y) and their weights 1/p_mix; directions below the
 /// horizon carry zero weight (and are evaluated nowhere).
+/// The GGX α the albedo estimator samples with: the model's own lobe width, floored.
+pub fn albedo_alpha(sliders: &Sliders) -> f64 {
+    ((1.0 - sliders.smoothness).powi(2)).max(1e-3)
+}
+
+/// The directional albedo of a twin with `n` samples (`directional_albedo`'s estimator on the CPU).
+pub fn twin_albedo(
+    t: &dyn crate::shading::twin::SurfaceTwin,
+    p: Pipeline,
+    surface: &crate::shading::twin::Surface,
+    v: DVec3,
+    alpha: f64,
+    n: u32,
+) -> f64 {
+    let (dirs, weights) = mis_directions(v, alpha, n);
+    let sum: DVec3 =
+        dirs.iter().zip(&weights).map(|(l, w)| physical(p, t.direct(p, surface, DVec3::Y, v, *l)) * *w).sum();
+    (sum / n as f64).element_sum() / 3.0
+}
+
 pub fn mis_directions(v: DVec3, alpha: f64, n: u32) -> (Vec<DVec3>, Vec<f64>) {
     let half = n / 2;
     let a2 = alpha * alpha;

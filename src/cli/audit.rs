@@ -40,3 +40,31 @@ pub fn audit(shader: Option<&str>, json: bool, out: Option<PathBuf>, models: &Mo
         Err(Error::CheckFailed(format!("audit failed for {}", failed.join(", "))))
     }
 }
+
+/// `shadematrix convergence`: the convergence studies, written and printed.
+pub fn convergence(out: Option<PathBuf>, quick: bool) -> Result<(), Error> {
+    let settings = if quick { audit::convergence::Settings::quick() } else { audit::convergence::Settings::full() };
+    let machine = cpu_description();
+    let curves = audit::convergence::study(&settings)?;
+    let dir = out.unwrap_or_else(|| {
+        PathBuf::from("results").join(format!("convergence-{}", chrono::Local::now().format("%Y%m%d-%H%M%S")))
+    });
+    audit::convergence::write(&dir, &curves, &machine)?;
+    print_out(&audit::convergence::markdown(&curves, &machine));
+    eprintln!("convergence written to {} (tables/convergence.md, plots/convergence_*.svg)", dir.display());
+    Ok(())
+}
+
+/// The CPU the studies ran on, for the report (timings compare only on one machine).
+fn cpu_description() -> String {
+    let model = std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|t| {
+            t.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split(':').nth(1))
+                .map(|s| s.trim().to_string())
+        })
+        .unwrap_or_else(|| "an unnamed CPU".into());
+    format!("{model}, {} threads", rayon::current_num_threads())
+}

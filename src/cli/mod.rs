@@ -121,6 +121,16 @@ pub enum Command {
         #[command(flatten)]
         models: ModelsArg,
     },
+    /// Convergence of the tool's own integrators (FGD table, probe prefilter, furnace): error against
+    /// time per sample count, with where each default sits. CPU only.
+    Convergence {
+        /// Where tables/convergence.{md,csv} and plots/convergence_*.svg go (default results/convergence-<time>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// A sweep of a few seconds (small counts and references), for a smoke test.
+        #[arg(long)]
+        quick: bool,
+    },
     /// FLIP and SSIM (and RMSE, PSNR, bad-value counts) of two PNGs or two EXRs; A is the reference.
     Diff {
         a: PathBuf,
@@ -187,6 +197,7 @@ pub fn dispatch(cmd: Command) -> Result<(), Error> {
             brdf::print(&req, json, &models)
         }
         Command::Audit { shader, json, out, models } => audit::audit(shader.as_deref(), json, out, &models),
+        Command::Convergence { out, quick } => audit::convergence(out, quick),
         Command::Diff { a, b, json, out, per_channel } => diff::diff(&a, &b, json, out.as_deref(), per_channel),
         Command::Check { run, baseline, flip_mean, ssim_min } => {
             runs::check(&run, baseline.as_deref(), flip_mean, ssim_min)

@@ -57,7 +57,7 @@ impl EquirectImage {
     }
 
     /// 2×2 box downsample (solid-angle weighted).
-    fn half(&self) -> Self {
+    pub(crate) fn half(&self) -> Self {
         let (w, h) = (self.width / 2, self.height / 2);
         let mut texels = Vec::with_capacity(w * h);
         for y in 0..h {
@@ -117,41 +117,62 @@ impl Probe {
         while level0.width > PROBE_WIDTH {
             level0 = level0.half();
         }
-        // Convolve from a coarser copy: the lobes of levels ≥ 2 span several of its texels.
-        let mut coarse = level0.clone();
-        while coarse.width > PROBE_WIDTH / 2 {
-            coarse = coarse.half();
-        }
         let (w, h) = (level0.width, level0.height);
-        let fine = TexelTable::new(&level0);
-        let coarse = TexelTable::new(&coarse);
+        // The source each level convolves, by width: the source itself and its halvings.
+        let mut images = vec![source.clone()];
+        while images.last().is_some_and(|i| i.width > PROBE_WIDTH / 2) {
+            let next = images.last().map(EquirectImage::half).expect("non-empty");
+            images.push(next);
+        }
+        let mut tables: Vec<(usize, TexelTable)> = Vec::new();
+        let output = TexelTable::new(&level0);
         let mut levels = vec![level0.clone()];
         for level in 1..LEVELS {
             let alpha = level_alpha(level);
             // Level 1's lobe (α ≈ 0.01, < 1°) is narrower than a texel: the mirror image stands in.
-            let src = if alpha < 0.02 { None } else { Some(if alpha < 0.08 { &fine } else { &coarse }) };
-            let texels = (0..w * h)
-                .into_par_iter()
-                .map(|i| match src {
-                    None => level0.texels[i],
-                    Some(src) => src.convolve(fine.direction[i], alpha),
-                })
-                .collect();
+            let texels = if alpha < MIRROR_ALPHA {
+                level0.texels.clone()
+            } else {
+                let want = source_width(alpha);
+                if !tables.iter().any(|(tw, _)| *tw == want) {
+                    let img = images.iter().find(|i| i.width <= want).unwrap_or(&level0);
+                    tables.push((want, TexelTable::new(img)));
+                }
+                let src = &tables.iter().find(|(tw, _)| *tw == want).expect("built above").1;
+                (0..w * h).into_par_iter().map(|i| src.convolve(output.direction[i], alpha)).collect()
+            };
             levels.push(EquirectImage { width: w, height: h, texels });
         }
         Probe { width: w, height: h, levels }
     }
 }
 
+/// Below this α the lobe is narrower than a probe texel: the level copies the mirror image.
+pub const MIRROR_ALPHA: f64 = 0.02;
+
+/// The width of the source a level of GGX α convolves (w²/2 texels summed per output texel):
+/// narrow lobes need a fine source or a sun aliases into them. Chosen from the convergence study
+/// (`shadematrix convergence`, audit::convergence): on mitsuba's sun-lit sky the relative error
+/// against a 1024-wide reference stays near 5e-3 or below at these widths.
+pub fn source_width(alpha: f64) -> usize {
+    if alpha < 0.08 {
+        SOURCE_WIDTH
+    } else if alpha < 0.2 {
+        PROBE_WIDTH
+    } else {
+        PROBE_WIDTH / 2
+    }
+}
+
 /// Texel directions, solid angles and radiance laid out flat for the convolution's inner loop.
-struct TexelTable {
+pub(crate) struct TexelTable {
     direction: Vec<DVec3>,
     solid_angle: Vec<f64>,
     radiance: Vec<DVec3>,
 }
 
 impl TexelTable {
-    fn new(img: &EquirectImage) -> Self {
+    pub(crate) fn new(img: &EquirectImage) -> Self {
         let (mut direction, mut solid_angle) = (Vec::new(), Vec::new());
         for y in 0..img.height {
             for x in 0..img.width {
@@ -164,7 +185,7 @@ impl TexelTable {
     }
 
     /// ∫ L(ω)·D(h)·max(0, R·ω) dω / ∫ D(h)·max(0, R·ω) dω with N = V = R (split-sum prefilter).
-    fn convolve(&self, r: DVec3, alpha: f64) -> DVec3 {
+    pub(crate) fn convolve(&self, r: DVec3, alpha: f64) -> DVec3 {
         let a2 = alpha * alpha;
         let mut acc = DVec3::ZERO;
         let mut wsum = 0.0;

@@ -12,7 +12,9 @@ pub const FGD_SIZE: usize = 64;
 pub const FGD_SAMPLES: u32 = 4096;
 
 pub struct FgdTable {
-    /// RGBA f32 per texel, row j = perceptual roughness j/63, column i = √NV = i/63.
+    /// Texels per side (FGD_SIZE for the renderer's table; other sizes for the convergence study).
+    pub size: usize,
+    /// RGBA f32 per texel, row j = perceptual roughness j/(size − 1), column i = √NV = i/(size − 1).
     pub texels: Vec<[f32; 4]>,
 }
 
@@ -67,33 +69,36 @@ pub fn integrate(nv: f64, pr: f64, samples: u32) -> [f64; 3] {
 }
 
 impl FgdTable {
+    /// The renderer's table: FGD_SIZE² texels of FGD_SAMPLES samples, built once per process.
     pub fn get() -> &'static FgdTable {
         static TABLE: OnceLock<FgdTable> = OnceLock::new();
-        TABLE.get_or_init(|| {
-            use rayon::prelude::*;
-            let texels = (0..FGD_SIZE * FGD_SIZE)
-                .into_par_iter()
-                .map(|k| {
-                    let (i, j) = (k % FGD_SIZE, k / FGD_SIZE);
-                    let sqrt_nv = i as f64 / (FGD_SIZE - 1) as f64;
-                    let pr = j as f64 / (FGD_SIZE - 1) as f64;
-                    let [x, y, z] = integrate(sqrt_nv * sqrt_nv, pr, FGD_SAMPLES);
-                    [x as f32, y as f32, z as f32, 0.0]
-                })
-                .collect();
-            FgdTable { texels }
-        })
+        TABLE.get_or_init(|| FgdTable::build(FGD_SIZE, FGD_SAMPLES))
+    }
+
+    pub fn build(size: usize, samples: u32) -> FgdTable {
+        use rayon::prelude::*;
+        let texels = (0..size * size)
+            .into_par_iter()
+            .map(|k| {
+                let (i, j) = (k % size, k / size);
+                let sqrt_nv = i as f64 / (size - 1) as f64;
+                let pr = j as f64 / (size - 1) as f64;
+                let [x, y, z] = integrate(sqrt_nv * sqrt_nv, pr, samples);
+                [x as f32, y as f32, z as f32, 0.0]
+            })
+            .collect();
+        FgdTable { size, texels }
     }
 
     /// Bilinear lookup at (√NV, pr), texel centres at i/63 — the same arithmetic as WGSL `fgd_lookup`.
     pub fn lookup(&self, nv: f64, pr: f64) -> DVec3 {
-        let max = (FGD_SIZE - 1) as f64;
+        let max = (self.size - 1) as f64;
         let fx = (nv.clamp(0.0, 1.0).sqrt() * max).clamp(0.0, max);
         let fy = (pr.clamp(0.0, 1.0) * max).clamp(0.0, max);
         let (x0, y0) = (fx.floor().min(max - 1.0), fy.floor().min(max - 1.0));
         let (tx, ty) = (fx - x0, fy - y0);
         let t = |x: f64, y: f64| {
-            let p = self.texels[y as usize * FGD_SIZE + x as usize];
+            let p = self.texels[y as usize * self.size + x as usize];
             DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64)
         };
         let a = t(x0, y0).lerp(t(x0 + 1.0, y0), tx);

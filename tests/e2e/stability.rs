@@ -72,3 +72,33 @@ fn conditioning_finds_where_f32_loses_the_twin() {
     assert_eq!(standard.alpha_threshold, None);
     assert_eq!(hdrp.points.len(), 17 * 17);
 }
+
+#[test]
+fn convergence_errors_fall_with_samples_and_the_report_places_each_default() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (rc, stdout, stderr) = shadematrix(tmp.path(), &["convergence", "--quick", "--out", "c"], &[]);
+    assert_eq!(rc, 0, "{stdout}\n{stderr}");
+    let dir = tmp.path().join("c");
+    for study in ["fgd", "prefilter", "furnace"] {
+        let svg = std::fs::read_to_string(dir.join(format!("plots/convergence_{study}.svg"))).unwrap();
+        assert!(svg.contains("<polyline"), "{study}");
+    }
+    let csv = std::fs::read_to_string(dir.join("tables/convergence.csv")).unwrap();
+    // Per curve, the error at the largest count is below the error at the smallest.
+    let mut curves: std::collections::BTreeMap<String, Vec<f64>> = Default::default();
+    for line in csv.lines().skip(1) {
+        let (study, rest) = line.split_once(",\"").unwrap();
+        let (name, rest) = rest.split_once("\",").unwrap();
+        let error: f64 = rest.split(',').nth(2).unwrap().parse().unwrap();
+        curves.entry(format!("{study}: {name}")).or_default().push(error);
+    }
+    assert!(curves.len() >= 7, "{curves:?}");
+    for (name, errors) in &curves {
+        if name.contains("resolution") || name.contains("texels per side") {
+            continue;
+        }
+        assert!(errors.last().unwrap() < errors.first().unwrap(), "{name}: {errors:?}");
+    }
+    let md = std::fs::read_to_string(dir.join("tables/convergence.md")).unwrap();
+    assert!(md.contains("knee") && md.contains("FGD table") && md.contains("probe level 2"), "{md}");
+}

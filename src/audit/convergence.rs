@@ -1,0 +1,532 @@
+//! Convergence of the tool's own numerics: error against run time as each integrator's sample
+//! count (or resolution) grows, against a converged reference computed the same way with far more
+//! samples. Three studies, all on the CPU in f64 (what the tool runs before it renders):
+//!
+//! - **FGD table** (HDRP's pre-integrated DFG, `shading::fgd`): samples per texel at 64², and the
+//!   table's resolution at 4096 samples; error = largest |Δ| of (x, y, z) at scattered (N·V, pr)
+//!   points through the bilinear lookup the renderer uses, so interpolation counts too;
+//! - **probe prefilter** (`environment::prefilter`): the texels each output texel's convolution sums
+//!   (the source's width w, w²/2 texels), per mip level of GGX α, on the procedural sky with its sun
+//!   (mitsuba's); error = largest relative |Δ| over directions;
+//! - **furnace** (`audit::twin_albedo`, the energy audit): MIS samples per directional albedo on
+//!   smooth and medium metals at 60° and 85°; error = largest |Δ| of the albedo.
+//!
+//! Where a curve flattens (its knee) is the first count after which the next step of the sweep
+//! gains less than half the error; the report says where each default sits against it.
+
+use std::fmt::Write;
+use std::time::Instant;
+
+use glam::DVec3;
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::environment::prefilter::{level_alpha, source_width, EquirectImage, TexelTable, LEVELS, PROBE_WIDTH};
+use crate::error::Error;
+use crate::fsutil::write_atomic;
+use crate::pipelines::Pipeline;
+use crate::shading::fgd::{integrate, FgdTable, FGD_SAMPLES, FGD_SIZE};
+use crate::shading::registry::{Registry, Sliders};
+
+/// How far each study sweeps, and its reference.
+#[derive(Debug, Clone)]
+pub struct Settings {
+    pub fgd_samples: Vec<u32>,
+    pub fgd_sizes: Vec<usize>,
+    pub fgd_reference_samples: u32,
+    pub fgd_points: usize,
+    pub prefilter_widths: Vec<usize>,
+    pub prefilter_reference_width: usize,
+    pub prefilter_directions: usize,
+    pub furnace_samples: Vec<u32>,
+    pub furnace_reference_samples: u32,
+}
+
+impl Settings {
+    /// The sweep of `shadematrix convergence`: 256…65536 samples.
+    pub fn full() -> Settings {
+        Settings {
+            fgd_samples: vec![256, 1024, 4096, 16384, 65536],
+            fgd_sizes: vec![16, 32, 64, 128],
+            fgd_reference_samples: 1 << 20,
+            fgd_points: 256,
+            // The reference is 4× finer than the finest point: an error measured against a
+            // reference one halving away reads too small.
+            prefilter_widths: vec![32, 64, 128, 256],
+            prefilter_reference_width: 1024,
+            prefilter_directions: 64,
+            furnace_samples: vec![256, 1024, 4096, 16384, 65536],
+            furnace_reference_samples: 1 << 20,
+        }
+    }
+
+    /// A few seconds' worth, for tests (`--quick`).
+    pub fn quick() -> Settings {
+        Settings {
+            fgd_samples: vec![64, 256, 1024],
+            fgd_sizes: vec![8, 16, 32],
+            fgd_reference_samples: 1 << 14,
+            fgd_points: 32,
+            prefilter_widths: vec![16, 32, 64],
+            prefilter_reference_width: 256,
+            prefilter_directions: 16,
+            furnace_samples: vec![256, 1024, 4096],
+            furnace_reference_samples: 1 << 16,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct ConvergencePoint {
+    /// Samples, texels per side or texels summed: the curve's knob.
+    pub knob: u64,
+    /// Wall time of what this count costs (named by the curve).
+    pub ms: f64,
+    /// The largest error over the study's points (what the knee is judged on).
+    pub error: f64,
+    /// The root-mean-square error over them.
+    pub rms: f64,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct Curve {
+    /// fgd, prefilter or furnace: one plot each.
+    pub study: &'static str,
+    pub name: String,
+    /// What the knob counts.
+    pub knob: &'static str,
+    /// What `ms` times.
+    pub timed: &'static str,
+    pub error: &'static str,
+    pub reference: String,
+    /// The count the tool uses.
+    pub default: u64,
+    /// Where the default comes from.
+    pub default_why: &'static str,
+    pub points: Vec<ConvergencePoint>,
+}
+
+impl Curve {
+    /// The first count after which the next step of the sweep gains less than half the error.
+    pub fn knee(&self) -> Option<u64> {
+        let p = &self.points;
+        (0..p.len().saturating_sub(1))
+            .find(|&i| p[i + 1].error > 0.5 * p[i].error)
+            .map(|i| p[i].knob)
+            .or(p.last().map(|l| l.knob))
+    }
+
+    /// Where the default sits against the knee, in words.
+    pub fn verdict(&self) -> String {
+        let at = |k: u64| self.points.iter().find(|p| p.knob == k);
+        let (Some(knee), Some(d)) = (self.knee(), at(self.default)) else {
+            return format!("default {} is outside the sweep", self.default);
+        };
+        let k = at(knee).expect("the knee is a point");
+        match self.default.cmp(&knee) {
+            std::cmp::Ordering::Equal => {
+                format!("default {} is at the knee (error {:.2e}, {:.1} ms)", self.default, d.error, d.ms)
+            }
+            std::cmp::Ordering::Greater => format!(
+                "default {} is past the knee {knee}: {:.1}× its time for {:.1}× less error ({:.2e} vs {:.2e})",
+                self.default,
+                d.ms / k.ms.max(1e-9),
+                k.error / d.error.max(1e-300),
+                d.error,
+                k.error
+            ),
+            std::cmp::Ordering::Less => format!(
+                "default {} is before the knee {knee}: error {:.2e} where {knee} reaches {:.2e} in {:.1}× the time",
+                self.default,
+                d.error,
+                k.error,
+                k.ms / d.ms.max(1e-9)
+            ),
+        }
+    }
+}
+
+/// HDRP's own: IntegrateGGXAndDisneyDiffuseFGD(NdotV, roughness, sampleCount = 4096) into a 64² LUT
+/// (ImageBasedLighting.hlsl, preIntegratedFGD_GGXDisneyDiffuse.shader).
+const HDRP_FGD: &str = "HDRP's own table: IntegrateGGXAndDisneyDiffuseFGD(…, sampleCount = 4096) into a 64² LUT \
+                        (ImageBasedLighting.hlsl)";
+
+/// The largest and the root-mean-square of some errors.
+fn max_and_rms(errors: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (mut max, mut sq, mut n) = (0.0f64, 0.0, 0usize);
+    for e in errors {
+        max = if e.is_nan() { f64::NAN } else { max.max(e) };
+        sq += e * e;
+        n += 1;
+    }
+    (max, (sq / n.max(1) as f64).sqrt())
+}
+
+fn ms_since(t: Instant) -> f64 {
+    t.elapsed().as_secs_f64() * 1e3
+}
+
+/// Halton (2, 3) point i in [0, 1)².
+fn halton(i: usize) -> (f64, f64) {
+    let radical = |mut i: usize, b: usize| {
+        let (mut f, mut r) = (1.0, 0.0);
+        while i > 0 {
+            f /= b as f64;
+            r += f * (i % b) as f64;
+            i /= b;
+        }
+        r
+    };
+    (radical(i + 1, 2), radical(i + 1, 3))
+}
+
+fn fgd_curves(s: &Settings) -> Vec<Curve> {
+    // Scattered (N·V, pr): √NV and pr uniform, as the table's axes are.
+    let points: Vec<(f64, f64)> = (0..s.fgd_points).map(halton).map(|(u, v)| (u * u, v)).collect();
+    let reference: Vec<DVec3> =
+        points.par_iter().map(|&(nv, pr)| DVec3::from(integrate(nv, pr, s.fgd_reference_samples))).collect();
+    let error = |t: &FgdTable| {
+        max_and_rms(points.iter().zip(&reference).map(|(&(nv, pr), r)| (t.lookup(nv, pr) - *r).abs().max_element()))
+    };
+    let reference_text =
+        format!("{} Hammersley samples at {} scattered (N·V, pr) points", s.fgd_reference_samples, s.fgd_points);
+    let mut by_samples = Curve {
+        study: "fgd",
+        name: format!("FGD table {FGD_SIZE}², samples per texel"),
+        knob: "samples per texel",
+        timed: "building the table (all texels, every core)",
+        error: "largest |Δ| of x, y, z through the bilinear lookup",
+        reference: reference_text.clone(),
+        default: FGD_SAMPLES as u64,
+        default_why: HDRP_FGD,
+        points: Vec::new(),
+    };
+    for &n in &s.fgd_samples {
+        let t0 = Instant::now();
+        let table = FgdTable::build(FGD_SIZE, n);
+        let ms = ms_since(t0);
+        let (error, rms) = error(&table);
+        by_samples.points.push(ConvergencePoint { knob: n as u64, ms, error, rms });
+    }
+    let mut by_size = Curve {
+        study: "fgd",
+        name: format!("FGD table at {FGD_SAMPLES} samples, texels per side"),
+        knob: "texels per side",
+        timed: "building the table (all texels, every core)",
+        error: "largest |Δ| of x, y, z through the bilinear lookup",
+        reference: reference_text,
+        default: FGD_SIZE as u64,
+        default_why: HDRP_FGD,
+        points: Vec::new(),
+    };
+    for &size in &s.fgd_sizes {
+        let t0 = Instant::now();
+        let table = FgdTable::build(size, FGD_SAMPLES);
+        let ms = ms_since(t0);
+        let (error, rms) = error(&table);
+        by_size.points.push(ConvergencePoint { knob: size as u64, ms, error, rms });
+    }
+    vec![by_samples, by_size]
+}
+
+/// Directions spread over the sphere (Fibonacci).
+fn sphere_directions(n: usize) -> Vec<DVec3> {
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    (0..n)
+        .map(|i| {
+            let y = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
+            let r = (1.0 - y * y).max(0.0).sqrt();
+            let phi = golden * i as f64;
+            DVec3::new(r * phi.cos(), y, r * phi.sin())
+        })
+        .collect()
+}
+
+fn prefilter_curves(s: &Settings) -> Result<Vec<Curve>, Error> {
+    let scene = crate::spec::scene::Scene::load("mitsuba", None, "convergence study", "composition")?;
+    let sky = scene.environment.sky.clone();
+    let radiance = |d: DVec3| crate::environment::sky::radiance(&sky, d);
+    let mut image = EquirectImage::sample(&radiance, s.prefilter_reference_width, s.prefilter_reference_width / 2, 4);
+    let reference_table = TexelTable::new(&image);
+    let mut tables = Vec::new();
+    while image.width > *s.prefilter_widths.iter().min().unwrap_or(&1) {
+        image = image.half();
+        if s.prefilter_widths.contains(&image.width) {
+            tables.push((image.width, TexelTable::new(&image)));
+        }
+    }
+    tables.sort_by_key(|(w, _)| *w);
+    let dirs = sphere_directions(s.prefilter_directions);
+    let level_texels = (PROBE_WIDTH * PROBE_WIDTH / 2) as f64;
+    let mut curves = Vec::new();
+    // Level 1's lobe is narrower than a texel: the renderer copies the mirror image (no convolution).
+    for level in 2..LEVELS {
+        let alpha = level_alpha(level);
+        let reference: Vec<DVec3> = dirs.par_iter().map(|d| reference_table.convolve(*d, alpha)).collect();
+        let default = source_width(alpha);
+        let mut curve = Curve {
+            study: "prefilter",
+            name: format!("probe level {level} (α = {alpha:.3}), source texels summed"),
+            knob: "source texels summed (w²/2)",
+            timed: "one 128×64 level, from the time of the sampled directions (one core)",
+            error: "largest relative |Δ| of the convolved radiance",
+            reference: format!(
+                "{}×{} source ({} texels), {} directions",
+                s.prefilter_reference_width,
+                s.prefilter_reference_width / 2,
+                s.prefilter_reference_width * s.prefilter_reference_width / 2,
+                dirs.len()
+            ),
+            default: (default * default / 2) as u64,
+            default_why: "prefilter::source_width: the narrowest source whose error stays near 5e-3 on a sun-lit sky, \
+                          from this study",
+            points: Vec::new(),
+        };
+        for (w, table) in &tables {
+            let t0 = Instant::now();
+            let got: Vec<DVec3> = dirs.iter().map(|d| table.convolve(*d, alpha)).collect();
+            let ms = ms_since(t0) / dirs.len() as f64 * level_texels;
+            let (error, rms) = max_and_rms(
+                got.iter().zip(&reference).map(|(g, r)| (*g - *r).abs().max_element() / r.max_element().max(1e-12)),
+            );
+            curve.points.push(ConvergencePoint { knob: (w * w / 2) as u64, ms, error, rms });
+        }
+        curves.push(curve);
+    }
+    Ok(curves)
+}
+
+fn furnace_curve(s: &Settings) -> Curve {
+    let registry = Registry::builtin();
+    let mut cases = Vec::new();
+    for (p, name) in [(Pipeline::Builtin, "standard"), (Pipeline::Urp, "lit"), (Pipeline::Hdrp, "lit")] {
+        let Some(model) = registry.find(p, name) else { continue };
+        let Some(twin) = model.twin else { continue };
+        for smoothness in [0.5, 0.9] {
+            let sliders = Sliders { base_color_linear: [1.0; 3], metallic: 1.0, smoothness };
+            for deg in [60.0f64, 85.0] {
+                let v = DVec3::new(deg.to_radians().sin(), deg.to_radians().cos(), 0.0);
+                cases.push((twin, p, model.surface(p, &sliders), v, super::albedo_alpha(&sliders)));
+            }
+        }
+    }
+    let reference: Vec<f64> = cases
+        .par_iter()
+        .map(|(t, p, surface, v, alpha)| super::twin_albedo(*t, *p, surface, *v, *alpha, s.furnace_reference_samples))
+        .collect();
+    let mut curve = Curve {
+        study: "furnace",
+        name: "white-furnace albedo, MIS samples".into(),
+        knob: "samples per albedo",
+        timed: "one albedo estimate (one core)",
+        error: "largest |Δ| of the directional albedo",
+        reference: format!(
+            "{} samples; built-in Standard, URP Lit, HDRP Lit twins; white metal, smoothness 0.5 and 0.9, view 60° and 85°",
+            s.furnace_reference_samples
+        ),
+        default: super::ENERGY_SAMPLES_TWIN as u64,
+        default_why: "the audit's energy check allows 5e-3 (ENERGY_TOLERANCE): the default keeps the estimate's \
+                      error well inside it",
+        points: Vec::new(),
+    };
+    for &n in &s.furnace_samples {
+        let t0 = Instant::now();
+        let got: Vec<f64> =
+            cases.iter().map(|(t, p, surface, v, alpha)| super::twin_albedo(*t, *p, surface, *v, *alpha, n)).collect();
+        let ms = ms_since(t0) / cases.len().max(1) as f64;
+        let (error, rms) = max_and_rms(got.iter().zip(&reference).map(|(g, r)| (g - r).abs()));
+        curve.points.push(ConvergencePoint { knob: n as u64, ms, error, rms });
+    }
+    curve
+}
+
+/// Every study.
+pub fn study(s: &Settings) -> Result<Vec<Curve>, Error> {
+    let mut curves = fgd_curves(s);
+    curves.extend(prefilter_curves(s)?);
+    curves.push(furnace_curve(s));
+    Ok(curves)
+}
+
+pub fn markdown(curves: &[Curve], machine: &str) -> String {
+    let mut md = format!(
+        "# Convergence of the tool's own numerics\n\nOn {machine}. Error against a converged reference versus wall time, \
+         per count; the knee is the first count after which the next step gains less than half the error. Plots: \
+         plots/convergence_{{fgd,prefilter,furnace}}.svg.\n"
+    );
+    for c in curves {
+        let _ = writeln!(
+            md,
+            "\n## {}\n\nError: {}; reference: {}; time: {}. Default: {}.\n\n**{}**.\n\n| {} | ms | error (largest) | error (RMS) |\n|---|---|---|---|",
+            c.name,
+            c.error,
+            c.reference,
+            c.timed,
+            c.default_why,
+            c.verdict(),
+            c.knob
+        );
+        for p in &c.points {
+            let mark = match (p.knob == c.default, Some(p.knob) == c.knee()) {
+                (true, true) => " (default, knee)",
+                (true, false) => " (default)",
+                (false, true) => " (knee)",
+                _ => "",
+            };
+            let _ = writeln!(md, "| {}{mark} | {:.2} | {:.3e} | {:.3e} |", p.knob, p.ms, p.error, p.rms);
+        }
+    }
+    md
+}
+
+pub fn csv(curves: &[Curve]) -> String {
+    let mut s = String::from("study,curve,knob,ms,error,rms,default,knee\n");
+    for c in curves {
+        for p in &c.points {
+            let _ = writeln!(
+                s,
+                "{},\"{}\",{},{:.4},{:e},{:e},{},{}",
+                c.study,
+                c.name,
+                p.knob,
+                p.ms,
+                p.error,
+                p.rms,
+                p.knob == c.default,
+                Some(p.knob) == c.knee()
+            );
+        }
+    }
+    s
+}
+
+/// Error against milliseconds, log–log, one polyline per curve of the study, each point labelled
+/// with its count, the default ringed.
+pub fn svg(curves: &[&Curve], title: &str) -> String {
+    let (w, h, ml, mr, mt, mb) = (760.0, 480.0, 70.0, 250.0, 40.0, 50.0);
+    let pts: Vec<&ConvergencePoint> =
+        curves.iter().flat_map(|c| &c.points).filter(|p| p.ms > 0.0 && p.error > 0.0).collect();
+    let span = |v: &mut dyn Iterator<Item = f64>| {
+        let (lo, hi) = v.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| (lo.min(x), hi.max(x)));
+        if lo.is_finite() {
+            (lo.log10().floor(), hi.log10().ceil().max(lo.log10().floor() + 1.0))
+        } else {
+            (0.0, 1.0)
+        }
+    };
+    let (x0, x1) = span(&mut pts.iter().map(|p| p.ms));
+    let (y0, y1) = span(&mut pts.iter().map(|p| p.error));
+    let x = |ms: f64| ml + (ms.max(1e-300).log10() - x0) / (x1 - x0) * (w - ml - mr);
+    let y = |e: f64| h - mb - (e.max(1e-300).log10() - y0) / (y1 - y0) * (h - mt - mb);
+    let mut s = format!("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\" font-family=\"sans-serif\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n");
+    let _ = writeln!(
+        s,
+        "<text x=\"{}\" y=\"22\" font-size=\"15\" text-anchor=\"middle\">{title}</text>",
+        (w - mr + ml) / 2.0
+    );
+    let _ = writeln!(s, "<line x1=\"{ml}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"black\"/><line x1=\"{ml}\" y1=\"{mt}\" x2=\"{ml}\" y2=\"{}\" stroke=\"black\"/>", h - mb, w - mr, h - mb, h - mb);
+    for d in x0 as i32..=x1 as i32 {
+        let _ = writeln!(
+            s,
+            "<text x=\"{:.1}\" y=\"{}\" font-size=\"10\" text-anchor=\"middle\">1e{d}</text>",
+            x(10f64.powi(d)),
+            h - mb + 14.0
+        );
+    }
+    for e in y0 as i32..=y1 as i32 {
+        let _ = writeln!(
+            s,
+            "<text x=\"{}\" y=\"{:.1}\" font-size=\"10\" text-anchor=\"end\">1e{e}</text>",
+            ml - 6.0,
+            y(10f64.powi(e)) + 3.0
+        );
+    }
+    let _ = writeln!(
+        s,
+        "<text x=\"{}\" y=\"{}\" font-size=\"12\" text-anchor=\"middle\">milliseconds, log scale</text>",
+        (w - mr + ml) / 2.0,
+        h - 12.0
+    );
+    let _ = writeln!(s, "<text x=\"16\" y=\"{}\" font-size=\"12\" text-anchor=\"middle\" transform=\"rotate(-90 16 {})\">error, log scale</text>", (h - mb + mt) / 2.0, (h - mb + mt) / 2.0);
+    let palette = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2"];
+    for (i, c) in curves.iter().enumerate() {
+        let colour = palette[i % palette.len()];
+        let line: Vec<String> = c
+            .points
+            .iter()
+            .filter(|p| p.ms > 0.0 && p.error > 0.0)
+            .map(|p| format!("{:.1},{:.1}", x(p.ms), y(p.error)))
+            .collect();
+        let _ = writeln!(s, "<polyline points=\"{}\" fill=\"none\" stroke=\"{colour}\" stroke-width=\"1.5\"><title>{}</title></polyline>", line.join(" "), c.name);
+        for p in c.points.iter().filter(|p| p.ms > 0.0 && p.error > 0.0) {
+            let (px, py) = (x(p.ms), y(p.error));
+            let _ = writeln!(s, "<circle cx=\"{px:.1}\" cy=\"{py:.1}\" r=\"2.5\" fill=\"{colour}\"/><text x=\"{:.1}\" y=\"{:.1}\" font-size=\"9\" fill=\"{colour}\">{}</text>", px + 4.0, py - 4.0, p.knob);
+            if p.knob == c.default {
+                let _ = writeln!(s, "<circle cx=\"{px:.1}\" cy=\"{py:.1}\" r=\"6\" fill=\"none\" stroke=\"{colour}\" stroke-width=\"1.5\"><title>default</title></circle>");
+            }
+        }
+        let _ = writeln!(
+            s,
+            "<text x=\"{}\" y=\"{}\" font-size=\"10\" fill=\"{colour}\">{}</text>",
+            w - mr + 10.0,
+            mt + 14.0 * i as f64,
+            c.name
+        );
+    }
+    let _ = writeln!(
+        s,
+        "<text x=\"{}\" y=\"{}\" font-size=\"10\">ringed: the default</text>",
+        w - mr + 10.0,
+        mt + 14.0 * curves.len() as f64 + 8.0
+    );
+    s.push_str("</svg>\n");
+    s
+}
+
+/// tables/convergence.{md,csv} and plots/convergence_{fgd,prefilter,furnace}.svg under `dir`.
+pub fn write(dir: &std::path::Path, curves: &[Curve], machine: &str) -> Result<(), Error> {
+    write_atomic(&dir.join("tables/convergence.md"), markdown(curves, machine).as_bytes())?;
+    write_atomic(&dir.join("tables/convergence.csv"), csv(curves).as_bytes())?;
+    for (study, title) in [
+        ("fgd", "FGD table: error against build time"),
+        ("prefilter", "Probe prefilter: error against time per level"),
+        ("furnace", "Furnace albedo: error against time per estimate"),
+    ] {
+        let of: Vec<&Curve> = curves.iter().filter(|c| c.study == study).collect();
+        write_atomic(&dir.join(format!("plots/convergence_{study}.svg")), svg(&of, title).as_bytes())?;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn curve(errors: &[f64]) -> Curve {
+        Curve {
+            study: "fgd",
+            name: "t".into(),
+            knob: "n",
+            timed: "t",
+            error: "e",
+            reference: "r".into(),
+            default: 4,
+            default_why: "t",
+            points: errors
+                .iter()
+                .enumerate()
+                .map(|(i, &e)| ConvergencePoint { knob: 1 << i, ms: (1 << i) as f64, error: e, rms: e })
+                .collect(),
+        }
+    }
+
+    #[test]
+    fn the_knee_is_where_the_next_step_gains_less_than_half() {
+        assert_eq!(curve(&[1.0, 0.25, 0.06, 0.05, 0.049]).knee(), Some(4));
+        assert!(curve(&[1.0, 0.25, 0.06, 0.05, 0.049]).verdict().contains("at the knee"));
+        // Still falling fast at the end: the knee is the last count.
+        assert_eq!(curve(&[1.0, 0.25, 0.06, 0.015]).knee(), Some(8));
+        assert!(curve(&[1.0, 0.25, 0.06, 0.015]).verdict().contains("before the knee 8"));
+        assert!(curve(&[1.0, 0.9, 0.85]).verdict().contains("past the knee 1"));
+    }
+}
