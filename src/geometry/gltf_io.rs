@@ -12,6 +12,13 @@ use crate::error::{Error, InputError};
 /// with node transforms applied. Normals are generated when absent.
 pub fn load(path: &Path) -> Result<Mesh, Error> {
     let shown = path.display().to_string();
+    crate::input::guard::without_panics(|| load_unguarded(path, &shown)).unwrap_or_else(|panic| {
+        Err(InputError::new(&shown, format!("malformed glTF: the glTF reader failed on it ({panic})")).into())
+    })
+}
+
+fn load_unguarded(path: &Path, shown: &str) -> Result<Mesh, Error> {
+    let shown = shown.to_string();
     if !path.is_file() {
         return Err(
             InputError::new(&shown, "glTF file not found (the path is resolved relative to the scene file)").into()

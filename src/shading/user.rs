@@ -223,9 +223,28 @@ fn validate(model: &ShaderModel, pass: PassKind) -> Result<(), Error> {
     let (source, map) = compose_mapped(pass, Some(model));
     let located = |line: usize, col: usize, message: String| -> Error {
         let (file, line) = locate(&map, line);
-        InputError { file, location: Some((line, col)), key: None, message: format!("WGSL: {message}") }.into()
+        if file == model.source_path.as_ref() {
+            return InputError { file, location: Some((line, col)), key: None, message: format!("WGSL: {message}") }
+                .into();
+        }
+        // The error surfaced in the tool's code composed around the model: the model's text left
+        // something open (a brace, a comment, a statement) or redefined a name the pass uses.
+        InputError::new(
+            model.source_path.as_ref(),
+            format!(
+                "WGSL: {message} — reported at {file}:{line}:{col}, in the tool's code composed with this model: \
+                 look for an unclosed brace, comment or statement, or a name the pass also defines"
+            ),
+        )
+        .into()
     };
-    let module = match naga::front::wgsl::parse_str(&source) {
+    let parsed = crate::input::guard::without_panics(|| naga::front::wgsl::parse_str(&source)).map_err(|panic| {
+        Error::from(InputError::new(
+            model.source_path.as_ref(),
+            format!("WGSL: the WGSL front end failed on this model ({panic})"),
+        ))
+    })?;
+    let module = match parsed {
         Ok(m) => m,
         Err(e) => {
             let loc = e.location(&source);
@@ -237,7 +256,13 @@ fn validate(model: &ShaderModel, pass: PassKind) -> Result<(), Error> {
     };
     let mut validator =
         naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all());
-    if let Err(e) = validator.validate(&module) {
+    let validated = crate::input::guard::without_panics(|| validator.validate(&module)).map_err(|panic| {
+        Error::from(InputError::new(
+            model.source_path.as_ref(),
+            format!("WGSL: the WGSL validator failed on this model ({panic})"),
+        ))
+    })?;
+    if let Err(e) = validated {
         // The outer error says which function; its sources say why.
         let mut message = e.as_inner().to_string();
         let mut cause: Option<&dyn std::error::Error> = std::error::Error::source(e.as_inner());

@@ -540,6 +540,19 @@ impl Scene {
             Some(d) => d.join(name_or_path),
             None => PathBuf::from(name_or_path),
         };
+        if !path.is_file() {
+            return Err(InputError::at_key(
+                referenced_from,
+                key,
+                format!(
+                    "composition file `{name_or_path}` not found at {} (a path resolves against the referencing \
+                     file's folder; built-in compositions: {})",
+                    path.display(),
+                    builtin_scene_names().join(", ")
+                ),
+            )
+            .into());
+        }
         Self::load_file(&path)
     }
 

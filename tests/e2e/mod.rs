@@ -7,6 +7,7 @@ mod compare;
 mod conventions;
 mod coverage;
 mod flow;
+mod fuzz;
 mod gallery;
 mod gltf_roundtrip;
 mod invariants;
