@@ -256,12 +256,13 @@ fn validate(model: &ShaderModel, pass: PassKind) -> Result<(), Error> {
     };
     let mut validator =
         naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all());
-    let validated = crate::input::guard::without_panics(|| validator.validate(&module)).map_err(|panic| {
-        Error::from(InputError::new(
-            model.source_path.as_ref(),
-            format!("WGSL: the WGSL validator failed on this model ({panic})"),
-        ))
-    })?;
+    let validated =
+        crate::input::guard::without_panics(|| validator.validate(&module).map_err(Box::new)).map_err(|panic| {
+            Error::from(InputError::new(
+                model.source_path.as_ref(),
+                format!("WGSL: the WGSL validator failed on this model ({panic})"),
+            ))
+        })?;
     if let Err(e) = validated {
         // The outer error says which function; its sources say why.
         let mut message = e.as_inner().to_string();
