@@ -274,10 +274,6 @@ fn fuzz(
         tried.get() - accepted.get()
     );
     if let Err(e) = result {
-        // Outside the quiet hook, so the shrunk input is printed.
-        let hook = std::panic::take_hook();
-        drop(hook);
-        std::panic::set_hook(Box::new(|info| eprintln!("{info}")));
         panic!("fuzz {name}: {e}");
     }
 }
@@ -296,21 +292,12 @@ fn files_in(dir: &Path, ext: &str) -> Vec<PathBuf> {
     v
 }
 
-/// A quiet panic hook while fuzzing: a caught panic is the finding, its backtrace noise is not.
-fn quietly<T>(f: impl FnOnce() -> T) -> T {
-    let hook = std::panic::take_hook();
-    std::panic::set_hook(Box::new(|_| {}));
-    let out = f();
-    std::panic::set_hook(hook);
-    out
-}
-
 #[test]
 fn fuzz_matrix_files() {
     let seeds = read_all(&files_in(&repo().join("matrices"), "toml"));
     let registry = Arc::new(shadematrix::shading::Registry::builtin());
     let base = repo().join("matrices");
-    quietly(|| {
+    {
         fuzz("matrix", &seeds, TOML_TOKENS, |input| {
             let text = String::from_utf8_lossy(input);
             let r = catch_unwind(AssertUnwindSafe(|| {
@@ -320,7 +307,7 @@ fn fuzz_matrix_files() {
             // A composition the matrix references names its own file.
             judge(r, &["fuzz.toml", "scenes/", "<built-in scene"])
         })
-    });
+    }
 }
 
 #[test]
@@ -332,13 +319,13 @@ fn fuzz_scene_files() {
     let seeds = read_all(&paths);
     let tmp = tempfile::tempdir().unwrap();
     let file = tmp.path().join("fuzz_scene.toml");
-    quietly(|| {
+    {
         fuzz("scene", &seeds, TOML_TOKENS, |input| {
             std::fs::write(&file, input).unwrap();
             let r = catch_unwind(AssertUnwindSafe(|| shadematrix::spec::scene::Scene::load_file(&file).map(|_| ())));
             judge(r, &["fuzz_scene.toml"])
         })
-    });
+    }
 }
 
 #[test]
@@ -353,14 +340,14 @@ fn fuzz_gltf_import() {
     seeds.push(std::fs::read(&glb).unwrap());
     let gltf = tmp.path().join("fuzz_mesh.gltf");
     let binary = tmp.path().join("fuzz_mesh.glb");
-    quietly(|| {
+    {
         fuzz("gltf", &seeds, TOML_TOKENS, |input| {
             let path = if input.starts_with(b"glTF") { &binary } else { &gltf };
             std::fs::write(path, input).unwrap();
             let r = catch_unwind(AssertUnwindSafe(|| shadematrix::geometry::gltf_io::load(path).map(|_| ())));
             judge(r, &["fuzz_mesh.gl"])
         })
-    });
+    }
 }
 
 #[test]
@@ -380,7 +367,7 @@ fn fuzz_user_models() {
     for (what, seeds, tokens) in
         [("user model WGSL", &wgsl, WGSL_TOKENS), ("user model declaration", &decl, TOML_TOKENS)]
     {
-        quietly(|| {
+        {
             fuzz(what, seeds, tokens, |input| {
                 let (w, t) = if what.ends_with("WGSL") { (input, &decl[0][..]) } else { (&wgsl[0][..], input) };
                 std::fs::write(dir.join("fuzzed.wgsl"), w).unwrap();
@@ -389,6 +376,6 @@ fn fuzz_user_models() {
                     catch_unwind(AssertUnwindSafe(|| shadematrix::shading::user::load_dir(&dir, registry).map(|_| ())));
                 judge(r, &["fuzzed."])
             })
-        });
+        }
     }
 }
