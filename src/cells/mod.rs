@@ -434,6 +434,27 @@ mod tests {
     }
 
     #[test]
+    fn invariant_asserts_render_their_cells_and_keyless_compositions_twin_across_light() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let text = "name = \"t\"\ncompositions = [\"scenes/invariants/furnace.toml\", \"medusa\"]\npipelines = [\"urp\"]\n\
+                    shaders = [\"lambert\", \"lit\"]\npresets = [\"plastic\"]\n[image]\nwidth = 8\nheight = 8\n\
+                    [sweep]\nsmoothness = [0.2, 0.8]\nlight_intensity = [1.0, 2.0]\n\
+                    [[assert]]\nkind = \"invariant\"\nwhere = { composition = \"medusa\", shader = \"lambert\" }\nalong = \"smoothness\"\n";
+        let m = Matrix::from_text("t.toml", text, Some(root), Arc::new(crate::shading::Registry::builtin())).unwrap();
+        let e = expand(&m);
+        let twins = |comp: &str, shader: &str| {
+            e.cells.iter().filter(|c| c.composition == comp && c.shader == shader && c.twin_of.is_some()).count()
+        };
+        // The furnace has no key light: intensity changes nothing, lit's 4 cells are 2 images.
+        assert_eq!(twins("white_furnace", "lit"), 2);
+        // Lambert there ignores smoothness too: one image of 4.
+        assert_eq!(twins("white_furnace", "lambert"), 3);
+        // The invariant covers medusa's Lambert cells: all rendered, though Lambert ignores smoothness.
+        assert_eq!(twins("medusa", "lambert"), 0);
+        assert_eq!(twins("medusa", "lit"), 0);
+    }
+
+    #[test]
     fn simple_lit_reads_smoothness_only_with_highlights_on() {
         let text = "name = \"t\"\ncompositions = [\"medusa\"]\npipelines = [\"urp\"]\nshaders = [\"simple_lit\"]\npresets = [\"gold\"]\n[sweep]\nsmoothness = [0.2, 0.8]\n";
         let m = |extra: &str| {

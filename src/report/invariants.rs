@@ -121,8 +121,7 @@ fn value_text(v: &FilterValue) -> String {
     }
 }
 
-/// A short label for a group: the cell id of its first member with the along axis left out is
-/// long; the axes that vary between the assert's groups are what tell them apart.
+/// A group named by its first cell, and the axis that varies within it.
 fn group_label(r: &CellRecord, along: Axis) -> String {
     format!("{} ({} varies)", r.id.0, along.name())
 }
