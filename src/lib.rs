@@ -22,6 +22,7 @@ pub mod geometry;
 pub mod gpu;
 pub mod images;
 pub mod input;
+pub mod materials;
 pub mod pipelines;
 pub mod plan;
 pub mod record;

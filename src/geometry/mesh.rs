@@ -48,6 +48,41 @@ impl Mesh {
         (lo, hi)
     }
 
+    /// MikkTSpace tangents (the space Unity and glTF bake normal maps in) for a mesh that has none;
+    /// a mesh whose vertices all carry a tangent keeps its own. A vertex shared by faces that
+    /// MikkTSpace would split takes the last face's tangent.
+    pub fn ensure_tangents(&mut self) {
+        if self.vertices.iter().all(|v| v.tangent[..3].iter().any(|c| *c != 0.0)) {
+            return;
+        }
+        struct Faces<'a>(&'a mut Mesh);
+        impl bevy_mikktspace::Geometry for Faces<'_> {
+            fn num_faces(&self) -> usize {
+                self.0.indices.len() / 3
+            }
+            fn num_vertices_of_face(&self, _: usize) -> usize {
+                3
+            }
+            fn position(&self, face: usize, vert: usize) -> [f32; 3] {
+                self.0.vertices[self.0.indices[face * 3 + vert] as usize].position
+            }
+            fn normal(&self, face: usize, vert: usize) -> [f32; 3] {
+                self.0.vertices[self.0.indices[face * 3 + vert] as usize].normal
+            }
+            fn tex_coord(&self, face: usize, vert: usize) -> [f32; 2] {
+                self.0.vertices[self.0.indices[face * 3 + vert] as usize].uv
+            }
+            fn set_tangent(&mut self, t: Option<bevy_mikktspace::TangentSpace>, face: usize, vert: usize) {
+                let i = self.0.indices[face * 3 + vert] as usize;
+                // None (a degenerate face with no neighbour): zero, which the shader reads as "no
+                // normal map here".
+                self.0.vertices[i].tangent = t.map_or([0.0; 4], |t| t.tangent_encoded());
+            }
+        }
+        // An error means no face could be processed (no triangles): nothing to write.
+        let _ = bevy_mikktspace::generate_tangents(&mut Faces(self));
+    }
+
     /// Append `other`, re-indexing it.
     pub fn append(&mut self, other: Mesh) {
         let base = self.vertices.len() as u32;

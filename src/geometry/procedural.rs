@@ -73,7 +73,14 @@ pub fn build_scene(scene: &crate::spec::scene::Scene) -> Result<Vec<Mesh>, Error
         .objects
         .par_iter()
         .enumerate()
-        .map(|(i, o)| build(&o.mesh, scene.base_dir.as_deref(), &scene.origin, &format!("objects[{i}].mesh")))
+        .map(|(i, o)| {
+            let mut mesh = build(&o.mesh, scene.base_dir.as_deref(), &scene.origin, &format!("objects[{i}].mesh"))?;
+            // The subject may wear a textured preset: its normal map needs a tangent frame.
+            if o.role == crate::spec::scene::Role::Subject {
+                mesh.ensure_tangents();
+            }
+            Ok(mesh)
+        })
         .collect()
 }
 
