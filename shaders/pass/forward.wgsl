@@ -16,6 +16,8 @@ struct VertexOut {
     @location(2) uv: vec2<f32>,
     // The object's per-vertex lights, added to the ambient term
     @location(3) vertex_gi: vec3<f32>,
+    // World tangent, w the bitangent sign (zero: none)
+    @location(4) tangent: vec4<f32>,
 };
 
 struct FragmentOut {
@@ -56,6 +58,7 @@ fn vs_main(in: VertexIn) -> VertexOut {
     out.normal = (object.normal_matrix * vec4<f32>(in.normal, 0.0)).xyz;
     out.uv = in.uv;
     out.vertex_gi = vertex_lights(world.xyz, vertex_normal(out.normal, world.xyz));
+    out.tangent = vec4<f32>((object.model * vec4<f32>(in.tangent.xyz, 0.0)).xyz, in.tangent.w);
     return out;
 }
 
@@ -81,7 +84,27 @@ fn vertex_lights(p: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
     return c * irradiance_per_intensity() * INV_PI;
 }
 
+// The material's occlusion at the shaded point (the mask's g; 1 without maps): it dims the indirect
+// terms, as Unity's occlusion map does (built-in and URP scale indirect diffuse and specular by it).
+var<private> material_occlusion: f32 = 1.0;
+
+// The material of the drawn object at uv: the swept one for the subject, the object's own else;
+// a textured subject's maps modulate it (the albedo map, mean 1, multiplies the colour; the mask's
+// smoothness offset, mean 0, adds to the smoothness). Fragment stages sample with derivatives.
 fn material_at(uv: vec2<f32>) -> Surface {
+    return material_from(uv, textureSample(material_albedo, material_sampler, uv), textureSample(material_mask, material_sampler, uv));
+}
+
+// The same at a vertex (the vertex-lit path): the finest level, as a vertex stage has no derivatives.
+fn material_at_vertex(uv: vec2<f32>) -> Surface {
+    return material_from(uv, textureSampleLevel(material_albedo, material_sampler, uv, 0.0), textureSampleLevel(material_mask, material_sampler, uv, 0.0));
+}
+
+fn is_textured() -> bool {
+    return object.flags.x == 1u && frame.subject.params.w > 0.5;
+}
+
+fn material_from(uv: vec2<f32>, albedo: vec4<f32>, mask: vec4<f32>) -> Surface {
     var m = object.material;
     if (object.flags.x == 1u) {
         m = frame.subject;
@@ -99,7 +122,27 @@ fn material_at(uv: vec2<f32>) -> Surface {
             s.base_color = m.checker_color.rgb;
         }
     }
+    material_occlusion = 1.0;
+    if (is_textured()) {
+        s.base_color *= albedo.rgb;
+        s.smoothness = sat(s.smoothness + mask.a - 0.5);
+        material_occlusion = mask.g;
+    }
     return s;
+}
+
+// The normal map applied to a shading normal: the tangent frame (MikkTSpace, bitangent =
+// cross(n, t)·w, as Unity's TransformTangentToWorld) carries the map's tangent-space normal to
+// world space. Without maps, or where the mesh has no tangent, n as it is.
+fn mapped_normal(n: vec3<f32>, tangent: vec4<f32>, uv: vec2<f32>) -> vec3<f32> {
+    let ts = textureSample(material_normal, material_sampler, uv).xyz;
+    let t_raw = tangent.xyz - n * dot(n, tangent.xyz);
+    if (!is_textured() || dot(t_raw, t_raw) < 1e-12) {
+        return n;
+    }
+    let t = normalize(t_raw);
+    let b = cross(n, t) * select(1.0, -1.0, tangent.w < 0.0);
+    return safe_normalize(t * ts.x + b * ts.y + n * ts.z, 1e-30);
 }
 
 // Direction to the light and its attenuation at p (distance and cone; directional: 1)
@@ -220,12 +263,12 @@ fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>, vertex_gi: vec3<f32>) -> vec3<f
         }
     }
     let gi = ambient_diffuse(n) + max(sh_eval(object.light_sh, n), vec3<f32>(0.0)) + vertex_gi;
-    return c + model_indirect(s, n, v, gi);
+    return c + model_indirect(s, n, v, gi) * material_occlusion;
 }
 
 @fragment
 fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> FragmentOut {
-    let n = shading_normal(in.normal, cross(dpdx(in.world_pos), dpdy(in.world_pos)), in.world_pos, front);
+    let n = mapped_normal(shading_normal(in.normal, cross(dpdx(in.world_pos), dpdy(in.world_pos)), in.world_pos, front), in.tangent, in.uv);
     var out: FragmentOut;
     out.color = vec4<f32>(shade(material_at(in.uv), n, in.world_pos, in.vertex_gi), 1.0);
     out.role = object.flags.y;
@@ -246,7 +289,7 @@ fn vs_gouraud(in: VertexIn) -> GouraudOut {
     let n = vertex_normal((object.normal_matrix * vec4<f32>(in.normal, 0.0)).xyz, world.xyz);
     var out: GouraudOut;
     out.clip = frame.view_proj * world;
-    out.color = shade(material_at(in.uv), n, world.xyz, vertex_lights(world.xyz, n));
+    out.color = shade(material_at_vertex(in.uv), n, world.xyz, vertex_lights(world.xyz, n));
     return out;
 }
 
@@ -273,7 +316,7 @@ struct GBufferOut {
 
 @fragment
 fn fs_gbuffer(in: VertexOut, @builtin(front_facing) front: bool) -> GBufferOut {
-    let n = shading_normal(in.normal, cross(dpdx(in.world_pos), dpdy(in.world_pos)), in.world_pos, front);
+    let n = mapped_normal(shading_normal(in.normal, cross(dpdx(in.world_pos), dpdy(in.world_pos)), in.world_pos, front), in.tangent, in.uv);
     let s = material_at(in.uv);
     let v = normalize(frame.camera_pos.xyz - in.world_pos);
     main_light_color = vec3<f32>(0.0);
@@ -285,7 +328,7 @@ fn fs_gbuffer(in: VertexOut, @builtin(front_facing) front: bool) -> GBufferOut {
     out.albedo = vec4<f32>(s.base_color, 1.0);
     out.material = vec4<f32>(s.metallic, s.smoothness, 0.0, 0.0);
     out.normal = vec4<f32>(n * 0.5 + 0.5, f32(object.flags.w));
-    out.lighting = vec4<f32>(model_indirect(s, n, v, gi), 1.0);
+    out.lighting = vec4<f32>(model_indirect(s, n, v, gi) * material_occlusion, 1.0);
     out.role = object.flags.y;
     return out;
 }

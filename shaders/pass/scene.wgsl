@@ -20,7 +20,7 @@ struct ShadowLayer {
 
 struct Material {
     base_color: vec4<f32>,   // linear
-    params: vec4<f32>,       // metallic (as the shader receives it), smoothness, checker cell (0: none), unused
+    params: vec4<f32>,       // metallic (as the shader receives it), smoothness, checker cell (0: none), 1: textured
     checker_color: vec4<f32>,
     specular: vec4<f32>,     // the model's specular colour
     model0: vec4<f32>,       // the model's parameters, slots 0–3
@@ -57,6 +57,13 @@ struct Object {
 @group(0) @binding(6) var shadow_maps: texture_depth_2d_array;
 @group(0) @binding(7) var shadow_sampler: sampler_comparison;
 @group(0) @binding(8) var<storage, read> shadow_layers: array<ShadowLayer>;
+// The subject's material maps (render::material_maps; a neutral 1×1 set for a flat subject):
+// albedo modulation (linear), tangent-space normal, mask in HDRP's layout (r metallic, g occlusion,
+// b detail mask, a 0.5 + smoothness offset).
+@group(0) @binding(9) var material_albedo: texture_2d<f32>;
+@group(0) @binding(10) var material_normal: texture_2d<f32>;
+@group(0) @binding(11) var material_mask: texture_2d<f32>;
+@group(0) @binding(12) var material_sampler: sampler;
 
 fn light_mode(object_index: u32, light: u32) -> u32 {
     return light_modes[object_index * frame.counts.x + light];

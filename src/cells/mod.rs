@@ -53,6 +53,9 @@ pub struct Cell {
     pub height: u32,
     /// Model parameters the sweep sets (`[sweep.params]`), by name; only the model's own.
     pub params: BTreeMap<String, f64>,
+    /// The subject wears its preset's textured form (`materials`).
+    #[serde(default)]
+    pub textured: bool,
     /// The view axes, when swept: metres from the camera target, degrees between light and view.
     pub camera_distance: Option<f64>,
     pub light_angle: Option<f64>,
@@ -70,6 +73,14 @@ pub struct Cell {
 }
 
 impl Cell {
+    /// The preset whose maps the subject wears, when textured.
+    pub fn material_maps(&self) -> Option<&'static str> {
+        if !self.textured {
+            return None;
+        }
+        crate::spec::presets::find_preset(&self.preset).map(|p| p.name)
+    }
+
     pub fn sliders(&self) -> Sliders {
         let m = &self.material;
         Sliders { base_color_linear: m.base_color_linear, metallic: m.metallic, smoothness: m.smoothness }
@@ -120,6 +131,7 @@ fn opt_list<T: Copy>(v: &[T]) -> Vec<Option<T>> {
 }
 
 pub fn expand(m: &Matrix) -> Expansion {
+    let textured_values: Vec<bool> = if m.sweep.textured.is_empty() { vec![false] } else { m.sweep.textured.clone() };
     let mut cells = Vec::new();
     let mut pruned = Vec::new();
     let mut filtered_out = 0;
@@ -156,7 +168,10 @@ pub fn expand(m: &Matrix) -> Expansion {
                                         for range in opt_list(&m.sweep.light_range) {
                                             for camera_distance in opt_list(&m.sweep.camera_distance) {
                                                 for light_angle in opt_list(&m.sweep.light_angle) {
-                                                    for params in &param_sets {
+                                                    for (params, &textured) in param_sets
+                                                        .iter()
+                                                        .flat_map(|p| textured_values.iter().map(move |t| (p, t)))
+                                                    {
                                                         let cell = Cell {
                                                             id: CellId(String::new()),
                                                             composition_index: ci,
@@ -173,6 +188,7 @@ pub fn expand(m: &Matrix) -> Expansion {
                                                             width: m.image.width,
                                                             height: m.image.height,
                                                             params: params.clone(),
+                                                            textured,
                                                             camera_distance,
                                                             light_angle,
                                                             display,
@@ -273,6 +289,9 @@ pub fn cell_id(c: &Cell) -> CellId {
     for (name, v) in &c.params {
         id.push_str(&format!("_{name}{}", short_number(*v)));
     }
+    if c.textured {
+        id.push_str("_tex");
+    }
     CellId(id)
 }
 
@@ -327,6 +346,7 @@ pub fn matches_filter(c: &Cell, f: &Filter) -> bool {
             (Axis::Color, FilterValue::Color(code)) => color_code(c.material.slider_color_srgb) == *code,
             (Axis::CameraDistance, FilterValue::Number(x)) => c.camera_distance.is_some_and(|d| close(d, *x)),
             (Axis::LightAngle, FilterValue::Number(x)) => c.light_angle.is_some_and(|a| close(a, *x)),
+            (Axis::Textured, FilterValue::Name(n)) => c.textured.to_string() == *n,
             _ => false,
         })
     })
@@ -341,7 +361,8 @@ fn close(a: f64, b: f64) -> bool {
 fn render_key(c: &Cell, keyless: bool) -> String {
     let r = c.model().reads_for(&c.surface().params);
     let m = &c.material;
-    let mut key = format!("{}|{}|{}|{}", c.composition_index, c.pipeline.name(), c.path.name(), c.shader);
+    let mut key =
+        format!("{}|{}|{}|{}|t{}", c.composition_index, c.pipeline.name(), c.path.name(), c.shader, c.textured);
     if r.color {
         key.push_str(&format!("|c{:?}", m.base_color_linear));
     }

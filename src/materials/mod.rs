@@ -82,8 +82,8 @@ pub fn generate(preset: &str, size: usize) -> MaterialMaps {
     let mut mean = [0.0; 3];
     let mut mean_s = 0.0;
     for t in &texels {
-        for c in 0..3 {
-            mean[c] += t.albedo[c] / n;
+        for (m, a) in mean.iter_mut().zip(t.albedo) {
+            *m += a / n;
         }
         mean_s += t.smoothness / n;
     }

@@ -91,7 +91,7 @@ fn brick(u: f64, v: f64) -> Texel {
     // Mortar is grey against red brick: relatively much more green and blue.
     let mortar_colour = [1.6, 3.5, 4.5];
     let albedo = [0, 1, 2].map(|c| tone * (1.0 - mortar) + mortar_colour[c] * mortar);
-    texel(albedo, 1.0 - mortar + 0.1 * fbm(u, v, 32, 33), 1.0 - 0.5 * mortar, -0.05 * mortar)
+    texel(albedo, 1.0 - mortar + 0.1 * fbm(u, v, 32, 33), 1.0 - 0.25 * mortar, -0.05 * mortar)
 }
 
 fn marble(u: f64, v: f64) -> Texel {
@@ -107,7 +107,7 @@ fn fabric(u: f64, v: f64) -> Texel {
     let (a, b) = ((u * n * TAU).sin(), (v * n * TAU).sin());
     let over = if ((u * n).floor() as i64 + (v * n).floor() as i64) % 2 == 0 { a.abs() } else { b.abs() };
     let slub = noise(u, v, 24, 51);
-    texel(grey(0.85 + 0.2 * over + 0.1 * slub), 0.6 * over, 0.8 + 0.2 * over, 0.05 * over)
+    texel(grey(0.85 + 0.2 * over + 0.1 * slub), 0.6 * over, 0.96 + 0.04 * over, 0.05 * over)
 }
 
 fn concrete(u: f64, v: f64) -> Texel {
@@ -152,7 +152,7 @@ fn rubber(u: f64, v: f64) -> Texel {
     let g = ((v * 8.0 + zig).fract() - 0.5).abs();
     let groove = (1.0 - ((g - 0.35) / 0.05).max(0.0)).clamp(0.0, 1.0) * ((g - 0.3) / 0.05).clamp(0.0, 1.0);
     let wear = fbm(u, v, 16, 111);
-    texel(grey(0.9 + 0.2 * wear - 0.3 * groove), -groove + 0.05 * wear, 1.0 - 0.5 * groove, 0.1 * wear)
+    texel(grey(0.9 + 0.2 * wear - 0.3 * groove), -groove + 0.05 * wear, 1.0 - 0.25 * groove, 0.1 * wear)
 }
 
 fn painted_chips(u: f64, v: f64) -> Texel {
@@ -162,7 +162,7 @@ fn painted_chips(u: f64, v: f64) -> Texel {
     // Primer grey against the blue paint: relatively much more red and green.
     let primer = [6.0, 5.0, 0.9];
     let albedo = [0, 1, 2].map(|c| (1.0 - chip) * (0.97 + 0.06 * orange_peel) + chip * primer[c]);
-    texel(albedo, -0.5 * chip + 0.03 * orange_peel, 1.0 - 0.2 * chip, -0.4 * chip)
+    texel(albedo, -0.5 * chip + 0.03 * orange_peel, 1.0 - 0.1 * chip, -0.4 * chip)
 }
 
 /// The pattern of a preset (the presets' names, spec presets.md); an unknown name gets plastic's.

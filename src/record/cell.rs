@@ -20,7 +20,8 @@ use crate::plan::lights::ObjectLights;
 /// metrics; 3: the display transform (tonemapper, HDRP exposure mode, EV and multiplier), light
 /// units, the model parameters the sweep set, the light assignment and GPU time per pass;
 /// 4: anti-aliasing (asked, rendered samples and why they differ) and shadow-map resolutions;
-/// 5: the subject's peak luminance, and overflow counted before the half-float store saturates it.
+/// 5: the subject's peak luminance, overflow counted before the half-float store saturates it, and
+/// whether the subject wore its textured preset.
 pub const CELL_SCHEMA: u32 = 5;
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -36,6 +37,9 @@ pub struct CellRecord {
     pub shader: String,
     pub shader_source: String,
     pub preset: String,
+    /// The subject wore its preset's textured form (maps from `materials`).
+    #[serde(default)]
+    pub textured: bool,
     /// The sweep's values (slider units).
     pub sliders: MaterialParams,
     /// The model's inputs as the shader receives them.
@@ -93,6 +97,7 @@ impl CellRecord {
             }
             "light_intensity" => num(self.key_light.intensity),
             "light_range" => num(self.key_light.range),
+            "textured" => self.textured.to_string(),
             _ => "?".into(),
         }
     }

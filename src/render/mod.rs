@@ -4,6 +4,7 @@
 pub mod camera;
 pub mod deferred;
 pub mod luts;
+pub mod material_maps;
 pub mod probe;
 pub mod renderer;
 pub mod shadows;

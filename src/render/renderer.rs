@@ -17,6 +17,7 @@ use crate::geometry::{placement, procedural, Mesh, Vertex};
 use crate::gpu::readback::TextureReadback;
 use crate::gpu::timing::PassTimer;
 use crate::gpu::GpuContext;
+use crate::materials::MaterialMaps;
 use crate::pipelines::{Antialiasing, Pipeline, RenderPath};
 use crate::plan::lights::{assign, sh_of_light, LightBudget, LightMode, ObjectLights};
 use crate::plan::FramePlan;
@@ -52,6 +53,8 @@ pub struct CellSettings {
     pub path: RenderPath,
     pub light_budget: LightBudget,
     pub antialiasing: Antialiasing,
+    /// The preset whose textured form the subject wears (None: flat).
+    pub material_maps: Option<&'static str>,
 }
 
 /// The samples per pixel a cell rendered with, and why they differ from what it asked, if they do.
@@ -137,7 +140,9 @@ pub struct PreparedScene {
     object_stride: u64,
     object_bind_group: wgpu::BindGroup,
     frame_buffer: wgpu::Buffer,
-    frame_bind_group: wgpu::BindGroup,
+    env_view: wgpu::TextureView,
+    /// The frame bind group per material-map set the subject wears ("" flat), made on first use.
+    frame_groups: std::sync::Mutex<HashMap<&'static str, std::sync::Arc<wgpu::BindGroup>>>,
     lights_buffer: wgpu::Buffer,
     modes_buffer: wgpu::Buffer,
     shadows: ShadowResources,
@@ -191,6 +196,9 @@ pub struct Renderer {
     gbuffer_pipelines: HashMap<(Pipeline, String), wgpu::RenderPipeline>,
     lighting_pipelines: HashMap<(Pipeline, String, u32), wgpu::RenderPipeline>,
     shadow_sampler: wgpu::Sampler,
+    material_sampler: wgpu::Sampler,
+    /// Per preset ("" the neutral set), uploaded on first use and kept.
+    material_textures: HashMap<&'static str, super::material_maps::MaterialTextures>,
     targets: Option<Targets>,
     timer: Option<PassTimer>,
     /// The sample counts the adapter multisamples and resolves the forward targets with.
@@ -250,6 +258,15 @@ impl Renderer {
                     count: None,
                 },
                 storage_entry(8),
+                material_map_entry(9),
+                material_map_entry(10),
+                material_map_entry(11),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 12,
+                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                    count: None,
+                },
             ],
         });
         let object_layout = super::uniform_slot_layout(
@@ -272,6 +289,7 @@ impl Renderer {
             ..Default::default()
         });
         let fgd = super::luts::fgd_texture(&gpu);
+        let material_sampler = super::material_maps::sampler(device);
         let shadow_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("shadow comparison"),
             mag_filter: wgpu::FilterMode::Linear,
@@ -307,6 +325,8 @@ impl Renderer {
             shadow_layer_layout,
             shadow_pipeline,
             shadow_sampler,
+            material_sampler,
+            material_textures: HashMap::new(),
             gbuffer_read_layout,
             deferred_layout,
             tiles,
@@ -604,21 +624,6 @@ impl Renderer {
         let lights_buffer = storage("lights", scene.lights.len() as u64 * light_size, light_size);
         let modes_buffer = storage("light modes", (scene.lights.len() * objects.len() * 4) as u64, 4);
         let shadows = self.shadow_resources(scene, &plan, scene_bounds);
-        let frame_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("frame"),
-            layout: &self.frame_layout,
-            entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: frame_buffer.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&env_view) },
-                wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::Sampler(&self.sampler) },
-                wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(&self.fgd) },
-                wgpu::BindGroupEntry { binding: 4, resource: lights_buffer.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 5, resource: modes_buffer.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 6, resource: wgpu::BindingResource::TextureView(&shadows.array_view) },
-                wgpu::BindGroupEntry { binding: 7, resource: wgpu::BindingResource::Sampler(&self.shadow_sampler) },
-                wgpu::BindGroupEntry { binding: 8, resource: shadows.layers_storage.as_entire_binding() },
-            ],
-        });
         self.gpu.check_errors(&format!("uploading composition `{}`", scene.name))?;
         Ok(PreparedScene {
             scene: scene.clone(),
@@ -629,13 +634,52 @@ impl Renderer {
             object_stride,
             object_bind_group,
             frame_buffer,
-            frame_bind_group,
+            env_view,
+            frame_groups: Default::default(),
             lights_buffer,
             modes_buffer,
             shadows,
             object_centres,
             triangle_count,
         })
+    }
+
+    /// The frame bind group of a composition with the subject wearing `maps` (None: flat), made and
+    /// the maps uploaded on first use.
+    fn frame_group(&mut self, prepared: &PreparedScene, maps: Option<&'static str>) -> std::sync::Arc<wgpu::BindGroup> {
+        let key = maps.unwrap_or("");
+        if let Some(g) = prepared.frame_groups.lock().unwrap_or_else(|e| e.into_inner()).get(key) {
+            return g.clone();
+        }
+        let (device, queue) = (&self.gpu.device, &self.gpu.queue);
+        let textures = self.material_textures.entry(key).or_insert_with(|| match maps {
+            Some(preset) => super::material_maps::MaterialTextures::new(device, queue, &MaterialMaps::of(preset)),
+            None => super::material_maps::MaterialTextures::neutral(device, queue),
+        });
+        let group = std::sync::Arc::new(device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("frame"),
+            layout: &self.frame_layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: prepared.frame_buffer.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&prepared.env_view) },
+                wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::Sampler(&self.sampler) },
+                wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(&self.fgd) },
+                wgpu::BindGroupEntry { binding: 4, resource: prepared.lights_buffer.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 5, resource: prepared.modes_buffer.as_entire_binding() },
+                wgpu::BindGroupEntry {
+                    binding: 6,
+                    resource: wgpu::BindingResource::TextureView(&prepared.shadows.array_view),
+                },
+                wgpu::BindGroupEntry { binding: 7, resource: wgpu::BindingResource::Sampler(&self.shadow_sampler) },
+                wgpu::BindGroupEntry { binding: 8, resource: prepared.shadows.layers_storage.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 9, resource: wgpu::BindingResource::TextureView(&textures.albedo) },
+                wgpu::BindGroupEntry { binding: 10, resource: wgpu::BindingResource::TextureView(&textures.normal) },
+                wgpu::BindGroupEntry { binding: 11, resource: wgpu::BindingResource::TextureView(&textures.mask) },
+                wgpu::BindGroupEntry { binding: 12, resource: wgpu::BindingResource::Sampler(&self.material_sampler) },
+            ],
+        }));
+        prepared.frame_groups.lock().unwrap_or_else(|e| e.into_inner()).insert(key, group.clone());
+        group
     }
 
     /// The shadow layers a composition needs (1 for a directional or spot light that casts
@@ -817,6 +861,8 @@ impl Renderer {
             self.background_pipeline(samples)?;
         }
         let (lights, shadow_layers, shadow_maps) = self.write_uniforms(prepared, cell, &fixed_model);
+        let frame_group = self.frame_group(prepared, cell.settings.material_maps);
+        let frame_group: &wgpu::BindGroup = &frame_group;
         self.targets(cell.width, cell.height);
         self.ensure_msaa_targets(samples);
         // The timed passes of a frame, in order: one span over the shadow layers, then the path's passes.
@@ -865,7 +911,15 @@ impl Renderer {
             }
             if deferred {
                 let timed: Vec<_> = (k..per_frame).map(timed).collect();
-                self.encode_deferred(&mut encoder, prepared, cell, &fixed_model, tile_group.as_ref(), &timed);
+                self.encode_deferred(
+                    &mut encoder,
+                    prepared,
+                    frame_group,
+                    cell,
+                    &fixed_model,
+                    tile_group.as_ref(),
+                    &timed,
+                );
             } else {
                 let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                     label: Some("forward"),
@@ -895,7 +949,7 @@ impl Renderer {
                     occlusion_query_set: None,
                     multiview_mask: None,
                 });
-                pass.set_bind_group(0, &prepared.frame_bind_group, &[]);
+                pass.set_bind_group(0, frame_group, &[]);
                 for (i, o) in prepared.objects.iter().enumerate() {
                     pass.set_pipeline(if o.role == Role::Subject { subject_pipeline } else { fixed_pipeline });
                     pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
@@ -983,10 +1037,12 @@ impl Renderer {
 
     /// One deferred frame: G-buffer, lighting per role, then what the G-buffer cannot carry drawn
     /// forward, and the background. The frame's timestamps bracket all three passes.
+    #[allow(clippy::too_many_arguments)]
     fn encode_deferred(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         prepared: &PreparedScene,
+        frame_group: &wgpu::BindGroup,
         cell: &CellParams,
         fixed_model: &ShaderModel,
         tile_group: Option<&wgpu::BindGroup>,
@@ -1026,7 +1082,7 @@ impl Renderer {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            pass.set_bind_group(0, &prepared.frame_bind_group, &[]);
+            pass.set_bind_group(0, frame_group, &[]);
             for (i, o) in prepared.objects.iter().enumerate().filter(|(_, o)| model_of(o).deferrable()) {
                 pass.set_pipeline(&self.gbuffer_pipelines[&(p, model_of(o).name.to_string())]);
                 pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
@@ -1043,7 +1099,7 @@ impl Renderer {
             });
             let (tx, ty, _) = super::deferred::tile_grid(t.width, t.height, 0);
             pass.set_pipeline(pipeline);
-            pass.set_bind_group(0, &prepared.frame_bind_group, &[]);
+            pass.set_bind_group(0, frame_group, &[]);
             pass.set_bind_group(3, group, &[]);
             pass.dispatch_workgroups(tx, ty, 1);
         }
@@ -1056,7 +1112,7 @@ impl Renderer {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            pass.set_bind_group(0, &prepared.frame_bind_group, &[]);
+            pass.set_bind_group(0, frame_group, &[]);
             pass.set_bind_group(1, &prepared.object_bind_group, &[0]);
             pass.set_bind_group(2, gb.read(p), &[]);
             pass.set_bind_group(3, &self.tiles.read, &[]);
@@ -1079,7 +1135,7 @@ impl Renderer {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        pass.set_bind_group(0, &prepared.frame_bind_group, &[]);
+        pass.set_bind_group(0, frame_group, &[]);
         pass.set_bind_group(1, &prepared.object_bind_group, &[0]);
         for (i, o) in prepared.objects.iter().enumerate().filter(|(_, o)| !model_of(o).deferrable()) {
             pass.set_pipeline(&self.forward[&(p, model_of(o).name.to_string(), false, 1)]);
@@ -1214,6 +1270,7 @@ impl Renderer {
             0.0,
         ];
         frame.subject = gpu_material(&cell.surface, GpuMaterial::zeroed());
+        frame.subject.params[3] = if cell.settings.material_maps.is_some() { 1.0 } else { 0.0 };
         let any = Sliders { base_color_linear: [1.0; 3], metallic: 0.0, smoothness: 0.5 };
         frame.fixed = gpu_material(&fixed_model.surface(p, &any), GpuMaterial::zeroed());
         self.gpu.queue.write_buffer(&prepared.frame_buffer, 0, bytemuck::bytes_of(&frame));
@@ -1327,6 +1384,19 @@ fn shadow_pipeline(
 }
 
 /// A read-only storage buffer of the frame group, seen by both stages (vertex lights read it).
+fn material_map_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+        ty: wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Float { filterable: true },
+            view_dimension: wgpu::TextureViewDimension::D2,
+            multisampled: false,
+        },
+        count: None,
+    }
+}
+
 fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,

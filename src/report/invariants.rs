@@ -68,6 +68,7 @@ fn record_value(r: &CellRecord, axis: Axis) -> FilterValue {
         Axis::Color => FilterValue::Color(color_code(r.sliders.slider_color_srgb)),
         Axis::CameraDistance => r.view.camera_distance.map_or(FilterValue::Name("scene".into()), FilterValue::Number),
         Axis::LightAngle => r.view.light_angle.map_or(FilterValue::Name("scene".into()), FilterValue::Number),
+        Axis::Textured => FilterValue::Name(r.textured.to_string()),
     }
 }
 

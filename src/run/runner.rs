@@ -379,6 +379,7 @@ impl<'a> Stream<'a> {
                         path: cell.path,
                         light_budget: cell.light_budget,
                         antialiasing: cell.antialiasing,
+                        material_maps: cell.material_maps(),
                     },
                 };
                 let t = Instant::now();

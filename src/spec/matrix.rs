@@ -112,6 +112,9 @@ pub struct Sweep {
     /// Degrees between the directions from the camera target to the camera and to the key light.
     #[serde(default)]
     pub light_angle: Vec<f64>,
+    /// The subject's preset flat (false) or in its textured form (true, `materials`).
+    #[serde(default)]
+    pub textured: Vec<bool>,
     /// A list per model parameter (`ior = [1.3, 1.5]`); a cell whose model lacks a parameter is
     /// not multiplied by it.
     #[serde(default)]
@@ -198,10 +201,11 @@ pub enum Axis {
     Color,
     CameraDistance,
     LightAngle,
+    Textured,
 }
 
 impl Axis {
-    pub const ALL: [Axis; 12] = [
+    pub const ALL: [Axis; 13] = [
         Axis::Composition,
         Axis::Pipeline,
         Axis::Path,
@@ -214,6 +218,7 @@ impl Axis {
         Axis::Color,
         Axis::CameraDistance,
         Axis::LightAngle,
+        Axis::Textured,
     ];
 
     pub fn name(self) -> &'static str {
@@ -230,6 +235,7 @@ impl Axis {
             Axis::Color => "color",
             Axis::CameraDistance => "camera_distance",
             Axis::LightAngle => "light_angle",
+            Axis::Textured => "textured",
         }
     }
 
@@ -517,6 +523,7 @@ impl Matrix {
                 Axis::Path => RenderPath::names().iter().map(|s| s.to_string()).collect(),
                 Axis::Shader => model_names.iter().map(|s| s.to_string()).collect(),
                 Axis::Preset => preset_names().iter().map(|s| s.to_string()).collect(),
+                Axis::Textured => vec!["false".into(), "true".into()],
                 Axis::Color => {
                     let mut v: Vec<String> = file.sweep.color.iter().map(|c| color_code(Some(*c))).collect();
                     if v.is_empty() {
@@ -740,6 +747,7 @@ pub(crate) fn parse_filter(c: &Checker, key: &str, table: &toml::Table) -> Resul
                 continue;
             }
             let value = match (axis.is_numeric(), item) {
+                (false, toml::Value::Boolean(b)) if axis == Axis::Textured => FilterValue::Name(b.to_string()),
                 (true, toml::Value::Float(f)) => FilterValue::Number(*f),
                 (true, toml::Value::Integer(i)) => FilterValue::Number(*i as f64),
                 (false, toml::Value::String(s)) => FilterValue::Name(s.clone()),

@@ -2,7 +2,7 @@
 //! matrix (`sheets = [...]`) and of the run record; the report stage draws them.
 
 /// The axes a sheet can lay out, as named in matrices and cell records.
-pub const AXES: [&str; 13] = [
+pub const AXES: [&str; 14] = [
     "composition",
     "pipeline",
     "path",
@@ -16,6 +16,7 @@ pub const AXES: [&str; 13] = [
     "camera_distance",
     "light_angle",
     "params",
+    "textured",
 ];
 #[derive(Debug, Clone, serde::Deserialize, serde::Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]

@@ -20,6 +20,7 @@ const STAGES: &[&str] = &[
     "spec",
     "geometry",
     "environment",
+    "materials",
     "cells",
     "plan",
     "render",
