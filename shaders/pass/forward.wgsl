@@ -100,6 +100,12 @@ fn material_at_vertex(uv: vec2<f32>) -> Surface {
     return material_from(uv, textureSampleLevel(material_albedo, material_sampler, uv, 0.0), textureSampleLevel(material_mask, material_sampler, uv, 0.0));
 }
 
+// The drawn object's emitted radiance: the subject's where its model emits (zero else), added to
+// the lit colour before tonemapping as Unity's emission is.
+fn emission() -> vec3<f32> {
+    return select(vec3<f32>(0.0), frame.subject.emission.rgb, object.flags.x == 1u);
+}
+
 fn is_textured() -> bool {
     return object.flags.x == 1u && frame.subject.params.w > 0.5;
 }
@@ -270,7 +276,7 @@ fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>, vertex_gi: vec3<f32>) -> vec3<f
 fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> FragmentOut {
     let n = mapped_normal(shading_normal(in.normal, cross(dpdx(in.world_pos), dpdy(in.world_pos)), in.world_pos, front), in.tangent, in.uv);
     var out: FragmentOut;
-    out.color = vec4<f32>(shade(material_at(in.uv), n, in.world_pos, in.vertex_gi), 1.0);
+    out.color = vec4<f32>(shade(material_at(in.uv), n, in.world_pos, in.vertex_gi) + emission(), 1.0);
     out.role = object.flags.y;
     return out;
 }
@@ -296,7 +302,7 @@ fn vs_gouraud(in: VertexIn) -> GouraudOut {
 @fragment
 fn fs_gouraud(in: GouraudOut) -> FragmentOut {
     var out: FragmentOut;
-    out.color = vec4<f32>(in.color, 1.0);
+    out.color = vec4<f32>(in.color + emission(), 1.0);
     out.role = object.flags.y;
     return out;
 }
@@ -328,7 +334,8 @@ fn fs_gbuffer(in: VertexOut, @builtin(front_facing) front: bool) -> GBufferOut {
     out.albedo = vec4<f32>(s.base_color, 1.0);
     out.material = vec4<f32>(s.metallic, s.smoothness, 0.0, 0.0);
     out.normal = vec4<f32>(n * 0.5 + 0.5, f32(object.flags.w));
-    out.lighting = vec4<f32>(model_indirect(s, n, v, gi) * material_occlusion, 1.0);
+    // Emission joins the indirect light in RT3, as Unity's deferred paths write it.
+    out.lighting = vec4<f32>(model_indirect(s, n, v, gi) * material_occlusion + emission(), 1.0);
     out.role = object.flags.y;
     return out;
 }

@@ -25,6 +25,7 @@ struct Material {
     specular: vec4<f32>,     // the model's specular colour
     model0: vec4<f32>,       // the model's parameters, slots 0–3
     model1: vec4<f32>,       // slots 4–7
+    emission: vec4<f32>,     // emitted radiance (the subject's, where its model emits)
 };
 
 struct Frame {

@@ -56,6 +56,9 @@ pub struct Cell {
     /// The subject wears its preset's textured form (`materials`).
     #[serde(default)]
     pub textured: bool,
+    /// The emission axis, when swept (`Sweep::emission`).
+    #[serde(default)]
+    pub emission: Option<f64>,
     /// The view axes, when swept: metres from the camera target, degrees between light and view.
     pub camera_distance: Option<f64>,
     pub light_angle: Option<f64>,
@@ -132,6 +135,9 @@ fn opt_list<T: Copy>(v: &[T]) -> Vec<Option<T>> {
 
 pub fn expand(m: &Matrix) -> Expansion {
     let textured_values: Vec<bool> = if m.sweep.textured.is_empty() { vec![false] } else { m.sweep.textured.clone() };
+    // The subject's surface variants: flat or textured × each emission.
+    let variants: Vec<(bool, Option<f64>)> =
+        textured_values.iter().flat_map(|t| opt_list(&m.sweep.emission).into_iter().map(move |e| (*t, e))).collect();
     let mut cells = Vec::new();
     let mut pruned = Vec::new();
     let mut filtered_out = 0;
@@ -168,9 +174,9 @@ pub fn expand(m: &Matrix) -> Expansion {
                                         for range in opt_list(&m.sweep.light_range) {
                                             for camera_distance in opt_list(&m.sweep.camera_distance) {
                                                 for light_angle in opt_list(&m.sweep.light_angle) {
-                                                    for (params, &textured) in param_sets
+                                                    for (params, &(textured, emission)) in param_sets
                                                         .iter()
-                                                        .flat_map(|p| textured_values.iter().map(move |t| (p, t)))
+                                                        .flat_map(|p| variants.iter().map(move |v| (p, v)))
                                                     {
                                                         let cell = Cell {
                                                             id: CellId(String::new()),
@@ -189,6 +195,7 @@ pub fn expand(m: &Matrix) -> Expansion {
                                                             height: m.image.height,
                                                             params: params.clone(),
                                                             textured,
+                                                            emission,
                                                             camera_distance,
                                                             light_angle,
                                                             display,
@@ -289,6 +296,9 @@ pub fn cell_id(c: &Cell) -> CellId {
     for (name, v) in &c.params {
         id.push_str(&format!("_{name}{}", short_number(*v)));
     }
+    if let Some(e) = c.emission {
+        id.push_str(&format!("_e{}", short_number(e)));
+    }
     if c.textured {
         id.push_str("_tex");
     }
@@ -347,6 +357,7 @@ pub fn matches_filter(c: &Cell, f: &Filter) -> bool {
             (Axis::CameraDistance, FilterValue::Number(x)) => c.camera_distance.is_some_and(|d| close(d, *x)),
             (Axis::LightAngle, FilterValue::Number(x)) => c.light_angle.is_some_and(|a| close(a, *x)),
             (Axis::Textured, FilterValue::Name(n)) => c.textured.to_string() == *n,
+            (Axis::Emission, FilterValue::Number(x)) => close(c.emission.unwrap_or(0.0), *x),
             _ => false,
         })
     })
@@ -371,6 +382,9 @@ fn render_key(c: &Cell, keyless: bool) -> String {
     }
     if r.smoothness {
         key.push_str(&format!("|s{}", m.smoothness));
+    }
+    if c.model().emits() {
+        key.push_str(&format!("|e{:?}", c.emission));
     }
     // Fixed objects are lit by the key light whatever the shader, so light and view axes count
     // wherever there is a key light.

@@ -21,7 +21,7 @@ use crate::plan::lights::ObjectLights;
 /// units, the model parameters the sweep set, the light assignment and GPU time per pass;
 /// 4: anti-aliasing (asked, rendered samples and why they differ) and shadow-map resolutions;
 /// 5: the subject's peak luminance, overflow counted before the half-float store saturates it, and
-/// whether the subject wore its textured preset.
+/// whether the subject wore its textured preset, and its emission.
 pub const CELL_SCHEMA: u32 = 5;
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -40,6 +40,9 @@ pub struct CellRecord {
     /// The subject wore its preset's textured form (maps from `materials`).
     #[serde(default)]
     pub textured: bool,
+    /// The emission axis, when swept.
+    #[serde(default)]
+    pub emission: Option<f64>,
     /// The sweep's values (slider units).
     pub sliders: MaterialParams,
     /// The model's inputs as the shader receives them.
@@ -98,6 +101,7 @@ impl CellRecord {
             "light_intensity" => num(self.key_light.intensity),
             "light_range" => num(self.key_light.range),
             "textured" => self.textured.to_string(),
+            "emission" => self.emission.map_or_else(|| "none".into(), num),
             _ => "?".into(),
         }
     }

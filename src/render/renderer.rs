@@ -55,6 +55,8 @@ pub struct CellSettings {
     pub antialiasing: Antialiasing,
     /// The preset whose textured form the subject wears (None: flat).
     pub material_maps: Option<&'static str>,
+    /// The emission axis (0: none); the model decides whether it emits.
+    pub emission: f64,
 }
 
 /// The samples per pixel a cell rendered with, and why they differ from what it asked, if they do.
@@ -1271,6 +1273,11 @@ impl Renderer {
         ];
         frame.subject = gpu_material(&cell.surface, GpuMaterial::zeroed());
         frame.subject.params[3] = if cell.settings.material_maps.is_some() { 1.0 } else { 0.0 };
+        if cell.model.emits() {
+            // Emissive radiance: the subject's colour × the axis, in the pipeline's light units.
+            let e = cell.surface.base_color * cell.settings.emission * p.intensity_scale();
+            frame.subject.emission = [e.x as f32, e.y as f32, e.z as f32, 0.0];
+        }
         let any = Sliders { base_color_linear: [1.0; 3], metallic: 0.0, smoothness: 0.5 };
         frame.fixed = gpu_material(&fixed_model.surface(p, &any), GpuMaterial::zeroed());
         self.gpu.queue.write_buffer(&prepared.frame_buffer, 0, bytemuck::bytes_of(&frame));
@@ -1421,6 +1428,7 @@ fn gpu_material(s: &Surface, pattern: GpuMaterial) -> GpuMaterial {
         specular: v(s.specular),
         model0: [q[0], q[1], q[2], q[3]],
         model1: [q[4], q[5], q[6], q[7]],
+        emission: [0.0; 4],
     }
 }
 

@@ -36,6 +36,8 @@ pub struct GpuMaterial {
     pub specular: [f32; 4],
     pub model0: [f32; 4],
     pub model1: [f32; 4],
+    /// Emitted radiance (linear RGB, the pipeline's units), added before tonemapping.
+    pub emission: [f32; 4],
 }
 
 #[repr(C)]
@@ -78,8 +80,8 @@ mod tests {
     fn sizes_match_wgsl_layout() {
         assert_eq!(std::mem::size_of::<GpuLight>(), 96);
         assert_eq!(std::mem::size_of::<ShadowLayer>(), 96);
-        assert_eq!(std::mem::size_of::<GpuMaterial>(), 96);
-        assert_eq!(std::mem::size_of::<FrameUniforms>(), 64 + 64 + 16 + 16 + 144 + 16 + 96 + 96);
-        assert_eq!(std::mem::size_of::<ObjectUniforms>(), 64 + 64 + 96 + 16 + 144);
+        assert_eq!(std::mem::size_of::<GpuMaterial>(), 112);
+        assert_eq!(std::mem::size_of::<FrameUniforms>(), 64 + 64 + 16 + 16 + 144 + 16 + 112 + 112);
+        assert_eq!(std::mem::size_of::<ObjectUniforms>(), 64 + 64 + 112 + 16 + 144);
     }
 }

@@ -69,6 +69,7 @@ fn record_value(r: &CellRecord, axis: Axis) -> FilterValue {
         Axis::CameraDistance => r.view.camera_distance.map_or(FilterValue::Name("scene".into()), FilterValue::Number),
         Axis::LightAngle => r.view.light_angle.map_or(FilterValue::Name("scene".into()), FilterValue::Number),
         Axis::Textured => FilterValue::Name(r.textured.to_string()),
+        Axis::Emission => FilterValue::Number(r.emission.unwrap_or(0.0)),
     }
 }
 

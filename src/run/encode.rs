@@ -182,6 +182,7 @@ fn cell_record(matrix: &Matrix, cell: &Cell, adapter: &str, m: Measured) -> Cell
         shader_source: cell.model().source_path.to_string(),
         preset: cell.preset.clone(),
         textured: cell.textured,
+        emission: cell.emission,
         sliders: cell.material,
         shader_inputs: shader_inputs(cell),
         key_light: key_light(matrix, cell),

@@ -380,6 +380,7 @@ impl<'a> Stream<'a> {
                         light_budget: cell.light_budget,
                         antialiasing: cell.antialiasing,
                         material_maps: cell.material_maps(),
+                        emission: cell.emission.unwrap_or(0.0),
                     },
                 };
                 let t = Instant::now();

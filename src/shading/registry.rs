@@ -73,6 +73,14 @@ pub struct ShaderModel {
 }
 
 impl ShaderModel {
+    /// Whether the engine's shader has an emission term (Standard in all its BRDF tiers, URP Lit
+    /// and Simple Lit, HDRP Lit): the emission axis reaches only these; the classic models, Unlit
+    /// and user models have none.
+    pub fn emits(&self) -> bool {
+        self.twin.is_some()
+            && matches!(self.name.as_ref(), "standard" | "standard_brdf2" | "standard_brdf3" | "lit" | "simple_lit")
+    }
+
     /// Whether the model can be drawn into a G-buffer: a per-vertex (Gouraud) or main-light-only
     /// model cannot, and a deferred path draws it forward after the lighting.
     pub fn deferrable(&self) -> bool {

@@ -115,6 +115,10 @@ pub struct Sweep {
     /// The subject's preset flat (false) or in its textured form (true, `materials`).
     #[serde(default)]
     pub textured: Vec<bool>,
+    /// Emission: the subject's colour × this, in the pipeline's light units (HDRP ×10⁴, as the
+    /// light axis), added before tonemapping by the models whose engine shader emits.
+    #[serde(default)]
+    pub emission: Vec<f64>,
     /// A list per model parameter (`ior = [1.3, 1.5]`); a cell whose model lacks a parameter is
     /// not multiplied by it.
     #[serde(default)]
@@ -132,6 +136,7 @@ impl Sweep {
             Axis::LightRange => &self.light_range,
             Axis::CameraDistance => &self.camera_distance,
             Axis::LightAngle => &self.light_angle,
+            Axis::Emission => &self.emission,
             _ => return 0,
         };
         let mut distinct: Vec<f64> = Vec::new();
@@ -202,10 +207,11 @@ pub enum Axis {
     CameraDistance,
     LightAngle,
     Textured,
+    Emission,
 }
 
 impl Axis {
-    pub const ALL: [Axis; 13] = [
+    pub const ALL: [Axis; 14] = [
         Axis::Composition,
         Axis::Pipeline,
         Axis::Path,
@@ -219,6 +225,7 @@ impl Axis {
         Axis::CameraDistance,
         Axis::LightAngle,
         Axis::Textured,
+        Axis::Emission,
     ];
 
     pub fn name(self) -> &'static str {
@@ -236,6 +243,7 @@ impl Axis {
             Axis::CameraDistance => "camera_distance",
             Axis::LightAngle => "light_angle",
             Axis::Textured => "textured",
+            Axis::Emission => "emission",
         }
     }
 
@@ -248,6 +256,7 @@ impl Axis {
                 | Axis::LightRange
                 | Axis::CameraDistance
                 | Axis::LightAngle
+                | Axis::Emission
         )
     }
 }
@@ -471,6 +480,9 @@ impl Matrix {
         }
         for (i, v) in s.light_angle.iter().enumerate() {
             c.range(&format!("sweep.light_angle[{i}]"), *v, 0.0, 180.0)?;
+        }
+        for (i, v) in s.emission.iter().enumerate() {
+            c.range(&format!("sweep.emission[{i}]"), *v, 0.0, 100.0)?;
         }
         check_params(&c, origin, &s.params, &file.shaders, &pipelines, &registry)?;
         c.range("lights.pixel_light_count", file.lights.pixel_light_count as f64, 0.0, 64.0)?;

@@ -2,7 +2,7 @@
 //! matrix (`sheets = [...]`) and of the run record; the report stage draws them.
 
 /// The axes a sheet can lay out, as named in matrices and cell records.
-pub const AXES: [&str; 14] = [
+pub const AXES: [&str; 15] = [
     "composition",
     "pipeline",
     "path",
@@ -17,6 +17,7 @@ pub const AXES: [&str; 14] = [
     "light_angle",
     "params",
     "textured",
+    "emission",
 ];
 #[derive(Debug, Clone, serde::Deserialize, serde::Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]

@@ -103,3 +103,43 @@ fn a_normal_map_shapes_grazing_light() {
     eprintln!("relative spread of textured/flat: light along the normal {frontal:.4}, at 80° {grazing:.4}");
     assert!(grazing > 2.0 * frontal, "the normal map does not shape grazing light: {frontal} vs {grazing}");
 }
+
+#[test]
+fn emission_adds_the_subjects_colour_in_models_that_have_it() {
+    let tmp = tempfile::tempdir().unwrap();
+    let m = write_matrix(
+        tmp.path(),
+        "m.toml",
+        &format!(
+            "name = \"t\"\ncompositions = [\"{}\"]\npipelines = [\"builtin\", \"urp\", \"hdrp\"]\n\
+             shaders = [\"standard\", \"lit\", \"simple_lit\", \"lambert\"]\npresets = [\"blue_paint\"]\nantialiasing = \"none\"\n\
+             [sweep]\nemission = [0.0, 2.0]\n[image]\nwidth = 48\nheight = 48\n",
+            repo().join("scenes/invariants/key_only.toml").display()
+        ),
+    );
+    let (rc, out, err) = shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", "r"], &[]);
+    assert_eq!(rc, 0, "{out}\n{err}");
+    let dir = tmp.path().join("r");
+    let preset = shadematrix::spec::presets::find_preset("blue_paint").unwrap();
+    let luminance = |c: [f64; 3]| 0.2126729 * c[0] + 0.7151522 * c[1] + 0.0721750 * c[2];
+    for (pipeline, shader, scale) in
+        [("builtin", "standard", 1.0), ("urp", "lit", 1.0), ("urp", "simple_lit", 1.0), ("hdrp", "lit", 1e4)]
+    {
+        let id = |e: &str| format!("key_only__{pipeline}-forward__{shader}__blue_paint__m0.00_s0.60_i1_r10_e{e}");
+        let (_, off, w) = cell(&dir, &id("0"));
+        let (_, on, _) = cell(&dir, &id("2"));
+        // The centre of the subject: emission adds colour × 2 (× the pipeline's light unit) there.
+        let (a, _) = centre(&off, w, 0.2);
+        let (b, _) = centre(&on, w, 0.2);
+        let added = b.iter().zip(&a).map(|(b, a)| b - a).sum::<f64>() / a.len() as f64;
+        let expected = 2.0 * scale * luminance(preset.base_color);
+        eprintln!("{pipeline}/{shader}: emission added {added:.5}, expected {expected:.5}");
+        assert!((added / expected - 1.0).abs() < 1e-3, "{pipeline}/{shader}: {added} vs {expected}");
+    }
+    // Lambert has no emission: its emission cells are twins, one image.
+    let lambert = CellRecord::load(
+        &dir.join("cells/key_only__urp-forward__lambert__blue_paint__m0.00_s0.60_i1_r10_e2/cell.json"),
+    )
+    .unwrap();
+    assert!(lambert.twin_of.is_some(), "Lambert rendered its emission cell");
+}
