@@ -190,43 +190,43 @@ fn fgd_curves(s: &Settings) -> Vec<Curve> {
     };
     let reference_text =
         format!("{} Hammersley samples at {} scattered (N·V, pr) points", s.fgd_reference_samples, s.fgd_points);
-    let mut by_samples = Curve {
-        study: "fgd",
-        name: format!("FGD table {FGD_SIZE}², samples per texel"),
-        knob: "samples per texel",
-        timed: "building the table (all texels, every core)",
-        error: "largest |Δ| of x, y, z through the bilinear lookup",
-        reference: reference_text.clone(),
-        default: FGD_SAMPLES as u64,
-        default_why: HDRP_FGD,
-        points: Vec::new(),
+    let sweep = |name: String, knob: &'static str, default: u64, values: Vec<u64>, build: &dyn Fn(u64) -> FgdTable| {
+        let mut curve = Curve {
+            study: "fgd",
+            name,
+            knob,
+            timed: "building the table (all texels, every core)",
+            error: "largest |Δ| of x, y, z through the bilinear lookup",
+            reference: reference_text.clone(),
+            default,
+            default_why: HDRP_FGD,
+            points: Vec::new(),
+        };
+        for knob in values {
+            let t0 = Instant::now();
+            let table = build(knob);
+            let ms = ms_since(t0);
+            let (error, rms) = error(&table);
+            curve.points.push(ConvergencePoint { knob, ms, error, rms });
+        }
+        curve
     };
-    for &n in &s.fgd_samples {
-        let t0 = Instant::now();
-        let table = FgdTable::build(FGD_SIZE, n);
-        let ms = ms_since(t0);
-        let (error, rms) = error(&table);
-        by_samples.points.push(ConvergencePoint { knob: n as u64, ms, error, rms });
-    }
-    let mut by_size = Curve {
-        study: "fgd",
-        name: format!("FGD table at {FGD_SAMPLES} samples, texels per side"),
-        knob: "texels per side",
-        timed: "building the table (all texels, every core)",
-        error: "largest |Δ| of x, y, z through the bilinear lookup",
-        reference: reference_text,
-        default: FGD_SIZE as u64,
-        default_why: HDRP_FGD,
-        points: Vec::new(),
-    };
-    for &size in &s.fgd_sizes {
-        let t0 = Instant::now();
-        let table = FgdTable::build(size, FGD_SAMPLES);
-        let ms = ms_since(t0);
-        let (error, rms) = error(&table);
-        by_size.points.push(ConvergencePoint { knob: size as u64, ms, error, rms });
-    }
-    vec![by_samples, by_size]
+    vec![
+        sweep(
+            format!("FGD table {FGD_SIZE}², samples per texel"),
+            "samples per texel",
+            FGD_SAMPLES as u64,
+            s.fgd_samples.iter().map(|&n| n as u64).collect(),
+            &|n| FgdTable::build(FGD_SIZE, n as u32),
+        ),
+        sweep(
+            format!("FGD table at {FGD_SAMPLES} samples, texels per side"),
+            "texels per side",
+            FGD_SIZE as u64,
+            s.fgd_sizes.iter().map(|&n| n as u64).collect(),
+            &|size| FgdTable::build(size as usize, FGD_SAMPLES),
+        ),
+    ]
 }
 
 /// Directions spread over the sphere (Fibonacci).
