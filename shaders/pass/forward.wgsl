@@ -92,12 +92,26 @@ var<private> material_occlusion: f32 = 1.0;
 // a textured subject's maps modulate it (the albedo map, mean 1, multiplies the colour; the mask's
 // smoothness offset, mean 0, adds to the smoothness). Fragment stages sample with derivatives.
 fn material_at(uv: vec2<f32>) -> Surface {
-    return material_from(uv, textureSample(material_albedo, material_sampler, uv), textureSample(material_mask, material_sampler, uv));
+    // Sampled only for a textured subject (the branch is on uniforms, so uniform control flow):
+    // on a CPU rasteriser three samples per fragment of every object cost a third of the frame.
+    var albedo = vec4<f32>(1.0);
+    var mask = vec4<f32>(1.0, 1.0, 1.0, 0.5);
+    if (is_textured()) {
+        albedo = textureSample(material_albedo, material_sampler, uv);
+        mask = textureSample(material_mask, material_sampler, uv);
+    }
+    return material_from(uv, albedo, mask);
 }
 
 // The same at a vertex (the vertex-lit path): the finest level, as a vertex stage has no derivatives.
 fn material_at_vertex(uv: vec2<f32>) -> Surface {
-    return material_from(uv, textureSampleLevel(material_albedo, material_sampler, uv, 0.0), textureSampleLevel(material_mask, material_sampler, uv, 0.0));
+    var albedo = vec4<f32>(1.0);
+    var mask = vec4<f32>(1.0, 1.0, 1.0, 0.5);
+    if (is_textured()) {
+        albedo = textureSampleLevel(material_albedo, material_sampler, uv, 0.0);
+        mask = textureSampleLevel(material_mask, material_sampler, uv, 0.0);
+    }
+    return material_from(uv, albedo, mask);
 }
 
 // The drawn object's emitted radiance: the subject's where its model emits (zero else), added to
@@ -141,9 +155,12 @@ fn material_from(uv: vec2<f32>, albedo: vec4<f32>, mask: vec4<f32>) -> Surface {
 // cross(n, t)·w, as Unity's TransformTangentToWorld) carries the map's tangent-space normal to
 // world space. Without maps, or where the mesh has no tangent, n as it is.
 fn mapped_normal(n: vec3<f32>, tangent: vec4<f32>, uv: vec2<f32>) -> vec3<f32> {
+    if (!is_textured()) {
+        return n;
+    }
     let ts = textureSample(material_normal, material_sampler, uv).xyz;
     let t_raw = tangent.xyz - n * dot(n, tangent.xyz);
-    if (!is_textured() || dot(t_raw, t_raw) < 1e-12) {
+    if (dot(t_raw, t_raw) < 1e-12) {
         return n;
     }
     let t = normalize(t_raw);
