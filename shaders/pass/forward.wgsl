@@ -120,8 +120,11 @@ fn emission() -> vec3<f32> {
     return select(vec3<f32>(0.0), frame.subject.emission.rgb, object.flags.x == 1u);
 }
 
+// 1: the pipeline draws a textured subject; 0 compiles the map sampling away for flat cells.
+override TEXTURED: u32 = 0u;
+
 fn is_textured() -> bool {
-    return object.flags.x == 1u && frame.subject.params.w > 0.5;
+    return TEXTURED == 1u && object.flags.x == 1u && frame.subject.params.w > 0.5;
 }
 
 fn material_from(uv: vec2<f32>, albedo: vec4<f32>, mask: vec4<f32>) -> Surface {

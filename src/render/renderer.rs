@@ -185,7 +185,8 @@ pub struct Renderer {
     sampler: wgpu::Sampler,
     fgd: wgpu::TextureView,
     /// By pipeline, model, vertex-lit and sample count.
-    forward: HashMap<(Pipeline, String, bool, u32), wgpu::RenderPipeline>,
+    /// By (pipeline, model, vertex-lit, samples, textured subject).
+    forward: HashMap<(Pipeline, String, bool, u32, bool), wgpu::RenderPipeline>,
     /// Fixed objects are drawn with each pipeline's default lit shader, a built-in model.
     fixed_models: Registry,
     /// By sample count.
@@ -195,7 +196,7 @@ pub struct Renderer {
     gbuffer_read_layout: wgpu::BindGroupLayout,
     deferred_layout: wgpu::PipelineLayout,
     tiles: super::deferred::LightTiles,
-    gbuffer_pipelines: HashMap<(Pipeline, String), wgpu::RenderPipeline>,
+    gbuffer_pipelines: HashMap<(Pipeline, String, bool), wgpu::RenderPipeline>,
     lighting_pipelines: HashMap<(Pipeline, String, u32), wgpu::RenderPipeline>,
     shadow_sampler: wgpu::Sampler,
     material_sampler: wgpu::Sampler,
@@ -346,15 +347,17 @@ impl Renderer {
     }
 
     /// The forward pipeline of a model; `vertex_lit`: built-in's legacy vertex-lit path, which
-    /// evaluates the lighting at the vertices (Gouraud) with its own light list.
+    /// evaluates the lighting at the vertices (Gouraud) with its own light list; `textured`: the
+    /// subject wears material maps (a flat subject's pipeline compiles the sampling away).
     fn forward_pipeline(
         &mut self,
         pipeline: Pipeline,
         model: &ShaderModel,
         vertex_lit: bool,
         samples: u32,
+        textured: bool,
     ) -> Result<(), Error> {
-        let key = (pipeline, model.name.to_string(), vertex_lit, samples);
+        let key = (pipeline, model.name.to_string(), vertex_lit, samples, textured);
         if self.forward.contains_key(&key) {
             return Ok(());
         }
@@ -365,6 +368,7 @@ impl Renderer {
             ("PIPELINE", pipeline.shader_id() as f64),
             ("MAIN_LIGHT_ONLY", model.main_light_only as u32 as f64),
             ("VERTEX_LIT", vertex_lit as u32 as f64),
+            ("TEXTURED", textured as u32 as f64),
         ];
         let entries = if per_vertex { ("vs_gouraud", "fs_gouraud") } else { ("vs_main", "fs_main") };
         let label = format!("forward {}/{}", pipeline.name(), model.name);
@@ -421,14 +425,14 @@ impl Renderer {
     }
 
     /// The deferred path's G-buffer pipeline of a model in a pipeline convention.
-    fn gbuffer_pipeline(&mut self, pipeline: Pipeline, model: &ShaderModel) -> Result<(), Error> {
-        let key = (pipeline, model.name.to_string());
+    fn gbuffer_pipeline(&mut self, pipeline: Pipeline, model: &ShaderModel, textured: bool) -> Result<(), Error> {
+        let key = (pipeline, model.name.to_string(), textured);
         if self.gbuffer_pipelines.contains_key(&key) {
             return Ok(());
         }
         let source = wgsl::compose(wgsl::PassKind::Forward, Some(model));
         let module = self.gpu.shader_module(&format!("gbuffer {}/{}", pipeline.name(), model.name), &source)?;
-        let constants = [("PIPELINE", pipeline.shader_id() as f64)];
+        let constants = [("PIPELINE", pipeline.shader_id() as f64), ("TEXTURED", textured as u32 as f64)];
         let targets = [
             Some(super::deferred::GB_ALBEDO.into()),
             Some(super::deferred::GB_MATERIAL.into()),
@@ -849,12 +853,13 @@ impl Renderer {
         let (asked, why_one) = cell.settings.antialiasing.samples_on(cell.settings.path);
         let multisampling = self.multisampling(asked, why_one);
         let samples = multisampling.samples;
-        self.forward_pipeline(cell.pipeline, subject_model, vertex_lit, samples)?;
-        self.forward_pipeline(cell.pipeline, &fixed_model, vertex_lit, samples)?;
+        let textured = cell.settings.material_maps.is_some();
+        self.forward_pipeline(cell.pipeline, subject_model, vertex_lit, samples, textured)?;
+        self.forward_pipeline(cell.pipeline, &fixed_model, vertex_lit, samples, false)?;
         if deferred {
             for (model, role) in [(subject_model, ROLE_SUBJECT), (&*fixed_model, ROLE_FIXED)] {
                 if model.deferrable() {
-                    self.gbuffer_pipeline(cell.pipeline, model)?;
+                    self.gbuffer_pipeline(cell.pipeline, model, textured && role == ROLE_SUBJECT)?;
                     self.lighting_pipeline(cell.pipeline, model, role)?;
                 }
             }
@@ -887,8 +892,9 @@ impl Renderer {
         }
         let timer = self.timer.as_ref().filter(|_| self.gpu.record.timestamp_queries);
         let t = self.targets.as_ref().expect("targets exist");
-        let subject_pipeline = &self.forward[&(cell.pipeline, subject_model.name.to_string(), vertex_lit, samples)];
-        let fixed_pipeline = &self.forward[&(cell.pipeline, fixed_model.name.to_string(), vertex_lit, samples)];
+        let subject_pipeline =
+            &self.forward[&(cell.pipeline, subject_model.name.to_string(), vertex_lit, samples, textured)];
+        let fixed_pipeline = &self.forward[&(cell.pipeline, fixed_model.name.to_string(), vertex_lit, samples, false)];
         // With MSAA the pass draws into the multisampled targets and resolves into the frame's own.
         let msaa = t.msaa.as_ref().filter(|_| samples > 1);
         let (color_view, role_view, depth_view) = match msaa {
@@ -1086,7 +1092,8 @@ impl Renderer {
             });
             pass.set_bind_group(0, frame_group, &[]);
             for (i, o) in prepared.objects.iter().enumerate().filter(|(_, o)| model_of(o).deferrable()) {
-                pass.set_pipeline(&self.gbuffer_pipelines[&(p, model_of(o).name.to_string())]);
+                let textured = o.role == Role::Subject && cell.settings.material_maps.is_some();
+                pass.set_pipeline(&self.gbuffer_pipelines[&(p, model_of(o).name.to_string(), textured)]);
                 pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
                 pass.set_vertex_buffer(0, o.vertices.slice(..));
                 pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);
@@ -1140,7 +1147,8 @@ impl Renderer {
         pass.set_bind_group(0, frame_group, &[]);
         pass.set_bind_group(1, &prepared.object_bind_group, &[0]);
         for (i, o) in prepared.objects.iter().enumerate().filter(|(_, o)| !model_of(o).deferrable()) {
-            pass.set_pipeline(&self.forward[&(p, model_of(o).name.to_string(), false, 1)]);
+            let textured = o.role == Role::Subject && cell.settings.material_maps.is_some();
+            pass.set_pipeline(&self.forward[&(p, model_of(o).name.to_string(), false, 1, textured)]);
             pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
             pass.set_vertex_buffer(0, o.vertices.slice(..));
             pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);
