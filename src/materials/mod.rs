@@ -38,7 +38,6 @@ pub struct MapLevel {
 /// A preset's maps, finest level first.
 #[derive(Debug, Clone)]
 pub struct MaterialMaps {
-    pub preset: String,
     pub levels: Vec<MapLevel>,
 }
 
@@ -122,7 +121,7 @@ pub fn generate(preset: &str, size: usize) -> MaterialMaps {
         let next = downsample(levels.last().expect("non-empty"));
         levels.push(next);
     }
-    MaterialMaps { preset: preset.to_string(), levels }
+    MaterialMaps { levels }
 }
 
 /// The next mip: 2×2 box filter (linear values), normals renormalised.

@@ -12,7 +12,7 @@ use super::run_data::RunData;
 use crate::error::Error;
 use crate::fsutil::write_atomic;
 use crate::images::stats::Defect;
-use crate::pipelines::Pipeline;
+use crate::pipelines::{Pipeline, RenderPath};
 use crate::shading::guards::stiff_terms;
 use crate::shading::registry::Registry;
 
@@ -45,9 +45,9 @@ struct Group {
 }
 
 pub fn write(run: &RunData) -> Result<(), Error> {
-    let mut groups: BTreeMap<(String, String, String), Group> = BTreeMap::new();
+    let mut groups: BTreeMap<(Pipeline, RenderPath, String), Group> = BTreeMap::new();
     for c in &run.cells {
-        let g = groups.entry((c.pipeline.name().into(), c.path.name().into(), c.shader.clone())).or_default();
+        let g = groups.entry((c.pipeline, c.path, c.shader.clone())).or_default();
         g.cells += 1;
         g.max_value = g.max_value.max(c.stats.max_value);
         g.min_value = g.min_value.min(c.stats.min_value);
@@ -78,17 +78,20 @@ pub fn write(run: &RunData) -> Result<(), Error> {
         "pipeline,path,shader,cells,nan_values,nan_cells,inf_values,inf_cells,negative_values,negative_cells,overflow_values,overflow_cells,max_value,min_value,guard\n",
     );
     let builtin = Registry::builtin();
-    for ((p, path, shader), g) in &groups {
+    // Rows by name, as the table has always been sorted.
+    let mut rows: Vec<_> = groups.iter().collect();
+    rows.sort_by(|((a, ap, ash), _), ((b, bp, bsh), _)| (a.name(), ap.name(), ash).cmp(&(b.name(), bp.name(), bsh)));
+    for ((p, path, shader), g) in rows {
         let verdict = |k: Defect| match g.counts.get(&k) {
             Some((0, _)) | None => "pass".to_string(),
             Some((n, cells)) if k == Defect::Overflow => format!("pass: {n} saturated in {cells} cells"),
             Some((n, cells)) => format!("**fail** {n} in {cells} cells"),
         };
-        let pipeline = Pipeline::from_name(p);
-        let guards = match pipeline.filter(|&pl| builtin.find(pl, shader).is_some()) {
-            Some(pl) => stiff_terms(shader, pl),
+        let guards = match builtin.find(*p, shader) {
+            Some(_) => stiff_terms(shader, *p),
             None => "a user model: its findings are reported, not guarded",
         };
+        let (p, path) = (p.name(), path.name());
         let first = g.first.values().next().cloned().unwrap_or_else(|| "—".into());
         let _ = writeln!(
             md,

@@ -50,10 +50,10 @@ pub struct EncodedCell {
 pub fn encode_cell(matrix: &Matrix, dir: &Path, adapter: &str, job: RenderedCell) -> Result<EncodedCell, Error> {
     let RenderedCell { cell, render: mut r, supersampled } = job;
     let t0 = ThreadTimer::start();
-    let (mut srgb8, mut display) = tonemap::to_srgb8(&r.hdr, r.width, r.height, &cell.display);
+    let shown = tonemap::to_srgb8(&r.hdr, r.width, r.height, &cell.display);
     let plan = crate::plan::FramePlan::for_scene(&matrix.compositions[cell.composition_index]);
-    let pre_exposure = display.exposure.as_ref().map_or(1.0, |e| e.exposure);
-    let stats = pixel_stats(&r, pre_exposure, |role| {
+    // Counted in what the passes wrote, before the store saturates the overflow.
+    let stats = pixel_stats(&r, pre_exposure(&shown.1), |role| {
         let (role, forward_only) = match role {
             ROLE_SUBJECT => (Some(Role::Subject), !cell.model().deferrable()),
             ROLE_FIXED => (Some(Role::Fixed), false),
@@ -61,10 +61,7 @@ pub fn encode_cell(matrix: &Matrix, dir: &Path, adapter: &str, job: RenderedCell
         };
         plan.pass_writing(cell.path, role, forward_only).to_string()
     });
-    // The images are what the half-float camera target holds; the tonemapper sees the same values.
-    if store_half_float(&mut r.hdr, pre_exposure) > 0 {
-        (srgb8, display) = tonemap::to_srgb8(&r.hdr, r.width, r.height, &cell.display);
-    }
+    let (srgb8, display) = store(&mut r.hdr, r.width, r.height, cell, shown);
     let exr = encode::exr_bytes(r.width, r.height, &r.hdr)?;
     let png = encode::png_bytes(r.width, r.height, &srgb8)?;
     let encode_ms = t0.elapsed_ns() as f64 / 1e6;
@@ -114,6 +111,22 @@ pub fn encode_cell(matrix: &Matrix, dir: &Path, adapter: &str, job: RenderedCell
     })
 }
 
+/// The multiplier the pipeline writes its colour target with: HDRP's exposure, else 1.
+fn pre_exposure(d: &DisplayRecord) -> f64 {
+    d.exposure.as_ref().map_or(1.0, |e| e.exposure)
+}
+
+/// What the half-float camera target holds (`images::target`): `hdr` saturated at the
+/// pre-exposure `shown` was metered with, and its display image — tonemapped again when the store
+/// changed a value, so the PNG shows what the EXR holds.
+fn store(hdr: &mut [f32], w: u32, h: u32, cell: &Cell, shown: (Vec<u8>, DisplayRecord)) -> (Vec<u8>, DisplayRecord) {
+    if store_half_float(hdr, pre_exposure(&shown.1)) > 0 {
+        tonemap::to_srgb8(hdr, w, h, &cell.display)
+    } else {
+        shown
+    }
+}
+
 /// Box-filter the k× render down to the cell's size: reference.exr and reference.png.
 fn write_supersampled(dir: &Path, cell: &Cell, k: u32, big: &[f32]) -> Result<(), Error> {
     let (pw, ph, k) = (cell.width as usize, cell.height as usize, k as usize);
@@ -132,10 +145,8 @@ fn write_supersampled(dir: &Path, cell: &Cell, k: u32, big: &[f32]) -> Result<()
             }
         }
     }
-    let (mut srgb, display) = tonemap::to_srgb8(&small, cell.width, cell.height, &cell.display);
-    if store_half_float(&mut small, display.exposure.as_ref().map_or(1.0, |e| e.exposure)) > 0 {
-        srgb = tonemap::to_srgb8(&small, cell.width, cell.height, &cell.display).0;
-    }
+    let shown = tonemap::to_srgb8(&small, cell.width, cell.height, &cell.display);
+    let (srgb, _) = store(&mut small, cell.width, cell.height, cell, shown);
     write_atomic(&dir.join("reference.exr"), &encode::exr_bytes(cell.width, cell.height, &small)?)?;
     write_atomic(&dir.join("reference.png"), &encode::png_bytes(cell.width, cell.height, &srgb)?)
 }
