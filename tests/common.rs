@@ -105,3 +105,41 @@ pub fn superposition_error(
     }
     worst
 }
+
+/// A textured glTF plane the test writes: base colour red in the half u < 0.5 and blue beyond,
+/// emissive green in the half v < 0.5 (both factors white), with its buffer and PNGs beside it.
+pub fn write_textured_gltf(dir: &std::path::Path) -> std::path::PathBuf {
+    let positions: [[f32; 3]; 4] = [[-1.0, 0.0, -1.0], [1.0, 0.0, -1.0], [1.0, 0.0, 1.0], [-1.0, 0.0, 1.0]];
+    let normals = [[0.0f32, 1.0, 0.0]; 4];
+    let uvs: [[f32; 2]; 4] = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+    let indices: [u32; 6] = [0, 3, 2, 0, 2, 1];
+    let mut bin = Vec::new();
+    bin.extend_from_slice(bytemuck::cast_slice(&positions));
+    bin.extend_from_slice(bytemuck::cast_slice(&normals));
+    bin.extend_from_slice(bytemuck::cast_slice(&uvs));
+    bin.extend_from_slice(bytemuck::cast_slice(&indices));
+    std::fs::write(dir.join("plane.bin"), &bin).unwrap();
+    let png = |name: &str, f: &dyn Fn(u32, u32) -> [u8; 4]| {
+        image::RgbaImage::from_fn(8, 8, |x, y| image::Rgba(f(x, y))).save(dir.join(name)).unwrap();
+    };
+    png("base.png", &|x, _| if x < 4 { [255, 0, 0, 255] } else { [0, 0, 255, 255] });
+    png("emissive.png", &|_, y| if y < 4 { [0, 255, 0, 255] } else { [0, 0, 0, 255] });
+    let json = format!(
+        r#"{{"asset": {{"version": "2.0"}}, "scene": 0, "scenes": [{{"nodes": [0]}}], "nodes": [{{"mesh": 0}}],
+  "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}}, "indices": 3, "material": 0}}]}}],
+  "materials": [{{"name": "test", "pbrMetallicRoughness": {{"baseColorFactor": [1, 1, 1, 1], "metallicFactor": 0, "roughnessFactor": 1,
+      "baseColorTexture": {{"index": 0}}}}, "emissiveFactor": [1, 1, 1], "emissiveTexture": {{"index": 1}}}}],
+  "textures": [{{"source": 0}}, {{"source": 1}}], "images": [{{"uri": "base.png"}}, {{"uri": "emissive.png"}}],
+  "buffers": [{{"uri": "plane.bin", "byteLength": {len}}}],
+  "bufferViews": [{{"buffer": 0, "byteOffset": 0, "byteLength": 48}}, {{"buffer": 0, "byteOffset": 48, "byteLength": 48}},
+      {{"buffer": 0, "byteOffset": 96, "byteLength": 32}}, {{"buffer": 0, "byteOffset": 128, "byteLength": 24}}],
+  "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-1, 0, -1], "max": [1, 0, 1]}},
+      {{"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC3"}},
+      {{"bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC2"}},
+      {{"bufferView": 3, "componentType": 5125, "count": 6, "type": "SCALAR"}}]}}"#,
+        len = bin.len()
+    );
+    let path = dir.join("plane.gltf");
+    std::fs::write(&path, json).unwrap();
+    path
+}

@@ -114,10 +114,17 @@ fn material_at_vertex(uv: vec2<f32>) -> Surface {
     return material_from(uv, albedo, mask);
 }
 
-// The drawn object's emitted radiance: the subject's where its model emits (zero else), added to
-// the lit colour before tonemapping as Unity's emission is.
-fn emission() -> vec3<f32> {
-    return select(vec3<f32>(0.0), frame.subject.emission.rgb, object.flags.x == 1u);
+// The drawn object's emitted radiance: the subject's where its model emits (zero else), times its
+// emission map, added to the lit colour before tonemapping as Unity's emission is.
+fn emission(uv: vec2<f32>) -> vec3<f32> {
+    if (object.flags.x != 1u) {
+        return vec3<f32>(0.0);
+    }
+    var map = vec3<f32>(1.0);
+    if (is_textured()) {
+        map = textureSample(material_emission, material_sampler, uv).rgb;
+    }
+    return frame.subject.emission.rgb * map;
 }
 
 // 1: the pipeline draws a textured subject; 0 compiles the map sampling away for flat cells.
@@ -148,6 +155,7 @@ fn material_from(uv: vec2<f32>, albedo: vec4<f32>, mask: vec4<f32>) -> Surface {
     material_occlusion = 1.0;
     if (is_textured()) {
         s.base_color *= albedo.rgb;
+        s.metallic *= mask.r;
         s.smoothness = sat(s.smoothness + mask.a - 0.5);
         material_occlusion = mask.g;
     }
@@ -296,7 +304,7 @@ fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>, vertex_gi: vec3<f32>) -> vec3<f
 fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> FragmentOut {
     let n = mapped_normal(shading_normal(in.normal, cross(dpdx(in.world_pos), dpdy(in.world_pos)), in.world_pos, front), in.tangent, in.uv);
     var out: FragmentOut;
-    out.color = vec4<f32>(shade(material_at(in.uv), n, in.world_pos, in.vertex_gi) + emission(), 1.0);
+    out.color = vec4<f32>(shade(material_at(in.uv), n, in.world_pos, in.vertex_gi) + emission(in.uv), 1.0);
     out.role = object.flags.y;
     return out;
 }
@@ -307,6 +315,7 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> FragmentOut {
 struct GouraudOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) color: vec3<f32>,
+    @location(1) uv: vec2<f32>,
 };
 
 @vertex
@@ -316,13 +325,14 @@ fn vs_gouraud(in: VertexIn) -> GouraudOut {
     var out: GouraudOut;
     out.clip = frame.view_proj * world;
     out.color = shade(material_at_vertex(in.uv), n, world.xyz, vertex_lights(world.xyz, n));
+    out.uv = in.uv;
     return out;
 }
 
 @fragment
 fn fs_gouraud(in: GouraudOut) -> FragmentOut {
     var out: FragmentOut;
-    out.color = vec4<f32>(in.color + emission(), 1.0);
+    out.color = vec4<f32>(in.color + emission(in.uv), 1.0);
     out.role = object.flags.y;
     return out;
 }
@@ -355,7 +365,7 @@ fn fs_gbuffer(in: VertexOut, @builtin(front_facing) front: bool) -> GBufferOut {
     out.material = vec4<f32>(s.metallic, s.smoothness, 0.0, 0.0);
     out.normal = vec4<f32>(n * 0.5 + 0.5, f32(object.flags.w));
     // Emission joins the indirect light in RT3, as Unity's deferred paths write it.
-    out.lighting = vec4<f32>(model_indirect(s, n, v, gi) * material_occlusion + emission(), 1.0);
+    out.lighting = vec4<f32>(model_indirect(s, n, v, gi) * material_occlusion + emission(in.uv), 1.0);
     out.role = object.flags.y;
     return out;
 }

@@ -65,6 +65,8 @@ struct Object {
 @group(0) @binding(10) var material_normal: texture_2d<f32>;
 @group(0) @binding(11) var material_mask: texture_2d<f32>;
 @group(0) @binding(12) var material_sampler: sampler;
+// Emission multiplier (a glTF material's emissiveTexture; white otherwise).
+@group(0) @binding(13) var material_emission: texture_2d<f32>;
 
 fn light_mode(object_index: u32, light: u32) -> u32 {
     return light_modes[object_index * frame.counts.x + light];

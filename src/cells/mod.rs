@@ -5,6 +5,7 @@
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, HashMap};
 
+use crate::geometry::gltf_io::GltfMaterial;
 use crate::pipelines::{DisplayTransform, Pipeline, RenderPath};
 use crate::shading::registry::{ShaderModel, Sliders};
 use crate::shading::twin::Surface;
@@ -32,6 +33,10 @@ pub struct MaterialParams {
     /// Slider value; pipelines convert it (`Pipeline::shader_metallic`).
     pub metallic: f64,
     pub smoothness: f64,
+    /// The emission colour (linear) where it is not the base colour: a glTF subject's own
+    /// `emissiveFactor` (preset `own`); the emission axis scales it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub emissive_linear: Option<[f64; 3]>,
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -76,12 +81,17 @@ pub struct Cell {
 }
 
 impl Cell {
-    /// The preset whose maps the subject wears, when textured.
+    /// The preset whose maps the subject wears, when textured (`own`: the glTF subject's textures).
     pub fn material_maps(&self) -> Option<&'static str> {
         if !self.textured {
             return None;
         }
-        crate::spec::presets::find_preset(&self.preset).map(|p| p.name)
+        crate::spec::presets::find_matrix_preset(&self.preset).map(|p| p.name)
+    }
+
+    /// Whether the subject wears its glTF file's own material.
+    pub fn own_material(&self) -> bool {
+        self.preset == crate::spec::presets::OWN.name
     }
 
     pub fn sliders(&self) -> Sliders {
@@ -143,6 +153,11 @@ pub fn expand(m: &Matrix) -> Expansion {
     let mut filtered_out = 0;
     for (ci, scene) in m.compositions.iter().enumerate() {
         let key = scene.key_light().map(|k| &scene.lights[k]);
+        // Read only where a matrix names `own`: the file's factors, not its images.
+        let own = match m.presets.iter().any(|p| p.name == crate::spec::presets::OWN.name) {
+            true => own_material(scene),
+            false => Err(String::new()),
+        };
         for &pipeline in &m.pipelines {
             for &path in &m.paths {
                 if !pipeline.paths().contains(&path) {
@@ -167,6 +182,20 @@ pub fn expand(m: &Matrix) -> Expansion {
                     let display = DisplayTransform::new(pipeline, m.tonemap_for(pipeline), &scene.hdrp);
                     let param_sets = param_product(&model.params, &m.sweep.params);
                     for preset in &m.presets {
+                        let own_factors = if preset.name == crate::spec::presets::OWN.name {
+                            match &own {
+                                Ok(f) => Some(f),
+                                Err(reason) => {
+                                    pruned.push(PrunedCell {
+                                        description: format!("{} × {} × own", scene.name, pipeline.name()),
+                                        reason: reason.clone(),
+                                    });
+                                    continue;
+                                }
+                            }
+                        } else {
+                            None
+                        };
                         for metallic in opt_list(&m.sweep.metallic) {
                             for smoothness in opt_list(&m.sweep.smoothness) {
                                 for color in opt_list(&m.sweep.color) {
@@ -186,7 +215,13 @@ pub fn expand(m: &Matrix) -> Expansion {
                                                             path,
                                                             shader: shader.clone(),
                                                             preset: preset.name.to_string(),
-                                                            material: material(preset, metallic, smoothness, color),
+                                                            material: material(
+                                                                preset,
+                                                                own_factors,
+                                                                metallic,
+                                                                smoothness,
+                                                                color,
+                                                            ),
                                                             light_intensity: intensity
                                                                 .or(key.map(|l| l.intensity))
                                                                 .unwrap_or(0.0),
@@ -194,7 +229,13 @@ pub fn expand(m: &Matrix) -> Expansion {
                                                             width: m.image.width,
                                                             height: m.image.height,
                                                             params: params.clone(),
-                                                            textured,
+                                                            // `own` wears the file's textures unless the matrix sweeps `textured`.
+                                                            textured: match own_factors {
+                                                                Some(f) if m.sweep.textured.is_empty() => {
+                                                                    f.has_textures()
+                                                                }
+                                                                _ => textured,
+                                                            },
                                                             emission,
                                                             camera_distance,
                                                             light_angle,
@@ -257,17 +298,41 @@ fn param_product(
     sets
 }
 
+/// The factors of a composition's glTF subject's own material, or why `own` has none there.
+fn own_material(scene: &crate::spec::scene::Scene) -> Result<GltfMaterial, String> {
+    let path = scene.subject_gltf().ok_or_else(|| {
+        format!("`own` is a glTF subject's material; the subject of `{}` is not a glTF file", scene.name)
+    })?;
+    match crate::geometry::gltf_io::material_factors(&path) {
+        Ok(Some(m)) => Ok(m),
+        Ok(None) => Err(format!("the subject's glTF file {} names no material", path.display())),
+        // The geometry stage reports an unreadable file as bad input before anything renders.
+        Err(e) => Err(format!("the subject's glTF file cannot be read: {e}")),
+    }
+}
+
+/// The swept material: the preset's values (a glTF subject's own factors for `own`) with the
+/// sliders that override them.
 fn material(
     preset: &Preset,
+    own: Option<&GltfMaterial>,
     metallic: Option<f64>,
     smoothness: Option<f64>,
     color: Option<[f64; 3]>,
 ) -> MaterialParams {
+    let (base, preset_metallic, preset_smoothness, emissive) = match own {
+        Some(f) => {
+            let c = [f.base_color[0], f.base_color[1], f.base_color[2]];
+            (c, f.metallic, 1.0 - f.roughness, Some(f.emissive))
+        }
+        None => (preset.base_color, preset.metallic, preset.smoothness, None),
+    };
     MaterialParams {
-        base_color_linear: color.map(|c| c.map(crate::color::srgb_to_linear)).unwrap_or(preset.base_color),
+        base_color_linear: color.map(|c| c.map(crate::color::srgb_to_linear)).unwrap_or(base),
         slider_color_srgb: color,
-        metallic: metallic.unwrap_or(preset.metallic),
-        smoothness: smoothness.unwrap_or(preset.smoothness),
+        metallic: metallic.unwrap_or(preset_metallic),
+        smoothness: smoothness.unwrap_or(preset_smoothness),
+        emissive_linear: emissive,
     }
 }
 
@@ -452,6 +517,18 @@ mod tests {
         assert_eq!(ids.len(), e.cells.len(), "ids are unique");
         assert!(ids.contains(&CellId("medusa__builtin-forward__standard__gold__m1.00_s0.20_i1_r10".into())));
         assert!(e.cells.iter().all(|c| c.id.0.chars().all(|ch| ch.is_ascii_alphanumeric() || "_-.".contains(ch))));
+    }
+
+    #[test]
+    fn own_material_needs_a_gltf_subject() {
+        let text = "name = \"t\"\ncompositions = [\"medusa\"]\npipelines = [\"urp\"]\nshaders = [\"lit\"]\npresets = [\"own\", \"gold\"]\n";
+        let m = Matrix::from_text("t.toml", text, None, Arc::new(crate::shading::Registry::builtin())).unwrap();
+        let e = expand(&m);
+        assert!(e.cells.iter().all(|c| c.preset == "gold"), "no `own` cells for a procedural subject");
+        assert!(e.pruned.iter().any(|p| p.reason.contains("not a glTF file")), "{:?}", e.pruned);
+        let typo = text.replace("\"own\"", "\"onw\"");
+        let err = Matrix::from_text("t.toml", &typo, None, Arc::new(crate::shading::Registry::builtin())).unwrap_err();
+        assert!(err.to_string().contains("did you mean `own`?"), "{err}");
     }
 
     #[test]

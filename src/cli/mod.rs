@@ -164,6 +164,13 @@ pub enum Command {
         /// A built-in composition name or a scene TOML path.
         composition: String,
         out: PathBuf,
+        /// The subject's material: a preset, or `own` (a glTF subject's own material with its
+        /// textures, the default where it has one).
+        #[arg(long)]
+        preset: Option<String>,
+        /// The preset in its textured form (its maps as glTF textures).
+        #[arg(long)]
+        textured: bool,
     },
 }
 
@@ -203,7 +210,11 @@ pub fn dispatch(cmd: Command) -> Result<(), Error> {
             runs::check(&run, baseline.as_deref(), flip_mean, ssim_min)
         }
         Command::Report { run } => runs::report(&run),
-        Command::ExportMesh { composition, out } => export_mesh::export_mesh(&composition, &out),
+        Command::ExportMesh { composition, out, preset, textured } => export_mesh::export_mesh(
+            &composition,
+            &out,
+            export_mesh::SubjectMaterial { preset: preset.as_deref(), textured },
+        ),
     }
 }
 

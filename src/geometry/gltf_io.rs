@@ -18,13 +18,39 @@ pub fn load(path: &Path) -> Result<Mesh, Error> {
 }
 
 fn load_unguarded(path: &Path, shown: &str) -> Result<Mesh, Error> {
+    Ok(import_unguarded(path, shown, false)?.0)
+}
+
+/// Load the mesh as `load` does, and the material of its first primitive that names one, with
+/// its textures decoded (None: no primitive names a material).
+pub fn load_with_material(path: &Path) -> Result<(Mesh, Option<GltfMaterial>), Error> {
+    let shown = path.display().to_string();
+    crate::input::guard::without_panics(|| import_unguarded(path, &shown, true)).unwrap_or_else(|panic| {
+        Err(InputError::new(&shown, format!("malformed glTF: the glTF reader failed on it ({panic})")).into())
+    })
+}
+
+/// The factors of the material `load_with_material` reads, from the document alone (no buffers
+/// or images decoded): what a cell's `own` preset sets before any rendering.
+pub fn material_factors(path: &Path) -> Result<Option<GltfMaterial>, Error> {
+    let shown = path.display().to_string();
+    crate::input::guard::without_panics(|| {
+        let doc = gltf::Gltf::open(path).map_err(|e| InputError::new(&shown, format!("cannot read glTF: {e}")))?;
+        Ok(first_material(&doc.document).map(|(m, others)| read_material(&m, others, None)))
+    })
+    .unwrap_or_else(|panic| {
+        Err(InputError::new(&shown, format!("malformed glTF: the glTF reader failed on it ({panic})")).into())
+    })
+}
+
+fn import_unguarded(path: &Path, shown: &str, with_material: bool) -> Result<(Mesh, Option<GltfMaterial>), Error> {
     let shown = shown.to_string();
     if !path.is_file() {
         return Err(
             InputError::new(&shown, "glTF file not found (the path is resolved relative to the scene file)").into()
         );
     }
-    let (doc, buffers, _images) =
+    let (doc, buffers, images) =
         gltf::import(path).map_err(|e| InputError::new(&shown, format!("cannot read glTF: {e}")))?;
     let mut out = Mesh::default();
     let roots: Vec<gltf::Node> = match doc.default_scene().or_else(|| doc.scenes().next()) {
@@ -41,7 +67,146 @@ fn load_unguarded(path: &Path, shown: &str) -> Result<Mesh, Error> {
         )
         .into());
     }
-    Ok(out)
+    let material = match with_material {
+        true => first_material(&doc).map(|(m, others)| read_material(&m, others, Some(&images))),
+        false => None,
+    };
+    Ok((out, material))
+}
+
+/// A glTF metallic-roughness material as the file states it: its factors and, where it has them,
+/// the images of its textures decoded to linear RGBA (texture coordinate set 0).
+#[derive(Debug, Clone, Default)]
+pub struct GltfMaterial {
+    pub name: String,
+    /// Linear RGBA (`baseColorFactor`).
+    pub base_color: [f64; 4],
+    pub metallic: f64,
+    pub roughness: f64,
+    /// Linear `emissiveFactor` × `KHR_materials_emissive_strength`.
+    pub emissive: [f64; 3],
+    pub normal_scale: f64,
+    pub occlusion_strength: f64,
+    /// sRGB-decoded to linear.
+    pub base_color_texture: Option<TextureImage>,
+    /// G roughness, B metallic (linear).
+    pub metallic_roughness_texture: Option<TextureImage>,
+    /// Tangent-space normal, stored 0.5·n + 0.5 (linear).
+    pub normal_texture: Option<TextureImage>,
+    /// R occlusion (linear).
+    pub occlusion_texture: Option<TextureImage>,
+    /// sRGB-decoded to linear.
+    pub emissive_texture: Option<TextureImage>,
+    /// How many of the five texture slots name a texture (on texture coordinate set 0).
+    pub texture_count: usize,
+    /// Further materials the subject's primitives name: one material per subject is rendered, the first.
+    pub others_ignored: usize,
+}
+
+impl GltfMaterial {
+    pub fn has_textures(&self) -> bool {
+        self.texture_count > 0
+    }
+}
+
+/// A decoded texture image: RGBA f32, row-major, row 0 at v = 0 (glTF's UV origin is the image's top left).
+#[derive(Debug, Clone)]
+pub struct TextureImage {
+    pub width: usize,
+    pub height: usize,
+    pub texels: Vec<[f32; 4]>,
+}
+
+/// The first material any triangle primitive names, in node order, and how many other distinct ones there are.
+fn first_material(doc: &gltf::Document) -> Option<(gltf::Material<'_>, usize)> {
+    let mut seen: Vec<usize> = Vec::new();
+    let mut first = None;
+    for mesh in doc.meshes() {
+        for prim in mesh.primitives() {
+            let m = prim.material();
+            if let (Some(i), gltf::mesh::Mode::Triangles) = (m.index(), prim.mode()) {
+                if !seen.contains(&i) {
+                    seen.push(i);
+                    first.get_or_insert(m);
+                }
+            }
+        }
+    }
+    first.map(|m| (m, seen.len() - 1))
+}
+
+fn read_material(m: &gltf::Material, others: usize, images: Option<&[gltf::image::Data]>) -> GltfMaterial {
+    let pbr = m.pbr_metallic_roughness();
+    let image = |t: Option<gltf::texture::Texture>, srgb: bool| -> Option<TextureImage> {
+        let data = images?.get(t?.source().index())?;
+        Some(decode(data, srgb))
+    };
+    let strength = m.emissive_strength().unwrap_or(1.0) as f64;
+    let named = [
+        pbr.base_color_texture().map(|t| t.tex_coord()),
+        pbr.metallic_roughness_texture().map(|t| t.tex_coord()),
+        m.normal_texture().map(|t| t.tex_coord()),
+        m.occlusion_texture().map(|t| t.tex_coord()),
+        m.emissive_texture().map(|t| t.tex_coord()),
+    ];
+    GltfMaterial {
+        texture_count: named.iter().filter(|t| **t == Some(0)).count(),
+        name: m.name().unwrap_or("").to_string(),
+        base_color: pbr.base_color_factor().map(f64::from),
+        metallic: pbr.metallic_factor() as f64,
+        roughness: pbr.roughness_factor() as f64,
+        emissive: m.emissive_factor().map(|e| e as f64 * strength),
+        normal_scale: m.normal_texture().map(|t| t.scale() as f64).unwrap_or(1.0),
+        occlusion_strength: m.occlusion_texture().map(|t| t.strength() as f64).unwrap_or(1.0),
+        base_color_texture: image(pbr.base_color_texture().filter(|t| t.tex_coord() == 0).map(|t| t.texture()), true),
+        metallic_roughness_texture: image(
+            pbr.metallic_roughness_texture().filter(|t| t.tex_coord() == 0).map(|t| t.texture()),
+            false,
+        ),
+        normal_texture: image(m.normal_texture().filter(|t| t.tex_coord() == 0).map(|t| t.texture()), false),
+        occlusion_texture: image(m.occlusion_texture().filter(|t| t.tex_coord() == 0).map(|t| t.texture()), false),
+        emissive_texture: image(m.emissive_texture().filter(|t| t.tex_coord() == 0).map(|t| t.texture()), true),
+        others_ignored: others,
+    }
+}
+
+/// An image's pixels as linear RGBA f32 (missing channels 0, alpha 1); `srgb` decodes colour data.
+fn decode(data: &gltf::image::Data, srgb: bool) -> TextureImage {
+    use gltf::image::Format;
+    let (channels, bytes) = match data.format {
+        Format::R8 => (1, 1),
+        Format::R8G8 => (2, 1),
+        Format::R8G8B8 => (3, 1),
+        Format::R8G8B8A8 => (4, 1),
+        Format::R16 => (1, 2),
+        Format::R16G16 => (2, 2),
+        Format::R16G16B16 => (3, 2),
+        Format::R16G16B16A16 => (4, 2),
+        Format::R32G32B32FLOAT => (3, 4),
+        Format::R32G32B32A32FLOAT => (4, 4),
+    };
+    let value = |px: &[u8], c: usize| -> f32 {
+        let b = &px[c * bytes..(c + 1) * bytes];
+        match bytes {
+            1 => b[0] as f32 / 255.0,
+            2 => u16::from_le_bytes([b[0], b[1]]) as f32 / 65535.0,
+            _ => f32::from_le_bytes([b[0], b[1], b[2], b[3]]),
+        }
+    };
+    let stride = channels * bytes;
+    let texels = data
+        .pixels
+        .chunks_exact(stride)
+        .map(|px| {
+            let mut t = [0.0, 0.0, 0.0, 1.0];
+            for (c, v) in t.iter_mut().enumerate().take(channels) {
+                let x = value(px, c);
+                *v = if srgb && c < 3 && bytes < 4 { crate::color::srgb_to_linear(x as f64) as f32 } else { x };
+            }
+            t
+        })
+        .collect();
+    TextureImage { width: data.width as usize, height: data.height as usize, texels }
 }
 
 fn visit(
@@ -104,13 +269,38 @@ fn visit(
     Ok(())
 }
 
-/// One named mesh to export, in world space, with a display colour.
+/// One named mesh to export, in world space, with its material.
 pub struct ExportMesh<'a> {
     pub name: &'a str,
     pub mesh: &'a Mesh,
     pub base_color_linear: [f64; 3],
     pub metallic: f64,
     pub roughness: f64,
+    /// Linear emissive colour (black: none).
+    pub emissive: [f64; 3],
+    /// The textures of the material, each an 8-bit RGBA image as glTF stores it, finest level.
+    pub textures: Option<ExportTextures>,
+}
+
+/// A material's textures in glTF's layout: sRGB base colour and emissive; linear normal
+/// (0.5·n + 0.5), metallicRoughness (G roughness, B metallic) and occlusion (R).
+pub struct ExportTextures {
+    pub size: usize,
+    pub base_color: Vec<[u8; 4]>,
+    pub metallic_roughness: Vec<[u8; 4]>,
+    pub normal: Vec<[u8; 4]>,
+    pub occlusion: Vec<[u8; 4]>,
+    pub emissive: Option<Vec<[u8; 4]>>,
+}
+
+fn png_bytes(size: usize, texels: &[[u8; 4]]) -> Result<Vec<u8>, Error> {
+    let image = image::RgbaImage::from_raw(size as u32, size as u32, texels.concat())
+        .ok_or_else(|| Error::Other(format!("a {size}² texture with {} texels", texels.len())))?;
+    let mut png = Vec::new();
+    image
+        .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+        .map_err(|e| Error::encode("encoding a texture as PNG", e))?;
+    Ok(png)
 }
 
 /// Encode meshes as a binary glTF (GLB): one node, mesh and material per input.
@@ -121,11 +311,18 @@ pub fn to_glb(meshes: &[ExportMesh]) -> Result<Vec<u8>, Error> {
     let mut gl_meshes = Vec::new();
     let mut nodes = Vec::new();
     let mut materials = Vec::new();
+    let mut images = Vec::new();
+    let mut textures = Vec::new();
+    // target 0: an image's view (no buffer target)
     let mut push_view = |bin: &mut Vec<u8>, bytes: &[u8], target: u32| -> usize {
         while !bin.len().is_multiple_of(4) {
             bin.push(0);
         }
-        views.push(json!({"buffer": 0, "byteOffset": bin.len(), "byteLength": bytes.len(), "target": target}));
+        let mut view = json!({"buffer": 0, "byteOffset": bin.len(), "byteLength": bytes.len()});
+        if target != 0 {
+            view["target"] = json!(target);
+        }
+        views.push(view);
         bin.extend_from_slice(bytes);
         views.len() - 1
     };
@@ -145,16 +342,46 @@ pub fn to_glb(meshes: &[ExportMesh]) -> Result<Vec<u8>, Error> {
         let iv = push_view(&mut bin, bytemuck::cast_slice(&m.mesh.indices), 34963);
         accessors
             .push(json!({"bufferView": iv, "componentType": 5125, "count": m.mesh.indices.len(), "type": "SCALAR"}));
-        materials.push(json!({
+        let mut material = json!({
             "name": m.name,
             "pbrMetallicRoughness": {
                 "baseColorFactor": [m.base_color_linear[0], m.base_color_linear[1], m.base_color_linear[2], 1.0],
                 "metallicFactor": m.metallic,
                 "roughnessFactor": m.roughness
+            },
+            "emissiveFactor": m.emissive,
+        });
+        let mut attributes = json!({"POSITION": a0, "NORMAL": a0 + 1, "TEXCOORD_0": a0 + 2});
+        if let Some(t) = &m.textures {
+            let mut texture = |bin: &mut Vec<u8>, name: &str, texels: &[[u8; 4]]| -> Result<usize, Error> {
+                let png = png_bytes(t.size, texels)?;
+                let view = push_view(bin, &png, 0);
+                images.push(json!({"name": format!("{}_{name}", m.name), "bufferView": view, "mimeType": "image/png"}));
+                textures.push(json!({"source": images.len() - 1, "sampler": 0}));
+                Ok(textures.len() - 1)
+            };
+            let base = texture(&mut bin, "base_color", &t.base_color)?;
+            let mr = texture(&mut bin, "metallic_roughness", &t.metallic_roughness)?;
+            let normal = texture(&mut bin, "normal", &t.normal)?;
+            let occlusion = texture(&mut bin, "occlusion", &t.occlusion)?;
+            material["pbrMetallicRoughness"]["baseColorTexture"] = json!({"index": base});
+            material["pbrMetallicRoughness"]["metallicRoughnessTexture"] = json!({"index": mr});
+            material["normalTexture"] = json!({"index": normal});
+            material["occlusionTexture"] = json!({"index": occlusion});
+            if let Some(e) = &t.emissive {
+                material["emissiveTexture"] = json!({"index": texture(&mut bin, "emissive", e)?});
             }
-        }));
+            // Tangents as the renderer used them (MikkTSpace), so a viewer's normal mapping agrees.
+            if m.mesh.vertices.iter().any(|v| v.tangent[3] != 0.0) {
+                let tan: Vec<[f32; 4]> = v.iter().map(|x| x.tangent).collect();
+                let tv = push_view(&mut bin, bytemuck::cast_slice(&tan), 34962);
+                accessors.push(json!({"bufferView": tv, "componentType": 5126, "count": v.len(), "type": "VEC4"}));
+                attributes["TANGENT"] = json!(accessors.len() - 1);
+            }
+        }
+        materials.push(material);
         gl_meshes.push(json!({"name": m.name, "primitives": [{
-            "attributes": {"POSITION": a0, "NORMAL": a0 + 1, "TEXCOORD_0": a0 + 2},
+            "attributes": attributes,
             "indices": a0 + 3, "material": i, "mode": 4
         }]}));
         nodes.push(json!({"name": m.name, "mesh": i}));
@@ -162,7 +389,7 @@ pub fn to_glb(meshes: &[ExportMesh]) -> Result<Vec<u8>, Error> {
     while !bin.len().is_multiple_of(4) {
         bin.push(0);
     }
-    let root = json!({
+    let mut root = json!({
         "asset": {"version": "2.0", "generator": concat!("shadematrix ", env!("CARGO_PKG_VERSION"))},
         "scene": 0,
         "scenes": [{"nodes": (0..nodes.len()).collect::<Vec<_>>()}],
@@ -173,6 +400,12 @@ pub fn to_glb(meshes: &[ExportMesh]) -> Result<Vec<u8>, Error> {
         "bufferViews": views,
         "buffers": [{"byteLength": bin.len()}]
     });
+    if !images.is_empty() {
+        root["images"] = json!(images);
+        root["textures"] = json!(textures);
+        // Trilinear, repeating: glTF's defaults spelled out.
+        root["samplers"] = json!([{"magFilter": 9729, "minFilter": 9987, "wrapS": 10497, "wrapT": 10497}]);
+    }
     let mut json_bytes = serde_json::to_vec(&root).map_err(|e| Error::encode("encoding glTF JSON", e))?;
     while json_bytes.len() % 4 != 0 {
         json_bytes.push(b' ');

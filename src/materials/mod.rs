@@ -12,6 +12,7 @@
 //! layout holds them here. Written by hand: the patterns are the tool's own, on a small value
 //! noise, and no crate generates material maps.
 
+pub mod gltf;
 pub mod patterns;
 
 use std::collections::HashMap;
@@ -33,6 +34,8 @@ pub struct MapLevel {
     /// HDRP mask layout: r metallic multiplier (1), g occlusion, b detail mask, a smoothness offset
     /// stored as 0.5 + offset.
     pub mask: Vec<[f32; 4]>,
+    /// Emission multiplier (linear); empty where the material has no emission map.
+    pub emission: Vec<[f32; 4]>,
 }
 
 /// A preset's maps, finest level first.
@@ -96,6 +99,7 @@ pub fn generate(preset: &str, size: usize) -> MaterialMaps {
         albedo: Vec::with_capacity(texels.len()),
         normal: Vec::with_capacity(texels.len()),
         mask: Vec::with_capacity(texels.len()),
+        emission: Vec::new(),
     };
     for (i, t) in texels.iter().enumerate() {
         let (x, y) = ((i % size) as isize, (i / size) as isize);
@@ -116,6 +120,11 @@ pub fn generate(preset: &str, size: usize) -> MaterialMaps {
             (0.5 + t.smoothness - mean_s).clamp(0.0, 1.0) as f32,
         ]);
     }
+    with_mips(level)
+}
+
+/// The full mip chain of a finest level.
+pub(crate) fn with_mips(level: MapLevel) -> MaterialMaps {
     let mut levels = vec![level];
     while levels.last().is_some_and(|l| l.size > 1) {
         let next = downsample(levels.last().expect("non-empty"));
@@ -137,7 +146,7 @@ fn downsample(l: &MapLevel) -> MapLevel {
         }
         a
     };
-    let mut out = MapLevel { size: s, albedo: Vec::new(), normal: Vec::new(), mask: Vec::new() };
+    let mut out = MapLevel { size: s, albedo: Vec::new(), normal: Vec::new(), mask: Vec::new(), emission: Vec::new() };
     for y in 0..s {
         for x in 0..s {
             out.albedo.push(avg(&l.albedo, x, y));
@@ -146,6 +155,9 @@ fn downsample(l: &MapLevel) -> MapLevel {
             n = [n[0] / len, n[1] / len, n[2] / len, 1.0];
             out.normal.push(n);
             out.mask.push(avg(&l.mask, x, y));
+            if !l.emission.is_empty() {
+                out.emission.push(avg(&l.emission, x, y));
+            }
         }
     }
     out

@@ -1,5 +1,5 @@
 //! The subject's material maps on the GPU (`materials::MaterialMaps`): albedo modulation, normal
-//! and mask as mip-mapped Rgba16Float textures, uploaded once per preset and kept; a 1×1 neutral
+//! mask and emission as mip-mapped Rgba16Float textures, uploaded once per preset and kept; a 1×1 neutral
 //! set (albedo 1, normal +Z, mask with no offset) for flat cells. Sampled the way Unity imports a
 //! texture by default: bilinear within a mip, the nearest mip (FilterMode.Bilinear), repeating.
 
@@ -11,6 +11,8 @@ pub struct MaterialTextures {
     pub albedo: wgpu::TextureView,
     pub normal: wgpu::TextureView,
     pub mask: wgpu::TextureView,
+    /// Emission multiplier (white 1×1 where the material has no emission map).
+    pub emission: wgpu::TextureView,
 }
 
 fn upload(
@@ -56,6 +58,10 @@ impl MaterialTextures {
             albedo: upload(device, queue, "material albedo", &pick(|l| &l.albedo)),
             normal: upload(device, queue, "material normal", &pick(|l| &l.normal)),
             mask: upload(device, queue, "material mask", &pick(|l| &l.mask)),
+            emission: match maps.levels[0].emission.is_empty() {
+                true => upload(device, queue, "no emission map", &[(1, &[[1.0; 4]][..])]),
+                false => upload(device, queue, "material emission", &pick(|l| &l.emission)),
+            },
         }
     }
 
@@ -66,6 +72,7 @@ impl MaterialTextures {
             albedo: one([1.0; 4], "neutral albedo"),
             normal: one([0.0, 0.0, 1.0, 1.0], "neutral normal"),
             mask: one([1.0, 1.0, 1.0, 0.5], "neutral mask"),
+            emission: one([1.0; 4], "neutral emission"),
         }
     }
 }

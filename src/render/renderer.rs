@@ -57,6 +57,9 @@ pub struct CellSettings {
     pub material_maps: Option<&'static str>,
     /// The emission axis (0: none); the model decides whether it emits.
     pub emission: f64,
+    /// The emitted colour the axis scales (linear), where it is not the base colour: a glTF
+    /// subject's own `emissiveFactor`.
+    pub emission_color: Option<[f64; 3]>,
 }
 
 /// The samples per pixel a cell rendered with, and why they differ from what it asked, if they do.
@@ -145,6 +148,8 @@ pub struct PreparedScene {
     env_view: wgpu::TextureView,
     /// The frame bind group per material-map set the subject wears ("" flat), made on first use.
     frame_groups: std::sync::Mutex<HashMap<&'static str, std::sync::Arc<wgpu::BindGroup>>>,
+    /// A glTF subject's own material maps (preset `own`), read and uploaded on first use.
+    own_textures: std::sync::OnceLock<super::material_maps::MaterialTextures>,
     lights_buffer: wgpu::Buffer,
     modes_buffer: wgpu::Buffer,
     shadows: ShadowResources,
@@ -264,6 +269,7 @@ impl Renderer {
                 material_map_entry(9),
                 material_map_entry(10),
                 material_map_entry(11),
+                material_map_entry(13),
                 wgpu::BindGroupLayoutEntry {
                     binding: 12,
                     visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
@@ -642,6 +648,7 @@ impl Renderer {
             frame_buffer,
             env_view,
             frame_groups: Default::default(),
+            own_textures: Default::default(),
             lights_buffer,
             modes_buffer,
             shadows,
@@ -652,16 +659,28 @@ impl Renderer {
 
     /// The frame bind group of a composition with the subject wearing `maps` (None: flat), made and
     /// the maps uploaded on first use.
-    fn frame_group(&mut self, prepared: &PreparedScene, maps: Option<&'static str>) -> std::sync::Arc<wgpu::BindGroup> {
+    fn frame_group(
+        &mut self,
+        prepared: &PreparedScene,
+        maps: Option<&'static str>,
+    ) -> Result<std::sync::Arc<wgpu::BindGroup>, Error> {
         let key = maps.unwrap_or("");
         if let Some(g) = prepared.frame_groups.lock().unwrap_or_else(|e| e.into_inner()).get(key) {
-            return g.clone();
+            return Ok(g.clone());
         }
         let (device, queue) = (&self.gpu.device, &self.gpu.queue);
-        let textures = self.material_textures.entry(key).or_insert_with(|| match maps {
-            Some(preset) => super::material_maps::MaterialTextures::new(device, queue, &MaterialMaps::of(preset)),
-            None => super::material_maps::MaterialTextures::neutral(device, queue),
-        });
+        let textures = if key == crate::spec::presets::OWN.name {
+            if prepared.own_textures.get().is_none() {
+                let textures = own_textures(device, queue, &prepared.scene)?;
+                let _ = prepared.own_textures.set(textures);
+            }
+            prepared.own_textures.get().expect("just set")
+        } else {
+            self.material_textures.entry(key).or_insert_with(|| match maps {
+                Some(preset) => super::material_maps::MaterialTextures::new(device, queue, &MaterialMaps::of(preset)),
+                None => super::material_maps::MaterialTextures::neutral(device, queue),
+            })
+        };
         let group = std::sync::Arc::new(device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("frame"),
             layout: &self.frame_layout,
@@ -682,10 +701,11 @@ impl Renderer {
                 wgpu::BindGroupEntry { binding: 10, resource: wgpu::BindingResource::TextureView(&textures.normal) },
                 wgpu::BindGroupEntry { binding: 11, resource: wgpu::BindingResource::TextureView(&textures.mask) },
                 wgpu::BindGroupEntry { binding: 12, resource: wgpu::BindingResource::Sampler(&self.material_sampler) },
+                wgpu::BindGroupEntry { binding: 13, resource: wgpu::BindingResource::TextureView(&textures.emission) },
             ],
         }));
         prepared.frame_groups.lock().unwrap_or_else(|e| e.into_inner()).insert(key, group.clone());
-        group
+        Ok(group)
     }
 
     /// The shadow layers a composition needs (1 for a directional or spot light that casts
@@ -868,7 +888,7 @@ impl Renderer {
             self.background_pipeline(samples)?;
         }
         let (lights, shadow_layers, shadow_maps) = self.write_uniforms(prepared, cell, &fixed_model);
-        let frame_group = self.frame_group(prepared, cell.settings.material_maps);
+        let frame_group = self.frame_group(prepared, cell.settings.material_maps)?;
         let frame_group: &wgpu::BindGroup = &frame_group;
         self.targets(cell.width, cell.height);
         self.ensure_msaa_targets(samples);
@@ -1282,8 +1302,10 @@ impl Renderer {
         frame.subject = gpu_material(&cell.surface, GpuMaterial::zeroed());
         frame.subject.params[3] = if cell.settings.material_maps.is_some() { 1.0 } else { 0.0 };
         if cell.model.emits() {
-            // Emissive radiance: the subject's colour × the axis, in the pipeline's light units.
-            let e = cell.surface.base_color * cell.settings.emission * p.intensity_scale();
+            // Emissive radiance: the subject's colour (or own emissive colour) × the axis, in the
+            // pipeline's light units.
+            let colour = cell.settings.emission_color.map(DVec3::from).unwrap_or(cell.surface.base_color);
+            let e = colour * cell.settings.emission * p.intensity_scale();
             frame.subject.emission = [e.x as f32, e.y as f32, e.z as f32, 0.0];
         }
         let any = Sliders { base_color_linear: [1.0; 3], metallic: 0.0, smoothness: 0.5 };
@@ -1399,6 +1421,20 @@ fn shadow_pipeline(
 }
 
 /// A read-only storage buffer of the frame group, seen by both stages (vertex lights read it).
+/// The textures of a composition's glTF subject's own material (`materials::gltf`).
+fn own_textures(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    scene: &Scene,
+) -> Result<super::material_maps::MaterialTextures, Error> {
+    let no_maps =
+        || Error::Other(format!("composition `{}`: the subject has no glTF material with textures", scene.name));
+    let path = scene.subject_gltf().ok_or_else(no_maps)?;
+    let (_, material) = crate::geometry::gltf_io::load_with_material(&path)?;
+    let maps = material.as_ref().and_then(crate::materials::gltf::maps).ok_or_else(no_maps)?;
+    Ok(super::material_maps::MaterialTextures::new(device, queue, &maps))
+}
+
 fn material_map_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,

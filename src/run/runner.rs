@@ -380,7 +380,9 @@ impl<'a> Stream<'a> {
                         light_budget: cell.light_budget,
                         antialiasing: cell.antialiasing,
                         material_maps: cell.material_maps(),
-                        emission: cell.emission.unwrap_or(0.0),
+                        // A glTF's own emissive colour glows as the file says unless the axis scales it.
+                        emission: cell.emission.unwrap_or(if cell.own_material() { 1.0 } else { 0.0 }),
+                        emission_color: cell.material.emissive_linear,
                     },
                 };
                 let t = Instant::now();

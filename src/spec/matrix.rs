@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use super::asserts::{parse_assert, InvariantKind, InvariantSpec};
-use super::presets::{find_preset, preset_names, Preset};
+use super::presets::{preset_names, Preset};
 use super::scene::Scene;
 use crate::error::{Error, InputError};
 use crate::input::names::unknown_name;
@@ -448,11 +448,11 @@ impl Matrix {
         let presets = if file.presets.len() == 1 && file.presets[0] == "all" {
             super::presets::PRESETS.iter().collect()
         } else {
-            let valid = preset_names();
+            let valid = super::presets::matrix_preset_names();
             let mut v = Vec::new();
             for (i, p) in file.presets.iter().enumerate() {
                 v.push(
-                    find_preset(p)
+                    super::presets::find_matrix_preset(p)
                         .ok_or_else(|| unknown_name(origin, &format!("presets[{i}]"), "preset", p, &valid))?,
                 );
             }

@@ -38,12 +38,31 @@ pub const PRESETS: [Preset; 12] = [
     preset("brick", [0.262, 0.095, 0.061], 0.0, 0.1, "red brick"),
 ];
 
+/// The matrix's name for a glTF subject's own material (its factors and textures, `materials::gltf`).
+/// Its values here are glTF's default material, which the file's factors replace per composition.
+pub const OWN: Preset = preset("own", [1.0, 1.0, 1.0], 1.0, 0.0, "the glTF subject's own material");
+
 pub fn preset_names() -> Vec<&'static str> {
     PRESETS.iter().map(|p| p.name).collect()
 }
 
+/// What a matrix's `presets` may name: the twelve and `own`.
+pub fn matrix_preset_names() -> Vec<&'static str> {
+    let mut names = preset_names();
+    names.push(OWN.name);
+    names
+}
+
 pub fn find_preset(name: &str) -> Option<&'static Preset> {
     PRESETS.iter().find(|p| p.name == name)
+}
+
+/// A preset as a matrix names it: one of the twelve, or `own`.
+pub fn find_matrix_preset(name: &str) -> Option<&'static Preset> {
+    if name == OWN.name {
+        return Some(&OWN);
+    }
+    find_preset(name)
 }
 
 #[cfg(test)]

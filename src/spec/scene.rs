@@ -564,6 +564,16 @@ impl Scene {
         Ok(scene)
     }
 
+    /// The glTF file the subject's mesh comes from, resolved against the scene's folder (None: a
+    /// procedural subject, or an embedded scene that cannot resolve paths).
+    pub fn subject_gltf(&self) -> Option<PathBuf> {
+        let subject = self.objects.iter().find(|o| o.role == Role::Subject)?;
+        match &subject.mesh {
+            MeshSpec::Gltf { path } => Some(self.base_dir.as_ref()?.join(path)),
+            _ => None,
+        }
+    }
+
     /// Index of the key light (receives the intensity and range axes).
     pub fn key_light(&self) -> Option<usize> {
         self.lights.iter().position(|l| l.key).or_else(|| self.lights.iter().position(|l| l.kind == LightKind::Point))

@@ -143,3 +143,85 @@ fn emission_adds_the_subjects_colour_in_models_that_have_it() {
     .unwrap();
     assert!(lambert.twin_of.is_some(), "Lambert rendered its emission cell");
 }
+
+/// Mean linear RGB over the pixels of `rgba` (width `w`) where `keep(x, y)` and the role is the subject.
+fn mean_rgb(rgba: &[f32], w: usize, keep: impl Fn(usize, usize) -> bool) -> [f64; 3] {
+    let mut sum = [0.0; 3];
+    let mut n = 0.0;
+    for (i, p) in rgba.chunks(4).enumerate() {
+        if keep(i % w, i / w) {
+            for c in 0..3 {
+                sum[c] += p[c] as f64;
+            }
+            n += 1.0;
+        }
+    }
+    sum.map(|s| s / n)
+}
+
+#[test]
+fn a_gltf_subject_renders_with_its_own_textured_material() {
+    let tmp = tempfile::tempdir().unwrap();
+    crate::common::write_textured_gltf(tmp.path());
+    let scene = std::fs::read_to_string(crate::common::fixture("textured_plane.toml"))
+        .unwrap()
+        .replace(
+            "mesh = { kind = \"plane\", size = [2.0, 2.0], subdivisions = 1 }",
+            "mesh = { kind = \"gltf\", path = \"plane.gltf\" }",
+        )
+        .replace(
+            "color = [0.0, 0.0, 0.0] }\nambient_intensity = 0.0",
+            "color = [1.0, 1.0, 1.0] }\nambient_intensity = 1.0",
+        )
+        .replace("intensity = 1.0\nkey = true", "intensity = 0.0\nkey = true");
+    std::fs::write(tmp.path().join("scene.toml"), scene).unwrap();
+    let m = write_matrix(
+        tmp.path(),
+        "m.toml",
+        "name = \"t\"\ncompositions = [\"scene.toml\"]\npipelines = [\"urp\"]\nshaders = [\"lit\"]\npresets = [\"own\"]\n\
+         [sweep]\ntextured = [false, true]\n[image]\nwidth = 64\nheight = 64\n",
+    );
+    let (rc, out, err) = shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", "r"], &[]);
+    assert_eq!(rc, 0, "{out}\n{err}");
+    let dir = tmp.path().join("r");
+    // The file's factors: white, metallic 0, roughness 1 (smoothness 0).
+    let base = "textured_plane__urp-forward__lit__own__m0.00_s0.00_i0_r10";
+    let (flat, flat_px, w) = cell(&dir, base);
+    let (tex, tex_px, _) = cell(&dir, &format!("{base}_tex"));
+    assert!(tex.textured && !flat.textured);
+    let w = w as usize;
+    // The plane fills the frame's centre; sample its four quadrants, away from the seams.
+    let quadrant = |px: &[f32], left: bool, top: bool| {
+        mean_rgb(px, w, |x, y| {
+            let (fx, fy) = (x as f64 / w as f64, y as f64 / w as f64);
+            let inside = |f: f64, low: bool| if low { (0.25..0.45).contains(&f) } else { (0.55..0.75).contains(&f) };
+            inside(fx, left) && inside(fy, top)
+        })
+    };
+    let q = [(true, true), (false, true), (true, false), (false, false)].map(|(l, t)| quadrant(&tex_px, l, t));
+    let f = [(true, true), (false, true), (true, false), (false, false)].map(|(l, t)| quadrant(&flat_px, l, t));
+    eprintln!("textured quadrants {q:?}\nflat quadrants {f:?}");
+    // Flat: the factors alone, the same everywhere (white base, white emission).
+    for c in &f {
+        assert!((c[0] - f[0][0]).abs() < 1e-3 && (c[2] - c[0]).abs() < 1e-3, "{f:?}");
+    }
+    // Textured: one side red, the other blue (the base colour texture), whichever way the camera maps u.
+    let red_left = q[0][0] > q[0][2];
+    for (i, c) in q.iter().enumerate() {
+        let left = i % 2 == 0;
+        let (r, b) = (c[0], c[2]);
+        if left == red_left {
+            assert!(r > 5.0 * b, "quadrant {i} should be red: {c:?}");
+        } else {
+            assert!(b > 5.0 * r, "quadrant {i} should be blue: {c:?}");
+        }
+    }
+    // The emissive texture: green glows in one half (v < 0.5) only.
+    let green_top = q[0][1] > q[2][1];
+    let (glow, dark) = if green_top {
+        (q[0][1].min(q[1][1]), q[2][1].max(q[3][1]))
+    } else {
+        (q[2][1].min(q[3][1]), q[0][1].max(q[1][1]))
+    };
+    assert!(glow > 0.5 && dark < 0.05, "emission map: glowing half {glow}, dark half {dark}");
+}
