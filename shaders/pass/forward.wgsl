@@ -274,6 +274,7 @@ override MAIN_LIGHT_ONLY: u32 = 0u;
 // (environment SH, the object's SH lights and its vertex lights) and the environment.
 fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>, vertex_gi: vec3<f32>) -> vec3<f32> {
     let v = normalize(frame.camera_pos.xyz - p);
+    shading_position = p;
     // counts.y: 1 + index of the main directional light (the brightest), 0 when there is none
     main_light_color = vec3<f32>(0.0);
     if (frame.counts.y > 0u) {
@@ -355,6 +356,7 @@ fn fs_gbuffer(in: VertexOut, @builtin(front_facing) front: bool) -> GBufferOut {
     let n = mapped_normal(shading_normal(in.normal, cross(dpdx(in.world_pos), dpdy(in.world_pos)), in.world_pos, front), in.tangent, in.uv);
     let s = material_at(in.uv);
     let v = normalize(frame.camera_pos.xyz - in.world_pos);
+    shading_position = in.world_pos;
     main_light_color = vec3<f32>(0.0);
     if (frame.counts.y > 0u) {
         main_light_color = lights[frame.counts.y - 1u].color.rgb;

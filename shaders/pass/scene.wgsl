@@ -28,6 +28,13 @@ struct Material {
     emission: vec4<f32>,     // emitted radiance (the subject's, where its model emits)
 };
 
+// A reflection probe (render::reflection_probes): its levels are layers box_max.w … + 6 of env_probe.
+struct ReflectionProbe {
+    position: vec4<f32>,   // w: 1 box projection
+    box_min: vec4<f32>,    // w: blend distance
+    box_max: vec4<f32>,    // w: first layer
+};
+
 struct Frame {
     view_proj: mat4x4<f32>,
     inv_view_proj: mat4x4<f32>,
@@ -37,6 +44,8 @@ struct Frame {
     env: vec4<f32>,           // x: probe levels − 1, y: radiance scale
     subject: Material,
     fixed: Material,          // the fixed objects' model inputs besides the G-buffer's (deferred lighting)
+    reflection: vec4<u32>,    // x: probes blended (0: the sky alone)
+    probes: array<ReflectionProbe, 4>,
 };
 
 struct Object {
@@ -104,12 +113,58 @@ fn probe_level(d: vec3<f32>, level: f32) -> vec3<f32> {
     return textureSampleLevel(env_probe, env_sampler, equirect_uv(d), i32(level), 0.0).rgb;
 }
 
-// Prefiltered environment along r; mip = pr(1.7 − 0.7·pr)·6 (models.md#builtin reflection-probe mip), levels blended linearly
+// The world position being shaded, for the probes' weights and box projection; set by the
+// passes before they evaluate a model (`shade`, the G-buffer pass).
+var<private> shading_position: vec3<f32> = vec3<f32>(0.0);
+
+// A probe's seven levels at mip (layers from `first`), blended linearly between levels.
+fn probe_levels(d: vec3<f32>, mip: f32, first: f32) -> vec3<f32> {
+    let lo = floor(mip);
+    let hi = min(lo + 1.0, frame.env.x);
+    return mix(probe_level(d, first + lo), probe_level(d, first + hi), mip - lo);
+}
+
+// URP CalculateProbeWeight (GlobalIllumination.hlsl): sat(min over axes of the distance into the
+// box / blend distance).
+fn probe_weight(p: vec3<f32>, probe: ReflectionProbe) -> f32 {
+    let inside = min(p - probe.box_min.xyz, probe.box_max.xyz - p) / max(probe.box_min.w, 1e-4);
+    return sat(min(inside.x, min(inside.y, inside.z)));
+}
+
+// BoxProjectedCubemapDirection (UnityStandardUtils.cginc; URP BoxProjectedCubemapDirection): the
+// ray from p along r meets the box; the lookup direction is from the probe to that point.
+fn box_projected_direction(r: vec3<f32>, p: vec3<f32>, probe: ReflectionProbe) -> vec3<f32> {
+    let d = normalize(r);
+    let rb = select(probe.box_min.xyz, probe.box_max.xyz, d > vec3<f32>(0.0)) - p;
+    let f = rb / d;
+    let fa = min(min(f.x, f.y), f.z);
+    return p - probe.position.xyz + d * fa;
+}
+
+// Prefiltered environment along r; mip = pr(1.7 − 0.7·pr)·6 (models.md#builtin reflection-probe
+// mip), levels blended linearly. With probes: each probe in order takes its weight, capped at
+// what the earlier ones left, and the sky the rest (URP CalculateIrradianceFromReflectionProbes;
+// HDRP's reflection hierarchy likewise ends with the sky). A probe's captured radiance is in the
+// pipeline's units already; the sky's is scaled by the environment's intensity.
 fn env_specular(r: vec3<f32>, perceptual_roughness: f32) -> vec3<f32> {
     let pr = perceptual_roughness;
     let mip = clamp(pr * (1.7 - 0.7 * pr) * 6.0, 0.0, frame.env.x);
-    let lo = floor(mip);
-    let hi = min(lo + 1.0, frame.env.x);
-    let c = mix(probe_level(r, lo), probe_level(r, hi), mip - lo);
-    return c * frame.env.y;
+    var c = vec3<f32>(0.0);
+    var total = 0.0;
+    for (var i = 0u; i < frame.reflection.x; i++) {
+        let probe = frame.probes[i];
+        let w = min(probe_weight(shading_position, probe), 1.0 - total);
+        if (w > 0.0) {
+            var d = r;
+            if (probe.position.w > 0.5) {
+                d = box_projected_direction(r, shading_position, probe);
+            }
+            c += probe_levels(d, mip, probe.box_max.w) * w;
+            total += w;
+        }
+    }
+    if (total < 0.99) {
+        c += probe_levels(r, mip, 0.0) * frame.env.y * (1.0 - total);
+    }
+    return c;
 }

@@ -5,7 +5,7 @@ use serde::Serialize;
 
 pub mod lights;
 
-use crate::spec::scene::{Scene, Sky};
+use crate::spec::scene::{Reflections, Scene, Sky};
 
 #[derive(Debug, Clone, Serialize)]
 pub struct FramePlan {
@@ -16,6 +16,11 @@ pub struct FramePlan {
     /// (what, why) for everything left out.
     pub left_out: Vec<(String, String)>,
 }
+
+/// Reflection probes: each renders the scene into six faces, then the faces are prefiltered; once
+/// per set of inputs a capture sees (a later cell with the same lights reuses it).
+pub const PROBE_CAPTURE_PASS: &str = "probe capture";
+pub const PROBE_PREFILTER_PASS: &str = "probe prefilter";
 
 /// The vertex-lit path's one pass.
 const VERTEX_LIT_PASS: &str = "forward (lighting per vertex)";
@@ -32,6 +37,11 @@ impl FramePlan {
         pipeline: crate::pipelines::Pipeline,
     ) -> Vec<&'static str> {
         let mut passes: Vec<&'static str> = Vec::new();
+        for probe_pass in [PROBE_CAPTURE_PASS, PROBE_PREFILTER_PASS] {
+            if self.passes.contains(&probe_pass) {
+                passes.push(probe_pass);
+            }
+        }
         if self.passes.contains(&"shadow") && path != crate::pipelines::RenderPath::VertexLit {
             passes.push("shadow");
         }
@@ -90,6 +100,16 @@ impl FramePlan {
         match scene.shadow_pass_needed() {
             Ok(()) => passes.insert(0, "shadow"),
             Err(why) => left_out.push(("shadow pass".into(), why)),
+        }
+        match (scene.environment.reflections, scene.probes.len()) {
+            (Reflections::Probe, n) if n > 0 => {
+                passes.splice(0..0, [PROBE_CAPTURE_PASS, PROBE_PREFILTER_PASS]);
+            }
+            (Reflections::Sky, n) if n > 0 => left_out.push((
+                "reflection probes".into(),
+                format!("environment.reflections = \"sky\": the scene's {n} probe(s) are not captured"),
+            )),
+            _ => left_out.push(("reflection probes".into(), "reflections come from the sky".into())),
         }
         FramePlan { passes, background, left_out }
     }

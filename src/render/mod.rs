@@ -6,6 +6,7 @@ pub mod deferred;
 pub mod luts;
 pub mod material_maps;
 pub mod probe;
+pub mod reflection_probes;
 pub mod renderer;
 pub mod shadows;
 pub mod uniforms;

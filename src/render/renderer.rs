@@ -27,8 +27,8 @@ use crate::shading::{wgsl, Registry, ShaderModel};
 use crate::spec::scene::{LightKind, Role, Scene};
 
 const HDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
-const ROLE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Uint;
-const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+pub(super) const ROLE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Uint;
+pub(super) const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// What one cell asks of the renderer (no matrix types: the renderer knows scenes, not sweeps).
 #[derive(Debug, Clone, Copy)]
@@ -146,6 +146,9 @@ pub struct PreparedScene {
     object_bind_group: wgpu::BindGroup,
     frame_buffer: wgpu::Buffer,
     env_view: wgpu::TextureView,
+    /// The scene's reflection probes (`environment.reflections = "probe"`); their levels follow
+    /// the sky's in `env_view`.
+    probes: Option<super::reflection_probes::SceneProbes>,
     /// The frame bind group per material-map set the subject wears ("" flat), made on first use.
     frame_groups: std::sync::Mutex<HashMap<&'static str, std::sync::Arc<wgpu::BindGroup>>>,
     /// A glTF subject's own material maps (preset `own`), read and uploaded on first use.
@@ -211,6 +214,10 @@ pub struct Renderer {
     timer: Option<PassTimer>,
     /// The sample counts the adapter multisamples and resolves the forward targets with.
     msaa_counts: Vec<u32>,
+    /// The reflection-probe prefilter, made for the first scene with probes.
+    prefilter: Option<super::reflection_probes::Prefilter>,
+    /// Two timestamp pairs: probe capture and prefilter.
+    probe_timer: Option<PassTimer>,
 }
 
 impl Renderer {
@@ -344,6 +351,8 @@ impl Renderer {
             targets: None,
             timer: None,
             msaa_counts,
+            prefilter: None,
+            probe_timer: None,
         }
     }
 
@@ -539,9 +548,9 @@ impl Renderer {
 
     /// Upload a composition whose meshes (one per object, in order) were built already.
     pub fn upload_scene(&mut self, scene: &Scene, meshes: Vec<Mesh>) -> Result<PreparedScene, Error> {
-        let device = &self.gpu.device;
         let plan = FramePlan::for_scene(scene);
         let env = EnvironmentMaps::build(&scene.environment);
+        let device = &self.gpu.device;
         let mut objects = Vec::new();
         let mut triangle_count = 0;
         let object_centres = placement::object_centres(scene, &meshes);
@@ -619,10 +628,23 @@ impl Renderer {
             wgpu::util::TextureDataOrder::LayerMajor,
             bytemuck::cast_slice(&texels),
         );
-        let env_view = env_texture.create_view(&wgpu::TextureViewDescriptor {
-            dimension: Some(wgpu::TextureViewDimension::D2Array),
-            ..Default::default()
-        });
+        let probes = match scene.environment.reflections {
+            crate::spec::scene::Reflections::Probe if !scene.probes.is_empty() => {
+                if self.prefilter.is_none() {
+                    self.prefilter = Some(super::reflection_probes::Prefilter::new(&self.gpu)?);
+                }
+                let prefilter = self.prefilter.as_ref().expect("just made");
+                Some(super::reflection_probes::SceneProbes::new(&self.gpu, prefilter, &scene.probes, &env.probe))
+            }
+            _ => None,
+        };
+        let env_view = match &probes {
+            Some(p) => p.view(),
+            None => env_texture.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2Array),
+                ..Default::default()
+            }),
+        };
         // A scene without lights still binds one (unused) element: a runtime-sized array needs one.
         let storage = |label: &str, bytes: u64, element: u64| {
             device.create_buffer(&wgpu::BufferDescriptor {
@@ -647,6 +669,7 @@ impl Renderer {
             object_bind_group,
             frame_buffer,
             env_view,
+            probes,
             frame_groups: Default::default(),
             own_textures: Default::default(),
             lights_buffer,
@@ -679,13 +702,26 @@ impl Renderer {
             self.material_textures.entry(key).or_insert_with(|| match maps {
                 Some(preset) => super::material_maps::MaterialTextures::new(device, queue, &MaterialMaps::of(preset)),
                 None => super::material_maps::MaterialTextures::neutral(device, queue),
-            })
+            });
+            &self.material_textures[key]
         };
-        let group = std::sync::Arc::new(device.create_bind_group(&wgpu::BindGroupDescriptor {
+        let group = std::sync::Arc::new(self.frame_bind_group(prepared, &prepared.frame_buffer, textures));
+        prepared.frame_groups.lock().unwrap_or_else(|e| e.into_inner()).insert(key, group.clone());
+        Ok(group)
+    }
+
+    /// A frame bind group over `frame_buffer` (the cell's, or a probe face's) with the subject's maps.
+    fn frame_bind_group(
+        &self,
+        prepared: &PreparedScene,
+        frame_buffer: &wgpu::Buffer,
+        textures: &super::material_maps::MaterialTextures,
+    ) -> wgpu::BindGroup {
+        self.gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("frame"),
             layout: &self.frame_layout,
             entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: prepared.frame_buffer.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 0, resource: frame_buffer.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&prepared.env_view) },
                 wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::Sampler(&self.sampler) },
                 wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(&self.fgd) },
@@ -703,9 +739,7 @@ impl Renderer {
                 wgpu::BindGroupEntry { binding: 12, resource: wgpu::BindingResource::Sampler(&self.material_sampler) },
                 wgpu::BindGroupEntry { binding: 13, resource: wgpu::BindingResource::TextureView(&textures.emission) },
             ],
-        }));
-        prepared.frame_groups.lock().unwrap_or_else(|e| e.into_inner()).insert(key, group.clone());
-        Ok(group)
+        })
     }
 
     /// The shadow layers a composition needs (1 for a directional or spot light that casts
@@ -887,7 +921,8 @@ impl Renderer {
         if prepared.plan.background {
             self.background_pipeline(samples)?;
         }
-        let (lights, shadow_layers, shadow_maps) = self.write_uniforms(prepared, cell, &fixed_model);
+        let (lights, shadow_layers, shadow_maps, capture) = self.write_uniforms(prepared, cell, &fixed_model);
+        let probe_times = self.capture_probes(prepared, cell, &fixed_model, &capture, &shadow_layers)?;
         let frame_group = self.frame_group(prepared, cell.settings.material_maps)?;
         let frame_group: &wgpu::BindGroup = &frame_group;
         self.targets(cell.width, cell.height);
@@ -1013,11 +1048,17 @@ impl Renderer {
         let gpu_pass_ms =
             pairs.as_ref().map(|p| p.chunks(per_frame as usize).map(|frame| frame.iter().sum()).collect());
         let gpu_passes = pairs.as_ref().map(|p| {
-            pass_names
+            let mut passes: Vec<(String, Vec<f64>)> = pass_names
                 .iter()
                 .enumerate()
                 .map(|(k, name)| (name.to_string(), p.iter().skip(k).step_by(per_frame as usize).copied().collect()))
-                .collect()
+                .collect();
+            // Once per set of inputs, before the frames: not part of a frame's time.
+            if let Some((capture, prefilter)) = probe_times {
+                passes.push(("probe capture".into(), vec![capture]));
+                passes.push(("probe prefilter".into(), vec![prefilter]));
+            }
+            passes
         });
         self.gpu.check_errors("rendering a cell")?;
         Ok(CellRender {
@@ -1187,7 +1228,7 @@ impl Renderer {
         prepared: &PreparedScene,
         cell: &CellParams,
         fixed_model: &ShaderModel,
-    ) -> (Vec<ObjectLights>, Vec<(usize, u32)>, Vec<ShadowMapUse>) {
+    ) -> (Vec<ObjectLights>, Vec<(usize, u32)>, Vec<ShadowMapUse>, ProbeCapture) {
         let scene = &prepared.scene;
         let p = cell.pipeline;
         let aspect = cell.width as f64 / cell.height as f64;
@@ -1293,8 +1334,12 @@ impl Renderer {
         for (dst, src) in frame.sh.iter_mut().zip(prepared.env.sh.iter()) {
             *dst = [src[0] as f32, src[1] as f32, src[2] as f32, 0.0];
         }
+        let env_levels = match &prepared.probes {
+            Some(_) => crate::environment::prefilter::LEVELS,
+            None => prepared.env.probe.levels.len(),
+        };
         frame.env = [
-            (prepared.env.probe.levels.len() - 1) as f32,
+            (env_levels - 1) as f32,
             (prepared.env.intensity * p.environment_scale()) as f32,
             0.0,
             0.0,
@@ -1310,6 +1355,12 @@ impl Renderer {
         }
         let any = Sliders { base_color_linear: [1.0; 3], metallic: 0.0, smoothness: 0.5 };
         frame.fixed = gpu_material(&fixed_model.surface(p, &any), GpuMaterial::zeroed());
+        if let Some(probes) = &prepared.probes {
+            frame.reflection = [probes.probes.len() as u32, 0, 0, 0];
+            for (k, t) in probes.probes.iter().enumerate() {
+                frame.probes[k] = GpuReflectionProbe::new(&t.probe, k);
+            }
+        }
         self.gpu.queue.write_buffer(&prepared.frame_buffer, 0, bytemuck::bytes_of(&frame));
         let mut objects = vec![0u8; (prepared.object_stride as usize) * prepared.objects.len()];
         for (i, o) in prepared.objects.iter().enumerate() {
@@ -1331,11 +1382,146 @@ impl Renderer {
             objects[at..at + std::mem::size_of::<ObjectUniforms>()].copy_from_slice(bytemuck::bytes_of(&u));
         }
         self.gpu.queue.write_buffer(&prepared.object_buffer, 0, &objects);
-        (assignment, used_layers, shadow_maps)
+        // What a probe capture sees: everything but the camera and the subject.
+        let key = {
+            use std::hash::{Hash, Hasher};
+            let mut h = std::hash::DefaultHasher::new();
+            p.name().hash(&mut h);
+            let mut seen = frame;
+            (seen.view_proj, seen.inv_view_proj, seen.camera_pos) = Default::default();
+            seen.subject = GpuMaterial::zeroed();
+            bytemuck::bytes_of(&seen).hash(&mut h);
+            bytemuck::cast_slice::<GpuLight, u8>(&gpu_lights).hash(&mut h);
+            bytemuck::cast_slice::<ShadowLayer, u8>(&shadow_layers).hash(&mut h);
+            modes.hash(&mut h);
+            for (i, o) in prepared.objects.iter().enumerate().filter(|(_, o)| o.role == Role::Fixed) {
+                let at = i * prepared.object_stride as usize;
+                objects[at..at + std::mem::size_of::<ObjectUniforms>()].hash(&mut h);
+                o.index_count.hash(&mut h);
+            }
+            h.finish()
+        };
+        (assignment, used_layers, shadow_maps, ProbeCapture { frame, key })
+    }
+
+    /// Render every probe's faces (the fixed objects and the sky seen from the probe, lit as the
+    /// cell lights them, reflecting the sky alone) and prefilter them, unless the last capture saw
+    /// the same inputs. Returns the GPU time of the capture and of the prefilter, ms (None:
+    /// reused, or no timestamp queries).
+    fn capture_probes(
+        &mut self,
+        prepared: &PreparedScene,
+        cell: &CellParams,
+        fixed_model: &ShaderModel,
+        capture: &ProbeCapture,
+        shadow_layers: &[(usize, u32)],
+    ) -> Result<Option<(f64, f64)>, Error> {
+        let Some(probes) = &prepared.probes else { return Ok(None) };
+        if *probes.captured.lock().unwrap_or_else(|e| e.into_inner()) == Some(capture.key) {
+            return Ok(None);
+        }
+        self.forward_pipeline(cell.pipeline, fixed_model, false, 1, false)?;
+        if prepared.plan.background {
+            self.background_pipeline(1)?;
+        }
+        let (device, queue) = (&self.gpu.device, &self.gpu.queue);
+        self.material_textures.entry("").or_insert_with(|| super::material_maps::MaterialTextures::neutral(device, queue));
+        if self.gpu.record.timestamp_queries && self.probe_timer.is_none() {
+            self.probe_timer = Some(PassTimer::new(&self.gpu.device, &self.gpu.queue, 2));
+        }
+        let timer = self.probe_timer.as_ref().filter(|_| self.gpu.record.timestamp_queries);
+        let pipeline = &self.forward[&(cell.pipeline, fixed_model.name.to_string(), false, 1, false)];
+        let background = self.background.get(&1).filter(|_| prepared.plan.background);
+        let neutral = &self.material_textures[""];
+        let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
+        if prepared.shadows.active && !shadow_layers.is_empty() {
+            encode_shadow_passes(&mut encoder, &self.shadow_pipeline, prepared, shadow_layers, None);
+        }
+        let faces = probes.probes.len() * 6;
+        let mut face = 0;
+        let mut groups = Vec::with_capacity(faces);
+        for t in &probes.probes {
+            for (f, vp) in t.view_proj.iter().enumerate() {
+                let mut seen = capture.frame;
+                seen.view_proj = mat(*vp);
+                seen.inv_view_proj = mat(vp.inverse());
+                seen.camera_pos = vec4(DVec3::from(t.probe.position), 1.0);
+                // The captured objects reflect the sky alone (one bounce, Unity's default).
+                seen.reflection = [0; 4];
+                self.gpu.queue.write_buffer(&t.frame_buffers[f], 0, bytemuck::bytes_of(&seen));
+                groups.push(self.frame_bind_group(prepared, &t.frame_buffers[f], neutral));
+            }
+        }
+        for t in &probes.probes {
+            for f in 0..6 {
+                // One span over every face: begin at the first pass, end at the last.
+                let (first, last) = (face == 0, face + 1 == faces);
+                let timestamps = timer.filter(|_| first || last).map(|tm| tm.writes(0, first, last));
+                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("probe capture"),
+                    color_attachments: &[
+                        Some(wgpu::RenderPassColorAttachment {
+                            view: &t.face_views[f],
+                            depth_slice: None,
+                            resolve_target: None,
+                            ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::BLACK), store: wgpu::StoreOp::Store },
+                        }),
+                        Some(wgpu::RenderPassColorAttachment {
+                            view: &t.role_views[f],
+                            depth_slice: None,
+                            resolve_target: None,
+                            ops: wgpu::Operations {
+                                load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                                store: wgpu::StoreOp::Discard,
+                            },
+                        }),
+                    ],
+                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                        view: &t.depth_view,
+                        depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
+                        stencil_ops: None,
+                    }),
+                    timestamp_writes: timestamps,
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+                pass.set_bind_group(0, &groups[face], &[]);
+                pass.set_pipeline(pipeline);
+                // The subject is left out: a dynamic object, which baked probes do not see.
+                for (i, o) in prepared.objects.iter().enumerate().filter(|(_, o)| o.role == Role::Fixed) {
+                    pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
+                    pass.set_vertex_buffer(0, o.vertices.slice(..));
+                    pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);
+                    pass.draw_indexed(0..o.index_count, 0, 0..1);
+                }
+                if let Some(bg) = background {
+                    pass.set_pipeline(bg);
+                    pass.draw(0..3, 0..1);
+                }
+                face += 1;
+            }
+        }
+        let prefilter = self.prefilter.as_ref().expect("made with the scene's probes");
+        probes.encode_prefilter(prefilter, &mut encoder, timer.map(|t| t.compute_writes(1)));
+        if let Some(t) = timer {
+            t.encode_resolve(&mut encoder, 2);
+        }
+        self.gpu.queue.submit([encoder.finish()]);
+        self.gpu.wait_idle()?;
+        let times = timer.map(|t| t.read_ms(&self.gpu.device, 2)).transpose()?;
+        self.gpu.check_errors("capturing reflection probes")?;
+        *probes.captured.lock().unwrap_or_else(|e| e.into_inner()) = Some(capture.key);
+        Ok(times.map(|t| (t[0], t[1])))
     }
 }
 
 use bytemuck::Zeroable;
+
+/// The frame a cell wrote, and the hash of what a probe capture would see of it.
+struct ProbeCapture {
+    frame: FrameUniforms,
+    key: u64,
+}
 
 /// Depth of every casting object into every shadow layer.
 fn encode_shadow_passes(

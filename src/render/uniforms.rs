@@ -40,6 +40,29 @@ pub struct GpuMaterial {
     pub emission: [f32; 4],
 }
 
+/// A probe as the shaders read it (scene.wgsl `ReflectionProbe`).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct GpuReflectionProbe {
+    /// xyz position; w 1 for box projection.
+    pub position: [f32; 4],
+    /// xyz box minimum; w blend distance.
+    pub box_min: [f32; 4],
+    /// xyz box maximum; w the first layer of its levels.
+    pub box_max: [f32; 4],
+}
+
+impl GpuReflectionProbe {
+    pub fn new(p: &crate::spec::scene::ReflectionProbe, index: usize) -> Self {
+        let v = |a: [f64; 3], w: f64| [a[0] as f32, a[1] as f32, a[2] as f32, w as f32];
+        GpuReflectionProbe {
+            position: v(p.position, if p.box_projection { 1.0 } else { 0.0 }),
+            box_min: v(p.box_min, p.blend_distance),
+            box_max: v(p.box_max, super::reflection_probes::first_layer(index) as f64),
+        }
+    }
+}
+
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
 pub struct FrameUniforms {
@@ -53,6 +76,9 @@ pub struct FrameUniforms {
     /// The fixed model's specular colour and parameters (the G-buffer holds colour, metallic and
     /// smoothness).
     pub fixed: GpuMaterial,
+    /// x: the reflection probes the shading blends (0: the sky alone).
+    pub reflection: [u32; 4],
+    pub probes: [GpuReflectionProbe; crate::spec::scene::MAX_PROBES],
 }
 
 #[repr(C)]
@@ -81,7 +107,8 @@ mod tests {
         assert_eq!(std::mem::size_of::<GpuLight>(), 96);
         assert_eq!(std::mem::size_of::<ShadowLayer>(), 96);
         assert_eq!(std::mem::size_of::<GpuMaterial>(), 112);
-        assert_eq!(std::mem::size_of::<FrameUniforms>(), 64 + 64 + 16 + 16 + 144 + 16 + 112 + 112);
+        assert_eq!(std::mem::size_of::<GpuReflectionProbe>(), 48);
+        assert_eq!(std::mem::size_of::<FrameUniforms>(), 64 + 64 + 16 + 16 + 144 + 16 + 112 + 112 + 16 + 4 * 48);
         assert_eq!(std::mem::size_of::<ObjectUniforms>(), 64 + 64 + 112 + 16 + 144);
     }
 }

@@ -39,6 +39,9 @@ pub struct Scene {
     /// axis overrides it). Medusa and spikes state their 50°.
     #[serde(default)]
     pub light_angle_deg: Option<f64>,
+    /// Reflection probes, most important first (`environment.reflections = "probe"` uses them).
+    #[serde(default)]
+    pub probes: Vec<ReflectionProbe>,
     /// HDRP volume overrides (exposure) for this scene; HDRP's default volume where absent.
     #[serde(default)]
     pub hdrp: crate::pipelines::volume::HdrpVolume,
@@ -463,6 +466,56 @@ pub struct Environment {
     /// Whether the environment is drawn behind the scene (otherwise black).
     #[serde(default = "yes")]
     pub background: bool,
+    /// Where specular reflections come from: the sky alone, or the scene's reflection probes
+    /// (`[[probes]]`) with the sky where no probe reaches.
+    #[serde(default)]
+    pub reflections: Reflections,
+}
+
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Reflections {
+    #[default]
+    Sky,
+    Probe,
+}
+
+/// A reflection probe: it captures the scene (without the subject: a dynamic object, which Unity's
+/// baked probes of all three pipelines leave out) from `position` into a cubemap, prefiltered for
+/// roughness; points inside its box take its reflections, blended over `blend_distance` at the
+/// box's faces (Unity's defaults: box projection off, blend distance 1 m, 128² faces).
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ReflectionProbe {
+    pub position: [f64; 3],
+    /// The influence (and box-projection) volume, world space, axis-aligned.
+    pub box_min: [f64; 3],
+    pub box_max: [f64; 3],
+    #[serde(default = "default_blend_distance")]
+    pub blend_distance: f64,
+    #[serde(default)]
+    pub box_projection: bool,
+    /// Texels per cube face (a power of two, 16–512).
+    #[serde(default = "default_probe_resolution")]
+    pub resolution: u32,
+    /// Unity's `ReflectionProbe.nearClipPlane` default.
+    #[serde(default = "default_probe_near")]
+    pub near: f64,
+}
+
+/// Probes a scene may place (the frame uniform holds this many).
+pub const MAX_PROBES: usize = 4;
+
+fn default_blend_distance() -> f64 {
+    1.0
+}
+
+fn default_probe_resolution() -> u32 {
+    128
+}
+
+fn default_probe_near() -> f64 {
+    0.3
 }
 
 fn yes() -> bool {
@@ -614,6 +667,46 @@ impl Scene {
         }
         if self.lights.iter().filter(|l| l.key).count() > 1 {
             return Err(c.err("lights.key", "at most one light may be the key light"));
+        }
+        if self.environment.reflections == Reflections::Probe && self.probes.is_empty() {
+            return Err(c.err(
+                "environment.reflections",
+                "\"probe\" needs at least one [[probes]] entry (or use \"sky\")",
+            ));
+        }
+        if self.probes.len() > MAX_PROBES {
+            return Err(c.err(
+                "probes",
+                format!(
+                    "{} probes; at most {} are allowed",
+                    self.probes.len(),
+                    MAX_PROBES
+                ),
+            ));
+        }
+        for (i, p) in self.probes.iter().enumerate() {
+            let k = |f: &str| format!("probes[{i}].{f}");
+            for axis in 0..3 {
+                if !(p.box_min[axis] < p.box_max[axis]) {
+                    return Err(c.err(
+                        &k("box_max"),
+                        format!("box_max {:?} must exceed box_min {:?} on every axis", p.box_max, p.box_min),
+                    ));
+                }
+            }
+            for (key, v) in [("position", p.position), ("box_min", p.box_min), ("box_max", p.box_max)] {
+                if v.iter().any(|x| !x.is_finite()) {
+                    return Err(c.err(&k(key), format!("{v:?} must be finite")));
+                }
+            }
+            c.range(&k("blend_distance"), p.blend_distance, 0.0, 1e4)?;
+            c.range(&k("near"), p.near, 1e-3, 100.0)?;
+            if !p.resolution.is_power_of_two() || !(16..=512).contains(&p.resolution) {
+                return Err(c.err(
+                    &k("resolution"),
+                    format!("{} is not allowed: a power of two from 16 to 512", p.resolution),
+                ));
+            }
         }
         for (i, l) in self.lights.iter().enumerate() {
             let k = |f: &str| format!("lights[{i}].{f}");

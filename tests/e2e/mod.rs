@@ -15,6 +15,7 @@ mod lights;
 mod materials;
 mod models;
 mod paths;
+mod probes;
 mod records;
 mod references;
 mod render_ci;

@@ -1,0 +1,546 @@
+//! Reflection probes that see the scene: each probe renders the scene's fixed objects and sky from
+//! its position into six 90° faces, and a compute pass resamples them into the equirectangular
+//! layout of the sky's probe and prefilters Unity's seven levels (mip = pr'·6 with
+//! pr' = pr(1.7 − 0.7pr), models.md#builtin; HDRP and URP convolve and fetch with the same
+//! mapping and UNITY_SPECCUBE_LOD_STEPS = 6) exactly as `environment::prefilter` does on the CPU,
+//! its twin. The levels sit in one array texture after the sky's seven: probe k's level l is layer
+//! 7(k + 1) + l. The shaders blend probes per pixel as URP's CalculateIrradianceFromReflectionProbes
+//! does (GlobalIllumination.hlsl: each probe's weight is sat(min distance into its box / blend
+//! distance), capped at what the earlier ones left, the sky taking the rest) and box-project as
+//! BoxProjectedCubemapDirection (UnityStandardUtils.cginc; URP BoxProjectedCubemapDirection).
+//!
+//! Written here rather than taken from a crate: the capture draws with the tool's own pipelines
+//! and the prefilter must be the twin of the CPU one to be tested against it.
+
+use bytemuck::{Pod, Zeroable};
+use glam::{DMat4, DVec3};
+use wgpu::util::DeviceExt;
+
+use crate::environment::prefilter::{self, EquirectImage, LEVELS, MIRROR_ALPHA, PROBE_WIDTH, SOURCE_WIDTH};
+use crate::error::Error;
+use crate::gpu::GpuContext;
+use crate::spec::scene::ReflectionProbe;
+pub use super::uniforms::GpuReflectionProbe;
+
+pub use crate::spec::scene::MAX_PROBES;
+/// The capture's colour format: the forward pipelines' target format.
+pub const CAPTURE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+const LEVEL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+const PROBE_HEIGHT: usize = PROBE_WIDTH / 2;
+/// Sub-samples per side when the faces are resampled to the equirectangular source.
+const FACE_SUBSAMPLES: u32 = 2;
+
+/// The first array layer of probe `index`'s levels (the sky's come first).
+pub fn first_layer(index: usize) -> usize {
+    LEVELS * (index + 1)
+}
+
+/// The view-projections of the six faces from `position`, in the order +X, −X, +Y, −Y, +Z, −Z
+/// (the prefilter picks the face of a direction's major axis in this order).
+pub fn face_view_proj(position: DVec3, near: f64) -> [DMat4; 6] {
+    let dirs = [
+        (DVec3::X, DVec3::Y),
+        (DVec3::NEG_X, DVec3::Y),
+        (DVec3::Y, DVec3::NEG_Z),
+        (DVec3::NEG_Y, DVec3::Z),
+        (DVec3::Z, DVec3::Y),
+        (DVec3::NEG_Z, DVec3::Y),
+    ];
+    let proj = DMat4::perspective_rh(std::f64::consts::FRAC_PI_2, 1.0, near, 1000.0);
+    dirs.map(|(d, up)| proj * DMat4::look_at_rh(position, position + d, up))
+}
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+struct PrefilterParams {
+    dims: [u32; 4],
+    level: [f32; 4],
+    faces: [[[f32; 4]; 4]; 6],
+    probe_position: [f32; 4],
+}
+
+const MODE_FACES: u32 = 0;
+const MODE_HALVE: u32 = 1;
+const MODE_CONVOLVE: u32 = 2;
+const MODE_COPY: u32 = 3;
+
+/// One compute dispatch of the prefilter: its bind group and size.
+struct Step {
+    group: wgpu::BindGroup,
+    size: (u32, u32),
+}
+
+/// The prefilter's pipeline and its scratch: the equirectangular source at 256, 128 and 64 texels
+/// wide and each one's texel directions and solid angles. Built once per renderer.
+pub struct Prefilter {
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+    sampler: wgpu::Sampler,
+    /// Widths 256, 128, 64 (`prefilter::source_width`'s choices).
+    sources: Vec<(usize, wgpu::Texture, wgpu::Buffer)>,
+    /// Bound where a step reads no faces.
+    no_faces: wgpu::TextureView,
+}
+
+impl Prefilter {
+    pub fn new(gpu: &GpuContext) -> Result<Prefilter, Error> {
+        let device = &gpu.device;
+        let module = gpu.shader_module("probe prefilter", include_str!("../../shaders/pass/probe_prefilter.wgsl"))?;
+        let texture_entry = |binding, view_dimension| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                view_dimension,
+                multisampled: false,
+            },
+            count: None,
+        };
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("probe prefilter"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::COMPUTE,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+                texture_entry(1, wgpu::TextureViewDimension::D2Array),
+                texture_entry(2, wgpu::TextureViewDimension::D2),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 3,
+                    visibility: wgpu::ShaderStages::COMPUTE,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::NonFiltering),
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 4,
+                    visibility: wgpu::ShaderStages::COMPUTE,
+                    ty: wgpu::BindingType::StorageTexture {
+                        access: wgpu::StorageTextureAccess::WriteOnly,
+                        format: LEVEL_FORMAT,
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 5,
+                    visibility: wgpu::ShaderStages::COMPUTE,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Storage { read_only: true },
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+            ],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("probe prefilter"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("probe prefilter"),
+            layout: Some(&pipeline_layout),
+            module: &module,
+            entry_point: Some("cs_prefilter"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("probe faces"),
+            mag_filter: wgpu::FilterMode::Nearest,
+            min_filter: wgpu::FilterMode::Nearest,
+            ..Default::default()
+        });
+        let sources = [SOURCE_WIDTH, PROBE_WIDTH, PROBE_WIDTH / 2]
+            .into_iter()
+            .map(|w| {
+                let texture = super::texture_2d(
+                    device,
+                    "probe source",
+                    (w as u32, w as u32 / 2),
+                    LEVEL_FORMAT,
+                    wgpu::TextureUsages::TEXTURE_BINDING
+                        | wgpu::TextureUsages::STORAGE_BINDING
+                        | wgpu::TextureUsages::COPY_DST,
+                );
+                // Texel directions and solid angles, as TexelTable holds them.
+                let img = EquirectImage { width: w, height: w / 2, texels: vec![DVec3::ZERO; w * w / 2] };
+                let table: Vec<[f32; 4]> = (0..w * w / 2)
+                    .map(|i| {
+                        let (d, omega) = img.texel_direction(i % w, i / w);
+                        [d.x as f32, d.y as f32, d.z as f32, omega as f32]
+                    })
+                    .collect();
+                let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("probe source texels"),
+                    contents: bytemuck::cast_slice(&table),
+                    usage: wgpu::BufferUsages::STORAGE,
+                });
+                (w, texture, buffer)
+            })
+            .collect();
+        let no_faces = device
+            .create_texture(&wgpu::TextureDescriptor {
+                label: Some("no probe faces"),
+                size: wgpu::Extent3d { width: 1, height: 1, depth_or_array_layers: 1 },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: CAPTURE_FORMAT,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            })
+            .create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2Array),
+                ..Default::default()
+            });
+        Ok(Prefilter { pipeline, layout, sampler, sources, no_faces })
+    }
+
+    fn source(&self, width: usize) -> &(usize, wgpu::Texture, wgpu::Buffer) {
+        self.sources.iter().find(|(w, _, _)| *w == width).expect("one of the three widths")
+    }
+
+    /// The dispatches that fill `levels` (the seven layers from `first`) from `faces` (None: the
+    /// 256-wide source was uploaded already) captured at `position` with `view_proj`.
+    fn steps(
+        &self,
+        device: &wgpu::Device,
+        faces: Option<(&wgpu::TextureView, [DMat4; 6], DVec3)>,
+        levels: &wgpu::Texture,
+        first: usize,
+    ) -> Vec<Step> {
+        let mut steps = Vec::new();
+        let view = |t: &wgpu::Texture, layer: Option<usize>| {
+            t.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2),
+                base_array_layer: layer.unwrap_or(0) as u32,
+                array_layer_count: Some(1),
+                ..Default::default()
+            })
+        };
+        let mut step = |mode: u32,
+                        out: wgpu::TextureView,
+                        size: (usize, usize),
+                        level: [f32; 4],
+                        source: &(usize, wgpu::Texture, wgpu::Buffer)| {
+            let mut params = PrefilterParams::zeroed();
+            params.dims = [size.0 as u32, size.1 as u32, 0, mode];
+            params.level = level;
+            if let Some((_, vp, p)) = &faces {
+                params.faces = vp.map(|m| m.as_mat4().to_cols_array_2d());
+                params.probe_position = [p.x as f32, p.y as f32, p.z as f32, 1.0];
+            }
+            let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("probe prefilter step"),
+                contents: bytemuck::bytes_of(&params),
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+            let faces_view = faces.as_ref().map(|f| f.0).unwrap_or(&self.no_faces);
+            let source_view = view(&source.1, None);
+            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("probe prefilter step"),
+                layout: &self.layout,
+                entries: &[
+                    wgpu::BindGroupEntry { binding: 0, resource: buffer.as_entire_binding() },
+                    wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(faces_view) },
+                    wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&source_view) },
+                    wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::Sampler(&self.sampler) },
+                    wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::TextureView(&out) },
+                    wgpu::BindGroupEntry { binding: 5, resource: source.2.as_entire_binding() },
+                ],
+            });
+            steps.push(Step { group, size: (size.0 as u32, size.1 as u32) });
+        };
+        let (s256, s128, s64) = (self.source(SOURCE_WIDTH), self.source(PROBE_WIDTH), self.source(PROBE_WIDTH / 2));
+        if faces.is_some() {
+            let sub = 1.0 / FACE_SUBSAMPLES as f32;
+            // Reads the faces only; the 64-wide source is bound as a placeholder (a texture cannot be
+            // read and written in one dispatch).
+            step(MODE_FACES, view(&s256.1, None), (SOURCE_WIDTH, SOURCE_WIDTH / 2), [0.0, sub, 0.0, 0.0], s64);
+        }
+        step(MODE_HALVE, view(&s128.1, None), (PROBE_WIDTH, PROBE_HEIGHT), [0.0; 4], s256);
+        step(MODE_HALVE, view(&s64.1, None), (PROBE_WIDTH / 2, PROBE_HEIGHT / 2), [0.0; 4], s128);
+        for level in 0..LEVELS {
+            let alpha = prefilter::level_alpha(level);
+            let out = view(levels, Some(first + level));
+            let size = (PROBE_WIDTH, PROBE_HEIGHT);
+            // Level 0 is the mirror image; a lobe narrower than a texel copies it (as on the CPU).
+            if level == 0 || alpha < MIRROR_ALPHA {
+                step(MODE_COPY, out, size, [0.0; 4], s128);
+            } else {
+                let src = self.source(prefilter::source_width(alpha));
+                let w = src.0 as f32;
+                step(MODE_CONVOLVE, out, size, [alpha as f32, 0.0, w, w / 2.0], src);
+            }
+        }
+        steps
+    }
+
+    fn encode(&self, encoder: &mut wgpu::CommandEncoder, steps: &[Step], timestamps: Option<wgpu::ComputePassTimestampWrites>) {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("probe prefilter"),
+            timestamp_writes: timestamps,
+        });
+        pass.set_pipeline(&self.pipeline);
+        for s in steps {
+            pass.set_bind_group(0, &s.group, &[]);
+            pass.dispatch_workgroups(s.size.0.div_ceil(8), s.size.1.div_ceil(8), 1);
+        }
+    }
+
+    /// Prefilter an equirectangular source (256×128) on the GPU and read the seven levels back:
+    /// the GPU twin of `Probe::from_source`, for tests and the convergence study.
+    pub fn prefilter_source(&self, gpu: &GpuContext, source: &EquirectImage) -> Result<Vec<Vec<[f32; 4]>>, Error> {
+        let device = &gpu.device;
+        if (source.width, source.height) != (SOURCE_WIDTH, SOURCE_WIDTH / 2) {
+            return Err(Error::Other(format!(
+                "the GPU prefilter takes a {SOURCE_WIDTH}×{} source, not {}×{}",
+                SOURCE_WIDTH / 2,
+                source.width,
+                source.height
+            )));
+        }
+        let texels: Vec<half::f16> =
+            source.texels.iter().flat_map(|t| [t.x, t.y, t.z, 1.0].map(half::f16::from_f64)).collect();
+        gpu.queue.write_texture(
+            self.source(SOURCE_WIDTH).1.as_image_copy(),
+            bytemuck::cast_slice(&texels),
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(SOURCE_WIDTH as u32 * 8),
+                rows_per_image: None,
+            },
+            wgpu::Extent3d { width: SOURCE_WIDTH as u32, height: SOURCE_WIDTH as u32 / 2, depth_or_array_layers: 1 },
+        );
+        let levels = level_texture(device, LEVELS, wgpu::TextureUsages::COPY_SRC);
+        let steps = self.steps(device, None, &levels, 0);
+        let mut encoder = device.create_command_encoder(&Default::default());
+        self.encode(&mut encoder, &steps, None);
+        let row = PROBE_WIDTH as u32 * 8;
+        let readback = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("probe levels readback"),
+            size: (row as usize * PROBE_HEIGHT * LEVELS) as u64,
+            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+            mapped_at_creation: false,
+        });
+        encoder.copy_texture_to_buffer(
+            levels.as_image_copy(),
+            wgpu::TexelCopyBufferInfo {
+                buffer: &readback,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(row),
+                    rows_per_image: Some(PROBE_HEIGHT as u32),
+                },
+            },
+            wgpu::Extent3d { width: PROBE_WIDTH as u32, height: PROBE_HEIGHT as u32, depth_or_array_layers: LEVELS as u32 },
+        );
+        gpu.queue.submit([encoder.finish()]);
+        let bytes = crate::gpu::readback::map_read(device, &readback)?;
+        gpu.check_errors("prefiltering a probe source")?;
+        let halves: &[half::f16] = bytemuck::cast_slice(&bytes);
+        let per_level = PROBE_WIDTH * PROBE_HEIGHT;
+        Ok((0..LEVELS)
+            .map(|l| {
+                (0..per_level)
+                    .map(|i| {
+                        let t = &halves[(l * per_level + i) * 4..][..4];
+                        [t[0].to_f32(), t[1].to_f32(), t[2].to_f32(), t[3].to_f32()]
+                    })
+                    .collect()
+            })
+            .collect())
+    }
+}
+
+/// An array of `layers` probe levels (128×64, half float) the prefilter writes and shaders sample.
+pub fn level_texture(device: &wgpu::Device, layers: usize, extra: wgpu::TextureUsages) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("reflection probe levels"),
+        size: wgpu::Extent3d {
+            width: PROBE_WIDTH as u32,
+            height: PROBE_HEIGHT as u32,
+            depth_or_array_layers: layers as u32,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: LEVEL_FORMAT,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::STORAGE_BINDING
+            | wgpu::TextureUsages::COPY_DST
+            | extra,
+        view_formats: &[],
+    })
+}
+
+/// The sky's levels resampled to the probes' 128×64 (a constant sky's single texel repeated), for
+/// the layers before the probes'.
+pub fn sky_levels(probe: &prefilter::Probe) -> Vec<half::f16> {
+    let mut out = Vec::with_capacity(LEVELS * PROBE_WIDTH * PROBE_HEIGHT * 4);
+    for l in 0..LEVELS {
+        let level = &probe.levels[l.min(probe.levels.len() - 1)];
+        for y in 0..PROBE_HEIGHT {
+            for x in 0..PROBE_WIDTH {
+                let t = if (level.width, level.height) == (PROBE_WIDTH, PROBE_HEIGHT) {
+                    level.get(x, y)
+                } else {
+                    let (d, _) = EquirectImage { width: PROBE_WIDTH, height: PROBE_HEIGHT, texels: Vec::new() }
+                        .texel_direction(x, y);
+                    level.lookup(d)
+                };
+                out.extend([t.x, t.y, t.z, 1.0].map(|v| half::f16::from_f64(v.min(65000.0))));
+            }
+        }
+    }
+    out
+}
+
+/// One probe's capture targets and prefilter dispatches.
+pub struct ProbeTargets {
+    pub probe: ReflectionProbe,
+    pub face_views: Vec<wgpu::TextureView>,
+    pub role_views: Vec<wgpu::TextureView>,
+    pub depth_view: wgpu::TextureView,
+    /// A frame uniform buffer per face (the cell's frame seen from the probe).
+    pub frame_buffers: Vec<wgpu::Buffer>,
+    pub view_proj: [DMat4; 6],
+    steps: Vec<Step>,
+}
+
+/// A composition's probes: the level array (the sky's seven layers, then seven per probe), each
+/// probe's capture targets, and which cell inputs the current capture was made with.
+pub struct SceneProbes {
+    pub levels: wgpu::Texture,
+    pub probes: Vec<ProbeTargets>,
+    /// The hash of everything a capture sees (lights, shadows, fixed objects, environment,
+    /// pipeline) at the last capture; a cell with the same inputs reuses it.
+    pub captured: std::sync::Mutex<Option<u64>>,
+}
+
+impl SceneProbes {
+    pub fn new(gpu: &GpuContext, prefilter: &Prefilter, probes: &[ReflectionProbe], sky: &prefilter::Probe) -> SceneProbes {
+        let device = &gpu.device;
+        let levels = level_texture(device, LEVELS * (probes.len() + 1), wgpu::TextureUsages::empty());
+        let sky_texels = sky_levels(sky);
+        gpu.queue.write_texture(
+            levels.as_image_copy(),
+            bytemuck::cast_slice(&sky_texels),
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(PROBE_WIDTH as u32 * 8),
+                rows_per_image: Some(PROBE_HEIGHT as u32),
+            },
+            wgpu::Extent3d { width: PROBE_WIDTH as u32, height: PROBE_HEIGHT as u32, depth_or_array_layers: LEVELS as u32 },
+        );
+        let probes = probes
+            .iter()
+            .enumerate()
+            .map(|(k, p)| {
+                let r = p.resolution;
+                let layered = |label: &str, format, layers: u32| {
+                    device.create_texture(&wgpu::TextureDescriptor {
+                        label: Some(label),
+                        size: wgpu::Extent3d { width: r, height: r, depth_or_array_layers: layers },
+                        mip_level_count: 1,
+                        sample_count: 1,
+                        dimension: wgpu::TextureDimension::D2,
+                        format,
+                        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+                        view_formats: &[],
+                    })
+                };
+                let faces = layered("probe faces", CAPTURE_FORMAT, 6);
+                let roles = layered("probe roles", super::renderer::ROLE_FORMAT, 6);
+                let depth = layered("probe depth", super::renderer::DEPTH_FORMAT, 1);
+                let layer_views = |t: &wgpu::Texture| -> Vec<wgpu::TextureView> {
+                    (0..6)
+                        .map(|i| {
+                            t.create_view(&wgpu::TextureViewDescriptor {
+                                dimension: Some(wgpu::TextureViewDimension::D2),
+                                base_array_layer: i,
+                                array_layer_count: Some(1),
+                                ..Default::default()
+                            })
+                        })
+                        .collect()
+                };
+                let all_faces = faces.create_view(&wgpu::TextureViewDescriptor {
+                    dimension: Some(wgpu::TextureViewDimension::D2Array),
+                    ..Default::default()
+                });
+                let position = DVec3::from(p.position);
+                let view_proj = face_view_proj(position, p.near);
+                let steps = prefilter.steps(device, Some((&all_faces, view_proj, position)), &levels, first_layer(k));
+                ProbeTargets {
+                    probe: p.clone(),
+                    face_views: layer_views(&faces),
+                    role_views: layer_views(&roles),
+                    depth_view: depth.create_view(&Default::default()),
+                    frame_buffers: (0..6)
+                        .map(|_| {
+                            device.create_buffer(&wgpu::BufferDescriptor {
+                                label: Some("probe face frame"),
+                                size: std::mem::size_of::<super::uniforms::FrameUniforms>() as u64,
+                                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                                mapped_at_creation: false,
+                            })
+                        })
+                        .collect(),
+                    view_proj,
+                    steps,
+                }
+            })
+            .collect();
+        SceneProbes { levels, probes, captured: Default::default() }
+    }
+
+    pub fn view(&self) -> wgpu::TextureView {
+        self.levels.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        })
+    }
+
+    /// Encode every probe's prefilter (after its faces were drawn).
+    pub fn encode_prefilter(
+        &self,
+        prefilter: &Prefilter,
+        encoder: &mut wgpu::CommandEncoder,
+        timestamps: Option<wgpu::ComputePassTimestampWrites>,
+    ) {
+        let steps: Vec<&Step> = self.probes.iter().flat_map(|p| &p.steps).collect();
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("probe prefilter"),
+            timestamp_writes: timestamps,
+        });
+        pass.set_pipeline(&prefilter.pipeline);
+        for s in steps {
+            pass.set_bind_group(0, &s.group, &[]);
+            pass.dispatch_workgroups(s.size.0.div_ceil(8), s.size.1.div_ceil(8), 1);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn faces_cover_their_axes() {
+        let vp = face_view_proj(DVec3::new(1.0, 2.0, 3.0), 0.3);
+        let axes = [DVec3::X, DVec3::NEG_X, DVec3::Y, DVec3::NEG_Y, DVec3::Z, DVec3::NEG_Z];
+        for (m, a) in vp.iter().zip(axes) {
+            let c = *m * (DVec3::new(1.0, 2.0, 3.0) + a * 5.0).extend(1.0);
+            assert!(c.w > 0.0 && (c.x / c.w).abs() < 1e-9 && (c.y / c.w).abs() < 1e-9, "{a}: {c}");
+        }
+    }
+}

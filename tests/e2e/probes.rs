@@ -1,0 +1,84 @@
+//! Reflection probes (`render::reflection_probes`): the GPU prefilter is the twin of the CPU one,
+//! and a probe in the default room puts the walls into a metal sphere's reflection.
+
+use crate::common::fixture;
+use glam::DVec3;
+use shadematrix::environment::prefilter::{EquirectImage, Probe, SOURCE_WIDTH};
+use shadematrix::gpu::GpuContext;
+use shadematrix::render::reflection_probes::Prefilter;
+
+#[test]
+fn gpu_prefilter_matches_its_cpu_twin() {
+    // A sky with structure at every scale: a gradient, a bright disc and a sharp edge.
+    let sun = DVec3::new(0.3, 0.6, -0.5).normalize();
+    let radiance = |d: DVec3| {
+        let disc = if d.dot(sun) > 0.995 { DVec3::new(40.0, 36.0, 30.0) } else { DVec3::ZERO };
+        let edge = if d.x > 0.2 { DVec3::new(0.0, 0.3, 0.0) } else { DVec3::ZERO };
+        DVec3::new(0.2, 0.3, 0.5) * (0.5 + 0.5 * d.y) + disc + edge
+    };
+    let source = EquirectImage::sample(&radiance, SOURCE_WIDTH, SOURCE_WIDTH / 2, 2);
+    let cpu = Probe::from_source(&source);
+    let gpu_context = GpuContext::new().unwrap();
+    let gpu = Prefilter::new(&gpu_context).unwrap().prefilter_source(&gpu_context, &source).unwrap();
+    assert_eq!(gpu.len(), cpu.levels.len());
+    for (level, (g, c)) in gpu.iter().zip(&cpu.levels).enumerate() {
+        let peak = c.texels.iter().map(|t| t.max_element()).fold(0.0, f64::max);
+        let mut worst: f64 = 0.0;
+        for (gt, ct) in g.iter().zip(&c.texels) {
+            for k in 0..3 {
+                // Half-float storage of the source and the levels: 2⁻¹¹ relative each.
+                let err = (gt[k] as f64 - ct[k]).abs() / (ct[k].abs() + 1e-3 * peak);
+                worst = worst.max(err);
+            }
+        }
+        eprintln!("level {level}: worst relative difference {worst:.2e}");
+        assert!(worst < 4e-3, "level {level}: GPU and CPU prefilter differ by {worst}");
+    }
+}
+
+#[test]
+fn a_probe_puts_the_room_into_a_metal_sphere() {
+    use shadematrix::pipelines::{Pipeline, RenderPath};
+    use shadematrix::render::renderer::Renderer;
+    use shadematrix::spec::scene::{Reflections, Scene};
+    let with_probe = Scene::load_file(&fixture("probe_room.toml")).unwrap();
+    assert_eq!(with_probe.environment.reflections, Reflections::Probe);
+    let mut sky_only = with_probe.clone();
+    sky_only.environment.reflections = Reflections::Sky;
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let silver = shadematrix::shading::registry::Sliders {
+        base_color_linear: shadematrix::spec::presets::find_preset("silver").unwrap().base_color,
+        metallic: 1.0,
+        smoothness: 1.0,
+    };
+    let cell = crate::common::cell_params(Pipeline::Urp, "lit", silver, (2.0, 10.0), 96, RenderPath::Forward);
+    let mut render = |scene: &Scene| {
+        let prepared = renderer.prepare_scene(scene).unwrap();
+        let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
+        let lum: Vec<f64> =
+            r.hdr.chunks(4).map(|p| 0.2126 * p[0] as f64 + 0.7152 * p[1] as f64 + 0.0722 * p[2] as f64).collect();
+        (lum, r.roles, r.gpu_passes)
+    };
+    let (probe, roles, passes) = render(&with_probe);
+    let (sky, _, _) = render(&sky_only);
+    if let Some(passes) = passes {
+        let names: Vec<&str> = passes.iter().map(|(n, _)| n.as_str()).collect();
+        assert!(names.contains(&"probe capture") && names.contains(&"probe prefilter"), "{names:?}");
+    }
+    let subject: Vec<usize> = (0..probe.len()).filter(|&i| roles[i] == 2).collect();
+    let others: Vec<usize> = (0..probe.len()).filter(|&i| roles[i] != 2).collect();
+    assert!(subject.len() > 500, "the sphere and box cover {} pixels", subject.len());
+    let rel = |i: usize| (probe[i] - sky[i]).abs() / sky[i].max(probe[i]).max(1e-6);
+    let changed = subject.iter().filter(|&&i| rel(i) > 0.25).count() as f64 / subject.len() as f64;
+    // Elsewhere only the walls' and floor's own faint reflections (rough dielectrics) change.
+    let others_mean = others.iter().map(|&i| rel(i)).sum::<f64>() / others.len() as f64;
+    eprintln!(
+        "subject pixels changed by > 25 %: {:.1} %; mean relative change elsewhere {others_mean:.4}",
+        changed * 100.0
+    );
+    assert!(changed > 0.3, "the probe changes too little of the metal subject: {changed}");
+    assert!(others_mean < 0.02, "the probe changes the rest of the image: {others_mean}");
+    // The sphere reflects the lit walls and floor, brighter than the dim sky they hide.
+    let mean = |img: &[f64]| subject.iter().map(|&i| img[i]).sum::<f64>() / subject.len() as f64;
+    assert!(mean(&probe) > 1.5 * mean(&sky), "probe {} vs sky {}", mean(&probe), mean(&sky));
+}
