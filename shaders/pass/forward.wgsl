@@ -301,8 +301,28 @@ fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>, vertex_gi: vec3<f32>) -> vec3<f
     return c + model_indirect(s, n, v, gi) * material_occlusion;
 }
 
+// Interleaved gradient noise (Jimenez 2014; core Random.hlsl InterleavedGradientNoise, frame 0):
+// fract(52.9829189·fract(0.06711056·x + 0.00583715·y)) at the pixel's centre.
+fn interleaved_gradient_noise(pixel: vec2<f32>) -> f32 {
+    return fract(52.9829189 * fract(dot(pixel, vec2<f32>(0.06711056, 0.00583715))));
+}
+
+// LOD cross-fade (the SRP tutorial's ClipLOD): a level fading out (fade t > 0) keeps the fragments
+// whose dither is below t, the level fading in (fade −t) those at or above it, so between them
+// they cover every pixel once.
+fn lod_clip(pixel: vec2<f32>) {
+    if (object.lod.y > 0.5) {
+        let fade = object.lod.x;
+        let dither = interleaved_gradient_noise(pixel);
+        if (select(fade - dither, fade + dither, fade < 0.0) < 0.0) {
+            discard;
+        }
+    }
+}
+
 @fragment
 fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> FragmentOut {
+    lod_clip(in.clip.xy);
     let n = mapped_normal(shading_normal(in.normal, cross(dpdx(in.world_pos), dpdy(in.world_pos)), in.world_pos, front), in.tangent, in.uv);
     var out: FragmentOut;
     out.color = vec4<f32>(shade(material_at(in.uv), n, in.world_pos, in.vertex_gi) + emission(in.uv), 1.0);
@@ -332,6 +352,7 @@ fn vs_gouraud(in: VertexIn) -> GouraudOut {
 
 @fragment
 fn fs_gouraud(in: GouraudOut) -> FragmentOut {
+    lod_clip(in.clip.xy);
     var out: FragmentOut;
     out.color = vec4<f32>(in.color + emission(in.uv), 1.0);
     out.role = object.flags.y;
@@ -353,6 +374,7 @@ struct GBufferOut {
 
 @fragment
 fn fs_gbuffer(in: VertexOut, @builtin(front_facing) front: bool) -> GBufferOut {
+    lod_clip(in.clip.xy);
     let n = mapped_normal(shading_normal(in.normal, cross(dpdx(in.world_pos), dpdy(in.world_pos)), in.world_pos, front), in.tangent, in.uv);
     let s = material_at(in.uv);
     let v = normalize(frame.camera_pos.xyz - in.world_pos);

@@ -54,6 +54,7 @@ struct Object {
     material: Material,
     flags: vec4<u32>,         // x: 1 = subject (uses the swept material), y: role id written to the mask, z: object index
     light_sh: array<vec4<f32>, 9>, // the lights this object takes as SH (plan::lights), unscaled
+    lod: vec4<f32>,           // x: LOD cross-fade (plan::lod), y: 1 when dithered
 };
 
 @group(0) @binding(0) var<uniform> frame: Frame;

@@ -11,18 +11,9 @@ pub fn world_bounds(scene: &Scene, meshes: &[Mesh]) -> (DVec3, DVec3) {
     let mut lo = DVec3::splat(f64::MAX);
     let mut hi = DVec3::splat(f64::MIN);
     for (o, mesh) in scene.objects.iter().zip(meshes) {
-        let (a, b) = mesh.bounds();
-        let m = o.transform.matrix();
-        for corner in 0..8 {
-            let c = DVec3::new(
-                if corner & 1 == 0 { a.x } else { b.x } as f64,
-                if corner & 2 == 0 { a.y } else { b.y } as f64,
-                if corner & 4 == 0 { a.z } else { b.z } as f64,
-            );
-            let w = m.transform_point3(c);
-            lo = lo.min(w);
-            hi = hi.max(w);
-        }
+        let (a, b) = world_bounds_of(o, &mesh.bounds());
+        lo = lo.min(a);
+        hi = hi.max(b);
     }
     if lo.x > hi.x {
         (DVec3::ZERO, DVec3::ZERO)
@@ -43,4 +34,23 @@ pub fn object_centres(scene: &Scene, meshes: &[Mesh]) -> Vec<(String, DVec3)> {
             (o.name.clone(), o.transform.matrix().transform_point3(centre))
         })
         .collect()
+}
+
+/// The world-space box around an object's object-space `bounds` (its eight corners transformed).
+pub fn world_bounds_of(o: &crate::spec::scene::Object, bounds: &(glam::Vec3, glam::Vec3)) -> (DVec3, DVec3) {
+    let (a, b) = *bounds;
+    let m = o.transform.matrix();
+    let mut lo = DVec3::splat(f64::MAX);
+    let mut hi = DVec3::splat(f64::MIN);
+    for corner in 0..8 {
+        let c = DVec3::new(
+            if corner & 1 == 0 { a.x } else { b.x } as f64,
+            if corner & 2 == 0 { a.y } else { b.y } as f64,
+            if corner & 4 == 0 { a.z } else { b.z } as f64,
+        );
+        let w = m.transform_point3(c);
+        lo = lo.min(w);
+        hi = hi.max(w);
+    }
+    (lo, hi)
 }

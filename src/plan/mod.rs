@@ -4,6 +4,7 @@
 use serde::Serialize;
 
 pub mod lights;
+pub mod lod;
 
 use crate::spec::scene::{Reflections, Scene, Sky};
 

@@ -22,7 +22,7 @@ use crate::plan::lights::ObjectLights;
 /// 4: anti-aliasing (asked, rendered samples and why they differ) and shadow-map resolutions;
 /// 5: the subject's peak luminance, overflow counted before the half-float store saturates it, and
 /// whether the subject wore its textured preset, and its emission.
-pub const CELL_SCHEMA: u32 = 5;
+pub const CELL_SCHEMA: u32 = 6;
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct CellRecord {
@@ -66,6 +66,9 @@ pub struct CellRecord {
     pub antialiasing: AntialiasingRecord,
     /// Each shadowed light's map resolution (the pipeline's default unless the scene sets one).
     pub shadow_maps: Vec<crate::render::ShadowMapUse>,
+    /// Each LOD group's relative screen height and the levels drawn, with their cross-fade.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub lod: Vec<crate::render::renderer::LodUse>,
     pub stats: PixelStats,
     pub timing: CellTiming,
     pub metrics: CellMetrics,

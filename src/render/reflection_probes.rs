@@ -16,11 +16,11 @@ use bytemuck::{Pod, Zeroable};
 use glam::{DMat4, DVec3};
 use wgpu::util::DeviceExt;
 
+pub use super::uniforms::GpuReflectionProbe;
 use crate::environment::prefilter::{self, EquirectImage, LEVELS, MIRROR_ALPHA, PROBE_WIDTH, SOURCE_WIDTH};
 use crate::error::Error;
 use crate::gpu::GpuContext;
 use crate::spec::scene::ReflectionProbe;
-pub use super::uniforms::GpuReflectionProbe;
 
 pub use crate::spec::scene::MAX_PROBES;
 /// The capture's colour format: the forward pipelines' target format.
@@ -284,7 +284,12 @@ impl Prefilter {
         steps
     }
 
-    fn encode(&self, encoder: &mut wgpu::CommandEncoder, steps: &[Step], timestamps: Option<wgpu::ComputePassTimestampWrites>) {
+    fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        steps: &[Step],
+        timestamps: Option<wgpu::ComputePassTimestampWrites>,
+    ) {
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("probe prefilter"),
             timestamp_writes: timestamps,
@@ -341,7 +346,11 @@ impl Prefilter {
                     rows_per_image: Some(PROBE_HEIGHT as u32),
                 },
             },
-            wgpu::Extent3d { width: PROBE_WIDTH as u32, height: PROBE_HEIGHT as u32, depth_or_array_layers: LEVELS as u32 },
+            wgpu::Extent3d {
+                width: PROBE_WIDTH as u32,
+                height: PROBE_HEIGHT as u32,
+                depth_or_array_layers: LEVELS as u32,
+            },
         );
         gpu.queue.submit([encoder.finish()]);
         let bytes = crate::gpu::readback::map_read(device, &readback)?;
@@ -427,7 +436,12 @@ pub struct SceneProbes {
 }
 
 impl SceneProbes {
-    pub fn new(gpu: &GpuContext, prefilter: &Prefilter, probes: &[ReflectionProbe], sky: &prefilter::Probe) -> SceneProbes {
+    pub fn new(
+        gpu: &GpuContext,
+        prefilter: &Prefilter,
+        probes: &[ReflectionProbe],
+        sky: &prefilter::Probe,
+    ) -> SceneProbes {
         let device = &gpu.device;
         let levels = level_texture(device, LEVELS * (probes.len() + 1), wgpu::TextureUsages::empty());
         let sky_texels = sky_levels(sky);
@@ -439,7 +453,11 @@ impl SceneProbes {
                 bytes_per_row: Some(PROBE_WIDTH as u32 * 8),
                 rows_per_image: Some(PROBE_HEIGHT as u32),
             },
-            wgpu::Extent3d { width: PROBE_WIDTH as u32, height: PROBE_HEIGHT as u32, depth_or_array_layers: LEVELS as u32 },
+            wgpu::Extent3d {
+                width: PROBE_WIDTH as u32,
+                height: PROBE_HEIGHT as u32,
+                depth_or_array_layers: LEVELS as u32,
+            },
         );
         let probes = probes
             .iter()

@@ -92,6 +92,16 @@ pub struct CellRender {
     /// Each shadowed light's map resolution in this cell (its pipeline's default unless the scene
     /// sets one); empty when the frame has no shadow pass.
     pub shadow_maps: Vec<ShadowMapUse>,
+    /// The LOD levels drawn, per LOD group.
+    pub lod: Vec<LodUse>,
+}
+
+/// A LOD group in a cell: its relative screen height and the levels drawn (`plan::lod`).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct LodUse {
+    pub object: String,
+    pub relative_height: f64,
+    pub drawn: Vec<crate::plan::lod::LodDraw>,
 }
 
 /// A shadowed light's map in a cell: its resolution, and why it differs from the pipeline's default.
@@ -116,6 +126,10 @@ struct GpuObject {
     fixed: Option<(Sliders, GpuMaterial)>,
     cast_shadows: bool,
     receive_shadows: bool,
+    /// The scene object this mesh draws (LOD levels after level 0 are extra meshes of it).
+    scene_index: usize,
+    /// Its level in the object's LOD group, if it has one.
+    lod_level: Option<usize>,
 }
 
 /// A composition's shadow maps: the depth array, a view per layer to render into, the layer
@@ -159,6 +173,17 @@ pub struct PreparedScene {
     /// Each object's name and world-space bounds centre (what the light budget ranks lights by).
     pub object_centres: Vec<(String, DVec3)>,
     pub triangle_count: usize,
+    /// Per LOD group object (scene index): its world size (largest axis of level 0's bounds).
+    lod_sizes: Vec<Option<f64>>,
+    /// Each mesh's LOD fade in the current cell (None: not drawn; 1 for meshes without LOD).
+    fades: std::sync::Mutex<Vec<Option<f64>>>,
+}
+
+impl PreparedScene {
+    /// Whether each mesh is drawn in the current cell.
+    fn drawn(&self) -> Vec<bool> {
+        self.fades.lock().unwrap_or_else(|e| e.into_inner()).iter().map(Option::is_some).collect()
+    }
 }
 
 struct Targets {
@@ -555,6 +580,7 @@ impl Renderer {
         let mut triangle_count = 0;
         let object_centres = placement::object_centres(scene, &meshes);
         let scene_bounds = placement::world_bounds(scene, &meshes);
+        let level0_bounds: Vec<(glam::Vec3, glam::Vec3)> = meshes.iter().map(Mesh::bounds).collect();
         for (o, mesh) in scene.objects.iter().zip(meshes) {
             triangle_count += mesh.triangle_count();
             let vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -586,8 +612,48 @@ impl Renderer {
                 fixed,
                 cast_shadows: o.cast_shadows,
                 receive_shadows: o.receive_shadows,
+                scene_index: objects.len(),
+                lod_level: o.lod.as_ref().map(|_| 0),
             });
         }
+        // LOD levels after the first: extra meshes of their object, after every scene object (so
+        // the first scene-object-count slots stay the scene's objects).
+        let mut lod_sizes = vec![None; scene.objects.len()];
+        for (i, o) in scene.objects.iter().enumerate() {
+            let Some(lod) = &o.lod else { continue };
+            let (lo, hi) = crate::geometry::placement::world_bounds_of(o, &level0_bounds[i]);
+            lod_sizes[i] = Some((hi - lo).max_element());
+            for (j, spec) in lod.meshes.iter().enumerate() {
+                let key = format!("objects[{i}].lod.meshes[{j}]");
+                let mut mesh = procedural::build(spec, scene.base_dir.as_deref(), &scene.origin, &key)?;
+                if o.role == Role::Subject {
+                    mesh.ensure_tangents();
+                }
+                triangle_count += mesh.triangle_count();
+                let first = &objects[i];
+                objects.push(GpuObject {
+                    vertices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                        label: Some(&key),
+                        contents: bytemuck::cast_slice(&mesh.vertices),
+                        usage: wgpu::BufferUsages::VERTEX,
+                    }),
+                    indices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                        label: Some(&key),
+                        contents: bytemuck::cast_slice(&mesh.indices),
+                        usage: wgpu::BufferUsages::INDEX,
+                    }),
+                    index_count: mesh.indices.len() as u32,
+                    role: first.role,
+                    model: first.model,
+                    fixed: first.fixed,
+                    cast_shadows: first.cast_shadows,
+                    receive_shadows: first.receive_shadows,
+                    scene_index: i,
+                    lod_level: Some(j + 1),
+                });
+            }
+        }
+        let object_count = objects.len();
         let (object_buffer, object_stride, object_bind_group) = super::uniform_slots(
             device,
             &self.object_layout,
@@ -677,6 +743,8 @@ impl Renderer {
             shadows,
             object_centres,
             triangle_count,
+            lod_sizes,
+            fades: std::sync::Mutex::new(vec![Some(1.0); object_count]),
         })
     }
 
@@ -921,7 +989,8 @@ impl Renderer {
         if prepared.plan.background {
             self.background_pipeline(samples)?;
         }
-        let (lights, shadow_layers, shadow_maps, capture) = self.write_uniforms(prepared, cell, &fixed_model);
+        let WrittenFrame { lights, shadow_layers, shadow_maps, capture } =
+            self.write_uniforms(prepared, cell, &fixed_model);
         let probe_times = self.capture_probes(prepared, cell, &fixed_model, &capture, &shadow_layers)?;
         let frame_group = self.frame_group(prepared, cell.settings.material_maps)?;
         let frame_group: &wgpu::BindGroup = &frame_group;
@@ -961,6 +1030,7 @@ impl Renderer {
             None => (None, None),
         };
         let keep = if msaa.is_some() { wgpu::StoreOp::Discard } else { wgpu::StoreOp::Store };
+        let drawn = prepared.drawn();
         let total = warmup + frames;
         let mut frame_ms = Vec::with_capacity(frames as usize);
         for f in 0..total {
@@ -1013,7 +1083,7 @@ impl Renderer {
                     multiview_mask: None,
                 });
                 pass.set_bind_group(0, frame_group, &[]);
-                for (i, o) in prepared.objects.iter().enumerate() {
+                for (i, o) in prepared.objects.iter().enumerate().filter(|(i, _)| drawn[*i]) {
                     pass.set_pipeline(if o.role == Role::Subject { subject_pipeline } else { fixed_pipeline });
                     pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
                     pass.set_vertex_buffer(0, o.vertices.slice(..));
@@ -1073,6 +1143,7 @@ impl Renderer {
             lights,
             multisampling,
             shadow_maps,
+            lod: capture.lod,
         })
     }
 
@@ -1118,6 +1189,7 @@ impl Renderer {
         timed: &[Option<(&PassTimer, u32)>],
     ) {
         let p = cell.pipeline;
+        let drawn = prepared.drawn();
         // With the tiled loop, its compute pass sits between the G-buffer and the lighting.
         let (light_at, last_at) = if tile_group.is_some() { (2, 3) } else { (1, 2) };
         let t = self.targets.as_ref().expect("targets exist");
@@ -1152,7 +1224,7 @@ impl Renderer {
                 multiview_mask: None,
             });
             pass.set_bind_group(0, frame_group, &[]);
-            for (i, o) in prepared.objects.iter().enumerate().filter(|(_, o)| model_of(o).deferrable()) {
+            for (i, o) in prepared.objects.iter().enumerate().filter(|(i, o)| drawn[*i] && model_of(o).deferrable()) {
                 let textured = o.role == Role::Subject && cell.settings.material_maps.is_some();
                 pass.set_pipeline(&self.gbuffer_pipelines[&(p, model_of(o).name.to_string(), textured)]);
                 pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
@@ -1207,7 +1279,7 @@ impl Renderer {
         });
         pass.set_bind_group(0, frame_group, &[]);
         pass.set_bind_group(1, &prepared.object_bind_group, &[0]);
-        for (i, o) in prepared.objects.iter().enumerate().filter(|(_, o)| !model_of(o).deferrable()) {
+        for (i, o) in prepared.objects.iter().enumerate().filter(|(i, o)| drawn[*i] && !model_of(o).deferrable()) {
             let textured = o.role == Role::Subject && cell.settings.material_maps.is_some();
             pass.set_pipeline(&self.forward[&(p, model_of(o).name.to_string(), false, 1, textured)]);
             pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
@@ -1223,12 +1295,7 @@ impl Renderer {
 
     /// Write the frame and object uniforms and the light buffers; returns the light assignment
     /// and the shadow layers this cell renders.
-    fn write_uniforms(
-        &self,
-        prepared: &PreparedScene,
-        cell: &CellParams,
-        fixed_model: &ShaderModel,
-    ) -> (Vec<ObjectLights>, Vec<(usize, u32)>, Vec<ShadowMapUse>, ProbeCapture) {
+    fn write_uniforms(&self, prepared: &PreparedScene, cell: &CellParams, fixed_model: &ShaderModel) -> WrittenFrame {
         let scene = &prepared.scene;
         let p = cell.pipeline;
         let aspect = cell.width as f64 / cell.height as f64;
@@ -1338,12 +1405,7 @@ impl Renderer {
             Some(_) => crate::environment::prefilter::LEVELS,
             None => prepared.env.probe.levels.len(),
         };
-        frame.env = [
-            (env_levels - 1) as f32,
-            (prepared.env.intensity * p.environment_scale()) as f32,
-            0.0,
-            0.0,
-        ];
+        frame.env = [(env_levels - 1) as f32, (prepared.env.intensity * p.environment_scale()) as f32, 0.0, 0.0];
         frame.subject = gpu_material(&cell.surface, GpuMaterial::zeroed());
         frame.subject.params[3] = if cell.settings.material_maps.is_some() { 1.0 } else { 0.0 };
         if cell.model.emits() {
@@ -1362,6 +1424,21 @@ impl Renderer {
             }
         }
         self.gpu.queue.write_buffer(&prepared.frame_buffer, 0, bytemuck::bytes_of(&frame));
+        // LOD groups: the levels this camera draws, and each mesh's fade (None: not drawn).
+        let mut lod = Vec::new();
+        let mut fades: Vec<Option<f64>> =
+            prepared.objects.iter().map(|o| o.lod_level.is_none().then_some(1.0)).collect();
+        for (index, (o, size)) in scene.objects.iter().zip(&prepared.lod_sizes).enumerate() {
+            let (Some(group), Some(size)) = (&o.lod, size) else { continue };
+            let distance = (DVec3::from(camera.position) - prepared.object_centres[index].1).length();
+            let h = crate::plan::lod::relative_height(*size, distance, camera.fov_y_deg.to_radians(), group.bias);
+            let drawn = crate::plan::lod::select(h, &group.transitions, group.fade_width);
+            for (m, mesh) in prepared.objects.iter().enumerate().filter(|(_, m)| m.scene_index == index) {
+                fades[m] = drawn.iter().find(|d| Some(d.level) == mesh.lod_level).map(|d| d.fade);
+            }
+            lod.push(LodUse { object: o.name.clone(), relative_height: h, drawn });
+        }
+        *prepared.fades.lock().unwrap_or_else(|e| e.into_inner()) = fades.clone();
         let mut objects = vec![0u8; (prepared.object_stride as usize) * prepared.objects.len()];
         for (i, o) in prepared.objects.iter().enumerate() {
             let material = match &o.fixed {
@@ -1373,10 +1450,15 @@ impl Renderer {
                 normal_matrix: mat(o.model.inverse().transpose()),
                 material,
                 flags: match o.role {
-                    Role::Subject => [1, ROLE_SUBJECT as u32, i as u32, o.receive_shadows as u32],
-                    Role::Fixed => [0, ROLE_FIXED as u32, i as u32, o.receive_shadows as u32],
+                    Role::Subject => [1, ROLE_SUBJECT as u32, o.scene_index as u32, o.receive_shadows as u32],
+                    Role::Fixed => [0, ROLE_FIXED as u32, o.scene_index as u32, o.receive_shadows as u32],
                 },
-                light_sh: sh_per_object[i],
+                light_sh: sh_per_object[o.scene_index],
+                // A level fading in or out keeps its dither's share of the fragments.
+                lod: match fades[i] {
+                    Some(f) if f < 1.0 => [f as f32, 1.0, 0.0, 0.0],
+                    _ => [1.0, 0.0, 0.0, 0.0],
+                },
             };
             let at = i * prepared.object_stride as usize;
             objects[at..at + std::mem::size_of::<ObjectUniforms>()].copy_from_slice(bytemuck::bytes_of(&u));
@@ -1401,7 +1483,12 @@ impl Renderer {
             }
             h.finish()
         };
-        (assignment, used_layers, shadow_maps, ProbeCapture { frame, key })
+        WrittenFrame {
+            lights: assignment,
+            shadow_layers: used_layers,
+            shadow_maps,
+            capture: ProbeCapture { frame, key, lod },
+        }
     }
 
     /// Render every probe's faces (the fixed objects and the sky seen from the probe, lit as the
@@ -1425,7 +1512,9 @@ impl Renderer {
             self.background_pipeline(1)?;
         }
         let (device, queue) = (&self.gpu.device, &self.gpu.queue);
-        self.material_textures.entry("").or_insert_with(|| super::material_maps::MaterialTextures::neutral(device, queue));
+        self.material_textures
+            .entry("")
+            .or_insert_with(|| super::material_maps::MaterialTextures::neutral(device, queue));
         if self.gpu.record.timestamp_queries && self.probe_timer.is_none() {
             self.probe_timer = Some(PassTimer::new(&self.gpu.device, &self.gpu.queue, 2));
         }
@@ -1433,6 +1522,7 @@ impl Renderer {
         let pipeline = &self.forward[&(cell.pipeline, fixed_model.name.to_string(), false, 1, false)];
         let background = self.background.get(&1).filter(|_| prepared.plan.background);
         let neutral = &self.material_textures[""];
+        let drawn = prepared.drawn();
         let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
         if prepared.shadows.active && !shadow_layers.is_empty() {
             encode_shadow_passes(&mut encoder, &self.shadow_pipeline, prepared, shadow_layers, None);
@@ -1464,7 +1554,10 @@ impl Renderer {
                             view: &t.face_views[f],
                             depth_slice: None,
                             resolve_target: None,
-                            ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::BLACK), store: wgpu::StoreOp::Store },
+                            ops: wgpu::Operations {
+                                load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                                store: wgpu::StoreOp::Store,
+                            },
                         }),
                         Some(wgpu::RenderPassColorAttachment {
                             view: &t.role_views[f],
@@ -1478,7 +1571,10 @@ impl Renderer {
                     ],
                     depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                         view: &t.depth_view,
-                        depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
+                        depth_ops: Some(wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(1.0),
+                            store: wgpu::StoreOp::Discard,
+                        }),
                         stencil_ops: None,
                     }),
                     timestamp_writes: timestamps,
@@ -1488,7 +1584,7 @@ impl Renderer {
                 pass.set_bind_group(0, &groups[face], &[]);
                 pass.set_pipeline(pipeline);
                 // The subject is left out: a dynamic object, which baked probes do not see.
-                for (i, o) in prepared.objects.iter().enumerate().filter(|(_, o)| o.role == Role::Fixed) {
+                for (i, o) in prepared.objects.iter().enumerate().filter(|(i, o)| drawn[*i] && o.role == Role::Fixed) {
                     pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
                     pass.set_vertex_buffer(0, o.vertices.slice(..));
                     pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);
@@ -1517,10 +1613,21 @@ impl Renderer {
 
 use bytemuck::Zeroable;
 
+/// What writing a cell's uniforms decided: how lights reach objects, the shadow layers in use and
+/// their maps, and what a probe capture needs.
+struct WrittenFrame {
+    lights: Vec<ObjectLights>,
+    shadow_layers: Vec<(usize, u32)>,
+    shadow_maps: Vec<ShadowMapUse>,
+    capture: ProbeCapture,
+}
+
 /// The frame a cell wrote, and the hash of what a probe capture would see of it.
 struct ProbeCapture {
     frame: FrameUniforms,
     key: u64,
+    /// The LOD levels the cell's camera draws.
+    lod: Vec<LodUse>,
 }
 
 /// Depth of every casting object into every shadow layer.
@@ -1552,7 +1659,15 @@ fn encode_shadow_passes(
         // The light's map is the top-left resolution² of the layer (render::shadows).
         pass.set_viewport(0.0, 0.0, resolution as f32, resolution as f32, 0.0, 1.0);
         pass.set_bind_group(0, &sh.layer_bind_group, &[(layer as u64 * sh.layer_stride) as u32]);
-        for (i, o) in prepared.objects.iter().enumerate().filter(|(_, o)| o.cast_shadows) {
+        // A level fading in casts no shadow: the shadow pass draws each group's current level whole.
+        let casting: Vec<bool> = prepared
+            .fades
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .iter()
+            .map(|f| f.is_some_and(|f| f > 0.0))
+            .collect();
+        for (i, o) in prepared.objects.iter().enumerate().filter(|(i, o)| casting[*i] && o.cast_shadows) {
             pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
             pass.set_vertex_buffer(0, o.vertices.slice(..));
             pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);

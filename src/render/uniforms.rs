@@ -91,6 +91,8 @@ pub struct ObjectUniforms {
     /// The lights this object takes as spherical harmonics (`plan::lights::sh_of_light`), in the
     /// units of the ambient term, not scaled by the environment.
     pub light_sh: [[f32; 4]; 9],
+    /// x: LOD fade (`plan::lod`), y: 1 when the mesh is dithered by it.
+    pub lod: [f32; 4],
 }
 
 /// Roles written to the mask attachment.
@@ -109,6 +111,6 @@ mod tests {
         assert_eq!(std::mem::size_of::<GpuMaterial>(), 112);
         assert_eq!(std::mem::size_of::<GpuReflectionProbe>(), 48);
         assert_eq!(std::mem::size_of::<FrameUniforms>(), 64 + 64 + 16 + 16 + 144 + 16 + 112 + 112 + 16 + 4 * 48);
-        assert_eq!(std::mem::size_of::<ObjectUniforms>(), 64 + 64 + 112 + 16 + 144);
+        assert_eq!(std::mem::size_of::<ObjectUniforms>(), 64 + 64 + 112 + 16 + 144 + 16);
     }
 }

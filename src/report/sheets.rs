@@ -115,8 +115,13 @@ fn file_safe(s: &str) -> String {
 
 fn sort_values(axis: &str, values: BTreeSet<String>) -> Vec<String> {
     let mut v: Vec<String> = values.into_iter().collect();
-    if ["metallic", "smoothness", "light_intensity", "light_range"].contains(&axis) {
-        v.sort_by(|a, b| a.parse::<f64>().unwrap_or(0.0).total_cmp(&b.parse::<f64>().unwrap_or(0.0)));
+    // Numeric axes in numeric order (a value the axis leaves unset sorts first).
+    if ["metallic", "smoothness", "light_intensity", "light_range", "camera_distance", "light_angle", "emission"]
+        .contains(&axis)
+    {
+        v.sort_by(|a, b| {
+            a.parse::<f64>().unwrap_or(f64::NEG_INFINITY).total_cmp(&b.parse::<f64>().unwrap_or(f64::NEG_INFINITY))
+        });
     }
     v
 }

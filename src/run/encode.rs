@@ -102,6 +102,7 @@ pub fn encode_cell(matrix: &Matrix, dir: &Path, adapter: &str, job: RenderedCell
             note: r.multisampling.note.clone(),
         },
         shadow_maps: r.shadow_maps.clone(),
+        lod: r.lod.clone(),
     };
     let record = cell_record(matrix, cell, adapter, measured);
     Ok(EncodedCell {
@@ -164,6 +165,7 @@ pub fn twin_record(matrix: &Matrix, cell: &Cell, original: &CellRecord) -> CellR
         lights: o.lights,
         antialiasing: o.antialiasing,
         shadow_maps: o.shadow_maps,
+        lod: o.lod,
     };
     CellRecord { twin_of: Some(twin_of), note: Some(note), ..cell_record(matrix, cell, &o.adapter, measured) }
 }
@@ -176,6 +178,7 @@ struct Measured {
     lights: Vec<crate::plan::lights::ObjectLights>,
     antialiasing: AntialiasingRecord,
     shadow_maps: Vec<crate::render::ShadowMapUse>,
+    lod: Vec<crate::render::renderer::LodUse>,
 }
 
 /// A cell's record before its metrics: its axes and inputs, and what rendering it measured.
@@ -212,6 +215,7 @@ fn cell_record(matrix: &Matrix, cell: &Cell, adapter: &str, m: Measured) -> Cell
         lights: m.lights,
         antialiasing: m.antialiasing,
         shadow_maps: m.shadow_maps,
+        lod: m.lod,
         stats: m.stats,
         timing: m.timing,
         metrics: CellMetrics::without_reference("not compared yet"),

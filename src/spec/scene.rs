@@ -221,6 +221,24 @@ pub struct Object {
     pub cast_shadows: bool,
     #[serde(default = "yes")]
     pub receive_shadows: bool,
+    /// A LOD group: coarser meshes for smaller screen heights (`plan::lod`).
+    #[serde(default)]
+    pub lod: Option<LodGroup>,
+}
+
+/// Unity's LODGroup on an object: `mesh` is level 0, `meshes` the levels after it; `transitions`
+/// the relative screen height below which each level (level 0 first) gives way, strictly
+/// decreasing, the group culled below the last; `bias` QualitySettings.lodBias; `fade_width`
+/// fadeTransitionWidth with fade mode CrossFade (0: no cross-fade, Unity's default fade mode None).
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct LodGroup {
+    pub meshes: Vec<MeshSpec>,
+    pub transitions: Vec<f64>,
+    #[serde(default = "one")]
+    pub bias: f64,
+    #[serde(default)]
+    pub fade_width: f64,
 }
 
 #[derive(Debug, Clone, Deserialize, Serialize)]
@@ -668,44 +686,62 @@ impl Scene {
         if self.lights.iter().filter(|l| l.key).count() > 1 {
             return Err(c.err("lights.key", "at most one light may be the key light"));
         }
-        if self.environment.reflections == Reflections::Probe && self.probes.is_empty() {
-            return Err(c.err(
-                "environment.reflections",
-                "\"probe\" needs at least one [[probes]] entry (or use \"sky\")",
-            ));
-        }
-        if self.probes.len() > MAX_PROBES {
-            return Err(c.err(
-                "probes",
-                format!(
-                    "{} probes; at most {} are allowed",
-                    self.probes.len(),
-                    MAX_PROBES
-                ),
-            ));
-        }
-        for (i, p) in self.probes.iter().enumerate() {
-            let k = |f: &str| format!("probes[{i}].{f}");
-            for axis in 0..3 {
-                if !(p.box_min[axis] < p.box_max[axis]) {
+        for (i, o) in self.objects.iter().enumerate() {
+            let Some(lod) = &o.lod else { continue };
+            let k = |f: &str| format!("objects[{i}].lod.{f}");
+            if lod.transitions.len() != lod.meshes.len() + 1 {
+                return Err(c.err(
+                    &k("transitions"),
+                    format!(
+                        "{} transitions for {} levels (the object's mesh and {} in `meshes`): one per level",
+                        lod.transitions.len(),
+                        lod.meshes.len() + 1,
+                        lod.meshes.len()
+                    ),
+                ));
+            }
+            for (j, t) in lod.transitions.iter().enumerate() {
+                c.range(&format!("{}[{j}]", k("transitions")), *t, 1e-6, 1.0)?;
+                if j > 0 && *t >= lod.transitions[j - 1] {
                     return Err(c.err(
-                        &k("box_max"),
-                        format!("box_max {:?} must exceed box_min {:?} on every axis", p.box_max, p.box_min),
+                        &k("transitions"),
+                        format!("{:?} must decrease strictly (level 0's first)", lod.transitions),
                     ));
                 }
             }
+            c.range(&k("bias"), lod.bias, 1e-3, 100.0)?;
+            c.range(&k("fade_width"), lod.fade_width, 0.0, 1.0)?;
+            for (j, m) in lod.meshes.iter().enumerate() {
+                m.validate().map_err(|e| c.err(&format!("{}[{j}]", k("meshes")), e))?;
+            }
+        }
+        if self.environment.reflections == Reflections::Probe && self.probes.is_empty() {
+            return Err(
+                c.err("environment.reflections", "\"probe\" needs at least one [[probes]] entry (or use \"sky\")")
+            );
+        }
+        if self.probes.len() > MAX_PROBES {
+            return Err(c.err("probes", format!("{} probes; at most {} are allowed", self.probes.len(), MAX_PROBES)));
+        }
+        for (i, p) in self.probes.iter().enumerate() {
+            let k = |f: &str| format!("probes[{i}].{f}");
             for (key, v) in [("position", p.position), ("box_min", p.box_min), ("box_max", p.box_max)] {
                 if v.iter().any(|x| !x.is_finite()) {
                     return Err(c.err(&k(key), format!("{v:?} must be finite")));
                 }
             }
+            if (0..3).any(|axis| p.box_min[axis] >= p.box_max[axis]) {
+                return Err(c.err(
+                    &k("box_max"),
+                    format!("box_max {:?} must exceed box_min {:?} on every axis", p.box_max, p.box_min),
+                ));
+            }
             c.range(&k("blend_distance"), p.blend_distance, 0.0, 1e4)?;
             c.range(&k("near"), p.near, 1e-3, 100.0)?;
             if !p.resolution.is_power_of_two() || !(16..=512).contains(&p.resolution) {
-                return Err(c.err(
-                    &k("resolution"),
-                    format!("{} is not allowed: a power of two from 16 to 512", p.resolution),
-                ));
+                return Err(
+                    c.err(&k("resolution"), format!("{} is not allowed: a power of two from 16 to 512", p.resolution))
+                );
             }
         }
         for (i, l) in self.lights.iter().enumerate() {

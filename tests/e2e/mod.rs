@@ -12,6 +12,7 @@ mod gallery;
 mod gltf_roundtrip;
 mod invariants;
 mod lights;
+mod lod;
 mod materials;
 mod models;
 mod paths;

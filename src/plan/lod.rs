@@ -1,0 +1,79 @@
+//! LOD groups (Unity's LODGroup): which levels of an object a camera draws and with what
+//! cross-fade. A level is used while the group's relative screen height — its size over the
+//! height the frustum spans at its distance, times the LOD bias — is at or above the level's
+//! transition height; below the last transition the group is culled. With a fade width w the last
+//! w of each level's range (from its transition up w·(previous transition − its own)) is a
+//! cross-fade band: the level is drawn with fade t ∈ (0, 1) and the next with −t, and each keeps
+//! the fragments its dither says (`lod_clip` in forward.wgsl, the SRP tutorial's ClipLOD on
+//! interleaved gradient noise), so the two cover the pixels between them. Sources: Unity
+//! LODGroup (screenRelativeTransitionHeight, fadeTransitionWidth, size), QualitySettings.lodBias;
+//! unity_LODFade.x as the tutorial reads it (1 → 0 for the level fading out, −1 → 0 for the one
+//! fading in).
+
+use serde::{Deserialize, Serialize};
+
+/// One level drawn in a frame: its index (0 the object's own mesh) and its fade (1: whole; in
+/// (0, 1): fading out; in (−1, 0): fading in).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct LodDraw {
+    pub level: usize,
+    pub fade: f64,
+}
+
+/// The relative screen height of a group of world size `size` at `distance` from a perspective
+/// camera of vertical field of view `fov_y` (radians), scaled by `bias`
+/// (LODUtility: distance = size·0.5 / (height·tan(fov/2))).
+pub fn relative_height(size: f64, distance: f64, fov_y: f64, bias: f64) -> f64 {
+    size / (2.0 * distance.max(1e-9) * (fov_y * 0.5).tan()) * bias
+}
+
+/// The levels drawn at relative screen height `h`, given each level's transition height
+/// (`transitions[i]`, strictly decreasing) and the fade width (0: no cross-fade).
+pub fn select(h: f64, transitions: &[f64], fade_width: f64) -> Vec<LodDraw> {
+    let Some(level) = transitions.iter().position(|&t| h >= t) else {
+        return Vec::new();
+    };
+    let upper = if level == 0 { 1.0f64.max(transitions[0]) } else { transitions[level - 1] };
+    let band = fade_width * (upper - transitions[level]);
+    if band > 0.0 && h < transitions[level] + band {
+        let t = (h - transitions[level]) / band;
+        let mut draws = vec![LodDraw { level, fade: t }];
+        if level + 1 < transitions.len() {
+            draws.push(LodDraw { level: level + 1, fade: -t });
+        }
+        return draws;
+    }
+    vec![LodDraw { level, fade: 1.0 }]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn levels_follow_the_transitions_and_fade_across_bands() {
+        let t = [0.6, 0.3, 0.1];
+        assert_eq!(select(0.8, &t, 0.0), vec![LodDraw { level: 0, fade: 1.0 }]);
+        assert_eq!(select(0.45, &t, 0.0), vec![LodDraw { level: 1, fade: 1.0 }]);
+        assert_eq!(select(0.2, &t, 0.0), vec![LodDraw { level: 2, fade: 1.0 }]);
+        assert!(select(0.05, &t, 0.0).is_empty(), "culled below the last transition");
+        // Level 1's band with w = 0.5: from 0.3 up to 0.3 + 0.5·(0.6 − 0.3) = 0.45.
+        let d = select(0.3375, &t, 0.5);
+        assert_eq!(d.len(), 2);
+        assert_eq!((d[0].level, d[1].level), (1, 2));
+        assert!((d[0].fade - 0.25).abs() < 1e-12 && (d[1].fade + 0.25).abs() < 1e-12, "{d:?}");
+        assert_eq!(select(0.46, &t, 0.5), vec![LodDraw { level: 1, fade: 1.0 }]);
+        // The last level fades out to nothing.
+        let last = select(0.11, &t, 0.5);
+        assert_eq!(last.len(), 1);
+        assert!(last[0].fade > 0.0 && last[0].fade < 1.0);
+    }
+
+    #[test]
+    fn relative_height_is_size_over_the_frustum_height() {
+        // A 2 m group 5 m away under a 90° field of view: the frustum is 10 m tall there.
+        let h = relative_height(2.0, 5.0, std::f64::consts::FRAC_PI_2, 1.0);
+        assert!((h - 0.2).abs() < 1e-12);
+        assert!((relative_height(2.0, 5.0, std::f64::consts::FRAC_PI_2, 2.0) - 0.4).abs() < 1e-12, "bias");
+    }
+}

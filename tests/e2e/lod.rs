@@ -1,0 +1,68 @@
+//! LOD groups (`plan::lod`): a camera-distance sweep over the shipped three-level sphere draws each
+//! level and, in a cross-fade band, both levels dithered into complementary pixels.
+
+use crate::common::{cell_params, repo};
+use shadematrix::gpu::GpuContext;
+use shadematrix::pipelines::{Pipeline, RenderPath};
+use shadematrix::render::camera::ViewAxes;
+use shadematrix::render::renderer::{LodUse, Renderer};
+use shadematrix::spec::scene::Scene;
+
+fn render(renderer: &mut Renderer, scene: &Scene, distance: f64) -> (Vec<f64>, Vec<u8>, Vec<LodUse>) {
+    let plastic =
+        shadematrix::shading::registry::Sliders { base_color_linear: [0.284; 3], metallic: 0.0, smoothness: 0.75 };
+    let mut cell = cell_params(Pipeline::Urp, "lit", plastic, (2.0, 10.0), 128, RenderPath::Forward);
+    cell.view = ViewAxes { camera_distance: Some(distance), light_angle: None };
+    let prepared = renderer.prepare_scene(scene).unwrap();
+    let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
+    let lum = r.hdr.chunks(4).map(|p| 0.2126 * p[0] as f64 + 0.7152 * p[1] as f64 + 0.0722 * p[2] as f64).collect();
+    (lum, r.roles, r.lod)
+}
+
+#[test]
+fn a_distance_sweep_draws_each_level_and_a_dithered_band() {
+    let mut scene = Scene::load_file(&repo().join("scenes/default_lod.toml")).unwrap();
+    // The sky's reflections: a probe would be captured anew for every render here.
+    scene.environment.reflections = shadematrix::spec::scene::Reflections::Sky;
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    // matrices/lod.toml's distances: every level whole, and both bands.
+    let mut seen = Vec::new();
+    for d in [4.0, 6.5, 8.0, 12.0, 14.0] {
+        let (_, _, lod) = render(&mut renderer, &scene, d);
+        assert_eq!(lod.len(), 1, "one LOD group");
+        let levels: Vec<(usize, bool)> = lod[0].drawn.iter().map(|l| (l.level, l.fade < 1.0)).collect();
+        eprintln!("distance {d}: relative height {:.3}, drawn {:?}", lod[0].relative_height, lod[0].drawn);
+        seen.push(levels);
+    }
+    assert_eq!(seen[0], vec![(0, false)], "close: level 0 whole");
+    assert_eq!(seen[1], vec![(0, true), (1, true)], "level 0 fading into level 1");
+    assert_eq!(seen[2], vec![(1, false)]);
+    assert_eq!(seen[3], vec![(1, true), (2, true)], "level 1 fading into level 2");
+    assert_eq!(seen[4], vec![(2, false)]);
+
+    // In the band each pixel of the sphere is one level's or the other's, in the share the fade says.
+    // (Without shadows: the shadow pass draws the level fading out whole, so the level fading in
+    // is shadowed by the other's shape.)
+    scene.lights[0].shadows = false;
+    let d = 6.5;
+    let (band, roles, lod) = render(&mut renderer, &scene, d);
+    let t = lod[0].drawn[0].fade;
+    let mut only0 = scene.clone();
+    only0.objects[0].lod.as_mut().unwrap().fade_width = 0.0;
+    let mut only1 = only0.clone();
+    only1.objects[0].lod.as_mut().unwrap().transitions[0] = 0.9;
+    let (a, _, _) = render(&mut renderer, &only0, d);
+    let (b, _, _) = render(&mut renderer, &only1, d);
+    let close = |x: f64, y: f64| (x - y).abs() <= 1e-4 * x.abs().max(y.abs()).max(1e-3);
+    let differing: Vec<usize> = (0..band.len()).filter(|&i| roles[i] == 2 && !close(a[i], b[i])).collect();
+    assert!(differing.len() > 200, "the levels differ on {} pixels", differing.len());
+    let from_a = differing.iter().filter(|&&i| close(band[i], a[i])).count() as f64 / differing.len() as f64;
+    let from_b = differing.iter().filter(|&&i| close(band[i], b[i])).count() as f64 / differing.len() as f64;
+    eprintln!(
+        "band at fade {t:.3}: {:.1} % of differing pixels from level 0, {:.1} % from level 1",
+        from_a * 100.0,
+        from_b * 100.0
+    );
+    assert!(from_a + from_b > 0.9, "pixels that are neither level: {}", 1.0 - from_a - from_b);
+    assert!((from_a - t).abs() < 0.1, "level 0 keeps {from_a} of the pixels at fade {t}");
+}
