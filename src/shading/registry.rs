@@ -78,7 +78,10 @@ impl ShaderModel {
     /// and user models have none.
     pub fn emits(&self) -> bool {
         self.twin.is_some()
-            && matches!(self.name.as_ref(), "standard" | "standard_brdf2" | "standard_brdf3" | "lit" | "simple_lit")
+            && matches!(
+                self.name.as_ref(),
+                "standard" | "standard_brdf2" | "standard_brdf3" | "lit" | "simple_lit" | "srp_lit"
+            )
     }
 
     /// Whether the model can be drawn into a G-buffer: a per-vertex (Gouraud) or main-light-only
@@ -214,6 +217,16 @@ const SPECULAR_HIGHLIGHTS: ParamSpec = ParamSpec {
     max: 1.0,
     doc: Cow::Borrowed(
         "1: _SPECULAR_COLOR on; 0 (default): off, as a new Simple Lit material ships (_SpecularHighlights = 1 = SpecularSource.NoSpecular)",
+    ),
+};
+const FRESNEL_STRENGTH: ParamSpec = ParamSpec {
+    name: Cow::Borrowed("fresnel_strength"),
+    slot: 0,
+    default: 1.0,
+    min: 0.0,
+    max: 1.0,
+    doc: Cow::Borrowed(
+        "the SRP tutorial's Fresnel slider: how far reflections go from the specular colour to brdf.fresnel at grazing angles",
     ),
 };
 const ENERGY_COMPENSATION: ParamSpec = ParamSpec {
@@ -592,6 +605,22 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         mapping: METALLIC_WORKFLOW,
         from_sliders: metallic_workflow,
         summary: "URP Lit: minimal Cook-Torrance specular, Lambert without 1/π, EnvironmentBRDF (models.md#urp-lit)",
+        per_vertex: false,
+        main_light_only: false,
+        smoothness_gate: None,
+        parity_tolerance: 1e-4,
+    },
+    BuiltinModel {
+        name: "srp_lit",
+        pipelines: URP,
+        wgsl: brdf_file!("srp_lit.wgsl"),
+        reads: ALL_AXES,
+        expected: RECIPROCAL_ONLY,
+        twin: &twin::SrpLit,
+        params: &[FRESNEL_STRENGTH],
+        mapping: METALLIC_WORKFLOW,
+        from_sliders: metallic_workflow,
+        summary: "the custom SRP tutorial's Lit: URP's minimal Cook-Torrance without roughness floors, reflections with a Fresnel slider (shading.md §4d)",
         per_vertex: false,
         main_light_only: false,
         smoothness_gate: None,

@@ -69,12 +69,18 @@ fn list_shows_each_paths_passes() {
     );
     let (code, out, err) = shadematrix(tmp.path(), &["list", m.to_str().unwrap()], &[]);
     assert_eq!(code, 0, "{err}");
-    assert!(out.contains("composition default (urp-forward): passes shadow → forward → background"), "{out}");
+    // The default room's reflection probe is captured and prefiltered before the frame's passes.
     assert!(
-        out.contains("composition default (urp-deferred): passes shadow → gbuffer → deferred lighting → forward (models the G-buffer cannot carry) → background"),
+        out.contains(
+            "composition default (urp-forward): passes probe capture → probe prefilter → shadow → forward → background"
+        ),
         "{out}"
     );
-    assert!(out.contains("(hdrp-deferred): passes shadow → gbuffer → light tiles → deferred lighting"), "{out}");
+    assert!(
+        out.contains("composition default (urp-deferred): passes probe capture → probe prefilter → shadow → gbuffer → deferred lighting → forward (models the G-buffer cannot carry) → background"),
+        "{out}"
+    );
+    assert!(out.contains("(hdrp-deferred): passes probe capture → probe prefilter → shadow → gbuffer → light tiles → deferred lighting"), "{out}");
 }
 
 #[test]

@@ -14,7 +14,7 @@ pub use custom::{FresnelView, TorranceSparrow};
 pub use hdrp::{default_light_min_roughness, HdrpLit};
 pub use lambert::Lambert;
 pub use standard::Standard;
-pub use urp::{Unlit, UrpLit, UrpSimpleLit};
+pub use urp::{SrpLit, Unlit, UrpLit, UrpSimpleLit};
 
 use glam::DVec3;
 

@@ -77,3 +77,73 @@ impl SurfaceTwin for Unlit {
         s.base_color
     }
 }
+
+/// The custom scriptable pipeline tutorial's Lit (shading.md §4d): URP's minimal Cook-Torrance
+/// without roughness floors, reflections with a Fresnel slider (`fresnel_strength`, slot 0).
+pub struct SrpLit;
+
+const MIN_REFLECTIVITY: f64 = 0.04;
+
+pub struct SrpBrdf {
+    pub diffuse: DVec3,
+    pub specular: DVec3,
+    pub roughness: f64,
+    pub fresnel: f64,
+}
+
+pub fn srp_brdf(s: &Surface) -> SrpBrdf {
+    let omr = (1.0 - MIN_REFLECTIVITY) - s.metallic * (1.0 - MIN_REFLECTIVITY);
+    let pr = 1.0 - s.smoothness;
+    SrpBrdf {
+        diffuse: s.base_color * omr,
+        specular: DVec3::splat(MIN_REFLECTIVITY).lerp(s.base_color, s.metallic),
+        roughness: pr * pr,
+        fresnel: sat(s.smoothness + 1.0 - omr),
+    }
+}
+
+pub fn specular_strength(nh: f64, lh: f64, b: &SrpBrdf) -> f64 {
+    let r2 = b.roughness * b.roughness;
+    let d = nh * nh * (r2 - 1.0) + 1.00001;
+    r2 / (d * d * (lh * lh).max(0.1) * (b.roughness * 4.0 + 2.0))
+}
+
+impl SurfaceTwin for SrpLit {
+    fn direct(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
+        let b = srp_brdf(s);
+        let h = safe_normalize(l + v, f32::MIN_POSITIVE as f64);
+        (b.specular * specular_strength(sat(n.dot(h)), sat(l.dot(h)), &b) + b.diffuse) * sat(n.dot(l))
+    }
+
+    fn indirect(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, gi_d: DVec3, gi_s: DVec3) -> DVec3 {
+        let b = srp_brdf(s);
+        let fresnel_strength = s.params[0] * (1.0 - sat(n.dot(v))).powi(4);
+        let reflection =
+            gi_s * b.specular.lerp(DVec3::splat(b.fresnel), fresnel_strength) / (b.roughness * b.roughness + 1.0);
+        gi_d * b.diffuse + reflection
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_fresnel_slider_moves_grazing_reflections_to_brdf_fresnel() {
+        // A dielectric (specular 0.04, fresnel = smoothness + 0.04) under a white environment.
+        let mut s = Surface::basic(DVec3::splat(0.5), 0.0, 0.8);
+        let n = DVec3::Y;
+        let grazing = DVec3::new(0.999, 0.0447, 0.0).normalize();
+        let reflection = |s: &Surface, v: DVec3| SrpLit.indirect(Pipeline::Urp, s, n, v, DVec3::ZERO, DVec3::ONE).x;
+        s.params[0] = 0.0;
+        let (off_normal, off_grazing) = (reflection(&s, n), reflection(&s, grazing));
+        s.params[0] = 1.0;
+        let (on_normal, on_grazing) = (reflection(&s, n), reflection(&s, grazing));
+        // Straight on, (1 − NV)⁴ = 0: the slider changes nothing.
+        assert!((off_normal - on_normal).abs() < 1e-12);
+        // r = 0.04: 1/(r² + 1) = 1/1.0016; at grazing (1 − 0.0447)⁴ = 0.832 of the way to 0.84.
+        let expect = |k: f64| (0.04 + (0.84 - 0.04) * k * (1.0 - 0.0447f64).powi(4)) / (0.04f64.powi(2) + 1.0);
+        assert!((off_grazing - expect(0.0)).abs() < 1e-6, "{off_grazing}");
+        assert!((on_grazing - expect(1.0)).abs() < 1e-3, "{on_grazing} vs {}", expect(1.0));
+    }
+}
