@@ -1,6 +1,7 @@
 //! Images: display transforms, encoding (OpenEXR linear float, PNG 8-bit sRGB) and pixel statistics.
 
 pub mod aces;
+pub mod bloom;
 pub mod encode;
 pub mod exposure;
 pub mod stats;

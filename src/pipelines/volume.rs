@@ -82,11 +82,25 @@ impl Default for ExposureSettings {
 }
 
 /// The HDRP volume overrides a scene may carry.
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct HdrpVolume {
     #[serde(default)]
     pub exposure: ExposureSettings,
+    /// The default volume's bloom (intensity 0.2, scatter 0.7, threshold 0; `render::bloom`); on
+    /// as HDRP ships it.
+    #[serde(default = "enabled")]
+    pub bloom: bool,
+}
+
+impl Default for HdrpVolume {
+    fn default() -> Self {
+        HdrpVolume { exposure: ExposureSettings::default(), bloom: true }
+    }
+}
+
+fn enabled() -> bool {
+    true
 }
 
 /// The lens attenuation term of ColorUtils.cs: exposure = 1/(1.2·2^EV100), 1.2 = 78/(100·0.65).
@@ -98,4 +112,4 @@ pub fn ev100_to_exposure(ev100: f64) -> f64 {
 }
 
 /// HDRP effects of the default volume this emulation does not render, for `list` and the README.
-pub const LEFT_OUT_EFFECTS: &str = "HDRP's default volume also enables screen-space ambient occlusion (intensity 0.5, radius 1.5), bloom (intensity 0.2) and contact shadows; they are not emulated and are left out of every HDRP cell";
+pub const LEFT_OUT_EFFECTS: &str = "HDRP's default volume also enables screen-space ambient occlusion (intensity 0.5, radius 1.5) and contact shadows; they are not emulated and are left out of every HDRP cell (its bloom is rendered: [hdrp] bloom)";

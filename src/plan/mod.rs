@@ -16,7 +16,12 @@ pub struct FramePlan {
     pub background: bool,
     /// (what, why) for everything left out.
     pub left_out: Vec<(String, String)>,
+    /// Whether HDRP cells bloom (`[hdrp] bloom`, on by default as HDRP's default volume).
+    pub hdrp_bloom: bool,
 }
+
+/// HDRP's bloom, after the frame's passes (render::bloom).
+pub const BLOOM_PASS: &str = "bloom";
 
 /// Reflection probes: each renders the scene into six faces, then the faces are prefiltered; once
 /// per set of inputs a capture sees (a later cell with the same lights reuses it).
@@ -59,6 +64,9 @@ impl FramePlan {
         }
         if self.background {
             passes.push("background");
+        }
+        if pipeline == crate::pipelines::Pipeline::Hdrp && self.hdrp_bloom {
+            passes.push(BLOOM_PASS);
         }
         passes
     }
@@ -112,6 +120,10 @@ impl FramePlan {
             )),
             _ => left_out.push(("reflection probes".into(), "reflections come from the sky".into())),
         }
-        FramePlan { passes, background, left_out }
+        let hdrp_bloom = scene.hdrp.bloom;
+        if !hdrp_bloom {
+            left_out.push(("HDRP bloom".into(), "[hdrp] bloom = false".into()));
+        }
+        FramePlan { passes, background, left_out, hdrp_bloom }
     }
 }

@@ -1,6 +1,7 @@
 //! Rendering: scene resources uploaded once per composition, pipelines compiled once per
 //! (pipeline, model) pair, and per-cell frames that only rewrite uniforms.
 
+pub mod bloom;
 pub mod camera;
 pub mod deferred;
 pub mod luts;

@@ -199,6 +199,8 @@ struct Targets {
     role_readback: TextureReadback,
     /// The forward pass's multisampled targets, when a cell renders with MSAA.
     msaa: Option<MsaaTargets>,
+    /// HDRP's bloom chain on `color`, made on first use.
+    bloom: Option<super::bloom::BloomChain>,
 }
 
 /// A forward frame's multisampled colour, role and depth, resolved into `Targets`' own at the end
@@ -243,6 +245,8 @@ pub struct Renderer {
     prefilter: Option<super::reflection_probes::Prefilter>,
     /// Two timestamp pairs: probe capture and prefilter.
     probe_timer: Option<PassTimer>,
+    /// HDRP's bloom pipeline, made for the first cell that blooms.
+    bloom: Option<super::bloom::BloomPipeline>,
 }
 
 impl Renderer {
@@ -378,6 +382,7 @@ impl Renderer {
             msaa_counts,
             prefilter: None,
             probe_timer: None,
+            bloom: None,
         }
     }
 
@@ -886,7 +891,8 @@ impl Renderer {
                 super::texture_2d(device, label, (width, height), format, usage)
             };
             let attach = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
-            let color = make("hdr", HDR_FORMAT, attach);
+            // Sampled too: HDRP's bloom reads the frame.
+            let color = make("hdr", HDR_FORMAT, attach | wgpu::TextureUsages::TEXTURE_BINDING);
             let role = make("role", ROLE_FORMAT, attach | wgpu::TextureUsages::TEXTURE_BINDING);
             let depth = make(
                 "depth",
@@ -908,6 +914,7 @@ impl Renderer {
                 color,
                 role,
                 msaa: None,
+                bloom: None,
             });
         }
         self.targets.as_ref().expect("just created")
@@ -996,6 +1003,23 @@ impl Renderer {
         let frame_group: &wgpu::BindGroup = &frame_group;
         self.targets(cell.width, cell.height);
         self.ensure_msaa_targets(samples);
+        let blooms = prepared.plan.passes_for(cell.settings.path, cell.pipeline).contains(&crate::plan::BLOOM_PASS);
+        if blooms {
+            if self.bloom.is_none() {
+                self.bloom = Some(super::bloom::BloomPipeline::new(&self.gpu)?);
+            }
+            let t = self.targets.as_mut().expect("targets exist");
+            if t.bloom.is_none() {
+                let pipeline = self.bloom.as_ref().expect("just made");
+                t.bloom = Some(super::bloom::BloomChain::new(
+                    &self.gpu.device,
+                    pipeline,
+                    &t.color,
+                    (t.width, t.height),
+                    super::bloom::BloomSettings::default(),
+                ));
+            }
+        }
         // The timed passes of a frame, in order: one span over the shadow layers, then the path's passes.
         // The vertex-lit path has no shadows (Unity's legacy vertex-lit renders none).
         let shadows = prepared.shadows.active && !vertex_lit && !shadow_layers.is_empty();
@@ -1009,6 +1033,9 @@ impl Renderer {
             (true, false) => &["gbuffer", "deferred lighting", "forward-only and background"][..],
             _ => &["forward"][..],
         });
+        if blooms {
+            pass_names.push(crate::plan::BLOOM_PASS);
+        }
         let tile_group = if tiled { Some(self.prepare_light_tiles(cell, prepared.scene.lights.len())?) } else { None };
         let per_frame = pass_names.len() as u32;
         if self.gpu.record.timestamp_queries && self.timer.as_ref().is_none_or(|t| t.capacity() < frames * per_frame) {
@@ -1095,9 +1122,16 @@ impl Renderer {
                     pass.draw(0..3, 0..1);
                 }
             }
+            if let (true, Some(chain), Some(pipeline)) = (blooms, &t.bloom, &self.bloom) {
+                chain.encode(pipeline, &mut encoder, timed(per_frame - 1).map(|(t, pair)| t.compute_writes(pair)));
+            }
             let last = f + 1 == total;
             if last {
-                t.color_readback.encode_copy(&mut encoder, &t.color);
+                let frame = match (&t.bloom, blooms) {
+                    (Some(chain), true) => &chain.output,
+                    _ => &t.color,
+                };
+                t.color_readback.encode_copy(&mut encoder, frame);
                 t.role_readback.encode_copy(&mut encoder, &t.role);
                 if let Some(timer) = timer {
                     timer.encode_resolve(&mut encoder, frames * per_frame);

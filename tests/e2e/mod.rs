@@ -1,6 +1,7 @@
 //! One module per area, each driving the library or the `shadematrix` binary for real.
 
 mod antialiasing;
+mod bloom;
 mod check;
 mod cli;
 mod compare;

@@ -1,0 +1,107 @@
+// HDRP's bloom (render::bloom; twin: images::bloom), its steps as HDRP's compute shaders run them:
+// a half-resolution prefilter (BloomPrefilter.compute: five rotated taps, Lorach07; their luma
+// weights all come from the first tap, so they average), a pyramid whose levels are each a 2×2
+// bilinear downsample of the last then a 9-tap binomial blur across and down (BloomBlur.compute),
+// an upsample from the coarsest level, lerp(level, bicubic(coarser), scatter) (BloomUpsample.compute),
+// and the composite lerp(colour, bicubic(bloom), intensity) (UberPost.compute). Textures are read
+// with loads and filtered here: 32-bit float textures need not be filterable.
+
+struct BloomParams {
+    // x, y: destination size; z: mode (0 prefilter, 1 downsample, 2 blur across, 3 blur down,
+    // 4 upsample, 5 composite); w: unused
+    dims: vec4<u32>,
+    // x: scatter (upsample) or intensity (composite)
+    factor: vec4<f32>,
+};
+
+@group(0) @binding(0) var<uniform> params: BloomParams;
+@group(0) @binding(1) var source: texture_2d<f32>;
+// The upsample's and the composite's second input (the coarser level, the bloom)
+@group(0) @binding(2) var coarse: texture_2d<f32>;
+@group(0) @binding(3) var destination: texture_storage_2d<rgba32float, write>;
+
+fn load_clamped(t: texture_2d<f32>, p: vec2<i32>) -> vec3<f32> {
+    let size = vec2<i32>(textureDimensions(t));
+    return textureLoad(t, clamp(p, vec2<i32>(0), size - 1), 0).rgb;
+}
+
+// Bilinear at uv with clamped edges (s_linear_clamp_sampler)
+fn bilinear(t: texture_2d<f32>, uv: vec2<f32>) -> vec3<f32> {
+    let x = uv * vec2<f32>(textureDimensions(t)) - 0.5;
+    let p = vec2<i32>(floor(x));
+    let f = x - floor(x);
+    let a = mix(load_clamped(t, p), load_clamped(t, p + vec2<i32>(1, 0)), f.x);
+    let b = mix(load_clamped(t, p + vec2<i32>(0, 1)), load_clamped(t, p + vec2<i32>(1, 1)), f.x);
+    return mix(a, b, f.y);
+}
+
+// Cubic B-spline weights of the four texels around x's fraction f (core Filtering.hlsl BSpline3)
+fn bspline(f: f32) -> vec4<f32> {
+    let g = 1.0 - f;
+    return vec4<f32>(g * g * g, 4.0 - 6.0 * f * f + 3.0 * f * f * f, 4.0 - 6.0 * g * g + 3.0 * g * g * g, f * f * f) / 6.0;
+}
+
+// SampleTexture2DBicubic: the B-spline bicubic at uv, edges clamped
+fn bicubic(t: texture_2d<f32>, uv: vec2<f32>) -> vec3<f32> {
+    let x = uv * vec2<f32>(textureDimensions(t)) - 0.5;
+    let p = vec2<i32>(floor(x));
+    let wx = bspline(x.x - floor(x.x));
+    let wy = bspline(x.y - floor(x.y));
+    var c = vec3<f32>(0.0);
+    for (var j = 0; j < 4; j++) {
+        var row = vec3<f32>(0.0);
+        for (var i = 0; i < 4; i++) {
+            row += load_clamped(t, p + vec2<i32>(i - 1, j - 1)) * wx[i];
+        }
+        c += row * wy[j];
+    }
+    return c;
+}
+
+// The 9-tap binomial blur (C(8, k)/256) along `step`
+fn blur(t: texture_2d<f32>, p: vec2<i32>, step: vec2<i32>) -> vec3<f32> {
+    let w = array<f32, 5>(0.2734375, 0.21875, 0.109375, 0.03125, 0.00390625);
+    var c = load_clamped(t, p) * w[0];
+    for (var k = 1; k < 5; k++) {
+        c += (load_clamped(t, p + step * k) + load_clamped(t, p - step * k)) * w[k];
+    }
+    return c;
+}
+
+@compute @workgroup_size(8, 8)
+fn cs_bloom(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = params.dims.xy;
+    if (id.x >= size.x || id.y >= size.y) {
+        return;
+    }
+    let uv = (vec2<f32>(id.xy) + 0.5) / vec2<f32>(size);
+    let texel = 1.0 / vec2<f32>(size);
+    var c = vec3<f32>(0.0);
+    switch params.dims.z {
+        case 0u: {
+            let taps = array<vec2<f32>, 5>(
+                vec2<f32>(0.0, 0.0), vec2<f32>(0.9, -0.4), vec2<f32>(-0.9, 0.4), vec2<f32>(0.4, 0.9), vec2<f32>(-0.4, -0.9)
+            );
+            for (var k = 0; k < 5; k++) {
+                c += bilinear(source, uv + taps[k] * texel);
+            }
+            c /= 5.0;
+        }
+        case 1u: {
+            c = bilinear(source, uv);
+        }
+        case 2u: {
+            c = blur(source, vec2<i32>(id.xy), vec2<i32>(1, 0));
+        }
+        case 3u: {
+            c = blur(source, vec2<i32>(id.xy), vec2<i32>(0, 1));
+        }
+        case 4u: {
+            c = mix(load_clamped(source, vec2<i32>(id.xy)), bicubic(coarse, uv), params.factor.x);
+        }
+        default: {
+            c = mix(load_clamped(source, vec2<i32>(id.xy)), bicubic(coarse, uv), params.factor.x);
+        }
+    }
+    textureStore(destination, id.xy, vec4<f32>(c, 1.0));
+}

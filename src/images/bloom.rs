@@ -1,0 +1,126 @@
+//! f64 twin of HDRP's bloom as `render::bloom` runs it (shaders/pass/bloom.wgsl): the same
+//! prefilter, pyramid, binomial blur, B-spline bicubic upsample and lerp composite, on a linear
+//! RGB image. Used to test the GPU chain and to reason about what bloom can change.
+
+use glam::DVec3;
+
+/// A linear RGB image, row-major, top row first.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Image {
+    pub width: usize,
+    pub height: usize,
+    pub texels: Vec<DVec3>,
+}
+
+impl Image {
+    fn new(width: usize, height: usize) -> Image {
+        Image { width, height, texels: vec![DVec3::ZERO; width * height] }
+    }
+
+    fn load(&self, x: i64, y: i64) -> DVec3 {
+        let x = x.clamp(0, self.width as i64 - 1) as usize;
+        let y = y.clamp(0, self.height as i64 - 1) as usize;
+        self.texels[y * self.width + x]
+    }
+
+    fn bilinear(&self, u: f64, v: f64) -> DVec3 {
+        let (x, y) = (u * self.width as f64 - 0.5, v * self.height as f64 - 0.5);
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = (x - x0, y - y0);
+        let (x0, y0) = (x0 as i64, y0 as i64);
+        let a = self.load(x0, y0).lerp(self.load(x0 + 1, y0), fx);
+        let b = self.load(x0, y0 + 1).lerp(self.load(x0 + 1, y0 + 1), fx);
+        a.lerp(b, fy)
+    }
+
+    fn bicubic(&self, u: f64, v: f64) -> DVec3 {
+        let (x, y) = (u * self.width as f64 - 0.5, v * self.height as f64 - 0.5);
+        let (wx, wy) = (bspline(x - x.floor()), bspline(y - y.floor()));
+        let (x0, y0) = (x.floor() as i64, y.floor() as i64);
+        let mut c = DVec3::ZERO;
+        for (j, wj) in wy.iter().enumerate() {
+            for (i, wi) in wx.iter().enumerate() {
+                c += self.load(x0 + i as i64 - 1, y0 + j as i64 - 1) * (wi * wj);
+            }
+        }
+        c
+    }
+
+    fn map(width: usize, height: usize, f: impl Fn(usize, usize, f64, f64) -> DVec3) -> Image {
+        let mut out = Image::new(width, height);
+        for y in 0..height {
+            for x in 0..width {
+                let (u, v) = ((x as f64 + 0.5) / width as f64, (y as f64 + 0.5) / height as f64);
+                out.texels[y * width + x] = f(x, y, u, v);
+            }
+        }
+        out
+    }
+
+    fn blur(&self, dx: i64, dy: i64) -> Image {
+        const W: [f64; 5] = [0.2734375, 0.21875, 0.109375, 0.03125, 0.00390625];
+        Image::map(self.width, self.height, |x, y, _, _| {
+            let (x, y) = (x as i64, y as i64);
+            let mut c = self.load(x, y) * W[0];
+            for (k, w) in W.iter().enumerate().skip(1) {
+                let k = k as i64;
+                c += (self.load(x + dx * k, y + dy * k) + self.load(x - dx * k, y - dy * k)) * *w;
+            }
+            c
+        })
+    }
+}
+
+/// Cubic B-spline weights of the four texels around fraction f.
+fn bspline(f: f64) -> [f64; 4] {
+    let g = 1.0 - f;
+    [g * g * g, 4.0 - 6.0 * f * f + 3.0 * f * f * f, 4.0 - 6.0 * g * g + 3.0 * g * g * g, f * f * f].map(|w| w / 6.0)
+}
+
+/// `image` bloomed with `intensity` and `scatter` (HDRP defaults 0.2, 0.7).
+pub fn bloom(image: &Image, intensity: f64, scatter: f64) -> Image {
+    let sizes = crate::render::bloom::level_sizes(image.width as u32, image.height as u32);
+    let taps = [(0.0, 0.0), (0.9, -0.4), (-0.9, 0.4), (0.4, 0.9), (-0.4, -0.9)];
+    let mut levels: Vec<Image> = Vec::new();
+    for (k, &(w, h)) in sizes.iter().enumerate() {
+        let (w, h) = (w as usize, h as usize);
+        let input = match k {
+            0 => Image::map(w, h, |_, _, u, v| {
+                taps.iter().map(|(tx, ty)| image.bilinear(u + tx / w as f64, v + ty / h as f64)).sum::<DVec3>() / 5.0
+            }),
+            _ => {
+                let prev = &levels[k - 1];
+                Image::map(w, h, |_, _, u, v| prev.bilinear(u, v))
+            }
+        };
+        levels.push(input.blur(1, 0).blur(0, 1));
+    }
+    let mut up = levels.pop().expect("at least one level");
+    while let Some(level) = levels.pop() {
+        up = Image::map(level.width, level.height, |x, y, u, v| {
+            level.texels[y * level.width + x].lerp(up.bicubic(u, v), scatter)
+        });
+    }
+    Image::map(image.width, image.height, |x, y, u, v| {
+        image.texels[y * image.width + x].lerp(up.bicubic(u, v), intensity)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_uniform_image_is_unchanged_and_an_impulse_spreads_keeping_its_energy() {
+        let flat = Image { width: 32, height: 24, texels: vec![DVec3::splat(3.0); 32 * 24] };
+        let out = bloom(&flat, 0.2, 0.7);
+        assert!(out.texels.iter().all(|t| (*t - DVec3::splat(3.0)).abs().max_element() < 1e-12));
+        let mut spot = Image { width: 64, height: 64, texels: vec![DVec3::ZERO; 64 * 64] };
+        spot.texels[32 * 64 + 32] = DVec3::splat(100.0);
+        let out = bloom(&spot, 0.2, 0.7);
+        let total: f64 = out.texels.iter().map(|t| t.x).sum();
+        assert!((total / 100.0 - 1.0).abs() < 0.02, "energy {total}");
+        assert!((out.texels[32 * 64 + 32].x - 80.0).abs() < 1.0, "the centre keeps 1 − intensity");
+        assert!(out.texels[32 * 64 + 40].x > 0.0, "light spreads 8 pixels out");
+    }
+}

@@ -1,0 +1,231 @@
+//! HDRP's bloom on the frame's HDR target (shaders/pass/bloom.wgsl; f64 twin: `images::bloom`):
+//! HDRP's default volume enables it with intensity 0.2, scatter 0.7, threshold 0 at half
+//! resolution with bicubic ("high quality") filtering. Energy-conserving: the composite is
+//! lerp(colour, bloom, intensity), so a uniform image is unchanged. The chain's textures are made
+//! per target size and kept with the targets.
+
+use bytemuck::{Pod, Zeroable};
+use wgpu::util::DeviceExt;
+
+use crate::error::Error;
+use crate::gpu::GpuContext;
+
+const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+struct BloomParams {
+    dims: [u32; 4],
+    factor: [f32; 4],
+}
+
+const PREFILTER: u32 = 0;
+const DOWNSAMPLE: u32 = 1;
+const BLUR_ACROSS: u32 = 2;
+const BLUR_DOWN: u32 = 3;
+const LERP: u32 = 4;
+
+/// The bloom's settings (HDRP's Bloom volume component defaults in its default profile).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BloomSettings {
+    pub intensity: f64,
+    pub scatter: f64,
+}
+
+impl Default for BloomSettings {
+    fn default() -> Self {
+        BloomSettings { intensity: 0.2, scatter: 0.7 }
+    }
+}
+
+/// The pyramid's levels for a frame of `width`×`height`: half resolution first, halving, as many
+/// as ⌊log2(max side) − 1⌋ (at least 1, at most 16; PostProcessSystem's iteration count).
+pub fn level_sizes(width: u32, height: u32) -> Vec<(u32, u32)> {
+    let count = ((width.max(height) as f64).log2() - 1.0).floor().clamp(1.0, 16.0) as u32;
+    let (w, h) = (width.div_ceil(2), height.div_ceil(2));
+    (0..count).map(|k| ((w >> k).max(1), (h >> k).max(1))).collect()
+}
+
+/// The compute pipeline, made once per renderer.
+pub struct BloomPipeline {
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+}
+
+impl BloomPipeline {
+    pub fn new(gpu: &GpuContext) -> Result<BloomPipeline, Error> {
+        let device = &gpu.device;
+        let module = gpu.shader_module("bloom", include_str!("../../shaders/pass/bloom.wgsl"))?;
+        let texture = |binding| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                view_dimension: wgpu::TextureViewDimension::D2,
+                multisampled: false,
+            },
+            count: None,
+        };
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("bloom"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::COMPUTE,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+                texture(1),
+                texture(2),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 3,
+                    visibility: wgpu::ShaderStages::COMPUTE,
+                    ty: wgpu::BindingType::StorageTexture {
+                        access: wgpu::StorageTextureAccess::WriteOnly,
+                        format: FORMAT,
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                    },
+                    count: None,
+                },
+            ],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("bloom"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("bloom"),
+            layout: Some(&pipeline_layout),
+            module: &module,
+            entry_point: Some("cs_bloom"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        Ok(BloomPipeline { pipeline, layout })
+    }
+}
+
+struct Step {
+    group: wgpu::BindGroup,
+    size: (u32, u32),
+}
+
+/// The bloom of one target size: the pyramid's textures, the output and the dispatches.
+pub struct BloomChain {
+    pub settings: BloomSettings,
+    /// The bloomed frame (full resolution): what is read back when the cell blooms.
+    pub output: wgpu::Texture,
+    steps: Vec<Step>,
+}
+
+impl BloomChain {
+    /// The chain that blooms `color` (`width`×`height`, TEXTURE_BINDING) into its own output.
+    pub fn new(
+        device: &wgpu::Device,
+        pipeline: &BloomPipeline,
+        color: &wgpu::Texture,
+        (width, height): (u32, u32),
+        settings: BloomSettings,
+    ) -> BloomChain {
+        let make = |label: &str, (w, h): (u32, u32), extra: wgpu::TextureUsages| {
+            super::texture_2d(
+                device,
+                label,
+                (w, h),
+                FORMAT,
+                wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING | extra,
+            )
+        };
+        let sizes = level_sizes(width, height);
+        // Per level: the blurred level (m), a scratch for the first blur (s), and the level's input
+        // before blurring, reused for its upsampled result (t).
+        let levels: Vec<[wgpu::Texture; 3]> = sizes
+            .iter()
+            .map(|&s| {
+                [
+                    make("bloom level", s, wgpu::TextureUsages::empty()),
+                    make("bloom scratch", s, wgpu::TextureUsages::empty()),
+                    make("bloom input", s, wgpu::TextureUsages::empty()),
+                ]
+            })
+            .collect();
+        let output = make("bloomed frame", (width, height), wgpu::TextureUsages::COPY_SRC);
+        let view = |t: &wgpu::Texture| t.create_view(&Default::default());
+        let mut steps = Vec::new();
+        let mut step = |mode: u32,
+                        source: &wgpu::Texture,
+                        coarse: &wgpu::Texture,
+                        dst: &wgpu::Texture,
+                        size: (u32, u32),
+                        factor: f64| {
+            let params = BloomParams { dims: [size.0, size.1, mode, 0], factor: [factor as f32, 0.0, 0.0, 0.0] };
+            let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("bloom step"),
+                contents: bytemuck::bytes_of(&params),
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("bloom step"),
+                layout: &pipeline.layout,
+                entries: &[
+                    wgpu::BindGroupEntry { binding: 0, resource: buffer.as_entire_binding() },
+                    wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&view(source)) },
+                    wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&view(coarse)) },
+                    wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(&view(dst)) },
+                ],
+            });
+            steps.push(Step { group, size });
+        };
+        for (k, (&size, [m, s, t])) in sizes.iter().zip(&levels).enumerate() {
+            match k {
+                0 => step(PREFILTER, color, color, t, size, 0.0),
+                _ => step(DOWNSAMPLE, &levels[k - 1][0], color, t, size, 0.0),
+            }
+            step(BLUR_ACROSS, t, color, s, size, 0.0);
+            step(BLUR_DOWN, s, color, m, size, 0.0);
+        }
+        // Upsampled level k (in its `t`): lerp(level k, bicubic(upsampled k + 1), scatter); the
+        // coarsest level is its own upsampled result.
+        let n = levels.len();
+        let upsampled = |k: usize| if k + 1 == n { &levels[k][0] } else { &levels[k][2] };
+        for k in (0..n.saturating_sub(1)).rev() {
+            step(LERP, &levels[k][0], upsampled(k + 1), &levels[k][2], sizes[k], settings.scatter);
+        }
+        step(LERP, color, upsampled(0), &output, (width, height), settings.intensity);
+        BloomChain { settings, output, steps }
+    }
+
+    pub fn encode(
+        &self,
+        pipeline: &BloomPipeline,
+        encoder: &mut wgpu::CommandEncoder,
+        timestamps: Option<wgpu::ComputePassTimestampWrites>,
+    ) {
+        let mut pass = encoder
+            .begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("bloom"), timestamp_writes: timestamps });
+        pass.set_pipeline(&pipeline.pipeline);
+        for s in &self.steps {
+            pass.set_bind_group(0, &s.group, &[]);
+            pass.dispatch_workgroups(s.size.0.div_ceil(8), s.size.1.div_ceil(8), 1);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_pyramid_starts_at_half_resolution() {
+        let s = level_sizes(384, 384);
+        assert_eq!(s[0], (192, 192));
+        assert_eq!(s.len(), 7, "⌊log2 384 − 1⌋ = 7");
+        assert_eq!(*s.last().unwrap(), (3, 3));
+        assert_eq!(level_sizes(2, 2), vec![(1, 1)]);
+    }
+}
