@@ -37,12 +37,16 @@ fn params(
     }
 }
 
+/// A scene for per-pixel shading checks: HDRP's bloom (which mixes a fifth of the neighbourhood
+/// into every pixel) is turned off, as these tests measure the shading itself.
 fn scene(name_or_fixture: &str) -> Scene {
-    if name_or_fixture.ends_with(".toml") {
+    let mut scene = if name_or_fixture.ends_with(".toml") {
         Scene::load_file(&crate::common::fixture(name_or_fixture)).unwrap()
     } else {
         Scene::load(name_or_fixture, None, "test", "composition").unwrap()
-    }
+    };
+    scene.hdrp.bloom = false;
+    scene
 }
 
 /// A deterministic low-discrepancy set of unit vectors in the hemisphere around +Y.
