@@ -7,6 +7,7 @@
 use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
+use super::ComputeStep;
 use crate::error::Error;
 use crate::gpu::GpuContext;
 
@@ -93,26 +94,9 @@ impl BloomPipeline {
                 },
             ],
         });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("bloom"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("bloom"),
-            layout: Some(&pipeline_layout),
-            module: &module,
-            entry_point: Some("cs_bloom"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let pipeline = super::compute_pipeline(device, "bloom", &layout, &module, "cs_bloom");
         Ok(BloomPipeline { pipeline, layout })
     }
-}
-
-struct Step {
-    group: wgpu::BindGroup,
-    size: (u32, u32),
 }
 
 /// The bloom of one target size: the pyramid's textures, the output and the dispatches.
@@ -120,7 +104,7 @@ pub struct BloomChain {
     pub settings: BloomSettings,
     /// The bloomed frame (full resolution): what is read back when the cell blooms.
     pub output: wgpu::Texture,
-    steps: Vec<Step>,
+    steps: Vec<ComputeStep>,
 }
 
 impl BloomChain {
@@ -179,7 +163,7 @@ impl BloomChain {
                     wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(&view(dst)) },
                 ],
             });
-            steps.push(Step { group, size });
+            steps.push(ComputeStep { group, size });
         };
         for (k, (&size, [m, s, t])) in sizes.iter().zip(&levels).enumerate() {
             match k {

@@ -99,3 +99,49 @@ pub(crate) fn uniform_slots(
     });
     (buffer, stride, group)
 }
+
+/// A compute pipeline with one bind group, running `entry` of `module`.
+pub(crate) fn compute_pipeline(
+    device: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::BindGroupLayout,
+    module: &wgpu::ShaderModule,
+    entry: &str,
+) -> wgpu::ComputePipeline {
+    let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(label),
+        bind_group_layouts: &[Some(layout)],
+        immediate_size: 0,
+    });
+    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(label),
+        layout: Some(&pipeline_layout),
+        module,
+        entry_point: Some(entry),
+        compilation_options: Default::default(),
+        cache: None,
+    })
+}
+
+/// One dispatch of an 8×8-workgroup compute shader: its bind group and the grid it covers.
+pub(crate) struct ComputeStep {
+    pub group: wgpu::BindGroup,
+    pub size: (u32, u32),
+}
+
+/// One compute pass running `steps` in order (timed as one span when `timestamps` is given).
+pub(crate) fn encode_steps<'a>(
+    encoder: &mut wgpu::CommandEncoder,
+    label: &str,
+    pipeline: &wgpu::ComputePipeline,
+    steps: impl IntoIterator<Item = &'a ComputeStep>,
+    timestamps: Option<wgpu::ComputePassTimestampWrites>,
+) {
+    let mut pass =
+        encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(label), timestamp_writes: timestamps });
+    pass.set_pipeline(pipeline);
+    for s in steps {
+        pass.set_bind_group(0, &s.group, &[]);
+        pass.dispatch_workgroups(s.size.0.div_ceil(8), s.size.1.div_ceil(8), 1);
+    }
+}

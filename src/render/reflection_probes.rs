@@ -17,6 +17,7 @@ use glam::{DMat4, DVec3};
 use wgpu::util::DeviceExt;
 
 pub use super::uniforms::GpuReflectionProbe;
+use super::ComputeStep;
 use crate::environment::prefilter::{self, EquirectImage, LEVELS, MIRROR_ALPHA, PROBE_WIDTH, SOURCE_WIDTH};
 use crate::error::Error;
 use crate::gpu::GpuContext;
@@ -63,12 +64,6 @@ const MODE_FACES: u32 = 0;
 const MODE_HALVE: u32 = 1;
 const MODE_CONVOLVE: u32 = 2;
 const MODE_COPY: u32 = 3;
-
-/// One compute dispatch of the prefilter: its bind group and size.
-struct Step {
-    group: wgpu::BindGroup,
-    size: (u32, u32),
-}
 
 /// The prefilter's pipeline and its scratch: the equirectangular source at 256, 128 and 64 texels
 /// wide and each one's texel directions and solid angles. Built once per renderer.
@@ -139,19 +134,7 @@ impl Prefilter {
                 },
             ],
         });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("probe prefilter"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("probe prefilter"),
-            layout: Some(&pipeline_layout),
-            module: &module,
-            entry_point: Some("cs_prefilter"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let pipeline = super::compute_pipeline(device, "probe prefilter", &layout, &module, "cs_prefilter");
         let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("probe faces"),
             mag_filter: wgpu::FilterMode::Nearest,
@@ -216,7 +199,7 @@ impl Prefilter {
         faces: Option<(&wgpu::TextureView, [DMat4; 6], DVec3)>,
         levels: &wgpu::Texture,
         first: usize,
-    ) -> Vec<Step> {
+    ) -> Vec<ComputeStep> {
         let mut steps = Vec::new();
         let view = |t: &wgpu::Texture, layer: Option<usize>| {
             t.create_view(&wgpu::TextureViewDescriptor {
@@ -257,7 +240,7 @@ impl Prefilter {
                     wgpu::BindGroupEntry { binding: 5, resource: source.2.as_entire_binding() },
                 ],
             });
-            steps.push(Step { group, size: (size.0 as u32, size.1 as u32) });
+            steps.push(ComputeStep { group, size: (size.0 as u32, size.1 as u32) });
         };
         let (s256, s128, s64) = (self.source(SOURCE_WIDTH), self.source(PROBE_WIDTH), self.source(PROBE_WIDTH / 2));
         if faces.is_some() {
@@ -282,23 +265,6 @@ impl Prefilter {
             }
         }
         steps
-    }
-
-    fn encode(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        steps: &[Step],
-        timestamps: Option<wgpu::ComputePassTimestampWrites>,
-    ) {
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("probe prefilter"),
-            timestamp_writes: timestamps,
-        });
-        pass.set_pipeline(&self.pipeline);
-        for s in steps {
-            pass.set_bind_group(0, &s.group, &[]);
-            pass.dispatch_workgroups(s.size.0.div_ceil(8), s.size.1.div_ceil(8), 1);
-        }
     }
 
     /// Prefilter an equirectangular source (256×128) on the GPU and read the seven levels back:
@@ -328,7 +294,7 @@ impl Prefilter {
         let levels = level_texture(device, LEVELS, wgpu::TextureUsages::COPY_SRC);
         let steps = self.steps(device, None, &levels, 0);
         let mut encoder = device.create_command_encoder(&Default::default());
-        self.encode(&mut encoder, &steps, None);
+        super::encode_steps(&mut encoder, "probe prefilter", &self.pipeline, &steps, None);
         let row = PROBE_WIDTH as u32 * 8;
         let readback = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("probe levels readback"),
@@ -422,7 +388,7 @@ pub struct ProbeTargets {
     /// A frame uniform buffer per face (the cell's frame seen from the probe).
     pub frame_buffers: Vec<wgpu::Buffer>,
     pub view_proj: [DMat4; 6],
-    steps: Vec<Step>,
+    steps: Vec<ComputeStep>,
 }
 
 /// A composition's probes: the level array (the sky's seven layers, then seven per probe), each
@@ -535,16 +501,8 @@ impl SceneProbes {
         encoder: &mut wgpu::CommandEncoder,
         timestamps: Option<wgpu::ComputePassTimestampWrites>,
     ) {
-        let steps: Vec<&Step> = self.probes.iter().flat_map(|p| &p.steps).collect();
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("probe prefilter"),
-            timestamp_writes: timestamps,
-        });
-        pass.set_pipeline(&prefilter.pipeline);
-        for s in steps {
-            pass.set_bind_group(0, &s.group, &[]);
-            pass.dispatch_workgroups(s.size.0.div_ceil(8), s.size.1.div_ceil(8), 1);
-        }
+        let steps = self.probes.iter().flat_map(|p| &p.steps);
+        super::encode_steps(encoder, "probe prefilter", &prefilter.pipeline, steps, timestamps);
     }
 }
 
