@@ -81,22 +81,63 @@ pub fn text(m: &Matrix) -> String {
     out
 }
 
+/// The LOD levels each camera distance of the matrix draws (the scene's own camera when the
+/// matrix does not sweep it), as the renderer selects them.
+fn lod_plan(m: &Matrix, scene: &crate::spec::scene::Scene, meshes: &[crate::geometry::Mesh]) -> String {
+    let mut out = String::new();
+    if scene.objects.iter().all(|o| o.lod.is_none()) {
+        return out;
+    }
+    let bounds: Vec<_> = scene
+        .objects
+        .iter()
+        .zip(meshes)
+        .map(|(o, mesh)| crate::geometry::placement::world_bounds_of(o, &mesh.bounds()))
+        .collect();
+    let distances: Vec<Option<f64>> = match m.sweep.camera_distance.is_empty() {
+        true => vec![None],
+        false => m.sweep.camera_distance.iter().copied().map(Some).collect(),
+    };
+    for d in distances {
+        let view = crate::render::camera::ViewAxes { camera_distance: d, light_angle: None };
+        let camera = crate::render::camera::posed_camera(&scene.camera, &view);
+        let at = d.map_or("the scene's camera".to_string(), |d| format!("camera distance {d}"));
+        for seen in crate::plan::lod::groups_seen(scene, &bounds, &camera) {
+            let levels: Vec<String> = seen
+                .drawn
+                .iter()
+                .map(|l| match l.fade {
+                    f if f >= 1.0 => format!("level {}", l.level),
+                    f => format!("level {} (fade {f:+.2}, dithered)", l.level),
+                })
+                .collect();
+            let drawn = if levels.is_empty() { "culled".to_string() } else { levels.join(" + ") };
+            let name = &scene.objects[seen.object].name;
+            let _ =
+                writeln!(out, "  LOD at {at}: {name} at {:.1} % of the screen: {drawn}", seen.relative_height * 100.0);
+        }
+    }
+    out
+}
+
 /// How each light reaches each object in every pipeline × path of the matrix, at the scene's own
 /// key-light values (a cell's sweep values can reorder lights by brightness; `cell.json` has each
 /// cell's).
 fn light_plan(m: &Matrix, scene: &crate::spec::scene::Scene) -> String {
     let mut out = String::new();
-    if scene.lights.is_empty() {
-        let _ = writeln!(out, "  lights: none");
-        return out;
-    }
-    let centres = match crate::geometry::procedural::build_scene(scene) {
-        Ok(meshes) => crate::geometry::placement::object_centres(scene, &meshes),
+    let meshes = match crate::geometry::procedural::build_scene(scene) {
+        Ok(meshes) => meshes,
         Err(e) => {
             let _ = writeln!(out, "  lights: cannot place the objects ({e})");
             return out;
         }
     };
+    out.push_str(&lod_plan(m, scene, &meshes));
+    if scene.lights.is_empty() {
+        let _ = writeln!(out, "  lights: none");
+        return out;
+    }
+    let centres = crate::geometry::placement::object_centres(scene, &meshes);
     let key = scene.key_light().map(|k| &scene.lights[k]);
     let (intensity, range) = key.map_or((0.0, 0.0), |k| (k.intensity, k.range));
     let lights = crate::render::camera::cell_lights(scene, intensity, range, &scene.camera, &Default::default());

@@ -10,7 +10,10 @@
 //! unity_LODFade.x as the tutorial reads it (1 → 0 for the level fading out, −1 → 0 for the one
 //! fading in).
 
+use glam::DVec3;
 use serde::{Deserialize, Serialize};
+
+use crate::spec::scene::{Camera, Scene};
 
 /// One level drawn in a frame: its index (0 the object's own mesh) and its fade (1: whole; in
 /// (0, 1): fading out; in (−1, 0): fading in).
@@ -44,6 +47,32 @@ pub fn select(h: f64, transitions: &[f64], fade_width: f64) -> Vec<LodDraw> {
         return draws;
     }
     vec![LodDraw { level, fade: 1.0 }]
+}
+
+/// A LOD group as a camera sees it: its relative screen height and the levels drawn.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GroupSeen {
+    /// Index into the scene's objects.
+    pub object: usize,
+    pub relative_height: f64,
+    pub drawn: Vec<LodDraw>,
+}
+
+/// Every LOD group of `scene` as `camera` sees it, given each object's world bounds (level 0's):
+/// the group's size is the bounds' largest extent, its distance that of the bounds' centre.
+pub fn groups_seen(scene: &Scene, world_bounds: &[(DVec3, DVec3)], camera: &Camera) -> Vec<GroupSeen> {
+    scene
+        .objects
+        .iter()
+        .zip(world_bounds)
+        .enumerate()
+        .filter_map(|(object, (o, (lo, hi)))| {
+            let group = o.lod.as_ref()?;
+            let distance = (DVec3::from(camera.position) - (*lo + *hi) * 0.5).length();
+            let h = relative_height((*hi - *lo).max_element(), distance, camera.fov_y_deg.to_radians(), group.bias);
+            Some(GroupSeen { object, relative_height: h, drawn: select(h, &group.transitions, group.fade_width) })
+        })
+        .collect()
 }
 
 #[cfg(test)]

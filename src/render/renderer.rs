@@ -173,8 +173,8 @@ pub struct PreparedScene {
     /// Each object's name and world-space bounds centre (what the light budget ranks lights by).
     pub object_centres: Vec<(String, DVec3)>,
     pub triangle_count: usize,
-    /// Per LOD group object (scene index): its world size (largest axis of level 0's bounds).
-    lod_sizes: Vec<Option<f64>>,
+    /// Each scene object's world bounds (level 0's mesh): what LOD selection measures.
+    world_bounds: Vec<(DVec3, DVec3)>,
     /// Each mesh's LOD fade in the current cell (None: not drawn; 1 for meshes without LOD).
     fades: std::sync::Mutex<Vec<Option<f64>>>,
 }
@@ -623,11 +623,14 @@ impl Renderer {
         }
         // LOD levels after the first: extra meshes of their object, after every scene object (so
         // the first scene-object-count slots stay the scene's objects).
-        let mut lod_sizes = vec![None; scene.objects.len()];
+        let world_bounds: Vec<(DVec3, DVec3)> = scene
+            .objects
+            .iter()
+            .zip(&level0_bounds)
+            .map(|(o, b)| crate::geometry::placement::world_bounds_of(o, b))
+            .collect();
         for (i, o) in scene.objects.iter().enumerate() {
             let Some(lod) = &o.lod else { continue };
-            let (lo, hi) = crate::geometry::placement::world_bounds_of(o, &level0_bounds[i]);
-            lod_sizes[i] = Some((hi - lo).max_element());
             for (j, spec) in lod.meshes.iter().enumerate() {
                 let key = format!("objects[{i}].lod.meshes[{j}]");
                 let mut mesh = procedural::build(spec, scene.base_dir.as_deref(), &scene.origin, &key)?;
@@ -748,7 +751,7 @@ impl Renderer {
             shadows,
             object_centres,
             triangle_count,
-            lod_sizes,
+            world_bounds,
             fades: std::sync::Mutex::new(vec![Some(1.0); object_count]),
         })
     }
@@ -1462,15 +1465,15 @@ impl Renderer {
         let mut lod = Vec::new();
         let mut fades: Vec<Option<f64>> =
             prepared.objects.iter().map(|o| o.lod_level.is_none().then_some(1.0)).collect();
-        for (index, (o, size)) in scene.objects.iter().zip(&prepared.lod_sizes).enumerate() {
-            let (Some(group), Some(size)) = (&o.lod, size) else { continue };
-            let distance = (DVec3::from(camera.position) - prepared.object_centres[index].1).length();
-            let h = crate::plan::lod::relative_height(*size, distance, camera.fov_y_deg.to_radians(), group.bias);
-            let drawn = crate::plan::lod::select(h, &group.transitions, group.fade_width);
-            for (m, mesh) in prepared.objects.iter().enumerate().filter(|(_, m)| m.scene_index == index) {
-                fades[m] = drawn.iter().find(|d| Some(d.level) == mesh.lod_level).map(|d| d.fade);
+        for seen in crate::plan::lod::groups_seen(scene, &prepared.world_bounds, &camera) {
+            for (m, mesh) in prepared.objects.iter().enumerate().filter(|(_, m)| m.scene_index == seen.object) {
+                fades[m] = seen.drawn.iter().find(|d| Some(d.level) == mesh.lod_level).map(|d| d.fade);
             }
-            lod.push(LodUse { object: o.name.clone(), relative_height: h, drawn });
+            lod.push(LodUse {
+                object: scene.objects[seen.object].name.clone(),
+                relative_height: seen.relative_height,
+                drawn: seen.drawn,
+            });
         }
         *prepared.fades.lock().unwrap_or_else(|e| e.into_inner()) = fades.clone();
         let mut objects = vec![0u8; (prepared.object_stride as usize) * prepared.objects.len()];

@@ -66,3 +66,14 @@ fn a_distance_sweep_draws_each_level_and_a_dithered_band() {
     assert!(from_a + from_b > 0.9, "pixels that are neither level: {}", 1.0 - from_a - from_b);
     assert!((from_a - t).abs() < 0.1, "level 0 keeps {from_a} of the pixels at fade {t}");
 }
+
+#[test]
+fn list_shows_the_levels_each_distance_draws() {
+    let tmp = tempfile::tempdir().unwrap();
+    let m = repo().join("matrices/lod.toml");
+    let (rc, out, err) = crate::common::shadematrix(tmp.path(), &["list", m.to_str().unwrap()], &[]);
+    assert_eq!(rc, 0, "{err}");
+    assert!(out.contains("LOD at camera distance 4: sphere at 61.9 % of the screen: level 0\n"), "{out}");
+    assert!(out.contains("level 1 (fade +0.43, dithered) + level 2 (fade -0.43, dithered)"), "{out}");
+    assert!(out.contains("LOD at camera distance 14: sphere at 18.5 % of the screen: level 2\n"), "{out}");
+}
