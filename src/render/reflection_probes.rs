@@ -31,9 +31,14 @@ const PROBE_HEIGHT: usize = PROBE_WIDTH / 2;
 /// Sub-samples per side when the faces are resampled to the equirectangular source.
 const FACE_SUBSAMPLES: u32 = 2;
 
-/// The first array layer of probe `index`'s levels (the sky's come first).
-pub fn first_layer(index: usize) -> usize {
-    LEVELS * (index + 1)
+/// Captures kept per composition: one per pipeline and then some, so a run that alternates
+/// pipelines (references first) does not capture again each time.
+pub const CAPTURE_SLOTS: usize = 4;
+
+/// The first array layer of probe `index`'s levels in capture slot `slot` of a scene with `count`
+/// probes (the sky's seven come first).
+pub fn first_layer(slot: usize, index: usize, count: usize) -> usize {
+    LEVELS * (1 + slot * count + index)
 }
 
 /// The view-projections of the six faces from `position`, in the order +X, −X, +Y, −Y, +Z, −Z
@@ -388,17 +393,34 @@ pub struct ProbeTargets {
     /// A frame uniform buffer per face (the cell's frame seen from the probe).
     pub frame_buffers: Vec<wgpu::Buffer>,
     pub view_proj: [DMat4; 6],
-    steps: Vec<ComputeStep>,
+    /// The prefilter's dispatches into each capture slot.
+    steps: Vec<Vec<ComputeStep>>,
 }
 
-/// A composition's probes: the level array (the sky's seven layers, then seven per probe), each
-/// probe's capture targets, and which cell inputs the current capture was made with.
+/// A composition's probes: the level array (the sky's seven layers, then seven per probe in each
+/// capture slot), each probe's capture targets, and which cell inputs each slot was captured with.
 pub struct SceneProbes {
     pub levels: wgpu::Texture,
     pub probes: Vec<ProbeTargets>,
-    /// The hash of everything a capture sees (lights, shadows, fixed objects, environment,
-    /// pipeline) at the last capture; a cell with the same inputs reuses it.
-    pub captured: std::sync::Mutex<Option<u64>>,
+    /// Per slot: the hash of everything its capture saw (lights, shadows, fixed objects,
+    /// environment, pipeline) and when it was last used; a cell with the same inputs reuses it.
+    slots: std::sync::Mutex<Vec<Option<(u64, u64)>>>,
+    uses: std::sync::atomic::AtomicU64,
+}
+
+/// Where a cell's probe levels are: a slot already captured with its inputs, or one to capture into.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Slot {
+    Captured(usize),
+    ToCapture(usize),
+}
+
+impl Slot {
+    pub fn index(self) -> usize {
+        match self {
+            Slot::Captured(i) | Slot::ToCapture(i) => i,
+        }
+    }
 }
 
 impl SceneProbes {
@@ -409,7 +431,8 @@ impl SceneProbes {
         sky: &prefilter::Probe,
     ) -> SceneProbes {
         let device = &gpu.device;
-        let levels = level_texture(device, LEVELS * (probes.len() + 1), wgpu::TextureUsages::empty());
+        let count = probes.len();
+        let levels = level_texture(device, LEVELS * (1 + count * CAPTURE_SLOTS), wgpu::TextureUsages::empty());
         let sky_texels = sky_levels(sky);
         gpu.queue.write_texture(
             levels.as_image_copy(),
@@ -463,7 +486,12 @@ impl SceneProbes {
                 });
                 let position = DVec3::from(p.position);
                 let view_proj = face_view_proj(position, p.near);
-                let steps = prefilter.steps(device, Some((&all_faces, view_proj, position)), &levels, first_layer(k));
+                let steps = (0..CAPTURE_SLOTS)
+                    .map(|slot| {
+                        let first = first_layer(slot, k, count);
+                        prefilter.steps(device, Some((&all_faces, view_proj, position)), &levels, first)
+                    })
+                    .collect();
                 ProbeTargets {
                     probe: p.clone(),
                     face_views: layer_views(&faces),
@@ -484,7 +512,30 @@ impl SceneProbes {
                 }
             })
             .collect();
-        SceneProbes { levels, probes, captured: Default::default() }
+        SceneProbes {
+            levels,
+            probes,
+            slots: std::sync::Mutex::new(vec![None; CAPTURE_SLOTS]),
+            uses: Default::default(),
+        }
+    }
+
+    /// The slot holding a capture with inputs `key`, or the least recently used one to capture into.
+    pub fn slot_for(&self, key: u64) -> Slot {
+        let now = self.uses.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+        let mut slots = self.slots.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(i) = slots.iter().position(|s| s.is_some_and(|(k, _)| k == key)) {
+            slots[i] = Some((key, now));
+            return Slot::Captured(i);
+        }
+        let i = (0..slots.len()).min_by_key(|&i| slots[i].map_or(0, |(_, used)| used)).expect("slots");
+        Slot::ToCapture(i)
+    }
+
+    /// Record that `slot` now holds the capture of inputs `key`.
+    pub fn captured(&self, slot: usize, key: u64) {
+        let now = self.uses.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+        self.slots.lock().unwrap_or_else(|e| e.into_inner())[slot] = Some((key, now));
     }
 
     pub fn view(&self) -> wgpu::TextureView {
@@ -494,14 +545,15 @@ impl SceneProbes {
         })
     }
 
-    /// Encode every probe's prefilter (after its faces were drawn).
+    /// Encode every probe's prefilter into capture slot `slot` (after its faces were drawn).
     pub fn encode_prefilter(
         &self,
         prefilter: &Prefilter,
         encoder: &mut wgpu::CommandEncoder,
+        slot: usize,
         timestamps: Option<wgpu::ComputePassTimestampWrites>,
     ) {
-        let steps = self.probes.iter().flat_map(|p| &p.steps);
+        let steps = self.probes.iter().flat_map(|p| &p.steps[slot]);
         super::encode_steps(encoder, "probe prefilter", &prefilter.pipeline, steps, timestamps);
     }
 }

@@ -1454,10 +1454,12 @@ impl Renderer {
         }
         let any = Sliders { base_color_linear: [1.0; 3], metallic: 0.0, smoothness: 0.5 };
         frame.fixed = gpu_material(&fixed_model.surface(p, &any), GpuMaterial::zeroed());
+        // The probes' capture slot is chosen after the capture key (`capture_probes`), which
+        // rewrites their layers; slot 0 until then.
         if let Some(probes) = &prepared.probes {
             frame.reflection = [probes.probes.len() as u32, 0, 0, 0];
             for (k, t) in probes.probes.iter().enumerate() {
-                frame.probes[k] = GpuReflectionProbe::new(&t.probe, k);
+                frame.probes[k] = GpuReflectionProbe::new(&t.probe, k, probes.probes.len(), 0);
             }
         }
         self.gpu.queue.write_buffer(&prepared.frame_buffer, 0, bytemuck::bytes_of(&frame));
@@ -1541,9 +1543,15 @@ impl Renderer {
         shadow_layers: &[(usize, u32)],
     ) -> Result<Option<(f64, f64)>, Error> {
         let Some(probes) = &prepared.probes else { return Ok(None) };
-        if *probes.captured.lock().unwrap_or_else(|e| e.into_inner()) == Some(capture.key) {
-            return Ok(None);
+        let slot = probes.slot_for(capture.key);
+        // Point the cell's frame at the slot's levels.
+        let mut frame = capture.frame;
+        let count = probes.probes.len();
+        for (k, t) in probes.probes.iter().enumerate() {
+            frame.probes[k] = GpuReflectionProbe::new(&t.probe, k, count, slot.index());
         }
+        self.gpu.queue.write_buffer(&prepared.frame_buffer, 0, bytemuck::bytes_of(&frame));
+        let super::reflection_probes::Slot::ToCapture(slot) = slot else { return Ok(None) };
         self.forward_pipeline(cell.pipeline, fixed_model, false, 1, false)?;
         if prepared.plan.background {
             self.background_pipeline(1)?;
@@ -1635,7 +1643,7 @@ impl Renderer {
             }
         }
         let prefilter = self.prefilter.as_ref().expect("made with the scene's probes");
-        probes.encode_prefilter(prefilter, &mut encoder, timer.map(|t| t.compute_writes(1)));
+        probes.encode_prefilter(prefilter, &mut encoder, slot, timer.map(|t| t.compute_writes(1)));
         if let Some(t) = timer {
             t.encode_resolve(&mut encoder, 2);
         }
@@ -1643,7 +1651,7 @@ impl Renderer {
         self.gpu.wait_idle()?;
         let times = timer.map(|t| t.read_ms(&self.gpu.device, 2)).transpose()?;
         self.gpu.check_errors("capturing reflection probes")?;
-        *probes.captured.lock().unwrap_or_else(|e| e.into_inner()) = Some(capture.key);
+        probes.captured(slot, capture.key);
         Ok(times.map(|t| (t[0], t[1])))
     }
 }

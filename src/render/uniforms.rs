@@ -53,12 +53,13 @@ pub struct GpuReflectionProbe {
 }
 
 impl GpuReflectionProbe {
-    pub fn new(p: &crate::spec::scene::ReflectionProbe, index: usize) -> Self {
+    /// Probe `index` of `count`, its levels in capture slot `slot`.
+    pub fn new(p: &crate::spec::scene::ReflectionProbe, index: usize, count: usize, slot: usize) -> Self {
         let v = |a: [f64; 3], w: f64| [a[0] as f32, a[1] as f32, a[2] as f32, w as f32];
         GpuReflectionProbe {
             position: v(p.position, if p.box_projection { 1.0 } else { 0.0 }),
             box_min: v(p.box_min, p.blend_distance),
-            box_max: v(p.box_max, super::reflection_probes::first_layer(index) as f64),
+            box_max: v(p.box_max, super::reflection_probes::first_layer(slot, index, count) as f64),
         }
     }
 }

@@ -82,3 +82,32 @@ fn a_probe_puts_the_room_into_a_metal_sphere() {
     let mean = |img: &[f64]| subject.iter().map(|&i| img[i]).sum::<f64>() / subject.len() as f64;
     assert!(mean(&probe) > 1.5 * mean(&sky), "probe {} vs sky {}", mean(&probe), mean(&sky));
 }
+
+#[test]
+fn a_reused_capture_renders_the_same_image() {
+    use shadematrix::pipelines::{Pipeline, RenderPath};
+    use shadematrix::render::renderer::Renderer;
+    use shadematrix::spec::scene::Scene;
+    let scene = Scene::load_file(&fixture("probe_room.toml")).unwrap();
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let prepared = renderer.prepare_scene(&scene).unwrap();
+    let silver = shadematrix::shading::registry::Sliders {
+        base_color_linear: [0.972, 0.960, 0.915],
+        metallic: 1.0,
+        smoothness: 1.0,
+    };
+    let urp = crate::common::cell_params(Pipeline::Urp, "lit", silver, (2.0, 10.0), 48, RenderPath::Forward);
+    let hdrp = crate::common::cell_params(Pipeline::Hdrp, "lit", silver, (2.0, 10.0), 48, RenderPath::Forward);
+    let mut render = |cell| {
+        let r = renderer.render(&prepared, cell, 1, 0).unwrap();
+        let captured = r.gpu_passes.is_some_and(|p| p.iter().any(|(n, _)| n == "probe capture"));
+        (r.hdr, captured)
+    };
+    let (first, _) = render(&urp);
+    let (_, hdrp_captured) = render(&hdrp);
+    let (again, captured_again) = render(&urp);
+    assert!(first == again, "URP's capture, kept in its slot while HDRP captured its own, gives the same image");
+    if timestamps {
+        assert!(hdrp_captured && !captured_again, "HDRP captures; URP's second cell reuses its capture");
+    }
+}
