@@ -91,6 +91,7 @@ fn a_reused_capture_renders_the_same_image() {
     let scene = Scene::load_file(&fixture("probe_room.toml")).unwrap();
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     let prepared = renderer.prepare_scene(&scene).unwrap();
+    let timestamps = renderer.gpu.record.timestamp_queries;
     let silver = shadematrix::shading::registry::Sliders {
         base_color_linear: [0.972, 0.960, 0.915],
         metallic: 1.0,
