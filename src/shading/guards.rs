@@ -18,6 +18,7 @@ pub fn stiff_terms(name: &str, p: Pipeline) -> &'static str {
         "cook_torrance" => "d_beckmann (NH² ≥ ε, m ≥ 1e-3), g_cook_torrance (VH ≥ ε)",
         "cook_torrance_1982" => "d_beckmann_unnormalised (NH² ≥ ε, m ≥ 1e-3), g_cook_torrance (VH ≥ ε)",
         "torrance_sparrow" | "torrance_sparrow_corrected" => "ts_direct (d_ggx, v_smith_schlick: no floor on α)",
+        "srp_lit" => "specular_strength (d = NH²(r² − 1) + 1.00001, max(0.1, LH²); no floor on r, as the tutorial)",
         "oren_nayar" => "model_direct: tan β over max(cos β, 1e-4)",
         "oren_nayar_057" => "model_direct: max(max(NL, NV), 1e-4)",
         _ => "none needed: the model reads no roughness",
