@@ -17,3 +17,16 @@ fn pow5(x: f32) -> f32 {
 fn safe_normalize(v: vec3<f32>, eps: f32) -> vec3<f32> {
     return v * inverseSqrt(max(eps, dot(v, v)));
 }
+
+// The cube face of d's major axis, in the order +X, −X, +Y, −Y, +Z, −Z (point-light shadow maps
+// and reflection-probe captures lay their faces out so)
+fn cube_face(d: vec3<f32>) -> u32 {
+    let a = abs(d);
+    if (a.x >= a.y && a.x >= a.z) {
+        return select(1u, 0u, d.x > 0.0);
+    }
+    if (a.y >= a.z) {
+        return 2u + select(1u, 0u, d.y > 0.0);
+    }
+    return 4u + select(1u, 0u, d.z > 0.0);
+}

@@ -8,7 +8,7 @@
 
 struct BloomParams {
     // x, y: destination size; z: mode (0 prefilter, 1 downsample, 2 blur across, 3 blur down,
-    // 4 upsample, 5 composite); w: unused
+    // 4 upsample or composite); w: unused
     dims: vec4<u32>,
     // x: scatter (upsample) or intensity (composite)
     factor: vec4<f32>,
@@ -96,9 +96,7 @@ fn cs_bloom(@builtin(global_invocation_id) id: vec3<u32>) {
         case 3u: {
             c = blur(source, vec2<i32>(id.xy), vec2<i32>(0, 1));
         }
-        case 4u: {
-            c = mix(load_clamped(source, vec2<i32>(id.xy)), bicubic(coarse, uv), params.factor.x);
-        }
+        // 4: upsample and composite alike, lerp(source, bicubic(coarse), factor)
         default: {
             c = mix(load_clamped(source, vec2<i32>(id.xy)), bicubic(coarse, uv), params.factor.x);
         }

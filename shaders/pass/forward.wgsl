@@ -220,16 +220,8 @@ fn shadow_visibility(light: Light, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, rec
             return 1.0;
         }
     } else if (u32(light.position.w) == 1u) {
-        // A point light's cube: the face of the major axis, in the order +X, −X, +Y, −Y, +Z, −Z
-        let d = p - light.position.xyz;
-        let a = abs(d);
-        var face = 4u + select(1u, 0u, d.z > 0.0);
-        if (a.x >= a.y && a.x >= a.z) {
-            face = select(1u, 0u, d.x > 0.0);
-        } else if (a.y >= a.z) {
-            face = 2u + select(1u, 0u, d.y > 0.0);
-        }
-        index += face;
+        // A point light's cube: the face of the major axis
+        index += cube_face(p - light.position.xyz);
     }
     let info = shadow_layers[index];
     var texel = info.params.x;

@@ -3,11 +3,11 @@
 // equirectangular source, halved twice, and each of Unity's seven levels (mip = pr'·6,
 // pr' = pr(1.7 − 0.7pr)) is the GGX lobe of its α convolved over the source width the level needs.
 
-const PI: f32 = 3.14159265358979;
+// Composed after shaders/common/math.wgsl (PI, cube_face).
 const TAU: f32 = 6.28318530717959;
 
 struct PrefilterParams {
-    // x: output width, y: output height, z: output layer, w: mode (0 cube → equirect, 1 halve, 2 convolve, 3 copy)
+    // x: output width, y: output height, z: unused, w: mode (0 faces → equirect, 1 halve, 2 convolve, 3 copy)
     dims: vec4<u32>,
     // x: GGX α of the level; y: 1 / sub-samples per side (cube → equirect); z: source width; w: source height
     level: vec4<f32>,
@@ -19,7 +19,8 @@ struct PrefilterParams {
 @group(0) @binding(0) var<uniform> params: PrefilterParams;
 @group(0) @binding(1) var cube_faces: texture_2d_array<f32>;
 @group(0) @binding(2) var source: texture_2d<f32>;
-@group(0) @binding(3) var linear_clamp: sampler;
+// Nearest: the faces are 32-bit float, which need not be filterable
+@group(0) @binding(3) var face_sampler: sampler;
 @group(0) @binding(4) var output: texture_storage_2d<rgba16float, write>;
 // The source's texel directions (xyz) and solid angles (w), row-major (twin: TexelTable)
 @group(0) @binding(5) var<storage, read> source_table: array<vec4<f32>>;
@@ -34,17 +35,11 @@ fn uv_to_dir(u: f32, v: f32) -> vec3<f32> {
 
 // The captured radiance along d: the face of d's major axis, at d's projection into it.
 fn cube_radiance(d: vec3<f32>) -> vec3<f32> {
-    let a = abs(d);
-    var face = 4u + select(1u, 0u, d.z > 0.0);
-    if (a.x >= a.y && a.x >= a.z) {
-        face = select(1u, 0u, d.x > 0.0);
-    } else if (a.y >= a.z) {
-        face = 2u + select(1u, 0u, d.y > 0.0);
-    }
+    let face = cube_face(d);
     let clip = params.faces[face] * vec4<f32>(params.probe_position.xyz + d, 1.0);
     let ndc = clip.xy / clip.w;
     let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
-    return textureSampleLevel(cube_faces, linear_clamp, uv, face, 0.0).rgb;
+    return textureSampleLevel(cube_faces, face_sampler, uv, face, 0.0).rgb;
 }
 
 @compute @workgroup_size(8, 8)

@@ -145,3 +145,9 @@ pub(crate) fn encode_steps<'a>(
         pass.dispatch_workgroups(s.size.0.div_ceil(8), s.size.1.div_ceil(8), 1);
     }
 }
+
+/// A linear radiance as an Rgba16Float texel (alpha 1), capped below half-float's maximum so a
+/// bright sun stays finite.
+pub(crate) fn half_texel(c: glam::DVec3) -> [half::f16; 4] {
+    [c.x, c.y, c.z, 1.0].map(|v| half::f16::from_f64(v.min(65000.0)))
+}

@@ -85,7 +85,10 @@ pub struct Prefilter {
 impl Prefilter {
     pub fn new(gpu: &GpuContext) -> Result<Prefilter, Error> {
         let device = &gpu.device;
-        let module = gpu.shader_module("probe prefilter", include_str!("../../shaders/pass/probe_prefilter.wgsl"))?;
+        let module = gpu.shader_module(
+            "probe prefilter",
+            &crate::shading::wgsl::with_math(include_str!("../../shaders/pass/probe_prefilter.wgsl")),
+        )?;
         let texture_entry = |binding, view_dimension| wgpu::BindGroupLayoutEntry {
             binding,
             visibility: wgpu::ShaderStages::COMPUTE,
@@ -284,8 +287,7 @@ impl Prefilter {
                 source.height
             )));
         }
-        let texels: Vec<half::f16> =
-            source.texels.iter().flat_map(|t| [t.x, t.y, t.z, 1.0].map(half::f16::from_f64)).collect();
+        let texels: Vec<half::f16> = source.texels.iter().flat_map(|t| super::half_texel(*t)).collect();
         gpu.queue.write_texture(
             self.source(SOURCE_WIDTH).1.as_image_copy(),
             bytemuck::cast_slice(&texels),
@@ -377,7 +379,7 @@ pub fn sky_levels(probe: &prefilter::Probe) -> Vec<half::f16> {
                         .texel_direction(x, y);
                     level.lookup(d)
                 };
-                out.extend([t.x, t.y, t.z, 1.0].map(|v| half::f16::from_f64(v.min(65000.0))));
+                out.extend(super::half_texel(t));
             }
         }
     }

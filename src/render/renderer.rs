@@ -175,15 +175,6 @@ pub struct PreparedScene {
     pub triangle_count: usize,
     /// Each scene object's world bounds (level 0's mesh): what LOD selection measures.
     world_bounds: Vec<(DVec3, DVec3)>,
-    /// Each mesh's LOD fade in the current cell (None: not drawn; 1 for meshes without LOD).
-    fades: std::sync::Mutex<Vec<Option<f64>>>,
-}
-
-impl PreparedScene {
-    /// Whether each mesh is drawn in the current cell.
-    fn drawn(&self) -> Vec<bool> {
-        self.fades.lock().unwrap_or_else(|e| e.into_inner()).iter().map(Option::is_some).collect()
-    }
 }
 
 struct Targets {
@@ -219,7 +210,6 @@ pub struct Renderer {
     pipeline_layout: wgpu::PipelineLayout,
     sampler: wgpu::Sampler,
     fgd: wgpu::TextureView,
-    /// By pipeline, model, vertex-lit and sample count.
     /// By (pipeline, model, vertex-lit, samples, textured subject).
     forward: HashMap<(Pipeline, String, bool, u32, bool), wgpu::RenderPipeline>,
     /// Fixed objects are drawn with each pipeline's default lit shader, a built-in model.
@@ -588,16 +578,7 @@ impl Renderer {
         let level0_bounds: Vec<(glam::Vec3, glam::Vec3)> = meshes.iter().map(Mesh::bounds).collect();
         for (o, mesh) in scene.objects.iter().zip(meshes) {
             triangle_count += mesh.triangle_count();
-            let vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some(&o.name),
-                contents: bytemuck::cast_slice(&mesh.vertices),
-                usage: wgpu::BufferUsages::VERTEX,
-            });
-            let indices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some(&o.name),
-                contents: bytemuck::cast_slice(&mesh.indices),
-                usage: wgpu::BufferUsages::INDEX,
-            });
+            let (vertices, indices) = mesh_buffers(device, &o.name, &mesh);
             let fixed = o.material.as_ref().map(|m| {
                 let sliders =
                     Sliders { base_color_linear: m.base_color_linear, metallic: m.metallic, smoothness: m.smoothness };
@@ -639,17 +620,10 @@ impl Renderer {
                 }
                 triangle_count += mesh.triangle_count();
                 let first = &objects[i];
+                let (vertices, indices) = mesh_buffers(device, &key, &mesh);
                 objects.push(GpuObject {
-                    vertices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                        label: Some(&key),
-                        contents: bytemuck::cast_slice(&mesh.vertices),
-                        usage: wgpu::BufferUsages::VERTEX,
-                    }),
-                    indices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                        label: Some(&key),
-                        contents: bytemuck::cast_slice(&mesh.indices),
-                        usage: wgpu::BufferUsages::INDEX,
-                    }),
+                    vertices,
+                    indices,
                     index_count: mesh.indices.len() as u32,
                     role: first.role,
                     model: first.model,
@@ -661,7 +635,6 @@ impl Renderer {
                 });
             }
         }
-        let object_count = objects.len();
         let (object_buffer, object_stride, object_bind_group) = super::uniform_slots(
             device,
             &self.object_layout,
@@ -675,33 +648,6 @@ impl Renderer {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let probe = &env.probe;
-        let texels: Vec<half::f16> = probe
-            .levels
-            .iter()
-            .flat_map(|l| {
-                l.texels.iter().flat_map(|t| [t.x, t.y, t.z, 1.0].map(|v| half::f16::from_f64(v.min(65000.0))))
-            })
-            .collect();
-        let env_texture = device.create_texture_with_data(
-            &self.gpu.queue,
-            &wgpu::TextureDescriptor {
-                label: Some("environment probe"),
-                size: wgpu::Extent3d {
-                    width: probe.width as u32,
-                    height: probe.height as u32,
-                    depth_or_array_layers: probe.levels.len() as u32,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: wgpu::TextureFormat::Rgba16Float,
-                usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-                view_formats: &[],
-            },
-            wgpu::util::TextureDataOrder::LayerMajor,
-            bytemuck::cast_slice(&texels),
-        );
         let probes = match scene.environment.reflections {
             crate::spec::scene::Reflections::Probe if !scene.probes.is_empty() => {
                 if self.prefilter.is_none() {
@@ -712,12 +658,10 @@ impl Renderer {
             }
             _ => None,
         };
+        // With probes the sky's levels sit in the probes' array; otherwise they are the array.
         let env_view = match &probes {
             Some(p) => p.view(),
-            None => env_texture.create_view(&wgpu::TextureViewDescriptor {
-                dimension: Some(wgpu::TextureViewDimension::D2Array),
-                ..Default::default()
-            }),
+            None => sky_probe_view(&self.gpu, &env.probe),
         };
         // A scene without lights still binds one (unused) element: a runtime-sized array needs one.
         let storage = |label: &str, bytes: u64, element: u64| {
@@ -752,7 +696,6 @@ impl Renderer {
             object_centres,
             triangle_count,
             world_bounds,
-            fades: std::sync::Mutex::new(vec![Some(1.0); object_count]),
         })
     }
 
@@ -999,9 +942,10 @@ impl Renderer {
         if prepared.plan.background {
             self.background_pipeline(samples)?;
         }
-        let WrittenFrame { lights, shadow_layers, shadow_maps, capture } =
-            self.write_uniforms(prepared, cell, &fixed_model);
-        let probe_times = self.capture_probes(prepared, cell, &fixed_model, &capture, &shadow_layers)?;
+        let written = self.write_uniforms(prepared, cell, &fixed_model);
+        let probe_times = self.capture_probes(prepared, cell, &fixed_model, &written)?;
+        let (drawn, casting) = (written.drawn(), written.casting());
+        let WrittenFrame { lights, shadow_layers, shadow_maps, lod, .. } = written;
         let frame_group = self.frame_group(prepared, cell.settings.material_maps)?;
         let frame_group: &wgpu::BindGroup = &frame_group;
         self.targets(cell.width, cell.height);
@@ -1060,7 +1004,6 @@ impl Renderer {
             None => (None, None),
         };
         let keep = if msaa.is_some() { wgpu::StoreOp::Discard } else { wgpu::StoreOp::Store };
-        let drawn = prepared.drawn();
         let total = warmup + frames;
         let mut frame_ms = Vec::with_capacity(frames as usize);
         for f in 0..total {
@@ -1069,7 +1012,7 @@ impl Renderer {
             let timed = |k: u32| timer.filter(|_| f >= warmup).map(|t| (t, (f - warmup) * per_frame + k));
             let mut k = 0;
             if shadows {
-                encode_shadow_passes(&mut encoder, &self.shadow_pipeline, prepared, &shadow_layers, timed(k));
+                encode_shadow_passes(&mut encoder, &self.shadow_pipeline, prepared, &shadow_layers, &casting, timed(k));
                 k += 1;
             }
             if deferred {
@@ -1077,7 +1020,7 @@ impl Renderer {
                 self.encode_deferred(
                     &mut encoder,
                     prepared,
-                    frame_group,
+                    FrameDraw { group: frame_group, drawn: &drawn },
                     cell,
                     &fixed_model,
                     tile_group.as_ref(),
@@ -1180,7 +1123,7 @@ impl Renderer {
             lights,
             multisampling,
             shadow_maps,
-            lod: capture.lod,
+            lod,
         })
     }
 
@@ -1219,14 +1162,14 @@ impl Renderer {
         &self,
         encoder: &mut wgpu::CommandEncoder,
         prepared: &PreparedScene,
-        frame_group: &wgpu::BindGroup,
+        draw: FrameDraw,
         cell: &CellParams,
         fixed_model: &ShaderModel,
         tile_group: Option<&wgpu::BindGroup>,
         timed: &[Option<(&PassTimer, u32)>],
     ) {
         let p = cell.pipeline;
-        let drawn = prepared.drawn();
+        let FrameDraw { group: frame_group, drawn } = draw;
         // With the tiled loop, its compute pass sits between the G-buffer and the lighting.
         let (light_at, last_at) = if tile_group.is_some() { (2, 3) } else { (1, 2) };
         let t = self.targets.as_ref().expect("targets exist");
@@ -1477,7 +1420,6 @@ impl Renderer {
                 drawn: seen.drawn,
             });
         }
-        *prepared.fades.lock().unwrap_or_else(|e| e.into_inner()) = fades.clone();
         let mut objects = vec![0u8; (prepared.object_stride as usize) * prepared.objects.len()];
         for (i, o) in prepared.objects.iter().enumerate() {
             let material = match &o.fixed {
@@ -1526,7 +1468,10 @@ impl Renderer {
             lights: assignment,
             shadow_layers: used_layers,
             shadow_maps,
-            capture: ProbeCapture { frame, key, lod },
+            frame,
+            capture_key: key,
+            lod,
+            fades,
         }
     }
 
@@ -1539,13 +1484,12 @@ impl Renderer {
         prepared: &PreparedScene,
         cell: &CellParams,
         fixed_model: &ShaderModel,
-        capture: &ProbeCapture,
-        shadow_layers: &[(usize, u32)],
+        written: &WrittenFrame,
     ) -> Result<Option<(f64, f64)>, Error> {
         let Some(probes) = &prepared.probes else { return Ok(None) };
-        let slot = probes.slot_for(capture.key);
+        let slot = probes.slot_for(written.capture_key);
         // Point the cell's frame at the slot's levels.
-        let mut frame = capture.frame;
+        let mut frame = written.frame;
         let count = probes.probes.len();
         for (k, t) in probes.probes.iter().enumerate() {
             frame.probes[k] = GpuReflectionProbe::new(&t.probe, k, count, slot.index());
@@ -1567,17 +1511,17 @@ impl Renderer {
         let pipeline = &self.forward[&(cell.pipeline, fixed_model.name.to_string(), false, 1, false)];
         let background = self.background.get(&1).filter(|_| prepared.plan.background);
         let neutral = &self.material_textures[""];
-        let drawn = prepared.drawn();
+        let (drawn, casting) = (written.drawn(), written.casting());
         let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
-        if prepared.shadows.active && !shadow_layers.is_empty() {
-            encode_shadow_passes(&mut encoder, &self.shadow_pipeline, prepared, shadow_layers, None);
+        if prepared.shadows.active && !written.shadow_layers.is_empty() {
+            encode_shadow_passes(&mut encoder, &self.shadow_pipeline, prepared, &written.shadow_layers, &casting, None);
         }
         let faces = probes.probes.len() * 6;
         let mut face = 0;
         let mut groups = Vec::with_capacity(faces);
         for t in &probes.probes {
             for (f, vp) in t.view_proj.iter().enumerate() {
-                let mut seen = capture.frame;
+                let mut seen = written.frame;
                 seen.view_proj = mat(*vp);
                 seen.inv_view_proj = mat(vp.inverse());
                 seen.camera_pos = vec4(DVec3::from(t.probe.position), 1.0);
@@ -1651,7 +1595,7 @@ impl Renderer {
         self.gpu.wait_idle()?;
         let times = timer.map(|t| t.read_ms(&self.gpu.device, 2)).transpose()?;
         self.gpu.check_errors("capturing reflection probes")?;
-        probes.captured(slot, capture.key);
+        probes.captured(slot, written.capture_key);
         Ok(times.map(|t| (t[0], t[1])))
     }
 }
@@ -1659,20 +1603,36 @@ impl Renderer {
 use bytemuck::Zeroable;
 
 /// What writing a cell's uniforms decided: how lights reach objects, the shadow layers in use and
-/// their maps, and what a probe capture needs.
+/// their maps, the frame written and the hash of what a probe capture would see of it, and the
+/// LOD levels the camera draws.
 struct WrittenFrame {
     lights: Vec<ObjectLights>,
     shadow_layers: Vec<(usize, u32)>,
     shadow_maps: Vec<ShadowMapUse>,
-    capture: ProbeCapture,
+    frame: FrameUniforms,
+    capture_key: u64,
+    lod: Vec<LodUse>,
+    /// Each mesh's LOD fade (None: not drawn; 1 for meshes without LOD).
+    fades: Vec<Option<f64>>,
 }
 
-/// The frame a cell wrote, and the hash of what a probe capture would see of it.
-struct ProbeCapture {
-    frame: FrameUniforms,
-    key: u64,
-    /// The LOD levels the cell's camera draws.
-    lod: Vec<LodUse>,
+impl WrittenFrame {
+    /// Whether each mesh is drawn.
+    fn drawn(&self) -> Vec<bool> {
+        self.fades.iter().map(Option::is_some).collect()
+    }
+
+    /// Whether each mesh casts shadows this frame: a LOD level fading in does not (the shadow
+    /// pass draws each group's outgoing level whole).
+    fn casting(&self) -> Vec<bool> {
+        self.fades.iter().map(|f| f.is_some_and(|f| f > 0.0)).collect()
+    }
+}
+
+/// What a frame's passes draw with: the frame bind group and which meshes are drawn.
+struct FrameDraw<'a> {
+    group: &'a wgpu::BindGroup,
+    drawn: &'a [bool],
 }
 
 /// Depth of every casting object into every shadow layer.
@@ -1681,6 +1641,7 @@ fn encode_shadow_passes(
     pipeline: &wgpu::RenderPipeline,
     prepared: &PreparedScene,
     layers: &[(usize, u32)],
+    casting: &[bool],
     timed: Option<(&PassTimer, u32)>,
 ) {
     let sh = &prepared.shadows;
@@ -1704,14 +1665,6 @@ fn encode_shadow_passes(
         // The light's map is the top-left resolution² of the layer (render::shadows).
         pass.set_viewport(0.0, 0.0, resolution as f32, resolution as f32, 0.0, 1.0);
         pass.set_bind_group(0, &sh.layer_bind_group, &[(layer as u64 * sh.layer_stride) as u32]);
-        // A level fading in casts no shadow: the shadow pass draws each group's current level whole.
-        let casting: Vec<bool> = prepared
-            .fades
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .iter()
-            .map(|f| f.is_some_and(|f| f > 0.0))
-            .collect();
         for (i, o) in prepared.objects.iter().enumerate().filter(|(i, o)| casting[*i] && o.cast_shadows) {
             pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
             pass.set_vertex_buffer(0, o.vertices.slice(..));
@@ -1766,7 +1719,50 @@ fn shadow_pipeline(
     })
 }
 
-/// A read-only storage buffer of the frame group, seen by both stages (vertex lights read it).
+/// A mesh's vertex and index buffers.
+fn mesh_buffers(device: &wgpu::Device, label: &str, mesh: &Mesh) -> (wgpu::Buffer, wgpu::Buffer) {
+    let vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(label),
+        contents: bytemuck::cast_slice(&mesh.vertices),
+        usage: wgpu::BufferUsages::VERTEX,
+    });
+    let indices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(label),
+        contents: bytemuck::cast_slice(&mesh.indices),
+        usage: wgpu::BufferUsages::INDEX,
+    });
+    (vertices, indices)
+}
+
+/// The sky's prefiltered levels as an array texture (Rgba16Float, one layer per level).
+fn sky_probe_view(gpu: &GpuContext, probe: &crate::environment::prefilter::Probe) -> wgpu::TextureView {
+    let texels: Vec<half::f16> =
+        probe.levels.iter().flat_map(|l| l.texels.iter().flat_map(|t| super::half_texel(*t))).collect();
+    let env_texture = gpu.device.create_texture_with_data(
+        &gpu.queue,
+        &wgpu::TextureDescriptor {
+            label: Some("environment probe"),
+            size: wgpu::Extent3d {
+                width: probe.width as u32,
+                height: probe.height as u32,
+                depth_or_array_layers: probe.levels.len() as u32,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::Rgba16Float,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        },
+        wgpu::util::TextureDataOrder::LayerMajor,
+        bytemuck::cast_slice(&texels),
+    );
+    env_texture.create_view(&wgpu::TextureViewDescriptor {
+        dimension: Some(wgpu::TextureViewDimension::D2Array),
+        ..Default::default()
+    })
+}
+
 /// The textures of a composition's glTF subject's own material (`materials::gltf`).
 fn own_textures(
     device: &wgpu::Device,
@@ -1781,6 +1777,7 @@ fn own_textures(
     Ok(super::material_maps::MaterialTextures::new(device, queue, &maps))
 }
 
+/// A material map of the frame group, sampled by both stages (the vertex-lit path reads them).
 fn material_map_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
@@ -1794,6 +1791,7 @@ fn material_map_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     }
 }
 
+/// A read-only storage buffer of the frame group, seen by both stages (vertex lights read it).
 fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,

@@ -21,6 +21,11 @@ pub enum PassKind {
     BrdfProbe,
 }
 
+/// A standalone pass (no model, no scene) with the shared math before it.
+pub fn with_math(pass: &str) -> String {
+    format!("{MATH}\n{pass}")
+}
+
 /// The full WGSL source for a pass, with the model where the pass needs one.
 pub fn compose(pass: PassKind, model: Option<&ShaderModel>) -> String {
     compose_mapped(pass, model).0

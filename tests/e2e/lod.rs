@@ -73,7 +73,20 @@ fn list_shows_the_levels_each_distance_draws() {
     let m = repo().join("matrices/lod.toml");
     let (rc, out, err) = crate::common::shadematrix(tmp.path(), &["list", m.to_str().unwrap()], &[]);
     assert_eq!(rc, 0, "{err}");
-    assert!(out.contains("LOD at camera distance 4: sphere at 61.9 % of the screen: level 0\n"), "{out}");
-    assert!(out.contains("level 1 (fade +0.43, dithered) + level 2 (fade -0.43, dithered)"), "{out}");
-    assert!(out.contains("LOD at camera distance 14: sphere at 18.5 % of the screen: level 2\n"), "{out}");
+    // The sphere (radius 1, 2 m across, centred at (−1.35, 1, 0)) seen from the camera moved along
+    // its view direction to `d` from the target, under a 42° field of view.
+    let height = |d: f64| {
+        let (target, eye) = (glam::DVec3::new(0.0, 0.9, 0.0), glam::DVec3::new(0.0, 1.7, 6.2));
+        let camera = target + (eye - target).normalize() * d;
+        let distance = (camera - glam::DVec3::new(-1.35, 1.0, 0.0)).length();
+        2.0 / (2.0 * distance * 21f64.to_radians().tan()) * 100.0
+    };
+    let line = |d: f64, drawn: &str| {
+        format!("LOD at camera distance {d}: sphere at {:.1} % of the screen: {drawn}", height(d))
+    };
+    // 35 % and 20 % are the transitions; fade width 0.25 of each level's range.
+    assert!(out.contains(&(line(4.0, "level 0") + "\n")), "{out}");
+    assert!(out.contains(&line(6.5, "level 0 (fade")), "{out}");
+    assert!(out.contains(&line(12.0, "level 1 (fade")), "{out}");
+    assert!(out.contains(&(line(14.0, "level 2") + "\n")), "{out}");
 }
