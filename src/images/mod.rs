@@ -4,6 +4,7 @@ pub mod aces;
 pub mod bloom;
 pub mod encode;
 pub mod exposure;
+pub mod gtao;
 pub mod stats;
 pub mod target;
 pub mod tonemap;

@@ -10,6 +10,7 @@ pub mod probe;
 pub mod reflection_probes;
 pub mod renderer;
 pub mod shadows;
+pub mod ssao;
 pub mod uniforms;
 
 pub use renderer::{CellParams, CellRender, CellSettings, PreparedScene, Renderer, ShadowMapUse};

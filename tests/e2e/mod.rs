@@ -24,5 +24,6 @@ mod render_ci;
 mod resume;
 mod shading;
 mod shadows;
+mod ssao;
 mod stability;
 mod user_models;

@@ -1,0 +1,383 @@
+//! HDRP's screen-space ambient occlusion (shaders/pass/ssao.wgsl; f64 twin: `images::gtao`).
+//! HDRP's default volume profile enables its AmbientOcclusion override with intensity 0.5 and
+//! radius 1.5 at the Medium quality level: 6 steps, 2 directions, a 40-pixel radius cap (scaled
+//! with resolution), half resolution with a bilateral upsample (HDRenderPipeline.AmbientOcclusion.cs
+//! PrepareRenderAOParameters; GlobalLightingQualitySettings). The lighting reads the result as the
+//! indirect light's occlusion (shaders/pass/forward.wgsl `indirect_light`); the direct light is not
+//! occluded (direct lighting strength 0).
+//!
+//! HDRP accumulates GTAO over frames with a temporal filter when motion vectors exist; a still
+//! batch frame has no history, so this runs HDRP's non-temporal path, which integrates both
+//! directions every frame instead of one rotated per frame.
+//!
+//! The depth-normal prepass that feeds it draws into `normal` and the frame's depth; the compute
+//! steps copy that depth into a float texture (so the steps can also be fed directly in tests),
+//! build two closest-depth levels, search horizons at half resolution and upsample.
+
+use bytemuck::{Pod, Zeroable};
+use glam::{DMat4, DVec3};
+use wgpu::util::DeviceExt;
+
+use super::ComputeStep;
+use crate::error::Error;
+use crate::gpu::GpuContext;
+use crate::spec::scene::Camera;
+
+const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
+/// The prepass's normal buffer: HDRP's is octahedral in 8-bit channels, APPROXIMATED by 10:10:10:2
+/// as the deferred G-buffer's is (render::deferred::normal_format).
+pub const NORMAL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgb10a2Unorm;
+
+const CLOSEST: u32 = 1;
+const HORIZONS: u32 = 2;
+const UPSAMPLE: u32 = 3;
+
+/// The AmbientOcclusion override as HDRP's default profile and Medium quality set it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SsaoSettings {
+    pub intensity: f64,
+    /// World-space radius of the horizon search, metres.
+    pub radius: f64,
+    pub step_count: u32,
+    pub direction_count: u32,
+    /// At 960×540 running resolution; scaled by √(pixels / 960·540), at least 16.
+    pub maximum_radius_in_pixels: f64,
+}
+
+impl Default for SsaoSettings {
+    fn default() -> Self {
+        SsaoSettings { intensity: 0.5, radius: 1.5, step_count: 6, direction_count: 2, maximum_radius_in_pixels: 40.0 }
+    }
+}
+
+/// What the steps read of the camera (shaders/pass/ssao.wgsl `SsaoFrame`; the twin reads it too).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable, PartialEq)]
+pub struct SsaoFrame {
+    pub buffer_size: [f32; 4],
+    pub params0: [f32; 4],
+    pub params1: [f32; 4],
+    pub depth_to_view: [f32; 4],
+    pub z_buffer: [f32; 4],
+    pub view_x: [f32; 4],
+    pub view_y: [f32; 4],
+    pub view_z: [f32; 4],
+}
+
+/// The world-to-view rotation rows of `camera` (right-handed, looking down −z: Unity's view space).
+pub fn view_rows(camera: &Camera) -> [DVec3; 3] {
+    let view: DMat4 = super::camera::view_matrix(camera);
+    let r = view.transpose();
+    [r.x_axis.truncate(), r.y_axis.truncate(), r.z_axis.truncate()]
+}
+
+impl SsaoFrame {
+    /// PrepareRenderAOParameters for a `width`×`height` frame seen by `camera`, at half resolution.
+    pub fn new(camera: &Camera, width: u32, height: u32, s: &SsaoSettings) -> SsaoFrame {
+        let (rw, rh) = (width as f64 * 0.5, height as f64 * 0.5);
+        let inv_half_tan_fov = 1.0 / (camera.fov_y_deg.to_radians() * 0.5).tan();
+        let aspect = rh / rw;
+        let scale = rw * rh / (540.0 * 960.0);
+        let radius_in_pixels = (s.maximum_radius_in_pixels * scale.sqrt()).max(16.0);
+        let f = |v: [f64; 4]| v.map(|x| x as f32);
+        let [x, y, z] = view_rows(camera);
+        SsaoFrame {
+            buffer_size: f([rw, rh, width as f64, height as f64]),
+            params0: f([
+                rh * inv_half_tan_fov * 0.25,
+                s.radius,
+                s.step_count as f64,
+                1.0 / (s.step_count as f64 + 1.0),
+            ]),
+            params1: f([s.intensity, 1.0 / (s.radius * s.radius), s.direction_count as f64, radius_in_pixels.floor()]),
+            depth_to_view: f([
+                2.0 / (inv_half_tan_fov * aspect * rw),
+                2.0 / (inv_half_tan_fov * rh),
+                1.0 / (inv_half_tan_fov * aspect),
+                1.0 / inv_half_tan_fov,
+            ]),
+            z_buffer: f([camera.near, camera.far, 0.0, 0.0]),
+            view_x: f([x.x, x.y, x.z, 0.0]),
+            view_y: f([y.x, y.y, y.z, 0.0]),
+            view_z: f([z.x, z.y, z.z, 0.0]),
+        }
+    }
+}
+
+/// The sizes of the steps' textures for a frame: full, level 1 (half; also the horizon search's
+/// running resolution) and level 2.
+pub fn level_sizes(width: u32, height: u32) -> [(u32, u32); 3] {
+    let half = |(w, h): (u32, u32)| (w.div_ceil(2).max(1), h.div_ceil(2).max(1));
+    let l1 = half((width, height));
+    [(width, height), l1, half(l1)]
+}
+
+/// The compute pipelines, made once per renderer.
+pub struct SsaoPipeline {
+    steps: wgpu::ComputePipeline,
+    steps_layout: wgpu::BindGroupLayout,
+    copy: wgpu::ComputePipeline,
+    copy_layout: wgpu::BindGroupLayout,
+}
+
+fn texture_entry(binding: u32, sample_type: wgpu::TextureSampleType) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Texture {
+            sample_type,
+            view_dimension: wgpu::TextureViewDimension::D2,
+            multisampled: false,
+        },
+        count: None,
+    }
+}
+
+fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::StorageTexture {
+            access: wgpu::StorageTextureAccess::WriteOnly,
+            format: FORMAT,
+            view_dimension: wgpu::TextureViewDimension::D2,
+        },
+        count: None,
+    }
+}
+
+fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+impl SsaoPipeline {
+    pub fn new(gpu: &GpuContext) -> Result<SsaoPipeline, Error> {
+        let device = &gpu.device;
+        let source = crate::shading::wgsl::with_math(include_str!("../../shaders/pass/ssao.wgsl"));
+        let module = gpu.shader_module("ssao", &source)?;
+        let float = wgpu::TextureSampleType::Float { filterable: false };
+        let steps_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("ssao steps"),
+            entries: &[
+                uniform_entry(0),
+                texture_entry(1, float),
+                texture_entry(2, float),
+                texture_entry(3, float),
+                storage_entry(4),
+                uniform_entry(5),
+            ],
+        });
+        let copy_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("ssao depth copy"),
+            entries: &[texture_entry(6, wgpu::TextureSampleType::Depth), storage_entry(7)],
+        });
+        let steps = super::compute_pipeline(device, "ssao", &steps_layout, &module, "cs_ssao");
+        let copy = super::compute_pipeline(device, "ssao depth copy", &copy_layout, &module, "cs_depth_copy");
+        gpu.check_errors("creating the SSAO pipelines")?;
+        Ok(SsaoPipeline { steps, steps_layout, copy, copy_layout })
+    }
+}
+
+/// The textures and dispatches of one frame size: the depth copy, the closest-depth levels, the
+/// packed half-resolution AO and the full-resolution visibility the lighting reads.
+pub struct SsaoChain {
+    /// The prepass's normal target.
+    pub normal: wgpu::TextureView,
+    /// The visibility (r) the lighting loads per pixel.
+    pub visibility: wgpu::Texture,
+    frame: wgpu::Buffer,
+    copy: Option<ComputeStep>,
+    steps: Vec<ComputeStep>,
+    full: (u32, u32),
+}
+
+impl SsaoChain {
+    /// The chain for `width`×`height` frames. `depth`: the prepass depth it copies (None: the
+    /// caller fills the returned full-resolution depth texture itself, as the tests do).
+    pub fn new(
+        device: &wgpu::Device,
+        pipeline: &SsaoPipeline,
+        (width, height): (u32, u32),
+        depth: Option<&wgpu::TextureView>,
+        normal: Option<wgpu::TextureView>,
+    ) -> (SsaoChain, wgpu::Texture) {
+        let storage = wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING;
+        let make = |label: &str, size: (u32, u32), extra: wgpu::TextureUsages| {
+            super::texture_2d(device, label, size, FORMAT, storage | extra)
+        };
+        let [full, l1, l2] = level_sizes(width, height);
+        let depth0 = make("ssao depth", full, wgpu::TextureUsages::COPY_DST);
+        let level1 = make("ssao depth level 1", l1, wgpu::TextureUsages::empty());
+        let level2 = make("ssao depth level 2", l2, wgpu::TextureUsages::empty());
+        let packed = make("ssao packed", l1, wgpu::TextureUsages::empty());
+        let visibility = make("ssao visibility", full, wgpu::TextureUsages::COPY_SRC);
+        let normal = normal.unwrap_or_else(|| {
+            super::texture_2d(
+                device,
+                "ssao normals",
+                full,
+                NORMAL_FORMAT,
+                wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            )
+            .create_view(&Default::default())
+        });
+        let frame = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("ssao frame"),
+            size: std::mem::size_of::<SsaoFrame>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let view = |t: &wgpu::Texture| t.create_view(&Default::default());
+        let copy = depth.map(|d| ComputeStep {
+            group: device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("ssao depth copy"),
+                layout: &pipeline.copy_layout,
+                entries: &[
+                    wgpu::BindGroupEntry { binding: 6, resource: wgpu::BindingResource::TextureView(d) },
+                    wgpu::BindGroupEntry { binding: 7, resource: wgpu::BindingResource::TextureView(&view(&depth0)) },
+                ],
+            }),
+            size: full,
+        });
+        let step = |mode: u32,
+                    source: &wgpu::Texture,
+                    coarse: &wgpu::Texture,
+                    dst: &wgpu::Texture,
+                    size: (u32, u32)| {
+            let params = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("ssao step"),
+                contents: bytemuck::cast_slice(&[size.0, size.1, mode, 0]),
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("ssao step"),
+                layout: &pipeline.steps_layout,
+                entries: &[
+                    wgpu::BindGroupEntry { binding: 0, resource: params.as_entire_binding() },
+                    wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&view(source)) },
+                    wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&view(coarse)) },
+                    wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(&normal) },
+                    wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::TextureView(&view(dst)) },
+                    wgpu::BindGroupEntry { binding: 5, resource: frame.as_entire_binding() },
+                ],
+            });
+            ComputeStep { group, size }
+        };
+        let steps = vec![
+            step(CLOSEST, &depth0, &depth0, &level1, l1),
+            step(CLOSEST, &level1, &level1, &level2, l2),
+            step(HORIZONS, &level1, &level2, &packed, l1),
+            step(UPSAMPLE, &packed, &depth0, &visibility, full),
+        ];
+        (SsaoChain { normal, visibility, frame, copy, steps, full }, depth0)
+    }
+
+    /// The camera values of the next frame.
+    pub fn write_frame(&self, queue: &wgpu::Queue, frame: &SsaoFrame) {
+        queue.write_buffer(&self.frame, 0, bytemuck::bytes_of(frame));
+    }
+
+    pub fn size(&self) -> (u32, u32) {
+        self.full
+    }
+
+    /// The depth copy and the steps, one compute pass (timed as one span).
+    pub fn encode(
+        &self,
+        pipeline: &SsaoPipeline,
+        encoder: &mut wgpu::CommandEncoder,
+        timestamps: Option<wgpu::ComputePassTimestampWrites>,
+    ) {
+        let mut pass = encoder
+            .begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("ssao"), timestamp_writes: timestamps });
+        let mut run = |p: &wgpu::ComputePipeline, s: &ComputeStep| {
+            pass.set_pipeline(p);
+            pass.set_bind_group(0, &s.group, &[]);
+            pass.dispatch_workgroups(s.size.0.div_ceil(8), s.size.1.div_ceil(8), 1);
+        };
+        if let Some(copy) = &self.copy {
+            run(&pipeline.copy, copy);
+        }
+        for s in &self.steps {
+            run(&pipeline.steps, s);
+        }
+    }
+}
+
+/// The visibility the GPU steps compute from a raw depth buffer (wgpu's 0..1, row-major, top row
+/// first) and world normals encoded as the prepass writes them (n·0.5 + 0.5 per channel): what
+/// the tests hold against the twin.
+pub fn visibility_of(
+    gpu: &GpuContext,
+    (width, height): (u32, u32),
+    depth: &[f32],
+    encoded_normals: &[[f32; 3]],
+    frame: &SsaoFrame,
+) -> Result<Vec<f32>, Error> {
+    let device = &gpu.device;
+    let pipeline = SsaoPipeline::new(gpu)?;
+    let normal_texture = super::texture_2d(
+        device,
+        "ssao test normals",
+        (width, height),
+        wgpu::TextureFormat::Rgba32Float,
+        wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+    );
+    let (chain, depth0) =
+        SsaoChain::new(device, &pipeline, (width, height), None, Some(normal_texture.create_view(&Default::default())));
+    let write = |texture: &wgpu::Texture, bytes: &[u8], texel: u32| {
+        gpu.queue.write_texture(
+            texture.as_image_copy(),
+            bytes,
+            wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(width * texel), rows_per_image: None },
+            wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+        );
+    };
+    let depth_texels: Vec<[f32; 2]> = depth.iter().map(|&d| [d, 0.0]).collect();
+    write(&depth0, bytemuck::cast_slice(&depth_texels), 8);
+    let normal_texels: Vec<[f32; 4]> = encoded_normals.iter().map(|n| [n[0], n[1], n[2], 1.0]).collect();
+    write(&normal_texture, bytemuck::cast_slice(&normal_texels), 16);
+    chain.write_frame(&gpu.queue, frame);
+    let readback = crate::gpu::readback::TextureReadback::new(device, "ssao visibility", width, height, 8);
+    let mut encoder = device.create_command_encoder(&Default::default());
+    chain.encode(&pipeline, &mut encoder, None);
+    readback.encode_copy(&mut encoder, &chain.visibility);
+    gpu.queue.submit([encoder.finish()]);
+    gpu.wait_idle()?;
+    let bytes = readback.read(device)?;
+    let texels: &[[f32; 2]] = bytemuck::cast_slice(&bytes);
+    gpu.check_errors("running SSAO on test input")?;
+    Ok(texels.iter().map(|t| t[0]).collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parameters_follow_prepare_render_ao_parameters() {
+        let camera = Camera { position: [0.0, 0.0, 5.0], target: [0.0; 3], fov_y_deg: 60.0, near: 0.1, far: 100.0 };
+        let f = SsaoFrame::new(&camera, 384, 256, &SsaoSettings::default());
+        assert_eq!(f.buffer_size[..2], [192.0, 128.0]);
+        // runningRes.y·cot(fov/2)·0.25
+        let cot = 1.0 / 30f64.to_radians().tan();
+        assert!((f.params0[0] as f64 - 128.0 * cot * 0.25).abs() < 1e-4);
+        // √(192·128/(960·540)) · 40 < 16: the floor holds
+        assert_eq!(f.params1[3], 16.0);
+        assert!((f.params1[1] - 1.0 / 2.25).abs() < 1e-7);
+        // The pixel at the running resolution's centre maps to the view axis.
+        let c = [96.0 * f.depth_to_view[0] - f.depth_to_view[2], 64.0 * f.depth_to_view[1] - f.depth_to_view[3]];
+        assert!(c[0].abs() < 1e-6 && c[1].abs() < 1e-6, "{c:?}");
+        assert_eq!(level_sizes(384, 256), [(384, 256), (192, 128), (96, 64)]);
+        assert_eq!(level_sizes(5, 3), [(5, 3), (3, 2), (2, 1)]);
+    }
+}

@@ -1,0 +1,112 @@
+//! HDRP's screen-space ambient occlusion (`render::ssao`) against its f64 twin (`images::gtao`),
+//! and what it does to a rendered frame: it darkens the indirect light where surfaces meet, leaves
+//! open surfaces and the direct light alone, and the switch turns it off.
+
+use glam::DVec3;
+use shadematrix::gpu::GpuContext;
+use shadematrix::images::gtao;
+use shadematrix::render::ssao::{visibility_of, SsaoFrame, SsaoSettings};
+use shadematrix::spec::scene::Camera;
+
+/// A ray-cast frame: a floor (y = 0) with a unit box standing on it and a sphere resting beside
+/// it, seen from above and in front. Returns raw depth (wgpu's 0..1) and encoded world normals,
+/// the normals rounded to the 10-bit grid of the prepass target.
+fn synthetic_frame(camera: &Camera, (w, h): (u32, u32)) -> (Vec<f64>, Vec<DVec3>) {
+    let view = shadematrix::render::camera::view_matrix(camera);
+    let proj = glam::DMat4::perspective_rh(camera.fov_y_deg.to_radians(), w as f64 / h as f64, camera.near, camera.far);
+    let inv = (proj * view).inverse();
+    let eye = DVec3::from(camera.position);
+    let sphere = (DVec3::new(0.9, 0.45, 0.0), 0.45);
+    let (bmin, bmax) = (DVec3::new(-1.0, 0.0, -0.5), DVec3::new(0.0, 1.0, 0.5));
+    let mut depth = Vec::new();
+    let mut normals = Vec::new();
+    for y in 0..h {
+        for x in 0..w {
+            let ndc = glam::DVec4::new(
+                (x as f64 + 0.5) / w as f64 * 2.0 - 1.0,
+                1.0 - (y as f64 + 0.5) / h as f64 * 2.0,
+                1.0,
+                1.0,
+            );
+            let far = inv * ndc;
+            let d = (far.truncate() / far.w - eye).normalize();
+            let mut best: Option<(f64, DVec3)> = None;
+            let mut take = |t: f64, n: DVec3| {
+                if t > 0.0 && best.is_none_or(|(b, _)| t < b) {
+                    best = Some((t, n));
+                }
+            };
+            if d.y < 0.0 {
+                take(-eye.y / d.y, DVec3::Y);
+            }
+            let oc = eye - sphere.0;
+            let b = oc.dot(d);
+            let disc = b * b - (oc.dot(oc) - sphere.1 * sphere.1);
+            if disc > 0.0 {
+                let t = -b - disc.sqrt();
+                take(t, (eye + d * t - sphere.0).normalize());
+            }
+            // Slab test for the box, with the normal of the entry face.
+            let (mut t0, mut t1, mut axis) = (f64::NEG_INFINITY, f64::INFINITY, 0);
+            for a in 0..3 {
+                let (o, dir) = (eye[a], d[a]);
+                let (mut ta, mut tb) = ((bmin[a] - o) / dir, (bmax[a] - o) / dir);
+                if ta > tb {
+                    std::mem::swap(&mut ta, &mut tb);
+                }
+                if ta > t0 {
+                    t0 = ta;
+                    axis = a;
+                }
+                t1 = t1.min(tb);
+            }
+            if t0 < t1 && t0 > 0.0 {
+                let mut n = DVec3::ZERO;
+                n[axis] = -d[axis].signum();
+                take(t0, n);
+            }
+            match best {
+                Some((t, n)) => {
+                    let p = eye + d * t;
+                    let clip = proj * view * p.extend(1.0);
+                    depth.push(clip.z / clip.w);
+                    normals.push((n * 0.5 + DVec3::splat(0.5)).map(|c| (c * 1023.0).round() / 1023.0));
+                }
+                None => {
+                    depth.push(1.0);
+                    normals.push(DVec3::splat(0.5));
+                }
+            }
+        }
+    }
+    (depth, normals)
+}
+
+#[test]
+fn gpu_ssao_matches_its_twin_and_occludes_where_surfaces_meet() {
+    let camera = Camera { position: [0.5, 2.2, 3.2], target: [0.0, 0.3, 0.0], fov_y_deg: 45.0, near: 0.1, far: 50.0 };
+    let size = (128, 96);
+    let (depth, normals) = synthetic_frame(&camera, size);
+    let frame = SsaoFrame::new(&camera, size.0, size.1, &SsaoSettings::default());
+    let twin = gtao::visibility(size.0, size.1, &depth, &normals, &frame);
+    let gpu = GpuContext::new().unwrap();
+    let depth32: Vec<f32> = depth.iter().map(|&d| d as f32).collect();
+    let normals32: Vec<[f32; 3]> = normals.iter().map(|n| n.as_vec3().to_array()).collect();
+    let got = visibility_of(&gpu, size, &depth32, &normals32, &frame).unwrap();
+    let n = got.len() as f64;
+    let diffs: Vec<f64> = got.iter().zip(&twin).map(|(g, t)| (*g as f64 - t).abs()).collect();
+    let mean = diffs.iter().sum::<f64>() / n;
+    let worst = diffs.iter().cloned().fold(0.0, f64::max);
+    let off = diffs.iter().filter(|d| **d > 1.5 / 255.0).count();
+    eprintln!("ssao GPU vs twin: mean |Δ| {mean:.2e}, worst {worst:.3}, {off} of {n} pixels beyond 1.5/255");
+    // 8-bit quantisation: an f32 value on the other side of a step moves one level (1/255).
+    assert!(mean < 2e-3, "mean |Δ| {mean}");
+    assert!((off as f64) < 0.01 * n, "{off} pixels differ by more than a quantisation step");
+
+    // Where the box meets the floor, occlusion; on open floor far from both, hardly any.
+    let at = |x: u32, y: u32| twin[(y * size.0 + x) as usize];
+    let min = twin.iter().cloned().fold(1.0, f64::min);
+    assert!(min < 0.8, "the crease darkens: min visibility {min}");
+    let open = (0..size.0).map(|x| at(x, size.1 - 2)).fold(0.0, f64::max);
+    assert!(open > 0.97, "open floor stays lit: {open}");
+}
