@@ -290,7 +290,53 @@ fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>, vertex_gi: vec3<f32>) -> vec3<f
         }
     }
     let gi = ambient_diffuse(n) + max(sh_eval(object.light_sh, n), vec3<f32>(0.0)) + vertex_gi;
-    return c + model_indirect(s, n, v, gi) * material_occlusion;
+    return c + indirect_light(s, n, v, gi);
+}
+
+// HDRP's screen-space ambient occlusion (render::ssao): the visibility at each pixel, loaded by the
+// fragment stages into `screen_ao`; a 1×1 texture of 1 where a cell renders without it.
+@group(2) @binding(6) var screen_occlusion: texture_2d<f32>;
+var<private> screen_ao: f32 = 1.0;
+
+fn load_screen_occlusion(pixel: vec2<f32>) -> f32 {
+    let size = vec2<i32>(textureDimensions(screen_occlusion));
+    return textureLoad(screen_occlusion, min(vec2<i32>(pixel), size - 1), 0).r;
+}
+
+// GTAOMultiBounce (Jimenez et al. 2016; core AmbientOcclusion.hlsl): max(x, ((x·a + b)·x + c)·x),
+// a = 2.0404·ρ − 0.3324, b = −4.7951·ρ + 0.6417, c = 2.7552·ρ + 0.6903
+fn gtao_multi_bounce(visibility: f32, albedo: vec3<f32>) -> vec3<f32> {
+    let a = 2.0404 * albedo - 0.3324;
+    let b = -4.7951 * albedo + 0.6417;
+    let c = 2.7552 * albedo + 0.6903;
+    let x = visibility;
+    return max(vec3<f32>(x), ((x * a + b) * x + c) * x);
+}
+
+// GetSpecularOcclusionFromAmbientOcclusion (Lagarde and de Rousiers 2014; core
+// CommonLighting.hlsl): sat((NV + ao)^exp2(−16·α − 1) − 1 + ao), α the roughness
+fn specular_occlusion_from_ao(nv: f32, ao: f32, roughness: f32) -> f32 {
+    return sat(pow(nv + ao, exp2(-16.0 * roughness - 1.0)) - 1.0 + ao);
+}
+
+// The indirect light with its occlusion. HDRP (Lit.hlsl PostEvaluateBSDF:
+// GetScreenSpaceAmbientOcclusionMultibounce, then LightLoop.hlsl ApplyAmbientOcclusionFactor):
+// the indirect diffuse × GTAOMultiBounce(min(material AO, SSAO), diffuse colour), the reflected
+// environment × GTAOMultiBounce(min(SO(material AO), SO(SSAO)), F0); the direct light stays
+// unoccluded (direct lighting strength 0). Built-in and URP scale both by the material's occlusion.
+fn indirect_light(s: Surface, n: vec3<f32>, v: vec3<f32>, gi: vec3<f32>) -> vec3<f32> {
+    if (PIPELINE != 2u) {
+        return model_indirect(s, n, v, gi) * material_occlusion;
+    }
+    let nv = max(dot(n, v), 1e-4);
+    let pr = 1.0 - s.smoothness;
+    let roughness = pr * pr;
+    let ao = min(material_occlusion, screen_ao);
+    let so = min(specular_occlusion_from_ao(nv, material_occlusion, roughness), specular_occlusion_from_ao(nv, screen_ao, roughness));
+    indirect_specular_occlusion = gtao_multi_bounce(so, mix(vec3<f32>(0.04), s.base_color, s.metallic));
+    let lit = model_indirect(s, n, v, gi * gtao_multi_bounce(ao, s.base_color * (1.0 - s.metallic)));
+    indirect_specular_occlusion = vec3<f32>(1.0);
+    return lit;
 }
 
 // Interleaved gradient noise (Jimenez 2014; core Random.hlsl InterleavedGradientNoise, frame 0):
@@ -315,6 +361,7 @@ fn lod_clip(pixel: vec2<f32>) {
 @fragment
 fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> FragmentOut {
     lod_clip(in.clip.xy);
+    screen_ao = load_screen_occlusion(in.clip.xy);
     let n = mapped_normal(shading_normal(in.normal, cross(dpdx(in.world_pos), dpdy(in.world_pos)), in.world_pos, front), in.tangent, in.uv);
     var out: FragmentOut;
     out.color = vec4<f32>(shade(material_at(in.uv), n, in.world_pos, in.vertex_gi) + emission(in.uv), 1.0);
@@ -351,6 +398,15 @@ fn fs_gouraud(in: GouraudOut) -> FragmentOut {
     return out;
 }
 
+// HDRP's depth prepass with its normal buffer (render::ssao reads both): the shading normal, normal
+// map included, as n·0.5 + 0.5.
+@fragment
+fn fs_depth_normals(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    lod_clip(in.clip.xy);
+    let n = mapped_normal(shading_normal(in.normal, cross(dpdx(in.world_pos), dpdy(in.world_pos)), in.world_pos, front), in.tangent, in.uv);
+    return vec4<f32>(n * 0.5 + 0.5, 1.0);
+}
+
 // ---- Deferred path (render::deferred): a G-buffer pass, then a screen-space lighting pass per role.
 
 // The G-buffer: base colour + occlusion (8-bit sRGB), metallic + smoothness (8-bit), the normal
@@ -371,6 +427,7 @@ fn fs_gbuffer(in: VertexOut, @builtin(front_facing) front: bool) -> GBufferOut {
     let s = material_at(in.uv);
     let v = normalize(frame.camera_pos.xyz - in.world_pos);
     shading_position = in.world_pos;
+    screen_ao = load_screen_occlusion(in.clip.xy);
     main_light_color = vec3<f32>(0.0);
     if (frame.counts.y > 0u) {
         main_light_color = lights[frame.counts.y - 1u].color.rgb;
@@ -381,7 +438,7 @@ fn fs_gbuffer(in: VertexOut, @builtin(front_facing) front: bool) -> GBufferOut {
     out.material = vec4<f32>(s.metallic, s.smoothness, 0.0, 0.0);
     out.normal = vec4<f32>(n * 0.5 + 0.5, f32(object.flags.w));
     // Emission joins the indirect light in RT3, as Unity's deferred paths write it.
-    out.lighting = vec4<f32>(model_indirect(s, n, v, gi) * material_occlusion + emission(in.uv), 1.0);
+    out.lighting = vec4<f32>(indirect_light(s, n, v, gi) + emission(in.uv), 1.0);
     out.role = object.flags.y;
     return out;
 }

@@ -148,6 +148,14 @@ fn box_projected_direction(r: vec3<f32>, p: vec3<f32>, probe: ReflectionProbe) -
 // HDRP's reflection hierarchy likewise ends with the sky). A probe's captured radiance is in the
 // pipeline's units already; the sky's is scaled by the environment's intensity.
 fn env_specular(r: vec3<f32>, perceptual_roughness: f32) -> vec3<f32> {
+    return environment_reflection(r, perceptual_roughness) * indirect_specular_occlusion;
+}
+
+// The occlusion of the reflected environment at the shaded point: HDRP's indirect specular
+// occlusion (forward.wgsl `indirect_light`), 1 elsewhere.
+var<private> indirect_specular_occlusion: vec3<f32> = vec3<f32>(1.0);
+
+fn environment_reflection(r: vec3<f32>, perceptual_roughness: f32) -> vec3<f32> {
     let pr = perceptual_roughness;
     let mip = clamp(pr * (1.7 - 0.7 * pr) * 6.0, 0.0, frame.env.x);
     var c = vec3<f32>(0.0);

@@ -18,10 +18,17 @@ pub struct FramePlan {
     pub left_out: Vec<(String, String)>,
     /// Whether HDRP cells bloom (`[hdrp] bloom`, on by default as HDRP's default volume).
     pub hdrp_bloom: bool,
+    /// Whether HDRP cells render screen-space ambient occlusion (`[hdrp] ssao`, on by default).
+    pub hdrp_ssao: bool,
 }
 
 /// HDRP's bloom, after the frame's passes (render::bloom).
 pub const BLOOM_PASS: &str = "bloom";
+
+/// HDRP's depth prepass with its normal buffer, and the SSAO it feeds (render::ssao), before the
+/// lighting that reads the occlusion.
+pub const DEPTH_PREPASS: &str = "depth prepass";
+pub const SSAO_PASS: &str = "ssao";
 
 /// Reflection probes: each renders the scene into six faces, then the faces are prefiltered; once
 /// per set of inputs a capture sees (a later cell with the same lights reuses it).
@@ -51,6 +58,9 @@ impl FramePlan {
         if self.passes.contains(&"shadow") && path != crate::pipelines::RenderPath::VertexLit {
             passes.push("shadow");
         }
+        if self.occludes(path, pipeline) {
+            passes.extend([DEPTH_PREPASS, SSAO_PASS]);
+        }
         match path {
             crate::pipelines::RenderPath::Forward => passes.push("forward"),
             crate::pipelines::RenderPath::VertexLit => passes.push(VERTEX_LIT_PASS),
@@ -69,6 +79,14 @@ impl FramePlan {
             passes.push(BLOOM_PASS);
         }
         passes
+    }
+
+    /// Whether a frame on `path` in `pipeline` renders SSAO: HDRP's, where the scene keeps it on
+    /// (HDRP has no vertex-lit path to leave it out of).
+    pub fn occludes(&self, path: crate::pipelines::RenderPath, pipeline: crate::pipelines::Pipeline) -> bool {
+        pipeline == crate::pipelines::Pipeline::Hdrp
+            && self.hdrp_ssao
+            && path != crate::pipelines::RenderPath::VertexLit
     }
 
     /// The pass that writes the final colour of a pixel showing `role` (None: no object) on
@@ -124,6 +142,10 @@ impl FramePlan {
         if !hdrp_bloom {
             left_out.push(("HDRP bloom".into(), "[hdrp] bloom = false".into()));
         }
-        FramePlan { passes, background, left_out, hdrp_bloom }
+        let hdrp_ssao = scene.hdrp.ssao;
+        if !hdrp_ssao {
+            left_out.push(("HDRP SSAO and its depth prepass".into(), "[hdrp] ssao = false".into()));
+        }
+        FramePlan { passes, background, left_out, hdrp_bloom, hdrp_ssao }
     }
 }

@@ -192,6 +192,8 @@ struct Targets {
     msaa: Option<MsaaTargets>,
     /// HDRP's bloom chain on `color`, made on first use.
     bloom: Option<super::bloom::BloomChain>,
+    /// HDRP's SSAO on the prepass depth and normals, and the screen group reading its result.
+    ssao: Option<(super::ssao::SsaoChain, wgpu::BindGroup)>,
 }
 
 /// A forward frame's multisampled colour, role and depth, resolved into `Targets`' own at the end
@@ -237,6 +239,14 @@ pub struct Renderer {
     probe_timer: Option<PassTimer>,
     /// HDRP's bloom pipeline, made for the first cell that blooms.
     bloom: Option<super::bloom::BloomPipeline>,
+    /// Group 2 of the scene passes: the screen-space occlusion the lighting reads.
+    screen_layout: wgpu::BindGroupLayout,
+    /// A 1×1 visibility of 1, for cells and captures without SSAO.
+    neutral_screen: wgpu::BindGroup,
+    /// HDRP's SSAO steps, made for the first cell that occludes.
+    ssao: Option<super::ssao::SsaoPipeline>,
+    /// The depth-normal prepass pipelines, by (pipeline, textured subject).
+    depth_normals: HashMap<(Pipeline, bool), wgpu::RenderPipeline>,
 }
 
 impl Renderer {
@@ -310,11 +320,25 @@ impl Renderer {
             wgpu::ShaderStages::VERTEX_FRAGMENT,
             std::mem::size_of::<ObjectUniforms>() as u64,
         );
+        let screen_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("screen"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 6,
+                visibility: wgpu::ShaderStages::FRAGMENT,
+                ty: wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                },
+                count: None,
+            }],
+        });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("scene"),
-            bind_group_layouts: &[Some(&frame_layout), Some(&object_layout)],
+            bind_group_layouts: &[Some(&frame_layout), Some(&object_layout), Some(&screen_layout)],
             immediate_size: 0,
         });
+        let neutral_screen = neutral_screen_group(&gpu, &screen_layout);
         let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("environment"),
             address_mode_u: wgpu::AddressMode::Repeat,
@@ -373,6 +397,10 @@ impl Renderer {
             prefilter: None,
             probe_timer: None,
             bloom: None,
+            screen_layout,
+            neutral_screen,
+            ssao: None,
+            depth_normals: HashMap::new(),
         }
     }
 
@@ -479,6 +507,24 @@ impl Renderer {
         let p = self.mesh_pipeline(&label, &module, ("vs_main", "fs_gbuffer"), &constants, &targets, 1);
         self.gpu.check_errors("creating a G-buffer pipeline")?;
         self.gbuffer_pipelines.insert(key, p);
+        Ok(())
+    }
+
+    /// HDRP's depth prepass with its normal buffer (fs_depth_normals), composed with the fixed
+    /// objects' model: the pass reads no model.
+    fn depth_normal_pipeline(&mut self, pipeline: Pipeline, model: &ShaderModel, textured: bool) -> Result<(), Error> {
+        let key = (pipeline, textured);
+        if self.depth_normals.contains_key(&key) {
+            return Ok(());
+        }
+        let source = wgsl::compose(wgsl::PassKind::Forward, Some(model));
+        let module = self.gpu.shader_module(&format!("depth prepass {}", pipeline.name()), &source)?;
+        let constants = [("PIPELINE", pipeline.shader_id() as f64), ("TEXTURED", textured as u32 as f64)];
+        let targets = [Some(super::ssao::NORMAL_FORMAT.into())];
+        let label = format!("depth prepass {}", pipeline.name());
+        let p = self.mesh_pipeline(&label, &module, ("vs_main", "fs_depth_normals"), &constants, &targets, 1);
+        self.gpu.check_errors("creating the depth prepass pipeline")?;
+        self.depth_normals.insert(key, p);
         Ok(())
     }
 
@@ -861,6 +907,7 @@ impl Renderer {
                 role,
                 msaa: None,
                 bloom: None,
+                ssao: None,
             });
         }
         self.targets.as_ref().expect("just created")
@@ -967,12 +1014,39 @@ impl Renderer {
                 ));
             }
         }
+        let occludes = prepared.plan.passes_for(cell.settings.path, cell.pipeline).contains(&crate::plan::SSAO_PASS);
+        if occludes {
+            self.depth_normal_pipeline(cell.pipeline, &fixed_model, textured)?;
+            if self.ssao.is_none() {
+                self.ssao = Some(super::ssao::SsaoPipeline::new(&self.gpu)?);
+            }
+            let t = self.targets.as_mut().expect("targets exist");
+            if t.ssao.is_none() {
+                let pipeline = self.ssao.as_ref().expect("just made");
+                let (chain, _) = super::ssao::SsaoChain::new(
+                    &self.gpu.device,
+                    pipeline,
+                    (t.width, t.height),
+                    Some(&t.depth_view),
+                    None,
+                );
+                let group = screen_group(&self.gpu.device, &self.screen_layout, &chain.visibility);
+                t.ssao = Some((chain, group));
+            }
+            let (chain, _) = t.ssao.as_ref().expect("just made");
+            let camera = posed_camera(&prepared.scene.camera, &cell.view);
+            let settings = super::ssao::SsaoSettings::default();
+            chain.write_frame(&self.gpu.queue, &super::ssao::SsaoFrame::new(&camera, t.width, t.height, &settings));
+        }
         // The timed passes of a frame, in order: one span over the shadow layers, then the path's passes.
         // The vertex-lit path has no shadows (Unity's legacy vertex-lit renders none).
         let shadows = prepared.shadows.active && !vertex_lit && !shadow_layers.is_empty();
         let mut pass_names: Vec<&'static str> = Vec::new();
         if shadows {
             pass_names.push("shadow");
+        }
+        if occludes {
+            pass_names.extend([crate::plan::DEPTH_PREPASS, crate::plan::SSAO_PASS]);
         }
         let tiled = deferred && cell.pipeline.tiled_light_loop();
         pass_names.extend(match (deferred, tiled) {
@@ -1004,6 +1078,8 @@ impl Renderer {
             None => (None, None),
         };
         let keep = if msaa.is_some() { wgpu::StoreOp::Discard } else { wgpu::StoreOp::Store };
+        let ssao = t.ssao.as_ref().filter(|_| occludes);
+        let screen = ssao.map_or(&self.neutral_screen, |(_, group)| group);
         let total = warmup + frames;
         let mut frame_ms = Vec::with_capacity(frames as usize);
         for f in 0..total {
@@ -1015,12 +1091,19 @@ impl Renderer {
                 encode_shadow_passes(&mut encoder, &self.shadow_pipeline, prepared, &shadow_layers, &casting, timed(k));
                 k += 1;
             }
+            if let (Some((chain, _)), Some(steps)) = (ssao, &self.ssao) {
+                let prepass = &self.depth_normals[&(cell.pipeline, textured)];
+                let draw = FrameDraw { group: frame_group, drawn: &drawn, screen: &self.neutral_screen };
+                encode_depth_prepass(&mut encoder, prepared, &draw, prepass, (&chain.normal, &t.depth_view), timed(k));
+                chain.encode(steps, &mut encoder, timed(k + 1).map(|(t, pair)| t.compute_writes(pair)));
+                k += 2;
+            }
             if deferred {
                 let timed: Vec<_> = (k..per_frame).map(timed).collect();
                 self.encode_deferred(
                     &mut encoder,
                     prepared,
-                    FrameDraw { group: frame_group, drawn: &drawn },
+                    FrameDraw { group: frame_group, drawn: &drawn, screen },
                     cell,
                     &fixed_model,
                     tile_group.as_ref(),
@@ -1056,6 +1139,7 @@ impl Renderer {
                     multiview_mask: None,
                 });
                 pass.set_bind_group(0, frame_group, &[]);
+                pass.set_bind_group(2, screen, &[]);
                 for (i, o) in prepared.objects.iter().enumerate().filter(|(i, _)| drawn[*i]) {
                     pass.set_pipeline(if o.role == Role::Subject { subject_pipeline } else { fixed_pipeline });
                     pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
@@ -1169,7 +1253,7 @@ impl Renderer {
         timed: &[Option<(&PassTimer, u32)>],
     ) {
         let p = cell.pipeline;
-        let FrameDraw { group: frame_group, drawn } = draw;
+        let FrameDraw { group: frame_group, drawn, screen } = draw;
         // With the tiled loop, its compute pass sits between the G-buffer and the lighting.
         let (light_at, last_at) = if tile_group.is_some() { (2, 3) } else { (1, 2) };
         let t = self.targets.as_ref().expect("targets exist");
@@ -1204,6 +1288,7 @@ impl Renderer {
                 multiview_mask: None,
             });
             pass.set_bind_group(0, frame_group, &[]);
+            pass.set_bind_group(2, screen, &[]);
             for (i, o) in prepared.objects.iter().enumerate().filter(|(i, o)| drawn[*i] && model_of(o).deferrable()) {
                 let textured = o.role == Role::Subject && cell.settings.material_maps.is_some();
                 pass.set_pipeline(&self.gbuffer_pipelines[&(p, model_of(o).name.to_string(), textured)]);
@@ -1259,6 +1344,7 @@ impl Renderer {
         });
         pass.set_bind_group(0, frame_group, &[]);
         pass.set_bind_group(1, &prepared.object_bind_group, &[0]);
+        pass.set_bind_group(2, screen, &[]);
         for (i, o) in prepared.objects.iter().enumerate().filter(|(i, o)| drawn[*i] && !model_of(o).deferrable()) {
             let textured = o.role == Role::Subject && cell.settings.material_maps.is_some();
             pass.set_pipeline(&self.forward[&(p, model_of(o).name.to_string(), false, 1, textured)]);
@@ -1571,6 +1657,7 @@ impl Renderer {
                     multiview_mask: None,
                 });
                 pass.set_bind_group(0, &groups[face], &[]);
+                pass.set_bind_group(2, &self.neutral_screen, &[]);
                 pass.set_pipeline(pipeline);
                 // The subject is left out: a dynamic object, which baked probes do not see.
                 for (i, o) in prepared.objects.iter().enumerate().filter(|(i, o)| drawn[*i] && o.role == Role::Fixed) {
@@ -1629,10 +1716,79 @@ impl WrittenFrame {
     }
 }
 
-/// What a frame's passes draw with: the frame bind group and which meshes are drawn.
+/// What a frame's passes draw with: the frame bind group, which meshes are drawn, and the screen
+/// group (the SSAO visibility, or the neutral one).
 struct FrameDraw<'a> {
     group: &'a wgpu::BindGroup,
     drawn: &'a [bool],
+    screen: &'a wgpu::BindGroup,
+}
+
+/// HDRP's depth prepass: every drawn object's depth and shading normal, what SSAO reads.
+fn encode_depth_prepass(
+    encoder: &mut wgpu::CommandEncoder,
+    prepared: &PreparedScene,
+    draw: &FrameDraw,
+    pipeline: &wgpu::RenderPipeline,
+    (normal, depth): (&wgpu::TextureView, &wgpu::TextureView),
+    timed: Option<(&PassTimer, u32)>,
+) {
+    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some("depth prepass"),
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view: normal,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
+        })],
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view: depth,
+            depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+            stencil_ops: None,
+        }),
+        timestamp_writes: timed.map(|(t, pair)| t.writes(pair, true, true)),
+        occlusion_query_set: None,
+        multiview_mask: None,
+    });
+    pass.set_pipeline(pipeline);
+    pass.set_bind_group(0, draw.group, &[]);
+    pass.set_bind_group(2, draw.screen, &[]);
+    for (i, o) in prepared.objects.iter().enumerate().filter(|(i, _)| draw.drawn[*i]) {
+        pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
+        pass.set_vertex_buffer(0, o.vertices.slice(..));
+        pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);
+        pass.draw_indexed(0..o.index_count, 0, 0..1);
+    }
+}
+
+/// The screen group over an SSAO visibility texture.
+fn screen_group(device: &wgpu::Device, layout: &wgpu::BindGroupLayout, visibility: &wgpu::Texture) -> wgpu::BindGroup {
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("screen"),
+        layout,
+        entries: &[wgpu::BindGroupEntry {
+            binding: 6,
+            resource: wgpu::BindingResource::TextureView(&visibility.create_view(&Default::default())),
+        }],
+    })
+}
+
+/// The screen group of a frame without SSAO: a 1×1 visibility of 1.
+fn neutral_screen_group(gpu: &GpuContext, layout: &wgpu::BindGroupLayout) -> wgpu::BindGroup {
+    let texture = super::texture_2d(
+        &gpu.device,
+        "no ssao",
+        (1, 1),
+        wgpu::TextureFormat::Rg32Float,
+        wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+    );
+    gpu.queue.write_texture(
+        texture.as_image_copy(),
+        bytemuck::cast_slice(&[1.0f32, 0.0]),
+        wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(8), rows_per_image: None },
+        wgpu::Extent3d { width: 1, height: 1, depth_or_array_layers: 1 },
+    );
+    screen_group(&gpu.device, layout, &texture)
 }
 
 /// Depth of every casting object into every shadow layer.

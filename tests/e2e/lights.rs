@@ -153,6 +153,7 @@ fn each_pipeline_falls_off_as_its_source_says() {
     let mut base = Scene::load_file(&fixture("twelve_points.toml")).unwrap();
     // The falloff at one pixel: HDRP's bloom would mix its neighbourhood in.
     base.hdrp.bloom = false;
+    base.hdrp.ssao = false;
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     for p in Pipeline::ALL {
         let mut at = |d: f64| {

@@ -109,8 +109,8 @@ fn emission_adds_the_subjects_colour_in_models_that_have_it() {
     let tmp = tempfile::tempdir().unwrap();
     // The emitted colour at the subject's centre: HDRP's bloom, which mixes the dark background
     // into the edge, is turned off in a copy of the scene.
-    let scene =
-        std::fs::read_to_string(repo().join("scenes/invariants/key_only.toml")).unwrap() + "\n[hdrp]\nbloom = false\n";
+    let scene = std::fs::read_to_string(repo().join("scenes/invariants/key_only.toml")).unwrap()
+        + "\n[hdrp]\nbloom = false\nssao = false\n";
     std::fs::write(tmp.path().join("key_only.toml"), scene).unwrap();
     let m = write_matrix(
         tmp.path(),

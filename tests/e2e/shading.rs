@@ -46,6 +46,7 @@ fn scene(name_or_fixture: &str) -> Scene {
         Scene::load(name_or_fixture, None, "test", "composition").unwrap()
     };
     scene.hdrp.bloom = false;
+    scene.hdrp.ssao = false;
     scene
 }
 

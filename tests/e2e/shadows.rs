@@ -30,6 +30,7 @@ fn a_caster_darkens_the_receiver_under_it_only_with_shadows_on() {
     let mut base = Scene::load_file(&fixture("shadow_box.toml")).unwrap();
     // Shadowed and lit pixels side by side: HDRP's bloom would blur the edge between them.
     base.hdrp.bloom = false;
+    base.hdrp.ssao = false;
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     for kind in [LightKind::Point, LightKind::Spot, LightKind::Directional] {
         for pipeline in Pipeline::ALL {

@@ -110,3 +110,64 @@ fn gpu_ssao_matches_its_twin_and_occludes_where_surfaces_meet() {
     let open = (0..size.0).map(|x| at(x, size.1 - 2)).fold(0.0, f64::max);
     assert!(open > 0.97, "open floor stays lit: {open}");
 }
+
+/// One HDRP Lit frame of the default room (bloom off, to see the lighting alone): linear RGB per
+/// pixel, the role per pixel, the timed pass names and the plan's passes.
+fn render_room(
+    edit: impl Fn(&mut shadematrix::spec::scene::Scene),
+    path: shadematrix::pipelines::RenderPath,
+) -> (Vec<[f32; 3]>, Vec<u8>, Vec<String>, Vec<&'static str>) {
+    use shadematrix::pipelines::Pipeline;
+    let mut scene = shadematrix::spec::scene::Scene::load("default", None, "test", "composition").unwrap();
+    scene.hdrp.bloom = false;
+    edit(&mut scene);
+    let mut renderer = shadematrix::render::renderer::Renderer::new(GpuContext::new().unwrap());
+    let sliders =
+        shadematrix::shading::registry::Sliders { base_color_linear: [0.8, 0.8, 0.8], metallic: 0.0, smoothness: 0.5 };
+    let cell = crate::common::cell_params(Pipeline::Hdrp, "lit", sliders, (2.0, 10.0), 128, path);
+    let prepared = renderer.prepare_scene(&scene).unwrap();
+    let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
+    let timed = r.gpu_passes.map(|p| p.into_iter().map(|(n, _)| n).collect()).unwrap_or_default();
+    let rgb = r.hdr.chunks(4).map(|p| [p[0], p[1], p[2]]).collect();
+    (rgb, r.roles, timed, prepared.plan.passes_for(path, Pipeline::Hdrp))
+}
+
+#[test]
+fn ssao_darkens_the_indirect_light_where_surfaces_meet_and_the_switch_turns_it_off() {
+    use shadematrix::pipelines::RenderPath;
+    for path in [RenderPath::Forward, RenderPath::Deferred] {
+        let (on, roles, timed, plan) = render_room(|_| {}, path);
+        let (off, _, _, plan_off) = render_room(|s| s.hdrp.ssao = false, path);
+        assert!(plan.contains(&"ssao") && plan.contains(&"depth prepass"), "{plan:?}");
+        assert!(!plan_off.contains(&"ssao") && !plan_off.contains(&"depth prepass"), "{plan_off:?}");
+        if !timed.is_empty() {
+            assert!(timed.iter().any(|n| n == "ssao") && timed.iter().any(|n| n == "depth prepass"), "{timed:?}");
+        }
+        let lum = |c: &[f32; 3]| (c[0] + c[1] + c[2]) as f64;
+        let ratios: Vec<f64> = on
+            .iter()
+            .zip(&off)
+            .zip(&roles)
+            .filter(|(_, r)| **r != 0)
+            .map(|((a, b), _)| lum(a) / lum(b).max(1e-12))
+            .collect();
+        let darker = ratios.iter().filter(|r| **r < 0.97).count();
+        let brighter = ratios.iter().cloned().fold(0.0, f64::max);
+        eprintln!(
+            "{path:?}: {darker} of {} object pixels darker by >3 % with SSAO; min ratio {:.3}, max {brighter:.5}",
+            ratios.len(),
+            ratios.iter().cloned().fold(1.0, f64::min)
+        );
+        assert!(darker > ratios.len() / 50, "SSAO darkens creases and contacts: {darker} pixels");
+        assert!(brighter < 1.001, "occlusion never brightens: {brighter}");
+        assert!(darker < ratios.len() / 2, "open surfaces stay lit: {darker} of {}", ratios.len());
+    }
+    // Without indirect light there is nothing to occlude: the direct light is left alone.
+    let dark = |s: &mut shadematrix::spec::scene::Scene| {
+        s.environment.ambient_intensity = 0.0;
+        s.environment.reflections = shadematrix::spec::scene::Reflections::Sky;
+    };
+    let (on, _, _, _) = render_room(dark, RenderPath::Forward);
+    let (off, _, _, _) = render_room(|s| (dark(s), s.hdrp.ssao = false).1, RenderPath::Forward);
+    assert_eq!(on, off, "SSAO touches only the indirect light");
+}
