@@ -138,3 +138,19 @@ fn cook_torrance_angles(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) ->
 fn cook_torrance_sum(s: Surface, a: CookTorranceAngles, spec: vec3<f32>) -> vec3<f32> {
     return (s.base_color * (1.0 - s.metallic) * INV_PI + spec) * a.nl * irradiance_per_intensity();
 }
+
+// GTAOMultiBounce (Jimenez et al. 2016; core AmbientOcclusion.hlsl): max(x, ((x·a + b)·x + c)·x),
+// a = 2.0404·ρ − 0.3324, b = −4.7951·ρ + 0.6417, c = 2.7552·ρ + 0.6903
+fn gtao_multi_bounce(visibility: f32, albedo: vec3<f32>) -> vec3<f32> {
+    let a = 2.0404 * albedo - 0.3324;
+    let b = -4.7951 * albedo + 0.6417;
+    let c = 2.7552 * albedo + 0.6903;
+    let x = visibility;
+    return max(vec3<f32>(x), ((x * a + b) * x + c) * x);
+}
+
+// GetSpecularOcclusionFromAmbientOcclusion (Lagarde and de Rousiers 2014; core
+// CommonLighting.hlsl): sat((NV + ao)^exp2(−16·α − 1) − 1 + ao), α the roughness
+fn specular_occlusion_from_ao(nv: f32, ao: f32, roughness: f32) -> f32 {
+    return sat(pow(nv + ao, exp2(-16.0 * roughness - 1.0)) - 1.0 + ao);
+}

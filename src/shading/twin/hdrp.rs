@@ -111,9 +111,50 @@ impl SurfaceTwin for HdrpLit {
     }
 }
 
+/// GTAOMultiBounce (core AmbientOcclusion.hlsl): the visibility with light bounced between the
+/// occluders, max(x, ((x·a + b)·x + c)·x) per channel of the albedo.
+pub fn gtao_multi_bounce(visibility: f64, albedo: DVec3) -> DVec3 {
+    let a = 2.0404 * albedo - DVec3::splat(0.3324);
+    let b = -4.7951 * albedo + DVec3::splat(0.6417);
+    let c = 2.7552 * albedo + DVec3::splat(0.6903);
+    let x = visibility;
+    DVec3::splat(x).max(((x * a + b) * x + c) * x)
+}
+
+/// GetSpecularOcclusionFromAmbientOcclusion (core CommonLighting.hlsl), α the roughness.
+pub fn specular_occlusion_from_ao(nv: f64, ao: f64, roughness: f64) -> f64 {
+    sat((nv + ao).max(0.0).powf((-16.0 * roughness - 1.0).exp2()) - 1.0 + ao)
+}
+
+/// HDRP's occlusion of the indirect light (forward.wgsl `indirect_light`): the factors on the
+/// indirect diffuse and on the reflected environment for a material occlusion and an SSAO
+/// visibility.
+pub fn indirect_occlusion(s: &Surface, nv: f64, material_ao: f64, screen_ao: f64) -> (DVec3, DVec3) {
+    let nv = nv.max(1e-4);
+    let roughness = (1.0 - s.smoothness).powi(2);
+    let so = specular_occlusion_from_ao(nv, material_ao, roughness)
+        .min(specular_occlusion_from_ao(nv, screen_ao, roughness));
+    (gtao_multi_bounce(material_ao.min(screen_ao), s.base_color * (1.0 - s.metallic)), gtao_multi_bounce(so, f0(s)))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn multibounce_keeps_full_visibility_and_brightens_bright_occluders() {
+        // At x = 1 the cubic is 0.9996 + 0.0005·ρ: max(1, ·) leaves full visibility at (almost) 1.
+        for rho in [0.0, 0.5, 1.0] {
+            let m = gtao_multi_bounce(1.0, DVec3::splat(rho));
+            assert!((m.x - 1.0).abs() < 2e-4, "{rho}: {m}");
+        }
+        // Light bounces off white occluders: half visibility looks brighter than 0.5, black stays 0.5.
+        assert!(gtao_multi_bounce(0.5, DVec3::ONE).x > 0.6);
+        assert_eq!(gtao_multi_bounce(0.5, DVec3::ZERO).x, 0.5);
+        // Specular occlusion: none at AO 1, total at AO 0 for a mirror seen head-on.
+        assert!((specular_occlusion_from_ao(1.0, 1.0, 0.3) - 1.0).abs() < 1e-12);
+        assert_eq!(specular_occlusion_from_ao(1.0, 0.0, 0.0), 0.0);
+    }
 
     #[test]
     fn rough_surfaces_fetch_towards_the_normal() {
