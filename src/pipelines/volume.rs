@@ -116,4 +116,4 @@ pub fn ev100_to_exposure(ev100: f64) -> f64 {
 }
 
 /// HDRP effects of the default volume this emulation does not render, for `list` and the README.
-pub const LEFT_OUT_EFFECTS: &str = "HDRP's default volume also enables contact shadows; they are not emulated and are left out of every HDRP cell (its bloom and screen-space ambient occlusion are rendered: [hdrp] bloom, [hdrp] ssao). SSAO runs HDRP's non-temporal path: a still batch frame has no history to accumulate";
+pub const LEFT_OUT_EFFECTS: &str = "HDRP's default volume also enables contact shadows, but a light casts them only where its own \"Contact Shadows\" setting is on, and HDRP lights ship with it off (HDAdditionalLightData.useContactShadow); no scene light here opts in, so they cannot change an image and are not rendered. Bloom and SSAO are rendered ([hdrp] bloom, [hdrp] ssao); SSAO runs HDRP's non-temporal path, as a still batch frame has no history to accumulate";

@@ -80,7 +80,9 @@ fn list_shows_each_paths_passes() {
         out.contains("composition default (urp-deferred): passes probe capture → probe prefilter → shadow → gbuffer → deferred lighting → forward (models the G-buffer cannot carry) → background"),
         "{out}"
     );
-    assert!(out.contains("(hdrp-deferred): passes probe capture → probe prefilter → shadow → gbuffer → light tiles → deferred lighting"), "{out}");
+    // HDRP's SSAO reads a depth-normal prepass before the lighting, and its bloom follows the frame.
+    assert!(out.contains("(hdrp-deferred): passes probe capture → probe prefilter → shadow → depth prepass → ssao → gbuffer → light tiles → deferred lighting"), "{out}");
+    assert!(out.contains("(hdrp-forward): passes probe capture → probe prefilter → shadow → depth prepass → ssao → forward → background → bloom"), "{out}");
 }
 
 #[test]

@@ -111,12 +111,16 @@ fn gpu_ssao_matches_its_twin_and_occludes_where_surfaces_meet() {
     assert!(open > 0.97, "open floor stays lit: {open}");
 }
 
-/// One HDRP Lit frame of the default room (bloom off, to see the lighting alone): linear RGB per
-/// pixel, the role per pixel, the timed pass names and the plan's passes.
-fn render_room(
-    edit: impl Fn(&mut shadematrix::spec::scene::Scene),
-    path: shadematrix::pipelines::RenderPath,
-) -> (Vec<[f32; 3]>, Vec<u8>, Vec<String>, Vec<&'static str>) {
+/// A rendered room: linear RGB per pixel, the role per pixel, the timed pass names and the plan's passes.
+struct Room {
+    rgb: Vec<[f32; 3]>,
+    roles: Vec<u8>,
+    timed: Vec<String>,
+    plan: Vec<&'static str>,
+}
+
+/// One HDRP Lit frame of the default room (bloom off, to see the lighting alone).
+fn render_room(edit: impl Fn(&mut shadematrix::spec::scene::Scene), path: shadematrix::pipelines::RenderPath) -> Room {
     use shadematrix::pipelines::Pipeline;
     let mut scene = shadematrix::spec::scene::Scene::load("default", None, "test", "composition").unwrap();
     scene.hdrp.bloom = false;
@@ -129,15 +133,15 @@ fn render_room(
     let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
     let timed = r.gpu_passes.map(|p| p.into_iter().map(|(n, _)| n).collect()).unwrap_or_default();
     let rgb = r.hdr.chunks(4).map(|p| [p[0], p[1], p[2]]).collect();
-    (rgb, r.roles, timed, prepared.plan.passes_for(path, Pipeline::Hdrp))
+    Room { rgb, roles: r.roles, timed, plan: prepared.plan.passes_for(path, Pipeline::Hdrp) }
 }
 
 #[test]
 fn ssao_darkens_the_indirect_light_where_surfaces_meet_and_the_switch_turns_it_off() {
     use shadematrix::pipelines::RenderPath;
     for path in [RenderPath::Forward, RenderPath::Deferred] {
-        let (on, roles, timed, plan) = render_room(|_| {}, path);
-        let (off, _, _, plan_off) = render_room(|s| s.hdrp.ssao = false, path);
+        let Room { rgb: on, roles, timed, plan } = render_room(|_| {}, path);
+        let Room { rgb: off, plan: plan_off, .. } = render_room(|s| s.hdrp.ssao = false, path);
         assert!(plan.contains(&"ssao") && plan.contains(&"depth prepass"), "{plan:?}");
         assert!(!plan_off.contains(&"ssao") && !plan_off.contains(&"depth prepass"), "{plan_off:?}");
         if !timed.is_empty() {
@@ -167,8 +171,8 @@ fn ssao_darkens_the_indirect_light_where_surfaces_meet_and_the_switch_turns_it_o
         s.environment.ambient_intensity = 0.0;
         s.environment.reflections = shadematrix::spec::scene::Reflections::Sky;
     };
-    let (on, _, _, _) = render_room(dark, RenderPath::Forward);
-    let (off, _, _, _) = render_room(|s| (dark(s), s.hdrp.ssao = false).1, RenderPath::Forward);
+    let on = render_room(dark, RenderPath::Forward).rgb;
+    let off = render_room(|s| (dark(s), s.hdrp.ssao = false).1, RenderPath::Forward).rgb;
     assert_eq!(on, off, "SSAO touches only the indirect light");
 }
 
