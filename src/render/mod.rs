@@ -124,6 +124,61 @@ pub(crate) fn compute_pipeline(
     })
 }
 
+/// Layout entries of the compute passes (bloom, probe prefilter, SSAO): what each binding is.
+pub(crate) mod compute_entry {
+    const STAGE: wgpu::ShaderStages = wgpu::ShaderStages::COMPUTE;
+
+    pub fn uniform(binding: u32) -> wgpu::BindGroupLayoutEntry {
+        buffer(binding, wgpu::BufferBindingType::Uniform)
+    }
+
+    pub fn read_only_storage(binding: u32) -> wgpu::BindGroupLayoutEntry {
+        buffer(binding, wgpu::BufferBindingType::Storage { read_only: true })
+    }
+
+    fn buffer(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
+        wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: STAGE,
+            ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None },
+            count: None,
+        }
+    }
+
+    /// A texture read with loads (32-bit floats need not be filterable).
+    pub fn texture(
+        binding: u32,
+        sample_type: wgpu::TextureSampleType,
+        view_dimension: wgpu::TextureViewDimension,
+    ) -> wgpu::BindGroupLayoutEntry {
+        wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: STAGE,
+            ty: wgpu::BindingType::Texture { sample_type, view_dimension, multisampled: false },
+            count: None,
+        }
+    }
+
+    /// An unfilterable float 2-D texture.
+    pub fn float_2d(binding: u32) -> wgpu::BindGroupLayoutEntry {
+        texture(binding, wgpu::TextureSampleType::Float { filterable: false }, wgpu::TextureViewDimension::D2)
+    }
+
+    /// A write-only 2-D storage texture.
+    pub fn storage_2d(binding: u32, format: wgpu::TextureFormat) -> wgpu::BindGroupLayoutEntry {
+        wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: STAGE,
+            ty: wgpu::BindingType::StorageTexture {
+                access: wgpu::StorageTextureAccess::WriteOnly,
+                format,
+                view_dimension: wgpu::TextureViewDimension::D2,
+            },
+            count: None,
+        }
+    }
+}
+
 /// One dispatch of an 8×8-workgroup compute shader: its bind group and the grid it covers.
 pub(crate) struct ComputeStep {
     pub group: wgpu::BindGroup,

@@ -120,65 +120,20 @@ pub struct SsaoPipeline {
     copy_layout: wgpu::BindGroupLayout,
 }
 
-fn texture_entry(binding: u32, sample_type: wgpu::TextureSampleType) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Texture {
-            sample_type,
-            view_dimension: wgpu::TextureViewDimension::D2,
-            multisampled: false,
-        },
-        count: None,
-    }
-}
-
-fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::StorageTexture {
-            access: wgpu::StorageTextureAccess::WriteOnly,
-            format: FORMAT,
-            view_dimension: wgpu::TextureViewDimension::D2,
-        },
-        count: None,
-    }
-}
-
-fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
-}
-
 impl SsaoPipeline {
     pub fn new(gpu: &GpuContext) -> Result<SsaoPipeline, Error> {
         let device = &gpu.device;
         let source = crate::shading::wgsl::with_math(include_str!("../../shaders/pass/ssao.wgsl"));
         let module = gpu.shader_module("ssao", &source)?;
-        let float = wgpu::TextureSampleType::Float { filterable: false };
+        use super::compute_entry::{float_2d, storage_2d, texture, uniform};
         let steps_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("ssao steps"),
-            entries: &[
-                uniform_entry(0),
-                texture_entry(1, float),
-                texture_entry(2, float),
-                texture_entry(3, float),
-                storage_entry(4),
-                uniform_entry(5),
-            ],
+            entries: &[uniform(0), float_2d(1), float_2d(2), float_2d(3), storage_2d(4, FORMAT), uniform(5)],
         });
+        let depth = texture(6, wgpu::TextureSampleType::Depth, wgpu::TextureViewDimension::D2);
         let copy_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("ssao depth copy"),
-            entries: &[texture_entry(6, wgpu::TextureSampleType::Depth), storage_entry(7)],
+            entries: &[depth, storage_2d(7, FORMAT)],
         });
         let steps = super::compute_pipeline(device, "ssao", &steps_layout, &module, "cs_ssao");
         let copy = super::compute_pipeline(device, "ssao depth copy", &copy_layout, &module, "cs_depth_copy");
