@@ -139,27 +139,8 @@ fn material_from(uv: vec2<f32>, albedo: vec4<f32>, mask: vec4<f32>) -> Surface {
     if (object.flags.x == 1u) {
         m = frame.subject;
     }
-    var s: Surface;
-    s.base_color = m.base_color.rgb;
-    s.metallic = m.params.x;
-    s.smoothness = m.params.y;
-    s.specular = m.specular.rgb;
-    s.params0 = m.model0;
-    s.params1 = m.model1;
-    if (m.params.z > 0.0) {
-        let cell = floor(uv / m.params.z);
-        if (((i32(cell.x) + i32(cell.y)) & 1) == 1) {
-            s.base_color = m.checker_color.rgb;
-        }
-    }
-    material_occlusion = 1.0;
-    if (is_textured()) {
-        s.base_color *= albedo.rgb;
-        s.metallic *= mask.r;
-        s.smoothness = sat(s.smoothness + mask.a - 0.5);
-        material_occlusion = mask.g;
-    }
-    return s;
+    material_occlusion = select(1.0, mask.g, is_textured());
+    return surface_from(m, uv, albedo, mask, is_textured());
 }
 
 // The normal map applied to a shading normal: the tangent frame (MikkTSpace, bitangent =
@@ -169,30 +150,7 @@ fn mapped_normal(n: vec3<f32>, tangent: vec4<f32>, uv: vec2<f32>) -> vec3<f32> {
     if (!is_textured()) {
         return n;
     }
-    let ts = textureSample(material_normal, material_sampler, uv).xyz;
-    let t_raw = tangent.xyz - n * dot(n, tangent.xyz);
-    if (dot(t_raw, t_raw) < 1e-12) {
-        return n;
-    }
-    let t = normalize(t_raw);
-    let b = cross(n, t) * select(1.0, -1.0, tangent.w < 0.0);
-    return safe_normalize(t * ts.x + b * ts.y + n * ts.z, 1e-30);
-}
-
-// Direction to the light and its attenuation at p (distance and cone; directional: 1)
-fn light_incidence(light: Light, p: vec3<f32>) -> vec4<f32> {
-    let kind = u32(light.position.w);
-    if (kind == 0u) {
-        return vec4<f32>(-normalize(light.direction.xyz), 1.0);
-    }
-    let to_light = light.position.xyz - p;
-    let d = length(to_light);
-    let l = to_light / max(d, 1e-6);
-    var atten = distance_attenuation(d, light.params.x);
-    if (kind == 2u) {
-        atten *= angle_attenuation(dot(normalize(light.direction.xyz), -l), light.params.y, light.params.z);
-    }
-    return vec4<f32>(l, atten);
+    return tangent_to_world(n, tangent, textureSample(material_normal, material_sampler, uv).xyz);
 }
 
 // Visibility of `light` at p (1 lit, 0 in shadow), mixed by the light's strength: the receiver

@@ -177,3 +177,56 @@ fn environment_reflection(r: vec3<f32>, perceptual_roughness: f32) -> vec3<f32> 
     }
     return c;
 }
+
+// Direction to the light and its attenuation at p (distance and cone; directional: 1)
+fn light_incidence(light: Light, p: vec3<f32>) -> vec4<f32> {
+    let kind = u32(light.position.w);
+    if (kind == 0u) {
+        return vec4<f32>(-normalize(light.direction.xyz), 1.0);
+    }
+    let to_light = light.position.xyz - p;
+    let d = length(to_light);
+    let l = to_light / max(d, 1e-6);
+    var atten = distance_attenuation(d, light.params.x);
+    if (kind == 2u) {
+        atten *= angle_attenuation(dot(normalize(light.direction.xyz), -l), light.params.y, light.params.z);
+    }
+    return vec4<f32>(l, atten);
+}
+
+// The Surface a model receives from a material at uv (its checkerboard applied), modulated by the
+// material maps' texels when textured: the albedo map (mean 1) multiplies the colour, the mask's r
+// the metallic, its a − 0.5 offsets the smoothness.
+fn surface_from(m: Material, uv: vec2<f32>, albedo: vec4<f32>, mask: vec4<f32>, textured: bool) -> Surface {
+    var s: Surface;
+    s.base_color = m.base_color.rgb;
+    s.metallic = m.params.x;
+    s.smoothness = m.params.y;
+    s.specular = m.specular.rgb;
+    s.params0 = m.model0;
+    s.params1 = m.model1;
+    if (m.params.z > 0.0) {
+        let cell = floor(uv / m.params.z);
+        if (((i32(cell.x) + i32(cell.y)) & 1) == 1) {
+            s.base_color = m.checker_color.rgb;
+        }
+    }
+    if (textured) {
+        s.base_color *= albedo.rgb;
+        s.metallic *= mask.r;
+        s.smoothness = sat(s.smoothness + mask.a - 0.5);
+    }
+    return s;
+}
+
+// A tangent-space normal carried to world space by the tangent frame (MikkTSpace, bitangent =
+// cross(n, t)·w, as Unity's TransformTangentToWorld); n as it is where the mesh has no tangent.
+fn tangent_to_world(n: vec3<f32>, tangent: vec4<f32>, ts: vec3<f32>) -> vec3<f32> {
+    let t_raw = tangent.xyz - n * dot(n, tangent.xyz);
+    if (dot(t_raw, t_raw) < 1e-12) {
+        return n;
+    }
+    let t = normalize(t_raw);
+    let b = cross(n, t) * select(1.0, -1.0, tangent.w < 0.0);
+    return safe_normalize(t * ts.x + b * ts.y + n * ts.z, 1e-30);
+}

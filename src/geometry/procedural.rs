@@ -84,6 +84,24 @@ pub fn build_scene(scene: &crate::spec::scene::Scene) -> Result<Vec<Mesh>, Error
         .collect()
 }
 
+/// The LOD levels after the first of every object that has them, in scene order: (object index,
+/// level, mesh). The renderer draws them after the scene's own objects, in this order.
+pub fn lod_meshes(scene: &crate::spec::scene::Scene) -> Result<Vec<(usize, usize, Mesh)>, Error> {
+    let mut out = Vec::new();
+    for (i, o) in scene.objects.iter().enumerate() {
+        let Some(lod) = &o.lod else { continue };
+        for (j, spec) in lod.meshes.iter().enumerate() {
+            let key = format!("objects[{i}].lod.meshes[{j}]");
+            let mut mesh = build(spec, scene.base_dir.as_deref(), &scene.origin, &key)?;
+            if o.role == crate::spec::scene::Role::Subject {
+                mesh.ensure_tangents();
+            }
+            out.push((i, j + 1, mesh));
+        }
+    }
+    Ok(out)
+}
+
 pub fn uv_sphere(radius: f64, rings: u32, segments: u32) -> Mesh {
     Mesh::grid(rings, segments, |u, v| {
         let (theta, phi) = (v * PI, u * TAU);

@@ -11,6 +11,7 @@ pub mod reflection_probes;
 pub mod renderer;
 pub mod shadows;
 pub mod ssao;
+pub mod truth;
 pub mod uniforms;
 
 pub use renderer::{CellParams, CellRender, CellSettings, PreparedScene, Renderer, ShadowMapUse};

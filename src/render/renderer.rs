@@ -167,6 +167,8 @@ pub struct PreparedScene {
     frame_groups: std::sync::Mutex<HashMap<&'static str, std::sync::Arc<wgpu::BindGroup>>>,
     /// A glTF subject's own material maps (preset `own`), read and uploaded on first use.
     own_textures: std::sync::OnceLock<super::material_maps::MaterialTextures>,
+    /// The truth's environment texels and sampling tables, made for the first truth.
+    env_table: std::sync::OnceLock<(Vec<[f32; 4]>, Vec<f32>)>,
     lights_buffer: wgpu::Buffer,
     modes_buffer: wgpu::Buffer,
     shadows: ShadowResources,
@@ -247,6 +249,8 @@ pub struct Renderer {
     ssao: Option<super::ssao::SsaoPipeline>,
     /// The depth-normal prepass pipelines, by (pipeline, textured subject).
     depth_normals: HashMap<(Pipeline, bool), wgpu::RenderPipeline>,
+    /// The truth's tracers, by (pipeline, subject model, fixed model).
+    truth_pipelines: HashMap<(Pipeline, String, String), super::truth::TruthPipeline>,
 }
 
 impl Renderer {
@@ -282,7 +286,10 @@ impl Renderer {
                     ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
                     count: None,
                 },
-                super::luts::fgd_layout_entry(3, wgpu::ShaderStages::VERTEX_FRAGMENT),
+                super::luts::fgd_layout_entry(
+                    3,
+                    wgpu::ShaderStages::VERTEX_FRAGMENT.union(wgpu::ShaderStages::COMPUTE),
+                ),
                 storage_entry(4),
                 storage_entry(5),
                 wgpu::BindGroupLayoutEntry {
@@ -308,7 +315,7 @@ impl Renderer {
                 material_map_entry(13),
                 wgpu::BindGroupLayoutEntry {
                     binding: 12,
-                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT.union(wgpu::ShaderStages::COMPUTE),
                     ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
                     count: None,
                 },
@@ -401,6 +408,7 @@ impl Renderer {
             neutral_screen,
             ssao: None,
             depth_normals: HashMap::new(),
+            truth_pipelines: HashMap::new(),
         }
     }
 
@@ -656,14 +664,9 @@ impl Renderer {
             .zip(&level0_bounds)
             .map(|(o, b)| crate::geometry::placement::world_bounds_of(o, b))
             .collect();
-        for (i, o) in scene.objects.iter().enumerate() {
-            let Some(lod) = &o.lod else { continue };
-            for (j, spec) in lod.meshes.iter().enumerate() {
+        for (i, j, mesh) in procedural::lod_meshes(scene)? {
+            {
                 let key = format!("objects[{i}].lod.meshes[{j}]");
-                let mut mesh = procedural::build(spec, scene.base_dir.as_deref(), &scene.origin, &key)?;
-                if o.role == Role::Subject {
-                    mesh.ensure_tangents();
-                }
                 triangle_count += mesh.triangle_count();
                 let first = &objects[i];
                 let (vertices, indices) = mesh_buffers(device, &key, &mesh);
@@ -677,7 +680,7 @@ impl Renderer {
                     cast_shadows: first.cast_shadows,
                     receive_shadows: first.receive_shadows,
                     scene_index: i,
-                    lod_level: Some(j + 1),
+                    lod_level: Some(j),
                 });
             }
         }
@@ -736,6 +739,7 @@ impl Renderer {
             probes,
             frame_groups: Default::default(),
             own_textures: Default::default(),
+            env_table: Default::default(),
             lights_buffer,
             modes_buffer,
             shadows,
@@ -1507,11 +1511,13 @@ impl Renderer {
             });
         }
         let mut objects = vec![0u8; (prepared.object_stride as usize) * prepared.objects.len()];
+        let mut materials = Vec::with_capacity(prepared.objects.len());
         for (i, o) in prepared.objects.iter().enumerate() {
             let material = match &o.fixed {
                 Some((sliders, pattern)) => gpu_material(&fixed_model.surface(p, sliders), *pattern),
                 None => GpuMaterial::zeroed(),
             };
+            materials.push(material);
             let u = ObjectUniforms {
                 model: mat(o.model),
                 normal_matrix: mat(o.model.inverse().transpose()),
@@ -1558,7 +1564,73 @@ impl Renderer {
             capture_key: key,
             lod,
             fades,
+            materials,
         }
+    }
+
+    /// The `same-brdf` ground truth of a cell (render::truth): its scene, lights and materials path
+    /// traced with the models the cell draws them with. The meshes are the cell's drawn ones; in a
+    /// LOD cross-fade band, the outgoing level alone (the one the shadow pass draws whole).
+    pub fn render_truth(
+        &mut self,
+        prepared: &PreparedScene,
+        cell: &CellParams,
+        settings: &super::truth::TruthSettings,
+    ) -> Result<super::truth::Truth, Error> {
+        let fixed_model =
+            self.fixed_models.find(cell.pipeline, cell.pipeline.fixed_object_shader()).cloned().ok_or_else(|| {
+                Error::Other(format!("pipeline {} lacks its fixed-object shader", cell.pipeline.name()))
+            })?;
+        let key = (cell.pipeline, cell.model.name.to_string(), fixed_model.name.to_string());
+        if !self.truth_pipelines.contains_key(&key) {
+            let source = wgsl::compose_truth(cell.model, &fixed_model);
+            let p =
+                super::truth::TruthPipeline::new(&self.gpu, &self.frame_layout, &source, cell.pipeline.shader_id())?;
+            self.truth_pipelines.insert(key.clone(), p);
+        }
+        let written = self.write_uniforms(prepared, cell, &fixed_model);
+        let frame_group = self.frame_group(prepared, cell.settings.material_maps)?;
+        let scene = &prepared.scene;
+        let mut meshes = procedural::build_scene(scene)?;
+        meshes.extend(procedural::lod_meshes(scene)?.into_iter().map(|(_, _, m)| m));
+        let kept = written.casting();
+        let geometry = super::truth::bvh::TruthGeometry::build(
+            prepared
+                .objects
+                .iter()
+                .zip(&meshes)
+                .enumerate()
+                .filter(|(i, _)| kept[*i])
+                .map(|(i, (o, m))| (i as u32, m, o.model)),
+        );
+        let textured = cell.settings.material_maps.is_some();
+        let mut objects = Vec::with_capacity(prepared.objects.len() * 128);
+        for (o, material) in prepared.objects.iter().zip(&written.materials) {
+            objects.extend_from_slice(bytemuck::bytes_of(material));
+            let flags: [u32; 4] = match o.role {
+                Role::Subject => [1, ROLE_SUBJECT as u32, textured as u32, 0],
+                Role::Fixed => [0, ROLE_FIXED as u32, 0, 0],
+            };
+            objects.extend_from_slice(bytemuck::cast_slice(&flags));
+        }
+        let env = prepared.env_table.get_or_init(|| {
+            let radiance = |d: DVec3| crate::environment::sky::radiance(&scene.environment.sky, d);
+            let w = super::truth::ENV_WIDTH;
+            let image = crate::environment::prefilter::EquirectImage::sample(&radiance, w, w / 2, 2);
+            super::truth::environment_tables(&image)
+        });
+        let w = super::truth::ENV_WIDTH as u32;
+        let inputs = super::truth::TruthInputs {
+            geometry: &geometry,
+            objects: &objects,
+            env_texels: &env.0,
+            env_cdf: &env.1,
+            env_size: (w, w / 2),
+            background: prepared.plan.background,
+            size: (cell.width, cell.height),
+            subject_role: ROLE_SUBJECT,
+        };
+        super::truth::trace(&self.gpu, &self.truth_pipelines[&key], &frame_group, &inputs, settings)
     }
 
     /// Render every probe's faces (the fixed objects and the sky seen from the probe, lit as the
@@ -1701,6 +1773,8 @@ struct WrittenFrame {
     lod: Vec<LodUse>,
     /// Each mesh's LOD fade (None: not drawn; 1 for meshes without LOD).
     fades: Vec<Option<f64>>,
+    /// Each mesh's material as its model receives it (zero for the subject: it reads the frame's).
+    materials: Vec<GpuMaterial>,
 }
 
 impl WrittenFrame {
@@ -1933,11 +2007,12 @@ fn own_textures(
     Ok(super::material_maps::MaterialTextures::new(device, queue, &maps))
 }
 
-/// A material map of the frame group, sampled by both stages (the vertex-lit path reads them).
+/// A material map of the frame group, sampled by both stages (the vertex-lit path reads them) and
+/// by the truth's tracer.
 fn material_map_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
-        visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+        visibility: wgpu::ShaderStages::VERTEX_FRAGMENT.union(wgpu::ShaderStages::COMPUTE),
         ty: wgpu::BindingType::Texture {
             sample_type: wgpu::TextureSampleType::Float { filterable: true },
             view_dimension: wgpu::TextureViewDimension::D2,

@@ -21,6 +21,51 @@ pub enum PassKind {
     BrdfProbe,
 }
 
+const TRUTH: &str = include_str!("../../shaders/pass/truth.wgsl");
+
+/// The path tracer of the `same-brdf` truth (render::truth): the scene pass's shared files, the
+/// subject's model as it is, the fixed objects' model with every name it declares prefixed
+/// `fixed_` (both define `model_direct`), then the tracer.
+pub fn compose_truth(subject: &ShaderModel, fixed: &ShaderModel) -> String {
+    [MATH, CONVENTIONS, BRDF_TERMS, SCENE, &subject.wgsl, &prefixed(&fixed.wgsl, "fixed_"), TRUTH].join("\n")
+}
+
+/// `source` with every module-scope name it declares (functions, constants, private variables,
+/// structs, overrides, aliases) renamed `prefix` + name, wherever the name appears as a whole
+/// identifier: a second copy of a model that can sit beside the first.
+pub fn prefixed(source: &str, prefix: &str) -> String {
+    let is_ident = |c: char| c.is_ascii_alphanumeric() || c == '_';
+    let declared: std::collections::HashSet<&str> = source
+        .lines()
+        .filter_map(|line| {
+            let rest = ["fn ", "const ", "var<private> ", "struct ", "override ", "alias "]
+                .iter()
+                .find_map(|k| line.strip_prefix(k))?;
+            let end = rest.find(|c: char| !is_ident(c)).unwrap_or(rest.len());
+            Some(&rest[..end]).filter(|n| !n.is_empty())
+        })
+        .collect();
+    let mut out = String::with_capacity(source.len() + 64);
+    let mut word = String::new();
+    let flush = |word: &mut String, out: &mut String| {
+        if declared.contains(word.as_str()) {
+            out.push_str(prefix);
+        }
+        out.push_str(word);
+        word.clear();
+    };
+    for c in source.chars() {
+        if is_ident(c) && !(word.is_empty() && c.is_ascii_digit()) {
+            word.push(c);
+        } else {
+            flush(&mut word, &mut out);
+            out.push(c);
+        }
+    }
+    flush(&mut word, &mut out);
+    out
+}
+
 /// A standalone pass (no model, no scene) with the shared math before it.
 pub fn with_math(pass: &str) -> String {
     format!("{MATH}\n{pass}")
@@ -70,4 +115,22 @@ pub fn compose_mapped(pass: PassKind, model: Option<&ShaderModel>) -> (String, L
         }
     }
     (out, map)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn prefixing_renames_declared_names_as_whole_words_only() {
+        let src = "const K: f32 = 2.0;\nfn helper(x: f32) -> f32 { return x * K; }\nfn model_direct(s: Surface) -> f32 { return helper(s.metallic) + helper_two; }\n";
+        let out = prefixed(src, "fixed_");
+        assert!(out.contains("const fixed_K: f32"));
+        assert!(out.contains("fn fixed_helper(x: f32)"));
+        assert!(out.contains("x * fixed_K"));
+        assert!(out.contains("fn fixed_model_direct(s: Surface)"));
+        assert!(out.contains("fixed_helper(s.metallic)"));
+        // Not declared here: shared names and longer identifiers stay as they are.
+        assert!(out.contains("s: Surface") && out.contains("+ helper_two"));
+    }
 }

@@ -26,4 +26,5 @@ mod shading;
 mod shadows;
 mod ssao;
 mod stability;
+mod truth;
 mod user_models;

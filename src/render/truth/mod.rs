@@ -1,0 +1,337 @@
+//! Ground truth: a GPU path tracer over the cell's own scene (shaders/pass/truth.wgsl), so a
+//! cell's error is measured against the light its lights and materials really make rather than
+//! against another real-time pipeline.
+//!
+//! The `same-brdf` truth evaluates each surface with the model the cell draws it with (the
+//! subject's model, the pipeline's fixed-object model) in the cell's light units and attenuation:
+//! its difference from the cell isolates the real-time approximations (SH ambient, split-sum
+//! probe, shadow maps, light budgets, missing bounces, aliasing). Every light is exact with
+//! ray-traced visibility; the environment is importance-sampled from a 1024×512 equirect of the
+//! sky and weighted against surface sampling by the power heuristic; paths continue `bounces`
+//! times. Samples are drawn in batches until the subject's mean standard error falls below
+//! `noise` × its mean, or `spp` is reached; the per-pixel standard error is kept with the image.
+//!
+//! Written here rather than taken from a crate: no maintained crate traces WGSL models on wgpu;
+//! the BVH comes from `obvhs`.
+
+pub mod bvh;
+
+use bytemuck::{Pod, Zeroable};
+use glam::DVec3;
+use wgpu::util::DeviceExt;
+
+use crate::environment::prefilter::EquirectImage;
+use crate::error::Error;
+use crate::gpu::GpuContext;
+
+/// Width of the environment table the truth samples (height is half).
+pub const ENV_WIDTH: usize = 1024;
+
+/// How a truth is rendered: where convergence stops and how deep paths go.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TruthSettings {
+    /// Most samples per pixel.
+    pub spp: u32,
+    /// The target: the subject's mean standard error over its mean radiance (0.005 = 0.5 %).
+    pub noise: f64,
+    /// Indirect bounces after the first hit.
+    pub bounces: u32,
+    /// Samples per pixel per dispatch (the convergence check runs between batches).
+    pub batch: u32,
+}
+
+impl Default for TruthSettings {
+    fn default() -> Self {
+        TruthSettings { spp: 4096, noise: 0.005, bounces: 2, batch: 16 }
+    }
+}
+
+/// A rendered truth: the mean radiance per pixel in the cell's linear units, the standard error
+/// of that mean per pixel (of its luminance), and what convergence reached.
+#[derive(Debug, Clone)]
+pub struct Truth {
+    pub width: u32,
+    pub height: u32,
+    pub mean: Vec<[f32; 3]>,
+    pub std_error: Vec<f32>,
+    /// The role of the first surface per pixel (0 none).
+    pub roles: Vec<u8>,
+    pub spp: u32,
+    /// The subject's mean standard error over its mean luminance (None: no subject pixel).
+    pub subject_noise: Option<f64>,
+    pub seconds: f64,
+}
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+struct TruthParams {
+    dims: [u32; 4],
+    settings: [u32; 4],
+}
+
+/// The environment's radiance texels and the sampling tables (marginal over rows, then each row's
+/// conditional over columns), weighted by luminance × sin θ so that texels are drawn in
+/// proportion to the light they send.
+pub fn environment_tables(image: &EquirectImage) -> (Vec<[f32; 4]>, Vec<f32>) {
+    let (w, h) = (image.width, image.height);
+    let luminance = |c: DVec3| 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
+    let mut rows = Vec::with_capacity(h + 1);
+    let mut conditional = Vec::with_capacity(h * (w + 1));
+    let mut row_total = 0.0;
+    rows.push(0.0);
+    for y in 0..h {
+        let sin = ((y as f64 + 0.5) / h as f64 * std::f64::consts::PI).sin();
+        let weights: Vec<f64> = (0..w).map(|x| luminance(image.texels[y * w + x]).max(0.0) * sin).collect();
+        let sum: f64 = weights.iter().sum();
+        let mut acc = 0.0;
+        conditional.push(0.0f32);
+        for (x, wgt) in weights.iter().enumerate() {
+            acc += if sum > 0.0 { wgt / sum } else { 1.0 / w as f64 };
+            conditional.push(if x + 1 == w { 1.0 } else { acc as f32 });
+        }
+        row_total += sum;
+        rows.push(row_total);
+    }
+    let marginal: Vec<f32> = rows
+        .iter()
+        .enumerate()
+        .map(|(i, r)| {
+            if i == h {
+                1.0
+            } else if row_total > 0.0 {
+                (r / row_total) as f32
+            } else {
+                i as f32 / h as f32
+            }
+        })
+        .collect();
+    let texels = image.texels.iter().map(|c| [c.x as f32, c.y as f32, c.z as f32, 0.0]).collect();
+    (texels, [marginal, conditional].concat())
+}
+
+/// The tracer's pipeline for one (pipeline, subject model, fixed model), and its group layout.
+pub struct TruthPipeline {
+    pub pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+}
+
+/// The layout of the tracer's own group (group 1).
+pub fn group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    use super::compute_entry::{read_only_storage, uniform};
+    let read_write = |binding| wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only: false },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    };
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("truth"),
+        entries: &[
+            uniform(0),
+            read_only_storage(1),
+            read_only_storage(2),
+            read_only_storage(3),
+            read_only_storage(4),
+            read_only_storage(5),
+            read_only_storage(6),
+            read_write(7),
+            read_write(8),
+        ],
+    })
+}
+
+impl TruthPipeline {
+    pub fn new(
+        gpu: &GpuContext,
+        frame_layout: &wgpu::BindGroupLayout,
+        source: &str,
+        pipeline_id: u32,
+    ) -> Result<TruthPipeline, Error> {
+        let device = &gpu.device;
+        let module = gpu.shader_module("truth", source)?;
+        let layout = group_layout(device);
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("truth"),
+            bind_group_layouts: &[Some(frame_layout), Some(&layout)],
+            immediate_size: 0,
+        });
+        let constants = [("PIPELINE", pipeline_id as f64)];
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("truth"),
+            layout: Some(&pipeline_layout),
+            module: &module,
+            entry_point: Some("cs_truth"),
+            compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
+            cache: None,
+        });
+        gpu.check_errors("creating the truth pipeline")?;
+        Ok(TruthPipeline { pipeline, layout })
+    }
+}
+
+/// Everything one truth render needs besides the frame group (which the renderer owns).
+pub struct TruthInputs<'a> {
+    pub geometry: &'a bvh::TruthGeometry,
+    /// Per object: its material and flags (shaders/pass/truth.wgsl `TruthObject`).
+    pub objects: &'a [u8],
+    pub env_texels: &'a [[f32; 4]],
+    pub env_cdf: &'a [f32],
+    pub env_size: (u32, u32),
+    pub background: bool,
+    pub size: (u32, u32),
+    /// The role id of the subject's pixels.
+    pub subject_role: u8,
+}
+
+fn storage(device: &wgpu::Device, label: &str, bytes: &[u8]) -> wgpu::Buffer {
+    let mut contents = bytes.to_vec();
+    contents.resize(bytes.len().max(16).next_multiple_of(16), 0);
+    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(label),
+        contents: &contents,
+        usage: wgpu::BufferUsages::STORAGE,
+    })
+}
+
+/// Trace batches until converged (render::truth's module comment) and read the result back.
+pub fn trace(
+    gpu: &GpuContext,
+    pipeline: &TruthPipeline,
+    frame_group: &wgpu::BindGroup,
+    inputs: &TruthInputs,
+    settings: &TruthSettings,
+) -> Result<Truth, Error> {
+    let start = std::time::Instant::now();
+    let device = &gpu.device;
+    let (width, height) = inputs.size;
+    let pixels = (width * height) as usize;
+    let g = inputs.geometry;
+    let nodes = storage(device, "truth bvh", bytemuck::cast_slice(&g.nodes));
+    let triangles = storage(device, "truth triangles", bytemuck::cast_slice(&g.triangles));
+    let vertices = storage(device, "truth vertices", bytemuck::cast_slice(&g.vertices));
+    let objects = storage(device, "truth objects", inputs.objects);
+    let env_texels = storage(device, "truth environment", bytemuck::cast_slice(inputs.env_texels));
+    let env_cdf = storage(device, "truth environment tables", bytemuck::cast_slice(inputs.env_cdf));
+    let accum_bytes = (pixels * 32) as u64;
+    let accum = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("truth accumulation"),
+        size: accum_bytes,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let roles_bytes = (pixels * 4).next_multiple_of(16) as u64;
+    let roles = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("truth roles"),
+        size: roles_bytes,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let params = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("truth params"),
+        size: std::mem::size_of::<TruthParams>() as u64,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("truth"),
+        layout: &pipeline.layout,
+        entries: &[
+            wgpu::BindGroupEntry { binding: 0, resource: params.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 1, resource: nodes.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 2, resource: triangles.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 3, resource: vertices.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 4, resource: objects.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 5, resource: env_texels.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 6, resource: env_cdf.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 7, resource: accum.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 8, resource: roles.as_entire_binding() },
+        ],
+    });
+    let readback = |buffer: &wgpu::Buffer, size: u64| -> Result<Vec<u8>, Error> {
+        let staging = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("truth readback"),
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut encoder = device.create_command_encoder(&Default::default());
+        encoder.copy_buffer_to_buffer(buffer, 0, &staging, 0, size);
+        gpu.queue.submit([encoder.finish()]);
+        crate::gpu::readback::map_read(device, &staging)
+    };
+    let batch = settings.batch.max(1);
+    let mut done = 0u32;
+    let mut result;
+    loop {
+        let count = batch.min(settings.spp.max(1) - done);
+        let p = TruthParams {
+            dims: [width, height, done, count],
+            settings: [settings.bounces, inputs.env_size.0, inputs.env_size.1, inputs.background as u32],
+        };
+        gpu.queue.write_buffer(&params, 0, bytemuck::bytes_of(&p));
+        let mut encoder = device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            pass.set_pipeline(&pipeline.pipeline);
+            pass.set_bind_group(0, frame_group, &[]);
+            pass.set_bind_group(1, &group, &[]);
+            pass.dispatch_workgroups(width.div_ceil(8), height.div_ceil(8), 1);
+        }
+        gpu.queue.submit([encoder.finish()]);
+        done += count;
+        let bytes = readback(&accum, accum_bytes)?;
+        let role_bytes = readback(&roles, roles_bytes)?;
+        result = summarise(bytemuck::cast_slice(&bytes), bytemuck::cast_slice(&role_bytes), inputs, done);
+        let converged = result.subject_noise.is_some_and(|n| n <= settings.noise);
+        if converged || done >= settings.spp.max(1) {
+            break;
+        }
+    }
+    gpu.check_errors("tracing the truth")?;
+    result.seconds = start.elapsed().as_secs_f64();
+    Ok(result)
+}
+
+/// Mean and standard error per pixel from the sums; the subject's relative noise.
+fn summarise(accum: &[[f32; 4]], roles: &[u32], inputs: &TruthInputs, spp: u32) -> Truth {
+    let (width, height) = inputs.size;
+    let pixels = (width * height) as usize;
+    let lum = |c: [f64; 3]| 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+    let mut mean = Vec::with_capacity(pixels);
+    let mut std_error = Vec::with_capacity(pixels);
+    let (mut se_sum, mut mean_sum, mut count) = (0.0, 0.0, 0usize);
+    for i in 0..pixels {
+        let (s, q) = (accum[2 * i], accum[2 * i + 1]);
+        let n = (s[3] as f64).max(1.0);
+        let m = [s[0] as f64 / n, s[1] as f64 / n, s[2] as f64 / n];
+        // Variance of the luminance from the per-channel moments (channels treated as independent
+        // estimates of one path: an upper bound when they correlate positively, as they do).
+        let var: f64 = (0..3)
+            .map(|c| (q[c] as f64 / n - m[c] * m[c]).max(0.0).sqrt() * [0.2126, 0.7152, 0.0722][c])
+            .sum::<f64>()
+            .powi(2);
+        let se = (var / (n - 1.0).max(1.0)).sqrt();
+        mean.push(m.map(|v| v as f32));
+        std_error.push(se as f32);
+        if roles[i] == inputs.subject_role as u32 {
+            se_sum += se;
+            mean_sum += lum(m);
+            count += 1;
+        }
+    }
+    let subject_noise = (count > 0 && mean_sum > 0.0).then(|| se_sum / mean_sum);
+    Truth {
+        width,
+        height,
+        mean,
+        std_error,
+        roles: roles[..pixels].iter().map(|&r| r as u8).collect(),
+        spp,
+        subject_noise,
+        seconds: 0.0,
+    }
+}
