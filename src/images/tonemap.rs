@@ -55,6 +55,16 @@ const MEMO_SIZE: usize = 4096;
 /// keeps them); the result is clamped to [0, 1] and sRGB-encoded as an sRGB render target would.
 pub fn to_srgb8(hdr: &[f32], width: u32, height: u32, display: &DisplayTransform) -> (Vec<u8>, DisplayRecord) {
     let exposure = display.exposure.as_ref().map(|s| meter(hdr, width, height, s));
+    to_srgb8_at(hdr, display, exposure)
+}
+
+/// The same at a given exposure (None: none, as in pipelines without one) instead of metering
+/// this image: a reference shown as its cell was.
+pub fn to_srgb8_at(
+    hdr: &[f32],
+    display: &DisplayTransform,
+    exposure: Option<ExposureRecord>,
+) -> (Vec<u8>, DisplayRecord) {
     let k = exposure.map_or(1.0, |e| e.exposure);
     let clean = |v: f32| {
         let v = v as f64 * k;

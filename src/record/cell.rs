@@ -22,7 +22,7 @@ use crate::plan::lights::ObjectLights;
 /// 4: anti-aliasing (asked, rendered samples and why they differ) and shadow-map resolutions;
 /// 5: the subject's peak luminance, overflow counted before the half-float store saturates it, and
 /// whether the subject wore its textured preset, and its emission.
-pub const CELL_SCHEMA: u32 = 6;
+pub const CELL_SCHEMA: u32 = 7;
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct CellRecord {
@@ -69,9 +69,25 @@ pub struct CellRecord {
     /// Each LOD group's relative screen height and the levels drawn, with their cross-fade.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub lod: Vec<crate::render::renderer::LodUse>,
+    /// What the cell's path-traced truth reached, when the matrix compares with one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub truth: Option<TruthRecord>,
     pub stats: PixelStats,
     pub timing: CellTiming,
     pub metrics: CellMetrics,
+}
+
+/// A cell's truth as rendered: samples drawn, the subject's relative standard error (missing when
+/// the frame shows no subject), and the GPU wall time it took.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct TruthRecord {
+    pub kind: String,
+    pub spp: u32,
+    pub subject_noise: Maybe<f64>,
+    pub bounces: u32,
+    pub seconds: f64,
+    /// The per-pixel standard error of the truth's luminance (EXR, grey).
+    pub noise_map: String,
 }
 
 impl CellRecord {
@@ -219,6 +235,10 @@ pub enum ReferenceRecord {
     Supersampled { factor: u32 },
     /// The cell of the same id in an earlier run.
     Run { run: String, cell: CellId },
+    /// The cell's path-traced truth (reference.exr/png in the cell, its standard error in
+    /// truth_noise.exr): which truth, and the most samples, noise target and bounces it was asked for
+    /// (what it reached: the record's `truth`).
+    Truth { truth: String, spp: u32, noise: f64, bounces: u32 },
 }
 
 impl ReferenceRecord {
@@ -228,6 +248,7 @@ impl ReferenceRecord {
             ReferenceRecord::Cell { cell } => cell.0.clone(),
             ReferenceRecord::Supersampled { factor } => format!("supersampled {factor}×"),
             ReferenceRecord::Run { run, .. } => format!("run {run}"),
+            ReferenceRecord::Truth { truth, .. } => format!("truth ({truth})"),
         }
     }
 }

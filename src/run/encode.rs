@@ -26,8 +26,16 @@ use crate::spec::scene::Role;
 pub struct RenderedCell<'a> {
     pub cell: &'a Cell,
     pub render: CellRender,
-    /// The same cell at k× the resolution (k, pixels), or why it could not be rendered.
-    pub supersampled: Option<Result<(u32, Vec<f32>), String>>,
+    /// The reference the render thread made for the cell, or why it could not be made.
+    pub reference: Option<Result<RenderedReference, String>>,
+}
+
+/// A reference rendered with its cell.
+pub enum RenderedReference {
+    /// The same cell at k× the resolution (k, pixels).
+    Supersampled(u32, Vec<f32>),
+    /// The cell's path-traced truth.
+    Truth(Box<crate::render::truth::Truth>),
 }
 
 /// The images of a cell in memory, as written to disk (PNG values are the RGBA8 written).
@@ -48,7 +56,7 @@ pub struct EncodedCell {
 }
 
 pub fn encode_cell(matrix: &Matrix, dir: &Path, adapter: &str, job: RenderedCell) -> Result<EncodedCell, Error> {
-    let RenderedCell { cell, render: mut r, supersampled } = job;
+    let RenderedCell { cell, render: mut r, reference } = job;
     let t0 = ThreadTimer::start();
     let shown = tonemap::to_srgb8(&r.hdr, r.width, r.height, &cell.display);
     let plan = crate::plan::FramePlan::for_scene(&matrix.compositions[cell.composition_index]);
@@ -67,11 +75,16 @@ pub fn encode_cell(matrix: &Matrix, dir: &Path, adapter: &str, job: RenderedCell
     let encode_ms = t0.elapsed_ns() as f64 / 1e6;
     write_atomic(&dir.join("image.exr"), &exr)?;
     write_atomic(&dir.join("image.png"), &png)?;
-    let reference_missing = match supersampled {
+    let mut truth = None;
+    let reference_missing = match reference {
         None => None,
         Some(Err(why)) => Some(why),
-        Some(Ok((k, big))) => {
+        Some(Ok(RenderedReference::Supersampled(k, big))) => {
             write_supersampled(dir, cell, k, &big)?;
+            None
+        }
+        Some(Ok(RenderedReference::Truth(t))) => {
+            truth = Some(write_truth(dir, cell, &t, shown_exposure(&display))?);
             None
         }
     };
@@ -103,6 +116,7 @@ pub fn encode_cell(matrix: &Matrix, dir: &Path, adapter: &str, job: RenderedCell
         },
         shadow_maps: r.shadow_maps.clone(),
         lod: r.lod.clone(),
+        truth,
     };
     let record = cell_record(matrix, cell, adapter, measured);
     Ok(EncodedCell {
@@ -127,6 +141,43 @@ fn store(hdr: &mut [f32], w: u32, h: u32, cell: &Cell, shown: (Vec<u8>, DisplayR
         shown
     }
 }
+
+/// The exposure the cell's image was shown with (HDRP's metered one), for its references.
+fn shown_exposure(d: &DisplayRecord) -> Option<crate::images::exposure::ExposureRecord> {
+    d.exposure
+}
+
+/// The truth as the cell's reference: reference.exr (its mean, the cell's units), reference.png
+/// (through the cell's own display transform, at the exposure the cell was shown with) and
+/// truth_noise.exr (the standard error of each pixel's luminance).
+fn write_truth(
+    dir: &Path,
+    cell: &Cell,
+    t: &crate::render::truth::Truth,
+    exposure: Option<crate::images::exposure::ExposureRecord>,
+) -> Result<crate::record::cell::TruthRecord, Error> {
+    let mut hdr: Vec<f32> = t.mean.iter().flat_map(|c| [c[0], c[1], c[2], 1.0]).collect();
+    let (srgb, _) = tonemap::to_srgb8_at(&hdr, &cell.display, exposure);
+    store_half_float(&mut hdr, exposure.map_or(1.0, |e| e.exposure));
+    write_atomic(&dir.join("reference.exr"), &encode::exr_bytes(cell.width, cell.height, &hdr)?)?;
+    write_atomic(&dir.join("reference.png"), &encode::png_bytes(cell.width, cell.height, &srgb)?)?;
+    let noise: Vec<f32> = t.std_error.iter().flat_map(|&e| [e, e, e, 1.0]).collect();
+    write_atomic(&dir.join(TRUTH_NOISE_MAP), &encode::exr_bytes(cell.width, cell.height, &noise)?)?;
+    Ok(crate::record::cell::TruthRecord {
+        kind: "same-brdf".into(),
+        spp: t.spp,
+        subject_noise: match t.subject_noise {
+            Some(n) => Maybe::Value(n),
+            None => Maybe::missing("no pixel shows the subject"),
+        },
+        bounces: t.bounces,
+        seconds: t.seconds,
+        noise_map: TRUTH_NOISE_MAP.into(),
+    })
+}
+
+/// The truth's per-pixel standard error, beside its reference images.
+pub const TRUTH_NOISE_MAP: &str = "truth_noise.exr";
 
 /// Box-filter the k× render down to the cell's size: reference.exr and reference.png.
 fn write_supersampled(dir: &Path, cell: &Cell, k: u32, big: &[f32]) -> Result<(), Error> {
@@ -166,6 +217,7 @@ pub fn twin_record(matrix: &Matrix, cell: &Cell, original: &CellRecord) -> CellR
         antialiasing: o.antialiasing,
         shadow_maps: o.shadow_maps,
         lod: o.lod,
+        truth: None,
     };
     CellRecord { twin_of: Some(twin_of), note: Some(note), ..cell_record(matrix, cell, &o.adapter, measured) }
 }
@@ -179,6 +231,7 @@ struct Measured {
     antialiasing: AntialiasingRecord,
     shadow_maps: Vec<crate::render::ShadowMapUse>,
     lod: Vec<crate::render::renderer::LodUse>,
+    truth: Option<crate::record::cell::TruthRecord>,
 }
 
 /// A cell's record before its metrics: its axes and inputs, and what rendering it measured.
@@ -216,6 +269,7 @@ fn cell_record(matrix: &Matrix, cell: &Cell, adapter: &str, m: Measured) -> Cell
         antialiasing: m.antialiasing,
         shadow_maps: m.shadow_maps,
         lod: m.lod,
+        truth: m.truth,
         stats: m.stats,
         timing: m.timing,
         metrics: CellMetrics::without_reference("not compared yet"),

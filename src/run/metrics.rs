@@ -52,6 +52,19 @@ pub fn reference_source(
                 record: ReferenceRecord::Supersampled { factor: *k },
             }
         }
+        Some(ReferenceSpec::Truth(t)) => {
+            let d = dir.cell_dir(&cell.id.0);
+            ReferenceSource::Files {
+                png: d.join("reference.png"),
+                exr: d.join("reference.exr"),
+                record: ReferenceRecord::Truth {
+                    truth: "same-brdf".into(),
+                    spp: t.settings.spp,
+                    noise: t.settings.noise,
+                    bounces: t.settings.bounces,
+                },
+            }
+        }
         Some(ReferenceSpec::Run(run)) => {
             let d = run.join("cells").join(&cell.id.0);
             if d.join("image.png").is_file() {

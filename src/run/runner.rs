@@ -15,7 +15,7 @@ use std::time::Instant;
 
 use super::clock::{StageClock, ThreadTimer};
 use super::describe::input_hash;
-use super::encode::{copy_images, encode_cell, twin_record, CellImages, RenderedCell};
+use super::encode::{copy_images, encode_cell, twin_record, CellImages, RenderedCell, RenderedReference};
 use super::metrics::{compare_cell, reference_source, ReferenceCache, ReferenceSource};
 use crate::cells::{expand, matches_filter, reference_cell_id, remark_twins, Cell, CellId, Expansion};
 use crate::error::Error;
@@ -388,8 +388,9 @@ impl<'a> Stream<'a> {
                 let t = Instant::now();
                 let render =
                     renderer.render(&prepared, &params, self.matrix.timing.frames, self.matrix.timing.warmup)?;
-                let supersampled = match self.matrix.reference {
+                let reference = match &self.matrix.reference {
                     Some(ReferenceSpec::Supersampled(k)) => {
+                        let k = *k;
                         let max = renderer.gpu.device.limits().max_texture_dimension_2d;
                         let (w, h) = (params.width * k, params.height * k);
                         Some(if w > max || h > max {
@@ -397,8 +398,12 @@ impl<'a> Stream<'a> {
                         } else {
                             let big =
                                 renderer.render(&prepared, &CellParams { width: w, height: h, ..params }, 1, 0)?;
-                            Ok((k, big.hdr))
+                            Ok(RenderedReference::Supersampled(k, big.hdr))
                         })
+                    }
+                    Some(ReferenceSpec::Truth(t)) => {
+                        let truth = renderer.render_truth(&prepared, &params, &t.settings)?;
+                        Some(Ok(RenderedReference::Truth(Box::new(truth))))
                     }
                     _ => None,
                 };
@@ -407,7 +412,7 @@ impl<'a> Stream<'a> {
                 StageClock::add_ms(&self.clock.readback, readback);
                 self.rendered.fetch_add(1, Ordering::Relaxed);
                 let t = Instant::now();
-                if encode_tx.send(RenderedCell { cell, render, supersampled }).is_err() {
+                if encode_tx.send(RenderedCell { cell, render, reference }).is_err() {
                     return Ok(()); // the workers stopped: an error is recorded
                 }
                 StageClock::add(&self.clock.render_blocked, t);

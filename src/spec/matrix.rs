@@ -324,6 +324,37 @@ pub enum ReferenceSpec {
     Supersampled(u32),
     /// The cell of the same id in an earlier run folder.
     Run(std::path::PathBuf),
+    /// The cell's ground truth, path traced (render::truth).
+    Truth(TruthSpec),
+}
+
+/// `reference = "truth"` or `{ truth = "same-brdf", spp = N, noise = X, bounces = B }`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TruthSpec {
+    pub settings: TruthSettings,
+}
+
+/// How a truth is rendered: where convergence stops and how deep paths go.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TruthSettings {
+    /// Most samples per pixel.
+    pub spp: u32,
+    /// The target: the subject's mean standard error over its mean radiance (0.005 = 0.5 %).
+    pub noise: f64,
+    /// Indirect bounces after the first hit.
+    pub bounces: u32,
+    /// Samples per pixel per dispatch (the convergence check runs between batches).
+    pub batch: u32,
+}
+
+impl Default for TruthSettings {
+    fn default() -> Self {
+        TruthSettings { spp: 4096, noise: 0.005, bounces: 2, batch: 16 }
+    }
+}
+
+impl TruthSpec {
+    pub const KINDS: [&'static str; 1] = ["same-brdf"];
 }
 
 pub const REFERENCE_AXES: [Axis; 10] = [
@@ -340,9 +371,14 @@ pub const REFERENCE_AXES: [Axis; 10] = [
 ];
 
 fn parse_reference(c: &Checker, value: &toml::Value, base_dir: Option<&Path>) -> Result<ReferenceSpec, InputError> {
-    let allowed = "\"supersampled\", { supersampled = N }, { run = \"DIR\" } or a table of axes to change";
+    let allowed =
+        "\"supersampled\", { supersampled = N }, { run = \"DIR\" }, \"truth\", { truth = \"same-brdf\", spp = N, noise = X, bounces = B } or a table of axes to change";
     match value {
         toml::Value::String(s) if s == "supersampled" => Ok(ReferenceSpec::Supersampled(4)),
+        toml::Value::String(s) if s == "truth" => {
+            Ok(ReferenceSpec::Truth(TruthSpec { settings: TruthSettings::default() }))
+        }
+        toml::Value::Table(t) if t.contains_key("truth") => parse_truth(c, t).map(ReferenceSpec::Truth),
         toml::Value::String(s) => Err(c.err("reference", format!("`{s}` is not a reference; allowed: {allowed}"))),
         toml::Value::Table(t) if t.contains_key("supersampled") => match (t.len(), &t["supersampled"]) {
             (1, toml::Value::Integer(n)) if (2..=8).contains(n) => Ok(ReferenceSpec::Supersampled(*n as u32)),
@@ -379,6 +415,53 @@ fn parse_reference(c: &Checker, value: &toml::Value, base_dir: Option<&Path>) ->
         }
         other => Err(c.err("reference", format!("{other} is not a reference; allowed: {allowed}"))),
     }
+}
+
+fn parse_truth(c: &Checker, t: &toml::map::Map<String, toml::Value>) -> Result<TruthSpec, InputError> {
+    let mut settings = TruthSettings::default();
+    for (key, value) in t {
+        let at = format!("reference.{key}");
+        match (key.as_str(), value) {
+            ("truth", toml::Value::String(kind)) if TruthSpec::KINDS.contains(&kind.as_str()) => {}
+            ("truth", toml::Value::String(kind)) if kind == "physical" => {
+                return Err(c.err(&at, "the physical truth is not built yet; allowed: \"same-brdf\""))
+            }
+            ("truth", other) => {
+                return Err(crate::input::names::unknown_name(
+                    c.file(),
+                    &at,
+                    "truth",
+                    &other.to_string().trim_matches('"').to_string(),
+                    &TruthSpec::KINDS,
+                ))
+            }
+            ("spp", toml::Value::Integer(n)) if (1..=1 << 20).contains(n) => settings.spp = *n as u32,
+            ("spp", other) => return Err(c.err(&at, format!("{other}: samples per pixel, an integer in 1..=1048576"))),
+            ("noise", v)
+                if v.as_float().or(v.as_integer().map(|i| i as f64)).is_some_and(|x| (0.0..1.0).contains(&x)) =>
+            {
+                settings.noise = v.as_float().or(v.as_integer().map(|i| i as f64)).unwrap_or(settings.noise)
+            }
+            ("noise", other) => {
+                return Err(c.err(
+                    &at,
+                    format!("{other}: the target relative standard error, a number in [0, 1) (0.005 = 0.5 %)"),
+                ))
+            }
+            ("bounces", toml::Value::Integer(n)) if (0..=16).contains(n) => settings.bounces = *n as u32,
+            ("bounces", other) => return Err(c.err(&at, format!("{other}: indirect bounces, an integer in 0..=16"))),
+            (other, _) => {
+                return Err(crate::input::names::unknown_name(
+                    c.file(),
+                    &at,
+                    "truth key",
+                    other,
+                    &["truth", "spp", "noise", "bounces"],
+                ))
+            }
+        }
+    }
+    Ok(TruthSpec { settings })
 }
 
 impl Matrix {

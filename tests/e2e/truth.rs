@@ -148,3 +148,40 @@ fn doubling_the_samples_lowers_the_standard_error_by_root_two() {
     eprintln!("noise: mean per-pixel SE {a:.4e} at 32 spp, {b:.4e} at 64 spp, ratio {:.3}", a / b);
     assert!((1.25..=1.6).contains(&(a / b)), "ratio {} (√2 = 1.414)", a / b);
 }
+
+/// A run against the truth: each cell's folder holds the truth as its reference (EXR, PNG and
+/// noise map), its record says what the truth reached, and the metrics compare against it.
+#[test]
+fn a_run_compares_each_cell_with_its_truth() {
+    let tmp = tempfile::tempdir().unwrap();
+    let furnace = crate::common::repo().join("scenes/invariants/furnace.toml");
+    let body = format!(
+        "name = \"t\"\ncompositions = [\"{}\"]\npipelines = [\"urp\", \"hdrp\"]\nshaders = [\"lambert\"]\npresets = [\"plastic\"]\nreference = {{ truth = \"same-brdf\", spp = 32, noise = 0.01, bounces = 1 }}\n[image]\nwidth = 32\nheight = 32\n",
+        furnace.display()
+    );
+    let m = crate::common::write_matrix(tmp.path(), "m.toml", &body);
+    let out = tmp.path().join("run");
+    let (code, _, err) =
+        crate::common::shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", out.to_str().unwrap()], &[]);
+    assert_eq!(code, 0, "{err}");
+    let cells: Vec<_> = std::fs::read_dir(out.join("cells")).unwrap().map(|e| e.unwrap().path()).collect();
+    assert_eq!(cells.len(), 2);
+    for dir in cells {
+        for f in ["reference.exr", "reference.png", "truth_noise.exr"] {
+            assert!(dir.join(f).is_file(), "{} lacks {f}", dir.display());
+        }
+        let record = shadematrix::record::cell::CellRecord::load(&dir.join("cell.json")).unwrap();
+        let truth = record.truth.as_ref().expect("the record says what the truth reached");
+        assert!(truth.spp >= 16 && truth.spp <= 32, "{}", truth.spp);
+        assert_eq!(truth.bounces, 1);
+        match record.metrics.reference.value() {
+            Some(shadematrix::record::cell::ReferenceRecord::Truth { truth, spp, .. }) => {
+                assert_eq!((truth.as_str(), *spp), ("same-brdf", 32));
+            }
+            other => panic!("reference {other:?}"),
+        }
+        let flip = record.metrics.ldr_flip().expect("FLIP against the truth");
+        // A furnace: the Lambert cell is the environment's radiance, as the truth is.
+        assert!(flip < 0.05, "{}: FLIP {flip}", record.id);
+    }
+}

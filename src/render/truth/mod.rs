@@ -27,24 +27,7 @@ use crate::gpu::GpuContext;
 /// Width of the environment table the truth samples (height is half).
 pub const ENV_WIDTH: usize = 1024;
 
-/// How a truth is rendered: where convergence stops and how deep paths go.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct TruthSettings {
-    /// Most samples per pixel.
-    pub spp: u32,
-    /// The target: the subject's mean standard error over its mean radiance (0.005 = 0.5 %).
-    pub noise: f64,
-    /// Indirect bounces after the first hit.
-    pub bounces: u32,
-    /// Samples per pixel per dispatch (the convergence check runs between batches).
-    pub batch: u32,
-}
-
-impl Default for TruthSettings {
-    fn default() -> Self {
-        TruthSettings { spp: 4096, noise: 0.005, bounces: 2, batch: 16 }
-    }
-}
+pub use crate::spec::matrix::TruthSettings;
 
 /// A rendered truth: the mean radiance per pixel in the cell's linear units, the standard error
 /// of that mean per pixel (of its luminance), and what convergence reached.
@@ -57,6 +40,7 @@ pub struct Truth {
     /// The role of the first surface per pixel (0 none).
     pub roles: Vec<u8>,
     pub spp: u32,
+    pub bounces: u32,
     /// The subject's mean standard error over its mean luminance (None: no subject pixel).
     pub subject_noise: Option<f64>,
     pub seconds: f64,
@@ -293,6 +277,7 @@ pub fn trace(
     }
     gpu.check_errors("tracing the truth")?;
     result.seconds = start.elapsed().as_secs_f64();
+    result.bounces = settings.bounces;
     Ok(result)
 }
 
@@ -331,6 +316,7 @@ fn summarise(accum: &[[f32; 4]], roles: &[u32], inputs: &TruthInputs, spp: u32) 
         std_error,
         roles: roles[..pixels].iter().map(|&r| r as u8).collect(),
         spp,
+        bounces: 0,
         subject_noise,
         seconds: 0.0,
     }
