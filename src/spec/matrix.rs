@@ -431,7 +431,7 @@ fn parse_truth(c: &Checker, t: &toml::map::Map<String, toml::Value>) -> Result<T
                     c.file(),
                     &at,
                     "truth",
-                    &other.to_string().trim_matches('"').to_string(),
+                    other.to_string().trim_matches('"'),
                     &TruthSpec::KINDS,
                 ))
             }
