@@ -4,5 +4,6 @@ pub mod flip;
 pub mod images;
 pub mod ssim;
 pub mod stats;
+pub mod ztest;
 
 pub use images::{compare, Comparison, LoadedImage};

@@ -278,11 +278,14 @@ pub struct CellMetrics {
     pub hdr: Option<Maybe<HdrComparison>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub maps: Option<MetricMaps>,
+    /// Against a truth: which pixels differ from it by more than its own noise explains.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ztest: Option<Maybe<crate::compare::ztest::ZTest>>,
 }
 
 impl CellMetrics {
     pub fn without_reference(why: impl Into<String>) -> CellMetrics {
-        CellMetrics { reference: Maybe::missing(why), ldr: None, hdr: None, maps: None }
+        CellMetrics { reference: Maybe::missing(why), ldr: None, hdr: None, maps: None, ztest: None }
     }
 
     pub fn ldr_flip(&self) -> Option<f64> {

@@ -148,9 +148,10 @@ pub fn compare_cell(
             write_atomic(&cell_dir.join(name), &png_bytes(c.width, c.height, px)?)?;
         }
     }
+    let hdr_test = hdr;
     let hdr = match &reference.hdr {
         Some(r) => {
-            let h = compare(r, &hdr, &cell.id.0)?;
+            let h = compare(r, &hdr_test, &cell.id.0)?;
             Maybe::Value(HdrComparison {
                 flip: h.flip,
                 rmse: h.rmse,
@@ -160,10 +161,24 @@ pub fn compare_cell(
         }
         None => Maybe::missing("the reference has no EXR"),
     };
+    let ztest = match (&record, &reference.hdr, &hdr_test) {
+        (ReferenceRecord::Truth { .. }, Some(LoadedImage::Hdr { rgba: truth, .. }), LoadedImage::Hdr { rgba, .. }) => {
+            let noise = cell_dir.join(crate::run::encode::TRUTH_NOISE_MAP);
+            Some(match LoadedImage::load(&noise)? {
+                LoadedImage::Hdr { rgba: se, .. } if se.len() == rgba.len() && truth.len() == rgba.len() => {
+                    Maybe::Value(crate::compare::ztest::ztest(rgba, truth, &se, 0.01))
+                }
+                _ => Maybe::missing(format!("{} does not match the image's size", noise.display())),
+            })
+        }
+        (ReferenceRecord::Truth { .. }, _, _) => Some(Maybe::missing("the truth or the cell has no EXR")),
+        _ => None,
+    };
     Ok(CellMetrics {
         reference: Maybe::Value(record),
         ldr: Some(c),
         hdr: Some(hdr),
         maps: Some(MetricMaps { flip: "flip.png".into(), ssim: "ssim.png".into() }),
+        ztest,
     })
 }

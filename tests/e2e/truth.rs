@@ -180,6 +180,9 @@ fn a_run_compares_each_cell_with_its_truth() {
             }
             other => panic!("reference {other:?}"),
         }
+        let z = record.metrics.ztest.as_ref().and_then(|z| z.value()).expect("a Z-test against the truth's noise");
+        assert!((z.z_critical - 2.5758).abs() < 1e-3 && (0.0..=1.0).contains(&z.rejected), "{z:?}");
+        eprintln!("{}: Z-test rejects {:.3} of pixels (mean |z| {:.2})", record.id, z.rejected, z.mean_abs_z);
         let flip = record.metrics.ldr_flip().expect("FLIP against the truth");
         // A furnace: the Lambert cell is the environment's radiance, as the truth is.
         assert!(flip < 0.05, "{}: FLIP {flip}", record.id);
