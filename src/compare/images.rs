@@ -9,6 +9,7 @@ use super::stats::{bad_values, psnr, rmse, BadValues};
 use super::{flip, ssim};
 use crate::error::{Error, InputError};
 
+#[derive(Clone)]
 pub enum LoadedImage {
     /// sRGB RGBA8.
     Ldr { width: u32, height: u32, rgba8: Vec<u8> },

@@ -260,6 +260,12 @@ pub struct HdrComparison {
     pub rmse: f64,
     pub reference_bad: BadValues,
     pub test_bad: BadValues,
+    /// Against a cell of another pipeline, whose EXR holds other units (HDRP's physical light
+    /// against built-in's and URP's unitless intensities): the exposures (cell, reference) each
+    /// image was multiplied by first, each its own display exposure (1 without one), so that both
+    /// are compared as they are shown before tonemapping. None: compared as stored.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub exposed: Option<(f64, f64)>,
 }
 
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]

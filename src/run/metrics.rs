@@ -127,6 +127,19 @@ impl ReferenceCache {
     }
 }
 
+/// An EXR times the exposure its cell shows it with (metered from the image itself, as the
+/// display transform does; 1 in pipelines without exposure), and that exposure.
+fn exposed(image: &LoadedImage, cell: &Cell) -> (LoadedImage, f64) {
+    let LoadedImage::Hdr { width, height, rgba } = image else { return (image.clone(), 1.0) };
+    let k = cell
+        .display
+        .exposure
+        .as_ref()
+        .map_or(1.0, |s| crate::images::exposure::meter(rgba, *width, *height, s).exposure);
+    let scaled = rgba.chunks_exact(4).flat_map(|p| [p[0] * k as f32, p[1] * k as f32, p[2] * k as f32, p[3]]).collect();
+    (LoadedImage::Hdr { width: *width, height: *height, rgba: scaled }, k)
+}
+
 /// Compare a cell's images with its reference's; writes flip.png and ssim.png into `cell_dir`.
 pub fn compare_cell(
     cell: &Cell,
@@ -134,6 +147,7 @@ pub fn compare_cell(
     images: Option<CellImages>,
     reference: &ReferenceImages,
     record: ReferenceRecord,
+    reference_cell: Option<&Cell>,
 ) -> Result<CellMetrics, Error> {
     let (ldr, hdr) = match images {
         Some(i) => (
@@ -151,12 +165,20 @@ pub fn compare_cell(
     let hdr_test = hdr;
     let hdr = match &reference.hdr {
         Some(r) => {
-            let h = compare(r, &hdr_test, &cell.id.0)?;
+            let (h, exposed) = match reference_cell.filter(|rc| rc.pipeline != cell.pipeline) {
+                Some(rc) => {
+                    let (t, kt) = exposed(&hdr_test, cell);
+                    let (r, kr) = exposed(r, rc);
+                    (compare(&r, &t, &cell.id.0)?, Some((kt, kr)))
+                }
+                None => (compare(r, &hdr_test, &cell.id.0)?, None),
+            };
             Maybe::Value(HdrComparison {
                 flip: h.flip,
                 rmse: h.rmse,
                 reference_bad: h.reference_bad,
                 test_bad: h.test_bad,
+                exposed,
             })
         }
         None => Maybe::missing("the reference has no EXR"),

@@ -547,7 +547,11 @@ impl<'a> Stream<'a> {
             }
         };
         let reference = self.references.get(&png, &exr)?;
-        let metrics = compare_cell(cell, &cdir, job.images.take(), &reference, what)?;
+        let reference_cell = match &what {
+            ReferenceRecord::Cell { cell: id } => self.exp.cells.iter().find(|c| &c.id == id),
+            _ => None,
+        };
+        let metrics = compare_cell(cell, &cdir, job.images.take(), &reference, what, reference_cell)?;
         self.finish(job, metrics, Some(t))
     }
 

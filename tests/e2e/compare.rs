@@ -94,3 +94,25 @@ fn diff_command_prints_json_and_writes_maps() {
     assert_eq!(rc, 2);
     assert!(stderr.contains("nope.png") && stderr.contains("not found"), "{stderr}");
 }
+
+/// Across pipelines, HDR metrics compare images as they are shown before tonemapping (each EXR
+/// times its own display exposure), never raw EXRs of different units.
+#[test]
+fn hdr_metrics_across_pipelines_compare_exposed_images() {
+    let tmp = tempfile::tempdir().unwrap();
+    let body = "name = \"x\"\ncompositions = [\"mitsuba\"]\npipelines = [\"urp\", \"hdrp\"]\nshaders = [\"lit\"]\npresets = [\"plastic\"]\nreference = { pipeline = \"hdrp\" }\n[image]\nwidth = 48\nheight = 48\n";
+    let m = crate::common::write_matrix(tmp.path(), "m.toml", body);
+    let out = tmp.path().join("run");
+    let (code, _, err) =
+        crate::common::shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", out.to_str().unwrap()], &[]);
+    assert_eq!(code, 0, "{err}");
+    let id = "mitsuba__urp-forward__lit__plastic__m0.00_s0.75_i1.5_r12";
+    let record = shadematrix::record::cell::CellRecord::load(&out.join("cells").join(id).join("cell.json")).unwrap();
+    let hdr = record.metrics.hdr.as_ref().and_then(|h| h.value()).expect("HDR metrics");
+    let (kt, kr) = hdr.exposed.expect("exposed before comparing: URP's units are not HDRP's");
+    assert_eq!(kt, 1.0, "URP shows its EXR as it is");
+    assert!(kr < 1e-2, "HDRP's metered exposure brings its ×10000 light down: {kr}");
+    let flip = hdr.flip.value.mean().unwrap();
+    eprintln!("URP vs HDRP Lit, mitsuba: HDR-FLIP {flip:.3} exposed (cell ×{kt}, reference ×{kr:.3e})");
+    assert!(flip < 0.9, "HDR-FLIP {flip} of exposed images");
+}
