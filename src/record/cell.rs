@@ -85,7 +85,11 @@ pub struct TruthRecord {
     pub spp: u32,
     pub subject_noise: Maybe<f64>,
     pub bounces: u32,
+    /// The GPU wall time of tracing it (when it was traced for an earlier cell or run, that time).
     pub seconds: f64,
+    /// Reused from the truth cache (`<results>/.truth-cache`) instead of traced again.
+    #[serde(default)]
+    pub cached: bool,
     /// The per-pixel standard error of the truth's luminance (EXR, grey).
     pub noise_map: String,
 }

@@ -172,6 +172,7 @@ fn write_truth(
         },
         bounces: t.bounces,
         seconds: t.seconds,
+        cached: t.cached,
         noise_map: TRUTH_NOISE_MAP.into(),
     })
 }

@@ -220,6 +220,8 @@ struct Stream<'a> {
     first_error: Mutex<Option<Error>>,
     rendered: AtomicUsize,
     resumed: AtomicUsize,
+    /// Truths kept across cells and runs (beside the run folders), when the matrix compares with one.
+    truth_cache: Option<super::truth_cache::TruthCache>,
 }
 
 impl<'a> Stream<'a> {
@@ -231,7 +233,10 @@ impl<'a> Stream<'a> {
         clock: &'a StageClock,
         bar: &'a indicatif::ProgressBar,
     ) -> Stream<'a> {
+        let truth_cache = matches!(matrix.reference, Some(ReferenceSpec::Truth(_)))
+            .then(|| super::truth_cache::TruthCache::new(super::truth_cache::default_dir(&dir.root)));
         Stream {
+            truth_cache,
             matrix,
             exp,
             dir,
@@ -402,7 +407,18 @@ impl<'a> Stream<'a> {
                         })
                     }
                     Some(ReferenceSpec::Truth(t)) => {
-                        let truth = renderer.render_truth(&prepared, &params, &t.settings)?;
+                        let key = super::truth_cache::TruthCache::key(self.matrix, cell, &t.settings, &self.adapter);
+                        let cached = self.truth_cache.as_ref().and_then(|c| c.load(&key));
+                        let truth = match cached {
+                            Some(truth) => truth,
+                            None => {
+                                let truth = renderer.render_truth(&prepared, &params, &t.settings)?;
+                                if let Some(c) = &self.truth_cache {
+                                    c.store(&key, &truth, &self.adapter)?;
+                                }
+                                truth
+                            }
+                        };
                         Some(Ok(RenderedReference::Truth(Box::new(truth))))
                     }
                     _ => None,

@@ -186,5 +186,21 @@ fn a_run_compares_each_cell_with_its_truth() {
         let flip = record.metrics.ldr_flip().expect("FLIP against the truth");
         // A furnace: the Lambert cell is the environment's radiance, as the truth is.
         assert!(flip < 0.05, "{}: FLIP {flip}", record.id);
+        assert!(!truth.cached, "the first run traces");
+    }
+    // A second run beside the first reuses each truth from the cache: same bytes, marked cached.
+    let again = tmp.path().join("again");
+    let (code, _, err) =
+        crate::common::shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", again.to_str().unwrap()], &[]);
+    assert_eq!(code, 0, "{err}");
+    assert!(tmp.path().join(".truth-cache").is_dir(), "the cache sits beside the run folders");
+    for entry in std::fs::read_dir(again.join("cells")).unwrap() {
+        let dir = entry.unwrap().path();
+        let record = shadematrix::record::cell::CellRecord::load(&dir.join("cell.json")).unwrap();
+        assert!(record.truth.as_ref().unwrap().cached, "{} traced again", record.id);
+        let first = out.join("cells").join(dir.file_name().unwrap());
+        for f in ["reference.exr", "truth_noise.exr"] {
+            assert_eq!(std::fs::read(first.join(f)).unwrap(), std::fs::read(dir.join(f)).unwrap(), "{f}");
+        }
     }
 }

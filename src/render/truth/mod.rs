@@ -44,6 +44,8 @@ pub struct Truth {
     /// The subject's mean standard error over its mean luminance (None: no subject pixel).
     pub subject_noise: Option<f64>,
     pub seconds: f64,
+    /// Reused from the truth cache rather than traced for this cell.
+    pub cached: bool,
 }
 
 #[repr(C)]
@@ -319,5 +321,6 @@ fn summarise(accum: &[[f32; 4]], roles: &[u32], inputs: &TruthInputs, spp: u32) 
         bounces: 0,
         subject_noise,
         seconds: 0.0,
+        cached: false,
     }
 }

@@ -1,0 +1,149 @@
+//! Truths kept across cells and runs: a truth is keyed by everything it depends on — the cell
+//! (its axes and material), the composition (scene file contents as parsed, the size and time of
+//! each mesh file), the truth's settings, the composed tracer source (both models included), the
+//! tool version and the adapter — and stored in a folder per key: truth.exr (mean RGB, standard
+//! error in A), roles.png (the first surface's role in R) and truth.json (what it reached).
+//! A folder appears whole or not at all (written beside, then renamed).
+
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+use sha2::{Digest, Sha256};
+
+use crate::cells::Cell;
+use crate::error::Error;
+use crate::images::encode;
+use crate::render::truth::{Truth, TruthSettings};
+use crate::spec::matrix::Matrix;
+
+pub const TRUTH_CACHE_SCHEMA: u32 = 1;
+
+/// The default cache: beside the run folders (results/.truth-cache for results/<run>).
+pub fn default_dir(run_dir: &Path) -> PathBuf {
+    run_dir.parent().unwrap_or(Path::new(".")).join(".truth-cache")
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct TruthCacheRecord {
+    pub schema: u32,
+    pub key: String,
+    pub width: u32,
+    pub height: u32,
+    pub spp: u32,
+    pub bounces: u32,
+    pub subject_noise: Option<f64>,
+    pub seconds: f64,
+    pub adapter: String,
+}
+
+pub struct TruthCache {
+    dir: PathBuf,
+}
+
+impl TruthCache {
+    pub fn new(dir: PathBuf) -> TruthCache {
+        TruthCache { dir }
+    }
+
+    /// The key of `cell`'s truth with `settings` on `adapter`.
+    pub fn key(matrix: &Matrix, cell: &Cell, settings: &TruthSettings, adapter: &str) -> String {
+        let scene = &matrix.compositions[cell.composition_index];
+        let fixed = crate::shading::registry::Registry::builtin()
+            .find(cell.pipeline, cell.pipeline.fixed_object_shader())
+            .cloned();
+        let source = fixed.map(|f| crate::shading::wgsl::compose_truth(cell.model(), &f)).unwrap_or_default();
+        let files: Vec<(String, u64, u128)> = scene
+            .objects
+            .iter()
+            .filter_map(|o| match &o.mesh {
+                crate::spec::scene::MeshSpec::Gltf { path } => {
+                    let p = scene.base_dir.as_ref().map_or_else(|| PathBuf::from(path), |b| b.join(path));
+                    let meta = std::fs::metadata(&p).ok()?;
+                    let modified = meta.modified().ok()?.duration_since(std::time::UNIX_EPOCH).ok()?.as_nanos();
+                    Some((p.display().to_string(), meta.len(), modified))
+                }
+                _ => None,
+            })
+            .collect();
+        let text = serde_json::json!({
+            "schema": TRUTH_CACHE_SCHEMA,
+            "version": env!("CARGO_PKG_VERSION"),
+            "cell": cell,
+            "scene": scene,
+            "mesh_files": files,
+            "settings": format!("{settings:?}"),
+            "adapter": adapter,
+            "source": source,
+        });
+        hex(&Sha256::digest(text.to_string().as_bytes()))
+    }
+
+    /// The truth stored under `key`, if a whole one is.
+    pub fn load(&self, key: &str) -> Option<Truth> {
+        let dir = self.dir.join(key);
+        let record: TruthCacheRecord = serde_json::from_slice(&std::fs::read(dir.join("truth.json")).ok()?).ok()?;
+        if record.schema != TRUTH_CACHE_SCHEMA || record.key != key {
+            return None;
+        }
+        let (w, h, px) = encode::read_exr(&dir.join("truth.exr")).ok()?;
+        let roles = image::open(dir.join("roles.png")).ok()?.to_rgba8();
+        if (w, h) != (record.width, record.height) || roles.dimensions() != (w, h) {
+            return None;
+        }
+        Some(Truth {
+            width: w,
+            height: h,
+            mean: px.chunks_exact(4).map(|p| [p[0], p[1], p[2]]).collect(),
+            std_error: px.chunks_exact(4).map(|p| p[3]).collect(),
+            roles: roles.pixels().map(|p| p[0]).collect(),
+            spp: record.spp,
+            bounces: record.bounces,
+            subject_noise: record.subject_noise,
+            seconds: record.seconds,
+            cached: true,
+        })
+    }
+
+    /// Keep `truth` under `key`: written into a temporary folder, then renamed into place.
+    pub fn store(&self, key: &str, truth: &Truth, adapter: &str) -> Result<(), Error> {
+        let final_dir = self.dir.join(key);
+        if final_dir.join("truth.json").is_file() {
+            return Ok(());
+        }
+        let tmp = self.dir.join(format!(".{key}.tmp{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&tmp);
+        std::fs::create_dir_all(&tmp).map_err(|e| Error::io_path("creating folder", &tmp, e))?;
+        let px: Vec<f32> =
+            truth.mean.iter().zip(&truth.std_error).flat_map(|(m, &se)| [m[0], m[1], m[2], se]).collect();
+        std::fs::write(tmp.join("truth.exr"), encode::exr_bytes(truth.width, truth.height, &px)?)
+            .map_err(|e| Error::io_path("writing", &tmp.join("truth.exr"), e))?;
+        let roles: Vec<u8> = truth.roles.iter().flat_map(|&r| [r, 0, 0, 255]).collect();
+        std::fs::write(tmp.join("roles.png"), encode::png_bytes(truth.width, truth.height, &roles)?)
+            .map_err(|e| Error::io_path("writing", &tmp.join("roles.png"), e))?;
+        let record = TruthCacheRecord {
+            schema: TRUTH_CACHE_SCHEMA,
+            key: key.to_string(),
+            width: truth.width,
+            height: truth.height,
+            spp: truth.spp,
+            bounces: truth.bounces,
+            subject_noise: truth.subject_noise,
+            seconds: truth.seconds,
+            adapter: adapter.to_string(),
+        };
+        crate::fsutil::write_json(&tmp.join("truth.json"), &record)?;
+        match std::fs::rename(&tmp, &final_dir) {
+            Ok(()) => Ok(()),
+            // Another worker or run stored the same key first: theirs is as good.
+            Err(_) if final_dir.join("truth.json").is_file() => {
+                let _ = std::fs::remove_dir_all(&tmp);
+                Ok(())
+            }
+            Err(e) => Err(Error::io_path("renaming into place", &final_dir, e)),
+        }
+    }
+}
+
+fn hex(bytes: &[u8]) -> String {
+    bytes.iter().map(|b| format!("{b:02x}")).collect()
+}
