@@ -1,5 +1,5 @@
 // Ground truth (render::truth): a path tracer over the cell's own scene, lights and materials, for
-// the `same-brdf` reference. Composed after math, conventions, BRDF terms, scene.wgsl (group 0 is
+// the `same-brdf` and `physical` references. Composed after math, conventions, BRDF terms, scene.wgsl (group 0 is
 // the cell's frame group: lights, subject material, maps), the subject's model and the fixed
 // objects' model renamed with the prefix `fixed_`.
 //
@@ -54,6 +54,10 @@ struct TruthObject {
 @group(1) @binding(8) var<storage, read_write> first_roles: array<u32>;
 
 const TRUTH_STACK: u32 = 48u;
+
+// 0: `same-brdf` (each surface's own model, the pipeline's falloff); 1: `physical` (one physical
+// model for every surface, inverse-square falloff; truth_physical.wgsl)
+override TRUTH_KIND: u32 = 0u;
 const RAY_EPSILON: f32 = 1e-4;
 
 // ---- Random numbers: PCG (O'Neill 2014) hashed from pixel, sample and dimension.
@@ -282,10 +286,14 @@ fn surface_at(hit: Hit, d: vec3<f32>) -> SurfacePoint {
     return sp;
 }
 
-// The model's cosine-weighted BRDF f·NL at a point: the subject's model or the fixed objects'
+// The cosine-weighted BRDF f·NL at a point: the subject's model or the fixed objects' (their
+// model_direct without the pipeline's irradiance per intensity), or the physical model
 fn response(sp: SurfacePoint, v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
     if (dot(sp.ng, l) <= 0.0) {
         return vec3<f32>(0.0);
+    }
+    if (TRUTH_KIND == 1u) {
+        return physical_response(sp.s, sp.n, v, l);
     }
     var c: vec3<f32>;
     if (objects[sp.object].flags.x == 1u) {
@@ -294,6 +302,20 @@ fn response(sp: SurfacePoint, v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
         c = fixed_model_direct(sp.s, sp.n, v, l);
     }
     return max(c, vec3<f32>(0.0)) / irradiance_per_intensity();
+}
+
+// Physical falloff: inverse square (HDRP's 1 cm floor), no range window; spots keep their cone
+fn physical_attenuation(light: Light, p: vec3<f32>, l: vec3<f32>) -> f32 {
+    let kind = u32(light.position.w);
+    if (kind == 0u) {
+        return 1.0;
+    }
+    let to_light = light.position.xyz - p;
+    var atten = 1.0 / max(dot(to_light, to_light), 1e-4);
+    if (kind == 2u) {
+        atten *= angle_attenuation(dot(normalize(light.direction.xyz), -l), light.params.y, light.params.z);
+    }
+    return atten;
 }
 
 // ---- Sampling the surface: cosine, or GGX visible normals (Heitz 2018) for the specular lobe.
@@ -384,7 +406,10 @@ fn direct_light(sp: SurfacePoint, v: vec3<f32>) -> vec3<f32> {
     let origin = sp.p + sp.ng * RAY_EPSILON;
     for (var i = 0u; i < frame.counts.x; i++) {
         let light = lights[i];
-        let inc = light_incidence(light, sp.p);
+        var inc = light_incidence(light, sp.p);
+        if (TRUTH_KIND == 1u) {
+            inc.w = physical_attenuation(light, sp.p, inc.xyz);
+        }
         if (inc.w <= 0.0) {
             continue;
         }

@@ -250,7 +250,7 @@ pub struct Renderer {
     /// The depth-normal prepass pipelines, by (pipeline, textured subject).
     depth_normals: HashMap<(Pipeline, bool), wgpu::RenderPipeline>,
     /// The truth's tracers, by (pipeline, subject model, fixed model).
-    truth_pipelines: HashMap<(Pipeline, String, String), super::truth::TruthPipeline>,
+    truth_pipelines: HashMap<(Pipeline, String, String, super::truth::TruthKind), super::truth::TruthPipeline>,
 }
 
 impl Renderer {
@@ -1568,8 +1568,8 @@ impl Renderer {
         }
     }
 
-    /// The `same-brdf` ground truth of a cell (render::truth): its scene, lights and materials path
-    /// traced with the models the cell draws them with. The meshes are the cell's drawn ones; in a
+    /// The ground truth of a cell (render::truth): its scene, lights and materials path traced
+    /// with the models the cell draws them with (`same-brdf`) or the physical model (`physical`). The meshes are the cell's drawn ones; in a
     /// LOD cross-fade band, the outgoing level alone (the one the shadow pass draws whole).
     pub fn render_truth(
         &mut self,
@@ -1581,11 +1581,11 @@ impl Renderer {
             self.fixed_models.find(cell.pipeline, cell.pipeline.fixed_object_shader()).cloned().ok_or_else(|| {
                 Error::Other(format!("pipeline {} lacks its fixed-object shader", cell.pipeline.name()))
             })?;
-        let key = (cell.pipeline, cell.model.name.to_string(), fixed_model.name.to_string());
+        let key = (cell.pipeline, cell.model.name.to_string(), fixed_model.name.to_string(), settings.kind);
         if !self.truth_pipelines.contains_key(&key) {
             let source = wgsl::compose_truth(cell.model, &fixed_model);
-            let p =
-                super::truth::TruthPipeline::new(&self.gpu, &self.frame_layout, &source, cell.pipeline.shader_id())?;
+            let id = cell.pipeline.shader_id();
+            let p = super::truth::TruthPipeline::new(&self.gpu, &self.frame_layout, &source, id, settings.kind)?;
             self.truth_pipelines.insert(key.clone(), p);
         }
         let written = self.write_uniforms(prepared, cell, &fixed_model);

@@ -164,7 +164,7 @@ fn write_truth(
     let noise: Vec<f32> = t.std_error.iter().flat_map(|&e| [e, e, e, 1.0]).collect();
     write_atomic(&dir.join(TRUTH_NOISE_MAP), &encode::exr_bytes(cell.width, cell.height, &noise)?)?;
     Ok(crate::record::cell::TruthRecord {
-        kind: "same-brdf".into(),
+        kind: t.kind.name().into(),
         spp: t.spp,
         subject_noise: match t.subject_noise {
             Some(n) => Maybe::Value(n),

@@ -58,7 +58,7 @@ pub fn reference_source(
                 png: d.join("reference.png"),
                 exr: d.join("reference.exr"),
                 record: ReferenceRecord::Truth {
-                    truth: "same-brdf".into(),
+                    truth: t.settings.kind.name().into(),
                     spp: t.settings.spp,
                     noise: t.settings.noise,
                     bounces: t.settings.bounces,

@@ -408,7 +408,7 @@ impl<'a> Stream<'a> {
                     }
                     Some(ReferenceSpec::Truth(t)) => {
                         let key = super::truth_cache::TruthCache::key(self.matrix, cell, &t.settings, &self.adapter);
-                        let cached = self.truth_cache.as_ref().and_then(|c| c.load(&key));
+                        let cached = self.truth_cache.as_ref().and_then(|c| c.load(&key, t.settings.kind));
                         let truth = match cached {
                             Some(truth) => truth,
                             None => {

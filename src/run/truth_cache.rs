@@ -78,8 +78,8 @@ impl TruthCache {
         hex(&Sha256::digest(text.to_string().as_bytes()))
     }
 
-    /// The truth stored under `key`, if a whole one is.
-    pub fn load(&self, key: &str) -> Option<Truth> {
+    /// The truth stored under `key`, if a whole one is (`kind`: which truth the key was made for).
+    pub fn load(&self, key: &str, kind: crate::render::truth::TruthKind) -> Option<Truth> {
         let dir = self.dir.join(key);
         let record: TruthCacheRecord = serde_json::from_slice(&std::fs::read(dir.join("truth.json")).ok()?).ok()?;
         if record.schema != TRUTH_CACHE_SCHEMA || record.key != key {
@@ -91,6 +91,7 @@ impl TruthCache {
             return None;
         }
         Some(Truth {
+            kind,
             width: w,
             height: h,
             mean: px.chunks_exact(4).map(|p| [p[0], p[1], p[2]]).collect(),

@@ -22,12 +22,15 @@ pub enum PassKind {
 }
 
 const TRUTH: &str = include_str!("../../shaders/pass/truth.wgsl");
+/// The physical truth's model alone (it reads `fgd_lookup`, which the including module defines).
+pub const TRUTH_PHYSICAL: &str = include_str!("../../shaders/pass/truth_physical.wgsl");
 
-/// The path tracer of the `same-brdf` truth (render::truth): the scene pass's shared files, the
-/// subject's model as it is, the fixed objects' model with every name it declares prefixed
-/// `fixed_` (both define `model_direct`), then the tracer.
+/// The path tracer of the truths (render::truth): the scene pass's shared files, the subject's
+/// model as it is, the fixed objects' model with every name it declares prefixed `fixed_` (both
+/// define `model_direct`), the physical truth's model, then the tracer.
 pub fn compose_truth(subject: &ShaderModel, fixed: &ShaderModel) -> String {
-    [MATH, CONVENTIONS, BRDF_TERMS, SCENE, &subject.wgsl, &prefixed(&fixed.wgsl, "fixed_"), TRUTH].join("\n")
+    [MATH, CONVENTIONS, BRDF_TERMS, SCENE, &subject.wgsl, &prefixed(&fixed.wgsl, "fixed_"), TRUTH_PHYSICAL, TRUTH]
+        .join("\n")
 }
 
 /// `source` with every module-scope name it declares (functions, constants, private variables,

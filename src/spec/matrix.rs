@@ -328,15 +328,33 @@ pub enum ReferenceSpec {
     Truth(TruthSpec),
 }
 
-/// `reference = "truth"` or `{ truth = "same-brdf", spp = N, noise = X, bounces = B }`.
+/// `reference = "truth"` or `{ truth = "same-brdf" | "physical", spp = N, noise = X, bounces = B }`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TruthSpec {
     pub settings: TruthSettings,
 }
 
-/// How a truth is rendered: where convergence stops and how deep paths go.
+/// Which truth: each surface's own model in the pipeline's units and falloff, or one physical
+/// model with physical falloff for every cell.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum TruthKind {
+    SameBrdf,
+    Physical,
+}
+
+impl TruthKind {
+    pub fn name(self) -> &'static str {
+        match self {
+            TruthKind::SameBrdf => "same-brdf",
+            TruthKind::Physical => "physical",
+        }
+    }
+}
+
+/// How a truth is rendered: which, where convergence stops and how deep paths go.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TruthSettings {
+    pub kind: TruthKind,
     /// Most samples per pixel.
     pub spp: u32,
     /// The target: the subject's mean standard error over its mean radiance (0.005 = 0.5 %).
@@ -349,12 +367,12 @@ pub struct TruthSettings {
 
 impl Default for TruthSettings {
     fn default() -> Self {
-        TruthSettings { spp: 4096, noise: 0.005, bounces: 2, batch: 16 }
+        TruthSettings { kind: TruthKind::SameBrdf, spp: 4096, noise: 0.005, bounces: 2, batch: 16 }
     }
 }
 
 impl TruthSpec {
-    pub const KINDS: [&'static str; 1] = ["same-brdf"];
+    pub const KINDS: [&'static str; 2] = ["same-brdf", "physical"];
 }
 
 pub const REFERENCE_AXES: [Axis; 10] = [
@@ -372,7 +390,7 @@ pub const REFERENCE_AXES: [Axis; 10] = [
 
 fn parse_reference(c: &Checker, value: &toml::Value, base_dir: Option<&Path>) -> Result<ReferenceSpec, InputError> {
     let allowed =
-        "\"supersampled\", { supersampled = N }, { run = \"DIR\" }, \"truth\", { truth = \"same-brdf\", spp = N, noise = X, bounces = B } or a table of axes to change";
+        "\"supersampled\", { supersampled = N }, { run = \"DIR\" }, \"truth\", { truth = \"same-brdf\" | \"physical\", spp = N, noise = X, bounces = B } or a table of axes to change";
     match value {
         toml::Value::String(s) if s == "supersampled" => Ok(ReferenceSpec::Supersampled(4)),
         toml::Value::String(s) if s == "truth" => {
@@ -422,10 +440,8 @@ fn parse_truth(c: &Checker, t: &toml::map::Map<String, toml::Value>) -> Result<T
     for (key, value) in t {
         let at = format!("reference.{key}");
         match (key.as_str(), value) {
-            ("truth", toml::Value::String(kind)) if TruthSpec::KINDS.contains(&kind.as_str()) => {}
-            ("truth", toml::Value::String(kind)) if kind == "physical" => {
-                return Err(c.err(&at, "the physical truth is not built yet; allowed: \"same-brdf\""))
-            }
+            ("truth", toml::Value::String(kind)) if kind == "same-brdf" => settings.kind = TruthKind::SameBrdf,
+            ("truth", toml::Value::String(kind)) if kind == "physical" => settings.kind = TruthKind::Physical,
             ("truth", other) => {
                 return Err(crate::input::names::unknown_name(
                     c.file(),

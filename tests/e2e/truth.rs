@@ -204,3 +204,163 @@ fn a_run_compares_each_cell_with_its_truth() {
         }
     }
 }
+
+/// The physical truth's WGSL model against its f64 twin (`render::truth::physical`).
+#[test]
+fn gpu_physical_model_matches_its_twin() {
+    use glam::DVec3;
+    use shadematrix::render::truth::physical::physical_response;
+    use wgpu::util::DeviceExt;
+    let kernel = r#"
+@group(0) @binding(0) var<storage, read> inputs: array<vec4<f32>>;
+@group(0) @binding(1) var<storage, read_write> outputs: array<vec4<f32>>;
+@group(0) @binding(2) var fgd_lut: texture_2d<f32>;
+fn fgd_lookup(nv: f32, pr: f32) -> vec3<f32> {
+    return fgd_sample(fgd_lut, nv, pr);
+}
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if (4u * i >= arrayLength(&inputs)) { return; }
+    var s: Surface;
+    s.base_color = inputs[4u * i + 3u].rgb;
+    s.metallic = inputs[4u * i].w;
+    s.smoothness = inputs[4u * i + 1u].w;
+    outputs[i] = vec4<f32>(physical_response(s, inputs[4u * i].xyz, inputs[4u * i + 1u].xyz, inputs[4u * i + 2u].xyz), 0.0);
+}
+"#;
+    let source = [
+        include_str!("../../shaders/common/math.wgsl"),
+        include_str!("../../shaders/common/conventions.wgsl"),
+        include_str!("../../shaders/common/brdf.wgsl"),
+        kernel,
+        shadematrix::shading::wgsl::TRUTH_PHYSICAL,
+    ]
+    .join("\n");
+    let mut inputs: Vec<[f32; 4]> = Vec::new();
+    let mut cases = Vec::new();
+    let n = DVec3::Z;
+    for (k, (metallic, smoothness)) in
+        [(0.0, 0.1), (0.0, 0.8), (1.0, 0.3), (1.0, 0.95), (0.5, 0.5)].into_iter().enumerate()
+    {
+        for i in 0..40 {
+            let a = i as f64 * 0.61 + k as f64;
+            let v = DVec3::new(a.cos() * 0.6, a.sin() * 0.5, 0.6 + 0.35 * (i as f64 * 0.37).sin()).normalize();
+            let l = DVec3::new((a * 1.7).sin() * 0.7, (a * 2.3).cos() * 0.6, 0.3 + 0.6 * (i as f64 * 0.53).cos().abs())
+                .normalize();
+            let base = DVec3::new(0.9, 0.6, 0.2);
+            let f = |d: DVec3, w: f64| [d.x as f32, d.y as f32, d.z as f32, w as f32];
+            inputs.extend([f(n, metallic), f(v, smoothness), f(l, 0.0), f(base, 0.0)]);
+            cases.push((metallic, smoothness, v, l, base));
+        }
+    }
+    let gpu = GpuContext::new().unwrap();
+    let device = &gpu.device;
+    let module = gpu.shader_module("physical model", &source).unwrap();
+    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: None,
+        layout: None,
+        module: &module,
+        entry_point: Some("main"),
+        compilation_options: Default::default(),
+        cache: None,
+    });
+    let input = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: None,
+        contents: bytemuck::cast_slice(&inputs),
+        usage: wgpu::BufferUsages::STORAGE,
+    });
+    let size = (cases.len() * 16) as u64;
+    let output = device.create_buffer(&wgpu::BufferDescriptor {
+        label: None,
+        size,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let fgd = shadematrix::render::luts::fgd_texture(&gpu);
+    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &[
+            wgpu::BindGroupEntry { binding: 0, resource: input.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 1, resource: output.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&fgd) },
+        ],
+    });
+    let read = device.create_buffer(&wgpu::BufferDescriptor {
+        label: None,
+        size,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut encoder = device.create_command_encoder(&Default::default());
+    {
+        let mut pass = encoder.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &group, &[]);
+        pass.dispatch_workgroups((cases.len() as u32).div_ceil(64), 1, 1);
+    }
+    encoder.copy_buffer_to_buffer(&output, 0, &read, 0, size);
+    gpu.queue.submit([encoder.finish()]);
+    let bytes = shadematrix::gpu::readback::map_read(device, &read).unwrap();
+    let got: &[[f32; 4]] = bytemuck::cast_slice(&bytes);
+    let mut worst: f64 = 0.0;
+    for ((metallic, smoothness, v, l, base), g) in cases.iter().zip(got) {
+        let s = shadematrix::shading::twin::Surface {
+            base_color: *base,
+            metallic: *metallic,
+            smoothness: *smoothness,
+            specular: DVec3::ZERO,
+            params: [0.0; 8],
+        };
+        let twin = physical_response(&s, n, *v, *l);
+        for c in 0..3 {
+            worst = worst.max((g[c] as f64 - twin[c]).abs() / twin[c].abs().max(1e-3));
+        }
+    }
+    eprintln!("physical model GPU vs twin: worst relative |Δ| {worst:.2e} over {} cases", cases.len());
+    assert!(worst < 1e-3, "worst {worst}");
+}
+
+/// The physical truth through a run: one model and inverse-square light for every cell, recorded
+/// as such; in a white furnace the sphere's centre reflects the physical model's directional
+/// albedo (its f64 twin's quadrature) for the material the cell's shader received.
+#[test]
+fn a_physical_truth_in_the_furnace_reflects_the_models_albedo() {
+    let tmp = tempfile::tempdir().unwrap();
+    let furnace = crate::common::repo().join("scenes/invariants/furnace.toml");
+    let body = format!(
+        "name = \"p\"\ncompositions = [\"{}\"]\npipelines = [\"urp\"]\nshaders = [\"lit\"]\npresets = [\"silver\"]\nreference = {{ truth = \"physical\", spp = 512, noise = 0.001, bounces = 1 }}\n[sweep]\nsmoothness = [0.4]\n[image]\nwidth = 32\nheight = 32\n",
+        furnace.display()
+    );
+    let m = crate::common::write_matrix(tmp.path(), "m.toml", &body);
+    let out = tmp.path().join("run");
+    let (code, _, err) =
+        crate::common::shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", out.to_str().unwrap()], &[]);
+    assert_eq!(code, 0, "{err}");
+    let dir = std::fs::read_dir(out.join("cells")).unwrap().next().unwrap().unwrap().path();
+    let record = shadematrix::record::cell::CellRecord::load(&dir.join("cell.json")).unwrap();
+    assert_eq!(record.truth.as_ref().unwrap().kind, "physical");
+    let (w, _, px) = shadematrix::images::encode::read_exr(&dir.join("reference.exr")).unwrap();
+    let (_, _, se) = shadematrix::images::encode::read_exr(&dir.join("truth_noise.exr")).unwrap();
+    let i = shadematrix::shading::twin::Surface {
+        base_color: glam::DVec3::from(record.shader_inputs.base_color_linear),
+        metallic: record.shader_inputs.metallic,
+        smoothness: record.shader_inputs.smoothness,
+        specular: glam::DVec3::ZERO,
+        params: [0.0; 8],
+    };
+    let albedo = shadematrix::render::truth::physical::directional_albedo(&i, 1.0);
+    // Mean over the 4×4 pixels at the centre (NV ≈ 1), against 4 standard errors of that mean.
+    let (mut sum, mut var) = (glam::DVec3::ZERO, 0.0);
+    for y in 14..18 {
+        for x in 14..18 {
+            let c = (y * w as usize + x) * 4;
+            sum += glam::DVec3::new(px[c] as f64, px[c + 1] as f64, px[c + 2] as f64);
+            var += (se[c] as f64).powi(2);
+        }
+    }
+    let (mean, se_mean) = (sum / 16.0, var.sqrt() / 16.0);
+    eprintln!("physical furnace: centre {mean:.4} (SE {se_mean:.4}) vs the twin's albedo {albedo:.4}");
+    assert!((mean - albedo).abs().max_element() < 4.0 * se_mean + 0.01, "{mean} vs {albedo}");
+}

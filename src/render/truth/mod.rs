@@ -15,6 +15,7 @@
 //! the BVH comes from `obvhs`.
 
 pub mod bvh;
+pub mod physical;
 
 use bytemuck::{Pod, Zeroable};
 use glam::DVec3;
@@ -27,7 +28,7 @@ use crate::gpu::GpuContext;
 /// Width of the environment table the truth samples (height is half).
 pub const ENV_WIDTH: usize = 1024;
 
-pub use crate::spec::matrix::TruthSettings;
+pub use crate::spec::matrix::{TruthKind, TruthSettings};
 
 /// A rendered truth: the mean radiance per pixel in the cell's linear units, the standard error
 /// of that mean per pixel (of its luminance), and what convergence reached.
@@ -39,6 +40,7 @@ pub struct Truth {
     pub std_error: Vec<f32>,
     /// The role of the first surface per pixel (0 none).
     pub roles: Vec<u8>,
+    pub kind: TruthKind,
     pub spp: u32,
     pub bounces: u32,
     /// The subject's mean standard error over its mean luminance (None: no subject pixel).
@@ -136,6 +138,7 @@ impl TruthPipeline {
         frame_layout: &wgpu::BindGroupLayout,
         source: &str,
         pipeline_id: u32,
+        kind: TruthKind,
     ) -> Result<TruthPipeline, Error> {
         let device = &gpu.device;
         let module = gpu.shader_module("truth", source)?;
@@ -145,7 +148,7 @@ impl TruthPipeline {
             bind_group_layouts: &[Some(frame_layout), Some(&layout)],
             immediate_size: 0,
         });
-        let constants = [("PIPELINE", pipeline_id as f64)];
+        let constants = [("PIPELINE", pipeline_id as f64), ("TRUTH_KIND", (kind == TruthKind::Physical) as u32 as f64)];
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some("truth"),
             layout: Some(&pipeline_layout),
@@ -280,6 +283,7 @@ pub fn trace(
     gpu.check_errors("tracing the truth")?;
     result.seconds = start.elapsed().as_secs_f64();
     result.bounces = settings.bounces;
+    result.kind = settings.kind;
     Ok(result)
 }
 
@@ -317,6 +321,7 @@ fn summarise(accum: &[[f32; 4]], roles: &[u32], inputs: &TruthInputs, spp: u32) 
         mean,
         std_error,
         roles: roles[..pixels].iter().map(|&r| r as u8).collect(),
+        kind: TruthKind::SameBrdf,
         spp,
         bounces: 0,
         subject_noise,
