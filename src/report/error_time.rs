@@ -17,6 +17,13 @@ pub struct Point {
     pub time_ms: f64,
     pub flip: f64,
     pub pareto: bool,
+    /// The other errors, where measured: SSIM of the PNGs, HDR-FLIP of the EXRs, and against a
+    /// truth the share of pixels its Z-test rejects.
+    pub ssim: Option<f64>,
+    pub hdr_flip: Option<f64>,
+    pub z_rejected: Option<f64>,
+    /// What the cell was compared with (its reference's label).
+    pub reference: String,
 }
 
 /// Points not dominated by another (no other is at most as slow and at most as wrong, and better in one).
@@ -108,6 +115,10 @@ pub fn points(run: &RunData) -> (BTreeMap<String, Vec<Point>>, bool, usize) {
                 time_ms,
                 flip,
                 pareto: false,
+                ssim: c.metrics.ldr_ssim(),
+                hdr_flip: c.metrics.hdr_flip(),
+                z_rejected: c.metrics.ztest.as_ref().and_then(|z| z.value()).map(|z| z.rejected),
+                reference: c.metrics.reference.value().map_or_else(String::new, |r| r.label()),
             }),
             _ => skipped += 1,
         }
@@ -125,16 +136,42 @@ pub fn write(run: &RunData) -> Result<(), Error> {
     } else {
         "CPU wall time, ms (no timestamp queries on this adapter)"
     };
-    let mut md = format!("# Error against run time\n\nAdapter: **{}**. Time: {time_label}. Error: LDR-FLIP mean against each cell's reference. {skipped} cells have no reference (or no time) and are left out.\n", run.adapter());
-    let mut csv = String::from("composition,cell,pipeline_shader,time_ms,flip_mean,pareto\n");
+    let mut md = format!("# Error against run time\n\nAdapter: **{}**. Time: {time_label}. Error: LDR-FLIP mean against each cell's reference (the Pareto front is on it), with SSIM, HDR-FLIP and, against a path-traced truth, the share of pixels its Z-test rejects (`—`: not measured). {skipped} cells have no reference (or no time) and are left out.\n", run.adapter());
+    let mut csv = String::from(
+        "composition,cell,pipeline_shader,reference,time_ms,flip_mean,ssim_mean,hdr_flip_mean,z_rejected,pareto\n",
+    );
+    let opt = |v: Option<f64>, digits: usize| v.map_or("—".to_string(), |v| format!("{v:.digits$}"));
+    let raw = |v: Option<f64>| v.map_or(String::new(), |v| v.to_string());
     for (comp, pts) in &by {
-        let _ = writeln!(md, "\n## {comp}\n\n![error vs time](../plots/error_vs_time_{comp}.svg)\n\n| cell | time (ms) | FLIP mean | Pareto |\n|---|---|---|---|");
+        let _ = writeln!(md, "\n## {comp}\n\n![error vs time](../plots/error_vs_time_{comp}.svg)\n\n| cell | reference | time (ms) | FLIP mean | SSIM | HDR-FLIP | Z-test rejects | Pareto |\n|---|---|---|---|---|---|---|---|");
         let mut sorted: Vec<&Point> = pts.iter().collect();
         sorted.sort_by(|a, b| a.time_ms.total_cmp(&b.time_ms));
         for p in sorted {
-            let _ =
-                writeln!(md, "| `{}` | {:.3} | {:.5} | {} |", p.id, p.time_ms, p.flip, if p.pareto { "●" } else { "" });
-            let _ = writeln!(csv, "{comp},{},{},{},{},{}", p.id, p.label, p.time_ms, p.flip, p.pareto);
+            let _ = writeln!(
+                md,
+                "| `{}` | {} | {:.3} | {:.5} | {} | {} | {} | {} |",
+                p.id,
+                p.reference,
+                p.time_ms,
+                p.flip,
+                opt(p.ssim, 4),
+                opt(p.hdr_flip, 4),
+                opt(p.z_rejected, 3),
+                if p.pareto { "●" } else { "" }
+            );
+            let _ = writeln!(
+                csv,
+                "{comp},{},{},\"{}\",{},{},{},{},{},{}",
+                p.id,
+                p.label,
+                p.reference,
+                p.time_ms,
+                p.flip,
+                raw(p.ssim),
+                raw(p.hdr_flip),
+                raw(p.z_rejected),
+                p.pareto
+            );
         }
         write_atomic(
             &run.dir.join("plots").join(format!("error_vs_time_{comp}.svg")),
@@ -151,8 +188,17 @@ mod tests {
 
     #[test]
     fn pareto_front_keeps_the_undominated() {
-        let p =
-            |t: f64, e: f64| Point { id: format!("{t}-{e}"), label: String::new(), time_ms: t, flip: e, pareto: false };
+        let p = |t: f64, e: f64| Point {
+            id: format!("{t}-{e}"),
+            label: String::new(),
+            time_ms: t,
+            flip: e,
+            pareto: false,
+            ssim: None,
+            hdr_flip: None,
+            z_rejected: None,
+            reference: String::new(),
+        };
         let mut pts = vec![p(1.0, 0.5), p(2.0, 0.2), p(3.0, 0.3), p(4.0, 0.1), p(2.0, 0.2)];
         mark_pareto(&mut pts);
         let front: Vec<bool> = pts.iter().map(|q| q.pareto).collect();

@@ -188,6 +188,9 @@ fn a_run_compares_each_cell_with_its_truth() {
         assert!(flip < 0.05, "{}: FLIP {flip}", record.id);
         assert!(!truth.cached, "the first run traces");
     }
+    // Error against run time is error against the truth, with the Z-test beside FLIP and SSIM.
+    let table = std::fs::read_to_string(out.join("tables/error_vs_time.md")).unwrap();
+    assert!(table.contains("truth (same-brdf)") && table.contains("Z-test rejects"), "{table}");
     // A second run beside the first reuses each truth from the cache: same bytes, marked cached.
     let again = tmp.path().join("again");
     let (code, _, err) =
