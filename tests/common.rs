@@ -143,3 +143,75 @@ pub fn write_textured_gltf(dir: &std::path::Path) -> std::path::PathBuf {
     std::fs::write(&path, json).unwrap();
     path
 }
+
+/// Run `source`'s compute entry `main` (workgroup 64) over `inputs`: binding 0 the inputs, 1 the
+/// `outputs` results (vec4 each), then `extra` bindings from 2 on; returns the results.
+pub fn run_kernel(
+    gpu: &shadematrix::gpu::GpuContext,
+    source: &str,
+    inputs: &[[f32; 4]],
+    outputs: usize,
+    extra: &[wgpu::BindingResource],
+) -> Vec<[f32; 4]> {
+    use wgpu::util::DeviceExt;
+    let device = &gpu.device;
+    let module = gpu.shader_module("test kernel", source).unwrap();
+    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: None,
+        layout: None,
+        module: &module,
+        entry_point: Some("main"),
+        compilation_options: Default::default(),
+        cache: None,
+    });
+    let input = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: None,
+        contents: bytemuck::cast_slice(inputs),
+        usage: wgpu::BufferUsages::STORAGE,
+    });
+    let size = (outputs * 16) as u64;
+    let output = device.create_buffer(&wgpu::BufferDescriptor {
+        label: None,
+        size,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let mut entries = vec![
+        wgpu::BindGroupEntry { binding: 0, resource: input.as_entire_binding() },
+        wgpu::BindGroupEntry { binding: 1, resource: output.as_entire_binding() },
+    ];
+    entries.extend(
+        extra.iter().enumerate().map(|(i, r)| wgpu::BindGroupEntry { binding: 2 + i as u32, resource: r.clone() }),
+    );
+    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &entries,
+    });
+    let read = device.create_buffer(&wgpu::BufferDescriptor {
+        label: None,
+        size,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut encoder = device.create_command_encoder(&Default::default());
+    {
+        let mut pass = encoder.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &group, &[]);
+        pass.dispatch_workgroups((outputs as u32).div_ceil(64), 1, 1);
+    }
+    encoder.copy_buffer_to_buffer(&output, 0, &read, 0, size);
+    gpu.queue.submit([encoder.finish()]);
+    let bytes = shadematrix::gpu::readback::map_read(device, &read).unwrap();
+    bytemuck::cast_slice(&bytes).to_vec()
+}
+
+/// Run the matrix `body` (a matrix file's text) into `<dir>/<out>`; panics on a failed run.
+pub fn run_matrix(dir: &Path, body: &str, out: &str) -> PathBuf {
+    let m = write_matrix(dir, &format!("{out}.toml"), body);
+    let out = dir.join(out);
+    let (code, _, err) = shadematrix(dir, &["run", m.to_str().unwrap(), "--out", out.to_str().unwrap()], &[]);
+    assert_eq!(code, 0, "{err}");
+    out
+}

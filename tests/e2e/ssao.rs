@@ -181,7 +181,6 @@ fn ssao_darkens_the_indirect_light_where_surfaces_meet_and_the_switch_turns_it_o
 #[test]
 fn gpu_occlusion_terms_match_their_twins() {
     use shadematrix::shading::twin::{gtao_multi_bounce, specular_occlusion_from_ao};
-    use wgpu::util::DeviceExt;
     let kernel = r#"
 @group(0) @binding(0) var<storage, read> inputs: array<vec4<f32>>;
 @group(0) @binding(1) var<storage, read_write> outputs: array<vec4<f32>>;
@@ -210,55 +209,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         }
     }
     let gpu = GpuContext::new().unwrap();
-    let device = &gpu.device;
-    let module = gpu.shader_module("occlusion terms", &source).unwrap();
-    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: None,
-        layout: None,
-        module: &module,
-        entry_point: Some("main"),
-        compilation_options: Default::default(),
-        cache: None,
-    });
-    let input = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: None,
-        contents: bytemuck::cast_slice(&inputs),
-        usage: wgpu::BufferUsages::STORAGE,
-    });
-    let size = (inputs.len() * 16) as u64;
-    let output = device.create_buffer(&wgpu::BufferDescriptor {
-        label: None,
-        size,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: None,
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &[
-            wgpu::BindGroupEntry { binding: 0, resource: input.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 1, resource: output.as_entire_binding() },
-        ],
-    });
-    let read = device.create_buffer(&wgpu::BufferDescriptor {
-        label: None,
-        size,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    let mut encoder = device.create_command_encoder(&Default::default());
-    {
-        let mut pass = encoder.begin_compute_pass(&Default::default());
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &group, &[]);
-        pass.dispatch_workgroups((inputs.len() as u32).div_ceil(64), 1, 1);
-    }
-    encoder.copy_buffer_to_buffer(&output, 0, &read, 0, size);
-    gpu.queue.submit([encoder.finish()]);
-    let bytes = shadematrix::gpu::readback::map_read(device, &read).unwrap();
-    let got: &[[f32; 4]] = bytemuck::cast_slice(&bytes);
+    let got = crate::common::run_kernel(&gpu, &source, &inputs, inputs.len(), &[]);
     let mut worst: f64 = 0.0;
-    for (x, g) in inputs.iter().zip(got) {
+    for (x, g) in inputs.iter().zip(&got) {
         let [v, rho, nv, a] = x.map(f64::from);
         let m = gtao_multi_bounce(v, DVec3::splat(rho)).x;
         let so = specular_occlusion_from_ao(nv, v, a);

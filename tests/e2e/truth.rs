@@ -159,11 +159,7 @@ fn a_run_compares_each_cell_with_its_truth() {
         "name = \"t\"\ncompositions = [\"{}\"]\npipelines = [\"urp\", \"hdrp\"]\nshaders = [\"lambert\"]\npresets = [\"plastic\"]\nreference = {{ truth = \"same-brdf\", spp = 32, noise = 0.01, bounces = 1 }}\n[image]\nwidth = 32\nheight = 32\n",
         furnace.display()
     );
-    let m = crate::common::write_matrix(tmp.path(), "m.toml", &body);
-    let out = tmp.path().join("run");
-    let (code, _, err) =
-        crate::common::shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", out.to_str().unwrap()], &[]);
-    assert_eq!(code, 0, "{err}");
+    let out = crate::common::run_matrix(tmp.path(), &body, "run");
     let cells: Vec<_> = std::fs::read_dir(out.join("cells")).unwrap().map(|e| e.unwrap().path()).collect();
     assert_eq!(cells.len(), 2);
     for dir in cells {
@@ -192,10 +188,7 @@ fn a_run_compares_each_cell_with_its_truth() {
     let table = std::fs::read_to_string(out.join("tables/error_vs_time.md")).unwrap();
     assert!(table.contains("truth (same-brdf)") && table.contains("Z-test rejects"), "{table}");
     // A second run beside the first reuses each truth from the cache: same bytes, marked cached.
-    let again = tmp.path().join("again");
-    let (code, _, err) =
-        crate::common::shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", again.to_str().unwrap()], &[]);
-    assert_eq!(code, 0, "{err}");
+    let again = crate::common::run_matrix(tmp.path(), &body, "again");
     assert!(tmp.path().join(".truth-cache").is_dir(), "the cache sits beside the run folders");
     for entry in std::fs::read_dir(again.join("cells")).unwrap() {
         let dir = entry.unwrap().path();
@@ -213,7 +206,6 @@ fn a_run_compares_each_cell_with_its_truth() {
 fn gpu_physical_model_matches_its_twin() {
     use glam::DVec3;
     use shadematrix::render::truth::physical::physical_response;
-    use wgpu::util::DeviceExt;
     let kernel = r#"
 @group(0) @binding(0) var<storage, read> inputs: array<vec4<f32>>;
 @group(0) @binding(1) var<storage, read_write> outputs: array<vec4<f32>>;
@@ -258,57 +250,11 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         }
     }
     let gpu = GpuContext::new().unwrap();
-    let device = &gpu.device;
-    let module = gpu.shader_module("physical model", &source).unwrap();
-    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: None,
-        layout: None,
-        module: &module,
-        entry_point: Some("main"),
-        compilation_options: Default::default(),
-        cache: None,
-    });
-    let input = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: None,
-        contents: bytemuck::cast_slice(&inputs),
-        usage: wgpu::BufferUsages::STORAGE,
-    });
-    let size = (cases.len() * 16) as u64;
-    let output = device.create_buffer(&wgpu::BufferDescriptor {
-        label: None,
-        size,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
     let fgd = shadematrix::render::luts::fgd_texture(&gpu);
-    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: None,
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &[
-            wgpu::BindGroupEntry { binding: 0, resource: input.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 1, resource: output.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&fgd) },
-        ],
-    });
-    let read = device.create_buffer(&wgpu::BufferDescriptor {
-        label: None,
-        size,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    let mut encoder = device.create_command_encoder(&Default::default());
-    {
-        let mut pass = encoder.begin_compute_pass(&Default::default());
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &group, &[]);
-        pass.dispatch_workgroups((cases.len() as u32).div_ceil(64), 1, 1);
-    }
-    encoder.copy_buffer_to_buffer(&output, 0, &read, 0, size);
-    gpu.queue.submit([encoder.finish()]);
-    let bytes = shadematrix::gpu::readback::map_read(device, &read).unwrap();
-    let got: &[[f32; 4]] = bytemuck::cast_slice(&bytes);
+    let got =
+        crate::common::run_kernel(&gpu, &source, &inputs, cases.len(), &[wgpu::BindingResource::TextureView(&fgd)]);
     let mut worst: f64 = 0.0;
-    for ((metallic, smoothness, v, l, base), g) in cases.iter().zip(got) {
+    for ((metallic, smoothness, v, l, base), g) in cases.iter().zip(&got) {
         let s = shadematrix::shading::twin::Surface {
             base_color: *base,
             metallic: *metallic,
@@ -336,11 +282,7 @@ fn a_physical_truth_in_the_furnace_reflects_the_models_albedo() {
         "name = \"p\"\ncompositions = [\"{}\"]\npipelines = [\"urp\"]\nshaders = [\"lit\"]\npresets = [\"silver\"]\nreference = {{ truth = \"physical\", spp = 512, noise = 0.001, bounces = 1 }}\n[sweep]\nsmoothness = [0.4]\n[image]\nwidth = 32\nheight = 32\n",
         furnace.display()
     );
-    let m = crate::common::write_matrix(tmp.path(), "m.toml", &body);
-    let out = tmp.path().join("run");
-    let (code, _, err) =
-        crate::common::shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", out.to_str().unwrap()], &[]);
-    assert_eq!(code, 0, "{err}");
+    let out = crate::common::run_matrix(tmp.path(), &body, "run");
     let dir = std::fs::read_dir(out.join("cells")).unwrap().next().unwrap().unwrap().path();
     let record = shadematrix::record::cell::CellRecord::load(&dir.join("cell.json")).unwrap();
     assert_eq!(record.truth.as_ref().unwrap().kind, "physical");
