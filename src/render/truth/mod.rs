@@ -5,7 +5,9 @@
 //! The `same-brdf` truth evaluates each surface with the model the cell draws it with (the
 //! subject's model, the pipeline's fixed-object model) in the cell's light units and attenuation:
 //! its difference from the cell isolates the real-time approximations (SH ambient, split-sum
-//! probe, shadow maps, light budgets, missing bounces, aliasing). Every light is exact with
+//! probe, shadow maps, light budgets, missing bounces, aliasing). The `physical` truth shades every
+//! surface with one physical model (`physical`, shaders/pass/truth_physical.wgsl) under
+//! inverse-square light, so its difference adds each model's departure from physics. Every light is exact with
 //! ray-traced visibility; the environment is importance-sampled from a 1024×512 equirect of the
 //! sky and weighted against surface sampling by the power heuristic; paths continue `bounces`
 //! times. Samples are drawn in batches until the subject's mean standard error falls below
