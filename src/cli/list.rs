@@ -59,6 +59,7 @@ pub fn text(m: &Matrix) -> String {
     if m.pipelines.contains(&Pipeline::Hdrp) {
         let _ = writeln!(out, "left out: {}", crate::pipelines::volume::LEFT_OUT_EFFECTS);
     }
+    let _ = writeln!(out, "reference: {}", reference_line(m));
     let rendered = exp.cells.iter().filter(|c| c.twin_of.is_none()).count();
     let _ = writeln!(
         out,
@@ -184,4 +185,33 @@ fn light_plan(m: &Matrix, scene: &crate::spec::scene::Scene) -> String {
         }
     }
     out
+}
+
+/// What each cell is compared against, in words.
+fn reference_line(m: &crate::spec::matrix::Matrix) -> String {
+    use crate::spec::matrix::ReferenceSpec;
+    match &m.reference {
+        None => "none (no metrics)".into(),
+        Some(ReferenceSpec::Cell(terms)) => {
+            use crate::spec::matrix::FilterValue;
+            let value = |v: &FilterValue| match v {
+                FilterValue::Name(n) | FilterValue::Color(n) => n.clone(),
+                FilterValue::Number(x) => x.to_string(),
+            };
+            let t: Vec<String> = terms.iter().map(|(a, v)| format!("{} = {}", a.name(), value(v))).collect();
+            format!("the cell with {}", t.join(", "))
+        }
+        Some(ReferenceSpec::Supersampled(k)) => format!("the same cell at {k}× the resolution, box-filtered down"),
+        Some(ReferenceSpec::Run(dir)) => format!("the cell of the same id in {}", dir.display()),
+        Some(ReferenceSpec::Truth(t)) => {
+            let s = &t.settings;
+            format!(
+                "the cell's path-traced {} truth: until the subject's relative standard error is {} % or {} samples per pixel, {} bounces; cached beside the run folders",
+                s.kind.name(),
+                s.noise * 100.0,
+                s.spp,
+                s.bounces
+            )
+        }
+    }
 }

@@ -160,6 +160,8 @@ fn a_run_compares_each_cell_with_its_truth() {
         furnace.display()
     );
     let out = crate::common::run_matrix(tmp.path(), &body, "run");
+    let (_, listed, _) = crate::common::shadematrix(tmp.path(), &["list", "run.toml"], &[]);
+    assert!(listed.contains("reference: the cell's path-traced same-brdf truth"), "{listed}");
     let cells: Vec<_> = std::fs::read_dir(out.join("cells")).unwrap().map(|e| e.unwrap().path()).collect();
     assert_eq!(cells.len(), 2);
     for dir in cells {
