@@ -150,6 +150,9 @@ struct ShadowResources {
     scene_bounds: (DVec3, DVec3),
 }
 
+/// The truth's geometry of a composition with the meshes it holds (render::truth::bvh).
+type TruthGeometryCache = std::sync::Mutex<Option<(Vec<bool>, std::sync::Arc<super::truth::bvh::TruthGeometry>)>>;
+
 pub struct PreparedScene {
     pub scene: Scene,
     pub plan: FramePlan,
@@ -169,6 +172,9 @@ pub struct PreparedScene {
     own_textures: std::sync::OnceLock<super::material_maps::MaterialTextures>,
     /// The truth's environment texels and sampling tables, made for the first truth.
     env_table: std::sync::OnceLock<(Vec<[f32; 4]>, Vec<f32>)>,
+    /// The truth's geometry for the last set of meshes a cell kept (LOD levels change it), so
+    /// cells of one composition build the meshes and the BVH once.
+    truth_geometry: TruthGeometryCache,
     lights_buffer: wgpu::Buffer,
     modes_buffer: wgpu::Buffer,
     shadows: ShadowResources,
@@ -740,6 +746,7 @@ impl Renderer {
             frame_groups: Default::default(),
             own_textures: Default::default(),
             env_table: Default::default(),
+            truth_geometry: Default::default(),
             lights_buffer,
             modes_buffer,
             shadows,
@@ -1591,18 +1598,21 @@ impl Renderer {
         let written = self.write_uniforms(prepared, cell, &fixed_model);
         let frame_group = self.frame_group(prepared, cell.settings.material_maps)?;
         let scene = &prepared.scene;
-        let mut meshes = procedural::build_scene(scene)?;
-        meshes.extend(procedural::lod_meshes(scene)?.into_iter().map(|(_, _, m)| m));
         let kept = written.casting();
-        let geometry = super::truth::bvh::TruthGeometry::build(
-            prepared
-                .objects
-                .iter()
-                .zip(&meshes)
-                .enumerate()
-                .filter(|(i, _)| kept[*i])
-                .map(|(i, (o, m))| (i as u32, m, o.model)),
-        );
+        let cached = prepared.truth_geometry.lock().unwrap_or_else(|e| e.into_inner()).clone();
+        let geometry = match cached {
+            Some((k, g)) if k == kept => g,
+            _ => {
+                let mut meshes = procedural::build_scene(scene)?;
+                meshes.extend(procedural::lod_meshes(scene)?.into_iter().map(|(_, _, m)| m));
+                let objects = prepared.objects.iter().zip(&meshes).enumerate().filter(|(i, _)| kept[*i]);
+                let g = std::sync::Arc::new(super::truth::bvh::TruthGeometry::build(
+                    objects.map(|(i, (o, m))| (i as u32, m, o.model)),
+                ));
+                *prepared.truth_geometry.lock().unwrap_or_else(|e| e.into_inner()) = Some((kept, g.clone()));
+                g
+            }
+        };
         let textured = cell.settings.material_maps.is_some();
         let mut objects = Vec::with_capacity(prepared.objects.len() * 128);
         for (o, material) in prepared.objects.iter().zip(&written.materials) {
