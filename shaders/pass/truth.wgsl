@@ -338,12 +338,6 @@ fn ggx_alpha(s: Surface) -> f32 {
     return max(pr * pr, 1e-3);
 }
 
-fn ggx_d(nh: f32, a: f32) -> f32 {
-    let a2 = a * a;
-    let k = nh * nh * (a2 - 1.0) + 1.0;
-    return a2 / (PI * k * k);
-}
-
 fn ggx_g1(nv: f32, a: f32) -> f32 {
     let a2 = a * a;
     return 2.0 * nv / (nv + sqrt(a2 + (1.0 - a2) * nv * nv));
@@ -358,7 +352,7 @@ fn surface_pdf(sp: SurfacePoint, v: vec3<f32>, l: vec3<f32>) -> f32 {
     }
     let a = ggx_alpha(sp.s);
     let h = normalize(v + l);
-    let spec = ggx_d(dot(sp.n, h), a) * ggx_g1(nv, a) / (4.0 * nv);
+    let spec = d_ggx(dot(sp.n, h), a) * ggx_g1(nv, a) / (4.0 * nv);
     let k = specular_share(sp.s);
     return k * spec + (1.0 - k) * nl * INV_PI;
 }
@@ -395,9 +389,6 @@ fn power_heuristic(a: f32, b: f32) -> f32 {
     return a * a / max(a * a + b * b, 1e-30);
 }
 
-fn luminance(c: vec3<f32>) -> f32 {
-    return dot(c, vec3<f32>(0.2126, 0.7152, 0.0722));
-}
 
 // ---- The light at a point: every light and the environment, sampled once each.
 

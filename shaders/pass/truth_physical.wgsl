@@ -1,13 +1,7 @@
 // The `physical` truth's one model for every surface (render::truth; twin: render::truth::physical):
 // Lambert diffuse, height-correlated Smith GGX with multiple-scattering energy compensation, and
-// Schlick's Fresnel from F0 = lerp(0.04, base colour, metallic). α = (1 − smoothness)².
-
-// D = α²/(π(NH²(α² − 1) + 1)²) (Walter et al. 2007)
-fn physical_d_ggx(nh: f32, a: f32) -> f32 {
-    let a2 = a * a;
-    let k = nh * nh * (a2 - 1.0) + 1.0;
-    return a2 / (PI * k * k);
-}
+// Schlick's Fresnel from F0 = lerp(0.04, base colour, metallic). α = (1 − smoothness)². D and F are
+// the shared terms of common/brdf.wgsl (d_ggx, f_schlick).
 
 // V = 0.5/(NL·√(NV²(1 − α²) + α²) + NV·√(NL²(1 − α²) + α²)), height-correlated Smith (Heitz 2014)
 fn physical_v_smith_correlated(nv: f32, nl: f32, a: f32) -> f32 {
@@ -15,11 +9,6 @@ fn physical_v_smith_correlated(nv: f32, nl: f32, a: f32) -> f32 {
     let gv = nl * sqrt(nv * nv * (1.0 - a2) + a2);
     let gl = nv * sqrt(nl * nl * (1.0 - a2) + a2);
     return 0.5 / max(gv + gl, 1e-12);
-}
-
-// F = F0 + (1 − F0)(1 − VH)⁵ (Schlick 1994)
-fn physical_f_schlick(f0: vec3<f32>, vh: f32) -> vec3<f32> {
-    return f0 + (vec3<f32>(1.0) - f0) * pow5(1.0 - vh);
 }
 
 // Multiple scattering (Turquin 2019): the single-scattering lobe × (1 + F0·(1/E(NV) − 1)), E the
@@ -40,7 +29,7 @@ fn physical_response(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> ve
     let pr = 1.0 - s.smoothness;
     let a = max(pr * pr, 1e-4);
     let f0 = mix(vec3<f32>(0.04), s.base_color, s.metallic);
-    let spec = physical_f_schlick(f0, sat(dot(v, h))) * physical_d_ggx(sat(dot(n, h)), a) * physical_v_smith_correlated(nv, nl, a)
+    let spec = f_schlick(f0, sat(dot(v, h))) * d_ggx(sat(dot(n, h)), a) * physical_v_smith_correlated(nv, nl, a)
         * physical_energy_compensation(f0, nv, pr);
     let diffuse = s.base_color * (1.0 - s.metallic) * INV_PI;
     return (diffuse + spec) * nl;

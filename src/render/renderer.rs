@@ -151,7 +151,7 @@ struct ShadowResources {
 }
 
 /// The truth's geometry of a composition with the meshes it holds (render::truth::bvh).
-type TruthGeometryCache = std::sync::Mutex<Option<(Vec<bool>, std::sync::Arc<super::truth::bvh::TruthGeometry>)>>;
+type TruthGeometryCache = std::sync::Mutex<Option<(Vec<bool>, std::sync::Arc<super::truth::TruthScene>)>>;
 
 pub struct PreparedScene {
     pub scene: Scene,
@@ -170,10 +170,10 @@ pub struct PreparedScene {
     frame_groups: std::sync::Mutex<HashMap<&'static str, std::sync::Arc<wgpu::BindGroup>>>,
     /// A glTF subject's own material maps (preset `own`), read and uploaded on first use.
     own_textures: std::sync::OnceLock<super::material_maps::MaterialTextures>,
-    /// The truth's environment texels and sampling tables, made for the first truth.
-    env_table: std::sync::OnceLock<(Vec<[f32; 4]>, Vec<f32>)>,
-    /// The truth's geometry for the last set of meshes a cell kept (LOD levels change it), so
-    /// cells of one composition build the meshes and the BVH once.
+    /// The truth's environment on the GPU, made for the first truth.
+    env_table: std::sync::OnceLock<super::truth::TruthEnvironment>,
+    /// The truth's geometry on the GPU for the last set of meshes a cell kept (LOD levels change
+    /// it), so cells of one composition build the meshes and the BVH and upload them once.
     truth_geometry: TruthGeometryCache,
     lights_buffer: wgpu::Buffer,
     modes_buffer: wgpu::Buffer,
@@ -1025,7 +1025,7 @@ impl Renderer {
                 ));
             }
         }
-        let occludes = prepared.plan.passes_for(cell.settings.path, cell.pipeline).contains(&crate::plan::SSAO_PASS);
+        let occludes = prepared.plan.occludes(cell.settings.path, cell.pipeline);
         if occludes {
             self.depth_normal_pipeline(cell.pipeline, &fixed_model, textured)?;
             if self.ssao.is_none() {
@@ -1606,9 +1606,8 @@ impl Renderer {
                 let mut meshes = procedural::build_scene(scene)?;
                 meshes.extend(procedural::lod_meshes(scene)?.into_iter().map(|(_, _, m)| m));
                 let objects = prepared.objects.iter().zip(&meshes).enumerate().filter(|(i, _)| kept[*i]);
-                let g = std::sync::Arc::new(super::truth::bvh::TruthGeometry::build(
-                    objects.map(|(i, (o, m))| (i as u32, m, o.model)),
-                ));
+                let g = super::truth::bvh::TruthGeometry::build(objects.map(|(i, (o, m))| (i as u32, m, o.model)));
+                let g = std::sync::Arc::new(super::truth::TruthScene::new(&self.gpu.device, &g));
                 *prepared.truth_geometry.lock().unwrap_or_else(|e| e.into_inner()) = Some((kept, g.clone()));
                 g
             }
@@ -1627,15 +1626,12 @@ impl Renderer {
             let radiance = |d: DVec3| crate::environment::sky::radiance(&scene.environment.sky, d);
             let w = super::truth::ENV_WIDTH;
             let image = crate::environment::prefilter::EquirectImage::sample(&radiance, w, w / 2, 2);
-            super::truth::environment_tables(&image)
+            super::truth::TruthEnvironment::new(&self.gpu.device, &image)
         });
-        let w = super::truth::ENV_WIDTH as u32;
         let inputs = super::truth::TruthInputs {
-            geometry: &geometry,
+            scene: &geometry,
+            environment: env,
             objects: &objects,
-            env_texels: &env.0,
-            env_cdf: &env.1,
-            env_size: (w, w / 2),
             background: prepared.plan.background,
             size: (cell.width, cell.height),
             subject_role: ROLE_SUBJECT,

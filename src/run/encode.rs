@@ -84,7 +84,7 @@ pub fn encode_cell(matrix: &Matrix, dir: &Path, adapter: &str, job: RenderedCell
             None
         }
         Some(Ok(RenderedReference::Truth(t))) => {
-            truth = Some(write_truth(dir, cell, &t, shown_exposure(&display))?);
+            truth = Some(write_truth(dir, cell, &t, display.exposure)?);
             None
         }
     };
@@ -140,11 +140,6 @@ fn store(hdr: &mut [f32], w: u32, h: u32, cell: &Cell, shown: (Vec<u8>, DisplayR
     } else {
         shown
     }
-}
-
-/// The exposure the cell's image was shown with (HDRP's metered one), for its references.
-fn shown_exposure(d: &DisplayRecord) -> Option<crate::images::exposure::ExposureRecord> {
-    d.exposure
 }
 
 /// The truth as the cell's reference: reference.exr (its mean, the cell's units), reference.png

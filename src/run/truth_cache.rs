@@ -48,10 +48,8 @@ impl TruthCache {
     /// The key of `cell`'s truth with `settings` on `adapter`.
     pub fn key(matrix: &Matrix, cell: &Cell, settings: &TruthSettings, adapter: &str) -> String {
         let scene = &matrix.compositions[cell.composition_index];
-        let fixed = crate::shading::registry::Registry::builtin()
-            .find(cell.pipeline, cell.pipeline.fixed_object_shader())
-            .cloned();
-        let source = fixed.map(|f| crate::shading::wgsl::compose_truth(cell.model(), &f)).unwrap_or_default();
+        let fixed = matrix.registry.find(cell.pipeline, cell.pipeline.fixed_object_shader());
+        let source = fixed.map(|f| crate::shading::wgsl::compose_truth(cell.model(), f)).unwrap_or_default();
         let files: Vec<(String, u64, u128)> = scene
             .objects
             .iter()
@@ -75,7 +73,7 @@ impl TruthCache {
             "adapter": adapter,
             "source": source,
         });
-        hex(&Sha256::digest(text.to_string().as_bytes()))
+        crate::spec::matrix::hex(&Sha256::digest(text.to_string().as_bytes()))
     }
 
     /// The truth stored under `key`, if a whole one is (`kind`: which truth the key was made for).
@@ -143,8 +141,4 @@ impl TruthCache {
             Err(e) => Err(Error::io_path("renaming into place", &final_dir, e)),
         }
     }
-}
-
-fn hex(bytes: &[u8]) -> String {
-    bytes.iter().map(|b| format!("{b:02x}")).collect()
 }

@@ -62,7 +62,7 @@ struct TruthParams {
 /// The environment's radiance texels and the sampling tables (marginal over rows, then each row's
 /// conditional over columns), weighted by luminance × sin θ so that texels are drawn in
 /// proportion to the light they send.
-pub fn environment_tables(image: &EquirectImage) -> (Vec<[f32; 4]>, Vec<f32>) {
+fn environment_tables(image: &EquirectImage) -> (Vec<[f32; 4]>, Vec<f32>) {
     let (w, h) = (image.width, image.height);
     let luminance = |c: DVec3| 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
     let mut rows = Vec::with_capacity(h + 1);
@@ -164,14 +164,49 @@ impl TruthPipeline {
     }
 }
 
+/// A composition's geometry on the GPU (BVH, triangles, vertices), uploaded once and shared by
+/// its cells' truths.
+pub struct TruthScene {
+    nodes: wgpu::Buffer,
+    triangles: wgpu::Buffer,
+    vertices: wgpu::Buffer,
+}
+
+impl TruthScene {
+    pub fn new(device: &wgpu::Device, g: &bvh::TruthGeometry) -> TruthScene {
+        TruthScene {
+            nodes: storage(device, "truth bvh", bytemuck::cast_slice(&g.nodes)),
+            triangles: storage(device, "truth triangles", bytemuck::cast_slice(&g.triangles)),
+            vertices: storage(device, "truth vertices", bytemuck::cast_slice(&g.vertices)),
+        }
+    }
+}
+
+/// A composition's environment on the GPU: its ENV_WIDTH × ENV_WIDTH/2 texels and sampling
+/// tables (`environment_tables`), uploaded once.
+pub struct TruthEnvironment {
+    texels: wgpu::Buffer,
+    cdf: wgpu::Buffer,
+    size: (u32, u32),
+}
+
+impl TruthEnvironment {
+    pub fn new(device: &wgpu::Device, image: &EquirectImage) -> TruthEnvironment {
+        let (texels, cdf) = environment_tables(image);
+        TruthEnvironment {
+            texels: storage(device, "truth environment", bytemuck::cast_slice(&texels)),
+            cdf: storage(device, "truth environment tables", bytemuck::cast_slice(&cdf)),
+            size: (image.width as u32, image.height as u32),
+        }
+    }
+}
+
 /// Everything one truth render needs besides the frame group (which the renderer owns).
 pub struct TruthInputs<'a> {
-    pub geometry: &'a bvh::TruthGeometry,
+    pub scene: &'a TruthScene,
+    pub environment: &'a TruthEnvironment,
     /// Per object: its material and flags (shaders/pass/truth.wgsl `TruthObject`).
     pub objects: &'a [u8],
-    pub env_texels: &'a [[f32; 4]],
-    pub env_cdf: &'a [f32],
-    pub env_size: (u32, u32),
     pub background: bool,
     pub size: (u32, u32),
     /// The role id of the subject's pixels.
@@ -200,13 +235,8 @@ pub fn trace(
     let device = &gpu.device;
     let (width, height) = inputs.size;
     let pixels = (width * height) as usize;
-    let g = inputs.geometry;
-    let nodes = storage(device, "truth bvh", bytemuck::cast_slice(&g.nodes));
-    let triangles = storage(device, "truth triangles", bytemuck::cast_slice(&g.triangles));
-    let vertices = storage(device, "truth vertices", bytemuck::cast_slice(&g.vertices));
+    let (scene, env) = (inputs.scene, inputs.environment);
     let objects = storage(device, "truth objects", inputs.objects);
-    let env_texels = storage(device, "truth environment", bytemuck::cast_slice(inputs.env_texels));
-    let env_cdf = storage(device, "truth environment tables", bytemuck::cast_slice(inputs.env_cdf));
     let accum_bytes = (pixels * 32) as u64;
     let accum = device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("truth accumulation"),
@@ -232,12 +262,12 @@ pub fn trace(
         layout: &pipeline.layout,
         entries: &[
             wgpu::BindGroupEntry { binding: 0, resource: params.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 1, resource: nodes.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 2, resource: triangles.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 3, resource: vertices.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 1, resource: scene.nodes.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 2, resource: scene.triangles.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 3, resource: scene.vertices.as_entire_binding() },
             wgpu::BindGroupEntry { binding: 4, resource: objects.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 5, resource: env_texels.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 6, resource: env_cdf.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 5, resource: env.texels.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 6, resource: env.cdf.as_entire_binding() },
             wgpu::BindGroupEntry { binding: 7, resource: accum.as_entire_binding() },
             wgpu::BindGroupEntry { binding: 8, resource: roles.as_entire_binding() },
         ],
@@ -261,7 +291,7 @@ pub fn trace(
         let count = batch.min(settings.spp.max(1) - done);
         let p = TruthParams {
             dims: [width, height, done, count],
-            settings: [settings.bounces, inputs.env_size.0, inputs.env_size.1, inputs.background as u32],
+            settings: [settings.bounces, env.size.0, env.size.1, inputs.background as u32],
         };
         gpu.queue.write_buffer(&params, 0, bytemuck::bytes_of(&p));
         let mut encoder = device.create_command_encoder(&Default::default());

@@ -1,19 +1,13 @@
 //! f64 twin of the `physical` truth's model (shaders/pass/truth_physical.wgsl), same names:
 //! Lambert diffuse, height-correlated Smith GGX with Turquin's multiple-scattering compensation
-//! (the FGD table's single-scattering albedo), Schlick's Fresnel from F0 = lerp(0.04, base, m).
+//! (the FGD table's single-scattering albedo), Schlick's Fresnel from F0 = lerp(0.04, base, m);
+//! D and F are the shared twins `d_ggx` and `f_schlick`.
 
 use glam::DVec3;
 use std::f64::consts::PI;
 
 use crate::shading::fgd::FgdTable;
-use crate::shading::twin::{pow5, sat, Surface};
-
-/// D = α²/(π(NH²(α² − 1) + 1)²).
-pub fn physical_d_ggx(nh: f64, a: f64) -> f64 {
-    let a2 = a * a;
-    let k = nh * nh * (a2 - 1.0) + 1.0;
-    a2 / (PI * k * k)
-}
+use crate::shading::twin::{d_ggx, f_schlick, sat, Surface};
 
 /// V = 0.5/(NL·√(NV²(1 − α²) + α²) + NV·√(NL²(1 − α²) + α²)).
 pub fn physical_v_smith_correlated(nv: f64, nl: f64, a: f64) -> f64 {
@@ -21,11 +15,6 @@ pub fn physical_v_smith_correlated(nv: f64, nl: f64, a: f64) -> f64 {
     let gv = nl * (nv * nv * (1.0 - a2) + a2).sqrt();
     let gl = nv * (nl * nl * (1.0 - a2) + a2).sqrt();
     0.5 / (gv + gl).max(1e-12)
-}
-
-/// F = F0 + (1 − F0)(1 − VH)⁵.
-pub fn physical_f_schlick(f0: DVec3, vh: f64) -> DVec3 {
-    f0 + (DVec3::ONE - f0) * pow5(1.0 - vh)
 }
 
 /// 1 + F0·(1/E(NV) − 1), E the FGD table's single-scattering albedo.
@@ -44,8 +33,8 @@ pub fn physical_response(s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
     let pr = 1.0 - s.smoothness;
     let a = (pr * pr).max(1e-4);
     let f0 = DVec3::splat(0.04).lerp(s.base_color, s.metallic);
-    let spec = physical_f_schlick(f0, sat(v.dot(h)))
-        * physical_d_ggx(sat(n.dot(h)), a)
+    let spec = f_schlick(f0, sat(v.dot(h)))
+        * d_ggx(sat(n.dot(h)), a)
         * physical_v_smith_correlated(nv, nl, a)
         * physical_energy_compensation(f0, nv, pr);
     (s.base_color * (1.0 - s.metallic) / PI + spec) * nl

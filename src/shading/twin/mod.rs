@@ -10,7 +10,7 @@ mod urp;
 
 pub use builtin::{StandardBrdf2, StandardBrdf3};
 pub use classic::{BlinnPhong, CookTorrance, CookTorrance1982, HalfLambert, OrenNayar, Phong};
-pub use custom::{FresnelView, TorranceSparrow};
+pub use custom::{d_ggx, FresnelView, TorranceSparrow};
 pub use hdrp::{
     default_light_min_roughness, gtao_multi_bounce, indirect_occlusion, specular_occlusion_from_ao, HdrpLit,
 };
