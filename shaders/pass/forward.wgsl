@@ -240,14 +240,14 @@ fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>, vertex_gi: vec3<f32>) -> vec3<f
         let light = lights[i];
         let inc = light_incidence(light, p);
         if (inc.w > 0.0) {
-            let visible = shadow_visibility(light, p, n, inc.xyz, object.flags.w != 0u && VERTEX_LIT == 0u);
+            let visible = light_visibility(light, p, n, inc.xyz, object.flags.w != 0u && VERTEX_LIT == 0u);
             if (visible > 0.0) {
                 light_min_roughness = light.params.w;
                 c += model_direct(s, n, v, inc.xyz) * light.color.rgb * (inc.w * visible);
             }
         }
     }
-    let gi = ambient_diffuse(n) + max(sh_eval(object.light_sh, n), vec3<f32>(0.0)) + vertex_gi;
+    let gi = environment_ambient(n) + max(sh_eval(object.light_sh, n), vec3<f32>(0.0)) + vertex_gi;
     return c + indirect_light(s, n, v, gi);
 }
 
@@ -267,18 +267,25 @@ fn load_screen_occlusion(pixel: vec2<f32>) -> f32 {
 // environment × GTAOMultiBounce(min(SO(material AO), SO(SSAO)), F0); the direct light stays
 // unoccluded (direct lighting strength 0). Built-in and URP scale both by the material's occlusion.
 fn indirect_light(s: Surface, n: vec3<f32>, v: vec3<f32>, gi: vec3<f32>) -> vec3<f32> {
+    // Where the study's exact environment replaces them, the probe reflection is off (and the
+    // SH ambient left out of gi): the integral takes the environment's whole share.
+    let probe = select(1.0, 0.0, environment_replaced());
+    let exact = environment_exact(s, n, v);
     if (PIPELINE != 2u) {
-        return model_indirect(s, n, v, gi) * material_occlusion;
+        indirect_specular_occlusion = vec3<f32>(probe);
+        let lit = (model_indirect(s, n, v, gi) + exact) * material_occlusion;
+        indirect_specular_occlusion = vec3<f32>(1.0);
+        return lit;
     }
     let nv = max(dot(n, v), 1e-4);
     let pr = 1.0 - s.smoothness;
     let roughness = pr * pr;
     let ao = min(material_occlusion, screen_ao);
     let so = min(specular_occlusion_from_ao(nv, material_occlusion, roughness), specular_occlusion_from_ao(nv, screen_ao, roughness));
-    indirect_specular_occlusion = gtao_multi_bounce(so, mix(vec3<f32>(0.04), s.base_color, s.metallic));
+    indirect_specular_occlusion = gtao_multi_bounce(so, mix(vec3<f32>(0.04), s.base_color, s.metallic)) * probe;
     let lit = model_indirect(s, n, v, gi * gtao_multi_bounce(ao, s.base_color * (1.0 - s.metallic)));
     indirect_specular_occlusion = vec3<f32>(1.0);
-    return lit;
+    return lit + exact * ao;
 }
 
 // Interleaved gradient noise (Jimenez 2014; core Random.hlsl InterleavedGradientNoise, frame 0):
@@ -300,11 +307,19 @@ fn lod_clip(pixel: vec2<f32>) {
     }
 }
 
+// The fragment being shaded: its pixel and its triangle's normal on the viewer's side (what the
+// exact alternatives seed their samples with and offset their rays along)
+var<private> shading_pixel: vec2<f32> = vec2<f32>(0.0);
+var<private> shading_face: vec3<f32> = vec3<f32>(0.0);
+
 @fragment
 fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> FragmentOut {
     lod_clip(in.clip.xy);
     screen_ao = load_screen_occlusion(in.clip.xy);
-    let n = mapped_normal(shading_normal(in.normal, cross(dpdx(in.world_pos), dpdy(in.world_pos)), in.world_pos, front), in.tangent, in.uv);
+    let face = cross(dpdx(in.world_pos), dpdy(in.world_pos));
+    shading_pixel = in.clip.xy;
+    shading_face = safe_normalize(select(-face, face, dot(face, frame.camera_pos.xyz - in.world_pos) >= 0.0), 1e-30);
+    let n = mapped_normal(shading_normal(in.normal, face, in.world_pos, front), in.tangent, in.uv);
     var out: FragmentOut;
     out.color = vec4<f32>(shade(material_at(in.uv), n, in.world_pos, in.vertex_gi) + emission(in.uv), 1.0);
     out.role = object.flags.y;
@@ -374,7 +389,7 @@ fn fs_gbuffer(in: VertexOut, @builtin(front_facing) front: bool) -> GBufferOut {
     if (frame.counts.y > 0u) {
         main_light_color = lights[frame.counts.y - 1u].color.rgb;
     }
-    let gi = ambient_diffuse(n) + max(sh_eval(object.light_sh, n), vec3<f32>(0.0));
+    let gi = environment_ambient(n) + max(sh_eval(object.light_sh, n), vec3<f32>(0.0));
     var out: GBufferOut;
     out.albedo = vec4<f32>(s.base_color, 1.0);
     out.material = vec4<f32>(s.metallic, s.smoothness, 0.0, 0.0);
@@ -455,7 +470,7 @@ fn deferred_light(light: Light, s: Surface, p: vec3<f32>, n: vec3<f32>, v: vec3<
     if (inc.w <= 0.0) {
         return vec3<f32>(0.0);
     }
-    let visible = shadow_visibility(light, p, n, inc.xyz, receives);
+    let visible = light_visibility(light, p, n, inc.xyz, receives);
     if (visible <= 0.0) {
         return vec3<f32>(0.0);
     }

@@ -5,7 +5,7 @@
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
-use super::stats::{bad_values, psnr, rmse, BadValues};
+use super::stats::{bad_values, psnr, relative_mse, rmse, BadValues};
 use super::{flip, ssim};
 use crate::error::{Error, InputError};
 
@@ -84,6 +84,9 @@ pub struct Comparison {
     pub rmse: f64,
     /// PNGs: peak 1; None for identical images, and for EXRs (no fixed peak).
     pub psnr_db: Option<f64>,
+    /// Linear images: the relative MSE (`stats::relative_mse`); None for display-referred ones.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub relative_mse: Option<f64>,
     pub reference_bad: BadValues,
     pub test_bad: BadValues,
     #[serde(skip)]
@@ -143,6 +146,7 @@ pub fn compare_with(
                 ssim_channels,
                 rmse: e,
                 psnr_db: psnr(e, 1.0),
+                relative_mse: None,
                 reference_bad: BadValues::default(),
                 test_bad: BadValues::default(),
                 flip_map_rgba8: flip_value.1,
@@ -173,6 +177,7 @@ pub fn compare_with(
                 ssim_channels: None,
                 rmse: rmse(&to_f(r), &to_f(t)),
                 psnr_db: None,
+                relative_mse: relative_mse(r, t),
                 reference_bad,
                 test_bad,
                 flip_map_rgba8: flip_value.1,

@@ -1,4 +1,4 @@
-//! Pixel statistics: RMSE, PSNR and the counts of NaN, Inf and negative values.
+//! Pixel statistics: RMSE, PSNR, relative MSE and the counts of NaN, Inf and negative values.
 
 use serde::{Deserialize, Serialize};
 
@@ -42,6 +42,34 @@ pub fn rmse(a: &[f64], b: &[f64]) -> f64 {
     (sum / n.max(1) as f64).sqrt()
 }
 
+/// Relative mean squared error of linear RGBA images (Rousselle, Knaus & Zwicker 2012): the mean
+/// over pixels and colour channels of (t − r)² / (r² + ε), with ε = 0.01 × the reference's mean
+/// luminance² where the paper's 0.01 assumes unit-scale radiance, so that the figure does not
+/// depend on the images' units (HDRP's physical light against built-in's unitless intensity).
+/// Pairs where either value is not finite are skipped; None when none is left or the reference
+/// is black.
+pub fn relative_mse(reference: &[f32], test: &[f32]) -> Option<f64> {
+    let lum = |p: &[f32]| 0.2126 * p[0] as f64 + 0.7152 * p[1] as f64 + 0.0722 * p[2] as f64;
+    let finite = |p: &&[f32]| p[..3].iter().all(|v| v.is_finite());
+    let lums: Vec<f64> = reference.chunks_exact(4).filter(finite).map(lum).collect();
+    let mean = lums.iter().sum::<f64>() / lums.len().max(1) as f64;
+    if mean <= 0.0 {
+        return None;
+    }
+    let eps = 0.01 * mean * mean;
+    let (mut sum, mut n) = (0.0, 0usize);
+    for (r, t) in reference.chunks_exact(4).zip(test.chunks_exact(4)) {
+        for c in 0..3 {
+            let (r, t) = (r[c] as f64, t[c] as f64);
+            if r.is_finite() && t.is_finite() {
+                sum += (t - r) * (t - r) / (r * r + eps);
+                n += 1;
+            }
+        }
+    }
+    (n > 0).then(|| sum / n as f64)
+}
+
 /// PSNR in dB for a peak value; None when the images are identical (infinite PSNR).
 pub fn psnr(rmse: f64, peak: f64) -> Option<f64> {
     (rmse > 0.0).then(|| 20.0 * (peak / rmse).log10())
@@ -63,5 +91,18 @@ mod tests {
             bad_values([f64::NAN, -1.0, f64::INFINITY, 2.0].into_iter()),
             BadValues { nan: 1, inf: 1, negative: 1 }
         );
+    }
+
+    #[test]
+    fn relative_mse_is_scale_free_and_relative() {
+        let r = [1.0f32, 1.0, 1.0, 1.0, 3.0, 3.0, 3.0, 1.0];
+        let t = [1.1f32, 1.1, 1.1, 1.0, 3.3, 3.3, 3.3, 1.0];
+        let e = relative_mse(&r, &t).unwrap();
+        // 10 % off everywhere: (0.1r)²/(r² + 0.04) per value, mean luminance 2.
+        let want = (0.01 / (1.0 + 0.04) + 0.09 / (9.0 + 0.04)) / 2.0;
+        assert!((e - want).abs() < 1e-6, "{e} {want}");
+        let scaled = |v: &[f32]| v.iter().map(|x| x * 1e4).collect::<Vec<f32>>();
+        assert!((relative_mse(&scaled(&r), &scaled(&t)).unwrap() - e).abs() < 1e-6);
+        assert_eq!(relative_mse(&[0.0; 4], &[1.0; 4]), None);
     }
 }

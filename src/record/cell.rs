@@ -262,6 +262,9 @@ impl ReferenceRecord {
 pub struct HdrComparison {
     pub flip: FlipMetric,
     pub rmse: f64,
+    /// The relative MSE (compare::stats::relative_mse): free of the images' units.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub relative_mse: Option<f64>,
     pub reference_bad: BadValues,
     pub test_bad: BadValues,
     /// Against a cell of another pipeline, whose EXR holds other units (HDRP's physical light
@@ -308,6 +311,10 @@ impl CellMetrics {
 
     pub fn hdr_flip(&self) -> Option<f64> {
         self.hdr.as_ref().and_then(|h| h.value()).and_then(|h| h.flip.value.mean())
+    }
+
+    pub fn hdr_relative_mse(&self) -> Option<f64> {
+        self.hdr.as_ref().and_then(|h| h.value()).and_then(|h| h.relative_mse)
     }
 
     /// The reference cell's id, when the reference is a cell of this run.

@@ -4,6 +4,7 @@
 pub mod bloom;
 pub mod camera;
 pub mod deferred;
+pub mod exact;
 pub mod luts;
 pub mod material_maps;
 pub mod probe;

@@ -60,6 +60,8 @@ pub struct CellSettings {
     /// The emitted colour the axis scales (linear), where it is not the base colour: a glTF
     /// subject's own `emissiveFactor`.
     pub emission_color: Option<[f64; 3]>,
+    /// The approximation study's exact alternatives (none: the pipeline as it ships).
+    pub exact: super::exact::ExactAlternatives,
 }
 
 /// The samples per pixel a cell rendered with, and why they differ from what it asked, if they do.
@@ -204,6 +206,24 @@ struct Targets {
     ssao: Option<(super::ssao::SsaoChain, wgpu::BindGroup)>,
 }
 
+/// What a forward pipeline compiles in besides its pipeline and model: built-in's vertex-lit
+/// path, the sample count, a textured subject, the study's exact alternatives.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+struct ForwardKey {
+    vertex_lit: bool,
+    samples: u32,
+    textured: bool,
+    exact: super::exact::ExactAlternatives,
+}
+
+impl ForwardKey {
+    /// One sample, per-pixel lights, no exact alternatives (the deferred path's forward-only
+    /// objects, probe captures).
+    fn plain(textured: bool) -> ForwardKey {
+        ForwardKey { vertex_lit: false, samples: 1, textured, exact: Default::default() }
+    }
+}
+
 /// A forward frame's multisampled colour, role and depth, resolved into `Targets`' own at the end
 /// of the pass (the role of sample 0: an integer target resolves by taking one sample).
 struct MsaaTargets {
@@ -220,8 +240,8 @@ pub struct Renderer {
     pipeline_layout: wgpu::PipelineLayout,
     sampler: wgpu::Sampler,
     fgd: wgpu::TextureView,
-    /// By (pipeline, model, vertex-lit, samples, textured subject).
-    forward: HashMap<(Pipeline, String, bool, u32, bool), wgpu::RenderPipeline>,
+    /// By (pipeline, model, what else the pipeline compiles in).
+    forward: HashMap<(Pipeline, String, ForwardKey), wgpu::RenderPipeline>,
     /// Fixed objects are drawn with each pipeline's default lit shader, a built-in model.
     fixed_models: Registry,
     /// By sample count.
@@ -257,6 +277,10 @@ pub struct Renderer {
     depth_normals: HashMap<(Pipeline, bool), wgpu::RenderPipeline>,
     /// The truth's tracers, by (pipeline, subject model, fixed model).
     truth_pipelines: HashMap<(Pipeline, String, String, super::truth::TruthKind), super::truth::TruthPipeline>,
+    /// Group 3 of the tracer and of the exact alternatives: the scene as rays see it.
+    ray_layout: wgpu::BindGroupLayout,
+    /// The forward pipelines' layout with that group: the subject's exact alternatives.
+    exact_layout: wgpu::PipelineLayout,
 }
 
 impl Renderer {
@@ -351,6 +375,12 @@ impl Renderer {
             bind_group_layouts: &[Some(&frame_layout), Some(&object_layout), Some(&screen_layout)],
             immediate_size: 0,
         });
+        let ray_layout = super::truth::ray_layout(device);
+        let exact_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("scene with rays"),
+            bind_group_layouts: &[Some(&frame_layout), Some(&object_layout), Some(&screen_layout), Some(&ray_layout)],
+            immediate_size: 0,
+        });
         let neutral_screen = neutral_screen_group(&gpu, &screen_layout);
         let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("environment"),
@@ -415,6 +445,8 @@ impl Renderer {
             ssao: None,
             depth_normals: HashMap::new(),
             truth_pipelines: HashMap::new(),
+            ray_layout,
+            exact_layout,
         }
     }
 
@@ -425,32 +457,32 @@ impl Renderer {
 
     /// The forward pipeline of a model; `vertex_lit`: built-in's legacy vertex-lit path, which
     /// evaluates the lighting at the vertices (Gouraud) with its own light list; `textured`: the
-    /// subject wears material maps (a flat subject's pipeline compiles the sampling away).
-    fn forward_pipeline(
-        &mut self,
-        pipeline: Pipeline,
-        model: &ShaderModel,
-        vertex_lit: bool,
-        samples: u32,
-        textured: bool,
-    ) -> Result<(), Error> {
-        let key = (pipeline, model.name.to_string(), vertex_lit, samples, textured);
+    /// subject wears material maps (a flat subject's pipeline compiles the sampling away);
+    /// `exact`: the approximation study's exact alternatives (render::exact), with the rays' group.
+    fn forward_pipeline(&mut self, pipeline: Pipeline, model: &ShaderModel, key: ForwardKey) -> Result<(), Error> {
+        let ForwardKey { vertex_lit, samples, textured, exact } = key;
+        let key = (pipeline, model.name.to_string(), key);
         if self.forward.contains_key(&key) {
             return Ok(());
         }
         let per_vertex = model.per_vertex || vertex_lit;
-        let source = wgsl::compose(wgsl::PassKind::Forward, Some(model));
+        let pass = if exact.any() { wgsl::PassKind::ForwardExact } else { wgsl::PassKind::Forward };
+        let source = wgsl::compose(pass, Some(model));
         let module = self.gpu.shader_module(&format!("forward {}/{}", pipeline.name(), model.name), &source)?;
-        let constants = [
+        let mut constants = vec![
             ("PIPELINE", pipeline.shader_id() as f64),
             ("MAIN_LIGHT_ONLY", model.main_light_only as u32 as f64),
             ("VERTEX_LIT", vertex_lit as u32 as f64),
             ("TEXTURED", textured as u32 as f64),
         ];
+        if exact.any() {
+            constants.extend(exact.constants());
+        }
         let entries = if per_vertex { ("vs_gouraud", "fs_gouraud") } else { ("vs_main", "fs_main") };
         let label = format!("forward {}/{}", pipeline.name(), model.name);
         let targets = [Some(HDR_FORMAT.into()), Some(ROLE_FORMAT.into())];
-        let p = self.mesh_pipeline(&label, &module, entries, &constants, &targets, samples);
+        let layout = if exact.any() { &self.exact_layout } else { &self.pipeline_layout };
+        let p = self.mesh_pipeline(&label, layout, &module, entries, &constants, &targets, samples);
         self.gpu.check_errors("creating a forward pipeline")?;
         self.forward.insert(key, p);
         Ok(())
@@ -458,9 +490,11 @@ impl Renderer {
 
     /// A pipeline that draws scene meshes: both faces (imported and thin meshes are shaded from
     /// either side, normals flipped), depth test Less with writes.
+    #[allow(clippy::too_many_arguments)]
     fn mesh_pipeline(
         &self,
         label: &str,
+        layout: &wgpu::PipelineLayout,
         module: &wgpu::ShaderModule,
         (vs, fs): (&str, &str),
         constants: &[(&str, f64)],
@@ -470,7 +504,7 @@ impl Renderer {
         let options = wgpu::PipelineCompilationOptions { constants, ..Default::default() };
         self.gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(label),
-            layout: Some(&self.pipeline_layout),
+            layout: Some(layout),
             vertex: wgpu::VertexState {
                 module,
                 entry_point: Some(vs),
@@ -518,7 +552,15 @@ impl Renderer {
             Some(ROLE_FORMAT.into()),
         ];
         let label = format!("gbuffer {}/{}", pipeline.name(), model.name);
-        let p = self.mesh_pipeline(&label, &module, ("vs_main", "fs_gbuffer"), &constants, &targets, 1);
+        let p = self.mesh_pipeline(
+            &label,
+            &self.pipeline_layout,
+            &module,
+            ("vs_main", "fs_gbuffer"),
+            &constants,
+            &targets,
+            1,
+        );
         self.gpu.check_errors("creating a G-buffer pipeline")?;
         self.gbuffer_pipelines.insert(key, p);
         Ok(())
@@ -536,7 +578,15 @@ impl Renderer {
         let constants = [("PIPELINE", pipeline.shader_id() as f64), ("TEXTURED", textured as u32 as f64)];
         let targets = [Some(super::ssao::NORMAL_FORMAT.into())];
         let label = format!("depth prepass {}", pipeline.name());
-        let p = self.mesh_pipeline(&label, &module, ("vs_main", "fs_depth_normals"), &constants, &targets, 1);
+        let p = self.mesh_pipeline(
+            &label,
+            &self.pipeline_layout,
+            &module,
+            ("vs_main", "fs_depth_normals"),
+            &constants,
+            &targets,
+            1,
+        );
         self.gpu.check_errors("creating the depth prepass pipeline")?;
         self.depth_normals.insert(key, p);
         Ok(())
@@ -987,8 +1037,19 @@ impl Renderer {
         let multisampling = self.multisampling(asked, why_one);
         let samples = multisampling.samples;
         let textured = cell.settings.material_maps.is_some();
-        self.forward_pipeline(cell.pipeline, subject_model, vertex_lit, samples, textured)?;
-        self.forward_pipeline(cell.pipeline, &fixed_model, vertex_lit, samples, false)?;
+        let exact = cell.settings.exact;
+        if exact.any() && (deferred || vertex_lit || subject_model.per_vertex || fixed_model.per_vertex) {
+            return Err(Error::Other(format!(
+                "exact alternatives are for per-pixel forward shading; {}/{} on the {} path has none",
+                cell.pipeline.name(),
+                subject_model.name,
+                cell.settings.path.name()
+            )));
+        }
+        let subject_key = ForwardKey { vertex_lit, samples, textured, exact };
+        let fixed_key = ForwardKey { textured: false, ..subject_key };
+        self.forward_pipeline(cell.pipeline, subject_model, subject_key)?;
+        self.forward_pipeline(cell.pipeline, &fixed_model, fixed_key)?;
         if deferred {
             for (model, role) in [(subject_model, ROLE_SUBJECT), (&*fixed_model, ROLE_FIXED)] {
                 if model.deferrable() {
@@ -1003,6 +1064,7 @@ impl Renderer {
         let written = self.write_uniforms(prepared, cell, &fixed_model);
         let probe_times = self.capture_probes(prepared, cell, &fixed_model, &written)?;
         let (drawn, casting) = (written.drawn(), written.casting());
+        let rays = if exact.any() { Some(self.ray_scene(prepared, casting.clone())?) } else { None };
         let WrittenFrame { lights, shadow_layers, shadow_maps, lod, .. } = written;
         let frame_group = self.frame_group(prepared, cell.settings.material_maps)?;
         let frame_group: &wgpu::BindGroup = &frame_group;
@@ -1075,9 +1137,8 @@ impl Renderer {
         }
         let timer = self.timer.as_ref().filter(|_| self.gpu.record.timestamp_queries);
         let t = self.targets.as_ref().expect("targets exist");
-        let subject_pipeline =
-            &self.forward[&(cell.pipeline, subject_model.name.to_string(), vertex_lit, samples, textured)];
-        let fixed_pipeline = &self.forward[&(cell.pipeline, fixed_model.name.to_string(), vertex_lit, samples, false)];
+        let subject_pipeline = &self.forward[&(cell.pipeline, subject_model.name.to_string(), subject_key)];
+        let fixed_pipeline = &self.forward[&(cell.pipeline, fixed_model.name.to_string(), fixed_key)];
         // With MSAA the pass draws into the multisampled targets and resolves into the frame's own.
         let msaa = t.msaa.as_ref().filter(|_| samples > 1);
         let (color_view, role_view, depth_view) = match msaa {
@@ -1151,6 +1212,9 @@ impl Renderer {
                 });
                 pass.set_bind_group(0, frame_group, &[]);
                 pass.set_bind_group(2, screen, &[]);
+                if let Some(rays) = &rays {
+                    pass.set_bind_group(3, &rays.group, &[]);
+                }
                 for (i, o) in prepared.objects.iter().enumerate().filter(|(i, _)| drawn[*i]) {
                     pass.set_pipeline(if o.role == Role::Subject { subject_pipeline } else { fixed_pipeline });
                     pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
@@ -1358,7 +1422,7 @@ impl Renderer {
         pass.set_bind_group(2, screen, &[]);
         for (i, o) in prepared.objects.iter().enumerate().filter(|(i, o)| drawn[*i] && !model_of(o).deferrable()) {
             let textured = o.role == Role::Subject && cell.settings.material_maps.is_some();
-            pass.set_pipeline(&self.forward[&(p, model_of(o).name.to_string(), false, 1, textured)]);
+            pass.set_pipeline(&self.forward[&(p, model_of(o).name.to_string(), ForwardKey::plain(textured))]);
             pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
             pass.set_vertex_buffer(0, o.vertices.slice(..));
             pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);
@@ -1575,6 +1639,37 @@ impl Renderer {
         }
     }
 
+    /// The scene as rays see it (render::truth::TruthScene): the meshes `kept` (the ones the frame
+    /// draws: LOD levels change them) in a BVH with the environment's tables and irradiance. Built
+    /// for the first cell that traces or asks for an exact alternative, rebuilt only when a cell
+    /// keeps other meshes.
+    fn ray_scene(
+        &self,
+        prepared: &PreparedScene,
+        kept: Vec<bool>,
+    ) -> Result<std::sync::Arc<super::truth::TruthScene>, Error> {
+        let scene = &prepared.scene;
+        let env = prepared.env_table.get_or_init(|| {
+            let radiance = |d: DVec3| crate::environment::sky::radiance(&scene.environment.sky, d);
+            let w = super::truth::ENV_WIDTH;
+            let image = crate::environment::prefilter::EquirectImage::sample(&radiance, w, w / 2, 2);
+            super::truth::TruthEnvironment::new(&self.gpu.device, &image)
+        });
+        let cached = prepared.truth_geometry.lock().unwrap_or_else(|e| e.into_inner()).clone();
+        Ok(match cached {
+            Some((k, g)) if k == kept => g,
+            _ => {
+                let mut meshes = procedural::build_scene(scene)?;
+                meshes.extend(procedural::lod_meshes(scene)?.into_iter().map(|(_, _, m)| m));
+                let objects = prepared.objects.iter().zip(&meshes).enumerate().filter(|(i, _)| kept[*i]);
+                let g = super::truth::bvh::TruthGeometry::build(objects.map(|(i, (o, m))| (i as u32, m, o.model)));
+                let g = std::sync::Arc::new(super::truth::TruthScene::new(&self.gpu.device, &self.ray_layout, &g, env));
+                *prepared.truth_geometry.lock().unwrap_or_else(|e| e.into_inner()) = Some((kept, g.clone()));
+                g
+            }
+        })
+    }
+
     /// The ground truth of a cell (render::truth): its scene, lights and materials path traced
     /// with the models the cell draws them with (`same-brdf`) or the physical model (`physical`). The meshes are the cell's drawn ones; in a
     /// LOD cross-fade band, the outgoing level alone (the one the shadow pass draws whole).
@@ -1592,26 +1687,19 @@ impl Renderer {
         if !self.truth_pipelines.contains_key(&key) {
             let source = wgsl::compose_truth(cell.model, &fixed_model);
             let id = cell.pipeline.shader_id();
-            let p = super::truth::TruthPipeline::new(&self.gpu, &self.frame_layout, &source, id, settings.kind)?;
+            let p = super::truth::TruthPipeline::new(
+                &self.gpu,
+                &self.frame_layout,
+                &self.ray_layout,
+                &source,
+                id,
+                settings.kind,
+            )?;
             self.truth_pipelines.insert(key.clone(), p);
         }
         let written = self.write_uniforms(prepared, cell, &fixed_model);
         let frame_group = self.frame_group(prepared, cell.settings.material_maps)?;
-        let scene = &prepared.scene;
-        let kept = written.casting();
-        let cached = prepared.truth_geometry.lock().unwrap_or_else(|e| e.into_inner()).clone();
-        let geometry = match cached {
-            Some((k, g)) if k == kept => g,
-            _ => {
-                let mut meshes = procedural::build_scene(scene)?;
-                meshes.extend(procedural::lod_meshes(scene)?.into_iter().map(|(_, _, m)| m));
-                let objects = prepared.objects.iter().zip(&meshes).enumerate().filter(|(i, _)| kept[*i]);
-                let g = super::truth::bvh::TruthGeometry::build(objects.map(|(i, (o, m))| (i as u32, m, o.model)));
-                let g = std::sync::Arc::new(super::truth::TruthScene::new(&self.gpu.device, &g));
-                *prepared.truth_geometry.lock().unwrap_or_else(|e| e.into_inner()) = Some((kept, g.clone()));
-                g
-            }
-        };
+        let geometry = self.ray_scene(prepared, written.casting())?;
         let textured = cell.settings.material_maps.is_some();
         let mut objects = Vec::with_capacity(prepared.objects.len() * 128);
         for (o, material) in prepared.objects.iter().zip(&written.materials) {
@@ -1622,15 +1710,8 @@ impl Renderer {
             };
             objects.extend_from_slice(bytemuck::cast_slice(&flags));
         }
-        let env = prepared.env_table.get_or_init(|| {
-            let radiance = |d: DVec3| crate::environment::sky::radiance(&scene.environment.sky, d);
-            let w = super::truth::ENV_WIDTH;
-            let image = crate::environment::prefilter::EquirectImage::sample(&radiance, w, w / 2, 2);
-            super::truth::TruthEnvironment::new(&self.gpu.device, &image)
-        });
         let inputs = super::truth::TruthInputs {
             scene: &geometry,
-            environment: env,
             objects: &objects,
             background: prepared.plan.background,
             size: (cell.width, cell.height),
@@ -1660,7 +1741,7 @@ impl Renderer {
         }
         self.gpu.queue.write_buffer(&prepared.frame_buffer, 0, bytemuck::bytes_of(&frame));
         let super::reflection_probes::Slot::ToCapture(slot) = slot else { return Ok(None) };
-        self.forward_pipeline(cell.pipeline, fixed_model, false, 1, false)?;
+        self.forward_pipeline(cell.pipeline, fixed_model, ForwardKey::plain(false))?;
         if prepared.plan.background {
             self.background_pipeline(1)?;
         }
@@ -1672,7 +1753,7 @@ impl Renderer {
             self.probe_timer = Some(PassTimer::new(&self.gpu.device, &self.gpu.queue, 2));
         }
         let timer = self.probe_timer.as_ref().filter(|_| self.gpu.record.timestamp_queries);
-        let pipeline = &self.forward[&(cell.pipeline, fixed_model.name.to_string(), false, 1, false)];
+        let pipeline = &self.forward[&(cell.pipeline, fixed_model.name.to_string(), ForwardKey::plain(false))];
         let background = self.background.get(&1).filter(|_| prepared.plan.background);
         let neutral = &self.material_textures[""];
         let (drawn, casting) = (written.drawn(), written.casting());

@@ -176,6 +176,7 @@ pub fn compare_cell(
             Maybe::Value(HdrComparison {
                 flip: h.flip,
                 rmse: h.rmse,
+                relative_mse: h.relative_mse,
                 reference_bad: h.reference_bad,
                 test_bad: h.test_bad,
                 exposed,

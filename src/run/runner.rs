@@ -388,6 +388,7 @@ impl<'a> Stream<'a> {
                         // A glTF's own emissive colour glows as the file says unless the axis scales it.
                         emission: cell.emission.unwrap_or(if cell.own_material() { 1.0 } else { 0.0 }),
                         emission_color: cell.material.emissive_linear,
+                        exact: Default::default(),
                     },
                 };
                 let t = Instant::now();

@@ -188,7 +188,7 @@ fn load_model(
         smoothness_gate: None,
         parity_tolerance: f64::INFINITY,
     };
-    for pass in [PassKind::Forward, PassKind::BrdfProbe] {
+    for pass in [PassKind::Forward, PassKind::ForwardExact, PassKind::BrdfProbe] {
         validate(&model, pass)?;
     }
     Ok(model)

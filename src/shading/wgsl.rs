@@ -8,6 +8,9 @@ const CONVENTIONS: &str = include_str!("../../shaders/common/conventions.wgsl");
 const BRDF_TERMS: &str = include_str!("../../shaders/common/brdf.wgsl");
 const SCENE: &str = include_str!("../../shaders/pass/scene.wgsl");
 const FORWARD: &str = include_str!("../../shaders/pass/forward.wgsl");
+/// The real-time approximations forward.wgsl calls, and their exact alternatives (render::exact).
+const APPROXIMATIONS: &str = include_str!("../../shaders/pass/approximations.wgsl");
+const EXACT: &str = include_str!("../../shaders/pass/exact.wgsl");
 const BACKGROUND: &str = include_str!("../../shaders/pass/background.wgsl");
 const PROBE: &str = include_str!("../../shaders/pass/brdf_probe.wgsl");
 
@@ -15,6 +18,8 @@ const PROBE: &str = include_str!("../../shaders/pass/brdf_probe.wgsl");
 pub enum PassKind {
     /// Forward lighting of one model, with vertex entry `vs_main` and fragment entry `fs_main`.
     Forward,
+    /// The same with the approximation study's exact alternatives (group 3: the rays).
+    ForwardExact,
     /// The environment background (no model).
     Background,
     /// Compute entry `probe_main`: the model evaluated for given directions.
@@ -22,14 +27,16 @@ pub enum PassKind {
 }
 
 const TRUTH: &str = include_str!("../../shaders/pass/truth.wgsl");
+/// The scene as rays see it: the truth's and the exact alternatives' BVH, environment and sampling.
+const RAYS: &str = include_str!("../../shaders/pass/rays.wgsl");
 /// The physical truth's model alone (it reads `fgd_lookup`, which the including module defines).
 pub const TRUTH_PHYSICAL: &str = include_str!("../../shaders/pass/truth_physical.wgsl");
 
 /// The path tracer of the truths (render::truth): the scene pass's shared files, the subject's
 /// model as it is, the fixed objects' model with every name it declares prefixed `fixed_` (both
-/// define `model_direct`), the physical truth's model, then the tracer.
+/// define `model_direct`), the physical truth's model, the rays, then the tracer.
 pub fn compose_truth(subject: &ShaderModel, fixed: &ShaderModel) -> String {
-    [MATH, CONVENTIONS, BRDF_TERMS, SCENE, &subject.wgsl, &prefixed(&fixed.wgsl, "fixed_"), TRUTH_PHYSICAL, TRUTH]
+    [MATH, CONVENTIONS, BRDF_TERMS, SCENE, &subject.wgsl, &prefixed(&fixed.wgsl, "fixed_"), TRUTH_PHYSICAL, RAYS, TRUTH]
         .join("\n")
 }
 
@@ -95,15 +102,24 @@ pub fn compose_mapped(pass: PassKind, model: Option<&ShaderModel>) -> (String, L
         ("shaders/common/brdf.wgsl", BRDF_TERMS),
     ];
     match pass {
-        PassKind::Forward => parts.push(("shaders/pass/scene.wgsl", SCENE)),
-        PassKind::Background => parts.push(("shaders/pass/scene.wgsl", SCENE)),
+        PassKind::Forward | PassKind::ForwardExact | PassKind::Background => {
+            parts.push(("shaders/pass/scene.wgsl", SCENE))
+        }
         PassKind::BrdfProbe => {}
     }
     if let Some(m) = model {
         parts.push((&m.source_path, &m.wgsl));
     }
+    match pass {
+        PassKind::Forward => parts.push(("shaders/pass/approximations.wgsl", APPROXIMATIONS)),
+        PassKind::ForwardExact => {
+            parts.push(("shaders/pass/rays.wgsl", RAYS));
+            parts.push(("shaders/pass/exact.wgsl", EXACT));
+        }
+        PassKind::Background | PassKind::BrdfProbe => {}
+    }
     parts.push(match pass {
-        PassKind::Forward => ("shaders/pass/forward.wgsl", FORWARD),
+        PassKind::Forward | PassKind::ForwardExact => ("shaders/pass/forward.wgsl", FORWARD),
         PassKind::Background => ("shaders/pass/background.wgsl", BACKGROUND),
         PassKind::BrdfProbe => ("shaders/pass/brdf_probe.wgsl", PROBE),
     });

@@ -8,6 +8,7 @@ use std::path::Path;
 use super::asserts::{parse_assert, InvariantKind, InvariantSpec};
 use super::presets::{preset_names, Preset};
 use super::scene::Scene;
+use super::study::Approximation;
 use crate::error::{Error, InputError};
 use crate::input::names::unknown_name;
 use crate::input::source::parse_toml;
@@ -57,6 +58,10 @@ struct MatrixFile {
     /// the other axes equal), `"supersampled"` or `{ supersampled = N }`, or `{ run = "DIR" }`.
     #[serde(default)]
     reference: Option<toml::Value>,
+    /// The approximation study (spec::study): `approximations = ["ambient", "environment",
+    /// "visibility", "msaa"]`, each cell rendered again without each; needs a truth reference.
+    #[serde(default)]
+    approximations: Vec<String>,
     /// Contact sheets: `[{ rows = "smoothness", cols = "metallic" }]`; default: pipelines × presets
     /// and smoothness × metallic, the other axes as separate sheets.
     #[serde(default)]
@@ -310,6 +315,8 @@ pub struct Matrix {
     pub only: Vec<Filter>,
     pub exclude: Vec<Filter>,
     pub reference: Option<ReferenceSpec>,
+    /// The approximation study's list, in the file's order without repeats.
+    pub approximations: Vec<Approximation>,
     pub sheets: Vec<crate::spec::sheets::SheetSpec>,
     /// `[[assert]]` invariants, checked after the run.
     pub asserts: Vec<InvariantSpec>,
@@ -687,6 +694,23 @@ impl Matrix {
         }
 
         let reference = file.reference.as_ref().map(|r| parse_reference(&c, r, base_dir)).transpose()?;
+        let mut approximations = Vec::new();
+        for (i, name) in file.approximations.iter().enumerate() {
+            let a = Approximation::from_name(name).ok_or_else(|| {
+                unknown_name(origin, &format!("approximations[{i}]"), "approximation", name, &Approximation::names())
+            })?;
+            if !approximations.contains(&a) {
+                approximations.push(a);
+            }
+        }
+        if !approximations.is_empty() && !matches!(reference, Some(ReferenceSpec::Truth(_))) {
+            return Err(c
+                .err(
+                    "approximations",
+                    "the approximation study measures each change against the cell's truth: set `reference = \"truth\"` (or `{ truth = ... }`)",
+                )
+                .into());
+        }
         if let Some(ReferenceSpec::Cell(terms)) = &reference {
             for (axis, v) in terms {
                 if let FilterValue::Name(n) = v {
@@ -745,6 +769,7 @@ impl Matrix {
             only,
             exclude,
             reference,
+            approximations,
             sheets,
             asserts,
         })

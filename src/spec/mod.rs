@@ -5,3 +5,4 @@ pub mod matrix;
 pub mod presets;
 pub mod scene;
 pub mod sheets;
+pub mod study;

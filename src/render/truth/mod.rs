@@ -120,16 +120,30 @@ pub fn group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     };
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("truth"),
+        entries: &[uniform(0), read_only_storage(1), read_write(2), read_write(3)],
+    })
+}
+
+/// The layout of the scene as rays see it (shaders/pass/rays.wgsl, group 3 of the tracer and of
+/// the forward pipelines with exact alternatives): bindings 10–16.
+pub fn ray_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    let entry = |binding, ty| wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::VERTEX_FRAGMENT,
+        ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None },
+        count: None,
+    };
+    let storage = wgpu::BufferBindingType::Storage { read_only: true };
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("rays"),
         entries: &[
-            uniform(0),
-            read_only_storage(1),
-            read_only_storage(2),
-            read_only_storage(3),
-            read_only_storage(4),
-            read_only_storage(5),
-            read_only_storage(6),
-            read_write(7),
-            read_write(8),
+            entry(10, wgpu::BufferBindingType::Uniform),
+            entry(11, storage),
+            entry(12, storage),
+            entry(13, storage),
+            entry(14, storage),
+            entry(15, storage),
+            entry(16, storage),
         ],
     })
 }
@@ -138,6 +152,7 @@ impl TruthPipeline {
     pub fn new(
         gpu: &GpuContext,
         frame_layout: &wgpu::BindGroupLayout,
+        ray_layout: &wgpu::BindGroupLayout,
         source: &str,
         pipeline_id: u32,
         kind: TruthKind,
@@ -147,7 +162,7 @@ impl TruthPipeline {
         let layout = group_layout(device);
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("truth"),
-            bind_group_layouts: &[Some(frame_layout), Some(&layout)],
+            bind_group_layouts: &[Some(frame_layout), Some(&layout), None, Some(ray_layout)],
             immediate_size: 0,
         });
         let constants = [("PIPELINE", pipeline_id as f64), ("TRUTH_KIND", (kind == TruthKind::Physical) as u32 as f64)];
@@ -164,39 +179,64 @@ impl TruthPipeline {
     }
 }
 
-/// A composition's geometry on the GPU (BVH, triangles, vertices), uploaded once and shared by
-/// its cells' truths.
+/// A composition's geometry on the GPU (BVH, triangles, vertices) with its environment, as the
+/// rays' bind group (group 3): uploaded once and shared by its cells' truths and exact alternatives.
 pub struct TruthScene {
-    nodes: wgpu::Buffer,
-    triangles: wgpu::Buffer,
-    vertices: wgpu::Buffer,
+    pub group: wgpu::BindGroup,
 }
 
 impl TruthScene {
-    pub fn new(device: &wgpu::Device, g: &bvh::TruthGeometry) -> TruthScene {
-        TruthScene {
-            nodes: storage(device, "truth bvh", bytemuck::cast_slice(&g.nodes)),
-            triangles: storage(device, "truth triangles", bytemuck::cast_slice(&g.triangles)),
-            vertices: storage(device, "truth vertices", bytemuck::cast_slice(&g.vertices)),
-        }
+    pub fn new(
+        device: &wgpu::Device,
+        layout: &wgpu::BindGroupLayout,
+        g: &bvh::TruthGeometry,
+        env: &TruthEnvironment,
+    ) -> TruthScene {
+        let nodes = storage(device, "truth bvh", bytemuck::cast_slice(&g.nodes));
+        let triangles = storage(device, "truth triangles", bytemuck::cast_slice(&g.triangles));
+        let vertices = storage(device, "truth vertices", bytemuck::cast_slice(&g.vertices));
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("rays"),
+            layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 10, resource: env.info.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 11, resource: nodes.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 12, resource: triangles.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 13, resource: vertices.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 14, resource: env.texels.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 15, resource: env.cdf.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 16, resource: env.irradiance.as_entire_binding() },
+            ],
+        });
+        TruthScene { group }
     }
 }
 
 /// A composition's environment on the GPU: its ENV_WIDTH × ENV_WIDTH/2 texels and sampling
-/// tables (`environment_tables`), uploaded once.
+/// tables (`environment_tables`) and its exact irradiance (environment::irradiance), uploaded once.
 pub struct TruthEnvironment {
     texels: wgpu::Buffer,
     cdf: wgpu::Buffer,
-    size: (u32, u32),
+    irradiance: wgpu::Buffer,
+    /// rays.wgsl `RaySceneInfo`: the table's and the irradiance map's sizes.
+    info: wgpu::Buffer,
 }
 
 impl TruthEnvironment {
     pub fn new(device: &wgpu::Device, image: &EquirectImage) -> TruthEnvironment {
         let (texels, cdf) = environment_tables(image);
+        let map = crate::environment::irradiance::irradiance_map(image);
+        let irradiance: Vec<[f32; 4]> = map.texels.iter().map(|c| [c.x as f32, c.y as f32, c.z as f32, 0.0]).collect();
+        let info = [image.width as u32, image.height as u32, map.width as u32, map.height as u32];
         TruthEnvironment {
             texels: storage(device, "truth environment", bytemuck::cast_slice(&texels)),
             cdf: storage(device, "truth environment tables", bytemuck::cast_slice(&cdf)),
-            size: (image.width as u32, image.height as u32),
+            irradiance: storage(device, "environment irradiance", bytemuck::cast_slice(&irradiance)),
+            info: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("rays info"),
+                contents: bytemuck::cast_slice(&info),
+                usage: wgpu::BufferUsages::UNIFORM,
+            }),
         }
     }
 }
@@ -204,7 +244,6 @@ impl TruthEnvironment {
 /// Everything one truth render needs besides the frame group (which the renderer owns).
 pub struct TruthInputs<'a> {
     pub scene: &'a TruthScene,
-    pub environment: &'a TruthEnvironment,
     /// Per object: its material and flags (shaders/pass/truth.wgsl `TruthObject`).
     pub objects: &'a [u8],
     pub background: bool,
@@ -235,7 +274,6 @@ pub fn trace(
     let device = &gpu.device;
     let (width, height) = inputs.size;
     let pixels = (width * height) as usize;
-    let (scene, env) = (inputs.scene, inputs.environment);
     let objects = storage(device, "truth objects", inputs.objects);
     let accum_bytes = (pixels * 32) as u64;
     let accum = device.create_buffer(&wgpu::BufferDescriptor {
@@ -262,14 +300,9 @@ pub fn trace(
         layout: &pipeline.layout,
         entries: &[
             wgpu::BindGroupEntry { binding: 0, resource: params.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 1, resource: scene.nodes.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 2, resource: scene.triangles.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 3, resource: scene.vertices.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 4, resource: objects.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 5, resource: env.texels.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 6, resource: env.cdf.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 7, resource: accum.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 8, resource: roles.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 1, resource: objects.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 2, resource: accum.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 3, resource: roles.as_entire_binding() },
         ],
     });
     let readback = |buffer: &wgpu::Buffer, size: u64| -> Result<Vec<u8>, Error> {
@@ -291,7 +324,7 @@ pub fn trace(
         let count = batch.min(settings.spp.max(1) - done);
         let p = TruthParams {
             dims: [width, height, done, count],
-            settings: [settings.bounces, env.size.0, env.size.1, inputs.background as u32],
+            settings: [settings.bounces, inputs.background as u32, 0, 0],
         };
         gpu.queue.write_buffer(&params, 0, bytemuck::bytes_of(&p));
         let mut encoder = device.create_command_encoder(&Default::default());
@@ -300,6 +333,7 @@ pub fn trace(
             pass.set_pipeline(&pipeline.pipeline);
             pass.set_bind_group(0, frame_group, &[]);
             pass.set_bind_group(1, &group, &[]);
+            pass.set_bind_group(3, &inputs.scene.group, &[]);
             pass.dispatch_workgroups(width.div_ceil(8), height.div_ceil(8), 1);
         }
         gpu.queue.submit([encoder.finish()]);
