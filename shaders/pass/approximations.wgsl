@@ -2,8 +2,8 @@
 // file for exact.wgsl in the subject's forward pipeline (render::exact), which computes each term
 // exactly instead; forward.wgsl calls these four and nothing else of either.
 
-// A light's visibility at p: the pipeline's shadow map
-fn light_visibility(light: Light, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, receives: bool) -> f32 {
+// The visibility at p of light `index`: the pipeline's shadow map
+fn light_visibility(light: Light, index: u32, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, receives: bool) -> f32 {
     return shadow_visibility(light, p, n, l, receives);
 }
 

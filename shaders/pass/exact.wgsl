@@ -3,7 +3,8 @@
 // approximates, computed as the truth computes it (rays.wgsl), so that the change in error against
 // the truth and in GPU time measures what the approximation costs and saves. Overrides pick which.
 
-// 1: every light's visibility by a shadow ray through the cell's BVH (hard, as the truth's)
+// 1: every light's visibility by a shadow ray through the cell's BVH (hard, as the truth's),
+// traced per pixel by traced_shadows.wgsl; lights past the 32nd keep their shadow maps
 override TRACED_VISIBILITY: u32 = 0u;
 // 1: the ambient term from the exact irradiance map instead of order-2 SH
 override EXACT_AMBIENT: u32 = 0u;
@@ -13,15 +14,13 @@ override EXACT_ENVIRONMENT: u32 = 0u;
 // surface, weighted by the power heuristic
 override EXACT_ENVIRONMENT_SAMPLES: u32 = 64u;
 
-fn light_visibility(light: Light, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, receives: bool) -> f32 {
-    if (TRACED_VISIBILITY == 0u) {
+fn light_visibility(light: Light, index: u32, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, receives: bool) -> f32 {
+    if (TRACED_VISIBILITY == 0u || index >= 32u) {
         return shadow_visibility(light, p, n, l, receives);
     }
-    var distance = 3.4e38;
-    if (u32(light.position.w) != 0u) {
-        distance = length(light.position.xyz - p) * (1.0 - 1e-4);
-    }
-    return select(1.0, 0.0, occluded(p + shading_face * RAY_EPSILON, l, distance));
+    let width = traced_mask[0];
+    let mask = traced_mask[1u + u32(shading_pixel.y) * width + u32(shading_pixel.x)];
+    return select(1.0, 0.0, (mask & (1u << index)) != 0u);
 }
 
 // E(n)/π from the irradiance grid (environment::irradiance::IrradianceMap::lookup, its twin):

@@ -240,7 +240,7 @@ fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>, vertex_gi: vec3<f32>) -> vec3<f
         let light = lights[i];
         let inc = light_incidence(light, p);
         if (inc.w > 0.0) {
-            let visible = light_visibility(light, p, n, inc.xyz, object.flags.w != 0u && VERTEX_LIT == 0u);
+            let visible = light_visibility(light, i, p, n, inc.xyz, object.flags.w != 0u && VERTEX_LIT == 0u);
             if (visible > 0.0) {
                 light_min_roughness = light.params.w;
                 c += model_direct(s, n, v, inc.xyz) * light.color.rgb * (inc.w * visible);
@@ -307,10 +307,9 @@ fn lod_clip(pixel: vec2<f32>) {
     }
 }
 
-// The fragment being shaded: its pixel and its triangle's normal on the viewer's side (what the
-// exact alternatives seed their samples with and offset their rays along)
+// The pixel being shaded: what the exact alternatives seed their samples with and read their
+// traced shadow mask at
 var<private> shading_pixel: vec2<f32> = vec2<f32>(0.0);
-var<private> shading_face: vec3<f32> = vec3<f32>(0.0);
 
 @fragment
 fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> FragmentOut {
@@ -318,7 +317,6 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> FragmentOut {
     screen_ao = load_screen_occlusion(in.clip.xy);
     let face = cross(dpdx(in.world_pos), dpdy(in.world_pos));
     shading_pixel = in.clip.xy;
-    shading_face = safe_normalize(select(-face, face, dot(face, frame.camera_pos.xyz - in.world_pos) >= 0.0), 1e-30);
     let n = mapped_normal(shading_normal(in.normal, face, in.world_pos, front), in.tangent, in.uv);
     var out: FragmentOut;
     out.color = vec4<f32>(shade(material_at(in.uv), n, in.world_pos, in.vertex_gi) + emission(in.uv), 1.0);
@@ -470,7 +468,7 @@ fn deferred_light(light: Light, s: Surface, p: vec3<f32>, n: vec3<f32>, v: vec3<
     if (inc.w <= 0.0) {
         return vec3<f32>(0.0);
     }
-    let visible = light_visibility(light, p, n, inc.xyz, receives);
+    let visible = shadow_visibility(light, p, n, inc.xyz, receives);
     if (visible <= 0.0) {
         return vec3<f32>(0.0);
     }

@@ -35,6 +35,9 @@ struct RaySceneInfo {
 @group(3) @binding(15) var<storage, read> env_cdf: array<f32>;
 // E(n)/π of the unscaled environment per texel of an equirect map (environment::irradiance)
 @group(3) @binding(16) var<storage, read> irradiance_texels: array<vec4<f32>>;
+// The traced shadow mask of the frame (traced_shadows.wgsl): [0] its width, then per pixel bit i
+// set when light i is occluded
+@group(3) @binding(17) var<storage, read> traced_mask: array<u32>;
 
 const RAY_STACK: u32 = 48u;
 const RAY_EPSILON: f32 = 1e-4;

@@ -22,7 +22,7 @@ use crate::plan::lights::ObjectLights;
 /// 4: anti-aliasing (asked, rendered samples and why they differ) and shadow-map resolutions;
 /// 5: the subject's peak luminance, overflow counted before the half-float store saturates it, and
 /// whether the subject wore its textured preset, and its emission.
-pub const CELL_SCHEMA: u32 = 7;
+pub const CELL_SCHEMA: u32 = 8;
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct CellRecord {
@@ -72,6 +72,10 @@ pub struct CellRecord {
     /// What the cell's path-traced truth reached, when the matrix compares with one.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub truth: Option<TruthRecord>,
+    /// The approximation study (run::study): the cell rendered again with each real-time
+    /// approximation replaced, measured against its truth; left-out ones carry the reason.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub approximations: Vec<ApproximationRecord>,
     pub stats: PixelStats,
     pub timing: CellTiming,
     pub metrics: CellMetrics,
@@ -92,6 +96,35 @@ pub struct TruthRecord {
     pub cached: bool,
     /// The per-pixel standard error of the truth's luminance (EXR, grey).
     pub noise_map: String,
+}
+
+/// One frame of the approximation study.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct ApproximationRecord {
+    /// spec::study::Approximation's name.
+    pub approximation: String,
+    /// The frame's name: the approximation, or the MSAA level (`msaa8`).
+    pub variant: String,
+    /// What changed: "shadow maps → ray-traced visibility".
+    pub change: String,
+    pub result: Maybe<ApproximationResult>,
+}
+
+/// The study frame's time and its error against the cell's truth (the cell's own are its timing
+/// and metrics: the change is the difference).
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct ApproximationResult {
+    /// Its PNG, relative to the cell's folder.
+    pub image: String,
+    /// Median GPU time of the frame's passes (timestamp queries).
+    pub gpu_ms: Maybe<f64>,
+    /// Median CPU wall time from submit to idle.
+    pub cpu_wall_ms: f64,
+    /// Samples per pixel it rendered with.
+    pub samples: u32,
+    pub flip: Maybe<f64>,
+    pub ssim: Maybe<f64>,
+    pub hdr_relative_mse: Maybe<f64>,
 }
 
 impl CellRecord {

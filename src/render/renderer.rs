@@ -28,6 +28,8 @@ use crate::spec::scene::{LightKind, Role, Scene};
 
 const HDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 pub(super) const ROLE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Uint;
+/// The pass name of the study's traced shadows (render::traced_shadows) in timings.
+pub const TRACED_SHADOWS_PASS: &str = "traced shadows";
 pub(super) const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// What one cell asks of the renderer (no matrix types: the renderer knows scenes, not sweeps).
@@ -204,6 +206,8 @@ struct Targets {
     bloom: Option<super::bloom::BloomChain>,
     /// HDRP's SSAO on the prepass depth and normals, and the screen group reading its result.
     ssao: Option<(super::ssao::SsaoChain, wgpu::BindGroup)>,
+    /// The study's traced shadow mask, made for the first cell that traces visibility.
+    traced: Option<super::traced_shadows::TracedShadowMask>,
 }
 
 /// What a forward pipeline compiles in besides its pipeline and model: built-in's vertex-lit
@@ -281,6 +285,8 @@ pub struct Renderer {
     ray_layout: wgpu::BindGroupLayout,
     /// The forward pipelines' layout with that group: the subject's exact alternatives.
     exact_layout: wgpu::PipelineLayout,
+    /// The traced-shadow pass, by pipeline (its light attenuation), made for the first cell that traces.
+    traced_shadows: HashMap<Pipeline, super::traced_shadows::TracedShadowsPipeline>,
 }
 
 impl Renderer {
@@ -447,6 +453,7 @@ impl Renderer {
             truth_pipelines: HashMap::new(),
             ray_layout,
             exact_layout,
+            traced_shadows: HashMap::new(),
         }
     }
 
@@ -969,6 +976,7 @@ impl Renderer {
                 msaa: None,
                 bloom: None,
                 ssao: None,
+                traced: None,
             });
         }
         self.targets.as_ref().expect("just created")
@@ -1111,15 +1119,39 @@ impl Renderer {
             let settings = super::ssao::SsaoSettings::default();
             chain.write_frame(&self.gpu.queue, &super::ssao::SsaoFrame::new(&camera, t.width, t.height, &settings));
         }
+        if exact.visibility {
+            if !self.traced_shadows.contains_key(&cell.pipeline) {
+                let id = cell.pipeline.shader_id();
+                let p = super::traced_shadows::TracedShadowsPipeline::new(
+                    &self.gpu,
+                    &self.frame_layout,
+                    &self.ray_layout,
+                    id,
+                )?;
+                self.traced_shadows.insert(cell.pipeline, p);
+            }
+            self.depth_normal_pipeline(cell.pipeline, &fixed_model, textured)?;
+            let t = self.targets.as_mut().expect("targets exist");
+            if t.traced.is_none() {
+                t.traced = Some(super::traced_shadows::TracedShadowMask::new(&self.gpu.device, (t.width, t.height)));
+            }
+        }
         // The timed passes of a frame, in order: one span over the shadow layers, then the path's passes.
-        // The vertex-lit path has no shadows (Unity's legacy vertex-lit renders none).
-        let shadows = prepared.shadows.active && !vertex_lit && !shadow_layers.is_empty();
+        // The vertex-lit path has no shadows (Unity's legacy vertex-lit renders none); traced
+        // visibility needs no shadow maps.
+        let shadows = prepared.shadows.active && !vertex_lit && !shadow_layers.is_empty() && !exact.visibility;
         let mut pass_names: Vec<&'static str> = Vec::new();
         if shadows {
             pass_names.push("shadow");
         }
         if occludes {
             pass_names.extend([crate::plan::DEPTH_PREPASS, crate::plan::SSAO_PASS]);
+        }
+        if exact.visibility {
+            if !occludes {
+                pass_names.push(crate::plan::DEPTH_PREPASS);
+            }
+            pass_names.push(TRACED_SHADOWS_PASS);
         }
         let tiled = deferred && cell.pipeline.tiled_light_loop();
         pass_names.extend(match (deferred, tiled) {
@@ -1152,6 +1184,15 @@ impl Renderer {
         let keep = if msaa.is_some() { wgpu::StoreOp::Discard } else { wgpu::StoreOp::Store };
         let ssao = t.ssao.as_ref().filter(|_| occludes);
         let screen = ssao.map_or(&self.neutral_screen, |(_, group)| group);
+        // The rays' group for the traced-shadow pass (no mask) and for the forward pass (reading
+        // the traced mask where visibility is traced).
+        let rays = rays.map(|scene| {
+            let forward = match t.traced.as_ref().filter(|_| exact.visibility) {
+                Some(traced) => scene.group_with_mask(&self.gpu.device, &self.ray_layout, &traced.mask),
+                None => scene.group.clone(),
+            };
+            (scene.group.clone(), forward)
+        });
         let total = warmup + frames;
         let mut frame_ms = Vec::with_capacity(frames as usize);
         for f in 0..total {
@@ -1169,6 +1210,35 @@ impl Renderer {
                 encode_depth_prepass(&mut encoder, prepared, &draw, prepass, (&chain.normal, &t.depth_view), timed(k));
                 chain.encode(steps, &mut encoder, timed(k + 1).map(|(t, pair)| t.compute_writes(pair)));
                 k += 2;
+            }
+            if let (Some(traced), Some(rays)) = (t.traced.as_ref().filter(|_| exact.visibility), &rays) {
+                let normal = match ssao {
+                    Some((chain, _)) => &chain.normal,
+                    None => {
+                        let prepass = &self.depth_normals[&(cell.pipeline, textured)];
+                        let draw = FrameDraw { group: frame_group, drawn: &drawn, screen: &self.neutral_screen };
+                        encode_depth_prepass(
+                            &mut encoder,
+                            prepared,
+                            &draw,
+                            prepass,
+                            (&traced.normal, &t.depth_view),
+                            timed(k),
+                        );
+                        k += 1;
+                        &traced.normal
+                    }
+                };
+                traced.encode(
+                    &self.gpu.device,
+                    &self.traced_shadows[&cell.pipeline],
+                    &mut encoder,
+                    frame_group,
+                    &rays.0,
+                    (&t.depth_view, normal),
+                    timed(k).map(|(t, pair)| t.compute_writes(pair)),
+                );
+                k += 1;
             }
             if deferred {
                 let timed: Vec<_> = (k..per_frame).map(timed).collect();
@@ -1212,8 +1282,8 @@ impl Renderer {
                 });
                 pass.set_bind_group(0, frame_group, &[]);
                 pass.set_bind_group(2, screen, &[]);
-                if let Some(rays) = &rays {
-                    pass.set_bind_group(3, &rays.group, &[]);
+                if let Some((_, group)) = &rays {
+                    pass.set_bind_group(3, group, &[]);
                 }
                 for (i, o) in prepared.objects.iter().enumerate().filter(|(i, _)| drawn[*i]) {
                     pass.set_pipeline(if o.role == Role::Subject { subject_pipeline } else { fixed_pipeline });

@@ -21,6 +21,8 @@ pub struct Point {
     /// truth the share of pixels its Z-test rejects.
     pub ssim: Option<f64>,
     pub hdr_flip: Option<f64>,
+    /// The linear images' relative MSE (compare::stats::relative_mse).
+    pub relative_mse: Option<f64>,
     pub z_rejected: Option<f64>,
     /// What the cell was compared with (its reference's label).
     pub reference: String,
@@ -117,6 +119,7 @@ pub fn points(run: &RunData) -> (BTreeMap<String, Vec<Point>>, bool, usize) {
                 pareto: false,
                 ssim: c.metrics.ldr_ssim(),
                 hdr_flip: c.metrics.hdr_flip(),
+                relative_mse: c.metrics.hdr_relative_mse(),
                 z_rejected: c.metrics.ztest.as_ref().and_then(|z| z.value()).map(|z| z.rejected),
                 reference: c.metrics.reference.value().map_or_else(String::new, |r| r.label()),
             }),
@@ -136,32 +139,33 @@ pub fn write(run: &RunData) -> Result<(), Error> {
     } else {
         "CPU wall time, ms (no timestamp queries on this adapter)"
     };
-    let mut md = format!("# Error against run time\n\nAdapter: **{}**. Time: {time_label}. Error: LDR-FLIP mean against each cell's reference (the Pareto front is on it), with SSIM, HDR-FLIP and, against a path-traced truth, the share of pixels its Z-test rejects (`—`: not measured). {skipped} cells have no reference (or no time) and are left out.\n", run.adapter());
+    let mut md = format!("# Error against run time\n\nAdapter: **{}**. Time: {time_label}. Error: LDR-FLIP mean against each cell's reference (the Pareto front is on it), with SSIM, HDR-FLIP, the linear images' relative MSE and, against a path-traced truth, the share of pixels its Z-test rejects (`—`: not measured). {skipped} cells have no reference (or no time) and are left out.\n", run.adapter());
     let mut csv = String::from(
-        "composition,cell,pipeline_shader,reference,time_ms,flip_mean,ssim_mean,hdr_flip_mean,z_rejected,pareto\n",
+        "composition,cell,pipeline_shader,reference,time_ms,flip_mean,ssim_mean,hdr_flip_mean,relative_mse,z_rejected,pareto\n",
     );
     let opt = |v: Option<f64>, digits: usize| v.map_or("—".to_string(), |v| format!("{v:.digits$}"));
     let raw = |v: Option<f64>| v.map_or(String::new(), |v| v.to_string());
     for (comp, pts) in &by {
-        let _ = writeln!(md, "\n## {comp}\n\n![error vs time](../plots/error_vs_time_{comp}.svg)\n\n| cell | reference | time (ms) | FLIP mean | SSIM | HDR-FLIP | Z-test rejects | Pareto |\n|---|---|---|---|---|---|---|---|");
+        let _ = writeln!(md, "\n## {comp}\n\n![error vs time](../plots/error_vs_time_{comp}.svg)\n\n| cell | reference | time (ms) | FLIP mean | SSIM | HDR-FLIP | relMSE | Z-test rejects | Pareto |\n|---|---|---|---|---|---|---|---|---|");
         let mut sorted: Vec<&Point> = pts.iter().collect();
         sorted.sort_by(|a, b| a.time_ms.total_cmp(&b.time_ms));
         for p in sorted {
             let _ = writeln!(
                 md,
-                "| `{}` | {} | {:.3} | {:.5} | {} | {} | {} | {} |",
+                "| `{}` | {} | {:.3} | {:.5} | {} | {} | {} | {} | {} |",
                 p.id,
                 p.reference,
                 p.time_ms,
                 p.flip,
                 opt(p.ssim, 4),
                 opt(p.hdr_flip, 4),
+                opt(p.relative_mse, 4),
                 opt(p.z_rejected, 3),
                 if p.pareto { "●" } else { "" }
             );
             let _ = writeln!(
                 csv,
-                "{comp},{},{},\"{}\",{},{},{},{},{},{}",
+                "{comp},{},{},\"{}\",{},{},{},{},{},{},{}",
                 p.id,
                 p.label,
                 p.reference,
@@ -169,6 +173,7 @@ pub fn write(run: &RunData) -> Result<(), Error> {
                 p.flip,
                 raw(p.ssim),
                 raw(p.hdr_flip),
+                raw(p.relative_mse),
                 raw(p.z_rejected),
                 p.pareto
             );
@@ -196,6 +201,7 @@ mod tests {
             pareto: false,
             ssim: None,
             hdr_flip: None,
+            relative_mse: None,
             z_rejected: None,
             reference: String::new(),
         };

@@ -112,7 +112,7 @@ pub fn html(run: &RunData, sheets: &[String], plots: &[String]) -> String {
         counts.pruned,
         run.run.status.name()
     );
-    let _ = writeln!(s, "<p><a href=\"#cells\">cells</a> · <a href=\"#perf\">performance</a> · <a href=\"#plots\">error vs time</a> · <a href=\"#sheets\">contact sheets</a> · <a href=\"tables/perf.md\">perf.md</a> · <a href=\"tables/error_vs_time.md\">error_vs_time.md</a></p>");
+    let _ = writeln!(s, "<p><a href=\"#cells\">cells</a> · <a href=\"#perf\">performance</a> · <a href=\"#plots\">error vs time</a> · <a href=\"#sheets\">contact sheets</a> · <a href=\"tables/perf.md\">perf.md</a> · <a href=\"tables/error_vs_time.md\">error_vs_time.md</a>{}</p>", if run.dir.join("tables/approximations.md").is_file() { " · <a href=\"tables/approximations.md\">approximations.md</a> (what each approximation costs and buys)" } else { "" });
 
     s.push_str("<h2 id=\"cells\">Cells</h2><div class=\"filters\">");
     for axis in FILTER_AXES {

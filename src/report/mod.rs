@@ -1,5 +1,6 @@
 //! Reports built from a run's recorded files (never from rendering): the CI check, tables.
 
+pub mod approximations;
 pub mod check;
 pub mod error_time;
 pub mod gallery;
@@ -14,6 +15,7 @@ pub fn build(run_dir: &std::path::Path) -> Result<(), crate::error::Error> {
     let run = run_data::RunData::load(run_dir)?;
     perf::write(&run)?;
     error_time::write(&run)?;
+    approximations::write(&run)?;
     stability::write(&run)?;
     invariants::write(&run)?;
     let specs = match &run.run.matrix.sheets {

@@ -17,6 +17,7 @@ pub fn input_hash(matrix: &Matrix, cell: &Cell) -> String {
         "scene": scene,
         "frames": matrix.timing.frames,
         "reference": format!("{:?}", matrix.reference),
+        "approximations": format!("{:?}", matrix.approximations),
     });
     hex(&Sha256::digest(text.to_string().as_bytes()))
 }

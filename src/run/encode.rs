@@ -6,6 +6,7 @@ use std::path::Path;
 
 use super::clock::ThreadTimer;
 use super::describe::{image_files, input_hash, key_light, shader_inputs};
+use super::study::{LeftOutVariant, StudyVariant};
 use crate::cells::Cell;
 use crate::error::Error;
 use crate::fsutil::write_atomic;
@@ -14,7 +15,7 @@ use crate::images::target::store_half_float;
 use crate::images::tonemap::DisplayRecord;
 use crate::images::{encode, tonemap};
 use crate::record::cell::{
-    AntialiasingRecord, CellMetrics, CellRecord, CellTiming, FrameSeries, ViewRecord, CELL_SCHEMA,
+    AntialiasingRecord, ApproximationRecord, CellMetrics, CellRecord, CellTiming, FrameSeries, ViewRecord, CELL_SCHEMA,
 };
 use crate::record::Maybe;
 use crate::render::uniforms::{ROLE_FIXED, ROLE_SUBJECT};
@@ -28,6 +29,23 @@ pub struct RenderedCell<'a> {
     pub render: CellRender,
     /// The reference the render thread made for the cell, or why it could not be made.
     pub reference: Option<Result<RenderedReference, String>>,
+    /// The approximation study's frames of the cell, and the ones left out.
+    pub study: Vec<(StudyVariant, CellRender)>,
+    pub study_left_out: Vec<LeftOutVariant>,
+}
+
+/// The folder of a cell's study frames (run::study), inside the cell's.
+pub const STUDY_DIR: &str = "study";
+
+/// A study frame encoded: its PNG written, its pixels kept for the metrics.
+pub struct StudyImages {
+    pub variant: StudyVariant,
+    /// Its PNG, relative to the cell's folder.
+    pub image: String,
+    pub images: CellImages,
+    pub gpu_ms: Option<f64>,
+    pub cpu_wall_ms: f64,
+    pub samples: u32,
 }
 
 /// A reference rendered with its cell.
@@ -53,10 +71,11 @@ pub struct EncodedCell {
     pub images: CellImages,
     /// Why the supersampled reference is missing, when the matrix asked for one and it is.
     pub reference_missing: Option<String>,
+    pub study: Vec<StudyImages>,
 }
 
 pub fn encode_cell(matrix: &Matrix, dir: &Path, adapter: &str, job: RenderedCell) -> Result<EncodedCell, Error> {
-    let RenderedCell { cell, render: mut r, reference } = job;
+    let RenderedCell { cell, render: mut r, reference, study: study_renders, study_left_out } = job;
     let t0 = ThreadTimer::start();
     let shown = tonemap::to_srgb8(&r.hdr, r.width, r.height, &cell.display);
     let plan = crate::plan::FramePlan::for_scene(&matrix.compositions[cell.composition_index]);
@@ -118,11 +137,38 @@ pub fn encode_cell(matrix: &Matrix, dir: &Path, adapter: &str, job: RenderedCell
         lod: r.lod.clone(),
         truth,
     };
-    let record = cell_record(matrix, cell, adapter, measured);
+    let mut record = cell_record(matrix, cell, adapter, measured);
+    record.approximations = study_left_out
+        .into_iter()
+        .map(|v| ApproximationRecord {
+            approximation: v.approximation.name().into(),
+            variant: v.name,
+            change: v.change,
+            result: Maybe::missing(v.reason),
+        })
+        .collect();
+    let median = |ms: &[f64]| FrameSeries::new("", ms).median_ms;
+    let mut study = Vec::with_capacity(study_renders.len());
+    for (variant, mut s) in study_renders {
+        // Shown as the cell is: its own display transform, its exposure metered from this frame.
+        let shown = tonemap::to_srgb8(&s.hdr, s.width, s.height, &cell.display);
+        let (srgb8, _) = store(&mut s.hdr, s.width, s.height, cell, shown);
+        let image = format!("{STUDY_DIR}/{}.png", variant.name);
+        write_atomic(&dir.join(&image), &encode::png_bytes(s.width, s.height, &srgb8)?)?;
+        study.push(StudyImages {
+            variant,
+            image,
+            images: CellImages { width: s.width, height: s.height, srgb8, hdr: s.hdr },
+            gpu_ms: s.gpu_pass_ms.as_deref().and_then(median),
+            cpu_wall_ms: median(&s.frame_ms).unwrap_or(0.0),
+            samples: s.multisampling.samples,
+        });
+    }
     Ok(EncodedCell {
         record,
         images: CellImages { width: r.width, height: r.height, srgb8, hdr: r.hdr },
         reference_missing,
+        study,
     })
 }
 
@@ -266,6 +312,7 @@ fn cell_record(matrix: &Matrix, cell: &Cell, adapter: &str, m: Measured) -> Cell
         shadow_maps: m.shadow_maps,
         lod: m.lod,
         truth: m.truth,
+        approximations: Vec::new(),
         stats: m.stats,
         timing: m.timing,
         metrics: CellMetrics::without_reference("not compared yet"),

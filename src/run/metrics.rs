@@ -12,7 +12,9 @@ use crate::compare::{compare, LoadedImage};
 use crate::error::Error;
 use crate::fsutil::write_atomic;
 use crate::images::encode::png_bytes;
-use crate::record::cell::{CellMetrics, HdrComparison, MetricMaps, ReferenceRecord};
+use crate::record::cell::{
+    ApproximationRecord, ApproximationResult, CellMetrics, HdrComparison, MetricMaps, ReferenceRecord,
+};
 use crate::record::{Maybe, RunDir};
 use crate::spec::matrix::{Matrix, ReferenceSpec};
 
@@ -125,6 +127,45 @@ impl ReferenceCache {
     fn lock(&self) -> std::sync::MutexGuard<'_, Vec<(PathBuf, Arc<ReferenceImages>)>> {
         self.entries.lock().unwrap_or_else(|e| e.into_inner())
     }
+}
+
+/// A study frame (run::study) against the cell's truth: LDR-FLIP and SSIM of what it shows,
+/// the relative MSE of what it holds, and its time.
+pub fn measure_study(
+    s: super::encode::StudyImages,
+    truth: &ReferenceImages,
+    what: &str,
+) -> Result<ApproximationRecord, Error> {
+    let (w, h) = (s.images.width, s.images.height);
+    let ldr = LoadedImage::Ldr { width: w, height: h, rgba8: s.images.srgb8 };
+    let c = compare(&truth.ldr, &ldr, what)?;
+    let hdr_relative_mse = match &truth.hdr {
+        Some(LoadedImage::Hdr { rgba, .. }) if rgba.len() == s.images.hdr.len() => {
+            match crate::compare::stats::relative_mse(rgba, &s.images.hdr) {
+                Some(e) => Maybe::Value(e),
+                None => Maybe::missing("the truth is black"),
+            }
+        }
+        _ => Maybe::missing("the truth has no EXR of the frame's size"),
+    };
+    let metric = |m: &crate::compare::images::Metric| match m {
+        crate::compare::images::Metric::Value { mean } => Maybe::Value(*mean),
+        crate::compare::images::Metric::Missing { missing } => Maybe::missing(missing.clone()),
+    };
+    Ok(ApproximationRecord {
+        approximation: s.variant.approximation.name().into(),
+        variant: s.variant.name,
+        change: s.variant.change,
+        result: Maybe::Value(ApproximationResult {
+            image: s.image,
+            gpu_ms: s.gpu_ms.map_or_else(|| Maybe::missing("the adapter has no timestamp queries"), Maybe::Value),
+            cpu_wall_ms: s.cpu_wall_ms,
+            samples: s.samples,
+            flip: metric(&c.flip.value),
+            ssim: metric(&c.ssim),
+            hdr_relative_mse,
+        }),
+    })
 }
 
 /// An EXR times the exposure its cell shows it with (metered from the image itself, as the

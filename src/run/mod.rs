@@ -6,6 +6,7 @@ mod describe;
 mod encode;
 mod metrics;
 pub mod runner;
+pub mod study;
 pub mod truth_cache;
 
 pub use clock::ProcessUsage;

@@ -15,8 +15,8 @@ use std::time::Instant;
 
 use super::clock::{StageClock, ThreadTimer};
 use super::describe::input_hash;
-use super::encode::{copy_images, encode_cell, twin_record, CellImages, RenderedCell, RenderedReference};
-use super::metrics::{compare_cell, reference_source, ReferenceCache, ReferenceSource};
+use super::encode::{copy_images, encode_cell, twin_record, CellImages, RenderedCell, RenderedReference, StudyImages};
+use super::metrics::{compare_cell, measure_study, reference_source, ReferenceCache, ReferenceSource};
 use crate::cells::{expand, matches_filter, reference_cell_id, remark_twins, Cell, CellId, Expansion};
 use crate::error::Error;
 use crate::fsutil::write_json;
@@ -28,6 +28,7 @@ use crate::record::{RunDir, RunRecord, CELL_FILE, RUN_FILE, RUN_SCHEMA};
 use crate::render::camera::ViewAxes;
 use crate::render::{CellParams, CellSettings, Renderer};
 use crate::spec::matrix::{Filter, Matrix, ReferenceSpec};
+use crate::spec::study::Approximation;
 
 #[derive(Debug, Clone, Default)]
 pub struct RunOptions {
@@ -194,6 +195,8 @@ struct MetricsJob<'a> {
     images: Option<CellImages>,
     /// Why the supersampled reference is missing, when it is.
     reference_missing: Option<String>,
+    /// The approximation study's frames, to measure against the same reference.
+    study: Vec<StudyImages>,
 }
 
 /// Which cells' images are final, and who waits for which.
@@ -424,12 +427,39 @@ impl<'a> Stream<'a> {
                     }
                     _ => None,
                 };
-                let readback = render.readback_ms;
+                // The study: measured against the truth, so only when there is one.
+                let (mut study, mut study_left_out) = (Vec::new(), Vec::new());
+                let mut readback = render.readback_ms;
+                if matches!(reference, Some(Ok(RenderedReference::Truth(_)))) {
+                    let (kept, left_out) =
+                        super::study::variants(cell, scene, &params.settings, &self.matrix.approximations);
+                    study_left_out = left_out;
+                    let mut sample_counts = vec![render.multisampling.samples];
+                    for v in kept {
+                        let p = CellParams { settings: v.settings, ..params };
+                        let r = renderer.render(&prepared, &p, self.matrix.timing.frames, self.matrix.timing.warmup)?;
+                        readback += r.readback_ms;
+                        // An MSAA level the adapter cannot give renders one it can: measured already.
+                        let samples = r.multisampling.samples;
+                        if v.approximation == Approximation::Msaa && sample_counts.contains(&samples) {
+                            let why = r.multisampling.note.clone().unwrap_or_default();
+                            study_left_out.push(super::study::LeftOutVariant {
+                                approximation: v.approximation,
+                                name: v.name,
+                                change: v.change,
+                                reason: format!("renders {samples} samples per pixel, a level measured already: {why}"),
+                            });
+                            continue;
+                        }
+                        sample_counts.push(samples);
+                        study.push((v, r));
+                    }
+                }
                 StageClock::add_ms(&self.clock.render, t.elapsed().as_secs_f64() * 1e3 - readback);
                 StageClock::add_ms(&self.clock.readback, readback);
                 self.rendered.fetch_add(1, Ordering::Relaxed);
                 let t = Instant::now();
-                if encode_tx.send(RenderedCell { cell, render, reference }).is_err() {
+                if encode_tx.send(RenderedCell { cell, render, reference, study, study_left_out }).is_err() {
                     return Ok(()); // the workers stopped: an error is recorded
                 }
                 StageClock::add(&self.clock.render_blocked, t);
@@ -464,6 +494,7 @@ impl<'a> Stream<'a> {
                     record: e.record,
                     images: Some(e.images),
                     reference_missing: e.reference_missing,
+                    study: e.study,
                 };
                 self.images_final(job, &metrics_tx)
             });
@@ -518,6 +549,7 @@ impl<'a> Stream<'a> {
                 record: twin_record(self.matrix, twin, record),
                 images: images.clone(),
                 reference_missing: None,
+                study: Vec::new(),
             };
             StageClock::add_cpu(&self.clock.encode, t);
             self.images_final(job, metrics_tx)?;
@@ -568,7 +600,13 @@ impl<'a> Stream<'a> {
             ReferenceRecord::Cell { cell: id } => self.exp.cells.iter().find(|c| &c.id == id),
             _ => None,
         };
+        let truth = matches!(what, ReferenceRecord::Truth { .. });
         let metrics = compare_cell(cell, &cdir, job.images.take(), &reference, what, reference_cell)?;
+        if truth {
+            for s in std::mem::take(&mut job.study) {
+                job.record.approximations.push(measure_study(s, &reference, &cell.id.0)?);
+            }
+        }
         self.finish(job, metrics, Some(t))
     }
 

@@ -40,6 +40,14 @@ pub fn compose_truth(subject: &ShaderModel, fixed: &ShaderModel) -> String {
         .join("\n")
 }
 
+const TRACED_SHADOWS: &str = include_str!("../../shaders/pass/traced_shadows.wgsl");
+
+/// The traced-shadow pass (render::traced_shadows): the scene pass's shared files, the rays, then
+/// the pass.
+pub fn compose_traced_shadows() -> String {
+    [MATH, CONVENTIONS, BRDF_TERMS, SCENE, RAYS, TRACED_SHADOWS].join("\n")
+}
+
 /// `source` with every module-scope name it declares (functions, constants, private variables,
 /// structs, overrides, aliases) renamed `prefix` + name, wherever the name appears as a whole
 /// identifier: a second copy of a model that can sit beside the first.

@@ -125,7 +125,7 @@ pub fn group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
 }
 
 /// The layout of the scene as rays see it (shaders/pass/rays.wgsl, group 3 of the tracer and of
-/// the forward pipelines with exact alternatives): bindings 10–16.
+/// the forward pipelines with exact alternatives): bindings 10–17.
 pub fn ray_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     let entry = |binding, ty| wgpu::BindGroupLayoutEntry {
         binding,
@@ -144,6 +144,7 @@ pub fn ray_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
             entry(14, storage),
             entry(15, storage),
             entry(16, storage),
+            entry(17, storage),
         ],
     })
 }
@@ -179,9 +180,14 @@ impl TruthPipeline {
     }
 }
 
-/// A composition's geometry on the GPU (BVH, triangles, vertices) with its environment, as the
-/// rays' bind group (group 3): uploaded once and shared by its cells' truths and exact alternatives.
+/// A composition's geometry on the GPU (BVH, triangles, vertices) with its environment: the rays'
+/// bind group (group 3), uploaded once and shared by its cells' truths and exact alternatives.
 pub struct TruthScene {
+    nodes: wgpu::Buffer,
+    triangles: wgpu::Buffer,
+    vertices: wgpu::Buffer,
+    environment: TruthEnvironment,
+    /// The group with no traced shadow mask (the tracer's).
     pub group: wgpu::BindGroup,
 }
 
@@ -195,25 +201,49 @@ impl TruthScene {
         let nodes = storage(device, "truth bvh", bytemuck::cast_slice(&g.nodes));
         let triangles = storage(device, "truth triangles", bytemuck::cast_slice(&g.triangles));
         let vertices = storage(device, "truth vertices", bytemuck::cast_slice(&g.vertices));
-        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("rays"),
-            layout,
-            entries: &[
-                wgpu::BindGroupEntry { binding: 10, resource: env.info.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 11, resource: nodes.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 12, resource: triangles.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 13, resource: vertices.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 14, resource: env.texels.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 15, resource: env.cdf.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 16, resource: env.irradiance.as_entire_binding() },
-            ],
-        });
-        TruthScene { group }
+        let no_mask = storage(device, "no traced shadow mask", &[0; 16]);
+        let buffers = [&nodes, &triangles, &vertices];
+        let group = rays_group(device, layout, buffers, env, &no_mask);
+        TruthScene { nodes, triangles, vertices, environment: env.clone(), group }
     }
+
+    /// The rays' group with a frame's traced shadow mask (render::traced_shadows).
+    pub fn group_with_mask(
+        &self,
+        device: &wgpu::Device,
+        layout: &wgpu::BindGroupLayout,
+        mask: &wgpu::Buffer,
+    ) -> wgpu::BindGroup {
+        rays_group(device, layout, [&self.nodes, &self.triangles, &self.vertices], &self.environment, mask)
+    }
+}
+
+fn rays_group(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    [nodes, triangles, vertices]: [&wgpu::Buffer; 3],
+    env: &TruthEnvironment,
+    mask: &wgpu::Buffer,
+) -> wgpu::BindGroup {
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("rays"),
+        layout,
+        entries: &[
+            wgpu::BindGroupEntry { binding: 10, resource: env.info.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 11, resource: nodes.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 12, resource: triangles.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 13, resource: vertices.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 14, resource: env.texels.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 15, resource: env.cdf.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 16, resource: env.irradiance.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 17, resource: mask.as_entire_binding() },
+        ],
+    })
 }
 
 /// A composition's environment on the GPU: its ENV_WIDTH × ENV_WIDTH/2 texels and sampling
 /// tables (`environment_tables`) and its exact irradiance (environment::irradiance), uploaded once.
+#[derive(Clone)]
 pub struct TruthEnvironment {
     texels: wgpu::Buffer,
     cdf: wgpu::Buffer,
