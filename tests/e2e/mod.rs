@@ -26,5 +26,6 @@ mod shading;
 mod shadows;
 mod ssao;
 mod stability;
+mod study;
 mod truth;
 mod user_models;
