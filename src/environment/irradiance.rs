@@ -44,7 +44,7 @@ impl IrradianceMap {
 /// E(n)/π of `sky` on a `IRRADIANCE_WIDTH`-wide grid (unscaled radiance units).
 pub fn irradiance_map(sky: &EquirectImage) -> IrradianceMap {
     let mut source = sky.clone();
-    while source.width > SOURCE_WIDTH && source.width % 2 == 0 && source.height % 2 == 0 {
+    while source.width > SOURCE_WIDTH && source.width.is_multiple_of(2) && source.height.is_multiple_of(2) {
         source = source.half();
     }
     let texels: Vec<(DVec3, DVec3)> = (0..source.height)
