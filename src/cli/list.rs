@@ -60,6 +60,14 @@ pub fn text(m: &Matrix) -> String {
         let _ = writeln!(out, "left out: {}", crate::pipelines::volume::LEFT_OUT_EFFECTS);
     }
     let _ = writeln!(out, "reference: {}", reference_line(m));
+    if !m.approximations.is_empty() {
+        let names: Vec<&str> = m.approximations.iter().map(|a| a.name()).collect();
+        let _ = writeln!(
+            out,
+            "approximation study: {} (each cell rendered again without each, against its truth; the exact terms need per-pixel forward shading, MSAA a forward path)",
+            names.join(", ")
+        );
+    }
     let rendered = exp.cells.iter().filter(|c| c.twin_of.is_none()).count();
     let _ = writeln!(
         out,

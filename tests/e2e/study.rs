@@ -141,6 +141,8 @@ fn the_study_measures_each_approximation_against_the_truth() {
     for change in ["exact irradiance", "environment integrated over the BRDF", "ray-traced visibility", "Left out"] {
         assert!(table.contains(change), "{change}: {table}");
     }
+    let (_, listed, _) = crate::common::shadematrix(tmp.path(), &["list", "run.toml"], &[]);
+    assert!(listed.contains("approximation study: ambient, environment, visibility, msaa"), "{listed}");
     // Without a truth, or with a misspelt name: bad input, named.
     let no_truth =
         crate::common::write_matrix(tmp.path(), "no_truth.toml", &format!("{head}approximations = [\"ambient\"]\n"));
