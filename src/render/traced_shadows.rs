@@ -42,20 +42,16 @@ impl TracedShadowsPipeline {
             ],
         });
         let module = gpu.shader_module("traced shadows", &crate::shading::wgsl::compose_traced_shadows())?;
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("traced shadows"),
-            bind_group_layouts: &[Some(frame_layout), Some(&layout), None, Some(ray_layout)],
-            immediate_size: 0,
-        });
         let constants = [("PIPELINE", pipeline_id as f64)];
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("traced shadows"),
-            layout: Some(&pipeline_layout),
-            module: &module,
-            entry_point: Some("cs_traced_shadows"),
-            compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
-            cache: None,
-        });
+        let layouts = [frame_layout, &layout, ray_layout];
+        let pipeline = super::truth::ray_compute_pipeline(
+            device,
+            "traced shadows",
+            &module,
+            layouts,
+            "cs_traced_shadows",
+            &constants,
+        );
         gpu.check_errors("creating the traced-shadow pipeline")?;
         Ok(TracedShadowsPipeline { pipeline, layout })
     }

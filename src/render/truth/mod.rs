@@ -161,23 +161,36 @@ impl TruthPipeline {
         let device = &gpu.device;
         let module = gpu.shader_module("truth", source)?;
         let layout = group_layout(device);
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("truth"),
-            bind_group_layouts: &[Some(frame_layout), Some(&layout), None, Some(ray_layout)],
-            immediate_size: 0,
-        });
         let constants = [("PIPELINE", pipeline_id as f64), ("TRUTH_KIND", (kind == TruthKind::Physical) as u32 as f64)];
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("truth"),
-            layout: Some(&pipeline_layout),
-            module: &module,
-            entry_point: Some("cs_truth"),
-            compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
-            cache: None,
-        });
+        let pipeline =
+            ray_compute_pipeline(device, "truth", &module, [frame_layout, &layout, ray_layout], "cs_truth", &constants);
         gpu.check_errors("creating the truth pipeline")?;
         Ok(TruthPipeline { pipeline, layout })
     }
+}
+
+/// A compute pipeline over the frame (group 0), its own group (1) and the rays (3).
+pub fn ray_compute_pipeline(
+    device: &wgpu::Device,
+    label: &str,
+    module: &wgpu::ShaderModule,
+    [frame, own, rays]: [&wgpu::BindGroupLayout; 3],
+    entry: &str,
+    constants: &[(&str, f64)],
+) -> wgpu::ComputePipeline {
+    let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(label),
+        bind_group_layouts: &[Some(frame), Some(own), None, Some(rays)],
+        immediate_size: 0,
+    });
+    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(label),
+        layout: Some(&pipeline_layout),
+        module,
+        entry_point: Some(entry),
+        compilation_options: wgpu::PipelineCompilationOptions { constants, ..Default::default() },
+        cache: None,
+    })
 }
 
 /// A composition's geometry on the GPU (BVH, triangles, vertices) with its environment: the rays'
