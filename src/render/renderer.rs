@@ -982,6 +982,12 @@ impl Renderer {
         self.targets.as_ref().expect("just created")
     }
 
+    /// The samples per pixel `settings` render with on this adapter, and why, if not as asked.
+    pub fn multisampling_for(&self, settings: &CellSettings) -> Multisampling {
+        let (asked, why_one) = settings.antialiasing.samples_on(settings.path);
+        self.multisampling(asked, why_one)
+    }
+
     /// The samples a cell asking `asked` (after its path's rule, `why_one`) renders with: the
     /// largest count up to `asked` the adapter multisamples and resolves every forward target with.
     fn multisampling(&self, asked: u32, why_one: Option<&str>) -> Multisampling {
@@ -1041,8 +1047,7 @@ impl Renderer {
         let subject_model = cell.model;
         let deferred = cell.settings.path == RenderPath::Deferred;
         let vertex_lit = cell.settings.path == RenderPath::VertexLit;
-        let (asked, why_one) = cell.settings.antialiasing.samples_on(cell.settings.path);
-        let multisampling = self.multisampling(asked, why_one);
+        let multisampling = self.multisampling_for(&cell.settings);
         let samples = multisampling.samples;
         let textured = cell.settings.material_maps.is_some();
         let exact = cell.settings.exact;

@@ -436,22 +436,27 @@ impl<'a> Stream<'a> {
                     study_left_out = left_out;
                     let mut sample_counts = vec![render.multisampling.samples];
                     for v in kept {
+                        // An MSAA level the adapter cannot give renders one it can: measured already.
+                        let m = renderer.multisampling_for(&v.settings);
+                        if v.approximation == Approximation::Msaa {
+                            if sample_counts.contains(&m.samples) {
+                                let why = m.note.unwrap_or_default();
+                                study_left_out.push(super::study::LeftOutVariant {
+                                    approximation: v.approximation,
+                                    name: v.name,
+                                    change: v.change,
+                                    reason: format!(
+                                        "renders {} samples per pixel, a level measured already: {why}",
+                                        m.samples
+                                    ),
+                                });
+                                continue;
+                            }
+                            sample_counts.push(m.samples);
+                        }
                         let p = CellParams { settings: v.settings, ..params };
                         let r = renderer.render(&prepared, &p, self.matrix.timing.frames, self.matrix.timing.warmup)?;
                         readback += r.readback_ms;
-                        // An MSAA level the adapter cannot give renders one it can: measured already.
-                        let samples = r.multisampling.samples;
-                        if v.approximation == Approximation::Msaa && sample_counts.contains(&samples) {
-                            let why = r.multisampling.note.clone().unwrap_or_default();
-                            study_left_out.push(super::study::LeftOutVariant {
-                                approximation: v.approximation,
-                                name: v.name,
-                                change: v.change,
-                                reason: format!("renders {samples} samples per pixel, a level measured already: {why}"),
-                            });
-                            continue;
-                        }
-                        sample_counts.push(samples);
                         study.push((v, r));
                     }
                 }
