@@ -139,6 +139,10 @@ pub(crate) mod compute_entry {
         buffer(binding, wgpu::BufferBindingType::Storage { read_only: true })
     }
 
+    pub fn read_write_storage(binding: u32) -> wgpu::BindGroupLayoutEntry {
+        buffer(binding, wgpu::BufferBindingType::Storage { read_only: false })
+    }
+
     fn buffer(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
         wgpu::BindGroupLayoutEntry {
             binding,

@@ -22,23 +22,14 @@ impl TracedShadowsPipeline {
         ray_layout: &wgpu::BindGroupLayout,
         pipeline_id: u32,
     ) -> Result<TracedShadowsPipeline, Error> {
-        use super::compute_entry::texture;
+        use super::compute_entry::{read_write_storage, texture};
         let device = &gpu.device;
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("traced shadows"),
             entries: &[
                 texture(0, wgpu::TextureSampleType::Depth, wgpu::TextureViewDimension::D2),
                 texture(1, wgpu::TextureSampleType::Float { filterable: false }, wgpu::TextureViewDimension::D2),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 2,
-                    visibility: wgpu::ShaderStages::COMPUTE,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Storage { read_only: false },
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    count: None,
-                },
+                read_write_storage(2),
             ],
         });
         let module = gpu.shader_module("traced shadows", &crate::shading::wgsl::compose_traced_shadows())?;

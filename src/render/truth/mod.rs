@@ -107,20 +107,10 @@ pub struct TruthPipeline {
 
 /// The layout of the tracer's own group (group 1).
 pub fn group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
-    use super::compute_entry::{read_only_storage, uniform};
-    let read_write = |binding| wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only: false },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    };
+    use super::compute_entry::{read_only_storage, read_write_storage, uniform};
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("truth"),
-        entries: &[uniform(0), read_only_storage(1), read_write(2), read_write(3)],
+        entries: &[uniform(0), read_only_storage(1), read_write_storage(2), read_write_storage(3)],
     })
 }
 
