@@ -209,9 +209,16 @@ pub fn run_kernel(
 
 /// Run the matrix `body` (a matrix file's text) into `<dir>/<out>`; panics on a failed run.
 pub fn run_matrix(dir: &Path, body: &str, out: &str) -> PathBuf {
+    run_matrix_with(dir, body, out, &[])
+}
+
+/// `run_matrix` with more arguments (`--no-cache`, `--shard 1/3`).
+pub fn run_matrix_with(dir: &Path, body: &str, out: &str, extra: &[&str]) -> PathBuf {
     let m = write_matrix(dir, &format!("{out}.toml"), body);
     let out = dir.join(out);
-    let (code, _, err) = shadematrix(dir, &["run", m.to_str().unwrap(), "--out", out.to_str().unwrap()], &[]);
+    let mut args = vec!["run", m.to_str().unwrap(), "--out", out.to_str().unwrap()];
+    args.extend_from_slice(extra);
+    let (code, _, err) = shadematrix(dir, &args, &[]);
     assert_eq!(code, 0, "{err}");
     out
 }

@@ -60,6 +60,17 @@ pub enum Command {
         /// overflow (finite values above the half-float maximum 65504).
         #[arg(long, value_name = "KINDS", value_delimiter = ',')]
         fail_on: Vec<String>,
+        /// Cell cache shared across runs (default: .cell-cache beside the run folders): a cell
+        /// whose inputs match a cached one is taken from it instead of rendered.
+        #[arg(long, value_name = "DIR", conflicts_with = "no_cache")]
+        cache: Option<PathBuf>,
+        /// Neither read nor fill the cell cache.
+        #[arg(long)]
+        no_cache: bool,
+        /// Render the timed frames of cells taken from the cache or kept by --resume again, and
+        /// record the new timings (images and metrics are kept).
+        #[arg(long)]
+        retime: bool,
         #[command(flatten)]
         models: ModelsArg,
     },
@@ -184,6 +195,9 @@ impl Default for Command {
             shard: None,
             only: None,
             fail_on: Vec::new(),
+            cache: None,
+            no_cache: false,
+            retime: false,
             models: ModelsArg::default(),
         }
     }
@@ -191,9 +205,22 @@ impl Default for Command {
 
 pub fn dispatch(cmd: Command) -> Result<(), Error> {
     match cmd {
-        Command::Run { matrix, out, resume, shard, only, fail_on, models } => {
+        Command::Run { matrix, out, resume, shard, only, fail_on, cache, no_cache, retime, models } => {
             let fail_on = runs::parse_fail_on(&fail_on)?;
-            let opts = runs::RunArgs { out, resume, shard: shard.as_deref(), only: only.as_deref(), fail_on: &fail_on };
+            let cache = if no_cache {
+                runs::CacheChoice::Off
+            } else {
+                cache.map_or(runs::CacheChoice::Default, runs::CacheChoice::At)
+            };
+            let opts = runs::RunArgs {
+                out,
+                resume,
+                shard: shard.as_deref(),
+                only: only.as_deref(),
+                fail_on: &fail_on,
+                cache,
+                retime,
+            };
             runs::run(matrix.as_deref(), opts, &models)
         }
         Command::Bench { matrix, out, models } => runs::bench(matrix.as_deref(), out, &models),

@@ -30,6 +30,15 @@ pub struct RunArgs<'a> {
     pub only: Option<&'a str>,
     /// Bad-value kinds that make the run exit 1.
     pub fail_on: &'a [Defect],
+    pub cache: CacheChoice,
+    pub retime: bool,
+}
+
+/// Where the cell cache is: `--cache DIR`, `--no-cache`, or beside the run folders.
+pub enum CacheChoice {
+    Default,
+    At(PathBuf),
+    Off,
 }
 
 /// `--fail-on nan,inf`: each name a `Defect`, the nearest offered for a typo (exit 2).
@@ -51,10 +60,21 @@ pub fn parse_fail_on(names: &[String]) -> Result<Vec<Defect>, Error> {
 }
 
 pub fn run(matrix: Option<&Path>, args: RunArgs, models: &ModelsArg) -> Result<(), Error> {
-    let RunArgs { out, resume, shard, only, fail_on } = args;
+    let RunArgs { out, resume, shard, only, fail_on, cache, retime } = args;
     let m = load_matrix(matrix, registry_for(models, matrix)?)?;
+    let results_root = default_results_root();
+    let cache = match cache {
+        // Beside the run folder, so that links stay on its file system.
+        CacheChoice::Default => Some(crate::run::cell_cache::default_dir(
+            out.as_deref().map_or(results_root.as_path(), |o| o.parent().unwrap_or(Path::new("."))),
+        )),
+        CacheChoice::At(dir) => Some(dir),
+        CacheChoice::Off => None,
+    };
     let opts = RunOptions {
-        results_root: default_results_root(),
+        results_root,
+        cache,
+        retime,
         out,
         resume,
         shard: shard.map(parse_shard).transpose()?,
@@ -65,11 +85,12 @@ pub fn run(matrix: Option<&Path>, args: RunArgs, models: &ModelsArg) -> Result<(
     let s = crate::run::run(&m, &opts)?;
     crate::report::build(&s.dir)?;
     println!(
-        "{} cells ({} rendered, {} twins copied, {} resumed; {} pruned, {} filtered out) in {:.1} s on {}",
+        "{} cells ({} rendered, {} twins copied, {} resumed, {} from the cache; {} pruned, {} filtered out) in {:.1} s on {}",
         s.counts.cells,
         s.counts.rendered,
         s.counts.twins,
         s.counts.resumed,
+        s.counts.cached,
         s.counts.pruned,
         s.counts.filtered_out,
         s.wall_seconds,

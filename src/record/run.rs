@@ -86,6 +86,9 @@ pub struct RunCounts {
     pub twins: usize,
     /// Cells found finished by --resume.
     pub resumed: usize,
+    /// Cells taken from the cell cache (`--cache`): rendered by an earlier run with the same key.
+    #[serde(default)]
+    pub cached: usize,
     pub pruned: usize,
     pub filtered_out: usize,
 }

@@ -1,26 +1,8 @@
-//! A cell's record before it is measured: its axes, the model's inputs and the light, and the
-//! hash of everything its image depends on.
-
-use serde_json::json;
-use sha2::{Digest, Sha256};
+//! A cell's record before it is measured: its axes, the model's inputs and the light.
 
 use crate::cells::Cell;
 use crate::record::cell::{ImageFiles, KeyLight, ShaderInputs};
-use crate::spec::matrix::{hex, Matrix};
-
-/// Hash of everything a cell's image depends on, so `--resume` re-renders changed cells.
-pub fn input_hash(matrix: &Matrix, cell: &Cell) -> String {
-    let scene = &matrix.compositions[cell.composition_index];
-    let text = json!({
-        "version": env!("CARGO_PKG_VERSION"),
-        "cell": cell,
-        "scene": scene,
-        "frames": matrix.timing.frames,
-        "reference": format!("{:?}", matrix.reference),
-        "approximations": format!("{:?}", matrix.approximations),
-    });
-    hex(&Sha256::digest(text.to_string().as_bytes()))
-}
+use crate::spec::matrix::Matrix;
 
 /// The model's inputs as the shader receives them, with its parameters by name.
 pub fn shader_inputs(cell: &Cell) -> ShaderInputs {

@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use super::clock::ThreadTimer;
-use super::describe::{image_files, input_hash, key_light, shader_inputs};
+use super::describe::{image_files, key_light, shader_inputs};
 use super::study::{LeftOutVariant, StudyVariant};
 use crate::cells::Cell;
 use crate::error::Error;
@@ -74,7 +74,14 @@ pub struct EncodedCell {
     pub study: Vec<StudyImages>,
 }
 
-pub fn encode_cell(matrix: &Matrix, dir: &Path, adapter: &str, job: RenderedCell) -> Result<EncodedCell, Error> {
+/// `key`: the cell's key (`run::cell_key`), recorded as its input hash.
+pub fn encode_cell(
+    matrix: &Matrix,
+    dir: &Path,
+    adapter: &str,
+    key: &str,
+    job: RenderedCell,
+) -> Result<EncodedCell, Error> {
     let RenderedCell { cell, render: mut r, reference, study: study_renders, study_left_out } = job;
     let t0 = ThreadTimer::start();
     let shown = tonemap::to_srgb8(&r.hdr, r.width, r.height, &cell.display);
@@ -107,22 +114,7 @@ pub fn encode_cell(matrix: &Matrix, dir: &Path, adapter: &str, job: RenderedCell
             None
         }
     };
-    let timing = CellTiming {
-        frames: r.frame_ms.len(),
-        warmup: matrix.timing.warmup,
-        gpu: match &r.gpu_pass_ms {
-            Some(ms) => Maybe::Value(FrameSeries::new("timestamp queries: every pass of the frame, summed", ms)),
-            None => Maybe::missing("the adapter has no timestamp queries; see cpu_wall"),
-        },
-        gpu_passes: match &r.gpu_passes {
-            Some(passes) => Maybe::Value(passes.iter().map(|(name, ms)| FrameSeries::new(name.clone(), ms)).collect()),
-            None => Maybe::missing("the adapter has no timestamp queries"),
-        },
-        cpu_wall: FrameSeries::new("CPU wall time from queue submit to device idle", &r.frame_ms),
-        readback_ms: r.readback_ms,
-        encode_ms,
-        metrics_ms: None,
-    };
+    let timing = cell_timing(matrix, &r, encode_ms);
     let measured = Measured {
         display,
         stats,
@@ -137,7 +129,7 @@ pub fn encode_cell(matrix: &Matrix, dir: &Path, adapter: &str, job: RenderedCell
         lod: r.lod.clone(),
         truth,
     };
-    let mut record = cell_record(matrix, cell, adapter, measured);
+    let mut record = cell_record(matrix, cell, adapter, key, measured);
     record.approximations = study_left_out
         .into_iter()
         .map(|v| ApproximationRecord {
@@ -170,6 +162,26 @@ pub fn encode_cell(matrix: &Matrix, dir: &Path, adapter: &str, job: RenderedCell
         reference_missing,
         study,
     })
+}
+
+/// The timings `r` measured, as a record holds them (`encode_ms`: the encode stage's time).
+pub fn cell_timing(matrix: &Matrix, r: &CellRender, encode_ms: f64) -> CellTiming {
+    CellTiming {
+        frames: r.frame_ms.len(),
+        warmup: matrix.timing.warmup,
+        gpu: match &r.gpu_pass_ms {
+            Some(ms) => Maybe::Value(FrameSeries::new("timestamp queries: every pass of the frame, summed", ms)),
+            None => Maybe::missing("the adapter has no timestamp queries; see cpu_wall"),
+        },
+        gpu_passes: match &r.gpu_passes {
+            Some(passes) => Maybe::Value(passes.iter().map(|(name, ms)| FrameSeries::new(name.clone(), ms)).collect()),
+            None => Maybe::missing("the adapter has no timestamp queries"),
+        },
+        cpu_wall: FrameSeries::new("CPU wall time from queue submit to device idle", &r.frame_ms),
+        readback_ms: r.readback_ms,
+        encode_ms,
+        metrics_ms: None,
+    }
 }
 
 /// The multiplier the pipeline writes its colour target with: HDRP's exposure, else 1.
@@ -246,7 +258,7 @@ fn write_supersampled(dir: &Path, cell: &Cell, k: u32, big: &[f32]) -> Result<()
 }
 
 /// A twin's record: its own axes and hash; its original's adapter and everything rendering measured.
-pub fn twin_record(matrix: &Matrix, cell: &Cell, original: &CellRecord) -> CellRecord {
+pub fn twin_record(matrix: &Matrix, cell: &Cell, key: &str, original: &CellRecord) -> CellRecord {
     let o = original.clone();
     let twin_of = cell.twin_of.clone().expect("a twin");
     let note =
@@ -261,7 +273,7 @@ pub fn twin_record(matrix: &Matrix, cell: &Cell, original: &CellRecord) -> CellR
         lod: o.lod,
         truth: None,
     };
-    CellRecord { twin_of: Some(twin_of), note: Some(note), ..cell_record(matrix, cell, &o.adapter, measured) }
+    CellRecord { twin_of: Some(twin_of), note: Some(note), ..cell_record(matrix, cell, &o.adapter, key, measured) }
 }
 
 /// What rendering and encoding a cell measured and decided, as its record carries it.
@@ -277,12 +289,12 @@ struct Measured {
 }
 
 /// A cell's record before its metrics: its axes and inputs, and what rendering it measured.
-fn cell_record(matrix: &Matrix, cell: &Cell, adapter: &str, m: Measured) -> CellRecord {
+fn cell_record(matrix: &Matrix, cell: &Cell, adapter: &str, key: &str, m: Measured) -> CellRecord {
     let plan = crate::plan::FramePlan::for_scene(&matrix.compositions[cell.composition_index]);
     CellRecord {
         schema: CELL_SCHEMA,
         id: cell.id.clone(),
-        input_hash: input_hash(matrix, cell),
+        input_hash: key.to_string(),
         matrix_sha256: matrix.hash.clone(),
         composition: cell.composition.clone(),
         pipeline: cell.pipeline,

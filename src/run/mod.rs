@@ -1,6 +1,8 @@
 //! The run: cells streamed through render → encode → metrics, each stage on its own threads,
 //! writing one typed record per cell.
 
+pub mod cell_cache;
+pub mod cell_key;
 mod clock;
 mod describe;
 mod encode;
@@ -10,5 +12,4 @@ pub mod study;
 pub mod truth_cache;
 
 pub use clock::ProcessUsage;
-pub use describe::input_hash;
 pub use runner::{run, RunOptions, RunSummary, Workers};

@@ -13,8 +13,9 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::Instant;
 
+use super::cell_cache::CellCache;
+use super::cell_key::CellKeys;
 use super::clock::{StageClock, ThreadTimer};
-use super::describe::input_hash;
 use super::encode::{copy_images, encode_cell, twin_record, CellImages, RenderedCell, RenderedReference, StudyImages};
 use super::metrics::{compare_cell, measure_study, reference_source, ReferenceCache, ReferenceSource};
 use crate::cells::{expand, matches_filter, reference_cell_id, remark_twins, Cell, CellId, Expansion};
@@ -42,6 +43,12 @@ pub struct RunOptions {
     pub progress: bool,
     /// Threads for the encode and metric stages (default: from the core count).
     pub workers: Option<Workers>,
+    /// The cross-run cell cache (`run::cell_cache`): cells found there are taken, not rendered,
+    /// and every finished cell is stored. None: no cache.
+    pub cache: Option<PathBuf>,
+    /// Cells taken from the cache (or kept by --resume) render their timed frames again, and
+    /// their records take the new timings; images and metrics stay.
+    pub retime: bool,
 }
 
 /// Threads per CPU stage and the depth of each queue.
@@ -137,12 +144,15 @@ pub fn run(matrix: &Matrix, opts: &RunOptions) -> Result<RunSummary, Error> {
         .unwrap_or_else(|| Workers::for_cores(std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1)));
     let clock = StageClock::default();
     let bar = progress_bar(opts.progress, exp.cells.len() as u64);
-    let stream = Stream::new(matrix, &exp, &dir, adapter.name.clone(), &clock, &bar);
+    let keys = CellKeys::new(matrix, &exp.cells.iter().collect::<Vec<_>>(), &adapter);
+    let cache = opts.cache.clone().map(CellCache::new);
+    let mut stream = Stream::new(matrix, &exp, &dir, adapter.name.clone(), &clock, &bar, keys, cache, opts.retime);
     let mut renderer = Renderer::new(gpu);
     let result = stream.run(&mut renderer, geometry, workers, &mut record);
     bar.finish_and_clear();
     record.counts.rendered = stream.rendered.load(Ordering::Relaxed);
     record.counts.resumed = stream.resumed.load(Ordering::Relaxed);
+    record.counts.cached = stream.cached.load(Ordering::Relaxed);
     record.status = if result.is_ok() { RunStatus::Complete } else { RunStatus::Failed };
     record.finished = Some(chrono::Local::now().to_rfc3339());
     record.wall_seconds = Some(started.elapsed().as_secs_f64());
@@ -223,6 +233,12 @@ struct Stream<'a> {
     first_error: Mutex<Option<Error>>,
     rendered: AtomicUsize,
     resumed: AtomicUsize,
+    cached: AtomicUsize,
+    keys: CellKeys,
+    cache: Option<CellCache>,
+    retime: bool,
+    /// Finished cells (resumed or cached) whose timed frames render again (`--retime`).
+    retiming: HashSet<CellId>,
     /// Truths kept across cells and runs (beside the run folders), when the matrix compares with one.
     truth_cache: Option<super::truth_cache::TruthCache>,
 }
@@ -235,6 +251,9 @@ impl<'a> Stream<'a> {
         adapter: String,
         clock: &'a StageClock,
         bar: &'a indicatif::ProgressBar,
+        keys: CellKeys,
+        cache: Option<CellCache>,
+        retime: bool,
     ) -> Stream<'a> {
         let truth_cache = matches!(matrix.reference, Some(ReferenceSpec::Truth(_)))
             .then(|| super::truth_cache::TruthCache::new(super::truth_cache::default_dir(&dir.root)));
@@ -253,6 +272,11 @@ impl<'a> Stream<'a> {
             first_error: Mutex::new(None),
             rendered: AtomicUsize::new(0),
             resumed: AtomicUsize::new(0),
+            cached: AtomicUsize::new(0),
+            keys,
+            cache,
+            retime,
+            retiming: HashSet::new(),
         }
     }
 
@@ -273,25 +297,57 @@ impl<'a> Stream<'a> {
     }
 
     fn run(
+        &mut self,
+        renderer: &mut Renderer,
+        geometry: Vec<Option<Vec<crate::geometry::Mesh>>>,
+        workers: Workers,
+        record: &mut RunRecord,
+    ) -> Result<(), Error> {
+        // Resume and the cache: finished cells are final from the start; twins of unfinished
+        // originals wait.
+        {
+            let mut done = Vec::new();
+            let mut t = self.tracker.lock().unwrap_or_else(|e| e.into_inner());
+            for c in &self.exp.cells {
+                let key = self.keys.get(&c.id);
+                let found = if self.dir.cell_done(&c.id.0, key) {
+                    self.resumed.fetch_add(1, Ordering::Relaxed);
+                    true
+                } else if let Some(cache) = self.cache.as_ref().filter(|cache| cache.contains(key)) {
+                    let taken = cache.restore(key, &self.dir.cell_dir(&c.id.0), &self.matrix.hash)?;
+                    if taken {
+                        self.cached.fetch_add(1, Ordering::Relaxed);
+                    }
+                    taken
+                } else {
+                    false
+                };
+                if found {
+                    t.final_images.insert(c.id.clone());
+                    self.bar.inc(1);
+                    if c.twin_of.is_none() {
+                        done.push(c.id.clone());
+                    }
+                } else if let Some(original) = &c.twin_of {
+                    t.twins.entry(original.clone()).or_default().push(c);
+                }
+            }
+            drop(t);
+            if self.retime {
+                self.retiming = done.into_iter().collect();
+            }
+        }
+        let this = &*self;
+        this.stream(renderer, geometry, workers, record)
+    }
+
+    fn stream(
         &self,
         renderer: &mut Renderer,
         geometry: Vec<Option<Vec<crate::geometry::Mesh>>>,
         workers: Workers,
         record: &mut RunRecord,
     ) -> Result<(), Error> {
-        // Resume: finished cells are final from the start; twins of unfinished originals wait.
-        {
-            let mut t = self.tracker();
-            for c in &self.exp.cells {
-                if self.dir.cell_done(&c.id.0, &input_hash(self.matrix, c)) {
-                    t.final_images.insert(c.id.clone());
-                    self.resumed.fetch_add(1, Ordering::Relaxed);
-                    self.bar.inc(1);
-                } else if let Some(original) = &c.twin_of {
-                    t.twins.entry(original.clone()).or_default().push(c);
-                }
-            }
-        }
         let (encode_tx, encode_rx) = bounded::<RenderedCell<'a>>(workers.queue_depth);
         let (metrics_tx, metrics_rx) = bounded::<MetricsJob<'a>>(workers.queue_depth);
         let render_result = std::thread::scope(|s| {
@@ -351,7 +407,13 @@ impl<'a> Stream<'a> {
             }
             let mut pending: Vec<&Cell> = {
                 let t = self.tracker();
-                cells.iter().copied().filter(|c| c.twin_of.is_none() && !t.final_images.contains(&c.id)).collect()
+                cells
+                    .iter()
+                    .copied()
+                    .filter(|c| {
+                        c.twin_of.is_none() && (!t.final_images.contains(&c.id) || self.retiming.contains(&c.id))
+                    })
+                    .collect()
             };
             pending.sort_by_key(|c| !references.contains(&c.id));
             // A composition whose every cell is already done needs no GPU resources at all.
@@ -397,6 +459,11 @@ impl<'a> Stream<'a> {
                 let t = Instant::now();
                 let render =
                     renderer.render(&prepared, &params, self.matrix.timing.frames, self.matrix.timing.warmup)?;
+                if self.retiming.contains(&cell.id) {
+                    StageClock::add_ms(&self.clock.render, t.elapsed().as_secs_f64() * 1e3 - render.readback_ms);
+                    self.retime_cell(cell, &render)?;
+                    continue;
+                }
                 let reference = match &self.matrix.reference {
                     Some(ReferenceSpec::Supersampled(k)) => {
                         let k = *k;
@@ -473,6 +540,16 @@ impl<'a> Stream<'a> {
         Ok(())
     }
 
+    /// A finished cell's record with the timings of `render`, its images and metrics kept.
+    fn retime_cell(&self, cell: &Cell, render: &crate::render::CellRender) -> Result<(), Error> {
+        let path = self.dir.cell_dir(&cell.id.0).join(CELL_FILE);
+        let mut record = CellRecord::load(&path).map_err(|e| e.into_error(&path, "cell record"))?;
+        let old = record.timing;
+        record.timing = super::encode::cell_timing(self.matrix, render, old.encode_ms);
+        record.timing.metrics_ms = old.metrics_ms;
+        write_json(&path, &record)
+    }
+
     /// Ids of the cells some other cell is compared with.
     fn reference_cells(&self) -> HashSet<CellId> {
         match &self.matrix.reference {
@@ -491,7 +568,7 @@ impl<'a> Stream<'a> {
             let t = ThreadTimer::start();
             let cell = job.cell;
             let cdir = self.dir.cell_dir(&cell.id.0);
-            let encoded = encode_cell(self.matrix, &cdir, &self.adapter, job);
+            let encoded = encode_cell(self.matrix, &cdir, &self.adapter, self.keys.get(&cell.id), job);
             StageClock::add_cpu(&self.clock.encode, t);
             let result = encoded.and_then(|e| {
                 let job = MetricsJob {
@@ -551,7 +628,7 @@ impl<'a> Stream<'a> {
             copy_images(&from, &self.dir.cell_dir(&twin.id.0))?;
             let job = MetricsJob {
                 cell: twin,
-                record: twin_record(self.matrix, twin, record),
+                record: twin_record(self.matrix, twin, self.keys.get(&twin.id), record),
                 images: images.clone(),
                 reference_missing: None,
                 study: Vec::new(),
@@ -620,8 +697,11 @@ impl<'a> Stream<'a> {
         let mut record = job.record;
         record.timing.metrics_ms = started.map(|t| t.elapsed_ns() as f64 / 1e6);
         record.metrics = metrics;
-        let path = self.dir.cell_dir(&job.cell.id.0).join(CELL_FILE);
-        write_json(&path, &record)?;
+        let cdir = self.dir.cell_dir(&job.cell.id.0);
+        write_json(&cdir.join(CELL_FILE), &record)?;
+        if let Some(cache) = &self.cache {
+            cache.store(self.keys.get(&job.cell.id), &cdir)?;
+        }
         if let Some(t) = started {
             StageClock::add_cpu(&self.clock.metrics, t);
         }

@@ -2,6 +2,7 @@
 
 mod antialiasing;
 mod bloom;
+mod cache;
 mod check;
 mod cli;
 mod compare;

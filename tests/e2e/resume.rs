@@ -40,8 +40,9 @@ fn resume_renders_only_unfinished_cells() {
 fn two_runs_of_one_matrix_write_the_same_image_bytes() {
     let tmp = tempfile::tempdir().unwrap();
     let body = "name = \"twice\"\ncompositions = [\"default\", \"mitsuba\"]\npipelines = [\"builtin\", \"hdrp\"]\nshaders = [\"lambert\", \"standard\", \"lit\"]\npresets = [\"gold\"]\n[image]\nwidth = 144\nheight = 144\n";
-    let a = crate::common::run_matrix(tmp.path(), body, "a");
-    let b = crate::common::run_matrix(tmp.path(), body, "b");
+    // Rendered twice: the cell cache would otherwise hand the second run the first one's files.
+    let a = crate::common::run_matrix_with(tmp.path(), body, "a", &["--no-cache"]);
+    let b = crate::common::run_matrix_with(tmp.path(), body, "b", &["--no-cache"]);
     let mut compared = 0;
     for entry in std::fs::read_dir(a.join("cells")).unwrap() {
         let cell = entry.unwrap().file_name();

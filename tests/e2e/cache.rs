@@ -1,0 +1,69 @@
+//! The cell cache across runs (`--cache`): an unchanged matrix run into a new folder takes every
+//! cell from the cache; editing one user shader re-renders exactly the cells drawn with it.
+
+use std::path::Path;
+
+fn counts(run: &Path) -> serde_json::Value {
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(run.join("run.json")).unwrap()).unwrap();
+    json["counts"].clone()
+}
+
+fn run(dir: &Path, out: &str) -> std::path::PathBuf {
+    let (rc, _, stderr) = crate::common::shadematrix(dir, &["run", "m.toml", "--out", out, "--cache", "cache"], &[]);
+    assert_eq!(rc, 0, "{stderr}");
+    dir.join(out)
+}
+
+#[test]
+fn editing_one_user_shader_re_renders_exactly_its_cells() {
+    let tmp = tempfile::tempdir().unwrap();
+    let brdf = tmp.path().join("shaders/brdf");
+    std::fs::create_dir_all(&brdf).unwrap();
+    for f in ["wrap_diffuse.wgsl", "wrap_diffuse.toml"] {
+        std::fs::copy(crate::common::repo().join("examples/user_models").join(f), brdf.join(f)).unwrap();
+    }
+    // Smoothness is ignored by both diffuse models: half their cells are twins.
+    crate::common::write_matrix(
+        tmp.path(),
+        "m.toml",
+        "name = \"k\"\ncompositions = [\"medusa\"]\npipelines = [\"urp\"]\nshaders = [\"wrap_diffuse\", \"lambert\", \"lit\"]\npresets = [\"gold\", \"plastic\"]\nreference = { shader = \"lit\" }\n[sweep]\nsmoothness = [0.3, 0.8]\n[image]\nwidth = 32\nheight = 32\n",
+    );
+    let cold = run(tmp.path(), "cold");
+    let c = counts(&cold);
+    assert_eq!(
+        (c["cells"].as_u64(), c["rendered"].as_u64(), c["cached"].as_u64()),
+        (Some(12), Some(8), Some(0)),
+        "{c}"
+    );
+
+    // Unchanged, into a new folder: nothing renders, and the folder holds the same files.
+    let warm = run(tmp.path(), "warm");
+    let c = counts(&warm);
+    assert_eq!((c["rendered"].as_u64(), c["cached"].as_u64()), (Some(0), Some(12)), "{c}");
+    let cells: Vec<String> = std::fs::read_dir(cold.join("cells"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().to_string())
+        .collect();
+    for id in &cells {
+        for f in ["image.exr", "image.png", "cell.json"] {
+            let (a, b) = (cold.join("cells").join(id).join(f), warm.join("cells").join(id).join(f));
+            assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap(), "{}", b.display());
+        }
+    }
+
+    // One shader edited: its 4 cells (2 of them twins) change, nothing else renders.
+    let wgsl = brdf.join("wrap_diffuse.wgsl");
+    let text = std::fs::read_to_string(&wgsl).unwrap().replace("let w = s.params0.x;", "let w = 0.5 * s.params0.x;");
+    std::fs::write(&wgsl, text).unwrap();
+    let edited = run(tmp.path(), "edited");
+    let c = counts(&edited);
+    assert_eq!((c["rendered"].as_u64(), c["cached"].as_u64()), (Some(2), Some(8)), "{c}");
+    let wrap: Vec<&String> = cells.iter().filter(|id| id.contains("__wrap_diffuse__")).collect();
+    assert_eq!(wrap.len(), 4);
+    for id in &cells {
+        let changed = std::fs::read(cold.join("cells").join(id).join("image.exr")).unwrap()
+            != std::fs::read(edited.join("cells").join(id).join("image.exr")).unwrap();
+        assert_eq!(changed, wrap.contains(&id), "{id}");
+    }
+}
