@@ -146,7 +146,8 @@ pub fn run(matrix: &Matrix, opts: &RunOptions) -> Result<RunSummary, Error> {
     let bar = progress_bar(opts.progress, exp.cells.len() as u64);
     let keys = CellKeys::new(matrix, &exp.cells.iter().collect::<Vec<_>>(), &adapter);
     let cache = opts.cache.clone().map(CellCache::new);
-    let mut stream = Stream::new(matrix, &exp, &dir, adapter.name.clone(), &clock, &bar, keys, cache, opts.retime);
+    let reuse = Reuse { keys, cache, retime: opts.retime };
+    let mut stream = Stream::new(matrix, &exp, &dir, adapter.name.clone(), &clock, &bar, reuse);
     let mut renderer = Renderer::new(gpu);
     let result = stream.run(&mut renderer, geometry, workers, &mut record);
     bar.finish_and_clear();
@@ -219,6 +220,13 @@ struct Tracker<'a> {
     twins: HashMap<CellId, Vec<&'a Cell>>,
 }
 
+/// What lets a run reuse finished cells: their keys, the cache, and whether to time them again.
+struct Reuse {
+    keys: CellKeys,
+    cache: Option<CellCache>,
+    retime: bool,
+}
+
 struct Stream<'a> {
     matrix: &'a Matrix,
     exp: &'a Expansion,
@@ -251,10 +259,9 @@ impl<'a> Stream<'a> {
         adapter: String,
         clock: &'a StageClock,
         bar: &'a indicatif::ProgressBar,
-        keys: CellKeys,
-        cache: Option<CellCache>,
-        retime: bool,
+        reuse: Reuse,
     ) -> Stream<'a> {
+        let Reuse { keys, cache, retime } = reuse;
         let truth_cache = matches!(matrix.reference, Some(ReferenceSpec::Truth(_)))
             .then(|| super::truth_cache::TruthCache::new(super::truth_cache::default_dir(&dir.root)));
         Stream {
