@@ -127,6 +127,9 @@ pub struct Expansion {
     pub pruned: Vec<PrunedCell>,
     /// Cells removed by `only`/`exclude`.
     pub filtered_out: usize,
+    /// Cells of other shards this shard renders too, because its own cells are compared with them
+    /// or copy them (`run::shard`).
+    pub support: Vec<CellId>,
 }
 
 impl Expansion {
@@ -270,7 +273,7 @@ pub fn expand(m: &Matrix) -> Expansion {
     let mut seen = std::collections::HashSet::new();
     cells.retain(|c| seen.insert(c.id.clone()));
     mark_twins(&mut cells, &m.invariant_filters(), &keyless(m));
-    Expansion { cells, pruned, filtered_out }
+    Expansion { cells, pruned, filtered_out, support: Vec::new() }
 }
 
 /// Every combination of the swept values of the parameters `model_params` has; one empty set

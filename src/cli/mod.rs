@@ -50,8 +50,10 @@ pub enum Command {
         /// Continue an interrupted run: cells already finished are kept.
         #[arg(long)]
         resume: bool,
-        /// Render shard K of N (e.g. 2/4).
-        #[arg(long, value_name = "K/N")]
+        /// Render shard K of N (e.g. 2/4); `auto` (or `auto/N`) reads K and N from a Kubernetes
+        /// Indexed Job (JOB_COMPLETION_INDEX; N from auto/N or SHADEMATRIX_SHARDS) or a Slurm array
+        /// (SLURM_ARRAY_TASK_ID, SLURM_ARRAY_TASK_COUNT, SLURM_ARRAY_TASK_MIN).
+        #[arg(long, value_name = "K/N|auto")]
         shard: Option<String>,
         /// Only cells matching, e.g. `composition=medusa,shader=standard|lit` (the grammar of `[[only]]`).
         #[arg(long, value_name = "FILTER")]
@@ -170,6 +172,16 @@ pub enum Command {
     },
     /// Rebuild the reports of a run (tables) from its recorded files, without rendering.
     Report { run: PathBuf },
+    /// Join the folders of a sharded run (`run --shard K/N` or `--shard auto`) into one run
+    /// folder with complete reports; refuses shards of another matrix or adapter, or a missing one.
+    Merge {
+        /// The shards' run folders.
+        #[arg(required = true)]
+        shards: Vec<PathBuf>,
+        /// The merged run's folder (must not hold a run).
+        #[arg(long)]
+        out: PathBuf,
+    },
     /// Write a composition's meshes (world space) as a GLB file.
     ExportMesh {
         /// A built-in composition name or a scene TOML path.
@@ -237,6 +249,7 @@ pub fn dispatch(cmd: Command) -> Result<(), Error> {
             runs::check(&run, baseline.as_deref(), flip_mean, ssim_min)
         }
         Command::Report { run } => runs::report(&run),
+        Command::Merge { shards, out } => runs::merge(&shards, &out),
         Command::ExportMesh { composition, out, preset, textured } => export_mesh::export_mesh(
             &composition,
             &out,

@@ -3,20 +3,10 @@
 use std::path::{Path, PathBuf};
 
 use super::{load_matrix, registry_for, ModelsArg};
-use crate::error::{Error, InputError};
+use crate::error::Error;
 use crate::images::stats::Defect;
 use crate::report::check::{check as check_run, Thresholds};
 use crate::run::runner::{default_results_root, RunOptions};
-
-fn parse_shard(s: &str) -> Result<(u32, u32), Error> {
-    let bad = || InputError::at_key("command line", "--shard", format!("`{s}` is not K/N with 1 <= K <= N"));
-    let (k, n) = s.split_once('/').ok_or_else(bad)?;
-    let (k, n): (u32, u32) = (k.trim().parse().map_err(|_| bad())?, n.trim().parse().map_err(|_| bad())?);
-    if k == 0 || n == 0 || k > n {
-        return Err(bad().into());
-    }
-    Ok((k, n))
-}
 
 fn progress() -> bool {
     std::io::IsTerminal::is_terminal(&std::io::stderr())
@@ -77,7 +67,7 @@ pub fn run(matrix: Option<&Path>, args: RunArgs, models: &ModelsArg) -> Result<(
         retime,
         out,
         resume,
-        shard: shard.map(parse_shard).transpose()?,
+        shard: shard.map(|s| crate::run::shard::parse(s, &|k| std::env::var(k).ok())).transpose()?,
         only: only.map(|o| m.parse_only(o)).transpose()?,
         progress: progress(),
         workers: None,
@@ -170,6 +160,13 @@ pub fn check(run: &Path, baseline: Option<&Path>, flip_mean: Option<f64>, ssim_m
     if !failed.is_empty() {
         return Err(Error::CheckFailed(failed.join("; ")));
     }
+    Ok(())
+}
+
+pub fn merge(shards: &[PathBuf], out: &Path) -> Result<(), Error> {
+    let m = crate::run::merge::merge(shards, out)?;
+    crate::report::build(&m.dir)?;
+    println!("{} cells from {} shards merged into {}", m.cells, m.shards, m.dir.display());
     Ok(())
 }
 

@@ -45,6 +45,9 @@ impl RunDir {
             .into());
         }
         std::fs::create_dir_all(root.join("cells")).map_err(|e| Error::io_path("creating run folder", &root, e))?;
+        if resume {
+            remove_unfinished_writes(&root);
+        }
         Ok(RunDir { root })
     }
 
@@ -58,6 +61,23 @@ impl RunDir {
         // A record of another schema version is stale: the cell is rendered again.
         let Ok(rec) = super::read_record::<CellRecord>(&dir.join(CELL_FILE), CELL_SCHEMA) else { return false };
         rec.input_hash == input_hash && dir.join("image.exr").is_file() && dir.join("image.png").is_file()
+    }
+}
+
+/// Temporary files (`.name.tmpPID`, `fsutil::write_atomic`) and folders of a process that was
+/// killed mid-write: never part of a finished cell, so a resumed run leaves none behind.
+fn remove_unfinished_writes(dir: &Path) {
+    let Ok(entries) = std::fs::read_dir(dir) else { return };
+    for e in entries.filter_map(|e| e.ok()) {
+        let (name, path) = (e.file_name().to_string_lossy().to_string(), e.path());
+        let unfinished =
+            name.starts_with('.') && (name.contains(".tmp") || name.contains(".cached") || name.contains(".merge"));
+        match (path.is_dir(), unfinished) {
+            (true, true) => drop(std::fs::remove_dir_all(&path)),
+            (false, true) => drop(std::fs::remove_file(&path)),
+            (true, false) => remove_unfinished_writes(&path),
+            (false, false) => {}
+        }
     }
 }
 

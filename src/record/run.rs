@@ -27,6 +27,13 @@ pub struct RunRecord {
     /// Time spent in each stage, summed over cells (absent while running).
     #[serde(default)]
     pub stages: Option<StageTimes>,
+    /// A shard's cells of other shards, rendered because its own are compared with them or copy
+    /// them (`run::shard`); `merge` keeps the owning shard's copy.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub support: Vec<crate::cells::CellId>,
+    /// The shard folders `merge` joined into this run.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub merged_from: Vec<String>,
 }
 
 impl RunRecord {
@@ -91,6 +98,9 @@ pub struct RunCounts {
     pub cached: usize,
     pub pruned: usize,
     pub filtered_out: usize,
+    /// Of `cells`, the other shards' cells this shard rendered as support (`run::shard`).
+    #[serde(default)]
+    pub support: usize,
 }
 
 #[derive(Debug, Clone, Serialize, Deserialize)]

@@ -91,7 +91,7 @@ impl CellCache {
 
 /// `to` made a copy of the folder `from`: files hard-linked, or copied where linking fails;
 /// temporary files (`.name.tmpN`) of an unfinished write are left out.
-fn link_tree(from: &Path, to: &Path) -> Result<(), Error> {
+pub fn link_tree(from: &Path, to: &Path) -> Result<(), Error> {
     std::fs::create_dir_all(to).map_err(|e| Error::io_path("creating folder", to, e))?;
     let entries = std::fs::read_dir(from).map_err(|e| Error::io_path("reading folder", from, e))?;
     for e in entries {

@@ -6,8 +6,10 @@ pub mod cell_key;
 mod clock;
 mod describe;
 mod encode;
+pub mod merge;
 mod metrics;
 pub mod runner;
+pub mod shard;
 pub mod study;
 pub mod truth_cache;
 

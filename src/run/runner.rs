@@ -6,7 +6,6 @@
 //! References are rendered first in each composition, so parking is rare.
 
 use crossbeam_channel::{bounded, Receiver, Sender};
-use sha2::{Digest, Sha256};
 use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
@@ -89,12 +88,8 @@ pub fn select_cells(matrix: &Matrix, opts: &RunOptions) -> Expansion {
         let ids: HashSet<_> = exp.cells.iter().map(|c| c.id.clone()).collect();
         remark_twins(&mut exp.cells, &ids, matrix);
     }
-    if let Some((k, n)) = opts.shard {
-        exp.cells.retain(|c| {
-            let owner = c.twin_of.as_ref().unwrap_or(&c.id);
-            let h = Sha256::digest(owner.0.as_bytes());
-            (u32::from_le_bytes([h[0], h[1], h[2], h[3]]) % n) + 1 == k
-        });
+    if let Some(shard) = opts.shard {
+        super::shard::select(matrix, &mut exp, shard);
     }
     exp
 }
@@ -131,10 +126,13 @@ pub fn run(matrix: &Matrix, opts: &RunOptions) -> Result<RunSummary, Error> {
             twins: exp.cells.iter().filter(|c| c.twin_of.is_some()).count(),
             pruned: exp.pruned.len(),
             filtered_out: exp.filtered_out,
+            support: exp.support.len(),
             ..Default::default()
         },
         compositions: Vec::new(),
         stages: None,
+        support: exp.support.clone(),
+        merged_from: Vec::new(),
     };
     let run_json = dir.root.join(RUN_FILE);
     write_json(&run_json, &record)?;

@@ -25,6 +25,7 @@ mod render_ci;
 mod resume;
 mod shading;
 mod shadows;
+mod shards;
 mod ssao;
 mod stability;
 mod study;

@@ -1,0 +1,199 @@
+//! `shadematrix merge DIR... --out DIR`: the folders of a sharded run's shards (`run::shard`)
+//! joined into one run folder, as if the matrix had run unsharded. Shards must be complete runs of
+//! the same matrix (hash) on the same adapter, and together cover every shard of their count;
+//! anything else is refused with the folder and the value that differs. Cells are hard-linked
+//! (copied across file systems); a support cell comes from the shard that owns it.
+
+use std::collections::{BTreeMap, HashSet};
+use std::path::{Path, PathBuf};
+
+use crate::error::{Error, InputError};
+use crate::record::run::{RunStatus, StageTimes};
+use crate::record::{CellRecord, Maybe, RunDir, RunRecord, CELL_FILE, RUN_FILE};
+
+pub struct MergeSummary {
+    pub dir: PathBuf,
+    pub cells: usize,
+    pub shards: u32,
+}
+
+pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<MergeSummary, Error> {
+    let shown = |p: &Path| p.display().to_string();
+    if inputs.is_empty() {
+        return Err(InputError::new("command line", "merge needs the shard folders: merge DIR... --out DIR").into());
+    }
+    let mut shards: BTreeMap<u32, (PathBuf, RunRecord)> = BTreeMap::new();
+    let mut count = None;
+    for dir in inputs {
+        if !dir.join(RUN_FILE).is_file() {
+            return Err(InputError::new(shown(dir), "not a run folder (no run.json)").into());
+        }
+        let r = RunRecord::load(dir)?;
+        if r.status != RunStatus::Complete {
+            return Err(InputError::at_key(
+                shown(&dir.join(RUN_FILE)),
+                "status",
+                format!(
+                    "`{}`: the shard did not finish; continue it with `run --resume --out {}` first",
+                    r.status.name(),
+                    shown(dir)
+                ),
+            )
+            .into());
+        }
+        let Some((k, n)) = r.matrix.shard.as_deref().and_then(parse_shard) else {
+            return Err(InputError::at_key(
+                shown(&dir.join(RUN_FILE)),
+                "matrix.shard",
+                "absent: not a shard (run with --shard K/N or --shard auto)",
+            )
+            .into());
+        };
+        if let Some((_, first)) = shards.values().next() {
+            let (a, b) = (&first.matrix.sha256, &r.matrix.sha256);
+            if a != b {
+                return Err(InputError::at_key(
+                    shown(&dir.join(RUN_FILE)),
+                    "matrix.sha256",
+                    format!("`{b}` differs from the other shards' `{a}`: shards of different matrices do not merge"),
+                )
+                .into());
+            }
+            let (a, b) = (adapter_class(first), adapter_class(&r));
+            if a != b {
+                return Err(InputError::at_key(
+                    shown(&dir.join(RUN_FILE)),
+                    "adapter",
+                    format!("`{b}` differs from the other shards' `{a}`: timings and images compare only within one adapter"),
+                )
+                .into());
+            }
+        }
+        if *count.get_or_insert(n) != n {
+            return Err(InputError::at_key(
+                shown(&dir.join(RUN_FILE)),
+                "matrix.shard",
+                format!("`{k}/{n}`: the other shards are of {}", count.unwrap_or(n)),
+            )
+            .into());
+        }
+        if let Some((other, _)) = shards.insert(k, (dir.clone(), r)) {
+            return Err(InputError::at_key(
+                shown(&dir.join(RUN_FILE)),
+                "matrix.shard",
+                format!("`{k}/{n}` is also {}", shown(&other)),
+            )
+            .into());
+        }
+    }
+    let n = count.unwrap_or(1);
+    let missing: Vec<String> = (1..=n).filter(|k| !shards.contains_key(k)).map(|k| format!("{k}/{n}")).collect();
+    if !missing.is_empty() {
+        return Err(InputError::new(
+            "command line",
+            format!("shard(s) {} missing: give every shard's folder", missing.join(", ")),
+        )
+        .into());
+    }
+
+    let first = shards.values().next().map(|(_, r)| r.clone()).expect("at least one shard");
+    let dir = RunDir::open(out.parent().unwrap_or(Path::new(".")), Some(out), &first.matrix.name, false)?;
+    // Each cell from the shard that owns it; a support copy only where no owner has it.
+    let mut placed: HashSet<String> = HashSet::new();
+    let mut twins = 0;
+    for owners_only in [true, false] {
+        for (src, r) in shards.values() {
+            let support: HashSet<&str> = r.support.iter().map(|c| c.0.as_str()).collect();
+            let entries =
+                std::fs::read_dir(src.join("cells")).map_err(|e| Error::io_path("reading", &src.join("cells"), e))?;
+            let mut ids: Vec<String> =
+                entries.filter_map(|e| e.ok()).map(|e| e.file_name().to_string_lossy().to_string()).collect();
+            ids.sort();
+            for id in ids {
+                let from = src.join("cells").join(&id);
+                if id.starts_with('.') || placed.contains(&id) || support.contains(id.as_str()) == owners_only {
+                    continue;
+                }
+                let path = from.join(CELL_FILE);
+                // A folder without its record never finished: it is not part of the shard.
+                let record = match CellRecord::load(&path) {
+                    Ok(r) => r,
+                    Err(crate::record::RecordError::Absent) => continue,
+                    Err(e) => return Err(e.into_error(&path, "cell record")),
+                };
+                twins += usize::from(record.twin_of.is_some());
+                let to = dir.cell_dir(&id);
+                let tmp = dir.root.join("cells").join(format!(".{id}.merge{}", std::process::id()));
+                let _ = std::fs::remove_dir_all(&tmp);
+                super::cell_cache::link_tree(&from, &tmp)?;
+                if to.exists() {
+                    // Left by an interrupted merge into this folder.
+                    std::fs::remove_dir_all(&to).map_err(|e| Error::io_path("replacing", &to, e))?;
+                }
+                std::fs::rename(&tmp, &to).map_err(|e| Error::io_path("renaming into place", &to, e))?;
+                placed.insert(id);
+            }
+        }
+    }
+
+    let records: Vec<&RunRecord> = shards.values().map(|(_, r)| r).collect();
+    let mut merged = first.clone();
+    merged.matrix.shard = None;
+    merged.status = RunStatus::Complete;
+    merged.started = records.iter().map(|r| r.started.clone()).min().unwrap_or_default();
+    merged.finished = records.iter().filter_map(|r| r.finished.clone()).max();
+    merged.wall_seconds = records.iter().filter_map(|r| r.wall_seconds).reduce(f64::max);
+    let sum = |f: fn(&RunRecord) -> usize| records.iter().map(|r| f(r)).sum::<usize>();
+    merged.counts.cells = placed.len();
+    merged.counts.twins = twins;
+    merged.counts.rendered = sum(|r| r.counts.rendered);
+    merged.counts.resumed = sum(|r| r.counts.resumed);
+    merged.counts.cached = sum(|r| r.counts.cached);
+    merged.counts.support = sum(|r| r.counts.support);
+    merged.compositions = Vec::new();
+    for r in &records {
+        for c in &r.compositions {
+            if !merged.compositions.iter().any(|m| m.name == c.name) {
+                merged.compositions.push(c.clone());
+            }
+        }
+    }
+    merged.stages = records.iter().filter_map(|r| r.stages.clone()).reduce(add_stages);
+    merged.support = Vec::new();
+    merged.merged_from = shards.values().map(|(p, _)| shown(p)).collect();
+    crate::fsutil::write_json(&dir.root.join(RUN_FILE), &merged)?;
+    Ok(MergeSummary { dir: dir.root, cells: placed.len(), shards: n })
+}
+
+/// The adapter as far as timings and images compare: its name, backend and driver.
+fn adapter_class(r: &RunRecord) -> String {
+    format!("{} ({}, {} {})", r.adapter.name, r.adapter.backend, r.adapter.driver, r.adapter.driver_info)
+}
+
+fn parse_shard(s: &str) -> Option<(u32, u32)> {
+    let (k, n) = s.split_once('/')?;
+    Some((k.parse().ok()?, n.parse().ok()?))
+}
+
+/// Two shards' stage times as one run's: times and CPU summed, the peak the larger.
+fn add_stages(a: StageTimes, b: StageTimes) -> StageTimes {
+    let both = |x: Maybe<f64>, y: &Maybe<f64>| match (x.value(), y.value()) {
+        (Some(p), Some(q)) => Maybe::Value(p + q),
+        _ => Maybe::missing("not reported by every shard"),
+    };
+    let peak = match (a.peak_rss_bytes.value(), b.peak_rss_bytes.value()) {
+        (Some(p), Some(q)) => Maybe::Value(*p.max(q)),
+        _ => Maybe::missing("not reported by every shard"),
+    };
+    StageTimes {
+        prepare_ms: a.prepare_ms + b.prepare_ms,
+        render_ms: a.render_ms + b.render_ms,
+        readback_ms: a.readback_ms + b.readback_ms,
+        encode_ms: a.encode_ms + b.encode_ms,
+        metrics_ms: a.metrics_ms + b.metrics_ms,
+        render_blocked_ms: a.render_blocked_ms + b.render_blocked_ms,
+        process_cpu: both(a.process_cpu.clone(), &b.process_cpu),
+        peak_rss_bytes: peak,
+        ..a
+    }
+}
