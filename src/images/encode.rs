@@ -4,12 +4,29 @@ use std::io::Cursor;
 
 use crate::error::Error as AppError;
 
-/// OpenEXR, linear RGBA 32-bit float, RLE in scan lines: lossless, and the same pixels give the
-/// same bytes (`exr_bytes_with`). Measured on a 384² HDRP cell (release): RLE 2.09 MB in 7 ms,
-/// ZIP16 1.45 MB in 36 ms, PIZ 1.35 MB in 43 ms, uncompressed 2.37 MB: 32-bit mantissas barely
-/// compress, so the smaller files wait for half-float channels (issue 13's compact outputs).
+// OpenEXR, linear RGBA, lossless, scan lines in increasing order: the same pixels give the same
+// bytes. Measured on eight 256² URP and HDRP Lit cells (release, one core): half channels with
+// ZIP16 70–140 KB in 5–8 ms; PIZ 116–178 KB in 7–17 ms; RLE 188–247 KB in 3 ms; 32-bit channels
+// ZIP16 632–758 KB in 14–22 ms, RLE 931 KB (32-bit mantissas barely compress). PNG at the fast
+// level 26–49 KB in 0.5–0.9 ms against 19–40 KB in 5.5–20 ms at the default level.
+
+/// Scan lines in increasing order: the crate compresses blocks on several threads, and only a
+/// fixed order makes the same pixels give the same bytes. (A macro: the crate's channel types
+/// borrow the pixels, which its writer traits' bounds make awkward to name in a function.)
+macro_rules! write_exr {
+    ($width:expr, $height:expr, $compression:expr, $channels:expr) => {{
+        let encoding =
+            Encoding { compression: $compression, blocks: Blocks::ScanLines, line_order: LineOrder::Increasing };
+        let image = Image::from_encoded_channels(($width as usize, $height as usize), encoding, $channels);
+        let mut cursor = Cursor::new(Vec::new());
+        image.write().to_buffered(&mut cursor).map_err(|e| AppError::encode("encoding EXR", e))?;
+        Ok(cursor.into_inner())
+    }};
+}
+
+/// 32-bit channels, ZIP (the records the run keeps beside cells: truths, noise maps).
 pub fn exr_bytes(width: u32, height: u32, rgba: &[f32]) -> Result<Vec<u8>, AppError> {
-    exr_bytes_with(width, height, rgba, exr::compression::Compression::RLE)
+    exr_bytes_with(width, height, rgba, exr::compression::Compression::ZIP16)
 }
 
 /// An EXR of `rgba` (32-bit float) with `compression`, scan lines written in increasing order:
@@ -22,16 +39,43 @@ pub fn exr_bytes_with(
     compression: exr::compression::Compression,
 ) -> Result<Vec<u8>, AppError> {
     use exr::prelude::*;
-    let (w, h) = (width as usize, height as usize);
+    let w = width as usize;
     let channels = SpecificChannels::rgba(|Vec2(x, y): Vec2<usize>| {
         let i = (y * w + x) * 4;
         (rgba[i], rgba[i + 1], rgba[i + 2], rgba[i + 3])
     });
-    let encoding = Encoding { compression, blocks: Blocks::ScanLines, line_order: LineOrder::Increasing };
-    let image = Image::from_encoded_channels((w, h), encoding, channels);
-    let mut cursor = Cursor::new(Vec::new());
-    image.write().to_buffered(&mut cursor).map_err(|e| AppError::encode("encoding EXR", e))?;
-    Ok(cursor.into_inner())
+    write_exr!(width, height, compression, channels)
+}
+
+/// The same with 16-bit channels: each value rounded to the nearest half (`fits_half` says when
+/// that loses nothing but rounding).
+pub fn exr_half_bytes_with(
+    width: u32,
+    height: u32,
+    rgba: &[f32],
+    compression: exr::compression::Compression,
+) -> Result<Vec<u8>, AppError> {
+    use exr::prelude::*;
+    let w = width as usize;
+    let h = |v: f32| f16::from_f32(v);
+    let channels = SpecificChannels::rgba(|Vec2(x, y): Vec2<usize>| {
+        let i = (y * w + x) * 4;
+        (h(rgba[i]), h(rgba[i + 1]), h(rgba[i + 2]), h(rgba[i + 3]))
+    });
+    write_exr!(width, height, compression, channels)
+}
+
+/// Whether every finite value of `rgba` lies in the half-float range (no finite value would become
+/// an infinity).
+pub fn fits_half(rgba: &[f32]) -> bool {
+    rgba.iter().all(|v| !v.is_finite() || v.abs() <= crate::images::stats::HALF_MAX as f32)
+}
+
+/// Round every value to the nearest half float, as a 16-bit EXR stores it.
+pub fn round_to_half(rgba: &mut [f32]) {
+    for v in rgba {
+        *v = half::f16::from_f32(*v).to_f32();
+    }
 }
 
 /// Read an EXR back as linear RGBA (for tests, references and later comparisons).
@@ -50,10 +94,21 @@ pub fn read_exr(path: &std::path::Path) -> Result<(u32, u32, Vec<f32>), AppError
     Ok((size.width() as u32, size.height() as u32, image.layer_data.channel_data.pixels.1))
 }
 
+/// A PNG at the fast deflate level with adaptive filters: measured in the README against the
+/// default level (size and time), the encode stage's largest cost after the EXR.
 pub fn png_bytes(width: u32, height: u32, rgba8: &[u8]) -> Result<Vec<u8>, AppError> {
+    png_bytes_with(width, height, rgba8, image::codecs::png::CompressionType::Fast)
+}
+
+pub fn png_bytes_with(
+    width: u32,
+    height: u32,
+    rgba8: &[u8],
+    level: image::codecs::png::CompressionType,
+) -> Result<Vec<u8>, AppError> {
     use image::ImageEncoder;
     let mut out = Vec::new();
-    image::codecs::png::PngEncoder::new(&mut out)
+    image::codecs::png::PngEncoder::new_with_quality(&mut out, level, image::codecs::png::FilterType::Adaptive)
         .write_image(rgba8, width, height, image::ExtendedColorType::Rgba8)
         .map_err(|e| AppError::encode("encoding PNG", e))?;
     Ok(out)

@@ -217,6 +217,10 @@ pub struct ImageFiles {
     pub height: u32,
     pub exr: String,
     pub png: String,
+    /// How image.exr was written: its channels (`half`, or `float` where `[outputs] exr = "float"`
+    /// or a value exceeds the half range) and compression.
+    #[serde(default)]
+    pub exr_format: String,
 }
 
 /// Times of a series of frames, ms.

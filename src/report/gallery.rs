@@ -136,7 +136,9 @@ pub fn html(run: &RunData, sheets: &[String], plots: &[String]) -> String {
         );
         let metrics = &c.metrics;
         if metrics.ldr.is_some() {
-            let _ = write!(s, "<img src=\"{dir}/flip.png\" alt=\"FLIP map\" title=\"FLIP\"><img src=\"{dir}/ssim.png\" alt=\"1 − SSIM\" title=\"1 − SSIM\">");
+            if metrics.maps.is_some() {
+                let _ = write!(s, "<img src=\"{dir}/flip.png\" alt=\"FLIP map\" title=\"FLIP\"><img src=\"{dir}/ssim.png\" alt=\"1 − SSIM\" title=\"1 − SSIM\">");
+            }
             let _ = write!(
                 s,
                 "<div>against <code>{}</code>: FLIP {} · SSIM {} · HDR-FLIP {}</div>",

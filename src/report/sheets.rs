@@ -212,7 +212,7 @@ pub fn write(run: &RunData, specs: &[SheetSpec]) -> Result<Vec<String>, Error> {
         let row = vec![
             Some(run.cell_dir(id).join("image.png")),
             Some(run.cell_dir(&reference.0).join("image.png")),
-            Some(run.cell_dir(id).join("flip.png")),
+            c.metrics.maps.as_ref().map(|m| run.cell_dir(id).join(&m.flip)),
         ];
         let label = format!(
             "{}/{} {} m{} s{}",

@@ -55,6 +55,7 @@ impl CellKeys {
             "frames": matrix.timing.frames,
             "warmup": matrix.timing.warmup,
             "approximations": format!("{:?}", matrix.approximations),
+            "outputs": matrix.outputs,
         });
         let own: HashMap<&CellId, String> = cells
             .iter()

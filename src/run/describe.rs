@@ -30,6 +30,6 @@ pub fn key_light(matrix: &Matrix, cell: &Cell) -> KeyLight {
     }
 }
 
-pub fn image_files(cell: &Cell) -> ImageFiles {
-    ImageFiles { width: cell.width, height: cell.height, exr: "image.exr".into(), png: "image.png".into() }
+pub fn image_files(cell: &Cell, exr_format: String) -> ImageFiles {
+    ImageFiles { width: cell.width, height: cell.height, exr: "image.exr".into(), png: "image.png".into(), exr_format }
 }

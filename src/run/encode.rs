@@ -21,6 +21,7 @@ use crate::record::Maybe;
 use crate::render::uniforms::{ROLE_FIXED, ROLE_SUBJECT};
 use crate::render::CellRender;
 use crate::spec::matrix::Matrix;
+use crate::spec::outputs::ExrPrecision;
 use crate::spec::scene::Role;
 
 /// A frame the render thread finished, on its way to the encode workers.
@@ -84,6 +85,12 @@ pub fn encode_cell(
 ) -> Result<EncodedCell, Error> {
     let RenderedCell { cell, render: mut r, reference, study: study_renders, study_left_out } = job;
     let t0 = ThreadTimer::start();
+    // 16-bit channels where the frame fits them (`spec::outputs`): rounded here, so the PNG, the
+    // statistics and the metrics see what the file holds.
+    let half = matrix.outputs.exr == ExrPrecision::Half && encode::fits_half(&r.hdr);
+    if half {
+        encode::round_to_half(&mut r.hdr);
+    }
     let shown = tonemap::to_srgb8(&r.hdr, r.width, r.height, &cell.display);
     let plan = crate::plan::FramePlan::for_scene(&matrix.compositions[cell.composition_index]);
     // Counted in what the passes wrote, before the store saturates the overflow.
@@ -96,7 +103,16 @@ pub fn encode_cell(
         plan.pass_writing(cell.path, role, forward_only).to_string()
     });
     let (srgb8, display) = store(&mut r.hdr, r.width, r.height, cell, shown);
-    let exr = encode::exr_bytes(r.width, r.height, &r.hdr)?;
+    if half {
+        // A saturated value as the file holds it.
+        encode::round_to_half(&mut r.hdr);
+    }
+    let compression = matrix.outputs.exr_compression.exr();
+    let exr = if half {
+        encode::exr_half_bytes_with(r.width, r.height, &r.hdr, compression)?
+    } else {
+        encode::exr_bytes_with(r.width, r.height, &r.hdr, compression)?
+    };
     let png = encode::png_bytes(r.width, r.height, &srgb8)?;
     let encode_ms = t0.elapsed_ns() as f64 / 1e6;
     write_atomic(&dir.join("image.exr"), &exr)?;
@@ -106,11 +122,11 @@ pub fn encode_cell(
         None => None,
         Some(Err(why)) => Some(why),
         Some(Ok(RenderedReference::Supersampled(k, big))) => {
-            write_supersampled(dir, cell, k, &big)?;
+            write_supersampled(dir, cell, k, &big, compression)?;
             None
         }
         Some(Ok(RenderedReference::Truth(t))) => {
-            truth = Some(write_truth(dir, cell, &t, display.exposure)?);
+            truth = Some(write_truth(dir, cell, &t, display.exposure, compression)?);
             None
         }
     };
@@ -128,6 +144,7 @@ pub fn encode_cell(
         shadow_maps: r.shadow_maps.clone(),
         lod: r.lod.clone(),
         truth,
+        exr_format: format!("{}, {}", if half { "half" } else { "float" }, matrix.outputs.exr_compression.name()),
     };
     let mut record = cell_record(matrix, cell, adapter, key, measured);
     record.approximations = study_left_out
@@ -208,14 +225,15 @@ fn write_truth(
     cell: &Cell,
     t: &crate::render::truth::Truth,
     exposure: Option<crate::images::exposure::ExposureRecord>,
+    compression: exr::compression::Compression,
 ) -> Result<crate::record::cell::TruthRecord, Error> {
     let mut hdr: Vec<f32> = t.mean.iter().flat_map(|c| [c[0], c[1], c[2], 1.0]).collect();
     let (srgb, _) = tonemap::to_srgb8_at(&hdr, &cell.display, exposure);
     store_half_float(&mut hdr, exposure.map_or(1.0, |e| e.exposure));
-    write_atomic(&dir.join("reference.exr"), &encode::exr_bytes(cell.width, cell.height, &hdr)?)?;
+    write_atomic(&dir.join("reference.exr"), &encode::exr_bytes_with(cell.width, cell.height, &hdr, compression)?)?;
     write_atomic(&dir.join("reference.png"), &encode::png_bytes(cell.width, cell.height, &srgb)?)?;
     let noise: Vec<f32> = t.std_error.iter().flat_map(|&e| [e, e, e, 1.0]).collect();
-    write_atomic(&dir.join(TRUTH_NOISE_MAP), &encode::exr_bytes(cell.width, cell.height, &noise)?)?;
+    write_atomic(&dir.join(TRUTH_NOISE_MAP), &encode::exr_bytes_with(cell.width, cell.height, &noise, compression)?)?;
     Ok(crate::record::cell::TruthRecord {
         kind: t.kind.name().into(),
         spp: t.spp,
@@ -234,7 +252,13 @@ fn write_truth(
 pub const TRUTH_NOISE_MAP: &str = "truth_noise.exr";
 
 /// Box-filter the k× render down to the cell's size: reference.exr and reference.png.
-fn write_supersampled(dir: &Path, cell: &Cell, k: u32, big: &[f32]) -> Result<(), Error> {
+fn write_supersampled(
+    dir: &Path,
+    cell: &Cell,
+    k: u32,
+    big: &[f32],
+    compression: exr::compression::Compression,
+) -> Result<(), Error> {
     let (pw, ph, k) = (cell.width as usize, cell.height as usize, k as usize);
     let w = pw * k;
     let mut small = vec![0f32; pw * ph * 4];
@@ -253,7 +277,7 @@ fn write_supersampled(dir: &Path, cell: &Cell, k: u32, big: &[f32]) -> Result<()
     }
     let shown = tonemap::to_srgb8(&small, cell.width, cell.height, &cell.display);
     let (srgb, _) = store(&mut small, cell.width, cell.height, cell, shown);
-    write_atomic(&dir.join("reference.exr"), &encode::exr_bytes(cell.width, cell.height, &small)?)?;
+    write_atomic(&dir.join("reference.exr"), &encode::exr_bytes_with(cell.width, cell.height, &small, compression)?)?;
     write_atomic(&dir.join("reference.png"), &encode::png_bytes(cell.width, cell.height, &srgb)?)
 }
 
@@ -272,6 +296,7 @@ pub fn twin_record(matrix: &Matrix, cell: &Cell, key: &str, original: &CellRecor
         shadow_maps: o.shadow_maps,
         lod: o.lod,
         truth: None,
+        exr_format: o.image.exr_format,
     };
     CellRecord { twin_of: Some(twin_of), note: Some(note), ..cell_record(matrix, cell, &o.adapter, key, measured) }
 }
@@ -286,6 +311,7 @@ struct Measured {
     shadow_maps: Vec<crate::render::ShadowMapUse>,
     lod: Vec<crate::render::renderer::LodUse>,
     truth: Option<crate::record::cell::TruthRecord>,
+    exr_format: String,
 }
 
 /// A cell's record before its metrics: its axes and inputs, and what rendering it measured.
@@ -312,7 +338,7 @@ fn cell_record(matrix: &Matrix, cell: &Cell, adapter: &str, key: &str, m: Measur
             light_angle: cell.light_angle,
             params: cell.params.clone(),
         },
-        image: image_files(cell),
+        image: image_files(cell, m.exr_format),
         twin_of: None,
         note: None,
         adapter: adapter.to_string(),

@@ -181,10 +181,12 @@ fn exposed(image: &LoadedImage, cell: &Cell) -> (LoadedImage, f64) {
     (LoadedImage::Hdr { width: *width, height: *height, rgba: scaled }, k)
 }
 
-/// Compare a cell's images with its reference's; writes flip.png and ssim.png into `cell_dir`.
+/// Compare a cell's images with its reference's; writes flip.png and ssim.png into `cell_dir`
+/// unless the matrix's `[outputs] maps = false`.
 pub fn compare_cell(
     cell: &Cell,
     cell_dir: &Path,
+    write_maps: bool,
     images: Option<CellImages>,
     reference: &ReferenceImages,
     record: ReferenceRecord,
@@ -199,7 +201,7 @@ pub fn compare_cell(
     };
     let c = compare(&reference.ldr, &ldr, &cell.id.0)?;
     for (name, px) in [("flip.png", &c.flip_map_rgba8), ("ssim.png", &c.ssim_map_rgba8)] {
-        if let Some(px) = px {
+        if let Some(px) = px.as_ref().filter(|_| write_maps) {
             write_atomic(&cell_dir.join(name), &png_bytes(c.width, c.height, px)?)?;
         }
     }
@@ -242,7 +244,7 @@ pub fn compare_cell(
         reference: Maybe::Value(record),
         ldr: Some(c),
         hdr: Some(hdr),
-        maps: Some(MetricMaps { flip: "flip.png".into(), ssim: "ssim.png".into() }),
+        maps: write_maps.then(|| MetricMaps { flip: "flip.png".into(), ssim: "ssim.png".into() }),
         ztest,
     })
 }

@@ -688,7 +688,8 @@ impl<'a> Stream<'a> {
             _ => None,
         };
         let truth = matches!(what, ReferenceRecord::Truth { .. });
-        let metrics = compare_cell(cell, &cdir, job.images.take(), &reference, what, reference_cell)?;
+        let metrics =
+            compare_cell(cell, &cdir, self.matrix.outputs.maps, job.images.take(), &reference, what, reference_cell)?;
         if truth {
             for s in std::mem::take(&mut job.study) {
                 job.record.approximations.push(measure_study(s, &reference, &cell.id.0)?);

@@ -48,6 +48,9 @@ struct MatrixFile {
     antialiasing: Option<toml::Value>,
     #[serde(default)]
     timing: Timing,
+    /// How cells' files are written (`spec::outputs`).
+    #[serde(default)]
+    outputs: crate::spec::outputs::Outputs,
     /// Light budgets: `pixel_light_count` (built-in forward, default 4) and
     /// `urp_per_object_limit` (default 4, at most 8).
     #[serde(default)]
@@ -312,6 +315,7 @@ pub struct Matrix {
     pub antialiasing: [Antialiasing; 3],
     pub light_budget: LightBudget,
     pub timing: Timing,
+    pub outputs: crate::spec::outputs::Outputs,
     pub only: Vec<Filter>,
     pub exclude: Vec<Filter>,
     pub reference: Option<ReferenceSpec>,
@@ -766,6 +770,7 @@ impl Matrix {
             antialiasing,
             light_budget: file.lights,
             timing: file.timing,
+            outputs: file.outputs,
             only,
             exclude,
             reference,

@@ -2,6 +2,7 @@
 
 pub mod asserts;
 pub mod matrix;
+pub mod outputs;
 pub mod presets;
 pub mod scene;
 pub mod sheets;

@@ -190,7 +190,8 @@ fn a_run_compares_each_cell_with_its_truth() {
     let table = std::fs::read_to_string(out.join("tables/error_vs_time.md")).unwrap();
     assert!(table.contains("truth (same-brdf)") && table.contains("Z-test rejects"), "{table}");
     // A second run beside the first reuses each truth from the cache: same bytes, marked cached.
-    let again = crate::common::run_matrix(tmp.path(), &body, "again");
+    // (Without the cell cache, which would hand it the first run's cells whole.)
+    let again = crate::common::run_matrix_with(tmp.path(), &body, "again", &["--no-cache"]);
     assert!(tmp.path().join(".truth-cache").is_dir(), "the cache sits beside the run folders");
     for entry in std::fs::read_dir(again.join("cells")).unwrap() {
         let dir = entry.unwrap().path();

@@ -1,0 +1,71 @@
+//! `[outputs]`: how a cell's files are written — the EXR's channel precision and compression, and
+//! whether the difference maps are kept. Every cell writes its EXR and PNG: the metrics, the
+//! references, twins, `--resume` and the reports read them.
+
+use serde::{Deserialize, Serialize};
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Outputs {
+    /// Channel precision of image.exr.
+    #[serde(default)]
+    pub exr: ExrPrecision,
+    #[serde(default)]
+    pub exr_compression: ExrCompression,
+    /// flip.png and ssim.png beside each compared cell (the metrics are recorded either way).
+    #[serde(default = "yes")]
+    pub maps: bool,
+}
+
+fn yes() -> bool {
+    true
+}
+
+impl Default for Outputs {
+    fn default() -> Self {
+        Outputs { exr: ExrPrecision::default(), exr_compression: ExrCompression::default(), maps: true }
+    }
+}
+
+/// `half`: 16-bit channels, what every emulated pipeline's camera target holds
+/// (`images::target`), wherever every finite value fits the half range (else 32-bit, recorded);
+/// `float`: 32-bit channels always.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ExrPrecision {
+    #[default]
+    Half,
+    Float,
+}
+
+/// The EXR compression: lossless all; measured in the README (size and encode time).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ExrCompression {
+    #[default]
+    Zip,
+    Piz,
+    Rle,
+    None,
+}
+
+impl ExrCompression {
+    pub fn exr(self) -> exr::compression::Compression {
+        use exr::compression::Compression;
+        match self {
+            ExrCompression::Zip => Compression::ZIP16,
+            ExrCompression::Piz => Compression::PIZ,
+            ExrCompression::Rle => Compression::RLE,
+            ExrCompression::None => Compression::Uncompressed,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            ExrCompression::Zip => "zip",
+            ExrCompression::Piz => "piz",
+            ExrCompression::Rle => "rle",
+            ExrCompression::None => "none",
+        }
+    }
+}
