@@ -68,7 +68,7 @@ pub fn exr_half_bytes_with(
 /// Whether every finite value of `rgba` lies in the half-float range (no finite value would become
 /// an infinity).
 pub fn fits_half(rgba: &[f32]) -> bool {
-    rgba.iter().all(|v| !v.is_finite() || v.abs() <= crate::images::stats::HALF_MAX as f32)
+    rgba.iter().all(|v| !v.is_finite() || v.abs() <= crate::images::stats::HALF_MAX)
 }
 
 /// Round every value to the nearest half float, as a 16-bit EXR stores it.
