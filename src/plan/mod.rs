@@ -5,6 +5,7 @@ use serde::Serialize;
 
 pub mod lights;
 pub mod lod;
+pub mod timing;
 
 use crate::spec::scene::{Reflections, Scene, Sky};
 

@@ -264,6 +264,10 @@ pub struct CellTiming {
     pub encode_ms: f64,
     /// Comparing with the reference and writing the maps (None: not compared).
     pub metrics_ms: Option<f64>,
+    /// Set when the frame timings (gpu, gpu_passes, cpu_wall, frames) are those of this cell of
+    /// the same timing class (`plan::timing`): this cell rendered one untimed frame.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub timed_as: Option<CellId>,
 }
 
 /// What a cell was compared against.

@@ -9,8 +9,8 @@ use super::run_data::RunData;
 use crate::error::Error;
 use crate::fsutil::{write_atomic, write_json};
 
-/// Version of `tables/perf.json`. 2: GPU time per pass.
-pub const PERF_SCHEMA: u32 = 2;
+/// Version of `tables/perf.json`. 2: GPU time per pass; 3: `timed_as`.
+pub const PERF_SCHEMA: u32 = 3;
 
 /// `tables/perf.json`.
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -42,6 +42,9 @@ pub struct PerfRow {
     pub frames: u64,
     /// Copied from another cell (the shader ignores the axes they differ in).
     pub twin: bool,
+    /// The cell of the same timing class whose timings this row carries (`plan::timing`).
+    #[serde(default)]
+    pub timed_as: Option<String>,
     /// Median GPU time of each pass of the frame, ms, in frame order (empty without timestamps).
     #[serde(default)]
     pub gpu_passes: Vec<(String, f64)>,
@@ -53,7 +56,7 @@ pub struct PerfGroup {
     pub path: String,
     pub shader: String,
     pub cells: usize,
-    /// Median over the group's rendered cells of their median GPU pass time.
+    /// Median over the group's timed cells of their median GPU pass time.
     pub gpu_median_ms: Option<f64>,
     pub cpu_wall_median_ms: Option<f64>,
 }
@@ -87,6 +90,7 @@ pub fn rows(run: &RunData) -> Vec<PerfRow> {
                 metrics_ms: t.metrics_ms,
                 frames: t.frames as u64,
                 twin: c.twin_of.is_some(),
+                timed_as: t.timed_as.as_ref().map(|id| id.0.clone()),
                 gpu_passes: t
                     .gpu_passes
                     .value()
@@ -99,7 +103,8 @@ pub fn rows(run: &RunData) -> Vec<PerfRow> {
 
 pub fn groups(rows: &[PerfRow]) -> Vec<PerfGroup> {
     let mut by: BTreeMap<(String, String, String), Vec<&PerfRow>> = BTreeMap::new();
-    for r in rows.iter().filter(|r| !r.twin) {
+    // Each measurement once: twins and cells timed as another carry a copy.
+    for r in rows.iter().filter(|r| !r.twin && r.timed_as.is_none()) {
         by.entry((r.pipeline.clone(), r.path.clone(), r.shader.clone())).or_default().push(r);
     }
     by.into_iter()
@@ -127,7 +132,7 @@ pub fn write(run: &RunData) -> Result<(), Error> {
     } else {
         "no timestamp queries on this adapter: GPU columns are missing; CPU wall time (submit → idle) only"
     };
-    let mut md = format!("# Performance\n\nAdapter: **{}**. Timings compare only within one adapter.\n\n{timing_kind}; median, min and max over the timed frames after warm-up. Twins are copies and carry their original's times.\n\n## Per pipeline × path × shader\n\n| pipeline | path | shader | cells | GPU median (ms) | CPU wall median (ms) |\n|---|---|---|---|---|---|\n", run.adapter());
+    let mut md = format!("# Performance\n\nAdapter: **{}**. Timings compare only within one adapter.\n\n{timing_kind}; median, min and max over the timed frames after warm-up. Twins are copies and carry their original's times; a cell marked *timed as* carries the times of the cell of its timing class that was timed (the classes: composition, pipeline, path, shader, resolution, anti-aliasing, light budget and range, textures, camera distance; `[timing] every_cell = true` times every cell). Groups count each timed cell once.\n\n## Per pipeline × path × shader\n\n| pipeline | path | shader | cells | GPU median (ms) | CPU wall median (ms) |\n|---|---|---|---|---|---|\n", run.adapter());
     for g in &groups {
         let _ = writeln!(
             md,
@@ -141,9 +146,13 @@ pub fn write(run: &RunData) -> Result<(), Error> {
         );
     }
     md.push_str("\n## Per cell\n\n| cell | GPU median | GPU min | GPU max | CPU wall median | readback | encode | metrics | frames | GPU per pass (median) |\n|---|---|---|---|---|---|---|---|---|---|\n");
-    let mut csv = String::from("cell,composition,pipeline,path,shader,twin,gpu_median_ms,gpu_min_ms,gpu_max_ms,cpu_wall_median_ms,readback_ms,encode_ms,metrics_ms,frames\n");
+    let mut csv = String::from("cell,composition,pipeline,path,shader,twin,timed_as,gpu_median_ms,gpu_min_ms,gpu_max_ms,cpu_wall_median_ms,readback_ms,encode_ms,metrics_ms,frames\n");
     for r in &rows {
-        let twin = if r.twin { " (twin)" } else { "" };
+        let twin = match (&r.timed_as, r.twin) {
+            (_, true) => " (twin)".to_string(),
+            (Some(id), false) => format!(" (timed as `{id}`)"),
+            (None, false) => String::new(),
+        };
         let _ = writeln!(
             md,
             "| `{}`{twin} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
@@ -165,13 +174,14 @@ pub fn write(run: &RunData) -> Result<(), Error> {
         let o = |v: Option<f64>| v.map(|x| x.to_string()).unwrap_or_default();
         let _ = writeln!(
             csv,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             r.id,
             r.composition,
             r.pipeline,
             r.path,
             r.shader,
             r.twin,
+            r.timed_as.as_deref().unwrap_or(""),
             o(r.gpu_median_ms),
             o(r.gpu_min_ms),
             o(r.gpu_max_ms),

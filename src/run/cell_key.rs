@@ -54,6 +54,7 @@ impl CellKeys {
         let settings = json!({
             "frames": matrix.timing.frames,
             "warmup": matrix.timing.warmup,
+            "every_cell": matrix.timing.every_cell,
             "approximations": format!("{:?}", matrix.approximations),
             "outputs": matrix.outputs,
         });

@@ -33,6 +33,8 @@ pub struct RenderedCell<'a> {
     /// The approximation study's frames of the cell, and the ones left out.
     pub study: Vec<(StudyVariant, CellRender)>,
     pub study_left_out: Vec<LeftOutVariant>,
+    /// The cell of the same timing class whose frame timings `render` carries (`plan::timing`).
+    pub timed_as: Option<crate::cells::CellId>,
 }
 
 /// The folder of a cell's study frames (run::study), inside the cell's.
@@ -83,7 +85,7 @@ pub fn encode_cell(
     key: &str,
     job: RenderedCell,
 ) -> Result<EncodedCell, Error> {
-    let RenderedCell { cell, render: mut r, reference, study: study_renders, study_left_out } = job;
+    let RenderedCell { cell, render: mut r, reference, study: study_renders, study_left_out, timed_as } = job;
     let t0 = ThreadTimer::start();
     // 16-bit channels where the frame fits them (`spec::outputs`): rounded here, so the PNG, the
     // statistics and the metrics see what the file holds.
@@ -130,7 +132,7 @@ pub fn encode_cell(
             None
         }
     };
-    let timing = cell_timing(matrix, &r, encode_ms);
+    let timing = CellTiming { timed_as, ..cell_timing(matrix, &r, encode_ms) };
     let measured = Measured {
         display,
         stats,
@@ -198,6 +200,7 @@ pub fn cell_timing(matrix: &Matrix, r: &CellRender, encode_ms: f64) -> CellTimin
         readback_ms: r.readback_ms,
         encode_ms,
         metrics_ms: None,
+        timed_as: None,
     }
 }
 

@@ -218,6 +218,9 @@ struct Tracker<'a> {
     twins: HashMap<CellId, Vec<&'a Cell>>,
 }
 
+/// A timed frame series: CPU wall, GPU total and GPU per pass (`CellRender`'s).
+type FrameTimings = (Vec<f64>, Option<Vec<f64>>, Option<Vec<(String, Vec<f64>)>>);
+
 /// What lets a run reuse finished cells: their keys, the cache, and whether to time them again.
 struct Reuse {
     keys: CellKeys,
@@ -436,6 +439,8 @@ impl<'a> Stream<'a> {
             });
             StageClock::add(&self.clock.prepare, t0);
             let Some(prepared) = prepared else { continue };
+            // The cell timed for each timing class, and the frame timings it measured.
+            let mut timed: HashMap<String, (CellId, FrameTimings)> = HashMap::new();
             for cell in pending {
                 if self.aborted() {
                     return Ok(());
@@ -462,9 +467,30 @@ impl<'a> Stream<'a> {
                     },
                 };
                 let t = Instant::now();
-                let render =
-                    renderer.render(&prepared, &params, self.matrix.timing.frames, self.matrix.timing.warmup)?;
-                if self.retiming.contains(&cell.id) {
+                let retime = self.retiming.contains(&cell.id);
+                let class = crate::plan::timing::timing_class(cell);
+                let timed_as = match timed.get(&class) {
+                    Some((id, _)) if !self.matrix.timing.every_cell && !retime => Some(id.clone()),
+                    _ => None,
+                };
+                let (frames, warmup) = match timed_as {
+                    Some(_) => (1, 0),
+                    None => (self.matrix.timing.frames, self.matrix.timing.warmup),
+                };
+                let mut render = renderer.render(&prepared, &params, frames, warmup)?;
+                match timed.get(&class) {
+                    Some((_, (frame_ms, gpu, passes))) if timed_as.is_some() => {
+                        render.frame_ms.clone_from(frame_ms);
+                        render.gpu_pass_ms.clone_from(gpu);
+                        render.gpu_passes.clone_from(passes);
+                    }
+                    Some(_) => {}
+                    None => {
+                        let timings = (render.frame_ms.clone(), render.gpu_pass_ms.clone(), render.gpu_passes.clone());
+                        timed.insert(class, (cell.id.clone(), timings));
+                    }
+                }
+                if retime {
                     StageClock::add_ms(&self.clock.render, t.elapsed().as_secs_f64() * 1e3 - render.readback_ms);
                     self.retime_cell(cell, &render)?;
                     continue;
@@ -536,7 +562,7 @@ impl<'a> Stream<'a> {
                 StageClock::add_ms(&self.clock.readback, readback);
                 self.rendered.fetch_add(1, Ordering::Relaxed);
                 let t = Instant::now();
-                if encode_tx.send(RenderedCell { cell, render, reference, study, study_left_out }).is_err() {
+                if encode_tx.send(RenderedCell { cell, render, reference, study, study_left_out, timed_as }).is_err() {
                     return Ok(()); // the workers stopped: an error is recorded
                 }
                 StageClock::add(&self.clock.render_blocked, t);

@@ -186,6 +186,10 @@ pub struct Timing {
     /// Untimed frames before those.
     #[serde(default)]
     pub warmup: u32,
+    /// Time every cell; by default one cell per timing class is timed and the others of its class
+    /// take its figures (`plan::timing`).
+    #[serde(default)]
+    pub every_cell: bool,
 }
 
 fn one_frame() -> u32 {
@@ -194,7 +198,7 @@ fn one_frame() -> u32 {
 
 impl Default for Timing {
     fn default() -> Self {
-        Self { frames: 1, warmup: 0 }
+        Self { frames: 1, warmup: 0, every_cell: false }
     }
 }
 

@@ -29,5 +29,6 @@ mod shards;
 mod ssao;
 mod stability;
 mod study;
+mod timing;
 mod truth;
 mod user_models;
