@@ -89,6 +89,10 @@ pub struct Comparison {
     pub relative_mse: Option<f64>,
     pub reference_bad: BadValues,
     pub test_bad: BadValues,
+    /// Where FLIP and SSIM were computed: `gpu` (`compare::gpu`) or `cpu` (flip-rs and
+    /// `compare::ssim`, the reference).
+    #[serde(default)]
+    pub computed_on: String,
     #[serde(skip)]
     pub flip_map_rgba8: Option<Vec<u8>>,
     #[serde(skip)]
@@ -99,6 +103,13 @@ pub struct Comparison {
 fn ssim_heat(map: &[f64], w: usize, h: usize) -> Option<Vec<u8>> {
     let err = flip_rs::ErrorMap::new(w, h, map.iter().map(|s| (1.0 - s).clamp(0.0, 1.0) as f32).collect()).ok()?;
     flip::magma_rgba8(&err).ok()
+}
+
+/// Where FLIP and SSIM run.
+#[derive(Clone, Copy)]
+pub enum MetricsBackend<'a> {
+    Cpu,
+    Gpu(&'a super::gpu::GpuMetrics),
 }
 
 /// Compare `test` against `reference` (same kind and size).
@@ -113,6 +124,64 @@ pub fn compare_with(
     what: &str,
     per_channel: bool,
 ) -> Result<Comparison, Error> {
+    compare_on(reference, test, what, per_channel, MetricsBackend::Cpu)
+}
+
+/// LDR-FLIP and SSIM of two sRGB images: (FLIP mean and map, SSIM mean and heat map).
+type LdrMetrics = ((Metric, Option<Vec<u8>>), (Metric, Option<Vec<u8>>));
+
+fn ldr_metrics(r: &[u8], t: &[u8], w: usize, h: usize, backend: MetricsBackend) -> LdrMetrics {
+    match backend {
+        MetricsBackend::Cpu => {
+            let flip = match flip::ldr(r, t, w, h) {
+                Ok(f) => (Metric::Value { mean: f.mean }, flip::magma_rgba8(&f.map).ok()),
+                Err(e) => (Metric::Missing { missing: format!("FLIP failed: {e}") }, None),
+            };
+            let ssim = match ssim::ssim(&ssim::luma(r), &ssim::luma(t), w, h) {
+                Ok(s) => (Metric::Value { mean: s.mean }, ssim_heat(&s.map, w, h)),
+                Err(e) => (Metric::Missing { missing: e }, None),
+            };
+            (flip, ssim)
+        }
+        MetricsBackend::Gpu(gpu) => match gpu.ldr(r, t, w, h) {
+            Ok((flip_map, ssim_map)) => {
+                let flip = flip_from_map(flip_map, w, h, "FLIP");
+                let ssim = if w < 2 * ssim::RADIUS + 1 || h < 2 * ssim::RADIUS + 1 {
+                    (Metric::Missing { missing: format!("{w}×{h} is smaller than the 11×11 SSIM window") }, None)
+                } else {
+                    let map: Vec<f64> = ssim_map.iter().map(|v| *v as f64).collect();
+                    (Metric::Value { mean: ssim::window_mean(&map, w, h) }, ssim_heat(&map, w, h))
+                };
+                (flip, ssim)
+            }
+            Err(e) => {
+                let why = format!("GPU metrics failed: {e}");
+                ((Metric::Missing { missing: why.clone() }, None), (Metric::Missing { missing: why }, None))
+            }
+        },
+    }
+}
+
+/// A FLIP map as flip-rs pools it (its mean) and colours it.
+fn flip_from_map(map: Vec<f32>, w: usize, h: usize, what: &str) -> (Metric, Option<Vec<u8>>) {
+    match flip_rs::ErrorMap::new(w, h, map) {
+        Ok(m) => (Metric::Value { mean: m.statistics().mean as f64 }, flip::magma_rgba8(&m).ok()),
+        Err(e) => (Metric::Missing { missing: format!("{what} failed: {e}") }, None),
+    }
+}
+
+/// As `compare_with`, FLIP and SSIM computed on `backend`.
+pub fn compare_on(
+    reference: &LoadedImage,
+    test: &LoadedImage,
+    what: &str,
+    per_channel: bool,
+    backend: MetricsBackend,
+) -> Result<Comparison, Error> {
+    let computed_on = match backend {
+        MetricsBackend::Cpu => "cpu",
+        MetricsBackend::Gpu(_) => "gpu",
+    };
     let (w, h) = reference.size();
     if test.size() != (w, h) {
         return Err(
@@ -122,14 +191,7 @@ pub fn compare_with(
     let (wu, hu) = (w as usize, h as usize);
     match (reference, test) {
         (LoadedImage::Ldr { rgba8: r, .. }, LoadedImage::Ldr { rgba8: t, .. }) => {
-            let flip_value = match flip::ldr(r, t, wu, hu) {
-                Ok(f) => (Metric::Value { mean: f.mean }, flip::magma_rgba8(&f.map).ok()),
-                Err(e) => (Metric::Missing { missing: format!("FLIP failed: {e}") }, None),
-            };
-            let (ssim_value, ssim_map) = match ssim::ssim(&ssim::luma(r), &ssim::luma(t), wu, hu) {
-                Ok(s) => (Metric::Value { mean: s.mean }, ssim_heat(&s.map, wu, hu)),
-                Err(e) => (Metric::Missing { missing: e }, None),
-            };
+            let (flip_value, (ssim_value, ssim_map)) = ldr_metrics(r, t, wu, hu, backend);
             let to_f = |v: &[u8]| v.iter().map(|x| *x as f64 / 255.0).collect::<Vec<f64>>();
             let e = rmse(&to_f(r), &to_f(t));
             let ssim_channels = per_channel.then(|| {
@@ -149,6 +211,7 @@ pub fn compare_with(
                 relative_mse: None,
                 reference_bad: BadValues::default(),
                 test_bad: BadValues::default(),
+                computed_on: computed_on.into(),
                 flip_map_rgba8: flip_value.1,
                 ssim_map_rgba8: ssim_map,
             })
@@ -161,9 +224,15 @@ pub fn compare_with(
             let flip_value = if reference_bad != BadValues::default() || test_bad != BadValues::default() {
                 (Metric::Missing { missing: "HDR-FLIP needs finite, non-negative pixels; see the counts".into() }, None)
             } else {
-                match flip::hdr(r, t, wu, hu) {
-                    Ok(f) => (Metric::Value { mean: f.mean }, flip::magma_rgba8(&f.map).ok()),
-                    Err(e) => (Metric::Missing { missing: format!("HDR-FLIP failed: {e}") }, None),
+                match backend {
+                    MetricsBackend::Cpu => match flip::hdr(r, t, wu, hu) {
+                        Ok(f) => (Metric::Value { mean: f.mean }, flip::magma_rgba8(&f.map).ok()),
+                        Err(e) => (Metric::Missing { missing: format!("HDR-FLIP failed: {e}") }, None),
+                    },
+                    MetricsBackend::Gpu(gpu) => match gpu.hdr_flip(r, t, wu, hu) {
+                        Ok(map) => flip_from_map(map, wu, hu, "HDR-FLIP"),
+                        Err(e) => (Metric::Missing { missing: format!("HDR-FLIP failed: {e}") }, None),
+                    },
                 }
             };
             let to_f = |v: &[f32]| v.iter().map(|x| *x as f64).collect::<Vec<f64>>();
@@ -180,6 +249,7 @@ pub fn compare_with(
                 relative_mse: relative_mse(r, t),
                 reference_bad,
                 test_bad,
+                computed_on: computed_on.into(),
                 flip_map_rgba8: flip_value.1,
                 ssim_map_rgba8: None,
             })

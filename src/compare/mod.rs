@@ -1,6 +1,7 @@
 //! Image comparison: FLIP (LDR and HDR), SSIM, and error statistics, with maps.
 
 pub mod flip;
+pub mod gpu;
 pub mod images;
 pub mod ssim;
 pub mod stats;

@@ -19,6 +19,25 @@ pub struct SsimResult {
     pub height: usize,
 }
 
+/// The window's weights (`compare::gpu` runs the same window).
+pub fn window() -> [f64; 2 * RADIUS + 1] {
+    kernel()
+}
+
+/// The mean of an SSIM map over the window-valid region (a 5-pixel border cropped), as
+/// scikit-image reports it.
+pub fn window_mean(map: &[f64], w: usize, h: usize) -> f64 {
+    let mut sum = 0.0;
+    let mut n = 0usize;
+    for y in RADIUS..h - RADIUS {
+        for x in RADIUS..w - RADIUS {
+            sum += map[y * w + x];
+            n += 1;
+        }
+    }
+    sum / n as f64
+}
+
 /// scipy.ndimage.gaussian_filter1d weights: exp(−x²/2σ²), x = −5..5, normalised.
 fn kernel() -> [f64; 2 * RADIUS + 1] {
     let mut k = [0.0; 2 * RADIUS + 1];
@@ -83,15 +102,7 @@ pub fn ssim(a: &[f64], b: &[f64], w: usize, h: usize) -> Result<SsimResult, Stri
             a1 * a2 / (b1 * b2)
         })
         .collect();
-    let mut sum = 0.0;
-    let mut n = 0usize;
-    for y in RADIUS..h - RADIUS {
-        for x in RADIUS..w - RADIUS {
-            sum += map[y * w + x];
-            n += 1;
-        }
-    }
-    Ok(SsimResult { mean: sum / n as f64, map, width: w, height: h })
+    Ok(SsimResult { mean: window_mean(&map, w, h), map, width: w, height: h })
 }
 
 /// Y′ = 0.2126 R′ + 0.7152 G′ + 0.0722 B′ of sRGB-encoded RGBA8 values in [0, 1], no requantisation.

@@ -57,6 +57,7 @@ impl CellKeys {
             "every_cell": matrix.timing.every_cell,
             "approximations": format!("{:?}", matrix.approximations),
             "outputs": matrix.outputs,
+            "metrics": matrix.metrics,
         });
         let own: HashMap<&CellId, String> = cells
             .iter()

@@ -8,7 +8,8 @@ use std::sync::{Arc, Mutex};
 
 use super::encode::CellImages;
 use crate::cells::{reference_cell_id, Cell, CellId};
-use crate::compare::{compare, LoadedImage};
+use crate::compare::images::{compare_on, MetricsBackend};
+use crate::compare::LoadedImage;
 use crate::error::Error;
 use crate::fsutil::write_atomic;
 use crate::images::encode::png_bytes;
@@ -135,10 +136,11 @@ pub fn measure_study(
     s: super::encode::StudyImages,
     truth: &ReferenceImages,
     what: &str,
+    backend: MetricsBackend,
 ) -> Result<ApproximationRecord, Error> {
     let (w, h) = (s.images.width, s.images.height);
     let ldr = LoadedImage::Ldr { width: w, height: h, rgba8: s.images.srgb8 };
-    let c = compare(&truth.ldr, &ldr, what)?;
+    let c = compare_on(&truth.ldr, &ldr, what, false, backend)?;
     let hdr_relative_mse = match &truth.hdr {
         Some(LoadedImage::Hdr { rgba, .. }) if rgba.len() == s.images.hdr.len() => {
             match crate::compare::stats::relative_mse(rgba, &s.images.hdr) {
@@ -187,6 +189,7 @@ pub fn compare_cell(
     cell: &Cell,
     cell_dir: &Path,
     write_maps: bool,
+    backend: MetricsBackend,
     images: Option<CellImages>,
     reference: &ReferenceImages,
     record: ReferenceRecord,
@@ -199,7 +202,7 @@ pub fn compare_cell(
         ),
         None => (LoadedImage::load(&cell_dir.join("image.png"))?, LoadedImage::load(&cell_dir.join("image.exr"))?),
     };
-    let c = compare(&reference.ldr, &ldr, &cell.id.0)?;
+    let c = compare_on(&reference.ldr, &ldr, &cell.id.0, false, backend)?;
     for (name, px) in [("flip.png", &c.flip_map_rgba8), ("ssim.png", &c.ssim_map_rgba8)] {
         if let Some(px) = px.as_ref().filter(|_| write_maps) {
             write_atomic(&cell_dir.join(name), &png_bytes(c.width, c.height, px)?)?;
@@ -212,9 +215,9 @@ pub fn compare_cell(
                 Some(rc) => {
                     let (t, kt) = exposed(&hdr_test, cell);
                     let (r, kr) = exposed(r, rc);
-                    (compare(&r, &t, &cell.id.0)?, Some((kt, kr)))
+                    (compare_on(&r, &t, &cell.id.0, false, backend)?, Some((kt, kr)))
                 }
-                None => (compare(r, &hdr_test, &cell.id.0)?, None),
+                None => (compare_on(r, &hdr_test, &cell.id.0, false, backend)?, None),
             };
             Maybe::Value(HdrComparison {
                 flip: h.flip,

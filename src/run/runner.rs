@@ -146,6 +146,11 @@ pub fn run(matrix: &Matrix, opts: &RunOptions) -> Result<RunSummary, Error> {
     let cache = opts.cache.clone().map(CellCache::new);
     let reuse = Reuse { keys, cache, retime: opts.retime };
     let mut stream = Stream::new(matrix, &exp, &dir, adapter.name.clone(), &clock, &bar, reuse);
+    let gpu_metrics = matrix
+        .metrics
+        .on_gpu(&gpu.record.device_type)
+        .then(|| crate::compare::gpu::GpuMetrics::new(&gpu.device, &gpu.queue));
+    stream.gpu_metrics = gpu_metrics;
     let mut renderer = Renderer::new(gpu);
     let result = stream.run(&mut renderer, geometry, workers, &mut record);
     bar.finish_and_clear();
@@ -248,6 +253,8 @@ struct Stream<'a> {
     retime: bool,
     /// Finished cells (resumed or cached) whose timed frames render again (`--retime`).
     retiming: HashSet<CellId>,
+    /// FLIP and SSIM on the device (`metrics = "gpu"`), else on the CPU.
+    gpu_metrics: Option<crate::compare::gpu::GpuMetrics>,
     /// Truths kept across cells and runs (beside the run folders), when the matrix compares with one.
     truth_cache: Option<super::truth_cache::TruthCache>,
 }
@@ -285,6 +292,7 @@ impl<'a> Stream<'a> {
             cache,
             retime,
             retiming: HashSet::new(),
+            gpu_metrics: None,
         }
     }
 
@@ -477,7 +485,11 @@ impl<'a> Stream<'a> {
                     Some(_) => (1, 0),
                     None => (self.matrix.timing.frames, self.matrix.timing.warmup),
                 };
-                let mut render = renderer.render(&prepared, &params, frames, warmup)?;
+                let mut render = {
+                    // Timed frames have the device to themselves.
+                    let _held = self.gpu_metrics.as_ref().filter(|_| timed_as.is_none()).map(|g| g.hold());
+                    renderer.render(&prepared, &params, frames, warmup)?
+                };
                 match timed.get(&class) {
                     Some((_, (frame_ms, gpu, passes))) if timed_as.is_some() => {
                         render.frame_ms.clone_from(frame_ms);
@@ -714,14 +726,29 @@ impl<'a> Stream<'a> {
             _ => None,
         };
         let truth = matches!(what, ReferenceRecord::Truth { .. });
-        let metrics =
-            compare_cell(cell, &cdir, self.matrix.outputs.maps, job.images.take(), &reference, what, reference_cell)?;
+        let metrics = compare_cell(
+            cell,
+            &cdir,
+            self.matrix.outputs.maps,
+            self.metrics_backend(),
+            job.images.take(),
+            &reference,
+            what,
+            reference_cell,
+        )?;
         if truth {
             for s in std::mem::take(&mut job.study) {
-                job.record.approximations.push(measure_study(s, &reference, &cell.id.0)?);
+                job.record.approximations.push(measure_study(s, &reference, &cell.id.0, self.metrics_backend())?);
             }
         }
         self.finish(job, metrics, Some(t))
+    }
+
+    fn metrics_backend(&self) -> crate::compare::images::MetricsBackend<'_> {
+        match &self.gpu_metrics {
+            Some(g) => crate::compare::images::MetricsBackend::Gpu(g),
+            None => crate::compare::images::MetricsBackend::Cpu,
+        }
     }
 
     /// Write the cell's record, last: its presence marks the cell finished.

@@ -51,6 +51,11 @@ struct MatrixFile {
     /// How cells' files are written (`spec::outputs`).
     #[serde(default)]
     outputs: crate::spec::outputs::Outputs,
+    /// Where FLIP and SSIM are computed: `"auto"` (default: the GPU on a hardware adapter, the
+    /// CPU on a software one such as lavapipe, where compute passes run slower than flip-rs on the
+    /// same cores), `"gpu"` (`compare::gpu`) or `"cpu"` (flip-rs and `compare::ssim`, the references).
+    #[serde(default)]
+    metrics: MetricsDevice,
     /// Light budgets: `pixel_light_count` (built-in forward, default 4) and
     /// `urp_per_object_limit` (default 4, at most 8).
     #[serde(default)]
@@ -192,6 +197,27 @@ pub struct Timing {
     pub every_cell: bool,
 }
 
+/// Where a run computes FLIP and SSIM (`metrics = "gpu" | "cpu"`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MetricsDevice {
+    #[default]
+    Auto,
+    Gpu,
+    Cpu,
+}
+
+impl MetricsDevice {
+    /// Whether the metrics run on the GPU of an adapter of `device_type` (wgpu's, as recorded).
+    pub fn on_gpu(self, device_type: &str) -> bool {
+        match self {
+            MetricsDevice::Gpu => true,
+            MetricsDevice::Cpu => false,
+            MetricsDevice::Auto => device_type != "Cpu",
+        }
+    }
+}
+
 fn one_frame() -> u32 {
     1
 }
@@ -320,6 +346,7 @@ pub struct Matrix {
     pub light_budget: LightBudget,
     pub timing: Timing,
     pub outputs: crate::spec::outputs::Outputs,
+    pub metrics: MetricsDevice,
     pub only: Vec<Filter>,
     pub exclude: Vec<Filter>,
     pub reference: Option<ReferenceSpec>,
@@ -775,6 +802,7 @@ impl Matrix {
             light_budget: file.lights,
             timing: file.timing,
             outputs: file.outputs,
+            metrics: file.metrics,
             only,
             exclude,
             reference,

@@ -12,6 +12,7 @@ mod flow;
 mod fuzz;
 mod gallery;
 mod gltf_roundtrip;
+mod gpu_metrics;
 mod invariants;
 mod lights;
 mod lod;
