@@ -343,6 +343,8 @@ impl FlipWeights {
 }
 
 /// color3::computeMaxDistance: HyAB between the Hunt-adjusted Lab of linear green and blue, ^0.7.
+/// (FLIP's constants as its source spells them, beyond f32's precision.)
+#[allow(clippy::excessive_precision)]
 fn max_distance() -> f32 {
     let lab = |v: [f32; 3]| {
         let xyz = [

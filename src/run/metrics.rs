@@ -185,16 +185,23 @@ fn exposed(image: &LoadedImage, cell: &Cell) -> (LoadedImage, f64) {
 
 /// Compare a cell's images with its reference's; writes flip.png and ssim.png into `cell_dir`
 /// unless the matrix's `[outputs] maps = false`.
+/// How a run compares: where the metrics run, and whether the maps are written.
+#[derive(Clone, Copy)]
+pub struct MetricOptions<'a> {
+    pub backend: MetricsBackend<'a>,
+    pub write_maps: bool,
+}
+
 pub fn compare_cell(
     cell: &Cell,
     cell_dir: &Path,
-    write_maps: bool,
-    backend: MetricsBackend,
+    options: MetricOptions,
     images: Option<CellImages>,
     reference: &ReferenceImages,
     record: ReferenceRecord,
     reference_cell: Option<&Cell>,
 ) -> Result<CellMetrics, Error> {
+    let MetricOptions { backend, write_maps } = options;
     let (ldr, hdr) = match images {
         Some(i) => (
             LoadedImage::Ldr { width: i.width, height: i.height, rgba8: i.srgb8 },
