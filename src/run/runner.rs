@@ -729,8 +729,7 @@ impl<'a> Stream<'a> {
         let metrics = compare_cell(
             cell,
             &cdir,
-            self.matrix.outputs.maps,
-            self.metrics_backend(),
+            super::metrics::MetricOptions { backend: self.metrics_backend(), write_maps: self.matrix.outputs.maps },
             job.images.take(),
             &reference,
             what,
