@@ -4,7 +4,7 @@
 //! reference's own code (`flip_rs::ErrorMap::statistics`, `ssim::window_mean`), so a GPU mean
 //! differs from the CPU's only by the per-pixel arithmetic. Written by hand: no crate runs FLIP or
 //! SSIM in wgpu. The filter weights and HDR exposures are computed here exactly as flip-rs does
-//! (its own are private). Buffers are kept for the last image size and reused.
+//! (its own are private). Buffers and bind groups are kept for the last image size and reused.
 
 use std::sync::Mutex;
 
@@ -63,6 +63,10 @@ pub struct Sized {
     flip_map: wgpu::Buffer,
     ssim_map: wgpu::Buffer,
     readback: wgpu::Buffer,
+    flip_params: wgpu::Buffer,
+    ssim_params: wgpu::Buffer,
+    flip_group: wgpu::BindGroup,
+    ssim_group: wgpu::BindGroup,
 }
 
 fn storage(device: &wgpu::Device, label: &str, bytes: u64, extra: wgpu::BufferUsages) -> wgpu::Buffer {
@@ -176,20 +180,65 @@ impl GpuMetrics {
         if sized.as_ref().is_none_or(|s| s.n != n) {
             let f = 4 * n as u64;
             let d = &self.device;
+            let images = storage(d, "metric images", 2 * 4 * f, wgpu::BufferUsages::COPY_DST);
+            let opponent = storage(d, "flip opponent", 6 * f, wgpu::BufferUsages::empty());
+            let inter = storage(d, "metric filters", 8 * f, wgpu::BufferUsages::empty());
+            let color_error = storage(d, "flip colour error", f, wgpu::BufferUsages::empty());
+            let flip_map = storage(d, "flip map", f, wgpu::BufferUsages::COPY_SRC);
+            let ssim_map = storage(d, "ssim map", f, wgpu::BufferUsages::COPY_SRC);
+            let uniform = |label: &str, size: usize| {
+                d.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(label),
+                    size: size as u64,
+                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                })
+            };
+            let flip_params = uniform("flip params", std::mem::size_of::<FlipParams>());
+            let ssim_params = uniform("ssim params", std::mem::size_of::<SsimParams>());
+            let flip_group = d.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("flip"),
+                layout: &self.flip_layout,
+                entries: &[
+                    entry(0, &flip_params),
+                    entry(1, &images),
+                    entry(2, &opponent),
+                    entry(3, &inter),
+                    entry(4, &color_error),
+                    entry(5, &flip_map),
+                    entry(6, &self.spatial),
+                    entry(7, &self.feature),
+                ],
+            });
+            let ssim_group = d.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("ssim"),
+                layout: &self.ssim_layout,
+                entries: &[
+                    entry(0, &ssim_params),
+                    entry(1, &images),
+                    entry(2, &inter),
+                    entry(3, &ssim_map),
+                    entry(4, &self.window),
+                ],
+            });
             *sized = Some(Sized {
                 n,
-                images: storage(d, "metric images", 2 * 4 * f, wgpu::BufferUsages::COPY_DST),
-                opponent: storage(d, "flip opponent", 6 * f, wgpu::BufferUsages::empty()),
-                inter: storage(d, "metric filters", 8 * f, wgpu::BufferUsages::empty()),
-                color_error: storage(d, "flip colour error", f, wgpu::BufferUsages::empty()),
-                flip_map: storage(d, "flip map", f, wgpu::BufferUsages::COPY_SRC),
-                ssim_map: storage(d, "ssim map", f, wgpu::BufferUsages::COPY_SRC),
                 readback: d.create_buffer(&wgpu::BufferDescriptor {
                     label: Some("metric readback"),
                     size: f.max(16),
                     usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
                     mapped_at_creation: false,
                 }),
+                images,
+                opponent,
+                inter,
+                color_error,
+                flip_map,
+                ssim_map,
+                flip_params,
+                ssim_params,
+                flip_group,
+                ssim_group,
             });
         }
         sized.as_ref().expect("sized above")
@@ -206,32 +255,16 @@ impl GpuMetrics {
             first: first.into(),
             cmax: self.cmax,
         };
-        let uniform = self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("flip params"),
-            contents: bytemuck::bytes_of(&params),
-            usage: wgpu::BufferUsages::UNIFORM,
-        });
-        let group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("flip"),
-            layout: &self.flip_layout,
-            entries: &[
-                entry(0, &uniform),
-                entry(1, &b.images),
-                entry(2, &b.opponent),
-                entry(3, &b.inter),
-                entry(4, &b.color_error),
-                entry(5, &b.flip_map),
-                entry(6, &self.spatial),
-                entry(7, &self.feature),
-            ],
-        });
+        // Written before this submit, read by it alone: each exposure submits its own passes.
+        self.queue.write_buffer(&b.flip_params, 0, bytemuck::bytes_of(&params));
+        let group = &b.flip_group;
         let n = (w * h) as u32;
         let mut encoder = self.device.create_command_encoder(&Default::default());
         for (k, pipeline) in self.flip.iter().enumerate() {
             let threads = if k == 0 { 2 * n } else { n };
             let mut pass = encoder.begin_compute_pass(&Default::default());
             pass.set_pipeline(pipeline);
-            pass.set_bind_group(0, &group, &[]);
+            pass.set_bind_group(0, group, &[]);
             pass.dispatch_workgroups(threads.div_ceil(WORKGROUP), 1, 1);
         }
         self.queue.submit([encoder.finish()]);
@@ -239,27 +272,12 @@ impl GpuMetrics {
 
     fn run_ssim(&self, b: &Sized, w: usize, h: usize) {
         let params = SsimParams { width: w as u32, height: h as u32, pad: [0; 2] };
-        let uniform = self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("ssim params"),
-            contents: bytemuck::bytes_of(&params),
-            usage: wgpu::BufferUsages::UNIFORM,
-        });
-        let group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("ssim"),
-            layout: &self.ssim_layout,
-            entries: &[
-                entry(0, &uniform),
-                entry(1, &b.images),
-                entry(2, &b.inter),
-                entry(3, &b.ssim_map),
-                entry(4, &self.window),
-            ],
-        });
+        self.queue.write_buffer(&b.ssim_params, 0, bytemuck::bytes_of(&params));
         let mut encoder = self.device.create_command_encoder(&Default::default());
         for pipeline in &self.ssim {
             let mut pass = encoder.begin_compute_pass(&Default::default());
             pass.set_pipeline(pipeline);
-            pass.set_bind_group(0, &group, &[]);
+            pass.set_bind_group(0, &b.ssim_group, &[]);
             pass.dispatch_workgroups(((w * h) as u32).div_ceil(WORKGROUP), 1, 1);
         }
         self.queue.submit([encoder.finish()]);
