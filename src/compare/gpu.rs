@@ -57,9 +57,7 @@ pub struct GpuMetrics {
 pub struct Sized {
     n: usize,
     images: wgpu::Buffer,
-    opponent: wgpu::Buffer,
-    inter: wgpu::Buffer,
-    color_error: wgpu::Buffer,
+    // The intermediate planes live in the bind groups, which keep them.
     flip_map: wgpu::Buffer,
     ssim_map: wgpu::Buffer,
     readback: wgpu::Buffer,
@@ -230,9 +228,6 @@ impl GpuMetrics {
                     mapped_at_creation: false,
                 }),
                 images,
-                opponent,
-                inter,
-                color_error,
                 flip_map,
                 ssim_map,
                 flip_params,
