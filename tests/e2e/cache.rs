@@ -67,3 +67,46 @@ fn editing_one_user_shader_re_renders_exactly_its_cells() {
         assert_eq!(changed, wrap.contains(&id), "{id}");
     }
 }
+
+/// `--retime`: cells from the cache keep their images and metrics and get newly measured timings.
+#[test]
+fn retime_measures_cached_cells_again_without_changing_their_images() {
+    let tmp = tempfile::tempdir().unwrap();
+    crate::common::write_matrix(
+        tmp.path(),
+        "m.toml",
+        "name = \"r\"\ncompositions = [\"medusa\"]\npipelines = [\"urp\"]\nshaders = [\"lambert\", \"lit\"]\npresets = [\"gold\"]\nreference = { shader = \"lit\" }\n[image]\nwidth = 24\nheight = 24\n[timing]\nframes = 3\nwarmup = 1\nevery_cell = true\n",
+    );
+    let cold = run(tmp.path(), "cold");
+    let (rc, _, stderr) = crate::common::shadematrix(
+        tmp.path(),
+        &["run", "m.toml", "--out", "again", "--cache", "cache", "--retime"],
+        &[],
+    );
+    assert_eq!(rc, 0, "{stderr}");
+    let again = tmp.path().join("again");
+    let c = counts(&again);
+    assert_eq!((c["rendered"].as_u64(), c["cached"].as_u64()), (Some(0), Some(2)), "{c}");
+    for id in
+        ["medusa__urp-forward__lambert__gold__m1.00_s0.90_i1_r10", "medusa__urp-forward__lit__gold__m1.00_s0.90_i1_r10"]
+    {
+        let load =
+            |run: &Path| shadematrix::record::CellRecord::load(&run.join("cells").join(id).join("cell.json")).unwrap();
+        let (a, b) = (load(&cold), load(&again));
+        assert_eq!(b.timing.frames, 3);
+        assert_ne!(a.timing.cpu_wall, b.timing.cpu_wall, "{id}: the timings were not measured again");
+        assert_eq!(serde_json::to_string(&a.metrics).unwrap(), serde_json::to_string(&b.metrics).unwrap(), "{id}");
+        for f in ["image.exr", "image.png"] {
+            let (x, y) = (cold.join("cells").join(id).join(f), again.join("cells").join(id).join(f));
+            assert_eq!(std::fs::read(x).unwrap(), std::fs::read(y).unwrap(), "{id}/{f}");
+        }
+    }
+    // The cache still holds the first run's record: retiming wrote through no link.
+    let cached = cold.join("cells/medusa__urp-forward__lit__gold__m1.00_s0.90_i1_r10/cell.json");
+    let first = shadematrix::record::CellRecord::load(&cached).unwrap();
+    let again_record = shadematrix::record::CellRecord::load(
+        &again.join("cells/medusa__urp-forward__lit__gold__m1.00_s0.90_i1_r10/cell.json"),
+    )
+    .unwrap();
+    assert_ne!(first.timing.cpu_wall, again_record.timing.cpu_wall);
+}
