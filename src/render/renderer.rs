@@ -152,6 +152,9 @@ struct ShadowResources {
     first_layer: Vec<Option<usize>>,
     /// World-space bounds of every object (directional maps fit them).
     scene_bounds: (DVec3, DVec3),
+    /// What the layers hold now (`WrittenFrame::shadow_key`), when a cell's frame rendered them
+    /// last; None after anything else did.
+    holds: std::sync::Mutex<Option<u64>>,
 }
 
 /// The truth's geometry of a composition with the meshes it holds (render::truth::bvh).
@@ -941,6 +944,7 @@ impl Renderer {
             resolution,
             first_layer,
             scene_bounds,
+            holds: Default::default(),
         }
     }
 
@@ -1040,6 +1044,25 @@ impl Renderer {
         frames: u32,
         warmup: u32,
     ) -> Result<CellRender, Error> {
+        self.render_frames(prepared, cell, frames, warmup, false)
+    }
+
+    /// One frame whose timings nobody reads (`plan::timing`: a cell timed as another of its
+    /// class). A pass whose output is still in its targets from the cell before is left out: the
+    /// shadow maps, when every layer's matrix, the casting meshes and their transforms are the same
+    /// (materials, the camera and the sliders do not reach them). The image is the same bytes.
+    pub fn render_untimed(&mut self, prepared: &PreparedScene, cell: &CellParams) -> Result<CellRender, Error> {
+        self.render_frames(prepared, cell, 1, 0, true)
+    }
+
+    fn render_frames(
+        &mut self,
+        prepared: &PreparedScene,
+        cell: &CellParams,
+        frames: u32,
+        warmup: u32,
+        reuse: bool,
+    ) -> Result<CellRender, Error> {
         let fixed_model =
             self.fixed_models.find(cell.pipeline, cell.pipeline.fixed_object_shader()).cloned().ok_or_else(|| {
                 Error::Other(format!("pipeline {} lacks its fixed-object shader", cell.pipeline.name()))
@@ -1078,6 +1101,7 @@ impl Renderer {
         let probe_times = self.capture_probes(prepared, cell, &fixed_model, &written)?;
         let (drawn, casting) = (written.drawn(), written.casting());
         let rays = if exact.any() { Some(self.ray_scene(prepared, casting.clone())?) } else { None };
+        let shadow_key = written.shadow_key;
         let WrittenFrame { lights, shadow_layers, shadow_maps, lod, .. } = written;
         let frame_group = self.frame_group(prepared, cell.settings.material_maps)?;
         let frame_group: &wgpu::BindGroup = &frame_group;
@@ -1145,6 +1169,14 @@ impl Renderer {
         // The vertex-lit path has no shadows (Unity's legacy vertex-lit renders none); traced
         // visibility needs no shadow maps.
         let shadows = prepared.shadows.active && !vertex_lit && !shadow_layers.is_empty() && !exact.visibility;
+        let shadows = {
+            let mut holds = prepared.shadows.holds.lock().unwrap_or_else(|e| e.into_inner());
+            let kept = shadows && reuse && *holds == Some(shadow_key);
+            if shadows {
+                *holds = Some(shadow_key);
+            }
+            shadows && !kept
+        };
         let mut pass_names: Vec<&'static str> = Vec::new();
         if shadows {
             pass_names.push("shadow");
@@ -1702,6 +1734,18 @@ impl Renderer {
             }
             h.finish()
         };
+        let shadow_key = {
+            use std::hash::{Hash, Hasher};
+            let mut h = std::hash::DefaultHasher::new();
+            used_layers.hash(&mut h);
+            bytemuck::cast_slice::<ShadowLayer, u8>(&shadow_layers).hash(&mut h);
+            for (i, o) in prepared.objects.iter().enumerate() {
+                let at = i * prepared.object_stride as usize;
+                (o.cast_shadows, o.index_count, fades[i].map(f64::to_bits)).hash(&mut h);
+                objects[at..at + 64].hash(&mut h);
+            }
+            h.finish()
+        };
         WrittenFrame {
             lights: assignment,
             shadow_layers: used_layers,
@@ -1711,6 +1755,7 @@ impl Renderer {
             lod,
             fades,
             materials,
+            shadow_key,
         }
     }
 
@@ -1835,6 +1880,8 @@ impl Renderer {
         let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
         if prepared.shadows.active && !written.shadow_layers.is_empty() {
             encode_shadow_passes(&mut encoder, &self.shadow_pipeline, prepared, &written.shadow_layers, &casting, None);
+            // The probe's own layers now: a cell cannot keep what it finds there.
+            *prepared.shadows.holds.lock().unwrap_or_else(|e| e.into_inner()) = None;
         }
         let faces = probes.probes.len() * 6;
         let mut face = 0;
@@ -1937,6 +1984,9 @@ struct WrittenFrame {
     fades: Vec<Option<f64>>,
     /// Each mesh's material as its model receives it (zero for the subject: it reads the frame's).
     materials: Vec<GpuMaterial>,
+    /// Everything the shadow pass's depth depends on: the layers' matrices and resolutions, which
+    /// meshes cast, and their transforms and fades (materials and the camera do not reach it).
+    shadow_key: u64,
 }
 
 impl WrittenFrame {

@@ -488,7 +488,10 @@ impl<'a> Stream<'a> {
                 let mut render = {
                     // Timed frames have the device to themselves.
                     let _held = self.gpu_metrics.as_ref().filter(|_| timed_as.is_none()).map(|g| g.hold());
-                    renderer.render(&prepared, &params, frames, warmup)?
+                    match timed_as {
+                        Some(_) => renderer.render_untimed(&prepared, &params)?,
+                        None => renderer.render(&prepared, &params, frames, warmup)?,
+                    }
                 };
                 match timed.get(&class) {
                     Some((_, (frame_ms, gpu, passes))) if timed_as.is_some() => {
