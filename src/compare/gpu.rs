@@ -50,11 +50,11 @@ pub struct GpuMetrics {
     window: wgpu::Buffer,
     radii: (u32, u32),
     cmax: f32,
-    sized: Mutex<Option<Sized>>,
+    sized: Mutex<Option<MetricBuffers>>,
 }
 
 /// Buffers for one image size.
-pub struct Sized {
+pub struct MetricBuffers {
     n: usize,
     images: wgpu::Buffer,
     // The intermediate planes live in the bind groups, which keep them.
@@ -170,11 +170,11 @@ impl GpuMetrics {
 
     /// Hold the metric passes off the device while the caller times frames on it: a metric
     /// submitted meanwhile would land in the frame's submit-to-idle wall time.
-    pub fn hold(&self) -> std::sync::MutexGuard<'_, Option<Sized>> {
+    pub fn hold(&self) -> std::sync::MutexGuard<'_, Option<MetricBuffers>> {
         self.sized.lock().unwrap_or_else(|e| e.into_inner())
     }
 
-    fn buffers<'a>(&self, sized: &'a mut Option<Sized>, n: usize) -> &'a Sized {
+    fn buffers<'a>(&self, sized: &'a mut Option<MetricBuffers>, n: usize) -> &'a MetricBuffers {
         if sized.as_ref().is_none_or(|s| s.n != n) {
             let f = 4 * n as u64;
             let d = &self.device;
@@ -219,7 +219,7 @@ impl GpuMetrics {
                     entry(4, &self.window),
                 ],
             });
-            *sized = Some(Sized {
+            *sized = Some(MetricBuffers {
                 n,
                 readback: d.create_buffer(&wgpu::BufferDescriptor {
                     label: Some("metric readback"),
@@ -239,7 +239,7 @@ impl GpuMetrics {
         sized.as_ref().expect("sized above")
     }
 
-    fn run_flip(&self, b: &Sized, w: usize, h: usize, mode: u32, multiplier: f32, first: bool) {
+    fn run_flip(&self, b: &MetricBuffers, w: usize, h: usize, mode: u32, multiplier: f32, first: bool) {
         let params = FlipParams {
             width: w as u32,
             height: h as u32,
@@ -265,7 +265,7 @@ impl GpuMetrics {
         self.queue.submit([encoder.finish()]);
     }
 
-    fn run_ssim(&self, b: &Sized, w: usize, h: usize) {
+    fn run_ssim(&self, b: &MetricBuffers, w: usize, h: usize) {
         let params = SsimParams { width: w as u32, height: h as u32, pad: [0; 2] };
         self.queue.write_buffer(&b.ssim_params, 0, bytemuck::bytes_of(&params));
         let mut encoder = self.device.create_command_encoder(&Default::default());
@@ -278,7 +278,7 @@ impl GpuMetrics {
         self.queue.submit([encoder.finish()]);
     }
 
-    fn read(&self, b: &Sized, map: &wgpu::Buffer) -> Result<Vec<f32>, Error> {
+    fn read(&self, b: &MetricBuffers, map: &wgpu::Buffer) -> Result<Vec<f32>, Error> {
         let mut encoder = self.device.create_command_encoder(&Default::default());
         encoder.copy_buffer_to_buffer(map, 0, &b.readback, 0, 4 * b.n as u64);
         self.queue.submit([encoder.finish()]);
