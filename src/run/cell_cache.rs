@@ -47,19 +47,13 @@ impl CellCache {
         if record.input_hash != key {
             return Ok(false);
         }
-        let parent = cell_dir.parent().unwrap_or(Path::new("."));
-        let name = cell_dir.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
-        let tmp = parent.join(format!(".{name}.cached{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&tmp);
-        link_tree(&from, &tmp)?;
-        if record.matrix_sha256 != matrix_sha256 {
+        link_into_place(&from, cell_dir, "cached", |tmp| {
+            if record.matrix_sha256 == matrix_sha256 {
+                return Ok(());
+            }
             record.matrix_sha256 = matrix_sha256.to_string();
-            crate::fsutil::write_json(&tmp.join(CELL_FILE), &record)?;
-        }
-        if cell_dir.exists() {
-            std::fs::remove_dir_all(cell_dir).map_err(|e| Error::io_path("replacing", cell_dir, e))?;
-        }
-        std::fs::rename(&tmp, cell_dir).map_err(|e| Error::io_path("renaming into place", cell_dir, e))?;
+            crate::fsutil::write_json(&tmp.join(CELL_FILE), &record)
+        })?;
         Ok(true)
     }
 
@@ -89,9 +83,30 @@ impl CellCache {
     }
 }
 
+/// The folder `from` linked (`link_tree`) into `to`, replacing what is there, whole or not at all:
+/// built beside under a temporary name (`.name.<tag>PID`, which `--resume` clears), `edit`ed
+/// there, then renamed into place.
+pub fn link_into_place(
+    from: &Path,
+    to: &Path,
+    tag: &str,
+    edit: impl FnOnce(&Path) -> Result<(), Error>,
+) -> Result<(), Error> {
+    let parent = to.parent().unwrap_or(Path::new("."));
+    let name = to.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
+    let tmp = parent.join(format!(".{name}.{tag}{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&tmp);
+    link_tree(from, &tmp)?;
+    edit(&tmp)?;
+    if to.exists() {
+        std::fs::remove_dir_all(to).map_err(|e| Error::io_path("replacing", to, e))?;
+    }
+    std::fs::rename(&tmp, to).map_err(|e| Error::io_path("renaming into place", to, e))
+}
+
 /// `to` made a copy of the folder `from`: files hard-linked, or copied where linking fails;
 /// temporary files (`.name.tmpN`) of an unfinished write are left out.
-pub fn link_tree(from: &Path, to: &Path) -> Result<(), Error> {
+fn link_tree(from: &Path, to: &Path) -> Result<(), Error> {
     std::fs::create_dir_all(to).map_err(|e| Error::io_path("creating folder", to, e))?;
     let entries = std::fs::read_dir(from).map_err(|e| Error::io_path("reading folder", from, e))?;
     for e in entries {

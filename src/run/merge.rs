@@ -122,15 +122,8 @@ pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<MergeSummary, Error> {
                     Err(e) => return Err(e.into_error(&path, "cell record")),
                 };
                 twins += usize::from(record.twin_of.is_some());
-                let to = dir.cell_dir(&id);
-                let tmp = dir.root.join("cells").join(format!(".{id}.merge{}", std::process::id()));
-                let _ = std::fs::remove_dir_all(&tmp);
-                super::cell_cache::link_tree(&from, &tmp)?;
-                if to.exists() {
-                    // Left by an interrupted merge into this folder.
-                    std::fs::remove_dir_all(&to).map_err(|e| Error::io_path("replacing", &to, e))?;
-                }
-                std::fs::rename(&tmp, &to).map_err(|e| Error::io_path("renaming into place", &to, e))?;
+                // A folder left by an interrupted merge into `--out` is replaced.
+                super::cell_cache::link_into_place(&from, &dir.cell_dir(&id), "merge", |_| Ok(()))?;
                 placed.insert(id);
             }
         }
