@@ -11,6 +11,7 @@ use std::sync::Mutex;
 use wgpu::util::DeviceExt;
 
 use crate::error::Error;
+use crate::gpu::ConstantSpace;
 
 const FLIP_WGSL: &str = include_str!("../../shaders/metrics/flip.wgsl");
 const SSIM_WGSL: &str = include_str!("../../shaders/metrics/ssim.wgsl");
@@ -51,6 +52,7 @@ pub struct GpuMetrics {
     radii: (u32, u32),
     cmax: f32,
     sized: Mutex<Option<MetricBuffers>>,
+    space: ConstantSpace,
 }
 
 /// Buffers for one image size.
@@ -77,12 +79,12 @@ fn storage(device: &wgpu::Device, label: &str, bytes: u64, extra: wgpu::BufferUs
 }
 
 impl GpuMetrics {
-    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> GpuMetrics {
-        use crate::render::compute_entry::{read_only_storage, read_write_storage, uniform};
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, space: ConstantSpace) -> GpuMetrics {
+        use crate::render::compute_entry::{constants, read_only_storage, read_write_storage};
         let flip_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("flip"),
             entries: &[
-                uniform(0),
+                constants(space, 0),
                 read_only_storage(1),
                 read_write_storage(2),
                 read_write_storage(3),
@@ -95,7 +97,7 @@ impl GpuMetrics {
         let ssim_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("ssim"),
             entries: &[
-                uniform(0),
+                constants(space, 0),
                 read_only_storage(1),
                 read_write_storage(2),
                 read_write_storage(3),
@@ -105,7 +107,7 @@ impl GpuMetrics {
         let module = |label: &str, src: &str| {
             device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some(label),
-                source: wgpu::ShaderSource::Wgsl(src.into()),
+                source: wgpu::ShaderSource::Wgsl(space.wgsl(src)),
             })
         };
         let (flip_module, ssim_module) = (module("flip", FLIP_WGSL), module("ssim", SSIM_WGSL));
@@ -135,6 +137,7 @@ impl GpuMetrics {
             flip,
             ssim,
             sized: Mutex::new(None),
+            space,
         }
     }
 
@@ -188,7 +191,7 @@ impl GpuMetrics {
                 d.create_buffer(&wgpu::BufferDescriptor {
                     label: Some(label),
                     size: size as u64,
-                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                    usage: self.space.usage() | wgpu::BufferUsages::COPY_DST,
                     mapped_at_creation: false,
                 })
             };

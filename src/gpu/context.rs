@@ -3,6 +3,7 @@
 use serde::Serialize;
 use std::sync::{Arc, Mutex};
 
+use super::constants::ConstantSpace;
 use crate::error::{Error, ADAPTER_HELP};
 
 /// The adapter a run used, recorded in run.json: timings compare only within one adapter.
@@ -16,6 +17,29 @@ pub struct AdapterRecord {
     pub vendor: u32,
     pub device: u32,
     pub timestamp_queries: bool,
+    /// Where the passes' constants lived (gpu::constants): "uniform" or "storage".
+    #[serde(default = "uniform_space")]
+    pub constants: String,
+}
+
+fn uniform_space() -> String {
+    "uniform".to_string()
+}
+
+/// The constant space for `info`: gpu::constants' choice, or SHADEMATRIX_CONSTANTS=uniform|storage.
+fn constant_space(info: &wgpu::AdapterInfo) -> Result<ConstantSpace, Error> {
+    match std::env::var("SHADEMATRIX_CONSTANTS").ok().as_deref() {
+        None | Some("") => Ok(ConstantSpace::for_adapter(info)),
+        Some("uniform") => Ok(ConstantSpace::Uniform),
+        Some("storage") => Ok(ConstantSpace::ReadOnlyStorage),
+        Some(other) => Err(Error::Input(crate::input::names::unknown_name(
+            "environment",
+            "SHADEMATRIX_CONSTANTS",
+            "constant space",
+            other,
+            &["uniform", "storage"],
+        ))),
+    }
 }
 
 pub struct GpuContext {
@@ -23,6 +47,8 @@ pub struct GpuContext {
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,
     pub record: AdapterRecord,
+    /// The address space of the passes' constant buffers (gpu::constants).
+    pub constants: ConstantSpace,
     /// Errors wgpu reported outside an error scope, drained by `check_errors`.
     uncaptured: Arc<Mutex<Vec<String>>>,
 }
@@ -83,6 +109,7 @@ impl GpuContext {
 
     fn open(adapter: wgpu::Adapter) -> Result<GpuContext, Error> {
         let info = adapter.get_info();
+        let constants = constant_space(&info)?;
         let timestamp = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
         let mut required_features = wgpu::Features::empty();
         if timestamp {
@@ -117,8 +144,9 @@ impl GpuContext {
             vendor: info.vendor,
             device: info.device,
             timestamp_queries: timestamp,
+            constants: constants.name().to_string(),
         };
-        Ok(GpuContext { adapter, device, queue, record, uncaptured })
+        Ok(GpuContext { adapter, device, queue, record, constants, uncaptured })
     }
 
     /// The MSAA sample counts (> 1) that every one of `formats` can render with and resolve.
@@ -164,7 +192,7 @@ impl GpuContext {
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let module = self.device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(label),
-            source: wgpu::ShaderSource::Wgsl(source.into()),
+            source: wgpu::ShaderSource::Wgsl(self.constants.wgsl(source)),
         });
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(Error::Device(format!("shader `{label}` failed to compile: {e}")));

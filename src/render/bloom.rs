@@ -51,19 +51,20 @@ pub fn level_sizes(width: u32, height: u32) -> Vec<(u32, u32)> {
 pub struct BloomPipeline {
     pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
+    space: crate::gpu::ConstantSpace,
 }
 
 impl BloomPipeline {
     pub fn new(gpu: &GpuContext) -> Result<BloomPipeline, Error> {
         let device = &gpu.device;
         let module = gpu.shader_module("bloom", include_str!("../../shaders/pass/bloom.wgsl"))?;
-        use super::compute_entry::{float_2d, storage_2d, uniform};
+        use super::compute_entry::{constants, float_2d, storage_2d};
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("bloom"),
-            entries: &[uniform(0), float_2d(1), float_2d(2), storage_2d(3, FORMAT)],
+            entries: &[constants(gpu.constants, 0), float_2d(1), float_2d(2), storage_2d(3, FORMAT)],
         });
         let pipeline = super::compute_pipeline(device, "bloom", &layout, &module, "cs_bloom");
-        Ok(BloomPipeline { pipeline, layout })
+        Ok(BloomPipeline { pipeline, layout, space: gpu.constants })
     }
 }
 
@@ -119,7 +120,7 @@ impl BloomChain {
             let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("bloom step"),
                 contents: bytemuck::bytes_of(&params),
-                usage: wgpu::BufferUsages::UNIFORM,
+                usage: pipeline.space.usage(),
             });
             let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("bloom step"),

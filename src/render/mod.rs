@@ -16,6 +16,7 @@ pub mod traced_shadows;
 pub mod truth;
 pub mod uniforms;
 
+use crate::gpu::ConstantSpace;
 pub use renderer::{CellParams, CellRender, CellSettings, PreparedScene, Renderer, ShadowMapUse};
 
 /// A single-sample 2-D texture of one layer, as every render target here is but the MSAA ones.
@@ -50,9 +51,10 @@ pub(crate) fn multisampled_2d(
     })
 }
 
-/// The layout `uniform_slots` binds: one uniform of `size` bytes at a dynamic offset.
+/// The layout `uniform_slots` binds: one constant buffer of `size` bytes at a dynamic offset.
 pub(crate) fn uniform_slot_layout(
     device: &wgpu::Device,
+    space: ConstantSpace,
     label: &str,
     visibility: wgpu::ShaderStages,
     size: u64,
@@ -63,7 +65,7 @@ pub(crate) fn uniform_slot_layout(
             binding: 0,
             visibility,
             ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Uniform,
+                ty: space.binding(),
                 has_dynamic_offset: true,
                 min_binding_size: wgpu::BufferSize::new(size),
             },
@@ -72,21 +74,22 @@ pub(crate) fn uniform_slot_layout(
     })
 }
 
-/// A uniform buffer of `count` slots of `size` bytes at the device's offset alignment, and a bind
-/// group (`layout`: one uniform binding with a dynamic offset) that sees one slot at a time.
+/// A constant buffer of `count` slots of `size` bytes at the device's offset alignment, and a bind
+/// group (`layout`: one constant binding with a dynamic offset) that sees one slot at a time.
 pub(crate) fn uniform_slots(
     device: &wgpu::Device,
+    space: ConstantSpace,
     layout: &wgpu::BindGroupLayout,
     label: &str,
     size: u64,
     count: usize,
 ) -> (wgpu::Buffer, u64, wgpu::BindGroup) {
-    let align = device.limits().min_uniform_buffer_offset_alignment as u64;
+    let align = space.offset_alignment(&device.limits());
     let stride = size.div_ceil(align) * align;
     let buffer = device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
         size: stride * count.max(1) as u64,
-        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        usage: space.usage() | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     });
     let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -131,8 +134,9 @@ pub(crate) fn compute_pipeline(
 pub(crate) mod compute_entry {
     const STAGE: wgpu::ShaderStages = wgpu::ShaderStages::COMPUTE;
 
-    pub fn uniform(binding: u32) -> wgpu::BindGroupLayoutEntry {
-        buffer(binding, wgpu::BufferBindingType::Uniform)
+    /// A constant buffer (gpu::constants: uniform, or read-only storage on lavapipe).
+    pub fn constants(space: crate::gpu::ConstantSpace, binding: u32) -> wgpu::BindGroupLayoutEntry {
+        buffer(binding, space.binding())
     }
 
     pub fn read_only_storage(binding: u32) -> wgpu::BindGroupLayoutEntry {

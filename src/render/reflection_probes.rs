@@ -80,6 +80,7 @@ pub struct Prefilter {
     sources: Vec<(usize, wgpu::Texture, wgpu::Buffer)>,
     /// Bound where a step reads no faces.
     no_faces: wgpu::TextureView,
+    space: crate::gpu::ConstantSpace,
 }
 
 impl Prefilter {
@@ -89,12 +90,12 @@ impl Prefilter {
             "probe prefilter",
             &crate::shading::wgsl::with_math(include_str!("../../shaders/pass/probe_prefilter.wgsl")),
         )?;
-        use super::compute_entry::{read_only_storage, storage_2d, texture, uniform};
+        use super::compute_entry::{constants, read_only_storage, storage_2d, texture};
         let float = wgpu::TextureSampleType::Float { filterable: false };
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("probe prefilter"),
             entries: &[
-                uniform(0),
+                constants(gpu.constants, 0),
                 texture(1, float, wgpu::TextureViewDimension::D2Array),
                 texture(2, float, wgpu::TextureViewDimension::D2),
                 wgpu::BindGroupLayoutEntry {
@@ -157,7 +158,7 @@ impl Prefilter {
                 dimension: Some(wgpu::TextureViewDimension::D2Array),
                 ..Default::default()
             });
-        Ok(Prefilter { pipeline, layout, sampler, sources, no_faces })
+        Ok(Prefilter { pipeline, layout, sampler, sources, no_faces, space: gpu.constants })
     }
 
     fn source(&self, width: usize) -> &(usize, wgpu::Texture, wgpu::Buffer) {
@@ -197,7 +198,7 @@ impl Prefilter {
             let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("probe prefilter step"),
                 contents: bytemuck::bytes_of(&params),
-                usage: wgpu::BufferUsages::UNIFORM,
+                usage: self.space.usage(),
             });
             let faces_view = faces.as_ref().map(|f| f.0).unwrap_or(&self.no_faces);
             let source_view = view(&source.1, None);
@@ -469,7 +470,7 @@ impl SceneProbes {
                             device.create_buffer(&wgpu::BufferDescriptor {
                                 label: Some("probe face frame"),
                                 size: std::mem::size_of::<super::uniforms::FrameUniforms>() as u64,
-                                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                                usage: gpu.constants.usage() | wgpu::BufferUsages::COPY_DST,
                                 mapped_at_creation: false,
                             })
                         })

@@ -303,7 +303,7 @@ impl Renderer {
                     // Compute too: the tiled light loop reads the frame and the lights.
                     visibility: wgpu::ShaderStages::VERTEX_FRAGMENT.union(wgpu::ShaderStages::COMPUTE),
                     ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
+                        ty: gpu.constants.binding(),
                         has_dynamic_offset: false,
                         min_binding_size: wgpu::BufferSize::new(std::mem::size_of::<FrameUniforms>() as u64),
                     },
@@ -362,6 +362,7 @@ impl Renderer {
         });
         let object_layout = super::uniform_slot_layout(
             device,
+            gpu.constants,
             "object",
             wgpu::ShaderStages::VERTEX_FRAGMENT,
             std::mem::size_of::<ObjectUniforms>() as u64,
@@ -384,7 +385,7 @@ impl Renderer {
             bind_group_layouts: &[Some(&frame_layout), Some(&object_layout), Some(&screen_layout)],
             immediate_size: 0,
         });
-        let ray_layout = super::truth::ray_layout(device);
+        let ray_layout = super::truth::ray_layout(device, gpu.constants);
         let exact_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("scene with rays"),
             bind_group_layouts: &[Some(&frame_layout), Some(&object_layout), Some(&screen_layout), Some(&ray_layout)],
@@ -408,7 +409,8 @@ impl Renderer {
             compare: Some(wgpu::CompareFunction::LessEqual),
             ..Default::default()
         });
-        let shadow_layer_layout = super::uniform_slot_layout(device, "shadow layer", wgpu::ShaderStages::VERTEX, 64);
+        let shadow_layer_layout =
+            super::uniform_slot_layout(device, gpu.constants, "shadow layer", wgpu::ShaderStages::VERTEX, 64);
         let shadow_pipeline = shadow_pipeline(&gpu, &shadow_layer_layout, &object_layout);
         let gbuffer_read_layout = super::deferred::read_layout(device);
         let tiles = super::deferred::LightTiles::new(device, &frame_layout);
@@ -752,6 +754,7 @@ impl Renderer {
         }
         let (object_buffer, object_stride, object_bind_group) = super::uniform_slots(
             device,
+            self.gpu.constants,
             &self.object_layout,
             "objects",
             std::mem::size_of::<ObjectUniforms>() as u64,
@@ -760,7 +763,7 @@ impl Renderer {
         let frame_buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("frame"),
             size: std::mem::size_of::<FrameUniforms>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            usage: self.gpu.constants.usage() | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
         let probes = match scene.environment.reflections {
@@ -925,8 +928,14 @@ impl Renderer {
             dimension: Some(wgpu::TextureViewDimension::D2Array),
             ..Default::default()
         });
-        let (layer_uniforms, layer_stride, layer_bind_group) =
-            super::uniform_slots(device, &self.shadow_layer_layout, "shadow layer matrices", 64, layers as usize);
+        let (layer_uniforms, layer_stride, layer_bind_group) = super::uniform_slots(
+            device,
+            self.gpu.constants,
+            &self.shadow_layer_layout,
+            "shadow layer matrices",
+            64,
+            layers as usize,
+        );
         let layers_storage = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("shadow layers"),
             size: (std::mem::size_of::<ShadowLayer>() * layers as usize) as u64,
@@ -1773,7 +1782,7 @@ impl Renderer {
             let radiance = |d: DVec3| crate::environment::sky::radiance(&scene.environment.sky, d);
             let w = super::truth::ENV_WIDTH;
             let image = crate::environment::prefilter::EquirectImage::sample(&radiance, w, w / 2, 2);
-            super::truth::TruthEnvironment::new(&self.gpu.device, &image)
+            super::truth::TruthEnvironment::new(&self.gpu.device, self.gpu.constants, &image)
         });
         let cached = prepared.truth_geometry.lock().unwrap_or_else(|e| e.into_inner()).clone();
         Ok(match cached {
@@ -2126,7 +2135,7 @@ fn shadow_pipeline(
     let device = &gpu.device;
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some("shadow"),
-        source: wgpu::ShaderSource::Wgsl(include_str!("../../shaders/pass/shadow.wgsl").into()),
+        source: wgpu::ShaderSource::Wgsl(gpu.constants.wgsl(include_str!("../../shaders/pass/shadow.wgsl"))),
     });
     let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: Some("shadow"),

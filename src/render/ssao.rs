@@ -118,6 +118,7 @@ pub struct SsaoPipeline {
     steps_layout: wgpu::BindGroupLayout,
     copy: wgpu::ComputePipeline,
     copy_layout: wgpu::BindGroupLayout,
+    space: crate::gpu::ConstantSpace,
 }
 
 impl SsaoPipeline {
@@ -125,10 +126,17 @@ impl SsaoPipeline {
         let device = &gpu.device;
         let source = crate::shading::wgsl::with_math(include_str!("../../shaders/pass/ssao.wgsl"));
         let module = gpu.shader_module("ssao", &source)?;
-        use super::compute_entry::{float_2d, storage_2d, texture, uniform};
+        use super::compute_entry::{constants, float_2d, storage_2d, texture};
         let steps_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("ssao steps"),
-            entries: &[uniform(0), float_2d(1), float_2d(2), float_2d(3), storage_2d(4, FORMAT), uniform(5)],
+            entries: &[
+                constants(gpu.constants, 0),
+                float_2d(1),
+                float_2d(2),
+                float_2d(3),
+                storage_2d(4, FORMAT),
+                constants(gpu.constants, 5),
+            ],
         });
         let depth = texture(6, wgpu::TextureSampleType::Depth, wgpu::TextureViewDimension::D2);
         let copy_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -138,7 +146,7 @@ impl SsaoPipeline {
         let steps = super::compute_pipeline(device, "ssao", &steps_layout, &module, "cs_ssao");
         let copy = super::compute_pipeline(device, "ssao depth copy", &copy_layout, &module, "cs_depth_copy");
         gpu.check_errors("creating the SSAO pipelines")?;
-        Ok(SsaoPipeline { steps, steps_layout, copy, copy_layout })
+        Ok(SsaoPipeline { steps, steps_layout, copy, copy_layout, space: gpu.constants })
     }
 }
 
@@ -188,7 +196,7 @@ impl SsaoChain {
         let frame = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("ssao frame"),
             size: std::mem::size_of::<SsaoFrame>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            usage: pipeline.space.usage() | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
         let view = |t: &wgpu::Texture| t.create_view(&Default::default());
@@ -211,7 +219,7 @@ impl SsaoChain {
             let params = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("ssao step"),
                 contents: bytemuck::cast_slice(&[size.0, size.1, mode, 0]),
-                usage: wgpu::BufferUsages::UNIFORM,
+                usage: pipeline.space.usage(),
             });
             let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("ssao step"),

@@ -50,6 +50,7 @@ impl CellKeys {
         let adapter = json!({
             "name": adapter.name, "backend": adapter.backend, "driver": adapter.driver,
             "driver_info": adapter.driver_info, "vendor": adapter.vendor, "device": adapter.device,
+            "constants": adapter.constants,
         });
         let settings = json!({
             "frames": matrix.timing.frames,

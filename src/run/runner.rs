@@ -149,7 +149,7 @@ pub fn run(matrix: &Matrix, opts: &RunOptions) -> Result<RunSummary, Error> {
     let gpu_metrics = matrix
         .metrics
         .on_gpu(&gpu.record.device_type)
-        .then(|| crate::compare::gpu::GpuMetrics::new(&gpu.device, &gpu.queue));
+        .then(|| crate::compare::gpu::GpuMetrics::new(&gpu.device, &gpu.queue, gpu.constants));
     stream.gpu_metrics = gpu_metrics;
     let mut renderer = Renderer::new(gpu);
     let result = stream.run(&mut renderer, geometry, workers, &mut record);

@@ -23,7 +23,7 @@ fn assert_parity(gpu: &GpuMetrics, a: &LoadedImage, b: &LoadedImage, what: &str)
 #[test]
 fn gpu_flip_and_ssim_equal_the_cpu_references() {
     let ctx = GpuContext::new().unwrap();
-    let gpu = GpuMetrics::new(&ctx.device, &ctx.queue);
+    let gpu = GpuMetrics::new(&ctx.device, &ctx.queue, ctx.constants);
     let dir = crate::common::fixture("compare");
     for (a, b) in [("synthetic_a.png", "synthetic_b.png"), ("render_a.png", "render_b.png"), ("hdr_a.exr", "hdr_b.exr")]
     {

@@ -6,6 +6,7 @@ mod cache;
 mod check;
 mod cli;
 mod compare;
+mod constants;
 mod conventions;
 mod coverage;
 mod flow;

@@ -25,7 +25,7 @@ use wgpu::util::DeviceExt;
 
 use crate::environment::prefilter::EquirectImage;
 use crate::error::Error;
-use crate::gpu::GpuContext;
+use crate::gpu::{ConstantSpace, GpuContext};
 
 /// Width of the environment table the truth samples (height is half).
 pub const ENV_WIDTH: usize = 1024;
@@ -106,17 +106,17 @@ pub struct TruthPipeline {
 }
 
 /// The layout of the tracer's own group (group 1).
-pub fn group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
-    use super::compute_entry::{read_only_storage, read_write_storage, uniform};
+pub fn group_layout(device: &wgpu::Device, space: ConstantSpace) -> wgpu::BindGroupLayout {
+    use super::compute_entry::{constants, read_only_storage, read_write_storage};
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("truth"),
-        entries: &[uniform(0), read_only_storage(1), read_write_storage(2), read_write_storage(3)],
+        entries: &[constants(space, 0), read_only_storage(1), read_write_storage(2), read_write_storage(3)],
     })
 }
 
 /// The layout of the scene as rays see it (shaders/pass/rays.wgsl, group 3 of the tracer and of
 /// the forward pipelines with exact alternatives): bindings 10–17.
-pub fn ray_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+pub fn ray_layout(device: &wgpu::Device, space: ConstantSpace) -> wgpu::BindGroupLayout {
     let entry = |binding, ty| wgpu::BindGroupLayoutEntry {
         binding,
         visibility: wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::VERTEX_FRAGMENT,
@@ -127,7 +127,7 @@ pub fn ray_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("rays"),
         entries: &[
-            entry(10, wgpu::BufferBindingType::Uniform),
+            entry(10, space.binding()),
             entry(11, storage),
             entry(12, storage),
             entry(13, storage),
@@ -150,7 +150,7 @@ impl TruthPipeline {
     ) -> Result<TruthPipeline, Error> {
         let device = &gpu.device;
         let module = gpu.shader_module("truth", source)?;
-        let layout = group_layout(device);
+        let layout = group_layout(device, gpu.constants);
         let constants = [("PIPELINE", pipeline_id as f64), ("TRUTH_KIND", (kind == TruthKind::Physical) as u32 as f64)];
         let pipeline =
             ray_compute_pipeline(device, "truth", &module, [frame_layout, &layout, ray_layout], "cs_truth", &constants);
@@ -256,7 +256,7 @@ pub struct TruthEnvironment {
 }
 
 impl TruthEnvironment {
-    pub fn new(device: &wgpu::Device, image: &EquirectImage) -> TruthEnvironment {
+    pub fn new(device: &wgpu::Device, space: ConstantSpace, image: &EquirectImage) -> TruthEnvironment {
         let (texels, cdf) = environment_tables(image);
         let map = crate::environment::irradiance::irradiance_map(image);
         let irradiance: Vec<[f32; 4]> = map.texels.iter().map(|c| [c.x as f32, c.y as f32, c.z as f32, 0.0]).collect();
@@ -268,7 +268,7 @@ impl TruthEnvironment {
             info: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("rays info"),
                 contents: bytemuck::cast_slice(&info),
-                usage: wgpu::BufferUsages::UNIFORM,
+                usage: space.usage(),
             }),
         }
     }
@@ -325,7 +325,7 @@ pub fn trace(
     let params = device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("truth params"),
         size: std::mem::size_of::<TruthParams>() as u64,
-        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        usage: gpu.constants.usage() | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     });
     let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
