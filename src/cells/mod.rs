@@ -115,9 +115,11 @@ impl Cell {
     }
 }
 
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, serde::Deserialize)]
 pub struct PrunedCell {
     pub description: String,
+    /// The axis values that make every cell of the combination impossible (axis name, value).
+    pub axes: Vec<(String, String)>,
     pub reason: String,
 }
 
@@ -136,6 +138,15 @@ impl Expansion {
     pub fn rendered(&self) -> impl Iterator<Item = &Cell> {
         self.cells.iter().filter(|c| c.twin_of.is_none())
     }
+}
+
+/// A pruned combination's axes: its composition, its pipeline and the one value it lacks.
+fn pruned_axes(composition: &str, pipeline: Pipeline, axis: &str, value: &str) -> Vec<(String, String)> {
+    vec![
+        ("composition".into(), composition.into()),
+        ("pipeline".into(), pipeline.name().into()),
+        (axis.into(), value.into()),
+    ]
 }
 
 fn opt_list<T: Copy>(v: &[T]) -> Vec<Option<T>> {
@@ -166,6 +177,7 @@ pub fn expand(m: &Matrix) -> Expansion {
                 if !pipeline.paths().contains(&path) {
                     pruned.push(PrunedCell {
                         description: format!("{} × {} × {}", scene.name, pipeline.name(), path.name()),
+                        axes: pruned_axes(&scene.name, pipeline, "path", path.name()),
                         reason: format!("the {} pipeline has no {} path", pipeline.name(), path.name()),
                     });
                     continue;
@@ -174,6 +186,7 @@ pub fn expand(m: &Matrix) -> Expansion {
                     let Some(model) = m.registry.find(pipeline, shader) else {
                         pruned.push(PrunedCell {
                             description: format!("{} × {} × {}", scene.name, pipeline.name(), shader),
+                            axes: pruned_axes(&scene.name, pipeline, "shader", shader),
                             reason: format!(
                                 "`{shader}` is not a shader of the {} pipeline (it has: {})",
                                 pipeline.name(),
@@ -191,6 +204,7 @@ pub fn expand(m: &Matrix) -> Expansion {
                                 Err(reason) => {
                                     pruned.push(PrunedCell {
                                         description: format!("{} × {} × own", scene.name, pipeline.name()),
+                                        axes: pruned_axes(&scene.name, pipeline, "preset", "own"),
                                         reason: reason.clone(),
                                     });
                                     continue;

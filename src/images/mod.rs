@@ -5,6 +5,7 @@ pub mod bloom;
 pub mod encode;
 pub mod exposure;
 pub mod gtao;
+pub mod pixels;
 pub mod stats;
 pub mod target;
 pub mod tonemap;

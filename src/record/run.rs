@@ -34,6 +34,9 @@ pub struct RunRecord {
     /// The shard folders `merge` joined into this run.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub merged_from: Vec<String>,
+    /// The combinations the matrix names that cannot exist, and why (the viewer says so).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub pruned: Vec<crate::cells::PrunedCell>,
 }
 
 impl RunRecord {

@@ -1,4 +1,5 @@
-//! The offline HTML gallery, `index.html` in the run folder: works from the file system (no
+//! The offline HTML gallery, `gallery.html` in the run folder (`index.html` is the viewer,
+//! report::viewer): works from the file system (no
 //! server, no network), filters by axis, shows each cell's images, metrics and timings, the perf
 //! table (sortable), the error-vs-time plots and the contact sheets. Every name that comes from
 //! input is HTML-escaped. The page checks itself after loading: broken images and script errors
@@ -112,7 +113,7 @@ pub fn html(run: &RunData, sheets: &[String], plots: &[String]) -> String {
         counts.pruned,
         run.run.status.name()
     );
-    let _ = writeln!(s, "<p><a href=\"#cells\">cells</a> · <a href=\"#perf\">performance</a> · <a href=\"#plots\">error vs time</a> · <a href=\"#sheets\">contact sheets</a> · <a href=\"tables/perf.md\">perf.md</a> · <a href=\"tables/error_vs_time.md\">error_vs_time.md</a>{}</p>", if run.dir.join("tables/approximations.md").is_file() { " · <a href=\"tables/approximations.md\">approximations.md</a> (what each approximation costs and buys)" } else { "" });
+    let _ = writeln!(s, "<p><a href=\"index.html\">viewer</a> · <a href=\"#cells\">cells</a> · <a href=\"#perf\">performance</a> · <a href=\"#plots\">error vs time</a> · <a href=\"#sheets\">contact sheets</a> · <a href=\"tables/perf.md\">perf.md</a> · <a href=\"tables/error_vs_time.md\">error_vs_time.md</a>{}</p>", if run.dir.join("tables/approximations.md").is_file() { " · <a href=\"tables/approximations.md\">approximations.md</a> (what each approximation costs and buys)" } else { "" });
 
     s.push_str("<h2 id=\"cells\">Cells</h2><div class=\"filters\">");
     for axis in FILTER_AXES {
@@ -124,6 +125,9 @@ pub fn html(run: &RunData, sheets: &[String], plots: &[String]) -> String {
         s.push_str("</select></label>");
     }
     s.push_str("</div><div class=\"cells\">\n");
+    // Big runs load images as they scroll into view; small ones at once, so the page's own check
+    // (data-broken-images) sees every image.
+    let lazy = if run.cells.len() > LAZY_FROM { " loading=\"lazy\"" } else { "" };
     for c in &run.cells {
         let id = &c.id.0;
         let dir = format!("cells/{}", url(id));
@@ -131,13 +135,13 @@ pub fn html(run: &RunData, sheets: &[String], plots: &[String]) -> String {
         let _ = write!(s, "<div class=\"cell\"{data}><div class=\"id\">{}</div>", esc(id));
         let _ = write!(
             s,
-            "<a href=\"{dir}/image.exr\" title=\"linear EXR\"><img src=\"{dir}/image.png\" alt=\"{}\"></a>",
+            "<a href=\"{dir}/image.exr\" title=\"linear EXR\"><img{lazy} src=\"{dir}/image.png\" alt=\"{}\"></a>",
             esc(id)
         );
         let metrics = &c.metrics;
         if metrics.ldr.is_some() {
             if metrics.maps.is_some() {
-                let _ = write!(s, "<img src=\"{dir}/flip.png\" alt=\"FLIP map\" title=\"FLIP\"><img src=\"{dir}/ssim.png\" alt=\"1 − SSIM\" title=\"1 − SSIM\">");
+                let _ = write!(s, "<img{lazy} src=\"{dir}/flip.png\" alt=\"FLIP map\" title=\"FLIP\"><img{lazy} src=\"{dir}/ssim.png\" alt=\"1 − SSIM\" title=\"1 − SSIM\">");
             }
             let _ = write!(
                 s,
@@ -197,7 +201,13 @@ pub fn html(run: &RunData, sheets: &[String], plots: &[String]) -> String {
     s
 }
 
-pub fn write(run: &RunData, sheets: &[String]) -> Result<(), Error> {
+pub const FILE: &str = "gallery.html";
+
+/// From this many cells on, images load lazily.
+const LAZY_FROM: usize = 200;
+
+/// Write the gallery; returns the plots it links.
+pub fn write(run: &RunData, sheets: &[String]) -> Result<Vec<String>, Error> {
     let mut plots: Vec<String> = std::fs::read_dir(run.dir.join("plots"))
         .map(|d| {
             d.filter_map(|e| e.ok())
@@ -207,7 +217,8 @@ pub fn write(run: &RunData, sheets: &[String]) -> Result<(), Error> {
         })
         .unwrap_or_default();
     plots.sort();
-    write_atomic(&run.dir.join("index.html"), html(run, sheets, &plots).as_bytes())
+    write_atomic(&run.dir.join(FILE), html(run, sheets, &plots).as_bytes())?;
+    Ok(plots)
 }
 
 #[cfg(test)]

@@ -9,6 +9,7 @@ pub mod perf;
 pub mod run_data;
 pub mod sheets;
 pub mod stability;
+pub mod viewer;
 
 /// Every report of a run, from its recorded files.
 pub fn build(run_dir: &std::path::Path) -> Result<(), crate::error::Error> {
@@ -23,5 +24,14 @@ pub fn build(run_dir: &std::path::Path) -> Result<(), crate::error::Error> {
         s => s.clone(),
     };
     let written = sheets::write(&run, &specs)?;
-    gallery::write(&run, &written)
+    let plots = gallery::write(&run, &written)?;
+    let mut links = vec![("all cells, tables and sheets".to_string(), gallery::FILE.to_string())];
+    for table in ["perf.md", "error_vs_time.md", "stability.md", "approximations.md", "invariants.md"] {
+        if run.dir.join("tables").join(table).is_file() {
+            links.push((table.to_string(), format!("tables/{table}")));
+        }
+    }
+    links.extend(plots.into_iter().map(|p| (p.trim_start_matches("plots/").to_string(), p)));
+    links.extend(written.into_iter().map(|s| (s.trim_start_matches("sheets/").to_string(), s)));
+    viewer::write(&run, links)
 }

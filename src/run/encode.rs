@@ -116,9 +116,16 @@ pub fn encode_cell(
         encode::exr_bytes_with(r.width, r.height, &r.hdr, compression)?
     };
     let png = encode::png_bytes(r.width, r.height, &srgb8)?;
+    let pixels = match matrix.outputs.pixels {
+        true => Some(crate::images::pixels::pixels_js(r.width, r.height, &srgb8, &r.hdr, half)?),
+        false => None,
+    };
     let encode_ms = t0.elapsed_ns() as f64 / 1e6;
     write_atomic(&dir.join("image.exr"), &exr)?;
     write_atomic(&dir.join("image.png"), &png)?;
+    if let Some(pixels) = pixels {
+        write_atomic(&dir.join(crate::images::pixels::PIXELS_FILE), &pixels)?;
+    }
     let mut truth = None;
     let reference_missing = match reference {
         None => None,
@@ -362,7 +369,10 @@ fn cell_record(matrix: &Matrix, cell: &Cell, adapter: &str, key: &str, m: Measur
 
 /// Copy a twin's images from its original's folder.
 pub fn copy_images(from: &Path, to: &Path) -> Result<(), Error> {
-    for name in ["image.exr", "image.png"] {
+    for name in ["image.exr", "image.png", crate::images::pixels::PIXELS_FILE] {
+        if name == crate::images::pixels::PIXELS_FILE && !from.join(name).is_file() {
+            continue; // `[outputs] pixels = false`
+        }
         let bytes = std::fs::read(from.join(name)).map_err(|e| Error::io_path("reading", &from.join(name), e))?;
         write_atomic(&to.join(name), &bytes)?;
     }

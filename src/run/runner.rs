@@ -133,6 +133,7 @@ pub fn run(matrix: &Matrix, opts: &RunOptions) -> Result<RunSummary, Error> {
         stages: None,
         support: exp.support.clone(),
         merged_from: Vec::new(),
+        pruned: exp.pruned.clone(),
     };
     let run_json = dir.root.join(RUN_FILE);
     write_json(&run_json, &record)?;

@@ -15,6 +15,10 @@ pub struct Outputs {
     /// flip.png and ssim.png beside each compared cell (the metrics are recorded either way).
     #[serde(default = "yes")]
     pub maps: bool,
+    /// pixels.js beside each image (images::pixels): the viewer's magnifier reads the sRGB and
+    /// linear values from it; 120–250 KB a cell at 256², so huge sweeps may leave it out.
+    #[serde(default = "yes")]
+    pub pixels: bool,
 }
 
 fn yes() -> bool {
@@ -23,7 +27,7 @@ fn yes() -> bool {
 
 impl Default for Outputs {
     fn default() -> Self {
-        Outputs { exr: ExrPrecision::default(), exr_compression: ExrCompression::default(), maps: true }
+        Outputs { exr: ExrPrecision::default(), exr_compression: ExrCompression::default(), maps: true, pixels: true }
     }
 }
 

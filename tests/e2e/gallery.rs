@@ -67,6 +67,8 @@ fn gallery_loads_cleanly_in_headless_chromium() {
     let run = tmp.path().join("run");
     for p in [
         "index.html",
+        "gallery.html",
+        "viewer-data.js",
         "tables/perf.md",
         "tables/perf.csv",
         "tables/perf.json",
@@ -77,11 +79,11 @@ fn gallery_loads_cleanly_in_headless_chromium() {
         assert!(run.join(p).is_file(), "{p}");
     }
     assert!(std::fs::read_dir(run.join("sheets")).unwrap().count() >= 2);
-    let html = std::fs::read_to_string(run.join("index.html")).unwrap();
+    let html = std::fs::read_to_string(run.join("gallery.html")).unwrap();
     assert!(html.contains("m&amp;&lt;x&gt;.toml") && !html.contains("m&<x>.toml"), "origin escaped");
 
     let profile = tmp.path().join("profile");
-    let (images, broken, errors) = page_status(&browser, &run.join("index.html"), &profile);
+    let (images, broken, errors) = page_status(&browser, &run.join("gallery.html"), &profile);
     assert!(images > 16, "images on the page: {images}");
     assert_eq!((broken, errors), (0, 0), "broken images, script errors");
     let shot = tmp.path().join("gallery.png");
@@ -89,7 +91,7 @@ fn gallery_loads_cleanly_in_headless_chromium() {
         .args(chromium_args(&profile))
         .arg(format!("--screenshot={}", shot.display()))
         .arg("--window-size=1400,1000")
-        .arg(format!("file://{}", run.join("index.html").display()))
+        .arg(format!("file://{}", run.join("gallery.html").display()))
         .output()
         .unwrap();
     assert!(status.status.success());
@@ -99,6 +101,6 @@ fn gallery_loads_cleanly_in_headless_chromium() {
     // The check can fail: remove one cell's image and the page counts it broken.
     let cell = std::fs::read_dir(run.join("cells")).unwrap().next().unwrap().unwrap().path();
     std::fs::remove_file(cell.join("image.png")).unwrap();
-    let (_, broken, _) = page_status(&browser, &run.join("index.html"), &profile);
+    let (_, broken, _) = page_status(&browser, &run.join("gallery.html"), &profile);
     assert_eq!(broken, 1);
 }

@@ -34,3 +34,4 @@ mod study;
 mod timing;
 mod truth;
 mod user_models;
+mod viewer;

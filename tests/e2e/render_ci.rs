@@ -77,7 +77,7 @@ fn ci_matrix_renders_every_cell_at_the_requested_size() {
         .file_name()
         .to_string_lossy()
         .starts_with("diff_")));
-    assert!(std::fs::read_to_string(out.join("index.html")).unwrap().contains("data-broken-images"));
+    assert!(std::fs::read_to_string(out.join("gallery.html")).unwrap().contains("data-broken-images"));
 
     // `report` rebuilds every table, plot, sheet and the gallery from the records: the same bytes.
     let outputs = |dir: &std::path::Path| -> Vec<(String, Vec<u8>)> {
@@ -88,7 +88,9 @@ fn ci_matrix_renders_every_cell_at_the_requested_size() {
                 files.push((format!("{sub}/{}", p.file_name().unwrap().to_string_lossy()), std::fs::read(&p).unwrap()));
             }
         }
-        files.push(("index.html".into(), std::fs::read(dir.join("index.html")).unwrap()));
+        for page in ["index.html", "gallery.html", "viewer-data.js"] {
+            files.push((page.into(), std::fs::read(dir.join(page)).unwrap()));
+        }
         files.sort();
         files
     };

@@ -1,0 +1,407 @@
+// The viewer (report::viewer): two cells A and B chosen over the run's axes, compared side by
+// side, with a wipe or by flicker, a map over them, and a magnifier reading pixels.js. The URL
+// fragment holds the whole view. No network: every file is a sibling under the run folder.
+(function () {
+  'use strict';
+  var D = window.SHADEMATRIX_VIEWER;
+  var $ = function (id) { return document.getElementById(id); };
+  if (!D) {
+    $('summary').textContent = 'viewer-data.js is missing: run `shadematrix report DIR` to rebuild the pages.';
+    return;
+  }
+  var axes = D.axes, cells = D.cells;
+  var AXIS = {};
+  axes.forEach(function (a, k) { AXIS[a.name] = k; });
+  var shown = [];
+  axes.forEach(function (a, k) { if (a.values.length > 1) shown.push(k); });
+  var index = new Map();
+  cells.forEach(function (c, i) { index.set(c[1].join(','), i); });
+
+  var state = {
+    a: cells.length ? cells[0][1].slice() : axes.map(function () { return 0; }),
+    b: null, link: true, mode: 'side', overlay: 'none', opacity: 0.6, zoom: 2, wipe: 0.5,
+    px: null, flickerB: false
+  };
+  state.b = state.a.slice();
+  // B starts as A in another pipeline where the run has one.
+  if (AXIS.pipeline !== undefined) {
+    var p = AXIS.pipeline;
+    for (var step = 1; step < axes[p].values.length; step++) {
+      var v = state.a.slice();
+      v[p] = (state.a[p] + step) % axes[p].values.length;
+      if (index.has(v.join(','))) { state.b = v; break; }
+    }
+  }
+
+  function cellDir(i) { return 'cells/' + encodeURIComponent(cells[i][0]); }
+  function valueOf(side, name) { var k = AXIS[name]; return axes[k].values[state[side][k]]; }
+
+  // The cell at `values`, or why there is none.
+  function resolve(values) {
+    var i = index.get(values.join(','));
+    if (i !== undefined) return { cell: i };
+    var sel = {};
+    axes.forEach(function (a, k) { sel[a.name] = a.values[values[k]]; });
+    for (var n = 0; n < D.pruned.length; n++) {
+      var p = D.pruned[n];
+      if (p.axes.every(function (av) { return sel[av[0]] === av[1]; })) {
+        return { why: 'pruned (' + p.description + '): ' + p.reason };
+      }
+    }
+    return { why: 'no cell with these values in this run: the matrix does not sweep them together, or a filter or shard left it out' };
+  }
+
+  // ---- controls ----
+  var controls = { a: {}, b: {} };
+  function makeControl(side, k) {
+    var a = axes[k], el, out = null;
+    if (a.kind === 'number') {
+      el = document.createElement('input');
+      el.type = 'range'; el.min = 0; el.max = a.values.length - 1; el.step = 1;
+      out = document.createElement('output');
+    } else {
+      el = document.createElement('select');
+      a.values.forEach(function (v, i) {
+        var o = document.createElement('option'); o.value = i; o.textContent = v; el.appendChild(o);
+      });
+    }
+    el.id = side + '-' + a.name;
+    el.dataset.axis = a.name;
+    el.addEventListener('input', function () {
+      state[side][k] = +el.value;
+      if (side === 'a' && state.link && a.kind === 'number') state.b[k] = state.a[k];
+      update();
+    });
+    controls[side][k] = { el: el, out: out };
+    var td = document.createElement('td');
+    td.appendChild(el);
+    if (out) td.appendChild(out);
+    return td;
+  }
+  var tbody = $('axes');
+  shown.forEach(function (k) {
+    var tr = document.createElement('tr');
+    var th = document.createElement('th'); th.textContent = axes[k].name.replace('_', ' ');
+    tr.appendChild(th);
+    tr.appendChild(makeControl('a', k));
+    tr.appendChild(makeControl('b', k));
+    tbody.appendChild(tr);
+  });
+  if (!shown.length) tbody.innerHTML = '<tr><td colspan="3">one cell: nothing to choose</td></tr>';
+
+  $('link').addEventListener('change', function () {
+    state.link = $('link').checked;
+    if (state.link) shown.forEach(function (k) { if (axes[k].kind === 'number') state.b[k] = state.a[k]; });
+    update();
+  });
+  ['side', 'wipe', 'flicker'].forEach(function (m) {
+    $('mode-' + m).addEventListener('click', function () {
+      if (m === 'flicker' && state.mode === 'flicker') state.flickerB = !state.flickerB;
+      state.mode = m; update();
+    });
+  });
+  $('overlay').addEventListener('input', function () { state.overlay = $('overlay').value; update(); });
+  $('opacity').addEventListener('input', function () { state.opacity = +$('opacity').value; update(); });
+  $('zoom').addEventListener('input', function () { state.zoom = +$('zoom').value; update(); });
+  document.addEventListener('keydown', function (e) {
+    if ((e.key === 'f' || e.key === 'F') && !e.ctrlKey && !e.metaKey && !e.altKey) {
+      if (state.mode !== 'flicker') state.mode = 'flicker'; else state.flickerB = !state.flickerB;
+      update();
+    }
+  });
+
+  // ---- pixels.js ----
+  var pixelCache = new Map(), pendingPixels = null;
+  window.shadematrixPixels = function (obj) { pendingPixels = obj; };
+  function inflate(b64) {
+    var bin = atob(b64), bytes = new Uint8Array(bin.length);
+    for (var i = 0; i < bin.length; i++) bytes[i] = bin.charCodeAt(i);
+    var stream = new Blob([bytes]).stream().pipeThrough(new DecompressionStream('deflate'));
+    return new Response(stream).arrayBuffer().then(function (b) { return new Uint8Array(b); });
+  }
+  function halfToFloat(h) {
+    var s = (h & 0x8000) ? -1 : 1, e = (h >> 10) & 0x1f, f = h & 0x3ff;
+    if (e === 0) return s * f * Math.pow(2, -24);
+    if (e === 31) return f ? NaN : s * Infinity;
+    return s * Math.pow(2, e - 15) * (1 + f / 1024);
+  }
+  // pixels.js stores each channel as wrapping differences from the previous value (images::pixels).
+  function decode(obj) {
+    return Promise.all([inflate(obj.srgb_planes), inflate(obj.linear_planes)]).then(function (planes) {
+      var n = obj.width * obj.height, ds = planes[0], lin = planes[1];
+      var srgb = new Uint8Array(3 * n), linear = new Float32Array(3 * n);
+      var view = new DataView(new ArrayBuffer(4));
+      for (var c = 0; c < 3; c++) {
+        var s = 0, bits = 0;
+        for (var i = 0; i < n; i++) {
+          s = (s + ds[c * n + i]) & 0xff;
+          srgb[c * n + i] = s;
+          if (obj.linear === 'half') {
+            bits = (bits + ((lin[2 * c * n + i] << 8) | lin[(2 * c + 1) * n + i])) & 0xffff;
+            linear[3 * i + c] = halfToFloat(bits);
+          } else {
+            var d = ((lin[4 * c * n + i] << 24) | (lin[(4 * c + 1) * n + i] << 16) |
+              (lin[(4 * c + 2) * n + i] << 8) | lin[(4 * c + 3) * n + i]) >>> 0;
+            bits = (bits + d) >>> 0;
+            view.setUint32(0, bits);
+            linear[3 * i + c] = view.getFloat32(0);
+          }
+        }
+      }
+      return { width: obj.width, height: obj.height, srgb: srgb, linear: linear, n: n };
+    });
+  }
+  function loadPixels(i) {
+    if (pixelCache.has(i)) return pixelCache.get(i);
+    var p = (cells[i][7] & 2) === 0 ? Promise.resolve(null) : new Promise(function (res) {
+      var s = document.createElement('script');
+      s.src = cellDir(i) + '/pixels.js';
+      s.onload = function () {
+        var obj = pendingPixels; pendingPixels = null; s.remove();
+        if (obj) decode(obj).then(res, function () { res(null); }); else res(null);
+      };
+      document.head.appendChild(s);
+    });
+    pixelCache.set(i, p);
+    return p;
+  }
+  function pixelText(px, x, y) {
+    if (!px) return 'no pixels.js ([outputs] pixels = false)';
+    var i = y * px.width + x, n = px.n;
+    var s = [px.srgb[i], px.srgb[n + i], px.srgb[2 * n + i]];
+    var l = [px.linear[3 * i], px.linear[3 * i + 1], px.linear[3 * i + 2]];
+    return { srgb: s, linear: l, text: 'sRGB ' + s.join(' ') + '   linear ' + l.map(function (v) { return v.toPrecision(5); }).join(' ') };
+  }
+
+  // ---- the view ----
+  var current = { a: null, b: null };
+  function img(src, cls) {
+    var im = document.createElement('img');
+    im.src = src; im.alt = src; im.decoding = 'async';
+    if (cls) im.className = cls;
+    return im;
+  }
+  function overlayFor(i, other) {
+    if (state.overlay === 'none' || i === null) return null;
+    var c = cells[i], w = c[8][0] * state.zoom, h = c[8][1] * state.zoom;
+    if (state.overlay === 'diff') {
+      if (other === null) return null;
+      var cv = document.createElement('canvas');
+      cv.width = c[8][0]; cv.height = c[8][1]; cv.className = 'over';
+      cv.style.width = w + 'px'; cv.style.height = h + 'px'; cv.style.opacity = state.opacity;
+      cv.style.imageRendering = 'pixelated';
+      Promise.all([loadPixels(i), loadPixels(other)]).then(function (pp) {
+        var A = pp[0], B = pp[1];
+        if (!A || !B || A.n !== B.n) return;
+        var ctx = cv.getContext('2d'), im = ctx.createImageData(A.width, A.height);
+        for (var p = 0; p < A.n; p++) {
+          var d = 0;
+          for (var ch = 0; ch < 3; ch++) d = Math.max(d, Math.abs(A.srgb[ch * A.n + p] - B.srgb[ch * B.n + p]));
+          var t = Math.min(1, d / 64);
+          im.data[4 * p] = 255 * Math.min(1, 2 * t); im.data[4 * p + 1] = 255 * Math.max(0, 2 * t - 1);
+          im.data[4 * p + 2] = 64 * (1 - t); im.data[4 * p + 3] = 255;
+        }
+        ctx.putImageData(im, 0, 0);
+      });
+      return cv;
+    }
+    if ((c[7] & 1) === 0) return null;
+    var o = img(cellDir(i) + '/' + state.overlay + '.png', 'over');
+    o.style.width = w + 'px'; o.style.height = h + 'px'; o.style.opacity = state.opacity;
+    return o;
+  }
+  function stage(i, other) {
+    var s = document.createElement('div');
+    s.className = 'stage';
+    if (i === null) return s;
+    var c = cells[i], base = img(cellDir(i) + '/image.png');
+    base.style.width = c[8][0] * state.zoom + 'px'; base.style.height = c[8][1] * state.zoom + 'px';
+    s.appendChild(base);
+    var o = overlayFor(i, other);
+    if (o) s.appendChild(o);
+    track(s, c);
+    return s;
+  }
+  function track(el, c) {
+    el.addEventListener('mousemove', function (e) {
+      var r = el.getBoundingClientRect();
+      var x = Math.floor((e.clientX - r.left) / state.zoom), y = Math.floor((e.clientY - r.top) / state.zoom);
+      if (x < 0 || y < 0 || x >= c[8][0] || y >= c[8][1]) return;
+      state.px = [x, y]; writeHash(); readout();
+    });
+  }
+  function pane(label, i, other, why) {
+    var p = document.createElement('div'); p.className = 'pane';
+    var h = document.createElement('h3'); h.textContent = label; p.appendChild(h);
+    p.appendChild(stage(i, other));
+    var id = document.createElement('div'); id.className = 'id';
+    id.textContent = i === null ? why : cells[i][0];
+    p.appendChild(id);
+    return p;
+  }
+  function wipeStage(a, b) {
+    var s = stage(a, b);
+    if (a === null || b === null) return s;
+    var c = cells[b], top = img(cellDir(b) + '/image.png', 'b-clip');
+    top.style.width = c[8][0] * state.zoom + 'px'; top.style.height = c[8][1] * state.zoom + 'px';
+    top.style.clipPath = 'inset(0 0 0 ' + (state.wipe * 100).toFixed(2) + '%)';
+    top.id = 'wipe-b';
+    s.appendChild(top);
+    var div = document.createElement('div'); div.id = 'divider';
+    div.style.left = 'calc(' + (state.wipe * 100).toFixed(2) + '% - 1px)';
+    s.appendChild(div);
+    var drag = false;
+    div.addEventListener('pointerdown', function (e) { drag = true; div.setPointerCapture(e.pointerId); });
+    div.addEventListener('pointerup', function () { drag = false; writeHash(); });
+    div.addEventListener('pointermove', function (e) {
+      if (!drag) return;
+      var r = s.getBoundingClientRect();
+      state.wipe = Math.min(1, Math.max(0, (e.clientX - r.left) / r.width));
+      top.style.clipPath = 'inset(0 0 0 ' + (state.wipe * 100).toFixed(2) + '%)';
+      div.style.left = 'calc(' + (state.wipe * 100).toFixed(2) + '% - 1px)';
+    });
+    return s;
+  }
+
+  function metricsText(i) {
+    var c = cells[i], m = c[4], f = function (v) { return v === null ? '—' : v.toFixed(4); };
+    var ref = c[3] >= 0 ? cells[c[3]][0] : (c[9] || 'none');
+    return 'against ' + ref + ': FLIP ' + f(m[0]) + ' · SSIM ' + f(m[1]) + ' · HDR-FLIP ' + f(m[2]);
+  }
+  function recordText(label, i, why) {
+    if (i === null) return label + ': ' + why;
+    var c = cells[i], lines = [label + ': ' + c[0]];
+    shown.concat([]).forEach(function (k) { lines.push('  ' + axes[k].name + ' = ' + axes[k].values[c[1][k]]); });
+    if (c[2] >= 0) lines.push('  twin of ' + cells[c[2]][0] + ' (the shader ignores the axes they differ in; images copied)');
+    lines.push('  ' + metricsText(i));
+    lines.push('  GPU median ' + (c[5] === null ? '—' : c[5].toFixed(3) + ' ms') + ' · ' + c[8][0] + '×' + c[8][1]);
+    lines.push('  passes: ' + D.plans[c[6]].join(' → '));
+    return lines.join('\n');
+  }
+
+  function readout() {
+    var out = $('readout');
+    if (!state.px) { out.textContent = 'hover the image to read a pixel'; return; }
+    var x = state.px[0], y = state.px[1];
+    ['a', 'b'].forEach(function (side) {
+      var i = current[side], cv = $('mag-' + side), ctx = cv.getContext('2d');
+      ctx.imageSmoothingEnabled = false;
+      ctx.fillStyle = '#000'; ctx.fillRect(0, 0, cv.width, cv.height);
+      if (i === null) return;
+      var im = new Image();
+      im.onload = function () {
+        ctx.drawImage(im, x - 5, y - 5, 11, 11, 0, 0, 165, 165);
+        ctx.strokeStyle = '#ffcc33'; ctx.strokeRect(75, 75, 15, 15);
+      };
+      im.src = cellDir(i) + '/image.png';
+    });
+    var token = (readout.token = (readout.token || 0) + 1);
+    Promise.all([current.a === null ? null : loadPixels(current.a), current.b === null ? null : loadPixels(current.b)])
+      .then(function (pp) {
+        if (token !== readout.token) return;
+        var lines = ['pixel ' + x + ', ' + y];
+        ['a', 'b'].forEach(function (side, n) {
+          if (current[side] === null) { lines.push(side.toUpperCase() + ': no cell'); return; }
+          var t = pixelText(pp[n], x, y);
+          if (typeof t === 'string') { lines.push(side.toUpperCase() + ': ' + t); return; }
+          out.dataset[side + 'Srgb'] = t.srgb.join(',');
+          out.dataset[side + 'Linear'] = t.linear.join(',');
+          lines.push(side.toUpperCase() + ': ' + t.text);
+        });
+        out.dataset.px = x + ',' + y;
+        out.textContent = lines.join('\n');
+      });
+  }
+
+  // ---- state ⇄ URL fragment ----
+  function encodeState() {
+    var parts = [];
+    shown.forEach(function (k) {
+      parts.push('a.' + axes[k].name + '=' + encodeURIComponent(axes[k].values[state.a[k]]));
+      parts.push('b.' + axes[k].name + '=' + encodeURIComponent(axes[k].values[state.b[k]]));
+    });
+    parts.push('link=' + (state.link ? 1 : 0), 'mode=' + state.mode, 'overlay=' + state.overlay,
+      'opacity=' + state.opacity, 'zoom=' + state.zoom, 'wipe=' + state.wipe.toFixed(3), 'flicker=' + (state.flickerB ? 'b' : 'a'));
+    if (state.px) parts.push('px=' + state.px.join(','));
+    return parts.join('&');
+  }
+  function applyHash(hash) {
+    hash.replace(/^#/, '').split('&').forEach(function (kv) {
+      var eq = kv.indexOf('=');
+      if (eq < 0) return;
+      var key = kv.slice(0, eq), val = decodeURIComponent(kv.slice(eq + 1));
+      var m = /^([ab])\.(.+)$/.exec(key);
+      if (m && AXIS[m[2]] !== undefined) {
+        var k = AXIS[m[2]], vi = axes[k].values.indexOf(val);
+        if (vi >= 0) state[m[1]][k] = vi;
+      } else if (key === 'link') state.link = val === '1';
+      else if (key === 'mode' && /^(side|wipe|flicker)$/.test(val)) state.mode = val;
+      else if (key === 'overlay' && /^(none|flip|ssim|diff)$/.test(val)) state.overlay = val;
+      else if (key === 'opacity') state.opacity = Math.min(1, Math.max(0, +val || 0));
+      else if (key === 'zoom') state.zoom = Math.min(8, Math.max(1, Math.round(+val) || 2));
+      else if (key === 'wipe') state.wipe = Math.min(1, Math.max(0, +val || 0));
+      else if (key === 'flicker') state.flickerB = val === 'b';
+      else if (key === 'px') { var xy = val.split(',').map(Number); if (xy.length === 2 && xy.every(isFinite)) state.px = xy; }
+    });
+  }
+  var lastHash = '';
+  function writeHash() {
+    lastHash = '#' + encodeState();
+    if (location.hash !== lastHash) history.replaceState(null, '', lastHash);
+  }
+  window.addEventListener('hashchange', function () {
+    if (location.hash === lastHash) return;
+    applyHash(location.hash); update();
+  });
+
+  function update() {
+    shown.forEach(function (k) {
+      ['a', 'b'].forEach(function (side) {
+        var ctl = controls[side][k];
+        ctl.el.value = state[side][k];
+        if (ctl.out) ctl.out.textContent = axes[k].values[state[side][k]];
+        ctl.el.disabled = side === 'b' && state.link && axes[k].kind === 'number';
+      });
+    });
+    $('link').checked = state.link;
+    $('overlay').value = state.overlay;
+    $('opacity').value = state.opacity; $('opacity-value').textContent = state.opacity;
+    $('zoom').value = state.zoom; $('zoom-value').textContent = state.zoom + '×';
+    ['side', 'wipe', 'flicker'].forEach(function (m) { $('mode-' + m).classList.toggle('on', state.mode === m); });
+    var ra = resolve(state.a), rb = resolve(state.b);
+    current.a = ra.cell === undefined ? null : ra.cell;
+    current.b = rb.cell === undefined ? null : rb.cell;
+    $('why-a').textContent = current.a === null ? 'A: ' + ra.why : '';
+    $('why-b').textContent = current.b === null ? 'B: ' + rb.why : '';
+    var wrap = $('stage-wrap');
+    wrap.innerHTML = '';
+    if (state.mode === 'side') {
+      wrap.appendChild(pane('A', current.a, current.b, ra.why));
+      wrap.appendChild(pane('B', current.b, current.a, rb.why));
+    } else if (state.mode === 'wipe') {
+      var w = pane('A | B (drag the divider)', current.a, current.b, ra.why);
+      w.replaceChild(wipeStage(current.a, current.b), w.querySelector('.stage'));
+      wrap.appendChild(w);
+    } else {
+      var showB = state.flickerB;
+      var i = showB ? current.b : current.a;
+      wrap.appendChild(pane((showB ? 'B' : 'A') + ' (F flips)', i, showB ? current.a : current.b, showB ? rb.why : ra.why));
+    }
+    $('record').textContent = recordText('A', current.a, ra.why) + '\n\n' + recordText('B', current.b, rb.why);
+    wrap.dataset.a = current.a === null ? '' : cells[current.a][0];
+    wrap.dataset.b = current.b === null ? '' : cells[current.b][0];
+    writeHash();
+    readout();
+  }
+
+  var r = D.run;
+  $('summary').textContent = r.name + ' · ' + r.cells + ' cells (' + r.rendered + ' rendered, ' + r.twins +
+    ' twins, ' + r.pruned + ' pruned) · ' + r.adapter + ' · ' + r.status + ' · matrix ' + r.matrix;
+  D.links.forEach(function (l) {
+    var a = document.createElement('a'); a.href = l[1]; a.textContent = l[0]; $('links').appendChild(a);
+  });
+  if (location.hash) applyHash(location.hash);
+  update();
+  document.body.dataset.ready = '1';
+  document.body.dataset.loadMs = performance.now().toFixed(1);
+})();

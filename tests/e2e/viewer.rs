@@ -1,0 +1,359 @@
+//! The viewer (`index.html`) driven in headless Chromium through the DevTools protocol: sliders,
+//! pickers, wipe, FLIP overlay and the pixel readout reach the right cells and values, links
+//! reproduce a view, and a 10 000-cell run opens quickly. A small CDP client over tungstenite.
+
+use std::io::{BufRead, BufReader};
+use std::net::TcpStream;
+use std::path::Path;
+use std::process::{Child, Command, Stdio};
+
+use serde_json::{json, Value};
+use tungstenite::stream::MaybeTlsStream;
+use tungstenite::{Message, WebSocket};
+
+struct Browser {
+    child: Child,
+    ws: WebSocket<MaybeTlsStream<TcpStream>>,
+    next_id: u64,
+    session: String,
+    /// Console errors, uncaught exceptions and failed loads the page reported.
+    errors: Vec<String>,
+    _profile: tempfile::TempDir,
+}
+
+impl Drop for Browser {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+fn chromium() -> Option<String> {
+    ["chromium", "chromium-browser", "google-chrome"]
+        .iter()
+        .find(|c| Command::new(c).arg("--version").output().is_ok())
+        .map(|c| c.to_string())
+}
+
+impl Browser {
+    fn launch(binary: &str) -> Browser {
+        let profile = tempfile::tempdir().unwrap();
+        let mut child = Command::new(binary)
+            .args([
+                "--headless",
+                "--no-sandbox",
+                "--disable-gpu",
+                "--disable-background-networking",
+                "--disable-component-update",
+                "--disable-sync",
+                "--no-first-run",
+                "--remote-debugging-port=0",
+                "--window-size=1400,1000",
+            ])
+            .arg(format!("--user-data-dir={}", profile.path().display()))
+            .arg("about:blank")
+            .stderr(Stdio::piped())
+            .stdout(Stdio::null())
+            .spawn()
+            .unwrap();
+        let mut lines = BufReader::new(child.stderr.take().unwrap()).lines();
+        let url = loop {
+            let line = lines.next().expect("Chromium exited before its DevTools endpoint").unwrap();
+            if let Some(u) = line.strip_prefix("DevTools listening on ") {
+                break u.trim().to_string();
+            }
+        };
+        // Keep draining stderr so Chromium never blocks on a full pipe.
+        std::thread::spawn(move || for _ in lines {});
+        let (ws, _) = tungstenite::connect(url.as_str()).unwrap();
+        let mut b = Browser { child, ws, next_id: 0, session: String::new(), errors: Vec::new(), _profile: profile };
+        let target = b.call("Target.createTarget", json!({ "url": "about:blank" }))["targetId"].clone();
+        let attached = b.call("Target.attachToTarget", json!({ "targetId": target, "flatten": true }));
+        b.session = attached["sessionId"].as_str().unwrap().to_string();
+        for domain in ["Page.enable", "Runtime.enable", "Log.enable"] {
+            b.call(domain, json!({}));
+        }
+        b
+    }
+
+    fn call(&mut self, method: &str, params: Value) -> Value {
+        self.next_id += 1;
+        let id = self.next_id;
+        let mut msg = json!({ "id": id, "method": method, "params": params });
+        if !self.session.is_empty() {
+            msg["sessionId"] = json!(self.session);
+        }
+        self.ws.send(Message::text(msg.to_string())).unwrap();
+        loop {
+            let text = match self.ws.read().unwrap() {
+                Message::Text(t) => t.to_string(),
+                _ => continue,
+            };
+            let v: Value = serde_json::from_str(&text).unwrap();
+            if v["id"].as_u64() == Some(id) {
+                assert!(v.get("error").is_none(), "{method}: {v}");
+                return v["result"].clone();
+            }
+            self.event(&v);
+        }
+    }
+
+    fn event(&mut self, v: &Value) {
+        match v["method"].as_str() {
+            Some("Runtime.exceptionThrown") => self.errors.push(v["params"]["exceptionDetails"].to_string()),
+            Some("Runtime.consoleAPICalled") if v["params"]["type"] == "error" => {
+                self.errors.push(v["params"]["args"].to_string())
+            }
+            Some("Log.entryAdded") if v["params"]["entry"]["level"] == "error" => {
+                self.errors.push(format!("{} {}", v["params"]["entry"]["text"], v["params"]["entry"]["url"]))
+            }
+            _ => {}
+        }
+    }
+
+    /// The value of `expression` (awaited when a promise).
+    fn eval(&mut self, expression: &str) -> Value {
+        let r = self
+            .call("Runtime.evaluate", json!({ "expression": expression, "returnByValue": true, "awaitPromise": true }));
+        assert!(r.get("exceptionDetails").is_none(), "{expression}: {r}");
+        r["result"]["value"].clone()
+    }
+
+    /// Poll `expression` until it is true (10 s at most).
+    fn wait_for(&mut self, expression: &str) {
+        for _ in 0..200 {
+            if self.eval(expression) == json!(true) {
+                return;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(50));
+        }
+        panic!("timed out waiting for {expression}");
+    }
+
+    fn open(&mut self, url: &str) {
+        self.call("Page.navigate", json!({ "url": url }));
+        self.wait_for("document.readyState === 'complete' && document.body && document.body.dataset.ready === '1'");
+    }
+}
+
+fn file_url(path: &Path) -> String {
+    format!("file://{}", path.display())
+}
+
+/// Set a control's value and fire `input`, as a person moving it does.
+fn set(b: &mut Browser, id: &str, value: &str) {
+    b.eval(&format!(
+        "(function(){{var e=document.getElementById('{id}'); e.value='{value}'; e.dispatchEvent(new Event('input', {{bubbles:true}})); return true;}})()"
+    ));
+}
+
+fn shown(b: &mut Browser) -> (String, String) {
+    let v =
+        b.eval("[document.getElementById('stage-wrap').dataset.a, document.getElementById('stage-wrap').dataset.b]");
+    (v[0].as_str().unwrap().to_string(), v[1].as_str().unwrap().to_string())
+}
+
+fn img_srcs(b: &mut Browser) -> Vec<String> {
+    let v = b.eval("Array.from(document.querySelectorAll('#stage-wrap img')).map(function(i){return decodeURIComponent(i.getAttribute('src'));})");
+    v.as_array().unwrap().iter().map(|s| s.as_str().unwrap().to_string()).collect()
+}
+
+const MATRIX: &str = "name = \"viewer\"\ncompositions = [\"default\"]\npipelines = [\"urp\", \"hdrp\"]\nshaders = [\"lit\", \"standard\"]\npresets = [\"gold\", \"plastic\"]\nreference = { pipeline = \"hdrp\", shader = \"lit\" }\n[sweep]\nsmoothness = [0.2, 0.8]\n[image]\nwidth = 40\nheight = 32\n";
+
+#[test]
+fn the_viewer_follows_sliders_pickers_wipe_overlay_and_reads_pixels() {
+    let Some(binary) = chromium() else {
+        assert!(std::env::var("CI").is_err(), "CI must have Chromium: .ci/run installs it");
+        eprintln!("SKIPPED: no Chromium on this machine (apt-get install chromium); CI runs this test");
+        return;
+    };
+    let tmp = tempfile::tempdir().unwrap();
+    let run = crate::common::run_matrix(tmp.path(), MATRIX, "run");
+    for f in ["index.html", "viewer-data.js", "gallery.html"] {
+        assert!(run.join(f).is_file(), "{f}");
+    }
+    let id = |pipeline: &str, preset: &str, s: &str| {
+        let m = if preset == "gold" { "1.00" } else { "0.00" };
+        format!("default__{pipeline}-forward__lit__{preset}__m{m}_s{s}_i2_r10")
+    };
+    for p in ["urp", "hdrp"] {
+        assert!(run.join("cells").join(id(p, "gold", "0.20")).is_dir(), "{}", id(p, "gold", "0.20"));
+    }
+    let mut b = Browser::launch(&binary);
+    b.open(&file_url(&run.join("index.html")));
+
+    // A opens on the first cell; B is A in the other pipeline.
+    assert_eq!(shown(&mut b), (id("hdrp", "gold", "0.20"), id("urp", "gold", "0.20")));
+    // Side by side: both images.
+    let srcs = img_srcs(&mut b);
+    assert!(srcs.contains(&format!("cells/{}/image.png", id("hdrp", "gold", "0.20"))), "{srcs:?}");
+    assert!(srcs.contains(&format!("cells/{}/image.png", id("urp", "gold", "0.20"))), "{srcs:?}");
+
+    // Moving A's smoothness slider moves B with it (B follows A's sliders) and shows the exact value.
+    set(&mut b, "a-smoothness", "1");
+    assert_eq!(shown(&mut b), (id("hdrp", "gold", "0.80"), id("urp", "gold", "0.80")));
+    assert_eq!(b.eval("document.querySelector('#a-smoothness + output').textContent"), json!("0.8"));
+
+    // A to URP, B to HDRP: B is then A's reference, and A has FLIP/SSIM maps.
+    let urp = b.eval("Array.from(document.getElementById('a-pipeline').options).findIndex(function(o){return o.textContent==='urp';})");
+    let hdrp = b.eval("Array.from(document.getElementById('b-pipeline').options).findIndex(function(o){return o.textContent==='hdrp';})");
+    set(&mut b, "a-pipeline", &urp.to_string());
+    set(&mut b, "b-pipeline", &hdrp.to_string());
+    let (a, bb) = (id("urp", "gold", "0.80"), id("hdrp", "gold", "0.80"));
+    assert_eq!(shown(&mut b), (a.clone(), bb.clone()));
+
+    // The wipe: B's image clipped over A's, with a divider.
+    b.eval("document.getElementById('mode-wipe').click(), true");
+    assert_eq!(b.eval("!!document.getElementById('divider')"), json!(true));
+    assert_eq!(
+        b.eval("decodeURIComponent(document.getElementById('wipe-b').getAttribute('src'))"),
+        json!(format!("cells/{bb}/image.png"))
+    );
+
+    // The FLIP overlay: A's map against its reference, at the chosen opacity.
+    set(&mut b, "overlay", "flip");
+    set(&mut b, "opacity", "0.35");
+    let over = b.eval("(function(){var o=document.querySelector('#stage-wrap img.over'); return o ? [decodeURIComponent(o.getAttribute('src')), o.style.opacity] : null;})()");
+    assert_eq!(over, json!([format!("cells/{a}/flip.png"), "0.35"]));
+    let record: shadematrix::record::CellRecord =
+        serde_json::from_str(&std::fs::read_to_string(run.join("cells").join(&a).join("cell.json")).unwrap()).unwrap();
+    assert!(record.metrics.maps.is_some());
+
+    // The readout: hover pixel (13, 7) of A; the page reports A's PNG byte and EXR value there.
+    let (x, y) = (13u32, 7u32);
+    b.eval(&format!(
+        "(function(){{var s=document.querySelector('#stage-wrap .stage'); var r=s.getBoundingClientRect(); var z={{}}; z=+document.getElementById('zoom').value; s.dispatchEvent(new MouseEvent('mousemove', {{clientX: r.left + ({x} + 0.5) * z, clientY: r.top + ({y} + 0.5) * z, bubbles: true}})); return true;}})()"
+    ));
+    b.wait_for(&format!(
+        "document.getElementById('readout').dataset.px === '{x},{y}' && !!document.getElementById('readout').dataset.aLinear"
+    ));
+    let png = image::open(run.join("cells").join(&a).join("image.png")).unwrap().to_rgba8();
+    let p = png.get_pixel(x, y);
+    assert_eq!(
+        b.eval("document.getElementById('readout').dataset.aSrgb"),
+        json!(format!("{},{},{}", p[0], p[1], p[2]))
+    );
+    let linear: Vec<f64> = b
+        .eval("document.getElementById('readout').dataset.aLinear")
+        .as_str()
+        .unwrap()
+        .split(',')
+        .map(|v| v.parse().unwrap())
+        .collect();
+    use shadematrix::compare::images::LoadedImage;
+    let LoadedImage::Hdr { width, rgba, .. } =
+        LoadedImage::load(&run.join("cells").join(&a).join("image.exr")).unwrap()
+    else {
+        panic!("EXR")
+    };
+    let at = 4 * (y as usize * width as usize + x as usize);
+    let want = [rgba[at], rgba[at + 1], rgba[at + 2]];
+    for c in 0..3 {
+        assert_eq!(linear[c], want[c] as f64, "channel {c}: the readout is the EXR's value");
+    }
+    let b_srgb = b.eval("document.getElementById('readout').dataset.bSrgb");
+    let pb = image::open(run.join("cells").join(&bb).join("image.png")).unwrap().to_rgba8();
+    let q = pb.get_pixel(x, y);
+    assert_eq!(b_srgb, json!(format!("{},{},{}", q[0], q[1], q[2])));
+
+    // The fragment holds the view: a new page on the same URL shows the same cells and modes.
+    let url = b.eval("location.href").as_str().unwrap().to_string();
+    assert!(url.contains("mode=wipe") && url.contains("overlay=flip") && url.contains("px=13,7"), "{url}");
+    b.call("Page.navigate", json!({ "url": "about:blank" }));
+    b.wait_for("location.href === 'about:blank' && document.readyState === 'complete'");
+    b.open(&url);
+    assert_eq!(shown(&mut b), (a.clone(), bb.clone()));
+    assert_eq!(
+        b.eval("!!document.getElementById('divider') && document.getElementById('overlay').value"),
+        json!("flip")
+    );
+
+    // A pruned combination says why: Standard is the built-in pipeline's shader.
+    let standard = b.eval("Array.from(document.getElementById('a-shader').options).findIndex(function(o){return o.textContent==='standard';})");
+    set(&mut b, "a-shader", &standard.to_string());
+    let why = b.eval("document.getElementById('why-a').textContent").as_str().unwrap().to_string();
+    assert!(why.contains("pruned") && why.contains("not a shader of the urp pipeline"), "{why}");
+    assert_eq!(shown(&mut b).0, "");
+    assert_eq!(b.eval("document.body.dataset.errors"), json!("0"));
+    assert!(b.errors.is_empty(), "console errors: {:?}", b.errors);
+}
+
+#[test]
+fn a_ten_thousand_cell_run_opens_in_under_two_seconds() {
+    let Some(binary) = chromium() else {
+        assert!(std::env::var("CI").is_err(), "CI must have Chromium: .ci/run installs it");
+        eprintln!("SKIPPED: no Chromium on this machine; CI runs this test");
+        return;
+    };
+    use shadematrix::report::viewer::{data_script, page, ViewerAxis, ViewerCell, ViewerData, ViewerRun, DATA_FILE};
+    let tmp = tempfile::tempdir().unwrap();
+    // 4 compositions × 3 pipelines × 5 shaders × 12 presets × 14 smoothness = 10 080 cells.
+    let names = |prefix: &str, n: usize| (0..n).map(|i| format!("{prefix}{i}")).collect::<Vec<_>>();
+    let axes = vec![
+        ("composition", "choice", names("comp", 4)),
+        ("pipeline", "choice", names("pipe", 3)),
+        ("shader", "choice", names("shader", 5)),
+        ("preset", "choice", names("preset", 12)),
+        ("smoothness", "number", (0..14).map(|i| format!("{}", i as f64 / 13.0)).collect()),
+    ];
+    let mut cells = Vec::new();
+    for c in 0..4u32 {
+        for p in 0..3u32 {
+            for s in 0..5u32 {
+                for r in 0..12u32 {
+                    for m in 0..14u32 {
+                        let id = format!("comp{c}__pipe{p}__shader{s}__preset{r}__s{m}");
+                        cells.push(ViewerCell(
+                            id,
+                            vec![c, p, s, r, m],
+                            -1,
+                            -1,
+                            [Some(0.1), Some(0.9), None],
+                            Some(1.0),
+                            0,
+                            0,
+                            [8, 8],
+                            None,
+                        ));
+                    }
+                }
+            }
+        }
+    }
+    assert_eq!(cells.len(), 10_080);
+    // The two cells the page opens on have images; the rest are never requested.
+    let png = image::RgbaImage::from_pixel(8, 8, image::Rgba([200, 100, 50, 255]));
+    for id in [&cells[0].0, &cells[14 * 12 * 5].0] {
+        std::fs::create_dir_all(tmp.path().join("cells").join(id)).unwrap();
+        png.save(tmp.path().join("cells").join(id).join("image.png")).unwrap();
+    }
+    let data = ViewerData {
+        schema: shadematrix::report::viewer::VIEWER_SCHEMA,
+        run: ViewerRun {
+            name: "synthetic".into(),
+            adapter: "none".into(),
+            matrix: "synthetic.toml".into(),
+            status: "complete".into(),
+            cells: cells.len(),
+            rendered: cells.len(),
+            twins: 0,
+            pruned: 0,
+        },
+        axes: axes.into_iter().map(|(n, k, values)| ViewerAxis { name: n.into(), kind: k, values }).collect(),
+        cells,
+        plans: vec![vec!["forward".into()]],
+        pruned: Vec::new(),
+        links: Vec::new(),
+    };
+    std::fs::write(tmp.path().join(DATA_FILE), data_script(&data).unwrap()).unwrap();
+    std::fs::write(tmp.path().join("index.html"), page("synthetic").unwrap()).unwrap();
+    let mut b = Browser::launch(&binary);
+    b.open(&file_url(&tmp.path().join("index.html")));
+    let ms: f64 = b.eval("+document.body.dataset.loadMs").as_f64().unwrap();
+    eprintln!("10 080-cell viewer ready {ms:.0} ms after navigation");
+    assert!(ms < 2000.0, "the viewer took {ms} ms to open 10 080 cells");
+    // It still resolves a slider move.
+    set(&mut b, "a-smoothness", "13");
+    assert_eq!(shown(&mut b).0, "comp0__pipe0__shader0__preset0__s13");
+    assert!(b.errors.iter().all(|e| e.contains("s13/image.png")), "console errors: {:?}", b.errors);
+}
