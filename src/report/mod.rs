@@ -25,13 +25,13 @@ pub fn build(run_dir: &std::path::Path) -> Result<(), crate::error::Error> {
     };
     let written = sheets::write(&run, &specs)?;
     let plots = gallery::write(&run, &written)?;
-    let mut links = vec![("all cells, tables and sheets".to_string(), gallery::FILE.to_string())];
+    // The contact sheets are on the gallery page.
+    let mut links = vec![("all cells, contact sheets and tables".to_string(), gallery::FILE.to_string())];
     for table in ["perf.md", "error_vs_time.md", "stability.md", "approximations.md", "invariants.md"] {
         if run.dir.join("tables").join(table).is_file() {
             links.push((table.to_string(), format!("tables/{table}")));
         }
     }
     links.extend(plots.into_iter().map(|p| (p.trim_start_matches("plots/").to_string(), p)));
-    links.extend(written.into_iter().map(|s| (s.trim_start_matches("sheets/").to_string(), s)));
     viewer::write(&run, links)
 }

@@ -45,10 +45,34 @@
     for (var n = 0; n < D.pruned.length; n++) {
       var p = D.pruned[n];
       if (p.axes.every(function (av) { return sel[av[0]] === av[1]; })) {
-        return { why: 'pruned (' + p.description + '): ' + p.reason };
+        return { why: 'pruned (' + p.description + '): ' + p.reason, pruned: true };
       }
     }
     return { why: 'no cell with these values in this run: the matrix does not sweep them together, or a filter or shard left it out' };
+  }
+
+  // Where `side`'s values name no cell and no pruned combination explains why, move the other
+  // axes to the nearest rendered cell that keeps the axes in `held` (most recently chosen first;
+  // when none keeps them all, the last is let go): fewest axes changed, then the smallest slider
+  // moves. A preset fixes metallic and a composition its key light, so sliders snap to what exists.
+  function snap(side, held) {
+    var want = state[side];
+    var r = resolve(want);
+    if (r.cell !== undefined || r.pruned) return;
+    for (var keep = held.length; keep >= 0; keep--) {
+      var best = -1, bestCost = Infinity;
+      for (var i = 0; i < cells.length; i++) {
+        var v = cells[i][1], ok = true;
+        for (var h = 0; h < keep; h++) if (v[held[h]] !== want[held[h]]) { ok = false; break; }
+        if (!ok) continue;
+        var cost = 0;
+        for (var k = 0; k < v.length && cost < bestCost; k++) {
+          if (v[k] !== want[k]) cost += 1000 + Math.abs(v[k] - want[k]);
+        }
+        if (cost < bestCost) { bestCost = cost; best = i; }
+      }
+      if (best >= 0) { state[side] = cells[best][1].slice(); return; }
+    }
   }
 
   // ---- controls ----
@@ -69,7 +93,8 @@
     el.dataset.axis = a.name;
     el.addEventListener('input', function () {
       state[side][k] = +el.value;
-      if (side === 'a' && state.link && a.kind === 'number') state.b[k] = state.a[k];
+      snap(side, [k]);
+      if (side === 'a' && state.link && a.kind === 'number') { state.b[k] = state.a[k]; snap('b', [k]); }
       update();
     });
     controls[side][k] = { el: el, out: out };
@@ -325,7 +350,9 @@
     if (state.px) parts.push('px=' + state.px.join(','));
     return parts.join('&');
   }
+  // Applies the fragment; returns, per side, the axes it named (the ones a snap keeps).
   function applyHash(hash) {
+    var named = { a: [], b: [] };
     hash.replace(/^#/, '').split('&').forEach(function (kv) {
       var eq = kv.indexOf('=');
       if (eq < 0) return;
@@ -333,7 +360,7 @@
       var m = /^([ab])\.(.+)$/.exec(key);
       if (m && AXIS[m[2]] !== undefined) {
         var k = AXIS[m[2]], vi = axes[k].values.indexOf(val);
-        if (vi >= 0) state[m[1]][k] = vi;
+        if (vi >= 0) { state[m[1]][k] = vi; named[m[1]].push(k); }
       } else if (key === 'link') state.link = val === '1';
       else if (key === 'mode' && /^(side|wipe|flicker)$/.test(val)) state.mode = val;
       else if (key === 'overlay' && /^(none|flip|ssim|diff)$/.test(val)) state.overlay = val;
@@ -343,6 +370,11 @@
       else if (key === 'flicker') state.flickerB = val === 'b';
       else if (key === 'px') { var xy = val.split(',').map(Number); if (xy.length === 2 && xy.every(isFinite)) state.px = xy; }
     });
+    return named;
+  }
+  function applyHashAndSnap(hash) {
+    var named = applyHash(hash);
+    snap('a', named.a); snap('b', named.b);
   }
   var lastHash = '';
   function writeHash() {
@@ -351,7 +383,7 @@
   }
   window.addEventListener('hashchange', function () {
     if (location.hash === lastHash) return;
-    applyHash(location.hash); update();
+    applyHashAndSnap(location.hash); update();
   });
 
   function update() {
@@ -400,7 +432,7 @@
   D.links.forEach(function (l) {
     var a = document.createElement('a'); a.href = l[1]; a.textContent = l[0]; $('links').appendChild(a);
   });
-  if (location.hash) applyHash(location.hash);
+  applyHashAndSnap(location.hash);
   update();
   document.body.dataset.ready = '1';
   document.body.dataset.loadMs = performance.now().toFixed(1);
