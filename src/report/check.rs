@@ -131,54 +131,40 @@ fn against_baseline(run: &RunData, baseline: &RunData, t: Thresholds) -> Result<
     Ok(cells)
 }
 
-fn xml_escape(s: &str) -> String {
-    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;").replace('\'', "&apos;")
-}
-
+/// junit.xml through quick-junit (nextest's JUnit model): a suite of cells (with a baseline) and
+/// a suite of the matrix's invariants, the adapter as a property of each.
 pub fn junit(r: &CheckReport, adapter: &str) -> String {
-    let mut s = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
-    let tests = r.cells.len() + r.invariants.len();
-    let failures = r.failures() + r.failed_invariants();
-    let _ = writeln!(s, "<testsuites name=\"shadematrix check\" tests=\"{tests}\" failures=\"{failures}\">");
-    let testcase = |s: &mut String, classname: &str, name: &str, failure: Option<&str>| {
-        let _ = write!(s, "    <testcase classname=\"{}\" name=\"{}\"", xml_escape(classname), xml_escape(name));
-        match failure {
-            None => {
-                let _ = writeln!(s, "/>");
-            }
+    use quick_junit::{NonSuccessKind, Property, Report, TestCase, TestCaseStatus, TestSuite};
+    let case = |classname: &str, name: &str, failure: Option<&str>| {
+        let status = match failure {
+            None => TestCaseStatus::success(),
             Some(why) => {
-                let _ = writeln!(s, ">\n      <failure message=\"{}\"/>\n    </testcase>", xml_escape(why));
+                let mut s = TestCaseStatus::non_success(NonSuccessKind::Failure);
+                s.set_message(why);
+                s
             }
-        }
+        };
+        let mut c = TestCase::new(name, status);
+        c.set_classname(classname);
+        c
     };
-    let properties =
-        format!("    <properties><property name=\"adapter\" value=\"{}\"/></properties>", xml_escape(adapter));
+    let mut report = Report::new("shadematrix check");
     if r.baseline.is_some() {
-        let _ = writeln!(
-            s,
-            "  <testsuite name=\"shadematrix check\" tests=\"{}\" failures=\"{}\">\n{properties}",
-            r.cells.len(),
-            r.failures()
-        );
-        for c in &r.cells {
-            testcase(&mut s, &c.classname, &c.id, c.failure.as_deref());
-        }
-        s.push_str("  </testsuite>\n");
+        let mut suite = TestSuite::new("shadematrix check");
+        suite.add_property(Property::new("adapter", adapter));
+        suite.add_test_cases(r.cells.iter().map(|c| case(&c.classname, &c.id, c.failure.as_deref())));
+        report.add_test_suite(suite);
     }
     if !r.invariants.is_empty() {
-        let _ = writeln!(
-            s,
-            "  <testsuite name=\"shadematrix invariants\" tests=\"{}\" failures=\"{}\">\n{properties}",
-            r.invariants.len(),
-            r.failed_invariants()
+        let mut suite = TestSuite::new("shadematrix invariants");
+        suite.add_property(Property::new("adapter", adapter));
+        suite.add_test_cases(
+            r.invariants.iter().map(|i| case(&format!("assert.{}", i.kind), &i.name, i.message().as_deref())),
         );
-        for i in &r.invariants {
-            testcase(&mut s, &format!("assert.{}", i.kind), &i.name, i.message().as_deref());
-        }
-        s.push_str("  </testsuite>\n");
+        report.add_test_suite(suite);
     }
-    s.push_str("</testsuites>\n");
-    s
+    // Serialising to memory cannot fail but on a bug in the model; say so rather than panic.
+    report.to_string().unwrap_or_else(|e| format!("<!-- junit.xml could not be written: {e} -->\n"))
 }
 
 pub fn summary(r: &CheckReport, adapter: &str) -> String {

@@ -58,7 +58,11 @@ fn check_passes_against_itself_and_names_exactly_the_altered_cells() {
         .split("<testcase ")
         .skip(1)
         .filter(|t| t.contains("<failure"))
-        .map(|t| t.split(" name=\"").nth(1).unwrap().split('"').next().unwrap())
+        .map(|t| {
+            // `name` is the attribute itself, not the end of `classname`.
+            let at = if t.starts_with("name=\"") { 0 } else { t.find(" name=\"").unwrap() + 1 };
+            t[at + 6..].split('"').next().unwrap()
+        })
         .collect();
     let mut failed: Vec<String> = failed.iter().map(|s| s.to_string()).collect();
     failed.sort();
