@@ -174,78 +174,89 @@ pub fn csv(models: &[ModelConditioning]) -> String {
 }
 
 /// A log–log plot of relative error against one grid axis, a line per model: the N·V = 1 row
-/// against α, or the α = `NV_COLUMN_ALPHA` column against N·V.
-pub fn svg(models: &[ModelConditioning], against_alpha: bool) -> String {
-    let (w, h, ml, mr, mt, mb) = (760.0, 480.0, 70.0, 230.0, 40.0, 50.0);
-    let (lo_e, hi_e) = (-8.0f64, 2.0f64);
-    let x = |v: f64| ml + (-v.log10() / DECADES as f64) * (w - ml - mr);
-    let y = |e: f64| {
-        let le = if e.is_finite() { e.max(1e-8).log10().min(hi_e) } else { hi_e };
-        h - mb - (le - lo_e) / (hi_e - lo_e) * (h - mt - mb)
-    };
+/// against α, or the α = `NV_COLUMN_ALPHA` column against N·V. Drawn with plotters in decades
+/// (x = −log10 of the axis, so 1 is on the left; y = log10 of the error, clamped to 1e−8…1e2,
+/// non-finite errors at the top) with the tolerance dashed.
+pub fn svg(models: &[ModelConditioning], against_alpha: bool) -> Result<String, Error> {
+    use plotters::prelude::*;
     let axis = if against_alpha { "α (N·V = 1)" } else { "N·V (α = 0.316)" };
-    let mut s = format!("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\" font-family=\"sans-serif\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n");
-    let _ = writeln!(s, "<text x=\"{}\" y=\"22\" font-size=\"15\" text-anchor=\"middle\">GPU f32 vs f64 twin: relative error against {axis}</text>", (w - mr + ml) / 2.0);
-    let _ = writeln!(s, "<line x1=\"{ml}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"black\"/><line x1=\"{ml}\" y1=\"{mt}\" x2=\"{ml}\" y2=\"{}\" stroke=\"black\"/>", h - mb, w - mr, h - mb, h - mb);
-    for d in 0..=DECADES {
-        let v = 10f64.powi(-d);
-        let _ = writeln!(
-            s,
-            "<text x=\"{:.1}\" y=\"{}\" font-size=\"10\" text-anchor=\"middle\">1e-{d}</text>",
-            x(v),
-            h - mb + 14.0
-        );
-    }
-    for e in (lo_e as i32..=hi_e as i32).step_by(2) {
-        let _ = writeln!(
-            s,
-            "<text x=\"{}\" y=\"{:.1}\" font-size=\"10\" text-anchor=\"end\">1e{e}</text>",
-            ml - 6.0,
-            y(10f64.powi(e)) + 3.0
-        );
-    }
-    let tol = y(TOLERANCE);
-    let _ = writeln!(
-        s,
-        "<line x1=\"{ml}\" y1=\"{tol:.1}\" x2=\"{}\" y2=\"{tol:.1}\" stroke=\"#999\" stroke-dasharray=\"4 3\"/>",
-        w - mr
-    );
-    let _ = writeln!(
-        s,
-        "<text x=\"{}\" y=\"{}\" font-size=\"12\" text-anchor=\"middle\">{axis}, log scale</text>",
-        (w - mr + ml) / 2.0,
-        h - 12.0
-    );
-    let palette =
-        ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"];
-    let mut shown = 0;
-    for m in models {
-        let line: Vec<&ConditioningPoint> = m
-            .points
-            .iter()
-            .filter(|p| if against_alpha { p.nv == 1.0 } else { (p.alpha - NV_COLUMN_ALPHA).abs() < 1e-12 })
-            .collect();
-        if line.iter().all(|p| p.relative_error == 0.0) {
-            continue;
+    let fail = |e: &dyn std::fmt::Display| Error::Other(format!("drawing the conditioning plot against {axis}: {e}"));
+    let (lo_e, hi_e) = (-8.0f64, 2.0f64);
+    let decade = |e: f64| if e.is_finite() { e.max(1e-8).log10().min(hi_e) } else { hi_e };
+    let palette = [
+        RGBColor(0x1f, 0x77, 0xb4),
+        RGBColor(0xff, 0x7f, 0x0e),
+        RGBColor(0x2c, 0xa0, 0x2c),
+        RGBColor(0xd6, 0x27, 0x28),
+        RGBColor(0x94, 0x67, 0xbd),
+        RGBColor(0x8c, 0x56, 0x4b),
+        RGBColor(0xe3, 0x77, 0xc2),
+        RGBColor(0x7f, 0x7f, 0x7f),
+        RGBColor(0xbc, 0xbd, 0x22),
+        RGBColor(0x17, 0xbe, 0xcf),
+    ];
+    let mut out = String::new();
+    {
+        let root = SVGBackend::with_string(&mut out, (760, 480)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| fail(&e))?;
+        // The models' names beside the plot, not over it: thirty lines would hide the curves.
+        let (plot, legend) = root.split_horizontally(540);
+        let mut chart = ChartBuilder::on(&plot)
+            .caption(format!("GPU f32 vs f64 twin: relative error against {axis}"), ("sans-serif", 15))
+            .margin(14)
+            .x_label_area_size(42)
+            .y_label_area_size(56)
+            .build_cartesian_2d(0f64..DECADES as f64, lo_e..hi_e)
+            .map_err(|e| fail(&e))?;
+        chart
+            .configure_mesh()
+            .x_desc(format!("{axis}, log scale"))
+            .y_desc("relative error")
+            .x_labels(DECADES as usize + 1)
+            .x_label_formatter(&|d| format!("1e-{}", d.round() as i32))
+            .y_labels(6)
+            .y_label_formatter(&|e| format!("1e{}", e.round() as i32))
+            .light_line_style(WHITE)
+            .draw()
+            .map_err(|e| fail(&e))?;
+        let tolerance = decade(TOLERANCE);
+        chart
+            .draw_series(DashedLineSeries::new(
+                [(0.0, tolerance), (DECADES as f64, tolerance)],
+                4,
+                3,
+                RGBColor(0x99, 0x99, 0x99).into(),
+            ))
+            .map_err(|e| fail(&e))?;
+        let mut shown = 0;
+        for m in models {
+            let line: Vec<&ConditioningPoint> = m
+                .points
+                .iter()
+                .filter(|p| if against_alpha { p.nv == 1.0 } else { (p.alpha - NV_COLUMN_ALPHA).abs() < 1e-12 })
+                .collect();
+            if line.iter().all(|p| p.relative_error == 0.0) {
+                continue;
+            }
+            let colour = palette[shown % palette.len()];
+            let xy =
+                line.iter().map(|p| (-(if against_alpha { p.alpha } else { p.nv }).log10(), decade(p.relative_error)));
+            let series = if (shown / palette.len()) % 2 == 1 {
+                chart.draw_series(DashedLineSeries::new(xy, 5, 2, colour.stroke_width(2)))
+            } else {
+                chart.draw_series(LineSeries::new(xy, colour.stroke_width(2)))
+            };
+            series.map_err(|e| fail(&e))?;
+            let y = 30 + 11 * shown as i32;
+            legend.draw(&PathElement::new([(4, y), (20, y)], colour.stroke_width(2))).map_err(|e| fail(&e))?;
+            legend
+                .draw(&Text::new(m.key.clone(), (24, y - 5), ("sans-serif", 10).into_font().color(&colour)))
+                .map_err(|e| fail(&e))?;
+            shown += 1;
         }
-        let colour = palette[shown % palette.len()];
-        let dash = if (shown / palette.len()) % 2 == 1 { " stroke-dasharray=\"5 2\"" } else { "" };
-        let pts: Vec<String> = line
-            .iter()
-            .map(|p| format!("{:.1},{:.1}", x(if against_alpha { p.alpha } else { p.nv }), y(p.relative_error)))
-            .collect();
-        let _ = writeln!(s, "<polyline points=\"{}\" fill=\"none\" stroke=\"{colour}\" stroke-width=\"1.5\"{dash}><title>{}</title></polyline>", pts.join(" "), m.key);
-        let _ = writeln!(
-            s,
-            "<text x=\"{}\" y=\"{}\" font-size=\"10\" fill=\"{colour}\">{}</text>",
-            w - mr + 10.0,
-            mt + 12.0 * shown as f64,
-            m.key
-        );
-        shown += 1;
+        root.present().map_err(|e| fail(&e))?;
     }
-    s.push_str("</svg>\n");
-    s
+    Ok(out)
 }
 
 /// tables/conditioning.{md,csv} and plots/conditioning_{alpha,nv}.svg under `dir`.
@@ -253,6 +264,6 @@ pub fn write(dir: &std::path::Path, models: &[ModelConditioning], adapter: &str)
     use crate::fsutil::write_atomic;
     write_atomic(&dir.join("tables/conditioning.md"), markdown(models, adapter).as_bytes())?;
     write_atomic(&dir.join("tables/conditioning.csv"), csv(models).as_bytes())?;
-    write_atomic(&dir.join("plots/conditioning_alpha.svg"), svg(models, true).as_bytes())?;
-    write_atomic(&dir.join("plots/conditioning_nv.svg"), svg(models, false).as_bytes())
+    write_atomic(&dir.join("plots/conditioning_alpha.svg"), svg(models, true)?.as_bytes())?;
+    write_atomic(&dir.join("plots/conditioning_nv.svg"), svg(models, false)?.as_bytes())
 }

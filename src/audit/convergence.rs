@@ -400,10 +400,11 @@ pub fn csv(curves: &[Curve]) -> String {
     s
 }
 
-/// Error against milliseconds, log–log, one polyline per curve of the study, each point labelled
-/// with its count, the default ringed.
-pub fn svg(curves: &[&Curve], title: &str) -> String {
-    let (w, h, ml, mr, mt, mb) = (760.0, 480.0, 70.0, 250.0, 40.0, 50.0);
+/// Error against milliseconds, log–log, one line per curve of the study, each point labelled with
+/// its count, the default ringed; drawn with plotters in decades (log10 of both axes).
+pub fn svg(curves: &[&Curve], title: &str) -> Result<String, Error> {
+    use plotters::prelude::*;
+    let fail = |e: &dyn std::fmt::Display| Error::Other(format!("drawing the plot `{title}`: {e}"));
     let pts: Vec<&ConvergencePoint> =
         curves.iter().flat_map(|c| &c.points).filter(|p| p.ms > 0.0 && p.error > 0.0).collect();
     let span = |v: &mut dyn Iterator<Item = f64>| {
@@ -416,71 +417,71 @@ pub fn svg(curves: &[&Curve], title: &str) -> String {
     };
     let (x0, x1) = span(&mut pts.iter().map(|p| p.ms));
     let (y0, y1) = span(&mut pts.iter().map(|p| p.error));
-    let x = |ms: f64| ml + (ms.max(1e-300).log10() - x0) / (x1 - x0) * (w - ml - mr);
-    let y = |e: f64| h - mb - (e.max(1e-300).log10() - y0) / (y1 - y0) * (h - mt - mb);
-    let mut s = format!("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\" font-family=\"sans-serif\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n");
-    let _ = writeln!(
-        s,
-        "<text x=\"{}\" y=\"22\" font-size=\"15\" text-anchor=\"middle\">{title}</text>",
-        (w - mr + ml) / 2.0
-    );
-    let _ = writeln!(s, "<line x1=\"{ml}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"black\"/><line x1=\"{ml}\" y1=\"{mt}\" x2=\"{ml}\" y2=\"{}\" stroke=\"black\"/>", h - mb, w - mr, h - mb, h - mb);
-    for d in x0 as i32..=x1 as i32 {
-        let _ = writeln!(
-            s,
-            "<text x=\"{:.1}\" y=\"{}\" font-size=\"10\" text-anchor=\"middle\">1e{d}</text>",
-            x(10f64.powi(d)),
-            h - mb + 14.0
-        );
-    }
-    for e in y0 as i32..=y1 as i32 {
-        let _ = writeln!(
-            s,
-            "<text x=\"{}\" y=\"{:.1}\" font-size=\"10\" text-anchor=\"end\">1e{e}</text>",
-            ml - 6.0,
-            y(10f64.powi(e)) + 3.0
-        );
-    }
-    let _ = writeln!(
-        s,
-        "<text x=\"{}\" y=\"{}\" font-size=\"12\" text-anchor=\"middle\">milliseconds, log scale</text>",
-        (w - mr + ml) / 2.0,
-        h - 12.0
-    );
-    let _ = writeln!(s, "<text x=\"16\" y=\"{}\" font-size=\"12\" text-anchor=\"middle\" transform=\"rotate(-90 16 {})\">error, log scale</text>", (h - mb + mt) / 2.0, (h - mb + mt) / 2.0);
-    let palette = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2"];
-    for (i, c) in curves.iter().enumerate() {
-        let colour = palette[i % palette.len()];
-        let line: Vec<String> = c
-            .points
-            .iter()
-            .filter(|p| p.ms > 0.0 && p.error > 0.0)
-            .map(|p| format!("{:.1},{:.1}", x(p.ms), y(p.error)))
-            .collect();
-        let _ = writeln!(s, "<polyline points=\"{}\" fill=\"none\" stroke=\"{colour}\" stroke-width=\"1.5\"><title>{}</title></polyline>", line.join(" "), c.name);
-        for p in c.points.iter().filter(|p| p.ms > 0.0 && p.error > 0.0) {
-            let (px, py) = (x(p.ms), y(p.error));
-            let _ = writeln!(s, "<circle cx=\"{px:.1}\" cy=\"{py:.1}\" r=\"2.5\" fill=\"{colour}\"/><text x=\"{:.1}\" y=\"{:.1}\" font-size=\"9\" fill=\"{colour}\">{}</text>", px + 4.0, py - 4.0, p.knob);
-            if p.knob == c.default {
-                let _ = writeln!(s, "<circle cx=\"{px:.1}\" cy=\"{py:.1}\" r=\"6\" fill=\"none\" stroke=\"{colour}\" stroke-width=\"1.5\"><title>default</title></circle>");
-            }
+    let palette = [
+        RGBColor(0x1f, 0x77, 0xb4),
+        RGBColor(0xff, 0x7f, 0x0e),
+        RGBColor(0x2c, 0xa0, 0x2c),
+        RGBColor(0xd6, 0x27, 0x28),
+        RGBColor(0x94, 0x67, 0xbd),
+        RGBColor(0x8c, 0x56, 0x4b),
+        RGBColor(0xe3, 0x77, 0xc2),
+    ];
+    let mut out = String::new();
+    {
+        let root = SVGBackend::with_string(&mut out, (760, 480)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| fail(&e))?;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(title, ("sans-serif", 15))
+            .margin(14)
+            .x_label_area_size(42)
+            .y_label_area_size(56)
+            .build_cartesian_2d(x0..x1, y0..y1)
+            .map_err(|e| fail(&e))?;
+        chart
+            .configure_mesh()
+            .x_desc("milliseconds, log scale")
+            .y_desc("error, log scale")
+            .x_labels((x1 - x0) as usize + 1)
+            .x_label_formatter(&|d| format!("1e{}", d.round() as i32))
+            .y_labels((y1 - y0) as usize + 1)
+            .y_label_formatter(&|e| format!("1e{}", e.round() as i32))
+            .light_line_style(WHITE)
+            .draw()
+            .map_err(|e| fail(&e))?;
+        for (i, c) in curves.iter().enumerate() {
+            let colour = palette[i % palette.len()];
+            let shown: Vec<&ConvergencePoint> = c.points.iter().filter(|p| p.ms > 0.0 && p.error > 0.0).collect();
+            let at = |p: &ConvergencePoint| (p.ms.log10(), p.error.log10());
+            chart
+                .draw_series(LineSeries::new(shown.iter().map(|p| at(p)), colour.stroke_width(2)))
+                .map_err(|e| fail(&e))?
+                .label(c.name.clone())
+                .legend(move |(x, y)| PathElement::new([(x, y), (x + 16, y)], colour.stroke_width(2)));
+            chart
+                .draw_series(shown.iter().map(|p| {
+                    EmptyElement::at(at(p))
+                        + Circle::new((0, 0), 3, colour.filled())
+                        + Text::new(p.knob.to_string(), (4, -12), ("sans-serif", 9).into_font().color(&colour))
+                }))
+                .map_err(|e| fail(&e))?;
+            chart
+                .draw_series(
+                    shown.iter().filter(|p| p.knob == c.default).map(|p| Circle::new(at(p), 6, colour.stroke_width(2))),
+                )
+                .map_err(|e| fail(&e))?;
         }
-        let _ = writeln!(
-            s,
-            "<text x=\"{}\" y=\"{}\" font-size=\"10\" fill=\"{colour}\">{}</text>",
-            w - mr + 10.0,
-            mt + 14.0 * i as f64,
-            c.name
-        );
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .label_font(("sans-serif", 10))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .draw()
+            .map_err(|e| fail(&e))?;
+        root.draw(&Text::new("ringed: the default", (600, 462), ("sans-serif", 10))).map_err(|e| fail(&e))?;
+        root.present().map_err(|e| fail(&e))?;
     }
-    let _ = writeln!(
-        s,
-        "<text x=\"{}\" y=\"{}\" font-size=\"10\">ringed: the default</text>",
-        w - mr + 10.0,
-        mt + 14.0 * curves.len() as f64 + 8.0
-    );
-    s.push_str("</svg>\n");
-    s
+    Ok(out)
 }
 
 /// tables/convergence.{md,csv} and plots/convergence_{fgd,prefilter,furnace}.svg under `dir`.
@@ -493,7 +494,7 @@ pub fn write(dir: &std::path::Path, curves: &[Curve], machine: &str) -> Result<(
         ("furnace", "Furnace albedo: error against time per estimate"),
     ] {
         let of: Vec<&Curve> = curves.iter().filter(|c| c.study == study).collect();
-        write_atomic(&dir.join(format!("plots/convergence_{study}.svg")), svg(&of, title).as_bytes())?;
+        write_atomic(&dir.join(format!("plots/convergence_{study}.svg")), svg(&of, title)?.as_bytes())?;
     }
     Ok(())
 }

@@ -36,70 +36,65 @@ pub fn mark_pareto(points: &mut [Point]) {
     }
 }
 
-fn esc(s: &str) -> String {
-    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
-}
-
-pub fn svg(title: &str, time_label: &str, points: &[Point]) -> String {
-    let (w, h, ml, mr, mt, mb) = (720.0, 460.0, 70.0, 20.0, 40.0, 50.0);
+/// The scatter of `points` (time against FLIP mean) with the Pareto front dashed in red and
+/// labelled, drawn with plotters' SVG backend.
+pub fn svg(title: &str, time_label: &str, points: &[Point]) -> Result<String, Error> {
+    use plotters::prelude::*;
+    let fail = |e: &dyn std::fmt::Display| Error::Other(format!("drawing the plot `{title}`: {e}"));
     let tmax = points.iter().map(|p| p.time_ms).fold(0.0f64, f64::max).max(1e-3) * 1.1;
     let emax = points.iter().map(|p| p.flip).fold(0.0f64, f64::max).max(1e-3) * 1.1;
-    let x = |t: f64| ml + t / tmax * (w - ml - mr);
-    let y = |e: f64| h - mb - e / emax * (h - mt - mb);
-    let mut s = format!("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\" font-family=\"sans-serif\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n");
-    let _ =
-        writeln!(s, "<text x=\"{}\" y=\"22\" font-size=\"15\" text-anchor=\"middle\">{}</text>", w / 2.0, esc(title));
-    let _ = writeln!(s, "<line x1=\"{ml}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"black\"/><line x1=\"{ml}\" y1=\"{mt}\" x2=\"{ml}\" y2=\"{}\" stroke=\"black\"/>", h - mb, w - mr, h - mb, h - mb);
-    for i in 0..=5 {
-        let (tv, ev) = (tmax * i as f64 / 5.0, emax * i as f64 / 5.0);
-        let _ = writeln!(
-            s,
-            "<text x=\"{:.1}\" y=\"{}\" font-size=\"10\" text-anchor=\"middle\">{tv:.1}</text>",
-            x(tv),
-            h - mb + 14.0
-        );
-        let _ = writeln!(
-            s,
-            "<text x=\"{}\" y=\"{:.1}\" font-size=\"10\" text-anchor=\"end\">{ev:.3}</text>",
-            ml - 6.0,
-            y(ev) + 3.0
-        );
-    }
-    let _ = writeln!(
-        s,
-        "<text x=\"{}\" y=\"{}\" font-size=\"12\" text-anchor=\"middle\">{}</text>",
-        w / 2.0,
-        h - 12.0,
-        esc(time_label)
-    );
-    let _ = writeln!(s, "<text x=\"16\" y=\"{}\" font-size=\"12\" text-anchor=\"middle\" transform=\"rotate(-90 16 {})\">FLIP mean against the reference</text>", h / 2.0, h / 2.0);
-    let mut front: Vec<&Point> = points.iter().filter(|p| p.pareto).collect();
-    front.sort_by(|a, b| a.time_ms.total_cmp(&b.time_ms));
-    if front.len() > 1 {
-        let pts: Vec<String> = front.iter().map(|p| format!("{:.1},{:.1}", x(p.time_ms), y(p.flip))).collect();
-        let _ = writeln!(
-            s,
-            "<polyline points=\"{}\" fill=\"none\" stroke=\"#d62728\" stroke-width=\"1.5\" stroke-dasharray=\"4 3\"/>",
-            pts.join(" ")
-        );
-    }
-    for p in points {
-        let colour = if p.pareto { "#d62728" } else { "#1f77b4" };
-        let _ = writeln!(s, "<circle cx=\"{:.1}\" cy=\"{:.1}\" r=\"4\" fill=\"{colour}\"><title>{} — {:.3} ms, FLIP {:.4}</title></circle>", x(p.time_ms), y(p.flip), esc(&p.id), p.time_ms, p.flip);
-        // Labels on the front only: dense clusters would bury them; every point has a hover title.
-        if p.pareto {
-            let _ = writeln!(
-                s,
-                "<text x=\"{:.1}\" y=\"{:.1}\" font-size=\"10\" fill=\"#333\">{}</text>",
-                x(p.time_ms) + 6.0,
-                y(p.flip) - 4.0,
-                esc(&p.label)
-            );
+    let red = RGBColor(0xd6, 0x27, 0x28);
+    let blue = RGBColor(0x1f, 0x77, 0xb4);
+    let mut out = String::new();
+    {
+        let root = SVGBackend::with_string(&mut out, (720, 460)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| fail(&e))?;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(title, ("sans-serif", 16))
+            .margin(14)
+            .x_label_area_size(42)
+            .y_label_area_size(64)
+            .build_cartesian_2d(0f64..tmax, 0f64..emax)
+            .map_err(|e| fail(&e))?;
+        chart
+            .configure_mesh()
+            .x_desc(time_label)
+            .y_desc("FLIP mean against the reference")
+            .light_line_style(WHITE)
+            .draw()
+            .map_err(|e| fail(&e))?;
+        let mut front: Vec<&Point> = points.iter().filter(|p| p.pareto).collect();
+        front.sort_by(|a, b| a.time_ms.total_cmp(&b.time_ms));
+        if front.len() > 1 {
+            chart
+                .draw_series(DashedLineSeries::new(
+                    front.iter().map(|p| (p.time_ms, p.flip)),
+                    4,
+                    3,
+                    red.stroke_width(2),
+                ))
+                .map_err(|e| fail(&e))?;
         }
+        let colour = |p: &Point| if p.pareto { red } else { blue };
+        chart
+            .draw_series(points.iter().map(|p| Circle::new((p.time_ms, p.flip), 4, colour(p).filled())))
+            .map_err(|e| fail(&e))?;
+        // Labels on the front only: dense clusters would bury them; the table lists every point.
+        chart
+            .draw_series(front.iter().map(|p| {
+                EmptyElement::at((p.time_ms, p.flip))
+                    + Text::new(
+                        p.label.clone(),
+                        (6, -12),
+                        ("sans-serif", 10).into_font().color(&RGBColor(0x33, 0x33, 0x33)),
+                    )
+            }))
+            .map_err(|e| fail(&e))?;
+        root.draw(&Text::new("red, labelled: Pareto front", (500, 30), ("sans-serif", 10).into_font().color(&red)))
+            .map_err(|e| fail(&e))?;
+        root.present().map_err(|e| fail(&e))?;
     }
-    let _ = writeln!(s, "<text x=\"{}\" y=\"{}\" font-size=\"10\" fill=\"#d62728\" text-anchor=\"end\">red, labelled: Pareto front (hover a point for its cell)</text>", w - mr, mt - 4.0);
-    s.push_str("</svg>\n");
-    s
+    Ok(out)
 }
 
 /// Build per-composition points; cells without a reference or a time are left out and counted.
@@ -180,7 +175,7 @@ pub fn write(run: &RunData) -> Result<(), Error> {
         }
         write_atomic(
             &run.dir.join("plots").join(format!("error_vs_time_{comp}.svg")),
-            svg(&format!("{comp}: error against run time"), time_label, pts).as_bytes(),
+            svg(&format!("{comp}: error against run time"), time_label, pts)?.as_bytes(),
         )?;
     }
     write_atomic(&run.dir.join("tables/error_vs_time.md"), md.as_bytes())?;
@@ -209,6 +204,7 @@ mod tests {
         mark_pareto(&mut pts);
         let front: Vec<bool> = pts.iter().map(|q| q.pareto).collect();
         assert_eq!(front, vec![true, true, false, true, true]);
-        assert!(svg("t", "ms", &pts).contains("<polyline"));
+        let plot = svg("t <&>", "ms", &pts).unwrap();
+        assert!(plot.starts_with("<svg") && plot.contains("<circle") && plot.contains("t &lt;&amp;&gt;"), "{plot}");
     }
 }
