@@ -219,6 +219,19 @@ fn the_viewer_follows_sliders_pickers_wipe_overlay_and_reads_pixels() {
         serde_json::from_str(&std::fs::read_to_string(run.join("cells").join(&a).join("cell.json")).unwrap()).unwrap();
     assert!(record.metrics.maps.is_some());
 
+    // SSIM of A against B, computed in the page: the value compare::ssim gives for the two PNGs.
+    set(&mut b, "overlay", "ssim_ab");
+    b.wait_for("!!document.getElementById('pair').dataset.ssim");
+    let page_ssim: f64 = b.eval("+document.getElementById('pair').dataset.ssim").as_f64().unwrap();
+    let luma = |id: &str| {
+        let png = image::open(run.join("cells").join(id).join("image.png")).unwrap().to_rgba8();
+        shadematrix::compare::ssim::luma(png.as_raw())
+    };
+    let want = shadematrix::compare::ssim::ssim(&luma(&a), &luma(&bb), 40, 32).unwrap().mean;
+    assert!((page_ssim - want).abs() < 1e-12, "page {page_ssim} vs compare::ssim {want}");
+    assert!(page_ssim < 0.999, "URP and HDRP differ: {page_ssim}");
+    set(&mut b, "overlay", "flip");
+
     // The readout: hover pixel (13, 7) of A; the page reports A's PNG byte and EXR value there.
     let (x, y) = (13u32, 7u32);
     b.eval(&format!(

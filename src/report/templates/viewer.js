@@ -198,6 +198,58 @@
     return { srgb: s, linear: l, text: 'sRGB ' + s.join(' ') + '   linear ' + l.map(function (v) { return v.toPrecision(5); }).join(' ') };
   }
 
+  // SSIM of A against B over the displayed images' luma, exactly as compare::ssim computes it
+  // (scikit-image's Gaussian SSIM: 11 taps, σ = 1.5, scipy's reflect boundary, K1 = 0.01,
+  // K2 = 0.03, the mean over the window-valid region), in the same order of operations.
+  var SSIM_RADIUS = 5;
+  var ssimKernel = (function () {
+    var k = [], sum = 0;
+    for (var i = 0; i <= 2 * SSIM_RADIUS; i++) { var x = i - SSIM_RADIUS; k.push(Math.exp(-0.5 * x * x / (1.5 * 1.5))); }
+    for (i = 0; i < k.length; i++) sum += k[i];
+    return k.map(function (w) { return w / sum; });
+  })();
+  function reflect(i, n) { var p = 2 * n, m = ((i % p) + p) % p; return m < n ? m : p - 1 - m; }
+  function gaussian(src, w, h) {
+    var tmp = new Float64Array(w * h), out = new Float64Array(w * h), x, y, j, acc;
+    for (y = 0; y < h; y++) for (x = 0; x < w; x++) {
+      acc = 0;
+      for (j = 0; j < ssimKernel.length; j++) acc += ssimKernel[j] * src[y * w + reflect(x + j - SSIM_RADIUS, w)];
+      tmp[y * w + x] = acc;
+    }
+    for (y = 0; y < h; y++) for (x = 0; x < w; x++) {
+      acc = 0;
+      for (j = 0; j < ssimKernel.length; j++) acc += ssimKernel[j] * tmp[reflect(y + j - SSIM_RADIUS, h) * w + x];
+      out[y * w + x] = acc;
+    }
+    return out;
+  }
+  function ssim(A, B) {
+    var w = A.width, h = A.height, n = A.n;
+    if (B.width !== w || B.height !== h) return { why: 'A and B differ in size' };
+    if (w < 2 * SSIM_RADIUS + 1 || h < 2 * SSIM_RADIUS + 1) return { why: 'smaller than the 11×11 SSIM window' };
+    var luma = function (P) {
+      var l = new Float64Array(n);
+      for (var i = 0; i < n; i++) l[i] = (0.2126 * P.srgb[i] + 0.7152 * P.srgb[n + i] + 0.0722 * P.srgb[2 * n + i]) / 255;
+      return l;
+    };
+    var a = luma(A), b = luma(B), aa = new Float64Array(n), bb = new Float64Array(n), ab = new Float64Array(n);
+    for (var i = 0; i < n; i++) { aa[i] = a[i] * a[i]; bb[i] = b[i] * b[i]; ab[i] = a[i] * b[i]; }
+    var ux = gaussian(a, w, h), uy = gaussian(b, w, h), uxx = gaussian(aa, w, h), uyy = gaussian(bb, w, h), uxy = gaussian(ab, w, h);
+    var c1 = 0.01 * 0.01, c2 = 0.03 * 0.03, map = new Float64Array(n);
+    for (i = 0; i < n; i++) {
+      var vx = uxx[i] - ux[i] * ux[i], vy = uyy[i] - uy[i] * uy[i], vxy = uxy[i] - ux[i] * uy[i];
+      map[i] = (2 * ux[i] * uy[i] + c1) * (2 * vxy + c2) / ((ux[i] * ux[i] + uy[i] * uy[i] + c1) * (vx + vy + c2));
+    }
+    var sum = 0, count = 0;
+    for (var y = SSIM_RADIUS; y < h - SSIM_RADIUS; y++) for (var x = SSIM_RADIUS; x < w - SSIM_RADIUS; x++) { sum += map[y * w + x]; count++; }
+    return { map: map, mean: sum / count };
+  }
+  // A heat colour for t in [0, 1] (black → red → yellow).
+  function heat(data, p, t) {
+    data[4 * p] = 255 * Math.min(1, 2 * t); data[4 * p + 1] = 255 * Math.max(0, 2 * t - 1);
+    data[4 * p + 2] = 64 * (1 - t); data[4 * p + 3] = 255;
+  }
+
   // ---- the view ----
   var current = { a: null, b: null };
   function img(src, cls) {
@@ -209,7 +261,7 @@
   function overlayFor(i, other) {
     if (state.overlay === 'none' || i === null) return null;
     var c = cells[i], w = c[8][0] * state.zoom, h = c[8][1] * state.zoom;
-    if (state.overlay === 'diff') {
+    if (state.overlay === 'diff' || state.overlay === 'ssim_ab') {
       if (other === null) return null;
       var cv = document.createElement('canvas');
       cv.width = c[8][0]; cv.height = c[8][1]; cv.className = 'over';
@@ -218,13 +270,21 @@
       Promise.all([loadPixels(i), loadPixels(other)]).then(function (pp) {
         var A = pp[0], B = pp[1];
         if (!A || !B || A.n !== B.n) return;
-        var ctx = cv.getContext('2d'), im = ctx.createImageData(A.width, A.height);
-        for (var p = 0; p < A.n; p++) {
-          var d = 0;
-          for (var ch = 0; ch < 3; ch++) d = Math.max(d, Math.abs(A.srgb[ch * A.n + p] - B.srgb[ch * B.n + p]));
-          var t = Math.min(1, d / 64);
-          im.data[4 * p] = 255 * Math.min(1, 2 * t); im.data[4 * p + 1] = 255 * Math.max(0, 2 * t - 1);
-          im.data[4 * p + 2] = 64 * (1 - t); im.data[4 * p + 3] = 255;
+        var ctx = cv.getContext('2d'), im = ctx.createImageData(A.width, A.height), p;
+        var note = $('pair');
+        if (state.overlay === 'ssim_ab') {
+          var r = ssim(A, B);
+          if (!r.map) { note.textContent = 'SSIM of A against B: ' + r.why; return; }
+          for (p = 0; p < A.n; p++) heat(im.data, p, Math.min(1, Math.max(0, 1 - r.map[p])));
+          note.textContent = 'SSIM of A against B (computed here, as compare::ssim): ' + r.mean.toFixed(6);
+          note.dataset.ssim = r.mean;
+        } else {
+          for (p = 0; p < A.n; p++) {
+            var d = 0;
+            for (var ch = 0; ch < 3; ch++) d = Math.max(d, Math.abs(A.srgb[ch * A.n + p] - B.srgb[ch * B.n + p]));
+            heat(im.data, p, Math.min(1, d / 64));
+          }
+          note.textContent = '|A − B| of the displayed sRGB, full colour at a difference of 64';
         }
         ctx.putImageData(im, 0, 0);
       });
@@ -363,7 +423,7 @@
         if (vi >= 0) { state[m[1]][k] = vi; named[m[1]].push(k); }
       } else if (key === 'link') state.link = val === '1';
       else if (key === 'mode' && /^(side|wipe|flicker)$/.test(val)) state.mode = val;
-      else if (key === 'overlay' && /^(none|flip|ssim|diff)$/.test(val)) state.overlay = val;
+      else if (key === 'overlay' && /^(none|flip|ssim|ssim_ab|diff)$/.test(val)) state.overlay = val;
       else if (key === 'opacity') state.opacity = Math.min(1, Math.max(0, +val || 0));
       else if (key === 'zoom') state.zoom = Math.min(8, Math.max(1, Math.round(+val) || 2));
       else if (key === 'wipe') state.wipe = Math.min(1, Math.max(0, +val || 0));
@@ -407,6 +467,7 @@
     $('why-b').textContent = current.b === null ? 'B: ' + rb.why : '';
     var wrap = $('stage-wrap');
     wrap.innerHTML = '';
+    $('pair').textContent = ''; delete $('pair').dataset.ssim;
     if (state.mode === 'side') {
       wrap.appendChild(pane('A', current.a, current.b, ra.why));
       wrap.appendChild(pane('B', current.b, current.a, rb.why));
