@@ -40,12 +40,16 @@ const AXES: [&str; 15] = [
     "params",
 ];
 
+/// The axes chosen with pickers; every other axis gets a slider over its values.
+const PICKED: [&str; 5] = ["composition", "pipeline", "path", "shader", "preset"];
+
 /// The data the page reads.
 #[derive(Debug, Serialize)]
 pub struct ViewerData {
     pub schema: u32,
     pub run: ViewerRun,
-    /// Every axis with its values; `number` axes get sliders, `choice` axes pickers.
+    /// Every axis with its values: `choice` axes get pickers; `number` axes (sorted by value) and
+    /// `ordered` ones (colour, parameter sets, textured: sorted by name) get sliders.
     pub axes: Vec<ViewerAxis>,
     pub cells: Vec<ViewerCell>,
     /// Distinct pass lists (a cell's frame plan names one by index).
@@ -121,7 +125,12 @@ pub fn data(run: &RunData, links: Vec<(String, String)>) -> ViewerData {
         if numeric {
             values.sort_by(|a, b| a.parse::<f64>().unwrap().total_cmp(&b.parse::<f64>().unwrap()));
         }
-        axes.push(ViewerAxis { name: name.into(), kind: if numeric { "number" } else { "choice" }, values });
+        let kind = match (PICKED.contains(&name), numeric) {
+            (true, _) => "choice",
+            (false, true) => "number",
+            (false, false) => "ordered",
+        };
+        axes.push(ViewerAxis { name: name.into(), kind, values });
     }
     let index_of: Vec<BTreeMap<&str, u32>> =
         axes.iter().map(|a| a.values.iter().enumerate().map(|(i, v)| (v.as_str(), i as u32)).collect()).collect();

@@ -79,7 +79,7 @@
   var controls = { a: {}, b: {} };
   function makeControl(side, k) {
     var a = axes[k], el, out = null;
-    if (a.kind === 'number') {
+    if (a.kind !== 'choice') {
       el = document.createElement('input');
       el.type = 'range'; el.min = 0; el.max = a.values.length - 1; el.step = 1;
       out = document.createElement('output');
@@ -94,7 +94,7 @@
     el.addEventListener('input', function () {
       state[side][k] = +el.value;
       snap(side, [k]);
-      if (side === 'a' && state.link && a.kind === 'number') { state.b[k] = state.a[k]; snap('b', [k]); }
+      if (side === 'a' && state.link && a.kind !== 'choice') { state.b[k] = state.a[k]; snap('b', [k]); }
       update();
     });
     controls[side][k] = { el: el, out: out };
@@ -116,7 +116,7 @@
 
   $('link').addEventListener('change', function () {
     state.link = $('link').checked;
-    if (state.link) shown.forEach(function (k) { if (axes[k].kind === 'number') state.b[k] = state.a[k]; });
+    if (state.link) shown.forEach(function (k) { if (axes[k].kind !== 'choice') state.b[k] = state.a[k]; });
     update();
   });
   ['side', 'wipe', 'flicker'].forEach(function (m) {
@@ -452,7 +452,7 @@
         var ctl = controls[side][k];
         ctl.el.value = state[side][k];
         if (ctl.out) ctl.out.textContent = axes[k].values[state[side][k]];
-        ctl.el.disabled = side === 'b' && state.link && axes[k].kind === 'number';
+        ctl.el.disabled = side === 'b' && state.link && axes[k].kind !== 'choice';
       });
     });
     $('link').checked = state.link;
