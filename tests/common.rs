@@ -222,3 +222,33 @@ pub fn run_matrix_with(dir: &Path, body: &str, out: &str, extra: &[&str]) -> Pat
     assert_eq!(code, 0, "{err}");
     out
 }
+
+/// The Chromium binary, or None (with a note) where this machine has none; CI must have one.
+pub fn chromium() -> Option<String> {
+    let found = ["chromium", "chromium-browser", "google-chrome"]
+        .iter()
+        .find(|c| std::process::Command::new(c).arg("--version").output().is_ok())
+        .map(|c| c.to_string());
+    if found.is_none() {
+        assert!(std::env::var("CI").is_err(), "CI must have Chromium: .ci/run installs it");
+        eprintln!("SKIPPED: no Chromium on this machine (apt-get install chromium); CI runs this test");
+    }
+    found
+}
+
+/// Headless Chromium's flags for the page tests: no GPU, no network chatter, a private profile.
+pub fn chromium_flags(profile: &Path) -> Vec<String> {
+    [
+        "--headless",
+        "--no-sandbox",
+        "--disable-gpu",
+        "--disable-background-networking",
+        "--disable-component-update",
+        "--disable-sync",
+        "--no-first-run",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .chain([format!("--user-data-dir={}", profile.display())])
+    .collect()
+}

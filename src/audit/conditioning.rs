@@ -180,21 +180,11 @@ pub fn csv(models: &[ModelConditioning]) -> String {
 pub fn svg(models: &[ModelConditioning], against_alpha: bool) -> Result<String, Error> {
     use plotters::prelude::*;
     let axis = if against_alpha { "α (N·V = 1)" } else { "N·V (α = 0.316)" };
-    let fail = |e: &dyn std::fmt::Display| Error::Other(format!("drawing the conditioning plot against {axis}: {e}"));
+    let what = format!("the conditioning plot against {axis}");
+    let fail = |e: &dyn std::fmt::Display| crate::report::plot_style::failed(&what, e);
     let (lo_e, hi_e) = (-8.0f64, 2.0f64);
     let decade = |e: f64| if e.is_finite() { e.max(1e-8).log10().min(hi_e) } else { hi_e };
-    let palette = [
-        RGBColor(0x1f, 0x77, 0xb4),
-        RGBColor(0xff, 0x7f, 0x0e),
-        RGBColor(0x2c, 0xa0, 0x2c),
-        RGBColor(0xd6, 0x27, 0x28),
-        RGBColor(0x94, 0x67, 0xbd),
-        RGBColor(0x8c, 0x56, 0x4b),
-        RGBColor(0xe3, 0x77, 0xc2),
-        RGBColor(0x7f, 0x7f, 0x7f),
-        RGBColor(0xbc, 0xbd, 0x22),
-        RGBColor(0x17, 0xbe, 0xcf),
-    ];
+    let palette = crate::report::plot_style::PALETTE;
     let mut out = String::new();
     {
         let root = SVGBackend::with_string(&mut out, (760, 480)).into_drawing_area();

@@ -404,7 +404,8 @@ pub fn csv(curves: &[Curve]) -> String {
 /// its count, the default ringed; drawn with plotters in decades (log10 of both axes).
 pub fn svg(curves: &[&Curve], title: &str) -> Result<String, Error> {
     use plotters::prelude::*;
-    let fail = |e: &dyn std::fmt::Display| Error::Other(format!("drawing the plot `{title}`: {e}"));
+    let what = format!("the plot `{title}`");
+    let fail = |e: &dyn std::fmt::Display| crate::report::plot_style::failed(&what, e);
     let pts: Vec<&ConvergencePoint> =
         curves.iter().flat_map(|c| &c.points).filter(|p| p.ms > 0.0 && p.error > 0.0).collect();
     let span = |v: &mut dyn Iterator<Item = f64>| {
@@ -417,15 +418,7 @@ pub fn svg(curves: &[&Curve], title: &str) -> Result<String, Error> {
     };
     let (x0, x1) = span(&mut pts.iter().map(|p| p.ms));
     let (y0, y1) = span(&mut pts.iter().map(|p| p.error));
-    let palette = [
-        RGBColor(0x1f, 0x77, 0xb4),
-        RGBColor(0xff, 0x7f, 0x0e),
-        RGBColor(0x2c, 0xa0, 0x2c),
-        RGBColor(0xd6, 0x27, 0x28),
-        RGBColor(0x94, 0x67, 0xbd),
-        RGBColor(0x8c, 0x56, 0x4b),
-        RGBColor(0xe3, 0x77, 0xc2),
-    ];
+    let palette = &crate::report::plot_style::PALETTE[..7];
     let mut out = String::new();
     {
         let root = SVGBackend::with_string(&mut out, (760, 480)).into_drawing_area();

@@ -40,11 +40,11 @@ pub fn mark_pareto(points: &mut [Point]) {
 /// labelled, drawn with plotters' SVG backend.
 pub fn svg(title: &str, time_label: &str, points: &[Point]) -> Result<String, Error> {
     use plotters::prelude::*;
-    let fail = |e: &dyn std::fmt::Display| Error::Other(format!("drawing the plot `{title}`: {e}"));
+    let what = format!("the plot `{title}`");
+    let fail = |e: &dyn std::fmt::Display| super::plot_style::failed(&what, e);
     let tmax = points.iter().map(|p| p.time_ms).fold(0.0f64, f64::max).max(1e-3) * 1.1;
     let emax = points.iter().map(|p| p.flip).fold(0.0f64, f64::max).max(1e-3) * 1.1;
-    let red = RGBColor(0xd6, 0x27, 0x28);
-    let blue = RGBColor(0x1f, 0x77, 0xb4);
+    let (red, blue) = (super::plot_style::PALETTE[3], super::plot_style::PALETTE[0]);
     let mut out = String::new();
     {
         let root = SVGBackend::with_string(&mut out, (720, 460)).into_drawing_area();

@@ -6,6 +6,7 @@ pub mod error_time;
 pub mod gallery;
 pub mod invariants;
 pub mod perf;
+pub mod plot_style;
 pub mod run_data;
 pub mod sheets;
 pub mod stability;

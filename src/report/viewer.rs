@@ -21,24 +21,8 @@ use crate::record::CellRecord;
 pub const VIEWER_SCHEMA: u32 = 1;
 pub const DATA_FILE: &str = "viewer-data.js";
 
-/// The axes the viewer offers, in the order its controls appear.
-const AXES: [&str; 15] = [
-    "composition",
-    "pipeline",
-    "path",
-    "shader",
-    "preset",
-    "textured",
-    "metallic",
-    "smoothness",
-    "color",
-    "light_intensity",
-    "light_range",
-    "camera_distance",
-    "light_angle",
-    "emission",
-    "params",
-];
+/// The axes the viewer offers, in the order its controls appear: every axis a cell has.
+use crate::spec::sheets::AXES;
 
 /// The axes chosen with pickers; every other axis gets a slider over its values.
 const PICKED: [&str; 5] = ["composition", "pipeline", "path", "shader", "preset"];

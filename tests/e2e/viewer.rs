@@ -28,29 +28,12 @@ impl Drop for Browser {
     }
 }
 
-fn chromium() -> Option<String> {
-    ["chromium", "chromium-browser", "google-chrome"]
-        .iter()
-        .find(|c| Command::new(c).arg("--version").output().is_ok())
-        .map(|c| c.to_string())
-}
-
 impl Browser {
     fn launch(binary: &str) -> Browser {
         let profile = tempfile::tempdir().unwrap();
         let mut child = Command::new(binary)
-            .args([
-                "--headless",
-                "--no-sandbox",
-                "--disable-gpu",
-                "--disable-background-networking",
-                "--disable-component-update",
-                "--disable-sync",
-                "--no-first-run",
-                "--remote-debugging-port=0",
-                "--window-size=1400,1000",
-            ])
-            .arg(format!("--user-data-dir={}", profile.path().display()))
+            .args(crate::common::chromium_flags(profile.path()))
+            .args(["--remote-debugging-port=0", "--window-size=1400,1000"])
             .arg("about:blank")
             .stderr(Stdio::piped())
             .stdout(Stdio::null())
@@ -162,11 +145,7 @@ const MATRIX: &str = "name = \"viewer\"\ncompositions = [\"default\"]\npipelines
 
 #[test]
 fn the_viewer_follows_sliders_pickers_wipe_overlay_and_reads_pixels() {
-    let Some(binary) = chromium() else {
-        assert!(std::env::var("CI").is_err(), "CI must have Chromium: .ci/run installs it");
-        eprintln!("SKIPPED: no Chromium on this machine (apt-get install chromium); CI runs this test");
-        return;
-    };
+    let Some(binary) = crate::common::chromium() else { return };
     let tmp = tempfile::tempdir().unwrap();
     let run = crate::common::run_matrix(tmp.path(), MATRIX, "run");
     for f in ["index.html", "viewer-data.js", "gallery.html"] {
@@ -293,11 +272,7 @@ fn the_viewer_follows_sliders_pickers_wipe_overlay_and_reads_pixels() {
 
 #[test]
 fn a_ten_thousand_cell_run_opens_in_under_two_seconds() {
-    let Some(binary) = chromium() else {
-        assert!(std::env::var("CI").is_err(), "CI must have Chromium: .ci/run installs it");
-        eprintln!("SKIPPED: no Chromium on this machine; CI runs this test");
-        return;
-    };
+    let Some(binary) = crate::common::chromium() else { return };
     use shadematrix::report::viewer::{data_script, page, ViewerAxis, ViewerCell, ViewerData, ViewerRun, DATA_FILE};
     let tmp = tempfile::tempdir().unwrap();
     // 4 compositions × 3 pipelines × 5 shaders × 12 presets × 14 smoothness = 10 080 cells.
