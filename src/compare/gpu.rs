@@ -358,6 +358,14 @@ impl FlipWeights {
     }
 }
 
+/// LDR-FLIP's filters and colour distance at the tool's viewing condition (`compare::flip::PPD`),
+/// for another evaluator of the same passes (the viewer's page): spatial weights per tap (Y, Cx,
+/// Cz₁, Cz₂), feature weights per tap (Gaussian, first, second derivative), and cmax.
+pub fn flip_filters() -> (Vec<[f32; 4]>, Vec<[f32; 3]>, f32) {
+    let w = FlipWeights::new(super::flip::PPD);
+    (w.spatial, w.feature.iter().map(|f| [f[0], f[1], f[2]]).collect(), max_distance())
+}
+
 /// color3::computeMaxDistance: HyAB between the Hunt-adjusted Lab of linear green and blue, ^0.7.
 /// (FLIP's constants as its source spells them, beyond f32's precision.)
 #[allow(clippy::excessive_precision)]

@@ -41,6 +41,30 @@ pub struct ViewerData {
     pub pruned: Vec<crate::cells::PrunedCell>,
     /// The rest of the run: gallery, tables, plots, sheets (paths relative to the run folder).
     pub links: Vec<(String, String)>,
+    /// LDR-FLIP's filters, for FLIP of A against B in the page.
+    pub flip: ViewerFlip,
+}
+
+/// `compare::gpu::flip_filters`: spatial weights (Y, Cx, Cz₁, Cz₂ per tap), feature weights
+/// (Gaussian, first and second derivative per tap), cmax.
+#[derive(Debug, Serialize)]
+pub struct ViewerFlip {
+    pub spatial: Vec<[f32; 4]>,
+    pub feature: Vec<[f32; 3]>,
+    pub cmax: f32,
+}
+
+impl ViewerFlip {
+    pub fn new() -> ViewerFlip {
+        let (spatial, feature, cmax) = crate::compare::gpu::flip_filters();
+        ViewerFlip { spatial, feature, cmax }
+    }
+}
+
+impl Default for ViewerFlip {
+    fn default() -> Self {
+        Self::new()
+    }
 }
 
 #[derive(Debug, Serialize)]
@@ -174,6 +198,7 @@ pub fn data(run: &RunData, links: Vec<(String, String)>) -> ViewerData {
         plans,
         pruned: run.run.pruned.clone(),
         links,
+        flip: ViewerFlip::new(),
     }
 }
 
@@ -227,6 +252,7 @@ mod tests {
             plans: Vec::new(),
             pruned: Vec::new(),
             links: Vec::new(),
+            flip: ViewerFlip::new(),
         };
         assert!(!data_script(&data).unwrap().contains("</script>"));
     }

@@ -209,6 +209,15 @@ fn the_viewer_follows_sliders_pickers_wipe_overlay_and_reads_pixels() {
     let want = shadematrix::compare::ssim::ssim(&luma(&a), &luma(&bb), 40, 32).unwrap().mean;
     assert!((page_ssim - want).abs() < 1e-12, "page {page_ssim} vs compare::ssim {want}");
     assert!(page_ssim < 0.999, "URP and HDRP differ: {page_ssim}");
+    // LDR-FLIP of A against B, computed in the page: within 1e-4 of flip-rs's (which works in f32).
+    set(&mut b, "overlay", "flip_ab");
+    b.wait_for("!!document.getElementById('pair').dataset.flip");
+    let page_flip: f64 = b.eval("+document.getElementById('pair').dataset.flip").as_f64().unwrap();
+    let rgba = |id: &str| image::open(run.join("cells").join(id).join("image.png")).unwrap().to_rgba8().into_raw();
+    let want = shadematrix::compare::flip::ldr(&rgba(&bb), &rgba(&a), 40, 32).unwrap().mean;
+    eprintln!("FLIP of A against B: page {page_flip}, flip-rs {want}");
+    assert!((page_flip - want).abs() < 1e-4, "page {page_flip} vs flip-rs {want}");
+    assert!(page_flip > 0.01, "URP and HDRP differ: {page_flip}");
     set(&mut b, "overlay", "flip");
 
     // The readout: hover pixel (13, 7) of A; the page reports A's PNG byte and EXR value there.
@@ -332,6 +341,7 @@ fn a_ten_thousand_cell_run_opens_in_under_two_seconds() {
         plans: vec![vec!["forward".into()]],
         pruned: Vec::new(),
         links: Vec::new(),
+        flip: shadematrix::report::viewer::ViewerFlip::new(),
     };
     std::fs::write(tmp.path().join(DATA_FILE), data_script(&data).unwrap()).unwrap();
     std::fs::write(tmp.path().join("index.html"), page("synthetic").unwrap()).unwrap();

@@ -244,6 +244,101 @@
     for (var y = SSIM_RADIUS; y < h - SSIM_RADIUS; y++) for (var x = SSIM_RADIUS; x < w - SSIM_RADIUS; x++) { sum += map[y * w + x]; count++; }
     return { map: map, mean: sum / count };
   }
+  // LDR-FLIP of A (test) against B (reference) over the displayed sRGB, the passes of
+  // shaders/metrics/flip.wgsl (a tap-by-tap port of flip-rs) with flip-rs's filters from the run
+  // (compare::gpu::flip_filters), in double precision where flip-rs computes in f32.
+  function clamp01(v) { return v > 0 ? Math.min(v, 1) : 0; }
+  function toXyz(r, g, b) {
+    return [
+      (10135552 / 24577794) * r + (8788810 / 24577794) * g + (4435075 / 24577794) * b,
+      (2613072 / 12288897) * r + (8788810 / 12288897) * g + (887015 / 12288897) * b,
+      (1425312 / 73733382) * r + (8788810 / 73733382) * g + (70074185 / 73733382) * b
+    ];
+  }
+  function labF(v) {
+    var d = 6 / 29;
+    return v > d * d * d ? Math.pow(v, 1 / 3) : (1 / (3 * d * d)) * v + 4 / 29;
+  }
+  function filteredLab(yp, cx, cz) {
+    var y = (yp + 16) / 116, x = (y + cx / 500) * 0.950428545, z = (y - cz / 200) * 1.088900371;
+    var xyz = toXyz(
+      clamp01(3.241003275 * x + -1.537398934 * y + -0.498615861 * z),
+      clamp01(-0.969224334 * x + 1.875930071 * y + 0.041554224 * z),
+      clamp01(0.055639423 * x + -0.204011202 * y + 1.057148933 * z));
+    var fx = labF(xyz[0] * 1.052156925), fy = labF(xyz[1]), fz = labF(xyz[2] * 0.918357670), l = 116 * fy - 16;
+    return [l, 0.01 * l * (500 * (fx - fy)), 0.01 * l * (200 * (fy - fz))];
+  }
+  function flip(T, R) {
+    var F = D.flip, w = R.width, h = R.height, n = R.n;
+    if (T.width !== w || T.height !== h) return { why: 'A and B differ in size' };
+    var rs = (F.spatial.length - 1) / 2, rf = (F.feature.length - 1) / 2, i, x, y, k, c;
+    var clampTo = function (v, size) { return v < 0 ? 0 : (v >= size ? size - 1 : v); };
+    var opponent = [R, T].map(function (P) {
+      var o = new Float64Array(3 * n), lin = function (v) { v = clamp01(v / 255); return v <= 0.04045 ? v / 12.92 : Math.pow((v + 0.055) / 1.055, 2.4); };
+      for (var p = 0; p < n; p++) {
+        var xyz = toXyz(lin(P.srgb[p]), lin(P.srgb[n + p]), lin(P.srgb[2 * n + p]));
+        var X = xyz[0] * 1.052156925, Y = xyz[1], Z = xyz[2] * 0.918357670;
+        o[p] = 116 * Y - 16; o[n + p] = 500 * (X - Y); o[2 * n + p] = 200 * (Y - Z);
+      }
+      return o;
+    });
+    // Colour: the CSF filters, rows then columns, then HyAB^0.7 of the filtered Lab.
+    var inter = [];
+    for (c = 0; c < 8; c++) {
+      var src = opponent[c >> 2], plane = Math.min(c % 4, 2), out = new Float64Array(n);
+      for (i = 0; i < n; i++) {
+        x = i % w; var row = i - x, sum = 0;
+        for (k = -rs; k <= rs; k++) sum += F.spatial[k + rs][c % 4] * src[plane * n + row + clampTo(x + k, w)];
+        out[i] = sum;
+      }
+      inter.push(out);
+    }
+    var cmax = F.cmax, knee = 0.4 * cmax, colour = new Float64Array(n), s = new Float64Array(8);
+    for (i = 0; i < n; i++) {
+      x = i % w; y = (i - x) / w; s.fill(0);
+      for (k = -rs; k <= rs; k++) {
+        var wt = F.spatial[k + rs], j = clampTo(y + k, h) * w + x;
+        for (c = 0; c < 8; c++) s[c] += wt[c % 4] * inter[c][j];
+      }
+      var lr = filteredLab(s[0], s[1], s[2] + s[3]), lt = filteredLab(s[4], s[5], s[6] + s[7]);
+      var da = lr[1] - lt[1], db = lr[2] - lt[2];
+      var d = Math.pow(Math.abs(lr[0] - lt[0]) + Math.sqrt(da * da + db * db), 0.7);
+      colour[i] = d < knee ? d * (0.95 / knee) : 0.95 + ((d - knee) / (cmax - knee)) * (1 - 0.95);
+    }
+    // Features: edges and points of the normalised luminance, rows then columns.
+    var feat = [0, 1].map(function (image) {
+      var dg = new Float64Array(n), ddg = new Float64Array(n), g = new Float64Array(n), o = opponent[image];
+      for (var q = 0; q < n; q++) {
+        var qx = q % w, qrow = q - qx, a = 0, b = 0, e = 0;
+        for (var t = -rf; t <= rf; t++) {
+          var f = F.feature[t + rf], v = o[qrow + clampTo(qx + t, w)] * (1 / 116) + 16 / 116;
+          a += f[1] * v; b += f[2] * v; e += f[0] * v;
+        }
+        dg[q] = a; ddg[q] = b; g[q] = e;
+      }
+      return [dg, ddg, g];
+    });
+    var map = new Float64Array(n), total = 0;
+    for (i = 0; i < n; i++) {
+      x = i % w; y = (i - x) / w; s.fill(0);
+      for (k = -rf; k <= rf; k++) {
+        var fw = F.feature[k + rf], jj = clampTo(y + k, h) * w + x;
+        for (var im = 0; im < 2; im++) {
+          s[im * 4] += fw[0] * feat[im][0][jj];
+          s[im * 4 + 1] += fw[0] * feat[im][1][jj];
+          s[im * 4 + 2] += fw[1] * feat[im][2][jj];
+          s[im * 4 + 3] += fw[2] * feat[im][2][jj];
+        }
+      }
+      var edge = Math.abs(Math.sqrt(s[0] * s[0] + s[2] * s[2]) - Math.sqrt(s[4] * s[4] + s[6] * s[6]));
+      var point = Math.abs(Math.sqrt(s[1] * s[1] + s[3] * s[3]) - Math.sqrt(s[5] * s[5] + s[7] * s[7]));
+      var exponent = 1 - Math.sqrt((1 / Math.sqrt(2)) * Math.max(edge, point));
+      map[i] = exponent !== 0 ? Math.pow(colour[i], exponent) : 1;
+      total += map[i];
+    }
+    return { map: map, mean: total / n };
+  }
+
   // A heat colour for t in [0, 1] (black → red → yellow).
   function heat(data, p, t) {
     data[4 * p] = 255 * Math.min(1, 2 * t); data[4 * p + 1] = 255 * Math.max(0, 2 * t - 1);
@@ -261,7 +356,7 @@
   function overlayFor(i, other) {
     if (state.overlay === 'none' || i === null) return null;
     var c = cells[i], w = c[8][0] * state.zoom, h = c[8][1] * state.zoom;
-    if (state.overlay === 'diff' || state.overlay === 'ssim_ab') {
+    if (state.overlay === 'diff' || state.overlay === 'ssim_ab' || state.overlay === 'flip_ab') {
       if (other === null) return null;
       var cv = document.createElement('canvas');
       cv.width = c[8][0]; cv.height = c[8][1]; cv.className = 'over';
@@ -272,7 +367,13 @@
         if (!A || !B || A.n !== B.n) return;
         var ctx = cv.getContext('2d'), im = ctx.createImageData(A.width, A.height), p;
         var note = $('pair');
-        if (state.overlay === 'ssim_ab') {
+        if (state.overlay === 'flip_ab') {
+          var fl = flip(A, B);
+          if (!fl.map) { note.textContent = 'FLIP of A against B: ' + fl.why; return; }
+          for (p = 0; p < A.n; p++) heat(im.data, p, Math.min(1, Math.max(0, fl.map[p])));
+          note.textContent = 'LDR-FLIP of A against B (computed here, the passes of flip-rs): ' + fl.mean.toFixed(6);
+          note.dataset.flip = fl.mean;
+        } else if (state.overlay === 'ssim_ab') {
           var r = ssim(A, B);
           if (!r.map) { note.textContent = 'SSIM of A against B: ' + r.why; return; }
           for (p = 0; p < A.n; p++) heat(im.data, p, Math.min(1, Math.max(0, 1 - r.map[p])));
@@ -423,7 +524,7 @@
         if (vi >= 0) { state[m[1]][k] = vi; named[m[1]].push(k); }
       } else if (key === 'link') state.link = val === '1';
       else if (key === 'mode' && /^(side|wipe|flicker)$/.test(val)) state.mode = val;
-      else if (key === 'overlay' && /^(none|flip|ssim|ssim_ab|diff)$/.test(val)) state.overlay = val;
+      else if (key === 'overlay' && /^(none|flip|ssim|flip_ab|ssim_ab|diff)$/.test(val)) state.overlay = val;
       else if (key === 'opacity') state.opacity = Math.min(1, Math.max(0, +val || 0));
       else if (key === 'zoom') state.zoom = Math.min(8, Math.max(1, Math.round(+val) || 2));
       else if (key === 'wipe') state.wipe = Math.min(1, Math.max(0, +val || 0));
@@ -467,7 +568,7 @@
     $('why-b').textContent = current.b === null ? 'B: ' + rb.why : '';
     var wrap = $('stage-wrap');
     wrap.innerHTML = '';
-    $('pair').textContent = ''; delete $('pair').dataset.ssim;
+    $('pair').textContent = ''; delete $('pair').dataset.ssim; delete $('pair').dataset.flip;
     if (state.mode === 'side') {
       wrap.appendChild(pane('A', current.a, current.b, ra.why));
       wrap.appendChild(pane('B', current.b, current.a, rb.why));
