@@ -38,6 +38,8 @@ pub struct ViewerData {
     pub cells: Vec<ViewerCell>,
     /// Distinct pass lists (a cell's frame plan names one by index).
     pub plans: Vec<Vec<String>>,
+    /// The names of the timed passes (a cell's per-pass GPU times name them by index).
+    pub pass_kinds: Vec<String>,
     pub pruned: Vec<crate::cells::PrunedCell>,
     /// The rest of the run: gallery, tables, plots, sheets (paths relative to the run folder).
     pub links: Vec<(String, String)>,
@@ -89,7 +91,7 @@ pub struct ViewerAxis {
 /// One cell: id, the index of its value on every axis, the index of the cell it is a twin of and
 /// of the cell it was compared with (−1: none), its means (LDR-FLIP, SSIM, HDR-FLIP; null: not
 /// computed), GPU median ms, its plan's index, flags (1: FLIP/SSIM maps, 2: pixels.js), its size,
-/// and its reference's label when that is not a cell of the run.
+/// its reference's label when that is not a cell of the run, and its other timings.
 #[derive(Debug, Serialize)]
 pub struct ViewerCell(
     pub String,
@@ -102,7 +104,14 @@ pub struct ViewerCell(
     pub u32,
     pub [u32; 2],
     pub Option<String>,
+    pub ViewerTiming,
 );
+
+/// A cell's timings besides the GPU median: CPU wall median (submit to idle) ms, the index of the
+/// cell whose frames it carries (−1: its own; `plan::timing`), and each pass's GPU median ms by
+/// its index in `pass_kinds`.
+#[derive(Debug, Serialize)]
+pub struct ViewerTiming(pub Option<f64>, pub i64, pub Vec<(u32, f64)>);
 
 /// A cell's value on `axis` as the viewer shows it: numbers exactly (the shortest decimal that
 /// reads back to the recorded value), names as recorded.
@@ -145,6 +154,7 @@ pub fn data(run: &RunData, links: Vec<(String, String)>) -> ViewerData {
     let position: BTreeMap<&str, i64> =
         run.cells.iter().enumerate().map(|(i, c)| (c.id.0.as_str(), i as i64)).collect();
     let mut plans: Vec<Vec<String>> = Vec::new();
+    let mut pass_kinds: Vec<String> = Vec::new();
     let mut cells = Vec::with_capacity(run.cells.len());
     for c in &run.cells {
         let values = AXES.iter().enumerate().map(|(k, a)| index_of[k][value(c, a).as_str()]).collect();
@@ -167,6 +177,27 @@ pub fn data(run: &RunData, links: Vec<(String, String)>) -> ViewerData {
         let maps = c.metrics.maps.is_some() as u32;
         let pixels = (run.cell_dir(&c.id.0).join(crate::images::pixels::PIXELS_FILE).is_file() as u32) << 1;
         let round = |v: Option<f64>| v.map(|x| (x * 1e6).round() / 1e6);
+        let passes = c
+            .timing
+            .gpu_passes
+            .value()
+            .map(|ps| {
+                ps.iter()
+                    .filter_map(|p| {
+                        let kind = match pass_kinds.iter().position(|k| *k == p.kind) {
+                            Some(i) => i,
+                            None => {
+                                pass_kinds.push(p.kind.clone());
+                                pass_kinds.len() - 1
+                            }
+                        } as u32;
+                        round(p.median_ms).map(|ms| (kind, ms))
+                    })
+                    .collect()
+            })
+            .unwrap_or_default();
+        let timed_as = c.timing.timed_as.as_ref().and_then(|t| position.get(t.0.as_str()).copied()).unwrap_or(-1);
+        let timing = ViewerTiming(round(c.timing.cpu_wall.median_ms), timed_as, passes);
         cells.push(ViewerCell(
             c.id.0.clone(),
             values,
@@ -178,6 +209,7 @@ pub fn data(run: &RunData, links: Vec<(String, String)>) -> ViewerData {
             maps | pixels,
             [c.image.width, c.image.height],
             reference_label,
+            timing,
         ));
     }
     let counts = &run.run.counts;
@@ -196,6 +228,7 @@ pub fn data(run: &RunData, links: Vec<(String, String)>) -> ViewerData {
         axes,
         cells,
         plans,
+        pass_kinds,
         pruned: run.run.pruned.clone(),
         links,
         flip: ViewerFlip::new(),
@@ -250,6 +283,7 @@ mod tests {
             axes: Vec::new(),
             cells: Vec::new(),
             plans: Vec::new(),
+            pass_kinds: Vec::new(),
             pruned: Vec::new(),
             links: Vec::new(),
             flip: ViewerFlip::new(),

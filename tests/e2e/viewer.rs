@@ -181,6 +181,12 @@ fn the_viewer_follows_sliders_pickers_wipe_overlay_and_reads_pixels() {
     let (a, bb) = (id("urp", "gold", "0.80"), id("hdrp", "gold", "0.80"));
     assert_eq!(shown(&mut b), (a.clone(), bb.clone()));
 
+    // The record beside: axes, metrics, timings (CPU wall, GPU per pass) and the frame plan.
+    let record_text = b.eval("document.getElementById('record').textContent").as_str().unwrap().to_string();
+    for part in ["smoothness = 0.8", "FLIP", "CPU wall median", "GPU per pass: ", "passes: "] {
+        assert!(record_text.contains(part), "{part} missing from the record:\n{record_text}");
+    }
+
     // The wipe: B's image clipped over A's, with a divider.
     b.eval("document.getElementById('mode-wipe').click(), true");
     assert_eq!(b.eval("!!document.getElementById('divider')"), json!(true));
@@ -282,7 +288,9 @@ fn the_viewer_follows_sliders_pickers_wipe_overlay_and_reads_pixels() {
 #[test]
 fn a_ten_thousand_cell_run_opens_in_under_two_seconds() {
     let Some(binary) = crate::common::chromium() else { return };
-    use shadematrix::report::viewer::{data_script, page, ViewerAxis, ViewerCell, ViewerData, ViewerRun, DATA_FILE};
+    use shadematrix::report::viewer::{
+        data_script, page, ViewerAxis, ViewerCell, ViewerData, ViewerRun, ViewerTiming, DATA_FILE,
+    };
     let tmp = tempfile::tempdir().unwrap();
     // 4 compositions × 3 pipelines × 5 shaders × 12 presets × 14 smoothness = 10 080 cells.
     let names = |prefix: &str, n: usize| (0..n).map(|i| format!("{prefix}{i}")).collect::<Vec<_>>();
@@ -311,6 +319,7 @@ fn a_ten_thousand_cell_run_opens_in_under_two_seconds() {
                             0,
                             [8, 8],
                             None,
+                            ViewerTiming(Some(1.2), -1, vec![(0, 1.0)]),
                         ));
                     }
                 }
@@ -339,6 +348,7 @@ fn a_ten_thousand_cell_run_opens_in_under_two_seconds() {
         axes: axes.into_iter().map(|(n, k, values)| ViewerAxis { name: n.into(), kind: k, values }).collect(),
         cells,
         plans: vec![vec!["forward".into()]],
+        pass_kinds: vec!["forward".into()],
         pruned: Vec::new(),
         links: Vec::new(),
         flip: shadematrix::report::viewer::ViewerFlip::new(),

@@ -460,7 +460,10 @@
     shown.concat([]).forEach(function (k) { lines.push('  ' + axes[k].name + ' = ' + axes[k].values[c[1][k]]); });
     if (c[2] >= 0) lines.push('  twin of ' + cells[c[2]][0] + ' (the shader ignores the axes they differ in; images copied)');
     lines.push('  ' + metricsText(i));
-    lines.push('  GPU median ' + (c[5] === null ? '—' : c[5].toFixed(3) + ' ms') + ' · ' + c[8][0] + '×' + c[8][1]);
+    var t = c[10], ms = function (v) { return v === null ? '—' : v.toFixed(3) + ' ms'; };
+    lines.push('  GPU median ' + ms(c[5]) + ' · CPU wall median ' + ms(t[0]) + ' · ' + c[8][0] + '×' + c[8][1]);
+    if (t[2].length) lines.push('  GPU per pass: ' + t[2].map(function (p) { return D.pass_kinds[p[0]] + ' ' + p[1].toFixed(3); }).join(', ') + ' ms');
+    if (t[1] >= 0) lines.push('  timings of ' + cells[t[1]][0] + ' (same timing class; this cell rendered one untimed frame)');
     lines.push('  passes: ' + D.plans[c[6]].join(' → '));
     return lines.join('\n');
   }
