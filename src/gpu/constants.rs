@@ -8,18 +8,22 @@
 //! A sweep changes those values in every cell, so on lavapipe each cell compiled fresh variants:
 //! measured with a breakpoint on `LLVMModuleCreateWithNameInContext`, 6 LLVM modules per cell
 //! sweeping smoothness and 30 per cell sweeping light intensity, which grew the process by about
-//! 0.9 MB per cell and made a 256² frame cost hundreds of milliseconds instead of ~30. Loads from
+//! 0.9 MB per cell and took `bench.toml`'s render stage from 45.5 s to 101.5 s. Loads from
 //! storage buffers are never inlined. WGSL lays a struct out the same in both address spaces, so the
 //! shaders change only in the `var<uniform>` declarations, and the values the shaders read are the
 //! same. Hardware adapters keep uniform buffers, as the engines use constant buffers.
 
 use std::borrow::Cow;
 
-/// The address space of the passes' constant buffers.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// The address space of the passes' constant buffers, recorded with the adapter in run.json.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 pub enum ConstantSpace {
+    /// Records written before the choice existed used uniform buffers.
+    #[default]
+    #[serde(rename = "uniform")]
     Uniform,
     /// Read-only storage: on lavapipe (Vulkan on a CPU), where uniform values would be inlined.
+    #[serde(rename = "storage")]
     ReadOnlyStorage,
 }
 
@@ -29,14 +33,6 @@ impl ConstantSpace {
             ConstantSpace::ReadOnlyStorage
         } else {
             ConstantSpace::Uniform
-        }
-    }
-
-    /// The name recorded with the adapter and accepted by SHADEMATRIX_CONSTANTS.
-    pub fn name(self) -> &'static str {
-        match self {
-            ConstantSpace::Uniform => "uniform",
-            ConstantSpace::ReadOnlyStorage => "storage",
         }
     }
 

@@ -17,13 +17,9 @@ pub struct AdapterRecord {
     pub vendor: u32,
     pub device: u32,
     pub timestamp_queries: bool,
-    /// Where the passes' constants lived (gpu::constants): "uniform" or "storage".
-    #[serde(default = "uniform_space")]
-    pub constants: String,
-}
-
-fn uniform_space() -> String {
-    "uniform".to_string()
+    /// Where the passes' constants lived (gpu::constants).
+    #[serde(default)]
+    pub constants: ConstantSpace,
 }
 
 /// The constant space for `info`: gpu::constants' choice, or SHADEMATRIX_CONSTANTS=uniform|storage.
@@ -144,7 +140,7 @@ impl GpuContext {
             vendor: info.vendor,
             device: info.device,
             timestamp_queries: timestamp,
-            constants: constants.name().to_string(),
+            constants,
         };
         Ok(GpuContext { adapter, device, queue, record, constants, uncaptured })
     }

@@ -129,6 +129,17 @@ fn value(c: &CellRecord, axis: &str) -> String {
     }
 }
 
+/// The index of `value` in `table`, added at the end the first time it is seen.
+fn intern<T: PartialEq + Clone>(table: &mut Vec<T>, value: &T) -> u32 {
+    match table.iter().position(|t| t == value) {
+        Some(i) => i as u32,
+        None => {
+            table.push(value.clone());
+            table.len() as u32 - 1
+        }
+    }
+}
+
 pub fn data(run: &RunData, links: Vec<(String, String)>) -> ViewerData {
     let mut axes = Vec::new();
     for name in AXES {
@@ -167,13 +178,7 @@ pub fn data(run: &RunData, links: Vec<(String, String)>) -> ViewerData {
             Some(other) => (-1, Some(other.label())),
             None => (-1, None),
         };
-        let plan = match plans.iter().position(|p| *p == c.passes) {
-            Some(i) => i,
-            None => {
-                plans.push(c.passes.clone());
-                plans.len() - 1
-            }
-        } as u32;
+        let plan = intern(&mut plans, &c.passes);
         let maps = c.metrics.maps.is_some() as u32;
         let pixels = (run.cell_dir(&c.id.0).join(crate::images::pixels::PIXELS_FILE).is_file() as u32) << 1;
         let round = |v: Option<f64>| v.map(|x| (x * 1e6).round() / 1e6);
@@ -182,18 +187,7 @@ pub fn data(run: &RunData, links: Vec<(String, String)>) -> ViewerData {
             .gpu_passes
             .value()
             .map(|ps| {
-                ps.iter()
-                    .filter_map(|p| {
-                        let kind = match pass_kinds.iter().position(|k| *k == p.kind) {
-                            Some(i) => i,
-                            None => {
-                                pass_kinds.push(p.kind.clone());
-                                pass_kinds.len() - 1
-                            }
-                        } as u32;
-                        round(p.median_ms).map(|ms| (kind, ms))
-                    })
-                    .collect()
+                ps.iter().filter_map(|p| round(p.median_ms).map(|ms| (intern(&mut pass_kinds, &p.kind), ms))).collect()
             })
             .unwrap_or_default();
         let timed_as = c.timing.timed_as.as_ref().and_then(|t| position.get(t.0.as_str()).copied()).unwrap_or(-1);

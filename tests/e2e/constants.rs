@@ -18,7 +18,10 @@ fn storage_and_uniform_constants_render_the_same_bytes() {
     let tmp = tempfile::tempdir().unwrap();
     let (storage, s) = run(tmp.path(), "storage", "storage");
     let (uniform, u) = run(tmp.path(), "uniform", "uniform");
-    assert_eq!((s.adapter.constants.as_str(), u.adapter.constants.as_str()), ("storage", "uniform"));
+    use shadematrix::gpu::ConstantSpace;
+    assert_eq!((s.adapter.constants, u.adapter.constants), (ConstantSpace::ReadOnlyStorage, ConstantSpace::Uniform));
+    let json = std::fs::read_to_string(storage.join("run.json")).unwrap();
+    assert!(json.contains("\"constants\": \"storage\""), "run.json names the space: {json}");
     let mut compared = 0;
     for e in std::fs::read_dir(storage.join("cells")).unwrap() {
         let id = e.unwrap().file_name();

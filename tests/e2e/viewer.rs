@@ -229,7 +229,7 @@ fn the_viewer_follows_sliders_pickers_wipe_overlay_and_reads_pixels() {
     // The readout: hover pixel (13, 7) of A; the page reports A's PNG byte and EXR value there.
     let (x, y) = (13u32, 7u32);
     b.eval(&format!(
-        "(function(){{var s=document.querySelector('#stage-wrap .stage'); var r=s.getBoundingClientRect(); var z={{}}; z=+document.getElementById('zoom').value; s.dispatchEvent(new MouseEvent('mousemove', {{clientX: r.left + ({x} + 0.5) * z, clientY: r.top + ({y} + 0.5) * z, bubbles: true}})); return true;}})()"
+        "(function(){{var s=document.querySelector('#stage-wrap .stage'); var r=s.getBoundingClientRect(); var z=+document.getElementById('zoom').value; s.dispatchEvent(new MouseEvent('mousemove', {{clientX: r.left + ({x} + 0.5) * z, clientY: r.top + ({y} + 0.5) * z, bubbles: true}})); return true;}})()"
     ));
     b.wait_for(&format!(
         "document.getElementById('readout').dataset.px === '{x},{y}' && !!document.getElementById('readout').dataset.aLinear"

@@ -457,7 +457,7 @@
   function recordText(label, i, why) {
     if (i === null) return label + ': ' + why;
     var c = cells[i], lines = [label + ': ' + c[0]];
-    shown.concat([]).forEach(function (k) { lines.push('  ' + axes[k].name + ' = ' + axes[k].values[c[1][k]]); });
+    shown.forEach(function (k) { lines.push('  ' + axes[k].name + ' = ' + axes[k].values[c[1][k]]); });
     if (c[2] >= 0) lines.push('  twin of ' + cells[c[2]][0] + ' (the shader ignores the axes they differ in; images copied)');
     lines.push('  ' + metricsText(i));
     var t = c[10], ms = function (v) { return v === null ? '—' : v.toFixed(3) + ' ms'; };
@@ -468,6 +468,12 @@
     return lines.join('\n');
   }
 
+  // One decoded image per cell for the magnifier: a mouse move redraws, it does not reload.
+  var magnifiedImages = new Map();
+  function magnified(i) {
+    if (!magnifiedImages.has(i)) { var im = new Image(); im.src = cellDir(i) + '/image.png'; magnifiedImages.set(i, im); }
+    return magnifiedImages.get(i);
+  }
   function readout() {
     var out = $('readout');
     if (!state.px) { out.textContent = 'hover the image to read a pixel'; return; }
@@ -477,12 +483,11 @@
       ctx.imageSmoothingEnabled = false;
       ctx.fillStyle = '#000'; ctx.fillRect(0, 0, cv.width, cv.height);
       if (i === null) return;
-      var im = new Image();
-      im.onload = function () {
+      var im = magnified(i), draw = function () {
         ctx.drawImage(im, x - 5, y - 5, 11, 11, 0, 0, 165, 165);
         ctx.strokeStyle = '#ffcc33'; ctx.strokeRect(75, 75, 15, 15);
       };
-      im.src = cellDir(i) + '/image.png';
+      if (im.complete && im.naturalWidth) draw(); else im.addEventListener('load', draw, { once: true });
     });
     var token = (readout.token = (readout.token || 0) + 1);
     Promise.all([current.a === null ? null : loadPixels(current.a), current.b === null ? null : loadPixels(current.b)])
