@@ -20,7 +20,10 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), Error> {
         let _ = std::fs::remove_file(&tmp);
         return Err(Error::io_path("writing", path, e));
     }
-    std::fs::rename(&tmp, path).map_err(|e| Error::io_path("renaming into place", path, e))
+    std::fs::rename(&tmp, path).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        Error::io_path("renaming into place", path, e)
+    })
 }
 
 pub fn write_json<T: serde::Serialize>(path: &Path, value: &T) -> Result<(), Error> {

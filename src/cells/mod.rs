@@ -157,6 +157,48 @@ fn opt_list<T: Copy>(v: &[T]) -> Vec<Option<T>> {
     }
 }
 
+/// The most cells a run expands unless `--max-cells` says otherwise: the thesis is 7 200; a
+/// million 256² cells is some 200 GB of results.
+pub const DEFAULT_MAX_CELLS: u64 = 1_000_000;
+
+/// The size of the product before anything is expanded: each axis's count and their product
+/// (before pruning and filters, so an upper bound), refused above `limit`. A typo such as a
+/// 10⁹-cell matrix once allocated until the machine died.
+pub fn check_size(m: &Matrix, limit: u64) -> Result<u128, crate::error::InputError> {
+    let n = |len: usize| len.max(1) as u128;
+    let s = &m.sweep;
+    let mut axes: Vec<(String, u128)> = vec![
+        ("compositions".into(), n(m.compositions.len())),
+        ("pipelines".into(), n(m.pipelines.len())),
+        ("paths".into(), n(m.paths.len())),
+        ("shaders".into(), n(m.shaders.len())),
+        ("presets".into(), n(m.presets.len())),
+        ("sweep.metallic".into(), n(s.metallic.len())),
+        ("sweep.smoothness".into(), n(s.smoothness.len())),
+        ("sweep.color".into(), n(s.color.len())),
+        ("sweep.light_intensity".into(), n(s.light_intensity.len())),
+        ("sweep.light_range".into(), n(s.light_range.len())),
+        ("sweep.camera_distance".into(), n(s.camera_distance.len())),
+        ("sweep.light_angle".into(), n(s.light_angle.len())),
+        ("sweep.textured".into(), n(s.textured.len())),
+        ("sweep.emission".into(), n(s.emission.len())),
+    ];
+    axes.extend(s.params.iter().map(|(k, v)| (format!("sweep.params.{k}"), n(v.len()))));
+    let product = axes.iter().fold(1u128, |p, (_, c)| p.saturating_mul(*c));
+    if product > limit as u128 {
+        let counts: Vec<String> = axes.iter().filter(|(_, c)| *c > 1).map(|(a, c)| format!("{a} {c}")).collect();
+        return Err(crate::error::InputError::new(
+            m.origin.clone(),
+            format!(
+                "the matrix expands to up to {product} cells ({}), above the limit of {limit}; narrow the \
+                 sweep, or raise the limit with --max-cells N",
+                counts.join(" × ")
+            ),
+        ));
+    }
+    Ok(product)
+}
+
 pub fn expand(m: &Matrix) -> Expansion {
     let textured_values: Vec<bool> = if m.sweep.textured.is_empty() { vec![false] } else { m.sweep.textured.clone() };
     // The subject's surface variants: flat or textured × each emission.
@@ -356,14 +398,14 @@ fn material(
 pub fn cell_id(c: &Cell) -> CellId {
     let m = &c.material;
     let mut id = format!(
-        "{}__{}-{}__{}__{}__m{:.2}_s{:.2}",
+        "{}__{}-{}__{}__{}__m{}_s{}",
         c.composition,
         c.pipeline.name(),
         c.path.name(),
         c.shader,
         c.preset,
-        m.metallic,
-        m.smoothness
+        id_number(m.metallic, 2, false),
+        id_number(m.smoothness, 2, false)
     );
     if m.slider_color_srgb.is_some() {
         id.push_str(&format!("_c{}", color_code(m.slider_color_srgb)));
@@ -387,11 +429,25 @@ pub fn cell_id(c: &Cell) -> CellId {
     CellId(id)
 }
 
-/// 1 → "1", 2.5 → "2.5", 0.125 → "0.125": readable and unambiguous in ids.
+/// 1 → "1", 2.5 → "2.5", 0.125 → "0.125", 1.00001 → "1.00001": readable and exact in ids.
 fn short_number(v: f64) -> String {
-    let s = format!("{v:.4}");
-    let s = s.trim_end_matches('0').trim_end_matches('.');
-    s.to_string()
+    id_number(v, 4, true)
+}
+
+/// `v` in an id: with `decimals` places (trailing zeros trimmed when `trim`) where that reads back
+/// as exactly `v`, else its shortest round-trip form (`0.999`, `1e-5`). Two different values
+/// never share a string, so two cells never share an id: a fixed rounding made smoothness 0.999
+/// and 1 one cell, and the stiff ends a stability sweep exists for were never rendered.
+pub fn id_number(v: f64, decimals: usize, trim: bool) -> String {
+    let v = if v == 0.0 { 0.0 } else { v }; // -0 renders as 0: one cell, one id
+    let fixed = format!("{v:.decimals$}");
+    let fixed = if trim { fixed.trim_end_matches('0').trim_end_matches('.').to_string() } else { fixed };
+    if fixed.parse::<f64>() == Ok(v) {
+        return fixed;
+    }
+    // Debug is Rust's shortest round-trip form, switching to exponents for tiny and huge values.
+    let exact = format!("{v:?}");
+    exact.strip_suffix(".0").map(str::to_string).unwrap_or(exact)
 }
 
 /// The id of the cell `c` is compared against under a cell reference: `c` with the named axes

@@ -42,7 +42,7 @@ fn direction(key: &str, text: &str) -> Result<DVec3, InputError> {
 }
 
 pub fn print(req: &BrdfRequest, json_out: bool, models: &super::ModelsArg) -> Result<(), Error> {
-    println!("{}", evaluate_request(req, json_out, &*super::registry(models)?)?);
+    super::outln!("{}", evaluate_request(req, json_out, &*super::registry(models)?)?);
     Ok(())
 }
 

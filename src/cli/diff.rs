@@ -21,13 +21,13 @@ pub fn diff(a: &Path, b: &Path, json: bool, out: Option<&Path>, per_channel: boo
         png("ssim.png", &c.ssim_map_rgba8)?;
     }
     if json {
-        println!("{}", serde_json::to_string_pretty(&c).unwrap_or_default());
+        super::outln!("{}", serde_json::to_string_pretty(&c).unwrap_or_default());
     } else {
         let show = |m: &Metric| match m {
             Metric::Value { mean } => format!("{mean:.6}"),
             Metric::Missing { missing } => format!("missing ({missing})"),
         };
-        println!(
+        super::outln!(
             "{}×{}: {}-FLIP mean {}, SSIM mean {}, RMSE {:.6}, PSNR {}",
             c.width,
             c.height,

@@ -96,7 +96,7 @@ pub fn export_mesh(composition: &str, out: &Path, subject: SubjectMaterial) -> R
     crate::fsutil::write_atomic(out, &bytes)?;
     let tris: usize = meshes.iter().map(|(_, m)| m.triangle_count()).sum();
     let textured = parts.iter().filter(|p| p.textures.is_some()).count();
-    println!(
+    super::outln!(
         "wrote {} ({} objects, {} triangles, {} textured material{})",
         out.display(),
         meshes.len(),

@@ -11,8 +11,10 @@ use crate::plan::lights::{assign, LightMode};
 use crate::plan::FramePlan;
 use crate::spec::matrix::Matrix;
 
-pub fn list(matrix: Option<&Path>, models: &ModelsArg) -> Result<(), Error> {
-    print_out(&text(&load_matrix(matrix, registry_for(models, matrix)?)?));
+pub fn list(matrix: Option<&Path>, limit: super::CellLimit, models: &ModelsArg) -> Result<(), Error> {
+    let m = load_matrix(matrix, registry_for(models, matrix)?)?;
+    crate::cells::check_size(&m, limit.max_cells)?;
+    print_out(&text(&m));
     Ok(())
 }
 

@@ -27,6 +27,20 @@ pub struct ModelsArg {
     pub models: Option<PathBuf>,
 }
 
+/// How many cells a matrix may expand to before anything is expanded.
+#[derive(clap::Args, Debug, Clone, Copy)]
+pub struct CellLimit {
+    /// Refuse a matrix whose product of axes exceeds N cells (default 1000000).
+    #[arg(long = "max-cells", value_name = "N", default_value_t = crate::cells::DEFAULT_MAX_CELLS)]
+    pub max_cells: u64,
+}
+
+impl Default for CellLimit {
+    fn default() -> Self {
+        CellLimit { max_cells: crate::cells::DEFAULT_MAX_CELLS }
+    }
+}
+
 #[derive(Parser)]
 #[command(
     name = "shadematrix",
@@ -74,6 +88,8 @@ pub enum Command {
         #[arg(long)]
         retime: bool,
         #[command(flatten)]
+        limit: CellLimit,
+        #[command(flatten)]
         models: ModelsArg,
     },
     /// Run a matrix and report cells/s, time per stage, stage overlap and peak memory
@@ -85,11 +101,15 @@ pub enum Command {
         #[arg(long)]
         out: Option<PathBuf>,
         #[command(flatten)]
+        limit: CellLimit,
+        #[command(flatten)]
         models: ModelsArg,
     },
     /// List the expanded cells, the pruned ones and the passes each composition needs.
     List {
         matrix: Option<PathBuf>,
+        #[command(flatten)]
+        limit: CellLimit,
         #[command(flatten)]
         models: ModelsArg,
     },
@@ -210,6 +230,7 @@ impl Default for Command {
             cache: None,
             no_cache: false,
             retime: false,
+            limit: CellLimit::default(),
             models: ModelsArg::default(),
         }
     }
@@ -217,7 +238,7 @@ impl Default for Command {
 
 pub fn dispatch(cmd: Command) -> Result<(), Error> {
     match cmd {
-        Command::Run { matrix, out, resume, shard, only, fail_on, cache, no_cache, retime, models } => {
+        Command::Run { matrix, out, resume, shard, only, fail_on, cache, no_cache, retime, limit, models } => {
             let fail_on = runs::parse_fail_on(&fail_on)?;
             let cache = if no_cache {
                 runs::CacheChoice::Off
@@ -232,11 +253,12 @@ pub fn dispatch(cmd: Command) -> Result<(), Error> {
                 fail_on: &fail_on,
                 cache,
                 retime,
+                max_cells: limit.max_cells,
             };
             runs::run(matrix.as_deref(), opts, &models)
         }
-        Command::Bench { matrix, out, models } => runs::bench(matrix.as_deref(), out, &models),
-        Command::List { matrix, models } => list::list(matrix.as_deref(), &models),
+        Command::Bench { matrix, out, limit, models } => runs::bench(matrix.as_deref(), out, limit, &models),
+        Command::List { matrix, limit, models } => list::list(matrix.as_deref(), limit, &models),
         Command::Shaders { models } => shaders::print(&models),
         Command::Brdf { pipeline, shader, params, n, l, v, gpu, json, models } => {
             let req = brdf::BrdfRequest { pipeline, shader, params, n, l, v, gpu };
@@ -268,6 +290,11 @@ pub fn load_matrix(path: Option<&Path>, registry: Arc<Registry>) -> Result<Matri
 
 /// The models of this command: the built-in ones and those of `--models DIR`, else ./shaders/brdf.
 pub fn registry(models: &ModelsArg) -> Result<Arc<Registry>, Error> {
+    // A folder named on purpose must exist; the default one may be absent.
+    if let Some(dir) = models.models.as_ref().filter(|d| !d.is_dir()) {
+        let why = format!("`{}` is not a folder (a folder of NAME.wgsl with NAME.toml beside each)", dir.display());
+        return Err(crate::error::InputError::at_key("command line", "--models", why).into());
+    }
     let dir = models.models.clone().unwrap_or_else(|| PathBuf::from(crate::shading::user::USER_MODEL_DIR));
     Ok(Arc::new(Registry::with_user_models(&dir)?))
 }
@@ -288,7 +315,26 @@ pub fn registry_for(models: &ModelsArg, matrix: Option<&Path>) -> Result<Arc<Reg
     registry(&ModelsArg { models: from_matrix.or_else(|| models.models.clone()) })
 }
 
-/// Print to stdout; a closed pipe (`| head`) is not an error of ours.
+/// Print to stdout. A closed pipe (`| head`) ends the process quietly with exit 0, as ripgrep
+/// does: the reader has what it wanted. Any other write error is reported (exit 1), not ignored
+/// and not a panic (`println!` panics, exit 101).
 pub fn print_out(text: &str) {
-    let _ = std::io::Write::write_all(&mut std::io::stdout(), text.as_bytes());
+    let mut out = std::io::stdout().lock();
+    let written = std::io::Write::write_all(&mut out, text.as_bytes()).and_then(|()| std::io::Write::flush(&mut out));
+    match written {
+        Ok(()) => {}
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => std::process::exit(0),
+        Err(e) => {
+            eprintln!("shadematrix: writing to standard output: {e}");
+            std::process::exit(crate::error::exit::FAILURE.into());
+        }
+    }
 }
+
+/// `println!` through `print_out`.
+macro_rules! outln {
+    ($($arg:tt)*) => {
+        $crate::cli::print_out(&format!("{}\n", format_args!($($arg)*)))
+    };
+}
+pub(crate) use outln;

@@ -22,6 +22,7 @@ pub struct RunArgs<'a> {
     pub fail_on: &'a [Defect],
     pub cache: CacheChoice,
     pub retime: bool,
+    pub max_cells: u64,
 }
 
 /// Where the cell cache is: `--cache DIR`, `--no-cache`, or beside the run folders.
@@ -50,7 +51,7 @@ pub fn parse_fail_on(names: &[String]) -> Result<Vec<Defect>, Error> {
 }
 
 pub fn run(matrix: Option<&Path>, args: RunArgs, models: &ModelsArg) -> Result<(), Error> {
-    let RunArgs { out, resume, shard, only, fail_on, cache, retime } = args;
+    let RunArgs { out, resume, shard, only, fail_on, cache, retime, max_cells } = args;
     let m = load_matrix(matrix, registry_for(models, matrix)?)?;
     let results_root = default_results_root();
     let cache = match cache {
@@ -71,10 +72,21 @@ pub fn run(matrix: Option<&Path>, args: RunArgs, models: &ModelsArg) -> Result<(
         only: only.map(|o| m.parse_only(o)).transpose()?,
         progress: progress(),
         workers: None,
+        max_cells: Some(max_cells),
     };
     let s = crate::run::run(&m, &opts)?;
+    if !s.set_aside.is_empty() {
+        eprintln!(
+            "--resume: {} cell(s) of the earlier run are not in this expansion; moved to {}: {}",
+            s.set_aside.len(),
+            s.dir.join(crate::run::runner::STALE_DIR).display(),
+            s.set_aside.iter().take(5).cloned().collect::<Vec<_>>().join(", ")
+                + if s.set_aside.len() > 5 { ", …" } else { "" }
+        );
+    }
     crate::report::build(&s.dir)?;
-    println!(
+    crate::record::RunRecord::mark_complete(&s.dir)?;
+    super::outln!(
         "{} cells ({} rendered, {} twins copied, {} resumed, {} from the cache; {} pruned, {} filtered out) in {:.1} s on {}",
         s.counts.cells,
         s.counts.rendered,
@@ -86,7 +98,7 @@ pub fn run(matrix: Option<&Path>, args: RunArgs, models: &ModelsArg) -> Result<(
         s.wall_seconds,
         s.adapter
     );
-    println!("results: {}", s.dir.display());
+    super::outln!("results: {}", s.dir.display());
     fail_on_defects(&s.dir, fail_on)
 }
 
@@ -99,6 +111,11 @@ fn fail_on_defects(dir: &Path, kinds: &[Defect]) -> Result<(), Error> {
     let run = crate::report::run_data::RunData::load(dir)?;
     let mut found = Vec::new();
     for c in &run.cells {
+        // Every scene has a subject: a frame without one (a NaN camera, a subject out of view) is
+        // as wrong as a NaN pixel, and passed every bad-value count.
+        if c.stats.subject_pixels == 0 {
+            found.push(format!("{}: no subject pixel in the image (the subject is not in view)", c.id.0));
+        }
         for d in c.stats.first.iter().filter(|d| kinds.contains(&d.kind)) {
             found.push(format!(
                 "{}: {} {} value(s), first at pixel ({}, {}) channel {} = {} ({}, written by {})",
@@ -127,28 +144,46 @@ fn fail_on_defects(dir: &Path, kinds: &[Defect]) -> Result<(), Error> {
     )))
 }
 
-pub fn bench(matrix: Option<&Path>, out: Option<PathBuf>, models: &ModelsArg) -> Result<(), Error> {
+pub fn bench(
+    matrix: Option<&Path>,
+    out: Option<PathBuf>,
+    limit: super::CellLimit,
+    models: &ModelsArg,
+) -> Result<(), Error> {
     let m = load_matrix(matrix, registry_for(models, matrix)?)?;
-    let opts = RunOptions { results_root: default_results_root(), out, progress: progress(), ..Default::default() };
+    let opts = RunOptions {
+        results_root: default_results_root(),
+        out,
+        progress: progress(),
+        max_cells: Some(limit.max_cells),
+        ..Default::default()
+    };
     let b = super::bench::bench(&m, &opts)?;
     super::print_out(&super::bench::markdown(&b));
     Ok(())
 }
 
 pub fn check(run: &Path, baseline: Option<&Path>, flip_mean: Option<f64>, ssim_min: Option<f64>) -> Result<(), Error> {
+    // A NaN threshold compares false with everything: the gate would pass every cell.
+    for (flag, v, lo, hi) in [("--flip-mean", flip_mean, 0.0, 1.0), ("--ssim-min", ssim_min, -1.0, 1.0)] {
+        if let Some(v) = v.filter(|v| !(v.is_finite() && (lo..=hi).contains(v))) {
+            let why = format!("value {v} is out of range; allowed a finite number in {lo}..={hi}");
+            return Err(crate::error::InputError::at_key("command line", flag, why).into());
+        }
+    }
     let d = Thresholds::default();
     let t = Thresholds { flip_mean: flip_mean.unwrap_or(d.flip_mean), ssim_min: ssim_min.unwrap_or(d.ssim_min) };
     let r = check_run(run, baseline, t)?;
     if let Some(b) = baseline {
-        println!("{} of {} cells regressed against {}", r.failures(), r.cells.len(), b.display());
+        super::outln!("{} of {} cells regressed against {}", r.failures(), r.cells.len(), b.display());
     }
     for i in &r.invariants {
         match i.message() {
-            None => println!("assert `{}` ({}): pass over {} groups", i.name, i.kind, i.groups),
-            Some(m) => println!("assert `{}` ({}): FAIL — {m}", i.name, i.kind),
+            None => super::outln!("assert `{}` ({}): pass over {} groups", i.name, i.kind, i.groups),
+            Some(m) => super::outln!("assert `{}` ({}): FAIL — {m}", i.name, i.kind),
         }
     }
-    println!("junit.xml and summary.md in {}", run.display());
+    super::outln!("junit.xml and summary.md in {}", run.display());
     let mut failed = Vec::new();
     if r.failures() > 0 {
         failed.push(format!("{} cells regressed", r.failures()));
@@ -166,12 +201,21 @@ pub fn check(run: &Path, baseline: Option<&Path>, flip_mean: Option<f64>, ssim_m
 pub fn merge(shards: &[PathBuf], out: &Path) -> Result<(), Error> {
     let m = crate::run::merge::merge(shards, out)?;
     crate::report::build(&m.dir)?;
-    println!("{} cells from {} shards merged into {}", m.cells, m.shards, m.dir.display());
+    crate::record::RunRecord::mark_complete(&m.dir)?;
+    super::outln!("{} cells from {} shards merged into {}", m.cells, m.shards, m.dir.display());
     Ok(())
 }
 
 pub fn report(run: &Path) -> Result<(), Error> {
+    if !run.join(crate::record::RUN_FILE).is_file() {
+        return Err(crate::error::InputError::new(run.display().to_string(), "not a run folder (no run.json)").into());
+    }
+    // A run or merge still writing the folder holds its lock: refused, not interleaved.
+    let _lock = crate::record::RunLock::acquire(run)?;
+    // What a killed report (or run) left half-written goes before the reports are written again.
+    crate::record::layout::remove_unfinished_writes(run);
     crate::report::build(run)?;
-    println!("reports rebuilt in {}", run.display());
+    crate::record::RunRecord::mark_complete(run)?;
+    super::outln!("reports rebuilt in {}", run.display());
     Ok(())
 }

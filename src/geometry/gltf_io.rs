@@ -50,8 +50,22 @@ fn import_unguarded(path: &Path, shown: &str, with_material: bool) -> Result<(Me
             InputError::new(&shown, "glTF file not found (the path is resolved relative to the scene file)").into()
         );
     }
-    let (doc, buffers, images) =
-        gltf::import(path).map_err(|e| InputError::new(&shown, format!("cannot read glTF: {e}")))?;
+    let gltf::Gltf { document: doc, blob } =
+        gltf::Gltf::open(path).map_err(|e| InputError::new(&shown, format!("cannot read glTF: {e}")))?;
+    // Every external file checked before any is read; buffers read with bounds (`gltf_files`).
+    super::gltf_files::external_files(path, &doc)?;
+    let buffers = super::gltf_files::read_buffers(path, &doc, blob)?;
+    let images = match with_material {
+        true => doc
+            .images()
+            .map(|i| {
+                gltf::image::Data::from_source(i.source(), path.parent(), &buffers).map_err(|e| {
+                    InputError::at_key(&shown, format!("images[{}]", i.index()), format!("cannot read the image: {e}"))
+                })
+            })
+            .collect::<Result<Vec<_>, _>>()?,
+        false => Vec::new(),
+    };
     let mut out = Mesh::default();
     let roots: Vec<gltf::Node> = match doc.default_scene().or_else(|| doc.scenes().next()) {
         Some(scene) => scene.nodes().collect(),

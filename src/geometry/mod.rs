@@ -1,5 +1,6 @@
 //! Meshes: procedural generators with analytic normals and UVs, and glTF import/export.
 
+pub mod gltf_files;
 pub mod gltf_io;
 pub mod mesh;
 pub mod placement;

@@ -18,8 +18,20 @@ pub fn parse_toml<T: DeserializeOwned>(origin: &str, text: &str) -> Result<T, In
 /// Read and parse a TOML file; a missing or unreadable file is bad input.
 pub fn read_toml<T: DeserializeOwned>(path: &Path) -> Result<T, Error> {
     let shown = path.display().to_string();
+    regular_file(path)?;
     let text = std::fs::read_to_string(path).map_err(|e| InputError::new(&shown, format!("cannot read file: {e}")))?;
     Ok(parse_toml(&shown, &text)?)
+}
+
+/// A FIFO or a device would block or read without end: only regular files are input.
+pub fn regular_file(path: &Path) -> Result<(), InputError> {
+    match std::fs::metadata(path) {
+        Ok(m) if !m.is_file() => Err(InputError::new(
+            path.display().to_string(),
+            "not a regular file (a folder, FIFO or device is not read)",
+        )),
+        _ => Ok(()),
+    }
 }
 
 fn line_col(text: &str, offset: usize) -> (usize, usize) {

@@ -55,6 +55,14 @@ impl<'a> Checker<'a> {
         }
     }
 
+    pub fn finite_vector(&self, key: &str, v: [f64; 3]) -> Result<(), InputError> {
+        if v.iter().all(|c| c.is_finite()) {
+            Ok(())
+        } else {
+            Err(self.err(key, format!("vector {v:?} is not allowed; every component must be finite")))
+        }
+    }
+
     pub fn nonzero_vector(&self, key: &str, v: [f64; 3]) -> Result<(), InputError> {
         if v.iter().all(|c| c.is_finite()) && v.iter().any(|c| *c != 0.0) {
             Ok(())

@@ -134,7 +134,8 @@ impl CellRecord {
 
     /// The cell's value on a sheet axis (`spec::sheets::AXES`), as labels and file names show it.
     pub fn axis_value(&self, axis: &str) -> String {
-        let num = |v: f64| format!("{v:.2}");
+        // Exact where two decimals are not: 0.999 and 1 are two columns, not one.
+        let num = |v: f64| crate::cells::id_number(v, 2, false);
         match axis {
             "composition" => self.composition.clone(),
             "pipeline" => self.pipeline.name().into(),

@@ -10,13 +10,56 @@ use crate::error::{Error, InputError};
 pub const RUN_FILE: &str = "run.json";
 pub const CELL_FILE: &str = "cell.json";
 
+/// The advisory lock of a run folder (`flock` on this file, as cargo locks its target dir).
+pub const LOCK_FILE: &str = ".shadematrix.lock";
+
+/// The temporary names this tool writes in a run folder, `.NAME.TAGPID`: `tmp` for a file being
+/// written (`fsutil::write_atomic`), `cached` and `merge` for a cell folder being placed
+/// (`run::cell_cache`). `--resume` removes these and nothing else.
+const TEMP_TAGS: [&str; 3] = ["tmp", "cached", "merge"];
+
 pub struct RunDir {
     pub root: PathBuf,
+    /// Held while this process writes the folder; released when the RunDir is dropped.
+    pub lock: RunLock,
+}
+
+/// An exclusive advisory lock on a run folder: a second writer (a run, a `--resume`, a `merge`
+/// or a `report` into the same folder) is refused instead of mixing its files with ours.
+#[derive(Debug)]
+pub struct RunLock {
+    _file: std::fs::File,
+}
+
+impl RunLock {
+    /// Lock `dir` (which must exist), or say that another process holds it.
+    pub fn acquire(dir: &Path) -> Result<RunLock, Error> {
+        let path = dir.join(LOCK_FILE);
+        let file = std::fs::OpenOptions::new()
+            .create(true)
+            .truncate(false)
+            .read(true)
+            .write(true)
+            .open(&path)
+            .map_err(|e| Error::io_path("opening the run folder's lock", &path, e))?;
+        match file.try_lock() {
+            Ok(()) => Ok(RunLock { _file: file }),
+            Err(std::fs::TryLockError::WouldBlock) => Err(InputError::new(
+                dir.display().to_string(),
+                "another shadematrix process is writing this run folder (it holds .shadematrix.lock); \
+                 wait for it to finish, or choose another --out",
+            )
+            .into()),
+            Err(std::fs::TryLockError::Error(e)) => Err(Error::io_path("locking the run folder", &path, e)),
+        }
+    }
 }
 
 impl RunDir {
-    /// Choose the run folder. A new run never writes into a folder that already holds a run;
-    /// `resume` continues one: the given `out`, or the newest run of this matrix under `results_root`.
+    /// Choose the run folder and lock it before anything in it is read or written. A new run
+    /// never writes into a folder that holds a run, nor into a non-empty folder this tool did not
+    /// make; `resume` continues one: the given `out`, or the newest run of this matrix under
+    /// `results_root`.
     pub fn open(results_root: &Path, out: Option<&Path>, matrix_name: &str, resume: bool) -> Result<RunDir, Error> {
         let root = match (out, resume) {
             (Some(o), _) => o.to_path_buf(),
@@ -37,18 +80,36 @@ impl RunDir {
                 )
             })?,
         };
-        if !resume && root.join(RUN_FILE).exists() {
+        if root.exists() && !root.is_dir() {
+            return Err(InputError::new(root.display().to_string(), "--out: this is a file, not a folder").into());
+        }
+        std::fs::create_dir_all(&root).map_err(|e| Error::io_path("creating run folder", &root, e))?;
+        let lock = RunLock::acquire(&root)?;
+        let holds_run = root.join(RUN_FILE).exists();
+        if !resume && holds_run {
             return Err(InputError::new(
                 root.display().to_string(),
                 "this folder already holds a run; pass --resume to continue it, or choose another --out",
             )
             .into());
         }
+        if !holds_run {
+            if let Some(name) = foreign_entry(&root) {
+                return Err(InputError::new(
+                    root.display().to_string(),
+                    format!(
+                        "--out: the folder is not empty and holds no run (it has `{name}`); a run writes \
+                         index.html, tables/ and more here, so choose an empty or new folder"
+                    ),
+                )
+                .into());
+            }
+        }
         std::fs::create_dir_all(root.join("cells")).map_err(|e| Error::io_path("creating run folder", &root, e))?;
         if resume {
             remove_unfinished_writes(&root);
         }
-        Ok(RunDir { root })
+        Ok(RunDir { root, lock })
     }
 
     pub fn cell_dir(&self, id: &str) -> PathBuf {
@@ -64,19 +125,75 @@ impl RunDir {
     }
 }
 
-/// Temporary files (`.name.tmpPID`, `fsutil::write_atomic`) and folders of a process that was
-/// killed mid-write: never part of a finished cell, so a resumed run leaves none behind.
-fn remove_unfinished_writes(dir: &Path) {
+/// An entry of `dir` this tool would not have made before its run.json: anything but its lock
+/// and an empty `cells/` (what a run killed before its first record leaves).
+fn foreign_entry(dir: &Path) -> Option<String> {
+    let entries = std::fs::read_dir(dir).ok()?;
+    for e in entries.filter_map(|e| e.ok()) {
+        let name = e.file_name().to_string_lossy().to_string();
+        let empty_cells = name == "cells"
+            && e.file_type().is_ok_and(|t| t.is_dir())
+            && std::fs::read_dir(e.path()).is_ok_and(|mut d| d.next().is_none());
+        if name != LOCK_FILE && !empty_cells {
+            return Some(name);
+        }
+    }
+    None
+}
+
+/// Whether `name` is one of this tool's temporary names (`.NAME.TAGPID`) with one of `tags`.
+pub fn is_temp_name(name: &str, tags: &[&str]) -> bool {
+    let Some(rest) = name.strip_prefix('.') else { return false };
+    tags.iter().any(|tag| {
+        rest.rsplit_once(&format!(".{tag}"))
+            .is_some_and(|(stem, pid)| !stem.is_empty() && !pid.is_empty() && pid.bytes().all(|b| b.is_ascii_digit()))
+    })
+}
+
+/// Temporary files and folders of a process that was killed mid-write: never part of a finished
+/// cell, so a resumed run leaves none behind. Only the exact temporary names this tool writes
+/// (`TEMP_TAGS`), only in the folders a run writes (the root, `cells/`, each cell's folder and
+/// its subfolders, `tables/`, `sheets/`, `plots/`), and never through a symbolic link: the
+/// clean-up once walked the whole tree, followed links out of it, and removed users' files.
+pub fn remove_unfinished_writes(root: &Path) {
+    let mut dirs = vec![root.to_path_buf(), root.join("tables"), root.join("sheets"), root.join("plots")];
+    let cells = root.join("cells");
+    dirs.push(cells.clone());
+    for cell in real_subdirs(&cells) {
+        dirs.extend(real_subdirs(&cell));
+        dirs.push(cell);
+    }
+    for dir in dirs {
+        // A folder of the list that is itself a link is not the run's: leave it.
+        if std::fs::symlink_metadata(&dir).map(|m| m.is_dir()).unwrap_or(false) {
+            remove_temp_entries(&dir);
+        }
+    }
+}
+
+/// The folders in `dir` (not links to folders), temporary ones left out.
+fn real_subdirs(dir: &Path) -> Vec<PathBuf> {
+    let Ok(entries) = std::fs::read_dir(dir) else { return Vec::new() };
+    entries
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_type().is_ok_and(|t| t.is_dir()))
+        .filter(|e| !e.file_name().to_string_lossy().starts_with('.'))
+        .map(|e| e.path())
+        .collect()
+}
+
+fn remove_temp_entries(dir: &Path) {
     let Ok(entries) = std::fs::read_dir(dir) else { return };
     for e in entries.filter_map(|e| e.ok()) {
-        let (name, path) = (e.file_name().to_string_lossy().to_string(), e.path());
-        let unfinished =
-            name.starts_with('.') && (name.contains(".tmp") || name.contains(".cached") || name.contains(".merge"));
-        match (path.is_dir(), unfinished) {
-            (true, true) => drop(std::fs::remove_dir_all(&path)),
-            (false, true) => drop(std::fs::remove_file(&path)),
-            (true, false) => remove_unfinished_writes(&path),
-            (false, false) => {}
+        let name = e.file_name().to_string_lossy().to_string();
+        if !is_temp_name(&name, &TEMP_TAGS) {
+            continue;
+        }
+        // `file_type` does not follow links; `remove_dir_all` does not either.
+        match e.file_type() {
+            Ok(t) if t.is_dir() => drop(std::fs::remove_dir_all(e.path())),
+            Ok(t) if t.is_file() => drop(std::fs::remove_file(e.path())),
+            _ => {}
         }
     }
 }

@@ -10,7 +10,7 @@ pub mod run;
 mod versioned;
 
 pub use cell::{CellRecord, CELL_SCHEMA};
-pub use layout::{RunDir, CELL_FILE, RUN_FILE};
+pub use layout::{RunDir, RunLock, CELL_FILE, RUN_FILE};
 pub use run::{RunRecord, RUN_SCHEMA};
 pub use versioned::{read_record, RecordError};
 

@@ -37,6 +37,22 @@ pub struct RunRecord {
     /// The combinations the matrix names that cannot exist, and why (the viewer says so).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub pruned: Vec<crate::cells::PrunedCell>,
+    /// Every cell of the run's expansion (a shard's own and support cells): what `merge` checks a
+    /// shard folder against, so a deleted cell folder is found rather than merged around.
+    #[serde(default)]
+    pub cells: Vec<crate::cells::CellId>,
+}
+
+impl RunRecord {
+    /// Mark the run complete once its reports exist (`run`, `merge` and `report` call it last).
+    pub fn mark_complete(dir: &Path) -> Result<(), Error> {
+        let mut r = RunRecord::load(dir)?;
+        if r.status == RunStatus::Reporting {
+            r.status = RunStatus::Complete;
+            crate::fsutil::write_json(&dir.join(super::RUN_FILE), &r)?;
+        }
+        Ok(())
+    }
 }
 
 impl RunRecord {
@@ -56,6 +72,8 @@ impl RunRecord {
 #[serde(rename_all = "snake_case")]
 pub enum RunStatus {
     Running,
+    /// Every cell is finished; the reports are being written (`complete` once they exist).
+    Reporting,
     Complete,
     Failed,
 }
@@ -64,6 +82,7 @@ impl RunStatus {
     pub fn name(self) -> &'static str {
         match self {
             RunStatus::Running => "running",
+            RunStatus::Reporting => "reporting",
             RunStatus::Complete => "complete",
             RunStatus::Failed => "failed",
         }

@@ -1072,6 +1072,13 @@ impl Renderer {
         warmup: u32,
         reuse: bool,
     ) -> Result<CellRender, Error> {
+        // The read-back image is the last frame's: with no frame drawn it would be black, or the
+        // cell before's pixels left in the target.
+        let Some(total) = warmup.checked_add(frames).filter(|_| frames > 0) else {
+            return Err(Error::Other(format!(
+                "no frame to render: {frames} timed frames after {warmup} warm-up frames"
+            )));
+        };
         let fixed_model =
             self.fixed_models.find(cell.pipeline, cell.pipeline.fixed_object_shader()).cloned().ok_or_else(|| {
                 Error::Other(format!("pipeline {} lacks its fixed-object shader", cell.pipeline.name()))
@@ -1239,7 +1246,6 @@ impl Renderer {
             };
             (scene.group.clone(), forward)
         });
-        let total = warmup + frames;
         let mut frame_ms = Vec::with_capacity(frames as usize);
         for f in 0..total {
             let mut encoder = self.gpu.device.create_command_encoder(&Default::default());

@@ -114,11 +114,20 @@ fn reference_identity(matrix: &Matrix, c: &Cell, own: &HashMap<&CellId, String>)
     }
 }
 
-/// The WGSL of the models the cell's frame draws: the subject's and the pipeline's fixed objects'.
+/// The models the cell's frame draws (the subject's and the pipeline's fixed objects'): each one's
+/// WGSL and its declaration as parsed — parameters with their slots, defaults and ranges, the axes
+/// it reads, its pipelines — so a user's edited `NAME.toml` re-renders its cells.
 fn model_sources(matrix: &Matrix, c: &Cell) -> Vec<String> {
     let fixed = matrix.registry.find(c.pipeline, c.pipeline.fixed_object_shader());
-    let mut out = vec![hex(&Sha256::digest(c.model().wgsl.as_bytes()))];
-    out.extend(fixed.map(|f| hex(&Sha256::digest(f.wgsl.as_bytes()))));
+    let identity = |m: &crate::shading::ShaderModel| {
+        let declaration = format!(
+            "{:?}|{:?}|{:?}|{:?}|{}|{}|{:?}",
+            m.params, m.reads, m.pipelines, m.expected, m.per_vertex, m.main_light_only, m.smoothness_gate
+        );
+        hex(&Sha256::digest(format!("{}\n{declaration}", m.wgsl).as_bytes()))
+    };
+    let mut out = vec![identity(c.model())];
+    out.extend(fixed.map(|f| identity(f)));
     out
 }
 
@@ -137,22 +146,12 @@ fn mesh_digests(matrix: &Matrix, c: &Cell) -> Vec<(String, String)> {
     out
 }
 
-/// The external buffers and images a glTF file names by relative URI (a GLB's are inside it).
+/// The external buffers and images a glTF file names, resolved as the loader resolves them
+/// (`geometry::gltf_files`: percent-decoded, relative to the file); a GLB's are inside it.
 fn gltf_dependencies(path: &Path) -> Vec<PathBuf> {
-    let Ok(g) = std::fs::read(path).map(|b| gltf::Gltf::from_slice_without_validation(&b)) else { return Vec::new() };
-    let Ok(g) = g else { return Vec::new() };
-    let base = path.parent().unwrap_or(Path::new("."));
-    let uris = g
-        .buffers()
-        .filter_map(|b| match b.source() {
-            gltf::buffer::Source::Uri(u) => Some(u.to_string()),
-            gltf::buffer::Source::Bin => None,
-        })
-        .chain(g.images().filter_map(|i| match i.source() {
-            gltf::image::Source::Uri { uri, .. } => Some(uri.to_string()),
-            gltf::image::Source::View { .. } => None,
-        }));
-    uris.filter(|u| !u.starts_with("data:")).map(|u| base.join(u)).collect()
+    let Ok(g) = gltf::Gltf::open(path) else { return Vec::new() };
+    // The geometry stage refused the scene already if a reference is not allowed.
+    crate::geometry::gltf_files::external_files(path, &g.document).unwrap_or_default()
 }
 
 /// The file's bytes' digest, or "absent".

@@ -13,6 +13,8 @@ use crate::record::{CellRecord, Maybe, RunDir, RunRecord, CELL_FILE, RUN_FILE};
 
 pub struct MergeSummary {
     pub dir: PathBuf,
+    /// The merged folder's lock, held until its reports are written.
+    pub lock: crate::record::RunLock,
     pub cells: usize,
     pub shards: u32,
 }
@@ -69,6 +71,7 @@ pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<MergeSummary, Error> {
                 .into());
             }
         }
+        check_shard_cells(dir, &r)?;
         if *count.get_or_insert(n) != n {
             return Err(InputError::at_key(
                 shown(&dir.join(RUN_FILE)),
@@ -97,17 +100,31 @@ pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<MergeSummary, Error> {
     }
 
     let first = shards.values().next().map(|(_, r)| r.clone()).expect("at least one shard");
-    let dir = RunDir::open(out.parent().unwrap_or(Path::new(".")), Some(out), &first.matrix.name, false)?;
+    // A merge killed part-way left its own run.json (status `running`, `merged_from` set): merging
+    // again into it continues it; any other run there is refused.
+    let again = RunRecord::load(out).is_ok_and(|r| !r.merged_from.is_empty() && r.status != RunStatus::Complete);
+    if out.join(RUN_FILE).exists() && !again {
+        return Err(InputError::new(
+            shown(out),
+            "--out already holds a run; give merge a new or empty folder (or the folder of a merge that was interrupted)",
+        )
+        .into());
+    }
+    let dir = RunDir::open(out.parent().unwrap_or(Path::new(".")), Some(out), &first.matrix.name, again)?;
+    let records: Vec<&RunRecord> = shards.values().map(|(_, r)| r).collect();
+    let mut merged = first.clone();
+    merged.matrix.shard = None;
+    merged.status = RunStatus::Running;
+    merged.merged_from = shards.values().map(|(p, _)| shown(p)).collect();
+    crate::fsutil::write_json(&dir.root.join(RUN_FILE), &merged)?;
     // Each cell from the shard that owns it; a support copy only where no owner has it.
     let mut placed: HashSet<String> = HashSet::new();
     let mut twins = 0;
     for owners_only in [true, false] {
         for (src, r) in shards.values() {
             let support: HashSet<&str> = r.support.iter().map(|c| c.0.as_str()).collect();
-            let entries =
-                std::fs::read_dir(src.join("cells")).map_err(|e| Error::io_path("reading", &src.join("cells"), e))?;
-            let mut ids: Vec<String> =
-                entries.filter_map(|e| e.ok()).map(|e| e.file_name().to_string_lossy().to_string()).collect();
+            // The shard's expansion, not whatever folders its cells/ holds.
+            let mut ids: Vec<String> = r.cells.iter().map(|c| c.0.clone()).collect();
             ids.sort();
             for id in ids {
                 let from = src.join("cells").join(&id);
@@ -123,16 +140,13 @@ pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<MergeSummary, Error> {
                 };
                 twins += usize::from(record.twin_of.is_some());
                 // A folder left by an interrupted merge into `--out` is replaced.
-                super::cell_cache::link_into_place(&from, &dir.cell_dir(&id), "merge", |_| Ok(()))?;
+                super::cell_cache::copy_into_place(&from, &dir.cell_dir(&id), "merge")?;
                 placed.insert(id);
             }
         }
     }
 
-    let records: Vec<&RunRecord> = shards.values().map(|(_, r)| r).collect();
-    let mut merged = first.clone();
-    merged.matrix.shard = None;
-    merged.status = RunStatus::Complete;
+    merged.status = RunStatus::Reporting;
     merged.started = records.iter().map(|r| r.started.clone()).min().unwrap_or_default();
     merged.finished = records.iter().filter_map(|r| r.finished.clone()).max();
     merged.wall_seconds = records.iter().filter_map(|r| r.wall_seconds).reduce(f64::max);
@@ -153,9 +167,11 @@ pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<MergeSummary, Error> {
     }
     merged.stages = records.iter().filter_map(|r| r.stages.clone()).reduce(add_stages);
     merged.support = Vec::new();
-    merged.merged_from = shards.values().map(|(p, _)| shown(p)).collect();
+    let mut cells: Vec<crate::cells::CellId> = placed.iter().cloned().map(crate::cells::CellId).collect();
+    cells.sort();
+    merged.cells = cells;
     crate::fsutil::write_json(&dir.root.join(RUN_FILE), &merged)?;
-    Ok(MergeSummary { dir: dir.root, cells: placed.len(), shards: n })
+    Ok(MergeSummary { dir: dir.root, lock: dir.lock, cells: placed.len(), shards: n })
 }
 
 /// The adapter as far as timings and images compare: its name, backend and driver.
@@ -163,9 +179,50 @@ fn adapter_class(r: &RunRecord) -> String {
     format!("{} ({}, {} {})", r.adapter.name, r.adapter.backend, r.adapter.driver, r.adapter.driver_info)
 }
 
+/// `K/N` with 1 ≤ K ≤ N: a label such as `0/0` or `5/3` is no shard.
 fn parse_shard(s: &str) -> Option<(u32, u32)> {
     let (k, n) = s.split_once('/')?;
-    Some((k.parse().ok()?, n.parse().ok()?))
+    let (k, n): (u32, u32) = (k.parse().ok()?, n.parse().ok()?);
+    (1..=n).contains(&k).then_some((k, n))
+}
+
+/// Each cell of the shard's expansion (`RunRecord::cells`) has a finished folder: a record that
+/// reads, with its images beside it. A shard missing one does not merge.
+fn check_shard_cells(dir: &Path, r: &RunRecord) -> Result<(), Error> {
+    let shown = dir.join(RUN_FILE).display().to_string();
+    if r.cells.len() != r.counts.cells {
+        return Err(InputError::at_key(
+            shown,
+            "cells",
+            format!(
+                "lists {} cells, but counts.cells says {}: the record was edited or is of an older tool; \
+                 render the shard again",
+                r.cells.len(),
+                r.counts.cells
+            ),
+        )
+        .into());
+    }
+    for id in &r.cells {
+        let cell = dir.join("cells").join(&id.0);
+        let finished = CellRecord::load(&cell.join(CELL_FILE)).is_ok_and(|c| c.id == *id)
+            && cell.join("image.exr").is_file()
+            && cell.join("image.png").is_file();
+        if !finished {
+            return Err(InputError::at_key(
+                shown,
+                "cells",
+                format!(
+                    "cell `{id}` of this shard is missing or unfinished in {}; continue the shard with \
+                     `run --resume --out {}` first",
+                    cell.display(),
+                    dir.display()
+                ),
+            )
+            .into());
+        }
+    }
+    Ok(())
 }
 
 /// Two shards' stage times as one run's: times and CPU summed, the peak the larger.

@@ -45,6 +45,8 @@ pub struct RunOptions {
     /// The cross-run cell cache (`run::cell_cache`): cells found there are taken, not rendered,
     /// and every finished cell is stored. None: no cache.
     pub cache: Option<PathBuf>,
+    /// The most cells the matrix may expand to (`--max-cells`; None: `cells::DEFAULT_MAX_CELLS`).
+    pub max_cells: Option<u64>,
     /// Cells taken from the cache (or kept by --resume) render their timed frames again, and
     /// their records take the new timings; images and metrics stay.
     pub retime: bool,
@@ -71,6 +73,10 @@ impl Workers {
 #[derive(Debug)]
 pub struct RunSummary {
     pub dir: PathBuf,
+    /// The run folder's lock, held until the reports are written.
+    pub lock: crate::record::RunLock,
+    /// Cells of the resumed run that are not in this expansion, moved to `STALE_DIR`.
+    pub set_aside: Vec<String>,
     pub counts: RunCounts,
     pub wall_seconds: f64,
     pub adapter: String,
@@ -96,12 +102,18 @@ pub fn select_cells(matrix: &Matrix, opts: &RunOptions) -> Expansion {
 
 pub fn run(matrix: &Matrix, opts: &RunOptions) -> Result<RunSummary, Error> {
     let started = Instant::now();
+    crate::cells::check_size(matrix, opts.max_cells.unwrap_or(crate::cells::DEFAULT_MAX_CELLS))?;
     let exp = select_cells(matrix, opts);
+    check_id_lengths(&exp)?;
     // Geometry first: a bad mesh or glTF file is bad input, found before any GPU work or output.
     let geometry = build_geometry(matrix, &exp)?;
     let gpu = GpuContext::new()?;
     let adapter = gpu.record.clone();
     let dir = RunDir::open(&opts.results_root, opts.out.as_deref(), &matrix.name, opts.resume)?;
+    let set_aside = match opts.resume {
+        true => continue_run(&dir, matrix, opts, &exp)?,
+        false => Vec::new(),
+    };
     let mut record = RunRecord {
         schema: RUN_SCHEMA,
         shadematrix_version: env!("CARGO_PKG_VERSION").into(),
@@ -134,6 +146,7 @@ pub fn run(matrix: &Matrix, opts: &RunOptions) -> Result<RunSummary, Error> {
         support: exp.support.clone(),
         merged_from: Vec::new(),
         pruned: exp.pruned.clone(),
+        cells: exp.cells.iter().map(|c| c.id.clone()).collect(),
     };
     let run_json = dir.root.join(RUN_FILE);
     write_json(&run_json, &record)?;
@@ -158,20 +171,106 @@ pub fn run(matrix: &Matrix, opts: &RunOptions) -> Result<RunSummary, Error> {
     record.counts.rendered = stream.rendered.load(Ordering::Relaxed);
     record.counts.resumed = stream.resumed.load(Ordering::Relaxed);
     record.counts.cached = stream.cached.load(Ordering::Relaxed);
-    record.status = if result.is_ok() { RunStatus::Complete } else { RunStatus::Failed };
+    // Complete only once the reports exist (`RunRecord::mark_complete`).
+    record.status = if result.is_ok() { RunStatus::Reporting } else { RunStatus::Failed };
     record.finished = Some(chrono::Local::now().to_rfc3339());
     record.wall_seconds = Some(started.elapsed().as_secs_f64());
     let stages = clock.times(workers.encode, workers.metrics, workers.queue_depth);
     record.stages = Some(stages.clone());
-    write_json(&run_json, &record)?;
+    // The first failure is the one to report: on a full disk, the cell write that failed, not the
+    // run.json write that failed after it.
+    let recorded = write_json(&run_json, &record);
     result?;
+    recorded?;
     Ok(RunSummary {
+        set_aside,
+        lock: dir.lock,
         dir: dir.root,
         counts: record.counts,
         wall_seconds: started.elapsed().as_secs_f64(),
         adapter: adapter.name,
         stages,
     })
+}
+
+/// The longest file name most file systems allow (ext4, APFS, NTFS: 255 bytes).
+const MAX_FILE_NAME: usize = 255;
+
+/// Every cell id is a folder name: one too long for the file system is bad input, found before
+/// anything renders rather than as an I/O error half-way through the run.
+fn check_id_lengths(exp: &Expansion) -> Result<(), Error> {
+    match exp.cells.iter().find(|c| c.id.0.len() > MAX_FILE_NAME) {
+        Some(c) => Err(crate::error::InputError::new(
+            c.composition.clone(),
+            format!(
+                "cell id `{}` is {} bytes, longer than a file name may be ({MAX_FILE_NAME}); shorten the \
+                 composition, shader or parameter names, or sweep fewer parameters at once",
+                c.id,
+                c.id.0.len()
+            ),
+        )
+        .into()),
+        None => Ok(()),
+    }
+}
+
+/// Where `--resume` moves the cells of the earlier run that this expansion no longer has.
+pub const STALE_DIR: &str = "cells-not-in-expansion";
+
+/// `--resume`: the folder must hold a run of this very matrix (and shard); its cells that are no
+/// longer in the expansion (another `--only`) leave `cells/` for `STALE_DIR`, so reports list
+/// exactly what `run.json` counts. Returns the ids moved.
+fn continue_run(dir: &RunDir, matrix: &Matrix, opts: &RunOptions, exp: &Expansion) -> Result<Vec<String>, Error> {
+    if !dir.root.join(RUN_FILE).is_file() {
+        return Ok(Vec::new());
+    }
+    let earlier = RunRecord::load(&dir.root)?;
+    let shown = dir.root.join(RUN_FILE).display().to_string();
+    if earlier.matrix.sha256 != matrix.hash {
+        return Err(crate::error::InputError::at_key(
+            shown,
+            "matrix.sha256",
+            format!(
+                "--resume: this run is of matrix `{}` ({}, SHA-256 {}); {} (SHA-256 {}) differs. Resume with the \
+                 same matrix file, or start a new run with another --out",
+                earlier.matrix.name, earlier.matrix.origin, earlier.matrix.sha256, matrix.origin, matrix.hash
+            ),
+        )
+        .into());
+    }
+    let shard = opts.shard.map(|(k, n)| format!("{k}/{n}"));
+    if earlier.matrix.shard != shard {
+        let name = |s: &Option<String>| s.clone().unwrap_or_else(|| "unsharded".into());
+        return Err(crate::error::InputError::at_key(
+            shown,
+            "matrix.shard",
+            format!(
+                "--resume: this run is {}; the command asks for {}: give the same --shard",
+                name(&earlier.matrix.shard),
+                name(&shard)
+            ),
+        )
+        .into());
+    }
+    let keep: HashSet<&str> = exp.cells.iter().map(|c| c.id.0.as_str()).collect();
+    let cells = dir.root.join("cells");
+    let mut moved = Vec::new();
+    let entries = std::fs::read_dir(&cells).map_err(|e| Error::io_path("reading", &cells, e))?;
+    for e in entries.filter_map(|e| e.ok()) {
+        let name = e.file_name().to_string_lossy().to_string();
+        if name.starts_with('.') || keep.contains(name.as_str()) || !e.file_type().is_ok_and(|t| t.is_dir()) {
+            continue;
+        }
+        let to = dir.root.join(STALE_DIR).join(&name);
+        std::fs::create_dir_all(dir.root.join(STALE_DIR)).map_err(|e| Error::io_path("creating", &to, e))?;
+        if to.exists() {
+            std::fs::remove_dir_all(&to).map_err(|e| Error::io_path("replacing", &to, e))?;
+        }
+        std::fs::rename(e.path(), &to).map_err(|e| Error::io_path("moving aside", &to, e))?;
+        moved.push(name);
+    }
+    moved.sort();
+    Ok(moved)
 }
 
 fn progress_bar(show: bool, len: u64) -> indicatif::ProgressBar {

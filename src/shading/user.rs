@@ -152,6 +152,31 @@ fn load_model(
                 .err(&format!("params[{i}].slot"), format!("slot {} is out of range; allowed 0..=7", p.slot))
                 .into());
         }
+        // One slot read as two parameters, or one name for two slots, would label a sweep with
+        // values the shader never saw.
+        if let Some(j) = decl.params[..i].iter().position(|q| q.name == p.name) {
+            return Err(c
+                .err(&format!("params[{i}].name"), format!("`{}` is declared twice (also params[{j}])", p.name))
+                .into());
+        }
+        if let Some(j) = decl.params[..i].iter().position(|q| q.slot == p.slot) {
+            return Err(c
+                .err(
+                    &format!("params[{i}].slot"),
+                    format!(
+                        "slot {} is already `{}`'s (params[{j}]); each parameter needs a slot of its own",
+                        p.slot, decl.params[j].name
+                    ),
+                )
+                .into());
+        }
+        for (key, v) in [("min", p.min), ("max", p.max), ("default", p.default)] {
+            if !v.is_finite() {
+                return Err(c
+                    .err(&format!("params[{i}].{key}"), format!("value {v} is not allowed; it must be finite"))
+                    .into());
+            }
+        }
         if !(p.min <= p.default && p.default <= p.max) {
             return Err(c
                 .err(
@@ -188,10 +213,43 @@ fn load_model(
         smoothness_gate: None,
         parity_tolerance: f64::INFINITY,
     };
+    let baseline = known.find(Pipeline::Urp, "lambert").cloned();
     for pass in [PassKind::Forward, PassKind::ForwardExact, PassKind::BrdfProbe] {
-        validate(&model, pass)?;
+        let module = validate(&model, pass)?;
+        if let Some(base) = &baseline {
+            check_bindings(&model, &module, base, pass)?;
+        }
     }
     Ok(model)
+}
+
+/// A model reads its `Surface` and the pass's shared inputs; a resource binding of its own would
+/// match no bind group the pass creates, and fail later as a device error (exit 3) that names no
+/// file. Found here, against the bindings the same pass has with a built-in model.
+fn check_bindings(model: &ShaderModel, module: &naga::Module, base: &ShaderModel, pass: PassKind) -> Result<(), Error> {
+    let (source, _) = compose_mapped(pass, Some(base));
+    let Ok(base_module) = naga::front::wgsl::parse_str(&source) else { return Ok(()) };
+    let bindings = |m: &naga::Module| -> Vec<(u32, u32)> {
+        m.global_variables.iter().filter_map(|(_, g)| g.binding.as_ref().map(|b| (b.group, b.binding))).collect()
+    };
+    let provided = bindings(&base_module);
+    for (_, g) in module.global_variables.iter() {
+        let Some(b) = &g.binding else { continue };
+        if !provided.contains(&(b.group, b.binding)) {
+            return Err(InputError::new(
+                model.source_path.as_ref(),
+                format!(
+                    "WGSL: `{}` is bound at @group({}) @binding({}), which no pass provides; a model reads \
+                     only its Surface parameters and the pass's shared inputs (see shaders/brdf/lambert.wgsl)",
+                    g.name.as_deref().unwrap_or("a global"),
+                    b.group,
+                    b.binding
+                ),
+            )
+            .into());
+        }
+    }
+    Ok(())
 }
 
 fn user_sliders(model: &ShaderModel, p: Pipeline, s: &registry::Sliders) -> Surface {
@@ -208,7 +266,7 @@ fn declares(source: &str, name: &str) -> bool {
 }
 
 /// Parse and validate the composed module with naga; report the position in the user's file.
-fn validate(model: &ShaderModel, pass: PassKind) -> Result<(), Error> {
+fn validate(model: &ShaderModel, pass: PassKind) -> Result<naga::Module, Error> {
     // Checked on the user's own text first: a missing entry point would otherwise surface as an
     // unresolved name inside the pass that calls it.
     for entry in ["model_direct", "model_indirect"] {
@@ -279,5 +337,5 @@ fn validate(model: &ShaderModel, pass: PassKind) -> Result<(), Error> {
             None => InputError::new(model.source_path.as_ref(), format!("WGSL: {full}")).into(),
         });
     }
-    Ok(())
+    Ok(module)
 }

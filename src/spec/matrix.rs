@@ -445,10 +445,20 @@ fn parse_reference(c: &Checker, value: &toml::Value, base_dir: Option<&Path>) ->
             _ => Err(c.err("reference.supersampled", "the factor must be an integer in 2..=8, alone in the table")),
         },
         toml::Value::Table(t) if t.contains_key("run") => match (t.len(), &t["run"]) {
-            (1, toml::Value::String(dir)) => Ok(ReferenceSpec::Run(match base_dir {
-                Some(b) => b.join(dir),
-                None => dir.into(),
-            })),
+            (1, toml::Value::String(dir)) => {
+                let path = match base_dir {
+                    Some(b) => b.join(dir),
+                    None => dir.into(),
+                };
+                // Not a run: every cell would be "compared" with files that do not exist.
+                if !path.join("run.json").is_file() {
+                    return Err(c.err(
+                        "reference.run",
+                        format!("`{dir}` ({}) is not a run folder (no run.json)", path.display()),
+                    ));
+                }
+                Ok(ReferenceSpec::Run(path))
+            }
             _ => Err(c.err("reference.run", "give the run folder as a string, alone in the table")),
         },
         toml::Value::Table(t) => {
@@ -545,6 +555,7 @@ impl Matrix {
     /// Shader names are checked against `registry`, which the matrix keeps for its cells.
     pub fn load(path: &Path, registry: Arc<Registry>) -> Result<Matrix, Error> {
         let shown = path.display().to_string();
+        crate::input::source::regular_file(path)?;
         let text = std::fs::read_to_string(path)
             .map_err(|e| InputError::new(&shown, format!("cannot read matrix file: {e}")))?;
         Self::from_text(&shown, &text, path.parent(), registry)
@@ -609,6 +620,23 @@ impl Matrix {
         }
         for (i, col) in s.color.iter().enumerate() {
             c.color(&format!("sweep.color[{i}]"), *col)?;
+            // Cells, filters and sheets name a colour by its 8-bit hex code: two colours with one
+            // code would be one cell labelled as either.
+            if let Some(j) =
+                s.color[..i].iter().position(|o| o != col && color_code(Some(*o)) == color_code(Some(*col)))
+            {
+                return Err(c
+                    .err(
+                        &format!("sweep.color[{i}]"),
+                        format!(
+                            "colour {col:?} has the hex code `{}` of sweep.color[{j}] {:?}; cells are named by that \
+                             code, so sweep colours must differ in 8-bit sRGB (steps of 1/255)",
+                            color_code(Some(*col)),
+                            s.color[j]
+                        ),
+                    )
+                    .into());
+            }
         }
         for (i, v) in s.light_intensity.iter().enumerate() {
             c.range(&format!("sweep.light_intensity[{i}]"), *v, 0.0, 100.0)?;
@@ -654,6 +682,12 @@ impl Matrix {
         if file.timing.frames == 0 || file.timing.frames > 10_000 {
             return Err(c
                 .err("timing.frames", format!("value {} is out of range; allowed 1..=10000", file.timing.frames))
+                .into());
+        }
+        // Warm-up frames add to the timed ones: unchecked, 4294967295 wrapped the sum to 0 frames.
+        if file.timing.warmup > 10_000 {
+            return Err(c
+                .err("timing.warmup", format!("value {} is out of range; allowed 0..=10000", file.timing.warmup))
                 .into());
         }
         let only: Vec<Filter> = file
@@ -921,7 +955,13 @@ pub(crate) fn parse_filter(c: &Checker, key: &str, table: &toml::Table) -> Resul
             }
             let value = match (axis.is_numeric(), item) {
                 (false, toml::Value::Boolean(b)) if axis == Axis::Textured => FilterValue::Name(b.to_string()),
-                (true, toml::Value::Float(f)) => FilterValue::Number(*f),
+                (true, toml::Value::Float(f)) if f.is_finite() => FilterValue::Number(*f),
+                // NaN matches no cell: a filter of it would silently select nothing.
+                (true, toml::Value::Float(f)) => {
+                    return Err(
+                        c.err(&format!("{key}.{k}"), format!("value {f} is not finite; allowed: a finite number"))
+                    )
+                }
                 (true, toml::Value::Integer(i)) => FilterValue::Number(*i as f64),
                 (false, toml::Value::String(s)) => FilterValue::Name(s.clone()),
                 (numeric, other) => {

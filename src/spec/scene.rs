@@ -611,6 +611,15 @@ impl Scene {
             Some(d) => d.join(name_or_path),
             None => PathBuf::from(name_or_path),
         };
+        if path.exists() && !path.is_file() {
+            // A FIFO or a device would block or read without end; a folder is no scene.
+            return Err(InputError::at_key(
+                referenced_from,
+                key,
+                format!("composition `{name_or_path}` ({}) is not a regular file", path.display()),
+            )
+            .into());
+        }
         if !path.is_file() {
             return Err(InputError::at_key(
                 referenced_from,
@@ -675,6 +684,10 @@ impl Scene {
         c.positive("camera.fov_y_deg", self.camera.fov_y_deg)?;
         c.range("camera.fov_y_deg", self.camera.fov_y_deg, 1.0, 170.0)?;
         c.positive("camera.near", self.camera.near)?;
+        // TOML reads `nan` and `inf`: unchecked, they gave empty images with exit 0.
+        c.finite_vector("camera.position", self.camera.position)?;
+        c.finite_vector("camera.target", self.camera.target)?;
+        c.positive("camera.far", self.camera.far)?;
         if self.camera.far <= self.camera.near {
             return Err(
                 c.err("camera.far", format!("far {} must be greater than near {}", self.camera.far, self.camera.near))
@@ -746,6 +759,7 @@ impl Scene {
         }
         for (i, l) in self.lights.iter().enumerate() {
             let k = |f: &str| format!("lights[{i}].{f}");
+            c.finite_vector(&k("position"), l.position)?;
             c.color(&k("color"), l.color)?;
             c.non_negative(&k("intensity"), l.intensity)?;
             c.positive(&k("range"), l.range)?;
@@ -795,6 +809,8 @@ impl Scene {
         for (i, o) in self.objects.iter().enumerate() {
             let k = |f: &str| format!("objects[{i}].{f}");
             c.name(&k("name"), &o.name)?;
+            c.finite_vector(&k("transform.translate"), o.transform.translate)?;
+            c.finite_vector(&k("transform.rotate_deg"), o.transform.rotate_deg)?;
             for s in o.transform.scale {
                 if s == 0.0 || !s.is_finite() {
                     return Err(c.err(&k("transform.scale"), format!("scale {s} must be finite and non-zero")));
