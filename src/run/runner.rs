@@ -104,7 +104,7 @@ pub fn run(matrix: &Matrix, opts: &RunOptions) -> Result<RunSummary, Error> {
     let started = Instant::now();
     crate::cells::check_size(matrix, opts.max_cells.unwrap_or(crate::cells::DEFAULT_MAX_CELLS))?;
     let exp = select_cells(matrix, opts);
-    check_id_lengths(&exp)?;
+    check_id_lengths(matrix, &exp)?;
     // Geometry first: a bad mesh or glTF file is bad input, found before any GPU work or output.
     let geometry = build_geometry(matrix, &exp)?;
     let gpu = GpuContext::new()?;
@@ -198,10 +198,10 @@ const MAX_FILE_NAME: usize = 255;
 
 /// Every cell id is a folder name: one too long for the file system is bad input, found before
 /// anything renders rather than as an I/O error half-way through the run.
-fn check_id_lengths(exp: &Expansion) -> Result<(), Error> {
+fn check_id_lengths(matrix: &Matrix, exp: &Expansion) -> Result<(), Error> {
     match exp.cells.iter().find(|c| c.id.0.len() > MAX_FILE_NAME) {
         Some(c) => Err(crate::error::InputError::new(
-            c.composition.clone(),
+            matrix.origin.clone(),
             format!(
                 "cell id `{}` is {} bytes, longer than a file name may be ({MAX_FILE_NAME}); shorten the \
                  composition, shader or parameter names, or sweep fewer parameters at once",

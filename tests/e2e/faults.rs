@@ -1,0 +1,679 @@
+//! Fault injection (issue 25): each test does what a hostile but realistic user does — edits a
+//! cached file, symlinks a run folder into itself, feeds NaN, tampers with a shard — and checks
+//! that the tool refuses or repairs instead of reporting something that was not rendered as
+//! labelled. Each was red before its fix.
+
+use std::path::{Path, PathBuf};
+
+use crate::common::{repo, shadematrix, write_matrix};
+
+/// A one-cell matrix on the small textured-plane fixture (16², no reference).
+fn small_matrix(dir: &Path, name: &str, extra: &str) -> PathBuf {
+    std::fs::copy(crate::common::fixture("textured_plane.toml"), dir.join("plane.toml")).unwrap();
+    write_matrix(
+        dir,
+        &format!("{name}.toml"),
+        &format!(
+            "name = \"{name}\"\ncompositions = [\"plane.toml\"]\npipelines = [\"urp\"]\nshaders = [\"lit\"]\n\
+             presets = [\"gold\"]\n[image]\nwidth = 16\nheight = 16\n{extra}"
+        ),
+    )
+}
+
+fn run_ok(dir: &Path, args: &[&str]) -> String {
+    let (rc, out, err) = shadematrix(dir, args, &[]);
+    assert_eq!(rc, 0, "{args:?}\n{out}\n{err}");
+    format!("{out}{err}")
+}
+
+fn refused(dir: &Path, args: &[&str], needles: &[&str]) -> String {
+    let (rc, out, err) = shadematrix(dir, args, &[]);
+    assert_eq!(rc, 2, "{args:?} should exit 2\n{out}\n{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    for n in needles {
+        assert!(err.contains(n), "{args:?}: `{n}` not in the message:\n{err}");
+    }
+    err
+}
+
+fn counts(run: &Path) -> serde_json::Value {
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(run.join("run.json")).unwrap()).unwrap();
+    json["counts"].clone()
+}
+
+fn count(run: &Path, what: &str) -> u64 {
+    counts(run)[what].as_u64().unwrap()
+}
+
+fn cell_dirs(run: &Path) -> Vec<PathBuf> {
+    let mut v: Vec<PathBuf> = std::fs::read_dir(run.join("cells"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| !p.file_name().unwrap().to_string_lossy().starts_with('.'))
+        .collect();
+    v.sort();
+    v
+}
+
+/// Every file under `dir` (not following links), relative.
+fn files_under(dir: &Path) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let e = e.unwrap();
+            let t = e.file_type().unwrap();
+            if t.is_dir() {
+                stack.push(e.path());
+            } else if t.is_file() {
+                out.push(e.path());
+            }
+        }
+    }
+    out
+}
+
+/// The cache entry folder holding `file` (there is one cell in these tests).
+fn cached(cache: &Path, file: &str) -> PathBuf {
+    let found: Vec<PathBuf> = files_under(cache).into_iter().filter(|p| p.file_name().unwrap() == file).collect();
+    assert_eq!(found.len(), 1, "{found:?}");
+    found[0].clone()
+}
+
+fn make_writable(p: &Path) {
+    let mut perm = std::fs::metadata(p).unwrap().permissions();
+    #[allow(clippy::permissions_set_readonly_false)]
+    perm.set_readonly(false);
+    std::fs::set_permissions(p, perm).unwrap();
+}
+
+// 1. Cell ids ------------------------------------------------------------------------------------
+
+#[test]
+fn ids_are_exact_so_near_values_stay_distinct_cells() {
+    let text =
+        "name = \"t\"\ncompositions = [\"medusa\"]\npipelines = [\"urp\"]\nshaders = [\"lit\"]\npresets = [\"gold\"]\n\
+                [sweep]\nsmoothness = [0.999, 1.0]\nmetallic = [0.0, 0.001]\nlight_intensity = [1.0, 1.00001]\n";
+    let m = shadematrix::spec::matrix::Matrix::from_text(
+        "t.toml",
+        text,
+        None,
+        std::sync::Arc::new(shadematrix::shading::Registry::builtin()),
+    )
+    .unwrap();
+    let e = shadematrix::cells::expand(&m);
+    assert_eq!(e.cells.len(), 8, "{:?}", e.cells.iter().map(|c| &c.id.0).collect::<Vec<_>>());
+    for c in &e.cells {
+        // The id's numbers read back as the cell's values.
+        let s = c.id.0.split("_s").nth(1).unwrap().split('_').next().unwrap();
+        assert_eq!(s.parse::<f64>().unwrap(), c.material.smoothness, "{}", c.id);
+        let m = c.id.0.split("__m").nth(1).unwrap().split('_').next().unwrap();
+        assert_eq!(m.parse::<f64>().unwrap(), c.material.metallic, "{}", c.id);
+        let i = c.id.0.split("_i").nth(1).unwrap().split('_').next().unwrap();
+        assert_eq!(i.parse::<f64>().unwrap(), c.light_intensity, "{}", c.id);
+    }
+    // Colours are named by their 8-bit code: two that share one are refused, naming both.
+    let clash = text.replace("[sweep]\n", "[sweep]\ncolor = [[1.0, 0.5, 0.0], [1.0, 0.501, 0.0]]\n");
+    let tmp = tempfile::tempdir().unwrap();
+    write_matrix(tmp.path(), "c.toml", &clash);
+    refused(tmp.path(), &["list", "c.toml"], &["sweep.color[1]", "ff8000", "0.501"]);
+}
+
+#[test]
+fn the_stability_matrix_lists_and_renders_its_stiff_smoothness_values() {
+    let (rc, out, err) = shadematrix(&repo(), &["list", "matrices/stability.toml"], &[]);
+    assert_eq!(rc, 0, "{err}");
+    let ids: Vec<&str> =
+        out.lines().map(str::trim).filter(|l| l.starts_with("stability_lights__builtin-forward__standard__")).collect();
+    for s in ["_s0.00_", "_s0.0001_", "_s0.50_", "_s0.999_", "_s1.00_"] {
+        assert!(ids.iter().any(|id| id.contains(s)), "no {s} cell listed among {} ids", ids.len());
+    }
+    // The run renders the two ends the matrix exists for.
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("r");
+    let only =
+        "composition=stability_lights,pipeline=builtin,path=forward,shader=standard,metallic=0,light_intensity=100,\
+                light_range=40,color=ffffff,smoothness=0.0001|1";
+    run_ok(&repo(), &["run", "matrices/stability.toml", "--out", out.to_str().unwrap(), "--only", only, "--no-cache"]);
+    let mut smoothness: Vec<f64> = cell_dirs(&out)
+        .iter()
+        .map(|d| shadematrix::record::CellRecord::load(&d.join("cell.json")).unwrap().sliders.smoothness)
+        .collect();
+    smoothness.sort_by(f64::total_cmp);
+    assert_eq!(smoothness, vec![1e-4, 1.0]);
+}
+
+// 2. The cache: immutable entries, verified on restore -------------------------------------------
+
+#[test]
+fn the_cache_holds_copies_and_drops_an_entry_that_changed() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    small_matrix(d, "m", "");
+    let run = |out: &str| {
+        run_ok(d, &["run", "m.toml", "--out", out, "--cache", "cache"]);
+        d.join(out)
+    };
+    let a = run("a");
+    let cell = cell_dirs(&a).remove(0);
+    let png = std::fs::read(cell.join("image.png")).unwrap();
+    // A user overwrites a run's image (as `cp` does, through the path): the cache keeps its own.
+    std::fs::write(cell.join("image.png"), b"not the image").unwrap();
+    assert_eq!(std::fs::read(cached(&d.join("cache"), "image.png")).unwrap(), png, "the edit reached the cache");
+    let b = run("b");
+    assert_eq!(count(&b, "cached"), 1);
+    assert_eq!(std::fs::read(cell_dirs(&b)[0].join("image.png")).unwrap(), png);
+
+    // Each kind of damage to the entry: dropped with a warning, the cell renders, the images are right.
+    let damages: [(&str, &dyn Fn(&Path)); 3] = [
+        ("image.exr", &|p: &Path| {
+            let bytes = std::fs::read(p).unwrap();
+            std::fs::write(p, &bytes[..bytes.len() / 2]).unwrap();
+        }),
+        ("cell.json", &|p: &Path| {
+            let text = std::fs::read_to_string(p).unwrap().replacen("\"lit\"", "\"lambert\"", 1);
+            std::fs::write(p, text).unwrap();
+        }),
+        ("image.png", &|p: &Path| std::fs::remove_file(p).unwrap()),
+    ];
+    for (i, (file, damage)) in damages.iter().enumerate() {
+        let p = cached(&d.join("cache"), file);
+        make_writable(&p);
+        damage(&p);
+        let (rc, _, err) = shadematrix(d, &["run", "m.toml", "--out", &format!("damaged{i}"), "--cache", "cache"], &[]);
+        assert_eq!(rc, 0, "{err}");
+        let out = d.join(format!("damaged{i}"));
+        assert!(err.contains("dropped"), "{file}: no warning\n{err}");
+        assert_eq!((count(&out, "cached"), count(&out, "rendered")), (0, 1), "{file}");
+        assert_eq!(std::fs::read(cell_dirs(&out)[0].join("image.png")).unwrap(), png, "{file}");
+        // The re-rendered cell is stored again, whole.
+        let again = run(&format!("again{i}"));
+        assert_eq!(count(&again, "cached"), 1, "{file}");
+    }
+}
+
+// 3. The key covers every input ------------------------------------------------------------------
+
+#[test]
+fn editing_any_input_the_render_reads_renders_again() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    // A glTF subject whose buffer and image have percent-encoded names, as exporters write them.
+    crate::common::write_textured_gltf(d);
+    std::fs::rename(d.join("plane.bin"), d.join("my mesh.bin")).unwrap();
+    std::fs::rename(d.join("base.png"), d.join("my base.png")).unwrap();
+    let gltf = std::fs::read_to_string(d.join("plane.gltf"))
+        .unwrap()
+        .replace("\"plane.bin\"", "\"my%20mesh.bin\"")
+        .replace("\"base.png\"", "\"my%20base.png\"");
+    std::fs::write(d.join("plane.gltf"), gltf).unwrap();
+    let scene = std::fs::read_to_string(crate::common::fixture("textured_plane.toml")).unwrap().replace(
+        "mesh = { kind = \"plane\", size = [2.0, 2.0], subdivisions = 1 }",
+        "mesh = { kind = \"gltf\", path = \"plane.gltf\" }",
+    );
+    std::fs::write(d.join("scene.toml"), scene).unwrap();
+    let brdf = d.join("shaders/brdf");
+    std::fs::create_dir_all(&brdf).unwrap();
+    for f in ["wrap_diffuse.wgsl", "wrap_diffuse.toml"] {
+        std::fs::copy(repo().join("examples/user_models").join(f), brdf.join(f)).unwrap();
+    }
+    let matrix = "name = \"k\"\ncompositions = [\"scene.toml\"]\npipelines = [\"urp\"]\nshaders = [\"wrap_diffuse\"]\n\
+                  presets = [\"own\"]\n[image]\nwidth = 16\nheight = 16\n";
+    write_matrix(d, "m.toml", matrix);
+    let mut n = 0;
+    let mut run = || {
+        n += 1;
+        let out = format!("r{n}");
+        run_ok(d, &["run", "m.toml", "--out", &out, "--cache", "cache"]);
+        (count(&d.join(&out), "rendered"), count(&d.join(&out), "cached"))
+    };
+    assert_eq!(run(), (1, 0));
+    assert_eq!(run(), (0, 1), "unchanged: from the cache");
+    let edit = |path: &str, f: &dyn Fn(Vec<u8>) -> Vec<u8>| {
+        let p = d.join(path);
+        let bytes = std::fs::read(&p).unwrap();
+        std::fs::write(&p, f(bytes)).unwrap();
+    };
+    let replace = |from: &'static str, to: &'static str| {
+        move |b: Vec<u8>| {
+            let t = String::from_utf8(b).unwrap();
+            assert!(t.contains(from), "{from} not in {t}");
+            t.replacen(from, to, 1).into_bytes()
+        }
+    };
+    let inputs: [(&str, &str, Box<dyn Fn(Vec<u8>) -> Vec<u8>>); 6] = [
+        ("scene", "scene.toml", Box::new(replace("fov_y_deg = 40.0", "fov_y_deg = 41.0"))),
+        (
+            "glTF buffer",
+            "my mesh.bin",
+            Box::new(|mut b: Vec<u8>| {
+                b[0] ^= 0x40; // the first vertex's x moves
+                b
+            }),
+        ),
+        (
+            "glTF image",
+            "my base.png",
+            Box::new(|_| {
+                let mut png = Vec::new();
+                image::RgbaImage::from_pixel(8, 8, image::Rgba([0, 255, 0, 255]))
+                    .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+                    .unwrap();
+                png
+            }),
+        ),
+        (
+            "user WGSL",
+            "shaders/brdf/wrap_diffuse.wgsl",
+            Box::new(replace("let w = s.params0.x;", "let w = 0.9 * s.params0.x;")),
+        ),
+        ("user declaration", "shaders/brdf/wrap_diffuse.toml", Box::new(replace("default = 0.5", "default = 0.25"))),
+        ("matrix settings", "m.toml", Box::new(replace("[image]", "[outputs]\nmaps = false\n[image]"))),
+    ];
+    for (what, path, f) in &inputs {
+        edit(path, f.as_ref());
+        assert_eq!(run(), (1, 0), "{what} edited: the cell must render again");
+    }
+    // A preset is part of the cell: another preset is another cell, never a cached one.
+    edit("m.toml", &replace("presets = [\"own\"]", "presets = [\"gold\"]"));
+    assert_eq!(run(), (1, 0), "preset changed");
+}
+
+// 4. --resume removes only its own temporary names ------------------------------------------------
+
+#[test]
+fn resume_removes_only_its_own_temp_files_and_follows_no_link() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    small_matrix(d, "m", "");
+    run_ok(d, &["run", "m.toml", "--out", "r", "--no-cache"]);
+    let run = d.join("r");
+    let cell = cell_dirs(&run).remove(0);
+    // The user's files outside the run, reached through links in it.
+    let outside = d.join("outside");
+    std::fs::create_dir_all(&outside).unwrap();
+    for f in [".a.tmp1", ".b.cached2", ".c.merge3", "keep.txt"] {
+        std::fs::write(outside.join(f), b"mine").unwrap();
+    }
+    std::os::unix::fs::symlink(&outside, run.join("link")).unwrap();
+    std::os::unix::fs::symlink(&outside, cell.join("link")).unwrap();
+    std::os::unix::fs::symlink(&outside, run.join("cells/.x.cached9")).unwrap();
+    for i in 0..3 {
+        std::os::unix::fs::symlink(".", run.join(format!("loop{i}"))).unwrap();
+    }
+    // Names like the tool's but not its own, and its own in a folder it does not write.
+    std::fs::write(cell.join(".notes.tmpx"), b"mine").unwrap();
+    std::fs::write(run.join(".tmp"), b"mine").unwrap();
+    std::fs::create_dir_all(run.join("mine")).unwrap();
+    std::fs::write(run.join("mine/.c.tmp3"), b"mine").unwrap();
+    // What a killed run leaves: removed.
+    std::fs::write(cell.join(".image.png.tmp999"), b"half").unwrap();
+    std::fs::create_dir_all(run.join("cells/.y.cached12")).unwrap();
+
+    let out = std::process::Command::new("timeout")
+        .current_dir(d)
+        .args(["120", env!("CARGO_BIN_EXE_shadematrix"), "run", "m.toml", "--out", "r", "--resume", "--no-cache"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    for f in [".a.tmp1", ".b.cached2", ".c.merge3", "keep.txt"] {
+        assert!(outside.join(f).is_file(), "{f} outside the run was deleted");
+    }
+    assert!(cell.join(".notes.tmpx").is_file() && run.join(".tmp").is_file() && run.join("mine/.c.tmp3").is_file());
+    assert!(run.join("cells/.x.cached9").symlink_metadata().is_ok(), "a link was removed");
+    assert!(!cell.join(".image.png.tmp999").exists() && !run.join("cells/.y.cached12").exists());
+}
+
+// 5. Integer keys are range-checked ---------------------------------------------------------------
+
+#[test]
+fn warmup_is_range_checked() {
+    let tmp = tempfile::tempdir().unwrap();
+    small_matrix(tmp.path(), "m", "[timing]\nframes = 1\nwarmup = 4294967295\n");
+    refused(tmp.path(), &["list", "m.toml"], &["timing.warmup", "4294967295", "0..=10000"]);
+    refused(tmp.path(), &["run", "m.toml", "--out", "r"], &["timing.warmup"]);
+    assert!(!tmp.path().join("r").exists(), "nothing is written for bad input");
+}
+
+// 6. One writer per run folder ---------------------------------------------------------------------
+
+#[test]
+fn a_second_writer_of_a_run_folder_is_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    small_matrix(d, "m", "");
+    run_ok(d, &["run", "m.toml", "--out", "r", "--no-cache"]);
+    // Another process holds the folder's lock, as a running run does.
+    let lock = std::fs::OpenOptions::new().write(true).open(d.join("r/.shadematrix.lock")).unwrap();
+    lock.try_lock().unwrap();
+    let before = files_under(&d.join("r")).len();
+    refused(d, &["run", "m.toml", "--out", "r", "--resume", "--no-cache"], &["another shadematrix process"]);
+    refused(d, &["report", "r"], &["another shadematrix process"]);
+    std::fs::create_dir_all(d.join("fresh")).unwrap();
+    let lock2 = std::fs::File::create(d.join("fresh/.shadematrix.lock")).unwrap();
+    lock2.try_lock().unwrap();
+    refused(d, &["run", "m.toml", "--out", "fresh", "--no-cache"], &["another shadematrix process"]);
+    assert_eq!(files_under(&d.join("r")).len(), before);
+    drop(lock);
+    run_ok(d, &["run", "m.toml", "--out", "r", "--resume", "--no-cache"]);
+}
+
+// 7. A folder the tool did not make ----------------------------------------------------------------
+
+#[test]
+fn a_non_empty_folder_that_holds_no_run_is_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    small_matrix(d, "m", "");
+    std::fs::create_dir_all(d.join("site/tables")).unwrap();
+    std::fs::write(d.join("site/index.html"), b"my page").unwrap();
+    std::fs::write(d.join("site/tables/perf.md"), b"my table").unwrap();
+    refused(d, &["run", "m.toml", "--out", "site"], &["not empty", "index.html"]);
+    assert_eq!(std::fs::read(d.join("site/index.html")).unwrap(), b"my page");
+    assert_eq!(std::fs::read(d.join("site/tables/perf.md")).unwrap(), b"my table");
+    // An empty folder is fine.
+    std::fs::create_dir_all(d.join("empty")).unwrap();
+    run_ok(d, &["run", "m.toml", "--out", "empty", "--no-cache"]);
+}
+
+// 8. --resume continues the same matrix only -------------------------------------------------------
+
+#[test]
+fn resume_refuses_another_matrix_and_sets_aside_cells_outside_the_expansion() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    let m = small_matrix(d, "m", "");
+    let text = std::fs::read_to_string(&m).unwrap().replace("[\"gold\"]", "[\"gold\", \"plastic\"]");
+    std::fs::write(&m, &text).unwrap();
+    run_ok(d, &["run", "m.toml", "--out", "r", "--no-cache"]);
+    assert_eq!(cell_dirs(&d.join("r")).len(), 2);
+    std::fs::write(&m, text.replace("width = 16", "width = 24")).unwrap();
+    refused(d, &["run", "m.toml", "--out", "r", "--resume", "--no-cache"], &["matrix.sha256", "--resume"]);
+    std::fs::write(&m, &text).unwrap();
+    let said = run_ok(d, &["run", "m.toml", "--out", "r", "--resume", "--no-cache", "--only", "preset=gold"]);
+    assert!(said.contains("not in this expansion"), "{said}");
+    let run = d.join("r");
+    let cells = cell_dirs(&run);
+    assert_eq!(cells.len() as u64, count(&run, "cells"), "the reports list what run.json counts");
+    assert!(cells.iter().all(|c| c.to_string_lossy().contains("__gold__")));
+    assert!(std::fs::read_dir(run.join("cells-not-in-expansion")).unwrap().count() == 1);
+    let viewer = std::fs::read_to_string(run.join("viewer-data.js")).unwrap();
+    assert!(!viewer.contains("__plastic__"), "the viewer still lists the plastic cell");
+}
+
+// 9. merge checks every shard's cells ---------------------------------------------------------------
+
+#[test]
+fn merge_refuses_a_shard_missing_a_cell_or_with_a_tampered_label() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    small_matrix(d, "m", "[sweep]\nsmoothness = [0.2, 0.4, 0.6, 0.8]\n");
+    for k in 1..=2 {
+        run_ok(d, &["run", "m.toml", "--out", &format!("s{k}"), "--shard", &format!("{k}/2"), "--no-cache"]);
+    }
+    let s1 = d.join("s1");
+    let gone = cell_dirs(&s1).remove(0);
+    let name = gone.file_name().unwrap().to_string_lossy().to_string();
+    std::fs::rename(&gone, d.join("moved")).unwrap();
+    refused(d, &["merge", "s1", "s2", "--out", "merged"], &[&name, "missing"]);
+    std::fs::rename(d.join("moved"), &gone).unwrap();
+    let record = std::fs::read_to_string(s1.join("run.json")).unwrap();
+    for label in ["0/0", "5/3", "3/2"] {
+        std::fs::write(s1.join("run.json"), record.replace("\"1/2\"", &format!("\"{label}\""))).unwrap();
+        refused(d, &["merge", "s1", "s2", "--out", &format!("merged-{}", label.replace('/', "-"))], &["matrix.shard"]);
+    }
+    std::fs::write(s1.join("run.json"), &record).unwrap();
+    let said = run_ok(d, &["merge", "s1", "s2", "--out", "merged"]);
+    assert!(said.contains("4 cells"), "{said}");
+}
+
+#[test]
+fn an_interrupted_merge_can_be_run_again() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    small_matrix(d, "m", "[sweep]\nsmoothness = [0.2, 0.8]\n");
+    for k in 1..=2 {
+        run_ok(d, &["run", "m.toml", "--out", &format!("s{k}"), "--shard", &format!("{k}/2"), "--no-cache"]);
+    }
+    run_ok(d, &["merge", "s1", "s2", "--out", "merged"]);
+    // As a merge killed after its first cells leaves it: its record running, a cell half-placed.
+    let path = d.join("merged/run.json");
+    let text = std::fs::read_to_string(&path).unwrap().replace("\"status\": \"complete\"", "\"status\": \"running\"");
+    std::fs::write(&path, text).unwrap();
+    std::fs::create_dir_all(d.join("merged/cells/.x.merge77")).unwrap();
+    let said = run_ok(d, &["merge", "s1", "s2", "--out", "merged"]);
+    assert!(said.contains("2 cells"), "{said}");
+    assert!(!d.join("merged/cells/.x.merge77").exists());
+    let status: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    assert_eq!(status["status"], "complete");
+    // A merge into a folder holding another run says what to do, with flags merge has.
+    let err = refused(d, &["merge", "s1", "s2", "--out", "s1"], &["already holds a run"]);
+    assert!(!err.contains("--resume"), "{err}");
+}
+
+// 10. A matrix too large to expand ------------------------------------------------------------------
+
+#[test]
+fn a_matrix_of_a_billion_cells_is_refused_before_expanding() {
+    let tmp = tempfile::tempdir().unwrap();
+    let values: Vec<String> = (0..1000).map(|i| format!("{}", i as f64 / 1000.0)).collect();
+    let list = values.join(", ");
+    let intensities: Vec<String> = (0..1000).map(|i| format!("{}", i as f64 / 10.0)).collect();
+    small_matrix(
+        tmp.path(),
+        "m",
+        &format!(
+            "[sweep]\nsmoothness = [{list}]\nmetallic = [{list}]\nlight_intensity = [{}]\n",
+            intensities.join(", ")
+        ),
+    );
+    for cmd in [vec!["list", "m.toml"], vec!["run", "m.toml", "--out", "r"]] {
+        refused(tmp.path(), &cmd, &["1000000000 cells", "sweep.smoothness 1000", "--max-cells"]);
+    }
+    // The limit is a flag: a small matrix under a smaller limit is refused, raised it runs.
+    small_matrix(tmp.path(), "s", "[sweep]\nsmoothness = [0.2, 0.8]\n");
+    refused(tmp.path(), &["list", "s.toml", "--max-cells", "1"], &["2 cells"]);
+    run_ok(tmp.path(), &["list", "s.toml", "--max-cells", "2"]);
+}
+
+// 11. glTF files read with bounds -----------------------------------------------------------------
+
+#[test]
+fn a_gltf_buffer_that_is_a_device_is_refused_unread() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    crate::common::write_textured_gltf(d);
+    let original = std::fs::read_to_string(d.join("plane.gltf")).unwrap();
+    let scene = std::fs::read_to_string(crate::common::fixture("textured_plane.toml")).unwrap().replace(
+        "mesh = { kind = \"plane\", size = [2.0, 2.0], subdivisions = 1 }",
+        "mesh = { kind = \"gltf\", path = \"plane.gltf\" }",
+    );
+    std::fs::write(d.join("scene.toml"), scene).unwrap();
+    write_matrix(
+        d,
+        "m.toml",
+        "name = \"g\"\ncompositions = [\"scene.toml\"]\npipelines = [\"urp\"]\nshaders = [\"lit\"]\npresets = [\"gold\"]\n[image]\nwidth = 16\nheight = 16\n",
+    );
+    let depth = d.canonicalize().unwrap().components().count();
+    let relative_zero = format!("{}dev/zero", "../".repeat(depth));
+    for uri in ["file:///dev/zero", relative_zero.as_str(), "missing%20file.bin"] {
+        std::fs::write(d.join("plane.gltf"), original.replace("\"plane.bin\"", &format!("\"{uri}\""))).unwrap();
+        let started = std::time::Instant::now();
+        refused(d, &["run", "m.toml", "--out", "r", "--no-cache"], &["plane.gltf", "buffers[0]"]);
+        assert!(started.elapsed().as_secs() < 60, "{uri}: read for {:?}", started.elapsed());
+    }
+}
+
+// 12. Non-finite scene values ---------------------------------------------------------------------
+
+#[test]
+fn non_finite_scene_values_are_refused_and_a_frame_without_its_subject_fails_fail_on() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    let scene = std::fs::read_to_string(crate::common::fixture("textured_plane.toml")).unwrap();
+    write_matrix(
+        d,
+        "m.toml",
+        "name = \"n\"\ncompositions = [\"s.toml\"]\npipelines = [\"urp\"]\nshaders = [\"lit\"]\npresets = [\"gold\"]\n[image]\nwidth = 16\nheight = 16\n",
+    );
+    let cases = [
+        ("camera.position", "position = [0.0, 2.6, 0.001]", "position = [nan, 2.6, 0.001]"),
+        ("camera.target", "target = [0.0, 0.0, 0.0]", "target = [0.0, inf, 0.0]"),
+        ("camera.far", "fov_y_deg = 40.0", "fov_y_deg = 40.0\nfar = nan"),
+        ("lights[0].position", "kind = \"directional\"", "kind = \"directional\"\nposition = [nan, 0.0, 0.0]"),
+        (
+            "objects[0].transform.translate",
+            "role = \"subject\"",
+            "role = \"subject\"\ntransform = { translate = [0.0, -inf, 0.0] }",
+        ),
+        (
+            "objects[0].transform.rotate_deg",
+            "role = \"subject\"",
+            "role = \"subject\"\ntransform = { rotate_deg = [nan, 0.0, 0.0] }",
+        ),
+    ];
+    for (key, from, to) in cases {
+        assert!(scene.contains(from), "{from}");
+        std::fs::write(d.join("s.toml"), scene.replacen(from, to, 1)).unwrap();
+        refused(d, &["list", "m.toml"], &[key, "finite"]);
+    }
+    // A camera that looks away from the subject: no NaN anywhere, and still not a result.
+    std::fs::write(d.join("s.toml"), scene.replace("target = [0.0, 0.0, 0.0]", "target = [0.0, 5.0, 0.0]")).unwrap();
+    let (rc, _, err) = shadematrix(d, &["run", "m.toml", "--out", "r", "--no-cache", "--fail-on", "nan,inf"], &[]);
+    assert_eq!(rc, 1, "{err}");
+    assert!(err.contains("no subject pixel"), "{err}");
+}
+
+// 13. CI thresholds -------------------------------------------------------------------------------
+
+#[test]
+fn check_refuses_non_finite_thresholds() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    small_matrix(d, "m", "");
+    run_ok(d, &["run", "m.toml", "--out", "r", "--no-cache"]);
+    for (flag, v) in [("--flip-mean", "nan"), ("--ssim-min", "nan"), ("--flip-mean", "inf"), ("--ssim-min", "-inf")] {
+        refused(d, &["check", "r", "--baseline", "r", &format!("{flag}={v}")], &[flag]);
+    }
+    run_ok(d, &["check", "r", "--baseline", "r", "--flip-mean", "0.01"]);
+}
+
+// 14. User model declarations ---------------------------------------------------------------------
+
+#[test]
+fn a_user_model_with_two_params_in_one_slot_or_one_name_twice_is_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    let brdf = tmp.path().join("models");
+    std::fs::create_dir_all(&brdf).unwrap();
+    std::fs::copy(repo().join("examples/user_models/wrap_diffuse.wgsl"), brdf.join("wrap_diffuse.wgsl")).unwrap();
+    let decl = std::fs::read_to_string(repo().join("examples/user_models/wrap_diffuse.toml")).unwrap();
+    let second = |name: &str, slot: u32| {
+        format!("{decl}\n[[params]]\nname = \"{name}\"\nslot = {slot}\ndefault = 0.0\nmin = 0.0\nmax = 1.0\n")
+    };
+    std::fs::write(brdf.join("wrap_diffuse.toml"), second("tint", 0)).unwrap();
+    refused(tmp.path(), &["shaders", "--models", "models"], &["wrap_diffuse.toml", "params[1].slot", "slot 0"]);
+    std::fs::write(brdf.join("wrap_diffuse.toml"), second("wrap", 1)).unwrap();
+    refused(tmp.path(), &["shaders", "--models", "models"], &["wrap_diffuse.toml", "params[1].name", "twice"]);
+    std::fs::write(brdf.join("wrap_diffuse.toml"), second("tint", 1)).unwrap();
+    run_ok(tmp.path(), &["shaders", "--models", "models"]);
+    // A binding of its own matches no bind group of the passes: bad input naming the file, not a
+    // device error.
+    let wgsl = std::fs::read_to_string(brdf.join("wrap_diffuse.wgsl")).unwrap();
+    std::fs::write(
+        brdf.join("wrap_diffuse.wgsl"),
+        format!("@group(3) @binding(0) var<storage, read> extra: array<f32>;\n{wgsl}"),
+    )
+    .unwrap();
+    refused(tmp.path(), &["shaders", "--models", "models"], &["wrap_diffuse.wgsl", "@group(3) @binding(0)"]);
+}
+
+// Low: the rest of the issue's list ----------------------------------------------------------------
+
+#[test]
+fn records_are_byte_stable_through_a_read_and_a_write() {
+    let tmp = tempfile::tempdir().unwrap();
+    small_matrix(tmp.path(), "m", "[sweep]\nsmoothness = [0.1, 0.3, 0.7]\nlight_intensity = [0.3]\n");
+    run_ok(tmp.path(), &["run", "m.toml", "--out", "r", "--no-cache"]);
+    for cell in cell_dirs(&tmp.path().join("r")) {
+        let bytes = std::fs::read(cell.join("cell.json")).unwrap();
+        let record = shadematrix::record::CellRecord::load(&cell.join("cell.json")).unwrap();
+        assert_eq!(serde_json::to_vec_pretty(&record).unwrap(), bytes, "{}", cell.display());
+    }
+}
+
+#[test]
+fn bad_paths_and_filters_are_refused_up_front() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    small_matrix(d, "m", "");
+    refused(d, &["list", "m.toml", "--models", "no-such-folder"], &["--models", "no-such-folder"]);
+    let text = std::fs::read_to_string(d.join("m.toml")).unwrap();
+    std::fs::write(d.join("r.toml"), text.replace("[image]", "reference = { run = \"not-a-run\" }\n[image]")).unwrap();
+    std::fs::create_dir_all(d.join("not-a-run")).unwrap();
+    refused(d, &["list", "r.toml"], &["reference.run", "not a run folder"]);
+    small_matrix(d, "n", "[[only]]\nsmoothness = nan\n");
+    refused(d, &["list", "n.toml"], &["only[0].smoothness", "finite"]);
+    // A composition name as long as a file name allows makes ids longer than one: refused before
+    // anything renders or is written.
+    let long = "p".repeat(250);
+    let scene = std::fs::read_to_string(crate::common::fixture("textured_plane.toml"))
+        .unwrap()
+        .replace("name = \"textured_plane\"", &format!("name = \"{long}\""));
+    std::fs::write(d.join("long.toml"), scene).unwrap();
+    write_matrix(
+        d,
+        "l.toml",
+        "name = \"l\"\ncompositions = [\"long.toml\"]\npipelines = [\"urp\"]\nshaders = [\"lit\"]\npresets = [\"gold\"]\n",
+    );
+    refused(d, &["run", "l.toml", "--out", "long"], &["longer than a file name"]);
+    assert!(!d.join("long").exists());
+    // A FIFO would block the reader forever: it is not a scene.
+    let fifo = d.join("fifo.toml");
+    let c = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();
+    assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o644) }, 0);
+    write_matrix(
+        d,
+        "f.toml",
+        "name = \"f\"\ncompositions = [\"fifo.toml\"]\npipelines = [\"urp\"]\nshaders = [\"lit\"]\npresets = [\"gold\"]\n",
+    );
+    refused(d, &["list", "f.toml"], &["fifo.toml", "not a regular file"]);
+}
+
+#[test]
+fn a_closed_stdout_ends_quietly() {
+    let out = std::process::Command::new("bash")
+        .current_dir(repo())
+        .args([
+            "-c",
+            &format!(
+                "'{}' list matrices/stability.toml | head -c 100 > /dev/null; echo \"rc=${{PIPESTATUS[0]}}\"",
+                env!("CARGO_BIN_EXE_shadematrix")
+            ),
+        ])
+        .output()
+        .unwrap();
+    let said = String::from_utf8_lossy(&out.stdout);
+    assert!(said.contains("rc=0"), "{said}\n{}", String::from_utf8_lossy(&out.stderr));
+    assert!(!String::from_utf8_lossy(&out.stderr).contains("panicked"));
+}
+
+#[test]
+fn reports_say_complete_only_once_written_and_report_clears_a_killed_reports_temp_files() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    small_matrix(d, "m", "");
+    run_ok(d, &["run", "m.toml", "--out", "r", "--no-cache"]);
+    let run = d.join("r");
+    let status = |run: &Path| -> String {
+        let v: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(run.join("run.json")).unwrap()).unwrap();
+        v["status"].as_str().unwrap().to_string()
+    };
+    assert_eq!(status(&run), "complete");
+    assert!(run.join("index.html").is_file());
+    std::fs::write(run.join("tables/.perf.md.tmp4242"), b"half").unwrap();
+    std::fs::write(run.join(".index.html.tmp4242"), b"half").unwrap();
+    run_ok(d, &["report", "r"]);
+    assert!(!run.join("tables/.perf.md.tmp4242").exists() && !run.join(".index.html.tmp4242").exists());
+}
