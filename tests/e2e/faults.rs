@@ -166,7 +166,8 @@ fn the_cache_holds_copies_and_drops_an_entry_that_changed() {
     assert_eq!(std::fs::read(cell_dirs(&b)[0].join("image.png")).unwrap(), png);
 
     // Each kind of damage to the entry: dropped with a warning, the cell renders, the images are right.
-    let damages: [(&str, &dyn Fn(&Path)); 3] = [
+    type Damage<'a> = (&'a str, &'a dyn Fn(&Path));
+    let damages: [Damage; 3] = [
         ("image.exr", &|p: &Path| {
             let bytes = std::fs::read(p).unwrap();
             std::fs::write(p, &bytes[..bytes.len() / 2]).unwrap();
@@ -242,7 +243,8 @@ fn editing_any_input_the_render_reads_renders_again() {
             t.replacen(from, to, 1).into_bytes()
         }
     };
-    let inputs: [(&str, &str, Box<dyn Fn(Vec<u8>) -> Vec<u8>>); 6] = [
+    type Edit = Box<dyn Fn(Vec<u8>) -> Vec<u8>>;
+    let inputs: [(&str, &str, Edit); 6] = [
         ("scene", "scene.toml", Box::new(replace("fov_y_deg = 40.0", "fov_y_deg = 41.0"))),
         (
             "glTF buffer",
