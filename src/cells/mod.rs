@@ -442,12 +442,16 @@ pub fn id_number(v: f64, decimals: usize, trim: bool) -> String {
     let v = if v == 0.0 { 0.0 } else { v }; // -0 renders as 0: one cell, one id
     let fixed = format!("{v:.decimals$}");
     let fixed = if trim { fixed.trim_end_matches('0').trim_end_matches('.').to_string() } else { fixed };
-    if fixed.parse::<f64>() == Ok(v) {
-        return fixed;
-    }
     // Debug is Rust's shortest round-trip form, switching to exponents for tiny and huge values.
     let exact = format!("{v:?}");
-    exact.strip_suffix(".0").map(str::to_string).unwrap_or(exact)
+    let exact = exact.strip_suffix(".0").map(str::to_string).unwrap_or(exact);
+    // Both forms read back as `v`, so either keeps ids distinct; the fixed one is kept where it is
+    // about as short (`1.00` beside `1`), not for 1e300's 301 digits.
+    if fixed.parse::<f64>() == Ok(v) && fixed.len() <= exact.len() + 3 {
+        fixed
+    } else {
+        exact
+    }
 }
 
 /// The id of the cell `c` is compared against under a cell reference: `c` with the named axes
@@ -590,6 +594,22 @@ mod tests {
         assert_eq!(ids.len(), e.cells.len(), "ids are unique");
         assert!(ids.contains(&CellId("medusa__builtin-forward__standard__gold__m1.00_s0.20_i1_r10".into())));
         assert!(e.cells.iter().all(|c| c.id.0.chars().all(|ch| ch.is_ascii_alphanumeric() || "_-.".contains(ch))));
+    }
+
+    #[test]
+    fn id_numbers_read_back_as_their_values() {
+        assert_eq!(id_number(1.0, 2, false), "1.00");
+        assert_eq!(id_number(0.999, 2, false), "0.999");
+        assert_eq!(id_number(1e-4, 2, false), "0.0001");
+        assert_eq!(id_number(-0.0, 2, false), "0.00");
+        assert_eq!(short_number(1.5), "1.5");
+        assert_eq!(short_number(1.00001), "1.00001");
+        assert_eq!(short_number(10.0), "10");
+        assert_eq!(short_number(1e300), "1e300");
+        for v in [0.1, 1.0 / 3.0, 1e-9, 123456.789, 0.12345, 2.5e-7, 1e300] {
+            assert_eq!(id_number(v, 2, false).parse::<f64>().unwrap(), v);
+            assert_eq!(short_number(v).parse::<f64>().unwrap(), v);
+        }
     }
 
     #[test]

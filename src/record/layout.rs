@@ -209,3 +209,18 @@ fn newest_run(results_root: &Path, matrix_name: &str) -> Option<PathBuf> {
     runs.sort();
     runs.pop()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn only_the_tools_exact_temporary_names_are_temporary() {
+        for name in [".image.exr.tmp123", ".cell__a_s0.5.cached9", ".x.merge1", ".run.json.tmp4"] {
+            assert!(is_temp_name(name, &TEMP_TAGS), "{name}");
+        }
+        for name in ["image.tmp1", ".tmp", ".a.tmp", ".a.tmpx", ".notes.tmp1x", ".a.temp1", "..tmp1", ".a.cache1"] {
+            assert!(!is_temp_name(name, &TEMP_TAGS), "{name}");
+        }
+    }
+}

@@ -294,10 +294,18 @@ mod tests {
         assert!(!cache.restore("abcd", &out, "m").unwrap());
         assert!(!cache.restore("ffff", &out, "m").unwrap());
         assert!(!out.exists());
-        assert!(std::fs::read_dir(tmp.path().join("cache/ab")).unwrap().all(|e| !e
-            .unwrap()
-            .file_name()
-            .to_string_lossy()
-            .contains("tmp")));
+        assert!(!cache.contains("abcd") && !tmp.path().join("cache/ab").exists(), "an unfinished cell was stored");
+    }
+
+    #[test]
+    fn a_manifest_names_only_paths_inside_its_entry() {
+        let tmp = tempfile::tempdir().unwrap();
+        let manifest = CacheEntry {
+            schema: ENTRY_SCHEMA,
+            key: "k".into(),
+            files: vec![StoredFile { path: "../outside".into(), bytes: 0, sha256: String::new() }],
+        };
+        let err = copy_verified(tmp.path(), &tmp.path().join("to"), &manifest).unwrap_err();
+        assert!(err.contains("not a path inside the entry"), "{err}");
     }
 }
