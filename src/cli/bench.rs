@@ -17,7 +17,6 @@ pub fn bench(matrix: &Matrix, opts: &RunOptions) -> Result<BenchRecord, Error> {
     let summary = run(matrix, opts)?;
     let cpu_before = ProcessUsage::now().cpu_seconds;
     crate::report::build(&summary.dir)?;
-    crate::record::RunRecord::mark_complete(&summary.dir)?;
     let usage = ProcessUsage::now();
     let wall = started.elapsed().as_secs_f64();
     // The report runs alone after the run, so the process's CPU time over it is the report's.

@@ -73,6 +73,7 @@ pub fn run(matrix: Option<&Path>, args: RunArgs, models: &ModelsArg) -> Result<(
         progress: progress(),
         workers: None,
         max_cells: Some(max_cells),
+        reports: Some(crate::report::build),
     };
     let s = crate::run::run(&m, &opts)?;
     if !s.set_aside.is_empty() {
@@ -84,8 +85,6 @@ pub fn run(matrix: Option<&Path>, args: RunArgs, models: &ModelsArg) -> Result<(
                 + if s.set_aside.len() > 5 { ", …" } else { "" }
         );
     }
-    crate::report::build(&s.dir)?;
-    crate::record::RunRecord::mark_complete(&s.dir)?;
     super::outln!(
         "{} cells ({} rendered, {} twins copied, {} resumed, {} from the cache; {} pruned, {} filtered out) in {:.1} s on {}",
         s.counts.cells,

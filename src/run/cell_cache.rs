@@ -3,9 +3,9 @@
 //! folder — whose cell has the same key takes the folder instead of rendering it.
 //!
 //! As Bazel's and git's object stores do, an entry is immutable and verified:
-//! - Files are **copied** in and out (`std::fs::copy`, which reflinks where the file system can),
-//!   never hard-linked: with links, `cp other.png RUN/cells/X/image.png` rewrote the cache entry
-//!   and every run that had taken it. Stored files are read-only besides.
+//! - Files are **copied** in and out (read once, digested and written), never hard-linked: with
+//!   links, `cp other.png RUN/cells/X/image.png` rewrote the cache entry and every run that had
+//!   taken it. Stored files are read-only besides.
 //! - Each entry carries a manifest (`entry.json`, `CacheEntry`): every file's path, size and
 //!   SHA-256, recorded when it was stored. Restoring checks each file against it while copying; an
 //!   entry with a missing, truncated or edited file is dropped with a warning and the cell renders.

@@ -131,12 +131,15 @@ fn model_sources(matrix: &Matrix, c: &Cell) -> Vec<String> {
     out
 }
 
-/// (path, digest of the bytes) of every file the composition's meshes load.
+/// (path, digest of the bytes) of every file the composition's meshes (LOD levels included) load.
 fn mesh_digests(matrix: &Matrix, c: &Cell) -> Vec<(String, String)> {
     let scene = &matrix.compositions[c.composition_index];
     let mut out = Vec::new();
-    for o in &scene.objects {
-        if let MeshSpec::Gltf { path } = &o.mesh {
+    // The object's mesh and its LOD levels' meshes: a level drawn at this distance reads its file.
+    let meshes =
+        scene.objects.iter().flat_map(|o| std::iter::once(&o.mesh).chain(o.lod.iter().flat_map(|l| &l.meshes)));
+    for mesh in meshes {
+        if let MeshSpec::Gltf { path } = mesh {
             let p = scene.base_dir.as_ref().map_or_else(|| PathBuf::from(path), |b| b.join(path));
             for f in std::iter::once(p.clone()).chain(gltf_dependencies(&p)) {
                 out.push((f.display().to_string(), file_digest(&f)));

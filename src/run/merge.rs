@@ -1,8 +1,8 @@
 //! `shadematrix merge DIR... --out DIR`: the folders of a sharded run's shards (`run::shard`)
 //! joined into one run folder, as if the matrix had run unsharded. Shards must be complete runs of
 //! the same matrix (hash) on the same adapter, and together cover every shard of their count;
-//! anything else is refused with the folder and the value that differs. Cells are hard-linked
-//! (copied across file systems); a support cell comes from the shard that owns it.
+//! anything else is refused with the folder and the value that differs. Cells are copied (a
+//! merged run shares no file with its shards); a support cell comes from the shard that owns it.
 
 use std::collections::{BTreeMap, HashSet};
 use std::path::{Path, PathBuf};

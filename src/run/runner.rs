@@ -47,6 +47,10 @@ pub struct RunOptions {
     pub cache: Option<PathBuf>,
     /// The most cells the matrix may expand to (`--max-cells`; None: `cells::DEFAULT_MAX_CELLS`).
     pub max_cells: Option<u64>,
+    /// Writes the run's reports once its cells are finished, while the run still holds its
+    /// folder's lock; `run.json` says `complete` only after it (the CLI passes `report::build`,
+    /// which this stage cannot import). None: no reports, complete when the cells are.
+    pub reports: Option<fn(&Path) -> Result<(), Error>>,
     /// Cells taken from the cache (or kept by --resume) render their timed frames again, and
     /// their records take the new timings; images and metrics stay.
     pub retime: bool,
@@ -73,8 +77,6 @@ impl Workers {
 #[derive(Debug)]
 pub struct RunSummary {
     pub dir: PathBuf,
-    /// The run folder's lock, held until the reports are written.
-    pub lock: crate::record::RunLock,
     /// Cells of the resumed run that are not in this expansion, moved to `STALE_DIR`.
     pub set_aside: Vec<String>,
     pub counts: RunCounts,
@@ -171,8 +173,12 @@ pub fn run(matrix: &Matrix, opts: &RunOptions) -> Result<RunSummary, Error> {
     record.counts.rendered = stream.rendered.load(Ordering::Relaxed);
     record.counts.resumed = stream.resumed.load(Ordering::Relaxed);
     record.counts.cached = stream.cached.load(Ordering::Relaxed);
-    // Complete only once the reports exist (`RunRecord::mark_complete`).
-    record.status = if result.is_ok() { RunStatus::Reporting } else { RunStatus::Failed };
+    // Complete only once the reports exist.
+    record.status = match (&result, opts.reports) {
+        (Err(_), _) => RunStatus::Failed,
+        (Ok(()), Some(_)) => RunStatus::Reporting,
+        (Ok(()), None) => RunStatus::Complete,
+    };
     record.finished = Some(chrono::Local::now().to_rfc3339());
     record.wall_seconds = Some(started.elapsed().as_secs_f64());
     let stages = clock.times(workers.encode, workers.metrics, workers.queue_depth);
@@ -182,9 +188,13 @@ pub fn run(matrix: &Matrix, opts: &RunOptions) -> Result<RunSummary, Error> {
     let recorded = write_json(&run_json, &record);
     result?;
     recorded?;
+    if let Some(reports) = opts.reports {
+        reports(&dir.root)?;
+        record.status = RunStatus::Complete;
+        write_json(&run_json, &record)?;
+    }
     Ok(RunSummary {
         set_aside,
-        lock: dir.lock,
         dir: dir.root,
         counts: record.counts,
         wall_seconds: started.elapsed().as_secs_f64(),
