@@ -50,11 +50,14 @@ pub struct RunOptions {
     /// Writes the run's reports once its cells are finished, while the run still holds its
     /// folder's lock; `run.json` says `complete` only after it (the CLI passes `report::build`,
     /// which this stage cannot import). None: no reports, complete when the cells are.
-    pub reports: Option<fn(&Path) -> Result<(), Error>>,
+    pub reports: Option<ReportWriter>,
     /// Cells taken from the cache (or kept by --resume) render their timed frames again, and
     /// their records take the new timings; images and metrics stay.
     pub retime: bool,
 }
+
+/// What writes a finished run folder's reports (`report::build`).
+pub type ReportWriter = fn(&Path) -> Result<(), Error>;
 
 /// Threads per CPU stage and the depth of each queue.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
