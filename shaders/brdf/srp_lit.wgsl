@@ -1,4 +1,4 @@
-// The custom scriptable pipeline tutorial's Lit shader (models.md#4d, shading.md §4d): the minimal
+// The custom scriptable pipeline tutorial's Lit shader (models.md#srp-lit, shading.md §4d): the minimal
 // Cook-Torrance of URP without its roughness floors, and environment reflections whose Fresnel is
 // scaled by a slider (fresnel_strength, params0.x).
 

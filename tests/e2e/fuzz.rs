@@ -3,7 +3,7 @@
 //! inserted TOML/WGSL tokens and extreme numbers, deleted spans, duplicated lines) with proptest,
 //! and asserts the loader neither panics nor fails any way but as bad input (exit 2, naming the
 //! file). `cargo test` runs a short pass (FUZZ_CASES per target, 200 by default); a long run is
-//! `FUZZ_CASES=20000 cargo test --release --test main fuzz -- --nocapture` (README).
+//! `FUZZ_CASES=20000 cargo test --release --test main fuzz -- --nocapture` (docs/checks.md).
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};

@@ -9,6 +9,7 @@ mod compare;
 mod constants;
 mod conventions;
 mod coverage;
+mod docs;
 mod faults;
 mod flow;
 mod fuzz;

@@ -15,7 +15,7 @@ fn the_stability_matrix_extremes_leave_no_nan_inf_or_negative_value() {
     let out = tmp.path().join("run");
     // The stiffest corner of every shader × pipeline × path: mirror-smooth and fully rough white
     // metal under the strongest key light at the shortest and longest range (the full matrix:
-    // `shadematrix run matrices/stability.toml`, README).
+    // `shadematrix run matrices/stability.toml`, docs/checks.md).
     let only = "metallic=1,color=ffffff,light_intensity=100,light_range=0.001|40,smoothness=0|1";
     let (rc, stdout, stderr) = shadematrix(
         tmp.path(),
