@@ -10,6 +10,7 @@
 //!
 //! `STAGES` in `tests/e2e/flow.rs` holds that order, and the test fails when an import points back.
 
+pub mod adapter;
 pub mod audit;
 pub mod cells;
 pub mod cli;

@@ -5,6 +5,8 @@ pub mod gpu;
 pub mod images;
 pub mod ssim;
 pub mod stats;
+pub mod values;
 pub mod ztest;
 
-pub use images::{compare, Comparison, LoadedImage};
+pub use images::{compare, LoadedImage};
+pub use values::Comparison;

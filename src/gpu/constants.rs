@@ -15,17 +15,7 @@
 
 use std::borrow::Cow;
 
-/// The address space of the passes' constant buffers, recorded with the adapter in run.json.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
-pub enum ConstantSpace {
-    /// Records written before the choice existed used uniform buffers.
-    #[default]
-    #[serde(rename = "uniform")]
-    Uniform,
-    /// Read-only storage: on lavapipe (Vulkan on a CPU), where uniform values would be inlined.
-    #[serde(rename = "storage")]
-    ReadOnlyStorage,
-}
+pub use crate::adapter::ConstantSpace;
 
 impl ConstantSpace {
     pub fn for_adapter(info: &wgpu::AdapterInfo) -> ConstantSpace {

@@ -1,26 +1,10 @@
 //! Adapter selection and device creation, headless (no surface, no window).
 
-use serde::Serialize;
 use std::sync::{Arc, Mutex};
 
 use super::constants::ConstantSpace;
+pub use crate::adapter::AdapterRecord;
 use crate::error::{Error, ADAPTER_HELP};
-
-/// The adapter a run used, recorded in run.json: timings compare only within one adapter.
-#[derive(Debug, Clone, Serialize, serde::Deserialize, PartialEq)]
-pub struct AdapterRecord {
-    pub name: String,
-    pub backend: String,
-    pub device_type: String,
-    pub driver: String,
-    pub driver_info: String,
-    pub vendor: u32,
-    pub device: u32,
-    pub timestamp_queries: bool,
-    /// Where the passes' constants lived (gpu::constants).
-    #[serde(default)]
-    pub constants: ConstantSpace,
-}
 
 /// The constant space for `info`: gpu::constants' choice, or SHADEMATRIX_CONSTANTS=uniform|storage.
 fn constant_space(info: &wgpu::AdapterInfo) -> Result<ConstantSpace, Error> {

@@ -9,8 +9,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::render::uniforms::{ROLE_FIXED, ROLE_SUBJECT};
-use crate::render::CellRender;
+use crate::plan::roles::{ROLE_FIXED, ROLE_SUBJECT};
 
 /// The largest finite half-float value.
 pub const HALF_MAX: f32 = 65504.0;
@@ -103,9 +102,16 @@ pub struct PixelStats {
     pub max_luminance: f64,
 }
 
+/// A frame as read back: linear RGBA and the role mask (`plan::roles`), `width` pixels a row.
+pub struct FramePixels<'a> {
+    pub width: u32,
+    pub hdr: &'a [f32],
+    pub roles: &'a [u8],
+}
+
 /// `pass_of(role)`: the pass that wrote a pixel of that role in this cell's frame; `pre_exposure`:
 /// what the pipeline multiplies its colour target by (HDRP's exposure, else 1).
-pub fn pixel_stats(r: &CellRender, pre_exposure: f64, pass_of: impl Fn(u8) -> String) -> PixelStats {
+pub fn pixel_stats(r: FramePixels, pre_exposure: f64, pass_of: impl Fn(u8) -> String) -> PixelStats {
     let mut s = PixelStats {
         pixels: r.roles.len(),
         subject_pixels: 0,
@@ -121,7 +127,7 @@ pub fn pixel_stats(r: &CellRender, pre_exposure: f64, pass_of: impl Fn(u8) -> St
         max_luminance: 0.0,
     };
     let mut sum = 0.0;
-    for (i, (px, role)) in r.hdr.chunks_exact(4).zip(&r.roles).enumerate() {
+    for (i, (px, role)) in r.hdr.chunks_exact(4).zip(r.roles).enumerate() {
         let rgb = &px[..3];
         for (c, &v) in rgb.iter().enumerate() {
             if v.is_finite() {

@@ -75,6 +75,14 @@ pub fn groups_seen(scene: &Scene, world_bounds: &[(DVec3, DVec3)], camera: &Came
         .collect()
 }
 
+/// A LOD group in a cell: its relative screen height and the levels drawn (`plan::lod`).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct LodUse {
+    pub object: String,
+    pub relative_height: f64,
+    pub drawn: Vec<LodDraw>,
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -5,6 +5,7 @@ use serde::Serialize;
 
 pub mod lights;
 pub mod lod;
+pub mod roles;
 pub mod timing;
 
 use crate::spec::scene::{Reflections, Scene, Sky};
@@ -149,4 +150,15 @@ impl FramePlan {
         }
         FramePlan { passes, background, left_out, hdrp_bloom, hdrp_ssao }
     }
+}
+
+/// A shadowed light's map in a cell: its resolution, and why it differs from the pipeline's default.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ShadowMapUse {
+    /// Index into the scene's lights.
+    pub light: usize,
+    /// Texels per side (per cube face for a point light).
+    pub resolution: u32,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub note: Option<String>,
 }

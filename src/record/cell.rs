@@ -8,9 +8,9 @@ use std::path::Path;
 
 use super::{read_record, Maybe, RecordError};
 use crate::cells::{CellId, MaterialParams};
-use crate::compare::images::FlipMetric;
 use crate::compare::stats::BadValues;
-use crate::compare::Comparison;
+use crate::compare::values::Comparison;
+use crate::compare::values::FlipMetric;
 use crate::images::stats::PixelStats;
 use crate::images::tonemap::DisplayRecord;
 use crate::pipelines::{Attenuation, Pipeline, RenderPath};
@@ -65,10 +65,10 @@ pub struct CellRecord {
     pub lights: Vec<ObjectLights>,
     pub antialiasing: AntialiasingRecord,
     /// Each shadowed light's map resolution (the pipeline's default unless the scene sets one).
-    pub shadow_maps: Vec<crate::render::ShadowMapUse>,
+    pub shadow_maps: Vec<crate::plan::ShadowMapUse>,
     /// Each LOD group's relative screen height and the levels drawn, with their cross-fade.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub lod: Vec<crate::render::renderer::LodUse>,
+    pub lod: Vec<crate::plan::lod::LodUse>,
     /// What the cell's path-traced truth reached, when the matrix compares with one.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub truth: Option<TruthRecord>,

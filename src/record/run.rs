@@ -5,8 +5,8 @@ use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 use super::{read_record, Maybe};
+use crate::adapter::AdapterRecord;
 use crate::error::Error;
-use crate::gpu::AdapterRecord;
 use crate::spec::sheets::SheetSpec;
 
 /// Version of the `run.json` layout. 2: `schema`, `stages`.

@@ -20,7 +20,9 @@ use crate::gpu::GpuContext;
 use crate::materials::MaterialMaps;
 use crate::pipelines::{Antialiasing, Pipeline, RenderPath};
 use crate::plan::lights::{assign, sh_of_light, LightBudget, LightMode, ObjectLights};
+pub use crate::plan::lod::LodUse;
 use crate::plan::FramePlan;
+pub use crate::plan::ShadowMapUse;
 use crate::shading::registry::Sliders;
 use crate::shading::twin::Surface;
 use crate::shading::{wgsl, Registry, ShaderModel};
@@ -98,25 +100,6 @@ pub struct CellRender {
     pub shadow_maps: Vec<ShadowMapUse>,
     /// The LOD levels drawn, per LOD group.
     pub lod: Vec<LodUse>,
-}
-
-/// A LOD group in a cell: its relative screen height and the levels drawn (`plan::lod`).
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct LodUse {
-    pub object: String,
-    pub relative_height: f64,
-    pub drawn: Vec<crate::plan::lod::LodDraw>,
-}
-
-/// A shadowed light's map in a cell: its resolution, and why it differs from the pipeline's default.
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct ShadowMapUse {
-    /// Index into the scene's lights.
-    pub light: usize,
-    /// Texels per side (per cube face for a point light).
-    pub resolution: u32,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub note: Option<String>,
 }
 
 struct GpuObject {

@@ -96,10 +96,7 @@ pub struct ObjectUniforms {
     pub lod: [f32; 4],
 }
 
-/// Roles written to the mask attachment.
-pub const ROLE_BACKGROUND: u8 = 0;
-pub const ROLE_FIXED: u8 = 1;
-pub const ROLE_SUBJECT: u8 = 2;
+pub use crate::plan::roles::{ROLE_BACKGROUND, ROLE_FIXED, ROLE_SUBJECT};
 
 #[cfg(test)]
 mod tests {

@@ -16,8 +16,8 @@ use std::path::{Path, PathBuf};
 use serde_json::json;
 use sha2::{Digest, Sha256};
 
+use crate::adapter::AdapterRecord;
 use crate::cells::{reference_cell_id, Cell, CellId};
-use crate::gpu::context::AdapterRecord;
 use crate::spec::matrix::{hex, Matrix, ReferenceSpec};
 use crate::spec::scene::MeshSpec;
 

@@ -96,7 +96,8 @@ pub fn encode_cell(
     let shown = tonemap::to_srgb8(&r.hdr, r.width, r.height, &cell.display);
     let plan = crate::plan::FramePlan::for_scene(&matrix.compositions[cell.composition_index]);
     // Counted in what the passes wrote, before the store saturates the overflow.
-    let stats = pixel_stats(&r, pre_exposure(&shown.1), |role| {
+    let frame = crate::images::stats::FramePixels { width: r.width, hdr: &r.hdr, roles: &r.roles };
+    let stats = pixel_stats(frame, pre_exposure(&shown.1), |role| {
         let (role, forward_only) = match role {
             ROLE_SUBJECT => (Some(Role::Subject), !cell.model().deferrable()),
             ROLE_FIXED => (Some(Role::Fixed), false),
@@ -318,8 +319,8 @@ struct Measured {
     timing: CellTiming,
     lights: Vec<crate::plan::lights::ObjectLights>,
     antialiasing: AntialiasingRecord,
-    shadow_maps: Vec<crate::render::ShadowMapUse>,
-    lod: Vec<crate::render::renderer::LodUse>,
+    shadow_maps: Vec<crate::plan::ShadowMapUse>,
+    lod: Vec<crate::plan::lod::LodUse>,
     truth: Option<crate::record::cell::TruthRecord>,
     exr_format: String,
 }

@@ -14,6 +14,7 @@ const STAGES: &[&str] = &[
     "fsutil",
     "input",
     "pipelines",
+    "adapter",
     "gpu",
     "shading",
     // matrix (and the scenes it names) → cells → plan → render → images → metrics.
@@ -173,4 +174,64 @@ fn grouped_imports_are_read() {
     let text = "use crate::{error::Error, gpu::{GpuContext, readback}, record};\nlet x = crate::cells::expand(m);\n";
     let names: Vec<String> = crate_imports(text).into_iter().map(|(_, m)| m).collect();
     assert_eq!(names, vec!["error", "gpu", "record", "cells"]);
+}
+
+/// The source files a `crate::a::b::c` path can name, the most specific first.
+fn files_of_path(src: &Path, segments: &[String]) -> Option<PathBuf> {
+    (1..=segments.len()).rev().find_map(|n| {
+        let base = segments[..n].iter().fold(src.to_path_buf(), |p, s| p.join(s));
+        [base.with_extension("rs"), base.join("mod.rs")].into_iter().find(|f| f.is_file())
+    })
+}
+
+/// Whether a source file reaches the device: it names wgpu, or imports the GPU stages.
+fn gpu_bound(file: &Path, src: &Path) -> bool {
+    let rel = file.strip_prefix(src).unwrap();
+    if rel.starts_with("gpu") || rel.starts_with("render") {
+        return true;
+    }
+    let text = std::fs::read_to_string(file).unwrap();
+    let code: String = text.lines().map(|l| l.split("//").next().unwrap_or("")).collect::<Vec<_>>().join("\n");
+    ["wgpu", "crate::gpu", "crate::render", "super::gpu"].iter().any(|n| code.contains(n))
+}
+
+/// Files of `record/` that import a file bound to the device: everything that reads `cell.json`
+/// would depend on wgpu.
+fn record_gpu_imports(src: &Path) -> Vec<String> {
+    let mut files = Vec::new();
+    rust_files(&src.join("record"), &mut files);
+    files.sort();
+    let mut bad = Vec::new();
+    for file in files {
+        let text = std::fs::read_to_string(&file).unwrap();
+        for (n, line) in text.lines().enumerate() {
+            let code = line.split("//").next().unwrap_or("");
+            for rest in code.split("crate::").skip(1) {
+                let path: String =
+                    rest.chars().take_while(|c| c.is_ascii_alphanumeric() || *c == '_' || *c == ':').collect();
+                let segments: Vec<String> = path.split("::").filter(|s| !s.is_empty()).map(String::from).collect();
+                if let Some(target) = files_of_path(src, &segments) {
+                    if gpu_bound(&target, src) {
+                        bad.push(format!("{}:{}: imports {} ({})", file.display(), n + 1, path, target.display()));
+                    }
+                }
+            }
+        }
+    }
+    bad
+}
+
+#[test]
+fn records_import_no_gpu_stage() {
+    let src = crate::common::repo().join("src");
+    let bad = record_gpu_imports(&src);
+    assert!(bad.is_empty(), "record/ reaches the device:\n{}", bad.join("\n"));
+    // The check can fail: a record that names a renderer type.
+    let tmp = tempfile::tempdir().unwrap();
+    let fake = tmp.path().join("src");
+    std::fs::create_dir_all(fake.join("record")).unwrap();
+    std::fs::create_dir_all(fake.join("render")).unwrap();
+    std::fs::write(fake.join("render/mod.rs"), "pub struct ShadowMapUse;\n").unwrap();
+    std::fs::write(fake.join("record/cell.rs"), "pub x: Vec<crate::render::ShadowMapUse>,\n").unwrap();
+    assert_eq!(record_gpu_imports(&fake).len(), 1);
 }
