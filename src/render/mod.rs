@@ -12,6 +12,7 @@ pub mod reflection_probes;
 pub mod renderer;
 pub mod shadows;
 pub mod ssao;
+pub mod targets;
 pub mod traced_shadows;
 pub mod truth;
 pub mod uniforms;

@@ -16,7 +16,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::{DMat4, DVec3};
 use wgpu::util::DeviceExt;
 
-pub use super::uniforms::GpuReflectionProbe;
+pub use super::uniforms::{first_layer, GpuReflectionProbe};
 use super::ComputeStep;
 use crate::environment::prefilter::{self, EquirectImage, LEVELS, MIRROR_ALPHA, PROBE_WIDTH, SOURCE_WIDTH};
 use crate::error::Error;
@@ -34,12 +34,6 @@ const FACE_SUBSAMPLES: u32 = 2;
 /// Captures kept per composition: one per pipeline and then some, so a run that alternates
 /// pipelines (references first) does not capture again each time.
 pub const CAPTURE_SLOTS: usize = 4;
-
-/// The first array layer of probe `index`'s levels in capture slot `slot` of a scene with `count`
-/// probes (the sky's seven come first).
-pub fn first_layer(slot: usize, index: usize, count: usize) -> usize {
-    LEVELS * (1 + slot * count + index)
-}
 
 /// The view-projections of the six faces from `position`, in the order +X, −X, +Y, −Y, +Z, −Z
 /// (the prefilter picks the face of a direction's major axis in this order).
@@ -434,8 +428,8 @@ impl SceneProbes {
                     })
                 };
                 let faces = layered("probe faces", CAPTURE_FORMAT, 6);
-                let roles = layered("probe roles", super::renderer::ROLE_FORMAT, 6);
-                let depth = layered("probe depth", super::renderer::DEPTH_FORMAT, 1);
+                let roles = layered("probe roles", super::targets::ROLE_FORMAT, 6);
+                let depth = layered("probe depth", super::targets::DEPTH_FORMAT, 1);
                 let layer_views = |t: &wgpu::Texture| -> Vec<wgpu::TextureView> {
                     (0..6)
                         .map(|i| {

@@ -10,6 +10,7 @@ use wgpu::util::DeviceExt;
 use super::camera::{posed_camera, view_projection, ViewAxes};
 use super::deferred::GBuffer;
 use super::shadows::{array_side, cell_resolution, light_layers, shadow_slot, CascadeView, SHADOW_FORMAT};
+use super::targets::{DEPTH_FORMAT, HDR_FORMAT, ROLE_FORMAT};
 use super::uniforms::*;
 use crate::environment::EnvironmentMaps;
 use crate::error::Error;
@@ -28,11 +29,8 @@ use crate::shading::twin::Surface;
 use crate::shading::{wgsl, Registry, ShaderModel};
 use crate::spec::scene::{LightKind, Role, Scene};
 
-const HDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
-pub(super) const ROLE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Uint;
 /// The pass name of the study's traced shadows (render::traced_shadows) in timings.
 pub const TRACED_SHADOWS_PASS: &str = "traced shadows";
-pub(super) const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// What one cell asks of the renderer (no matrix types: the renderer knows scenes, not sweeps).
 #[derive(Debug, Clone, Copy)]

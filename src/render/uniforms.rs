@@ -59,7 +59,7 @@ impl GpuReflectionProbe {
         GpuReflectionProbe {
             position: v(p.position, if p.box_projection { 1.0 } else { 0.0 }),
             box_min: v(p.box_min, p.blend_distance),
-            box_max: v(p.box_max, super::reflection_probes::first_layer(slot, index, count) as f64),
+            box_max: v(p.box_max, first_layer(slot, index, count) as f64),
         }
     }
 }
@@ -97,6 +97,12 @@ pub struct ObjectUniforms {
 }
 
 pub use crate::plan::roles::{ROLE_BACKGROUND, ROLE_FIXED, ROLE_SUBJECT};
+
+/// The first array layer of probe `index`'s levels in capture slot `slot` of a scene with `count`
+/// probes (the sky's seven come first).
+pub fn first_layer(slot: usize, index: usize, count: usize) -> usize {
+    crate::environment::prefilter::LEVELS * (1 + slot * count + index)
+}
 
 #[cfg(test)]
 mod tests {

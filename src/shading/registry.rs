@@ -6,7 +6,6 @@
 
 use serde::Serialize;
 use std::borrow::Cow;
-use std::path::Path;
 use std::sync::Arc;
 
 use glam::DVec3;
@@ -762,13 +761,10 @@ impl Registry {
         Registry { models: BUILTIN_MODELS.iter().map(|m| Arc::new(m.model())).collect() }
     }
 
-    /// The built-in models and the user models declared in `dir` (none when it does not exist).
-    pub fn with_user_models(dir: &Path) -> Result<Registry, crate::error::Error> {
-        let mut registry = Registry::builtin();
-        for model in super::user::load_dir(dir, &registry)? {
-            registry.models.push(Arc::new(model));
-        }
-        Ok(registry)
+    /// The registry with `model` added (a user's, `shading::user`).
+    pub fn with(mut self, model: ShaderModel) -> Registry {
+        self.models.push(Arc::new(model));
+        self
     }
 
     pub fn models(&self) -> &[Arc<ShaderModel>] {

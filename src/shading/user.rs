@@ -49,6 +49,15 @@ struct ParamDeclaration {
     doc: String,
 }
 
+impl Registry {
+    /// The built-in models and the user models declared in `dir` (none when it does not exist).
+    pub fn with_user_models(dir: &Path) -> Result<Registry, Error> {
+        let builtin = Registry::builtin();
+        let models = load_dir(dir, &builtin)?;
+        Ok(models.into_iter().fold(builtin, Registry::with))
+    }
+}
+
 /// Every model declared in `dir`, checked against the names `known` has. Built-in WGSL files (the
 /// repository's own shaders/brdf) are recognised by name and skipped.
 pub fn load_dir(dir: &Path, known: &Registry) -> Result<Vec<ShaderModel>, Error> {

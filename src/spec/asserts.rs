@@ -14,7 +14,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::matrix::{parse_filter, Axis, Filter};
+use super::filter::{parse_filter, Axis, Filter};
 use crate::error::InputError;
 use crate::input::names::unknown_name;
 use crate::input::validate::Checker;

@@ -235,3 +235,101 @@ fn records_import_no_gpu_stage() {
     std::fs::write(fake.join("record/cell.rs"), "pub x: Vec<crate::render::ShadowMapUse>,\n").unwrap();
     assert_eq!(record_gpu_imports(&fake).len(), 1);
 }
+
+/// A source file's module path (`src/render/renderer.rs` → `["render", "renderer"]`, a `mod.rs`
+/// its folder's).
+fn module_path(src: &Path, file: &Path) -> Vec<String> {
+    let rel = file.strip_prefix(src).unwrap().with_extension("");
+    let mut parts: Vec<String> = rel.components().map(|c| c.as_os_str().to_string_lossy().to_string()).collect();
+    if parts.last().is_some_and(|p| p == "mod") {
+        parts.pop();
+    }
+    parts
+}
+
+/// Which files each file of `src` names through `crate::`, `super::` or `self::` paths (a
+/// `mod.rs`'s declarations and re-exports of its children are its facade, not edges).
+fn file_edges(src: &Path) -> std::collections::BTreeMap<Vec<String>, std::collections::BTreeSet<Vec<String>>> {
+    let mut files = Vec::new();
+    rust_files(src, &mut files);
+    let modules: std::collections::BTreeSet<Vec<String>> = files.iter().map(|f| module_path(src, f)).collect();
+    let resolve = |segments: &[String]| -> Option<Vec<String>> {
+        (1..=segments.len()).rev().map(|n| segments[..n].to_vec()).find(|m| modules.contains(m))
+    };
+    let mut edges = std::collections::BTreeMap::new();
+    for file in &files {
+        let me = module_path(src, file);
+        let is_mod = file.ends_with("mod.rs");
+        let parent: Vec<String> =
+            if is_mod { me[..me.len().saturating_sub(1)].to_vec() } else { me[..me.len() - 1].to_vec() };
+        let text = std::fs::read_to_string(file).unwrap();
+        let code: String = text.lines().map(|l| l.split("//").next().unwrap_or("")).collect::<Vec<_>>().join("\n");
+        let mut out = std::collections::BTreeSet::new();
+        for (prefix, base) in [("crate::", Vec::new()), ("super::", parent.clone()), ("self::", me.clone())] {
+            for (at, _) in code.match_indices(prefix) {
+                if at > 0 && code.as_bytes()[at - 1].is_ascii_alphanumeric()
+                    || at > 0 && code.as_bytes()[at - 1] == b'_'
+                {
+                    continue;
+                }
+                let path: String = code[at + prefix.len()..]
+                    .chars()
+                    .take_while(|c| c.is_ascii_alphanumeric() || *c == '_' || *c == ':')
+                    .collect();
+                let mut segments = base.clone();
+                segments.extend(path.split("::").filter(|s| !s.is_empty() && *s != "super").map(String::from));
+                if let Some(target) = resolve(&segments).filter(|t| *t != me && !t.is_empty()) {
+                    out.insert(target);
+                }
+            }
+        }
+        edges.insert(me, out);
+    }
+    edges
+}
+
+/// Groups of files inside one top-level module that import each other in a circle.
+fn file_circles(src: &Path) -> Vec<Vec<String>> {
+    let edges = file_edges(src);
+    let reaches = |from: &Vec<String>, to: &Vec<String>| -> bool {
+        let mut seen = std::collections::BTreeSet::new();
+        let mut stack = vec![from.clone()];
+        while let Some(m) = stack.pop() {
+            for next in edges.get(&m).into_iter().flatten() {
+                if next[0] != from[0] {
+                    continue;
+                }
+                if next == to {
+                    return true;
+                }
+                if seen.insert(next.clone()) {
+                    stack.push(next.clone());
+                }
+            }
+        }
+        false
+    };
+    let mut circles: Vec<Vec<String>> = Vec::new();
+    for (a, targets) in &edges {
+        for b in targets.iter().filter(|b| b[0] == a[0] && b > &a) {
+            if reaches(b, a) {
+                circles.push(vec![a.join("::"), b.join("::")]);
+            }
+        }
+    }
+    circles
+}
+
+#[test]
+fn no_file_level_circles_inside_a_module() {
+    let circles = file_circles(&crate::common::repo().join("src"));
+    assert!(circles.is_empty(), "files that import each other (through any path): {circles:?}");
+    // The check can fail: two files of one module that import each other.
+    let tmp = tempfile::tempdir().unwrap();
+    let src = tmp.path().join("src");
+    std::fs::create_dir_all(src.join("spec")).unwrap();
+    std::fs::write(src.join("spec/mod.rs"), "pub mod a;\npub mod b;\n").unwrap();
+    std::fs::write(src.join("spec/a.rs"), "use super::b::B;\npub struct A;\n").unwrap();
+    std::fs::write(src.join("spec/b.rs"), "pub struct B;\nfn f() { crate::spec::a::A; }\n").unwrap();
+    assert_eq!(file_circles(&src), vec![vec!["spec::a".to_string(), "spec::b".to_string()]]);
+}
