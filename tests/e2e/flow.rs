@@ -267,9 +267,7 @@ fn file_edges(src: &Path) -> std::collections::BTreeMap<Vec<String>, std::collec
         let mut out = std::collections::BTreeSet::new();
         for (prefix, base) in [("crate::", Vec::new()), ("super::", parent.clone()), ("self::", me.clone())] {
             for (at, _) in code.match_indices(prefix) {
-                if at > 0 && code.as_bytes()[at - 1].is_ascii_alphanumeric()
-                    || at > 0 && code.as_bytes()[at - 1] == b'_'
-                {
+                if at > 0 && (code.as_bytes()[at - 1].is_ascii_alphanumeric() || code.as_bytes()[at - 1] == b'_') {
                     continue;
                 }
                 let path: String = code[at + prefix.len()..]
