@@ -35,7 +35,8 @@ struct FlipParams {
 struct SsimParams {
     width: u32,
     height: u32,
-    pad: [u32; 2],
+    _pad0: u32,
+    _pad1: u32,
 }
 
 /// The metric passes of one device, and their buffers for the last size compared.
@@ -269,7 +270,7 @@ impl GpuMetrics {
     }
 
     fn run_ssim(&self, b: &MetricBuffers, w: usize, h: usize) {
-        let params = SsimParams { width: w as u32, height: h as u32, pad: [0; 2] };
+        let params = SsimParams { width: w as u32, height: h as u32, _pad0: 0, _pad1: 0 };
         self.queue.write_buffer(&b.ssim_params, 0, bytemuck::bytes_of(&params));
         let mut encoder = self.device.create_command_encoder(&Default::default());
         for pipeline in &self.ssim {
@@ -415,4 +416,20 @@ fn exposures(reference: &[f32]) -> Result<(f32, f32, usize), String> {
         return Err(format!("{count} exposures exceed flip-rs's {}", flip_rs::MAX_EXPOSURES));
     }
     Ok((start, stop, count))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn params_mirror_the_wgsl_structs() {
+        let (size, fields) = crate::mirror_layout!(
+            FlipParams,
+            [width, height, spatial_radius, feature_radius, mode, multiplier, first, cmax]
+        );
+        crate::gpu::layout::check_mirror(FLIP_WGSL, "FlipParams", size, &fields).unwrap();
+        let (size, fields) = crate::mirror_layout!(SsimParams, [width, height, _pad0, _pad1]);
+        crate::gpu::layout::check_mirror(SSIM_WGSL, "SsimParams", size, &fields).unwrap();
+    }
 }

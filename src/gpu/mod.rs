@@ -2,6 +2,7 @@
 
 pub mod constants;
 pub mod context;
+pub mod layout;
 pub mod readback;
 pub mod timing;
 

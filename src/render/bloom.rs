@@ -174,6 +174,13 @@ mod tests {
     use super::*;
 
     #[test]
+    fn params_mirror_the_wgsl_struct() {
+        let (size, fields) = crate::mirror_layout!(BloomParams, [dims, factor]);
+        crate::gpu::layout::check_mirror(include_str!("../../shaders/pass/bloom.wgsl"), "BloomParams", size, &fields)
+            .unwrap();
+    }
+
+    #[test]
     fn the_pyramid_starts_at_half_resolution() {
         let s = level_sizes(384, 384);
         assert_eq!(s[0], (192, 192));

@@ -525,6 +525,13 @@ mod tests {
     use super::*;
 
     #[test]
+    fn prefilter_params_mirror_the_wgsl_struct() {
+        let source = crate::shading::wgsl::with_math(include_str!("../../shaders/pass/probe_prefilter.wgsl"));
+        let (size, fields) = crate::mirror_layout!(PrefilterParams, [dims, level, faces, probe_position]);
+        crate::gpu::layout::check_mirror(&source, "PrefilterParams", size, &fields).unwrap();
+    }
+
+    #[test]
     fn faces_cover_their_axes() {
         let vp = face_view_proj(DVec3::new(1.0, 2.0, 3.0), 0.3);
         let axes = [DVec3::X, DVec3::NEG_X, DVec3::Y, DVec3::NEG_Y, DVec3::Z, DVec3::NEG_Z];

@@ -17,6 +17,7 @@ mod gallery;
 mod gltf_roundtrip;
 mod gpu_metrics;
 mod invariants;
+mod layouts;
 mod lights;
 mod lod;
 mod materials;

@@ -428,3 +428,20 @@ fn summarise(accum: &[[f32; 4]], roles: &[u32], inputs: &TruthInputs, spp: u32) 
         cached: false,
     }
 }
+
+#[cfg(test)]
+mod layout_tests {
+    use super::*;
+
+    #[test]
+    fn params_mirror_the_wgsl_struct() {
+        let registry = crate::shading::Registry::builtin();
+        let (subject, fixed) = (
+            registry.find(crate::pipelines::Pipeline::Urp, "lit").unwrap(),
+            registry.find(crate::pipelines::Pipeline::Urp, "lambert").unwrap(),
+        );
+        let source = crate::shading::wgsl::compose_truth(subject, fixed);
+        let (size, fields) = crate::mirror_layout!(TruthParams, [dims, settings]);
+        crate::gpu::layout::check_mirror(&source, "TruthParams", size, &fields).unwrap();
+    }
+}
