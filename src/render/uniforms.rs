@@ -1,5 +1,5 @@
-//! CPU mirrors of the uniform structs in shaders/pass/scene.wgsl, each checked member by member against the
-//! WGSL as naga lays it out (`gpu::layout`, tests/e2e/layouts.rs).
+//! CPU mirrors of the uniform structs in shaders/pass/scene.wgsl, each checked member by member
+//! against the WGSL as naga lays it out (`gpu::layout`, tests/e2e/layouts.rs).
 
 use bytemuck::{Pod, Zeroable};
 
