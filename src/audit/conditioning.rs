@@ -51,7 +51,7 @@ pub struct ModelConditioning {
     /// Largest N·V at which some grid point has a relative error above `TOLERANCE`.
     pub nv_threshold: Option<f64>,
     /// The function that bounds the stiff terms, as the model's WGSL names it.
-    pub guard: &'static str,
+    pub guard: String,
 }
 
 /// The conditioning grid of one model in one pipeline.
@@ -112,7 +112,7 @@ pub fn condition_model(
         points,
         alpha_threshold,
         nv_threshold,
-        guard: crate::shading::guards::stiff_terms(&model.name, p),
+        guard: model.stiff_terms.to_string(),
     }))
 }
 

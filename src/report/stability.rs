@@ -13,7 +13,6 @@ use crate::error::Error;
 use crate::fsutil::write_atomic;
 use crate::images::stats::Defect;
 use crate::pipelines::{Pipeline, RenderPath};
-use crate::shading::guards::stiff_terms;
 use crate::shading::registry::Registry;
 
 /// What keeps the built-in shaders and passes clear of each kind (spec §6).
@@ -88,8 +87,8 @@ pub fn write(run: &RunData) -> Result<(), Error> {
             Some((n, cells)) => format!("**fail** {n} in {cells} cells"),
         };
         let guards = match builtin.find(*p, shader) {
-            Some(_) => stiff_terms(shader, *p),
-            None => "a user model: its findings are reported, not guarded",
+            Some(m) => m.stiff_terms.to_string(),
+            None => "a user model: its findings are reported, not guarded".to_string(),
         };
         let (p, path) = (p.name(), path.name());
         let first = g.first.values().next().cloned().unwrap_or_else(|| "—".into());

@@ -2,7 +2,6 @@
 //! and the CPU f64 twin of every model.
 
 pub mod fgd;
-pub mod guards;
 pub mod registry;
 pub mod twin;
 pub mod user;

@@ -62,6 +62,10 @@ pub struct ShaderModel {
     pub expected: Expected,
     /// Gouraud: the lighting sum evaluated per vertex and interpolated.
     pub per_vertex: bool,
+    /// Whether the engine shader adds emission (see `emits`).
+    pub emits: bool,
+    /// The WGSL functions that guard the stiff terms and what they clamp (spec §6).
+    pub stiff_terms: Cow<'static, str>,
     /// A built-in ForwardBase-only shader: lit by the main directional light alone.
     pub main_light_only: bool,
     /// The parameter slot without which smoothness is not read (Simple Lit's highlights toggle).
@@ -76,11 +80,7 @@ impl ShaderModel {
     /// and Simple Lit, HDRP Lit): the emission axis reaches only these; the classic models, Unlit
     /// and user models have none.
     pub fn emits(&self) -> bool {
-        self.twin.is_some()
-            && matches!(
-                self.name.as_ref(),
-                "standard" | "standard_brdf2" | "standard_brdf3" | "lit" | "simple_lit" | "srp_lit"
-            )
+        self.emits
     }
 
     /// Whether the model can be drawn into a G-buffer: a per-vertex (Gouraud) or main-light-only
@@ -313,23 +313,9 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         mapping: LAMBERT_MAPPING,
         from_sliders: metallic_workflow,
         summary: "Lambert: ρ/π·E·NL (models.md#lambert)",
-        per_vertex: false,
-        main_light_only: false,
-        smoothness_gate: None,
-        parity_tolerance: 1e-4,
-    },
-    BuiltinModel {
-        name: "lambert_vertex",
-        pipelines: ALL_PIPELINES,
-        wgsl: brdf_file!("lambert.wgsl"),
-        reads: COLOR_ONLY,
-        expected: PHYSICAL,
-        twin: &twin::Lambert,
-        params: &[],
-        mapping: LAMBERT_MAPPING,
-        from_sliders: metallic_workflow,
-        summary: "Lambert evaluated per vertex (Gouraud, models.md#gouraud)",
-        per_vertex: true,
+        gouraud: Some("Lambert evaluated per vertex (Gouraud, models.md#gouraud)"),
+        emits: false,
+        stiff_terms: "none needed: the model reads no roughness",
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: 1e-4,
@@ -345,23 +331,9 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         mapping: LAMBERT_MAPPING,
         from_sliders: metallic_workflow,
         summary: "Half-Lambert: ρ/π·E·(0.5·NL + 0.5), not squared (models.md#half-lambert)",
-        per_vertex: false,
-        main_light_only: false,
-        smoothness_gate: None,
-        parity_tolerance: 1e-4,
-    },
-    BuiltinModel {
-        name: "half_lambert_vertex",
-        pipelines: ALL_PIPELINES,
-        wgsl: brdf_file!("half_lambert.wgsl"),
-        reads: COLOR_ONLY,
-        expected: NEITHER,
-        twin: &twin::HalfLambert,
-        params: &[],
-        mapping: LAMBERT_MAPPING,
-        from_sliders: metallic_workflow,
-        summary: "Half-Lambert per vertex (Gouraud)",
-        per_vertex: true,
+        gouraud: Some("Half-Lambert per vertex (Gouraud)"),
+        emits: false,
+        stiff_terms: "none needed: the model reads no roughness",
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: 1e-4,
@@ -377,23 +349,9 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         mapping: CLASSIC_SPECULAR,
         from_sliders: classic_specular,
         summary: "Phong: kd·NL + ks·max(0, R·V)ⁿ, unnormalised by default (models.md#phong)",
-        per_vertex: false,
-        main_light_only: false,
-        smoothness_gate: None,
-        parity_tolerance: 1e-4,
-    },
-    BuiltinModel {
-        name: "phong_vertex",
-        pipelines: ALL_PIPELINES,
-        wgsl: brdf_file!("phong.wgsl"),
-        reads: ALL_AXES,
-        expected: NEITHER,
-        twin: &twin::Phong,
-        params: &[NORMALIZE],
-        mapping: CLASSIC_SPECULAR,
-        from_sliders: classic_specular,
-        summary: "Phong per vertex (Gouraud)",
-        per_vertex: true,
+        gouraud: Some("Phong per vertex (Gouraud)"),
+        emits: false,
+        stiff_terms: "shininess_from_smoothness (n = 2..2048)",
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: 1e-4,
@@ -409,23 +367,9 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         mapping: CLASSIC_SPECULAR,
         from_sliders: classic_specular,
         summary: "Blinn-Phong: kd·NL + ks·max(0, N·H)ⁿ, unnormalised by default (models.md#blinn-phong)",
-        per_vertex: false,
-        main_light_only: false,
-        smoothness_gate: None,
-        parity_tolerance: 1e-4,
-    },
-    BuiltinModel {
-        name: "blinn_phong_vertex",
-        pipelines: ALL_PIPELINES,
-        wgsl: brdf_file!("blinn_phong.wgsl"),
-        reads: ALL_AXES,
-        expected: NEITHER,
-        twin: &twin::BlinnPhong,
-        params: &[NORMALIZE],
-        mapping: CLASSIC_SPECULAR,
-        from_sliders: classic_specular,
-        summary: "Blinn-Phong per vertex (Gouraud)",
-        per_vertex: true,
+        gouraud: Some("Blinn-Phong per vertex (Gouraud)"),
+        emits: false,
+        stiff_terms: "shininess_from_smoothness (n = 2..2048)",
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: 1e-4,
@@ -444,7 +388,9 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         mapping: ON_MAPPING,
         from_sliders: oren_nayar_sliders,
         summary: "Oren-Nayar qualitative model, A with 0.33, trigonometric form (models.md#oren-nayar)",
-        per_vertex: false,
+        gouraud: None,
+        emits: false,
+        stiff_terms: "model_direct: tan β over max(cos β, 1e-4)",
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: 1e-3,
@@ -460,7 +406,9 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         mapping: ON_MAPPING,
         from_sliders: oren_nayar_sliders,
         summary: "Oren-Nayar trig-free form with 0.57 in A (the custom shader's, models.md#oren-nayar-057)",
-        per_vertex: false,
+        gouraud: None,
+        emits: false,
+        stiff_terms: "model_direct: max(max(NL, NV), 1e-4)",
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: 1e-4,
@@ -476,7 +424,9 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         mapping: "colour → albedo (diffuse × (1 − metallic)) and metal F0; m = α = (1 − smoothness)²; F: dielectric from IOR, lerped to Schlick(colour) by metallic",
         from_sliders: metallic_as_is,
         summary: "Cook-Torrance: Beckmann D, full dielectric Fresnel, Cook-Torrance G, 1/(4·NL·NV) (models.md#cook-torrance)",
-        per_vertex: false,
+        gouraud: None,
+        emits: false,
+        stiff_terms: "d_beckmann (NH² ≥ ε, m ≥ 1e-3), g_cook_torrance (VH ≥ ε)",
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: 1e-4,
@@ -492,7 +442,9 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         mapping: "as cook_torrance",
         from_sliders: metallic_as_is,
         summary: "Cook-Torrance as the 1982 paper writes it: (F/π)·D·G/(NL·NV), un-normalised Beckmann D; specular 4× the modern form (models.md#cook-torrance-1982)",
-        per_vertex: false,
+        gouraud: None,
+        emits: false,
+        stiff_terms: "d_beckmann_unnormalised (NH² ≥ ε, m ≥ 1e-3), g_cook_torrance (VH ≥ ε)",
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: 1e-4,
@@ -508,7 +460,9 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         mapping: CUSTOM_MAPPING,
         from_sliders: custom_shader_sliders,
         summary: "custom roughness/metallic PBR shader AS WRITTEN: scalar Fresnel (red channel), reflect(v, n), ambient × light colour, main directional light only (models.md#torrance-sparrow)",
-        per_vertex: false,
+        gouraud: None,
+        emits: false,
+        stiff_terms: "ts_direct (d_ggx, v_smith_schlick: no floor on α)",
         main_light_only: true,
         smoothness_gate: None,
         parity_tolerance: 1e-4,
@@ -524,7 +478,9 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         mapping: CUSTOM_MAPPING,
         from_sliders: custom_shader_sliders,
         summary: "the custom shader corrected: colour Fresnel, reflect(−v, n), ambient alone, every light (models.md#torrance-sparrow-corrected)",
-        per_vertex: false,
+        gouraud: None,
+        emits: false,
+        stiff_terms: "ts_direct (d_ggx, v_smith_schlick: no floor on α)",
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: 1e-4,
@@ -540,7 +496,9 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         mapping: CUSTOM_MAPPING,
         from_sliders: custom_shader_sliders,
         summary: "the Schlick term F0 + (1 − F0)(1 − N·V)^p shown as colour (models.md#fresnel)",
-        per_vertex: false,
+        gouraud: None,
+        emits: false,
+        stiff_terms: "none needed: the model reads no roughness",
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: 1e-4,
@@ -556,7 +514,9 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         mapping: METALLIC_WORKFLOW,
         from_sliders: metallic_workflow,
         summary: "built-in Standard, BRDF1: Disney diffuse, approx. joint Smith, GGX, clamps (models.md#standard)",
-        per_vertex: false,
+        gouraud: None,
+        emits: true,
+        stiff_terms: "roughness_clamped (α ≥ 0.002); v_smith_joint_approx (+1e-5)",
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: 1e-4,
@@ -572,7 +532,9 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         mapping: METALLIC_WORKFLOW,
         from_sliders: metallic_workflow,
         summary: "built-in Standard, BRDF2: minimalist Cook-Torrance (models.md#standard-brdf2)",
-        per_vertex: false,
+        gouraud: None,
+        emits: true,
+        stiff_terms: "spec_brdf2 (d = NH²(α² − 1) + 1.00001, max(0.1, LH²))",
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: 1e-4,
@@ -588,7 +550,9 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         mapping: METALLIC_WORKFLOW,
         from_sliders: metallic_workflow,
         summary: "built-in Standard, BRDF3; its lookup lobe APPROXIMATED by normalised Phong (models.md#standard-brdf3)",
-        per_vertex: false,
+        gouraud: None,
+        emits: true,
+        stiff_terms: "spec_brdf3 (n ≥ 1e-4, LUT range cap)",
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: 1e-4,
@@ -604,7 +568,9 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         mapping: METALLIC_WORKFLOW,
         from_sliders: metallic_workflow,
         summary: "URP Lit: minimal Cook-Torrance specular, Lambert without 1/π, EnvironmentBRDF (models.md#urp-lit)",
-        per_vertex: false,
+        gouraud: None,
+        emits: true,
+        stiff_terms: "urp_brdf_data (α ≥ 2⁻⁷, α² ≥ 2⁻¹⁴), spec_urp (+1.00001, max(0.1, LH²))",
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: 1e-4,
@@ -620,7 +586,9 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         mapping: METALLIC_WORKFLOW,
         from_sliders: metallic_workflow,
         summary: "the custom SRP tutorial's Lit: URP's minimal Cook-Torrance without roughness floors, reflections with a Fresnel slider (shading.md §4d)",
-        per_vertex: false,
+        gouraud: None,
+        emits: true,
+        stiff_terms: "specular_strength (d = NH²(r² − 1) + 1.00001, max(0.1, LH²); no floor on r, as the tutorial)",
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: 1e-4,
@@ -636,7 +604,9 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         mapping: "colour → albedo; specular colour 0.214 (URP's default _SpecColor 0.5 sRGB); shininess = exp2(10·smoothness + 1); metallic unused; highlights off unless specular_highlights = 1",
         from_sliders: simple_lit_sliders,
         summary: "URP Simple Lit: Lambert, plus unnormalised Blinn-Phong when specular_highlights = 1 (off in a new material) (models.md#urp-simple-lit)",
-        per_vertex: false,
+        gouraud: None,
+        emits: true,
+        stiff_terms: "shininess_from_smoothness (n = 2..2048)",
         main_light_only: false,
         smoothness_gate: Some(SPECULAR_HIGHLIGHTS.slot),
         parity_tolerance: 1e-4,
@@ -652,7 +622,9 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         mapping: "colour → emitted colour; nothing else",
         from_sliders: metallic_workflow,
         summary: "URP Unlit: the colour, no lighting",
-        per_vertex: false,
+        gouraud: None,
+        emits: false,
+        stiff_terms: "none needed: the model reads no roughness",
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: 1e-4,
@@ -668,7 +640,9 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         mapping: METALLIC_WORKFLOW,
         from_sliders: metallic_workflow,
         summary: "HDRP Lit: renormalised Disney diffuse, height-correlated Smith GGX, F_Schlick(f90), FGD energy compensation (models.md#hdrp-lit)",
-        per_vertex: false,
+        gouraud: None,
+        emits: true,
+        stiff_terms: "dv_smith_joint_ggx (max(…, REAL_MIN)), clamp_n_dot_v (NV ≥ 1e-4), light_min_roughness (per light)",
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: 1e-4,
@@ -684,7 +658,9 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         mapping: "colour → emitted colour; nothing else",
         from_sliders: metallic_workflow,
         summary: "HDRP Unlit: the colour, no lighting",
-        per_vertex: false,
+        gouraud: None,
+        emits: false,
+        stiff_terms: "none needed: the model reads no roughness",
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: 1e-4,
@@ -720,13 +696,31 @@ pub struct BuiltinModel {
     pub mapping: &'static str,
     pub from_sliders: fn(&ShaderModel, Pipeline, &Sliders) -> Surface,
     pub summary: &'static str,
-    pub per_vertex: bool,
+    /// The summary of the model's per-vertex (Gouraud) variant `NAME_vertex`, derived from this
+    /// row (same WGSL, twin and mapping, evaluated at the vertices), when it has one.
+    pub gouraud: Option<&'static str>,
+    /// Whether the engine shader adds emission (`_EmissionColor`): the emission axis reaches it.
+    pub emits: bool,
+    /// The WGSL functions that guard the model's stiff terms and what they clamp (spec §6), as the
+    /// conditioning and stability tables name them.
+    pub stiff_terms: &'static str,
     pub main_light_only: bool,
     pub smoothness_gate: Option<usize>,
     pub parity_tolerance: f64,
 }
 
 impl BuiltinModel {
+    /// The row's model, and its per-vertex (Gouraud) variant where it has one.
+    fn models(&self) -> impl Iterator<Item = ShaderModel> + '_ {
+        let gouraud = self.gouraud.map(|summary| ShaderModel {
+            name: Cow::Owned(format!("{}_vertex", self.name)),
+            summary: Cow::Borrowed(summary),
+            per_vertex: true,
+            ..self.model()
+        });
+        std::iter::once(self.model()).chain(gouraud)
+    }
+
     fn model(&self) -> ShaderModel {
         ShaderModel {
             name: Cow::Borrowed(self.name),
@@ -740,7 +734,9 @@ impl BuiltinModel {
             mapping: Cow::Borrowed(self.mapping),
             from_sliders: self.from_sliders,
             expected: self.expected,
-            per_vertex: self.per_vertex,
+            per_vertex: false,
+            emits: self.emits,
+            stiff_terms: Cow::Borrowed(self.stiff_terms),
             main_light_only: self.main_light_only,
             smoothness_gate: self.smoothness_gate,
             parity_tolerance: self.parity_tolerance,
@@ -758,7 +754,7 @@ pub struct Registry {
 impl Registry {
     /// The built-in models only.
     pub fn builtin() -> Registry {
-        Registry { models: BUILTIN_MODELS.iter().map(|m| Arc::new(m.model())).collect() }
+        Registry { models: BUILTIN_MODELS.iter().flat_map(BuiltinModel::models).map(Arc::new).collect() }
     }
 
     /// The registry with `model` added (a user's, `shading::user`).
@@ -790,5 +786,47 @@ impl Registry {
     /// The WGSL file names of the built-in models (a user folder may hold copies of them).
     pub fn builtin_files() -> Vec<&'static str> {
         BUILTIN_MODELS.iter().map(|m| m.wgsl.path.rsplit('/').next().unwrap_or("")).collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn gouraud_variants_derive_from_their_base_rows() {
+        let r = Registry::builtin();
+        let vertex: Vec<&Arc<ShaderModel>> = r.models().iter().filter(|m| m.per_vertex).collect();
+        assert_eq!(vertex.len(), 4, "lambert, half_lambert, phong and blinn_phong each have a Gouraud variant");
+        for v in vertex {
+            let base_name = v.name.strip_suffix("_vertex").expect("a per-vertex model is NAME_vertex");
+            let base = r.find(v.pipelines[0], base_name).expect("its base row");
+            assert!(!base.per_vertex && base.wgsl == v.wgsl && base.params.len() == v.params.len());
+            assert_eq!((base.reads, base.expected, base.emits), (v.reads, v.expected, v.emits));
+            assert_eq!(base.stiff_terms, v.stiff_terms);
+        }
+    }
+
+    #[test]
+    fn emission_and_guards_are_stated_by_each_row() {
+        let r = Registry::builtin();
+        let emitting: Vec<String> =
+            r.models().iter().filter(|m| m.emits()).map(|m| format!("{}/{}", m.pipelines[0].name(), m.name)).collect();
+        assert_eq!(
+            emitting,
+            [
+                "builtin/standard",
+                "builtin/standard_brdf2",
+                "builtin/standard_brdf3",
+                "urp/lit",
+                "urp/srp_lit",
+                "urp/simple_lit",
+                "hdrp/lit"
+            ]
+        );
+        // A model that reads roughness names the function guarding it.
+        for m in r.models().iter().filter(|m| m.reads.smoothness && !m.name.contains("unlit")) {
+            assert!(!m.stiff_terms.starts_with("none"), "{}: no guard stated", m.name);
+        }
     }
 }

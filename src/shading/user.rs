@@ -218,6 +218,8 @@ fn load_model(
         from_sliders: user_sliders,
         expected: Expected { reciprocal: decl.reciprocal, energy_conserving: decl.energy_conserving, is_brdf: true },
         per_vertex: false,
+        emits: false,
+        stiff_terms: "a user model: its own guards, not known to the tool".into(),
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: f64::INFINITY,
