@@ -1,5 +1,6 @@
-// Pipeline conventions (models.md#conventions). PIPELINE: 0 built-in, 1 URP, 2 HDRP (an override constant,
-// so each (pipeline, model) pair compiles to its own specialised pipeline).
+// Pipeline conventions (models.md#conventions). PIPELINE is one of PIPELINE_BUILTIN, PIPELINE_URP and
+// PIPELINE_HDRP (generated from pipelines::Pipeline by shading::wgsl::pipeline_ids). It is an override
+// constant, so each (pipeline, model) pair compiles to its own specialised pipeline.
 override PIPELINE: u32 = 0u;
 
 // Per light, set by the pass before each model_direct call (a model's signature stays (s, n, v, l)):
@@ -24,7 +25,7 @@ struct Surface {
 
 // Irradiance delivered per unit of light "intensity": built-in and URP intensities carry π (models.md#builtin "The π convention")
 fn irradiance_per_intensity() -> f32 {
-    if (PIPELINE == 2u) {
+    if (PIPELINE == PIPELINE_HDRP) {
         return 1.0;
     }
     return PI;
@@ -33,13 +34,13 @@ fn irradiance_per_intensity() -> f32 {
 // Distance attenuation, d in metres (models.md#builtin built-in approximation, models.md#urp URP, models.md#hdrp HDRP); twin: pipelines::Attenuation
 fn distance_attenuation(d: f32, range: f32) -> f32 {
     let d2 = d * d;
-    if (PIPELINE == 0u) {
+    if (PIPELINE == PIPELINE_BUILTIN) {
         // APPROXIMATION of the unpublished falloff texture: 1/(1 + 25x²)·smoothstep(1, 0.8, x)
         let x = d / range;
         let t = sat((x - 1.0) / (0.8 - 1.0));
         return t * t * (3.0 - 2.0 * t) / (1.0 + 25.0 * x * x);
     }
-    if (PIPELINE == 1u) {
+    if (PIPELINE == PIPELINE_URP) {
         // (1/max(d², HALF_MIN))·sat(1 − (d²/r²)²)²
         let a = 1.0 / max(range * range, 1e-4);
         let f = sat(1.0 - (d2 * a) * (d2 * a));

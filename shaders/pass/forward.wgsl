@@ -271,7 +271,7 @@ fn indirect_light(s: Surface, n: vec3<f32>, v: vec3<f32>, gi: vec3<f32>) -> vec3
     // SH ambient left out of gi): the integral takes the environment's whole share.
     let probe = select(1.0, 0.0, environment_replaced());
     let exact = environment_exact(s, n, v);
-    if (PIPELINE != 2u) {
+    if (PIPELINE != PIPELINE_HDRP) {
         indirect_specular_occlusion = vec3<f32>(probe);
         let lit = (model_indirect(s, n, v, gi) + exact) * material_occlusion;
         indirect_specular_occlusion = vec3<f32>(1.0);

@@ -5,6 +5,24 @@ use super::registry::ShaderModel;
 
 const MATH: &str = include_str!("../../shaders/common/math.wgsl");
 const CONVENTIONS: &str = include_str!("../../shaders/common/conventions.wgsl");
+
+/// The pipelines' ids as named WGSL constants (`PIPELINE_BUILTIN`, `PIPELINE_URP`, `PIPELINE_HDRP`),
+/// generated from `Pipeline` so the shaders compare `PIPELINE` with names, never with `2u`.
+pub fn pipeline_ids() -> String {
+    crate::pipelines::Pipeline::ALL
+        .iter()
+        .map(|p| format!("const PIPELINE_{}: u32 = {}u;\n", p.name().to_uppercase(), p.shader_id()))
+        .collect()
+}
+
+/// The shared math, the pipeline ids, the pipeline conventions and the shared BRDF terms: what
+/// every lighting module (and a test kernel of its terms) starts with.
+pub fn common() -> String {
+    [MATH, &pipeline_ids(), CONVENTIONS, BRDF_TERMS].join("\n")
+}
+
+/// Where the generated constants stand in a composed module's line map.
+const PIPELINE_IDS_PATH: &str = "<generated from pipelines::Pipeline: pipeline ids>";
 const BRDF_TERMS: &str = include_str!("../../shaders/common/brdf.wgsl");
 const SCENE: &str = include_str!("../../shaders/pass/scene.wgsl");
 const FORWARD: &str = include_str!("../../shaders/pass/forward.wgsl");
@@ -36,8 +54,20 @@ pub const TRUTH_PHYSICAL: &str = include_str!("../../shaders/pass/truth_physical
 /// model as it is, the fixed objects' model with every name it declares prefixed `fixed_` (both
 /// define `model_direct`), the physical truth's model, the rays, then the tracer.
 pub fn compose_truth(subject: &ShaderModel, fixed: &ShaderModel) -> String {
-    [MATH, CONVENTIONS, BRDF_TERMS, SCENE, &subject.wgsl, &prefixed(&fixed.wgsl, "fixed_"), TRUTH_PHYSICAL, RAYS, TRUTH]
-        .join("\n")
+    let ids = pipeline_ids();
+    [
+        MATH,
+        &ids,
+        CONVENTIONS,
+        BRDF_TERMS,
+        SCENE,
+        &subject.wgsl,
+        &prefixed(&fixed.wgsl, "fixed_"),
+        TRUTH_PHYSICAL,
+        RAYS,
+        TRUTH,
+    ]
+    .join("\n")
 }
 
 const TRACED_SHADOWS: &str = include_str!("../../shaders/pass/traced_shadows.wgsl");
@@ -45,7 +75,7 @@ const TRACED_SHADOWS: &str = include_str!("../../shaders/pass/traced_shadows.wgs
 /// The traced-shadow pass (render::traced_shadows): the scene pass's shared files, the rays, then
 /// the pass.
 pub fn compose_traced_shadows() -> String {
-    [MATH, CONVENTIONS, BRDF_TERMS, SCENE, RAYS, TRACED_SHADOWS].join("\n")
+    [MATH, &pipeline_ids(), CONVENTIONS, BRDF_TERMS, SCENE, RAYS, TRACED_SHADOWS].join("\n")
 }
 
 /// `source` with every module-scope name it declares (functions, constants, private variables,
@@ -104,8 +134,10 @@ pub fn locate(map: &LineMap, line: usize) -> (String, usize) {
 }
 
 pub fn compose_mapped(pass: PassKind, model: Option<&ShaderModel>) -> (String, LineMap) {
+    let ids = pipeline_ids();
     let mut parts: Vec<(&str, &str)> = vec![
         ("shaders/common/math.wgsl", MATH),
+        (PIPELINE_IDS_PATH, &ids),
         ("shaders/common/conventions.wgsl", CONVENTIONS),
         ("shaders/common/brdf.wgsl", BRDF_TERMS),
     ];
@@ -159,5 +191,40 @@ mod tests {
         assert!(out.contains("fixed_helper(s.metallic)"));
         // Not declared here: shared names and longer identifiers stay as they are.
         assert!(out.contains("s: Surface") && out.contains("+ helper_two"));
+    }
+}
+
+#[cfg(test)]
+mod pipeline_id_tests {
+    #[test]
+    fn shaders_compare_pipelines_by_name_and_the_names_are_pipelines_ids() {
+        let ids = super::pipeline_ids();
+        for p in crate::pipelines::Pipeline::ALL {
+            let line = format!("const PIPELINE_{}: u32 = {}u;", p.name().to_uppercase(), p.shader_id());
+            assert!(ids.contains(&line), "{ids}");
+        }
+        let mut files = Vec::new();
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+        let mut stack = vec![root];
+        while let Some(d) = stack.pop() {
+            for e in std::fs::read_dir(d).unwrap() {
+                let p = e.unwrap().path();
+                if p.is_dir() {
+                    stack.push(p);
+                } else if p.extension().is_some_and(|x| x == "wgsl") {
+                    files.push(p);
+                }
+            }
+        }
+        for f in files {
+            let text = std::fs::read_to_string(&f).unwrap();
+            for (i, line) in text.lines().enumerate() {
+                let code = line.split("//").next().unwrap_or("").replace(' ', "");
+                let literal = ["PIPELINE==", "PIPELINE!="]
+                    .iter()
+                    .any(|op| code.split(op).skip(1).any(|rest| rest.starts_with(|c: char| c.is_ascii_digit())));
+                assert!(!literal, "{}:{}: compare PIPELINE with PIPELINE_BUILTIN/URP/HDRP: {line}", f.display(), i + 1);
+            }
+        }
     }
 }

@@ -191,13 +191,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     outputs[id.x] = vec4<f32>(gtao_multi_bounce(x.x, vec3<f32>(x.y)), specular_occlusion_from_ao(x.z, x.x, x.w));
 }
 "#;
-    let source = [
-        include_str!("../../shaders/common/math.wgsl"),
-        include_str!("../../shaders/common/conventions.wgsl"),
-        include_str!("../../shaders/common/brdf.wgsl"),
-        kernel,
-    ]
-    .join("\n");
+    let common = shadematrix::shading::wgsl::common();
+    let source = [common.as_str(), kernel].join("\n");
     let mut inputs: Vec<[f32; 4]> = Vec::new();
     for v in 0..=10 {
         for rho in [0.0, 0.04, 0.3, 0.8, 1.0] {

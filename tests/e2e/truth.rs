@@ -227,14 +227,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     outputs[i] = vec4<f32>(physical_response(s, inputs[4u * i].xyz, inputs[4u * i + 1u].xyz, inputs[4u * i + 2u].xyz), 0.0);
 }
 "#;
-    let source = [
-        include_str!("../../shaders/common/math.wgsl"),
-        include_str!("../../shaders/common/conventions.wgsl"),
-        include_str!("../../shaders/common/brdf.wgsl"),
-        kernel,
-        shadematrix::shading::wgsl::TRUTH_PHYSICAL,
-    ]
-    .join("\n");
+    let common = shadematrix::shading::wgsl::common();
+    let source = [common.as_str(), kernel, shadematrix::shading::wgsl::TRUTH_PHYSICAL].join("\n");
     let mut inputs: Vec<[f32; 4]> = Vec::new();
     let mut cases = Vec::new();
     let n = DVec3::Z;
