@@ -671,7 +671,16 @@ impl Renderer {
 
     /// Upload a composition whose meshes (one per object, in order) were built already.
     pub fn upload_scene(&mut self, scene: &Scene, meshes: Vec<Mesh>) -> Result<PreparedScene, Error> {
-        let plan = FramePlan::for_scene(scene);
+        self.upload_planned(scene, FramePlan::for_scene(scene), meshes)
+    }
+
+    /// `upload_scene` with the composition's frame plan made already (a run makes it once).
+    pub fn upload_planned(
+        &mut self,
+        scene: &Scene,
+        plan: FramePlan,
+        meshes: Vec<Mesh>,
+    ) -> Result<PreparedScene, Error> {
         let env = EnvironmentMaps::build(&scene.environment);
         let device = &self.gpu.device;
         let mut objects = Vec::new();

@@ -77,12 +77,13 @@ pub struct EncodedCell {
     pub study: Vec<StudyImages>,
 }
 
-/// `key`: the cell's key (`run::cell_key`), recorded as its input hash.
+/// `key`: the cell's key (`run::cell_key`), recorded as its input hash; `plan`: its composition's
+/// frame plan, built once per composition.
 pub fn encode_cell(
     matrix: &Matrix,
     dir: &Path,
-    adapter: &str,
-    key: &str,
+    (adapter, key): (&str, &str),
+    plan: &crate::plan::FramePlan,
     job: RenderedCell,
 ) -> Result<EncodedCell, Error> {
     let RenderedCell { cell, render: mut r, reference, study: study_renders, study_left_out, timed_as } = job;
@@ -94,7 +95,6 @@ pub fn encode_cell(
         encode::round_to_half(&mut r.hdr);
     }
     let shown = tonemap::to_srgb8(&r.hdr, r.width, r.height, &cell.display);
-    let plan = crate::plan::FramePlan::for_scene(&matrix.compositions[cell.composition_index]);
     // Counted in what the passes wrote, before the store saturates the overflow.
     let frame = crate::images::stats::FramePixels { width: r.width, hdr: &r.hdr, roles: &r.roles };
     let stats = pixel_stats(frame, pre_exposure(&shown.1), |role| {
@@ -156,7 +156,7 @@ pub fn encode_cell(
         truth,
         exr_format: format!("{}, {}", if half { "half" } else { "float" }, matrix.outputs.exr_compression.name()),
     };
-    let mut record = cell_record(matrix, cell, adapter, key, measured);
+    let mut record = cell_record(matrix, cell, (adapter, key), plan, measured);
     record.approximations = study_left_out
         .into_iter()
         .map(|v| ApproximationRecord {
@@ -293,7 +293,13 @@ fn write_supersampled(
 }
 
 /// A twin's record: its own axes and hash; its original's adapter and everything rendering measured.
-pub fn twin_record(matrix: &Matrix, cell: &Cell, key: &str, original: &CellRecord) -> CellRecord {
+pub fn twin_record(
+    matrix: &Matrix,
+    cell: &Cell,
+    key: &str,
+    plan: &crate::plan::FramePlan,
+    original: &CellRecord,
+) -> CellRecord {
     let o = original.clone();
     let twin_of = cell.twin_of.clone().expect("a twin");
     let note =
@@ -309,7 +315,11 @@ pub fn twin_record(matrix: &Matrix, cell: &Cell, key: &str, original: &CellRecor
         truth: None,
         exr_format: o.image.exr_format,
     };
-    CellRecord { twin_of: Some(twin_of), note: Some(note), ..cell_record(matrix, cell, &o.adapter, key, measured) }
+    CellRecord {
+        twin_of: Some(twin_of),
+        note: Some(note),
+        ..cell_record(matrix, cell, (&o.adapter, key), plan, measured)
+    }
 }
 
 /// What rendering and encoding a cell measured and decided, as its record carries it.
@@ -326,8 +336,13 @@ struct Measured {
 }
 
 /// A cell's record before its metrics: its axes and inputs, and what rendering it measured.
-fn cell_record(matrix: &Matrix, cell: &Cell, adapter: &str, key: &str, m: Measured) -> CellRecord {
-    let plan = crate::plan::FramePlan::for_scene(&matrix.compositions[cell.composition_index]);
+fn cell_record(
+    matrix: &Matrix,
+    cell: &Cell,
+    (adapter, key): (&str, &str),
+    plan: &crate::plan::FramePlan,
+    m: Measured,
+) -> CellRecord {
     CellRecord {
         schema: CELL_SCHEMA,
         id: cell.id.clone(),
@@ -355,7 +370,7 @@ fn cell_record(matrix: &Matrix, cell: &Cell, adapter: &str, key: &str, m: Measur
         adapter: adapter.to_string(),
         display: m.display,
         passes: plan.passes_for(cell.path, cell.pipeline).iter().map(|p| p.to_string()).collect(),
-        left_out: plan.left_out,
+        left_out: plan.left_out.clone(),
         lights: m.lights,
         antialiasing: m.antialiasing,
         shadow_maps: m.shadow_maps,

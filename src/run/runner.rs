@@ -375,6 +375,8 @@ struct Stream<'a> {
     gpu_metrics: Option<crate::compare::gpu::GpuMetrics>,
     /// Truths kept across cells and runs (beside the run folders), when the matrix compares with one.
     truth_cache: Option<super::truth_cache::TruthCache>,
+    /// Each composition's frame plan, built once: the renderer, the records and run.json read it.
+    plans: Vec<FramePlan>,
 }
 
 impl<'a> Stream<'a> {
@@ -392,6 +394,7 @@ impl<'a> Stream<'a> {
             .then(|| super::truth_cache::TruthCache::new(super::truth_cache::default_dir(&dir.root)));
         Stream {
             truth_cache,
+            plans: matrix.compositions.iter().map(FramePlan::for_scene).collect(),
             matrix,
             exp,
             dir,
@@ -559,9 +562,9 @@ impl<'a> Stream<'a> {
                     Some(m) => m,
                     None => crate::geometry::procedural::build_scene(scene)?,
                 };
-                Some(renderer.upload_scene(scene, meshes)?)
+                Some(renderer.upload_planned(scene, self.plans[ci].clone(), meshes)?)
             };
-            let plan = FramePlan::for_scene(scene);
+            let plan = &self.plans[ci];
             record.compositions.push(CompositionRecord {
                 name: scene.name.clone(),
                 origin: scene.origin.clone(),
@@ -739,7 +742,8 @@ impl<'a> Stream<'a> {
             let t = ThreadTimer::start();
             let cell = job.cell;
             let cdir = self.dir.cell_dir(&cell.id.0);
-            let encoded = encode_cell(self.matrix, &cdir, &self.adapter, self.keys.get(&cell.id), job);
+            let plan = &self.plans[cell.composition_index];
+            let encoded = encode_cell(self.matrix, &cdir, (&self.adapter, self.keys.get(&cell.id)), plan, job);
             StageClock::add_cpu(&self.clock.encode, t);
             let result = encoded.and_then(|e| {
                 let job = MetricsJob {
@@ -799,7 +803,13 @@ impl<'a> Stream<'a> {
             copy_images(&from, &self.dir.cell_dir(&twin.id.0))?;
             let job = MetricsJob {
                 cell: twin,
-                record: twin_record(self.matrix, twin, self.keys.get(&twin.id), record),
+                record: twin_record(
+                    self.matrix,
+                    twin,
+                    self.keys.get(&twin.id),
+                    &self.plans[twin.composition_index],
+                    record,
+                ),
                 images: images.clone(),
                 reference_missing: None,
                 study: Vec::new(),
