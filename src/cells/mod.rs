@@ -613,6 +613,31 @@ mod tests {
     }
 
     #[test]
+    fn ids_carry_each_axis_after_its_tables_prefix() {
+        let e = expand(&matrix(
+            "[sweep]\nsmoothness = [0.2, 0.8]\nmetallic = [0.1, 0.3]\nlight_intensity = [1.5, 2.5]\nlight_range = [3.0, 7.0]\n\
+             camera_distance = [1.25, 2.0]\nlight_angle = [30.0, 60.0]\nemission = [0.5, 1.0]\ncolor = [[1.0, 0.5, 0.0]]\ntextured = [false, true]\n",
+        ));
+        let c = e.cells.iter().find(|c| c.shader == "standard" && c.textured).unwrap();
+        for row in crate::spec::axes::AXES.iter() {
+            let Some(prefix) = row.id_prefix else { continue };
+            let value = match row.axis {
+                Some(Axis::Metallic) => id_number(c.material.metallic, 2, false),
+                Some(Axis::Smoothness) => id_number(c.material.smoothness, 2, false),
+                Some(Axis::LightIntensity) => short_number(c.light_intensity),
+                Some(Axis::LightRange) => short_number(c.light_range),
+                Some(Axis::CameraDistance) => short_number(c.camera_distance.unwrap()),
+                Some(Axis::LightAngle) => short_number(c.light_angle.unwrap()),
+                Some(Axis::Emission) => short_number(c.emission.unwrap()),
+                Some(Axis::Color) => color_code(c.material.slider_color_srgb),
+                Some(Axis::Textured) => String::new(),
+                other => panic!("{other:?} has an id prefix but no value here"),
+            };
+            assert!(c.id.0.contains(&format!("{prefix}{value}")), "{}: no `{prefix}{value}` in {}", row.name, c.id);
+        }
+    }
+
+    #[test]
     fn own_material_needs_a_gltf_subject() {
         let text = "name = \"t\"\ncompositions = [\"medusa\"]\npipelines = [\"urp\"]\nshaders = [\"lit\"]\npresets = [\"own\", \"gold\"]\n";
         let m = Matrix::from_text("t.toml", text, None, Arc::new(crate::shading::Registry::builtin())).unwrap();

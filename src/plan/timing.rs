@@ -27,3 +27,59 @@ pub fn timing_class(cell: &Cell) -> String {
         cell.camera_distance,
     )
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::spec::matrix::Matrix;
+    use std::sync::Arc;
+
+    #[test]
+    fn cells_differing_in_one_axis_are_timed_apart_exactly_where_the_axis_table_says() {
+        let text = "name = \"t\"\ncompositions = [\"medusa\"]\npipelines = [\"builtin\"]\nshaders = [\"standard\"]\npresets = [\"gold\"]\n\
+                    [image]\nwidth = 8\nheight = 8\n[sweep]\nsmoothness = [0.2, 0.8]\nmetallic = [0.1, 0.3]\nlight_intensity = [1.5, 2.5]\n\
+                    light_range = [3.0, 7.0]\ncamera_distance = [1.25, 2.0]\nlight_angle = [30.0, 60.0]\nemission = [0.5, 1.0]\n\
+                    textured = [false, true]\n";
+        let m = Matrix::from_text("t.toml", text, None, Arc::new(crate::shading::Registry::builtin())).unwrap();
+        let e = crate::cells::expand(&m);
+        let c = &e.cells[0];
+        // Two cells differing in one axis share a timing class exactly when the table says so.
+        let axes = [
+            "light_range",
+            "camera_distance",
+            "textured",
+            "light_angle",
+            "smoothness",
+            "metallic",
+            "light_intensity",
+            "emission",
+        ];
+        let coords = |x: &Cell| -> Vec<String> {
+            vec![
+                format!("{}", x.light_range),
+                format!("{:?}", x.camera_distance),
+                format!("{}", x.textured),
+                format!("{:?}", x.light_angle),
+                format!("{}", x.material.smoothness),
+                format!("{}", x.material.metallic),
+                format!("{}", x.light_intensity),
+                format!("{:?}", x.emission),
+                format!("{}{}{}{}", x.composition, x.pipeline.name(), x.shader, x.preset),
+            ]
+        };
+        let mine = coords(c);
+        for (k, axis) in axes.iter().enumerate() {
+            let row = crate::spec::axes::find(axis).unwrap();
+            let other = e
+                .cells
+                .iter()
+                .find(|o| {
+                    let theirs = coords(o);
+                    (0..mine.len()).all(|j| (mine[j] == theirs[j]) != (j == k))
+                })
+                .unwrap_or_else(|| panic!("no cell differing in {axis} alone"));
+            let class = timing_class;
+            assert_eq!(class(c) != class(other), row.timing, "{axis}: the table says timing = {}", row.timing);
+        }
+    }
+}

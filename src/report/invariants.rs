@@ -107,7 +107,7 @@ fn measure(r: &CellRecord, m: Measure) -> Option<f64> {
 /// parameters.
 fn group_key(r: &CellRecord, along: Axis) -> String {
     let mut key = String::new();
-    for axis in Axis::ALL.into_iter().filter(|a| *a != along) {
+    for axis in crate::spec::axes::filter_axes().filter(|a| *a != along) {
         let _ = write!(key, "{}={} ", axis.name(), value_text(&record_value(r, axis)));
     }
     for (k, v) in &r.view.params {

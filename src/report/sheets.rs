@@ -10,7 +10,7 @@ use super::run_data::RunData;
 use crate::error::Error;
 use crate::fsutil::write_atomic;
 use crate::record::CellRecord;
-use crate::spec::sheets::{SheetSpec, AXES};
+use crate::spec::sheets::SheetSpec;
 
 const SCALE: u32 = 2;
 const GLYPH: u32 = 8 * SCALE;
@@ -116,9 +116,7 @@ fn file_safe(s: &str) -> String {
 fn sort_values(axis: &str, values: BTreeSet<String>) -> Vec<String> {
     let mut v: Vec<String> = values.into_iter().collect();
     // Numeric axes in numeric order (a value the axis leaves unset sorts first).
-    if ["metallic", "smoothness", "light_intensity", "light_range", "camera_distance", "light_angle", "emission"]
-        .contains(&axis)
-    {
+    if crate::spec::axes::find(axis).is_some_and(|r| r.kind == crate::spec::axes::AxisKind::Number) {
         v.sort_by(|a, b| {
             a.parse::<f64>().unwrap_or(f64::NEG_INFINITY).total_cmp(&b.parse::<f64>().unwrap_or(f64::NEG_INFINITY))
         });
@@ -151,8 +149,10 @@ pub fn layout(run: &RunData, spec: &SheetSpec) -> Vec<SheetLayout> {
             seen.entry(key).or_insert_with(|| v.clone()) == &v
         })
     };
-    let per: Vec<&str> =
-        AXES.iter().copied().filter(|a| *a != spec.rows && *a != spec.cols && !determined(a)).collect();
+    let per: Vec<&str> = crate::spec::axes::names()
+        .into_iter()
+        .filter(|a| *a != spec.rows && *a != spec.cols && !determined(a))
+        .collect();
     let mut groups: BTreeMap<Vec<String>, Vec<&CellRecord>> = BTreeMap::new();
     for cell in &run.cells {
         groups.entry(per.iter().map(|a| cell.axis_value(a)).collect()).or_default().push(cell);

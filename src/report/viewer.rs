@@ -21,9 +21,6 @@ use crate::record::CellRecord;
 pub const VIEWER_SCHEMA: u32 = 1;
 pub const DATA_FILE: &str = "viewer-data.js";
 
-/// The axes the viewer offers, in the order its controls appear: every axis a cell has.
-use crate::spec::sheets::AXES;
-
 /// The axes chosen with pickers; every other axis gets a slider over its values.
 const PICKED: [&str; 5] = ["composition", "pipeline", "path", "shader", "preset"];
 
@@ -141,8 +138,10 @@ fn intern<T: PartialEq + Clone>(table: &mut Vec<T>, value: &T) -> u32 {
 }
 
 pub fn data(run: &RunData, links: Vec<(String, String)>) -> ViewerData {
+    // The axes the viewer offers, in the order its controls appear: every axis of the table.
+    let names = crate::spec::axes::names();
     let mut axes = Vec::new();
-    for name in AXES {
+    for name in names.iter().copied() {
         let mut seen: BTreeSet<String> = run.cells.iter().map(|c| value(c, name)).collect();
         // A pruned value is offered too, so that picking it says why there is no such cell.
         seen.extend(
@@ -168,7 +167,7 @@ pub fn data(run: &RunData, links: Vec<(String, String)>) -> ViewerData {
     let mut pass_kinds: Vec<String> = Vec::new();
     let mut cells = Vec::with_capacity(run.cells.len());
     for c in &run.cells {
-        let values = AXES.iter().enumerate().map(|(k, a)| index_of[k][value(c, a).as_str()]).collect();
+        let values = names.iter().enumerate().map(|(k, a)| index_of[k][value(c, a).as_str()]).collect();
         let twin = c.twin_of.as_ref().and_then(|t| position.get(t.0.as_str()).copied()).unwrap_or(-1);
         let reference = c.metrics.reference.value();
         let (reference_cell, reference_label) = match reference {

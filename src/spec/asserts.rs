@@ -176,13 +176,13 @@ pub fn parse_assert(c: &Checker, i: usize, table: &toml::Table) -> Result<Invari
             ));
         }
     }
-    let axis_names: Vec<&str> = Axis::ALL.iter().filter(|a| a.is_numeric()).map(|a| a.name()).collect();
+    let axis_names: Vec<&str> = super::axes::filter_axes().filter(|a| a.is_numeric()).map(|a| a.name()).collect();
     let along = match string("along")? {
         None if matches!(kind, InvariantKind::Bounded { .. }) => None,
         None => return Err(c.err(&key("along"), format!("missing; allowed: {}", axis_names.join(", ")))),
         Some(a) => {
             one_of("along", a, &axis_names)?;
-            Axis::ALL.into_iter().find(|x| x.name() == a)
+            super::axes::filter_axes().find(|x| x.name() == a)
         }
     };
     if matches!(kind, InvariantKind::Linear { .. }) && along != Some(Axis::LightIntensity) {

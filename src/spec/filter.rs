@@ -8,76 +8,7 @@ use crate::error::InputError;
 use crate::input::names::unknown_name;
 use crate::input::validate::Checker;
 
-/// Axes a filter can name.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, serde::Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Axis {
-    Composition,
-    Pipeline,
-    Path,
-    Shader,
-    Preset,
-    Metallic,
-    Smoothness,
-    LightIntensity,
-    LightRange,
-    Color,
-    CameraDistance,
-    LightAngle,
-    Textured,
-    Emission,
-}
-
-impl Axis {
-    pub const ALL: [Axis; 14] = [
-        Axis::Composition,
-        Axis::Pipeline,
-        Axis::Path,
-        Axis::Shader,
-        Axis::Preset,
-        Axis::Metallic,
-        Axis::Smoothness,
-        Axis::LightIntensity,
-        Axis::LightRange,
-        Axis::Color,
-        Axis::CameraDistance,
-        Axis::LightAngle,
-        Axis::Textured,
-        Axis::Emission,
-    ];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            Axis::Composition => "composition",
-            Axis::Pipeline => "pipeline",
-            Axis::Path => "path",
-            Axis::Shader => "shader",
-            Axis::Preset => "preset",
-            Axis::Metallic => "metallic",
-            Axis::Smoothness => "smoothness",
-            Axis::LightIntensity => "light_intensity",
-            Axis::LightRange => "light_range",
-            Axis::Color => "color",
-            Axis::CameraDistance => "camera_distance",
-            Axis::LightAngle => "light_angle",
-            Axis::Textured => "textured",
-            Axis::Emission => "emission",
-        }
-    }
-
-    pub fn is_numeric(self) -> bool {
-        matches!(
-            self,
-            Axis::Metallic
-                | Axis::Smoothness
-                | Axis::LightIntensity
-                | Axis::LightRange
-                | Axis::CameraDistance
-                | Axis::LightAngle
-                | Axis::Emission
-        )
-    }
-}
+pub use super::axes::Axis;
 
 #[derive(Debug, Clone, PartialEq, serde::Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -103,11 +34,10 @@ pub struct Filter {
 }
 
 pub fn parse_filter(c: &Checker, key: &str, table: &toml::Table) -> Result<Filter, InputError> {
-    let axis_names: Vec<&str> = Axis::ALL.iter().map(|a| a.name()).collect();
+    let axis_names: Vec<&str> = super::axes::filter_axes().map(|a| a.name()).collect();
     let mut terms = BTreeMap::new();
     for (k, v) in table {
-        let axis = Axis::ALL
-            .into_iter()
+        let axis = super::axes::filter_axes()
             .find(|a| a.name() == k)
             .ok_or_else(|| unknown_name(c.file(), &format!("{key}.{k}"), "filter axis", k, &axis_names))?;
         let items: Vec<&toml::Value> = match v {

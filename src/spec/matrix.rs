@@ -142,8 +142,9 @@ pub struct Sweep {
 impl Sweep {
     /// How many distinct values the sweep gives a numeric axis (metallic and smoothness without a
     /// sweep take each preset's own: one per preset, not a swept axis).
-    pub fn values_of(&self, axis: Axis) -> usize {
-        let v = match axis {
+    /// The values swept on a numeric axis (empty for the others).
+    pub fn numbers(&self, axis: Axis) -> &[f64] {
+        match axis {
             Axis::Metallic => &self.metallic,
             Axis::Smoothness => &self.smoothness,
             Axis::LightIntensity => &self.light_intensity,
@@ -151,8 +152,12 @@ impl Sweep {
             Axis::CameraDistance => &self.camera_distance,
             Axis::LightAngle => &self.light_angle,
             Axis::Emission => &self.emission,
-            _ => return 0,
-        };
+            _ => &[],
+        }
+    }
+
+    pub fn values_of(&self, axis: Axis) -> usize {
+        let v = self.numbers(axis);
         let mut distinct: Vec<f64> = Vec::new();
         for x in v {
             if !distinct.iter().any(|d| (d - x).abs() <= 1e-12 * x.abs().max(1.0)) {
@@ -324,19 +329,6 @@ impl TruthSpec {
     pub const KINDS: [&'static str; 2] = ["same-brdf", "physical"];
 }
 
-pub const REFERENCE_AXES: [Axis; 10] = [
-    Axis::Composition,
-    Axis::Pipeline,
-    Axis::Path,
-    Axis::Shader,
-    Axis::Metallic,
-    Axis::Smoothness,
-    Axis::LightIntensity,
-    Axis::LightRange,
-    Axis::CameraDistance,
-    Axis::LightAngle,
-];
-
 fn parse_reference(c: &Checker, value: &toml::Value, base_dir: Option<&Path>) -> Result<ReferenceSpec, InputError> {
     let allowed =
         "\"supersampled\", { supersampled = N }, { run = \"DIR\" }, \"truth\", { truth = \"same-brdf\" | \"physical\", spp = N, noise = X, bounces = B } or a table of axes to change";
@@ -369,10 +361,10 @@ fn parse_reference(c: &Checker, value: &toml::Value, base_dir: Option<&Path>) ->
             _ => Err(c.err("reference.run", "give the run folder as a string, alone in the table")),
         },
         toml::Value::Table(t) => {
-            let names: Vec<&str> = REFERENCE_AXES.iter().map(|a| a.name()).collect();
+            let names: Vec<&str> = super::axes::reference_axes().map(|a| a.name()).collect();
             let filter = parse_filter(c, "reference", t)?;
             for (axis, values) in &filter.terms {
-                if !REFERENCE_AXES.contains(axis) {
+                if !super::axes::reference_axes().any(|a| a == *axis) {
                     return Err(crate::input::names::unknown_name(
                         c.file(),
                         &format!("reference.{}", axis.name()),
@@ -519,11 +511,12 @@ impl Matrix {
         };
 
         let s = &file.sweep;
-        for (i, m) in s.metallic.iter().enumerate() {
-            c.unit(&format!("sweep.metallic[{i}]"), *m)?;
-        }
-        for (i, m) in s.smoothness.iter().enumerate() {
-            c.unit(&format!("sweep.smoothness[{i}]"), *m)?;
+        // Each numeric axis's values within its row's range (`spec::axes`).
+        for row in super::axes::AXES.iter().filter(|r| r.kind == super::axes::AxisKind::Number) {
+            let (Some(axis), Some((lo, hi))) = (row.axis, row.range) else { continue };
+            for (i, v) in s.numbers(axis).iter().enumerate() {
+                c.range(&format!("sweep.{}[{i}]", row.name), *v, lo, hi)?;
+            }
         }
         for (i, col) in s.color.iter().enumerate() {
             c.color(&format!("sweep.color[{i}]"), *col)?;
@@ -544,21 +537,6 @@ impl Matrix {
                     )
                     .into());
             }
-        }
-        for (i, v) in s.light_intensity.iter().enumerate() {
-            c.range(&format!("sweep.light_intensity[{i}]"), *v, 0.0, 100.0)?;
-        }
-        for (i, v) in s.light_range.iter().enumerate() {
-            c.range(&format!("sweep.light_range[{i}]"), *v, 1e-3, 40.0)?;
-        }
-        for (i, v) in s.camera_distance.iter().enumerate() {
-            c.range(&format!("sweep.camera_distance[{i}]"), *v, 1e-3, 1000.0)?;
-        }
-        for (i, v) in s.light_angle.iter().enumerate() {
-            c.range(&format!("sweep.light_angle[{i}]"), *v, 0.0, 180.0)?;
-        }
-        for (i, v) in s.emission.iter().enumerate() {
-            c.range(&format!("sweep.emission[{i}]"), *v, 0.0, 100.0)?;
         }
         check_params(&c, origin, &s.params, &file.shaders, &pipelines, &registry)?;
         c.range("lights.pixel_light_count", file.lights.pixel_light_count as f64, 0.0, 64.0)?;
@@ -709,15 +687,10 @@ impl Matrix {
         let sheets = file.sheets.clone().unwrap_or_else(crate::spec::sheets::default_specs);
         for (i, sheet) in sheets.iter().enumerate() {
             for (k, axis) in [("rows", &sheet.rows), ("cols", &sheet.cols)] {
-                if !crate::spec::sheets::AXES.contains(&axis.as_str()) {
-                    return Err(unknown_name(
-                        origin,
-                        &format!("sheets[{i}].{k}"),
-                        "axis",
-                        axis,
-                        &crate::spec::sheets::AXES,
-                    )
-                    .into());
+                if super::axes::find(axis).is_none() {
+                    return Err(
+                        unknown_name(origin, &format!("sheets[{i}].{k}"), "axis", axis, &super::axes::names()).into()
+                    );
                 }
             }
             if sheet.rows == sheet.cols {
@@ -764,7 +737,7 @@ impl Matrix {
             let (k, v) = term
                 .split_once('=')
                 .ok_or_else(|| InputError::at_key(ORIGIN, "--only", format!("`{term}` is not axis=value")))?;
-            let numeric = Axis::ALL.iter().any(|a| a.name() == k.trim() && a.is_numeric());
+            let numeric = super::axes::find(k.trim()).is_some_and(|r| r.kind == super::axes::AxisKind::Number);
             let values = v
                 .split('|')
                 .map(|x| match (numeric, x.trim().parse::<f64>()) {

@@ -1,6 +1,7 @@
 //! Declarative input: TOML schemas and validation for scenes, matrices, presets and sheets.
 
 pub mod asserts;
+pub mod axes;
 pub mod filter;
 pub mod matrix;
 pub mod outputs;

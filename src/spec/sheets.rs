@@ -1,24 +1,6 @@
 //! Contact-sheet specifications: which two axes a sheet lays out as rows × columns. Part of the
 //! matrix (`sheets = [...]`) and of the run record; the report stage draws them.
 
-/// The axes a sheet can lay out, as named in matrices and cell records.
-pub const AXES: [&str; 15] = [
-    "composition",
-    "pipeline",
-    "path",
-    "shader",
-    "preset",
-    "metallic",
-    "smoothness",
-    "color",
-    "light_intensity",
-    "light_range",
-    "camera_distance",
-    "light_angle",
-    "params",
-    "textured",
-    "emission",
-];
 #[derive(Debug, Clone, serde::Deserialize, serde::Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct SheetSpec {

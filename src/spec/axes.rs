@@ -1,0 +1,159 @@
+//! The axes of a matrix, in one table: one row per axis with its name, its kind, the range a sweep
+//! may take, whether a cell reference may change it, whether it enters the timing class, and what
+//! precedes its value in a cell id. Filters (`spec::filter::Axis`), references, sheets, sort
+//! orders and the viewer read the axes from here, so a new axis is a new row.
+
+use serde::Deserialize;
+
+/// Axes a filter can name; each has a row in `spec::axes::AXES`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, serde::Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Axis {
+    Composition,
+    Pipeline,
+    Path,
+    Shader,
+    Preset,
+    Metallic,
+    Smoothness,
+    LightIntensity,
+    LightRange,
+    Color,
+    CameraDistance,
+    LightAngle,
+    Textured,
+    Emission,
+}
+
+impl Axis {
+    /// As matrices and filters name it (`spec::axes`).
+    pub fn name(self) -> &'static str {
+        of(self).name
+    }
+
+    pub fn is_numeric(self) -> bool {
+        of(self).kind == AxisKind::Number
+    }
+}
+
+/// What values an axis takes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AxisKind {
+    /// A name from a list (pipelines, shaders, presets, …).
+    Name,
+    /// A number in `AxisRow::range`.
+    Number,
+    /// An sRGB slider colour, named by its 8-bit hex code.
+    Colour,
+    Bool,
+    /// The swept model parameters, each its own list (`[sweep.params]`).
+    Params,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AxisRow {
+    /// As matrices, filters, sheets and records name it.
+    pub name: &'static str,
+    /// The axis as a filter names it (None: `params`, named per parameter).
+    pub axis: Option<Axis>,
+    pub kind: AxisKind,
+    /// The values a sweep may list (numbers only).
+    pub range: Option<(f64, f64)>,
+    /// A cell reference (`reference = { axis = value }`) may change it.
+    pub reference: bool,
+    /// Cells that differ in it are timed apart (`plan::timing`): it changes the passes' work.
+    pub timing: bool,
+    /// What precedes its value in a cell id (`_s0.90`), where the id carries it.
+    pub id_prefix: Option<&'static str>,
+}
+
+const fn row(name: &'static str, axis: Option<Axis>, kind: AxisKind) -> AxisRow {
+    AxisRow { name, axis, kind, range: None, reference: false, timing: false, id_prefix: None }
+}
+
+const fn number(name: &'static str, axis: Axis, (lo, hi): (f64, f64), id_prefix: &'static str) -> AxisRow {
+    AxisRow { range: Some((lo, hi)), id_prefix: Some(id_prefix), ..row(name, Some(axis), AxisKind::Number) }
+}
+
+/// Every axis, in the order sheets, the viewer and filters list them.
+pub const AXES: [AxisRow; 15] = [
+    AxisRow { reference: true, timing: true, ..row("composition", Some(Axis::Composition), AxisKind::Name) },
+    AxisRow { reference: true, timing: true, ..row("pipeline", Some(Axis::Pipeline), AxisKind::Name) },
+    AxisRow { reference: true, timing: true, ..row("path", Some(Axis::Path), AxisKind::Name) },
+    AxisRow { reference: true, timing: true, ..row("shader", Some(Axis::Shader), AxisKind::Name) },
+    row("preset", Some(Axis::Preset), AxisKind::Name),
+    AxisRow { reference: true, ..number("metallic", Axis::Metallic, (0.0, 1.0), "_m") },
+    AxisRow { reference: true, ..number("smoothness", Axis::Smoothness, (0.0, 1.0), "_s") },
+    AxisRow { id_prefix: Some("_c"), ..row("color", Some(Axis::Color), AxisKind::Colour) },
+    AxisRow { reference: true, ..number("light_intensity", Axis::LightIntensity, (0.0, 100.0), "_i") },
+    AxisRow { reference: true, timing: true, ..number("light_range", Axis::LightRange, (1e-3, 40.0), "_r") },
+    AxisRow { reference: true, timing: true, ..number("camera_distance", Axis::CameraDistance, (1e-3, 1000.0), "_d") },
+    AxisRow { reference: true, ..number("light_angle", Axis::LightAngle, (0.0, 180.0), "_a") },
+    row("params", None, AxisKind::Params),
+    AxisRow { timing: true, id_prefix: Some("_tex"), ..row("textured", Some(Axis::Textured), AxisKind::Bool) },
+    number("emission", Axis::Emission, (0.0, 100.0), "_e"),
+];
+
+/// The row of the axis named `name`.
+pub fn find(name: &str) -> Option<&'static AxisRow> {
+    AXES.iter().find(|r| r.name == name)
+}
+
+/// The row of a filter axis.
+pub fn of(axis: Axis) -> &'static AxisRow {
+    AXES.iter().find(|r| r.axis == Some(axis)).expect("every filter axis has a row in spec::axes::AXES")
+}
+
+/// Every axis's name, in table order (what a sheet may lay out).
+pub fn names() -> Vec<&'static str> {
+    AXES.iter().map(|r| r.name).collect()
+}
+
+/// The axes a filter can name, in table order.
+pub fn filter_axes() -> impl Iterator<Item = Axis> {
+    AXES.iter().filter_map(|r| r.axis)
+}
+
+/// The axes a cell reference may change.
+pub fn reference_axes() -> impl Iterator<Item = Axis> {
+    AXES.iter().filter(|r| r.reference).filter_map(|r| r.axis)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_filter_axis_has_one_row() {
+        let axes: Vec<Axis> = filter_axes().collect();
+        let mut unique = axes.clone();
+        unique.sort();
+        unique.dedup();
+        assert_eq!(axes.len(), unique.len(), "an axis listed twice");
+        assert_eq!(names().len(), AXES.len());
+        for r in &AXES {
+            assert_eq!(r.range.is_some(), r.kind == AxisKind::Number, "{}", r.name);
+        }
+        // Every variant (an exhaustive match: a new one fails to compile here) has its row.
+        let named = |a: Axis| match a {
+            Axis::Composition => "composition",
+            Axis::Pipeline => "pipeline",
+            Axis::Path => "path",
+            Axis::Shader => "shader",
+            Axis::Preset => "preset",
+            Axis::Metallic => "metallic",
+            Axis::Smoothness => "smoothness",
+            Axis::LightIntensity => "light_intensity",
+            Axis::LightRange => "light_range",
+            Axis::Color => "color",
+            Axis::CameraDistance => "camera_distance",
+            Axis::LightAngle => "light_angle",
+            Axis::Textured => "textured",
+            Axis::Emission => "emission",
+        };
+        for a in filter_axes() {
+            assert_eq!(of(a).name, named(a));
+        }
+        assert_eq!(filter_axes().count(), 14);
+    }
+}
