@@ -611,15 +611,10 @@ impl Scene {
             Some(d) => d.join(name_or_path),
             None => PathBuf::from(name_or_path),
         };
-        if path.exists() && !path.is_file() {
-            // A FIFO or a device would block or read without end; a folder is no scene.
-            return Err(InputError::at_key(
-                referenced_from,
-                key,
-                format!("composition `{name_or_path}` ({}) is not a regular file", path.display()),
-            )
-            .into());
-        }
+        // A FIFO or a device would block or read without end: said with the key that names it.
+        crate::input::source::regular_file(&path).map_err(|e| {
+            InputError::at_key(referenced_from, key, format!("composition `{name_or_path}`: {}: {}", e.file, e.message))
+        })?;
         if !path.is_file() {
             return Err(InputError::at_key(
                 referenced_from,

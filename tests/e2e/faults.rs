@@ -20,6 +20,34 @@ fn small_matrix(dir: &Path, name: &str, extra: &str) -> PathBuf {
     )
 }
 
+/// A matrix `NAME.toml` of one URP Lit gold cell (16²) on the composition file `composition`.
+fn one_cell_matrix(dir: &Path, name: &str, composition: &str) -> PathBuf {
+    write_matrix(
+        dir,
+        &format!("{name}.toml"),
+        &format!(
+            "name = \"{name}\"\ncompositions = [\"{composition}\"]\npipelines = [\"urp\"]\nshaders = [\"lit\"]\n\
+             presets = [\"gold\"]\n[image]\nwidth = 16\nheight = 16\n"
+        ),
+    )
+}
+
+/// `scene.toml`: the textured-plane fixture with the glTF plane `plane.gltf` as its subject.
+fn gltf_plane_scene(dir: &Path) {
+    let scene = std::fs::read_to_string(crate::common::fixture("textured_plane.toml")).unwrap().replace(
+        "mesh = { kind = \"plane\", size = [2.0, 2.0], subdivisions = 1 }",
+        "mesh = { kind = \"gltf\", path = \"plane.gltf\" }",
+    );
+    std::fs::write(dir.join("scene.toml"), scene).unwrap();
+}
+
+/// `m.toml` run as two shards into `s1` and `s2`.
+fn run_two_shards(dir: &Path) {
+    for k in 1..=2 {
+        run_ok(dir, &["run", "m.toml", "--out", &format!("s{k}"), "--shard", &format!("{k}/2"), "--no-cache"]);
+    }
+}
+
 fn run_ok(dir: &Path, args: &[&str]) -> String {
     let (rc, out, err) = shadematrix(dir, args, &[]);
     assert_eq!(rc, 0, "{args:?}\n{out}\n{err}");
@@ -209,11 +237,7 @@ fn editing_any_input_the_render_reads_renders_again() {
         .replace("\"plane.bin\"", "\"my%20mesh.bin\"")
         .replace("\"base.png\"", "\"my%20base.png\"");
     std::fs::write(d.join("plane.gltf"), gltf).unwrap();
-    let scene = std::fs::read_to_string(crate::common::fixture("textured_plane.toml")).unwrap().replace(
-        "mesh = { kind = \"plane\", size = [2.0, 2.0], subdivisions = 1 }",
-        "mesh = { kind = \"gltf\", path = \"plane.gltf\" }",
-    );
-    std::fs::write(d.join("scene.toml"), scene).unwrap();
+    gltf_plane_scene(d);
     let brdf = d.join("shaders/brdf");
     std::fs::create_dir_all(&brdf).unwrap();
     for f in ["wrap_diffuse.wgsl", "wrap_diffuse.toml"] {
@@ -411,9 +435,7 @@ fn merge_refuses_a_shard_missing_a_cell_or_with_a_tampered_label() {
     let tmp = tempfile::tempdir().unwrap();
     let d = tmp.path();
     small_matrix(d, "m", "[sweep]\nsmoothness = [0.2, 0.4, 0.6, 0.8]\n");
-    for k in 1..=2 {
-        run_ok(d, &["run", "m.toml", "--out", &format!("s{k}"), "--shard", &format!("{k}/2"), "--no-cache"]);
-    }
+    run_two_shards(d);
     let s1 = d.join("s1");
     let gone = cell_dirs(&s1).remove(0);
     let name = gone.file_name().unwrap().to_string_lossy().to_string();
@@ -435,9 +457,7 @@ fn an_interrupted_merge_can_be_run_again() {
     let tmp = tempfile::tempdir().unwrap();
     let d = tmp.path();
     small_matrix(d, "m", "[sweep]\nsmoothness = [0.2, 0.8]\n");
-    for k in 1..=2 {
-        run_ok(d, &["run", "m.toml", "--out", &format!("s{k}"), "--shard", &format!("{k}/2"), "--no-cache"]);
-    }
+    run_two_shards(d);
     run_ok(d, &["merge", "s1", "s2", "--out", "merged"]);
     // As a merge killed after its first cells leaves it: its record running, a cell half-placed.
     let path = d.join("merged/run.json");
@@ -487,16 +507,8 @@ fn a_gltf_buffer_that_is_a_device_is_refused_unread() {
     let d = tmp.path();
     crate::common::write_textured_gltf(d);
     let original = std::fs::read_to_string(d.join("plane.gltf")).unwrap();
-    let scene = std::fs::read_to_string(crate::common::fixture("textured_plane.toml")).unwrap().replace(
-        "mesh = { kind = \"plane\", size = [2.0, 2.0], subdivisions = 1 }",
-        "mesh = { kind = \"gltf\", path = \"plane.gltf\" }",
-    );
-    std::fs::write(d.join("scene.toml"), scene).unwrap();
-    write_matrix(
-        d,
-        "m.toml",
-        "name = \"g\"\ncompositions = [\"scene.toml\"]\npipelines = [\"urp\"]\nshaders = [\"lit\"]\npresets = [\"gold\"]\n[image]\nwidth = 16\nheight = 16\n",
-    );
+    gltf_plane_scene(d);
+    one_cell_matrix(d, "m", "scene.toml");
     let depth = d.canonicalize().unwrap().components().count();
     let relative_zero = format!("{}dev/zero", "../".repeat(depth));
     for uri in ["file:///dev/zero", relative_zero.as_str(), "missing%20file.bin"] {
@@ -514,11 +526,7 @@ fn non_finite_scene_values_are_refused_and_a_frame_without_its_subject_fails_fai
     let tmp = tempfile::tempdir().unwrap();
     let d = tmp.path();
     let scene = std::fs::read_to_string(crate::common::fixture("textured_plane.toml")).unwrap();
-    write_matrix(
-        d,
-        "m.toml",
-        "name = \"n\"\ncompositions = [\"s.toml\"]\npipelines = [\"urp\"]\nshaders = [\"lit\"]\npresets = [\"gold\"]\n[image]\nwidth = 16\nheight = 16\n",
-    );
+    one_cell_matrix(d, "m", "s.toml");
     let cases = [
         ("camera.position", "position = [0.0, 2.6, 0.001]", "position = [nan, 2.6, 0.001]"),
         ("camera.target", "target = [0.0, 0.0, 0.0]", "target = [0.0, inf, 0.0]"),
@@ -623,22 +631,14 @@ fn bad_paths_and_filters_are_refused_up_front() {
         .unwrap()
         .replace("name = \"textured_plane\"", &format!("name = \"{long}\""));
     std::fs::write(d.join("long.toml"), scene).unwrap();
-    write_matrix(
-        d,
-        "l.toml",
-        "name = \"l\"\ncompositions = [\"long.toml\"]\npipelines = [\"urp\"]\nshaders = [\"lit\"]\npresets = [\"gold\"]\n",
-    );
+    one_cell_matrix(d, "l", "long.toml");
     refused(d, &["run", "l.toml", "--out", "long"], &["longer than a file name"]);
     assert!(!d.join("long").exists());
     // A FIFO would block the reader forever: it is not a scene.
     let fifo = d.join("fifo.toml");
     let c = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();
     assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o644) }, 0);
-    write_matrix(
-        d,
-        "f.toml",
-        "name = \"f\"\ncompositions = [\"fifo.toml\"]\npipelines = [\"urp\"]\nshaders = [\"lit\"]\npresets = [\"gold\"]\n",
-    );
+    one_cell_matrix(d, "f", "fifo.toml");
     refused(d, &["list", "f.toml"], &["fifo.toml", "not a regular file"]);
 }
 
