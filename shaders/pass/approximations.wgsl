@@ -1,5 +1,5 @@
 // The real-time approximations as the pipelines make them. The approximation study swaps this
-// file for exact.wgsl in the subject's forward pipeline (render::exact), which computes each term
+// file for exact.wgsl in the subject's forward pipeline (plan::exact), which computes each term
 // exactly instead; forward.wgsl calls these four and nothing else of either.
 
 // The visibility at p of light `index`: the pipeline's shadow map

@@ -1,4 +1,4 @@
-// HDRP's bloom (render::bloom; twin: images::bloom), its steps as HDRP's compute shaders run them:
+// HDRP's bloom (render::passes::bloom; twin: images::bloom), its steps as HDRP's compute shaders run them:
 // a half-resolution prefilter (BloomPrefilter.compute: five rotated taps, Lorach07; their luma
 // weights all come from the first tap, so they average), a pyramid whose levels are each a 2×2
 // bilinear downsample of the last then a 9-tap binomial blur across and down (BloomBlur.compute),

@@ -1,4 +1,4 @@
-// The approximation study's exact alternatives (render::exact), in place of approximations.wgsl:
+// The approximation study's exact alternatives (plan::exact), in place of approximations.wgsl:
 // each replaces one real-time approximation of the subject's forward pass by the term it
 // approximates, computed as the truth computes it (rays.wgsl), so that the change in error against
 // the truth and in GPU time measures what the approximation costs and saves. Overrides pick which.

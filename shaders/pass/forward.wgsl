@@ -155,7 +155,7 @@ fn mapped_normal(n: vec3<f32>, tangent: vec4<f32>, uv: vec2<f32>) -> vec3<f32> {
 
 // Visibility of `light` at p (1 lit, 0 in shadow), mixed by the light's strength: the receiver
 // offset along n by the normal bias and towards the light by the bias, both in texels; 3×3
-// bilinear comparison taps when soft (render::shadows)
+// bilinear comparison taps when soft (plan::shadows)
 fn shadow_visibility(light: Light, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, receives: bool) -> f32 {
     if (light.shadow.x < 0.0 || !receives) {
         return 1.0;
@@ -251,7 +251,7 @@ fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>, vertex_gi: vec3<f32>) -> vec3<f
     return c + indirect_light(s, n, v, gi);
 }
 
-// HDRP's screen-space ambient occlusion (render::ssao): the visibility at each pixel, loaded by the
+// HDRP's screen-space ambient occlusion (render::passes::ssao): the visibility at each pixel, loaded by the
 // fragment stages into `screen_ao`; a 1×1 texture of 1 where a cell renders without it.
 @group(2) @binding(6) var screen_occlusion: texture_2d<f32>;
 var<private> screen_ao: f32 = 1.0;
@@ -353,7 +353,7 @@ fn fs_gouraud(in: GouraudOut) -> FragmentOut {
     return out;
 }
 
-// HDRP's depth prepass with its normal buffer (render::ssao reads both): the shading normal, normal
+// HDRP's depth prepass with its normal buffer (render::passes::ssao reads both): the shading normal, normal
 // map included, as n·0.5 + 0.5.
 @fragment
 fn fs_depth_normals(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
@@ -362,7 +362,7 @@ fn fs_depth_normals(in: VertexOut, @builtin(front_facing) front: bool) -> @locat
     return vec4<f32>(n * 0.5 + 0.5, 1.0);
 }
 
-// ---- Deferred path (render::deferred): a G-buffer pass, then a screen-space lighting pass per role.
+// ---- Deferred path (render::passes::deferred): a G-buffer pass, then a screen-space lighting pass per role.
 
 // The G-buffer: base colour + occlusion (8-bit sRGB), metallic + smoothness (8-bit), the normal
 // (n·0.5 + 0.5 in the pipeline's normal format; a: receives shadows), the ambient/environment
@@ -477,7 +477,7 @@ fn deferred_light(light: Light, s: Surface, p: vec3<f32>, n: vec3<f32>, v: vec3<
 }
 
 // ---- HDRP's tiled light loop: a compute pass bins every light into the 16×16 screen tiles its
-// range can reach (render::deferred). The tile's depth bounds from the G-buffer, the tile frustum
+// range can reach (render::passes::deferred). The tile's depth bounds from the G-buffer, the tile frustum
 // slice's world-space box, the light's sphere against it; directional lights reach every tile.
 
 const LIGHT_TILE: u32 = 16u;

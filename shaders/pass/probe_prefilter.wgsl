@@ -1,4 +1,4 @@
-// Reflection-probe prefilter on the GPU (render::reflection_probes); twin: environment::prefilter,
+// Reflection-probe prefilter on the GPU (render::passes::probes); twin: environment::prefilter,
 // the same steps in the same order. A captured cube (six 90° faces) is resampled into an
 // equirectangular source, halved twice, and each of Unity's seven levels (mip = pr'·6,
 // pr' = pr(1.7 − 0.7pr)) is the GGX lobe of its α convolved over the source width the level needs.
@@ -11,7 +11,7 @@ struct PrefilterParams {
     dims: vec4<u32>,
     // x: GGX α of the level; y: 1 / sub-samples per side (cube → equirect); z: source width; w: source height
     level: vec4<f32>,
-    // the six faces' view-projections from the probe's position (render::reflection_probes::face_view_proj)
+    // the six faces' view-projections from the probe's position (render::passes::probes::face_view_proj)
     faces: array<mat4x4<f32>, 6>,
     probe_position: vec4<f32>,
 };

@@ -9,7 +9,7 @@ struct Light {
     shadow_bias: vec4<f32>, // bias, normal bias (shadow-map texels)
 };
 
-// One shadow-map layer (render::shadows): view-projection; params.x texel size (world units, or
+// One shadow-map layer (plan::shadows): view-projection; params.x texel size (world units, or
 // per unit of view depth when params.y = 1, perspective), params.z the map's resolution, params.w
 // the share of the layer's side it fills (from the top-left)
 struct ShadowLayer {
@@ -28,7 +28,7 @@ struct Material {
     emission: vec4<f32>,     // emitted radiance (the subject's, where its model emits)
 };
 
-// A reflection probe (render::reflection_probes): its levels are layers box_max.w … + 6 of env_probe.
+// A reflection probe (render::passes::probes): its levels are layers box_max.w … + 6 of env_probe.
 struct ReflectionProbe {
     position: vec4<f32>,   // w: 1 box projection
     box_min: vec4<f32>,    // w: blend distance

@@ -1,4 +1,4 @@
-// Shadow-map pass: depth only, one draw per casting object per layer (render::shadows).
+// Shadow-map pass: depth only, one draw per casting object per layer (plan::shadows).
 
 struct ShadowLayerUniform {
     view_proj: mat4x4<f32>,

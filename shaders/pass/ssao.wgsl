@@ -1,4 +1,4 @@
-// HDRP's screen-space ambient occlusion at its default volume's Medium quality (render::ssao; twin:
+// HDRP's screen-space ambient occlusion at its default volume's Medium quality (render::passes::ssao; twin:
 // images::gtao), its steps as HDRP's compute shaders run them without temporal history:
 // the depth pyramid's closest-depth downsample (DepthPyramid.compute), the half-resolution horizon
 // search and cosine-weighted arc integral over two directions (GTAO.compute, GTAOCommon.hlsl),

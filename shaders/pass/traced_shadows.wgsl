@@ -1,4 +1,4 @@
-// Ray-traced visibility, the approximation study's `visibility` (render::traced_shadows): from
+// Ray-traced visibility, the approximation study's `visibility` (render::passes::traced_shadows): from
 // each pixel of the depth prepass, a shadow ray towards every light through the cell's BVH
 // (rays.wgsl); bit i of the pixel's mask is set when light i is occluded. Screen-space, as HDRP's
 // ray-traced shadows trace from the depth buffer into a mask the lighting reads; the forward pass

@@ -6,12 +6,15 @@ use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, HashMap};
 
 use crate::geometry::gltf_io::GltfMaterial;
-use crate::pipelines::{DisplayTransform, Pipeline, RenderPath};
+use crate::pipelines::{DisplayTransform, Pipeline};
 use crate::shading::registry::{ShaderModel, Sliders};
 use crate::shading::twin::Surface;
-use crate::spec::matrix::{color_code, Axis, Filter, FilterValue, Matrix};
+use crate::spec::matrix::{Axis, Filter, FilterValue, Matrix};
 use crate::spec::presets::Preset;
 use std::sync::Arc;
+
+pub mod coords;
+pub use coords::{AxisValue, CellCoords};
 
 /// Stable, readable, filesystem-safe id, e.g. `mitsuba__builtin-forward__standard__gold__m1.00_s0.80_i1_r10`.
 #[derive(Debug, Clone, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
@@ -45,28 +48,12 @@ pub struct Cell {
     /// Index into `Matrix::compositions`.
     #[serde(skip)]
     pub composition_index: usize,
-    pub composition: String,
-    pub pipeline: Pipeline,
-    pub path: RenderPath,
-    pub shader: String,
-    pub preset: String,
+    /// What the cell is: its value on every axis.
+    pub coords: CellCoords,
+    /// The material its preset and sliders resolve to.
     pub material: MaterialParams,
-    /// Key light intensity (matrix units, 0–100) and range (m).
-    pub light_intensity: f64,
-    pub light_range: f64,
     pub width: u32,
     pub height: u32,
-    /// Model parameters the sweep sets (`[sweep.params]`), by name; only the model's own.
-    pub params: BTreeMap<String, f64>,
-    /// The subject wears its preset's textured form (`materials`).
-    #[serde(default)]
-    pub textured: bool,
-    /// The emission axis, when swept (`Sweep::emission`).
-    #[serde(default)]
-    pub emission: Option<f64>,
-    /// The view axes, when swept: metres from the camera target, degrees between light and view.
-    pub camera_distance: Option<f64>,
-    pub light_angle: Option<f64>,
     /// HDRP exposure (from the scene's volume) and the pipeline's tonemapper.
     pub display: DisplayTransform,
     /// The matrix's light budgets (`[lights]`).
@@ -78,6 +65,16 @@ pub struct Cell {
     /// The model `shader` names in `pipeline`.
     #[serde(skip)]
     pub model: Arc<ShaderModel>,
+}
+
+/// A cell reads as its coordinates (`cell.pipeline`, `cell.light_angle`): what it is, on every
+/// axis; what those resolve to (material, display, model) are its own fields.
+impl std::ops::Deref for Cell {
+    type Target = CellCoords;
+
+    fn deref(&self) -> &CellCoords {
+        &self.coords
+    }
 }
 
 impl Cell {
@@ -149,14 +146,6 @@ fn pruned_axes(composition: &str, pipeline: Pipeline, axis: &str, value: &str) -
     ]
 }
 
-fn opt_list<T: Copy>(v: &[T]) -> Vec<Option<T>> {
-    if v.is_empty() {
-        vec![None]
-    } else {
-        v.iter().copied().map(Some).collect()
-    }
-}
-
 /// The most cells a run expands unless `--max-cells` says otherwise: the thesis is 7 200; a
 /// million 256² cells is some 200 GB of results.
 pub const DEFAULT_MAX_CELLS: u64 = 1_000_000;
@@ -199,11 +188,52 @@ pub fn check_size(m: &Matrix, limit: u64) -> Result<u128, crate::error::InputErr
     Ok(product)
 }
 
+/// The swept values of every axis a sweep list sets (numbers, the colour, `textured`), in table
+/// order; an axis the matrix does not sweep has the one value `Own` (the preset's or the scene's).
+fn swept_axes(m: &Matrix) -> Vec<(Axis, Vec<AxisValue>)> {
+    use crate::spec::axes::AxisKind;
+    crate::spec::axes::AXES
+        .iter()
+        .filter_map(|row| {
+            let values: Vec<AxisValue> = match row.kind {
+                AxisKind::Number => m.sweep.numbers(row.axis).iter().map(|v| AxisValue::Number(*v)).collect(),
+                AxisKind::Colour => m.sweep.color.iter().map(|c| AxisValue::Colour(Some(*c))).collect(),
+                AxisKind::Bool => m.sweep.textured.iter().map(|b| AxisValue::Bool(*b)).collect(),
+                AxisKind::Name | AxisKind::Params => return None,
+            };
+            Some((row.axis, if values.is_empty() { vec![AxisValue::Own] } else { values }))
+        })
+        .collect()
+}
+
+/// Every combination of one value per axis, the last axis turning fastest (an odometer, as
+/// Filament's `AutomationSpec` permutes its settings).
+fn odometer(axes: &[(Axis, Vec<AxisValue>)]) -> Vec<Vec<(Axis, &AxisValue)>> {
+    let mut digits = vec![0usize; axes.len()];
+    let mut out = Vec::new();
+    if axes.iter().any(|(_, v)| v.is_empty()) {
+        return out;
+    }
+    loop {
+        out.push(axes.iter().zip(&digits).map(|((a, v), &d)| (*a, &v[d])).collect());
+        let mut k = axes.len();
+        loop {
+            if k == 0 {
+                return out;
+            }
+            k -= 1;
+            digits[k] += 1;
+            if digits[k] < axes[k].1.len() {
+                break;
+            }
+            digits[k] = 0;
+        }
+    }
+}
+
 pub fn expand(m: &Matrix) -> Expansion {
-    let textured_values: Vec<bool> = if m.sweep.textured.is_empty() { vec![false] } else { m.sweep.textured.clone() };
-    // The subject's surface variants: flat or textured × each emission.
-    let variants: Vec<(bool, Option<f64>)> =
-        textured_values.iter().flat_map(|t| opt_list(&m.sweep.emission).into_iter().map(move |e| (*t, e))).collect();
+    let swept = swept_axes(m);
+    let combinations = odometer(&swept);
     let mut cells = Vec::new();
     let mut pruned = Vec::new();
     let mut filtered_out = 0;
@@ -255,65 +285,54 @@ pub fn expand(m: &Matrix) -> Expansion {
                         } else {
                             None
                         };
-                        for metallic in opt_list(&m.sweep.metallic) {
-                            for smoothness in opt_list(&m.sweep.smoothness) {
-                                for color in opt_list(&m.sweep.color) {
-                                    for intensity in opt_list(&m.sweep.light_intensity) {
-                                        for range in opt_list(&m.sweep.light_range) {
-                                            for camera_distance in opt_list(&m.sweep.camera_distance) {
-                                                for light_angle in opt_list(&m.sweep.light_angle) {
-                                                    for (params, &(textured, emission)) in param_sets
-                                                        .iter()
-                                                        .flat_map(|p| variants.iter().map(move |v| (p, v)))
-                                                    {
-                                                        let cell = Cell {
-                                                            id: CellId(String::new()),
-                                                            composition_index: ci,
-                                                            composition: scene.name.clone(),
-                                                            pipeline,
-                                                            path,
-                                                            shader: shader.clone(),
-                                                            preset: preset.name.to_string(),
-                                                            material: material(
-                                                                preset,
-                                                                own_factors,
-                                                                metallic,
-                                                                smoothness,
-                                                                color,
-                                                            ),
-                                                            light_intensity: intensity
-                                                                .or(key.map(|l| l.intensity))
-                                                                .unwrap_or(0.0),
-                                                            light_range: range.or(key.map(|l| l.range)).unwrap_or(0.0),
-                                                            width: m.image.width,
-                                                            height: m.image.height,
-                                                            params: params.clone(),
-                                                            // `own` wears the file's textures unless the matrix sweeps `textured`.
-                                                            textured: match own_factors {
-                                                                Some(f) if m.sweep.textured.is_empty() => {
-                                                                    f.has_textures()
-                                                                }
-                                                                _ => textured,
-                                                            },
-                                                            emission,
-                                                            camera_distance,
-                                                            light_angle,
-                                                            display,
-                                                            light_budget: m.light_budget,
-                                                            antialiasing: m.antialiasing_for(pipeline),
-                                                            twin_of: None,
-                                                            model: model.clone(),
-                                                        };
-                                                        if passes_filters(&cell, &m.only, &m.exclude) {
-                                                            cells.push(cell);
-                                                        } else {
-                                                            filtered_out += 1;
-                                                        }
-                                                    }
-                                                }
-                                            }
-                                        }
-                                    }
+                        // The cell before the sweep sets its axes: the preset's material, the
+                        // scene's key light and view; `own` wears the file's textures.
+                        let (metallic, smoothness) = match own_factors {
+                            Some(f) => (f.metallic, 1.0 - f.roughness),
+                            None => (preset.metallic, preset.smoothness),
+                        };
+                        let unswept = CellCoords {
+                            composition: scene.name.clone(),
+                            pipeline,
+                            path,
+                            shader: shader.clone(),
+                            preset: preset.name.to_string(),
+                            metallic,
+                            smoothness,
+                            color: None,
+                            light_intensity: key.map_or(0.0, |l| l.intensity),
+                            light_range: key.map_or(0.0, |l| l.range),
+                            camera_distance: None,
+                            light_angle: None,
+                            params: BTreeMap::new(),
+                            textured: own_factors.is_some_and(|f| f.has_textures()),
+                            emission: None,
+                            ambient_intensity: None,
+                        };
+                        for values in &combinations {
+                            for params in &param_sets {
+                                let mut coords = unswept.clone();
+                                for (axis, v) in values.iter().filter(|(_, v)| **v != AxisValue::Own) {
+                                    coords.set(*axis, v);
+                                }
+                                coords.params = params.clone();
+                                let cell = Cell {
+                                    id: CellId(String::new()),
+                                    composition_index: ci,
+                                    material: material(preset, own_factors, &coords),
+                                    coords,
+                                    width: m.image.width,
+                                    height: m.image.height,
+                                    display,
+                                    light_budget: m.light_budget,
+                                    antialiasing: m.antialiasing_for(pipeline),
+                                    twin_of: None,
+                                    model: model.clone(),
+                                };
+                                if passes_filters(&cell, &m.only, &m.exclude) {
+                                    cells.push(cell);
+                                } else {
+                                    filtered_out += 1;
                                 }
                             }
                         }
@@ -323,7 +342,7 @@ pub fn expand(m: &Matrix) -> Expansion {
         }
     }
     for c in &mut cells {
-        c.id = cell_id(c);
+        c.id = cell_id(&c.coords);
     }
     // A value listed twice in a sweep gives the same cell twice: keep one.
     let mut seen = std::collections::HashSet::new();
@@ -370,66 +389,35 @@ fn own_material(scene: &crate::spec::scene::Scene) -> Result<GltfMaterial, Strin
     }
 }
 
-/// The swept material: the preset's values (a glTF subject's own factors for `own`) with the
-/// sliders that override them.
-fn material(
-    preset: &Preset,
-    own: Option<&GltfMaterial>,
-    metallic: Option<f64>,
-    smoothness: Option<f64>,
-    color: Option<[f64; 3]>,
-) -> MaterialParams {
-    let (base, preset_metallic, preset_smoothness, emissive) = match own {
-        Some(f) => {
-            let c = [f.base_color[0], f.base_color[1], f.base_color[2]];
-            (c, f.metallic, 1.0 - f.roughness, Some(f.emissive))
-        }
-        None => (preset.base_color, preset.metallic, preset.smoothness, None),
+/// The material a cell's coordinates resolve to: the preset's colour (a glTF subject's own
+/// factors for `own`) unless the colour slider overrides it, with the metallic and smoothness the
+/// coordinates hold.
+fn material(preset: &Preset, own: Option<&GltfMaterial>, coords: &CellCoords) -> MaterialParams {
+    let (base, emissive) = match own {
+        Some(f) => ([f.base_color[0], f.base_color[1], f.base_color[2]], Some(f.emissive)),
+        None => (preset.base_color, None),
     };
     MaterialParams {
-        base_color_linear: color.map(|c| c.map(crate::color::srgb_to_linear)).unwrap_or(base),
-        slider_color_srgb: color,
-        metallic: metallic.unwrap_or(preset_metallic),
-        smoothness: smoothness.unwrap_or(preset_smoothness),
+        base_color_linear: coords.color.map(|c| c.map(crate::color::srgb_to_linear)).unwrap_or(base),
+        slider_color_srgb: coords.color,
+        metallic: coords.metallic,
+        smoothness: coords.smoothness,
         emissive_linear: emissive,
     }
 }
 
-pub fn cell_id(c: &Cell) -> CellId {
-    let m = &c.material;
-    let mut id = format!(
-        "{}__{}-{}__{}__{}__m{}_s{}",
-        c.composition,
-        c.pipeline.name(),
-        c.path.name(),
-        c.shader,
-        c.preset,
-        id_number(m.metallic, 2, false),
-        id_number(m.smoothness, 2, false)
-    );
-    if m.slider_color_srgb.is_some() {
-        id.push_str(&format!("_c{}", color_code(m.slider_color_srgb)));
-    }
-    id.push_str(&format!("_i{}_r{}", short_number(c.light_intensity), short_number(c.light_range)));
-    if let Some(d) = c.camera_distance {
-        id.push_str(&format!("_d{}", short_number(d)));
-    }
-    if let Some(a) = c.light_angle {
-        id.push_str(&format!("_a{}", short_number(a)));
-    }
-    for (name, v) in &c.params {
-        id.push_str(&format!("_{name}{}", short_number(*v)));
-    }
-    if let Some(e) = c.emission {
-        id.push_str(&format!("_e{}", short_number(e)));
-    }
-    if c.textured {
-        id.push_str("_tex");
+/// `composition__pipeline-path__shader__preset` and then each axis the id carries, in table
+/// order after its prefix (`_m1.00_s0.90_i1.5_r12`).
+pub fn cell_id(c: &CellCoords) -> CellId {
+    let mut id = format!("{}__{}-{}__{}__{}", c.composition, c.pipeline.name(), c.path.name(), c.shader, c.preset);
+    for row in crate::spec::axes::AXES.iter() {
+        id.push_str(&c.id_part(row));
     }
     CellId(id)
 }
 
 /// 1 → "1", 2.5 → "2.5", 0.125 → "0.125", 1.00001 → "1.00001": readable and exact in ids.
+#[cfg(test)]
 fn short_number(v: f64) -> String {
     id_number(v, 4, true)
 }
@@ -457,23 +445,18 @@ pub fn id_number(v: f64, decimals: usize, trim: bool) -> String {
 /// The id of the cell `c` is compared against under a cell reference: `c` with the named axes
 /// changed. None when a named composition is not in the matrix.
 pub fn reference_cell_id(c: &Cell, m: &Matrix, terms: &[(Axis, FilterValue)]) -> Option<CellId> {
-    let mut r = c.clone();
+    let mut r = c.coords.clone();
     for (axis, v) in terms {
-        match (axis, v) {
-            (Axis::Composition, FilterValue::Name(n)) => {
-                r.composition_index = m.compositions.iter().position(|s| &s.name == n)?;
-                r.composition = n.clone();
-            }
-            (Axis::Pipeline, FilterValue::Name(n)) => r.pipeline = crate::pipelines::Pipeline::from_name(n)?,
-            (Axis::Path, FilterValue::Name(n)) => r.path = RenderPath::from_name(n)?,
-            (Axis::Shader, FilterValue::Name(n)) => r.shader = n.clone(),
-            (Axis::Metallic, FilterValue::Number(x)) => r.material.metallic = *x,
-            (Axis::Smoothness, FilterValue::Number(x)) => r.material.smoothness = *x,
-            (Axis::LightIntensity, FilterValue::Number(x)) => r.light_intensity = *x,
-            (Axis::LightRange, FilterValue::Number(x)) => r.light_range = *x,
-            (Axis::CameraDistance, FilterValue::Number(x)) => r.camera_distance = Some(*x),
-            (Axis::LightAngle, FilterValue::Number(x)) => r.light_angle = Some(*x),
-            _ => return None,
+        if *axis == Axis::Composition && !m.compositions.iter().any(|s| FilterValue::Name(s.name.clone()) == *v) {
+            return None;
+        }
+        let value = match v {
+            FilterValue::Name(n) => AxisValue::Name(n.clone()),
+            FilterValue::Number(x) => AxisValue::Number(*x),
+            FilterValue::Color(_) => return None,
+        };
+        if !r.set(*axis, &value) {
+            return None;
         }
     }
     Some(cell_id(&r))
@@ -484,59 +467,35 @@ fn passes_filters(c: &Cell, only: &[Filter], exclude: &[Filter]) -> bool {
 }
 
 pub fn matches_filter(c: &Cell, f: &Filter) -> bool {
-    f.terms.iter().all(|(axis, values)| {
-        values.iter().any(|v| match (axis, v) {
-            (Axis::Composition, FilterValue::Name(n)) => &c.composition == n,
-            (Axis::Pipeline, FilterValue::Name(n)) => c.pipeline.name() == n,
-            (Axis::Path, FilterValue::Name(n)) => c.path.name() == n,
-            (Axis::Shader, FilterValue::Name(n)) => &c.shader == n,
-            (Axis::Preset, FilterValue::Name(n)) => &c.preset == n,
-            (Axis::Metallic, FilterValue::Number(x)) => close(c.material.metallic, *x),
-            (Axis::Smoothness, FilterValue::Number(x)) => close(c.material.smoothness, *x),
-            (Axis::LightIntensity, FilterValue::Number(x)) => close(c.light_intensity, *x),
-            (Axis::LightRange, FilterValue::Number(x)) => close(c.light_range, *x),
-            (Axis::Color, FilterValue::Color(code)) => color_code(c.material.slider_color_srgb) == *code,
-            (Axis::CameraDistance, FilterValue::Number(x)) => c.camera_distance.is_some_and(|d| close(d, *x)),
-            (Axis::LightAngle, FilterValue::Number(x)) => c.light_angle.is_some_and(|a| close(a, *x)),
-            (Axis::Textured, FilterValue::Name(n)) => c.textured.to_string() == *n,
-            (Axis::Emission, FilterValue::Number(x)) => close(c.emission.unwrap_or(0.0), *x),
-            _ => false,
-        })
-    })
-}
-
-fn close(a: f64, b: f64) -> bool {
-    (a - b).abs() <= 1e-9 * a.abs().max(b.abs()).max(1.0)
+    f.terms.iter().all(|(axis, values)| c.coords.matches(*axis, values))
 }
 
 /// What the image of a cell depends on, given the axes its shader reads (`keyless`: its composition
-/// has no key light for the light axes to change).
+/// has no key light for the light axes to change). Every axis counts unless the cell's model
+/// cannot see it, so an axis added to the table splits twins until said otherwise here.
 fn render_key(c: &Cell, keyless: bool) -> String {
     let r = c.model().reads_for(&c.surface().params);
     let m = &c.material;
-    let mut key =
-        format!("{}|{}|{}|{}|t{}", c.composition_index, c.pipeline.name(), c.path.name(), c.shader, c.textured);
+    let ignored = |axis: Axis| match axis {
+        // The preset reaches the image through the material alone.
+        Axis::Preset => true,
+        Axis::Color => !r.color,
+        Axis::Metallic => !r.metallic,
+        Axis::Smoothness => !r.smoothness,
+        Axis::Emission => !c.model().emits(),
+        // Fixed objects are lit by the key light whatever the shader, so light axes count
+        // wherever there is a key light.
+        Axis::LightIntensity | Axis::LightRange | Axis::LightAngle => keyless,
+        _ => false,
+    };
+    let mut key = format!("{}", c.composition_index);
+    for row in crate::spec::axes::AXES.iter().filter(|row| !ignored(row.axis)) {
+        key.push_str(&format!("|{}={:?}", row.name, c.coords.get(row.axis)));
+    }
     if r.color {
         key.push_str(&format!("|c{:?}", m.base_color_linear));
     }
-    if r.metallic {
-        key.push_str(&format!("|m{}", m.metallic));
-    }
-    if r.smoothness {
-        key.push_str(&format!("|s{}", m.smoothness));
-    }
-    if c.model().emits() {
-        key.push_str(&format!("|e{:?}", c.emission));
-    }
-    // Fixed objects are lit by the key light whatever the shader, so light and view axes count
-    // wherever there is a key light.
-    if !keyless {
-        key.push_str(&format!("|i{}|r{}|a{:?}", c.light_intensity, c.light_range, c.light_angle));
-    }
-    key.push_str(&format!(
-        "|{}x{}|d{:?}|p{:?}|{:?}|{:?}|{:?}",
-        c.width, c.height, c.camera_distance, c.params, c.display, c.light_budget, c.antialiasing
-    ));
+    key.push_str(&format!("|{}x{}|{:?}|{:?}|{:?}", c.width, c.height, c.display, c.light_budget, c.antialiasing));
     key
 }
 
@@ -616,21 +575,24 @@ mod tests {
     fn ids_carry_each_axis_after_its_tables_prefix() {
         let e = expand(&matrix(
             "[sweep]\nsmoothness = [0.2, 0.8]\nmetallic = [0.1, 0.3]\nlight_intensity = [1.5, 2.5]\nlight_range = [3.0, 7.0]\n\
-             camera_distance = [1.25, 2.0]\nlight_angle = [30.0, 60.0]\nemission = [0.5, 1.0]\ncolor = [[1.0, 0.5, 0.0]]\ntextured = [false, true]\n",
+             camera_distance = [1.25, 2.0]\nlight_angle = [30.0, 60.0]\nemission = [0.5, 1.0]\ncolor = [[1.0, 0.5, 0.0]]\ntextured = [false, true]\n\
+             ambient_intensity = [0.5]\n",
         ));
         let c = e.cells.iter().find(|c| c.shader == "standard" && c.textured).unwrap();
         for row in crate::spec::axes::AXES.iter() {
             let Some(prefix) = row.id_prefix else { continue };
             let value = match row.axis {
-                Some(Axis::Metallic) => id_number(c.material.metallic, 2, false),
-                Some(Axis::Smoothness) => id_number(c.material.smoothness, 2, false),
-                Some(Axis::LightIntensity) => short_number(c.light_intensity),
-                Some(Axis::LightRange) => short_number(c.light_range),
-                Some(Axis::CameraDistance) => short_number(c.camera_distance.unwrap()),
-                Some(Axis::LightAngle) => short_number(c.light_angle.unwrap()),
-                Some(Axis::Emission) => short_number(c.emission.unwrap()),
-                Some(Axis::Color) => color_code(c.material.slider_color_srgb),
-                Some(Axis::Textured) => String::new(),
+                Axis::Metallic => id_number(c.material.metallic, 2, false),
+                Axis::Smoothness => id_number(c.material.smoothness, 2, false),
+                Axis::LightIntensity => short_number(c.light_intensity),
+                Axis::LightRange => short_number(c.light_range),
+                Axis::CameraDistance => short_number(c.camera_distance.unwrap()),
+                Axis::LightAngle => short_number(c.light_angle.unwrap()),
+                Axis::Emission => short_number(c.emission.unwrap()),
+                Axis::AmbientIntensity => short_number(c.ambient_intensity.unwrap()),
+                Axis::Color => crate::spec::filter::color_code(c.material.slider_color_srgb),
+                Axis::Textured => String::new(),
+                Axis::Params => continue,
                 other => panic!("{other:?} has an id prefix but no value here"),
             };
             assert!(c.id.0.contains(&format!("{prefix}{value}")), "{}: no `{prefix}{value}` in {}", row.name, c.id);

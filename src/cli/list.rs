@@ -110,8 +110,8 @@ fn lod_plan(m: &Matrix, scene: &crate::spec::scene::Scene, meshes: &[crate::geom
         false => m.sweep.camera_distance.iter().copied().map(Some).collect(),
     };
     for d in distances {
-        let view = crate::render::camera::ViewAxes { camera_distance: d, light_angle: None };
-        let camera = crate::render::camera::posed_camera(&scene.camera, &view);
+        let view = crate::plan::camera::ViewAxes { camera_distance: d, light_angle: None };
+        let camera = crate::plan::camera::posed_camera(&scene.camera, &view);
         let at = d.map_or("the scene's camera".to_string(), |d| format!("camera distance {d}"));
         for seen in crate::plan::lod::groups_seen(scene, &bounds, &camera) {
             let levels: Vec<String> = seen
@@ -151,7 +151,7 @@ fn light_plan(m: &Matrix, scene: &crate::spec::scene::Scene) -> String {
     let centres = crate::geometry::placement::object_centres(scene, &meshes);
     let key = scene.key_light().map(|k| &scene.lights[k]);
     let (intensity, range) = key.map_or((0.0, 0.0), |k| (k.intensity, k.range));
-    let lights = crate::render::camera::cell_lights(scene, intensity, range, &scene.camera, &Default::default());
+    let lights = crate::plan::camera::cell_lights(scene, intensity, range, &scene.camera, &Default::default());
     for p in &m.pipelines {
         for path in &m.paths {
             let plan = assign(*p, *path, &m.light_budget, &lights, &centres, |_| false);

@@ -1,4 +1,4 @@
-//! f64 twin of HDRP's bloom as `render::bloom` runs it (shaders/pass/bloom.wgsl): the same
+//! f64 twin of HDRP's bloom as `render::passes::bloom` runs it (shaders/pass/bloom.wgsl): the same
 //! prefilter, pyramid, binomial blur, B-spline bicubic upsample and lerp composite, on a linear
 //! RGB image. Used to test the GPU chain and to reason about what bloom can change.
 
@@ -79,7 +79,7 @@ fn bspline(f: f64) -> [f64; 4] {
 
 /// `image` bloomed with `intensity` and `scatter` (HDRP defaults 0.2, 0.7).
 pub fn bloom(image: &Image, intensity: f64, scatter: f64) -> Image {
-    let sizes = crate::render::bloom::level_sizes(image.width as u32, image.height as u32);
+    let sizes = crate::render::passes::bloom::level_sizes(image.width as u32, image.height as u32);
     let taps = [(0.0, 0.0), (0.9, -0.4), (-0.9, 0.4), (0.4, 0.9), (-0.4, -0.9)];
     let mut levels: Vec<Image> = Vec::new();
     for (k, &(w, h)) in sizes.iter().enumerate() {

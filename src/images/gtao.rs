@@ -1,11 +1,11 @@
-//! f64 twin of HDRP's screen-space ambient occlusion as `render::ssao` runs it
+//! f64 twin of HDRP's screen-space ambient occlusion as `render::passes::ssao` runs it
 //! (shaders/pass/ssao.wgsl): the closest-depth pyramid levels, the half-resolution GTAO horizon
 //! search and cosine-weighted integral without temporal history, and the bilateral upsample with
 //! the intensity power. Same names as the WGSL; the tests hold the GPU steps against it.
 
 use glam::{DVec2, DVec3};
 
-use crate::render::ssao::{level_sizes, SsaoFrame};
+use crate::render::passes::ssao::{level_sizes, SsaoFrame};
 
 /// One channel of a texture, row-major, top row first (wgpu's layout).
 #[derive(Debug, Clone)]

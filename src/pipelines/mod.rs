@@ -189,7 +189,7 @@ impl Pipeline {
 }
 
 /// Rendering path: forward (lights per object, with each pipeline's budget) or deferred (a
-/// G-buffer lit in screen space, every light per pixel; `render::deferred`). Every pipeline has both.
+/// G-buffer lit in screen space, every light per pixel; `render::passes::deferred`). Every pipeline has both.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum RenderPath {

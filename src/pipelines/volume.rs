@@ -87,12 +87,12 @@ impl Default for ExposureSettings {
 pub struct HdrpVolume {
     #[serde(default)]
     pub exposure: ExposureSettings,
-    /// The default volume's bloom (intensity 0.2, scatter 0.7, threshold 0; `render::bloom`); on
+    /// The default volume's bloom (intensity 0.2, scatter 0.7, threshold 0; `render::passes::bloom`); on
     /// as HDRP ships it.
     #[serde(default = "enabled")]
     pub bloom: bool,
     /// The default volume's screen-space ambient occlusion (GTAO, intensity 0.5, radius 1.5,
-    /// Medium quality; `render::ssao`); on as HDRP ships it.
+    /// Medium quality; `render::passes::ssao`); on as HDRP ships it.
     #[serde(default = "enabled")]
     pub ssao: bool,
 }

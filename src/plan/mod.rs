@@ -3,9 +3,13 @@
 
 use serde::Serialize;
 
+pub mod camera;
+pub mod cell;
+pub mod exact;
 pub mod lights;
 pub mod lod;
 pub mod roles;
+pub mod shadows;
 pub mod timing;
 
 use crate::spec::scene::{Reflections, Scene, Sky};
@@ -24,10 +28,10 @@ pub struct FramePlan {
     pub hdrp_ssao: bool,
 }
 
-/// HDRP's bloom, after the frame's passes (render::bloom).
+/// HDRP's bloom, after the frame's passes (render::passes::bloom).
 pub const BLOOM_PASS: &str = "bloom";
 
-/// HDRP's depth prepass with its normal buffer, and the SSAO it feeds (render::ssao), before the
+/// HDRP's depth prepass with its normal buffer, and the SSAO it feeds (render::passes::ssao), before the
 /// lighting that reads the occlusion.
 pub const DEPTH_PREPASS: &str = "depth prepass";
 pub const SSAO_PASS: &str = "ssao";

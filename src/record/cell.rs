@@ -7,13 +7,13 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use super::{read_record, Maybe, RecordError};
-use crate::cells::{CellId, MaterialParams};
+use crate::cells::{CellCoords, CellId, MaterialParams};
 use crate::compare::stats::BadValues;
 use crate::compare::values::Comparison;
 use crate::compare::values::FlipMetric;
 use crate::images::stats::PixelStats;
 use crate::images::tonemap::DisplayRecord;
-use crate::pipelines::{Attenuation, Pipeline, RenderPath};
+use crate::pipelines::Attenuation;
 use crate::plan::lights::ObjectLights;
 
 /// Version of the `cell.json` layout. 1: untyped, before versioning; 2: typed, written once with
@@ -22,7 +22,11 @@ use crate::plan::lights::ObjectLights;
 /// 4: anti-aliasing (asked, rendered samples and why they differ) and shadow-map resolutions;
 /// 5: the subject's peak luminance, overflow counted before the half-float store saturates it, and
 /// whether the subject wore its textured preset, and its emission.
-pub const CELL_SCHEMA: u32 = 8;
+pub const CELL_SCHEMA: u32 = 9;
+
+/// The schema before `coords`: a cell's axes were separate fields (`composition` … `emission`,
+/// `view`, and the sliders' and key light's values). Reports still read it (`CellRecord::read`).
+const SEPARATE_AXES_SCHEMA: u32 = 8;
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct CellRecord {
@@ -31,25 +35,14 @@ pub struct CellRecord {
     /// Hash of everything the cell's image depends on; `--resume` keeps a cell whose hash matches.
     pub input_hash: String,
     pub matrix_sha256: String,
-    pub composition: String,
-    pub pipeline: Pipeline,
-    pub path: RenderPath,
-    pub shader: String,
+    /// What the cell is: its value on every axis (`spec::axes`).
+    pub coords: CellCoords,
     pub shader_source: String,
-    pub preset: String,
-    /// The subject wore its preset's textured form (maps from `materials`).
-    #[serde(default)]
-    pub textured: bool,
-    /// The emission axis, when swept.
-    #[serde(default)]
-    pub emission: Option<f64>,
-    /// The sweep's values (slider units).
+    /// The material its preset and sliders resolved to (slider units).
     pub sliders: MaterialParams,
     /// The model's inputs as the shader receives them.
     pub shader_inputs: ShaderInputs,
     pub key_light: KeyLight,
-    /// The view and parameter axes the cell sets (absent: the scene's and the model's own).
-    pub view: ViewRecord,
     pub image: ImageFiles,
     /// Set when the images are a copy of this cell's (the shader ignores the differing axes).
     pub twin_of: Option<CellId>,
@@ -127,40 +120,71 @@ pub struct ApproximationResult {
     pub hdr_relative_mse: Maybe<f64>,
 }
 
+/// A schema-8 record as this schema's: the axes moved into `coords` (their values were the
+/// sliders', the key light's and the view's).
+fn with_coords(mut old: serde_json::Value) -> serde_json::Value {
+    use serde_json::Value;
+    let Some(o) = old.as_object_mut() else { return old };
+    let mut take = |k: &str| o.remove(k).unwrap_or(Value::Null);
+    let (composition, pipeline, path, shader, preset) =
+        (take("composition"), take("pipeline"), take("path"), take("shader"), take("preset"));
+    let (textured, emission, view) = (take("textured"), take("emission"), take("view"));
+    let field = |v: Option<&Value>, k: &str| v.and_then(|v| v.get(k)).cloned().unwrap_or(Value::Null);
+    let (sliders, key) = (o.get("sliders"), o.get("key_light"));
+    let coords = serde_json::json!({
+        "composition": composition,
+        "pipeline": pipeline,
+        "path": path,
+        "shader": shader,
+        "preset": preset,
+        "metallic": field(sliders, "metallic"),
+        "smoothness": field(sliders, "smoothness"),
+        "color": field(sliders, "slider_color_srgb"),
+        "light_intensity": field(key, "intensity"),
+        "light_range": field(key, "range"),
+        "camera_distance": field(Some(&view), "camera_distance"),
+        "light_angle": field(Some(&view), "light_angle"),
+        "params": view.get("params").cloned().unwrap_or_else(|| serde_json::json!({})),
+        "textured": if textured.is_null() { Value::Bool(false) } else { textured },
+        "emission": emission,
+    });
+    o.insert("coords".into(), coords);
+    o.insert("schema".into(), CELL_SCHEMA.into());
+    old
+}
+
+/// A record reads as its cell's coordinates (`record.pipeline`, `record.light_angle`).
+impl std::ops::Deref for CellRecord {
+    type Target = CellCoords;
+
+    fn deref(&self) -> &CellCoords {
+        &self.coords
+    }
+}
+
 impl CellRecord {
+    /// A record of this schema: what a run writes, resumes, caches and merges.
     pub fn load(path: &Path) -> Result<CellRecord, RecordError> {
         read_record(path, CELL_SCHEMA)
     }
 
-    /// The cell's value on a sheet axis (`spec::sheets::AXES`), as labels and file names show it.
-    pub fn axis_value(&self, axis: &str) -> String {
-        // Exact where two decimals are not: 0.999 and 1 are two columns, not one.
-        let num = |v: f64| crate::cells::id_number(v, 2, false);
-        match axis {
-            "composition" => self.composition.clone(),
-            "pipeline" => self.pipeline.name().into(),
-            "path" => self.path.name().into(),
-            "shader" => self.shader.clone(),
-            "preset" => self.preset.clone(),
-            "metallic" => num(self.sliders.metallic),
-            "smoothness" => num(self.sliders.smoothness),
-            "color" => crate::spec::matrix::color_code(self.sliders.slider_color_srgb),
-            "camera_distance" => self.view.camera_distance.map_or_else(|| "scene".into(), num),
-            "light_angle" => self.view.light_angle.map_or_else(|| "scene".into(), num),
-            "params" => {
-                let swept: Vec<String> = self.view.params.iter().map(|(k, v)| format!("{k}={v}")).collect();
-                if swept.is_empty() {
-                    "defaults".into()
-                } else {
-                    swept.join(",")
-                }
+    /// A record of this schema or of the one before it, its axes gathered into `coords`: what
+    /// reports, the viewer and `diff` read, so a run made before still opens.
+    pub fn read(path: &Path) -> Result<CellRecord, RecordError> {
+        match read_record(path, CELL_SCHEMA) {
+            Err(RecordError::OtherVersion { found: SEPARATE_AXES_SCHEMA, .. }) => {
+                let text = std::fs::read_to_string(path).map_err(|e| RecordError::Invalid(e.to_string()))?;
+                let old: serde_json::Value =
+                    serde_json::from_str(&text).map_err(|e| RecordError::Invalid(e.to_string()))?;
+                serde_json::from_value(with_coords(old)).map_err(|e| RecordError::Invalid(e.to_string()))
             }
-            "light_intensity" => num(self.key_light.intensity),
-            "light_range" => num(self.key_light.range),
-            "textured" => self.textured.to_string(),
-            "emission" => self.emission.map_or_else(|| "none".into(), num),
-            _ => "?".into(),
+            read => read,
         }
+    }
+
+    /// The cell's value on the axis named `axis`, as labels and file names show it.
+    pub fn axis_value(&self, axis: &str) -> String {
+        self.coords.label(axis)
     }
 
     /// The time error-against-time plots use: GPU pass time where measured, else CPU wall.
@@ -202,14 +226,6 @@ pub struct KeyLight {
     /// for directional lights).
     pub unit: String,
     pub attenuation: Attenuation,
-}
-
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
-pub struct ViewRecord {
-    pub camera_distance: Option<f64>,
-    pub light_angle: Option<f64>,
-    /// `[sweep.params]` values this cell's model takes.
-    pub params: BTreeMap<String, f64>,
 }
 
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
@@ -365,5 +381,26 @@ impl CellMetrics {
             Some(ReferenceRecord::Cell { cell }) => Some(cell),
             _ => None,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_schema_8_record_reads_with_its_axes_in_coords() {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/records/cell_schema8.json");
+        assert!(matches!(CellRecord::load(&path), Err(RecordError::OtherVersion { found: 8, expected: 9 })));
+        let r = CellRecord::read(&path).unwrap();
+        let old: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+        assert_eq!(r.schema, CELL_SCHEMA);
+        assert_eq!(r.id.0, old["id"]);
+        // The id is the coordinates' own: every axis came across.
+        assert_eq!(crate::cells::cell_id(&r.coords), r.id);
+        assert_eq!((r.composition.as_str(), r.pipeline.name(), r.shader.as_str()), ("default", "urp", "lit"));
+        assert_eq!((r.light_angle, r.emission, r.camera_distance), (Some(30.0), Some(0.5), None));
+        assert_eq!((r.metallic, r.smoothness, r.light_intensity), (0.0, 0.75, 2.0));
+        assert_eq!(r.label("light_angle"), "30.00");
     }
 }

@@ -1,24 +1,24 @@
 //! Rendering: scene resources uploaded once per composition, pipelines compiled once per
 //! (pipeline, model) pair, and per-cell frames that only rewrite uniforms.
 
-pub mod bloom;
-pub mod camera;
-pub mod deferred;
-pub mod exact;
+pub mod cell_uniforms;
+pub mod formats;
+pub mod frame_bindings;
+pub mod gbuffer;
 pub mod luts;
 pub mod material_maps;
+pub mod passes;
+pub mod pipeline_cache;
+pub mod prepared;
 pub mod probe;
-pub mod reflection_probes;
 pub mod renderer;
-pub mod shadows;
-pub mod ssao;
 pub mod targets;
-pub mod traced_shadows;
 pub mod truth;
 pub mod uniforms;
 
 use crate::gpu::ConstantSpace;
-pub use renderer::{CellParams, CellRender, CellSettings, PreparedScene, Renderer, ShadowMapUse};
+pub use prepared::PreparedScene;
+pub use renderer::{CellParams, CellPlan, CellRender, CellSettings, Renderer, ShadowMapUse};
 
 /// A single-sample 2-D texture of one layer, as every render target here is but the MSAA ones.
 pub(crate) fn texture_2d(

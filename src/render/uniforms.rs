@@ -2,6 +2,9 @@
 //! against the WGSL as naga lays it out (`gpu::layout`, tests/e2e/layouts.rs).
 
 use bytemuck::{Pod, Zeroable};
+use glam::{DMat4, DVec3, Mat4};
+
+use crate::shading::twin::Surface;
 
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
@@ -10,7 +13,7 @@ pub struct GpuLight {
     pub direction: [f32; 4],
     pub color: [f32; 4],
     pub params: [f32; 4],
-    /// First shadow layer (−1: none), layer count, strength, soft (render::shadows).
+    /// First shadow layer (−1: none), layer count, strength, soft (plan::shadows).
     pub shadow: [f32; 4],
     /// Bias and normal bias in shadow-map texels.
     pub shadow_bias: [f32; 4],
@@ -103,6 +106,39 @@ pub use crate::plan::roles::{ROLE_BACKGROUND, ROLE_FIXED, ROLE_SUBJECT};
 /// probes (the sky's seven come first).
 pub fn first_layer(slot: usize, index: usize, count: usize) -> usize {
     crate::environment::prefilter::LEVELS * (1 + slot * count + index)
+}
+
+impl From<&crate::plan::shadows::ShadowLayerPlan> for ShadowLayer {
+    fn from(l: &crate::plan::shadows::ShadowLayerPlan) -> ShadowLayer {
+        ShadowLayer { view_proj: l.view_proj, params: l.params, sphere: l.sphere }
+    }
+}
+
+/// A surface in the uniform layout; `pattern` carries the checkerboard, if any.
+pub(in crate::render) fn gpu_material(s: &Surface, pattern: GpuMaterial) -> GpuMaterial {
+    let v = |x: DVec3| [x.x as f32, x.y as f32, x.z as f32, 0.0];
+    let q = s.params.map(|x| x as f32);
+    GpuMaterial {
+        base_color: v(s.base_color),
+        params: [s.metallic as f32, s.smoothness as f32, pattern.params[2], 0.0],
+        checker_color: pattern.checker_color,
+        specular: v(s.specular),
+        model0: [q[0], q[1], q[2], q[3]],
+        model1: [q[4], q[5], q[6], q[7]],
+        emission: [0.0; 4],
+    }
+}
+
+pub(in crate::render) fn mat(m: DMat4) -> [[f32; 4]; 4] {
+    Mat4::from_cols_array(&m.to_cols_array().map(|v| v as f32)).to_cols_array_2d()
+}
+
+pub(in crate::render) fn vec4(v: DVec3, w: f64) -> [f32; 4] {
+    [v.x as f32, v.y as f32, v.z as f32, w as f32]
+}
+
+pub(in crate::render) fn rgba(c: [f64; 3]) -> [f32; 4] {
+    [c[0] as f32, c[1] as f32, c[2] as f32, 1.0]
 }
 
 #[cfg(test)]

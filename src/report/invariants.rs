@@ -15,7 +15,7 @@ use crate::fsutil::write_atomic;
 use crate::images::encode::read_exr;
 use crate::record::CellRecord;
 use crate::spec::asserts::{InvariantKind, InvariantSpec, Measure};
-use crate::spec::matrix::{color_code, Axis, Filter, FilterValue};
+use crate::spec::matrix::{Axis, Filter, FilterValue};
 
 /// Failing groups named in a result, at most (the count is always whole).
 const SHOWN_FAILURES: usize = 8;
@@ -55,22 +55,7 @@ impl InvariantResult {
 
 /// A cell's value on a filter axis, from its record.
 fn record_value(r: &CellRecord, axis: Axis) -> FilterValue {
-    match axis {
-        Axis::Composition => FilterValue::Name(r.composition.clone()),
-        Axis::Pipeline => FilterValue::Name(r.pipeline.name().into()),
-        Axis::Path => FilterValue::Name(r.path.name().into()),
-        Axis::Shader => FilterValue::Name(r.shader.clone()),
-        Axis::Preset => FilterValue::Name(r.preset.clone()),
-        Axis::Metallic => FilterValue::Number(r.sliders.metallic),
-        Axis::Smoothness => FilterValue::Number(r.sliders.smoothness),
-        Axis::LightIntensity => FilterValue::Number(r.key_light.intensity),
-        Axis::LightRange => FilterValue::Number(r.key_light.range),
-        Axis::Color => FilterValue::Color(color_code(r.sliders.slider_color_srgb)),
-        Axis::CameraDistance => r.view.camera_distance.map_or(FilterValue::Name("scene".into()), FilterValue::Number),
-        Axis::LightAngle => r.view.light_angle.map_or(FilterValue::Name("scene".into()), FilterValue::Number),
-        Axis::Textured => FilterValue::Name(r.textured.to_string()),
-        Axis::Emission => FilterValue::Number(r.emission.unwrap_or(0.0)),
-    }
+    r.coords.filter_value(axis)
 }
 
 fn same(a: &FilterValue, b: &FilterValue) -> bool {
@@ -103,24 +88,14 @@ fn measure(r: &CellRecord, m: Measure) -> Option<f64> {
     }
 }
 
-/// The cells of a group differ only in `along`: the key is every other axis and the model
-/// parameters.
+/// The cells of a group differ only in `along`: the key is every other axis, the model
+/// parameters included.
 fn group_key(r: &CellRecord, along: Axis) -> String {
     let mut key = String::new();
-    for axis in crate::spec::axes::filter_axes().filter(|a| *a != along) {
-        let _ = write!(key, "{}={} ", axis.name(), value_text(&record_value(r, axis)));
-    }
-    for (k, v) in &r.view.params {
-        let _ = write!(key, "{k}={v} ");
+    for row in crate::spec::axes::AXES.iter().filter(|row| row.axis != along) {
+        let _ = write!(key, "{}={} ", row.name, r.coords.exact(row.name));
     }
     key.trim_end().to_string()
-}
-
-fn value_text(v: &FilterValue) -> String {
-    match v {
-        FilterValue::Name(n) | FilterValue::Color(n) => n.clone(),
-        FilterValue::Number(x) => format!("{x}"),
-    }
 }
 
 /// A group named by its first cell, and the axis that varies within it.

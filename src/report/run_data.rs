@@ -24,7 +24,7 @@ impl RunData {
             .map_err(|e| InputError::new(&shown, format!("no cells folder: {e}")))?;
         for entry in entries.filter_map(|e| e.ok()) {
             let path = entry.path().join(CELL_FILE);
-            match CellRecord::load(&path) {
+            match CellRecord::read(&path) {
                 Ok(c) => cells.push(c),
                 // A cell without its record never finished: it is not part of the run.
                 Err(RecordError::Absent) => {}

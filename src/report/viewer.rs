@@ -113,17 +113,7 @@ pub struct ViewerTiming(pub Option<f64>, pub i64, pub Vec<(u32, f64)>);
 /// A cell's value on `axis` as the viewer shows it: numbers exactly (the shortest decimal that
 /// reads back to the recorded value), names as recorded.
 fn value(c: &CellRecord, axis: &str) -> String {
-    let exact = |v: f64| format!("{v}");
-    match axis {
-        "metallic" => exact(c.sliders.metallic),
-        "smoothness" => exact(c.sliders.smoothness),
-        "light_intensity" => exact(c.key_light.intensity),
-        "light_range" => exact(c.key_light.range),
-        "camera_distance" => c.view.camera_distance.map_or_else(|| "scene".into(), exact),
-        "light_angle" => c.view.light_angle.map_or_else(|| "scene".into(), exact),
-        "emission" => c.emission.map_or_else(|| "none".into(), exact),
-        other => c.axis_value(other),
-    }
+    c.coords.exact(axis)
 }
 
 /// The index of `value` in `table`, added at the end the first time it is seen.

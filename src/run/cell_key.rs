@@ -22,7 +22,7 @@ use crate::spec::matrix::{hex, Matrix, ReferenceSpec};
 use crate::spec::scene::MeshSpec;
 
 /// Bumped when what a key covers changes meaning.
-pub const CELL_KEY_SCHEMA: u32 = 1;
+pub const CELL_KEY_SCHEMA: u32 = 2;
 
 /// The tool's own identity in keys: its version and the digests build.rs made of its code and
 /// pass shaders (the surface models are per cell).

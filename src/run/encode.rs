@@ -15,7 +15,7 @@ use crate::images::target::store_half_float;
 use crate::images::tonemap::DisplayRecord;
 use crate::images::{encode, tonemap};
 use crate::record::cell::{
-    AntialiasingRecord, ApproximationRecord, CellMetrics, CellRecord, CellTiming, FrameSeries, ViewRecord, CELL_SCHEMA,
+    AntialiasingRecord, ApproximationRecord, CellMetrics, CellRecord, CellTiming, FrameSeries, CELL_SCHEMA,
 };
 use crate::record::Maybe;
 use crate::render::uniforms::{ROLE_FIXED, ROLE_SUBJECT};
@@ -348,22 +348,11 @@ fn cell_record(
         id: cell.id.clone(),
         input_hash: key.to_string(),
         matrix_sha256: matrix.hash.clone(),
-        composition: cell.composition.clone(),
-        pipeline: cell.pipeline,
-        path: cell.path,
-        shader: cell.shader.clone(),
+        coords: cell.coords.clone(),
         shader_source: cell.model().source_path.to_string(),
-        preset: cell.preset.clone(),
-        textured: cell.textured,
-        emission: cell.emission,
         sliders: cell.material,
         shader_inputs: shader_inputs(cell),
         key_light: key_light(matrix, cell),
-        view: ViewRecord {
-            camera_distance: cell.camera_distance,
-            light_angle: cell.light_angle,
-            params: cell.params.clone(),
-        },
         image: image_files(cell, m.exr_format),
         twin_of: None,
         note: None,

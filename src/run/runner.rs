@@ -21,11 +21,11 @@ use crate::cells::{expand, matches_filter, reference_cell_id, remark_twins, Cell
 use crate::error::Error;
 use crate::fsutil::write_json;
 use crate::gpu::GpuContext;
+use crate::plan::camera::ViewAxes;
 use crate::plan::FramePlan;
 use crate::record::cell::{CellMetrics, CellRecord, ReferenceRecord};
 use crate::record::run::{CompositionRecord, MatrixRecord, RunCounts, RunStatus, StageTimes};
 use crate::record::{RunDir, RunRecord, CELL_FILE, RUN_FILE, RUN_SCHEMA};
-use crate::render::camera::ViewAxes;
 use crate::render::{CellParams, CellSettings, Renderer};
 use crate::spec::matrix::{Filter, Matrix, ReferenceSpec};
 use crate::spec::study::Approximation;
@@ -599,9 +599,12 @@ impl<'a> Stream<'a> {
                         // A glTF's own emissive colour glows as the file says unless the axis scales it.
                         emission: cell.emission.unwrap_or(if cell.own_material() { 1.0 } else { 0.0 }),
                         emission_color: cell.material.emissive_linear,
+                        ambient_intensity: cell.ambient_intensity,
                         exact: Default::default(),
                     },
                 };
+                // Decided on the CPU before any of the cell's GPU work.
+                let plan = renderer.plan(&prepared, &params)?;
                 let t = Instant::now();
                 let retime = self.retiming.contains(&cell.id);
                 let class = crate::plan::timing::timing_class(cell);
@@ -617,8 +620,8 @@ impl<'a> Stream<'a> {
                     // Timed frames have the device to themselves.
                     let _held = self.gpu_metrics.as_ref().filter(|_| timed_as.is_none()).map(|g| g.hold());
                     match timed_as {
-                        Some(_) => renderer.render_untimed(&prepared, &params)?,
-                        None => renderer.render(&prepared, &params, frames, warmup)?,
+                        Some(_) => renderer.draw_untimed(&prepared, &params, &plan)?,
+                        None => renderer.draw(&prepared, &params, &plan, frames, warmup)?,
                     }
                 };
                 match timed.get(&class) {
@@ -678,7 +681,7 @@ impl<'a> Stream<'a> {
                     let mut sample_counts = vec![render.multisampling.samples];
                     for v in kept {
                         // An MSAA level the adapter cannot give renders one it can: measured already.
-                        let m = renderer.multisampling_for(&v.settings);
+                        let m = renderer.msaa_support().for_settings(&v.settings);
                         if v.approximation == Approximation::Msaa {
                             if sample_counts.contains(&m.samples) {
                                 let why = m.note.unwrap_or_default();

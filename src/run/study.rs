@@ -4,7 +4,7 @@
 
 use crate::cells::Cell;
 use crate::pipelines::{Antialiasing, RenderPath};
-use crate::render::exact::ExactAlternatives;
+use crate::plan::exact::ExactAlternatives;
 use crate::render::renderer::CellSettings;
 use crate::spec::scene::{Scene, Sky};
 use crate::spec::study::Approximation;

@@ -26,7 +26,7 @@ const PIPELINE_IDS_PATH: &str = "<generated from pipelines::Pipeline: pipeline i
 const BRDF_TERMS: &str = include_str!("../../shaders/common/brdf.wgsl");
 const SCENE: &str = include_str!("../../shaders/pass/scene.wgsl");
 const FORWARD: &str = include_str!("../../shaders/pass/forward.wgsl");
-/// The real-time approximations forward.wgsl calls, and their exact alternatives (render::exact).
+/// The real-time approximations forward.wgsl calls, and their exact alternatives (plan::exact).
 const APPROXIMATIONS: &str = include_str!("../../shaders/pass/approximations.wgsl");
 const EXACT: &str = include_str!("../../shaders/pass/exact.wgsl");
 const BACKGROUND: &str = include_str!("../../shaders/pass/background.wgsl");
@@ -72,7 +72,7 @@ pub fn compose_truth(subject: &ShaderModel, fixed: &ShaderModel) -> String {
 
 const TRACED_SHADOWS: &str = include_str!("../../shaders/pass/traced_shadows.wgsl");
 
-/// The traced-shadow pass (render::traced_shadows): the scene pass's shared files, the rays, then
+/// The traced-shadow pass (render::passes::traced_shadows): the scene pass's shared files, the rays, then
 /// the pass.
 pub fn compose_traced_shadows() -> String {
     [MATH, &pipeline_ids(), CONVENTIONS, BRDF_TERMS, SCENE, RAYS, TRACED_SHADOWS].join("\n")

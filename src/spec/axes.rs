@@ -23,6 +23,9 @@ pub enum Axis {
     LightAngle,
     Textured,
     Emission,
+    /// The swept model parameters (`[sweep.params]`); not a filter axis.
+    Params,
+    AmbientIntensity,
 }
 
 impl Axis {
@@ -54,8 +57,9 @@ pub enum AxisKind {
 pub struct AxisRow {
     /// As matrices, filters, sheets and records name it.
     pub name: &'static str,
-    /// The axis as a filter names it (None: `params`, named per parameter).
-    pub axis: Option<Axis>,
+    pub axis: Axis,
+    /// A filter (`only`, `exclude`, asserts) may name it (`params` are named per parameter).
+    pub filter: bool,
     pub kind: AxisKind,
     /// The values a sweep may list (numbers only).
     pub range: Option<(f64, f64)>,
@@ -63,35 +67,66 @@ pub struct AxisRow {
     pub reference: bool,
     /// Cells that differ in it are timed apart (`plan::timing`): it changes the passes' work.
     pub timing: bool,
-    /// What precedes its value in a cell id (`_s0.90`), where the id carries it.
+    /// What precedes its value in a cell id (`_s0.90`), where the id carries it; ids list the
+    /// axes in table order.
     pub id_prefix: Option<&'static str>,
+    /// Decimal places of its value in an id (None: up to four, trailing zeros trimmed).
+    pub id_decimals: Option<usize>,
+    /// How a cell that does not sweep it reads (the scene's own, or none).
+    pub own: &'static str,
 }
 
-const fn row(name: &'static str, axis: Option<Axis>, kind: AxisKind) -> AxisRow {
-    AxisRow { name, axis, kind, range: None, reference: false, timing: false, id_prefix: None }
+const fn row(name: &'static str, axis: Axis, kind: AxisKind) -> AxisRow {
+    AxisRow {
+        name,
+        axis,
+        kind,
+        filter: true,
+        range: None,
+        reference: false,
+        timing: false,
+        id_prefix: None,
+        id_decimals: None,
+        own: "",
+    }
 }
 
 const fn number(name: &'static str, axis: Axis, (lo, hi): (f64, f64), id_prefix: &'static str) -> AxisRow {
-    AxisRow { range: Some((lo, hi)), id_prefix: Some(id_prefix), ..row(name, Some(axis), AxisKind::Number) }
+    AxisRow { range: Some((lo, hi)), id_prefix: Some(id_prefix), ..row(name, axis, AxisKind::Number) }
 }
 
-/// Every axis, in the order sheets, the viewer and filters list them.
-pub const AXES: [AxisRow; 15] = [
-    AxisRow { reference: true, timing: true, ..row("composition", Some(Axis::Composition), AxisKind::Name) },
-    AxisRow { reference: true, timing: true, ..row("pipeline", Some(Axis::Pipeline), AxisKind::Name) },
-    AxisRow { reference: true, timing: true, ..row("path", Some(Axis::Path), AxisKind::Name) },
-    AxisRow { reference: true, timing: true, ..row("shader", Some(Axis::Shader), AxisKind::Name) },
-    row("preset", Some(Axis::Preset), AxisKind::Name),
-    AxisRow { reference: true, ..number("metallic", Axis::Metallic, (0.0, 1.0), "_m") },
-    AxisRow { reference: true, ..number("smoothness", Axis::Smoothness, (0.0, 1.0), "_s") },
-    AxisRow { id_prefix: Some("_c"), ..row("color", Some(Axis::Color), AxisKind::Colour) },
+/// A Unity material slider in 0..1: two decimals in ids.
+const fn slider(name: &'static str, axis: Axis, id_prefix: &'static str) -> AxisRow {
+    AxisRow { reference: true, id_decimals: Some(2), ..number(name, axis, (0.0, 1.0), id_prefix) }
+}
+
+/// Every axis, in the order sheets, the viewer, filters and cell ids list them.
+pub const AXES: [AxisRow; 16] = [
+    AxisRow { reference: true, timing: true, ..row("composition", Axis::Composition, AxisKind::Name) },
+    AxisRow { reference: true, timing: true, ..row("pipeline", Axis::Pipeline, AxisKind::Name) },
+    AxisRow { reference: true, timing: true, ..row("path", Axis::Path, AxisKind::Name) },
+    AxisRow { reference: true, timing: true, ..row("shader", Axis::Shader, AxisKind::Name) },
+    row("preset", Axis::Preset, AxisKind::Name),
+    slider("metallic", Axis::Metallic, "__m"),
+    slider("smoothness", Axis::Smoothness, "_s"),
+    AxisRow { id_prefix: Some("_c"), own: "preset", ..row("color", Axis::Color, AxisKind::Colour) },
     AxisRow { reference: true, ..number("light_intensity", Axis::LightIntensity, (0.0, 100.0), "_i") },
     AxisRow { reference: true, timing: true, ..number("light_range", Axis::LightRange, (1e-3, 40.0), "_r") },
-    AxisRow { reference: true, timing: true, ..number("camera_distance", Axis::CameraDistance, (1e-3, 1000.0), "_d") },
-    AxisRow { reference: true, ..number("light_angle", Axis::LightAngle, (0.0, 180.0), "_a") },
-    row("params", None, AxisKind::Params),
-    AxisRow { timing: true, id_prefix: Some("_tex"), ..row("textured", Some(Axis::Textured), AxisKind::Bool) },
-    number("emission", Axis::Emission, (0.0, 100.0), "_e"),
+    AxisRow {
+        reference: true,
+        timing: true,
+        own: "scene",
+        ..number("camera_distance", Axis::CameraDistance, (1e-3, 1000.0), "_d")
+    },
+    AxisRow { reference: true, own: "scene", ..number("light_angle", Axis::LightAngle, (0.0, 180.0), "_a") },
+    AxisRow { filter: false, id_prefix: Some("_"), own: "defaults", ..row("params", Axis::Params, AxisKind::Params) },
+    AxisRow { own: "none", ..number("emission", Axis::Emission, (0.0, 100.0), "_e") },
+    AxisRow { timing: true, id_prefix: Some("_tex"), ..row("textured", Axis::Textured, AxisKind::Bool) },
+    AxisRow {
+        reference: true,
+        own: "scene",
+        ..number("ambient_intensity", Axis::AmbientIntensity, (0.0, 10.0), "_amb")
+    },
 ];
 
 /// The row of the axis named `name`.
@@ -101,7 +136,7 @@ pub fn find(name: &str) -> Option<&'static AxisRow> {
 
 /// The row of a filter axis.
 pub fn of(axis: Axis) -> &'static AxisRow {
-    AXES.iter().find(|r| r.axis == Some(axis)).expect("every filter axis has a row in spec::axes::AXES")
+    AXES.iter().find(|r| r.axis == axis).expect("every axis has a row in spec::axes::AXES")
 }
 
 /// Every axis's name, in table order (what a sheet may lay out).
@@ -111,12 +146,12 @@ pub fn names() -> Vec<&'static str> {
 
 /// The axes a filter can name, in table order.
 pub fn filter_axes() -> impl Iterator<Item = Axis> {
-    AXES.iter().filter_map(|r| r.axis)
+    AXES.iter().filter(|r| r.filter).map(|r| r.axis)
 }
 
 /// The axes a cell reference may change.
 pub fn reference_axes() -> impl Iterator<Item = Axis> {
-    AXES.iter().filter(|r| r.reference).filter_map(|r| r.axis)
+    AXES.iter().filter(|r| r.reference).map(|r| r.axis)
 }
 
 #[cfg(test)]
@@ -124,8 +159,8 @@ mod tests {
     use super::*;
 
     #[test]
-    fn every_filter_axis_has_one_row() {
-        let axes: Vec<Axis> = filter_axes().collect();
+    fn every_axis_has_one_row() {
+        let axes: Vec<Axis> = AXES.iter().map(|r| r.axis).collect();
         let mut unique = axes.clone();
         unique.sort();
         unique.dedup();
@@ -150,10 +185,12 @@ mod tests {
             Axis::LightAngle => "light_angle",
             Axis::Textured => "textured",
             Axis::Emission => "emission",
+            Axis::Params => "params",
+            Axis::AmbientIntensity => "ambient_intensity",
         };
-        for a in filter_axes() {
-            assert_eq!(of(a).name, named(a));
+        for r in &AXES {
+            assert_eq!(r.name, named(r.axis));
         }
-        assert_eq!(filter_axes().count(), 14);
+        assert_eq!(filter_axes().count(), AXES.len() - 1, "every axis but params");
     }
 }

@@ -133,6 +133,9 @@ pub struct Sweep {
     /// light axis), added before tonemapping by the models whose engine shader emits.
     #[serde(default)]
     pub emission: Vec<f64>,
+    /// The scene's ambient light (sky SH, reflections and probes) × each value.
+    #[serde(default)]
+    pub ambient_intensity: Vec<f64>,
     /// A list per model parameter (`ior = [1.3, 1.5]`); a cell whose model lacks a parameter is
     /// not multiplied by it.
     #[serde(default)]
@@ -152,6 +155,7 @@ impl Sweep {
             Axis::CameraDistance => &self.camera_distance,
             Axis::LightAngle => &self.light_angle,
             Axis::Emission => &self.emission,
+            Axis::AmbientIntensity => &self.ambient_intensity,
             _ => &[],
         }
     }
@@ -513,7 +517,7 @@ impl Matrix {
         let s = &file.sweep;
         // Each numeric axis's values within its row's range (`spec::axes`).
         for row in super::axes::AXES.iter().filter(|r| r.kind == super::axes::AxisKind::Number) {
-            let (Some(axis), Some((lo, hi))) = (row.axis, row.range) else { continue };
+            let (axis, Some((lo, hi))) = (row.axis, row.range) else { continue };
             for (i, v) in s.numbers(axis).iter().enumerate() {
                 c.range(&format!("sweep.{}[{i}]", row.name), *v, lo, hi)?;
             }

@@ -1,4 +1,4 @@
-//! HDRP's bloom (`render::bloom`) against its f64 twin (`images::bloom`), and the switch that
+//! HDRP's bloom (`render::passes::bloom`) against its f64 twin (`images::bloom`), and the switch that
 //! turns it off.
 
 use glam::DVec3;

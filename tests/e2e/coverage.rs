@@ -32,7 +32,7 @@ fn theta_h_histogram(name: &str) -> [f64; 9] {
     let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
     // Visible subject surface: the rendered mask tells which pixels see the disc; the mesh vertices
     // nearest to those pixels' rays give N and the position.
-    let vp = shadematrix::render::camera::view_projection(&scene.camera, 1.0);
+    let vp = shadematrix::plan::camera::view_projection(&scene.camera, 1.0);
     let cam = DVec3::from(scene.camera.position);
     let light = DVec3::from(scene.lights[0].position);
     let mut grid: Vec<Option<(f64, DVec3, DVec3)>> = vec![None; (size * size) as usize];

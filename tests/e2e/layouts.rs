@@ -18,8 +18,8 @@ fn uniform_mirrors_match_their_wgsl_structs() {
     let exact = compose(PassKind::ForwardExact, Some(lambert()));
     let probe = compose(PassKind::BrdfProbe, Some(lambert()));
     let ssao = with_math(include_str!("../../shaders/pass/ssao.wgsl"));
+    use shadematrix::render::passes::ssao::SsaoFrame;
     use shadematrix::render::probe::ProbeInput;
-    use shadematrix::render::ssao::SsaoFrame;
     use shadematrix::render::truth::bvh::{GpuBvhNode, TruthVertex};
     type Mirror<'a> = (&'a str, &'a str, (usize, Vec<(&'a str, usize)>));
     let mirrors: Vec<Mirror> = vec![

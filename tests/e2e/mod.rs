@@ -1,5 +1,6 @@
 //! One module per area, each driving the library or the `shadematrix` binary for real.
 
+mod ambient;
 mod antialiasing;
 mod bloom;
 mod cache;

@@ -1,11 +1,11 @@
-//! Reflection probes (`render::reflection_probes`): the GPU prefilter is the twin of the CPU one,
+//! Reflection probes (`render::passes::probes`): the GPU prefilter is the twin of the CPU one,
 //! and a probe in the default room puts the walls into a metal sphere's reflection.
 
 use crate::common::fixture;
 use glam::DVec3;
 use shadematrix::environment::prefilter::{EquirectImage, Probe, SOURCE_WIDTH};
 use shadematrix::gpu::GpuContext;
-use shadematrix::render::reflection_probes::Prefilter;
+use shadematrix::render::passes::probes::Prefilter;
 
 #[test]
 fn gpu_prefilter_matches_its_cpu_twin() {

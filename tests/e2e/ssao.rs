@@ -1,18 +1,18 @@
-//! HDRP's screen-space ambient occlusion (`render::ssao`) against its f64 twin (`images::gtao`),
+//! HDRP's screen-space ambient occlusion (`render::passes::ssao`) against its f64 twin (`images::gtao`),
 //! and what it does to a rendered frame: it darkens the indirect light where surfaces meet, leaves
 //! open surfaces and the direct light alone, and the switch turns it off.
 
 use glam::DVec3;
 use shadematrix::gpu::GpuContext;
 use shadematrix::images::gtao;
-use shadematrix::render::ssao::{visibility_of, SsaoFrame, SsaoSettings};
+use shadematrix::render::passes::ssao::{visibility_of, SsaoFrame, SsaoSettings};
 use shadematrix::spec::scene::Camera;
 
 /// A ray-cast frame: a floor (y = 0) with a unit box standing on it and a sphere resting beside
 /// it, seen from above and in front. Returns raw depth (wgpu's 0..1) and encoded world normals,
 /// the normals rounded to the 10-bit grid of the prepass target.
 fn synthetic_frame(camera: &Camera, (w, h): (u32, u32)) -> (Vec<f64>, Vec<DVec3>) {
-    let view = shadematrix::render::camera::view_matrix(camera);
+    let view = shadematrix::plan::camera::view_matrix(camera);
     let proj = glam::DMat4::perspective_rh(camera.fov_y_deg.to_radians(), w as f64 / h as f64, camera.near, camera.far);
     let inv = (proj * view).inverse();
     let eye = DVec3::from(camera.position);

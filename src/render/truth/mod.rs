@@ -210,7 +210,7 @@ impl TruthScene {
         TruthScene { nodes, triangles, vertices, environment: env.clone(), group }
     }
 
-    /// The rays' group with a frame's traced shadow mask (render::traced_shadows).
+    /// The rays' group with a frame's traced shadow mask (render::passes::traced_shadows).
     pub fn group_with_mask(
         &self,
         device: &wgpu::Device,

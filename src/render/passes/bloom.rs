@@ -7,9 +7,9 @@
 use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
-use super::ComputeStep;
 use crate::error::Error;
 use crate::gpu::GpuContext;
+use crate::render::ComputeStep;
 
 const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
@@ -57,13 +57,13 @@ pub struct BloomPipeline {
 impl BloomPipeline {
     pub fn new(gpu: &GpuContext) -> Result<BloomPipeline, Error> {
         let device = &gpu.device;
-        let module = gpu.shader_module("bloom", include_str!("../../shaders/pass/bloom.wgsl"))?;
-        use super::compute_entry::{constants, float_2d, storage_2d};
+        let module = gpu.shader_module("bloom", include_str!("../../../shaders/pass/bloom.wgsl"))?;
+        use crate::render::compute_entry::{constants, float_2d, storage_2d};
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("bloom"),
             entries: &[constants(gpu.constants, 0), float_2d(1), float_2d(2), storage_2d(3, FORMAT)],
         });
-        let pipeline = super::compute_pipeline(device, "bloom", &layout, &module, "cs_bloom");
+        let pipeline = crate::render::compute_pipeline(device, "bloom", &layout, &module, "cs_bloom");
         Ok(BloomPipeline { pipeline, layout, space: gpu.constants })
     }
 }
@@ -86,7 +86,7 @@ impl BloomChain {
         settings: BloomSettings,
     ) -> BloomChain {
         let make = |label: &str, (w, h): (u32, u32), extra: wgpu::TextureUsages| {
-            super::texture_2d(
+            crate::render::texture_2d(
                 device,
                 label,
                 (w, h),
@@ -176,8 +176,13 @@ mod tests {
     #[test]
     fn params_mirror_the_wgsl_struct() {
         let (size, fields) = crate::mirror_layout!(BloomParams, [dims, factor]);
-        crate::gpu::layout::check_mirror(include_str!("../../shaders/pass/bloom.wgsl"), "BloomParams", size, &fields)
-            .unwrap();
+        crate::gpu::layout::check_mirror(
+            include_str!("../../../shaders/pass/bloom.wgsl"),
+            "BloomParams",
+            size,
+            &fields,
+        )
+        .unwrap();
     }
 
     #[test]

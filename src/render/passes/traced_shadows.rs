@@ -22,7 +22,7 @@ impl TracedShadowsPipeline {
         ray_layout: &wgpu::BindGroupLayout,
         pipeline_id: u32,
     ) -> Result<TracedShadowsPipeline, Error> {
-        use super::compute_entry::{read_write_storage, texture};
+        use crate::render::compute_entry::{read_write_storage, texture};
         let device = &gpu.device;
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("traced shadows"),
@@ -35,7 +35,7 @@ impl TracedShadowsPipeline {
         let module = gpu.shader_module("traced shadows", &crate::shading::wgsl::compose_traced_shadows())?;
         let constants = [("PIPELINE", pipeline_id as f64)];
         let layouts = [frame_layout, &layout, ray_layout];
-        let pipeline = super::truth::ray_compute_pipeline(
+        let pipeline = crate::render::truth::ray_compute_pipeline(
             device,
             "traced shadows",
             &module,
@@ -64,11 +64,11 @@ impl TracedShadowMask {
             usage: wgpu::BufferUsages::STORAGE,
             mapped_at_creation: false,
         });
-        let normal = super::texture_2d(
+        let normal = crate::render::texture_2d(
             device,
             "traced shadows normals",
             (width, height),
-            super::ssao::NORMAL_FORMAT,
+            crate::render::passes::ssao::NORMAL_FORMAT,
             wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
         )
         .create_view(&Default::default());

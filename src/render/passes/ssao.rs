@@ -18,14 +18,14 @@ use bytemuck::{Pod, Zeroable};
 use glam::{DMat4, DVec3};
 use wgpu::util::DeviceExt;
 
-use super::ComputeStep;
 use crate::error::Error;
 use crate::gpu::GpuContext;
+use crate::render::ComputeStep;
 use crate::spec::scene::Camera;
 
 const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
 /// The prepass's normal buffer: HDRP's is octahedral in 8-bit channels, APPROXIMATED by 10:10:10:2
-/// as the deferred G-buffer's is (render::deferred::normal_format).
+/// as the deferred G-buffer's is (render::gbuffer::normal_format).
 pub const NORMAL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgb10a2Unorm;
 
 const CLOSEST: u32 = 1;
@@ -66,7 +66,7 @@ pub struct SsaoFrame {
 
 /// The world-to-view rotation rows of `camera` (right-handed, looking down −z: Unity's view space).
 pub fn view_rows(camera: &Camera) -> [DVec3; 3] {
-    let view: DMat4 = super::camera::view_matrix(camera);
+    let view: DMat4 = crate::plan::camera::view_matrix(camera);
     let r = view.transpose();
     [r.x_axis.truncate(), r.y_axis.truncate(), r.z_axis.truncate()]
 }
@@ -124,9 +124,9 @@ pub struct SsaoPipeline {
 impl SsaoPipeline {
     pub fn new(gpu: &GpuContext) -> Result<SsaoPipeline, Error> {
         let device = &gpu.device;
-        let source = crate::shading::wgsl::with_math(include_str!("../../shaders/pass/ssao.wgsl"));
+        let source = crate::shading::wgsl::with_math(include_str!("../../../shaders/pass/ssao.wgsl"));
         let module = gpu.shader_module("ssao", &source)?;
-        use super::compute_entry::{constants, float_2d, storage_2d, texture};
+        use crate::render::compute_entry::{constants, float_2d, storage_2d, texture};
         let steps_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("ssao steps"),
             entries: &[
@@ -143,8 +143,8 @@ impl SsaoPipeline {
             label: Some("ssao depth copy"),
             entries: &[depth, storage_2d(7, FORMAT)],
         });
-        let steps = super::compute_pipeline(device, "ssao", &steps_layout, &module, "cs_ssao");
-        let copy = super::compute_pipeline(device, "ssao depth copy", &copy_layout, &module, "cs_depth_copy");
+        let steps = crate::render::compute_pipeline(device, "ssao", &steps_layout, &module, "cs_ssao");
+        let copy = crate::render::compute_pipeline(device, "ssao depth copy", &copy_layout, &module, "cs_depth_copy");
         gpu.check_errors("creating the SSAO pipelines")?;
         Ok(SsaoPipeline { steps, steps_layout, copy, copy_layout, space: gpu.constants })
     }
@@ -175,7 +175,7 @@ impl SsaoChain {
     ) -> (SsaoChain, wgpu::Texture) {
         let storage = wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING;
         let make = |label: &str, size: (u32, u32), extra: wgpu::TextureUsages| {
-            super::texture_2d(device, label, size, FORMAT, storage | extra)
+            crate::render::texture_2d(device, label, size, FORMAT, storage | extra)
         };
         let [full, l1, l2] = level_sizes(width, height);
         let depth0 = make("ssao depth", full, wgpu::TextureUsages::COPY_DST);
@@ -184,7 +184,7 @@ impl SsaoChain {
         let packed = make("ssao packed", l1, wgpu::TextureUsages::empty());
         let visibility = make("ssao visibility", full, wgpu::TextureUsages::COPY_SRC);
         let normal = normal.unwrap_or_else(|| {
-            super::texture_2d(
+            crate::render::texture_2d(
                 device,
                 "ssao normals",
                 full,
@@ -288,7 +288,7 @@ pub fn visibility_of(
 ) -> Result<Vec<f32>, Error> {
     let device = &gpu.device;
     let pipeline = SsaoPipeline::new(gpu)?;
-    let normal_texture = super::texture_2d(
+    let normal_texture = crate::render::texture_2d(
         device,
         "ssao test normals",
         (width, height),

@@ -73,7 +73,7 @@ pub fn posed_key_light(light: &Light, camera: &Camera, view: &ViewAxes) -> Light
 /// A cell's lights: the scene's, with the key light at the cell's intensity and range and turned
 /// to the cell's light angle (or the scene's own `light_angle_deg`).
 pub fn cell_lights(scene: &Scene, intensity: f64, range: f64, camera: &Camera, view: &ViewAxes) -> Vec<Light> {
-    let mut lights = crate::plan::lights::cell_lights(scene, intensity, range);
+    let mut lights = super::lights::cell_lights(scene, intensity, range);
     if let Some(k) = scene.key_light() {
         let view = ViewAxes { light_angle: view.light_angle.or(scene.light_angle_deg), ..*view };
         lights[k] = posed_key_light(&lights[k], camera, &view);

@@ -16,11 +16,12 @@ use bytemuck::{Pod, Zeroable};
 use glam::{DMat4, DVec3};
 use wgpu::util::DeviceExt;
 
-pub use super::uniforms::{first_layer, GpuReflectionProbe};
-use super::ComputeStep;
 use crate::environment::prefilter::{self, EquirectImage, LEVELS, MIRROR_ALPHA, PROBE_WIDTH, SOURCE_WIDTH};
 use crate::error::Error;
 use crate::gpu::GpuContext;
+
+pub use crate::render::uniforms::{first_layer, GpuReflectionProbe};
+use crate::render::ComputeStep;
 use crate::spec::scene::ReflectionProbe;
 
 pub use crate::spec::scene::MAX_PROBES;
@@ -82,9 +83,9 @@ impl Prefilter {
         let device = &gpu.device;
         let module = gpu.shader_module(
             "probe prefilter",
-            &crate::shading::wgsl::with_math(include_str!("../../shaders/pass/probe_prefilter.wgsl")),
+            &crate::shading::wgsl::with_math(include_str!("../../../shaders/pass/probe_prefilter.wgsl")),
         )?;
-        use super::compute_entry::{constants, read_only_storage, storage_2d, texture};
+        use crate::render::compute_entry::{constants, read_only_storage, storage_2d, texture};
         let float = wgpu::TextureSampleType::Float { filterable: false };
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("probe prefilter"),
@@ -102,7 +103,7 @@ impl Prefilter {
                 read_only_storage(5),
             ],
         });
-        let pipeline = super::compute_pipeline(device, "probe prefilter", &layout, &module, "cs_prefilter");
+        let pipeline = crate::render::compute_pipeline(device, "probe prefilter", &layout, &module, "cs_prefilter");
         let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("probe faces"),
             mag_filter: wgpu::FilterMode::Nearest,
@@ -112,7 +113,7 @@ impl Prefilter {
         let sources = [SOURCE_WIDTH, PROBE_WIDTH, PROBE_WIDTH / 2]
             .into_iter()
             .map(|w| {
-                let texture = super::texture_2d(
+                let texture = crate::render::texture_2d(
                     device,
                     "probe source",
                     (w as u32, w as u32 / 2),
@@ -247,7 +248,7 @@ impl Prefilter {
                 source.height
             )));
         }
-        let texels: Vec<half::f16> = source.texels.iter().flat_map(|t| super::half_texel(*t)).collect();
+        let texels: Vec<half::f16> = source.texels.iter().flat_map(|t| crate::render::half_texel(*t)).collect();
         gpu.queue.write_texture(
             self.source(SOURCE_WIDTH).1.as_image_copy(),
             bytemuck::cast_slice(&texels),
@@ -261,7 +262,7 @@ impl Prefilter {
         let levels = level_texture(device, LEVELS, wgpu::TextureUsages::COPY_SRC);
         let steps = self.steps(device, None, &levels, 0);
         let mut encoder = device.create_command_encoder(&Default::default());
-        super::encode_steps(&mut encoder, "probe prefilter", &self.pipeline, &steps, None);
+        crate::render::encode_steps(&mut encoder, "probe prefilter", &self.pipeline, &steps, None);
         let row = PROBE_WIDTH as u32 * 8;
         let readback = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("probe levels readback"),
@@ -339,7 +340,7 @@ pub fn sky_levels(probe: &prefilter::Probe) -> Vec<half::f16> {
                         .texel_direction(x, y);
                     level.lookup(d)
                 };
-                out.extend(super::half_texel(t));
+                out.extend(crate::render::half_texel(t));
             }
         }
     }
@@ -428,8 +429,8 @@ impl SceneProbes {
                     })
                 };
                 let faces = layered("probe faces", CAPTURE_FORMAT, 6);
-                let roles = layered("probe roles", super::targets::ROLE_FORMAT, 6);
-                let depth = layered("probe depth", super::targets::DEPTH_FORMAT, 1);
+                let roles = layered("probe roles", crate::render::formats::ROLE_FORMAT, 6);
+                let depth = layered("probe depth", crate::render::formats::DEPTH_FORMAT, 1);
                 let layer_views = |t: &wgpu::Texture| -> Vec<wgpu::TextureView> {
                     (0..6)
                         .map(|i| {
@@ -463,7 +464,7 @@ impl SceneProbes {
                         .map(|_| {
                             device.create_buffer(&wgpu::BufferDescriptor {
                                 label: Some("probe face frame"),
-                                size: std::mem::size_of::<super::uniforms::FrameUniforms>() as u64,
+                                size: std::mem::size_of::<crate::render::uniforms::FrameUniforms>() as u64,
                                 usage: gpu.constants.usage() | wgpu::BufferUsages::COPY_DST,
                                 mapped_at_creation: false,
                             })
@@ -516,7 +517,7 @@ impl SceneProbes {
         timestamps: Option<wgpu::ComputePassTimestampWrites>,
     ) {
         let steps = self.probes.iter().flat_map(|p| &p.steps[slot]);
-        super::encode_steps(encoder, "probe prefilter", &prefilter.pipeline, steps, timestamps);
+        crate::render::encode_steps(encoder, "probe prefilter", &prefilter.pipeline, steps, timestamps);
     }
 }
 
@@ -526,7 +527,7 @@ mod tests {
 
     #[test]
     fn prefilter_params_mirror_the_wgsl_struct() {
-        let source = crate::shading::wgsl::with_math(include_str!("../../shaders/pass/probe_prefilter.wgsl"));
+        let source = crate::shading::wgsl::with_math(include_str!("../../../shaders/pass/probe_prefilter.wgsl"));
         let (size, fields) = crate::mirror_layout!(PrefilterParams, [dims, level, faces, probe_position]);
         crate::gpu::layout::check_mirror(&source, "PrefilterParams", size, &fields).unwrap();
     }

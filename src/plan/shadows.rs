@@ -1,22 +1,28 @@
-//! Shadow maps: one depth layer per directional or spot light that casts shadows, six (a cube's
-//! faces) per point light, in one depth texture array, re-rendered every frame as an engine does.
-//! The forward pass samples them with a comparison sampler: one bilinear tap (hard) or 3×3
-//! bilinear taps (soft), the receiver offset along its normal and towards the light by the light's
-//! biases in shadow-map texels. Directional lights have each pipeline's cascades
-//! (`Pipeline::shadow_cascades`): each covers a slice of the camera frustum by view depth, fitted
-//! with its bounding sphere (Unity's "stable fit"), its depth range stretched back to every caster.
-//! APPROXIMATION, stated: Unity's soft-shadow tent filters are stood in for by the 3×3 PCF.
-//! Each light's map has its pipeline's default resolution (`Pipeline::default_shadow_resolution`)
-//! unless its scene entry sets one: it is rendered into the top-left square of its layer and
-//! sampled there, so one array serves every pipeline's resolutions.
+//! Shadow-map planning: which layers each shadowed light takes, their resolution and their
+//! view-projections, decided on the CPU before any GPU work (render::passes::shadow draws them).
+//! One depth layer per directional cascade or spot light that casts shadows, six (a cube's faces)
+//! per point light, in one depth texture array, re-rendered every frame as an engine does.
+//! Directional lights have each pipeline's cascades (`Pipeline::shadow_cascades`): each covers a
+//! slice of the camera frustum by view depth, fitted with its bounding sphere (Unity's "stable
+//! fit"), its depth range stretched back to every caster. Each light's map has its pipeline's
+//! default resolution (`Pipeline::default_shadow_resolution`) unless its scene entry sets one: it
+//! is rendered into the top-left square of its layer and sampled there, so one array serves every
+//! pipeline's resolutions.
 
 use glam::{DMat4, DVec3};
 
-use super::uniforms::ShadowLayer;
 use crate::pipelines::{Pipeline, ShadowCascades};
 use crate::spec::scene::{Camera, Light, LightKind};
 
-pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// One shadow layer as planned: its view-projection, (texel size per unit depth or per metre,
+/// perspective flag, resolution, share of the layer its map covers) and, for a cascade, its
+/// bounding sphere (centre, radius). render::uniforms::ShadowLayer mirrors it on the GPU.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ShadowLayerPlan {
+    pub view_proj: [[f32; 4]; 4],
+    pub params: [f32; 4],
+    pub sphere: [f32; 4],
+}
 
 /// Near plane of spot and point shadow frusta, metres.
 const SHADOW_NEAR: f64 = 0.02;
@@ -85,7 +91,7 @@ pub fn light_layers(
     (resolution, array_side): (u32, u32),
     scene_bounds: (DVec3, DVec3),
     view: &CascadeView,
-) -> Vec<ShadowLayer> {
+) -> Vec<ShadowLayerPlan> {
     let up_for = |dir: DVec3| if dir.cross(DVec3::Y).length() < 1e-6 { DVec3::Z } else { DVec3::Y };
     let res = resolution as f64;
     let perspective = |eye: DVec3, dir: DVec3, fov: f64, up: DVec3, far: f64| {
@@ -160,21 +166,10 @@ pub fn light_layers(
 
 /// A layer whose map is `resolution`² texels in the top-left of an `array_side`² layer: params.z
 /// its resolution, params.w the share of the layer it covers (the shader scales its UV by it).
-fn layer(view_proj: DMat4, mut params: [f32; 4], resolution: u32, array_side: u32) -> ShadowLayer {
+fn layer(view_proj: DMat4, mut params: [f32; 4], resolution: u32, array_side: u32) -> ShadowLayerPlan {
     params[2] = resolution as f32;
     params[3] = resolution as f32 / array_side as f32;
-    ShadowLayer { view_proj: view_proj.as_mat4().to_cols_array_2d(), params, sphere: [0.0; 4] }
-}
-
-/// The shader's GpuLight.shadow: (first layer or −1, layer count, strength, soft).
-pub fn shadow_slot(light: &Light, first_layer: Option<usize>, layers: usize) -> ([f32; 4], [f32; 4]) {
-    match first_layer {
-        Some(first) => (
-            [first as f32, layers as f32, light.shadow.strength as f32, if light.shadow.soft { 1.0 } else { 0.0 }],
-            [light.shadow.bias as f32, light.shadow.normal_bias as f32, 0.0, 0.0],
-        ),
-        None => ([-1.0, 0.0, 0.0, 0.0], [0.0; 4]),
-    }
+    ShadowLayerPlan { view_proj: view_proj.as_mat4().to_cols_array_2d(), params, sphere: [0.0; 4] }
 }
 
 #[cfg(test)]

@@ -1,11 +1,8 @@
-//! The deferred path: a G-buffer pass (base colour and occlusion 8-bit sRGB, metallic and
-//! smoothness 8-bit, the normal in the pipeline's format, the ambient/environment term in half
-//! float as Unity's RT3, the role, depth), then a screen-space lighting pass that evaluates every
-//! light per pixel from it, one draw per role so the subject's model and the fixed objects' model
-//! each shade their own pixels. Models the G-buffer cannot carry (per-vertex, ForwardBase-only) draw
-//! forward afterwards, as Unity draws forward-only shaders in its deferred path.
-//! The G-buffer stores base colour and metallic where built-in's stores diffuse and specular
-//! colours: the same information at the same 8-bit precision, laid out for any model.
+//! The deferred path's screen-space resources: the G-buffer (base colour and occlusion 8-bit
+//! sRGB, metallic and smoothness 8-bit, the normal in the pipeline's format, the
+//! ambient/environment term in half float as Unity's RT3) and HDRP's light tiles. The G-buffer
+//! stores base colour and metallic where built-in's stores diffuse and specular colours: the same
+//! information at the same 8-bit precision, laid out for any model. passes::deferred draws them.
 
 use crate::pipelines::Pipeline;
 
@@ -46,7 +43,7 @@ impl GBuffer {
     ) -> GBuffer {
         let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
         let make = |label: &str, format: wgpu::TextureFormat| {
-            super::texture_2d(device, label, (width, height), format, usage).create_view(&Default::default())
+            crate::render::texture_2d(device, label, (width, height), format, usage).create_view(&Default::default())
         };
         let albedo = make("gbuffer albedo", GB_ALBEDO);
         let material = make("gbuffer material", GB_MATERIAL);

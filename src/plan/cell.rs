@@ -1,0 +1,473 @@
+//! A cell's plan, decided on the CPU before any GPU work: where its camera stands, its lights and
+//! how each reaches each object, which shadow layers it renders at what resolution, which LOD
+//! levels it draws with what cross-fade, its passes and its samples per pixel. The renderer
+//! consumes a `CellPlan` and decides nothing; `cell.json` records what it says.
+
+use glam::DVec3;
+
+use super::camera::{cell_lights, posed_camera, ViewAxes};
+use super::exact::ExactAlternatives;
+use super::lights::{assign, main_light, LightBudget, ObjectLights};
+use super::lod::{groups_seen, LodUse};
+use super::shadows::{array_side, cell_resolution, light_layers, CascadeView, ShadowLayerPlan};
+use super::{FramePlan, ShadowMapUse};
+use crate::geometry::Mesh;
+use crate::pipelines::{Antialiasing, Pipeline, RenderPath};
+use crate::shading::twin::Surface;
+use crate::shading::ShaderModel;
+use crate::spec::scene::{Camera, Light, LightKind, Role, Scene};
+
+/// What one cell asks (no matrix types: plans and the renderer know scenes, not sweeps).
+#[derive(Debug, Clone, Copy)]
+pub struct CellParams<'a> {
+    pub pipeline: Pipeline,
+    pub model: &'a ShaderModel,
+    /// The subject's material as the model receives it (`ShaderModel::surface`).
+    pub surface: Surface,
+    pub light_intensity: f64,
+    pub light_range: f64,
+    pub width: u32,
+    pub height: u32,
+    /// Camera distance and light angle, where the cell sets them.
+    pub view: ViewAxes,
+    /// The rendering path and the light budgets.
+    pub settings: CellSettings,
+}
+
+/// What a cell sets besides its material and light: the path, the light budgets and MSAA.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct CellSettings {
+    pub path: RenderPath,
+    pub light_budget: LightBudget,
+    pub antialiasing: Antialiasing,
+    /// The preset whose textured form the subject wears (None: flat).
+    pub material_maps: Option<&'static str>,
+    /// The emission axis (0: none); the model decides whether it emits.
+    pub emission: f64,
+    /// The emitted colour the axis scales (linear), where it is not the base colour: a glTF
+    /// subject's own `emissiveFactor`.
+    pub emission_color: Option<[f64; 3]>,
+    /// The scene's environment light (its SH ambient, reflections and visible sky) scaled by this
+    /// factor; None: as the scene sets it.
+    pub ambient_intensity: Option<f64>,
+    /// The approximation study's exact alternatives (none: the pipeline as it ships).
+    pub exact: ExactAlternatives,
+}
+
+/// The samples per pixel a cell renders with, and why they differ from what it asked, if they do.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Multisampling {
+    pub samples: u32,
+    pub note: Option<String>,
+}
+
+/// What the adapter multisamples: the sample counts that every forward target resolves with, and
+/// how a note names the adapter and the formats.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MsaaSupport {
+    pub counts: Vec<u32>,
+    /// "<adapter> multisamples <formats>".
+    pub what: String,
+}
+
+impl MsaaSupport {
+    /// The samples a cell asking `asked` (after its path's rule, `why_one`) renders with: the
+    /// largest count up to `asked` the adapter supports.
+    pub fn multisampling(&self, asked: u32, why_one: Option<&str>) -> Multisampling {
+        let used = self.counts.iter().copied().filter(|&n| n <= asked).max().unwrap_or(1);
+        let note = if used != asked {
+            let counts: Vec<String> = self.counts.iter().map(|n| format!("{n}×")).collect();
+            Some(format!(
+                "{asked}× MSAA asked; {} at {}: rendered {used}×",
+                self.what,
+                if counts.is_empty() { "no count".to_string() } else { counts.join(", ") }
+            ))
+        } else {
+            why_one.map(str::to_string)
+        };
+        Multisampling { samples: used, note }
+    }
+
+    pub fn for_settings(&self, settings: &CellSettings) -> Multisampling {
+        let (asked, why_one) = settings.antialiasing.samples_on(settings.path);
+        self.multisampling(asked, why_one)
+    }
+}
+
+/// One mesh the composition draws: a scene object's, or one of its further LOD levels.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MeshSlot {
+    pub role: Role,
+    /// The scene object it draws.
+    pub scene_index: usize,
+    /// Its level in the object's LOD group, if it has one.
+    pub lod_level: Option<usize>,
+    pub cast_shadows: bool,
+}
+
+/// The composition's shadow array: per scene light its first layer when it casts shadows (a
+/// directional light reserves `MAX_CASCADES`, a point light 6, a spot 1), the layer count and the
+/// layers' side (`shadows::array_side`: the largest map its lights can ask for).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ShadowArray {
+    /// Whether the frame plan has a shadow pass.
+    pub active: bool,
+    pub first_layer: Vec<Option<usize>>,
+    pub layers: usize,
+    pub side: u32,
+}
+
+/// A composition's meshes and bounds as cell plans need them: made once per composition, from
+/// the scene and its meshes, without the GPU.
+#[derive(Debug, Clone)]
+pub struct SceneLayout {
+    /// Every mesh drawn: the scene's objects in order, then their further LOD levels.
+    pub meshes: Vec<MeshSlot>,
+    /// Each object's name and world-space bounds centre (what the light budget ranks lights by).
+    pub object_centres: Vec<(String, DVec3)>,
+    /// Each scene object's world bounds (level 0's mesh): what LOD selection measures.
+    pub world_bounds: Vec<(DVec3, DVec3)>,
+    /// The bounds of every object (directional shadow maps fit them).
+    pub scene_bounds: (DVec3, DVec3),
+    pub shadows: ShadowArray,
+}
+
+impl SceneLayout {
+    /// `meshes`: one per scene object, in order; `lod_levels`: (object, level) of each further LOD
+    /// mesh, in the order they are drawn after the objects.
+    pub fn new(scene: &Scene, frame: &FramePlan, meshes: &[Mesh], lod_levels: &[(usize, usize)]) -> SceneLayout {
+        let mut slots: Vec<MeshSlot> = scene
+            .objects
+            .iter()
+            .enumerate()
+            .map(|(i, o)| MeshSlot {
+                role: o.role,
+                scene_index: i,
+                lod_level: o.lod.as_ref().map(|_| 0),
+                cast_shadows: o.cast_shadows,
+            })
+            .collect();
+        let further: Vec<MeshSlot> =
+            lod_levels.iter().map(|&(i, level)| MeshSlot { lod_level: Some(level), ..slots[i].clone() }).collect();
+        slots.extend(further);
+        let world_bounds = scene
+            .objects
+            .iter()
+            .zip(meshes)
+            .map(|(o, m)| crate::geometry::placement::world_bounds_of(o, &m.bounds()))
+            .collect();
+        let active = frame.passes.contains(&"shadow");
+        let mut first_layer = Vec::with_capacity(scene.lights.len());
+        let (mut layers, mut side) = (0usize, 1u32);
+        for l in &scene.lights {
+            if active && l.shadows {
+                first_layer.push(Some(layers));
+                layers += match l.kind {
+                    LightKind::Point => 6,
+                    LightKind::Directional => crate::pipelines::MAX_CASCADES,
+                    LightKind::Spot => 1,
+                };
+                side = side.max(array_side(l));
+            } else {
+                first_layer.push(None);
+            }
+        }
+        SceneLayout {
+            meshes: slots,
+            object_centres: crate::geometry::placement::object_centres(scene, meshes),
+            world_bounds,
+            scene_bounds: crate::geometry::placement::world_bounds(scene, meshes),
+            shadows: ShadowArray { active, first_layer, layers: layers.max(1), side },
+        }
+    }
+}
+
+/// A light's place in the shadow array this cell: its first layer and how many it uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct LightShadow {
+    pub first_layer: Option<usize>,
+    pub layers: usize,
+}
+
+#[derive(Debug, Clone)]
+pub struct CellPlan {
+    /// The scene's camera at the cell's distance, and the image's aspect.
+    pub camera: Camera,
+    pub aspect: f64,
+    /// The scene's lights with the key light at the cell's intensity, range and angle.
+    pub lights: Vec<Light>,
+    /// The pipeline's main light (the brightest directional), if any.
+    pub main_light: Option<usize>,
+    /// How each light reaches each object, and why.
+    pub assignment: Vec<ObjectLights>,
+    /// Per light: its layers in the shadow array.
+    pub light_shadows: Vec<LightShadow>,
+    /// Every layer of the array (zero where unused), and the (layer, resolution) of those in use.
+    pub shadow_layers: Vec<ShadowLayerPlan>,
+    pub used_layers: Vec<(usize, u32)>,
+    /// Each shadowed light's map resolution, and why it differs from the pipeline's default.
+    pub shadow_maps: Vec<ShadowMapUse>,
+    /// Each LOD group's screen height and the levels drawn.
+    pub lod: Vec<LodUse>,
+    /// Each mesh's LOD fade (None: not drawn; 1 for meshes without LOD).
+    pub fades: Vec<Option<f64>>,
+    /// The passes of the frame (`FramePlan::passes_for` the cell's path and pipeline).
+    pub passes: Vec<&'static str>,
+    pub multisampling: Multisampling,
+}
+
+impl CellPlan {
+    /// The plan of `cell` in a composition laid out as `layout`, whose fixed objects the pipeline
+    /// draws with `fixed_model`, on an adapter that multisamples as `msaa` says.
+    pub fn new(
+        scene: &Scene,
+        frame: &FramePlan,
+        layout: &SceneLayout,
+        cell: &CellParams,
+        fixed_model: &ShaderModel,
+        msaa: &MsaaSupport,
+    ) -> CellPlan {
+        let p = cell.pipeline;
+        let aspect = cell.width as f64 / cell.height as f64;
+        let camera = posed_camera(&scene.camera, &cell.view);
+        let lights = cell_lights(scene, cell.light_intensity, cell.light_range, &camera, &cell.view);
+        let forward_only = |i: usize| {
+            let model = if scene.objects[i].role == Role::Subject { cell.model } else { fixed_model };
+            !model.deferrable()
+        };
+        let assignment =
+            assign(p, cell.settings.path, &cell.settings.light_budget, &lights, &layout.object_centres, forward_only);
+        let sh = &layout.shadows;
+        let mut shadow_layers = vec![ShadowLayerPlan::default(); sh.layers];
+        let (mut used_layers, mut shadow_maps, mut light_shadows) = (Vec::new(), Vec::new(), Vec::new());
+        let cascades = p.shadow_cascades();
+        for (slot, l) in lights.iter().enumerate() {
+            let Some(first) = sh.first_layer[slot] else {
+                light_shadows.push(LightShadow::default());
+                continue;
+            };
+            let view = CascadeView { camera: &camera, aspect, cascades: &cascades };
+            let (resolution, note) = cell_resolution(p, l, &camera, (cell.width, cell.height), sh.side);
+            shadow_maps.push(ShadowMapUse { light: slot, resolution, note });
+            let layers = light_layers(l, (resolution, sh.side), layout.scene_bounds, &view);
+            used_layers.extend((first..first + layers.len()).map(|layer| (layer, resolution)));
+            light_shadows.push(LightShadow { first_layer: Some(first), layers: layers.len() });
+            for (k, layer) in layers.into_iter().enumerate() {
+                shadow_layers[first + k] = layer;
+            }
+        }
+        let mut lod = Vec::new();
+        let mut fades: Vec<Option<f64>> = layout.meshes.iter().map(|m| m.lod_level.is_none().then_some(1.0)).collect();
+        for seen in groups_seen(scene, &layout.world_bounds, &camera) {
+            for (m, mesh) in layout.meshes.iter().enumerate().filter(|(_, m)| m.scene_index == seen.object) {
+                fades[m] = seen.drawn.iter().find(|d| Some(d.level) == mesh.lod_level).map(|d| d.fade);
+            }
+            lod.push(LodUse {
+                object: scene.objects[seen.object].name.clone(),
+                relative_height: seen.relative_height,
+                drawn: seen.drawn,
+            });
+        }
+        CellPlan {
+            main_light: main_light(p, &lights),
+            camera,
+            aspect,
+            lights,
+            assignment,
+            light_shadows,
+            shadow_layers,
+            used_layers,
+            shadow_maps,
+            lod,
+            fades,
+            passes: frame.passes_for(cell.settings.path, p),
+            multisampling: msaa.for_settings(&cell.settings),
+        }
+    }
+
+    /// Whether each mesh is drawn.
+    pub fn drawn(&self) -> Vec<bool> {
+        self.fades.iter().map(Option::is_some).collect()
+    }
+
+    /// Whether each mesh casts shadows this frame: a LOD level fading in does not (the shadow
+    /// pass draws each group's outgoing level whole).
+    pub fn casting(&self) -> Vec<bool> {
+        self.fades.iter().map(|f| f.is_some_and(|f| f > 0.0)).collect()
+    }
+
+    /// Whether the frame draws `pass` (a `FramePlan` pass name).
+    pub fn has(&self, pass: &str) -> bool {
+        self.passes.contains(&pass)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    //! The plan's decisions, without a GPU: which lights reach which object how, where shadow
+    //! layers go and at what resolution, which LOD levels a distance draws. What the pixels do
+    //! with them stays end to end (tests/e2e: lights, shadows, lod).
+    use super::*;
+    use crate::plan::lights::LightMode;
+    use crate::shading::registry::Sliders;
+    use crate::shading::Registry;
+
+    fn repo(path: &str) -> std::path::PathBuf {
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(path)
+    }
+
+    fn no_msaa() -> MsaaSupport {
+        MsaaSupport { counts: vec![1, 4], what: "test adapter multisamples".into() }
+    }
+
+    /// The plan of a `shader` cell on `path` with the key light at `intensity`, at `size`².
+    fn plan_of(scene: &Scene, pipeline: Pipeline, path: RenderPath, view: ViewAxes, size: u32) -> CellPlan {
+        planned(scene, pipeline, path, view, size).0
+    }
+
+    fn planned(
+        scene: &Scene,
+        pipeline: Pipeline,
+        path: RenderPath,
+        view: ViewAxes,
+        size: u32,
+    ) -> (CellPlan, SceneLayout) {
+        let models = Registry::builtin();
+        let model = models.find(pipeline, pipeline.fixed_object_shader()).expect("the default lit model");
+        let sliders = Sliders { base_color_linear: [0.5; 3], metallic: 0.0, smoothness: 0.5 };
+        let cell = CellParams {
+            pipeline,
+            model,
+            surface: model.surface(pipeline, &sliders),
+            light_intensity: scene.key_light().map_or(1.0, |k| scene.lights[k].intensity),
+            light_range: scene.key_light().map_or(10.0, |k| scene.lights[k].range),
+            width: size,
+            height: size,
+            view,
+            settings: CellSettings { path, ..Default::default() },
+        };
+        let meshes = crate::geometry::procedural::build_scene(scene).expect("the scene's meshes");
+        let lod: Vec<(usize, usize)> = crate::geometry::procedural::lod_meshes(scene)
+            .expect("the LOD meshes")
+            .into_iter()
+            .map(|(i, j, _)| (i, j))
+            .collect();
+        let frame = FramePlan::for_scene(scene);
+        let layout = SceneLayout::new(scene, &frame, &meshes, &lod);
+        (CellPlan::new(scene, &frame, &layout, &cell, model, &no_msaa()), layout)
+    }
+
+    fn modes(plan: &CellPlan, mode: LightMode) -> usize {
+        plan.assignment[0].lights.iter().filter(|u| u.mode == mode).count()
+    }
+
+    #[test]
+    fn twelve_lights_reach_the_object_as_each_path_budgets_them() {
+        let scene = Scene::load_file(&repo("tests/fixtures/twelve_points.toml")).unwrap();
+        assert_eq!(scene.lights.len(), 12);
+        let at = |p, path| plan_of(&scene, p, path, ViewAxes::default(), 64);
+        // Built-in's vertex-lit path: ShadeVertexLightsFull's 8, the rest not rendered.
+        let v = at(Pipeline::Builtin, RenderPath::VertexLit);
+        assert_eq!((modes(&v, LightMode::PerVertex), modes(&v, LightMode::Dropped)), (8, 4), "{:?}", v.assignment);
+        // URP forward: the per-object limit (4 by default) after the main light; the rest dropped.
+        let u = at(Pipeline::Urp, RenderPath::Forward);
+        assert_eq!(modes(&u, LightMode::PerPixel), 4, "{:?}", u.assignment);
+        assert_eq!(modes(&u, LightMode::Dropped), 8);
+        // HDRP's clustered loop and every deferred path: all per pixel.
+        for (p, path) in [(Pipeline::Hdrp, RenderPath::Forward), (Pipeline::Builtin, RenderPath::Deferred)] {
+            assert_eq!(modes(&at(p, path), LightMode::PerPixel), 12, "{p:?} {path:?}");
+        }
+        // Built-in forward: 4 per-pixel (the pixel light count), 4 per-vertex, the rest in SH.
+        let b = at(Pipeline::Builtin, RenderPath::Forward);
+        let counts = (modes(&b, LightMode::PerPixel), modes(&b, LightMode::PerVertex), modes(&b, LightMode::Sh));
+        assert_eq!(counts.0 + counts.1 + counts.2, 12, "{:?}", b.assignment);
+        assert!(counts.0 <= 4 && counts.1 <= 4, "{counts:?}");
+    }
+
+    #[test]
+    fn a_point_light_takes_six_layers_at_its_pipeline_resolution() {
+        let scene = Scene::load_file(&repo("tests/fixtures/shadow_box.toml")).unwrap();
+        for p in Pipeline::ALL {
+            let plan = plan_of(&scene, p, RenderPath::Forward, ViewAxes::default(), 128);
+            assert!(plan.has("shadow"), "{p:?}: {:?}", plan.passes);
+            assert_eq!(plan.light_shadows[0], LightShadow { first_layer: Some(0), layers: 6 });
+            assert_eq!(plan.shadow_maps.len(), 1);
+            let res = plan.shadow_maps[0].resolution;
+            assert_eq!(plan.used_layers, (0..6).map(|l| (l, res)).collect::<Vec<_>>());
+            let light = &scene.lights[0];
+            let (wanted, _) = crate::plan::shadows::cell_resolution(p, light, &plan.camera, (128, 128), 1 << 20);
+            assert_eq!(res, wanted.min(array_side(light)), "{p:?}");
+            // Each face sees along its axis from the light.
+            for (face, dir) in [DVec3::X, -DVec3::X, DVec3::Y, -DVec3::Y, DVec3::Z, -DVec3::Z].iter().enumerate() {
+                let m = glam::Mat4::from_cols_array_2d(&plan.shadow_layers[face].view_proj).as_dmat4();
+                let clip = m * (DVec3::from(light.position) + *dir).extend(1.0);
+                assert!((clip.x / clip.w).abs() < 1e-5 && (clip.y / clip.w).abs() < 1e-5, "{p:?} face {face}");
+            }
+        }
+        // The vertex-lit path renders no shadows, so its plan has no shadow pass.
+        let v = plan_of(&scene, Pipeline::Builtin, RenderPath::VertexLit, ViewAxes::default(), 128);
+        assert!(!v.has("shadow"), "{:?}", v.passes);
+    }
+
+    #[test]
+    fn a_directional_light_fits_its_pipelines_cascades_to_the_posed_camera() {
+        let mut scene = Scene::load_file(&repo("tests/fixtures/shadow_box.toml")).unwrap();
+        scene.lights[0].kind = LightKind::Directional;
+        scene.lights[0].direction = [0.2, -1.0, 0.1];
+        for p in Pipeline::ALL {
+            for distance in [2.0, 6.0] {
+                let view = ViewAxes { camera_distance: Some(distance), light_angle: None };
+                let plan = plan_of(&scene, p, RenderPath::Forward, view, 128);
+                let cascades = p.shadow_cascades();
+                assert_eq!(plan.light_shadows[0].layers, cascades.splits.len(), "{p:?}");
+                // Each cascade's sphere holds the view-axis point at its slice's far edge.
+                let eye = DVec3::from(plan.camera.position);
+                assert!((eye.length() - distance).abs() < 1e-9, "the camera stands where the cell says");
+                let forward = (DVec3::from(plan.camera.target) - eye).normalize();
+                for (k, split) in cascades.splits.iter().enumerate() {
+                    let s = plan.shadow_layers[k].sphere;
+                    let at = eye + forward * (split * cascades.max_distance * 0.999);
+                    let centre = DVec3::new(s[0] as f64, s[1] as f64, s[2] as f64);
+                    assert!((at - centre).length() <= s[3] as f64 * 1.0001, "{p:?} cascade {k} at {distance}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_distance_sweep_draws_each_lod_level_and_the_bands_between() {
+        let scene = Scene::load_file(&repo("scenes/default_lod.toml")).unwrap();
+        let drawn = |d: f64| {
+            let view = ViewAxes { camera_distance: Some(d), light_angle: None };
+            let (plan, layout) = planned(&scene, Pipeline::Urp, RenderPath::Forward, view, 128);
+            assert_eq!(plan.lod.len(), 1, "one LOD group");
+            // Every mesh of the group is drawn exactly when its level is.
+            for (fade, mesh) in plan.fades.iter().zip(&layout.meshes).filter(|(_, m)| m.lod_level.is_some()) {
+                let level = plan.lod[0].drawn.iter().find(|l| Some(l.level) == mesh.lod_level);
+                assert_eq!(fade.is_some(), level.is_some(), "level {:?} at {d}", mesh.lod_level);
+                assert_eq!(*fade, level.map(|l| l.fade));
+            }
+            plan.lod[0].drawn.iter().map(|l| (l.level, l.fade < 1.0)).collect::<Vec<_>>()
+        };
+        // matrices/lod.toml's distances: every level whole, and both bands.
+        assert_eq!(drawn(4.0), vec![(0, false)], "close: level 0 whole");
+        assert_eq!(drawn(6.5), vec![(0, true), (1, true)], "level 0 fading into level 1");
+        assert_eq!(drawn(8.0), vec![(1, false)]);
+        assert_eq!(drawn(12.0), vec![(1, true), (2, true)], "level 1 fading into level 2");
+        assert_eq!(drawn(14.0), vec![(2, false)]);
+    }
+
+    #[test]
+    fn msaa_falls_back_to_what_the_adapter_resolves_and_says_so() {
+        let support = no_msaa();
+        assert_eq!(support.multisampling(4, None), Multisampling { samples: 4, note: None });
+        let eight = support.multisampling(8, None);
+        assert_eq!(eight.samples, 4);
+        assert!(eight.note.is_some_and(|n| n.contains("8× MSAA asked") && n.contains("rendered 4×")));
+        let deferred =
+            CellSettings { path: RenderPath::Deferred, antialiasing: Antialiasing::Msaa4, ..Default::default() };
+        let m = support.for_settings(&deferred);
+        assert_eq!(m.samples, 1, "the deferred path renders one sample");
+        assert!(m.note.is_some());
+    }
+}

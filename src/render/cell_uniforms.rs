@@ -1,0 +1,202 @@
+//! A cell's plan written into the frame and object uniforms and the light and shadow buffers:
+//! conversions to the GPU layouts, no decisions (`plan::cell::CellPlan` made them).
+
+use bytemuck::Zeroable;
+use glam::DVec3;
+
+use super::passes::shadow::shadow_slot;
+use super::prepared::PreparedScene;
+use crate::plan::cell::{CellParams, CellPlan};
+use crate::plan::lights::{sh_of_light, LightMode};
+use crate::render::uniforms::*;
+use crate::shading::registry::Sliders;
+use crate::shading::ShaderModel;
+use crate::spec::scene::{LightKind, Role};
+
+/// Write the frame and object uniforms and the light buffers; returns the light assignment
+/// and the shadow layers this cell renders.
+/// Write the frame and object uniforms and the light and shadow buffers of `plan`.
+pub(in crate::render) fn write_uniforms(
+    queue: &wgpu::Queue,
+    prepared: &PreparedScene,
+    cell: &CellParams,
+    plan: &CellPlan,
+    fixed_model: &ShaderModel,
+) -> WrittenFrame {
+    let p = cell.pipeline;
+    let (camera, lights) = (&plan.camera, &plan.lights);
+    let vp = crate::plan::camera::view_projection(camera, plan.aspect);
+    let mut frame = FrameUniforms::zeroed();
+    frame.view_proj = mat(vp);
+    frame.inv_view_proj = mat(vp.inverse());
+    frame.camera_pos = vec4(DVec3::from(camera.position), 1.0);
+    let assignment = &plan.assignment;
+    let sh = &prepared.shadows;
+    let shadow_layers: Vec<ShadowLayer> = plan.shadow_layers.iter().map(ShadowLayer::from).collect();
+    let mut gpu_lights = Vec::with_capacity(lights.len());
+    let mut colors = Vec::with_capacity(lights.len());
+    for (l, shadow) in lights.iter().zip(&plan.light_shadows) {
+        let emitter = l.emitter();
+        let outer = (l.spot_angle_deg * 0.5).to_radians();
+        // Unity's fallback inner angle: atan(tan(outer)·46/64) (models.md#urp).
+        let inner = l
+            .inner_spot_angle_deg
+            .map(|a| (a * 0.5).to_radians())
+            .unwrap_or_else(|| (outer.tan() * 46.0 / 64.0).atan());
+        let color = DVec3::from(p.light_radiance(l.color, l.intensity, emitter));
+        colors.push(color);
+        let (shadow, shadow_bias) = shadow_slot(l, shadow.first_layer, shadow.layers);
+        gpu_lights.push(GpuLight {
+            position: vec4(DVec3::from(l.position), emitter.shader_kind() as f64),
+            direction: vec4(DVec3::from(l.direction).normalize_or_zero(), 0.0),
+            color: vec4(color, 0.0),
+            params: [l.range as f32, outer.cos() as f32, inner.cos() as f32, emitter.hdrp_min_roughness() as f32],
+            shadow,
+            shadow_bias,
+        });
+    }
+    if !gpu_lights.is_empty() {
+        queue.write_buffer(&prepared.lights_buffer, 0, bytemuck::cast_slice(&gpu_lights));
+    }
+    if !plan.used_layers.is_empty() {
+        queue.write_buffer(&sh.layers_storage, 0, bytemuck::cast_slice(&shadow_layers));
+        let mut slots = vec![0u8; (sh.layer_stride as usize) * shadow_layers.len()];
+        for (i, layer) in shadow_layers.iter().enumerate() {
+            let at = i * sh.layer_stride as usize;
+            slots[at..at + 64].copy_from_slice(bytemuck::bytes_of(&layer.view_proj));
+        }
+        queue.write_buffer(&sh.layer_uniforms, 0, &slots);
+    }
+    let modes: Vec<u32> = assignment.iter().flat_map(|o| o.lights.iter().map(|u| u.mode.shader_value())).collect();
+    if !modes.is_empty() {
+        queue.write_buffer(&prepared.modes_buffer, 0, bytemuck::cast_slice(&modes));
+    }
+    // Lights folded into an object's SH: a directional light from its direction, a point or
+    // spot from the object's centre with its attenuation there, in the ambient term's units.
+    let sh_per_object: Vec<[[f32; 4]; 9]> = assignment
+        .iter()
+        .zip(&prepared.layout.object_centres)
+        .map(|(o, (_, centre))| {
+            let mut sh = [DVec3::ZERO; 9];
+            for u in o.lights.iter().filter(|u| u.mode == LightMode::Sh) {
+                let l = &lights[u.light];
+                let color = colors[u.light];
+                let (dir, atten) = match l.kind {
+                    LightKind::Directional => (-DVec3::from(l.direction), 1.0),
+                    _ => {
+                        let to = DVec3::from(l.position) - *centre;
+                        (to, p.attenuation().eval(to.length(), l.range))
+                    }
+                };
+                let scale = crate::shading::twin::irradiance_per_intensity(p) / std::f64::consts::PI;
+                for (acc, c) in sh.iter_mut().zip(sh_of_light(dir, color * atten * scale)) {
+                    *acc += c;
+                }
+            }
+            sh.map(|c| [c.x as f32, c.y as f32, c.z as f32, 0.0])
+        })
+        .collect();
+    let (tiles_x, _, words) = crate::render::gbuffer::tile_grid(cell.width, cell.height, lights.len());
+    frame.counts = [lights.len() as u32, plan.main_light.map_or(0, |slot| slot as u32 + 1), words, tiles_x];
+    for (dst, src) in frame.sh.iter_mut().zip(prepared.env.sh.iter()) {
+        *dst = [src[0] as f32, src[1] as f32, src[2] as f32, 0.0];
+    }
+    let env_levels = match &prepared.probes {
+        Some(_) => crate::environment::prefilter::LEVELS,
+        None => prepared.env.probe.levels.len(),
+    };
+    let ambient = cell.settings.ambient_intensity.unwrap_or(1.0);
+    frame.env = [(env_levels - 1) as f32, (prepared.env.intensity * p.environment_scale() * ambient) as f32, 0.0, 0.0];
+    frame.subject = gpu_material(&cell.surface, GpuMaterial::zeroed());
+    frame.subject.params[3] = if cell.settings.material_maps.is_some() { 1.0 } else { 0.0 };
+    if cell.model.emits() {
+        // Emissive radiance: the subject's colour (or own emissive colour) × the axis, in the
+        // pipeline's light units.
+        let colour = cell.settings.emission_color.map(DVec3::from).unwrap_or(cell.surface.base_color);
+        let e = colour * cell.settings.emission * p.intensity_scale();
+        frame.subject.emission = [e.x as f32, e.y as f32, e.z as f32, 0.0];
+    }
+    let any = Sliders { base_color_linear: [1.0; 3], metallic: 0.0, smoothness: 0.5 };
+    frame.fixed = gpu_material(&fixed_model.surface(p, &any), GpuMaterial::zeroed());
+    // The probes' capture slot is chosen after the capture key (`capture_probes`), which
+    // rewrites their layers; slot 0 until then.
+    if let Some(probes) = &prepared.probes {
+        frame.reflection = [probes.probes.len() as u32, 0, 0, 0];
+        for (k, t) in probes.probes.iter().enumerate() {
+            frame.probes[k] = GpuReflectionProbe::new(&t.probe, k, probes.probes.len(), 0);
+        }
+    }
+    queue.write_buffer(&prepared.frame_buffer, 0, bytemuck::bytes_of(&frame));
+    let fades = &plan.fades;
+    let mut objects = vec![0u8; (prepared.object_stride as usize) * prepared.objects.len()];
+    let mut materials = Vec::with_capacity(prepared.objects.len());
+    for (i, o) in prepared.objects.iter().enumerate() {
+        let material = match &o.fixed {
+            Some((sliders, pattern)) => gpu_material(&fixed_model.surface(p, sliders), *pattern),
+            None => GpuMaterial::zeroed(),
+        };
+        materials.push(material);
+        let u = ObjectUniforms {
+            model: mat(o.model),
+            normal_matrix: mat(o.model.inverse().transpose()),
+            material,
+            flags: match o.role {
+                Role::Subject => [1, ROLE_SUBJECT as u32, o.scene_index as u32, o.receive_shadows as u32],
+                Role::Fixed => [0, ROLE_FIXED as u32, o.scene_index as u32, o.receive_shadows as u32],
+            },
+            light_sh: sh_per_object[o.scene_index],
+            // A level fading in or out keeps its dither's share of the fragments.
+            lod: match fades[i] {
+                Some(f) if f < 1.0 => [f as f32, 1.0, 0.0, 0.0],
+                _ => [1.0, 0.0, 0.0, 0.0],
+            },
+        };
+        let at = i * prepared.object_stride as usize;
+        objects[at..at + std::mem::size_of::<ObjectUniforms>()].copy_from_slice(bytemuck::bytes_of(&u));
+    }
+    queue.write_buffer(&prepared.object_buffer, 0, &objects);
+    // What a probe capture sees: everything but the camera and the subject.
+    let key = {
+        use std::hash::{Hash, Hasher};
+        let mut h = std::hash::DefaultHasher::new();
+        p.name().hash(&mut h);
+        let mut seen = frame;
+        (seen.view_proj, seen.inv_view_proj, seen.camera_pos) = Default::default();
+        seen.subject = GpuMaterial::zeroed();
+        bytemuck::bytes_of(&seen).hash(&mut h);
+        bytemuck::cast_slice::<GpuLight, u8>(&gpu_lights).hash(&mut h);
+        bytemuck::cast_slice::<ShadowLayer, u8>(&shadow_layers).hash(&mut h);
+        modes.hash(&mut h);
+        for (i, o) in prepared.objects.iter().enumerate().filter(|(_, o)| o.role == Role::Fixed) {
+            let at = i * prepared.object_stride as usize;
+            objects[at..at + std::mem::size_of::<ObjectUniforms>()].hash(&mut h);
+            o.index_count.hash(&mut h);
+        }
+        h.finish()
+    };
+    let shadow_key = {
+        use std::hash::{Hash, Hasher};
+        let mut h = std::hash::DefaultHasher::new();
+        plan.used_layers.hash(&mut h);
+        bytemuck::cast_slice::<ShadowLayer, u8>(&shadow_layers).hash(&mut h);
+        for (i, o) in prepared.objects.iter().enumerate() {
+            let at = i * prepared.object_stride as usize;
+            (o.cast_shadows, o.index_count, fades[i].map(f64::to_bits)).hash(&mut h);
+            objects[at..at + 64].hash(&mut h);
+        }
+        h.finish()
+    };
+    WrittenFrame { frame, capture_key: key, materials, shadow_key }
+}
+
+/// What writing a cell's uniforms made: the frame written, the hash of what a probe capture
+/// would see of it, each mesh's material, and the hash of what the shadow pass's depth depends on.
+pub(in crate::render) struct WrittenFrame {
+    pub(in crate::render) frame: FrameUniforms,
+    pub(in crate::render) capture_key: u64,
+    /// Each mesh's material as its model receives it (zero for the subject: it reads the frame's).
+    pub(in crate::render) materials: Vec<GpuMaterial>,
+    /// Everything the shadow pass's depth depends on: the layers' matrices and resolutions, which
+    /// meshes cast, and their transforms and fades (materials and the camera do not reach it).
+    pub(in crate::render) shadow_key: u64,
+}

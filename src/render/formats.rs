@@ -1,0 +1,11 @@
+//! The formats of a frame's targets, shared by the passes that draw into them, the pipelines
+//! that write them and the captures that draw the same scene (reflection probes).
+
+/// The linear colour target: what every emulated pipeline's camera target holds, before display.
+pub const HDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+/// The role mask (`plan::roles`).
+pub const ROLE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Uint;
+pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// The shadow maps' depth (passes::shadow).
+pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;

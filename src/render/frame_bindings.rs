@@ -1,0 +1,91 @@
+//! Group 0 of the scene passes, the frame's: its uniforms, the environment and its samplers, the
+//! lights and shadow maps, and the subject's material maps, which are uploaded on first use and
+//! kept per preset.
+
+use std::collections::HashMap;
+
+use super::material_maps::MaterialTextures;
+use super::prepared::{own_textures, PreparedScene};
+use crate::error::Error;
+use crate::gpu::GpuContext;
+use crate::materials::MaterialMaps;
+
+/// The frame group's layout, the samplers and tables it binds, and the material maps uploaded.
+pub(in crate::render) struct FrameBindings {
+    pub(in crate::render) layout: wgpu::BindGroupLayout,
+    pub(in crate::render) sampler: wgpu::Sampler,
+    /// The split-sum DFG table (shading::fgd).
+    pub(in crate::render) fgd: wgpu::TextureView,
+    pub(in crate::render) shadow_sampler: wgpu::Sampler,
+    pub(in crate::render) material_sampler: wgpu::Sampler,
+    /// Per preset ("" the neutral set), uploaded on first use and kept.
+    pub(in crate::render) material_textures: HashMap<&'static str, MaterialTextures>,
+}
+
+impl FrameBindings {
+    /// The frame bind group of a composition with the subject wearing `maps` (None: flat), made and
+    /// the maps uploaded on first use.
+    pub(in crate::render) fn frame_group(
+        &mut self,
+        gpu: &GpuContext,
+        prepared: &PreparedScene,
+        maps: Option<&'static str>,
+    ) -> Result<std::sync::Arc<wgpu::BindGroup>, Error> {
+        let key = maps.unwrap_or("");
+        if let Some(g) = prepared.frame_groups.lock().unwrap_or_else(|e| e.into_inner()).get(key) {
+            return Ok(g.clone());
+        }
+        let (device, queue) = (&gpu.device, &gpu.queue);
+        let textures = if key == crate::spec::presets::OWN.name {
+            if prepared.own_textures.get().is_none() {
+                let textures = own_textures(device, queue, &prepared.scene)?;
+                let _ = prepared.own_textures.set(textures);
+            }
+            prepared.own_textures.get().expect("just set")
+        } else {
+            self.material_textures.entry(key).or_insert_with(|| match maps {
+                Some(preset) => {
+                    crate::render::material_maps::MaterialTextures::new(device, queue, &MaterialMaps::of(preset))
+                }
+                None => crate::render::material_maps::MaterialTextures::neutral(device, queue),
+            });
+            &self.material_textures[key]
+        };
+        let group = std::sync::Arc::new(self.frame_bind_group(device, prepared, &prepared.frame_buffer, textures));
+        prepared.frame_groups.lock().unwrap_or_else(|e| e.into_inner()).insert(key, group.clone());
+        Ok(group)
+    }
+
+    /// A frame bind group over `frame_buffer` (the cell's, or a probe face's) with the subject's maps.
+    pub(in crate::render) fn frame_bind_group(
+        &self,
+        device: &wgpu::Device,
+        prepared: &PreparedScene,
+        frame_buffer: &wgpu::Buffer,
+        textures: &crate::render::material_maps::MaterialTextures,
+    ) -> wgpu::BindGroup {
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("frame"),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: frame_buffer.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&prepared.env_view) },
+                wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::Sampler(&self.sampler) },
+                wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(&self.fgd) },
+                wgpu::BindGroupEntry { binding: 4, resource: prepared.lights_buffer.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 5, resource: prepared.modes_buffer.as_entire_binding() },
+                wgpu::BindGroupEntry {
+                    binding: 6,
+                    resource: wgpu::BindingResource::TextureView(&prepared.shadows.array_view),
+                },
+                wgpu::BindGroupEntry { binding: 7, resource: wgpu::BindingResource::Sampler(&self.shadow_sampler) },
+                wgpu::BindGroupEntry { binding: 8, resource: prepared.shadows.layers_storage.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 9, resource: wgpu::BindingResource::TextureView(&textures.albedo) },
+                wgpu::BindGroupEntry { binding: 10, resource: wgpu::BindingResource::TextureView(&textures.normal) },
+                wgpu::BindGroupEntry { binding: 11, resource: wgpu::BindingResource::TextureView(&textures.mask) },
+                wgpu::BindGroupEntry { binding: 12, resource: wgpu::BindingResource::Sampler(&self.material_sampler) },
+                wgpu::BindGroupEntry { binding: 13, resource: wgpu::BindingResource::TextureView(&textures.emission) },
+            ],
+        })
+    }
+}

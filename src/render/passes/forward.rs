@@ -1,0 +1,91 @@
+//! The forward pass: every drawn object lit in one pass (built-in's ForwardBase with its per-pixel
+//! lights folded in, URP's and HDRP's forward), the background last; with MSAA it draws into the
+//! multisampled targets and resolves into the frame's own. Built-in's vertex-lit path is this pass
+//! with the lighting evaluated at the vertices.
+
+use super::FrameDraw;
+use crate::gpu::timing::PassTimer;
+use crate::render::prepared::PreparedScene;
+use crate::render::targets::Targets;
+use crate::spec::scene::Role;
+
+/// The pipelines a forward frame draws with: the subject's, the fixed objects', the background's
+/// (None: the frame has none), and the rays' group for the study's exact alternatives.
+pub(in crate::render) struct ForwardPipelines<'a> {
+    pub(in crate::render) subject: &'a wgpu::RenderPipeline,
+    pub(in crate::render) fixed: &'a wgpu::RenderPipeline,
+    pub(in crate::render) background: Option<&'a wgpu::RenderPipeline>,
+    pub(in crate::render) rays: Option<&'a wgpu::BindGroup>,
+}
+
+/// Where a forward frame draws: the frame's targets, or their multisampled twins resolved into them.
+pub(in crate::render) struct ForwardTargets<'a> {
+    color: &'a wgpu::TextureView,
+    role: &'a wgpu::TextureView,
+    depth: &'a wgpu::TextureView,
+    resolve: Option<(&'a wgpu::TextureView, &'a wgpu::TextureView)>,
+}
+
+impl<'a> ForwardTargets<'a> {
+    pub(in crate::render) fn of(t: &'a Targets, samples: u32) -> ForwardTargets<'a> {
+        match t.msaa.as_ref().filter(|_| samples > 1) {
+            Some(m) => ForwardTargets {
+                color: &m.color,
+                role: &m.role,
+                depth: &m.depth,
+                resolve: Some((&t.color_view, &t.role_view)),
+            },
+            None => ForwardTargets { color: &t.color_view, role: &t.role_view, depth: &t.depth_view, resolve: None },
+        }
+    }
+}
+
+pub(in crate::render) fn encode_forward(
+    encoder: &mut wgpu::CommandEncoder,
+    prepared: &PreparedScene,
+    draw: &FrameDraw,
+    pipelines: &ForwardPipelines,
+    targets: &ForwardTargets,
+    timed: Option<(&PassTimer, u32)>,
+) {
+    // Multisampled targets are resolved at the end of the pass; only the resolve is kept.
+    let keep = if targets.resolve.is_some() { wgpu::StoreOp::Discard } else { wgpu::StoreOp::Store };
+    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some("forward"),
+        color_attachments: &[
+            Some(wgpu::RenderPassColorAttachment {
+                view: targets.color,
+                depth_slice: None,
+                resolve_target: targets.resolve.map(|r| r.0),
+                ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::BLACK), store: keep },
+            }),
+            Some(wgpu::RenderPassColorAttachment {
+                view: targets.role,
+                depth_slice: None,
+                resolve_target: targets.resolve.map(|r| r.1),
+                ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: keep },
+            }),
+        ],
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view: targets.depth,
+            depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
+            stencil_ops: None,
+        }),
+        timestamp_writes: timed.map(|(t, pair)| t.writes(pair, true, true)),
+        occlusion_query_set: None,
+        multiview_mask: None,
+    });
+    pass.set_bind_group(0, draw.group, &[]);
+    pass.set_bind_group(2, draw.screen, &[]);
+    if let Some(group) = pipelines.rays {
+        pass.set_bind_group(3, group, &[]);
+    }
+    for (i, o) in prepared.objects.iter().enumerate().filter(|(i, _)| draw.drawn[*i]) {
+        pass.set_pipeline(if o.role == Role::Subject { pipelines.subject } else { pipelines.fixed });
+        pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
+        pass.set_vertex_buffer(0, o.vertices.slice(..));
+        pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);
+        pass.draw_indexed(0..o.index_count, 0, 0..1);
+    }
+    super::background::draw_background(&mut pass, pipelines.background);
+}

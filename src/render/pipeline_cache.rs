@@ -1,0 +1,318 @@
+//! The render pipelines, compiled once per (pipeline convention, model, what else they compile in)
+//! and kept for the renderer's life.
+
+use std::collections::HashMap;
+
+use crate::error::Error;
+use crate::geometry::Vertex;
+use crate::gpu::GpuContext;
+use crate::pipelines::Pipeline;
+use crate::render::formats::{DEPTH_FORMAT, HDR_FORMAT, ROLE_FORMAT};
+use crate::shading::{wgsl, ShaderModel};
+
+/// Every render pipeline compiled so far, by what it compiles in, and the layouts they share.
+pub(in crate::render) struct PipelineCache {
+    /// Groups 0–2 of the scene passes (frame, object, screen).
+    pub(in crate::render) pipeline_layout: wgpu::PipelineLayout,
+    /// The forward pipelines' layout with the rays' group: the subject's exact alternatives.
+    pub(in crate::render) exact_layout: wgpu::PipelineLayout,
+    /// The deferred lighting pass's: frame, object, G-buffer, light tiles.
+    pub(in crate::render) deferred_layout: wgpu::PipelineLayout,
+    /// By (pipeline, model, what else the pipeline compiles in).
+    pub(in crate::render) forward: HashMap<(Pipeline, String, ForwardKey), wgpu::RenderPipeline>,
+    /// By (pipeline, model, textured subject).
+    pub(in crate::render) gbuffer: HashMap<(Pipeline, String, bool), wgpu::RenderPipeline>,
+    /// By (pipeline, model, role).
+    pub(in crate::render) lighting: HashMap<(Pipeline, String, u32), wgpu::RenderPipeline>,
+    /// The depth-normal prepass pipelines, by (pipeline, textured subject).
+    pub(in crate::render) depth_normals: HashMap<(Pipeline, bool), wgpu::RenderPipeline>,
+    /// By sample count.
+    pub(in crate::render) background: HashMap<u32, wgpu::RenderPipeline>,
+}
+
+impl PipelineCache {
+    pub(in crate::render) fn new(
+        pipeline_layout: wgpu::PipelineLayout,
+        exact_layout: wgpu::PipelineLayout,
+        deferred_layout: wgpu::PipelineLayout,
+    ) -> PipelineCache {
+        PipelineCache {
+            pipeline_layout,
+            exact_layout,
+            deferred_layout,
+            forward: HashMap::new(),
+            gbuffer: HashMap::new(),
+            lighting: HashMap::new(),
+            depth_normals: HashMap::new(),
+            background: HashMap::new(),
+        }
+    }
+
+    /// Number of forward and background pipelines compiled so far.
+    pub(in crate::render) fn compiled(&self) -> usize {
+        self.forward.len() + self.background.len()
+    }
+}
+
+/// What a forward pipeline compiles in besides its pipeline and model: built-in's vertex-lit
+/// path, the sample count, a textured subject, the study's exact alternatives.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub(in crate::render) struct ForwardKey {
+    pub(in crate::render) vertex_lit: bool,
+    pub(in crate::render) samples: u32,
+    pub(in crate::render) textured: bool,
+    pub(in crate::render) exact: crate::plan::exact::ExactAlternatives,
+}
+
+impl ForwardKey {
+    /// One sample, per-pixel lights, no exact alternatives (the deferred path's forward-only
+    /// objects, probe captures).
+    pub(in crate::render) fn plain(textured: bool) -> ForwardKey {
+        ForwardKey { vertex_lit: false, samples: 1, textured, exact: Default::default() }
+    }
+}
+
+impl PipelineCache {
+    /// The forward pipeline of a model; `vertex_lit`: built-in's legacy vertex-lit path, which
+    /// evaluates the lighting at the vertices (Gouraud) with its own light list; `textured`: the
+    /// subject wears material maps (a flat subject's pipeline compiles the sampling away);
+    /// `exact`: the approximation study's exact alternatives (render::exact), with the rays' group.
+    pub(in crate::render) fn forward_pipeline(
+        &mut self,
+        gpu: &GpuContext,
+        pipeline: Pipeline,
+        model: &ShaderModel,
+        key: ForwardKey,
+    ) -> Result<(), Error> {
+        let ForwardKey { vertex_lit, samples, textured, exact } = key;
+        let key = (pipeline, model.name.to_string(), key);
+        if self.forward.contains_key(&key) {
+            return Ok(());
+        }
+        let per_vertex = model.per_vertex || vertex_lit;
+        let pass = if exact.any() { wgsl::PassKind::ForwardExact } else { wgsl::PassKind::Forward };
+        let source = wgsl::compose(pass, Some(model));
+        let module = gpu.shader_module(&format!("forward {}/{}", pipeline.name(), model.name), &source)?;
+        let mut constants = vec![
+            ("PIPELINE", pipeline.shader_id() as f64),
+            ("MAIN_LIGHT_ONLY", model.main_light_only as u32 as f64),
+            ("VERTEX_LIT", vertex_lit as u32 as f64),
+            ("TEXTURED", textured as u32 as f64),
+        ];
+        if exact.any() {
+            constants.extend(exact.constants());
+        }
+        let entries = if per_vertex { ("vs_gouraud", "fs_gouraud") } else { ("vs_main", "fs_main") };
+        let label = format!("forward {}/{}", pipeline.name(), model.name);
+        let targets = [Some(HDR_FORMAT.into()), Some(ROLE_FORMAT.into())];
+        let layout = if exact.any() { &self.exact_layout } else { &self.pipeline_layout };
+        let p = self.mesh_pipeline(gpu, &label, layout, &module, entries, &constants, &targets, samples);
+        gpu.check_errors("creating a forward pipeline")?;
+        self.forward.insert(key, p);
+        Ok(())
+    }
+
+    /// A pipeline that draws scene meshes: both faces (imported and thin meshes are shaded from
+    /// either side, normals flipped), depth test Less with writes.
+    #[allow(clippy::too_many_arguments)]
+    pub(in crate::render) fn mesh_pipeline(
+        &self,
+        gpu: &GpuContext,
+        label: &str,
+        layout: &wgpu::PipelineLayout,
+        module: &wgpu::ShaderModule,
+        (vs, fs): (&str, &str),
+        constants: &[(&str, f64)],
+        targets: &[Option<wgpu::ColorTargetState>],
+        samples: u32,
+    ) -> wgpu::RenderPipeline {
+        let options = wgpu::PipelineCompilationOptions { constants, ..Default::default() };
+        gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(label),
+            layout: Some(layout),
+            vertex: wgpu::VertexState {
+                module,
+                entry_point: Some(vs),
+                compilation_options: options.clone(),
+                buffers: &[Some(wgpu::VertexBufferLayout {
+                    array_stride: std::mem::size_of::<Vertex>() as u64,
+                    step_mode: wgpu::VertexStepMode::Vertex,
+                    attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4],
+                })],
+            },
+            primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Less),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: wgpu::MultisampleState { count: samples, ..Default::default() },
+            fragment: Some(wgpu::FragmentState {
+                module,
+                entry_point: Some(fs),
+                compilation_options: options,
+                targets,
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
+    }
+
+    /// The deferred path's G-buffer pipeline of a model in a pipeline convention.
+    pub(in crate::render) fn gbuffer_pipeline(
+        &mut self,
+        gpu: &GpuContext,
+        pipeline: Pipeline,
+        model: &ShaderModel,
+        textured: bool,
+    ) -> Result<(), Error> {
+        let key = (pipeline, model.name.to_string(), textured);
+        if self.gbuffer.contains_key(&key) {
+            return Ok(());
+        }
+        let source = wgsl::compose(wgsl::PassKind::Forward, Some(model));
+        let module = gpu.shader_module(&format!("gbuffer {}/{}", pipeline.name(), model.name), &source)?;
+        let constants = [("PIPELINE", pipeline.shader_id() as f64), ("TEXTURED", textured as u32 as f64)];
+        let targets = [
+            Some(crate::render::gbuffer::GB_ALBEDO.into()),
+            Some(crate::render::gbuffer::GB_MATERIAL.into()),
+            Some(crate::render::gbuffer::normal_format(pipeline).into()),
+            Some(crate::render::gbuffer::GB_LIGHTING.into()),
+            Some(ROLE_FORMAT.into()),
+        ];
+        let label = format!("gbuffer {}/{}", pipeline.name(), model.name);
+        let p = self.mesh_pipeline(
+            gpu,
+            &label,
+            &self.pipeline_layout,
+            &module,
+            ("vs_main", "fs_gbuffer"),
+            &constants,
+            &targets,
+            1,
+        );
+        gpu.check_errors("creating a G-buffer pipeline")?;
+        self.gbuffer.insert(key, p);
+        Ok(())
+    }
+
+    /// HDRP's depth prepass with its normal buffer (fs_depth_normals), composed with the fixed
+    /// objects' model: the pass reads no model.
+    pub(in crate::render) fn depth_normal_pipeline(
+        &mut self,
+        gpu: &GpuContext,
+        pipeline: Pipeline,
+        model: &ShaderModel,
+        textured: bool,
+    ) -> Result<(), Error> {
+        let key = (pipeline, textured);
+        if self.depth_normals.contains_key(&key) {
+            return Ok(());
+        }
+        let source = wgsl::compose(wgsl::PassKind::Forward, Some(model));
+        let module = gpu.shader_module(&format!("depth prepass {}", pipeline.name()), &source)?;
+        let constants = [("PIPELINE", pipeline.shader_id() as f64), ("TEXTURED", textured as u32 as f64)];
+        let targets = [Some(crate::render::passes::ssao::NORMAL_FORMAT.into())];
+        let label = format!("depth prepass {}", pipeline.name());
+        let p = self.mesh_pipeline(
+            gpu,
+            &label,
+            &self.pipeline_layout,
+            &module,
+            ("vs_main", "fs_depth_normals"),
+            &constants,
+            &targets,
+            1,
+        );
+        gpu.check_errors("creating the depth prepass pipeline")?;
+        self.depth_normals.insert(key, p);
+        Ok(())
+    }
+
+    /// The deferred lighting pipeline shading the pixels of `role` with `model`.
+    pub(in crate::render) fn lighting_pipeline(
+        &mut self,
+        gpu: &GpuContext,
+        pipeline: Pipeline,
+        model: &ShaderModel,
+        role: u8,
+    ) -> Result<(), Error> {
+        let key = (pipeline, model.name.to_string(), role as u32);
+        if self.lighting.contains_key(&key) {
+            return Ok(());
+        }
+        let source = wgsl::compose(wgsl::PassKind::Forward, Some(model));
+        let module = gpu.shader_module(&format!("deferred {}/{}", pipeline.name(), model.name), &source)?;
+        let constants = [
+            ("PIPELINE", pipeline.shader_id() as f64),
+            ("DEFERRED_ROLE", role as f64),
+            ("TILED_LIGHTS", pipeline.tiled_light_loop() as u32 as f64),
+        ];
+        let options = wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() };
+        let p = gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(&format!("deferred lighting {}/{}", pipeline.name(), model.name)),
+            layout: Some(&self.deferred_layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_fullscreen"),
+                compilation_options: options.clone(),
+                buffers: &[],
+            },
+            primitive: Default::default(),
+            depth_stencil: None,
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_deferred"),
+                compilation_options: options,
+                targets: &[Some(HDR_FORMAT.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        gpu.check_errors("creating a deferred lighting pipeline")?;
+        self.lighting.insert(key, p);
+        Ok(())
+    }
+
+    /// The environment background (passes::background), per sample count.
+    pub(in crate::render) fn background_pipeline(&mut self, gpu: &GpuContext, samples: u32) -> Result<(), Error> {
+        if self.background.contains_key(&samples) {
+            return Ok(());
+        }
+        let source = wgsl::compose(wgsl::PassKind::Background, None);
+        let module = gpu.shader_module("background", &source)?;
+        let p = gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("background"),
+            layout: Some(&self.pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_background"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: Default::default(),
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: DEPTH_FORMAT,
+                depth_write_enabled: Some(false),
+                depth_compare: Some(wgpu::CompareFunction::LessEqual),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: wgpu::MultisampleState { count: samples, ..Default::default() },
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_background"),
+                compilation_options: Default::default(),
+                targets: &[Some(HDR_FORMAT.into()), Some(ROLE_FORMAT.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        gpu.check_errors("creating the background pipeline")?;
+        self.background.insert(samples, p);
+        Ok(())
+    }
+}

@@ -1,0 +1,331 @@
+//! A composition on the GPU: its meshes, uniform slots, environment, light and shadow buffers
+//! and probes, uploaded once per composition, with the layout its cell plans read
+//! (`plan::cell::SceneLayout`).
+
+use glam::DMat4;
+use std::collections::HashMap;
+use wgpu::util::DeviceExt;
+
+use super::formats::SHADOW_FORMAT;
+use crate::environment::EnvironmentMaps;
+use crate::error::Error;
+use crate::geometry::{procedural, Mesh};
+use crate::gpu::GpuContext;
+use crate::plan::cell::{SceneLayout, ShadowArray};
+use crate::plan::FramePlan;
+use crate::render::uniforms::*;
+use crate::shading::registry::Sliders;
+use crate::spec::scene::{Role, Scene};
+use bytemuck::Zeroable;
+
+pub(in crate::render) struct GpuObject {
+    pub(in crate::render) vertices: wgpu::Buffer,
+    pub(in crate::render) indices: wgpu::Buffer,
+    pub(in crate::render) index_count: u32,
+    pub(in crate::render) role: Role,
+    pub(in crate::render) model: DMat4,
+    /// Fixed objects: their own material in slider units (mapped per pipeline at draw time) and
+    /// their checkerboard.
+    pub(in crate::render) fixed: Option<(Sliders, GpuMaterial)>,
+    pub(in crate::render) cast_shadows: bool,
+    pub(in crate::render) receive_shadows: bool,
+    /// The scene object this mesh draws (LOD levels after level 0 are extra meshes of it).
+    pub(in crate::render) scene_index: usize,
+}
+
+/// A composition's shadow maps: the depth array, a view per layer to render into, the layer
+/// matrices (a uniform slot per layer for the shadow pass, a storage array for the forward pass).
+pub(in crate::render) struct ShadowResources {
+    pub(in crate::render) layer_views: Vec<wgpu::TextureView>,
+    pub(in crate::render) array_view: wgpu::TextureView,
+    pub(in crate::render) layer_uniforms: wgpu::Buffer,
+    pub(in crate::render) layer_stride: u64,
+    pub(in crate::render) layer_bind_group: wgpu::BindGroup,
+    pub(in crate::render) layers_storage: wgpu::Buffer,
+    /// What the layers hold now (`WrittenFrame::shadow_key`), when a cell's frame rendered them
+    /// last; None after anything else did.
+    pub(in crate::render) holds: std::sync::Mutex<Option<u64>>,
+}
+
+/// The truth's geometry of a composition with the meshes it holds (render::truth::bvh).
+pub(in crate::render) type TruthGeometryCache =
+    std::sync::Mutex<Option<(Vec<bool>, std::sync::Arc<crate::render::truth::TruthScene>)>>;
+
+pub struct PreparedScene {
+    pub scene: Scene,
+    pub plan: FramePlan,
+    pub env: EnvironmentMaps,
+    pub(in crate::render) objects: Vec<GpuObject>,
+    pub(in crate::render) object_buffer: wgpu::Buffer,
+    pub(in crate::render) object_stride: u64,
+    pub(in crate::render) object_bind_group: wgpu::BindGroup,
+    pub(in crate::render) frame_buffer: wgpu::Buffer,
+    pub(in crate::render) env_view: wgpu::TextureView,
+    /// The scene's reflection probes (`environment.reflections = "probe"`); their levels follow
+    /// the sky's in `env_view`.
+    pub(in crate::render) probes: Option<crate::render::passes::probes::SceneProbes>,
+    /// The frame bind group per material-map set the subject wears ("" flat), made on first use.
+    pub(in crate::render) frame_groups: std::sync::Mutex<HashMap<&'static str, std::sync::Arc<wgpu::BindGroup>>>,
+    /// A glTF subject's own material maps (preset `own`), read and uploaded on first use.
+    pub(in crate::render) own_textures: std::sync::OnceLock<crate::render::material_maps::MaterialTextures>,
+    /// The truth's environment on the GPU, made for the first truth.
+    pub(in crate::render) env_table: std::sync::OnceLock<crate::render::truth::TruthEnvironment>,
+    /// The truth's geometry on the GPU for the last set of meshes a cell kept (LOD levels change
+    /// it), so cells of one composition build the meshes and the BVH and upload them once.
+    pub(in crate::render) truth_geometry: TruthGeometryCache,
+    pub(in crate::render) lights_buffer: wgpu::Buffer,
+    pub(in crate::render) modes_buffer: wgpu::Buffer,
+    pub(in crate::render) shadows: ShadowResources,
+    /// The composition's meshes and bounds as cell plans read them.
+    pub layout: SceneLayout,
+    pub triangle_count: usize,
+}
+
+impl PreparedScene {
+    /// Upload a composition: its meshes (one per object, in order), with its frame plan;
+    /// `prefilter` made already where the scene has reflection probes.
+    pub(in crate::render) fn upload(
+        gpu: &GpuContext,
+        (object_layout, shadow_layer_layout): (&wgpu::BindGroupLayout, &wgpu::BindGroupLayout),
+        prefilter: Option<&crate::render::passes::probes::Prefilter>,
+        scene: &Scene,
+        plan: FramePlan,
+        meshes: Vec<Mesh>,
+    ) -> Result<PreparedScene, Error> {
+        let env = EnvironmentMaps::build(&scene.environment);
+        let device = &gpu.device;
+        let mut objects = Vec::new();
+        let mut triangle_count = 0;
+        let lod_meshes = procedural::lod_meshes(scene)?;
+        let lod_levels: Vec<(usize, usize)> = lod_meshes.iter().map(|(i, j, _)| (*i, *j)).collect();
+        let layout = SceneLayout::new(scene, &plan, &meshes, &lod_levels);
+        for (o, mesh) in scene.objects.iter().zip(meshes) {
+            triangle_count += mesh.triangle_count();
+            let (vertices, indices) = mesh_buffers(device, &o.name, &mesh);
+            let fixed = o.material.as_ref().map(|m| {
+                let sliders =
+                    Sliders { base_color_linear: m.base_color_linear, metallic: m.metallic, smoothness: m.smoothness };
+                let mut pattern = GpuMaterial::zeroed();
+                if let Some(c) = &m.checker {
+                    pattern.params[2] = c.cell as f32;
+                    pattern.checker_color = rgba(c.color_linear);
+                }
+                (sliders, pattern)
+            });
+            objects.push(GpuObject {
+                vertices,
+                indices,
+                index_count: mesh.indices.len() as u32,
+                role: o.role,
+                model: o.transform.matrix(),
+                fixed,
+                cast_shadows: o.cast_shadows,
+                receive_shadows: o.receive_shadows,
+                scene_index: objects.len(),
+            });
+        }
+        // LOD levels after the first: extra meshes of their object, after every scene object (so
+        // the first scene-object-count slots stay the scene's objects).
+        for (i, j, mesh) in lod_meshes {
+            {
+                let key = format!("objects[{i}].lod.meshes[{j}]");
+                triangle_count += mesh.triangle_count();
+                let first = &objects[i];
+                let (vertices, indices) = mesh_buffers(device, &key, &mesh);
+                objects.push(GpuObject {
+                    vertices,
+                    indices,
+                    index_count: mesh.indices.len() as u32,
+                    role: first.role,
+                    model: first.model,
+                    fixed: first.fixed,
+                    cast_shadows: first.cast_shadows,
+                    receive_shadows: first.receive_shadows,
+                    scene_index: i,
+                });
+            }
+        }
+        let (object_buffer, object_stride, object_bind_group) = crate::render::uniform_slots(
+            device,
+            gpu.constants,
+            object_layout,
+            "objects",
+            std::mem::size_of::<ObjectUniforms>() as u64,
+            objects.len(),
+        );
+        let frame_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("frame"),
+            size: std::mem::size_of::<FrameUniforms>() as u64,
+            usage: gpu.constants.usage() | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let probes = match scene.environment.reflections {
+            crate::spec::scene::Reflections::Probe if !scene.probes.is_empty() => {
+                let prefilter =
+                    prefilter.ok_or_else(|| Error::Other("reflection probes without their prefilter".into()))?;
+                Some(crate::render::passes::probes::SceneProbes::new(gpu, prefilter, &scene.probes, &env.probe))
+            }
+            _ => None,
+        };
+        // With probes the sky's levels sit in the probes' array; otherwise they are the array.
+        let env_view = match &probes {
+            Some(p) => p.view(),
+            None => sky_probe_view(gpu, &env.probe),
+        };
+        // A scene without lights still binds one (unused) element: a runtime-sized array needs one.
+        let storage = |label: &str, bytes: u64, element: u64| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: bytes.max(element).next_multiple_of(16),
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        };
+        let light_size = std::mem::size_of::<GpuLight>() as u64;
+        let lights_buffer = storage("lights", scene.lights.len() as u64 * light_size, light_size);
+        let modes_buffer = storage("light modes", (scene.lights.len() * objects.len() * 4) as u64, 4);
+        let shadows = shadow_resources(gpu, shadow_layer_layout, &layout.shadows);
+        gpu.check_errors(&format!("uploading composition `{}`", scene.name))?;
+        Ok(PreparedScene {
+            scene: scene.clone(),
+            plan,
+            env,
+            objects,
+            object_buffer,
+            object_stride,
+            object_bind_group,
+            frame_buffer,
+            env_view,
+            probes,
+            frame_groups: Default::default(),
+            own_textures: Default::default(),
+            env_table: Default::default(),
+            truth_geometry: Default::default(),
+            lights_buffer,
+            modes_buffer,
+            shadows,
+            triangle_count,
+            layout,
+        })
+    }
+}
+
+/// The shadow layers a composition needs (1 for a directional or spot light that casts
+/// shadows, 6 for a point light), as large as the largest map its lights can ask for
+/// (`shadows::array_side`).
+pub(in crate::render) fn shadow_resources(
+    gpu: &GpuContext,
+    shadow_layer_layout: &wgpu::BindGroupLayout,
+    array: &ShadowArray,
+) -> ShadowResources {
+    let device = &gpu.device;
+    let (layers, resolution) = (array.layers as u32, array.side);
+    let texture = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("shadow maps"),
+        size: wgpu::Extent3d { width: resolution, height: resolution, depth_or_array_layers: layers },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: SHADOW_FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+        view_formats: &[],
+    });
+    let layer_views = (0..layers)
+        .map(|i| {
+            texture.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2),
+                base_array_layer: i,
+                array_layer_count: Some(1),
+                ..Default::default()
+            })
+        })
+        .collect();
+    let array_view = texture.create_view(&wgpu::TextureViewDescriptor {
+        dimension: Some(wgpu::TextureViewDimension::D2Array),
+        ..Default::default()
+    });
+    let (layer_uniforms, layer_stride, layer_bind_group) = crate::render::uniform_slots(
+        device,
+        gpu.constants,
+        shadow_layer_layout,
+        "shadow layer matrices",
+        64,
+        layers as usize,
+    );
+    let layers_storage = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("shadow layers"),
+        size: (std::mem::size_of::<ShadowLayer>() * layers as usize) as u64,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    ShadowResources {
+        layer_views,
+        array_view,
+        layer_uniforms,
+        layer_stride,
+        layer_bind_group,
+        layers_storage,
+        holds: Default::default(),
+    }
+}
+
+/// A mesh's vertex and index buffers.
+pub(in crate::render) fn mesh_buffers(device: &wgpu::Device, label: &str, mesh: &Mesh) -> (wgpu::Buffer, wgpu::Buffer) {
+    let vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(label),
+        contents: bytemuck::cast_slice(&mesh.vertices),
+        usage: wgpu::BufferUsages::VERTEX,
+    });
+    let indices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(label),
+        contents: bytemuck::cast_slice(&mesh.indices),
+        usage: wgpu::BufferUsages::INDEX,
+    });
+    (vertices, indices)
+}
+
+/// The sky's prefiltered levels as an array texture (Rgba16Float, one layer per level).
+pub(in crate::render) fn sky_probe_view(
+    gpu: &GpuContext,
+    probe: &crate::environment::prefilter::Probe,
+) -> wgpu::TextureView {
+    let texels: Vec<half::f16> =
+        probe.levels.iter().flat_map(|l| l.texels.iter().flat_map(|t| crate::render::half_texel(*t))).collect();
+    let env_texture = gpu.device.create_texture_with_data(
+        &gpu.queue,
+        &wgpu::TextureDescriptor {
+            label: Some("environment probe"),
+            size: wgpu::Extent3d {
+                width: probe.width as u32,
+                height: probe.height as u32,
+                depth_or_array_layers: probe.levels.len() as u32,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::Rgba16Float,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        },
+        wgpu::util::TextureDataOrder::LayerMajor,
+        bytemuck::cast_slice(&texels),
+    );
+    env_texture.create_view(&wgpu::TextureViewDescriptor {
+        dimension: Some(wgpu::TextureViewDimension::D2Array),
+        ..Default::default()
+    })
+}
+
+/// The textures of a composition's glTF subject's own material (`materials::gltf`).
+pub(in crate::render) fn own_textures(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    scene: &Scene,
+) -> Result<crate::render::material_maps::MaterialTextures, Error> {
+    let no_maps =
+        || Error::Other(format!("composition `{}`: the subject has no glTF material with textures", scene.name));
+    let path = scene.subject_gltf().ok_or_else(no_maps)?;
+    let (_, material) = crate::geometry::gltf_io::load_with_material(&path)?;
+    let maps = material.as_ref().and_then(crate::materials::gltf::maps).ok_or_else(no_maps)?;
+    Ok(crate::render::material_maps::MaterialTextures::new(device, queue, &maps))
+}
