@@ -62,3 +62,55 @@ fn uniform_mirrors_match_their_wgsl_structs() {
         .collect();
     assert!(bad.is_empty(), "{}", bad.join("\n"));
 }
+
+/// Terms (functions) of a model's WGSL file and of the shared BRDF file that no f64 twin defines
+/// under the same name. `twins` is the twins' Rust source.
+fn terms_without_twin(composed: &str, own: &[&str], twins: &str) -> Result<(Vec<String>, Vec<String>), String> {
+    let module = naga::front::wgsl::parse_str(composed).map_err(|e| format!("WGSL does not parse: {}", e.message()))?;
+    // The twin of the FGD table fetch is a method (shading::fgd::FgdTable::lookup, named in its comment).
+    let aliases = [("fgd_sample", "fn lookup(")];
+    let (mut missing, mut checked) = (Vec::new(), Vec::new());
+    for (_, f) in module.functions.iter() {
+        let Some(name) = f.name.as_deref() else { continue };
+        // model_direct / model_indirect are the twins' SurfaceTwin::direct / indirect.
+        if name.starts_with("model_") || !own.iter().any(|text| text.contains(&format!("fn {name}("))) {
+            continue;
+        }
+        checked.push(name.to_string());
+        let twin = aliases.iter().find(|(w, _)| *w == name).map_or(format!("fn {name}("), |(_, r)| r.to_string());
+        if !twins.contains(&twin) {
+            missing.push(name.to_string());
+        }
+    }
+    Ok((missing, checked))
+}
+
+#[test]
+fn every_wgsl_term_has_its_f64_twin_of_the_same_name() {
+    let repo = crate::common::repo();
+    let mut twins = String::new();
+    for dir in ["src/shading/twin", "src/shading"] {
+        for entry in std::fs::read_dir(repo.join(dir)).unwrap().filter_map(|e| e.ok()) {
+            if entry.path().extension().is_some_and(|x| x == "rs") {
+                twins.push_str(&std::fs::read_to_string(entry.path()).unwrap());
+            }
+        }
+    }
+    let shared = std::fs::read_to_string(repo.join("shaders/common/brdf.wgsl")).unwrap();
+    let (mut missing, mut checked) = (std::collections::BTreeSet::new(), std::collections::BTreeSet::new());
+    for model in crate::common::models().models().iter().filter(|m| m.source_path.starts_with("shaders/brdf/")) {
+        let composed = compose(PassKind::Forward, Some(model));
+        let (m, n) = terms_without_twin(&composed, &[&model.wgsl, &shared], &twins)
+            .unwrap_or_else(|e| panic!("{}: {e}", model.name));
+        missing.extend(m.into_iter().map(|t| format!("{t} ({})", model.source_path)));
+        checked.extend(n);
+    }
+    eprintln!("{} distinct model terms checked against their twins", checked.len());
+    assert!(missing.is_empty(), "WGSL terms without an f64 twin of that name: {missing:?}");
+    assert!(checked.len() > 40, "only {} terms found: the check reads too few", checked.len());
+    // The check can fail: a term its twin lacks.
+    let fake =
+        format!("{}\nfn d_made_up(x: f32) -> f32 {{ return x; }}\n", compose(PassKind::Forward, Some(lambert())));
+    let (m, _) = terms_without_twin(&fake, &["fn d_made_up("], &twins).unwrap();
+    assert_eq!(m, vec!["d_made_up".to_string()]);
+}

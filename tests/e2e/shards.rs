@@ -38,7 +38,22 @@ fn assert_same_cells(a: &Path, b: &Path) {
     let names = |m: &BTreeMap<String, Vec<u8>>| m.keys().cloned().collect::<Vec<_>>();
     assert_eq!(names(&x), names(&y), "{} vs {}", a.display(), b.display());
     for (k, v) in &x {
-        assert!(&y[k] == v, "{k} differs between {} and {}", a.display(), b.display());
+        if &y[k] == v {
+            continue;
+        }
+        // Say which fields of a record differ, so a rare failure can be told apart.
+        let keys = match (serde_json::from_slice::<serde_json::Value>(v), serde_json::from_slice(&y[k])) {
+            (Ok(serde_json::Value::Object(p)), Ok(serde_json::Value::Object(q))) => {
+                let differ: Vec<String> = p
+                    .iter()
+                    .filter(|(f, w)| q.get(*f) != Some(w))
+                    .map(|(f, w)| format!("{f}: {} vs {}", w, q.get(f).map_or("absent".into(), |x| x.to_string())))
+                    .collect();
+                differ.join("; ")
+            }
+            _ => "bytes".into(),
+        };
+        panic!("{k} differs between {} and {}: {keys}", a.display(), b.display());
     }
 }
 

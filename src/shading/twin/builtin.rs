@@ -5,11 +5,13 @@ use glam::DVec3;
 use super::{safe_normalize, sat, Surface, SurfaceTwin};
 use crate::pipelines::Pipeline;
 
-fn spec_color(s: &Surface) -> DVec3 {
+/// specColor = lerp(0.04, albedo, metallic) (models.md#standard-brdf2 material setup).
+pub fn brdf2_spec_color(s: &Surface) -> DVec3 {
     DVec3::splat(0.04).lerp(s.base_color, s.metallic)
 }
 
-fn one_minus_reflectivity(s: &Surface) -> f64 {
+/// oneMinusReflectivity = 0.96(1 − metallic).
+pub fn brdf2_one_minus_reflectivity(s: &Surface) -> f64 {
     0.96 - s.metallic * 0.96
 }
 
@@ -26,18 +28,18 @@ impl SurfaceTwin for StandardBrdf2 {
         let h = safe_normalize(l + v, 0.001);
         let (nl, nh, lh) = (sat(n.dot(l)), sat(n.dot(h)), sat(l.dot(h)));
         let pr = 1.0 - s.smoothness;
-        (s.base_color * one_minus_reflectivity(s) + spec_brdf2(nh, lh, pr * pr) * spec_color(s)) * nl
+        (s.base_color * brdf2_one_minus_reflectivity(s) + spec_brdf2(nh, lh, pr * pr) * brdf2_spec_color(s)) * nl
     }
 
     fn indirect(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, gi_d: DVec3, gi_s: DVec3) -> DVec3 {
         let nv = sat(n.dot(v));
         let pr = 1.0 - s.smoothness;
         let a = pr * pr;
-        let omr = one_minus_reflectivity(s);
+        let omr = brdf2_one_minus_reflectivity(s);
         let surface_reduction = 1.0 - a * pr * (0.6 - 0.08 * pr);
         let grazing = sat(s.smoothness + (1.0 - omr));
         let fresnel = (1.0 - nv).powi(4);
-        gi_d * s.base_color * omr + surface_reduction * gi_s * spec_color(s).lerp(DVec3::splat(grazing), fresnel)
+        gi_d * s.base_color * omr + surface_reduction * gi_s * brdf2_spec_color(s).lerp(DVec3::splat(grazing), fresnel)
     }
 }
 
@@ -55,13 +57,14 @@ impl SurfaceTwin for StandardBrdf3 {
         let nl = sat(n.dot(l));
         let r = v - 2.0 * n.dot(v) * n;
         let rl_pow4 = r.dot(l).powi(4);
-        (s.base_color * one_minus_reflectivity(s) + spec_brdf3(rl_pow4, 1.0 - s.smoothness) * spec_color(s)) * nl
+        (s.base_color * brdf2_one_minus_reflectivity(s) + spec_brdf3(rl_pow4, 1.0 - s.smoothness) * brdf2_spec_color(s))
+            * nl
     }
 
     fn indirect(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, gi_d: DVec3, gi_s: DVec3) -> DVec3 {
         let nv = sat(n.dot(v));
-        let omr = one_minus_reflectivity(s);
+        let omr = brdf2_one_minus_reflectivity(s);
         let grazing = sat(s.smoothness + (1.0 - omr));
-        gi_d * s.base_color * omr + gi_s * spec_color(s).lerp(DVec3::splat(grazing), (1.0 - nv).powi(4))
+        gi_d * s.base_color * omr + gi_s * brdf2_spec_color(s).lerp(DVec3::splat(grazing), (1.0 - nv).powi(4))
     }
 }

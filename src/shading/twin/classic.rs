@@ -15,11 +15,42 @@ fn ambient(s: &Surface, gi_diffuse: DVec3) -> DVec3 {
     s.base_color * gi_diffuse
 }
 
+/// h = 0.5·NL + 0.5, not squared (Unity's directional-lightmap decode).
+pub fn half_lambert_wrap(nl: f64) -> f64 {
+    0.5 * nl + 0.5
+}
+
+/// R = 2·NL·N − L.
+pub fn phong_reflect(n: DVec3, l: DVec3) -> DVec3 {
+    2.0 * n.dot(l) * n - l
+}
+
+/// max(0, R·V)ⁿ, with the optional (n + 2)/2 normalisation.
+pub fn spec_phong(n: DVec3, v: DVec3, l: DVec3, shininess: f64, normalized: f64) -> f64 {
+    let lobe = phong_reflect(n, l).dot(v).max(0.0).powf(shininess);
+    if normalized > 0.5 {
+        lobe * (shininess + 2.0) * 0.5
+    } else {
+        lobe
+    }
+}
+
+/// max(0, N·H)ⁿ, with the optional ≈(n + 8)/8 normalisation.
+pub fn spec_blinn_phong(n: DVec3, v: DVec3, l: DVec3, shininess: f64, normalized: f64) -> f64 {
+    let h = safe_normalize(l + v, f32::MIN_POSITIVE as f64);
+    let lobe = n.dot(h).max(0.0).powf(shininess);
+    if normalized > 0.5 {
+        lobe * (shininess + 8.0) * 0.125
+    } else {
+        lobe
+    }
+}
+
 pub struct HalfLambert;
 
 impl SurfaceTwin for HalfLambert {
     fn direct(&self, p: Pipeline, s: &Surface, n: DVec3, _v: DVec3, l: DVec3) -> DVec3 {
-        s.base_color * FRAC_1_PI * e_per_i(p) * (0.5 * n.dot(l) + 0.5)
+        super::lambert::fd_lambert(s.base_color) * e_per_i(p) * half_lambert_wrap(n.dot(l))
     }
     fn indirect(&self, _: Pipeline, s: &Surface, _: DVec3, _: DVec3, gi_d: DVec3, _: DVec3) -> DVec3 {
         ambient(s, gi_d)
@@ -34,12 +65,7 @@ impl SurfaceTwin for Phong {
         if nl <= 0.0 {
             return DVec3::ZERO;
         }
-        let shininess = shininess_from_smoothness(s.smoothness);
-        let r = 2.0 * n.dot(l) * n - l;
-        let mut spec = r.dot(v).max(0.0).powf(shininess);
-        if s.params[0] > 0.5 {
-            spec *= (shininess + 2.0) * 0.5;
-        }
+        let spec = spec_phong(n, v, l, shininess_from_smoothness(s.smoothness), s.params[0]);
         (s.base_color * nl + s.specular * spec) * FRAC_1_PI * e_per_i(p)
     }
     fn indirect(&self, _: Pipeline, s: &Surface, _: DVec3, _: DVec3, gi_d: DVec3, _: DVec3) -> DVec3 {
@@ -55,12 +81,7 @@ impl SurfaceTwin for BlinnPhong {
         if nl <= 0.0 {
             return DVec3::ZERO;
         }
-        let shininess = shininess_from_smoothness(s.smoothness);
-        let h = safe_normalize(l + v, f32::MIN_POSITIVE as f64);
-        let mut spec = n.dot(h).max(0.0).powf(shininess);
-        if s.params[0] > 0.5 {
-            spec *= (shininess + 8.0) * 0.125;
-        }
+        let spec = spec_blinn_phong(n, v, l, shininess_from_smoothness(s.smoothness), s.params[0]);
         (s.base_color * nl + s.specular * spec) * FRAC_1_PI * e_per_i(p)
     }
     fn indirect(&self, _: Pipeline, s: &Surface, _: DVec3, _: DVec3, gi_d: DVec3, _: DVec3) -> DVec3 {
@@ -73,7 +94,8 @@ pub struct OrenNayar {
     pub trig_form: bool,
 }
 
-fn azimuth_cosine(n: DVec3, v: DVec3, l: DVec3, nl: f64, nv: f64) -> f64 {
+/// cos(φi − φr): the tangent-plane projections of L and V, normalised; 0 when either is along N.
+pub fn cos_azimuth_difference(n: DVec3, v: DVec3, l: DVec3, nl: f64, nv: f64) -> f64 {
     let (lp, vp) = (l - n * nl, v - n * nv);
     let d = lp.length_squared() * vp.length_squared();
     if d < 1e-12 {
@@ -92,7 +114,7 @@ impl SurfaceTwin for OrenNayar {
         let nv = n.dot(v).clamp(0.0, 1.0);
         let sigma2 = s.params[0] * s.params[0];
         let b = 0.45 * sigma2 / (sigma2 + 0.09);
-        let c = azimuth_cosine(n, v, l, nl, nv).max(0.0);
+        let c = cos_azimuth_difference(n, v, l, nl, nv).max(0.0);
         let term = if self.trig_form {
             let a = 1.0 - 0.5 * sigma2 / (sigma2 + 0.33);
             let (ti, tr) = (nl.clamp(-1.0, 1.0).acos(), nv.acos());

@@ -17,9 +17,21 @@ pub fn v_smith_schlick(nl: f64, nv: f64, k: f64) -> f64 {
     0.25 / ((nl * (1.0 - k) + k) * (nv * (1.0 - k) + k))
 }
 
-fn f0(s: &Surface) -> DVec3 {
+/// F0 = ((1 − IOR)/(1 + IOR))², lerped to albedo by metallic (models.md#torrance-sparrow).
+pub fn ts_f0(s: &Surface) -> DVec3 {
     let f = (1.0 - s.params[0]) / (1.0 + s.params[0]);
     DVec3::splat(f * f).lerp(s.base_color, s.metallic)
+}
+
+/// The final stage's direct term: albedo·NL·(1 − metallic) + albedo·tint·max(0, D·Vis·π·NL), D GGX
+/// with a = r², Vis Smith-Schlick with k = r²/2 (no F on the direct specular: a quirk kept).
+pub fn ts_direct(s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
+    let r = 1.0 - s.smoothness;
+    let (nl, nv) = (sat(n.dot(l)), sat(n.dot(v)));
+    let h = safe_normalize(l + v, f32::MIN_POSITIVE as f64);
+    let nh = sat(n.dot(h));
+    let specular = (d_ggx(nh, r * r) * v_smith_schlick(nl, nv, r * r * 0.5) * PI * nl).max(0.0);
+    s.base_color * nl * (1.0 - s.metallic) + s.base_color * s.specular * specular
 }
 
 /// The custom shader's final stage; `as_written` keeps the source's quirks (scalar Fresnel from F0's
@@ -35,18 +47,13 @@ pub fn ts_fresnel_scalar(f0: DVec3, r: f64, nv: f64, p: f64) -> f64 {
 
 impl SurfaceTwin for TorranceSparrow {
     fn direct(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
-        let r = 1.0 - s.smoothness;
-        let (nl, nv) = (sat(n.dot(l)), sat(n.dot(v)));
-        let h = safe_normalize(l + v, f32::MIN_POSITIVE as f64);
-        let nh = sat(n.dot(h));
-        let specular = (d_ggx(nh, r * r) * v_smith_schlick(nl, nv, r * r * 0.5) * PI * nl).max(0.0);
-        s.base_color * nl * (1.0 - s.metallic) + s.base_color * s.specular * specular
+        ts_direct(s, n, v, l)
     }
 
     fn indirect(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, gi_d: DVec3, gi_s: DVec3) -> DVec3 {
         let r = 1.0 - s.smoothness;
         let nv = sat(n.dot(v));
-        let f0 = f0(s);
+        let f0 = ts_f0(s);
         let f = if self.as_written {
             // The main light's colour scales ambient in the source; the twin's light has colour 1.
             DVec3::splat(ts_fresnel_scalar(f0, r, nv, s.params[1]))
@@ -72,7 +79,7 @@ impl SurfaceTwin for FresnelView {
     }
 
     fn indirect(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, _: DVec3, _: DVec3) -> DVec3 {
-        let f0 = f0(s);
+        let f0 = ts_f0(s);
         f0 + (DVec3::ONE - f0) * (1.0 - sat(n.dot(v))).powf(s.params[1])
     }
 }

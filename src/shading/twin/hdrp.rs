@@ -55,16 +55,24 @@ pub fn hdrp_ibl_direction(n: DVec3, v: DVec3, pr: f64, clamped_nv: f64) -> DVec3
     r / r.length_squared().max(FLT_EPS).sqrt()
 }
 
-fn f0(s: &Surface) -> DVec3 {
+/// F0·(1 − x⁵) + F90·x⁵, x = 1 − LH.
+pub fn f_schlick_f90(f0: DVec3, f90: f64, lh: f64) -> DVec3 {
+    let x5 = pow5(1.0 - lh);
+    f0 * (1.0 - x5) + DVec3::splat(f90 * x5)
+}
+
+/// F0 = lerp(0.04, albedo, metallic).
+pub fn hdrp_f0(s: &Surface) -> DVec3 {
     DVec3::splat(0.04).lerp(s.base_color, s.metallic)
 }
 
-fn energy_compensation(s: &Surface, clamped_nv: f64) -> DVec3 {
+/// Specular multiplier 1 + F0·(1/y − 1), y = reflectivity from the FGD table (models.md#hdrp-lit).
+pub fn hdrp_energy_compensation(s: &Surface, clamped_nv: f64) -> DVec3 {
     if s.params[0] < 0.5 {
         return DVec3::ONE;
     }
     let y = FgdTable::get().lookup(clamped_nv, 1.0 - s.smoothness).y;
-    DVec3::ONE + f0(s) * (1.0 / y - 1.0)
+    DVec3::ONE + hdrp_f0(s) * (1.0 / y - 1.0)
 }
 
 pub struct HdrpLit;
@@ -88,10 +96,9 @@ impl SurfaceTwin for HdrpLit {
         let pr = 1.0 - s.smoothness;
         let a_material = pr * pr;
         let a = a_material.max(min_roughness);
-        let x5 = pow5(1.0 - lh);
-        let f = f0(s) * (1.0 - x5) + DVec3::splat(x5);
+        let f = f_schlick_f90(hdrp_f0(s), 1.0, lh);
         let dv = dv_smith_joint_ggx(nh, nl.abs(), clamped_nv, a, smith_joint_ggx_part_lambda_v(clamped_nv, a_material));
-        let spec = f * dv * energy_compensation(s, clamped_nv);
+        let spec = f * dv * hdrp_energy_compensation(s, clamped_nv);
         let diffuse =
             s.base_color * (1.0 - s.metallic) * FRAC_1_PI * fd_disney_renormalized_no_pi(nl.abs(), clamped_nv, lv, pr);
         (diffuse + spec) * sat(nl)
@@ -100,10 +107,10 @@ impl SurfaceTwin for HdrpLit {
     fn indirect(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, gi_d: DVec3, gi_s: DVec3) -> DVec3 {
         let clamped_nv = clamp_n_dot_v(n.dot(v));
         let fgd = FgdTable::get().lookup(clamped_nv, 1.0 - s.smoothness);
-        let f0 = f0(s);
+        let f0 = hdrp_f0(s);
         let specular_fgd = (DVec3::ONE - f0) * fgd.x + f0 * fgd.y;
         s.base_color * (1.0 - s.metallic) * gi_d * (fgd.z + 0.5)
-            + specular_fgd * gi_s * energy_compensation(s, clamped_nv)
+            + specular_fgd * gi_s * hdrp_energy_compensation(s, clamped_nv)
     }
 
     fn env_direction(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3) -> Option<DVec3> {
@@ -134,7 +141,10 @@ pub fn indirect_occlusion(s: &Surface, nv: f64, material_ao: f64, screen_ao: f64
     let roughness = (1.0 - s.smoothness).powi(2);
     let so = specular_occlusion_from_ao(nv, material_ao, roughness)
         .min(specular_occlusion_from_ao(nv, screen_ao, roughness));
-    (gtao_multi_bounce(material_ao.min(screen_ao), s.base_color * (1.0 - s.metallic)), gtao_multi_bounce(so, f0(s)))
+    (
+        gtao_multi_bounce(material_ao.min(screen_ao), s.base_color * (1.0 - s.metallic)),
+        gtao_multi_bounce(so, hdrp_f0(s)),
+    )
 }
 
 #[cfg(test)]

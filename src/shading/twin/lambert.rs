@@ -4,12 +4,17 @@ use std::f64::consts::FRAC_1_PI;
 use super::{irradiance_per_intensity, Surface, SurfaceTwin};
 use crate::pipelines::Pipeline;
 
+/// ρ/π (models.md#classic Lambert).
+pub fn fd_lambert(albedo: DVec3) -> DVec3 {
+    albedo * FRAC_1_PI
+}
+
 /// Lambert, models.md#lambert: ρ/π·E·max(0, NL).
 pub struct Lambert;
 
 impl SurfaceTwin for Lambert {
     fn direct(&self, p: Pipeline, s: &Surface, n: DVec3, _v: DVec3, l: DVec3) -> DVec3 {
-        s.base_color * FRAC_1_PI * irradiance_per_intensity(p) * n.dot(l).max(0.0)
+        fd_lambert(s.base_color) * irradiance_per_intensity(p) * n.dot(l).max(0.0)
     }
 
     fn indirect(

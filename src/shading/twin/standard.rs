@@ -10,16 +10,17 @@ pub struct Standard;
 const DIELECTRIC_SPEC_RGB: f64 = 0.04;
 const DIELECTRIC_SPEC_A: f64 = 0.96;
 
-struct Setup {
-    diff_color: DVec3,
-    spec_color: DVec3,
-    one_minus_reflectivity: f64,
-    perceptual_roughness: f64,
+pub struct StandardSetup {
+    pub diff_color: DVec3,
+    pub spec_color: DVec3,
+    pub one_minus_reflectivity: f64,
+    pub perceptual_roughness: f64,
 }
 
-fn setup(s: &Surface) -> Setup {
+/// specColor, oneMinusReflectivity, diffColor and perceptual roughness (models.md#standard).
+pub fn standard_setup(s: &Surface) -> StandardSetup {
     let one_minus_reflectivity = DIELECTRIC_SPEC_A - s.metallic * DIELECTRIC_SPEC_A;
-    Setup {
+    StandardSetup {
         spec_color: DVec3::splat(DIELECTRIC_SPEC_RGB).lerp(s.base_color, s.metallic),
         diff_color: s.base_color * one_minus_reflectivity,
         one_minus_reflectivity,
@@ -50,7 +51,7 @@ pub fn d_ggx_unity(nh: f64, a: f64) -> f64 {
 
 impl SurfaceTwin for Standard {
     fn direct(&self, _p: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
-        let st = setup(s);
+        let st = standard_setup(s);
         let h = safe_normalize(l + v, 0.001);
         let nv = n.dot(v).abs();
         let nl = sat(n.dot(l));
@@ -66,7 +67,7 @@ impl SurfaceTwin for Standard {
     }
 
     fn indirect(&self, _p: Pipeline, s: &Surface, n: DVec3, v: DVec3, gi_diffuse: DVec3, gi_specular: DVec3) -> DVec3 {
-        let st = setup(s);
+        let st = standard_setup(s);
         let nv = n.dot(v).abs();
         let a = roughness_clamped(st.perceptual_roughness);
         let surface_reduction = 1.0 / (a * a + 1.0);

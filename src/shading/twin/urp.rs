@@ -53,12 +53,17 @@ impl SurfaceTwin for UrpLit {
 
 pub struct UrpSimpleLit;
 
+/// pow(sat(NH), shininess), shininess = exp2(10s + 1) ∈ [2, 2048].
+pub fn spec_simple_lit(nh: f64, smoothness: f64) -> f64 {
+    nh.powf(shininess_from_smoothness(smoothness))
+}
+
 impl SurfaceTwin for UrpSimpleLit {
     fn direct(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
         let h = safe_normalize(l + v, f32::MIN_POSITIVE as f64);
         let nh = sat(n.dot(h));
         let highlights = if s.params[0] > 0.5 { 1.0 } else { 0.0 };
-        s.base_color * sat(n.dot(l)) + s.specular * highlights * nh.powf(shininess_from_smoothness(s.smoothness))
+        s.base_color * sat(n.dot(l)) + s.specular * highlights * spec_simple_lit(nh, s.smoothness)
     }
 
     fn indirect(&self, _: Pipeline, s: &Surface, _: DVec3, _: DVec3, gi_d: DVec3, _: DVec3) -> DVec3 {
