@@ -162,16 +162,9 @@ pub fn check_size(m: &Matrix, limit: u64) -> Result<u128, crate::error::InputErr
         ("paths".into(), n(m.paths.len())),
         ("shaders".into(), n(m.shaders.len())),
         ("presets".into(), n(m.presets.len())),
-        ("sweep.metallic".into(), n(s.metallic.len())),
-        ("sweep.smoothness".into(), n(s.smoothness.len())),
-        ("sweep.color".into(), n(s.color.len())),
-        ("sweep.light_intensity".into(), n(s.light_intensity.len())),
-        ("sweep.light_range".into(), n(s.light_range.len())),
-        ("sweep.camera_distance".into(), n(s.camera_distance.len())),
-        ("sweep.light_angle".into(), n(s.light_angle.len())),
-        ("sweep.textured".into(), n(s.textured.len())),
-        ("sweep.emission".into(), n(s.emission.len())),
     ];
+    // Every swept axis of the table (numbers, the colour, `textured`).
+    axes.extend(swept_axes(m).into_iter().map(|(axis, values)| (format!("sweep.{}", axis.name()), n(values.len()))));
     axes.extend(s.params.iter().map(|(k, v)| (format!("sweep.params.{k}"), n(v.len()))));
     let product = axes.iter().fold(1u128, |p, (_, c)| p.saturating_mul(*c));
     if product > limit as u128 {

@@ -105,9 +105,9 @@ fn lod_plan(m: &Matrix, scene: &crate::spec::scene::Scene, meshes: &[crate::geom
         .zip(meshes)
         .map(|(o, mesh)| crate::geometry::placement::world_bounds_of(o, &mesh.bounds()))
         .collect();
-    let distances: Vec<Option<f64>> = match m.sweep.camera_distance.is_empty() {
+    let distances: Vec<Option<f64>> = match m.sweep.numbers(crate::spec::axes::Axis::CameraDistance).is_empty() {
         true => vec![None],
-        false => m.sweep.camera_distance.iter().copied().map(Some).collect(),
+        false => m.sweep.numbers(crate::spec::axes::Axis::CameraDistance).iter().copied().map(Some).collect(),
     };
     for d in distances {
         let view = crate::plan::camera::ViewAxes { camera_distance: d, light_angle: None };

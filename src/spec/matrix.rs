@@ -104,62 +104,65 @@ fn default_paths() -> Vec<String> {
     vec!["forward".into()]
 }
 
-/// Value lists; an empty list means "the preset's (or the scene's) own value".
-#[derive(Debug, Clone, Default, Deserialize, serde::Serialize)]
-#[serde(deny_unknown_fields)]
+/// Value lists; an empty list means "the preset's (or the scene's) own value". Its keys are the
+/// axis table's (`spec::axes`): a number list per numeric axis, `color` (sRGB slider colours,
+/// linearised before shading), `textured` (the subject's preset flat or in its textured form) and
+/// `[sweep.params]` (a list per model parameter, `ior = [1.3, 1.5]`; a cell whose model lacks a
+/// parameter is not multiplied by it). A new numeric axis is a row of the table, not a field here.
+#[derive(Debug, Clone, Default, serde::Serialize)]
 pub struct Sweep {
-    #[serde(default)]
-    pub metallic: Vec<f64>,
-    #[serde(default)]
-    pub smoothness: Vec<f64>,
-    /// sRGB slider colours, linearised before shading.
-    #[serde(default)]
+    /// Each numeric axis's values, by the axis's table name.
+    #[serde(flatten)]
+    pub numbers: BTreeMap<String, Vec<f64>>,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
     pub color: Vec<[f64; 3]>,
-    #[serde(default)]
-    pub light_intensity: Vec<f64>,
-    #[serde(default)]
-    pub light_range: Vec<f64>,
-    /// Metres from the camera target (the subject's centre in the built-in scenes) along the
-    /// scene's view direction.
-    #[serde(default)]
-    pub camera_distance: Vec<f64>,
-    /// Degrees between the directions from the camera target to the camera and to the key light.
-    #[serde(default)]
-    pub light_angle: Vec<f64>,
-    /// The subject's preset flat (false) or in its textured form (true, `materials`).
-    #[serde(default)]
+    #[serde(skip_serializing_if = "Vec::is_empty")]
     pub textured: Vec<bool>,
-    /// Emission: the subject's colour × this, in the pipeline's light units (HDRP ×10⁴, as the
-    /// light axis), added before tonemapping by the models whose engine shader emits.
-    #[serde(default)]
-    pub emission: Vec<f64>,
-    /// The scene's ambient light (sky SH, reflections and probes) × each value.
-    #[serde(default)]
-    pub ambient_intensity: Vec<f64>,
-    /// A list per model parameter (`ior = [1.3, 1.5]`); a cell whose model lacks a parameter is
-    /// not multiplied by it.
-    #[serde(default)]
+    #[serde(skip_serializing_if = "BTreeMap::is_empty")]
     pub params: BTreeMap<String, Vec<f64>>,
 }
 
-impl Sweep {
-    /// How many distinct values the sweep gives a numeric axis (metallic and smoothness without a
-    /// sweep take each preset's own: one per preset, not a swept axis).
-    /// The values swept on a numeric axis (empty for the others).
-    pub fn numbers(&self, axis: Axis) -> &[f64] {
-        match axis {
-            Axis::Metallic => &self.metallic,
-            Axis::Smoothness => &self.smoothness,
-            Axis::LightIntensity => &self.light_intensity,
-            Axis::LightRange => &self.light_range,
-            Axis::CameraDistance => &self.camera_distance,
-            Axis::LightAngle => &self.light_angle,
-            Axis::Emission => &self.emission,
-            Axis::AmbientIntensity => &self.ambient_intensity,
-            _ => &[],
+impl<'de> Deserialize<'de> for Sweep {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Sweep, D::Error> {
+        use super::axes::AxisKind;
+        use serde::de::Error as _;
+        let table = toml::Table::deserialize(d)?;
+        let mut sweep = Sweep::default();
+        for (key, value) in table {
+            let typed = |e: toml::de::Error| D::Error::custom(format!("sweep.{key}: {}", e.message()));
+            match super::axes::find(&key).map(|r| r.kind) {
+                Some(AxisKind::Number) => {
+                    sweep.numbers.insert(key.clone(), value.clone().try_into().map_err(typed)?);
+                }
+                Some(AxisKind::Colour) => sweep.color = value.clone().try_into().map_err(typed)?,
+                Some(AxisKind::Bool) => sweep.textured = value.clone().try_into().map_err(typed)?,
+                Some(AxisKind::Params) => sweep.params = value.clone().try_into().map_err(typed)?,
+                _ => {
+                    // As serde words it, so the input layer adds the nearest key.
+                    let keys: Vec<String> = super::axes::AXES
+                        .iter()
+                        .filter(|r| r.kind != AxisKind::Name)
+                        .map(|r| format!("`{}`", r.name))
+                        .collect();
+                    return Err(D::Error::custom(format!(
+                        "unknown field `{key}`, expected one of {}",
+                        keys.join(", ")
+                    )));
+                }
+            }
         }
+        Ok(sweep)
+    }
+}
+
+impl Sweep {
+    /// The values swept on a numeric axis (empty for the others, and for one not swept).
+    pub fn numbers(&self, axis: Axis) -> &[f64] {
+        self.numbers.get(axis.name()).map_or(&[], Vec::as_slice)
     }
 
+    /// How many distinct values the sweep gives a numeric axis (metallic and smoothness without a
+    /// sweep take each preset's own: one per preset, not a swept axis).
     pub fn values_of(&self, axis: Axis) -> usize {
         let v = self.numbers(axis);
         let mut distinct: Vec<f64> = Vec::new();
