@@ -76,7 +76,7 @@ impl PipelineCache {
     /// The forward pipeline of a model; `vertex_lit`: built-in's legacy vertex-lit path, which
     /// evaluates the lighting at the vertices (Gouraud) with its own light list; `textured`: the
     /// subject wears material maps (a flat subject's pipeline compiles the sampling away);
-    /// `exact`: the approximation study's exact alternatives (render::exact), with the rays' group.
+    /// `exact`: the approximation study's exact alternatives (plan::exact), with the rays' group.
     pub(in crate::render) fn forward_pipeline(
         &mut self,
         gpu: &GpuContext,

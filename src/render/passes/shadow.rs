@@ -49,7 +49,7 @@ pub(in crate::render) fn encode_shadow_passes(
             multiview_mask: None,
         });
         pass.set_pipeline(pipeline);
-        // The light's map is the top-left resolution² of the layer (render::shadows).
+        // The light's map is the top-left resolution² of the layer (plan::shadows).
         pass.set_viewport(0.0, 0.0, resolution as f32, resolution as f32, 0.0, 1.0);
         pass.set_bind_group(0, &sh.layer_bind_group, &[(layer as u64 * sh.layer_stride) as u32]);
         for (i, o) in prepared.objects.iter().enumerate().filter(|(i, o)| casting[*i] && o.cast_shadows) {
