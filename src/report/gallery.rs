@@ -29,7 +29,18 @@ fn url(s: &str) -> String {
         .collect()
 }
 
-const FILTER_AXES: [&str; 6] = ["composition", "pipeline", "shader", "preset", "smoothness", "color"];
+/// The axes the gallery filters by: the named axes (composition … preset) and every other axis of
+/// the table (`spec::axes`) that takes more than one value among the run's cells.
+fn filter_axes(run: &RunData) -> Vec<&'static str> {
+    use crate::spec::axes::{AxisKind, AXES};
+    AXES.iter()
+        .filter(|r| {
+            r.kind == AxisKind::Name
+                || run.cells.iter().map(|c| c.axis_value(r.name)).collect::<BTreeSet<_>>().len() > 1
+        })
+        .map(|r| r.name)
+        .collect()
+}
 
 fn num(v: Option<f64>, digits: usize) -> String {
     v.map(|x| format!("{x:.digits$}")).unwrap_or_else(|| "—".into())
@@ -68,7 +79,8 @@ struct Linked {
 /// The page: a minijinja template (`templates/gallery.html`); every value is escaped by it.
 pub fn html(run: &RunData, sheets: &[String], plots: &[String]) -> Result<String, Error> {
     let m = &run.run.matrix;
-    let filters: Vec<Filter> = FILTER_AXES
+    let axes = filter_axes(run);
+    let filters: Vec<Filter> = axes
         .iter()
         .map(|&axis| Filter { axis, values: run.cells.iter().map(|c| c.axis_value(axis)).collect() })
         .collect();
@@ -80,7 +92,7 @@ pub fn html(run: &RunData, sheets: &[String], plots: &[String]) -> Result<String
             CellCard {
                 id: c.id.0.clone(),
                 dir: format!("cells/{}", url(&c.id.0)),
-                axes: FILTER_AXES.iter().map(|&a| (a, c.axis_value(a))).collect(),
+                axes: axes.iter().map(|&a| (a, c.axis_value(a))).collect(),
                 compared: metrics.ldr.is_some(),
                 maps: metrics.maps.is_some(),
                 reference: metrics.reference.value().map(|r| r.label()).unwrap_or_default(),

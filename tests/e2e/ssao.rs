@@ -1,10 +1,10 @@
-//! HDRP's screen-space ambient occlusion (`render::passes::ssao`) against its f64 twin (`images::gtao`),
+//! HDRP's screen-space ambient occlusion (`render::passes::ssao`) against its f64 twin (`images::ssao`),
 //! and what it does to a rendered frame: it darkens the indirect light where surfaces meet, leaves
 //! open surfaces and the direct light alone, and the switch turns it off.
 
 use glam::DVec3;
 use shadematrix::gpu::GpuContext;
-use shadematrix::images::gtao;
+use shadematrix::images::ssao as ssao_twin;
 use shadematrix::render::passes::ssao::{visibility_of, SsaoFrame, SsaoSettings};
 use shadematrix::spec::scene::Camera;
 
@@ -88,7 +88,7 @@ fn gpu_ssao_matches_its_twin_and_occludes_where_surfaces_meet() {
     let size = (128, 96);
     let (depth, normals) = synthetic_frame(&camera, size);
     let frame = SsaoFrame::new(&camera, size.0, size.1, &SsaoSettings::default());
-    let twin = gtao::visibility(size.0, size.1, &depth, &normals, &frame);
+    let twin = ssao_twin::visibility(size.0, size.1, &depth, &normals, &frame);
     let gpu = GpuContext::new().unwrap();
     let depth32: Vec<f32> = depth.iter().map(|&d| d as f32).collect();
     let normals32: Vec<[f32; 3]> = normals.iter().map(|n| n.as_vec3().to_array()).collect();

@@ -1,4 +1,4 @@
-//! HDRP's screen-space ambient occlusion (shaders/pass/ssao.wgsl; f64 twin: `images::gtao`).
+//! HDRP's screen-space ambient occlusion (shaders/pass/ssao.wgsl; f64 twin: `images::ssao`).
 //! HDRP's default volume profile enables its AmbientOcclusion override with intensity 0.5 and
 //! radius 1.5 at the Medium quality level: 6 steps, 2 directions, a 40-pixel radius cap (scaled
 //! with resolution), half resolution with a bilateral upsample (HDRenderPipeline.AmbientOcclusion.cs
