@@ -53,7 +53,47 @@ pub struct CellCoords {
     pub ambient_intensity: Option<f64>,
 }
 
+/// What names a cell before its sweep sets any axis: composition, pipeline, path, shader and preset.
+#[derive(Debug, Clone)]
+pub struct CellNames {
+    pub composition: String,
+    pub pipeline: Pipeline,
+    pub path: RenderPath,
+    pub shader: String,
+    pub preset: String,
+}
+
 impl CellCoords {
+    /// A cell before the sweep sets its axes: the preset's metallic and smoothness, the scene's key
+    /// light, no slider colour, flat unless `textured`, and the scene's own value on every other
+    /// axis.
+    pub fn unswept(
+        names: CellNames,
+        (metallic, smoothness): (f64, f64),
+        (intensity, range): (f64, f64),
+        textured: bool,
+    ) -> CellCoords {
+        let CellNames { composition, pipeline, path, shader, preset } = names;
+        CellCoords {
+            composition,
+            pipeline,
+            path,
+            shader,
+            preset,
+            metallic,
+            smoothness,
+            color: None,
+            light_intensity: intensity,
+            light_range: range,
+            camera_distance: None,
+            light_angle: None,
+            params: BTreeMap::new(),
+            textured,
+            emission: None,
+            ambient_intensity: None,
+        }
+    }
+
     /// The cell's value on `axis`.
     pub fn get(&self, axis: Axis) -> AxisValue {
         let name = |s: &str| AxisValue::Name(s.to_string());

@@ -284,24 +284,19 @@ pub fn expand(m: &Matrix) -> Expansion {
                             Some(f) => (f.metallic, 1.0 - f.roughness),
                             None => (preset.metallic, preset.smoothness),
                         };
-                        let unswept = CellCoords {
+                        let names = coords::CellNames {
                             composition: scene.name.clone(),
                             pipeline,
                             path,
                             shader: shader.clone(),
                             preset: preset.name.to_string(),
-                            metallic,
-                            smoothness,
-                            color: None,
-                            light_intensity: key.map_or(0.0, |l| l.intensity),
-                            light_range: key.map_or(0.0, |l| l.range),
-                            camera_distance: None,
-                            light_angle: None,
-                            params: BTreeMap::new(),
-                            textured: own_factors.is_some_and(|f| f.has_textures()),
-                            emission: None,
-                            ambient_intensity: None,
                         };
+                        let unswept = CellCoords::unswept(
+                            names,
+                            (metallic, smoothness),
+                            (key.map_or(0.0, |l| l.intensity), key.map_or(0.0, |l| l.range)),
+                            own_factors.is_some_and(|f| f.has_textures()),
+                        );
                         for values in &combinations {
                             for params in &param_sets {
                                 let mut coords = unswept.clone();

@@ -34,6 +34,34 @@ pub struct CellParams<'a> {
     pub settings: CellSettings,
 }
 
+impl<'a> CellParams<'a> {
+    /// What a matrix cell asks: its coordinates resolved (material, emission, maps) into what the
+    /// renderer reads, with the pipeline as it ships (no exact alternatives).
+    pub fn of(cell: &'a crate::cells::Cell) -> CellParams<'a> {
+        CellParams {
+            pipeline: cell.pipeline,
+            model: cell.model(),
+            surface: cell.surface(),
+            light_intensity: cell.light_intensity,
+            light_range: cell.light_range,
+            width: cell.width,
+            height: cell.height,
+            view: ViewAxes { camera_distance: cell.camera_distance, light_angle: cell.light_angle },
+            settings: CellSettings {
+                path: cell.path,
+                light_budget: cell.light_budget,
+                antialiasing: cell.antialiasing,
+                material_maps: cell.material_maps(),
+                // A glTF's own emissive colour glows as the file says unless the axis scales it.
+                emission: cell.emission.unwrap_or(if cell.own_material() { 1.0 } else { 0.0 }),
+                emission_color: cell.material.emissive_linear,
+                ambient_intensity: cell.ambient_intensity,
+                exact: Default::default(),
+            },
+        }
+    }
+}
+
 /// What a cell sets besides its material and light: the path, the light budgets and MSAA.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct CellSettings {

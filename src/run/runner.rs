@@ -21,12 +21,11 @@ use crate::cells::{expand, matches_filter, reference_cell_id, remark_twins, Cell
 use crate::error::Error;
 use crate::fsutil::write_json;
 use crate::gpu::GpuContext;
-use crate::plan::camera::ViewAxes;
 use crate::plan::FramePlan;
 use crate::record::cell::{CellMetrics, CellRecord, ReferenceRecord};
 use crate::record::run::{CompositionRecord, MatrixRecord, RunCounts, RunStatus, StageTimes};
 use crate::record::{RunDir, RunRecord, CELL_FILE, RUN_FILE, RUN_SCHEMA};
-use crate::render::{CellParams, CellSettings, Renderer};
+use crate::render::{CellParams, Renderer};
 use crate::spec::matrix::{Filter, Matrix, ReferenceSpec};
 use crate::spec::study::Approximation;
 
@@ -582,27 +581,7 @@ impl<'a> Stream<'a> {
                     return Ok(());
                 }
                 self.bar.set_message(cell.id.0.clone());
-                let params = CellParams {
-                    pipeline: cell.pipeline,
-                    model: cell.model(),
-                    surface: cell.surface(),
-                    light_intensity: cell.light_intensity,
-                    light_range: cell.light_range,
-                    width: cell.width,
-                    height: cell.height,
-                    view: ViewAxes { camera_distance: cell.camera_distance, light_angle: cell.light_angle },
-                    settings: CellSettings {
-                        path: cell.path,
-                        light_budget: cell.light_budget,
-                        antialiasing: cell.antialiasing,
-                        material_maps: cell.material_maps(),
-                        // A glTF's own emissive colour glows as the file says unless the axis scales it.
-                        emission: cell.emission.unwrap_or(if cell.own_material() { 1.0 } else { 0.0 }),
-                        emission_color: cell.material.emissive_linear,
-                        ambient_intensity: cell.ambient_intensity,
-                        exact: Default::default(),
-                    },
-                };
+                let params = CellParams::of(cell);
                 // Decided on the CPU before any of the cell's GPU work.
                 let plan = renderer.plan(&prepared, &params)?;
                 let t = Instant::now();

@@ -44,7 +44,8 @@ pub fn variants(
         (RenderPath::Forward, true) => Some(format!("`{}` is evaluated at the vertices (Gouraud)", cell.shader)),
         (path, _) => Some(format!("the {} path: the exact alternatives are per-pixel forward shading", path.name())),
     };
-    let environment = scene.environment.ambient_intensity > 0.0;
+    // The cell's ambient axis scales the scene's environment: at 0 there is none to make exact.
+    let environment = scene.environment.ambient_intensity * base.ambient_intensity.unwrap_or(1.0) > 0.0;
     for &a in list {
         let exact = |e: ExactAlternatives| CellSettings { exact: e, ..*base };
         let (change, settings, cannot) = match a {
@@ -52,7 +53,7 @@ pub fn variants(
                 "order-2 SH ambient → exact irradiance",
                 exact(ExactAlternatives { ambient: true, ..Default::default() }),
                 if !environment {
-                    Some("the scene has no environment light (ambient intensity 0)".to_string())
+                    Some("the cell has no environment light (ambient intensity 0)".to_string())
                 } else if matches!(scene.environment.sky, Sky::Constant { .. }) {
                     Some("a constant sky's SH is exact: the exact irradiance cannot change the image".to_string())
                 } else {
@@ -62,7 +63,7 @@ pub fn variants(
             Approximation::Environment => (
                 "SH ambient + split-sum probe → environment integrated over the BRDF",
                 exact(ExactAlternatives { environment: true, ..Default::default() }),
-                (!environment).then(|| "the scene has no environment light (ambient intensity 0)".to_string()),
+                (!environment).then(|| "the cell has no environment light (ambient intensity 0)".to_string()),
             ),
             Approximation::Visibility => (
                 "shadow maps → ray-traced visibility",
