@@ -745,7 +745,9 @@ impl Renderer {
         let neutral = &self.bindings.material_textures[""];
         let (drawn, casting) = (plan.drawn(), plan.casting());
         let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
-        if plan.has("shadow") && !plan.used_layers.is_empty() {
+        // The capture is lit as the composition's frames are, whatever the cell's path: a
+        // vertex-lit cell draws no shadow pass itself, but the probes it reads hold shadows.
+        if prepared.plan.passes.contains(&"shadow") && !plan.used_layers.is_empty() {
             encode_shadow_passes(&mut encoder, &self.shadow_pipeline, prepared, &plan.used_layers, &casting, None);
             // The probe's own layers now: a cell cannot keep what it finds there.
             *prepared.shadows.holds.lock().unwrap_or_else(|e| e.into_inner()) = None;
