@@ -8,24 +8,16 @@
 
 use crate::cells::Cell;
 
-/// The class of `cell`: equal for cells whose frames run the same passes over the same work.
-/// The light range stays in it: the pipelines cull a light from objects beyond its range, which
-/// changes how many lights each object's pass evaluates.
+/// The class of `cell`: equal for cells whose frames run the same passes over the same work. The
+/// axes it counts are the table's rows marked `timing` (`spec::axes`); the light range is one: the
+/// pipelines cull a light from objects beyond its range, which changes how many lights each
+/// object's pass evaluates. The image size, anti-aliasing and light budgets are the matrix's.
 pub fn timing_class(cell: &Cell) -> String {
-    format!(
-        "{}|{}|{}|{}|{}x{}|{:?}|{:?}|textured {}|range {}|distance {:?}",
-        cell.composition,
-        cell.pipeline.name(),
-        cell.path.name(),
-        cell.shader,
-        cell.width,
-        cell.height,
-        cell.antialiasing,
-        cell.light_budget,
-        cell.textured,
-        cell.light_range,
-        cell.camera_distance,
-    )
+    let mut class = format!("{}x{}|{:?}|{:?}", cell.width, cell.height, cell.antialiasing, cell.light_budget);
+    for row in crate::spec::axes::AXES.iter().filter(|r| r.timing) {
+        class.push_str(&format!("|{}={}", row.name, cell.coords.exact(row.name)));
+    }
+    class
 }
 
 #[cfg(test)]
@@ -39,7 +31,7 @@ mod tests {
         let text = "name = \"t\"\ncompositions = [\"medusa\"]\npipelines = [\"builtin\"]\nshaders = [\"standard\"]\npresets = [\"gold\"]\n\
                     [image]\nwidth = 8\nheight = 8\n[sweep]\nsmoothness = [0.2, 0.8]\nmetallic = [0.1, 0.3]\nlight_intensity = [1.5, 2.5]\n\
                     light_range = [3.0, 7.0]\ncamera_distance = [1.25, 2.0]\nlight_angle = [30.0, 60.0]\nemission = [0.5, 1.0]\n\
-                    textured = [false, true]\n";
+                    textured = [false, true]\nambient_intensity = [0.5, 2.0]\n";
         let m = Matrix::from_text("t.toml", text, None, Arc::new(crate::shading::Registry::builtin())).unwrap();
         let e = crate::cells::expand(&m);
         let c = &e.cells[0];
@@ -53,6 +45,7 @@ mod tests {
             "metallic",
             "light_intensity",
             "emission",
+            "ambient_intensity",
         ];
         let coords = |x: &Cell| -> Vec<String> {
             vec![
@@ -64,6 +57,7 @@ mod tests {
                 format!("{}", x.material.metallic),
                 format!("{}", x.light_intensity),
                 format!("{:?}", x.emission),
+                format!("{:?}", x.ambient_intensity),
                 format!("{}{}{}{}", x.composition, x.pipeline.name(), x.shader, x.preset),
             ]
         };
