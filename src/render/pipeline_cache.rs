@@ -106,7 +106,7 @@ impl PipelineCache {
         let label = format!("forward {}/{}", pipeline.name(), model.name);
         let targets = [Some(HDR_FORMAT.into()), Some(ROLE_FORMAT.into())];
         let layout = if exact.any() { &self.exact_layout } else { &self.pipeline_layout };
-        let p = self.mesh_pipeline(gpu, &label, layout, &module, entries, &constants, &targets, samples);
+        let p = Self::mesh_pipeline(gpu, &label, layout, &module, entries, &constants, &targets, samples);
         gpu.check_errors("creating a forward pipeline")?;
         self.forward.insert(key, p);
         Ok(())
@@ -116,7 +116,6 @@ impl PipelineCache {
     /// either side, normals flipped), depth test Less with writes.
     #[allow(clippy::too_many_arguments)]
     pub(in crate::render) fn mesh_pipeline(
-        &self,
         gpu: &GpuContext,
         label: &str,
         layout: &wgpu::PipelineLayout,
@@ -183,7 +182,7 @@ impl PipelineCache {
             Some(ROLE_FORMAT.into()),
         ];
         let label = format!("gbuffer {}/{}", pipeline.name(), model.name);
-        let p = self.mesh_pipeline(
+        let p = Self::mesh_pipeline(
             gpu,
             &label,
             &self.pipeline_layout,
@@ -216,7 +215,7 @@ impl PipelineCache {
         let constants = [("PIPELINE", pipeline.shader_id() as f64), ("TEXTURED", textured as u32 as f64)];
         let targets = [Some(crate::render::passes::ssao::NORMAL_FORMAT.into())];
         let label = format!("depth prepass {}", pipeline.name());
-        let p = self.mesh_pipeline(
+        let p = Self::mesh_pipeline(
             gpu,
             &label,
             &self.pipeline_layout,
