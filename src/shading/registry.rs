@@ -126,7 +126,7 @@ pub fn metallic_workflow(model: &ShaderModel, pipeline: Pipeline, s: &Sliders) -
 }
 
 const METALLIC_WORKFLOW: &str =
-    "colour → base colour; metallic → the pipeline's conversion (built-in/URP: sRGB-decoded); smoothness as is";
+    "colour → base colour; metallic → the pipeline's conversion (built-in: sRGB-decoded, Standard's [Gamma] _Metallic; URP and HDRP: as is); smoothness as is";
 
 impl std::fmt::Debug for ShaderModel {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
