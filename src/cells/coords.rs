@@ -6,7 +6,7 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
 use crate::pipelines::{Pipeline, RenderPath};
-use crate::spec::axes::{self, Axis, AxisKind, AxisRow};
+use crate::spec::axes::{self, Axis, AxisRow};
 use crate::spec::filter::{color_code, FilterValue};
 
 /// A cell's value on one axis.
@@ -219,22 +219,6 @@ impl CellCoords {
             }
             _ => String::new(),
         }
-    }
-
-    /// The axes whose values this cell differs from `other` in.
-    pub fn differing(&self, other: &CellCoords) -> Vec<Axis> {
-        axes::AXES.iter().map(|r| r.axis).filter(|a| self.get(*a) != other.get(*a)).collect()
-    }
-}
-
-/// The kind of value `v` is, as the table names kinds.
-pub fn kind_of(v: &AxisValue) -> AxisKind {
-    match v {
-        AxisValue::Name(_) => AxisKind::Name,
-        AxisValue::Number(_) | AxisValue::Own => AxisKind::Number,
-        AxisValue::Colour(_) => AxisKind::Colour,
-        AxisValue::Bool(_) => AxisKind::Bool,
-        AxisValue::Params(_) => AxisKind::Params,
     }
 }
 
