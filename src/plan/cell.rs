@@ -135,11 +135,10 @@ pub struct MeshSlot {
 
 /// The composition's shadow array: per scene light its first layer when it casts shadows (a
 /// directional light reserves `MAX_CASCADES`, a point light 6, a spot 1), the layer count and the
-/// layers' side (`shadows::array_side`: the largest map its lights can ask for).
+/// layers' side (`shadows::array_side`: the largest map its lights can ask for). Without a shadow
+/// pass in the frame plan no light has layers and one unused 1×1 layer is bound.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ShadowArray {
-    /// Whether the frame plan has a shadow pass.
-    pub active: bool,
     pub first_layer: Vec<Option<usize>>,
     pub layers: usize,
     pub side: u32,
@@ -205,7 +204,7 @@ impl SceneLayout {
             object_centres: crate::geometry::placement::object_centres(scene, meshes),
             world_bounds,
             scene_bounds: crate::geometry::placement::world_bounds(scene, meshes),
-            shadows: ShadowArray { active, first_layer, layers: layers.max(1), side },
+            shadows: ShadowArray { first_layer, layers: layers.max(1), side },
         }
     }
 }

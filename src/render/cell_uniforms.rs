@@ -136,15 +136,16 @@ pub(in crate::render) fn write_uniforms(
             None => GpuMaterial::zeroed(),
         };
         materials.push(material);
+        let slot = &prepared.layout.meshes[i];
         let u = ObjectUniforms {
             model: mat(o.model),
             normal_matrix: mat(o.model.inverse().transpose()),
             material,
-            flags: match o.role {
-                Role::Subject => [1, ROLE_SUBJECT as u32, o.scene_index as u32, o.receive_shadows as u32],
-                Role::Fixed => [0, ROLE_FIXED as u32, o.scene_index as u32, o.receive_shadows as u32],
+            flags: match slot.role {
+                Role::Subject => [1, ROLE_SUBJECT as u32, slot.scene_index as u32, o.receive_shadows as u32],
+                Role::Fixed => [0, ROLE_FIXED as u32, slot.scene_index as u32, o.receive_shadows as u32],
             },
-            light_sh: sh_per_object[o.scene_index],
+            light_sh: sh_per_object[slot.scene_index],
             // A level fading in or out keeps its dither's share of the fragments.
             lod: match fades[i] {
                 Some(f) if f < 1.0 => [f as f32, 1.0, 0.0, 0.0],
@@ -167,7 +168,9 @@ pub(in crate::render) fn write_uniforms(
         bytemuck::cast_slice::<GpuLight, u8>(&gpu_lights).hash(&mut h);
         bytemuck::cast_slice::<ShadowLayer, u8>(&shadow_layers).hash(&mut h);
         modes.hash(&mut h);
-        for (i, o) in prepared.objects.iter().enumerate().filter(|(_, o)| o.role == Role::Fixed) {
+        for (i, o) in
+            prepared.objects.iter().enumerate().filter(|(i, _)| prepared.layout.meshes[*i].role == Role::Fixed)
+        {
             let at = i * prepared.object_stride as usize;
             objects[at..at + std::mem::size_of::<ObjectUniforms>()].hash(&mut h);
             o.index_count.hash(&mut h);
@@ -181,7 +184,7 @@ pub(in crate::render) fn write_uniforms(
         bytemuck::cast_slice::<ShadowLayer, u8>(&shadow_layers).hash(&mut h);
         for (i, o) in prepared.objects.iter().enumerate() {
             let at = i * prepared.object_stride as usize;
-            (o.cast_shadows, o.index_count, fades[i].map(f64::to_bits)).hash(&mut h);
+            (prepared.layout.meshes[i].cast_shadows, o.index_count, fades[i].map(f64::to_bits)).hash(&mut h);
             objects[at..at + 64].hash(&mut h);
         }
         h.finish()

@@ -15,22 +15,20 @@ use crate::plan::cell::{SceneLayout, ShadowArray};
 use crate::plan::FramePlan;
 use crate::render::uniforms::*;
 use crate::shading::registry::Sliders;
-use crate::spec::scene::{Role, Scene};
+use crate::spec::scene::Scene;
 use bytemuck::Zeroable;
 
+/// One mesh on the GPU; its role, scene object and whether it casts are its slot in the layout
+/// (`PreparedScene::layout.meshes`, same index).
 pub(in crate::render) struct GpuObject {
     pub(in crate::render) vertices: wgpu::Buffer,
     pub(in crate::render) indices: wgpu::Buffer,
     pub(in crate::render) index_count: u32,
-    pub(in crate::render) role: Role,
     pub(in crate::render) model: DMat4,
     /// Fixed objects: their own material in slider units (mapped per pipeline at draw time) and
     /// their checkerboard.
     pub(in crate::render) fixed: Option<(Sliders, GpuMaterial)>,
-    pub(in crate::render) cast_shadows: bool,
     pub(in crate::render) receive_shadows: bool,
-    /// The scene object this mesh draws (LOD levels after level 0 are extra meshes of it).
-    pub(in crate::render) scene_index: usize,
 }
 
 /// A composition's shadow maps: the depth array, a view per layer to render into, the layer
@@ -116,12 +114,9 @@ impl PreparedScene {
                 vertices,
                 indices,
                 index_count: mesh.indices.len() as u32,
-                role: o.role,
                 model: o.transform.matrix(),
                 fixed,
-                cast_shadows: o.cast_shadows,
                 receive_shadows: o.receive_shadows,
-                scene_index: objects.len(),
             });
         }
         // LOD levels after the first: extra meshes of their object, after every scene object (so
@@ -136,12 +131,9 @@ impl PreparedScene {
                     vertices,
                     indices,
                     index_count: mesh.indices.len() as u32,
-                    role: first.role,
                     model: first.model,
                     fixed: first.fixed,
-                    cast_shadows: first.cast_shadows,
                     receive_shadows: first.receive_shadows,
-                    scene_index: i,
                 });
             }
         }

@@ -810,7 +810,8 @@ impl Renderer {
                 pass.set_bind_group(2, &self.neutral_screen, &[]);
                 pass.set_pipeline(pipeline);
                 // The subject is left out: a dynamic object, which baked probes do not see.
-                for (i, o) in prepared.objects.iter().enumerate().filter(|(i, o)| drawn[*i] && o.role == Role::Fixed) {
+                let fixed = |i: usize| drawn[i] && prepared.layout.meshes[i].role == Role::Fixed;
+                for (i, o) in prepared.objects.iter().enumerate().filter(|(i, _)| fixed(*i)) {
                     pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
                     pass.set_vertex_buffer(0, o.vertices.slice(..));
                     pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);
@@ -911,9 +912,9 @@ impl Renderer {
         let geometry = self.ray_scene(prepared, plan.casting())?;
         let textured = cell.settings.material_maps.is_some();
         let mut objects = Vec::with_capacity(prepared.objects.len() * 128);
-        for (o, material) in prepared.objects.iter().zip(&written.materials) {
+        for (slot, material) in prepared.layout.meshes.iter().zip(&written.materials) {
             objects.extend_from_slice(bytemuck::bytes_of(material));
-            let flags: [u32; 4] = match o.role {
+            let flags: [u32; 4] = match slot.role {
                 Role::Subject => [1, ROLE_SUBJECT as u32, textured as u32, 0],
                 Role::Fixed => [0, ROLE_FIXED as u32, 0, 0],
             };

@@ -11,7 +11,7 @@ use crate::gpu::timing::PassTimer;
 use crate::plan::cell::CellParams;
 use crate::render::gbuffer::{tile_grid, LightTiles};
 use crate::render::pipeline_cache::{ForwardKey, PipelineCache};
-use crate::render::prepared::{GpuObject, PreparedScene};
+use crate::render::prepared::PreparedScene;
 use crate::render::targets::Targets;
 use crate::render::uniforms::{ROLE_FIXED, ROLE_SUBJECT};
 use crate::shading::ShaderModel;
@@ -44,7 +44,8 @@ pub(in crate::render) fn encode_deferred(
         })
     };
     let clear = wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT);
-    let model_of = |o: &GpuObject| if o.role == Role::Subject { cell.model } else { fixed_model };
+    let subject = |i: usize| prepared.layout.meshes[i].role == Role::Subject;
+    let model_of = |i: usize| if subject(i) { cell.model } else { fixed_model };
     {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("gbuffer"),
@@ -66,9 +67,9 @@ pub(in crate::render) fn encode_deferred(
         });
         pass.set_bind_group(0, frame_group, &[]);
         pass.set_bind_group(2, screen, &[]);
-        for (i, o) in prepared.objects.iter().enumerate().filter(|(i, o)| drawn[*i] && model_of(o).deferrable()) {
-            let textured = o.role == Role::Subject && cell.settings.material_maps.is_some();
-            pass.set_pipeline(&pipelines.gbuffer[&(p, model_of(o).name.to_string(), textured)]);
+        for (i, o) in prepared.objects.iter().enumerate().filter(|(i, _)| drawn[*i] && model_of(*i).deferrable()) {
+            let textured = subject(i) && cell.settings.material_maps.is_some();
+            pass.set_pipeline(&pipelines.gbuffer[&(p, model_of(i).name.to_string(), textured)]);
             pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
             pass.set_vertex_buffer(0, o.vertices.slice(..));
             pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);
@@ -122,9 +123,9 @@ pub(in crate::render) fn encode_deferred(
     pass.set_bind_group(0, frame_group, &[]);
     pass.set_bind_group(1, &prepared.object_bind_group, &[0]);
     pass.set_bind_group(2, screen, &[]);
-    for (i, o) in prepared.objects.iter().enumerate().filter(|(i, o)| drawn[*i] && !model_of(o).deferrable()) {
-        let textured = o.role == Role::Subject && cell.settings.material_maps.is_some();
-        pass.set_pipeline(&pipelines.forward[&(p, model_of(o).name.to_string(), ForwardKey::plain(textured))]);
+    for (i, o) in prepared.objects.iter().enumerate().filter(|(i, _)| drawn[*i] && !model_of(*i).deferrable()) {
+        let textured = subject(i) && cell.settings.material_maps.is_some();
+        pass.set_pipeline(&pipelines.forward[&(p, model_of(i).name.to_string(), ForwardKey::plain(textured))]);
         pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
         pass.set_vertex_buffer(0, o.vertices.slice(..));
         pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);

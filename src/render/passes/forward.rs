@@ -81,7 +81,8 @@ pub(in crate::render) fn encode_forward(
         pass.set_bind_group(3, group, &[]);
     }
     for (i, o) in prepared.objects.iter().enumerate().filter(|(i, _)| draw.drawn[*i]) {
-        pass.set_pipeline(if o.role == Role::Subject { pipelines.subject } else { pipelines.fixed });
+        let subject = prepared.layout.meshes[i].role == Role::Subject;
+        pass.set_pipeline(if subject { pipelines.subject } else { pipelines.fixed });
         pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
         pass.set_vertex_buffer(0, o.vertices.slice(..));
         pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);

@@ -52,7 +52,8 @@ pub(in crate::render) fn encode_shadow_passes(
         // The light's map is the top-left resolution² of the layer (plan::shadows).
         pass.set_viewport(0.0, 0.0, resolution as f32, resolution as f32, 0.0, 1.0);
         pass.set_bind_group(0, &sh.layer_bind_group, &[(layer as u64 * sh.layer_stride) as u32]);
-        for (i, o) in prepared.objects.iter().enumerate().filter(|(i, o)| casting[*i] && o.cast_shadows) {
+        let casts = |i: usize| casting[i] && prepared.layout.meshes[i].cast_shadows;
+        for (i, o) in prepared.objects.iter().enumerate().filter(|(i, _)| casts(*i)) {
             pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
             pass.set_vertex_buffer(0, o.vertices.slice(..));
             pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);
