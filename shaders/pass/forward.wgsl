@@ -7,6 +7,8 @@ struct VertexIn {
     @location(1) normal: vec3<f32>,
     @location(2) uv: vec2<f32>,
     @location(3) tangent: vec4<f32>,
+    // Built-in's ForwardAdd draws one instance whose index is the scene light it adds
+    @builtin(instance_index) instance: u32,
 };
 
 struct VertexOut {
@@ -18,6 +20,8 @@ struct VertexOut {
     @location(3) vertex_gi: vec3<f32>,
     // World tangent, w the bitangent sign (zero: none)
     @location(4) tangent: vec4<f32>,
+    // ForwardAdd: the light this draw adds (the draw's instance index)
+    @location(5) @interpolate(flat) add_light: u32,
 };
 
 struct FragmentOut {
@@ -57,7 +61,11 @@ fn vs_main(in: VertexIn) -> VertexOut {
     out.clip = frame.view_proj * world;
     out.normal = (object.normal_matrix * vec4<f32>(in.normal, 0.0)).xyz;
     out.uv = in.uv;
-    out.vertex_gi = vertex_lights(world.xyz, vertex_normal(out.normal, world.xyz));
+    out.vertex_gi = vec3<f32>(0.0);
+    if (FORWARD_PASS != FORWARD_ADD) {
+        out.vertex_gi = vertex_lights(world.xyz, vertex_normal(out.normal, world.xyz));
+    }
+    out.add_light = in.instance;
     out.tangent = vec4<f32>((object.model * vec4<f32>(in.tangent.xyz, 0.0)).xyz, in.tangent.w);
     return out;
 }
@@ -220,8 +228,25 @@ override VERTEX_LIT: u32 = 0u;
 // (points and spots would need its ForwardAdd pass, which it does not have).
 override MAIN_LIGHT_ONLY: u32 = 0u;
 
+// Built-in's forward passes (plan::draws): 0 every per-pixel light in one draw (URP, HDRP, and
+// built-in with `forward_add = false`); 1 ForwardBase: the main directional light with the
+// ambient, SH and vertex lights and emission; 2 ForwardAdd: one more light's direct term alone,
+// blended One One onto the base (Standard.shader FORWARD_DELTA).
+const FORWARD_ALL: u32 = 0u;
+const FORWARD_BASE: u32 = 1u;
+const FORWARD_ADD: u32 = 2u;
+override FORWARD_PASS: u32 = 0u;
+
+// 0: a built-in shader compiled without `fullforwardshadows`: only the main directional light
+// casts shadows on it (multi_compile_fwdadd has no shadowed point or spot variants).
+override ADDITIONAL_SHADOWS: u32 = 1u;
+
+// ForwardAdd: the scene light this draw adds.
+var<private> add_light_index: u32 = 0u;
+
 // The lighting sum at one point: the object's per-pixel lights' direct terms plus the ambient
-// (environment SH, the object's SH lights and its vertex lights) and the environment.
+// (environment SH, the object's SH lights and its vertex lights) and the environment; in a
+// ForwardAdd draw, only its one light's direct term.
 fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>, vertex_gi: vec3<f32>) -> vec3<f32> {
     let v = normalize(frame.camera_pos.xyz - p);
     shading_position = p;
@@ -234,18 +259,24 @@ fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>, vertex_gi: vec3<f32>) -> vec3<f
     for (var i = 0u; i < frame.counts.x; i++) {
         // The model's own lights: per-pixel ones, or on the vertex-lit path the per-vertex ones
         let own = select(0u, 1u, VERTEX_LIT == 1u);
-        if (light_mode(object.flags.z, i) != own || (MAIN_LIGHT_ONLY == 1u && i + 1u != frame.counts.y)) {
+        let main = i + 1u == frame.counts.y;
+        let base_only = MAIN_LIGHT_ONLY == 1u || FORWARD_PASS == FORWARD_BASE;
+        if (light_mode(object.flags.z, i) != own || (base_only && !main) || (FORWARD_PASS == FORWARD_ADD && i != add_light_index)) {
             continue;
         }
         let light = lights[i];
         let inc = light_incidence(light, p);
         if (inc.w > 0.0) {
-            let visible = light_visibility(light, i, p, n, inc.xyz, object.flags.w != 0u && VERTEX_LIT == 0u);
+            let receives = object.flags.w != 0u && VERTEX_LIT == 0u && (ADDITIONAL_SHADOWS == 1u || main);
+            let visible = light_visibility(light, i, p, n, inc.xyz, receives);
             if (visible > 0.0) {
                 light_min_roughness = light.params.w;
                 c += model_direct(s, n, v, inc.xyz) * light.color.rgb * (inc.w * visible);
             }
         }
+    }
+    if (FORWARD_PASS == FORWARD_ADD) {
+        return c;
     }
     let gi = environment_ambient(n) + max(sh_eval(object.light_sh, n), vec3<f32>(0.0)) + vertex_gi;
     return c + indirect_light(s, n, v, gi);
@@ -317,9 +348,14 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> FragmentOut {
     screen_ao = load_screen_occlusion(in.clip.xy);
     let face = cross(dpdx(in.world_pos), dpdy(in.world_pos));
     shading_pixel = in.clip.xy;
+    add_light_index = in.add_light;
     let n = mapped_normal(shading_normal(in.normal, face, in.world_pos, front), in.tangent, in.uv);
     var out: FragmentOut;
-    out.color = vec4<f32>(shade(material_at(in.uv), n, in.world_pos, in.vertex_gi) + emission(in.uv), 1.0);
+    var glow = vec3<f32>(0.0);
+    if (FORWARD_PASS != FORWARD_ADD) {
+        glow = emission(in.uv);
+    }
+    out.color = vec4<f32>(shade(material_at(in.uv), n, in.world_pos, in.vertex_gi) + glow, 1.0);
     out.role = object.flags.y;
     return out;
 }
@@ -405,7 +441,8 @@ fn fs_gbuffer(in: VertexOut, @builtin(front_facing) front: bool) -> GBufferOut {
 @group(2) @binding(4) var gb_role: texture_2d<u32>;
 @group(2) @binding(5) var gb_depth: texture_depth_2d;
 
-// The role whose pixels this lighting pipeline shades: 2 subject (the cell's model), 1 fixed.
+// The role whose pixels this lighting pipeline shades: 2 subject (the cell's model), 1 fixed, 0
+// every G-buffer pixel (one model lights the whole G-buffer; each role's material values).
 override DEFERRED_ROLE: u32 = 2u;
 
 @vertex
@@ -418,7 +455,8 @@ fn vs_fullscreen(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> 
 @fragment
 fn fs_deferred(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let px = vec2<i32>(pos.xy);
-    if (textureLoad(gb_role, px, 0).x != DEFERRED_ROLE) {
+    let role = textureLoad(gb_role, px, 0).x;
+    if ((DEFERRED_ROLE == 0u && role == 0u) || (DEFERRED_ROLE != 0u && role != DEFERRED_ROLE)) {
         discard;
     }
     let size = vec2<f32>(textureDimensions(gb_role));
@@ -427,7 +465,7 @@ fn fs_deferred(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let world = frame.inv_view_proj * ndc;
     let p = world.xyz / world.w;
     var m = frame.fixed;
-    if (DEFERRED_ROLE == 2u) {
+    if (role == 2u) {
         m = frame.subject;
     }
     var s: Surface;

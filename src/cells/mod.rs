@@ -60,6 +60,8 @@ pub struct Cell {
     pub light_budget: crate::pipelines::LightBudget,
     /// The anti-aliasing the matrix asks of this cell's pipeline (deferred paths render one sample).
     pub antialiasing: crate::pipelines::Antialiasing,
+    /// The engine settings (`[pipeline_settings]`): the URP asset, built-in's pass structure.
+    pub pipeline_settings: crate::pipelines::settings::PipelineSettings,
     /// Set when an earlier cell renders the same image (the shader ignores the differing axes).
     pub twin_of: Option<CellId>,
     /// The model `shader` names in `pipeline`.
@@ -314,6 +316,7 @@ pub fn expand(m: &Matrix) -> Expansion {
                                     display,
                                     light_budget: m.light_budget,
                                     antialiasing: m.antialiasing_for(pipeline),
+                                    pipeline_settings: m.pipeline_settings,
                                     twin_of: None,
                                     model: model.clone(),
                                 };
@@ -483,7 +486,10 @@ fn render_key(c: &Cell, keyless: bool) -> String {
     if r.color {
         key.push_str(&format!("|c{:?}", m.base_color_linear));
     }
-    key.push_str(&format!("|{}x{}|{:?}|{:?}|{:?}", c.width, c.height, c.display, c.light_budget, c.antialiasing));
+    key.push_str(&format!(
+        "|{}x{}|{:?}|{:?}|{:?}|{:?}",
+        c.width, c.height, c.display, c.light_budget, c.antialiasing, c.pipeline_settings
+    ));
     key
 }
 

@@ -101,6 +101,15 @@ impl GpuContext {
         if adapter.features().contains(adapter_formats) {
             required_features |= adapter_formats;
         }
+        // Built-in's ForwardAdd passes blend One One onto the 32-bit float HDR target.
+        if !adapter.features().contains(wgpu::Features::FLOAT32_BLENDABLE) {
+            return Err(Error::Device(format!(
+                "{} cannot blend 32-bit float targets (FLOAT32_BLENDABLE), which built-in's additive \
+                 ForwardAdd passes draw into",
+                info.name
+            )));
+        }
+        required_features |= wgpu::Features::FLOAT32_BLENDABLE;
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("shadematrix"),
             required_features,

@@ -4,6 +4,7 @@
 
 use serde::{Deserialize, Serialize};
 
+pub mod settings;
 pub mod volume;
 
 use crate::color::{gamma_to_linear_space_exact, srgb_to_linear};
@@ -153,14 +154,22 @@ impl Pipeline {
     }
 
     /// The directional-light shadow cascades each pipeline ships with: built-in QualitySettings
-    /// (4 cascades, 150 m, splits 0.067/0.2/0.467), URP's asset (1 cascade, 50 m:
-    /// UniversalRenderPipelineAsset m_ShadowCascadeCount = 1, m_ShadowDistance = 50), HDRP's
-    /// HDShadowSettings (4 cascades, 500 m, splits 0.05/0.15/0.3).
+    /// (4 cascades, 150 m, splits 0.067/0.2/0.467), URP's asset (code defaults: 1 cascade, 50 m),
+    /// HDRP's HDShadowSettings splits 0.05/0.15/0.3 with the Max Distance its Default Volume Profile
+    /// overrides to 150 m (Editor/RenderPipelineResources/DefaultSettingsVolumeProfile.asset,
+    /// `maxShadowDistance: 150`; the class's own default, 500 m, is not what a project gets).
     pub fn shadow_cascades(self) -> ShadowCascades {
+        self.shadow_cascades_with(&settings::PipelineSettings::default())
+    }
+
+    /// The cascades with the matrix's engine settings (URP's from its asset).
+    pub fn shadow_cascades_with(self, engine: &settings::PipelineSettings) -> ShadowCascades {
         match self {
             Pipeline::Builtin => ShadowCascades { splits: vec![0.067, 0.2, 0.467, 1.0], max_distance: 150.0 },
-            Pipeline::Urp => ShadowCascades { splits: vec![1.0], max_distance: 50.0 },
-            Pipeline::Hdrp => ShadowCascades { splits: vec![0.05, 0.15, 0.3, 1.0], max_distance: 500.0 },
+            Pipeline::Urp => {
+                ShadowCascades { splits: engine.urp.cascade_splits(), max_distance: engine.urp.shadow_distance }
+            }
+            Pipeline::Hdrp => ShadowCascades { splits: vec![0.05, 0.15, 0.3, 1.0], max_distance: 150.0 },
         }
     }
 

@@ -6,10 +6,13 @@
 use glam::DVec3;
 
 use super::camera::{cell_lights, posed_camera, ViewAxes};
+use super::draws::{plan_draws, DrawPlan};
 use super::exact::ExactAlternatives;
 use super::lights::{assign, main_light, LightBudget, ObjectLights};
 use super::lod::{groups_seen, LodUse};
-use super::shadows::{array_side, cell_resolution, light_layers, CascadeView, ShadowLayerPlan};
+use super::shadows::{
+    array_side, cell_resolution, light_layers, shadow_style, CascadeView, ShadowLayerPlan, ShadowStyle,
+};
 use super::{FramePlan, ShadowMapUse};
 use crate::geometry::Mesh;
 use crate::pipelines::{Antialiasing, Pipeline, RenderPath};
@@ -50,6 +53,7 @@ impl<'a> CellParams<'a> {
             settings: CellSettings {
                 path: cell.path,
                 light_budget: cell.light_budget,
+                engine: cell.pipeline_settings,
                 antialiasing: cell.antialiasing,
                 material_maps: cell.material_maps(),
                 // A glTF's own emissive colour glows as the file says unless the axis scales it.
@@ -67,6 +71,8 @@ impl<'a> CellParams<'a> {
 pub struct CellSettings {
     pub path: RenderPath,
     pub light_budget: LightBudget,
+    /// The engine settings: the URP asset, built-in's pass structure.
+    pub engine: crate::pipelines::settings::PipelineSettings,
     pub antialiasing: Antialiasing,
     /// The preset whose textured form the subject wears (None: flat).
     pub material_maps: Option<&'static str>,
@@ -209,11 +215,13 @@ impl SceneLayout {
     }
 }
 
-/// A light's place in the shadow array this cell: its first layer and how many it uses.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+/// A light's place in the shadow array this cell: its first layer and how many it uses, and how
+/// its shadow is filtered and biased (`shadows::shadow_style`).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct LightShadow {
     pub first_layer: Option<usize>,
     pub layers: usize,
+    pub style: Option<ShadowStyle>,
 }
 
 #[derive(Debug, Clone)]
@@ -234,10 +242,14 @@ pub struct CellPlan {
     pub used_layers: Vec<(usize, u32)>,
     /// Each shadowed light's map resolution, and why it differs from the pipeline's default.
     pub shadow_maps: Vec<ShadowMapUse>,
+    /// (what, why) for each shadow the scene asks for that the pipeline's settings do not draw.
+    pub shadows_left_out: Vec<(String, String)>,
     /// Each LOD group's screen height and the levels drawn.
     pub lod: Vec<LodUse>,
     /// Each mesh's LOD fade (None: not drawn; 1 for meshes without LOD).
     pub fades: Vec<Option<f64>>,
+    /// The draws of each pass, and each mesh's additive (ForwardAdd) lights.
+    pub draws: DrawPlan,
     /// The passes of the frame (`FramePlan::passes_for` the cell's path and pipeline).
     pub passes: Vec<&'static str>,
     pub multisampling: Multisampling,
@@ -267,18 +279,29 @@ impl CellPlan {
         let sh = &layout.shadows;
         let mut shadow_layers = vec![ShadowLayerPlan::default(); sh.layers];
         let (mut used_layers, mut shadow_maps, mut light_shadows) = (Vec::new(), Vec::new(), Vec::new());
-        let cascades = p.shadow_cascades();
+        let engine = &cell.settings.engine;
+        let cascades = p.shadow_cascades_with(engine);
+        let main = main_light(p, &lights);
+        let mut shadows_left_out = Vec::new();
         for (slot, l) in lights.iter().enumerate() {
             let Some(first) = sh.first_layer[slot] else {
                 light_shadows.push(LightShadow::default());
                 continue;
             };
+            let style = match shadow_style(p, engine, l, main == Some(slot)) {
+                Ok(style) => style,
+                Err(why) => {
+                    shadows_left_out.push((format!("shadow of light {slot} ({:?})", l.kind), why));
+                    light_shadows.push(LightShadow::default());
+                    continue;
+                }
+            };
             let view = CascadeView { camera: &camera, aspect, cascades: &cascades };
-            let (resolution, note) = cell_resolution(p, l, &camera, (cell.width, cell.height), sh.side);
+            let (resolution, note) = cell_resolution(p, engine, l, &camera, (cell.width, cell.height), sh.side);
             shadow_maps.push(ShadowMapUse { light: slot, resolution, note });
             let layers = light_layers(l, (resolution, sh.side), layout.scene_bounds, &view);
             used_layers.extend((first..first + layers.len()).map(|layer| (layer, resolution)));
-            light_shadows.push(LightShadow { first_layer: Some(first), layers: layers.len() });
+            light_shadows.push(LightShadow { first_layer: Some(first), layers: layers.len(), style: Some(style) });
             for (k, layer) in layers.into_iter().enumerate() {
                 shadow_layers[first + k] = layer;
             }
@@ -295,8 +318,19 @@ impl CellPlan {
                 drawn: seen.drawn,
             });
         }
+        let meshes: Vec<(usize, bool, &ShaderModel)> = layout
+            .meshes
+            .iter()
+            .zip(&fades)
+            .map(|(m, fade)| {
+                (m.scene_index, fade.is_some(), if m.role == Role::Subject { cell.model } else { fixed_model })
+            })
+            .collect();
+        let draws = plan_draws(p, cell.settings.path, engine, &meshes, &assignment, main);
         CellPlan {
-            main_light: main_light(p, &lights),
+            draws,
+            main_light: main,
+            shadows_left_out,
             camera,
             aspect,
             lights,

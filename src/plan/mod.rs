@@ -5,6 +5,7 @@ use serde::Serialize;
 
 pub mod camera;
 pub mod cell;
+pub mod draws;
 pub mod exact;
 pub mod lights;
 pub mod lod;

@@ -11,6 +11,9 @@
 
 use glam::{DMat4, DVec3};
 
+use serde::{Deserialize, Serialize};
+
+use crate::pipelines::settings::PipelineSettings;
 use crate::pipelines::{Pipeline, ShadowCascades};
 use crate::spec::scene::{Camera, Light, LightKind};
 
@@ -41,15 +44,65 @@ const ARRAY_IMAGE_SIDE: f64 = 1024.0;
 
 /// A light's shadow-map resolution in a cell, at most the array's `side`, and a note when the
 /// pipeline's default had to be clamped to it.
+/// How a shadowed light's shadow is drawn in a pipeline: soft (3×3 PCF) or hard, and its receiver
+/// biases in shadow-map texels, along the light and along the normal.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ShadowStyle {
+    pub strength: f64,
+    pub soft: bool,
+    pub bias: f64,
+    pub normal_bias: f64,
+}
+
+/// The style of `light`'s shadow in `pipeline`, or why it casts none there.
+/// - Built-in: the light's own settings (Light inspector: Strength, Bias 0.05, Normal Bias 0.4).
+/// - URP: a light other than the main one casts only with the asset's additional-light shadows
+///   (UniversalRenderPipelineAsset m_AdditionalLightShadowsSupported, off in the code defaults);
+///   soft only with the asset's soft shadows; a light's bias "Use settings from Render Pipeline
+///   Asset" (UniversalAdditionalLightData default) takes the asset's depth and normal bias, both
+///   ×2.5 when soft (ShadowUtils.GetShadowBias: kernelRadius 2.5).
+/// - HDRP: HDAdditionalLightData's normalBias 0.75 texel; its slopeBias 0.5 is a rasterisation
+///   slope-scaled depth bias, APPROXIMATED here as half a texel along the light at the receiver.
+pub fn shadow_style(
+    pipeline: Pipeline,
+    engine: &PipelineSettings,
+    light: &Light,
+    is_main: bool,
+) -> Result<ShadowStyle, String> {
+    let s = &light.shadow;
+    match pipeline {
+        Pipeline::Builtin => {
+            Ok(ShadowStyle { strength: s.strength, soft: s.soft, bias: s.bias, normal_bias: s.normal_bias })
+        }
+        Pipeline::Urp => {
+            let a = &engine.urp;
+            if !is_main && !a.additional_light_shadows {
+                return Err(format!(
+                    "URP asset `{}`: additional-light shadows off (m_AdditionalLightShadowsSupported)",
+                    a.preset.name()
+                ));
+            }
+            let soft = s.soft && a.soft_shadows;
+            let k = if soft { 2.5 } else { 1.0 };
+            Ok(ShadowStyle { strength: s.strength, soft, bias: a.depth_bias * k, normal_bias: a.normal_bias * k })
+        }
+        Pipeline::Hdrp => Ok(ShadowStyle { strength: s.strength, soft: s.soft, bias: 0.5, normal_bias: 0.75 }),
+    }
+}
+
 pub fn cell_resolution(
     pipeline: Pipeline,
+    engine: &PipelineSettings,
     light: &Light,
     camera: &Camera,
     (width, height): (u32, u32),
     side: u32,
 ) -> (u32, Option<String>) {
-    let wanted = light.shadow.resolution.unwrap_or_else(|| {
-        pipeline.default_shadow_resolution(light.emitter(), screen_extent(light, camera, (width, height)))
+    let wanted = light.shadow.resolution.unwrap_or_else(|| match (pipeline, light.kind) {
+        // URP: the asset's main-light resolution, and its High tier for the others.
+        (Pipeline::Urp, LightKind::Directional) => engine.urp.main_light_shadow_resolution,
+        (Pipeline::Urp, _) => engine.urp.additional_light_shadow_resolution,
+        _ => pipeline.default_shadow_resolution(light.emitter(), screen_extent(light, camera, (width, height))),
     });
     if wanted <= side {
         (wanted, None)

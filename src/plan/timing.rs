@@ -13,7 +13,10 @@ use crate::cells::Cell;
 /// pipelines cull a light from objects beyond its range, which changes how many lights each
 /// object's pass evaluates. The image size, anti-aliasing and light budgets are the matrix's.
 pub fn timing_class(cell: &Cell) -> String {
-    let mut class = format!("{}x{}|{:?}|{:?}", cell.width, cell.height, cell.antialiasing, cell.light_budget);
+    let mut class = format!(
+        "{}x{}|{:?}|{:?}|{:?}",
+        cell.width, cell.height, cell.antialiasing, cell.light_budget, cell.pipeline_settings
+    );
     for row in crate::spec::axes::AXES.iter().filter(|r| r.timing) {
         class.push_str(&format!("|{}={}", row.name, cell.coords.exact(row.name)));
     }

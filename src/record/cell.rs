@@ -22,7 +22,9 @@ use crate::plan::lights::ObjectLights;
 /// 4: anti-aliasing (asked, rendered samples and why they differ) and shadow-map resolutions;
 /// 5: the subject's peak luminance, overflow counted before the half-float store saturates it, and
 /// whether the subject wore its textured preset, and its emission.
-pub const CELL_SCHEMA: u32 = 9;
+pub const CELL_SCHEMA: u32 = 10;
+/// Schema 9: no draws per pass and no engine settings (read with both empty).
+const NO_DRAWS_SCHEMA: u32 = 9;
 
 /// The schema before `coords`: a cell's axes were separate fields (`composition` … `emission`,
 /// `view`, and the sliders' and key light's values). Reports still read it (`CellRecord::read`).
@@ -54,6 +56,13 @@ pub struct CellRecord {
     /// composition's plan left out and why.
     pub passes: Vec<String>,
     pub left_out: Vec<(String, String)>,
+    /// Draws per pass as the engine structures the frame (plan::draws): `forward_base: 2,
+    /// forward_add: 6` for built-in forward, `gbuffer`, `deferred_lighting`, `forward_only` …
+    #[serde(default)]
+    pub draws: std::collections::BTreeMap<String, u32>,
+    /// The engine settings the cell rendered with: built-in's pass structure or the URP asset.
+    #[serde(default)]
+    pub engine: EngineSettingsRecord,
     /// How each light reached each object (per-pixel, per-vertex, SH, dropped) and why.
     pub lights: Vec<ObjectLights>,
     pub antialiasing: AntialiasingRecord,
@@ -172,6 +181,13 @@ impl CellRecord {
     /// reports, the viewer and `diff` read, so a run made before still opens.
     pub fn read(path: &Path) -> Result<CellRecord, RecordError> {
         match read_record(path, CELL_SCHEMA) {
+            Err(RecordError::OtherVersion { found: NO_DRAWS_SCHEMA, .. }) => {
+                let text = std::fs::read_to_string(path).map_err(|e| RecordError::Invalid(e.to_string()))?;
+                let mut old: serde_json::Value =
+                    serde_json::from_str(&text).map_err(|e| RecordError::Invalid(e.to_string()))?;
+                old["schema"] = CELL_SCHEMA.into();
+                serde_json::from_value(old).map_err(|e| RecordError::Invalid(e.to_string()))
+            }
             Err(RecordError::OtherVersion { found: SEPARATE_AXES_SCHEMA, .. }) => {
                 let text = std::fs::read_to_string(path).map_err(|e| RecordError::Invalid(e.to_string()))?;
                 let old: serde_json::Value =
@@ -190,6 +206,26 @@ impl CellRecord {
     /// The time error-against-time plots use: GPU pass time where measured, else CPU wall.
     pub fn gpu_median_ms(&self) -> Option<f64> {
         self.timing.gpu.value().and_then(|s| s.median_ms)
+    }
+}
+
+/// The engine settings of a cell's pipeline (`pipelines::settings`): built-in's forward pass
+/// structure, or the URP asset's fields; HDRP's come from the scene's volume (`display`).
+#[derive(Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
+pub struct EngineSettingsRecord {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub builtin: Option<crate::pipelines::settings::BuiltinSettings>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub urp: Option<crate::pipelines::settings::UrpAsset>,
+}
+
+impl EngineSettingsRecord {
+    pub fn of(pipeline: crate::pipelines::Pipeline, s: &crate::pipelines::settings::PipelineSettings) -> Self {
+        use crate::pipelines::Pipeline;
+        EngineSettingsRecord {
+            builtin: (pipeline == Pipeline::Builtin).then_some(s.builtin),
+            urp: (pipeline == Pipeline::Urp).then_some(s.urp),
+        }
     }
 }
 

@@ -45,7 +45,7 @@ pub(in crate::render) fn write_uniforms(
             .unwrap_or_else(|| (outer.tan() * 46.0 / 64.0).atan());
         let color = DVec3::from(p.light_radiance(l.color, l.intensity, emitter));
         colors.push(color);
-        let (shadow, shadow_bias) = shadow_slot(l, shadow.first_layer, shadow.layers);
+        let (shadow, shadow_bias) = shadow_slot(shadow);
         gpu_lights.push(GpuLight {
             position: vec4(DVec3::from(l.position), emitter.shader_kind() as f64),
             direction: vec4(DVec3::from(l.direction).normalize_or_zero(), 0.0),

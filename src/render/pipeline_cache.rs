@@ -10,6 +10,9 @@ use crate::pipelines::Pipeline;
 use crate::render::formats::{DEPTH_FORMAT, HDR_FORMAT, ROLE_FORMAT};
 use crate::shading::{wgsl, ShaderModel};
 
+/// Depth writes with test Less: every opaque draw but built-in's additive ones.
+const DEPTH_WRITE_LESS: (bool, wgpu::CompareFunction) = (true, wgpu::CompareFunction::Less);
+
 /// Every render pipeline compiled so far, by what it compiles in, and the layouts they share.
 pub(in crate::render) struct PipelineCache {
     /// Groups 0–2 of the scene passes (frame, object, screen).
@@ -54,21 +57,42 @@ impl PipelineCache {
     }
 }
 
+/// Which of built-in's forward passes a forward pipeline draws (shaders/pass/forward.wgsl
+/// `FORWARD_PASS`, plan::draws).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub(in crate::render) enum ForwardPass {
+    /// Every per-pixel light in one draw.
+    All,
+    /// ForwardBase: the main directional light, ambient, vertex lights, emission.
+    Base,
+    /// ForwardAdd: one light, blended One One, depth LEqual without writes.
+    Add,
+}
+
 /// What a forward pipeline compiles in besides its pipeline and model: built-in's vertex-lit
-/// path, the sample count, a textured subject, the study's exact alternatives.
+/// path, the sample count, a textured subject, the study's exact alternatives, the forward pass
+/// and whether lights other than the main one cast shadows on it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub(in crate::render) struct ForwardKey {
     pub(in crate::render) vertex_lit: bool,
     pub(in crate::render) samples: u32,
     pub(in crate::render) textured: bool,
     pub(in crate::render) exact: crate::plan::exact::ExactAlternatives,
+    pub(in crate::render) pass: ForwardPass,
+    pub(in crate::render) additional_shadows: bool,
 }
 
 impl ForwardKey {
-    /// One sample, per-pixel lights, no exact alternatives (the deferred path's forward-only
-    /// objects, probe captures).
+    /// One sample, per-pixel lights in one draw, no exact alternatives (probe captures).
     pub(in crate::render) fn plain(textured: bool) -> ForwardKey {
-        ForwardKey { vertex_lit: false, samples: 1, textured, exact: Default::default() }
+        ForwardKey {
+            vertex_lit: false,
+            samples: 1,
+            textured,
+            exact: Default::default(),
+            pass: ForwardPass::All,
+            additional_shadows: true,
+        }
     }
 }
 
@@ -84,7 +108,7 @@ impl PipelineCache {
         model: &ShaderModel,
         key: ForwardKey,
     ) -> Result<(), Error> {
-        let ForwardKey { vertex_lit, samples, textured, exact } = key;
+        let ForwardKey { vertex_lit, samples, textured, exact, pass: forward_pass, additional_shadows } = key;
         let key = (pipeline, model.name.to_string(), key);
         if self.forward.contains_key(&key) {
             return Ok(());
@@ -98,15 +122,40 @@ impl PipelineCache {
             ("MAIN_LIGHT_ONLY", model.main_light_only as u32 as f64),
             ("VERTEX_LIT", vertex_lit as u32 as f64),
             ("TEXTURED", textured as u32 as f64),
+            ("FORWARD_PASS", forward_pass as u32 as f64),
+            ("ADDITIONAL_SHADOWS", additional_shadows as u32 as f64),
         ];
         if exact.any() {
             constants.extend(exact.constants());
         }
         let entries = if per_vertex { ("vs_gouraud", "fs_gouraud") } else { ("vs_main", "fs_main") };
         let label = format!("forward {}/{}", pipeline.name(), model.name);
-        let targets = [Some(HDR_FORMAT.into()), Some(ROLE_FORMAT.into())];
+        let additive = forward_pass == ForwardPass::Add;
+        let targets = if additive {
+            // One One onto the base pass's colour; the role is the base pass's.
+            let add = wgpu::BlendComponent {
+                src_factor: wgpu::BlendFactor::One,
+                dst_factor: wgpu::BlendFactor::One,
+                operation: wgpu::BlendOperation::Add,
+            };
+            [
+                Some(wgpu::ColorTargetState {
+                    format: HDR_FORMAT,
+                    blend: Some(wgpu::BlendState { color: add, alpha: add }),
+                    write_mask: wgpu::ColorWrites::COLOR,
+                }),
+                Some(wgpu::ColorTargetState {
+                    format: ROLE_FORMAT,
+                    blend: None,
+                    write_mask: wgpu::ColorWrites::empty(),
+                }),
+            ]
+        } else {
+            [Some(HDR_FORMAT.into()), Some(ROLE_FORMAT.into())]
+        };
         let layout = if exact.any() { &self.exact_layout } else { &self.pipeline_layout };
-        let p = Self::mesh_pipeline(gpu, &label, layout, &module, entries, &constants, &targets, samples);
+        let depth = if additive { (false, wgpu::CompareFunction::LessEqual) } else { DEPTH_WRITE_LESS };
+        let p = Self::mesh_pipeline(gpu, &label, layout, &module, entries, &constants, &targets, (samples, depth));
         gpu.check_errors("creating a forward pipeline")?;
         self.forward.insert(key, p);
         Ok(())
@@ -123,7 +172,7 @@ impl PipelineCache {
         (vs, fs): (&str, &str),
         constants: &[(&str, f64)],
         targets: &[Option<wgpu::ColorTargetState>],
-        samples: u32,
+        (samples, (depth_write, depth_compare)): (u32, (bool, wgpu::CompareFunction)),
     ) -> wgpu::RenderPipeline {
         let options = wgpu::PipelineCompilationOptions { constants, ..Default::default() };
         gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -142,8 +191,8 @@ impl PipelineCache {
             primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
             depth_stencil: Some(wgpu::DepthStencilState {
                 format: DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
+                depth_write_enabled: Some(depth_write),
+                depth_compare: Some(depth_compare),
                 stencil: Default::default(),
                 bias: Default::default(),
             }),
@@ -190,7 +239,7 @@ impl PipelineCache {
             ("vs_main", "fs_gbuffer"),
             &constants,
             &targets,
-            1,
+            (1, DEPTH_WRITE_LESS),
         );
         gpu.check_errors("creating a G-buffer pipeline")?;
         self.gbuffer.insert(key, p);
@@ -223,7 +272,7 @@ impl PipelineCache {
             ("vs_main", "fs_depth_normals"),
             &constants,
             &targets,
-            1,
+            (1, DEPTH_WRITE_LESS),
         );
         gpu.check_errors("creating the depth prepass pipeline")?;
         self.depth_normals.insert(key, p);

@@ -11,11 +11,12 @@ use std::time::Instant;
 
 use super::frame_bindings::FrameBindings;
 use super::passes::deferred::encode_deferred;
-use super::passes::forward::{encode_forward, ForwardPipelines, ForwardTargets};
+use super::passes::deferred::lighting_draws;
+use super::passes::forward::{encode_forward, ForwardPipelines, ForwardTargets, ModelPipelines};
 use super::passes::prepass::{encode_depth_prepass, neutral_screen_group, screen_group};
 use super::passes::shadow::{encode_shadow_passes, shadow_pipeline};
 use super::passes::FrameDraw;
-use super::pipeline_cache::{ForwardKey, PipelineCache};
+use super::pipeline_cache::{ForwardKey, ForwardPass, PipelineCache};
 use super::prepared::PreparedScene;
 use crate::error::Error;
 use crate::geometry::procedural;
@@ -24,6 +25,7 @@ use crate::gpu::timing::PassTimer;
 use crate::gpu::GpuContext;
 use crate::pipelines::{Pipeline, RenderPath};
 pub use crate::plan::cell::{CellParams, CellPlan, CellSettings, MsaaSupport, Multisampling};
+use crate::plan::draws::additive_passes;
 use crate::plan::lights::ObjectLights;
 pub use crate::plan::lod::LodUse;
 use crate::plan::FramePlan;
@@ -64,6 +66,10 @@ pub struct CellRender {
     pub shadow_maps: Vec<ShadowMapUse>,
     /// The LOD levels drawn, per LOD group.
     pub lod: Vec<LodUse>,
+    /// Draws per pass (plan::draws).
+    pub draws: std::collections::BTreeMap<String, u32>,
+    /// What the cell's plan left out of the frame and why (shadows its settings do not draw).
+    pub left_out: Vec<(String, String)>,
 }
 
 pub struct Renderer {
@@ -395,10 +401,28 @@ impl Renderer {
                 cell.settings.path.name()
             )));
         }
-        let subject_key = ForwardKey { vertex_lit, samples, textured, exact };
-        let fixed_key = ForwardKey { textured: false, ..subject_key };
-        self.pipelines.forward_pipeline(&self.gpu, cell.pipeline, subject_model, subject_key)?;
-        self.pipelines.forward_pipeline(&self.gpu, cell.pipeline, &fixed_model, fixed_key)?;
+        // Forward draws (on a deferred path, of the objects drawn after the lighting): each
+        // model's one draw or ForwardBase, and its ForwardAdd where it has additive passes.
+        let engine = &cell.settings.engine;
+        let forward_keys = |model: &ShaderModel, textured: bool| {
+            let additive = additive_passes(cell.pipeline, cell.settings.path, model, engine);
+            let draw = ForwardKey {
+                vertex_lit,
+                samples,
+                textured,
+                exact,
+                pass: if additive { ForwardPass::Base } else { ForwardPass::All },
+                additional_shadows: cell.pipeline != Pipeline::Builtin || model.passes.full_forward_shadows,
+            };
+            (draw, additive.then_some(ForwardKey { pass: ForwardPass::Add, ..draw }))
+        };
+        let subject_keys = forward_keys(subject_model, textured);
+        let fixed_keys = forward_keys(&fixed_model, false);
+        for (model, (draw, add)) in [(subject_model, subject_keys), (&*fixed_model, fixed_keys)] {
+            for key in std::iter::once(draw).chain(add) {
+                self.pipelines.forward_pipeline(&self.gpu, cell.pipeline, model, key)?;
+            }
+        }
         if deferred {
             for (model, role) in [(subject_model, ROLE_SUBJECT), (&*fixed_model, ROLE_FIXED)] {
                 if model.deferrable() {
@@ -408,8 +432,10 @@ impl Renderer {
                         model,
                         textured && role == ROLE_SUBJECT,
                     )?;
-                    self.pipelines.lighting_pipeline(&self.gpu, cell.pipeline, model, role)?;
                 }
+            }
+            for (model, role) in lighting_draws(subject_model, &fixed_model) {
+                self.pipelines.lighting_pipeline(&self.gpu, cell.pipeline, model, role)?;
             }
         }
         let background = plan.has("background");
@@ -595,6 +621,16 @@ impl Renderer {
                 );
                 k += 1;
             }
+            let model_pipelines = |model: &ShaderModel, (draw, add): (ForwardKey, Option<ForwardKey>)| ModelPipelines {
+                draw: &self.pipelines.forward[&(cell.pipeline, model.name.to_string(), draw)],
+                add: add.map(|key| &self.pipelines.forward[&(cell.pipeline, model.name.to_string(), key)]),
+            };
+            let pipelines = ForwardPipelines {
+                subject: model_pipelines(subject_model, subject_keys),
+                fixed: model_pipelines(&fixed_model, fixed_keys),
+                background: self.pipelines.background.get(&samples).filter(|_| background && !deferred),
+                rays: rays.as_ref().map(|(_, group)| group),
+            };
             if deferred {
                 let timed: Vec<_> = (k..per_frame).map(timed).collect();
                 encode_deferred(
@@ -606,16 +642,19 @@ impl Renderer {
                     tile_group.as_ref(),
                     &timed,
                     (t, &self.pipelines, &self.tiles),
+                    (&pipelines, &plan.draws.forward_add),
                 );
             } else {
-                let pipelines = ForwardPipelines {
-                    subject: &self.pipelines.forward[&(cell.pipeline, subject_model.name.to_string(), subject_key)],
-                    fixed: &self.pipelines.forward[&(cell.pipeline, fixed_model.name.to_string(), fixed_key)],
-                    background: self.pipelines.background.get(&samples).filter(|_| background),
-                    rays: rays.as_ref().map(|(_, group)| group),
-                };
                 let draw = FrameDraw { group: frame_group, drawn: &drawn, screen };
-                encode_forward(&mut encoder, prepared, &draw, &pipelines, &forward_targets, timed(k));
+                encode_forward(
+                    &mut encoder,
+                    prepared,
+                    &draw,
+                    &pipelines,
+                    &plan.draws.forward_add,
+                    &forward_targets,
+                    timed(k),
+                );
             }
             if let (true, Some(chain), Some(pipeline)) = (blooms, &t.bloom, &self.bloom) {
                 chain.encode(pipeline, &mut encoder, timed(per_frame - 1).map(|(t, pair)| t.compute_writes(pair)));
@@ -673,6 +712,8 @@ impl Renderer {
             multisampling: plan.multisampling.clone(),
             shadow_maps: plan.shadow_maps.clone(),
             lod: plan.lod.clone(),
+            draws: plan.draws.counts.clone(),
+            left_out: plan.shadows_left_out.clone(),
         })
     }
 

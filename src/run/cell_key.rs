@@ -121,8 +121,8 @@ fn model_sources(matrix: &Matrix, c: &Cell) -> Vec<String> {
     let fixed = matrix.registry.find(c.pipeline, c.pipeline.fixed_object_shader());
     let identity = |m: &crate::shading::ShaderModel| {
         let declaration = format!(
-            "{:?}|{:?}|{:?}|{:?}|{}|{}|{:?}",
-            m.params, m.reads, m.pipelines, m.expected, m.per_vertex, m.main_light_only, m.smoothness_gate
+            "{:?}|{:?}|{:?}|{:?}|{}|{}|{:?}|{:?}",
+            m.params, m.reads, m.pipelines, m.expected, m.per_vertex, m.main_light_only, m.smoothness_gate, m.passes
         );
         hex(&Sha256::digest(format!("{}\n{declaration}", m.wgsl).as_bytes()))
     };

@@ -154,6 +154,8 @@ pub fn encode_cell(
         shadow_maps: r.shadow_maps.clone(),
         lod: r.lod.clone(),
         truth,
+        draws: r.draws.clone(),
+        left_out: r.left_out.clone(),
         exr_format: format!("{}, {}", if half { "half" } else { "float" }, matrix.outputs.exr_compression.name()),
     };
     let mut record = cell_record(matrix, cell, (adapter, key), plan, measured);
@@ -314,6 +316,9 @@ pub fn twin_record(
         lod: o.lod,
         truth: None,
         exr_format: o.image.exr_format,
+        draws: o.draws,
+        // The original's record holds the composition's left-out passes too: keep its own only.
+        left_out: o.left_out.into_iter().filter(|e| !plan.left_out.contains(e)).collect(),
     };
     CellRecord {
         twin_of: Some(twin_of),
@@ -333,6 +338,8 @@ struct Measured {
     lod: Vec<crate::plan::lod::LodUse>,
     truth: Option<crate::record::cell::TruthRecord>,
     exr_format: String,
+    draws: std::collections::BTreeMap<String, u32>,
+    left_out: Vec<(String, String)>,
 }
 
 /// A cell's record before its metrics: its axes and inputs, and what rendering it measured.
@@ -359,7 +366,9 @@ fn cell_record(
         adapter: adapter.to_string(),
         display: m.display,
         passes: plan.passes_for(cell.path, cell.pipeline).iter().map(|p| p.to_string()).collect(),
-        left_out: plan.left_out.clone(),
+        left_out: plan.left_out.iter().chain(&m.left_out).cloned().collect(),
+        draws: m.draws,
+        engine: crate::record::cell::EngineSettingsRecord::of(cell.pipeline, &cell.pipeline_settings),
         lights: m.lights,
         antialiasing: m.antialiasing,
         shadow_maps: m.shadow_maps,

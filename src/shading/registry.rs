@@ -66,6 +66,8 @@ pub struct ShaderModel {
     pub emits: bool,
     /// The WGSL functions that guard the stiff terms and what they clamp (spec §6).
     pub stiff_terms: Cow<'static, str>,
+    /// Which of its engine's passes the model's shader has beyond forward.
+    pub passes: EnginePasses,
     /// A built-in ForwardBase-only shader: lit by the main directional light alone.
     pub main_light_only: bool,
     /// The parameter slot without which smoothness is not read (Simple Lit's highlights toggle).
@@ -83,10 +85,11 @@ impl ShaderModel {
         self.emits
     }
 
-    /// Whether the model can be drawn into a G-buffer: a per-vertex (Gouraud) or main-light-only
-    /// model cannot, and a deferred path draws it forward after the lighting.
+    /// Whether a deferred path draws the model into its G-buffer: only where the engine's shader
+    /// has a G-buffer pass (`EnginePasses::gbuffer`); everything else is drawn forward after the
+    /// deferred lighting, as the engines draw shaders without one.
     pub fn deferrable(&self) -> bool {
-        !self.per_vertex && !self.main_light_only
+        self.passes.gbuffer && !self.per_vertex && !self.main_light_only
     }
 
     /// The model's inputs for a cell: the mapping applied to the sliders.
@@ -133,6 +136,30 @@ impl std::fmt::Debug for ShaderModel {
         f.debug_struct("ShaderModel").field("name", &self.name).field("pipelines", &self.pipelines).finish()
     }
 }
+
+/// Which engine passes a model's shader has besides its forward pass(es).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct EnginePasses {
+    /// A G-buffer pass. Built-in: only the Standard shader has a `Deferred` pass
+    /// (Internal-DeferredShading.shader lights the G-buffer with the Standard BRDF alone); URP:
+    /// Lit and Simple Lit have `UniversalGBuffer` (Lit.shader, SimpleLit.shader; StencilDeferred.shader
+    /// lights them with separate Lit and SimpleLit passes chosen by the material-type stencil bits);
+    /// HDRP: Lit has `GBuffer` (Lit.shader), Unlit is ForwardOnly. Classic, legacy and user models
+    /// have none.
+    pub gbuffer: bool,
+    /// Built-in: compiled with `#pragma surface … fullforwardshadows` (Standard's ForwardAdd pass
+    /// has `multi_compile_fwdadd_fullshadows`): ForwardAdd lights cast shadows. Without it only the
+    /// main directional light shadows the object (`multi_compile_fwdadd`, Unity manual "Surface
+    /// Shaders: fullforwardshadows").
+    pub full_forward_shadows: bool,
+}
+
+/// Standard and its BRDF tiers: a G-buffer pass, shadows from every forward light.
+const STANDARD_PASSES: EnginePasses = EnginePasses { gbuffer: true, full_forward_shadows: true };
+/// The SRP lit shaders: a G-buffer pass (full forward shadows is a built-in notion).
+const GBUFFER_PASS: EnginePasses = EnginePasses { gbuffer: true, full_forward_shadows: false };
+/// Forward only: the classic and legacy models, Unlit, user models.
+pub const FORWARD_PASSES: EnginePasses = EnginePasses { gbuffer: false, full_forward_shadows: false };
 
 const ALL_AXES: Reads = Reads { color: true, metallic: true, smoothness: true, light: true };
 
@@ -316,6 +343,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         gouraud: Some("Lambert evaluated per vertex (Gouraud, models.md#gouraud)"),
         emits: false,
         stiff_terms: "none needed: the model reads no roughness",
+        passes: FORWARD_PASSES,
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: 1e-4,
@@ -334,6 +362,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         gouraud: Some("Half-Lambert per vertex (Gouraud)"),
         emits: false,
         stiff_terms: "none needed: the model reads no roughness",
+        passes: FORWARD_PASSES,
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: 1e-4,
@@ -352,6 +381,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         gouraud: Some("Phong per vertex (Gouraud)"),
         emits: false,
         stiff_terms: "shininess_from_smoothness (n = 2..2048)",
+        passes: FORWARD_PASSES,
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: 1e-4,
@@ -370,6 +400,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         gouraud: Some("Blinn-Phong per vertex (Gouraud)"),
         emits: false,
         stiff_terms: "shininess_from_smoothness (n = 2..2048)",
+        passes: FORWARD_PASSES,
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: 1e-4,
@@ -391,6 +422,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         gouraud: None,
         emits: false,
         stiff_terms: "model_direct: tan β over max(cos β, 1e-4)",
+        passes: FORWARD_PASSES,
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: 1e-3,
@@ -409,6 +441,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         gouraud: None,
         emits: false,
         stiff_terms: "model_direct: max(max(NL, NV), 1e-4)",
+        passes: FORWARD_PASSES,
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: 1e-4,
@@ -427,6 +460,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         gouraud: None,
         emits: false,
         stiff_terms: "d_beckmann (NH² ≥ ε, m ≥ 1e-3), g_cook_torrance (VH ≥ ε)",
+        passes: FORWARD_PASSES,
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: 1e-4,
@@ -445,6 +479,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         gouraud: None,
         emits: false,
         stiff_terms: "d_beckmann_unnormalised (NH² ≥ ε, m ≥ 1e-3), g_cook_torrance (VH ≥ ε)",
+        passes: FORWARD_PASSES,
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: 1e-4,
@@ -463,6 +498,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         gouraud: None,
         emits: false,
         stiff_terms: "ts_direct (d_ggx, v_smith_schlick: no floor on α)",
+        passes: FORWARD_PASSES,
         main_light_only: true,
         smoothness_gate: None,
         parity_tolerance: 1e-4,
@@ -481,6 +517,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         gouraud: None,
         emits: false,
         stiff_terms: "ts_direct (d_ggx, v_smith_schlick: no floor on α)",
+        passes: FORWARD_PASSES,
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: 1e-4,
@@ -499,6 +536,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         gouraud: None,
         emits: false,
         stiff_terms: "none needed: the model reads no roughness",
+        passes: FORWARD_PASSES,
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: 1e-4,
@@ -517,6 +555,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         gouraud: None,
         emits: true,
         stiff_terms: "roughness_clamped (α ≥ 0.002); v_smith_joint_approx (+1e-5)",
+        passes: STANDARD_PASSES,
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: 1e-4,
@@ -535,6 +574,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         gouraud: None,
         emits: true,
         stiff_terms: "spec_brdf2 (d = NH²(α² − 1) + 1.00001, max(0.1, LH²))",
+        passes: STANDARD_PASSES,
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: 1e-4,
@@ -553,6 +593,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         gouraud: None,
         emits: true,
         stiff_terms: "spec_brdf3 (n ≥ 1e-4, LUT range cap)",
+        passes: STANDARD_PASSES,
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: 1e-4,
@@ -571,6 +612,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         gouraud: None,
         emits: true,
         stiff_terms: "urp_brdf_data (α ≥ 2⁻⁷, α² ≥ 2⁻¹⁴), spec_urp (+1.00001, max(0.1, LH²))",
+        passes: GBUFFER_PASS,
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: 1e-4,
@@ -589,6 +631,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         gouraud: None,
         emits: true,
         stiff_terms: "specular_strength (d = NH²(r² − 1) + 1.00001, max(0.1, LH²); no floor on r, as the tutorial)",
+        passes: FORWARD_PASSES,
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: 1e-4,
@@ -607,6 +650,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         gouraud: None,
         emits: true,
         stiff_terms: "shininess_from_smoothness (n = 2..2048)",
+        passes: GBUFFER_PASS,
         main_light_only: false,
         smoothness_gate: Some(SPECULAR_HIGHLIGHTS.slot),
         parity_tolerance: 1e-4,
@@ -625,6 +669,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         gouraud: None,
         emits: false,
         stiff_terms: "none needed: the model reads no roughness",
+        passes: FORWARD_PASSES,
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: 1e-4,
@@ -643,6 +688,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         gouraud: None,
         emits: true,
         stiff_terms: "dv_smith_joint_ggx (max(…, REAL_MIN)), clamp_n_dot_v (NV ≥ 1e-4), light_min_roughness (per light)",
+        passes: GBUFFER_PASS,
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: 1e-4,
@@ -661,6 +707,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         gouraud: None,
         emits: false,
         stiff_terms: "none needed: the model reads no roughness",
+        passes: FORWARD_PASSES,
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: 1e-4,
@@ -704,6 +751,7 @@ pub struct BuiltinModel {
     /// The WGSL functions that guard the model's stiff terms and what they clamp (spec §6), as the
     /// conditioning and stability tables name them.
     pub stiff_terms: &'static str,
+    pub passes: EnginePasses,
     pub main_light_only: bool,
     pub smoothness_gate: Option<usize>,
     pub parity_tolerance: f64,
@@ -737,6 +785,7 @@ impl BuiltinModel {
             per_vertex: false,
             emits: self.emits,
             stiff_terms: Cow::Borrowed(self.stiff_terms),
+            passes: self.passes,
             main_light_only: self.main_light_only,
             smoothness_gate: self.smoothness_gate,
             parity_tolerance: self.parity_tolerance,

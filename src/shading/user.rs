@@ -220,6 +220,7 @@ fn load_model(
         per_vertex: false,
         emits: false,
         stiff_terms: "a user model: its own guards, not known to the tool".into(),
+        passes: crate::shading::registry::FORWARD_PASSES,
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: f64::INFINITY,

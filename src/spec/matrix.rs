@@ -23,6 +23,14 @@ pub const DEFAULT_MATRIX: &str = include_str!("../../matrices/default.toml");
 
 pub const MAX_IMAGE_SIZE: u32 = 8192;
 
+/// `[lights]` as written: a budget left out takes its default (URP's from the URP asset).
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LightsFile {
+    pixel_light_count: Option<u32>,
+    urp_per_object_limit: Option<u32>,
+}
+
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct MatrixFile {
@@ -60,7 +68,11 @@ struct MatrixFile {
     /// Light budgets: `pixel_light_count` (built-in forward, default 4) and
     /// `urp_per_object_limit` (default 4, at most 8).
     #[serde(default)]
-    lights: LightBudget,
+    lights: LightsFile,
+    /// The engine settings (`pipelines::settings`): `[pipeline_settings.urp] asset = "default" |
+    /// "high_fidelity"` with any field overridden, `[pipeline_settings.builtin] forward_add`.
+    #[serde(default)]
+    pipeline_settings: crate::pipelines::settings::PipelineSettingsFile,
     #[serde(default)]
     only: Vec<toml::Table>,
     /// What cells are compared against: `{ pipeline = "hdrp", shader = "lit" }` (another cell with
@@ -263,6 +275,7 @@ pub struct Matrix {
     /// The anti-aliasing of each pipeline, by `Pipeline::shader_id`.
     pub antialiasing: [Antialiasing; 3],
     pub light_budget: LightBudget,
+    pub pipeline_settings: crate::pipelines::settings::PipelineSettings,
     pub timing: Timing,
     pub outputs: crate::spec::outputs::Outputs,
     pub metrics: MetricsDevice,
@@ -546,8 +559,32 @@ impl Matrix {
             }
         }
         check_params(&c, origin, &s.params, &file.shaders, &pipelines, &registry)?;
-        c.range("lights.pixel_light_count", file.lights.pixel_light_count as f64, 0.0, 64.0)?;
-        c.range("lights.urp_per_object_limit", file.lights.urp_per_object_limit as f64, 0.0, 8.0)?;
+        let pipeline_settings = file.pipeline_settings.resolve().map_err(|(key, message)| {
+            let key = format!("pipeline_settings.{key}");
+            match (key.as_str(), &file.pipeline_settings.urp) {
+                ("pipeline_settings.urp.asset", u) => {
+                    let names = crate::pipelines::settings::UrpAssetPreset::names();
+                    unknown_name(origin, &key, "URP asset", u.asset.as_deref().unwrap_or_default(), &names)
+                }
+                ("pipeline_settings.urp.msaa", u) => unknown_name(
+                    origin,
+                    &key,
+                    "anti-aliasing",
+                    u.msaa.as_deref().unwrap_or_default(),
+                    &Antialiasing::names(),
+                ),
+                _ => c.err(&key, message),
+            }
+        })?;
+        let light_budget = LightBudget {
+            pixel_light_count: file.lights.pixel_light_count.unwrap_or(LightBudget::default().pixel_light_count),
+            urp_per_object_limit: file
+                .lights
+                .urp_per_object_limit
+                .unwrap_or(pipeline_settings.urp.additional_lights_per_object_limit),
+        };
+        c.range("lights.pixel_light_count", light_budget.pixel_light_count as f64, 0.0, 64.0)?;
+        c.range("lights.urp_per_object_limit", light_budget.urp_per_object_limit as f64, 0.0, 8.0)?;
         let tonemaps = parse_per_pipeline(
             &c,
             origin,
@@ -557,7 +594,7 @@ impl Matrix {
             Tonemap::from_name,
             &Tonemap::names(),
         )?;
-        let antialiasing = parse_per_pipeline(
+        let mut antialiasing = parse_per_pipeline(
             &c,
             origin,
             ("antialiasing", "anti-aliasing"),
@@ -566,6 +603,14 @@ impl Matrix {
             Antialiasing::from_name,
             &Antialiasing::names(),
         )?;
+        // URP's anti-aliasing is its asset's m_MSAA unless the matrix names one for URP.
+        let names_urp = match &file.antialiasing {
+            Some(toml::Value::Table(t)) => t.contains_key("urp"),
+            other => other.is_some(),
+        };
+        if !names_urp {
+            antialiasing[Pipeline::Urp.shader_id() as usize] = pipeline_settings.urp.msaa;
+        }
         for (key, v) in [("image.width", file.image.width), ("image.height", file.image.height)] {
             if v == 0 || v > MAX_IMAGE_SIZE {
                 return Err(c.err(key, format!("value {v} is out of range; allowed 1..={MAX_IMAGE_SIZE}")).into());
@@ -720,7 +765,8 @@ impl Matrix {
             image: file.image,
             tonemaps,
             antialiasing,
-            light_budget: file.lights,
+            light_budget,
+            pipeline_settings,
             timing: file.timing,
             outputs: file.outputs,
             metrics: file.metrics,

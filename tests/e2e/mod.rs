@@ -23,6 +23,7 @@ mod lights;
 mod lod;
 mod materials;
 mod models;
+mod passes;
 mod paths;
 mod probes;
 mod records;

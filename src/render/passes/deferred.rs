@@ -1,16 +1,19 @@
 //! The deferred path: a G-buffer pass (base colour and occlusion 8-bit sRGB, metallic and
 //! smoothness 8-bit, the normal in the pipeline's format, the ambient/environment term in half
-//! float as Unity's RT3, the role, depth), then a screen-space lighting pass that evaluates every
-//! light per pixel from it, one draw per role so the subject's model and the fixed objects' model
-//! each shade their own pixels. Models the G-buffer cannot carry (per-vertex, ForwardBase-only) draw
-//! forward afterwards, as Unity draws forward-only shaders in its deferred path.
+//! float as Unity's RT3, the role, depth) of the objects whose shader has a G-buffer pass, then
+//! one screen-space lighting pass that evaluates every light per pixel from it: one full-screen
+//! draw over every G-buffer pixel, or one per material type where the subject's deferred model
+//! differs from the fixed objects' (URP's StencilDeferred Lit and SimpleLit passes). Every other
+//! object is drawn forward afterwards (built-in: ForwardBase + ForwardAdd), as the engines draw
+//! shaders without a deferred pass.
 //! The G-buffer and the light tiles are the renderer's (render::gbuffer).
 
+use super::forward::{draw_objects, ForwardPipelines};
 use super::FrameDraw;
 use crate::gpu::timing::PassTimer;
 use crate::plan::cell::CellParams;
 use crate::render::gbuffer::{tile_grid, LightTiles};
-use crate::render::pipeline_cache::{ForwardKey, PipelineCache};
+use crate::render::pipeline_cache::PipelineCache;
 use crate::render::prepared::PreparedScene;
 use crate::render::targets::Targets;
 use crate::render::uniforms::{ROLE_FIXED, ROLE_SUBJECT};
@@ -29,6 +32,7 @@ pub(in crate::render) fn encode_deferred(
     tile_group: Option<&wgpu::BindGroup>,
     timed: &[Option<(&PassTimer, u32)>],
     (t, pipelines, tiles): (&Targets, &PipelineCache, &LightTiles),
+    (forward_only, forward_add): (&ForwardPipelines, &[Vec<usize>]),
 ) {
     let p = cell.pipeline;
     let FrameDraw { group: frame_group, drawn, screen } = draw;
@@ -101,7 +105,7 @@ pub(in crate::render) fn encode_deferred(
         pass.set_bind_group(1, &prepared.object_bind_group, &[0]);
         pass.set_bind_group(2, gb.read(p), &[]);
         pass.set_bind_group(3, &tiles.read, &[]);
-        for (model, role) in [(cell.model, ROLE_SUBJECT), (fixed_model, ROLE_FIXED)] {
+        for (model, role) in lighting_draws(cell.model, fixed_model) {
             if let Some(pipeline) = pipelines.lighting.get(&(p, model.name.to_string(), role as u32)) {
                 pass.set_pipeline(pipeline);
                 pass.draw(0..3, 0..1);
@@ -123,16 +127,28 @@ pub(in crate::render) fn encode_deferred(
     pass.set_bind_group(0, frame_group, &[]);
     pass.set_bind_group(1, &prepared.object_bind_group, &[0]);
     pass.set_bind_group(2, screen, &[]);
-    for (i, o) in prepared.objects.iter().enumerate().filter(|(i, _)| drawn[*i] && !model_of(*i).deferrable()) {
-        let textured = subject(i) && cell.settings.material_maps.is_some();
-        pass.set_pipeline(&pipelines.forward[&(p, model_of(i).name.to_string(), ForwardKey::plain(textured))]);
-        pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
-        pass.set_vertex_buffer(0, o.vertices.slice(..));
-        pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);
-        pass.draw_indexed(0..o.index_count, 0, 0..1);
-    }
+    draw_objects(&mut pass, prepared, forward_only, forward_add, |i| drawn[i] && !model_of(i).deferrable());
     if let (true, Some(bg)) = (prepared.plan.background, pipelines.background.get(&1)) {
         pass.set_pipeline(bg);
         pass.draw(0..3, 0..1);
     }
 }
+
+/// The lighting pass's full-screen draws: (model, role shaded; 0 every G-buffer pixel). One draw
+/// when one deferred model covers the frame's G-buffer (the subject's is the fixed objects', or
+/// the subject is drawn forward); one per model where they differ.
+pub(in crate::render) fn lighting_draws<'m>(
+    subject: &'m ShaderModel,
+    fixed: &'m ShaderModel,
+) -> Vec<(&'m ShaderModel, u8)> {
+    match (subject.deferrable(), fixed.deferrable()) {
+        (true, true) if subject.name == fixed.name => vec![(fixed, ROLE_ANY)],
+        (true, true) => vec![(subject, ROLE_SUBJECT), (fixed, ROLE_FIXED)],
+        (true, false) => vec![(subject, ROLE_SUBJECT)],
+        (false, true) => vec![(fixed, ROLE_FIXED)],
+        (false, false) => Vec::new(),
+    }
+}
+
+/// `DEFERRED_ROLE` for a lighting draw over every G-buffer pixel.
+pub(in crate::render) const ROLE_ANY: u8 = 0;

@@ -1,7 +1,8 @@
-//! The forward pass: every drawn object lit in one pass (built-in's ForwardBase with its per-pixel
-//! lights folded in, URP's and HDRP's forward), the background last; with MSAA it draws into the
-//! multisampled targets and resolves into the frame's own. Built-in's vertex-lit path is this pass
-//! with the lighting evaluated at the vertices.
+//! The forward pass: every drawn object lit, the background last; with MSAA it draws into the
+//! multisampled targets and resolves into the frame's own. URP and HDRP draw each object once with
+//! every light in its loop; built-in draws each object in ForwardBase and then once more per
+//! additional pixel light in ForwardAdd, blended One One (plan::draws). Built-in's vertex-lit path
+//! is this pass with the lighting evaluated at the vertices.
 
 use super::FrameDraw;
 use crate::gpu::timing::PassTimer;
@@ -9,13 +10,47 @@ use crate::render::prepared::PreparedScene;
 use crate::render::targets::Targets;
 use crate::spec::scene::Role;
 
-/// The pipelines a forward frame draws with: the subject's, the fixed objects', the background's
-/// (None: the frame has none), and the rays' group for the study's exact alternatives.
+/// The pipelines a forward frame draws with: the subject's and the fixed objects' (each with its
+/// ForwardAdd pipeline where it has additive passes), the background's (None: the frame has none),
+/// and the rays' group for the study's exact alternatives.
 pub(in crate::render) struct ForwardPipelines<'a> {
-    pub(in crate::render) subject: &'a wgpu::RenderPipeline,
-    pub(in crate::render) fixed: &'a wgpu::RenderPipeline,
+    pub(in crate::render) subject: ModelPipelines<'a>,
+    pub(in crate::render) fixed: ModelPipelines<'a>,
     pub(in crate::render) background: Option<&'a wgpu::RenderPipeline>,
     pub(in crate::render) rays: Option<&'a wgpu::BindGroup>,
+}
+
+/// A model's forward pipelines: its one draw (or ForwardBase) and its ForwardAdd.
+#[derive(Clone, Copy)]
+pub(in crate::render) struct ModelPipelines<'a> {
+    pub(in crate::render) draw: &'a wgpu::RenderPipeline,
+    pub(in crate::render) add: Option<&'a wgpu::RenderPipeline>,
+}
+
+/// Draw the meshes `which` admits: each in its model's pipeline, then once per ForwardAdd light
+/// (`forward_add`, plan::draws) as one instance whose index is the light.
+pub(in crate::render) fn draw_objects(
+    pass: &mut wgpu::RenderPass,
+    prepared: &PreparedScene,
+    pipelines: &ForwardPipelines,
+    forward_add: &[Vec<usize>],
+    which: impl Fn(usize) -> bool,
+) {
+    for (i, o) in prepared.objects.iter().enumerate().filter(|(i, _)| which(*i)) {
+        let subject = prepared.layout.meshes[i].role == Role::Subject;
+        let model = if subject { pipelines.subject } else { pipelines.fixed };
+        pass.set_pipeline(model.draw);
+        pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
+        pass.set_vertex_buffer(0, o.vertices.slice(..));
+        pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);
+        pass.draw_indexed(0..o.index_count, 0, 0..1);
+        if let (Some(add), Some(lights)) = (model.add, forward_add.get(i).filter(|l| !l.is_empty())) {
+            pass.set_pipeline(add);
+            for &light in lights {
+                pass.draw_indexed(0..o.index_count, 0, light as u32..light as u32 + 1);
+            }
+        }
+    }
 }
 
 /// Where a forward frame draws: the frame's targets, or their multisampled twins resolved into them.
@@ -45,6 +80,7 @@ pub(in crate::render) fn encode_forward(
     prepared: &PreparedScene,
     draw: &FrameDraw,
     pipelines: &ForwardPipelines,
+    forward_add: &[Vec<usize>],
     targets: &ForwardTargets,
     timed: Option<(&PassTimer, u32)>,
 ) {
@@ -80,13 +116,6 @@ pub(in crate::render) fn encode_forward(
     if let Some(group) = pipelines.rays {
         pass.set_bind_group(3, group, &[]);
     }
-    for (i, o) in prepared.objects.iter().enumerate().filter(|(i, _)| draw.drawn[*i]) {
-        let subject = prepared.layout.meshes[i].role == Role::Subject;
-        pass.set_pipeline(if subject { pipelines.subject } else { pipelines.fixed });
-        pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
-        pass.set_vertex_buffer(0, o.vertices.slice(..));
-        pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);
-        pass.draw_indexed(0..o.index_count, 0, 0..1);
-    }
+    draw_objects(&mut pass, prepared, pipelines, forward_add, |i| draw.drawn[i]);
     super::background::draw_background(&mut pass, pipelines.background);
 }

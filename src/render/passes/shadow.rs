@@ -7,18 +7,18 @@
 use crate::geometry::Vertex;
 use crate::gpu::timing::PassTimer;
 use crate::gpu::GpuContext;
+use crate::plan::cell::LightShadow;
 use crate::render::formats::SHADOW_FORMAT;
 use crate::render::prepared::PreparedScene;
-use crate::spec::scene::Light;
 
 /// The shader's GpuLight.shadow: (first layer or −1, layer count, strength, soft).
-pub fn shadow_slot(light: &Light, first_layer: Option<usize>, layers: usize) -> ([f32; 4], [f32; 4]) {
-    match first_layer {
-        Some(first) => (
-            [first as f32, layers as f32, light.shadow.strength as f32, if light.shadow.soft { 1.0 } else { 0.0 }],
-            [light.shadow.bias as f32, light.shadow.normal_bias as f32, 0.0, 0.0],
+pub fn shadow_slot(shadow: &LightShadow) -> ([f32; 4], [f32; 4]) {
+    match (shadow.first_layer, shadow.style) {
+        (Some(first), Some(s)) => (
+            [first as f32, shadow.layers as f32, s.strength as f32, if s.soft { 1.0 } else { 0.0 }],
+            [s.bias as f32, s.normal_bias as f32, 0.0, 0.0],
         ),
-        None => ([-1.0, 0.0, 0.0, 0.0], [0.0; 4]),
+        _ => ([-1.0, 0.0, 0.0, 0.0], [0.0; 4]),
     }
 }
 

@@ -1,0 +1,296 @@
+//! The engine settings a cell renders with besides its path and budgets: the URP asset (its code
+//! defaults or the URP template's High Fidelity asset, each field overridable) and built-in's
+//! forward pass structure. A matrix's `[pipeline_settings]` table sets them; every cell records
+//! the values it rendered with.
+
+use serde::{Deserialize, Serialize};
+
+use super::Antialiasing;
+
+/// `[pipeline_settings]`, resolved.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct PipelineSettings {
+    pub builtin: BuiltinSettings,
+    pub urp: UrpAsset,
+}
+
+/// Built-in's forward pass structure.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BuiltinSettings {
+    /// true (Unity): every pixel light past the main directional one is its own additive
+    /// ForwardAdd draw of the object. false: those lights are summed in the base draw instead —
+    /// not an engine setting, but the single-pass image the additive passes must add up to, and
+    /// the cost they add.
+    #[serde(default = "yes")]
+    pub forward_add: bool,
+}
+
+impl Default for BuiltinSettings {
+    fn default() -> Self {
+        BuiltinSettings { forward_add: true }
+    }
+}
+
+fn yes() -> bool {
+    true
+}
+
+/// The named URP assets a matrix starts from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum UrpAssetPreset {
+    /// What *Create ▸ Rendering ▸ URP Asset* makes: the field initialisers of
+    /// UniversalRenderPipelineAsset.cs (com.unity.render-pipelines.universal/Runtime/Data).
+    #[default]
+    Default,
+    /// The URP project template's `Assets/Settings/URP-HighFidelity.asset` (URP 14, asset version 11).
+    HighFidelity,
+}
+
+impl UrpAssetPreset {
+    pub const ALL: [UrpAssetPreset; 2] = [UrpAssetPreset::Default, UrpAssetPreset::HighFidelity];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            UrpAssetPreset::Default => "default",
+            UrpAssetPreset::HighFidelity => "high_fidelity",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<UrpAssetPreset> {
+        Self::ALL.into_iter().find(|p| p.name() == name)
+    }
+
+    pub fn names() -> Vec<&'static str> {
+        Self::ALL.iter().map(|p| p.name()).collect()
+    }
+
+    /// The asset's fields.
+    pub fn asset(self) -> UrpAsset {
+        match self {
+            // UniversalRenderPipelineAsset.cs: m_MSAA = Disabled, m_MainLightShadowmapResolution =
+            // _2048, m_AdditionalLightsPerObjectLimit = 4, m_AdditionalLightShadowsSupported = false,
+            // m_AdditionalLightsShadowResolutionTierHigh = 1024, m_ReflectionProbeBlending = false,
+            // m_ReflectionProbeBoxProjection = false, m_ShadowDistance = 50, m_ShadowCascadeCount = 1,
+            // m_ShadowDepthBias = 1, m_ShadowNormalBias = 1, m_SoftShadowsSupported = false.
+            UrpAssetPreset::Default => UrpAsset {
+                preset: self,
+                msaa: Antialiasing::None,
+                main_light_shadow_resolution: 2048,
+                additional_lights_per_object_limit: 4,
+                additional_light_shadows: false,
+                additional_light_shadow_resolution: 1024,
+                reflection_probe_blending: false,
+                reflection_probe_box_projection: false,
+                shadow_distance: 50.0,
+                cascade_count: 1,
+                depth_bias: 1.0,
+                normal_bias: 1.0,
+                soft_shadows: false,
+            },
+            // URP-HighFidelity.asset: m_MSAA: 4, m_MainLightShadowmapResolution: 4096,
+            // m_AdditionalLightsPerObjectLimit: 8, m_AdditionalLightShadowsSupported: 1,
+            // m_AdditionalLightsShadowResolutionTierHigh: 512, m_ReflectionProbeBlending: 1,
+            // m_ReflectionProbeBoxProjection: 1, m_ShadowDistance: 150, m_ShadowCascadeCount: 2
+            // (m_Cascade2Split 0.25), biases 1 / 1, m_SoftShadowsSupported: 1.
+            UrpAssetPreset::HighFidelity => UrpAsset {
+                preset: self,
+                msaa: Antialiasing::Msaa4,
+                main_light_shadow_resolution: 4096,
+                additional_lights_per_object_limit: 8,
+                additional_light_shadows: true,
+                additional_light_shadow_resolution: 512,
+                reflection_probe_blending: true,
+                reflection_probe_box_projection: true,
+                shadow_distance: 150.0,
+                cascade_count: 2,
+                depth_bias: 1.0,
+                normal_bias: 1.0,
+                soft_shadows: true,
+            },
+        }
+    }
+}
+
+/// The URP asset's fields that change a frame.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct UrpAsset {
+    /// The asset the fields started from.
+    pub preset: UrpAssetPreset,
+    /// Anti-aliasing (m_MSAA); the matrix's `antialiasing.urp`, where it names one, wins.
+    pub msaa: Antialiasing,
+    /// m_MainLightShadowmapResolution, texels.
+    pub main_light_shadow_resolution: u32,
+    /// m_AdditionalLightsPerObjectLimit; `[lights] urp_per_object_limit`, where given, wins.
+    pub additional_lights_per_object_limit: u32,
+    /// m_AdditionalLightShadowsSupported: without it a point or spot light casts no shadow,
+    /// whatever the light says.
+    pub additional_light_shadows: bool,
+    /// m_AdditionalLightsShadowResolutionTierHigh: a light's default tier is High.
+    pub additional_light_shadow_resolution: u32,
+    /// m_ReflectionProbeBlending, m_ReflectionProbeBoxProjection: recorded; the compositions have
+    /// one probe, so blending changes nothing, and box projection is not drawn (docs/deviations.md).
+    pub reflection_probe_blending: bool,
+    pub reflection_probe_box_projection: bool,
+    /// m_ShadowDistance, metres, and m_ShadowCascadeCount (splits: m_Cascade2Split 0.25,
+    /// m_Cascade3Split (0.1, 0.3), m_Cascade4Split (0.067, 0.2, 0.467)).
+    pub shadow_distance: f64,
+    pub cascade_count: u32,
+    /// m_ShadowDepthBias and m_ShadowNormalBias, in shadow-map texels (URP's
+    /// ShadowUtils.GetShadowBias scales both by the texel size, and by 2.5 with soft shadows).
+    pub depth_bias: f64,
+    pub normal_bias: f64,
+    /// m_SoftShadowsSupported: lights asking for soft shadows get them only with it.
+    pub soft_shadows: bool,
+}
+
+impl Default for UrpAsset {
+    fn default() -> Self {
+        UrpAssetPreset::Default.asset()
+    }
+}
+
+impl UrpAsset {
+    /// The cascades' far edges as fractions of the shadow distance (the asset's split fields).
+    pub fn cascade_splits(&self) -> Vec<f64> {
+        match self.cascade_count {
+            2 => vec![0.25, 1.0],
+            3 => vec![0.1, 0.3, 1.0],
+            4 => vec![0.067, 0.2, 0.467, 1.0],
+            _ => vec![1.0],
+        }
+    }
+}
+
+/// `[pipeline_settings.urp]` as written: an asset name and any field overridden.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct UrpAssetFile {
+    pub asset: Option<String>,
+    pub msaa: Option<String>,
+    pub main_light_shadow_resolution: Option<u32>,
+    pub additional_lights_per_object_limit: Option<u32>,
+    pub additional_light_shadows: Option<bool>,
+    pub additional_light_shadow_resolution: Option<u32>,
+    pub reflection_probe_blending: Option<bool>,
+    pub reflection_probe_box_projection: Option<bool>,
+    pub shadow_distance: Option<f64>,
+    pub cascade_count: Option<u32>,
+    pub depth_bias: Option<f64>,
+    pub normal_bias: Option<f64>,
+    pub soft_shadows: Option<bool>,
+}
+
+/// `[pipeline_settings]` as written.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PipelineSettingsFile {
+    #[serde(default)]
+    pub builtin: BuiltinSettings,
+    #[serde(default)]
+    pub urp: UrpAssetFile,
+}
+
+/// Why a `[pipeline_settings]` value was refused: the key under `pipeline_settings` and the message.
+pub type SettingsError = (String, String);
+
+impl PipelineSettingsFile {
+    /// The settings: the named asset with the overrides applied, each checked against its range.
+    pub fn resolve(&self) -> Result<PipelineSettings, SettingsError> {
+        let u = &self.urp;
+        let preset = match &u.asset {
+            None => UrpAssetPreset::Default,
+            Some(name) => UrpAssetPreset::from_name(name).ok_or_else(|| {
+                ("urp.asset".to_string(), format!("`{name}`: allowed {}", UrpAssetPreset::names().join(", ")))
+            })?,
+        };
+        let mut a = preset.asset();
+        if let Some(name) = &u.msaa {
+            a.msaa = Antialiasing::from_name(name).ok_or_else(|| {
+                ("urp.msaa".to_string(), format!("`{name}`: allowed {}", Antialiasing::names().join(", ")))
+            })?;
+        }
+        let resolution = |key: &str, v: Option<u32>, into: &mut u32| -> Result<(), SettingsError> {
+            if let Some(v) = v {
+                if !(v.is_power_of_two() && (128..=8192).contains(&v)) {
+                    return Err((format!("urp.{key}"), format!("{v}: allowed a power of two from 128 to 8192")));
+                }
+                *into = v;
+            }
+            Ok(())
+        };
+        resolution(
+            "main_light_shadow_resolution",
+            u.main_light_shadow_resolution,
+            &mut a.main_light_shadow_resolution,
+        )?;
+        resolution(
+            "additional_light_shadow_resolution",
+            u.additional_light_shadow_resolution,
+            &mut a.additional_light_shadow_resolution,
+        )?;
+        if let Some(v) = u.additional_lights_per_object_limit {
+            if v > 8 {
+                return Err(("urp.additional_lights_per_object_limit".into(), format!("{v}: allowed 0..=8")));
+            }
+            a.additional_lights_per_object_limit = v;
+        }
+        if let Some(v) = u.cascade_count {
+            if !(1..=4).contains(&v) {
+                return Err(("urp.cascade_count".into(), format!("{v}: allowed 1..=4")));
+            }
+            a.cascade_count = v;
+        }
+        for (key, v, into) in [
+            ("shadow_distance", u.shadow_distance, &mut a.shadow_distance),
+            ("depth_bias", u.depth_bias, &mut a.depth_bias),
+            ("normal_bias", u.normal_bias, &mut a.normal_bias),
+        ] {
+            if let Some(v) = v {
+                let hi = if key == "shadow_distance" { 10_000.0 } else { 10.0 };
+                if !(v.is_finite() && (0.0..=hi).contains(&v)) {
+                    return Err((format!("urp.{key}"), format!("{v}: allowed 0..={hi}")));
+                }
+                *into = v;
+            }
+        }
+        for (v, into) in [
+            (u.additional_light_shadows, &mut a.additional_light_shadows),
+            (u.reflection_probe_blending, &mut a.reflection_probe_blending),
+            (u.reflection_probe_box_projection, &mut a.reflection_probe_box_projection),
+            (u.soft_shadows, &mut a.soft_shadows),
+        ] {
+            if let Some(v) = v {
+                *into = v;
+            }
+        }
+        Ok(PipelineSettings { builtin: self.builtin, urp: a })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_code_defaults_turn_additional_and_soft_shadows_off() {
+        let a = PipelineSettingsFile::default().resolve().unwrap().urp;
+        assert!(!a.additional_light_shadows && !a.soft_shadows && !a.reflection_probe_box_projection);
+        assert_eq!((a.main_light_shadow_resolution, a.cascade_count, a.shadow_distance), (2048, 1, 50.0));
+    }
+
+    #[test]
+    fn a_preset_field_can_be_overridden_and_ranges_are_checked() {
+        let f: PipelineSettingsFile =
+            toml::from_str("[urp]\nasset = \"high_fidelity\"\nsoft_shadows = false\n").unwrap();
+        let a = f.resolve().unwrap().urp;
+        assert_eq!(a.preset, UrpAssetPreset::HighFidelity);
+        assert!(a.additional_light_shadows && !a.soft_shadows);
+        assert_eq!(a.cascade_splits(), vec![0.25, 1.0]);
+        let bad: PipelineSettingsFile = toml::from_str("[urp]\nasset = \"hifi\"\n").unwrap();
+        assert_eq!(bad.resolve().unwrap_err().0, "urp.asset");
+        let bad: PipelineSettingsFile = toml::from_str("[urp]\ncascade_count = 5\n").unwrap();
+        assert_eq!(bad.resolve().unwrap_err().0, "urp.cascade_count");
+    }
+}
