@@ -1,16 +1,17 @@
 // HDRP's bloom (render::passes::bloom; twin: images::bloom), its steps as HDRP's compute shaders run them:
-// a half-resolution prefilter (BloomPrefilter.compute: five rotated taps, Lorach07; their luma
-// weights all come from the first tap, so they average), a pyramid whose levels are each a 2×2
-// bilinear downsample of the last then a 9-tap binomial blur across and down (BloomBlur.compute),
-// an upsample from the coarsest level, lerp(level, bicubic(coarser), scatter) (BloomUpsample.compute),
-// and the composite lerp(colour, bicubic(bloom), intensity) (UberPost.compute). Textures are read
-// with loads and filtered here: 32-bit float textures need not be filterable.
+// a half-resolution prefilter (BloomPrefilter.compute LOW_QUALITY: five rotated bilinear taps
+// [Lorach07] one full-resolution texel apart, each through QuadraticThreshold and weighted by
+// 1/(1 + luminance) [Karis13]), a pyramid whose levels are each a 2×2 bilinear downsample of the
+// last then a 9-tap binomial blur across and down (BloomBlur.compute), an upsample from the
+// coarsest level, lerp(level, filter(coarser), scatter) (BloomUpsample.compute KMainHighQ bicubic
+// or KMainLowQ bilinear), and the composite lerp(colour, filter(bloom), weight) (UberPost.compute).
+// Textures are read with loads and filtered here: 32-bit float textures need not be filterable.
 
 struct BloomParams {
     // x, y: destination size; z: mode (0 prefilter, 1 downsample, 2 blur across, 3 blur down,
     // 4 upsample or composite); w: unused
     dims: vec4<u32>,
-    // x: scatter (upsample) or intensity (composite)
+    // x: scatter (upsample) or weight (composite); y: 1 bicubic, 0 bilinear filtering of the coarse input
     factor: vec4<f32>,
 };
 
@@ -58,6 +59,20 @@ fn bicubic(t: texture_2d<f32>, uv: vec2<f32>) -> vec3<f32> {
     return c;
 }
 
+// BloomCommon.hlsl QuadraticThreshold at the default threshold 0 (knee 1e-5, curve
+// (−1e-5, 2e-5, 0.25/1e-5)): keeps colours brighter than 1e-4, fades the darker ones
+fn quadratic_threshold(c: vec3<f32>) -> vec3<f32> {
+    let br = max(c.r, max(c.g, c.b));
+    var rq = clamp(br + 1e-5, 0.0, 2e-5);
+    rq = 25000.0 * rq * rq;
+    return c * (max(rq, br) / max(br, 1e-4));
+}
+
+// Core Color.hlsl Luminance (Rec. 709 weights)
+fn luminance(c: vec3<f32>) -> f32 {
+    return dot(c, vec3<f32>(0.2126729, 0.7151522, 0.0721750));
+}
+
 // The 9-tap binomial blur (C(8, k)/256) along `step`
 fn blur(t: texture_2d<f32>, p: vec2<i32>, step: vec2<i32>) -> vec3<f32> {
     let w = array<f32, 5>(0.2734375, 0.21875, 0.109375, 0.03125, 0.00390625);
@@ -75,17 +90,22 @@ fn cs_bloom(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let uv = (vec2<f32>(id.xy) + 0.5) / vec2<f32>(size);
-    let texel = 1.0 / vec2<f32>(size);
     var c = vec3<f32>(0.0);
     switch params.dims.z {
         case 0u: {
             let taps = array<vec2<f32>, 5>(
                 vec2<f32>(0.0, 0.0), vec2<f32>(0.9, -0.4), vec2<f32>(-0.9, 0.4), vec2<f32>(0.4, 0.9), vec2<f32>(-0.4, -0.9)
             );
+            // The taps step in the source's (full-resolution) texels: _PostProcessScreenSize.zw
+            let source_texel = 1.0 / vec2<f32>(textureDimensions(source));
+            var weights = 0.0;
             for (var k = 0; k < 5; k++) {
-                c += bilinear(source, uv + taps[k] * texel);
+                let tap = quadratic_threshold(bilinear(source, uv + taps[k] * source_texel));
+                let w = 1.0 / (luminance(tap) + 1.0);
+                c += tap * w;
+                weights += w;
             }
-            c /= 5.0;
+            c /= weights;
         }
         case 1u: {
             c = bilinear(source, uv);
@@ -96,9 +116,13 @@ fn cs_bloom(@builtin(global_invocation_id) id: vec3<u32>) {
         case 3u: {
             c = blur(source, vec2<i32>(id.xy), vec2<i32>(0, 1));
         }
-        // 4: upsample and composite alike, lerp(source, bicubic(coarse), factor)
+        // 4: upsample and composite alike, lerp(source, filter(coarse), factor)
         default: {
-            c = mix(load_clamped(source, vec2<i32>(id.xy)), bicubic(coarse, uv), params.factor.x);
+            var up = bilinear(coarse, uv);
+            if (params.factor.y > 0.5) {
+                up = bicubic(coarse, uv);
+            }
+            c = mix(load_clamped(source, vec2<i32>(id.xy)), up, params.factor.x);
         }
     }
     textureStore(destination, id.xy, vec4<f32>(c, 1.0));

@@ -1,6 +1,8 @@
 //! f64 twin of HDRP's bloom as `render::passes::bloom` runs it (shaders/pass/bloom.wgsl): the same
-//! prefilter, pyramid, binomial blur, B-spline bicubic upsample and lerp composite, on a linear
-//! RGB image. Used to test the GPU chain and to reason about what bloom can change.
+//! Karis-weighted prefilter, pyramid, binomial blur, bicubic or bilinear upsample and lerp
+//! composite, on a linear RGB image, from the volume's settings through HDRP's remaps
+//! (`BloomSettings::composite_weight`, `upsample_scatter`, `bicubic`). Used to test the GPU chain
+//! and to reason about what bloom can change.
 
 use glam::DVec3;
 
@@ -77,16 +79,39 @@ fn bspline(f: f64) -> [f64; 4] {
     [g * g * g, 4.0 - 6.0 * f * f + 3.0 * f * f * f, 4.0 - 6.0 * g * g + 3.0 * g * g * g, f * f * f].map(|w| w / 6.0)
 }
 
-/// `image` bloomed with `intensity` and `scatter` (HDRP defaults 0.2, 0.7).
-pub fn bloom(image: &Image, intensity: f64, scatter: f64) -> Image {
+/// BloomCommon.hlsl QuadraticThreshold at threshold 0 (knee 1e-5).
+fn quadratic_threshold(c: DVec3) -> DVec3 {
+    let br = c.max_element();
+    let rq = (br + 1e-5).clamp(0.0, 2e-5);
+    let rq = 25000.0 * rq * rq;
+    c * (rq.max(br) / br.max(1e-4))
+}
+
+/// Core Color.hlsl Luminance.
+fn luminance(c: DVec3) -> f64 {
+    c.dot(DVec3::new(0.2126729, 0.7151522, 0.0721750))
+}
+
+/// `image` bloomed as HDRP's volume `settings` say.
+pub fn bloom(image: &Image, settings: &crate::render::passes::bloom::BloomSettings) -> Image {
     let sizes = crate::render::passes::bloom::level_sizes(image.width as u32, image.height as u32);
+    let bicubic = settings.bicubic(image.width as u32, image.height as u32);
+    let filter = |img: &Image, u: f64, v: f64| if bicubic { img.bicubic(u, v) } else { img.bilinear(u, v) };
     let taps = [(0.0, 0.0), (0.9, -0.4), (-0.9, 0.4), (0.4, 0.9), (-0.4, -0.9)];
+    let (sw, sh) = (image.width as f64, image.height as f64);
     let mut levels: Vec<Image> = Vec::new();
     for (k, &(w, h)) in sizes.iter().enumerate() {
         let (w, h) = (w as usize, h as usize);
         let input = match k {
             0 => Image::map(w, h, |_, _, u, v| {
-                taps.iter().map(|(tx, ty)| image.bilinear(u + tx / w as f64, v + ty / h as f64)).sum::<DVec3>() / 5.0
+                let (mut c, mut weights) = (DVec3::ZERO, 0.0);
+                for (tx, ty) in taps {
+                    let tap = quadratic_threshold(image.bilinear(u + tx / sw, v + ty / sh));
+                    let weight = 1.0 / (luminance(tap) + 1.0);
+                    c += tap * weight;
+                    weights += weight;
+                }
+                c / weights
             }),
             _ => {
                 let prev = &levels[k - 1];
@@ -95,14 +120,16 @@ pub fn bloom(image: &Image, intensity: f64, scatter: f64) -> Image {
         };
         levels.push(input.blur(1, 0).blur(0, 1));
     }
+    let scatter = settings.upsample_scatter();
     let mut up = levels.pop().expect("at least one level");
     while let Some(level) = levels.pop() {
         up = Image::map(level.width, level.height, |x, y, u, v| {
-            level.texels[y * level.width + x].lerp(up.bicubic(u, v), scatter)
+            level.texels[y * level.width + x].lerp(filter(&up, u, v), scatter)
         });
     }
+    let weight = settings.composite_weight();
     Image::map(image.width, image.height, |x, y, u, v| {
-        image.texels[y * image.width + x].lerp(up.bicubic(u, v), intensity)
+        image.texels[y * image.width + x].lerp(filter(&up, u, v), weight)
     })
 }
 
@@ -110,17 +137,22 @@ pub fn bloom(image: &Image, intensity: f64, scatter: f64) -> Image {
 mod tests {
     use super::*;
 
+    use crate::render::passes::bloom::BloomSettings;
+
     #[test]
-    fn a_uniform_image_is_unchanged_and_an_impulse_spreads_keeping_its_energy() {
+    fn a_uniform_image_is_unchanged_and_an_impulse_spreads() {
+        let hdrp = BloomSettings::default();
         let flat = Image { width: 32, height: 24, texels: vec![DVec3::splat(3.0); 32 * 24] };
-        let out = bloom(&flat, 0.2, 0.7);
+        let out = bloom(&flat, &hdrp);
         assert!(out.texels.iter().all(|t| (*t - DVec3::splat(3.0)).abs().max_element() < 1e-12));
         let mut spot = Image { width: 64, height: 64, texels: vec![DVec3::ZERO; 64 * 64] };
         spot.texels[32 * 64 + 32] = DVec3::splat(100.0);
-        let out = bloom(&spot, 0.2, 0.7);
+        let out = bloom(&spot, &hdrp);
+        // The composite keeps 1 − (2^0.2 − 1) of the pixel; the Karis weights (1/(1 + luma)) let a
+        // lone bright pixel into the pyramid at a fraction of its energy, as HDRP's prefilter does.
+        assert!((out.texels[32 * 64 + 32].x - 100.0 * (1.0 - hdrp.composite_weight())).abs() < 1.0);
         let total: f64 = out.texels.iter().map(|t| t.x).sum();
-        assert!((total / 100.0 - 1.0).abs() < 0.02, "energy {total}");
-        assert!((out.texels[32 * 64 + 32].x - 80.0).abs() < 1.0, "the centre keeps 1 − intensity");
+        assert!(total < 100.0 && total > 100.0 * (1.0 - hdrp.composite_weight()), "energy {total}");
         assert!(out.texels[32 * 64 + 40].x > 0.0, "light spreads 8 pixels out");
     }
 }

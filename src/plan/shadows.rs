@@ -277,7 +277,9 @@ mod tests {
         sun.shadow.resolution = None;
         let side = array_side(&sun);
         assert_eq!(side, 2048, "URP's main-light map is the largest default up to 1024-pixel images");
-        let at = |sun: &Light, p: Pipeline, size: u32| cell_resolution(p, sun, &scene.camera, (size, size), side);
+        let at = |sun: &Light, p: Pipeline, size: u32| {
+            cell_resolution(p, &Default::default(), sun, &scene.camera, (size, size), side)
+        };
         assert_eq!(at(&sun, Pipeline::Builtin, 256), (512, None));
         assert_eq!(at(&sun, Pipeline::Hdrp, 256), (512, None));
         assert_eq!(at(&sun, Pipeline::Urp, 256), (2048, None));
@@ -297,9 +299,11 @@ mod tests {
         let d = (DVec3::from(light.position) - DVec3::from(scene.camera.position)).length();
         // A range well inside the distance: the sphere covers a fraction of the image.
         light.range = d * 0.1;
-        let (small, _) = cell_resolution(Pipeline::Builtin, &light, &scene.camera, (1024, 1024), 4096);
+        let (small, _) =
+            cell_resolution(Pipeline::Builtin, &Default::default(), &light, &scene.camera, (1024, 1024), 4096);
         light.range = d * 2.0;
-        let (full, _) = cell_resolution(Pipeline::Builtin, &light, &scene.camera, (1024, 1024), 4096);
+        let (full, _) =
+            cell_resolution(Pipeline::Builtin, &Default::default(), &light, &scene.camera, (1024, 1024), 4096);
         assert_eq!(full, 512, "camera inside the range: the whole image, NextPow2(1024 × 0.5)");
         assert!(small < full, "{small} vs {full}");
     }

@@ -427,7 +427,7 @@ mod tests {
     #[test]
     fn a_schema_8_record_reads_with_its_axes_in_coords() {
         let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/records/cell_schema8.json");
-        assert!(matches!(CellRecord::load(&path), Err(RecordError::OtherVersion { found: 8, expected: 9 })));
+        assert!(matches!(CellRecord::load(&path), Err(RecordError::OtherVersion { found: 8, expected: 10 })));
         let r = CellRecord::read(&path).unwrap();
         let old: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
         assert_eq!(r.schema, CELL_SCHEMA);

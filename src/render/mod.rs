@@ -21,7 +21,7 @@ pub use prepared::PreparedScene;
 pub use renderer::{CellParams, CellPlan, CellRender, CellSettings, Renderer, ShadowMapUse};
 
 /// A single-sample 2-D texture of one layer, as every render target here is but the MSAA ones.
-pub(crate) fn texture_2d(
+pub fn texture_2d(
     device: &wgpu::Device,
     label: &str,
     size: (u32, u32),

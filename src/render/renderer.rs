@@ -404,7 +404,16 @@ impl Renderer {
         // Forward draws (on a deferred path, of the objects drawn after the lighting): each
         // model's one draw or ForwardBase, and its ForwardAdd where it has additive passes.
         let engine = &cell.settings.engine;
-        let forward_keys = |model: &ShaderModel, textured: bool| {
+        // A ForwardAdd pipeline only where the plan draws one (with no extra pixel light the
+        // base pass is the whole of it).
+        let adds = |subject: bool| {
+            plan.draws
+                .forward_add
+                .iter()
+                .zip(&prepared.layout.meshes)
+                .any(|(lights, m)| !lights.is_empty() && (m.role == Role::Subject) == subject)
+        };
+        let forward_keys = |model: &ShaderModel, textured: bool, subject: bool| {
             let additive = additive_passes(cell.pipeline, cell.settings.path, model, engine);
             let draw = ForwardKey {
                 vertex_lit,
@@ -414,10 +423,10 @@ impl Renderer {
                 pass: if additive { ForwardPass::Base } else { ForwardPass::All },
                 additional_shadows: cell.pipeline != Pipeline::Builtin || model.passes.full_forward_shadows,
             };
-            (draw, additive.then_some(ForwardKey { pass: ForwardPass::Add, ..draw }))
+            (draw, (additive && adds(subject)).then_some(ForwardKey { pass: ForwardPass::Add, ..draw }))
         };
-        let subject_keys = forward_keys(subject_model, textured);
-        let fixed_keys = forward_keys(&fixed_model, false);
+        let subject_keys = forward_keys(subject_model, textured, true);
+        let fixed_keys = forward_keys(&fixed_model, false, false);
         for (model, (draw, add)) in [(subject_model, subject_keys), (&*fixed_model, fixed_keys)] {
             for key in std::iter::once(draw).chain(add) {
                 self.pipelines.forward_pipeline(&self.gpu, cell.pipeline, model, key)?;

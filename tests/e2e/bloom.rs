@@ -34,7 +34,7 @@ fn gpu_bloom_matches_its_twin_and_the_switch_turns_it_off() {
     if !timed.is_empty() {
         assert!(timed.iter().any(|n| n == "bloom"), "{timed:?}");
     }
-    let twin = bloom(&plain, 0.2, 0.7);
+    let twin = bloom(&plain, &shadematrix::render::passes::bloom::BloomSettings::default());
     let peak = plain.texels.iter().map(|t| t.max_element()).fold(0.0, f64::max);
     let mut worst: f64 = 0.0;
     let mut changed = 0;
@@ -49,4 +49,62 @@ fn gpu_bloom_matches_its_twin_and_the_switch_turns_it_off() {
     );
     assert!(worst < 1e-3, "{worst}");
     assert!(changed > 500, "bloom changes {changed} pixels");
+}
+
+/// A one-pixel highlight bloomed by the GPU chain against the reference computed from HDRP's
+/// formulas (`images::bloom`): weight 2^0.2 − 1, scatter lerp(0.05, 0.95, 0.7), Karis-weighted
+/// prefilter, ⌊log2 − 2⌋ levels, bilinear below 800×450 and bicubic at 800×450.
+#[test]
+fn a_one_pixel_highlight_blooms_as_hdrps_formulas_say() {
+    use shadematrix::render::passes::bloom::{BloomChain, BloomPipeline, BloomSettings};
+    let gpu = GpuContext::new().unwrap();
+    let pipeline = BloomPipeline::new(&gpu).unwrap();
+    let settings = BloomSettings::default();
+    for (width, height) in [(96u32, 64u32), (800, 450)] {
+        let mut image = Image {
+            width: width as usize,
+            height: height as usize,
+            texels: vec![DVec3::splat(0.05); (width * height) as usize],
+        };
+        let at = (height as usize / 2) * width as usize + width as usize / 3;
+        image.texels[at] = DVec3::new(400.0, 300.0, 200.0);
+        let texels: Vec<f32> = image.texels.iter().flat_map(|t| [t.x as f32, t.y as f32, t.z as f32, 1.0]).collect();
+        let color = shadematrix::render::texture_2d(
+            &gpu.device,
+            "highlight",
+            (width, height),
+            wgpu::TextureFormat::Rgba32Float,
+            wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        );
+        gpu.queue.write_texture(
+            color.as_image_copy(),
+            bytemuck::cast_slice(&texels),
+            wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(width * 16), rows_per_image: None },
+            wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+        );
+        let chain = BloomChain::new(&gpu.device, &pipeline, &color, (width, height), settings);
+        let readback = shadematrix::gpu::readback::TextureReadback::new(&gpu.device, "bloomed", width, height, 16);
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        chain.encode(&pipeline, &mut encoder, None);
+        readback.encode_copy(&mut encoder, &chain.output);
+        gpu.queue.submit([encoder.finish()]);
+        let bytes = readback.read(&gpu.device).unwrap();
+        let gpu_out: &[f32] = bytemuck::cast_slice(&bytes);
+        let reference = bloom(&image, &settings);
+        let (mut worst, mut spread) = (0.0f64, 0usize);
+        for (k, r) in reference.texels.iter().enumerate() {
+            let g = DVec3::new(gpu_out[4 * k] as f64, gpu_out[4 * k + 1] as f64, gpu_out[4 * k + 2] as f64);
+            worst = worst.max(((g - *r).abs() / (r.abs() + DVec3::splat(1e-3))).max_element());
+            spread += (r.x > 0.05 * 1.01) as usize;
+        }
+        let centre = reference.texels[at].x;
+        eprintln!(
+            "{width}×{height}: GPU vs HDRP-formula reference worst {worst:.2e}; centre {centre:.2} of 400; \
+             {spread} pixels brightened by > 1 %"
+        );
+        assert!(worst < 1e-3, "{width}×{height}: {worst}");
+        // The composite keeps (2 − 2^0.2) of the pixel itself, and the bloom reaches far past it.
+        assert!((centre / 400.0 - (1.0 - settings.composite_weight())).abs() < 0.01, "{centre}");
+        assert!(spread > 40, "{spread}");
+    }
 }

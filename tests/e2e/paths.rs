@@ -44,11 +44,12 @@ fn deferred_renders_like_forward_within_the_gbuffer_quantisation() {
 fn twelve_lights_add_up_on_the_deferred_path() {
     let base = Scene::load_file(&fixture("twelve_points.toml")).unwrap();
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
-    for pipeline in [Pipeline::Builtin, Pipeline::Hdrp] {
+    // Each pipeline's own G-buffer shader: a model without a G-buffer pass is drawn forward.
+    for (pipeline, shader) in [(Pipeline::Builtin, "standard"), (Pipeline::Hdrp, "lit")] {
         let sliders = Sliders { base_color_linear: [0.7, 0.6, 0.5], metallic: 0.0, smoothness: 0.5 };
         let mut render = |scene: &Scene, intensity: f64| {
             let prepared = renderer.prepare_scene(scene).unwrap();
-            let cell = cell_params(pipeline, "lambert", sliders, (intensity, 8.0), 49, RenderPath::Deferred);
+            let cell = cell_params(pipeline, shader, sliders, (intensity, 8.0), 49, RenderPath::Deferred);
             renderer.render(&prepared, &cell, 1, 0).unwrap()
         };
         let plan = render(&base, base.lights[0].intensity).lights;

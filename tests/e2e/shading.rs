@@ -239,11 +239,14 @@ fn black_metal_under_a_point_light_and_black_environment_is_black() {
 fn gpu_resources_are_reused_across_cells() {
     let mut renderer = renderer();
     let prepared = renderer.prepare_scene(&scene("medusa")).unwrap();
+    let mut compiled = Vec::new();
     for s in [0.1, 0.5, 0.9] {
         for p in [Pipeline::Builtin, Pipeline::Urp] {
             renderer.render(&prepared, &params(p, "lambert", [0.5; 3], 0.0, s, 32), 1, 0).unwrap();
         }
+        compiled.push(renderer.compiled_pipelines());
     }
-    // builtin: lambert + standard (fixed objects); urp: lambert + lit (fixed objects); background once.
-    assert_eq!(renderer.compiled_pipelines(), 5);
+    // The first smoothness compiles each pipeline's (ForwardBase and ForwardAdd for built-in's
+    // point key light, one forward for URP, the background); the others reuse them.
+    assert!(compiled[0] >= 5 && compiled.iter().all(|&n| n == compiled[0]), "{compiled:?}");
 }

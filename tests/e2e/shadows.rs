@@ -16,7 +16,10 @@ const SIZE: u32 = 65;
 fn centre_and_open_floor(renderer: &mut Renderer, scene: &Scene, pipeline: Pipeline) -> (f64, f64) {
     let prepared = renderer.prepare_scene(scene).unwrap();
     let sliders = Sliders { base_color_linear: [0.8; 3], metallic: 0.0, smoothness: 0.5 };
-    let cell = cell_params(pipeline, "lambert", sliders, (1.5, 10.0), SIZE, RenderPath::Forward);
+    // The pipeline's lit shader: built-in's Standard is compiled with fullforwardshadows, so its
+    // ForwardAdd lights (the point and the spot) cast shadows; a classic model's would not.
+    let shader = pipeline.fixed_object_shader();
+    let cell = cell_params(pipeline, shader, sliders, (1.5, 10.0), SIZE, RenderPath::Forward);
     let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
     let at = |row: u32| {
         let i = (row * SIZE + SIZE / 2) as usize * 4;
@@ -42,6 +45,12 @@ fn a_caster_darkens_the_receiver_under_it_only_with_shadows_on() {
             let (shadowed, open_on) = centre_and_open_floor(&mut renderer, &on, pipeline);
             eprintln!("{kind:?} in {}: centre {shadowed:.4e} with shadows, {lit:.4e} without", pipeline.name());
             assert!(lit > 0.0, "{kind:?}/{}: the centre is lit without shadows", pipeline.name());
+            if pipeline == Pipeline::Urp && kind != LightKind::Directional {
+                // The code-default URP asset has additional-light shadows off (tests/e2e/passes.rs
+                // turns them on): the point and the spot cast none.
+                assert_eq!(shadowed, lit, "{kind:?}/urp");
+                continue;
+            }
             assert!(shadowed < 0.5 * lit, "{kind:?}/{}: {shadowed} vs {lit}", pipeline.name());
             // Floor in the open keeps its light: no acne, no map edge darkening it.
             assert!(

@@ -1,8 +1,13 @@
-//! HDRP's bloom on the frame's HDR target (shaders/pass/bloom.wgsl; f64 twin: `images::bloom`):
-//! HDRP's default volume enables it with intensity 0.2, scatter 0.7, threshold 0 at half
-//! resolution with bicubic ("high quality") filtering. Energy-conserving: the composite is
-//! lerp(colour, bloom, intensity), so a uniform image is unchanged. The chain's textures are made
-//! per target size and kept with the targets.
+//! HDRP's bloom on the frame's HDRP target (shaders/pass/bloom.wgsl; f64 twin: `images::bloom`),
+//! as PostProcessSystem.DoBloom runs it with the Default Volume Profile's Bloom (intensity 0.2,
+//! scatter 0.7 default, threshold 0, resolution Half, high-quality prefiltering off, high-quality
+//! filtering on; Editor/RenderPipelineResources/DefaultSettingsVolumeProfile.asset):
+//! - the composite is UberPost's lerp(colour, bloom, 2^intensity − 1) (0.1487 for 0.2), so a
+//!   uniform image is unchanged;
+//! - each upsample lerps towards the coarser level by lerp(0.05, 0.95, scatter) (0.68 for 0.7);
+//! - ⌊log2(max side) − 2⌋ levels (at most 16), level i RoundToInt(side / 2^(i+1));
+//! - below 800×450 the upsamples and the composite filter bilinearly instead of bicubically.
+//! The chain's textures are made per target size and kept with the targets.
 
 use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
@@ -26,25 +31,46 @@ const BLUR_ACROSS: u32 = 2;
 const BLUR_DOWN: u32 = 3;
 const LERP: u32 = 4;
 
-/// The bloom's settings (HDRP's Bloom volume component defaults in its default profile).
+/// The bloom's settings as the volume sets them (HDRP's default profile's Bloom).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BloomSettings {
     pub intensity: f64,
     pub scatter: f64,
+    /// Bloom.highQualityFiltering: bicubic upsampling (on in the default profile).
+    pub high_quality_filtering: bool,
 }
 
 impl Default for BloomSettings {
     fn default() -> Self {
-        BloomSettings { intensity: 0.2, scatter: 0.7 }
+        BloomSettings { intensity: 0.2, scatter: 0.7, high_quality_filtering: true }
     }
 }
 
-/// The pyramid's levels for a frame of `width`×`height`: half resolution first, halving, as many
-/// as ⌊log2(max side) − 1⌋ (at least 1, at most 16; PostProcessSystem's iteration count).
+impl BloomSettings {
+    /// UberPost's composite weight: 2^intensity − 1 ("makes intensity easier to control").
+    pub fn composite_weight(&self) -> f64 {
+        2f64.powf(self.intensity) - 1.0
+    }
+
+    /// The upsample's lerp towards the coarser level: lerp(0.05, 0.95, scatter).
+    pub fn upsample_scatter(&self) -> f64 {
+        0.05 + 0.9 * self.scatter
+    }
+
+    /// Whether a `width`×`height` frame upsamples bicubically: DoBloom turns high-quality
+    /// filtering off below 800×450.
+    pub fn bicubic(&self, width: u32, height: u32) -> bool {
+        self.high_quality_filtering && width >= 800 && height >= 450
+    }
+}
+
+/// The pyramid's levels for a frame of `width`×`height` at HDRP's Half resolution: ⌊log2(max
+/// side) − 2⌋ levels (at least 1, at most 16), level i RoundToInt(side / 2^(i+1)) (C#'s
+/// round-half-to-even), at least 1.
 pub fn level_sizes(width: u32, height: u32) -> Vec<(u32, u32)> {
-    let count = ((width.max(height) as f64).log2() - 1.0).floor().clamp(1.0, 16.0) as u32;
-    let (w, h) = (width.div_ceil(2), height.div_ceil(2));
-    (0..count).map(|k| ((w >> k).max(1), (h >> k).max(1))).collect()
+    let count = ((width.max(height) as f64).log2() - 2.0).floor().clamp(1.0, 16.0) as i32;
+    let side = |s: u32, k: i32| ((s as f64 / 2f64.powi(k + 1)).round_ties_even() as u32).max(1);
+    (0..count).map(|k| (side(width, k), side(height, k))).collect()
 }
 
 /// The compute pipeline, made once per renderer.
@@ -116,7 +142,8 @@ impl BloomChain {
                         dst: &wgpu::Texture,
                         size: (u32, u32),
                         factor: f64| {
-            let params = BloomParams { dims: [size.0, size.1, mode, 0], factor: [factor as f32, 0.0, 0.0, 0.0] };
+            let bicubic = settings.bicubic(width, height) as u32 as f32;
+            let params = BloomParams { dims: [size.0, size.1, mode, 0], factor: [factor as f32, bicubic, 0.0, 0.0] };
             let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("bloom step"),
                 contents: bytemuck::bytes_of(&params),
@@ -147,9 +174,9 @@ impl BloomChain {
         let n = levels.len();
         let upsampled = |k: usize| if k + 1 == n { &levels[k][0] } else { &levels[k][2] };
         for k in (0..n.saturating_sub(1)).rev() {
-            step(LERP, &levels[k][0], upsampled(k + 1), &levels[k][2], sizes[k], settings.scatter);
+            step(LERP, &levels[k][0], upsampled(k + 1), &levels[k][2], sizes[k], settings.upsample_scatter());
         }
-        step(LERP, color, upsampled(0), &output, (width, height), settings.intensity);
+        step(LERP, color, upsampled(0), &output, (width, height), settings.composite_weight());
         BloomChain { settings, output, steps }
     }
 
@@ -189,8 +216,14 @@ mod tests {
     fn the_pyramid_starts_at_half_resolution() {
         let s = level_sizes(384, 384);
         assert_eq!(s[0], (192, 192));
-        assert_eq!(s.len(), 7, "⌊log2 384 − 1⌋ = 7");
-        assert_eq!(*s.last().unwrap(), (3, 3));
+        assert_eq!(s.len(), 6, "⌊log2 384 − 2⌋ = 6");
+        assert_eq!(*s.last().unwrap(), (6, 6));
         assert_eq!(level_sizes(2, 2), vec![(1, 1)]);
+        // 100 / 8 = 12.5 rounds to 12, as Mathf.RoundToInt (half to even) does.
+        assert_eq!(level_sizes(100, 100), vec![(50, 50), (25, 25), (12, 12), (6, 6)]);
+        let hdrp = BloomSettings::default();
+        assert!((hdrp.composite_weight() - 0.148698).abs() < 1e-6);
+        assert!((hdrp.upsample_scatter() - 0.68).abs() < 1e-12);
+        assert!(!hdrp.bicubic(799, 600) && !hdrp.bicubic(1024, 449) && hdrp.bicubic(800, 450));
     }
 }
