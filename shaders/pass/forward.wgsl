@@ -256,7 +256,11 @@ fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>, vertex_gi: vec3<f32>) -> vec3<f
         main_light_color = lights[frame.counts.y - 1u].color.rgb;
     }
     var c = vec3<f32>(0.0);
-    for (var i = 0u; i < frame.counts.x; i++) {
+    // A ForwardAdd draw evaluates its one light, not a loop over the others
+    let additive = FORWARD_PASS == FORWARD_ADD;
+    let first = select(0u, add_light_index, additive);
+    let end = select(frame.counts.x, add_light_index + 1u, additive);
+    for (var i = first; i < end; i++) {
         // The model's own lights: per-pixel ones, or on the vertex-lit path the per-vertex ones
         let own = select(0u, 1u, VERTEX_LIT == 1u);
         let main = i + 1u == frame.counts.y;
