@@ -8,6 +8,7 @@ fn spec_blinn_phong(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, shininess: f32, no
     return select(lobe, lobe * (shininess + 8.0) * 0.125, normalized > 0.5);
 }
 
+// DEPARTURE from the reading note (spec §4c): the lobe is gated by NL > 0 with the diffuse term.
 fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
     let nl = max(0.0, dot(n, l));
     if (nl <= 0.0) {
@@ -17,6 +18,7 @@ fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f3
     return (s.base_color * nl + s.specular * spec) * INV_PI * irradiance_per_intensity();
 }
 
+// DEPARTURE from the reading note (spec §4c): the ambient is scaled by kd, not added as is.
 fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>) -> vec3<f32> {
     return s.base_color * gi_diffuse;
 }

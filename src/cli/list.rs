@@ -152,6 +152,23 @@ fn light_plan(m: &Matrix, scene: &crate::spec::scene::Scene) -> String {
     let key = scene.key_light().map(|k| &scene.lights[k]);
     let (intensity, range) = key.map_or((0.0, 0.0), |k| (k.intensity, k.range));
     let lights = crate::plan::camera::cell_lights(scene, intensity, range, &scene.camera, &Default::default());
+    // A ForwardBase-only shader (the forum shader `torrance_sparrow`) is lit by the main
+    // directional light alone: where the composition has none, no light reaches it.
+    for s in &m.shaders {
+        for p in &m.pipelines {
+            let base_only = m.registry.find(*p, s).is_some_and(|model| model.main_light_only);
+            if base_only && crate::plan::lights::main_light(*p, &lights).is_none() {
+                let _ = writeln!(
+                    out,
+                    "  {s} ({}): a ForwardBase-only shader and {} has no directional light, so none of its lights \
+                     reaches it: it shows only its ambient (× the absent main light's colour: none) and its \
+                     reflection, and adds no emission",
+                    p.name(),
+                    scene.name
+                );
+            }
+        }
+    }
     for p in &m.pipelines {
         for path in &m.paths {
             let plan = assign(*p, *path, &m.light_budget, &lights, &centres, |_| false);

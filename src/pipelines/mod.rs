@@ -173,6 +173,18 @@ impl Pipeline {
         }
     }
 
+    /// A spot light's inner half-angle (radians) when the scene sets none, from its outer one.
+    /// Built-in and URP: Unity's fallback atan(tan(outer)·46/64) (models.md#urp). HDRP: the inner
+    /// cone is a percentage of the outer, 0 % by default (HDAdditionalLightData
+    /// `m_InnerSpotPercent`; GPU light data cosSpotInnerHalfAngle = cos(angle/2 · percent)), so
+    /// the falloff spans the whole cone.
+    pub fn default_inner_spot_half_angle(self, outer: f64) -> f64 {
+        match self {
+            Pipeline::Builtin | Pipeline::Urp => (outer.tan() * 46.0 / 64.0).atan(),
+            Pipeline::Hdrp => 0.0,
+        }
+    }
+
     /// Whether the deferred path lights through a tiled light loop (HDRP's compute light list);
     /// built-in and URP deferred draw light volumes instead, emulated by looping over every light.
     pub fn tiled_light_loop(self) -> bool {
@@ -529,6 +541,14 @@ mod tests {
         }
         assert!((Attenuation::UrpSmoothInverseSquare.eval(1.0, 1e6) - 1.0).abs() < 1e-9);
         assert!((Attenuation::HdrpPunctual.eval(0.001, 10.0) - 1e4).abs() < 1e-3, "HDRP clamps d to 1 cm");
+    }
+
+    #[test]
+    fn hdrp_spots_fall_off_over_the_whole_cone_by_default() {
+        let outer = 30f64.to_radians();
+        assert_eq!(Pipeline::Hdrp.default_inner_spot_half_angle(outer), 0.0);
+        let urp = Pipeline::Urp.default_inner_spot_half_angle(outer);
+        assert!((urp.tan() / outer.tan() - 46.0 / 64.0).abs() < 1e-12);
     }
 
     #[test]

@@ -38,11 +38,10 @@ pub(in crate::render) fn write_uniforms(
     for (l, shadow) in lights.iter().zip(&plan.light_shadows) {
         let emitter = l.emitter();
         let outer = (l.spot_angle_deg * 0.5).to_radians();
-        // Unity's fallback inner angle: atan(tan(outer)·46/64) (models.md#urp).
         let inner = l
             .inner_spot_angle_deg
             .map(|a| (a * 0.5).to_radians())
-            .unwrap_or_else(|| (outer.tan() * 46.0 / 64.0).atan());
+            .unwrap_or_else(|| p.default_inner_spot_half_angle(outer));
         let color = DVec3::from(p.light_radiance(l.color, l.intensity, emitter));
         colors.push(color);
         let (shadow, shadow_bias) = shadow_slot(shadow);

@@ -1,4 +1,4 @@
-//! HDRP's bloom on the frame's HDRP target (shaders/pass/bloom.wgsl; f64 twin: `images::bloom`),
+//! HDRP's bloom on the frame's HDR target (shaders/pass/bloom.wgsl; f64 twin: `images::bloom`),
 //! as PostProcessSystem.DoBloom runs it with the Default Volume Profile's Bloom (intensity 0.2,
 //! scatter 0.7 default, threshold 0, resolution Half, high-quality prefiltering off, high-quality
 //! filtering on; Editor/RenderPipelineResources/DefaultSettingsVolumeProfile.asset):
@@ -7,6 +7,7 @@
 //! - each upsample lerps towards the coarser level by lerp(0.05, 0.95, scatter) (0.68 for 0.7);
 //! - ⌊log2(max side) − 2⌋ levels (at most 16), level i RoundToInt(side / 2^(i+1));
 //! - below 800×450 the upsamples and the composite filter bilinearly instead of bicubically.
+//!
 //! The chain's textures are made per target size and kept with the targets.
 
 use bytemuck::{Pod, Zeroable};
