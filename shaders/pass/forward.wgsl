@@ -329,13 +329,56 @@ fn interleaved_gradient_noise(pixel: vec2<f32>) -> f32 {
     return fract(52.9829189 * fract(dot(pixel, vec2<f32>(0.06711056, 0.00583715))));
 }
 
-// LOD cross-fade (the SRP tutorial's ClipLOD): a level fading out (fade t > 0) keeps the fragments
-// whose dither is below t, the level fading in (fade −t) those at or above it, so between them
-// they cover every pixel once.
-fn lod_clip(pixel: vec2<f32>) {
-    if (object.lod.y > 0.5) {
+// How the model's shader dithers a LOD cross-fade (plan::lod::CrossFade): 0 it does not (both
+// levels draw whole), 1 the SRP tutorial's ClipLOD on interleaved gradient noise, 2 core
+// LODDitheringTransition on the hashed view-direction seed (HDRP, URP Lit).
+override LOD_DITHER: u32 = 1u;
+
+// Core Random.hlsl JenkinsHash
+fn jenkins_hash(x_in: u32) -> u32 {
+    var x = x_in;
+    x += x << 10u;
+    x ^= x >> 6u;
+    x += x << 3u;
+    x ^= x >> 11u;
+    x += x << 15u;
+    return x;
+}
+
+// Core Random.hlsl GenerateHashedRandomFloat(uint2): ConstructFloat(JenkinsHash(v.x ^ JenkinsHash(v.y))),
+// the hash's mantissa bits as a float in [0, 1)
+fn hashed_random_float(v: vec2<u32>) -> f32 {
+    let m = (jenkins_hash(v.x ^ jenkins_hash(v.y)) & 0x007FFFFFu) | 0x3F800000u;
+    return bitcast<f32>(m) - 1.0;
+}
+
+// Core Packing.hlsl PackNormalOctQuadEncode: n/|n|₁ folded onto the octahedron's upper half
+fn pack_normal_oct_quad(n_in: vec3<f32>) -> vec2<f32> {
+    let n = n_in / max(dot(abs(n_in), vec3<f32>(1.0)), 1e-6);
+    let t = sat(-n.z);
+    return n.xy + vec2<f32>(select(-t, t, n.x >= 0.0), select(-t, t, n.y >= 0.0));
+}
+
+// ComputeFadeMaskSeed (perspective): the octahedral view direction × _ScreenSize.xy × P._m00_m11,
+// truncated; P's diagonal is the length of view_proj's first two rows (an orthonormal view)
+fn fade_mask_seed(v: vec3<f32>) -> vec2<u32> {
+    let m = frame.view_proj;
+    let p00 = length(vec3<f32>(m[0].x, m[1].x, m[2].x));
+    let p11 = length(vec3<f32>(m[0].y, m[1].y, m[2].y));
+    let pv = pack_normal_oct_quad(v) * frame.screen.xy * vec2<f32>(p00, p11);
+    return bitcast<vec2<u32>>(vec2<i32>(pv));
+}
+
+// LOD cross-fade: a level fading out (fade t > 0) keeps the fragments whose dither is below t, the
+// level fading in (fade −t) those at or above it, so between them they cover every pixel once
+// (LODDitheringTransition: clip(t − CopySign(dither, t))).
+fn lod_clip(pixel: vec2<f32>, p: vec3<f32>) {
+    if (object.lod.y > 0.5 && LOD_DITHER != 0u) {
         let fade = object.lod.x;
-        let dither = interleaved_gradient_noise(pixel);
+        var dither = interleaved_gradient_noise(pixel);
+        if (LOD_DITHER == 2u) {
+            dither = hashed_random_float(fade_mask_seed(normalize(frame.camera_pos.xyz - p)));
+        }
         if (select(fade - dither, fade + dither, fade < 0.0) < 0.0) {
             discard;
         }
@@ -348,7 +391,7 @@ var<private> shading_pixel: vec2<f32> = vec2<f32>(0.0);
 
 @fragment
 fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> FragmentOut {
-    lod_clip(in.clip.xy);
+    lod_clip(in.clip.xy, in.world_pos);
     screen_ao = load_screen_occlusion(in.clip.xy);
     let face = cross(dpdx(in.world_pos), dpdy(in.world_pos));
     shading_pixel = in.clip.xy;
@@ -371,6 +414,7 @@ struct GouraudOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) color: vec3<f32>,
     @location(1) uv: vec2<f32>,
+    @location(2) world_pos: vec3<f32>,
 };
 
 @vertex
@@ -381,12 +425,13 @@ fn vs_gouraud(in: VertexIn) -> GouraudOut {
     out.clip = frame.view_proj * world;
     out.color = shade(material_at_vertex(in.uv), n, world.xyz, vertex_lights(world.xyz, n));
     out.uv = in.uv;
+    out.world_pos = world.xyz;
     return out;
 }
 
 @fragment
 fn fs_gouraud(in: GouraudOut) -> FragmentOut {
-    lod_clip(in.clip.xy);
+    lod_clip(in.clip.xy, in.world_pos);
     var out: FragmentOut;
     out.color = vec4<f32>(in.color + emission(in.uv), 1.0);
     out.role = object.flags.y;
@@ -397,7 +442,7 @@ fn fs_gouraud(in: GouraudOut) -> FragmentOut {
 // map included, as n·0.5 + 0.5.
 @fragment
 fn fs_depth_normals(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
-    lod_clip(in.clip.xy);
+    lod_clip(in.clip.xy, in.world_pos);
     let n = mapped_normal(shading_normal(in.normal, cross(dpdx(in.world_pos), dpdy(in.world_pos)), in.world_pos, front), in.tangent, in.uv);
     return vec4<f32>(n * 0.5 + 0.5, 1.0);
 }
@@ -417,7 +462,7 @@ struct GBufferOut {
 
 @fragment
 fn fs_gbuffer(in: VertexOut, @builtin(front_facing) front: bool) -> GBufferOut {
-    lod_clip(in.clip.xy);
+    lod_clip(in.clip.xy, in.world_pos);
     let n = mapped_normal(shading_normal(in.normal, cross(dpdx(in.world_pos), dpdy(in.world_pos)), in.world_pos, front), in.tangent, in.uv);
     let s = material_at(in.uv);
     let v = normalize(frame.camera_pos.xyz - in.world_pos);

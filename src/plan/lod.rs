@@ -4,8 +4,8 @@
 //! transition height; below the last transition the group is culled. With a fade width w the last
 //! w of each level's range (from its transition up w·(previous transition − its own)) is a
 //! cross-fade band: the level is drawn with fade t ∈ (0, 1) and the next with −t, and each keeps
-//! the fragments its dither says (`lod_clip` in forward.wgsl, the SRP tutorial's ClipLOD on
-//! interleaved gradient noise), so the two cover the pixels between them. Sources: Unity
+//! the fragments its dither says (`lod_clip` in forward.wgsl, each engine's as `CrossFade` says),
+//! so the two cover the pixels between them. Sources: Unity
 //! LODGroup (screenRelativeTransitionHeight, fadeTransitionWidth, size), QualitySettings.lodBias;
 //! unity_LODFade.x as the tutorial reads it (1 → 0 for the level fading out, −1 → 0 for the one
 //! fading in).
@@ -75,6 +75,41 @@ pub fn groups_seen(scene: &Scene, world_bounds: &[(DVec3, DVec3)], camera: &Came
         .collect()
 }
 
+/// How a model's shader dithers the two levels of a cross-fade band (shaders/pass/forward.wgsl
+/// `lod_clip`, `LOD_DITHER`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CrossFade {
+    /// No LOD_FADE_CROSSFADE variant: built-in's Standard (Standard.shader compiles none) and the
+    /// built-in classic shaders ignore unity_LODFade, so both levels of a band draw whole.
+    None,
+    /// The SRP tutorial's ClipLOD on interleaved gradient noise (its `srp_lit`).
+    InterleavedGradientNoise,
+    /// Core Common.hlsl LODDitheringTransition on GenerateHashedRandomFloat(ComputeFadeMaskSeed(V,
+    /// positionSS)) (ShaderVariablesFunctions.hlsl): HDRP's Lit, and URP's Lit up to URP 13. URP 14
+    /// samples its 64² blue-noise texture instead, a Unity asset not shipped here: the hashed
+    /// white noise stands in for it (docs/deviations.md).
+    HashedViewDirection,
+}
+
+impl CrossFade {
+    /// The dither of `model` in `pipeline`.
+    pub fn of(pipeline: crate::pipelines::Pipeline, model: &crate::shading::ShaderModel) -> CrossFade {
+        use crate::pipelines::Pipeline;
+        match pipeline {
+            Pipeline::Builtin => CrossFade::None,
+            // The tutorial's pipeline is the only one with its own dither.
+            _ if model.name == "srp_lit" => CrossFade::InterleavedGradientNoise,
+            Pipeline::Urp | Pipeline::Hdrp => CrossFade::HashedViewDirection,
+        }
+    }
+
+    /// `LOD_DITHER` in shaders/pass/forward.wgsl.
+    pub fn shader_value(self) -> u32 {
+        self as u32
+    }
+}
+
 /// A LOD group in a cell: its relative screen height and the levels drawn (`plan::lod`).
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct LodUse {
@@ -104,6 +139,17 @@ mod tests {
         let last = select(0.11, &t, 0.5);
         assert_eq!(last.len(), 1);
         assert!(last[0].fade > 0.0 && last[0].fade < 1.0);
+    }
+
+    #[test]
+    fn each_engine_dithers_its_own_way() {
+        use crate::pipelines::Pipeline;
+        let r = crate::shading::Registry::builtin();
+        let of = |p: Pipeline, name: &str| CrossFade::of(p, r.find(p, name).unwrap());
+        assert_eq!(of(Pipeline::Builtin, "standard"), CrossFade::None);
+        assert_eq!(of(Pipeline::Urp, "srp_lit"), CrossFade::InterleavedGradientNoise);
+        assert_eq!(of(Pipeline::Urp, "lit"), CrossFade::HashedViewDirection);
+        assert_eq!(of(Pipeline::Hdrp, "lit"), CrossFade::HashedViewDirection);
     }
 
     #[test]

@@ -30,6 +30,7 @@ pub(in crate::render) fn write_uniforms(
     frame.view_proj = mat(vp);
     frame.inv_view_proj = mat(vp.inverse());
     frame.camera_pos = vec4(DVec3::from(camera.position), 1.0);
+    frame.screen = [cell.width as f32, cell.height as f32, 0.0, 0.0];
     let assignment = &plan.assignment;
     let sh = &prepared.shadows;
     let shadow_layers: Vec<ShadowLayer> = plan.shadow_layers.iter().map(ShadowLayer::from).collect();

@@ -7,6 +7,7 @@ use crate::error::Error;
 use crate::geometry::Vertex;
 use crate::gpu::GpuContext;
 use crate::pipelines::Pipeline;
+use crate::plan::lod::CrossFade;
 use crate::render::formats::{DEPTH_FORMAT, HDR_FORMAT, ROLE_FORMAT};
 use crate::shading::{wgsl, ShaderModel};
 
@@ -123,6 +124,7 @@ impl PipelineCache {
             ("VERTEX_LIT", vertex_lit as u32 as f64),
             ("TEXTURED", textured as u32 as f64),
             ("FORWARD_PASS", forward_pass as u32 as f64),
+            ("LOD_DITHER", CrossFade::of(pipeline, model).shader_value() as f64),
             ("ADDITIONAL_SHADOWS", additional_shadows as u32 as f64),
         ];
         if exact.any() {
@@ -222,7 +224,11 @@ impl PipelineCache {
         }
         let source = wgsl::compose(wgsl::PassKind::Forward, Some(model));
         let module = gpu.shader_module(&format!("gbuffer {}/{}", pipeline.name(), model.name), &source)?;
-        let constants = [("PIPELINE", pipeline.shader_id() as f64), ("TEXTURED", textured as u32 as f64)];
+        let constants = [
+            ("PIPELINE", pipeline.shader_id() as f64),
+            ("TEXTURED", textured as u32 as f64),
+            ("LOD_DITHER", CrossFade::of(pipeline, model).shader_value() as f64),
+        ];
         let targets = [
             Some(crate::render::gbuffer::GB_ALBEDO.into()),
             Some(crate::render::gbuffer::GB_MATERIAL.into()),
@@ -261,7 +267,11 @@ impl PipelineCache {
         }
         let source = wgsl::compose(wgsl::PassKind::Forward, Some(model));
         let module = gpu.shader_module(&format!("depth prepass {}", pipeline.name()), &source)?;
-        let constants = [("PIPELINE", pipeline.shader_id() as f64), ("TEXTURED", textured as u32 as f64)];
+        let constants = [
+            ("PIPELINE", pipeline.shader_id() as f64),
+            ("TEXTURED", textured as u32 as f64),
+            ("LOD_DITHER", CrossFade::of(pipeline, model).shader_value() as f64),
+        ];
         let targets = [Some(crate::render::passes::ssao::NORMAL_FORMAT.into())];
         let label = format!("depth prepass {}", pipeline.name());
         let p = Self::mesh_pipeline(

@@ -84,6 +84,8 @@ pub struct FrameUniforms {
     /// x: the reflection probes the shading blends (0: the sky alone).
     pub reflection: [u32; 4],
     pub probes: [GpuReflectionProbe; crate::spec::scene::MAX_PROBES],
+    /// x, y: the target's size in pixels (HDRP's _ScreenSize, for the LOD dither's seed).
+    pub screen: [f32; 4],
 }
 
 #[repr(C)]
@@ -151,7 +153,7 @@ mod tests {
         assert_eq!(std::mem::size_of::<ShadowLayer>(), 96);
         assert_eq!(std::mem::size_of::<GpuMaterial>(), 112);
         assert_eq!(std::mem::size_of::<GpuReflectionProbe>(), 48);
-        assert_eq!(std::mem::size_of::<FrameUniforms>(), 64 + 64 + 16 + 16 + 144 + 16 + 112 + 112 + 16 + 4 * 48);
+        assert_eq!(std::mem::size_of::<FrameUniforms>(), 64 + 64 + 16 + 16 + 144 + 16 + 112 + 112 + 16 + 4 * 48 + 16);
         assert_eq!(std::mem::size_of::<ObjectUniforms>(), 64 + 64 + 112 + 16 + 144 + 16);
     }
 }

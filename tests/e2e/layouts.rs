@@ -36,7 +36,7 @@ fn uniform_mirrors_match_their_wgsl_structs() {
             "Frame",
             mirror_layout!(
                 FrameUniforms,
-                [view_proj, inv_view_proj, camera_pos, counts, sh, env, subject, fixed, reflection, probes]
+                [view_proj, inv_view_proj, camera_pos, counts, sh, env, subject, fixed, reflection, probes, screen]
             ),
         ),
         (&forward, "Object", mirror_layout!(ObjectUniforms, [model, normal_matrix, material, flags, light_sh, lod])),

@@ -9,10 +9,10 @@ use shadematrix::plan::camera::ViewAxes;
 use shadematrix::render::renderer::{LodUse, Renderer};
 use shadematrix::spec::scene::Scene;
 
-fn render(renderer: &mut Renderer, scene: &Scene, distance: f64) -> (Vec<f64>, Vec<u8>, Vec<LodUse>) {
+fn render(renderer: &mut Renderer, scene: &Scene, distance: f64, shader: &str) -> (Vec<f64>, Vec<u8>, Vec<LodUse>) {
     let plastic =
         shadematrix::shading::registry::Sliders { base_color_linear: [0.284; 3], metallic: 0.0, smoothness: 0.75 };
-    let mut cell = cell_params(Pipeline::Urp, "lit", plastic, (2.0, 10.0), 128, RenderPath::Forward);
+    let mut cell = cell_params(Pipeline::Urp, shader, plastic, (2.0, 10.0), 128, RenderPath::Forward);
     cell.view = ViewAxes { camera_distance: Some(distance), light_angle: None };
     let prepared = renderer.prepare_scene(scene).unwrap();
     let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
@@ -32,26 +32,30 @@ fn a_cross_fade_band_dithers_the_two_levels_into_complementary_pixels() {
     // is shadowed by the other's shape.)
     scene.lights[0].shadows = false;
     let d = 6.5;
-    let (band, roles, lod) = render(&mut renderer, &scene, d);
-    let t = lod[0].drawn[0].fade;
-    let mut only0 = scene.clone();
-    only0.objects[0].lod.as_mut().unwrap().fade_width = 0.0;
-    let mut only1 = only0.clone();
-    only1.objects[0].lod.as_mut().unwrap().transitions[0] = 0.9;
-    let (a, _, _) = render(&mut renderer, &only0, d);
-    let (b, _, _) = render(&mut renderer, &only1, d);
-    let close = |x: f64, y: f64| (x - y).abs() <= 1e-4 * x.abs().max(y.abs()).max(1e-3);
-    let differing: Vec<usize> = (0..band.len()).filter(|&i| roles[i] == 2 && !close(a[i], b[i])).collect();
-    assert!(differing.len() > 200, "the levels differ on {} pixels", differing.len());
-    let from_a = differing.iter().filter(|&&i| close(band[i], a[i])).count() as f64 / differing.len() as f64;
-    let from_b = differing.iter().filter(|&&i| close(band[i], b[i])).count() as f64 / differing.len() as f64;
-    eprintln!(
-        "band at fade {t:.3}: {:.1} % of differing pixels from level 0, {:.1} % from level 1",
-        from_a * 100.0,
-        from_b * 100.0
-    );
-    assert!(from_a + from_b > 0.9, "pixels that are neither level: {}", 1.0 - from_a - from_b);
-    assert!((from_a - t).abs() < 0.1, "level 0 keeps {from_a} of the pixels at fade {t}");
+    // URP Lit dithers with the hashed view-direction seed (LODDitheringTransition), the SRP
+    // tutorial's Lit with interleaved gradient noise (plan::lod::CrossFade).
+    for shader in ["lit", "srp_lit"] {
+        let (band, roles, lod) = render(&mut renderer, &scene, d, shader);
+        let t = lod[0].drawn[0].fade;
+        let mut only0 = scene.clone();
+        only0.objects[0].lod.as_mut().unwrap().fade_width = 0.0;
+        let mut only1 = only0.clone();
+        only1.objects[0].lod.as_mut().unwrap().transitions[0] = 0.9;
+        let (a, _, _) = render(&mut renderer, &only0, d, shader);
+        let (b, _, _) = render(&mut renderer, &only1, d, shader);
+        let close = |x: f64, y: f64| (x - y).abs() <= 1e-4 * x.abs().max(y.abs()).max(1e-3);
+        let differing: Vec<usize> = (0..band.len()).filter(|&i| roles[i] == 2 && !close(a[i], b[i])).collect();
+        assert!(differing.len() > 200, "the levels differ on {} pixels", differing.len());
+        let from_a = differing.iter().filter(|&&i| close(band[i], a[i])).count() as f64 / differing.len() as f64;
+        let from_b = differing.iter().filter(|&&i| close(band[i], b[i])).count() as f64 / differing.len() as f64;
+        eprintln!(
+            "{shader}: band at fade {t:.3}: {:.1} % of differing pixels from level 0, {:.1} % from level 1",
+            from_a * 100.0,
+            from_b * 100.0
+        );
+        assert!(from_a + from_b > 0.9, "{shader}: pixels that are neither level: {}", 1.0 - from_a - from_b);
+        assert!((from_a - t).abs() < 0.1, "{shader}: level 0 keeps {from_a} of the pixels at fade {t}");
+    }
 }
 
 #[test]
