@@ -148,7 +148,7 @@ fn pruned_axes(composition: &str, pipeline: Pipeline, axis: &str, value: &str) -
     ]
 }
 
-/// The most cells a run expands unless `--max-cells` says otherwise: the thesis is 7 200; a
+/// The most cells a run expands unless `--max-cells` says otherwise: the thesis is 172 800; a
 /// million 256² cells is some 200 GB of results.
 pub const DEFAULT_MAX_CELLS: u64 = 1_000_000;
 
@@ -191,8 +191,14 @@ fn swept_axes(m: &Matrix) -> Vec<(Axis, Vec<AxisValue>)> {
         .iter()
         .filter_map(|row| {
             let values: Vec<AxisValue> = match row.kind {
-                AxisKind::Number => m.sweep.numbers(row.axis).iter().map(|v| AxisValue::Number(*v)).collect(),
-                AxisKind::Colour => m.sweep.color.iter().map(|c| AxisValue::Colour(Some(*c))).collect(),
+                AxisKind::Number => {
+                    let own = m.sweep.sweeps_own(row.axis).then_some(AxisValue::Own);
+                    own.into_iter().chain(m.sweep.numbers(row.axis).iter().map(|v| AxisValue::Number(*v))).collect()
+                }
+                AxisKind::Colour => {
+                    let own = m.sweep.sweeps_own(row.axis).then_some(AxisValue::Own);
+                    own.into_iter().chain(m.sweep.color.iter().map(|c| AxisValue::Colour(Some(*c)))).collect()
+                }
                 AxisKind::Bool => m.sweep.textured.iter().map(|b| AxisValue::Bool(*b)).collect(),
                 AxisKind::Name | AxisKind::Params => return None,
             };

@@ -60,6 +60,10 @@ pub fn parse_filter(c: &Checker, key: &str, table: &toml::Table) -> Result<Filte
                     )
                 }
                 (true, toml::Value::Integer(i)) => FilterValue::Number(*i as f64),
+                // The scene's own value of an axis that can be swept with it (`"scene"`).
+                (true, toml::Value::String(s)) if s == "scene" && super::axes::of(axis).own == "scene" => {
+                    FilterValue::Name(s.clone())
+                }
                 (false, toml::Value::String(s)) => FilterValue::Name(s.clone()),
                 (numeric, other) => {
                     return Err(c.err(

@@ -132,6 +132,11 @@ pub struct Sweep {
     pub textured: Vec<bool>,
     #[serde(skip_serializing_if = "BTreeMap::is_empty")]
     pub params: BTreeMap<String, Vec<f64>>,
+    /// Axes whose list also names their own value: the scene's on numeric axes whose table row
+    /// reads `own = "scene"` (`camera_distance = ["scene", 0.3, 0.8]`), the preset's colour
+    /// (`color = ["preset", [1, 1, 1]]`).
+    #[serde(skip_serializing_if = "std::collections::BTreeSet::is_empty")]
+    pub own: std::collections::BTreeSet<String>,
 }
 
 impl<'de> Deserialize<'de> for Sweep {
@@ -144,9 +149,42 @@ impl<'de> Deserialize<'de> for Sweep {
             let typed = |e: toml::de::Error| D::Error::custom(format!("sweep.{key}: {}", e.message()));
             match super::axes::find(&key).map(|r| r.kind) {
                 Some(AxisKind::Number) => {
-                    sweep.numbers.insert(key.clone(), value.clone().try_into().map_err(typed)?);
+                    let row = super::axes::find(&key).expect("a row");
+                    let items: Vec<toml::Value> = value.clone().try_into().map_err(typed)?;
+                    let mut numbers = Vec::with_capacity(items.len());
+                    for item in items {
+                        match item {
+                            toml::Value::Float(f) => numbers.push(f),
+                            toml::Value::Integer(i) => numbers.push(i as f64),
+                            toml::Value::String(s) if row.own == "scene" && s == "scene" => {
+                                sweep.own.insert(key.clone());
+                            }
+                            other => {
+                                let allowed = if row.own == "scene" {
+                                    "numbers, or \"scene\" for the scene's own"
+                                } else {
+                                    "numbers"
+                                };
+                                return Err(D::Error::custom(format!(
+                                    "sweep.{key}: {other} is not a value of this axis; allowed: {allowed}"
+                                )));
+                            }
+                        }
+                    }
+                    sweep.numbers.insert(key.clone(), numbers);
                 }
-                Some(AxisKind::Colour) => sweep.color = value.clone().try_into().map_err(typed)?,
+                Some(AxisKind::Colour) => {
+                    // Colours as [r, g, b] in sRGB, and "preset" for the preset's own.
+                    let items: Vec<toml::Value> = value.clone().try_into().map_err(typed)?;
+                    for item in items {
+                        match item {
+                            toml::Value::String(s) if s == "preset" => {
+                                sweep.own.insert(key.clone());
+                            }
+                            other => sweep.color.push(other.try_into().map_err(typed)?),
+                        }
+                    }
+                }
                 Some(AxisKind::Bool) => sweep.textured = value.clone().try_into().map_err(typed)?,
                 Some(AxisKind::Params) => sweep.params = value.clone().try_into().map_err(typed)?,
                 _ => {
@@ -183,7 +221,12 @@ impl Sweep {
                 distinct.push(*x);
             }
         }
-        distinct.len()
+        distinct.len() + self.sweeps_own(axis) as usize
+    }
+
+    /// Whether the axis's list names the scene's own value besides its numbers.
+    pub fn sweeps_own(&self, axis: Axis) -> bool {
+        self.own.contains(axis.name())
     }
 }
 
@@ -650,11 +693,13 @@ impl Matrix {
                 Axis::Textured => vec!["false".into(), "true".into()],
                 Axis::Color => {
                     let mut v: Vec<String> = file.sweep.color.iter().map(|c| color_code(Some(*c))).collect();
-                    if v.is_empty() {
+                    if v.is_empty() || file.sweep.sweeps_own(Axis::Color) {
                         v.push(color_code(None));
                     }
                     v
                 }
+                // A numeric axis's one name: the scene's own value, where the axis has one.
+                _ if super::axes::of(axis).own == "scene" => vec!["scene".into()],
                 _ => Vec::new(),
             }
         };
@@ -815,11 +860,12 @@ impl Matrix {
                 Axis::Preset => self.presets.iter().map(|p| p.name.to_string()).collect(),
                 Axis::Color => {
                     let mut v: Vec<String> = self.sweep.color.iter().map(|c| color_code(Some(*c))).collect();
-                    if v.is_empty() {
+                    if v.is_empty() || self.sweep.sweeps_own(Axis::Color) {
                         v.push(color_code(None));
                     }
                     v
                 }
+                _ if crate::spec::axes::of(*axis).own == "scene" => vec!["scene".into()],
                 _ => continue,
             };
             for v in values {

@@ -211,3 +211,33 @@ fn light_shape_keys_belong_to_their_kind() {
     assert_eq!(rc, 2, "{stderr}");
     assert!(stderr.contains("lights[0].angular_diameter_deg") && stderr.contains("directional"), "{stderr}");
 }
+
+/// A sweep list may name the scene's own value (`"scene"`, numeric axes that have one) and the
+/// preset's colour (`"preset"`); filters match them, so one matrix can sweep the camera distance
+/// of some compositions and keep the scene's camera in the others.
+#[test]
+fn sweep_lists_can_name_the_scenes_and_the_presets_own_value() {
+    let tmp = tempfile::tempdir().unwrap();
+    let text = "name = \"own\"\ncompositions = [\"default\", \"medusa\"]\npipelines = [\"urp\"]\nshaders = [\"lit\"]\n\
+                presets = [\"gold\"]\n[sweep]\ncamera_distance = [\"scene\", 0.3, 0.8]\ncolor = [\"preset\", [1.0, 1.0, 1.0]]\n\
+                [[exclude]]\ncomposition = [\"default\"]\ncamera_distance = [0.3, 0.8]\n\
+                [[exclude]]\ncomposition = [\"medusa\"]\ncamera_distance = [\"scene\"]\n";
+    std::fs::write(tmp.path().join("own.toml"), text).unwrap();
+    let (rc, out, err) = crate::common::shadematrix(tmp.path(), &["list", "own.toml"], &[]);
+    assert_eq!(rc, 0, "{err}");
+    for id in [
+        "default__urp-forward__lit__gold__m1.00_s0.90_i2_r10\n",
+        "default__urp-forward__lit__gold__m1.00_s0.90_cffffff_i2_r10\n",
+        "medusa__urp-forward__lit__gold__m1.00_s0.90_i1_r10_d0.3\n",
+        "medusa__urp-forward__lit__gold__m1.00_s0.90_cffffff_i1_r10_d0.8\n",
+    ] {
+        assert!(out.contains(id), "no {id} in:\n{out}");
+    }
+    assert!(out.contains("6 cells before twins"), "{out}");
+    // Only an axis with a scene value takes "scene".
+    std::fs::write(tmp.path().join("bad.toml"), text.replace("[sweep]\n", "[sweep]\nmetallic = [\"scene\"]\n"))
+        .unwrap();
+    let (rc, _, err) = crate::common::shadematrix(tmp.path(), &["list", "bad.toml"], &[]);
+    assert_eq!(rc, 2, "{err}");
+    assert!(err.contains("sweep.metallic") && err.contains("\"scene\""), "{err}");
+}
