@@ -78,6 +78,40 @@ impl Pipeline {
         }
     }
 
+    /// `light_radiance` with the matrix's engine settings: HDRP reads the axis in the unit
+    /// `[pipeline_settings.hdrp] light_unit` names (`settings::HdrpLightUnit`).
+    pub fn light_radiance_with(
+        self,
+        srgb_color: [f64; 3],
+        intensity: f64,
+        emitter: Emitter,
+        engine: &settings::PipelineSettings,
+    ) -> [f64; 3] {
+        use settings::HdrpLightUnit;
+        let per_unit = match (self, engine.hdrp.light_unit, emitter) {
+            (Pipeline::Hdrp, HdrpLightUnit::Candela, Emitter::Point { .. } | Emitter::Spot { .. }) => 1.0,
+            (Pipeline::Hdrp, HdrpLightUnit::Unity, _) => std::f64::consts::PI,
+            _ => return self.light_radiance(srgb_color, intensity, emitter),
+        };
+        let scale = intensity * self.intensity_scale() * per_unit;
+        srgb_color.map(|c| srgb_to_linear(c) * scale)
+    }
+
+    /// `intensity_unit` with the matrix's engine settings.
+    pub fn intensity_unit_with(self, emitter: Emitter, engine: &settings::PipelineSettings) -> &'static str {
+        use settings::HdrpLightUnit;
+        match (self, engine.hdrp.light_unit, emitter) {
+            (Pipeline::Hdrp, HdrpLightUnit::Candela, Emitter::Point { .. } | Emitter::Spot { .. }) => {
+                "candela (axis × 10000)"
+            }
+            (Pipeline::Hdrp, HdrpLightUnit::Unity, Emitter::Directional { .. }) => {
+                "unitless as URP's, read as lux π·axis × 10000"
+            }
+            (Pipeline::Hdrp, HdrpLightUnit::Unity, _) => "unitless as URP's, read as candela π·axis × 10000",
+            _ => self.intensity_unit(emitter),
+        }
+    }
+
     /// Environment radiance scale, so that ambient keeps its proportion to the direct light.
     pub fn environment_scale(self) -> f64 {
         self.intensity_scale()

@@ -12,6 +12,48 @@ use super::Antialiasing;
 pub struct PipelineSettings {
     pub builtin: BuiltinSettings,
     pub urp: UrpAsset,
+    #[serde(default)]
+    pub hdrp: HdrpSettings,
+}
+
+/// How HDRP reads the key-light axis (`[pipeline_settings.hdrp] light_unit`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HdrpSettings {
+    #[serde(default)]
+    pub light_unit: HdrpLightUnit,
+}
+
+/// The HDRP reading of the light-intensity axis (0–100), always × 10⁴ as the app's slider was.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum HdrpLightUnit {
+    /// The app's: lumen for point and spot lights (candela by the shape, LightUtils.cs), lux for
+    /// directional ones.
+    #[default]
+    Lumen,
+    /// Candela for point and spot lights (no shape conversion), lux for directional ones.
+    Candela,
+    /// Built-in's and URP's unitless intensity I, converted to what delivers the same irradiance
+    /// there (π·I): candela or lux = π·I, × 10⁴ as HDRP's sky is, so the sky and the key light keep
+    /// URP's balance.
+    Unity,
+}
+
+impl HdrpLightUnit {
+    pub const ALL: [HdrpLightUnit; 3] = [HdrpLightUnit::Lumen, HdrpLightUnit::Candela, HdrpLightUnit::Unity];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            HdrpLightUnit::Lumen => "lumen",
+            HdrpLightUnit::Candela => "candela",
+            HdrpLightUnit::Unity => "unity",
+        }
+    }
+
+    pub fn names() -> Vec<&'static str> {
+        Self::ALL.iter().map(|u| u.name()).collect()
+    }
 }
 
 /// Built-in's forward pass structure.
@@ -190,6 +232,15 @@ pub struct PipelineSettingsFile {
     pub builtin: BuiltinSettings,
     #[serde(default)]
     pub urp: UrpAssetFile,
+    #[serde(default)]
+    pub hdrp: HdrpSettingsFile,
+}
+
+/// `[pipeline_settings.hdrp]` as written.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HdrpSettingsFile {
+    pub light_unit: Option<String>,
 }
 
 /// Why a `[pipeline_settings]` value was refused: the key under `pipeline_settings` and the message.
@@ -265,7 +316,13 @@ impl PipelineSettingsFile {
                 *into = v;
             }
         }
-        Ok(PipelineSettings { builtin: self.builtin, urp: a })
+        let light_unit = match &self.hdrp.light_unit {
+            None => HdrpLightUnit::default(),
+            Some(name) => HdrpLightUnit::ALL.into_iter().find(|u| u.name() == name).ok_or_else(|| {
+                ("hdrp.light_unit".to_string(), format!("`{name}`: allowed {}", HdrpLightUnit::names().join(", ")))
+            })?,
+        };
+        Ok(PipelineSettings { builtin: self.builtin, urp: a, hdrp: HdrpSettings { light_unit } })
     }
 }
 

@@ -22,7 +22,10 @@ pub fn key_light(matrix: &Matrix, cell: &Cell) -> KeyLight {
     let scene = &matrix.compositions[cell.composition_index];
     let emitter = scene.key_light().map(|k| scene.lights[k].emitter());
     KeyLight {
-        unit: emitter.map_or_else(|| "no key light".to_string(), |e| cell.pipeline.intensity_unit(e).to_string()),
+        unit: emitter.map_or_else(
+            || "no key light".to_string(),
+            |e| cell.pipeline.intensity_unit_with(e, &cell.pipeline_settings).to_string(),
+        ),
         intensity: cell.light_intensity,
         range: cell.light_range,
         intensity_scale: cell.pipeline.intensity_scale(),

@@ -609,6 +609,13 @@ impl Matrix {
                     let names = crate::pipelines::settings::UrpAssetPreset::names();
                     unknown_name(origin, &key, "URP asset", u.asset.as_deref().unwrap_or_default(), &names)
                 }
+                ("pipeline_settings.hdrp.light_unit", _) => unknown_name(
+                    origin,
+                    &key,
+                    "HDRP light unit",
+                    file.pipeline_settings.hdrp.light_unit.as_deref().unwrap_or_default(),
+                    &crate::pipelines::settings::HdrpLightUnit::names(),
+                ),
                 ("pipeline_settings.urp.msaa", u) => unknown_name(
                     origin,
                     &key,

@@ -132,3 +132,34 @@ fn a_model_without_a_gbuffer_pass_is_drawn_forward_on_deferred_paths() {
         assert!(worst <= allowed * peak, "{pipeline:?}/{shader}: {worst} of {peak}");
     }
 }
+
+/// HDRP's key light read as URP's unitless intensity (`light_unit = "unity"`) keeps URP's balance
+/// of sky to key light in the default room; read as the app's ×10⁴ lumen it is about 4π² off.
+#[test]
+fn hdrp_light_unit_unity_keeps_urps_sky_to_key_balance() {
+    use shadematrix::pipelines::settings::HdrpLightUnit;
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let prepared = renderer.prepare_scene(&Scene::load("default", None, "test", "composition").unwrap()).unwrap();
+    let plastic = Sliders { base_color_linear: [0.284; 3], metallic: 0.0, smoothness: 0.75 };
+    let mut subject_mean = |pipeline: Pipeline, unit: HdrpLightUnit, (key, ambient): (f64, f64)| {
+        let mut cell = cell_params(pipeline, "lit", plastic, (key, 10.0), 64, RenderPath::Forward);
+        cell.settings.ambient_intensity = Some(ambient);
+        cell.settings.engine.hdrp.light_unit = unit;
+        let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
+        let (mut sum, mut n) = (0.0, 0usize);
+        for k in (0..r.roles.len()).filter(|&k| r.roles[k] == 2) {
+            sum += 0.2126 * r.hdr[4 * k] as f64 + 0.7152 * r.hdr[4 * k + 1] as f64 + 0.0722 * r.hdr[4 * k + 2] as f64;
+            n += 1;
+        }
+        sum / n as f64
+    };
+    let balance = |f: &mut dyn FnMut(Pipeline, HdrpLightUnit, (f64, f64)) -> f64, p, unit| {
+        f(p, unit, (0.0, 1.0)) / f(p, unit, (2.0, 0.0))
+    };
+    let urp = balance(&mut subject_mean, Pipeline::Urp, HdrpLightUnit::Lumen);
+    let unity = balance(&mut subject_mean, Pipeline::Hdrp, HdrpLightUnit::Unity);
+    let lumen = balance(&mut subject_mean, Pipeline::Hdrp, HdrpLightUnit::Lumen);
+    eprintln!("sky ÷ key on the subject: URP {urp:.4}, HDRP unity {unity:.4}, HDRP lumen {lumen:.4}");
+    assert!((unity / urp - 1.0).abs() < 0.1, "{unity} vs {urp}");
+    assert!(lumen / urp > 30.0, "{lumen} vs {urp}");
+}
