@@ -88,15 +88,28 @@ fn fract(x: f64) -> f64 {
     x - x.floor()
 }
 
-fn gtao_direction(x: u32, y: u32, i: u32) -> DVec2 {
-    const ROTATIONS: [f64; 6] = [60.0, 300.0, 180.0, 240.0, 120.0, 0.0];
+/// GTAO.compute's rotations, by direction (non-temporal) or by frame (TEMPORAL).
+const ROTATIONS: [f64; 6] = [60.0, 300.0, 180.0, 240.0, 120.0, 0.0];
+/// GTAO.compute's temporal offsets (ENABLE_TEMPORAL_OFFSET).
+const TEMPORAL_OFFSETS: [f64; 4] = [0.0, 0.5, 0.25, 0.75];
+
+/// One frame of HDRP's temporal GTAO: one direction, rotated by `ROTATIONS[rotation]`, and the
+/// sample start shifted by `TEMPORAL_OFFSETS[offset]` (_AOTemporalRotationIdx, _AOTemporalOffsetIdx).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TemporalFrame {
+    pub rotation: usize,
+    pub offset: usize,
+}
+
+fn gtao_direction(x: u32, y: u32, rotation: usize) -> DVec2 {
     let noise = fract(52.9829189 * fract(0.06711056 * x as f64 + 0.00583715 * y as f64));
-    let angle = (noise + ROTATIONS[i as usize] / 360.0) * std::f64::consts::PI;
+    let angle = (noise + ROTATIONS[rotation] / 360.0) * std::f64::consts::PI;
     DVec2::new(angle.cos(), angle.sin())
 }
 
-fn gtao_offset(x: u32, y: u32) -> f64 {
-    fract(0.25 * (y.wrapping_sub(x) & 3) as f64)
+fn gtao_offset(x: u32, y: u32, temporal: Option<TemporalFrame>) -> f64 {
+    let spatial = 0.25 * (y.wrapping_sub(x) & 3) as f64;
+    fract(spatial + temporal.map_or(0.0, |t| TEMPORAL_OFFSETS[t.offset]))
 }
 
 impl Gtao<'_> {
@@ -151,23 +164,24 @@ impl Gtao<'_> {
         max_horizon
     }
 
-    /// GTAOMain at half resolution: (AO, depth), quantised as packed.
-    fn gtao(&self, x: u32, y_top: u32) -> (f64, f64) {
+    /// GTAOMain at half resolution: (AO, depth), quantised as packed; `temporal`: one frame of
+    /// the TEMPORAL variant, else every direction of the non-temporal one.
+    fn gtao(&self, x: u32, y_top: u32, temporal: Option<TemporalFrame>) -> (f64, f64) {
         let f = self.frame;
         let y = self.level1.height as u32 - 1 - y_top;
         let curr_depth = self.depth_for_central(x as i64, y as i64);
         let ray_start = DVec2::new(x as f64, y as f64);
         let position_vs = get_position_vs(f, ray_start, curr_depth);
-        let offset = gtao_offset(x, y);
+        let offset = gtao_offset(x, y, temporal);
         let v = (-position_vs).normalize();
         let [fov_correction, radius, step_count, inv_steps] = p(f.params0);
         let radius_ss = (radius * fov_correction / position_vs.z).clamp(step_count, f.params1[3] as f64);
         let step = (radius_ss * inv_steps).max(1.0);
-        let dir_count = f.params1[2] as u32;
+        let dir_count = if temporal.is_some() { 1 } else { f.params1[2] as u32 };
         let n_vs = self.normal_vs(2 * x as i64, 2 * y as i64);
         let mut integral = 0.0;
         for i in 0..dir_count {
-            let dir = gtao_direction(x, y, i);
+            let dir = gtao_direction(x, y, temporal.map_or(i as usize, |t| t.rotation));
             let neg_dir = -dir + 1e-30;
             let mut h = [
                 self.horizon_loop(position_vs, v, ray_start, dir, offset, step),
@@ -219,6 +233,33 @@ fn closest(finer: &Plane, size: (u32, u32)) -> Plane {
 /// whose raw depth (0 near .. 1 far) and encoded world normals (n·0.5 + 0.5) are given, row-major,
 /// top row first.
 pub fn visibility(width: u32, height: u32, depth: &[f64], encoded_normals: &[DVec3], frame: &SsaoFrame) -> Vec<f64> {
+    visibility_over(width, height, depth, encoded_normals, frame, &[None])
+}
+
+/// What HDRP's default temporal GTAO converges to on a still frame: the half-resolution AO of its
+/// 24 frames (rotation frameCount mod 6, offset (frameCount / 6) mod 4; one direction each)
+/// averaged, as an exponential history converges to their mean, then upsampled.
+pub fn temporal_visibility(
+    width: u32,
+    height: u32,
+    depth: &[f64],
+    encoded_normals: &[DVec3],
+    frame: &SsaoFrame,
+) -> Vec<f64> {
+    let frames: Vec<Option<TemporalFrame>> =
+        (0..24).map(|k| Some(TemporalFrame { rotation: k % 6, offset: (k / 6) % 4 })).collect();
+    visibility_over(width, height, depth, encoded_normals, frame, &frames)
+}
+
+/// The visibility from the mean half-resolution AO of `frames` (None: the non-temporal pass).
+fn visibility_over(
+    width: u32,
+    height: u32,
+    depth: &[f64],
+    encoded_normals: &[DVec3],
+    frame: &SsaoFrame,
+    frames: &[Option<TemporalFrame>],
+) -> Vec<f64> {
     let [full, l1, l2] = level_sizes(width, height);
     let depth0 = Plane { width: width as usize, height: height as usize, texels: depth.to_vec() };
     let level1 = closest(&depth0, l1);
@@ -234,10 +275,12 @@ pub fn visibility(width: u32, height: u32, depth: &[f64], encoded_normals: &[DVe
     let mut packed_depth = Plane::new(l1);
     for y in 0..l1.1 {
         for x in 0..l1.0 {
-            let (a, d) = g.gtao(x, y);
             let i = (y * l1.0 + x) as usize;
-            ao.texels[i] = a;
-            packed_depth.texels[i] = d;
+            for t in frames {
+                let (a, d) = g.gtao(x, y, *t);
+                ao.texels[i] += a / frames.len() as f64;
+                packed_depth.texels[i] = d;
+            }
         }
     }
     let intensity = frame.params1[0] as f64;
