@@ -415,7 +415,66 @@ struct GouraudOut {
     @location(0) color: vec3<f32>,
     @location(1) uv: vec2<f32>,
     @location(2) world_pos: vec3<f32>,
+    // The fixed-function fallback's separate specular (FIXED_FUNCTION)
+    @location(3) specular: vec3<f32>,
 };
+
+// 1: built-in's vertex-lit path drawing a shader without a Vertex pass (Standard), which falls
+// back to Legacy Shaders/VertexLit: fixed-function lighting at the vertices (vertex_lit_ffp), no
+// reflections, no emission (VertexLit reads _Emission, Standard sets _EmissionColor).
+override FIXED_FUNCTION: u32 = 0u;
+
+// Legacy Shaders/VertexLit's material defaults where Standard sets nothing: _SpecColor white,
+// _Shininess 0.7 (× 128 in the generated code).
+const FFP_SHININESS: f32 = 89.6;
+
+// The fixed-function vertex lighting Unity generates for VertexLit (Lighting On, SeparateSpecular
+// On; the code of its "show generated code"): per light att·NL·C·L (min 1 per light) and
+// att·sat((N·H)^shininess)·L, both at half the light colour ("passed in light colors are 2x
+// brighter than what used to be in FFP"), the ambient C·A/2 (UNITY_LIGHTMODEL_AMBIENT is
+// glstate_lightmodel_ambient × 2); returns (sat(diffuse + ambient), sat(specular)). A: the flat
+// ambient, the environment's SH band 0 (RenderSettings' skybox ambient has no per-normal term
+// in the fixed-function path). att: 1 directional; 1/(1 + 25·d²/range²), 0 beyond the range, for
+// points and spots, spots × sat((ρ − cos outer)/(cos inner − cos outer)). Twin:
+// shading::twin::vertex_lit.
+fn vertex_lit_ffp(c: vec3<f32>, n: vec3<f32>, p: vec3<f32>) -> array<vec3<f32>, 2> {
+    let v = normalize(frame.camera_pos.xyz - p);
+    let ambient = max(frame.sh[0].rgb * 0.282095, vec3<f32>(0.0)) * frame.env.y;
+    var diffuse = c * ambient * 0.5;
+    var specular = vec3<f32>(0.0);
+    for (var i = 0u; i < frame.counts.x; i++) {
+        if (light_mode(object.flags.z, i) != 1u) {
+            continue;
+        }
+        let light = lights[i];
+        var l = -normalize(light.direction.xyz);
+        var att = 1.0;
+        if (u32(light.position.w) != 0u) {
+            let to_light = light.position.xyz - p;
+            let d2 = dot(to_light, to_light);
+            let range2 = light.params.x * light.params.x;
+            att = select(1.0 / (1.0 + d2 * 25.0 / range2), 0.0, d2 > range2);
+            l = to_light * inverseSqrt(max(d2, 1e-6));
+            if (u32(light.position.w) == 2u) {
+                let rho = max(dot(l, -normalize(light.direction.xyz)), 0.0);
+                att *= sat((rho - light.params.y) / max(light.params.z - light.params.y, 1e-4));
+            }
+        }
+        att *= 0.5;
+        let colour = light.color.rgb * irradiance_per_intensity() * INV_PI;
+        let nl = max(dot(n, l), 0.0);
+        diffuse += min(nl * c * colour * att, vec3<f32>(1.0));
+        if (nl > 0.0) {
+            let nh = max(dot(n, normalize(l + v)), 0.0);
+            specular += att * sat(pow(nh, FFP_SHININESS)) * colour;
+        }
+    }
+    return array<vec3<f32>, 2>(sat3(diffuse), sat3(specular));
+}
+
+fn sat3(x: vec3<f32>) -> vec3<f32> {
+    return clamp(x, vec3<f32>(0.0), vec3<f32>(1.0));
+}
 
 @vertex
 fn vs_gouraud(in: VertexIn) -> GouraudOut {
@@ -423,7 +482,14 @@ fn vs_gouraud(in: VertexIn) -> GouraudOut {
     let n = vertex_normal((object.normal_matrix * vec4<f32>(in.normal, 0.0)).xyz, world.xyz);
     var out: GouraudOut;
     out.clip = frame.view_proj * world;
-    out.color = shade(material_at_vertex(in.uv), n, world.xyz, vertex_lights(world.xyz, n));
+    out.specular = vec3<f32>(0.0);
+    if (FIXED_FUNCTION == 1u) {
+        let lit = vertex_lit_ffp(material_at_vertex(in.uv).base_color, n, world.xyz);
+        out.color = lit[0];
+        out.specular = lit[1];
+    } else {
+        out.color = shade(material_at_vertex(in.uv), n, world.xyz, vertex_lights(world.xyz, n));
+    }
     out.uv = in.uv;
     out.world_pos = world.xyz;
     return out;
@@ -433,7 +499,13 @@ fn vs_gouraud(in: VertexIn) -> GouraudOut {
 fn fs_gouraud(in: GouraudOut) -> FragmentOut {
     lod_clip(in.clip.xy, in.world_pos);
     var out: FragmentOut;
-    out.color = vec4<f32>(in.color + emission(in.uv), 1.0);
+    if (FIXED_FUNCTION == 1u) {
+        // SetTexture [_MainTex] { Combine texture * primary DOUBLE }, then the separate specular
+        // (the material's colour and maps are in the primary, taken at the vertices)
+        out.color = vec4<f32>(in.color * 2.0 + in.specular, 1.0);
+    } else {
+        out.color = vec4<f32>(in.color + emission(in.uv), 1.0);
+    }
     out.role = object.flags.y;
     return out;
 }

@@ -124,6 +124,7 @@ impl PipelineCache {
             ("VERTEX_LIT", vertex_lit as u32 as f64),
             ("TEXTURED", textured as u32 as f64),
             ("FORWARD_PASS", forward_pass as u32 as f64),
+            ("FIXED_FUNCTION", (vertex_lit && model.passes.vertex_lit_fallback) as u32 as f64),
             ("LOD_DITHER", CrossFade::of(pipeline, model).shader_value() as f64),
             ("ADDITIONAL_SHADOWS", additional_shadows as u32 as f64),
         ];

@@ -152,14 +152,22 @@ pub struct EnginePasses {
     /// main directional light shadows the object (`multi_compile_fwdadd`, Unity manual "Surface
     /// Shaders: fullforwardshadows").
     pub full_forward_shadows: bool,
+    /// Built-in: the shader has no `Vertex` pass, so the legacy vertex-lit path draws its fallback,
+    /// Legacy Shaders/VertexLit (Standard.shader ends `FallBack "VertexLit"`). The classic models
+    /// are drawn with their own lighting at the vertices, as a shader with a Vertex pass is.
+    pub vertex_lit_fallback: bool,
 }
 
-/// Standard and its BRDF tiers: a G-buffer pass, shadows from every forward light.
-const STANDARD_PASSES: EnginePasses = EnginePasses { gbuffer: true, full_forward_shadows: true };
+/// Standard and its BRDF tiers: a G-buffer pass, shadows from every forward light, VertexLit on
+/// the vertex-lit path.
+const STANDARD_PASSES: EnginePasses =
+    EnginePasses { gbuffer: true, full_forward_shadows: true, vertex_lit_fallback: true };
 /// The SRP lit shaders: a G-buffer pass (full forward shadows is a built-in notion).
-const GBUFFER_PASS: EnginePasses = EnginePasses { gbuffer: true, full_forward_shadows: false };
+const GBUFFER_PASS: EnginePasses =
+    EnginePasses { gbuffer: true, full_forward_shadows: false, vertex_lit_fallback: false };
 /// Forward only: the classic and legacy models, Unlit, user models.
-pub const FORWARD_PASSES: EnginePasses = EnginePasses { gbuffer: false, full_forward_shadows: false };
+pub const FORWARD_PASSES: EnginePasses =
+    EnginePasses { gbuffer: false, full_forward_shadows: false, vertex_lit_fallback: false };
 
 const ALL_AXES: Reads = Reads { color: true, metallic: true, smoothness: true, light: true };
 

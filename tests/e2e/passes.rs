@@ -163,3 +163,45 @@ fn hdrp_light_unit_unity_keeps_urps_sky_to_key_balance() {
     assert!((unity / urp - 1.0).abs() < 0.1, "{unity} vs {urp}");
     assert!(lumen / urp > 30.0, "{lumen} vs {urp}");
 }
+
+/// Built-in's vertex-lit path draws Standard, which has no Vertex pass, with its fallback
+/// Legacy Shaders/VertexLit: fixed-function lighting at the vertices (f64 twin
+/// `shading::twin::vertex_lit`): a flat ambient C·A, and 2·sat(C·A/2 + min(NL·C·L/2, 1)) under a
+/// directional light, with no reflection.
+#[test]
+fn standard_on_the_vertex_lit_path_falls_back_to_fixed_function_vertexlit() {
+    use shadematrix::shading::twin::vertex_lit::{vertex_lit_ffp, vertex_lit_pixel, FfpLight};
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let scene = Scene::load_file(&fixture("sun_and_point.toml")).unwrap();
+    let mut dark = scene.clone();
+    dark.lights[0].intensity = 0.0;
+    let c = glam::DVec3::new(0.6, 0.4, 0.2);
+    let sliders = Sliders { base_color_linear: c.to_array(), metallic: 0.0, smoothness: 0.9 };
+    // The key (point) light off: the sun alone, or nothing but the ambient.
+    let cell = cell_params(Pipeline::Builtin, "standard", sliders, (0.0, 6.0), 64, RenderPath::VertexLit);
+    let centre = |r: &shadematrix::render::renderer::CellRender| {
+        let k = 4 * (32 * 64 + 32);
+        glam::DVec3::new(r.hdr[k] as f64, r.hdr[k + 1] as f64, r.hdr[k + 2] as f64)
+    };
+    let (dark, lit_scene) = (renderer.prepare_scene(&dark).unwrap(), renderer.prepare_scene(&scene).unwrap());
+    let ambient_only = centre(&renderer.render(&dark, &cell, 1, 0).unwrap());
+    let lit = centre(&renderer.render(&lit_scene, &cell, 1, 0).unwrap());
+    // Flat ambient: C·A, so A is the ambient-only pixel over C.
+    let a = ambient_only / c;
+    assert!((a.x - a.y).abs() < 1e-4 && (a.y - a.z).abs() < 1e-4, "a grey sky's flat ambient: {a}");
+    let sun = &scene.lights[0];
+    let to_light = -glam::DVec3::from(sun.direction).normalize();
+    let color = glam::DVec3::from(Pipeline::Builtin.light_radiance(sun.color, sun.intensity, sun.emitter()));
+    let eye = glam::DVec3::from(scene.camera.position);
+    let v = eye.normalize();
+    let want = vertex_lit_pixel(
+        glam::DVec3::ONE,
+        vertex_lit_ffp(c, a, glam::DVec3::Y, v, &[FfpLight { to_light, color, attenuation: 1.0 }]),
+    );
+    eprintln!("vertex-lit Standard at the centre: {lit} against the fixed-function twin {want}");
+    assert!((lit - want).abs().max_element() < 1e-3 * want.max_element(), "{lit} vs {want}");
+    // Not Standard's own BRDF at the vertices: that has a specular lobe and Fresnel.
+    let own = cell_params(Pipeline::Builtin, "standard", sliders, (0.0, 6.0), 64, RenderPath::Forward);
+    let forward = centre(&renderer.render(&lit_scene, &own, 1, 0).unwrap());
+    assert!((forward - lit).abs().max_element() > 1e-3, "{forward} vs {lit}");
+}

@@ -7,6 +7,7 @@ mod hdrp;
 mod lambert;
 mod standard;
 mod urp;
+pub mod vertex_lit;
 
 pub use builtin::{StandardBrdf2, StandardBrdf3};
 pub use classic::{BlinnPhong, CookTorrance, CookTorrance1982, HalfLambert, OrenNayar, Phong};
