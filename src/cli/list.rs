@@ -109,23 +109,29 @@ fn lod_plan(m: &Matrix, scene: &crate::spec::scene::Scene, meshes: &[crate::geom
         true => vec![None],
         false => m.sweep.numbers(crate::spec::axes::Axis::CameraDistance).iter().copied().map(Some).collect(),
     };
-    for d in distances {
+    for (p, d) in m.pipelines.iter().flat_map(|p| distances.iter().map(move |d| (*p, *d))) {
         let view = crate::plan::camera::ViewAxes { camera_distance: d, light_angle: None };
         let camera = crate::plan::camera::posed_camera(&scene.camera, &view);
         let at = d.map_or("the scene's camera".to_string(), |d| format!("camera distance {d}"));
-        for seen in crate::plan::lod::groups_seen(scene, &bounds, &camera) {
+        for seen in crate::plan::lod::groups_seen(scene, &bounds, &camera, p.quality_lod_bias()) {
+            // Built-in's shaders have no cross-fade variant: a band draws both levels whole.
+            let how = if p == crate::pipelines::Pipeline::Builtin { "drawn whole" } else { "dithered" };
             let levels: Vec<String> = seen
                 .drawn
                 .iter()
                 .map(|l| match l.fade {
                     f if f >= 1.0 => format!("level {}", l.level),
-                    f => format!("level {} (fade {f:+.2}, dithered)", l.level),
+                    f => format!("level {} (fade {f:+.2}, {how})", l.level),
                 })
                 .collect();
             let drawn = if levels.is_empty() { "culled".to_string() } else { levels.join(" + ") };
             let name = &scene.objects[seen.object].name;
-            let _ =
-                writeln!(out, "  LOD at {at}: {name} at {:.1} % of the screen: {drawn}", seen.relative_height * 100.0);
+            let _ = writeln!(
+                out,
+                "  LOD at {at} ({}): {name} at {:.1} % of the screen: {drawn}",
+                p.name(),
+                seen.relative_height * 100.0
+            );
         }
     }
     out

@@ -219,6 +219,18 @@ impl Pipeline {
         }
     }
 
+    /// QualitySettings.lodBias of the quality level a new project renders with: built-in's Ultra
+    /// (Unity's default QualitySettings.asset, lodBias 2); the URP template's High Fidelity level
+    /// (its QualitySettings.asset, lodBias 2, the Standalone default); HDRP's frame settings read
+    /// QualitySettings (lodBiasMode FromQualitySettings) and its template's level is not emulated:
+    /// 1, APPROXIMATED.
+    pub fn quality_lod_bias(self) -> f64 {
+        match self {
+            Pipeline::Builtin | Pipeline::Urp => 2.0,
+            Pipeline::Hdrp => 1.0,
+        }
+    }
+
     /// Whether the deferred path lights through a tiled light loop (HDRP's compute light list);
     /// built-in and URP deferred draw light volumes instead, emulated by looping over every light.
     pub fn tiled_light_loop(self) -> bool {

@@ -308,7 +308,7 @@ impl CellPlan {
         }
         let mut lod = Vec::new();
         let mut fades: Vec<Option<f64>> = layout.meshes.iter().map(|m| m.lod_level.is_none().then_some(1.0)).collect();
-        for seen in groups_seen(scene, &layout.world_bounds, &camera) {
+        for seen in groups_seen(scene, &layout.world_bounds, &camera, p.quality_lod_bias()) {
             for (m, mesh) in layout.meshes.iter().enumerate().filter(|(_, m)| m.scene_index == seen.object) {
                 fades[m] = seen.drawn.iter().find(|d| Some(d.level) == mesh.lod_level).map(|d| d.fade);
             }
@@ -521,12 +521,13 @@ mod tests {
             }
             plan.lod[0].drawn.iter().map(|l| (l.level, l.fade < 1.0)).collect::<Vec<_>>()
         };
-        // matrices/lod.toml's distances: every level whole, and both bands.
-        assert_eq!(drawn(4.0), vec![(0, false)], "close: level 0 whole");
-        assert_eq!(drawn(6.5), vec![(0, true), (1, true)], "level 0 fading into level 1");
-        assert_eq!(drawn(8.0), vec![(1, false)]);
-        assert_eq!(drawn(12.0), vec![(1, true), (2, true)], "level 1 fading into level 2");
-        assert_eq!(drawn(14.0), vec![(2, false)]);
+        // matrices/lod.toml's distances in URP (QualitySettings.lodBias 2): every level whole, and
+        // both bands.
+        assert_eq!(drawn(8.0), vec![(0, false)], "close: level 0 whole");
+        assert_eq!(drawn(12.0), vec![(0, true), (1, true)], "level 0 fading into level 1");
+        assert_eq!(drawn(16.0), vec![(1, false)]);
+        assert_eq!(drawn(24.0), vec![(1, true), (2, true)], "level 1 fading into level 2");
+        assert_eq!(drawn(28.0), vec![(2, false)]);
     }
 
     #[test]

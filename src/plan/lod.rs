@@ -60,7 +60,13 @@ pub struct GroupSeen {
 
 /// Every LOD group of `scene` as `camera` sees it, given each object's world bounds (level 0's):
 /// the group's size is the bounds' largest extent, its distance that of the bounds' centre.
-pub fn groups_seen(scene: &Scene, world_bounds: &[(DVec3, DVec3)], camera: &Camera) -> Vec<GroupSeen> {
+/// `quality_bias`: QualitySettings.lodBias where the group sets none (`Pipeline::quality_lod_bias`).
+pub fn groups_seen(
+    scene: &Scene,
+    world_bounds: &[(DVec3, DVec3)],
+    camera: &Camera,
+    quality_bias: f64,
+) -> Vec<GroupSeen> {
     scene
         .objects
         .iter()
@@ -69,7 +75,8 @@ pub fn groups_seen(scene: &Scene, world_bounds: &[(DVec3, DVec3)], camera: &Came
         .filter_map(|(object, (o, (lo, hi)))| {
             let group = o.lod.as_ref()?;
             let distance = (DVec3::from(camera.position) - (*lo + *hi) * 0.5).length();
-            let h = relative_height((*hi - *lo).max_element(), distance, camera.fov_y_deg.to_radians(), group.bias);
+            let bias = group.bias.unwrap_or(quality_bias);
+            let h = relative_height((*hi - *lo).max_element(), distance, camera.fov_y_deg.to_radians(), bias);
             Some(GroupSeen { object, relative_height: h, drawn: select(h, &group.transitions, group.fade_width) })
         })
         .collect()

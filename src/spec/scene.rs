@@ -228,15 +228,16 @@ pub struct Object {
 
 /// Unity's LODGroup on an object: `mesh` is level 0, `meshes` the levels after it; `transitions`
 /// the relative screen height below which each level (level 0 first) gives way, strictly
-/// decreasing, the group culled below the last; `bias` QualitySettings.lodBias; `fade_width`
+/// decreasing, the group culled below the last; `bias` QualitySettings.lodBias (absent: the
+/// pipeline's default quality level's, `Pipeline::quality_lod_bias`); `fade_width`
 /// fadeTransitionWidth with fade mode CrossFade (0: no cross-fade, Unity's default fade mode None).
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct LodGroup {
     pub meshes: Vec<MeshSpec>,
     pub transitions: Vec<f64>,
-    #[serde(default = "one")]
-    pub bias: f64,
+    #[serde(default)]
+    pub bias: Option<f64>,
     #[serde(default)]
     pub fade_width: f64,
 }
@@ -717,7 +718,9 @@ impl Scene {
                     ));
                 }
             }
-            c.range(&k("bias"), lod.bias, 1e-3, 100.0)?;
+            if let Some(bias) = lod.bias {
+                c.range(&k("bias"), bias, 1e-3, 100.0)?;
+            }
             c.range(&k("fade_width"), lod.fade_width, 0.0, 1.0)?;
             for (j, m) in lod.meshes.iter().enumerate() {
                 m.validate().map_err(|e| c.err(&format!("{}[{j}]", k("meshes")), e))?;

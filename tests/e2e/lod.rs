@@ -31,7 +31,8 @@ fn a_cross_fade_band_dithers_the_two_levels_into_complementary_pixels() {
     // (Without shadows: the shadow pass draws the level fading out whole, so the level fading in
     // is shadowed by the other's shape.)
     scene.lights[0].shadows = false;
-    let d = 6.5;
+    // URP's quality level has lodBias 2: at 12 m the sphere is in its level 0 → 1 band.
+    let d = 12.0;
     // URP Lit dithers with the hashed view-direction seed (LODDitheringTransition), the SRP
     // tutorial's Lit with interleaved gradient noise (plan::lod::CrossFade).
     for shader in ["lit", "srp_lit"] {
@@ -66,18 +67,24 @@ fn list_shows_the_levels_each_distance_draws() {
     assert_eq!(rc, 0, "{err}");
     // The sphere (radius 1, 2 m across, centred at (−1.35, 1, 0)) seen from the camera moved along
     // its view direction to `d` from the target, under a 42° field of view.
-    let height = |d: f64| {
+    // Times the pipeline's QualitySettings.lodBias: 2 for built-in and URP, 1 for HDRP.
+    let height = |d: f64, bias: f64| {
         let (target, eye) = (glam::DVec3::new(0.0, 0.9, 0.0), glam::DVec3::new(0.0, 1.7, 6.2));
         let camera = target + (eye - target).normalize() * d;
         let distance = (camera - glam::DVec3::new(-1.35, 1.0, 0.0)).length();
-        2.0 / (2.0 * distance * 21f64.to_radians().tan()) * 100.0
+        2.0 / (2.0 * distance * 21f64.to_radians().tan()) * 100.0 * bias
     };
-    let line = |d: f64, drawn: &str| {
-        format!("LOD at camera distance {d}: sphere at {:.1} % of the screen: {drawn}", height(d))
+    let line = |d: f64, pipeline: &str, drawn: &str| {
+        let bias = if pipeline == "hdrp" { 1.0 } else { 2.0 };
+        format!("LOD at camera distance {d} ({pipeline}): sphere at {:.1} % of the screen: {drawn}", height(d, bias))
     };
     // 35 % and 20 % are the transitions; fade width 0.25 of each level's range.
-    assert!(out.contains(&(line(4.0, "level 0") + "\n")), "{out}");
-    assert!(out.contains(&line(6.5, "level 0 (fade")), "{out}");
-    assert!(out.contains(&line(12.0, "level 1 (fade")), "{out}");
-    assert!(out.contains(&(line(14.0, "level 2") + "\n")), "{out}");
+    assert!(out.contains(&(line(4.0, "hdrp", "level 0") + "\n")), "{out}");
+    assert!(out.contains(&line(6.5, "hdrp", "level 0 (fade")), "{out}");
+    assert!(out.contains(&line(12.0, "hdrp", "level 1 (fade")), "{out}");
+    assert!(out.contains(&(line(14.0, "hdrp", "level 2") + "\n")), "{out}");
+    // The same distances one band nearer in URP; built-in's Standard draws a band's levels whole.
+    assert!(out.contains(&(line(8.0, "urp", "level 0") + "\n")), "{out}");
+    assert!(out.contains(&line(12.0, "urp", "level 0 (fade +0.50, dithered)")), "{out}");
+    assert!(out.contains(&line(24.0, "builtin", "level 1 (fade +0.45, drawn whole)")), "{out}");
 }
