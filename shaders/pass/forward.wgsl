@@ -12,7 +12,9 @@ struct VertexIn {
 };
 
 struct VertexOut {
-    @builtin(position) clip: vec4<f32>,
+    // Invariant: ForwardBase and ForwardAdd are different pipelines, and an additive draw's depth
+    // test (LEqual against the base draw's depth) needs bit-identical positions from both.
+    @builtin(position) @invariant clip: vec4<f32>,
     @location(0) world_pos: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) uv: vec2<f32>,
