@@ -7,6 +7,11 @@ fn sat(x: f32) -> f32 {
     return clamp(x, 0.0, 1.0);
 }
 
+// sat per channel
+fn sat3(x: vec3<f32>) -> vec3<f32> {
+    return clamp(x, vec3<f32>(0.0), vec3<f32>(1.0));
+}
+
 // x⁵ by multiplies: pow() is undefined for x = 0 in WGSL (models.md#stability)
 fn pow5(x: f32) -> f32 {
     let x2 = x * x;

@@ -474,10 +474,6 @@ fn vertex_lit_ffp(c: vec3<f32>, n: vec3<f32>, p: vec3<f32>) -> array<vec3<f32>, 
     return array<vec3<f32>, 2>(sat3(diffuse), sat3(specular));
 }
 
-fn sat3(x: vec3<f32>) -> vec3<f32> {
-    return clamp(x, vec3<f32>(0.0), vec3<f32>(1.0));
-}
-
 @vertex
 fn vs_gouraud(in: VertexIn) -> GouraudOut {
     let world = object.model * vec4<f32>(in.position, 1.0);

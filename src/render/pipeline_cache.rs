@@ -58,6 +58,16 @@ impl PipelineCache {
     }
 }
 
+/// The override constants every pass drawing scene meshes sets: the pipeline's conventions, a
+/// textured subject, the model's LOD dither.
+fn mesh_constants(pipeline: Pipeline, model: &ShaderModel, textured: bool) -> [(&'static str, f64); 3] {
+    [
+        ("PIPELINE", pipeline.shader_id() as f64),
+        ("TEXTURED", textured as u32 as f64),
+        ("LOD_DITHER", CrossFade::of(pipeline, model).shader_value() as f64),
+    ]
+}
+
 /// Which of built-in's forward passes a forward pipeline draws (shaders/pass/forward.wgsl
 /// `FORWARD_PASS`, plan::draws).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -118,16 +128,14 @@ impl PipelineCache {
         let pass = if exact.any() { wgsl::PassKind::ForwardExact } else { wgsl::PassKind::Forward };
         let source = wgsl::compose(pass, Some(model));
         let module = gpu.shader_module(&format!("forward {}/{}", pipeline.name(), model.name), &source)?;
-        let mut constants = vec![
-            ("PIPELINE", pipeline.shader_id() as f64),
+        let mut constants = mesh_constants(pipeline, model, textured).to_vec();
+        constants.extend([
             ("MAIN_LIGHT_ONLY", model.main_light_only as u32 as f64),
             ("VERTEX_LIT", vertex_lit as u32 as f64),
-            ("TEXTURED", textured as u32 as f64),
             ("FORWARD_PASS", forward_pass as u32 as f64),
             ("FIXED_FUNCTION", (vertex_lit && model.passes.vertex_lit_fallback) as u32 as f64),
-            ("LOD_DITHER", CrossFade::of(pipeline, model).shader_value() as f64),
             ("ADDITIONAL_SHADOWS", additional_shadows as u32 as f64),
-        ];
+        ]);
         if exact.any() {
             constants.extend(exact.constants());
         }
@@ -225,11 +233,7 @@ impl PipelineCache {
         }
         let source = wgsl::compose(wgsl::PassKind::Forward, Some(model));
         let module = gpu.shader_module(&format!("gbuffer {}/{}", pipeline.name(), model.name), &source)?;
-        let constants = [
-            ("PIPELINE", pipeline.shader_id() as f64),
-            ("TEXTURED", textured as u32 as f64),
-            ("LOD_DITHER", CrossFade::of(pipeline, model).shader_value() as f64),
-        ];
+        let constants = mesh_constants(pipeline, model, textured);
         let targets = [
             Some(crate::render::gbuffer::GB_ALBEDO.into()),
             Some(crate::render::gbuffer::GB_MATERIAL.into()),
@@ -268,11 +272,7 @@ impl PipelineCache {
         }
         let source = wgsl::compose(wgsl::PassKind::Forward, Some(model));
         let module = gpu.shader_module(&format!("depth prepass {}", pipeline.name()), &source)?;
-        let constants = [
-            ("PIPELINE", pipeline.shader_id() as f64),
-            ("TEXTURED", textured as u32 as f64),
-            ("LOD_DITHER", CrossFade::of(pipeline, model).shader_value() as f64),
-        ];
+        let constants = mesh_constants(pipeline, model, textured);
         let targets = [Some(crate::render::passes::ssao::NORMAL_FORMAT.into())];
         let label = format!("depth prepass {}", pipeline.name());
         let p = Self::mesh_pipeline(

@@ -10,8 +10,7 @@ use std::collections::HashMap;
 use std::time::Instant;
 
 use super::frame_bindings::FrameBindings;
-use super::passes::deferred::encode_deferred;
-use super::passes::deferred::lighting_draws;
+use super::passes::deferred::{encode_deferred, lighting_draws};
 use super::passes::forward::{encode_forward, ForwardPipelines, ForwardTargets, ModelPipelines};
 use super::passes::prepass::{encode_depth_prepass, neutral_screen_group, screen_group};
 use super::passes::shadow::{encode_shadow_passes, shadow_pipeline};
