@@ -39,6 +39,13 @@ pub fn additive_passes(pipeline: Pipeline, path: RenderPath, model: &ShaderModel
         && !model.main_light_only
 }
 
+/// Whether lights other than the main directional one shadow `model` in `pipeline`: in built-in
+/// only shaders compiled with `fullforwardshadows` (Standard) are shadowed by ForwardAdd lights;
+/// the SRP pipelines decide per light (`shadows::shadow_style`), not per shader.
+pub fn shadowed_by_additional_lights(pipeline: Pipeline, model: &ShaderModel) -> bool {
+    pipeline != Pipeline::Builtin || model.passes.full_forward_shadows
+}
+
 /// The draws of a frame. `meshes`: per mesh, its scene object, whether it is drawn and its model;
 /// `main_light`: the pipeline's main light (ForwardBase's).
 pub fn plan_draws(

@@ -24,7 +24,7 @@ use crate::gpu::timing::PassTimer;
 use crate::gpu::GpuContext;
 use crate::pipelines::{Pipeline, RenderPath};
 pub use crate::plan::cell::{CellParams, CellPlan, CellSettings, MsaaSupport, Multisampling};
-use crate::plan::draws::additive_passes;
+use crate::plan::draws::{additive_passes, shadowed_by_additional_lights};
 use crate::plan::lights::ObjectLights;
 pub use crate::plan::lod::LodUse;
 use crate::plan::FramePlan;
@@ -420,7 +420,7 @@ impl Renderer {
                 textured,
                 exact,
                 pass: if additive { ForwardPass::Base } else { ForwardPass::All },
-                additional_shadows: cell.pipeline != Pipeline::Builtin || model.passes.full_forward_shadows,
+                additional_shadows: shadowed_by_additional_lights(cell.pipeline, model),
             };
             (draw, (additive && adds(subject)).then_some(ForwardKey { pass: ForwardPass::Add, ..draw }))
         };
