@@ -27,6 +27,16 @@ pub struct ModelsArg {
     pub models: Option<PathBuf>,
 }
 
+/// Whether a cell may take a pass's output from the cell before it when that pass's inputs are the
+/// same (shadow maps, the depth prepass and SSAO, probe captures, the fixed objects' layer).
+#[derive(clap::Args, Debug, Clone, Copy, Default)]
+pub struct ReuseArg {
+    /// Draw every pass of every cell, reusing nothing across cells (the images are the same bytes;
+    /// this is the check of that).
+    #[arg(long)]
+    pub no_reuse: bool,
+}
+
 /// How many cells a matrix may expand to before anything is expanded.
 #[derive(clap::Args, Debug, Clone, Copy)]
 pub struct CellLimit {
@@ -88,6 +98,8 @@ pub enum Command {
         #[arg(long)]
         retime: bool,
         #[command(flatten)]
+        reuse: ReuseArg,
+        #[command(flatten)]
         limit: CellLimit,
         #[command(flatten)]
         models: ModelsArg,
@@ -100,6 +112,8 @@ pub enum Command {
         /// Run folder (default: results/<matrix>-<timestamp>).
         #[arg(long)]
         out: Option<PathBuf>,
+        #[command(flatten)]
+        reuse: ReuseArg,
         #[command(flatten)]
         limit: CellLimit,
         #[command(flatten)]
@@ -230,6 +244,7 @@ impl Default for Command {
             cache: None,
             no_cache: false,
             retime: false,
+            reuse: ReuseArg::default(),
             limit: CellLimit::default(),
             models: ModelsArg::default(),
         }
@@ -238,7 +253,7 @@ impl Default for Command {
 
 pub fn dispatch(cmd: Command) -> Result<(), Error> {
     match cmd {
-        Command::Run { matrix, out, resume, shard, only, fail_on, cache, no_cache, retime, limit, models } => {
+        Command::Run { matrix, out, resume, shard, only, fail_on, cache, no_cache, retime, reuse, limit, models } => {
             let fail_on = runs::parse_fail_on(&fail_on)?;
             let cache = if no_cache {
                 runs::CacheChoice::Off
@@ -253,11 +268,14 @@ pub fn dispatch(cmd: Command) -> Result<(), Error> {
                 fail_on: &fail_on,
                 cache,
                 retime,
+                reuse: !reuse.no_reuse,
                 max_cells: limit.max_cells,
             };
             runs::run(matrix.as_deref(), opts, &models)
         }
-        Command::Bench { matrix, out, limit, models } => runs::bench(matrix.as_deref(), out, limit, &models),
+        Command::Bench { matrix, out, reuse, limit, models } => {
+            runs::bench(matrix.as_deref(), out, !reuse.no_reuse, limit, &models)
+        }
         Command::List { matrix, limit, models } => list::list(matrix.as_deref(), limit, &models),
         Command::Shaders { models } => shaders::print(&models),
         Command::Brdf { pipeline, shader, params, n, l, v, gpu, json, models } => {

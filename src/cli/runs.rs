@@ -22,6 +22,8 @@ pub struct RunArgs<'a> {
     pub fail_on: &'a [Defect],
     pub cache: CacheChoice,
     pub retime: bool,
+    /// Take pass outputs from the cell before where their inputs are the same (`--no-reuse`: false).
+    pub reuse: bool,
     pub max_cells: u64,
 }
 
@@ -51,7 +53,7 @@ pub fn parse_fail_on(names: &[String]) -> Result<Vec<Defect>, Error> {
 }
 
 pub fn run(matrix: Option<&Path>, args: RunArgs, models: &ModelsArg) -> Result<(), Error> {
-    let RunArgs { out, resume, shard, only, fail_on, cache, retime, max_cells } = args;
+    let RunArgs { out, resume, shard, only, fail_on, cache, retime, reuse, max_cells } = args;
     let m = load_matrix(matrix, registry_for(models, matrix)?)?;
     let results_root = default_results_root();
     let cache = match cache {
@@ -66,6 +68,7 @@ pub fn run(matrix: Option<&Path>, args: RunArgs, models: &ModelsArg) -> Result<(
         results_root,
         cache,
         retime,
+        no_reuse: !reuse,
         out,
         resume,
         shard: shard.map(|s| crate::run::shard::parse(s, &|k| std::env::var(k).ok())).transpose()?,
@@ -146,6 +149,7 @@ fn fail_on_defects(dir: &Path, kinds: &[Defect]) -> Result<(), Error> {
 pub fn bench(
     matrix: Option<&Path>,
     out: Option<PathBuf>,
+    reuse: bool,
     limit: super::CellLimit,
     models: &ModelsArg,
 ) -> Result<(), Error> {
@@ -153,6 +157,7 @@ pub fn bench(
     let opts = RunOptions {
         results_root: default_results_root(),
         out,
+        no_reuse: !reuse,
         progress: progress(),
         max_cells: Some(limit.max_cells),
         ..Default::default()

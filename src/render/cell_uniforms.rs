@@ -189,7 +189,48 @@ pub(in crate::render) fn write_uniforms(
         }
         h.finish()
     };
-    WrittenFrame { frame, capture_key: key, materials, shadow_key }
+    // What the fixed objects' shading reads of the frame: everything but the subject (its
+    // material is the frame's, its object uniforms are left out) and the probes' capture slots
+    // (the slot's content is `capture_key`'s, wherever it sits).
+    let layer_key = {
+        use std::hash::{Hash, Hasher};
+        let mut h = std::hash::DefaultHasher::new();
+        p.name().hash(&mut h);
+        let mut seen = frame;
+        seen.subject = GpuMaterial::zeroed();
+        seen.probes = Zeroable::zeroed();
+        bytemuck::bytes_of(&seen).hash(&mut h);
+        key.hash(&mut h);
+        bytemuck::cast_slice::<GpuLight, u8>(&gpu_lights).hash(&mut h);
+        bytemuck::cast_slice::<ShadowLayer, u8>(&shadow_layers).hash(&mut h);
+        modes.hash(&mut h);
+        for (i, o) in prepared.objects.iter().enumerate() {
+            let fixed = prepared.layout.meshes[i].role == Role::Fixed;
+            let at = i * prepared.object_stride as usize;
+            (fixed, o.index_count).hash(&mut h);
+            if fixed {
+                objects[at..at + std::mem::size_of::<ObjectUniforms>()].hash(&mut h);
+            }
+        }
+        h.finish()
+    };
+    // What the depth prepass and SSAO read: the camera, the target's size and every mesh's
+    // transform and LOD fade (materials and lights do not reach them).
+    let prepass_key = {
+        use std::hash::{Hash, Hasher};
+        let mut h = std::hash::DefaultHasher::new();
+        for part in [bytemuck::bytes_of(&frame.view_proj), bytemuck::bytes_of(&frame.inv_view_proj)] {
+            part.hash(&mut h);
+        }
+        bytemuck::bytes_of(&[frame.camera_pos, frame.screen]).hash(&mut h);
+        for (i, o) in prepared.objects.iter().enumerate() {
+            let at = i * prepared.object_stride as usize;
+            o.index_count.hash(&mut h);
+            objects[at..at + std::mem::size_of::<ObjectUniforms>()].hash(&mut h);
+        }
+        h.finish()
+    };
+    WrittenFrame { frame, capture_key: key, materials, shadow_key, layer_key, prepass_key }
 }
 
 /// What writing a cell's uniforms made: the frame written, the hash of what a probe capture
@@ -202,4 +243,9 @@ pub(in crate::render) struct WrittenFrame {
     /// Everything the shadow pass's depth depends on: the layers' matrices and resolutions, which
     /// meshes cast, and their transforms and fades (materials and the camera do not reach it).
     pub(in crate::render) shadow_key: u64,
+    /// Everything the fixed objects' forward shading reads of the uniforms and storage buffers
+    /// (passes::forward's layer); the renderer adds the passes' own keys.
+    pub(in crate::render) layer_key: u64,
+    /// Everything the depth prepass's depth and normals read of the uniforms.
+    pub(in crate::render) prepass_key: u64,
 }

@@ -11,7 +11,7 @@ use std::time::Instant;
 
 use super::frame_bindings::FrameBindings;
 use super::passes::deferred::{encode_deferred, lighting_draws};
-use super::passes::forward::{encode_forward, ForwardPipelines, ForwardTargets, ModelPipelines};
+use super::passes::forward::{encode_forward, ForwardDraw, ForwardPipelines, ForwardTargets, ModelPipelines};
 use super::passes::prepass::{encode_depth_prepass, neutral_screen_group, screen_group};
 use super::passes::shadow::{encode_shadow_passes, shadow_pipeline};
 use super::passes::FrameDraw;
@@ -107,6 +107,9 @@ pub struct Renderer {
     ray_layout: wgpu::BindGroupLayout,
     /// The traced-shadow pass, by pipeline (its light attenuation), made for the first cell that traces.
     traced_shadows: HashMap<Pipeline, crate::render::passes::traced_shadows::TracedShadowsPipeline>,
+    /// Whether an untimed cell may take a pass's output from the cell before when the pass's
+    /// inputs are the same (`--no-reuse`: false); probe captures likewise.
+    pub reuse: bool,
 }
 
 impl Renderer {
@@ -271,6 +274,7 @@ impl Renderer {
             truth_pipelines: HashMap::new(),
             ray_layout,
             traced_shadows: HashMap::new(),
+            reuse: true,
         }
     }
 
@@ -357,16 +361,19 @@ impl Renderer {
 
     /// One frame of a planned cell whose timings nobody reads (`plan::timing`: a cell timed as
     /// another of its class). A pass whose output is still in its targets from the cell before is
-    /// left out: the shadow maps, when every layer's matrix, the casting meshes and their
-    /// transforms are the same (materials, the camera and the sliders do not reach them). The
-    /// image is the same bytes.
+    /// left out, each keyed by exactly what it reads: the shadow maps (every layer's matrix, the
+    /// casting meshes and their transforms; materials, the camera and the sliders do not reach
+    /// them), the depth prepass and SSAO (the camera and every mesh's transform), and on forward
+    /// paths the fixed objects and background (everything but the subject), over which the
+    /// subject alone is drawn. The image is the same bytes (`--no-reuse` draws everything).
     pub fn draw_untimed(
         &mut self,
         prepared: &PreparedScene,
         cell: &CellParams,
         plan: &CellPlan,
     ) -> Result<CellRender, Error> {
-        self.draw_frames(prepared, cell, plan, 1, 0, true)
+        let reuse = self.reuse;
+        self.draw_frames(prepared, cell, plan, 1, 0, reuse)
     }
 
     fn draw_frames(
@@ -502,6 +509,22 @@ impl Renderer {
                 &super::passes::ssao::SsaoFrame::new(&plan.camera, t.width, t.height, &settings),
             );
         }
+        // The prepass and SSAO read the camera, the meshes drawn and their transforms, and the
+        // subject's normal map.
+        let ssao_key = {
+            use std::hash::{Hash, Hasher};
+            let mut h = std::hash::DefaultHasher::new();
+            (written.prepass_key, cell.pipeline, cell.width, cell.height, &drawn).hash(&mut h);
+            (textured, cell.settings.material_maps).hash(&mut h);
+            h.finish()
+        };
+        let occludes_now = occludes && {
+            let t = self.targets.as_mut().expect("targets exist");
+            // Traced visibility reads the prepass depth itself.
+            let kept = reuse && !exact.any() && t.ssao_holds == Some(ssao_key);
+            t.ssao_holds = Some(ssao_key);
+            !kept
+        };
         if exact.visibility {
             if !self.traced_shadows.contains_key(&cell.pipeline) {
                 let id = cell.pipeline.shader_id();
@@ -539,7 +562,7 @@ impl Renderer {
         if shadows {
             pass_names.push("shadow");
         }
-        if occludes {
+        if occludes_now {
             pass_names.extend([crate::plan::DEPTH_PREPASS, crate::plan::SSAO_PASS]);
         }
         if exact.visibility {
@@ -558,6 +581,29 @@ impl Renderer {
             pass_names.push(crate::plan::BLOOM_PASS);
         }
         let tile_group = if tiled { Some(self.prepare_light_tiles(cell, prepared.scene.lights.len())?) } else { None };
+        // An untimed forward frame whose fixed objects and background read what the last layer's
+        // did draws the subject alone over a copy of that layer (passes::forward). Some(true):
+        // the layer is drawn first.
+        let has_fixed = drawn.iter().zip(&prepared.layout.meshes).any(|(d, m)| *d && m.role == Role::Fixed);
+        let layer = if reuse && !deferred && !exact.any() && has_fixed && total == 1 {
+            let key = {
+                use std::hash::{Hash, Hasher};
+                let mut h = std::hash::DefaultHasher::new();
+                (written.layer_key, shadow_key, occludes.then_some(ssao_key)).hash(&mut h);
+                (cell.pipeline, cell.settings.path, cell.width, cell.height, fixed_keys, background).hash(&mut h);
+                let fixed = |i: &usize| prepared.layout.meshes[*i].role == Role::Fixed;
+                for i in (0..drawn.len()).filter(fixed) {
+                    (drawn[i], &plan.draws.forward_add[i]).hash(&mut h);
+                }
+                h.finish()
+            };
+            let layer = self.targets.as_mut().expect("targets exist").ensure_layer(&self.gpu.device, samples);
+            let build = layer.key != Some(key);
+            layer.key = Some(key);
+            Some(build)
+        } else {
+            None
+        };
         let per_frame = pass_names.len() as u32;
         if self.gpu.record.timestamp_queries && self.timer.as_ref().is_none_or(|t| t.capacity() < frames * per_frame) {
             self.timer = Some(PassTimer::new(&self.gpu.device, &self.gpu.queue, frames * per_frame));
@@ -593,7 +639,7 @@ impl Renderer {
                 );
                 k += 1;
             }
-            if let (Some((chain, _)), Some(steps)) = (ssao, &self.ssao) {
+            if let (Some((chain, _)), Some(steps), true) = (ssao, &self.ssao, occludes_now) {
                 let prepass = &self.pipelines.depth_normals[&(cell.pipeline, textured)];
                 let draw = FrameDraw { group: frame_group, drawn: &drawn, screen: &self.neutral_screen };
                 encode_depth_prepass(&mut encoder, prepared, &draw, prepass, (&chain.normal, &t.depth_view), timed(k));
@@ -654,15 +700,20 @@ impl Renderer {
                 );
             } else {
                 let draw = FrameDraw { group: frame_group, drawn: &drawn, screen };
-                encode_forward(
-                    &mut encoder,
-                    prepared,
-                    &draw,
-                    &pipelines,
-                    &plan.draws.forward_add,
-                    &forward_targets,
-                    timed(k),
-                );
+                let adds = &plan.draws.forward_add;
+                let part = match (layer, t.layer.as_ref()) {
+                    (Some(build), Some(l)) => {
+                        if build {
+                            let into = ForwardTargets::layer(&l.targets);
+                            let part = ForwardDraw::FixedLayer;
+                            encode_forward(&mut encoder, prepared, &draw, &pipelines, adds, &into, part, None);
+                        }
+                        t.restore_layer(&mut encoder, samples);
+                        ForwardDraw::SubjectOver
+                    }
+                    _ => ForwardDraw::Whole,
+                };
+                encode_forward(&mut encoder, prepared, &draw, &pipelines, adds, &forward_targets, part, timed(k));
             }
             if let (true, Some(chain), Some(pipeline)) = (blooms, &t.bloom, &self.bloom) {
                 chain.encode(pipeline, &mut encoder, timed(per_frame - 1).map(|(t, pair)| t.compute_writes(pair)));
@@ -766,7 +817,7 @@ impl Renderer {
         written: &WrittenFrame,
     ) -> Result<Option<(f64, f64)>, Error> {
         let Some(probes) = &prepared.probes else { return Ok(None) };
-        let slot = probes.slot_for(written.capture_key);
+        let slot = probes.slot_for(written.capture_key, self.reuse);
         // Point the cell's frame at the slot's levels.
         let mut frame = written.frame;
         let count = probes.probes.len();

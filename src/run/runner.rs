@@ -53,6 +53,9 @@ pub struct RunOptions {
     /// Cells taken from the cache (or kept by --resume) render their timed frames again, and
     /// their records take the new timings; images and metrics stay.
     pub retime: bool,
+    /// Draw every pass of every cell (`--no-reuse`): no shadow maps, prepass, SSAO, probe captures
+    /// or fixed-object layer taken from the cell before. The images are the same bytes either way.
+    pub no_reuse: bool,
 }
 
 /// What writes a finished run folder's reports (`report::build`).
@@ -170,6 +173,7 @@ pub fn run(matrix: &Matrix, opts: &RunOptions) -> Result<RunSummary, Error> {
         .then(|| crate::compare::gpu::GpuMetrics::new(&gpu.device, &gpu.queue, gpu.constants));
     stream.gpu_metrics = gpu_metrics;
     let mut renderer = Renderer::new(gpu);
+    renderer.reuse = !opts.no_reuse;
     let result = stream.run(&mut renderer, geometry, workers, &mut record);
     bar.finish_and_clear();
     record.counts.rendered = stream.rendered.load(Ordering::Relaxed);

@@ -30,6 +30,7 @@ mod records;
 mod references;
 mod render_ci;
 mod resume;
+mod reuse;
 mod shading;
 mod shadows;
 mod shards;

@@ -3,6 +3,12 @@
 //! every light in its loop; built-in draws each object in ForwardBase and then once more per
 //! additional pixel light in ForwardAdd, blended One One (plan::draws). Built-in's vertex-lit path
 //! is this pass with the lighting evaluated at the vertices.
+//!
+//! Objects are drawn fixed ones first, then the background, then the subject, so that a frame
+//! can be split where only the subject differs from the cell before: the fixed objects and the
+//! background drawn once into a layer (`Targets::layer`), copied into each such cell's targets,
+//! and the subject drawn over it — the same draws in the same order on the same samples, so the
+//! same bytes as the whole frame (`--no-reuse` draws it whole; a test compares the two).
 
 use super::FrameDraw;
 use crate::gpu::timing::PassTimer;
@@ -53,6 +59,17 @@ pub(in crate::render) fn draw_objects(
     }
 }
 
+/// Which part of a forward frame a pass draws.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(in crate::render) enum ForwardDraw {
+    /// The whole frame on cleared targets.
+    Whole,
+    /// The fixed objects and the background on cleared targets, every target kept (the layer).
+    FixedLayer,
+    /// The subject over targets that hold the fixed layer.
+    SubjectOver,
+}
+
 /// Where a forward frame draws: the frame's targets, or their multisampled twins resolved into them.
 pub(in crate::render) struct ForwardTargets<'a> {
     color: &'a wgpu::TextureView,
@@ -73,8 +90,14 @@ impl<'a> ForwardTargets<'a> {
             None => ForwardTargets { color: &t.color_view, role: &t.role_view, depth: &t.depth_view, resolve: None },
         }
     }
+
+    /// The fixed-object layer's own targets (no resolve: the samples are what is kept).
+    pub(in crate::render) fn layer(t: &'a crate::render::targets::ColorRoleDepth) -> ForwardTargets<'a> {
+        ForwardTargets { color: &t.color, role: &t.role, depth: &t.depth, resolve: None }
+    }
 }
 
+#[allow(clippy::too_many_arguments)]
 pub(in crate::render) fn encode_forward(
     encoder: &mut wgpu::CommandEncoder,
     prepared: &PreparedScene,
@@ -82,10 +105,21 @@ pub(in crate::render) fn encode_forward(
     pipelines: &ForwardPipelines,
     forward_add: &[Vec<usize>],
     targets: &ForwardTargets,
+    part: ForwardDraw,
     timed: Option<(&PassTimer, u32)>,
 ) {
-    // Multisampled targets are resolved at the end of the pass; only the resolve is kept.
+    // Multisampled targets are resolved at the end of the pass; only the resolve is kept, except
+    // in the layer, whose samples are copied into later frames.
     let keep = if targets.resolve.is_some() { wgpu::StoreOp::Discard } else { wgpu::StoreOp::Store };
+    let layer = part == ForwardDraw::FixedLayer;
+    let (load_color, load_role, load_depth) = match part {
+        ForwardDraw::SubjectOver => (wgpu::LoadOp::Load, wgpu::LoadOp::Load, wgpu::LoadOp::Load),
+        _ => (
+            wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+            wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+            wgpu::LoadOp::Clear(1.0),
+        ),
+    };
     let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some("forward"),
         color_attachments: &[
@@ -93,18 +127,21 @@ pub(in crate::render) fn encode_forward(
                 view: targets.color,
                 depth_slice: None,
                 resolve_target: targets.resolve.map(|r| r.0),
-                ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::BLACK), store: keep },
+                ops: wgpu::Operations { load: load_color, store: keep },
             }),
             Some(wgpu::RenderPassColorAttachment {
                 view: targets.role,
                 depth_slice: None,
                 resolve_target: targets.resolve.map(|r| r.1),
-                ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: keep },
+                ops: wgpu::Operations { load: load_role, store: keep },
             }),
         ],
         depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
             view: targets.depth,
-            depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
+            depth_ops: Some(wgpu::Operations {
+                load: load_depth,
+                store: if layer { wgpu::StoreOp::Store } else { wgpu::StoreOp::Discard },
+            }),
             stencil_ops: None,
         }),
         timestamp_writes: timed.map(|(t, pair)| t.writes(pair, true, true)),
@@ -116,6 +153,15 @@ pub(in crate::render) fn encode_forward(
     if let Some(group) = pipelines.rays {
         pass.set_bind_group(3, group, &[]);
     }
-    draw_objects(&mut pass, prepared, pipelines, forward_add, |i| draw.drawn[i]);
-    super::background::draw_background(&mut pass, pipelines.background);
+    let subject = |i: usize| prepared.layout.meshes[i].role == Role::Subject;
+    if part != ForwardDraw::SubjectOver {
+        draw_objects(&mut pass, prepared, pipelines, forward_add, |i| draw.drawn[i] && !subject(i));
+        // The background's layout has the object group, which it does not read: with no fixed
+        // object drawn before it, one is bound.
+        pass.set_bind_group(1, &prepared.object_bind_group, &[0]);
+        super::background::draw_background(&mut pass, pipelines.background);
+    }
+    if part != ForwardDraw::FixedLayer {
+        draw_objects(&mut pass, prepared, pipelines, forward_add, |i| draw.drawn[i] && subject(i));
+    }
 }

@@ -483,11 +483,12 @@ impl SceneProbes {
         }
     }
 
-    /// The slot holding a capture with inputs `key`, or the least recently used one to capture into.
-    pub fn slot_for(&self, key: u64) -> Slot {
+    /// The slot holding a capture with inputs `key` (unless `reuse` is off), or the least recently
+    /// used one to capture into.
+    pub fn slot_for(&self, key: u64, reuse: bool) -> Slot {
         let now = self.uses.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
         let mut slots = self.slots.lock().unwrap_or_else(|e| e.into_inner());
-        if let Some(i) = slots.iter().position(|s| s.is_some_and(|(k, _)| k == key)) {
+        if let Some(i) = slots.iter().position(|s| reuse && s.is_some_and(|(k, _)| k == key)) {
             slots[i] = Some((key, now));
             return Slot::Captured(i);
         }

@@ -1,0 +1,47 @@
+//! Reuse across cells: untimed cells take the shadow maps, the depth prepass and SSAO, the probe
+//! captures and the fixed objects' layer from the cell before where those passes' inputs are the
+//! same; `--no-reuse` draws every pass of every cell. The images must be the same bytes.
+
+/// Fixed objects, probes and shadows (default), SSAO and bloom (HDRP), MSAA 4 and ForwardAdd
+/// (built-in), a scene with no fixed object (medusa), and the vertex-lit path.
+const MATRIX: &str = r#"name = "reuse"
+compositions = ["default", "medusa"]
+pipelines = ["builtin", "hdrp"]
+shaders = ["lambert", "standard", "lit"]
+presets = ["gold", "plastic"]
+paths = ["forward", "vertex_lit"]
+[sweep]
+smoothness = [0.2, 0.9]
+[image]
+width = 48
+height = 48
+[timing]
+frames = 1
+warmup = 0
+"#;
+
+fn image_files(run: &std::path::Path) -> Vec<(String, Vec<u8>)> {
+    let mut files = Vec::new();
+    for cell in std::fs::read_dir(run.join("cells")).unwrap() {
+        let cell = cell.unwrap().path();
+        for f in ["image.exr", "image.png"] {
+            let name = format!("{}/{f}", cell.file_name().unwrap().to_string_lossy());
+            files.push((name, std::fs::read(cell.join(f)).unwrap()));
+        }
+    }
+    files.sort();
+    files
+}
+
+#[test]
+fn reusing_passes_across_cells_gives_the_same_bytes_as_drawing_every_pass() {
+    let tmp = tempfile::tempdir().unwrap();
+    let reused = crate::common::run_matrix_with(tmp.path(), MATRIX, "reused", &["--no-cache"]);
+    let drawn = crate::common::run_matrix_with(tmp.path(), MATRIX, "drawn", &["--no-cache", "--no-reuse"]);
+    let (a, b) = (image_files(&reused), image_files(&drawn));
+    assert!(a.len() >= 40, "{} files", a.len());
+    assert_eq!(a.iter().map(|(n, _)| n).collect::<Vec<_>>(), b.iter().map(|(n, _)| n).collect::<Vec<_>>());
+    for ((name, x), (_, y)) in a.iter().zip(&b) {
+        assert!(x == y, "{name} differs between a run that reuses passes and one that draws them all");
+    }
+}
