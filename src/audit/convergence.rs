@@ -21,7 +21,10 @@ use glam::DVec3;
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::environment::prefilter::{level_alpha, source_width, EquirectImage, TexelTable, LEVELS, PROBE_WIDTH};
+use crate::environment::filtered::{self, LobeWeight};
+use crate::environment::prefilter::{
+    level_alpha, source_width, EquirectImage, TexelTable, LEVELS, PROBE_WIDTH, SOURCE_WIDTH,
+};
 use crate::error::Error;
 use crate::fsutil::write_atomic;
 use crate::pipelines::Pipeline;
@@ -291,7 +294,34 @@ fn prefilter_curves(s: &Settings) -> Result<Vec<Curve>, Error> {
             );
             curve.points.push(ConvergencePoint { knob: (w * w / 2) as u64, ms, error, rms });
         }
+        let reference_name = curve.reference.clone();
         curves.push(curve);
+        // The captured probes' prefilter: filtered importance sampling of the 256-wide source's
+        // mip chain, against the same reference lobe (D·N·L, the built-in and URP weight).
+        let chain = filtered::mip_chain(&EquirectImage::sample(&radiance, SOURCE_WIDTH, SOURCE_WIDTH / 2, 4));
+        let mut sampled = Curve {
+            study: "prefilter",
+            name: format!("probe level {level} (α = {alpha:.3}), filtered importance samples"),
+            knob: "GGX samples per texel",
+            timed: "one 128×64 level, from the time of the sampled directions (one core)",
+            error: "largest relative |Δ| of the convolved radiance",
+            reference: reference_name,
+            default: filtered::sample_count(level) as u64,
+            default_why: "HDRP's GetIBLRuntimeFilterSampleCount for this level (IntegrateLD), which the captured \
+                          probes' prefilter uses",
+            points: Vec::new(),
+        };
+        for n in [21u32, 34, 55, 89, 144, 233, 377] {
+            let t0 = Instant::now();
+            let got: Vec<DVec3> =
+                dirs.iter().map(|d| filtered::integrate(&chain, *d, alpha, n, LobeWeight::CosineWeighted)).collect();
+            let ms = ms_since(t0) / dirs.len() as f64 * level_texels;
+            let (error, rms) = max_and_rms(
+                got.iter().zip(&reference).map(|(g, r)| (*g - *r).abs().max_element() / r.max_element().max(1e-12)),
+            );
+            sampled.points.push(ConvergencePoint { knob: n as u64, ms, error, rms });
+        }
+        curves.push(sampled);
     }
     Ok(curves)
 }

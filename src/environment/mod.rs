@@ -1,6 +1,7 @@
 //! The environment: sky radiance, its SH projection for ambient diffuse, and the prefiltered
 //! probe for specular reflections. Computed once per composition on the CPU.
 
+pub mod filtered;
 pub mod irradiance;
 pub mod prefilter;
 pub mod sh;

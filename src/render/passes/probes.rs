@@ -16,6 +16,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::{DMat4, DVec3};
 use wgpu::util::DeviceExt;
 
+use crate::environment::filtered::{self, LobeWeight};
 use crate::environment::prefilter::{self, EquirectImage, LEVELS, MIRROR_ALPHA, PROBE_WIDTH, SOURCE_WIDTH};
 use crate::error::Error;
 use crate::gpu::GpuContext;
@@ -62,19 +63,26 @@ struct PrefilterParams {
 
 const MODE_FACES: u32 = 0;
 const MODE_HALVE: u32 = 1;
-const MODE_CONVOLVE: u32 = 2;
+const MODE_FILTERED: u32 = 2;
 const MODE_COPY: u32 = 3;
 
-/// The prefilter's pipeline and its scratch: the equirectangular source at 256, 128 and 64 texels
-/// wide and each one's texel directions and solid angles. Built once per renderer.
+/// The source's mips: 256 wide down to `filtered::MIP_CHAIN_MIN_WIDTH`.
+fn chain_mips() -> usize {
+    (SOURCE_WIDTH / filtered::MIP_CHAIN_MIN_WIDTH).trailing_zeros() as usize + 1
+}
+
+/// The prefilter's pipeline and its scratch: the equirectangular source (256×128) and its mip
+/// chain down to `filtered::MIP_CHAIN_MIN_WIDTH`, which the levels sample. Built once per renderer.
 pub struct Prefilter {
     pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
     sampler: wgpu::Sampler,
-    /// Widths 256, 128, 64 (`prefilter::source_width`'s choices).
-    sources: Vec<(usize, wgpu::Texture, wgpu::Buffer)>,
-    /// Bound where a step reads no faces.
+    /// Trilinear, wrapping in u and clamped in v: the chain's reads.
+    chain_sampler: wgpu::Sampler,
+    chain: wgpu::Texture,
+    /// Bound where a step reads no faces, and where it reads no source.
     no_faces: wgpu::TextureView,
+    no_source: wgpu::TextureView,
     space: crate::gpu::ConstantSpace,
 }
 
@@ -85,22 +93,24 @@ impl Prefilter {
             "probe prefilter",
             &crate::shading::wgsl::with_math(include_str!("../../../shaders/pass/probe_prefilter.wgsl")),
         )?;
-        use crate::render::compute_entry::{constants, read_only_storage, storage_2d, texture};
+        use crate::render::compute_entry::{constants, storage_2d, texture};
         let float = wgpu::TextureSampleType::Float { filterable: false };
+        let filterable = wgpu::TextureSampleType::Float { filterable: true };
+        let sampler_entry = |binding, kind| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Sampler(kind),
+            count: None,
+        };
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("probe prefilter"),
             entries: &[
                 constants(gpu.constants, 0),
                 texture(1, float, wgpu::TextureViewDimension::D2Array),
-                texture(2, float, wgpu::TextureViewDimension::D2),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 3,
-                    visibility: wgpu::ShaderStages::COMPUTE,
-                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::NonFiltering),
-                    count: None,
-                },
+                texture(2, filterable, wgpu::TextureViewDimension::D2),
+                sampler_entry(3, wgpu::SamplerBindingType::NonFiltering),
                 storage_2d(4, LEVEL_FORMAT),
-                read_only_storage(5),
+                sampler_entry(5, wgpu::SamplerBindingType::Filtering),
             ],
         });
         let pipeline = crate::render::compute_pipeline(device, "probe prefilter", &layout, &module, "cs_prefilter");
@@ -110,34 +120,39 @@ impl Prefilter {
             min_filter: wgpu::FilterMode::Nearest,
             ..Default::default()
         });
-        let sources = [SOURCE_WIDTH, PROBE_WIDTH, PROBE_WIDTH / 2]
-            .into_iter()
-            .map(|w| {
-                let texture = crate::render::texture_2d(
-                    device,
-                    "probe source",
-                    (w as u32, w as u32 / 2),
-                    LEVEL_FORMAT,
-                    wgpu::TextureUsages::TEXTURE_BINDING
-                        | wgpu::TextureUsages::STORAGE_BINDING
-                        | wgpu::TextureUsages::COPY_DST,
-                );
-                // Texel directions and solid angles, as TexelTable holds them.
-                let img = EquirectImage { width: w, height: w / 2, texels: vec![DVec3::ZERO; w * w / 2] };
-                let table: Vec<[f32; 4]> = (0..w * w / 2)
-                    .map(|i| {
-                        let (d, omega) = img.texel_direction(i % w, i / w);
-                        [d.x as f32, d.y as f32, d.z as f32, omega as f32]
-                    })
-                    .collect();
-                let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("probe source texels"),
-                    contents: bytemuck::cast_slice(&table),
-                    usage: wgpu::BufferUsages::STORAGE,
-                });
-                (w, texture, buffer)
-            })
-            .collect();
+        let chain_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("probe source chain"),
+            address_mode_u: wgpu::AddressMode::Repeat,
+            address_mode_v: wgpu::AddressMode::ClampToEdge,
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            mipmap_filter: wgpu::MipmapFilterMode::Linear,
+            ..Default::default()
+        });
+        let chain = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("probe source chain"),
+            size: wgpu::Extent3d {
+                width: SOURCE_WIDTH as u32,
+                height: SOURCE_WIDTH as u32 / 2,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: chain_mips() as u32,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: LEVEL_FORMAT,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::STORAGE_BINDING
+                | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        });
+        let no_source = crate::render::texture_2d(
+            device,
+            "no probe source",
+            (1, 1),
+            LEVEL_FORMAT,
+            wgpu::TextureUsages::TEXTURE_BINDING,
+        )
+        .create_view(&Default::default());
         let no_faces = device
             .create_texture(&wgpu::TextureDescriptor {
                 label: Some("no probe faces"),
@@ -153,27 +168,33 @@ impl Prefilter {
                 dimension: Some(wgpu::TextureViewDimension::D2Array),
                 ..Default::default()
             });
-        Ok(Prefilter { pipeline, layout, sampler, sources, no_faces, space: gpu.constants })
+        Ok(Prefilter { pipeline, layout, sampler, chain_sampler, chain, no_faces, no_source, space: gpu.constants })
     }
 
-    fn source(&self, width: usize) -> &(usize, wgpu::Texture, wgpu::Buffer) {
-        self.sources.iter().find(|(w, _, _)| *w == width).expect("one of the three widths")
+    /// A view of the chain's mips `first..first + count`.
+    fn chain_view(&self, first: usize, count: usize) -> wgpu::TextureView {
+        self.chain.create_view(&wgpu::TextureViewDescriptor {
+            base_mip_level: first as u32,
+            mip_level_count: Some(count as u32),
+            ..Default::default()
+        })
     }
 
     /// The dispatches that fill `levels` (the seven layers from `first`) from `faces` (None: the
-    /// 256-wide source was uploaded already) captured at `position` with `view_proj`.
+    /// 256-wide source was uploaded already) captured at `position` with `view_proj`, the lobe
+    /// weighed by `weight`.
     fn steps(
         &self,
         device: &wgpu::Device,
         faces: Option<(&wgpu::TextureView, [DMat4; 6], DVec3)>,
-        levels: &wgpu::Texture,
-        first: usize,
+        (levels, first): (&wgpu::Texture, usize),
+        weight: LobeWeight,
     ) -> Vec<ComputeStep> {
         let mut steps = Vec::new();
-        let view = |t: &wgpu::Texture, layer: Option<usize>| {
+        let layer = |t: &wgpu::Texture, layer: usize| {
             t.create_view(&wgpu::TextureViewDescriptor {
                 dimension: Some(wgpu::TextureViewDimension::D2),
-                base_array_layer: layer.unwrap_or(0) as u32,
+                base_array_layer: layer as u32,
                 array_layer_count: Some(1),
                 ..Default::default()
             })
@@ -182,7 +203,7 @@ impl Prefilter {
                         out: wgpu::TextureView,
                         size: (usize, usize),
                         level: [f32; 4],
-                        source: &(usize, wgpu::Texture, wgpu::Buffer)| {
+                        source: &wgpu::TextureView| {
             let mut params = PrefilterParams::zeroed();
             params.dims = [size.0 as u32, size.1 as u32, 0, mode];
             params.level = level;
@@ -196,41 +217,47 @@ impl Prefilter {
                 usage: self.space.usage(),
             });
             let faces_view = faces.as_ref().map(|f| f.0).unwrap_or(&self.no_faces);
-            let source_view = view(&source.1, None);
             let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("probe prefilter step"),
                 layout: &self.layout,
                 entries: &[
                     wgpu::BindGroupEntry { binding: 0, resource: buffer.as_entire_binding() },
                     wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(faces_view) },
-                    wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&source_view) },
+                    wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(source) },
                     wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::Sampler(&self.sampler) },
                     wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::TextureView(&out) },
-                    wgpu::BindGroupEntry { binding: 5, resource: source.2.as_entire_binding() },
+                    wgpu::BindGroupEntry { binding: 5, resource: wgpu::BindingResource::Sampler(&self.chain_sampler) },
                 ],
             });
             steps.push(ComputeStep { group, size: (size.0 as u32, size.1 as u32) });
         };
-        let (s256, s128, s64) = (self.source(SOURCE_WIDTH), self.source(PROBE_WIDTH), self.source(PROBE_WIDTH / 2));
         if faces.is_some() {
             let sub = 1.0 / FACE_SUBSAMPLES as f32;
-            // Reads the faces only; the 64-wide source is bound as a placeholder (a texture cannot be
-            // read and written in one dispatch).
-            step(MODE_FACES, view(&s256.1, None), (SOURCE_WIDTH, SOURCE_WIDTH / 2), [0.0, sub, 0.0, 0.0], s64);
+            step(
+                MODE_FACES,
+                self.chain_view(0, 1),
+                (SOURCE_WIDTH, SOURCE_WIDTH / 2),
+                [0.0, sub, 0.0, 0.0],
+                &self.no_source,
+            );
         }
-        step(MODE_HALVE, view(&s128.1, None), (PROBE_WIDTH, PROBE_HEIGHT), [0.0; 4], s256);
-        step(MODE_HALVE, view(&s64.1, None), (PROBE_WIDTH / 2, PROBE_HEIGHT / 2), [0.0; 4], s128);
+        for m in 1..chain_mips() {
+            let size = (SOURCE_WIDTH >> m, SOURCE_WIDTH >> (m + 1));
+            step(MODE_HALVE, self.chain_view(m, 1), size, [0.0; 4], &self.chain_view(m - 1, 1));
+        }
+        // The mirror level: the source halved to the levels' width.
+        let mirror = (SOURCE_WIDTH / PROBE_WIDTH).trailing_zeros() as usize;
+        let whole = self.chain_view(0, chain_mips());
         for level in 0..LEVELS {
             let alpha = prefilter::level_alpha(level);
-            let out = view(levels, Some(first + level));
+            let out = layer(levels, first + level);
             let size = (PROBE_WIDTH, PROBE_HEIGHT);
-            // Level 0 is the mirror image; a lobe narrower than a texel copies it (as on the CPU).
+            // A lobe narrower than a texel copies the mirror image (as on the CPU).
             if level == 0 || alpha < MIRROR_ALPHA {
-                step(MODE_COPY, out, size, [0.0; 4], s128);
+                step(MODE_COPY, out, size, [0.0; 4], &self.chain_view(mirror, 1));
             } else {
-                let src = self.source(prefilter::source_width(alpha));
-                let w = src.0 as f32;
-                step(MODE_CONVOLVE, out, size, [alpha as f32, 0.0, w, w / 2.0], src);
+                let n = filtered::sample_count(level) as f32;
+                step(MODE_FILTERED, out, size, [alpha as f32, n, 0.0, weight.code() as f32], &whole);
             }
         }
         steps
@@ -238,7 +265,12 @@ impl Prefilter {
 
     /// Prefilter an equirectangular source (256×128) on the GPU and read the seven levels back:
     /// the GPU twin of `Probe::from_source`, for tests and the convergence study.
-    pub fn prefilter_source(&self, gpu: &GpuContext, source: &EquirectImage) -> Result<Vec<Vec<[f32; 4]>>, Error> {
+    pub fn prefilter_source(
+        &self,
+        gpu: &GpuContext,
+        source: &EquirectImage,
+        weight: LobeWeight,
+    ) -> Result<Vec<Vec<[f32; 4]>>, Error> {
         let device = &gpu.device;
         if (source.width, source.height) != (SOURCE_WIDTH, SOURCE_WIDTH / 2) {
             return Err(Error::Other(format!(
@@ -250,7 +282,7 @@ impl Prefilter {
         }
         let texels: Vec<half::f16> = source.texels.iter().flat_map(|t| crate::render::half_texel(*t)).collect();
         gpu.queue.write_texture(
-            self.source(SOURCE_WIDTH).1.as_image_copy(),
+            self.chain.as_image_copy(),
             bytemuck::cast_slice(&texels),
             wgpu::TexelCopyBufferLayout {
                 offset: 0,
@@ -260,7 +292,7 @@ impl Prefilter {
             wgpu::Extent3d { width: SOURCE_WIDTH as u32, height: SOURCE_WIDTH as u32 / 2, depth_or_array_layers: 1 },
         );
         let levels = level_texture(device, LEVELS, wgpu::TextureUsages::COPY_SRC);
-        let steps = self.steps(device, None, &levels, 0);
+        let steps = self.steps(device, None, (&levels, 0), weight);
         let mut encoder = device.create_command_encoder(&Default::default());
         crate::render::encode_steps(&mut encoder, "probe prefilter", &self.pipeline, &steps, None);
         let row = PROBE_WIDTH as u32 * 8;
@@ -356,8 +388,8 @@ pub struct ProbeTargets {
     /// A frame uniform buffer per face (the cell's frame seen from the probe).
     pub frame_buffers: Vec<wgpu::Buffer>,
     pub view_proj: [DMat4; 6],
-    /// The prefilter's dispatches into each capture slot.
-    steps: Vec<Vec<ComputeStep>>,
+    /// The prefilter's dispatches into each capture slot, by lobe weight (`LobeWeight::code`).
+    steps: Vec<[Vec<ComputeStep>; 2]>,
 }
 
 /// A composition's probes: the level array (the sky's seven layers, then seven per probe in each
@@ -452,7 +484,9 @@ impl SceneProbes {
                 let steps = (0..CAPTURE_SLOTS)
                     .map(|slot| {
                         let first = first_layer(slot, k, count);
-                        prefilter.steps(device, Some((&all_faces, view_proj, position)), &levels, first)
+                        let faces = Some((&all_faces, view_proj, position));
+                        [LobeWeight::CosineWeighted, LobeWeight::SmithMasked]
+                            .map(|w| prefilter.steps(device, faces, (&levels, first), w))
                     })
                     .collect();
                 ProbeTargets {
@@ -509,15 +543,16 @@ impl SceneProbes {
         })
     }
 
-    /// Encode every probe's prefilter into capture slot `slot` (after its faces were drawn).
+    /// Encode every probe's prefilter into capture slot `slot` (after its faces were drawn), the
+    /// lobe weighed by `weight` (the pipeline's).
     pub fn encode_prefilter(
         &self,
         prefilter: &Prefilter,
         encoder: &mut wgpu::CommandEncoder,
-        slot: usize,
+        (slot, weight): (usize, LobeWeight),
         timestamps: Option<wgpu::ComputePassTimestampWrites>,
     ) {
-        let steps = self.probes.iter().flat_map(|p| &p.steps[slot]);
+        let steps = self.probes.iter().flat_map(|p| &p.steps[slot][weight.code() as usize]);
         crate::render::encode_steps(encoder, "probe prefilter", &prefilter.pipeline, steps, timestamps);
     }
 }
