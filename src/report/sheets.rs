@@ -42,6 +42,31 @@ fn text_width(s: &str) -> u32 {
     s.chars().count() as u32 * GLYPH
 }
 
+/// Tiles decoded and scaled once per report: a cell's image is on several sheets (one per spec,
+/// and the difference sheets' cell and reference columns). At most `TILE_CACHE` are kept (192²
+/// RGBA each, ≤ 150 MB), so memory stays bounded whatever the run's size.
+#[derive(Default)]
+pub struct TileCache {
+    tiles: std::sync::Mutex<std::collections::HashMap<std::path::PathBuf, std::sync::Arc<RgbaImage>>>,
+}
+
+const TILE_CACHE: usize = 1024;
+
+impl TileCache {
+    fn get(&self, path: &std::path::Path) -> Option<std::sync::Arc<RgbaImage>> {
+        let lock = || self.tiles.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(t) = lock().get(path) {
+            return Some(t.clone());
+        }
+        let tile = std::sync::Arc::new(load_tile(path, TILE_MAX)?);
+        let mut tiles = lock();
+        if tiles.len() < TILE_CACHE {
+            tiles.insert(path.to_path_buf(), tile.clone());
+        }
+        Some(tile)
+    }
+}
+
 fn load_tile(path: &std::path::Path, tile: u32) -> Option<RgbaImage> {
     let img = image::open(path).ok()?.to_rgba8();
     if img.width() <= tile && img.height() <= tile {
@@ -56,15 +81,17 @@ fn load_tile(path: &std::path::Path, tile: u32) -> Option<RgbaImage> {
     ))
 }
 
-/// Compose a labelled grid; `tiles[r][c]` is an image path or None (drawn as an empty tile).
+/// Compose a labelled grid; `tiles[r][c]` is an image path or None (drawn as an empty tile),
+/// taken from `cache`.
 pub fn grid(
     title: &str,
     row_labels: &[String],
     col_labels: &[String],
     tiles: &[Vec<Option<std::path::PathBuf>>],
+    cache: &TileCache,
 ) -> RgbaImage {
-    let loaded: Vec<Vec<Option<RgbaImage>>> =
-        tiles.iter().map(|r| r.iter().map(|p| p.as_ref().and_then(|p| load_tile(p, TILE_MAX))).collect()).collect();
+    let loaded: Vec<Vec<Option<std::sync::Arc<RgbaImage>>>> =
+        tiles.iter().map(|r| r.iter().map(|p| p.as_ref().and_then(|p| cache.get(p))).collect()).collect();
     let tile_w = loaded
         .iter()
         .flatten()
@@ -89,7 +116,7 @@ pub fn grid(
         for c in 0..col_labels.len() {
             let x0 = label_w + c as u32 * (tile_w + pad);
             match loaded.get(r).and_then(|row| row.get(c)).and_then(|t| t.as_ref()) {
-                Some(t) => imageops::overlay(&mut img, t, x0 as i64, y0 as i64),
+                Some(t) => imageops::overlay(&mut img, &**t, x0 as i64, y0 as i64),
                 None => draw_text(
                     &mut img,
                     x0 + tile_w / 2 - GLYPH,
@@ -185,9 +212,20 @@ pub fn layout(run: &RunData, spec: &SheetSpec) -> Vec<SheetLayout> {
     out
 }
 
-/// Write every sheet of `specs`; returns the files written (relative to the run folder).
+/// One sheet to draw: its file, title, labels and tile images.
+struct SheetJob {
+    name: String,
+    title: String,
+    rows: Vec<String>,
+    cols: Vec<String>,
+    tiles: Vec<Vec<Option<std::path::PathBuf>>>,
+}
+
+/// Write every sheet of `specs`; returns the files written (relative to the run folder). Sheets
+/// are independent: they are drawn and encoded on every core (each one's bytes as drawn alone).
 pub fn write(run: &RunData, specs: &[SheetSpec]) -> Result<Vec<String>, Error> {
-    let mut written = Vec::new();
+    use rayon::prelude::*;
+    let mut jobs = Vec::new();
     for spec in specs {
         for sheet in layout(run, spec) {
             let tiles: Vec<Vec<Option<std::path::PathBuf>>> = sheet
@@ -195,13 +233,7 @@ pub fn write(run: &RunData, specs: &[SheetSpec]) -> Result<Vec<String>, Error> {
                 .iter()
                 .map(|row| row.iter().map(|t| t.as_ref().map(|id| run.cell_dir(id).join("image.png"))).collect())
                 .collect();
-            let img = grid(&sheet.title, &sheet.rows, &sheet.cols, &tiles);
-            let name = sheet.name;
-            let mut bytes = Vec::new();
-            img.write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png)
-                .map_err(|e| Error::encode(format!("encoding {name}"), e))?;
-            write_atomic(&run.dir.join(&name), &bytes)?;
-            written.push(name);
+            jobs.push(SheetJob { name: sheet.name, title: sheet.title, rows: sheet.rows, cols: sheet.cols, tiles });
         }
     }
     // Difference sheets: cell | reference | FLIP map, one row per cell that has a reference.
@@ -229,8 +261,6 @@ pub fn write(run: &RunData, specs: &[SheetSpec]) -> Result<Vec<String>, Error> {
         // same however many cells the matrix has.
         let pages: Vec<&[LabelledRow]> = rows.chunks(DIFF_ROWS_PER_SHEET).collect();
         for (k, page) in pages.iter().enumerate() {
-            let labels: Vec<String> = page.iter().map(|r| r.0.clone()).collect();
-            let tiles: Vec<Vec<Option<std::path::PathBuf>>> = page.iter().map(|r| r.1.clone()).collect();
             let (title, name) = if pages.len() == 1 {
                 (format!("{comp}: cell, reference, FLIP"), format!("sheets/diff_{}.png", file_safe(&comp)))
             } else {
@@ -239,13 +269,24 @@ pub fn write(run: &RunData, specs: &[SheetSpec]) -> Result<Vec<String>, Error> {
                     format!("sheets/diff_{}_{:02}.png", file_safe(&comp), k + 1),
                 )
             };
-            let img = grid(&title, &labels, &["cell".into(), "reference".into(), "FLIP".into()], &tiles);
-            let mut bytes = Vec::new();
-            img.write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png)
-                .map_err(|e| Error::encode(format!("encoding {name}"), e))?;
-            write_atomic(&run.dir.join(&name), &bytes)?;
-            written.push(name);
+            jobs.push(SheetJob {
+                name,
+                title,
+                rows: page.iter().map(|r| r.0.clone()).collect(),
+                cols: vec!["cell".into(), "reference".into(), "FLIP".into()],
+                tiles: page.iter().map(|r| r.1.clone()).collect(),
+            });
         }
     }
-    Ok(written)
+    let cache = TileCache::default();
+    jobs.par_iter()
+        .map(|job| {
+            let img = grid(&job.title, &job.rows, &job.cols, &job.tiles, &cache);
+            let mut bytes = Vec::new();
+            img.write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png)
+                .map_err(|e| Error::encode(format!("encoding {}", job.name), e))?;
+            write_atomic(&run.dir.join(&job.name), &bytes)?;
+            Ok(job.name.clone())
+        })
+        .collect()
 }
