@@ -12,7 +12,7 @@ pub fn diff(a: &Path, b: &Path, json: bool, out: Option<&Path>, per_channel: boo
     if let Some(dir) = out {
         let png = |name: &str, px: &Option<Vec<u8>>| -> Result<(), Error> {
             if let Some(px) = px {
-                let bytes = crate::images::encode::png_bytes(c.width, c.height, px)?;
+                let bytes = crate::images::encode::map_png_bytes(c.width, c.height, px)?;
                 crate::fsutil::write_atomic(&dir.join(name), &bytes)?;
             }
             Ok(())

@@ -100,6 +100,42 @@ pub fn png_bytes(width: u32, height: u32, rgba8: &[u8]) -> Result<Vec<u8>, AppEr
     png_bytes_with(width, height, rgba8, image::codecs::png::CompressionType::Fast)
 }
 
+/// A colour-mapped image (the FLIP and SSIM maps: at most 256 colours, opaque) as an 8-bit palette
+/// PNG, a quarter of the RGBA bytes before compression and shown the same; any other image as RGBA.
+/// The palette is the image's colours in ascending order, so the same pixels give the same bytes.
+pub fn map_png_bytes(width: u32, height: u32, rgba8: &[u8]) -> Result<Vec<u8>, AppError> {
+    let mut colours: Vec<[u8; 3]> = Vec::new();
+    let opaque = rgba8.chunks_exact(4).all(|p| p[3] == 255);
+    if opaque {
+        let mut seen = std::collections::BTreeSet::new();
+        for p in rgba8.chunks_exact(4) {
+            seen.insert([p[0], p[1], p[2]]);
+            if seen.len() > 256 {
+                break;
+            }
+        }
+        colours = seen.into_iter().collect();
+    }
+    if !opaque || colours.len() > 256 || colours.is_empty() {
+        return png_bytes(width, height, rgba8);
+    }
+    let index: std::collections::HashMap<[u8; 3], u8> =
+        colours.iter().enumerate().map(|(i, c)| (*c, i as u8)).collect();
+    let indices: Vec<u8> = rgba8.chunks_exact(4).map(|p| index[&[p[0], p[1], p[2]]]).collect();
+    let mut out = Vec::new();
+    {
+        let mut encoder = png::Encoder::new(&mut out, width, height);
+        encoder.set_color(png::ColorType::Indexed);
+        encoder.set_depth(png::BitDepth::Eight);
+        encoder.set_palette(colours.concat());
+        encoder.set_compression(png::Compression::Fast);
+        let mut writer = encoder.write_header().map_err(|e| AppError::encode("encoding a map PNG", e))?;
+        writer.write_image_data(&indices).map_err(|e| AppError::encode("encoding a map PNG", e))?;
+        writer.finish().map_err(|e| AppError::encode("encoding a map PNG", e))?;
+    }
+    Ok(out)
+}
+
 pub fn png_bytes_with(
     width: u32,
     height: u32,
@@ -117,6 +153,26 @@ pub fn png_bytes_with(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_map_png_shows_the_same_pixels_in_fewer_bytes() {
+        let (w, h) = (64u32, 48u32);
+        let map: Vec<u8> = (0..w * h)
+            .flat_map(|i| {
+                let v = ((i % w) * 4 + i / w) as u8;
+                [v, 255 - v, v / 2, 255]
+            })
+            .collect();
+        let indexed = map_png_bytes(w, h, &map).unwrap();
+        let rgba = png_bytes(w, h, &map).unwrap();
+        let decoded = image::load_from_memory(&indexed).unwrap().to_rgba8();
+        assert_eq!(decoded.as_raw(), &map, "the palette PNG decodes to the same RGBA");
+        assert!(indexed.len() < rgba.len(), "{} vs {}", indexed.len(), rgba.len());
+        assert_eq!(indexed, map_png_bytes(w, h, &map).unwrap(), "deterministic");
+        // More than 256 colours, or any transparency: RGBA as before.
+        let many: Vec<u8> = (0..w * h).flat_map(|i| [(i % 256) as u8, (i / 256) as u8, 7, 255]).collect();
+        assert_eq!(map_png_bytes(w, h, &many).unwrap(), png_bytes(w, h, &many).unwrap());
+    }
 
     #[test]
     fn exr_bytes_are_deterministic_and_lossless() {

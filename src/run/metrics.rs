@@ -12,7 +12,7 @@ use crate::compare::images::{compare_on, MetricsBackend};
 use crate::compare::LoadedImage;
 use crate::error::Error;
 use crate::fsutil::write_atomic;
-use crate::images::encode::png_bytes;
+use crate::images::encode::map_png_bytes;
 use crate::record::cell::{
     ApproximationRecord, ApproximationResult, CellMetrics, HdrComparison, MetricMaps, ReferenceRecord,
 };
@@ -212,7 +212,7 @@ pub fn compare_cell(
     let c = compare_on(&reference.ldr, &ldr, &cell.id.0, false, backend)?;
     for (name, px) in [("flip.png", &c.flip_map_rgba8), ("ssim.png", &c.ssim_map_rgba8)] {
         if let Some(px) = px.as_ref().filter(|_| write_maps) {
-            write_atomic(&cell_dir.join(name), &png_bytes(c.width, c.height, px)?)?;
+            write_atomic(&cell_dir.join(name), &map_png_bytes(c.width, c.height, px)?)?;
         }
     }
     let hdr_test = hdr;
