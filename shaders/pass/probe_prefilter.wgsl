@@ -1,5 +1,5 @@
-// Reflection-probe prefilter on the GPU (render::passes::probes); twin: Probe::filtered and
-// environment::filtered, the same steps in the same order. A captured cube (six 90° faces) is
+// Reflection-probe prefilter on the GPU (render::passes::probes); twin: environment::filtered
+// (probe, integrate), the same steps in the same order. A captured cube (six 90° faces) is
 // resampled into an equirectangular source, halved into a mip chain, and each of Unity's seven
 // levels (mip = pr'·6, pr' = pr(1.7 − 0.7pr)) is the GGX lobe of its α by filtered importance
 // sampling of that chain, as HDRP's IntegrateLD (ImageBasedLighting.hlsl) does.

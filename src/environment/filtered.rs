@@ -21,8 +21,11 @@
 use glam::DVec3;
 use std::f64::consts::{PI, TAU};
 
+use rayon::prelude::*;
+
 use super::dir_to_uv;
-use super::prefilter::EquirectImage;
+use super::prefilter::{level_alpha, EquirectImage, Probe, TexelTable, LEVELS, MIRROR_ALPHA, PROBE_WIDTH};
+use crate::pipelines::Pipeline;
 
 /// The weight each sample takes (see the module comment).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -34,6 +37,15 @@ pub enum LobeWeight {
 }
 
 impl LobeWeight {
+    /// How `pipeline`'s captured probes weigh the lobe: HDRP's IntegrateLD by Smith masking,
+    /// built-in and URP (whose probes the editor convolves with unpublished code) by N·L.
+    pub fn of_pipeline(pipeline: Pipeline) -> LobeWeight {
+        match pipeline {
+            Pipeline::Hdrp => LobeWeight::SmithMasked,
+            Pipeline::Builtin | Pipeline::Urp => LobeWeight::CosineWeighted,
+        }
+    }
+
     /// The shader's code for it (PrefilterParams.level.w).
     pub fn code(self) -> u32 {
         match self {
@@ -159,6 +171,28 @@ pub fn integrate(chain: &[EquirectImage], r: DVec3, alpha: f64, n: u32, weight: 
     light / total.max(1e-300)
 }
 
+/// The levels as the captured probes' GPU prefilter makes them: the mirror level the source
+/// halved to `PROBE_WIDTH`, each lobe narrower than a texel a copy of it, the others filtered
+/// importance sampling of the source's mip chain.
+pub fn probe(source: &EquirectImage, weight: LobeWeight) -> Probe {
+    let chain = mip_chain(source);
+    let level0 = chain.iter().find(|m| m.width <= PROBE_WIDTH).unwrap_or(&chain[0]).clone();
+    let output = TexelTable::new(&level0);
+    let (w, h) = (level0.width, level0.height);
+    let mut levels = vec![level0.clone()];
+    for level in 1..LEVELS {
+        let alpha = level_alpha(level);
+        let texels = if alpha < MIRROR_ALPHA {
+            level0.texels.clone()
+        } else {
+            let n = sample_count(level);
+            (0..w * h).into_par_iter().map(|i| integrate(&chain, output.direction[i], alpha, n, weight)).collect()
+        };
+        levels.push(EquirectImage { width: w, height: h, texels });
+    }
+    Probe { width: w, height: h, levels }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -197,7 +231,7 @@ mod tests {
 #[cfg(test)]
 mod against_brute_force {
     use super::*;
-    use crate::environment::prefilter::{Probe, SOURCE_WIDTH};
+    use crate::environment::prefilter::SOURCE_WIDTH;
 
     /// How far the sampled levels are from the brute-force integral of the same lobe on a sky with
     /// a sun, a gradient and an edge: printed for the note, held under a bound.
@@ -211,7 +245,7 @@ mod against_brute_force {
         };
         let source = EquirectImage::sample(&radiance, SOURCE_WIDTH, SOURCE_WIDTH / 2, 2);
         let exact = Probe::from_source(&source);
-        let sampled = Probe::filtered(&source, LobeWeight::CosineWeighted);
+        let sampled = probe(&source, LobeWeight::CosineWeighted);
         for (level, (e, s)) in exact.levels.iter().zip(&sampled.levels).enumerate() {
             let mean = |img: &EquirectImage| img.texels.iter().map(|t| t.element_sum()).sum::<f64>();
             let (me, ms) = (mean(e), mean(s));

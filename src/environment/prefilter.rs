@@ -147,33 +147,6 @@ impl Probe {
     }
 }
 
-impl Probe {
-    /// The levels as the captured probes' GPU prefilter makes them (environment::filtered): the
-    /// mirror level the source halved to `PROBE_WIDTH`, each lobe narrower than a texel a copy of
-    /// it, the others filtered importance sampling of the source's mip chain.
-    pub fn filtered(source: &EquirectImage, weight: super::filtered::LobeWeight) -> Probe {
-        let chain = super::filtered::mip_chain(source);
-        let level0 = chain.iter().find(|m| m.width <= PROBE_WIDTH).unwrap_or(&chain[0]).clone();
-        let output = TexelTable::new(&level0);
-        let (w, h) = (level0.width, level0.height);
-        let mut levels = vec![level0.clone()];
-        for level in 1..LEVELS {
-            let alpha = level_alpha(level);
-            let texels = if alpha < MIRROR_ALPHA {
-                level0.texels.clone()
-            } else {
-                let n = super::filtered::sample_count(level);
-                (0..w * h)
-                    .into_par_iter()
-                    .map(|i| super::filtered::integrate(&chain, output.direction[i], alpha, n, weight))
-                    .collect()
-            };
-            levels.push(EquirectImage { width: w, height: h, texels });
-        }
-        Probe { width: w, height: h, levels }
-    }
-}
-
 /// Below this α the lobe is narrower than a probe texel: the level copies the mirror image.
 pub const MIRROR_ALPHA: f64 = 0.02;
 
@@ -193,7 +166,7 @@ pub fn source_width(alpha: f64) -> usize {
 
 /// Texel directions, solid angles and radiance laid out flat for the convolution's inner loop.
 pub(crate) struct TexelTable {
-    direction: Vec<DVec3>,
+    pub(crate) direction: Vec<DVec3>,
     solid_angle: Vec<f64>,
     radiance: Vec<DVec3>,
 }

@@ -245,16 +245,6 @@ impl Pipeline {
         }
     }
 
-    /// How the pipeline's captured probes weigh the GGX lobe they are prefiltered with
-    /// (environment::filtered): HDRP's IntegrateLD by Smith masking, built-in and URP (whose
-    /// probes the editor convolves with unpublished code) by N·L.
-    pub fn probe_lobe(self) -> crate::environment::filtered::LobeWeight {
-        match self {
-            Pipeline::Hdrp => crate::environment::filtered::LobeWeight::SmithMasked,
-            Pipeline::Builtin | Pipeline::Urp => crate::environment::filtered::LobeWeight::CosineWeighted,
-        }
-    }
-
     /// The shader that fixed objects (walls, backdrop, inner ball) are drawn with: the pipeline's
     /// default lit shader, as a new material in that pipeline would be.
     pub fn fixed_object_shader(self) -> &'static str {

@@ -925,7 +925,7 @@ impl Renderer {
             }
         }
         let prefilter = self.prefilter.as_ref().expect("made with the scene's probes");
-        let weight = cell.pipeline.probe_lobe();
+        let weight = crate::environment::filtered::LobeWeight::of_pipeline(cell.pipeline);
         probes.encode_prefilter(prefilter, &mut encoder, (slot, weight), timer.map(|t| t.compute_writes(1)));
         if let Some(t) = timer {
             t.encode_resolve(&mut encoder, 2);

@@ -5,7 +5,7 @@
 use crate::common::fixture;
 use glam::DVec3;
 use shadematrix::environment::filtered::LobeWeight;
-use shadematrix::environment::prefilter::{EquirectImage, Probe, SOURCE_WIDTH};
+use shadematrix::environment::prefilter::{EquirectImage, SOURCE_WIDTH};
 use shadematrix::gpu::GpuContext;
 use shadematrix::render::passes::probes::Prefilter;
 
@@ -22,7 +22,7 @@ fn gpu_prefilter_matches_its_cpu_twin() {
     let gpu_context = GpuContext::new().unwrap();
     let prefilter = Prefilter::new(&gpu_context).unwrap();
     for weight in [LobeWeight::CosineWeighted, LobeWeight::SmithMasked] {
-        let cpu = Probe::filtered(&source, weight);
+        let cpu = shadematrix::environment::filtered::probe(&source, weight);
         let gpu = prefilter.prefilter_source(&gpu_context, &source, weight).unwrap();
         assert_eq!(gpu.len(), cpu.levels.len());
         for (level, (g, c)) in gpu.iter().zip(&cpu.levels).enumerate() {
