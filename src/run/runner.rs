@@ -531,41 +531,76 @@ impl<'a> Stream<'a> {
         Ok(())
     }
 
-    /// The render thread: every pending original, references first in each composition.
+    /// The render thread: every pending original, references first in each composition. A
+    /// composition's meshes are built on another thread while the one before renders.
     fn render_all(
         &self,
         renderer: &mut Renderer,
-        mut geometry: Vec<Option<Vec<crate::geometry::Mesh>>>,
+        geometry: Vec<Option<Vec<crate::geometry::Mesh>>>,
         record: &mut RunRecord,
         encode_tx: &Sender<RenderedCell<'a>>,
     ) -> Result<(), Error> {
+        let pending_in = |ci: usize| -> Vec<&'a Cell> {
+            let t = self.tracker();
+            self.exp
+                .cells
+                .iter()
+                .filter(|c| c.composition_index == ci)
+                .filter(|c| c.twin_of.is_none() && (!t.final_images.contains(&c.id) || self.retiming.contains(&c.id)))
+                .collect()
+        };
+        // Cells become final only as their own composition renders: what is pending now is what
+        // each composition will find pending.
+        let needs: Vec<bool> = (0..self.matrix.compositions.len()).map(|ci| !pending_in(ci).is_empty()).collect();
+        let (mesh_tx, mesh_rx) = bounded::<(usize, Result<Vec<crate::geometry::Mesh>, Error>)>(1);
+        std::thread::scope(|s| {
+            let compositions = &self.matrix.compositions;
+            let needs = &needs;
+            s.spawn(move || {
+                let mut geometry = geometry;
+                for (ci, scene) in compositions.iter().enumerate().filter(|(ci, _)| needs[*ci]) {
+                    let meshes = match geometry[ci].take() {
+                        Some(m) => Ok(m),
+                        None => crate::geometry::procedural::build_scene(scene),
+                    };
+                    let failed = meshes.is_err();
+                    // The render thread stopped (an error, or done): nothing more to build.
+                    if mesh_tx.send((ci, meshes)).is_err() || failed {
+                        return;
+                    }
+                }
+            });
+            self.render_compositions(renderer, mesh_rx, record, encode_tx, &pending_in)
+        })
+    }
+
+    fn render_compositions(
+        &self,
+        renderer: &mut Renderer,
+        meshes: Receiver<(usize, Result<Vec<crate::geometry::Mesh>, Error>)>,
+        record: &mut RunRecord,
+        encode_tx: &Sender<RenderedCell<'a>>,
+        pending_in: &dyn Fn(usize) -> Vec<&'a Cell>,
+    ) -> Result<(), Error> {
         let references = self.reference_cells();
         for (ci, scene) in self.matrix.compositions.iter().enumerate() {
-            let cells: Vec<&Cell> = self.exp.cells.iter().filter(|c| c.composition_index == ci).collect();
-            if cells.is_empty() {
+            if !self.exp.cells.iter().any(|c| c.composition_index == ci) {
                 continue;
             }
-            let mut pending: Vec<&Cell> = {
-                let t = self.tracker();
-                cells
-                    .iter()
-                    .copied()
-                    .filter(|c| {
-                        c.twin_of.is_none() && (!t.final_images.contains(&c.id) || self.retiming.contains(&c.id))
-                    })
-                    .collect()
-            };
+            let mut pending = pending_in(ci);
             pending.sort_by_key(|c| !references.contains(&c.id));
             // A composition whose every cell is already done needs no GPU resources at all.
             let t0 = Instant::now();
             let prepared = if pending.is_empty() {
                 None
             } else {
-                let meshes = match geometry[ci].take() {
-                    Some(m) => m,
-                    None => crate::geometry::procedural::build_scene(scene)?,
+                let built = match meshes.recv() {
+                    Ok((built_for, built)) if built_for == ci => built?,
+                    _ => {
+                        return Err(Error::Other(format!("the meshes of composition `{}` were not built", scene.name)))
+                    }
                 };
-                Some(renderer.upload_planned(scene, self.plans[ci].clone(), meshes)?)
+                Some(renderer.upload_planned(scene, self.plans[ci].clone(), built)?)
             };
             let plan = &self.plans[ci];
             record.compositions.push(CompositionRecord {
