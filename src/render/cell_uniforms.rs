@@ -156,11 +156,25 @@ pub(in crate::render) fn write_uniforms(
         objects[at..at + std::mem::size_of::<ObjectUniforms>()].copy_from_slice(bytemuck::bytes_of(&u));
     }
     queue.write_buffer(&prepared.object_buffer, 0, &objects);
-    // What a probe capture sees: everything but the camera and the subject.
+    let shadow_key = {
+        use std::hash::{Hash, Hasher};
+        let mut h = std::hash::DefaultHasher::new();
+        plan.used_layers.hash(&mut h);
+        bytemuck::cast_slice::<ShadowLayer, u8>(&shadow_layers).hash(&mut h);
+        for (i, o) in prepared.objects.iter().enumerate() {
+            let at = i * prepared.object_stride as usize;
+            (prepared.layout.meshes[i].cast_shadows, o.index_count, fades[i].map(f64::to_bits)).hash(&mut h);
+            objects[at..at + 64].hash(&mut h);
+        }
+        h.finish()
+    };
+    // What a probe capture sees: everything but the camera and the subject, whose shadow it
+    // does see (its shadow pass is the cell's: `shadow_key`, which meshes cast included).
     let key = {
         use std::hash::{Hash, Hasher};
         let mut h = std::hash::DefaultHasher::new();
         p.name().hash(&mut h);
+        shadow_key.hash(&mut h);
         let mut seen = frame;
         (seen.view_proj, seen.inv_view_proj, seen.camera_pos) = Default::default();
         seen.subject = GpuMaterial::zeroed();
@@ -174,18 +188,6 @@ pub(in crate::render) fn write_uniforms(
             let at = i * prepared.object_stride as usize;
             objects[at..at + std::mem::size_of::<ObjectUniforms>()].hash(&mut h);
             o.index_count.hash(&mut h);
-        }
-        h.finish()
-    };
-    let shadow_key = {
-        use std::hash::{Hash, Hasher};
-        let mut h = std::hash::DefaultHasher::new();
-        plan.used_layers.hash(&mut h);
-        bytemuck::cast_slice::<ShadowLayer, u8>(&shadow_layers).hash(&mut h);
-        for (i, o) in prepared.objects.iter().enumerate() {
-            let at = i * prepared.object_stride as usize;
-            (prepared.layout.meshes[i].cast_shadows, o.index_count, fades[i].map(f64::to_bits)).hash(&mut h);
-            objects[at..at + 64].hash(&mut h);
         }
         h.finish()
     };

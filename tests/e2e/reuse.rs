@@ -45,3 +45,31 @@ fn reusing_passes_across_cells_gives_the_same_bytes_as_drawing_every_pass() {
         assert!(x == y, "{name} differs between a run that reuses passes and one that draws them all");
     }
 }
+
+/// The probe capture draws the shadows the subject casts on the room, and the subject's LOD level
+/// (which mesh casts) changes with the camera distance: a capture is the same only when the same
+/// meshes cast. (Both cells are timed, each its own class; only the capture could be reused.)
+#[test]
+fn a_probe_capture_is_reused_only_when_the_same_meshes_cast_into_it() {
+    let matrix = r#"name = "lod_capture"
+compositions = ["default_lod"]
+pipelines = ["hdrp"]
+shaders = ["lit"]
+presets = ["gold"]
+[sweep]
+camera_distance = [6.5, 14.0]
+[image]
+width = 48
+height = 48
+"#;
+    let tmp = tempfile::tempdir().unwrap();
+    let matrix =
+        matrix.replace("\"default_lod\"", &format!("{:?}", crate::common::repo().join("scenes/default_lod.toml")));
+    let reused = crate::common::run_matrix_with(tmp.path(), &matrix, "reused", &["--no-cache"]);
+    let drawn = crate::common::run_matrix_with(tmp.path(), &matrix, "drawn", &["--no-cache", "--no-reuse"]);
+    let (a, b) = (image_files(&reused), image_files(&drawn));
+    assert_eq!(a.len(), 4);
+    for ((name, x), (_, y)) in a.iter().zip(&b) {
+        assert!(x == y, "{name}: the capture of another LOD level's shadow was reused");
+    }
+}
