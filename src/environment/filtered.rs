@@ -24,7 +24,7 @@ use std::f64::consts::{PI, TAU};
 use rayon::prelude::*;
 
 use super::dir_to_uv;
-use super::prefilter::{level_alpha, EquirectImage, Probe, TexelTable, LEVELS, MIRROR_ALPHA, PROBE_WIDTH};
+use super::prefilter::{EquirectImage, Probe, PROBE_WIDTH};
 use crate::pipelines::Pipeline;
 
 /// The weight each sample takes (see the module comment).
@@ -177,20 +177,10 @@ pub fn integrate(chain: &[EquirectImage], r: DVec3, alpha: f64, n: u32, weight: 
 pub fn probe(source: &EquirectImage, weight: LobeWeight) -> Probe {
     let chain = mip_chain(source);
     let level0 = chain.iter().find(|m| m.width <= PROBE_WIDTH).unwrap_or(&chain[0]).clone();
-    let output = TexelTable::new(&level0);
-    let (w, h) = (level0.width, level0.height);
-    let mut levels = vec![level0.clone()];
-    for level in 1..LEVELS {
-        let alpha = level_alpha(level);
-        let texels = if alpha < MIRROR_ALPHA {
-            level0.texels.clone()
-        } else {
-            let n = sample_count(level);
-            (0..w * h).into_par_iter().map(|i| integrate(&chain, output.direction[i], alpha, n, weight)).collect()
-        };
-        levels.push(EquirectImage { width: w, height: h, texels });
-    }
-    Probe { width: w, height: h, levels }
+    Probe::from_mirror(level0, |level, alpha, output| {
+        let n = sample_count(level);
+        output.direction.par_iter().map(|d| integrate(&chain, *d, alpha, n, weight)).collect()
+    })
 }
 
 #[cfg(test)]

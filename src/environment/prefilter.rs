@@ -117,7 +117,6 @@ impl Probe {
         while level0.width > PROBE_WIDTH {
             level0 = level0.half();
         }
-        let (w, h) = (level0.width, level0.height);
         // The source each level convolves, by width: the source itself and its halvings.
         let mut images = vec![source.clone()];
         while images.last().is_some_and(|i| i.width > PROBE_WIDTH / 2) {
@@ -125,22 +124,29 @@ impl Probe {
             images.push(next);
         }
         let mut tables: Vec<(usize, TexelTable)> = Vec::new();
+        Probe::from_mirror(level0, |_, alpha, output| {
+            let want = source_width(alpha);
+            if !tables.iter().any(|(tw, _)| *tw == want) {
+                let img = images.iter().find(|i| i.width <= want).expect("the halvings reach PROBE_WIDTH / 2");
+                tables.push((want, TexelTable::new(img)));
+            }
+            let src = &tables.iter().find(|(tw, _)| *tw == want).expect("built above").1;
+            output.direction.par_iter().map(|d| src.convolve(*d, alpha)).collect()
+        })
+    }
+
+    /// The seven levels from the mirror image `level0`: a lobe narrower than a texel (level 1's,
+    /// α ≈ 0.01, < 1°) copies it, every other level is `convolve(level, α, level0's texels)`.
+    pub(crate) fn from_mirror(
+        level0: EquirectImage,
+        mut convolve: impl FnMut(usize, f64, &TexelTable) -> Vec<DVec3>,
+    ) -> Probe {
+        let (w, h) = (level0.width, level0.height);
         let output = TexelTable::new(&level0);
-        let mut levels = vec![level0.clone()];
+        let mut levels = vec![level0];
         for level in 1..LEVELS {
             let alpha = level_alpha(level);
-            // Level 1's lobe (α ≈ 0.01, < 1°) is narrower than a texel: the mirror image stands in.
-            let texels = if alpha < MIRROR_ALPHA {
-                level0.texels.clone()
-            } else {
-                let want = source_width(alpha);
-                if !tables.iter().any(|(tw, _)| *tw == want) {
-                    let img = images.iter().find(|i| i.width <= want).unwrap_or(&level0);
-                    tables.push((want, TexelTable::new(img)));
-                }
-                let src = &tables.iter().find(|(tw, _)| *tw == want).expect("built above").1;
-                (0..w * h).into_par_iter().map(|i| src.convolve(output.direction[i], alpha)).collect()
-            };
+            let texels = if alpha < MIRROR_ALPHA { levels[0].texels.clone() } else { convolve(level, alpha, &output) };
             levels.push(EquirectImage { width: w, height: h, texels });
         }
         Probe { width: w, height: h, levels }
