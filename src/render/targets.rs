@@ -129,9 +129,7 @@ impl Targets {
         }
         t.msaa = Some(ColorRoleDepth::new(device, "msaa", (t.width, t.height), samples));
     }
-}
 
-impl Targets {
     /// The fixed-object layer for frames of `samples` samples, holding nothing until drawn.
     pub(in crate::render) fn ensure_layer(&mut self, device: &wgpu::Device, samples: u32) -> &mut FixedLayer {
         if self.layer.as_ref().is_none_or(|l| l.targets.samples != samples) {
