@@ -191,29 +191,16 @@ pub(in crate::render) fn write_uniforms(
         }
         h.finish()
     };
-    // What the fixed objects' shading reads of the frame: everything but the subject (its
-    // material is the frame's, its object uniforms are left out) and the probes' capture slots
-    // (the slot's content is `capture_key`'s, wherever it sits).
+    // What the fixed objects' shading reads: all a probe capture sees (`key`: everything but the
+    // camera and the subject) and the camera.
     let layer_key = {
         use std::hash::{Hash, Hasher};
         let mut h = std::hash::DefaultHasher::new();
-        p.name().hash(&mut h);
-        let mut seen = frame;
-        seen.subject = GpuMaterial::zeroed();
-        seen.probes = Zeroable::zeroed();
-        bytemuck::bytes_of(&seen).hash(&mut h);
         key.hash(&mut h);
-        bytemuck::cast_slice::<GpuLight, u8>(&gpu_lights).hash(&mut h);
-        bytemuck::cast_slice::<ShadowLayer, u8>(&shadow_layers).hash(&mut h);
-        modes.hash(&mut h);
-        for (i, o) in prepared.objects.iter().enumerate() {
-            let fixed = prepared.layout.meshes[i].role == Role::Fixed;
-            let at = i * prepared.object_stride as usize;
-            (fixed, o.index_count).hash(&mut h);
-            if fixed {
-                objects[at..at + std::mem::size_of::<ObjectUniforms>()].hash(&mut h);
-            }
+        for part in [bytemuck::bytes_of(&frame.view_proj), bytemuck::bytes_of(&frame.inv_view_proj)] {
+            part.hash(&mut h);
         }
+        bytemuck::bytes_of(&frame.camera_pos).hash(&mut h);
         h.finish()
     };
     // What the depth prepass and SSAO read: the camera, the target's size and every mesh's

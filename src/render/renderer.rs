@@ -515,7 +515,7 @@ impl Renderer {
             use std::hash::{Hash, Hasher};
             let mut h = std::hash::DefaultHasher::new();
             (written.prepass_key, cell.pipeline, cell.width, cell.height, &drawn).hash(&mut h);
-            (textured, cell.settings.material_maps).hash(&mut h);
+            cell.settings.material_maps.hash(&mut h);
             h.finish()
         };
         let occludes_now = occludes && {

@@ -51,20 +51,12 @@ fn reusing_passes_across_cells_gives_the_same_bytes_as_drawing_every_pass() {
 /// meshes cast. (Both cells are timed, each its own class; only the capture could be reused.)
 #[test]
 fn a_probe_capture_is_reused_only_when_the_same_meshes_cast_into_it() {
-    let matrix = r#"name = "lod_capture"
-compositions = ["default_lod"]
-pipelines = ["hdrp"]
-shaders = ["lit"]
-presets = ["gold"]
-[sweep]
-camera_distance = [6.5, 14.0]
-[image]
-width = 48
-height = 48
-"#;
+    let scene = crate::common::repo().join("scenes/default_lod.toml");
+    let matrix = format!(
+        "name = \"lod_capture\"\ncompositions = [{scene:?}]\npipelines = [\"hdrp\"]\nshaders = [\"lit\"]\n\
+         presets = [\"gold\"]\n[sweep]\ncamera_distance = [6.5, 14.0]\n[image]\nwidth = 48\nheight = 48\n"
+    );
     let tmp = tempfile::tempdir().unwrap();
-    let matrix =
-        matrix.replace("\"default_lod\"", &format!("{:?}", crate::common::repo().join("scenes/default_lod.toml")));
     let reused = crate::common::run_matrix_with(tmp.path(), &matrix, "reused", &["--no-cache"]);
     let drawn = crate::common::run_matrix_with(tmp.path(), &matrix, "drawn", &["--no-cache", "--no-reuse"]);
     let (a, b) = (image_files(&reused), image_files(&drawn));
