@@ -219,13 +219,15 @@ pub(in crate::render) fn write_uniforms(
         }
         h.finish()
     };
-    WrittenFrame { frame, capture_key: key, materials, shadow_key, layer_key, prepass_key }
+    WrittenFrame { frame, lights: gpu_lights, capture_key: key, materials, shadow_key, layer_key, prepass_key }
 }
 
 /// What writing a cell's uniforms made: the frame written, the hash of what a probe capture
 /// would see of it, each mesh's material, and the hash of what the shadow pass's depth depends on.
 pub(in crate::render) struct WrittenFrame {
     pub(in crate::render) frame: FrameUniforms,
+    /// The lights as the passes read them.
+    pub(in crate::render) lights: Vec<GpuLight>,
     pub(in crate::render) capture_key: u64,
     /// Each mesh's material as its model receives it (zero for the subject: it reads the frame's).
     pub(in crate::render) materials: Vec<GpuMaterial>,

@@ -46,6 +46,8 @@ pub(in crate::render) struct ShadowResources {
 }
 
 /// The truth's geometry of a composition with the meshes it holds (render::truth::bvh).
+pub(in crate::render) type CpuTruthSceneCache =
+    std::sync::Mutex<Option<(Vec<bool>, std::sync::Arc<crate::render::truth::cpu::CpuScene>)>>;
 pub(in crate::render) type TruthGeometryCache =
     std::sync::Mutex<Option<(Vec<bool>, std::sync::Arc<crate::render::truth::TruthScene>)>>;
 
@@ -71,6 +73,8 @@ pub struct PreparedScene {
     /// The truth's geometry on the GPU for the last set of meshes a cell kept (LOD levels change
     /// it), so cells of one composition build the meshes and the BVH and upload them once.
     pub(in crate::render) truth_geometry: TruthGeometryCache,
+    /// The same for the CPU tracer (render::truth::cpu): its geometry and environment.
+    pub(in crate::render) cpu_truth_scene: CpuTruthSceneCache,
     pub(in crate::render) lights_buffer: wgpu::Buffer,
     pub(in crate::render) modes_buffer: wgpu::Buffer,
     pub(in crate::render) shadows: ShadowResources,
@@ -193,6 +197,7 @@ impl PreparedScene {
             own_textures: Default::default(),
             env_table: Default::default(),
             truth_geometry: Default::default(),
+            cpu_truth_scene: Default::default(),
             lights_buffer,
             modes_buffer,
             shadows,

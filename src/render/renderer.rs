@@ -993,6 +993,9 @@ impl Renderer {
         settings: &crate::render::truth::TruthSettings,
     ) -> Result<crate::render::truth::Truth, Error> {
         let fixed_model = self.fixed_model(cell.pipeline)?;
+        if self.truth_on_cpu(cell, &fixed_model, settings)? {
+            return self.render_truth_cpu(prepared, cell, &fixed_model, settings);
+        }
         let key = (cell.pipeline, cell.model.name.to_string(), fixed_model.name.to_string(), settings.kind);
         if !self.truth_pipelines.contains_key(&key) {
             let source = wgsl::compose_truth(cell.model, &fixed_model);
@@ -1029,6 +1032,92 @@ impl Renderer {
             subject_role: ROLE_SUBJECT,
         };
         crate::render::truth::trace(&self.gpu, &self.truth_pipelines[&key], &frame_group, &inputs, settings)
+    }
+
+    /// Whether this cell's truth is traced on the CPU (`TruthBackend`): `auto` on a CPU adapter
+    /// where both models have f64 twins and the subject is untextured; `cpu` refuses a cell it
+    /// cannot trace.
+    fn truth_on_cpu(
+        &self,
+        cell: &CellParams,
+        fixed_model: &ShaderModel,
+        settings: &crate::render::truth::TruthSettings,
+    ) -> Result<bool, Error> {
+        use crate::spec::matrix::TruthBackend;
+        let why_not = if cell.model.twin.is_none() || fixed_model.twin.is_none() {
+            Some(format!("`{}` has no f64 twin (a user model)", cell.model.name))
+        } else if cell.settings.material_maps.is_some() {
+            Some("its subject is textured (material maps), which only the GPU tracer samples".to_string())
+        } else {
+            None
+        };
+        Ok(match (settings.backend, why_not) {
+            (TruthBackend::Gpu, _) => false,
+            (TruthBackend::Cpu, None) => true,
+            (TruthBackend::Cpu, Some(why)) => {
+                return Err(Error::Other(format!(
+                    "truth backend \"cpu\" cannot trace this cell: {why}; use backend = \"gpu\" or \"auto\""
+                )))
+            }
+            (TruthBackend::Auto, why) => {
+                why.is_none() && self.gpu.adapter.get_info().device_type == wgpu::DeviceType::Cpu
+            }
+        })
+    }
+
+    fn render_truth_cpu(
+        &mut self,
+        prepared: &PreparedScene,
+        cell: &CellParams,
+        fixed_model: &ShaderModel,
+        settings: &crate::render::truth::TruthSettings,
+    ) -> Result<crate::render::truth::Truth, Error> {
+        use crate::render::truth::cpu;
+        let plan = self.plan(prepared, cell)?;
+        let written = write_uniforms(&self.gpu.queue, prepared, cell, &plan, fixed_model);
+        let kept = plan.casting();
+        let cached = prepared.cpu_truth_scene.lock().unwrap_or_else(|e| e.into_inner()).clone();
+        let scene = match cached {
+            Some((k, s)) if k == kept => s,
+            _ => {
+                let scene_spec = &prepared.scene;
+                let radiance = |d: DVec3| crate::environment::sky::radiance(&scene_spec.environment.sky, d);
+                let w = crate::render::truth::ENV_WIDTH;
+                let image = crate::environment::prefilter::EquirectImage::sample(&radiance, w, w / 2, 2);
+                let mut meshes = procedural::build_scene(scene_spec)?;
+                meshes.extend(procedural::lod_meshes(scene_spec)?.into_iter().map(|(_, _, m)| m));
+                let objects = prepared.objects.iter().zip(&meshes).enumerate().filter(|(i, _)| kept[*i]);
+                let geometry =
+                    crate::render::truth::bvh::TruthGeometry::build(objects.map(|(i, (o, m))| (i as u32, m, o.model)));
+                let s = std::sync::Arc::new(cpu::CpuScene { geometry, environment: cpu::CpuEnvironment::new(&image) });
+                *prepared.cpu_truth_scene.lock().unwrap_or_else(|e| e.into_inner()) = Some((kept, s.clone()));
+                s
+            }
+        };
+        let materials: Vec<_> = prepared
+            .layout
+            .meshes
+            .iter()
+            .zip(&written.materials)
+            .map(|(slot, m)| (*m, slot.role == Role::Subject))
+            .collect();
+        let (Some(subject_twin), Some(fixed_twin)) = (cell.model.twin, fixed_model.twin) else {
+            return Err(Error::Other(format!("`{}` has no f64 twin for the CPU truth", cell.model.name)));
+        };
+        let inputs = cpu::CpuTruthInputs {
+            pipeline: cell.pipeline,
+            kind: settings.kind,
+            subject_twin,
+            fixed_twin,
+            frame: &written.frame,
+            lights: &written.lights,
+            materials: &materials,
+            background: prepared.plan.background,
+            size: (cell.width, cell.height),
+            subject_role: ROLE_SUBJECT,
+            fixed_role: ROLE_FIXED,
+        };
+        cpu::trace(&scene, &inputs, settings)
     }
 }
 

@@ -380,11 +380,42 @@ pub struct TruthSettings {
     pub bounces: u32,
     /// Samples per pixel per dispatch (the convergence check runs between batches).
     pub batch: u32,
+    /// Where the truth is traced (`render::truth::cpu` or the GPU's compute pass).
+    pub backend: TruthBackend,
+}
+
+/// `backend` of a truth: `auto` traces on the CPU when the adapter is itself a CPU (llvmpipe,
+/// WARP, SwiftShader) and the cell's models have f64 twins, else on the GPU.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum TruthBackend {
+    #[default]
+    Auto,
+    Gpu,
+    Cpu,
+}
+
+impl TruthBackend {
+    pub const NAMES: [&'static str; 3] = ["auto", "gpu", "cpu"];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            TruthBackend::Auto => "auto",
+            TruthBackend::Gpu => "gpu",
+            TruthBackend::Cpu => "cpu",
+        }
+    }
 }
 
 impl Default for TruthSettings {
     fn default() -> Self {
-        TruthSettings { kind: TruthKind::SameBrdf, spp: 4096, noise: 0.005, bounces: 2, batch: 16 }
+        TruthSettings {
+            kind: TruthKind::SameBrdf,
+            spp: 4096,
+            noise: 0.005,
+            bounces: 2,
+            batch: 16,
+            backend: TruthBackend::Auto,
+        }
     }
 }
 
@@ -394,7 +425,7 @@ impl TruthSpec {
 
 fn parse_reference(c: &Checker, value: &toml::Value, base_dir: Option<&Path>) -> Result<ReferenceSpec, InputError> {
     let allowed =
-        "\"supersampled\", { supersampled = N }, { run = \"DIR\" }, \"truth\", { truth = \"same-brdf\" | \"physical\", spp = N, noise = X, bounces = B } or a table of axes to change";
+        "\"supersampled\", { supersampled = N }, { run = \"DIR\" }, \"truth\", { truth = \"same-brdf\" | \"physical\", spp = N, noise = X, bounces = B, backend = \"auto\" | \"gpu\" | \"cpu\" } or a table of axes to change";
     match value {
         toml::Value::String(s) if s == "supersampled" => Ok(ReferenceSpec::Supersampled(4)),
         toml::Value::String(s) if s == "truth" => {
@@ -480,13 +511,29 @@ fn parse_truth(c: &Checker, t: &toml::map::Map<String, toml::Value>) -> Result<T
             }
             ("bounces", toml::Value::Integer(n)) if (0..=16).contains(n) => settings.bounces = *n as u32,
             ("bounces", other) => return Err(c.err(&at, format!("{other}: indirect bounces, an integer in 0..=16"))),
+            ("backend", toml::Value::String(b)) if TruthBackend::NAMES.contains(&b.as_str()) => {
+                settings.backend = match b.as_str() {
+                    "gpu" => TruthBackend::Gpu,
+                    "cpu" => TruthBackend::Cpu,
+                    _ => TruthBackend::Auto,
+                }
+            }
+            ("backend", other) => {
+                return Err(crate::input::names::unknown_name(
+                    c.file(),
+                    &at,
+                    "truth backend",
+                    other.to_string().trim_matches('"'),
+                    &TruthBackend::NAMES,
+                ))
+            }
             (other, _) => {
                 return Err(crate::input::names::unknown_name(
                     c.file(),
                     &at,
                     "truth key",
                     other,
-                    &["truth", "spp", "noise", "bounces"],
+                    &["truth", "spp", "noise", "bounces", "backend"],
                 ))
             }
         }

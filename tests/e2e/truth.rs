@@ -306,3 +306,62 @@ fn a_physical_truth_in_the_furnace_reflects_the_models_albedo() {
     eprintln!("physical furnace: centre {mean:.4} (SE {se_mean:.4}) vs the twin's albedo {albedo:.4}");
     assert!((mean - albedo).abs().max_element() < 4.0 * se_mean + 0.01, "{mean} vs {albedo}");
 }
+
+/// The CPU tracer (`render::truth::cpu`) and the GPU's estimate one integral: on every shipped
+/// composition, in both truths, their subject means agree within their standard errors and their
+/// pixels' differences are as large as the pixels' noise says (a two-sample Z-test).
+#[test]
+fn the_cpu_and_gpu_truths_agree_within_noise_on_every_composition() {
+    use shadematrix::render::truth::TruthKind;
+    use shadematrix::spec::matrix::TruthBackend;
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let sliders = Sliders { base_color_linear: [0.8, 0.5, 0.3], metallic: 0.5, smoothness: 0.7 };
+    for (name, pipeline, shader, kind) in [
+        ("default", Pipeline::Urp, "lit", TruthKind::SameBrdf),
+        ("mitsuba", Pipeline::Builtin, "standard", TruthKind::SameBrdf),
+        ("medusa", Pipeline::Hdrp, "lit", TruthKind::Physical),
+        ("spikes", Pipeline::Hdrp, "lit", TruthKind::SameBrdf),
+    ] {
+        let path = format!("scenes/{name}.toml");
+        let scene = Scene::load(&path, None, "test", "composition").unwrap();
+        let prepared = renderer.prepare_scene(&scene).unwrap();
+        let cell = crate::common::cell_params(pipeline, shader, sliders, (1.0, 10.0), 32, RenderPath::Forward);
+        let at = |backend, renderer: &mut Renderer| {
+            let settings = TruthSettings { kind, spp: 96, noise: 0.0, bounces: 1, batch: 32, backend };
+            renderer.render_truth(&prepared, &cell, &settings).unwrap()
+        };
+        let (cpu, gpu) = (at(TruthBackend::Cpu, &mut renderer), at(TruthBackend::Gpu, &mut renderer));
+        let lum = |c: [f32; 3]| 0.2126 * c[0] as f64 + 0.7152 * c[1] as f64 + 0.0722 * c[2] as f64;
+        let (mut diff, mut var, mut n, mut outliers, mut z2) = (0.0, 0.0, 0usize, 0usize, 0.0);
+        // A pixel's role is its last sample's first hit: edge pixels may differ between runs.
+        let edges = cpu.roles.iter().zip(&gpu.roles).filter(|(a, b)| a != b).count();
+        assert!(edges * 10 <= cpu.roles.len(), "{name}: {edges} pixels see another first surface");
+        for i in 0..cpu.mean.len() {
+            let (a, b) = (lum(cpu.mean[i]), lum(gpu.mean[i]));
+            let v = (cpu.std_error[i] as f64).powi(2) + (gpu.std_error[i] as f64).powi(2);
+            if v <= 0.0 {
+                assert!((a - b).abs() <= 1e-5 * a.abs().max(1.0), "{name} pixel {i}: {a} vs {b} without noise");
+                continue;
+            }
+            let z = (a - b) / v.sqrt();
+            z2 += z * z;
+            outliers += (z.abs() > 4.5) as usize;
+            if cpu.roles[i] == 2 && gpu.roles[i] == 2 {
+                diff += a - b;
+                var += v;
+            }
+            n += 1;
+        }
+        let z_subject = diff / var.sqrt();
+        let rms = (z2 / n as f64).sqrt();
+        eprintln!(
+            "{name} {pipeline:?} {shader} {kind:?}: subject Z {z_subject:.2}, per-pixel Z RMS {rms:.3} over {n}, |Z| > 4.5: {outliers}; CPU {:.2} s, GPU {:.2} s",
+            cpu.seconds, gpu.seconds
+        );
+        assert!(z_subject.abs() < 4.0, "{name}: subject means differ by {z_subject:.2} standard errors");
+        // The per-pixel standard error bounds the luminance's from the channels' (render::truth
+        // `summarise`), so the RMS may fall below 1 where channels correlate; above, it may not.
+        assert!((0.5..1.3).contains(&rms), "{name}: per-pixel Z RMS {rms:.3}");
+        assert!(outliers * 200 <= n, "{name}: {outliers} of {n} pixels beyond 4.5 standard errors");
+    }
+}

@@ -17,6 +17,7 @@
 //! the BVH comes from `obvhs`.
 
 pub mod bvh;
+pub mod cpu;
 pub mod physical;
 
 use bytemuck::{Pod, Zeroable};
@@ -373,7 +374,13 @@ pub fn trace(
         done += count;
         let bytes = readback(&accum, accum_bytes)?;
         let role_bytes = readback(&roles, roles_bytes)?;
-        result = summarise(bytemuck::cast_slice(&bytes), bytemuck::cast_slice(&role_bytes), inputs, done);
+        result = summarise(
+            bytemuck::cast_slice(&bytes),
+            bytemuck::cast_slice(&role_bytes),
+            inputs.size,
+            inputs.subject_role,
+            done,
+        );
         let converged = result.subject_noise.is_some_and(|n| n <= settings.noise);
         if converged || done >= settings.spp.max(1) {
             break;
@@ -387,8 +394,8 @@ pub fn trace(
 }
 
 /// Mean and standard error per pixel from the sums; the subject's relative noise.
-fn summarise(accum: &[[f32; 4]], roles: &[u32], inputs: &TruthInputs, spp: u32) -> Truth {
-    let (width, height) = inputs.size;
+fn summarise(accum: &[[f32; 4]], roles: &[u32], size: (u32, u32), subject_role: u8, spp: u32) -> Truth {
+    let (width, height) = size;
     let pixels = (width * height) as usize;
     let lum = |c: [f64; 3]| 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
     let mut mean = Vec::with_capacity(pixels);
@@ -407,7 +414,7 @@ fn summarise(accum: &[[f32; 4]], roles: &[u32], inputs: &TruthInputs, spp: u32) 
         let se = (var / (n - 1.0).max(1.0)).sqrt();
         mean.push(m.map(|v| v as f32));
         std_error.push(se as f32);
-        if roles[i] == inputs.subject_role as u32 {
+        if roles[i] == subject_role as u32 {
             se_sum += se;
             mean_sum += lum(m);
             count += 1;

@@ -1,0 +1,687 @@
+//! The truth on the CPU: the estimator of shaders/pass/truth.wgsl traced in f64 on every core, its
+//! surfaces evaluated by the models' f64 twins (`shading::twin`, `SurfaceTwin::direct_for_light`)
+//! and by `physical::physical_response` — the formulas the GPU tracer's WGSL has twins of, not a
+//! third copy. Per pixel and sample: a camera ray jittered over the pixel; at every hit each light
+//! exactly (shadow ray, the pipeline's attenuation or the physical inverse square), the
+//! environment importance-sampled from the same tables as the GPU's and weighed against the
+//! surface's sampling by the power heuristic, and a continuation drawn from the surface, up to
+//! `bounces` times. Same inputs as the GPU's: the frame and object uniforms the cell wrote.
+//!
+//! Why a CPU tracer at all: on a CPU adapter (llvmpipe) the GPU tracer runs the same arithmetic
+//! through a shader JIT at ~0.2 M paths/s; here rayon spreads the rows over the cores with no
+//! compute-shader limits (stack depth, f32). Hand-written: the traversal reads the BVH nodes the
+//! GPU reads (`bvh::TruthGeometry`), so both backends trace one geometry.
+
+use glam::{DMat4, DVec2, DVec3, DVec4};
+use rayon::prelude::*;
+use std::f64::consts::PI;
+
+use super::bvh::{GpuBvhNode, TruthGeometry};
+use super::{physical, Truth, TruthKind, TruthSettings};
+use crate::environment::prefilter::EquirectImage;
+use crate::error::Error;
+use crate::pipelines::Pipeline;
+use crate::render::uniforms::{FrameUniforms, GpuLight, GpuMaterial};
+use crate::shading::twin::{irradiance_per_intensity, Surface, SurfaceTwin};
+
+/// Offset of a continued or shadow ray from its surface (rays.wgsl RAY_EPSILON).
+const RAY_EPSILON: f64 = 1e-4;
+/// The HDRP roughness floor of environment and continuation directions (truth.wgsl).
+const NO_LIGHT_FLOOR: f64 = 4.617e-5;
+
+/// The environment as the CPU tracer samples it: the same texels and tables as the GPU's
+/// (`super::environment_tables`), unscaled.
+pub struct CpuEnvironment {
+    width: usize,
+    height: usize,
+    texels: Vec<DVec3>,
+    cdf: Vec<f32>,
+}
+
+impl CpuEnvironment {
+    pub fn new(image: &EquirectImage) -> CpuEnvironment {
+        let (_, cdf) = super::environment_tables(image);
+        CpuEnvironment { width: image.width, height: image.height, texels: image.texels.clone(), cdf }
+    }
+
+    fn texel_index(&self, d: DVec3) -> usize {
+        let uv = equirect_uv(d);
+        let x = ((uv.x * self.width as f64) as usize).min(self.width - 1);
+        let y = ((uv.y * self.height as f64) as usize).min(self.height - 1);
+        y * self.width + x
+    }
+
+    fn radiance(&self, d: DVec3) -> DVec3 {
+        self.texels[self.texel_index(d)]
+    }
+
+    /// Solid-angle density of `sample` drawing d (rays.wgsl `env_pdf`).
+    fn pdf(&self, d: DVec3) -> f64 {
+        let (w, h) = (self.width, self.height);
+        let i = self.texel_index(d);
+        let (x, y) = (i % w, i / w);
+        let row = (self.cdf[y + 1] - self.cdf[y]) as f64;
+        let base = (h + 1) + y * (w + 1);
+        let col = (self.cdf[base + x + 1] - self.cdf[base + x]) as f64;
+        let sin_theta = (1.0 - d.y * d.y).max(1e-12).sqrt();
+        row * col * (w * h) as f64 / (2.0 * PI * PI * sin_theta)
+    }
+
+    /// The bin `u` falls in among the `n` bins from `start` (rays.wgsl `find_bin`).
+    fn find_bin(&self, start: usize, n: usize, u: f64) -> usize {
+        let (mut lo, mut hi) = (0, n);
+        while lo + 1 < hi {
+            let mid = (lo + hi) / 2;
+            if self.cdf[start + mid] as f64 <= u {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        lo
+    }
+
+    /// A direction drawn in proportion to the texels' luminance × sin θ, and its density.
+    fn sample(&self, rng: &mut Rng) -> (DVec3, f64) {
+        let (w, h) = (self.width, self.height);
+        let y = self.find_bin(0, h, rng.next());
+        let x = self.find_bin((h + 1) + y * (w + 1), w, rng.next());
+        let d = uv_direction((x as f64 + rng.next()) / w as f64, (y as f64 + rng.next()) / h as f64);
+        (d, self.pdf(d))
+    }
+}
+
+/// (atan2(x, −z)/2π + ½, acos(y)/π): scene.wgsl `equirect_uv`.
+fn equirect_uv(d: DVec3) -> DVec2 {
+    DVec2::new(d.x.atan2(-d.z) * (0.5 / PI) + 0.5, d.y.clamp(-1.0, 1.0).acos() / PI)
+}
+
+/// The inverse of `equirect_uv`: rays.wgsl `uv_direction`.
+fn uv_direction(u: f64, v: f64) -> DVec3 {
+    let (phi, theta) = ((u - 0.5) * 2.0 * PI, v * PI);
+    DVec3::new(theta.sin() * phi.sin(), theta.cos(), -theta.sin() * phi.cos())
+}
+
+/// Random numbers: PCG (O'Neill 2014) hashed from pixel and sample, on a stream of its own (the
+/// GPU's seeds differ), so that the two backends' estimates are independent.
+struct Rng(u32);
+
+fn pcg_hash(v: u32) -> u32 {
+    let state = v.wrapping_mul(747796405).wrapping_add(2891336453);
+    let word = ((state >> ((state >> 28) + 4)) ^ state).wrapping_mul(277803737);
+    (word >> 22) ^ word
+}
+
+impl Rng {
+    fn new(pixel: u32, sample: u32) -> Rng {
+        Rng(pcg_hash(pixel ^ pcg_hash(sample.wrapping_mul(7919).wrapping_add(0x9e37_79b9))))
+    }
+
+    /// Uniform in [0, 1), 32 bits.
+    fn next(&mut self) -> f64 {
+        self.0 = pcg_hash(self.0);
+        self.0 as f64 * (1.0 / 4_294_967_296.0)
+    }
+}
+
+/// A light as the tracer reads it (scene.wgsl `Light`, from the cell's `GpuLight`).
+#[derive(Debug, Clone, Copy)]
+struct TracedLight {
+    kind: u32,
+    position: DVec3,
+    direction: DVec3,
+    color: DVec3,
+    range: f64,
+    cos_outer: f64,
+    cos_inner: f64,
+    min_roughness: f64,
+}
+
+impl From<&GpuLight> for TracedLight {
+    fn from(l: &GpuLight) -> TracedLight {
+        let v3 = |a: [f32; 4]| DVec3::new(a[0] as f64, a[1] as f64, a[2] as f64);
+        TracedLight {
+            kind: l.position[3] as u32,
+            position: v3(l.position),
+            direction: v3(l.direction),
+            color: v3(l.color),
+            range: l.params[0] as f64,
+            cos_outer: l.params[1] as f64,
+            cos_inner: l.params[2] as f64,
+            min_roughness: l.params[3] as f64,
+        }
+    }
+}
+
+/// sat((S·L − cos outer)/max(0.001, cos inner − cos outer))²: conventions.wgsl `angle_attenuation`.
+fn angle_attenuation(cos_angle: f64, cos_outer: f64, cos_inner: f64) -> f64 {
+    let a = ((cos_angle - cos_outer) / (cos_inner - cos_outer).max(0.001)).clamp(0.0, 1.0);
+    a * a
+}
+
+impl TracedLight {
+    /// Direction to the light and its attenuation at p: scene.wgsl `light_incidence` with the
+    /// pipeline's distance falloff, or truth.wgsl `physical_attenuation` (inverse square).
+    fn incidence(&self, p: DVec3, pipeline: Pipeline, kind: TruthKind) -> (DVec3, f64) {
+        if self.kind == 0 {
+            return (-self.direction.normalize(), 1.0);
+        }
+        let to_light = self.position - p;
+        let d = to_light.length();
+        let l = to_light / d.max(1e-6);
+        let mut atten = match kind {
+            TruthKind::Physical => 1.0 / to_light.length_squared().max(1e-4),
+            TruthKind::SameBrdf => pipeline.attenuation().eval(d, self.range),
+        };
+        if self.kind == 2 {
+            atten *= angle_attenuation(self.direction.normalize().dot(-l), self.cos_outer, self.cos_inner);
+        }
+        (l, atten)
+    }
+}
+
+/// What one CPU truth reads besides the scene: the cell's uniforms as written for the GPU.
+pub struct CpuTruthInputs<'a> {
+    pub pipeline: Pipeline,
+    pub kind: TruthKind,
+    pub subject_twin: &'a dyn SurfaceTwin,
+    pub fixed_twin: &'a dyn SurfaceTwin,
+    pub frame: &'a FrameUniforms,
+    pub lights: &'a [GpuLight],
+    /// Per object: its material (the subject's is the frame's) and whether it is the subject.
+    pub materials: &'a [(GpuMaterial, bool)],
+    pub background: bool,
+    pub size: (u32, u32),
+    pub subject_role: u8,
+    pub fixed_role: u8,
+}
+
+/// The scene a CPU truth traces: the BVH and triangles the GPU's reads, and the environment.
+pub struct CpuScene {
+    pub geometry: TruthGeometry,
+    pub environment: CpuEnvironment,
+}
+
+struct Hit {
+    t: f64,
+    triangle: usize,
+    b1: f64,
+    b2: f64,
+}
+
+fn v3(a: [f32; 4]) -> DVec3 {
+    DVec3::new(a[0] as f64, a[1] as f64, a[2] as f64)
+}
+
+impl CpuScene {
+    fn node_box(node: &GpuBvhNode, o: DVec3, inv_d: DVec3, t_max: f64) -> f64 {
+        let a = (v3(node.min) - o) * inv_d;
+        let b = (v3(node.max) - o) * inv_d;
+        let t0 = a.min(b).max_element().max(0.0);
+        let t1 = a.max(b).min_element().min(t_max);
+        if t0 <= t1 {
+            t0
+        } else {
+            f64::INFINITY
+        }
+    }
+
+    /// Möller–Trumbore: rays.wgsl `intersect_triangle`.
+    fn intersect(&self, o: DVec3, d: DVec3, tri: [u32; 4]) -> Option<(f64, f64, f64)> {
+        let vs = &self.geometry.vertices;
+        let p0 = v3(vs[tri[0] as usize].position);
+        let e1 = v3(vs[tri[1] as usize].position) - p0;
+        let e2 = v3(vs[tri[2] as usize].position) - p0;
+        let pv = d.cross(e2);
+        let det = e1.dot(pv);
+        if det.abs() < 1e-18 {
+            return None;
+        }
+        let inv = 1.0 / det;
+        let tv = o - p0;
+        let b1 = tv.dot(pv) * inv;
+        if !(0.0..=1.0).contains(&b1) {
+            return None;
+        }
+        let qv = tv.cross(e1);
+        let b2 = d.dot(qv) * inv;
+        if b2 < 0.0 || b1 + b2 > 1.0 {
+            return None;
+        }
+        Some((e2.dot(qv) * inv, b1, b2))
+    }
+
+    /// The nearest hit along o + t·d for t in (ε, t_max), nearer child first; `any`: the first.
+    fn trace(&self, o: DVec3, d: DVec3, t_max: f64, any: bool) -> Option<Hit> {
+        let nodes = &self.geometry.nodes;
+        let inv_d = DVec3::new(1.0 / nonzero(d.x), 1.0 / nonzero(d.y), 1.0 / nonzero(d.z));
+        let mut best: Option<Hit> = None;
+        let mut t_best = t_max;
+        // Nodes to visit with their entry distance: one entered beyond the nearest hit found
+        // since it was pushed is skipped.
+        let mut stack = [(0u32, 0f64); 64];
+        let mut top = 0usize;
+        let t_root = match nodes.first() {
+            Some(root) => Self::node_box(root, o, inv_d, t_best),
+            None => return None,
+        };
+        if t_root == f64::INFINITY {
+            return None;
+        }
+        stack[0] = (0, t_root);
+        top += 1;
+        while top > 0 {
+            top -= 1;
+            let (index, t_enter) = stack[top];
+            if t_enter >= t_best {
+                continue;
+            }
+            let node = &nodes[index as usize];
+            let count = node.min[3].to_bits();
+            let first = node.max[3].to_bits();
+            if count == 0 {
+                let (a, b) = (first, first + 1);
+                let ta = Self::node_box(&nodes[a as usize], o, inv_d, t_best);
+                let tb = Self::node_box(&nodes[b as usize], o, inv_d, t_best);
+                let ((near, t_near), (far, t_far)) = if ta <= tb { ((a, ta), (b, tb)) } else { ((b, tb), (a, ta)) };
+                // The far child first onto the stack, so that the near one is visited next.
+                if t_far < t_best && top < stack.len() {
+                    stack[top] = (far, t_far);
+                    top += 1;
+                }
+                if t_near < t_best && top < stack.len() {
+                    stack[top] = (near, t_near);
+                    top += 1;
+                }
+                continue;
+            }
+            for k in first..first + count {
+                let tri = self.geometry.triangles[k as usize];
+                if let Some((t, b1, b2)) = self.intersect(o, d, tri) {
+                    if t > RAY_EPSILON && t < t_best {
+                        t_best = t;
+                        best = Some(Hit { t, triangle: k as usize, b1, b2 });
+                        if any {
+                            return best;
+                        }
+                    }
+                }
+            }
+        }
+        best.filter(|h| h.t < t_max)
+    }
+
+    fn occluded(&self, o: DVec3, d: DVec3, t_max: f64) -> bool {
+        self.trace(o, d, t_max, true).is_some()
+    }
+}
+
+fn nonzero(x: f64) -> f64 {
+    if x.abs() < 1e-30 {
+        1e-30
+    } else {
+        x
+    }
+}
+
+/// A hit point as the models see it (truth.wgsl `SurfacePoint`).
+struct SurfacePoint {
+    p: DVec3,
+    n: DVec3,
+    ng: DVec3,
+    object: usize,
+    s: Surface,
+    emission: DVec3,
+}
+
+/// The Surface a model receives from a material at uv: scene.wgsl `surface_from` (untextured).
+fn surface_from(m: &GpuMaterial, uv: DVec2) -> Surface {
+    let mut s = Surface {
+        base_color: v3(m.base_color),
+        metallic: m.params[0] as f64,
+        smoothness: m.params[1] as f64,
+        specular: v3(m.specular),
+        params: std::array::from_fn(|i| if i < 4 { m.model0[i] as f64 } else { m.model1[i - 4] as f64 }),
+    };
+    let scale = m.params[2] as f64;
+    if scale > 0.0 {
+        let cell = (uv / scale).floor();
+        if ((cell.x as i64 + cell.y as i64) & 1) == 1 {
+            s.base_color = v3(m.checker_color);
+        }
+    }
+    s
+}
+
+// ---- Sampling the surface: rays.wgsl, cosine or GGX visible normals (Heitz 2018).
+
+fn basis(n: DVec3) -> [DVec3; 3] {
+    let s = if n.z >= 0.0 { 1.0 } else { -1.0 };
+    let a = -1.0 / (s + n.z);
+    let b = n.x * n.y * a;
+    [DVec3::new(1.0 + s * n.x * n.x * a, s * b, -s * n.x), DVec3::new(b, s + n.y * n.y * a, -n.y), n]
+}
+
+fn specular_share(s: &Surface) -> f64 {
+    (0.25 + 0.5 * s.smoothness * (0.5 + 0.5 * s.metallic)).clamp(0.1, 0.9)
+}
+
+fn ggx_alpha(s: &Surface) -> f64 {
+    let pr = 1.0 - s.smoothness;
+    (pr * pr).max(1e-3)
+}
+
+fn ggx_g1(nv: f64, a: f64) -> f64 {
+    let a2 = a * a;
+    2.0 * nv / (nv + (a2 + (1.0 - a2) * nv * nv).sqrt())
+}
+
+/// The density of `sample_surface` for l (solid angle).
+fn surface_pdf(s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> f64 {
+    let (nl, nv) = (n.dot(l), n.dot(v));
+    if nl <= 0.0 || nv <= 0.0 {
+        return 0.0;
+    }
+    let a = ggx_alpha(s);
+    let h = (v + l).normalize();
+    let spec = crate::shading::twin::d_ggx(n.dot(h), a) * ggx_g1(nv, a) / (4.0 * nv);
+    let k = specular_share(s);
+    k * spec + (1.0 - k) * nl / PI
+}
+
+fn reflect(i: DVec3, n: DVec3) -> DVec3 {
+    i - 2.0 * n.dot(i) * n
+}
+
+fn sample_surface(s: &Surface, n: DVec3, v: DVec3, rng: &mut Rng) -> DVec3 {
+    let [t, b, nn] = basis(n);
+    let to_world = |x: DVec3| t * x.x + b * x.y + nn * x.z;
+    let (u1, u2) = (rng.next(), rng.next());
+    if rng.next() >= specular_share(s) {
+        let r = u1.sqrt();
+        let phi = 2.0 * PI * u2;
+        return to_world(DVec3::new(r * phi.cos(), r * phi.sin(), (1.0 - u1).max(0.0).sqrt()));
+    }
+    let a = ggx_alpha(s);
+    let vl = DVec3::new(t.dot(v), b.dot(v), nn.dot(v));
+    if vl.z <= 0.0 {
+        return reflect(-v, n);
+    }
+    let vh = DVec3::new(a * vl.x, a * vl.y, vl.z).normalize();
+    let lensq = vh.x * vh.x + vh.y * vh.y;
+    let t1 = if lensq > 0.0 { DVec3::new(-vh.y, vh.x, 0.0) / lensq.sqrt() } else { DVec3::X };
+    let t2 = vh.cross(t1);
+    let r = u1.sqrt();
+    let phi = 2.0 * PI * u2;
+    let p1 = r * phi.cos();
+    let blend = 0.5 * (1.0 + vh.z);
+    let p2 = (1.0 - blend) * (1.0 - p1 * p1).sqrt() + blend * r * phi.sin();
+    let nh = p1 * t1 + p2 * t2 + (1.0 - p1 * p1 - p2 * p2).max(0.0).sqrt() * vh;
+    let m = DVec3::new(a * nh.x, a * nh.y, nh.z.max(0.0)).normalize();
+    to_world(reflect(-vl, m))
+}
+
+fn power_heuristic(a: f64, b: f64) -> f64 {
+    a * a / (a * a + b * b).max(1e-30)
+}
+
+/// One tracer over one cell's inputs.
+struct Tracer<'a> {
+    scene: &'a CpuScene,
+    inputs: &'a CpuTruthInputs<'a>,
+    lights: Vec<TracedLight>,
+    inv_view_proj: DMat4,
+    camera: DVec3,
+    env_scale: f64,
+    subject: GpuMaterial,
+    bounces: u32,
+}
+
+impl Tracer<'_> {
+    fn surface_at(&self, hit: &Hit, d: DVec3) -> SurfacePoint {
+        let g = &self.scene.geometry;
+        let tri = g.triangles[hit.triangle];
+        let [a, b, c] = [0, 1, 2].map(|k| &g.vertices[tri[k] as usize]);
+        let b0 = 1.0 - hit.b1 - hit.b2;
+        let lerp = |x: [f32; 4], y: [f32; 4], z: [f32; 4]| v3(x) * b0 + v3(y) * hit.b1 + v3(z) * hit.b2;
+        let p = lerp(a.position, b.position, c.position);
+        let uv_of = |v: &super::bvh::TruthVertex| DVec2::new(v.position[3] as f64, v.normal[3] as f64);
+        let uv = uv_of(a) * b0 + uv_of(b) * hit.b1 + uv_of(c) * hit.b2;
+        let mut ng = (v3(b.position) - v3(a.position)).cross(v3(c.position) - v3(a.position)).normalize();
+        let front = ng.dot(d) < 0.0;
+        if !front {
+            ng = -ng;
+        }
+        let interpolated = lerp(a.normal, b.normal, c.normal);
+        let mut n = ng;
+        if interpolated.length_squared() > 1e-30 {
+            n = interpolated.normalize();
+            // Flipped on back faces, as the rasteriser's shading normal is.
+            if !front {
+                n = -n;
+            }
+        }
+        let object = tri[3] as usize;
+        let (material, is_subject) = self.inputs.materials[object];
+        let m = if is_subject { self.subject } else { material };
+        SurfacePoint {
+            p,
+            n,
+            ng,
+            object,
+            s: surface_from(&m, uv),
+            emission: if is_subject { v3(self.subject.emission) } else { DVec3::ZERO },
+        }
+    }
+
+    /// f·NL at a point: the subject's or the fixed objects' model without the pipeline's
+    /// irradiance per intensity, or the physical model (truth.wgsl `response`).
+    fn response(&self, sp: &SurfacePoint, v: DVec3, l: DVec3, min_roughness: f64) -> DVec3 {
+        if sp.ng.dot(l) <= 0.0 {
+            return DVec3::ZERO;
+        }
+        let p = self.inputs.pipeline;
+        if self.inputs.kind == TruthKind::Physical {
+            return physical::physical_response(&sp.s, sp.n, v, l);
+        }
+        let twin = if self.inputs.materials[sp.object].1 { self.inputs.subject_twin } else { self.inputs.fixed_twin };
+        twin.direct_for_light(p, &sp.s, sp.n, v, l, min_roughness).max(DVec3::ZERO) / irradiance_per_intensity(p)
+    }
+
+    /// Every light exactly and the environment sampled once (truth.wgsl `direct_light`).
+    fn direct_light(&self, sp: &SurfacePoint, v: DVec3, rng: &mut Rng) -> DVec3 {
+        let mut c = DVec3::ZERO;
+        let origin = sp.p + sp.ng * RAY_EPSILON;
+        let p = self.inputs.pipeline;
+        for light in &self.lights {
+            let (l, atten) = light.incidence(sp.p, p, self.inputs.kind);
+            if atten <= 0.0 {
+                continue;
+            }
+            let distance =
+                if light.kind != 0 { (light.position - sp.p).length() * (1.0 - 1e-4) } else { f64::INFINITY };
+            let f = self.response(sp, v, l, light.min_roughness);
+            if f.max_element() > 0.0 && !self.scene.occluded(origin, l, distance) {
+                // Lights are in the pipeline's units: the model's own factor is taken back out.
+                c += f * irradiance_per_intensity(p) * light.color * atten;
+            }
+        }
+        if self.env_scale > 0.0 {
+            let (l, pdf) = self.scene.environment.sample(rng);
+            let f = self.response(sp, v, l, NO_LIGHT_FLOOR);
+            if pdf > 0.0 && f.max_element() > 0.0 && !self.scene.occluded(origin, l, f64::INFINITY) {
+                let radiance = self.scene.environment.radiance(l) * self.env_scale;
+                c += f * radiance / pdf * power_heuristic(pdf, surface_pdf(&sp.s, sp.n, v, l));
+            }
+        }
+        c
+    }
+
+    /// One path through pixel (x, y) (truth.wgsl `path`); also the object of the first hit.
+    fn path(&self, x: u32, y: u32, rng: &mut Rng) -> (DVec3, Option<usize>) {
+        let (w, h) = self.inputs.size;
+        let (jx, jy) = (rng.next(), rng.next());
+        let ndc = DVec2::new((x as f64 + jx) / w as f64 * 2.0 - 1.0, 1.0 - (y as f64 + jy) / h as f64 * 2.0);
+        let far = self.inv_view_proj * DVec4::new(ndc.x, ndc.y, 1.0, 1.0);
+        let mut o = self.camera;
+        let mut d = (far.truncate() / far.w - o).normalize();
+        let mut throughput = DVec3::ONE;
+        let mut c = DVec3::ZERO;
+        let mut last_pdf = 0.0;
+        let mut first = None;
+        let env = &self.scene.environment;
+        for bounce in 0..=self.bounces + 1 {
+            let Some(hit) = self.scene.trace(o, d, f64::INFINITY, false) else {
+                if bounce == 0 {
+                    if self.inputs.background {
+                        c += env.radiance(d) * self.env_scale;
+                    }
+                } else if self.env_scale > 0.0 {
+                    c += throughput * env.radiance(d) * self.env_scale * power_heuristic(last_pdf, env.pdf(d));
+                }
+                break;
+            };
+            let sp = self.surface_at(&hit, d);
+            if bounce == 0 {
+                first = Some(sp.object);
+            }
+            c += throughput * sp.emission;
+            // The last vertex only receives the environment along the continued ray (its weight).
+            if bounce == self.bounces + 1 {
+                break;
+            }
+            let v = -d;
+            c += throughput * self.direct_light(&sp, v, rng);
+            let l = sample_surface(&sp.s, sp.n, v, rng);
+            let pdf = surface_pdf(&sp.s, sp.n, v, l);
+            if pdf <= 0.0 {
+                break;
+            }
+            throughput *= self.response(&sp, v, l, NO_LIGHT_FLOOR) / pdf;
+            if throughput.max_element() <= 0.0 {
+                break;
+            }
+            last_pdf = pdf;
+            o = sp.p + sp.ng * RAY_EPSILON;
+            d = l;
+        }
+        (c, first)
+    }
+}
+
+/// Trace batches until converged (render::truth's module comment), on every core.
+pub fn trace(scene: &CpuScene, inputs: &CpuTruthInputs, settings: &TruthSettings) -> Result<Truth, Error> {
+    let start = std::time::Instant::now();
+    let f = inputs.frame;
+    let m4 = |m: [[f32; 4]; 4]| DMat4::from_cols_array_2d(&m.map(|c| c.map(|x| x as f64)));
+    let tracer = Tracer {
+        scene,
+        inputs,
+        lights: inputs.lights.iter().map(TracedLight::from).collect(),
+        inv_view_proj: m4(f.inv_view_proj),
+        camera: v3(f.camera_pos),
+        env_scale: f.env[1] as f64,
+        subject: f.subject,
+        bounces: settings.bounces,
+    };
+    let (width, height) = inputs.size;
+    let pixels = (width * height) as usize;
+    // Per pixel: the sum (rgb) and count (w), then the sum of squares, as the GPU accumulates.
+    let mut accum = vec![[0f64; 4]; 2 * pixels];
+    let mut roles = vec![0u32; pixels];
+    let role_of = |object: Option<usize>| match object {
+        None => 0,
+        Some(o) if inputs.materials[o].1 => inputs.subject_role as u32,
+        Some(_) => inputs.fixed_role as u32,
+    };
+    let batch = settings.batch.max(1);
+    let spp = settings.spp.max(1);
+    let mut done = 0u32;
+    loop {
+        let count = batch.min(spp - done);
+        accum.par_chunks_mut(2 * width as usize).zip(roles.par_chunks_mut(width as usize)).enumerate().for_each(
+            |(y, (row, row_roles))| {
+                for x in 0..width as usize {
+                    let index = (y * width as usize + x) as u32;
+                    for k in 0..count {
+                        let mut rng = Rng::new(index, done + k);
+                        let (mut c, first) = tracer.path(x as u32, y as u32, &mut rng);
+                        row_roles[x] = role_of(first);
+                        // A NaN or infinite sample (a model's singularity) counts as 0, as on the GPU.
+                        if !c.is_finite() || c.abs().max_element() > 1e30 {
+                            c = DVec3::ZERO;
+                        }
+                        let (s, q) = (&mut row[2 * x], c * c);
+                        *s = [s[0] + c.x, s[1] + c.y, s[2] + c.z, s[3] + 1.0];
+                        let sq = &mut row[2 * x + 1];
+                        *sq = [sq[0] + q.x, sq[1] + q.y, sq[2] + q.z, 0.0];
+                    }
+                }
+            },
+        );
+        done += count;
+        let sums: Vec<[f32; 4]> = accum.iter().map(|a| a.map(|v| v as f32)).collect();
+        let mut result = super::summarise(&sums, &roles, inputs.size, inputs.subject_role, done);
+        let converged = result.subject_noise.is_some_and(|n| n <= settings.noise);
+        if converged || done >= spp {
+            result.seconds = start.elapsed().as_secs_f64();
+            result.bounces = settings.bounces;
+            result.kind = settings.kind;
+            return Ok(result);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn uv_direction_inverts_equirect_uv() {
+        for d in [DVec3::new(0.3, 0.5, -0.8), DVec3::new(-0.9, -0.1, 0.2), DVec3::new(0.1, 0.95, 0.3)] {
+            let d = d.normalize();
+            let uv = equirect_uv(d);
+            assert!((uv_direction(uv.x, uv.y) - d).length() < 1e-12, "{d}");
+        }
+    }
+
+    #[test]
+    fn surface_sampling_density_integrates_to_one() {
+        // The mixture's pdf over the hemisphere is 1 (less the specular lobe's share below the
+        // horizon): a midpoint quadrature.
+        let s = Surface::basic(DVec3::splat(0.5), 0.5, 0.6);
+        let n = DVec3::Z;
+        let v = DVec3::new(0.6, 0.0, 0.8);
+        let (steps_t, steps_p) = (400, 400);
+        let mut total = 0.0;
+        for i in 0..steps_t {
+            let theta = (i as f64 + 0.5) / steps_t as f64 * PI / 2.0;
+            for j in 0..steps_p {
+                let phi = (j as f64 + 0.5) / steps_p as f64 * 2.0 * PI;
+                let l = DVec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos());
+                total +=
+                    surface_pdf(&s, n, v, l) * theta.sin() * (PI / 2.0 / steps_t as f64) * (2.0 * PI / steps_p as f64);
+            }
+        }
+        assert!(total > 0.95 && total <= 1.001, "{total}");
+    }
+
+    #[test]
+    fn sampled_directions_follow_the_density() {
+        // The mean of 1/pdf over sampled directions above the horizon estimates the hemisphere's
+        // solid angle (2π) when the sampler draws from that density.
+        let s = Surface::basic(DVec3::splat(0.5), 0.0, 0.4);
+        let (n, v) = (DVec3::Z, DVec3::new(0.3, 0.0, 0.954).normalize());
+        let mut rng = Rng::new(7, 1);
+        let (mut sum, count) = (0.0, 200_000);
+        for _ in 0..count {
+            let l = sample_surface(&s, n, v, &mut rng);
+            let pdf = surface_pdf(&s, n, v, l);
+            if l.z > 0.0 && pdf > 0.0 {
+                sum += 1.0 / pdf;
+            }
+        }
+        let estimate = sum / count as f64;
+        assert!((estimate / (2.0 * PI) - 1.0).abs() < 0.03, "{estimate}");
+    }
+}
