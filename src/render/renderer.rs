@@ -1089,7 +1089,7 @@ impl Renderer {
                 let objects = prepared.objects.iter().zip(&meshes).enumerate().filter(|(i, _)| kept[*i]);
                 let geometry =
                     crate::render::truth::bvh::TruthGeometry::build(objects.map(|(i, (o, m))| (i as u32, m, o.model)));
-                let s = std::sync::Arc::new(cpu::CpuScene { geometry, environment: cpu::CpuEnvironment::new(&image) });
+                let s = std::sync::Arc::new(cpu::CpuScene::new(geometry, cpu::CpuEnvironment::new(&image)));
                 *prepared.cpu_truth_scene.lock().unwrap_or_else(|e| e.into_inner()) = Some((kept, s.clone()));
                 s
             }

@@ -9,14 +9,14 @@
 //!
 //! Why a CPU tracer at all: on a CPU adapter (llvmpipe) the GPU tracer runs the same arithmetic
 //! through a shader JIT at ~0.2 M paths/s; here rayon spreads the rows over the cores with no
-//! compute-shader limits (stack depth, f32). Hand-written: the traversal reads the BVH nodes the
-//! GPU reads (`bvh::TruthGeometry`), so both backends trace one geometry.
+//! compute-shader limits (stack depth, f32). Hand-written around obvhs, whose CWBVH traversal does the
+//! ray casting over the triangles the GPU reads (`bvh::TruthGeometry`): no crate traces these models.
 
 use glam::{DMat4, DVec2, DVec3, DVec4};
 use rayon::prelude::*;
 use std::f64::consts::PI;
 
-use super::bvh::{GpuBvhNode, TruthGeometry};
+use super::bvh::TruthGeometry;
 use super::{physical, Truth, TruthKind, TruthSettings};
 use crate::environment::prefilter::EquirectImage;
 use crate::error::Error;
@@ -196,14 +196,20 @@ pub struct CpuTruthInputs<'a> {
     pub fixed_role: u8,
 }
 
-/// The scene a CPU truth traces: the BVH and triangles the GPU's reads, and the environment.
+/// The scene a CPU truth traces: the triangles and vertices the GPU's reads, over obvhs's
+/// compressed 8-wide BVH (Ylitie et al. 2017, traversed four nodes at a time with SIMD), and the
+/// environment.
 pub struct CpuScene {
     pub geometry: TruthGeometry,
     pub environment: CpuEnvironment,
+    bvh: obvhs::cwbvh::CwBvh,
+    /// The triangles in the BVH's primitive order, laid out for intersection.
+    rt: Vec<obvhs::rt_triangle::RtTriangle>,
+    /// Each of those as its index in `geometry.triangles`.
+    order: Vec<u32>,
 }
 
 struct Hit {
-    t: f64,
     triangle: usize,
     b1: f64,
     b2: f64,
@@ -213,114 +219,74 @@ fn v3(a: [f32; 4]) -> DVec3 {
     DVec3::new(a[0] as f64, a[1] as f64, a[2] as f64)
 }
 
+fn a3(v: DVec3) -> glam_obvhs::Vec3A {
+    glam_obvhs::Vec3A::new(v.x as f32, v.y as f32, v.z as f32)
+}
+
 impl CpuScene {
-    fn node_box(node: &GpuBvhNode, o: DVec3, inv_d: DVec3, t_max: f64) -> f64 {
-        let a = (v3(node.min) - o) * inv_d;
-        let b = (v3(node.max) - o) * inv_d;
-        let t0 = a.min(b).max_element().max(0.0);
-        let t1 = a.max(b).min_element().min(t_max);
-        if t0 <= t1 {
-            t0
-        } else {
-            f64::INFINITY
-        }
+    pub fn new(geometry: TruthGeometry, environment: CpuEnvironment) -> CpuScene {
+        let position = |i: u32| {
+            let q = geometry.vertices[i as usize].position;
+            glam_obvhs::Vec3A::new(q[0], q[1], q[2])
+        };
+        let triangles: Vec<obvhs::triangle::Triangle> = geometry
+            .triangles
+            .iter()
+            .map(|t| obvhs::triangle::Triangle { v0: position(t[0]), v1: position(t[1]), v2: position(t[2]) })
+            .collect();
+        let mut build_time = std::time::Duration::ZERO;
+        let bvh = obvhs::cwbvh::builder::build_cwbvh_from_tris(
+            &triangles,
+            obvhs::BvhBuildParams::medium_build(),
+            &mut build_time,
+        );
+        let rt = bvh.primitive_indices.iter().map(|&i| (&triangles[i as usize]).into()).collect();
+        let order = bvh.primitive_indices.clone();
+        CpuScene { geometry, environment, bvh, rt, order }
     }
 
-    /// Möller–Trumbore: rays.wgsl `intersect_triangle`.
-    fn intersect(&self, o: DVec3, d: DVec3, tri: [u32; 4]) -> Option<(f64, f64, f64)> {
+    /// Barycentrics of the hit on triangle `k` (Möller–Trumbore in f64, rays.wgsl
+    /// `intersect_triangle`), clamped onto the triangle where f32 traversal and f64 disagree.
+    fn barycentrics(&self, o: DVec3, d: DVec3, k: usize) -> (f64, f64) {
         let vs = &self.geometry.vertices;
+        let tri = self.geometry.triangles[k];
         let p0 = v3(vs[tri[0] as usize].position);
         let e1 = v3(vs[tri[1] as usize].position) - p0;
         let e2 = v3(vs[tri[2] as usize].position) - p0;
         let pv = d.cross(e2);
         let det = e1.dot(pv);
-        if det.abs() < 1e-18 {
-            return None;
+        if det.abs() < 1e-300 {
+            return (1.0 / 3.0, 1.0 / 3.0);
         }
-        let inv = 1.0 / det;
         let tv = o - p0;
-        let b1 = tv.dot(pv) * inv;
-        if !(0.0..=1.0).contains(&b1) {
-            return None;
-        }
         let qv = tv.cross(e1);
-        let b2 = d.dot(qv) * inv;
-        if b2 < 0.0 || b1 + b2 > 1.0 {
-            return None;
-        }
-        Some((e2.dot(qv) * inv, b1, b2))
+        let (b1, b2) = ((tv.dot(pv) / det).clamp(0.0, 1.0), (d.dot(qv) / det).clamp(0.0, 1.0));
+        let over = (b1 + b2 - 1.0).max(0.0) / 2.0;
+        (b1 - over, b2 - over)
     }
 
-    /// The nearest hit along o + t·d for t in (ε, t_max), nearer child first; `any`: the first.
-    fn trace(&self, o: DVec3, d: DVec3, t_max: f64, any: bool) -> Option<Hit> {
-        let nodes = &self.geometry.nodes;
-        let inv_d = DVec3::new(1.0 / nonzero(d.x), 1.0 / nonzero(d.y), 1.0 / nonzero(d.z));
-        let mut best: Option<Hit> = None;
-        let mut t_best = t_max;
-        // Nodes to visit with their entry distance: one entered beyond the nearest hit found
-        // since it was pushed is skipped.
-        let mut stack = [(0u32, 0f64); 64];
-        let mut top = 0usize;
-        let t_root = match nodes.first() {
-            Some(root) => Self::node_box(root, o, inv_d, t_best),
-            None => return None,
-        };
-        if t_root == f64::INFINITY {
+    /// The nearest hit along o + t·d for t in (ε, t_max).
+    fn trace(&self, o: DVec3, d: DVec3, t_max: f64) -> Option<Hit> {
+        if self.rt.is_empty() {
             return None;
         }
-        stack[0] = (0, t_root);
-        top += 1;
-        while top > 0 {
-            top -= 1;
-            let (index, t_enter) = stack[top];
-            if t_enter >= t_best {
-                continue;
-            }
-            let node = &nodes[index as usize];
-            let count = node.min[3].to_bits();
-            let first = node.max[3].to_bits();
-            if count == 0 {
-                let (a, b) = (first, first + 1);
-                let ta = Self::node_box(&nodes[a as usize], o, inv_d, t_best);
-                let tb = Self::node_box(&nodes[b as usize], o, inv_d, t_best);
-                let ((near, t_near), (far, t_far)) = if ta <= tb { ((a, ta), (b, tb)) } else { ((b, tb), (a, ta)) };
-                // The far child first onto the stack, so that the near one is visited next.
-                if t_far < t_best && top < stack.len() {
-                    stack[top] = (far, t_far);
-                    top += 1;
-                }
-                if t_near < t_best && top < stack.len() {
-                    stack[top] = (near, t_near);
-                    top += 1;
-                }
-                continue;
-            }
-            for k in first..first + count {
-                let tri = self.geometry.triangles[k as usize];
-                if let Some((t, b1, b2)) = self.intersect(o, d, tri) {
-                    if t > RAY_EPSILON && t < t_best {
-                        t_best = t;
-                        best = Some(Hit { t, triangle: k as usize, b1, b2 });
-                        if any {
-                            return best;
-                        }
-                    }
-                }
-            }
+        let ray = obvhs::ray::Ray::new(a3(o), a3(d), RAY_EPSILON as f32, t_max.min(f32::MAX as f64) as f32);
+        let mut hit = obvhs::ray::RayHit::none();
+        if !self.bvh.ray_traverse(ray, &mut hit, |ray, id| self.rt[id].intersect(ray)) {
+            return None;
         }
-        best.filter(|h| h.t < t_max)
+        let triangle = self.order[hit.primitive_id as usize] as usize;
+        let (b1, b2) = self.barycentrics(o, d, triangle);
+        Some(Hit { triangle, b1, b2 })
     }
 
+    /// Whether anything lies along o + t·d for t in (ε, t_max): a shadow ray.
     fn occluded(&self, o: DVec3, d: DVec3, t_max: f64) -> bool {
-        self.trace(o, d, t_max, true).is_some()
-    }
-}
-
-fn nonzero(x: f64) -> f64 {
-    if x.abs() < 1e-30 {
-        1e-30
-    } else {
-        x
+        if self.rt.is_empty() {
+            return false;
+        }
+        let ray = obvhs::ray::Ray::new(a3(o), a3(d), RAY_EPSILON as f32, t_max.min(f32::MAX as f64) as f32);
+        !self.bvh.ray_traverse_miss(ray, |ray, id| self.rt[id].intersect(ray))
     }
 }
 
@@ -531,7 +497,7 @@ impl Tracer<'_> {
         let mut first = None;
         let env = &self.scene.environment;
         for bounce in 0..=self.bounces + 1 {
-            let Some(hit) = self.scene.trace(o, d, f64::INFINITY, false) else {
+            let Some(hit) = self.scene.trace(o, d, f64::INFINITY) else {
                 if bounce == 0 {
                     if self.inputs.background {
                         c += env.radiance(d) * self.env_scale;
