@@ -957,20 +957,13 @@ impl Renderer {
     ) -> Result<std::sync::Arc<crate::render::truth::TruthScene>, Error> {
         let scene = &prepared.scene;
         let env = prepared.env_table.get_or_init(|| {
-            let radiance = |d: DVec3| crate::environment::sky::radiance(&scene.environment.sky, d);
-            let w = crate::render::truth::ENV_WIDTH;
-            let image = crate::environment::prefilter::EquirectImage::sample(&radiance, w, w / 2, 2);
-            crate::render::truth::TruthEnvironment::new(&self.gpu.device, self.gpu.constants, &image)
+            crate::render::truth::TruthEnvironment::new(&self.gpu.device, self.gpu.constants, &truth_sky(scene))
         });
         let cached = prepared.truth_geometry.lock().unwrap_or_else(|e| e.into_inner()).clone();
         Ok(match cached {
             Some((k, g)) if k == kept => g,
             _ => {
-                let mut meshes = procedural::build_scene(scene)?;
-                meshes.extend(procedural::lod_meshes(scene)?.into_iter().map(|(_, _, m)| m));
-                let objects = prepared.objects.iter().zip(&meshes).enumerate().filter(|(i, _)| kept[*i]);
-                let g =
-                    crate::render::truth::bvh::TruthGeometry::build(objects.map(|(i, (o, m))| (i as u32, m, o.model)));
+                let g = truth_geometry(prepared, &kept)?;
                 let g = std::sync::Arc::new(crate::render::truth::TruthScene::new(
                     &self.gpu.device,
                     &self.ray_layout,
@@ -1080,16 +1073,9 @@ impl Renderer {
         let scene = match cached {
             Some((k, s)) if k == kept => s,
             _ => {
-                let scene_spec = &prepared.scene;
-                let radiance = |d: DVec3| crate::environment::sky::radiance(&scene_spec.environment.sky, d);
-                let w = crate::render::truth::ENV_WIDTH;
-                let image = crate::environment::prefilter::EquirectImage::sample(&radiance, w, w / 2, 2);
-                let mut meshes = procedural::build_scene(scene_spec)?;
-                meshes.extend(procedural::lod_meshes(scene_spec)?.into_iter().map(|(_, _, m)| m));
-                let objects = prepared.objects.iter().zip(&meshes).enumerate().filter(|(i, _)| kept[*i]);
-                let geometry =
-                    crate::render::truth::bvh::TruthGeometry::build(objects.map(|(i, (o, m))| (i as u32, m, o.model)));
-                let s = std::sync::Arc::new(cpu::CpuScene::new(geometry, cpu::CpuEnvironment::new(&image)));
+                let geometry = truth_geometry(prepared, &kept)?;
+                let environment = cpu::CpuEnvironment::new(&truth_sky(&prepared.scene));
+                let s = std::sync::Arc::new(cpu::CpuScene::new(geometry, environment));
                 *prepared.cpu_truth_scene.lock().unwrap_or_else(|e| e.into_inner()) = Some((kept, s.clone()));
                 s
             }
@@ -1119,6 +1105,21 @@ impl Renderer {
         };
         cpu::trace(&scene, &inputs, settings)
     }
+}
+
+/// The sky as either truth backend samples it: an ENV_WIDTH × ENV_WIDTH/2 equirect.
+fn truth_sky(scene: &crate::spec::scene::Scene) -> crate::environment::prefilter::EquirectImage {
+    let radiance = |d: DVec3| crate::environment::sky::radiance(&scene.environment.sky, d);
+    let w = crate::render::truth::ENV_WIDTH;
+    crate::environment::prefilter::EquirectImage::sample(&radiance, w, w / 2, 2)
+}
+
+/// The meshes a cell keeps (`kept`, per object) in world space with their BVH, for either backend.
+fn truth_geometry(prepared: &PreparedScene, kept: &[bool]) -> Result<crate::render::truth::bvh::TruthGeometry, Error> {
+    let mut meshes = procedural::build_scene(&prepared.scene)?;
+    meshes.extend(procedural::lod_meshes(&prepared.scene)?.into_iter().map(|(_, _, m)| m));
+    let objects = prepared.objects.iter().zip(&meshes).enumerate().filter(|(i, _)| kept[*i]);
+    Ok(crate::render::truth::bvh::TruthGeometry::build(objects.map(|(i, (o, m))| (i as u32, m, o.model))))
 }
 
 /// A material map of the frame group, sampled by both stages (the vertex-lit path reads them) and
