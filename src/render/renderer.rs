@@ -37,6 +37,9 @@ use crate::shading::{wgsl, Registry, ShaderModel};
 use crate::spec::scene::Role;
 use crate::spec::scene::Scene;
 
+mod truths;
+use truths::{truth_geometry, truth_sky};
+
 /// The pass name of the study's traced shadows (render::passes::traced_shadows) in timings.
 pub const TRACED_SHADOWS_PASS: &str = "traced shadows";
 
@@ -975,151 +978,6 @@ impl Renderer {
             }
         })
     }
-
-    /// The ground truth of a cell (render::truth): its scene, lights and materials path traced
-    /// with the models the cell draws them with (`same-brdf`) or the physical model (`physical`). The meshes are the cell's drawn ones; in a
-    /// LOD cross-fade band, the outgoing level alone (the one the shadow pass draws whole).
-    pub fn render_truth(
-        &mut self,
-        prepared: &PreparedScene,
-        cell: &CellParams,
-        settings: &crate::render::truth::TruthSettings,
-    ) -> Result<crate::render::truth::Truth, Error> {
-        let fixed_model = self.fixed_model(cell.pipeline)?;
-        if self.truth_on_cpu(cell, &fixed_model, settings)? {
-            return self.render_truth_cpu(prepared, cell, &fixed_model, settings);
-        }
-        let key = (cell.pipeline, cell.model.name.to_string(), fixed_model.name.to_string(), settings.kind);
-        if !self.truth_pipelines.contains_key(&key) {
-            let source = wgsl::compose_truth(cell.model, &fixed_model);
-            let id = cell.pipeline.shader_id();
-            let p = crate::render::truth::TruthPipeline::new(
-                &self.gpu,
-                &self.bindings.layout,
-                &self.ray_layout,
-                &source,
-                id,
-                settings.kind,
-            )?;
-            self.truth_pipelines.insert(key.clone(), p);
-        }
-        let plan = self.plan(prepared, cell)?;
-        let written = write_uniforms(&self.gpu.queue, prepared, cell, &plan, &fixed_model);
-        let frame_group = self.bindings.frame_group(&self.gpu, prepared, cell.settings.material_maps)?;
-        let geometry = self.ray_scene(prepared, plan.casting())?;
-        let textured = cell.settings.material_maps.is_some();
-        let mut objects = Vec::with_capacity(prepared.objects.len() * 128);
-        for (slot, material) in prepared.layout.meshes.iter().zip(&written.materials) {
-            objects.extend_from_slice(bytemuck::bytes_of(material));
-            let flags: [u32; 4] = match slot.role {
-                Role::Subject => [1, ROLE_SUBJECT as u32, textured as u32, 0],
-                Role::Fixed => [0, ROLE_FIXED as u32, 0, 0],
-            };
-            objects.extend_from_slice(bytemuck::cast_slice(&flags));
-        }
-        let inputs = crate::render::truth::TruthInputs {
-            scene: &geometry,
-            objects: &objects,
-            background: prepared.plan.background,
-            size: (cell.width, cell.height),
-            subject_role: ROLE_SUBJECT,
-        };
-        crate::render::truth::trace(&self.gpu, &self.truth_pipelines[&key], &frame_group, &inputs, settings)
-    }
-
-    /// Whether this cell's truth is traced on the CPU (`TruthBackend`): `auto` on a CPU adapter
-    /// where both models have f64 twins and the subject is untextured; `cpu` refuses a cell it
-    /// cannot trace.
-    fn truth_on_cpu(
-        &self,
-        cell: &CellParams,
-        fixed_model: &ShaderModel,
-        settings: &crate::render::truth::TruthSettings,
-    ) -> Result<bool, Error> {
-        use crate::spec::matrix::TruthBackend;
-        let why_not = if cell.model.twin.is_none() || fixed_model.twin.is_none() {
-            Some(format!("`{}` has no f64 twin (a user model)", cell.model.name))
-        } else if cell.settings.material_maps.is_some() {
-            Some("its subject is textured (material maps), which only the GPU tracer samples".to_string())
-        } else {
-            None
-        };
-        Ok(match (settings.backend, why_not) {
-            (TruthBackend::Gpu, _) => false,
-            (TruthBackend::Cpu, None) => true,
-            (TruthBackend::Cpu, Some(why)) => {
-                return Err(Error::Other(format!(
-                    "truth backend \"cpu\" cannot trace this cell: {why}; use backend = \"gpu\" or \"auto\""
-                )))
-            }
-            (TruthBackend::Auto, why) => {
-                why.is_none() && self.gpu.adapter.get_info().device_type == wgpu::DeviceType::Cpu
-            }
-        })
-    }
-
-    fn render_truth_cpu(
-        &mut self,
-        prepared: &PreparedScene,
-        cell: &CellParams,
-        fixed_model: &ShaderModel,
-        settings: &crate::render::truth::TruthSettings,
-    ) -> Result<crate::render::truth::Truth, Error> {
-        use crate::render::truth::cpu;
-        let plan = self.plan(prepared, cell)?;
-        let written = write_uniforms(&self.gpu.queue, prepared, cell, &plan, fixed_model);
-        let kept = plan.casting();
-        let cached = prepared.cpu_truth_scene.lock().unwrap_or_else(|e| e.into_inner()).clone();
-        let scene = match cached {
-            Some((k, s)) if k == kept => s,
-            _ => {
-                let geometry = truth_geometry(prepared, &kept)?;
-                let environment = cpu::CpuEnvironment::new(&truth_sky(&prepared.scene));
-                let s = std::sync::Arc::new(cpu::CpuScene::new(geometry, environment));
-                *prepared.cpu_truth_scene.lock().unwrap_or_else(|e| e.into_inner()) = Some((kept, s.clone()));
-                s
-            }
-        };
-        let materials: Vec<_> = prepared
-            .layout
-            .meshes
-            .iter()
-            .zip(&written.materials)
-            .map(|(slot, m)| (*m, slot.role == Role::Subject))
-            .collect();
-        let (Some(subject_twin), Some(fixed_twin)) = (cell.model.twin, fixed_model.twin) else {
-            return Err(Error::Other(format!("`{}` has no f64 twin for the CPU truth", cell.model.name)));
-        };
-        let inputs = cpu::CpuTruthInputs {
-            pipeline: cell.pipeline,
-            kind: settings.kind,
-            subject_twin,
-            fixed_twin,
-            frame: &written.frame,
-            lights: &written.lights,
-            materials: &materials,
-            background: prepared.plan.background,
-            size: (cell.width, cell.height),
-            subject_role: ROLE_SUBJECT,
-            fixed_role: ROLE_FIXED,
-        };
-        cpu::trace(&scene, &inputs, settings)
-    }
-}
-
-/// The sky as either truth backend samples it: an ENV_WIDTH × ENV_WIDTH/2 equirect.
-fn truth_sky(scene: &crate::spec::scene::Scene) -> crate::environment::prefilter::EquirectImage {
-    let radiance = |d: DVec3| crate::environment::sky::radiance(&scene.environment.sky, d);
-    let w = crate::render::truth::ENV_WIDTH;
-    crate::environment::prefilter::EquirectImage::sample(&radiance, w, w / 2, 2)
-}
-
-/// The meshes a cell keeps (`kept`, per object) in world space with their BVH, for either backend.
-fn truth_geometry(prepared: &PreparedScene, kept: &[bool]) -> Result<crate::render::truth::bvh::TruthGeometry, Error> {
-    let mut meshes = procedural::build_scene(&prepared.scene)?;
-    meshes.extend(procedural::lod_meshes(&prepared.scene)?.into_iter().map(|(_, _, m)| m));
-    let objects = prepared.objects.iter().zip(&meshes).enumerate().filter(|(i, _)| kept[*i]);
-    Ok(crate::render::truth::bvh::TruthGeometry::build(objects.map(|(i, (o, m))| (i as u32, m, o.model))))
 }
 
 /// A material map of the frame group, sampled by both stages (the vertex-lit path reads them) and

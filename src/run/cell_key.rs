@@ -117,7 +117,7 @@ fn reference_identity(matrix: &Matrix, c: &Cell, own: &HashMap<&CellId, String>)
 /// The models the cell's frame draws (the subject's and the pipeline's fixed objects'): each one's
 /// WGSL and its declaration as parsed — parameters with their slots, defaults and ranges, the axes
 /// it reads, its pipelines — so a user's edited `NAME.toml` re-renders its cells.
-fn model_sources(matrix: &Matrix, c: &Cell) -> Vec<String> {
+pub(crate) fn model_sources(matrix: &Matrix, c: &Cell) -> Vec<String> {
     let fixed = matrix.registry.find(c.pipeline, c.pipeline.fixed_object_shader());
     let identity = |m: &crate::shading::ShaderModel| {
         let declaration = format!(
@@ -132,7 +132,7 @@ fn model_sources(matrix: &Matrix, c: &Cell) -> Vec<String> {
 }
 
 /// (path, digest of the bytes) of every file the composition's meshes (LOD levels included) load.
-fn mesh_digests(matrix: &Matrix, c: &Cell) -> Vec<(String, String)> {
+pub(crate) fn mesh_digests(matrix: &Matrix, c: &Cell) -> Vec<(String, String)> {
     let scene = &matrix.compositions[c.composition_index];
     let mut out = Vec::new();
     // The object's mesh and its LOD levels' meshes: a level drawn at this distance reads its file.

@@ -261,6 +261,23 @@ fn write_truth(
     })
 }
 
+/// The exported truth scene (render::truth::export) into `cell_dir`/truth_scene: its files, then
+/// scene.json last, so that a folder with a scene.json is whole.
+pub fn write_truth_scene(cell_dir: &Path, export: crate::render::truth::export::TruthSceneExport) -> Result<(), Error> {
+    let dir = cell_dir.join("truth_scene");
+    std::fs::create_dir_all(&dir).map_err(|e| Error::io_path("creating folder", &dir, e))?;
+    let _ = std::fs::remove_file(dir.join("scene.json"));
+    for (name, bytes) in &export.meshes {
+        write_atomic(&dir.join(name), bytes)?;
+    }
+    for (name, w, h, px) in &export.images {
+        write_atomic(&dir.join(name), &encode::exr_bytes(*w, *h, px)?)?;
+    }
+    let json =
+        serde_json::to_vec_pretty(&export.record).map_err(|e| Error::Other(format!("truth scene record: {e}")))?;
+    write_atomic(&dir.join("scene.json"), &json)
+}
+
 /// The truth's per-pixel standard error, beside its reference images.
 pub const TRUTH_NOISE_MAP: &str = "truth_noise.exr";
 

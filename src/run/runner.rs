@@ -676,7 +676,8 @@ impl<'a> Stream<'a> {
                         })
                     }
                     Some(ReferenceSpec::Truth(t)) => {
-                        let key = super::truth_cache::TruthCache::key(self.matrix, cell, &t.settings, &self.adapter);
+                        let reads = renderer.truth_reads(&prepared, &params, &t.settings)?;
+                        let key = super::truth_cache::TruthCache::key(self.matrix, cell, &reads, &self.adapter);
                         let cached = self.truth_cache.as_ref().and_then(|c| c.load(&key, t.settings.kind));
                         let truth = match cached {
                             Some(truth) => truth,
@@ -688,6 +689,10 @@ impl<'a> Stream<'a> {
                                 truth
                             }
                         };
+                        if self.matrix.outputs.truth_scene {
+                            let export = renderer.export_truth_scene(&prepared, &params, &t.settings, &truth)?;
+                            super::encode::write_truth_scene(&self.dir.cell_dir(&cell.id.0), export)?;
+                        }
                         Some(Ok(RenderedReference::Truth(Box::new(truth))))
                     }
                     _ => None,

@@ -1,7 +1,6 @@
-//! Truths kept across cells and runs: a truth is keyed by everything it depends on — the cell
-//! (its axes and material), the composition (scene file contents as parsed, the size and time of
-//! each mesh file), the truth's settings, the composed tracer source (both models included), the
-//! tool version and the adapter — and stored in a folder per key: truth.exr (mean RGB, standard
+//! Truths kept across cells and runs: a truth is keyed by exactly what it reads (`key`), so that
+//! every cell whose truth reads the same shares one — the three shaders of one preset and
+//! pipeline share a physical truth — and stored in a folder per key: truth.exr (mean RGB, standard
 //! error in A), roles.png (the first surface's role in R) and truth.json (what it reached).
 //! A folder appears whole or not at all (written beside, then renamed).
 
@@ -13,10 +12,10 @@ use sha2::{Digest, Sha256};
 use crate::cells::Cell;
 use crate::error::Error;
 use crate::images::encode;
-use crate::render::truth::{Truth, TruthSettings};
+use crate::render::truth::Truth;
 use crate::spec::matrix::Matrix;
 
-pub const TRUTH_CACHE_SCHEMA: u32 = 1;
+pub const TRUTH_CACHE_SCHEMA: u32 = 2;
 
 /// The default cache: beside the run folders (results/.truth-cache for results/<run>).
 pub fn default_dir(run_dir: &Path) -> PathBuf {
@@ -45,33 +44,21 @@ impl TruthCache {
         TruthCache { dir }
     }
 
-    /// The key of `cell`'s truth with `settings` on `adapter`.
-    pub fn key(matrix: &Matrix, cell: &Cell, settings: &TruthSettings, adapter: &str) -> String {
-        let scene = &matrix.compositions[cell.composition_index];
-        let fixed = matrix.registry.find(cell.pipeline, cell.pipeline.fixed_object_shader());
-        let source = fixed.map(|f| crate::shading::wgsl::compose_truth(cell.model(), f)).unwrap_or_default();
-        let files: Vec<(String, u64, u128)> = scene
-            .objects
-            .iter()
-            .filter_map(|o| match &o.mesh {
-                crate::spec::scene::MeshSpec::Gltf { path } => {
-                    let p = scene.base_dir.as_ref().map_or_else(|| PathBuf::from(path), |b| b.join(path));
-                    let meta = std::fs::metadata(&p).ok()?;
-                    let modified = meta.modified().ok()?.duration_since(std::time::UNIX_EPOCH).ok()?.as_nanos();
-                    Some((p.display().to_string(), meta.len(), modified))
-                }
-                _ => None,
-            })
-            .collect();
+    /// The key of `cell`'s truth: what its tracer reads (`Renderer::truth_reads`: the cell's
+    /// camera, lights, materials and settings as traced), the composition as parsed with the
+    /// bytes of its mesh files, the models' sources where it reads them, the tool, and the adapter
+    /// when the GPU traces it. Cells whose truths read the same get the same key and share it.
+    pub fn key(matrix: &Matrix, cell: &Cell, reads: &serde_json::Value, adapter: &str) -> String {
+        let on_gpu = reads.get("backend").and_then(|b| b.as_str()) != Some("cpu");
+        let models = reads.get("models").is_some_and(|m| !m.is_null());
         let text = serde_json::json!({
             "schema": TRUTH_CACHE_SCHEMA,
-            "version": env!("CARGO_PKG_VERSION"),
-            "cell": cell,
-            "scene": scene,
-            "mesh_files": files,
-            "settings": format!("{settings:?}"),
-            "adapter": adapter,
-            "source": source,
+            "tool": super::cell_key::tool_fingerprint(),
+            "scene": matrix.compositions[cell.composition_index],
+            "mesh_files": super::cell_key::mesh_digests(matrix, cell),
+            "models": models.then(|| super::cell_key::model_sources(matrix, cell)),
+            "reads": reads,
+            "adapter": on_gpu.then_some(adapter),
         });
         crate::spec::matrix::hex(&Sha256::digest(text.to_string().as_bytes()))
     }

@@ -816,6 +816,16 @@ impl Matrix {
                 )
                 .into());
         }
+        let physical_truth =
+            matches!(&reference, Some(ReferenceSpec::Truth(t)) if t.settings.kind == TruthKind::Physical);
+        if file.outputs.truth_scene && !physical_truth {
+            return Err(c
+                .err(
+                    "outputs.truth_scene",
+                    "exports the scene as the physical truth traces it: set `reference = { truth = \"physical\" }`",
+                )
+                .into());
+        }
         if let Some(ReferenceSpec::Cell(terms)) = &reference {
             for (axis, v) in terms {
                 if let FilterValue::Name(n) = v {

@@ -19,6 +19,10 @@ pub struct Outputs {
     /// linear values from it; 120–250 KB a cell at 256², so huge sweeps may leave it out.
     #[serde(default = "yes")]
     pub pixels: bool,
+    /// truth_scene/ beside each cell: the scene as its physical truth traces it, for another
+    /// renderer (render::truth::export; tools/mitsuba_check.py).
+    #[serde(default)]
+    pub truth_scene: bool,
 }
 
 fn yes() -> bool {
@@ -27,7 +31,13 @@ fn yes() -> bool {
 
 impl Default for Outputs {
     fn default() -> Self {
-        Outputs { exr: ExrPrecision::default(), exr_compression: ExrCompression::default(), maps: true, pixels: true }
+        Outputs {
+            exr: ExrPrecision::default(),
+            exr_compression: ExrCompression::default(),
+            maps: true,
+            pixels: true,
+            truth_scene: false,
+        }
     }
 }
 

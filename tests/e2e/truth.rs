@@ -365,3 +365,77 @@ fn the_cpu_and_gpu_truths_agree_within_noise_on_every_composition() {
         assert!(outliers * 200 <= n, "{name}: {outliers} of {n} pixels beyond 4.5 standard errors");
     }
 }
+
+fn cell_truths(out: &std::path::Path) -> Vec<(String, shadematrix::record::cell::TruthRecord, Vec<u8>)> {
+    let mut cells: Vec<_> = std::fs::read_dir(out.join("cells"))
+        .unwrap()
+        .map(|e| {
+            let dir = e.unwrap().path();
+            let record: shadematrix::record::cell::CellRecord =
+                serde_json::from_slice(&std::fs::read(dir.join("cell.json")).unwrap()).unwrap();
+            let name = dir.file_name().unwrap().to_string_lossy().to_string();
+            (name, record.truth.expect("a truth record"), std::fs::read(dir.join("reference.exr")).unwrap())
+        })
+        .collect();
+    cells.sort_by(|a, b| a.0.cmp(&b.0));
+    cells
+}
+
+/// A physical truth reads no model: the cells of one preset with different shaders share one
+/// truth (traced once, the others served it); same-brdf truths, which read the models, do not;
+/// a value the truth reads (the light's intensity) makes another truth.
+#[test]
+fn cells_whose_truths_read_the_same_share_one() {
+    let tmp = tempfile::tempdir().unwrap();
+    let head = "name = \"share\"\ncompositions = [\"default\"]\npipelines = [\"urp\"]\nshaders = [\"lambert\", \"lit\", \"simple_lit\"]\npresets = [\"plastic\"]\n";
+    let image = "[image]\nwidth = 24\nheight = 24\n";
+    let physical = format!("{head}reference = {{ truth = \"physical\", spp = 8, noise = 0.0, bounces = 1 }}\n{image}");
+    let cells = cell_truths(&crate::common::run_matrix(tmp.path(), &physical, "physical"));
+    assert_eq!(cells.len(), 3);
+    assert_eq!(cells.iter().filter(|c| !c.1.cached).count(), 1, "one physical truth traced for three shaders");
+    assert!(cells.windows(2).all(|w| w[0].2 == w[1].2), "the shared truth is each cell's reference");
+
+    let same = format!("{head}reference = {{ truth = \"same-brdf\", spp = 8, noise = 0.0, bounces = 1 }}\n{image}");
+    let cells = cell_truths(&crate::common::run_matrix(tmp.path(), &same, "same"));
+    assert!(cells.iter().all(|c| !c.1.cached), "each shader's same-brdf truth is its own");
+
+    let brighter = physical.replace("[image]", "[sweep]\nlight_intensity = [3.0]\n[image]");
+    let cells = cell_truths(&crate::common::run_matrix(tmp.path(), &brighter, "brighter"));
+    assert_eq!(cells.iter().filter(|c| !c.1.cached).count(), 1, "a brighter light is another truth");
+}
+
+/// `[outputs] truth_scene`: each cell's folder holds the scene as its physical truth traces it
+/// (what tools/mitsuba_check.py renders); only with a physical truth.
+#[test]
+fn a_physical_truth_exports_its_scene() {
+    use shadematrix::render::truth::export::{ExportedLight, TruthSceneRecord};
+    let tmp = tempfile::tempdir().unwrap();
+    let head = "name = \"export\"\ncompositions = [\"mitsuba\"]\npipelines = [\"hdrp\"]\nshaders = [\"lit\"]\npresets = [\"gold\"]\n[image]\nwidth = 16\nheight = 12\n[outputs]\ntruth_scene = true\n";
+    let body =
+        head.replace("[image]", "reference = { truth = \"physical\", spp = 4, noise = 0.0, bounces = 1 }\n[image]");
+    let out = crate::common::run_matrix(tmp.path(), &body, "run");
+    let cell = std::fs::read_dir(out.join("cells")).unwrap().next().unwrap().unwrap().path();
+    let dir = cell.join("truth_scene");
+    let record: TruthSceneRecord = serde_json::from_slice(&std::fs::read(dir.join("scene.json")).unwrap()).unwrap();
+    assert_eq!((record.width, record.height, record.bounces), (16, 12, 1));
+    assert!((record.camera.fov_y_deg - 38.0).abs() < 1e-3, "{:?}", record.camera);
+    // HDRP: the 1.5 axis is 15 000 lm, a point light's candela = lm / 4π (the shader's units).
+    let ExportedLight::Point { intensity, .. } = &record.lights[0] else { panic!("{:?}", record.lights) };
+    assert!((intensity[0] - 15_000.0 / (4.0 * std::f64::consts::PI)).abs() < 0.05, "{intensity:?}");
+    let shell = record.objects.iter().find(|o| o.name == "shell").unwrap();
+    assert!(shell.subject && shell.metallic == 1.0 && shell.triangles > 1000);
+    assert!(record.objects.iter().any(|o| o.checker.is_some()), "the backdrop's checker");
+    for o in &record.objects {
+        let ply = std::fs::read(dir.join(&o.mesh)).unwrap();
+        assert!(ply.starts_with(b"ply\nformat binary_little_endian 1.0\n"));
+    }
+    for f in ["truth.exr", "sky.exr", "fgd.exr"] {
+        assert!(dir.join(f).is_file(), "{f}");
+    }
+    // A same-brdf truth cannot be exported: bad input, named.
+    let same = body.replace("\"physical\"", "\"same-brdf\"");
+    let m = crate::common::write_matrix(tmp.path(), "same.toml", &same);
+    let (code, _, err) = crate::common::shadematrix(tmp.path(), &["list", m.to_str().unwrap()], &[]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("outputs.truth_scene") && err.contains("physical"), "{err}");
+}

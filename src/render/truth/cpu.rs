@@ -44,6 +44,11 @@ impl CpuEnvironment {
         CpuEnvironment { width: image.width, height: image.height, texels: image.texels.clone(), cdf }
     }
 
+    /// Its width, height and texels (radiance, unscaled).
+    pub fn image(&self) -> (usize, usize, &[DVec3]) {
+        (self.width, self.height, &self.texels)
+    }
+
     fn texel_index(&self, d: DVec3) -> usize {
         let uv = equirect_uv(d);
         let x = ((uv.x * self.width as f64) as usize).min(self.width - 1);
@@ -184,8 +189,9 @@ impl TracedLight {
 pub struct CpuTruthInputs<'a> {
     pub pipeline: Pipeline,
     pub kind: TruthKind,
-    pub subject_twin: &'a dyn SurfaceTwin,
-    pub fixed_twin: &'a dyn SurfaceTwin,
+    /// The models' twins: a same-brdf truth needs both, a physical one neither.
+    pub subject_twin: Option<&'a dyn SurfaceTwin>,
+    pub fixed_twin: Option<&'a dyn SurfaceTwin>,
     pub frame: &'a FrameUniforms,
     pub lights: &'a [GpuLight],
     /// Per object: its material (the subject's is the frame's) and whether it is the subject.
@@ -451,7 +457,9 @@ impl Tracer<'_> {
             return physical::physical_response(&sp.s, sp.n, v, l);
         }
         let twin = if self.inputs.materials[sp.object].1 { self.inputs.subject_twin } else { self.inputs.fixed_twin };
-        twin.direct_for_light(p, &sp.s, sp.n, v, l, min_roughness).max(DVec3::ZERO) / irradiance_per_intensity(p)
+        // Present for a same-brdf truth (`Renderer::with_cpu_truth` refuses one without).
+        twin.map_or(DVec3::ZERO, |t| t.direct_for_light(p, &sp.s, sp.n, v, l, min_roughness).max(DVec3::ZERO))
+            / irradiance_per_intensity(p)
     }
 
     /// Every light exactly and the environment sampled once (truth.wgsl `direct_light`).

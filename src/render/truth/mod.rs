@@ -18,6 +18,7 @@
 
 pub mod bvh;
 pub mod cpu;
+pub mod export;
 pub mod physical;
 
 use bytemuck::{Pod, Zeroable};

@@ -1,0 +1,275 @@
+//! The renderer's truths (render::truth): which backend traces a cell, the CPU backend's inputs,
+//! what a truth reads (its cache key's content, so that cells whose truths read the same share one)
+//! and the scene as a truth sees it exported for other renderers (`[outputs] truth_scene`).
+
+use glam::DVec3;
+
+use super::{write_uniforms, CellParams, Renderer, ROLE_FIXED, ROLE_SUBJECT};
+use crate::error::Error;
+use crate::geometry::procedural;
+use crate::render::prepared::PreparedScene;
+use crate::render::truth::TruthKind;
+use crate::shading::twin::irradiance_per_intensity;
+use crate::shading::{wgsl, ShaderModel};
+use crate::spec::scene::Role;
+
+impl Renderer {
+    /// The ground truth of a cell (render::truth): its scene, lights and materials path traced
+    /// with the models the cell draws them with (`same-brdf`) or the physical model (`physical`). The meshes are the cell's drawn ones; in a
+    /// LOD cross-fade band, the outgoing level alone (the one the shadow pass draws whole).
+    pub fn render_truth(
+        &mut self,
+        prepared: &PreparedScene,
+        cell: &CellParams,
+        settings: &crate::render::truth::TruthSettings,
+    ) -> Result<crate::render::truth::Truth, Error> {
+        let fixed_model = self.fixed_model(cell.pipeline)?;
+        if self.truth_on_cpu(cell, &fixed_model, settings)? {
+            return self.render_truth_cpu(prepared, cell, &fixed_model, settings);
+        }
+        let key = (cell.pipeline, cell.model.name.to_string(), fixed_model.name.to_string(), settings.kind);
+        if !self.truth_pipelines.contains_key(&key) {
+            let source = wgsl::compose_truth(cell.model, &fixed_model);
+            let id = cell.pipeline.shader_id();
+            let p = crate::render::truth::TruthPipeline::new(
+                &self.gpu,
+                &self.bindings.layout,
+                &self.ray_layout,
+                &source,
+                id,
+                settings.kind,
+            )?;
+            self.truth_pipelines.insert(key.clone(), p);
+        }
+        let plan = self.plan(prepared, cell)?;
+        let written = write_uniforms(&self.gpu.queue, prepared, cell, &plan, &fixed_model);
+        let frame_group = self.bindings.frame_group(&self.gpu, prepared, cell.settings.material_maps)?;
+        let geometry = self.ray_scene(prepared, plan.casting())?;
+        let textured = cell.settings.material_maps.is_some();
+        let mut objects = Vec::with_capacity(prepared.objects.len() * 128);
+        for (slot, material) in prepared.layout.meshes.iter().zip(&written.materials) {
+            objects.extend_from_slice(bytemuck::bytes_of(material));
+            let flags: [u32; 4] = match slot.role {
+                Role::Subject => [1, ROLE_SUBJECT as u32, textured as u32, 0],
+                Role::Fixed => [0, ROLE_FIXED as u32, 0, 0],
+            };
+            objects.extend_from_slice(bytemuck::cast_slice(&flags));
+        }
+        let inputs = crate::render::truth::TruthInputs {
+            scene: &geometry,
+            objects: &objects,
+            background: prepared.plan.background,
+            size: (cell.width, cell.height),
+            subject_role: ROLE_SUBJECT,
+        };
+        crate::render::truth::trace(&self.gpu, &self.truth_pipelines[&key], &frame_group, &inputs, settings)
+    }
+
+    /// Whether this cell's truth is traced on the CPU (`TruthBackend`): `auto` on a CPU adapter
+    /// where both models have f64 twins and the subject is untextured; `cpu` refuses a cell it
+    /// cannot trace.
+    fn truth_on_cpu(
+        &self,
+        cell: &CellParams,
+        fixed_model: &ShaderModel,
+        settings: &crate::render::truth::TruthSettings,
+    ) -> Result<bool, Error> {
+        use crate::spec::matrix::TruthBackend;
+        let twins = cell.model.twin.is_some() && fixed_model.twin.is_some();
+        let why_not = if !twins && settings.kind == TruthKind::SameBrdf {
+            Some(format!("`{}` has no f64 twin (a user model)", cell.model.name))
+        } else if cell.settings.material_maps.is_some() {
+            Some("its subject is textured (material maps), which only the GPU tracer samples".to_string())
+        } else {
+            None
+        };
+        Ok(match (settings.backend, why_not) {
+            (TruthBackend::Gpu, _) => false,
+            (TruthBackend::Cpu, None) => true,
+            (TruthBackend::Cpu, Some(why)) => {
+                return Err(Error::Other(format!(
+                    "truth backend \"cpu\" cannot trace this cell: {why}; use backend = \"gpu\" or \"auto\""
+                )))
+            }
+            (TruthBackend::Auto, why) => {
+                why.is_none() && self.gpu.adapter.get_info().device_type == wgpu::DeviceType::Cpu
+            }
+        })
+    }
+
+    fn render_truth_cpu(
+        &mut self,
+        prepared: &PreparedScene,
+        cell: &CellParams,
+        fixed_model: &ShaderModel,
+        settings: &crate::render::truth::TruthSettings,
+    ) -> Result<crate::render::truth::Truth, Error> {
+        self.with_cpu_truth(prepared, cell, fixed_model, settings, |scene, inputs| {
+            crate::render::truth::cpu::trace(scene, inputs, settings)
+        })
+    }
+
+    /// `then` with the CPU truth's scene (built once per composition and set of kept meshes) and
+    /// this cell's inputs.
+    fn with_cpu_truth<T>(
+        &mut self,
+        prepared: &PreparedScene,
+        cell: &CellParams,
+        fixed_model: &ShaderModel,
+        settings: &crate::render::truth::TruthSettings,
+        then: impl FnOnce(
+            &crate::render::truth::cpu::CpuScene,
+            &crate::render::truth::cpu::CpuTruthInputs,
+        ) -> Result<T, Error>,
+    ) -> Result<T, Error> {
+        use crate::render::truth::cpu;
+        let plan = self.plan(prepared, cell)?;
+        let written = write_uniforms(&self.gpu.queue, prepared, cell, &plan, fixed_model);
+        let kept = plan.casting();
+        let cached = prepared.cpu_truth_scene.lock().unwrap_or_else(|e| e.into_inner()).clone();
+        let scene = match cached {
+            Some((k, s)) if k == kept => s,
+            _ => {
+                let geometry = truth_geometry(prepared, &kept)?;
+                let environment = cpu::CpuEnvironment::new(&truth_sky(&prepared.scene));
+                let s = std::sync::Arc::new(cpu::CpuScene::new(geometry, environment));
+                *prepared.cpu_truth_scene.lock().unwrap_or_else(|e| e.into_inner()) = Some((kept, s.clone()));
+                s
+            }
+        };
+        let materials: Vec<_> = prepared
+            .layout
+            .meshes
+            .iter()
+            .zip(&written.materials)
+            .map(|(slot, m)| (*m, slot.role == Role::Subject))
+            .collect();
+        let twins = (cell.model.twin, fixed_model.twin);
+        if settings.kind == TruthKind::SameBrdf && (twins.0.is_none() || twins.1.is_none()) {
+            return Err(Error::Other(format!("`{}` has no f64 twin for the CPU truth", cell.model.name)));
+        }
+        let inputs = cpu::CpuTruthInputs {
+            pipeline: cell.pipeline,
+            kind: settings.kind,
+            subject_twin: twins.0,
+            fixed_twin: twins.1,
+            frame: &written.frame,
+            lights: &written.lights,
+            materials: &materials,
+            background: prepared.plan.background,
+            size: (cell.width, cell.height),
+            subject_role: ROLE_SUBJECT,
+            fixed_role: ROLE_FIXED,
+        };
+        then(&scene, &inputs)
+    }
+
+    /// The scene as this cell's physical truth traces it, with `truth`, for another renderer
+    /// (render::truth::export).
+    pub fn export_truth_scene(
+        &mut self,
+        prepared: &PreparedScene,
+        cell: &CellParams,
+        settings: &crate::render::truth::TruthSettings,
+        truth: &crate::render::truth::Truth,
+    ) -> Result<crate::render::truth::export::TruthSceneExport, Error> {
+        let fixed_model = self.fixed_model(cell.pipeline)?;
+        let objects = &prepared.scene.objects;
+        let names: Vec<String> = (0..prepared.layout.meshes.len())
+            .map(|i| objects.get(i).map_or_else(|| format!("lod mesh {}", i - objects.len()), |o| o.name.clone()))
+            .collect();
+        self.with_cpu_truth(prepared, cell, &fixed_model, settings, |scene, inputs| {
+            crate::render::truth::export::export(scene, inputs, &names, truth)
+        })
+    }
+
+    /// Everything this cell's truth reads that differs between cells of one run — the backend,
+    /// the settings, the image size, the meshes kept, the camera, the lights and every material as
+    /// the tracer reads them, and for a same-brdf truth or the GPU tracer the pipeline and the
+    /// models — so that cells whose truths read the same share one. A physical truth reads no
+    /// model and its lights only times the pipeline's irradiance per intensity: cells of one
+    /// preset with different shaders, or pipelines whose lights agree, share it. The scene's
+    /// files, the tool and the adapter are the caller's part of the key.
+    pub fn truth_reads(
+        &mut self,
+        prepared: &PreparedScene,
+        cell: &CellParams,
+        settings: &crate::render::truth::TruthSettings,
+    ) -> Result<serde_json::Value, Error> {
+        let fixed_model = self.fixed_model(cell.pipeline)?;
+        let on_cpu = self.truth_on_cpu(cell, &fixed_model, settings)?;
+        let plan = self.plan(prepared, cell)?;
+        let written = write_uniforms(&self.gpu.queue, prepared, cell, &plan, &fixed_model);
+        let f = &written.frame;
+        let physical = settings.kind == TruthKind::Physical && on_cpu;
+        let material = |m: &crate::render::uniforms::GpuMaterial, subject: bool| -> serde_json::Value {
+            if physical {
+                let emission = if subject { m.emission } else { [0.0; 4] };
+                serde_json::json!([m.base_color, m.params, m.checker_color, emission])
+            } else {
+                serde_json::json!(bytemuck::cast_slice::<_, u32>(std::slice::from_ref(m)))
+            }
+        };
+        let materials: Vec<serde_json::Value> = prepared
+            .layout
+            .meshes
+            .iter()
+            .zip(&written.materials)
+            .map(|(slot, m)| match slot.role {
+                Role::Subject => serde_json::json!("subject"),
+                Role::Fixed => material(m, false),
+            })
+            .collect();
+        let lights: Vec<serde_json::Value> = written
+            .lights
+            .iter()
+            .map(|l| {
+                if physical {
+                    let k = irradiance_per_intensity(cell.pipeline) as f32;
+                    serde_json::json!([l.position, l.direction, l.color.map(|c| c * k), l.params[1], l.params[2]])
+                } else {
+                    serde_json::json!([l.position, l.direction, l.color, l.params])
+                }
+            })
+            .collect();
+        let models = (!physical).then(|| {
+            serde_json::json!({
+                "pipeline": cell.pipeline,
+                "source": wgsl::compose_truth(cell.model, &fixed_model),
+                "material_maps": format!("{:?}", cell.settings.material_maps),
+                "counts": f.counts,
+            })
+        });
+        Ok(serde_json::json!({
+            "backend": if on_cpu { "cpu" } else { "gpu" },
+            "settings": format!("{settings:?}"),
+            "size": [cell.width, cell.height],
+            "background": prepared.plan.background,
+            "kept": plan.casting(),
+            "camera": [f.inv_view_proj, [f.camera_pos]],
+            "environment": f.env[1],
+            "subject": material(&f.subject, true),
+            "materials": materials,
+            "lights": lights,
+            "models": models,
+        }))
+    }
+}
+
+/// The sky as either truth backend samples it: an ENV_WIDTH × ENV_WIDTH/2 equirect.
+pub(super) fn truth_sky(scene: &crate::spec::scene::Scene) -> crate::environment::prefilter::EquirectImage {
+    let radiance = |d: DVec3| crate::environment::sky::radiance(&scene.environment.sky, d);
+    let w = crate::render::truth::ENV_WIDTH;
+    crate::environment::prefilter::EquirectImage::sample(&radiance, w, w / 2, 2)
+}
+
+/// The meshes a cell keeps (`kept`, per object) in world space with their BVH, for either backend.
+pub(super) fn truth_geometry(
+    prepared: &PreparedScene,
+    kept: &[bool],
+) -> Result<crate::render::truth::bvh::TruthGeometry, Error> {
+    let mut meshes = procedural::build_scene(&prepared.scene)?;
+    meshes.extend(procedural::lod_meshes(&prepared.scene)?.into_iter().map(|(_, _, m)| m));
+    let objects = prepared.objects.iter().zip(&meshes).enumerate().filter(|(i, _)| kept[*i]);
+    Ok(crate::render::truth::bvh::TruthGeometry::build(objects.map(|(i, (o, m))| (i as u32, m, o.model))))
+}
