@@ -70,6 +70,31 @@ pub fn relative_mse(reference: &[f32], test: &[f32]) -> Option<f64> {
     (n > 0).then(|| sum / n as f64)
 }
 
+/// What a reference's noise adds to `relative_mse` against it, in expectation: E[(t − r̂)²] =
+/// (t − r)² + Var r̂, so the mean over pixels and channels of se² / (r² + ε), with `std_error`
+/// the standard error of each pixel's luminance (RGBA, in R) standing for each channel's.
+pub fn relative_mse_noise(reference: &[f32], std_error: &[f32]) -> Option<f64> {
+    let lum = |p: &[f32]| 0.2126 * p[0] as f64 + 0.7152 * p[1] as f64 + 0.0722 * p[2] as f64;
+    let finite = |p: &&[f32]| p[..3].iter().all(|v| v.is_finite());
+    let lums: Vec<f64> = reference.chunks_exact(4).filter(finite).map(lum).collect();
+    let mean = lums.iter().sum::<f64>() / lums.len().max(1) as f64;
+    if mean <= 0.0 {
+        return None;
+    }
+    let eps = 0.01 * mean * mean;
+    let (mut sum, mut n) = (0.0, 0usize);
+    for (r, se) in reference.chunks_exact(4).zip(std_error.chunks_exact(4)) {
+        let var = (se[0] as f64).powi(2);
+        for &r in &r[..3] {
+            if r.is_finite() && var.is_finite() {
+                sum += var / (r as f64 * r as f64 + eps);
+                n += 1;
+            }
+        }
+    }
+    (n > 0).then(|| sum / n as f64)
+}
+
 /// PSNR in dB for a peak value; None when the images are identical (infinite PSNR).
 pub fn psnr(rmse: f64, peak: f64) -> Option<f64> {
     (rmse > 0.0).then(|| 20.0 * (peak / rmse).log10())
@@ -78,6 +103,38 @@ pub fn psnr(rmse: f64, peak: f64) -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A noisy reference of known standard error against the exact image: its measured relMSE is
+    /// what `relative_mse_noise` says the noise adds.
+    #[test]
+    fn a_references_noise_adds_what_relative_mse_noise_says() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut uniform = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let n = 20_000;
+        let exact: Vec<f32> = (0..n).flat_map(|i| [0.5 + (i % 7) as f32 * 0.1, 0.4, 0.3, 1.0]).collect();
+        let se: Vec<f32> = (0..n).flat_map(|i| [0.01 + (i % 3) as f32 * 0.01; 4]).collect();
+        let noisy: Vec<f32> = exact
+            .chunks_exact(4)
+            .zip(se.chunks_exact(4))
+            .flat_map(|(p, s)| {
+                let mut q = [p[0], p[1], p[2], 1.0];
+                for c in q.iter_mut().take(3) {
+                    let (u1, u2) = (uniform().max(1e-12), uniform());
+                    let g = (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos();
+                    *c += (g * s[0] as f64) as f32;
+                }
+                q
+            })
+            .collect();
+        let measured = relative_mse(&noisy, &exact).unwrap();
+        let predicted = relative_mse_noise(&noisy, &se).unwrap();
+        assert!((measured / predicted - 1.0).abs() < 0.05, "measured {measured:.3e}, predicted {predicted:.3e}");
+    }
 
     #[test]
     fn rmse_psnr_and_counts() {

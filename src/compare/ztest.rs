@@ -20,6 +20,10 @@ pub struct ZTest {
     pub image_rejects: bool,
     /// Mean |z| over pixels with a finite z.
     pub mean_abs_z: f64,
+    /// What the truth's own noise adds to the relative MSE against it, in expectation
+    /// (compare::stats::relative_mse_noise): the error bar of that relMSE.
+    #[serde(default)]
+    pub noise_relative_mse: Option<f64>,
 }
 
 /// The two-sided critical value of the standard normal for `alpha` (Acklam's inverse normal,
@@ -103,6 +107,7 @@ pub fn ztest(image: &[f32], truth: &[f32], std_error: &[f32], alpha: f64) -> ZTe
         rejected: rejected as f64 / n.max(1) as f64,
         image_rejects: worst > bonferroni,
         mean_abs_z: if finite > 0 { sum / finite as f64 } else { 0.0 },
+        noise_relative_mse: super::stats::relative_mse_noise(truth, std_error),
     }
 }
 

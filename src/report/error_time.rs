@@ -1,6 +1,9 @@
-//! Error against run time, per composition: each cell's LDR-FLIP mean against its reference next
-//! to its GPU time (CPU wall time where the adapter has no timestamp queries, labelled), as
+//! Error against run time, per composition: each cell's error against its reference next to its
+//! GPU time (CPU wall time where the adapter has no timestamp queries, labelled), as
 //! tables/error_vs_time.md|csv and plots/error_vs_time_<composition>.svg with the Pareto front.
+//! The error is the LDR-FLIP mean; where every cell of a composition is compared with its
+//! path-traced truth it is the linear images' relative MSE — the physical error, not the display
+//! transforms' — with the truth's own noise as its error bar (`ZTest::noise_relative_mse`).
 
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -16,6 +19,10 @@ pub struct Point {
     pub label: String,
     pub time_ms: f64,
     pub flip: f64,
+    /// The plotted error (`ErrorMeasure`), on which the Pareto front is.
+    pub error: f64,
+    /// What the truth's noise adds to `error` in expectation (relMSE against a truth only).
+    pub error_bar: Option<f64>,
     pub pareto: bool,
     /// The other errors, where measured: SSIM of the PNGs, HDR-FLIP of the EXRs, and against a
     /// truth the share of pixels its Z-test rejects.
@@ -24,6 +31,8 @@ pub struct Point {
     /// The linear images' relative MSE (compare::stats::relative_mse).
     pub relative_mse: Option<f64>,
     pub z_rejected: Option<f64>,
+    /// Against a truth: what its noise adds to the relMSE in expectation.
+    pub truth_noise: Option<f64>,
     /// What the cell was compared with (its reference's label).
     pub reference: String,
 }
@@ -31,19 +40,36 @@ pub struct Point {
 /// Points not dominated by another (no other is at most as slow and at most as wrong, and better in one).
 pub fn mark_pareto(points: &mut [Point]) {
     for i in 0..points.len() {
-        let (t, e) = (points[i].time_ms, points[i].flip);
-        points[i].pareto = !points.iter().any(|q| q.time_ms <= t && q.flip <= e && (q.time_ms < t || q.flip < e));
+        let (t, e) = (points[i].time_ms, points[i].error);
+        points[i].pareto = !points.iter().any(|q| q.time_ms <= t && q.error <= e && (q.time_ms < t || q.error < e));
     }
 }
 
-/// The scatter of `points` (time against FLIP mean) with the Pareto front dashed in red and
-/// labelled, drawn with plotters' SVG backend.
-pub fn svg(title: &str, time_label: &str, points: &[Point]) -> Result<String, Error> {
+/// What a composition's points plot as their error.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ErrorMeasure {
+    Flip,
+    /// Every point is against its truth and has a relMSE.
+    TruthRelativeMse,
+}
+
+impl ErrorMeasure {
+    pub fn axis(self) -> &'static str {
+        match self {
+            ErrorMeasure::Flip => "FLIP mean against the reference",
+            ErrorMeasure::TruthRelativeMse => "relative MSE against the truth (bar: ± its noise)",
+        }
+    }
+}
+
+/// The scatter of `points` (time against error) with the Pareto front dashed in red and
+/// labelled, each point's error bar where it has one, drawn with plotters' SVG backend.
+pub fn svg(title: &str, time_label: &str, measure: ErrorMeasure, points: &[Point]) -> Result<String, Error> {
     use plotters::prelude::*;
     let what = format!("the plot `{title}`");
     let fail = |e: &dyn std::fmt::Display| super::plot_style::failed(&what, e);
     let tmax = points.iter().map(|p| p.time_ms).fold(0.0f64, f64::max).max(1e-3) * 1.1;
-    let emax = points.iter().map(|p| p.flip).fold(0.0f64, f64::max).max(1e-3) * 1.1;
+    let emax = points.iter().map(|p| p.error + p.error_bar.unwrap_or(0.0)).fold(0.0f64, f64::max).max(1e-3) * 1.1;
     let (red, blue) = (super::plot_style::PALETTE[3], super::plot_style::PALETTE[0]);
     let mut out = String::new();
     {
@@ -59,7 +85,7 @@ pub fn svg(title: &str, time_label: &str, points: &[Point]) -> Result<String, Er
         chart
             .configure_mesh()
             .x_desc(time_label)
-            .y_desc("FLIP mean against the reference")
+            .y_desc(measure.axis())
             .light_line_style(WHITE)
             .draw()
             .map_err(|e| fail(&e))?;
@@ -68,7 +94,7 @@ pub fn svg(title: &str, time_label: &str, points: &[Point]) -> Result<String, Er
         if front.len() > 1 {
             chart
                 .draw_series(DashedLineSeries::new(
-                    front.iter().map(|p| (p.time_ms, p.flip)),
+                    front.iter().map(|p| (p.time_ms, p.error)),
                     4,
                     3,
                     red.stroke_width(2),
@@ -77,12 +103,18 @@ pub fn svg(title: &str, time_label: &str, points: &[Point]) -> Result<String, Er
         }
         let colour = |p: &Point| if p.pareto { red } else { blue };
         chart
-            .draw_series(points.iter().map(|p| Circle::new((p.time_ms, p.flip), 4, colour(p).filled())))
+            .draw_series(points.iter().filter_map(|p| {
+                let bar = p.error_bar?;
+                Some(ErrorBar::new_vertical(p.time_ms, (p.error - bar).max(0.0), p.error, p.error + bar, colour(p), 6))
+            }))
+            .map_err(|e| fail(&e))?;
+        chart
+            .draw_series(points.iter().map(|p| Circle::new((p.time_ms, p.error), 4, colour(p).filled())))
             .map_err(|e| fail(&e))?;
         // Labels on the front only: dense clusters would bury them; the table lists every point.
         chart
             .draw_series(front.iter().map(|p| {
-                EmptyElement::at((p.time_ms, p.flip))
+                EmptyElement::at((p.time_ms, p.error))
                     + Text::new(
                         p.label.clone(),
                         (6, -12),
@@ -97,8 +129,10 @@ pub fn svg(title: &str, time_label: &str, points: &[Point]) -> Result<String, Er
     Ok(out)
 }
 
-/// Build per-composition points; cells without a reference or a time are left out and counted.
-pub fn points(run: &RunData) -> (BTreeMap<String, Vec<Point>>, bool, usize) {
+/// Build per-composition points, each with the composition's measure; cells without a reference
+/// or a time are left out and counted.
+#[allow(clippy::type_complexity)]
+pub fn points(run: &RunData) -> (BTreeMap<String, (ErrorMeasure, Vec<Point>)>, bool, usize) {
     let gpu = run.cells.iter().any(|c| c.gpu_median_ms().is_some());
     let mut by: BTreeMap<String, Vec<Point>> = BTreeMap::new();
     let mut skipped = 0;
@@ -111,19 +145,33 @@ pub fn points(run: &RunData) -> (BTreeMap<String, Vec<Point>>, bool, usize) {
                 label: format!("{}/{}", c.pipeline.name(), c.shader),
                 time_ms,
                 flip,
+                error: flip,
+                error_bar: None,
                 pareto: false,
                 ssim: c.metrics.ldr_ssim(),
                 hdr_flip: c.metrics.hdr_flip(),
                 relative_mse: c.metrics.hdr_relative_mse(),
                 z_rejected: c.metrics.ztest.as_ref().and_then(|z| z.value()).map(|z| z.rejected),
+                truth_noise: c.metrics.ztest.as_ref().and_then(|z| z.value()).and_then(|z| z.noise_relative_mse),
                 reference: c.metrics.reference.value().map_or_else(String::new, |r| r.label()),
             }),
             _ => skipped += 1,
         }
     }
-    for pts in by.values_mut() {
-        mark_pareto(pts);
-    }
+    let by = by
+        .into_iter()
+        .map(|(comp, mut pts)| {
+            let truth = pts.iter().all(|p| p.relative_mse.is_some() && p.truth_noise.is_some());
+            let measure = if truth { ErrorMeasure::TruthRelativeMse } else { ErrorMeasure::Flip };
+            if truth {
+                for p in &mut pts {
+                    (p.error, p.error_bar) = (p.relative_mse.unwrap_or(p.flip), p.truth_noise);
+                }
+            }
+            mark_pareto(&mut pts);
+            (comp, (measure, pts))
+        })
+        .collect();
     (by, gpu, skipped)
 }
 
@@ -134,20 +182,20 @@ pub fn write(run: &RunData) -> Result<(), Error> {
     } else {
         "CPU wall time, ms (no timestamp queries on this adapter)"
     };
-    let mut md = format!("# Error against run time\n\nAdapter: **{}**. Time: {time_label}. Error: LDR-FLIP mean against each cell's reference (the Pareto front is on it), with SSIM, HDR-FLIP, the linear images' relative MSE and, against a path-traced truth, the share of pixels its Z-test rejects (`—`: not measured). {skipped} cells have no reference (or no time) and are left out.\n", run.adapter());
+    let mut md = format!("# Error against run time\n\nAdapter: **{}**. Time: {time_label}. Error: LDR-FLIP mean against each cell's reference, with SSIM, HDR-FLIP, the linear images' relative MSE and, against a path-traced truth, the share of pixels its Z-test rejects and the truth's noise: what it adds to the relMSE in expectation (`—`: not measured). The Pareto front is on the FLIP mean, or on the relMSE where every cell of the composition is compared with its truth. {skipped} cells have no reference (or no time) and are left out.\n", run.adapter());
     let mut csv = String::from(
-        "composition,cell,pipeline_shader,reference,time_ms,flip_mean,ssim_mean,hdr_flip_mean,relative_mse,z_rejected,pareto\n",
+        "composition,cell,pipeline_shader,reference,time_ms,flip_mean,ssim_mean,hdr_flip_mean,relative_mse,truth_noise_relative_mse,z_rejected,pareto\n",
     );
     let opt = |v: Option<f64>, digits: usize| v.map_or("—".to_string(), |v| format!("{v:.digits$}"));
     let raw = |v: Option<f64>| v.map_or(String::new(), |v| v.to_string());
-    for (comp, pts) in &by {
-        let _ = writeln!(md, "\n## {comp}\n\n![error vs time](../plots/error_vs_time_{comp}.svg)\n\n| cell | reference | time (ms) | FLIP mean | SSIM | HDR-FLIP | relMSE | Z-test rejects | Pareto |\n|---|---|---|---|---|---|---|---|---|");
+    for (comp, (measure, pts)) in &by {
+        let _ = writeln!(md, "\n## {comp}\n\n![error vs time](../plots/error_vs_time_{comp}.svg)\n\nPareto front on: {}.\n\n| cell | reference | time (ms) | FLIP mean | SSIM | HDR-FLIP | relMSE | truth noise | Z-test rejects | Pareto |\n|---|---|---|---|---|---|---|---|---|---|", measure.axis());
         let mut sorted: Vec<&Point> = pts.iter().collect();
         sorted.sort_by(|a, b| a.time_ms.total_cmp(&b.time_ms));
         for p in sorted {
             let _ = writeln!(
                 md,
-                "| `{}` | {} | {:.3} | {:.5} | {} | {} | {} | {} | {} |",
+                "| `{}` | {} | {:.3} | {:.5} | {} | {} | {} | {} | {} | {} |",
                 p.id,
                 p.reference,
                 p.time_ms,
@@ -155,12 +203,13 @@ pub fn write(run: &RunData) -> Result<(), Error> {
                 opt(p.ssim, 4),
                 opt(p.hdr_flip, 4),
                 opt(p.relative_mse, 4),
+                opt(p.truth_noise, 4),
                 opt(p.z_rejected, 3),
                 if p.pareto { "●" } else { "" }
             );
             let _ = writeln!(
                 csv,
-                "{comp},{},{},\"{}\",{},{},{},{},{},{},{}",
+                "{comp},{},{},\"{}\",{},{},{},{},{},{},{},{}",
                 p.id,
                 p.label,
                 p.reference,
@@ -169,13 +218,14 @@ pub fn write(run: &RunData) -> Result<(), Error> {
                 raw(p.ssim),
                 raw(p.hdr_flip),
                 raw(p.relative_mse),
+                raw(p.truth_noise),
                 raw(p.z_rejected),
                 p.pareto
             );
         }
         write_atomic(
             &run.dir.join("plots").join(format!("error_vs_time_{comp}.svg")),
-            svg(&format!("{comp}: error against run time"), time_label, pts)?.as_bytes(),
+            svg(&format!("{comp}: error against run time"), time_label, *measure, pts)?.as_bytes(),
         )?;
     }
     write_atomic(&run.dir.join("tables/error_vs_time.md"), md.as_bytes())?;
@@ -193,18 +243,21 @@ mod tests {
             label: String::new(),
             time_ms: t,
             flip: e,
+            error: e,
+            error_bar: Some(e / 10.0),
             pareto: false,
             ssim: None,
             hdr_flip: None,
             relative_mse: None,
             z_rejected: None,
+            truth_noise: None,
             reference: String::new(),
         };
         let mut pts = vec![p(1.0, 0.5), p(2.0, 0.2), p(3.0, 0.3), p(4.0, 0.1), p(2.0, 0.2)];
         mark_pareto(&mut pts);
         let front: Vec<bool> = pts.iter().map(|q| q.pareto).collect();
         assert_eq!(front, vec![true, true, false, true, true]);
-        let plot = svg("t <&>", "ms", &pts).unwrap();
+        let plot = svg("t <&>", "ms", ErrorMeasure::TruthRelativeMse, &pts).unwrap();
         assert!(plot.starts_with("<svg") && plot.contains("<circle") && plot.contains("t &lt;&amp;&gt;"), "{plot}");
     }
 }
