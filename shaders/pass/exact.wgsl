@@ -79,10 +79,10 @@ fn environment_exact(s: Surface, n: vec3<f32>, v: vec3<f32>) -> vec3<f32> {
         let e = sample_env();
         if (e.w > 0.0) {
             let f = exact_response(s, n, v, e.xyz);
-            c += f * env_radiance(e.xyz) / e.w * power_heuristic(e.w, surface_pdf(s, n, v, e.xyz));
+            c += f * env_radiance(e.xyz) / e.w * power_heuristic(e.w, surface_pdf(s, specular_share(s), n, v, e.xyz));
         }
-        let l = sample_surface(s, n, v);
-        let pdf = surface_pdf(s, n, v, l);
+        let l = sample_surface(s, specular_share(s), n, v);
+        let pdf = surface_pdf(s, specular_share(s), n, v, l);
         if (pdf > 0.0) {
             let f = exact_response(s, n, v, l);
             c += f * env_radiance(l) / pdf * power_heuristic(pdf, env_pdf(l));

@@ -231,8 +231,8 @@ fn ggx_g1(nv: f32, a: f32) -> f32 {
     return 2.0 * nv / (nv + sqrt(a2 + (1.0 - a2) * nv * nv));
 }
 
-// The density of `sample_surface` for l (solid angle)
-fn surface_pdf(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> f32 {
+// The density of `sample_surface` for l (solid angle), k the GGX share
+fn surface_pdf(s: Surface, k: f32, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> f32 {
     let nl = dot(n, l);
     let nv = dot(n, v);
     if (nl <= 0.0 || nv <= 0.0) {
@@ -240,16 +240,16 @@ fn surface_pdf(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> f32 {
     }
     let a = ggx_alpha(s);
     let h = normalize(v + l);
-    let spec = d_ggx(dot(n, h), a) * ggx_g1(nv, a) / (4.0 * nv);
-    let k = specular_share(s);
+    let spec = select(0.0, d_ggx(dot(n, h), a) * ggx_g1(nv, a) / (4.0 * nv), k > 0.0);
     return k * spec + (1.0 - k) * nl * INV_PI;
 }
 
-fn sample_surface(s: Surface, n: vec3<f32>, v: vec3<f32>) -> vec3<f32> {
+// A continuation: the cosine lobe, or GGX visible normals with probability k
+fn sample_surface(s: Surface, k: f32, n: vec3<f32>, v: vec3<f32>) -> vec3<f32> {
     let frame_n = basis(n);
     let u1 = random();
     let u2 = random();
-    if (random() >= specular_share(s)) {
+    if (random() >= k) {
         let r = sqrt(u1);
         let phi = 2.0 * PI * u2;
         return frame_n * vec3<f32>(r * cos(phi), r * sin(phi), sqrt(max(0.0, 1.0 - u1)));

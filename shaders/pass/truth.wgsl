@@ -34,6 +34,9 @@ struct TruthObject {
 // 0: `same-brdf` (each surface's own model, the pipeline's falloff); 1: `physical` (one physical
 // model for every surface, inverse-square falloff; truth_physical.wgsl)
 override TRUTH_KIND: u32 = 0u;
+// 1 where the subject's (fixed objects') model is diffuse only (SurfaceTwin::diffuse_only)
+override SUBJECT_DIFFUSE_ONLY: u32 = 0u;
+override FIXED_DIFFUSE_ONLY: u32 = 0u;
 
 // ---- Surfaces.
 
@@ -159,10 +162,18 @@ fn direct_light(sp: SurfacePoint, v: vec3<f32>) -> vec3<f32> {
         let l = e.xyz;
         let f = response(sp, v, l);
         if (e.w > 0.0 && any(f > vec3<f32>(0.0)) && !occluded(origin, l, 3.4e38)) {
-            c += f * env_radiance(l) / e.w * power_heuristic(e.w, surface_pdf(sp.s, sp.n, v, l));
+            c += f * env_radiance(l) / e.w * power_heuristic(e.w, surface_pdf(sp.s, lobe_share(sp), sp.n, v, l));
         }
     }
     return c;
+}
+
+// The GGX share of a point's continuations: none for a same-brdf truth's diffuse-only model,
+// else specular_share — each bounce sampled from the model's own lobes (cpu.rs `lobe_share`)
+fn lobe_share(sp: SurfacePoint) -> f32 {
+    let subject = objects[sp.object].flags.x == 1u;
+    let diffuse = select(FIXED_DIFFUSE_ONLY, SUBJECT_DIFFUSE_ONLY, subject) == 1u;
+    return select(specular_share(sp.s), 0.0, TRUTH_KIND == 0u && diffuse);
 }
 
 // One path from the camera through pixel `pixel`
@@ -199,8 +210,9 @@ fn path(pixel: vec2<u32>) -> vec3<f32> {
         }
         let v = -d;
         c += throughput * direct_light(sp, v);
-        let l = sample_surface(sp.s, sp.n, v);
-        let pdf = surface_pdf(sp.s, sp.n, v, l);
+        let k = lobe_share(sp);
+        let l = sample_surface(sp.s, k, sp.n, v);
+        let pdf = surface_pdf(sp.s, k, sp.n, v, l);
         if (pdf <= 0.0) {
             break;
         }

@@ -38,6 +38,7 @@ impl Renderer {
                 &source,
                 id,
                 settings.kind,
+                [cell.model, &fixed_model].map(|m| m.twin.is_some_and(|t| t.diffuse_only())),
             )?;
             self.truth_pipelines.insert(key.clone(), p);
         }

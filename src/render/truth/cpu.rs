@@ -334,6 +334,8 @@ fn basis(n: DVec3) -> [DVec3; 3] {
     [DVec3::new(1.0 + s * n.x * n.x * a, s * b, -s * n.x), DVec3::new(b, s + n.y * n.y * a, -n.y), n]
 }
 
+/// The share of continuations drawn from the GGX lobe (rays.wgsl `specular_share`) for a model
+/// with a specular lobe; `Tracer::lobe_share` gives diffuse-only models none.
 fn specular_share(s: &Surface) -> f64 {
     (0.25 + 0.5 * s.smoothness * (0.5 + 0.5 * s.metallic)).clamp(0.1, 0.9)
 }
@@ -348,16 +350,15 @@ fn ggx_g1(nv: f64, a: f64) -> f64 {
     2.0 * nv / (nv + (a2 + (1.0 - a2) * nv * nv).sqrt())
 }
 
-/// The density of `sample_surface` for l (solid angle).
-fn surface_pdf(s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> f64 {
+/// The density of `sample_surface` for l (solid angle), `k` the GGX share.
+fn surface_pdf(s: &Surface, k: f64, n: DVec3, v: DVec3, l: DVec3) -> f64 {
     let (nl, nv) = (n.dot(l), n.dot(v));
     if nl <= 0.0 || nv <= 0.0 {
         return 0.0;
     }
     let a = ggx_alpha(s);
     let h = (v + l).normalize();
-    let spec = crate::shading::twin::d_ggx(n.dot(h), a) * ggx_g1(nv, a) / (4.0 * nv);
-    let k = specular_share(s);
+    let spec = if k > 0.0 { crate::shading::twin::d_ggx(n.dot(h), a) * ggx_g1(nv, a) / (4.0 * nv) } else { 0.0 };
     k * spec + (1.0 - k) * nl / PI
 }
 
@@ -365,11 +366,11 @@ fn reflect(i: DVec3, n: DVec3) -> DVec3 {
     i - 2.0 * n.dot(i) * n
 }
 
-fn sample_surface(s: &Surface, n: DVec3, v: DVec3, rng: &mut Rng) -> DVec3 {
+fn sample_surface(s: &Surface, k: f64, n: DVec3, v: DVec3, rng: &mut Rng) -> DVec3 {
     let [t, b, nn] = basis(n);
     let to_world = |x: DVec3| t * x.x + b * x.y + nn * x.z;
     let (u1, u2) = (rng.next(), rng.next());
-    if rng.next() >= specular_share(s) {
+    if rng.next() >= k {
         let r = u1.sqrt();
         let phi = 2.0 * PI * u2;
         return to_world(DVec3::new(r * phi.cos(), r * phi.sin(), (1.0 - u1).max(0.0).sqrt()));
@@ -446,6 +447,16 @@ impl Tracer<'_> {
         }
     }
 
+    /// The GGX share of this point's continuations: none for a diffuse-only model (a same-brdf
+    /// truth's Lambert), else `specular_share` — sampling from the model's own lobes.
+    fn lobe_share(&self, sp: &SurfacePoint) -> f64 {
+        let twin = if self.inputs.materials[sp.object].1 { self.inputs.subject_twin } else { self.inputs.fixed_twin };
+        match self.inputs.kind {
+            TruthKind::SameBrdf if twin.is_some_and(|t| t.diffuse_only()) => 0.0,
+            _ => specular_share(&sp.s),
+        }
+    }
+
     /// f·NL at a point: the subject's or the fixed objects' model without the pipeline's
     /// irradiance per intensity, or the physical model (truth.wgsl `response`).
     fn response(&self, sp: &SurfacePoint, v: DVec3, l: DVec3, min_roughness: f64) -> DVec3 {
@@ -485,7 +496,7 @@ impl Tracer<'_> {
             let f = self.response(sp, v, l, NO_LIGHT_FLOOR);
             if pdf > 0.0 && f.max_element() > 0.0 && !self.scene.occluded(origin, l, f64::INFINITY) {
                 let radiance = self.scene.environment.radiance(l) * self.env_scale;
-                c += f * radiance / pdf * power_heuristic(pdf, surface_pdf(&sp.s, sp.n, v, l));
+                c += f * radiance / pdf * power_heuristic(pdf, surface_pdf(&sp.s, self.lobe_share(sp), sp.n, v, l));
             }
         }
         c
@@ -526,8 +537,9 @@ impl Tracer<'_> {
             }
             let v = -d;
             c += throughput * self.direct_light(&sp, v, rng);
-            let l = sample_surface(&sp.s, sp.n, v, rng);
-            let pdf = surface_pdf(&sp.s, sp.n, v, l);
+            let k = self.lobe_share(&sp);
+            let l = sample_surface(&sp.s, k, sp.n, v, rng);
+            let pdf = surface_pdf(&sp.s, k, sp.n, v, l);
             if pdf <= 0.0 {
                 break;
             }
@@ -633,8 +645,10 @@ mod tests {
             for j in 0..steps_p {
                 let phi = (j as f64 + 0.5) / steps_p as f64 * 2.0 * PI;
                 let l = DVec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos());
-                total +=
-                    surface_pdf(&s, n, v, l) * theta.sin() * (PI / 2.0 / steps_t as f64) * (2.0 * PI / steps_p as f64);
+                total += surface_pdf(&s, specular_share(&s), n, v, l)
+                    * theta.sin()
+                    * (PI / 2.0 / steps_t as f64)
+                    * (2.0 * PI / steps_p as f64);
             }
         }
         assert!(total > 0.95 && total <= 1.001, "{total}");
@@ -649,8 +663,8 @@ mod tests {
         let mut rng = Rng::new(7, 1);
         let (mut sum, count) = (0.0, 200_000);
         for _ in 0..count {
-            let l = sample_surface(&s, n, v, &mut rng);
-            let pdf = surface_pdf(&s, n, v, l);
+            let l = sample_surface(&s, specular_share(&s), n, v, &mut rng);
+            let pdf = surface_pdf(&s, specular_share(&s), n, v, l);
             if l.z > 0.0 && pdf > 0.0 {
                 sum += 1.0 / pdf;
             }

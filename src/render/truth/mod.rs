@@ -149,11 +149,17 @@ impl TruthPipeline {
         source: &str,
         pipeline_id: u32,
         kind: TruthKind,
+        diffuse_only: [bool; 2],
     ) -> Result<TruthPipeline, Error> {
         let device = &gpu.device;
         let module = gpu.shader_module("truth", source)?;
         let layout = group_layout(device, gpu.constants);
-        let constants = [("PIPELINE", pipeline_id as f64), ("TRUTH_KIND", (kind == TruthKind::Physical) as u32 as f64)];
+        let constants = [
+            ("PIPELINE", pipeline_id as f64),
+            ("TRUTH_KIND", (kind == TruthKind::Physical) as u32 as f64),
+            ("SUBJECT_DIFFUSE_ONLY", diffuse_only[0] as u32 as f64),
+            ("FIXED_DIFFUSE_ONLY", diffuse_only[1] as u32 as f64),
+        ];
         let pipeline =
             ray_compute_pipeline(device, "truth", &module, [frame_layout, &layout, ray_layout], "cs_truth", &constants);
         gpu.check_errors("creating the truth pipeline")?;

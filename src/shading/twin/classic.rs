@@ -49,6 +49,10 @@ pub fn spec_blinn_phong(n: DVec3, v: DVec3, l: DVec3, shininess: f64, normalized
 pub struct HalfLambert;
 
 impl SurfaceTwin for HalfLambert {
+    fn diffuse_only(&self) -> bool {
+        true
+    }
+
     fn direct(&self, p: Pipeline, s: &Surface, n: DVec3, _v: DVec3, l: DVec3) -> DVec3 {
         super::lambert::fd_lambert(s.base_color) * e_per_i(p) * half_lambert_wrap(n.dot(l))
     }
@@ -106,6 +110,10 @@ pub fn cos_azimuth_difference(n: DVec3, v: DVec3, l: DVec3, nl: f64, nv: f64) ->
 }
 
 impl SurfaceTwin for OrenNayar {
+    fn diffuse_only(&self) -> bool {
+        true
+    }
+
     fn direct(&self, p: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
         let nl = n.dot(l);
         if nl <= 0.0 {

@@ -13,6 +13,10 @@ pub fn fd_lambert(albedo: DVec3) -> DVec3 {
 pub struct Lambert;
 
 impl SurfaceTwin for Lambert {
+    fn diffuse_only(&self) -> bool {
+        true
+    }
+
     fn direct(&self, p: Pipeline, s: &Surface, n: DVec3, _v: DVec3, l: DVec3) -> DVec3 {
         fd_lambert(s.base_color) * irradiance_per_intensity(p) * n.dot(l).max(0.0)
     }

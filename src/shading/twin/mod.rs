@@ -79,6 +79,11 @@ pub trait SurfaceTwin: Sync {
         gi_diffuse: DVec3,
         gi_specular: DVec3,
     ) -> DVec3;
+    /// Whether the model reflects light only diffusely (no specular lobe): a path tracer then
+    /// samples its continuations from the cosine alone (render::truth, `lobe_share`).
+    fn diffuse_only(&self) -> bool {
+        false
+    }
 }
 
 pub fn sat(x: f64) -> f64 {
