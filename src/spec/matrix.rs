@@ -382,6 +382,23 @@ pub struct TruthSettings {
     pub batch: u32,
     /// Where the truth is traced (`render::truth::cpu` or the GPU's compute pass).
     pub backend: TruthBackend,
+    /// The random numbers of its paths.
+    pub sampler: TruthSampler,
+}
+
+/// `sampler` of a truth: `independent` (PCG) draws independent samples, so each pixel's sample
+/// variance gives an unbiased standard error for the Z-test; `sobol` (CPU backend) draws
+/// Owen-scrambled Sobol points (Burley 2020, the `sobol_burley` crate), lower error for the same
+/// samples, whose per-sample variance then overstates the standard error (conservative noise).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum TruthSampler {
+    #[default]
+    Independent,
+    Sobol,
+}
+
+impl TruthSampler {
+    pub const NAMES: [&'static str; 2] = ["independent", "sobol"];
 }
 
 /// `backend` of a truth: `auto` traces on the CPU when the adapter is itself a CPU (llvmpipe,
@@ -415,6 +432,7 @@ impl Default for TruthSettings {
             bounces: 2,
             batch: 16,
             backend: TruthBackend::Auto,
+            sampler: TruthSampler::Independent,
         }
     }
 }
@@ -527,16 +545,34 @@ fn parse_truth(c: &Checker, t: &toml::map::Map<String, toml::Value>) -> Result<T
                     &TruthBackend::NAMES,
                 ))
             }
+            ("sampler", toml::Value::String(s)) if TruthSampler::NAMES.contains(&s.as_str()) => {
+                settings.sampler = if s == "sobol" { TruthSampler::Sobol } else { TruthSampler::Independent }
+            }
+            ("sampler", other) => {
+                return Err(crate::input::names::unknown_name(
+                    c.file(),
+                    &at,
+                    "truth sampler",
+                    other.to_string().trim_matches('"'),
+                    &TruthSampler::NAMES,
+                ))
+            }
             (other, _) => {
                 return Err(crate::input::names::unknown_name(
                     c.file(),
                     &at,
                     "truth key",
                     other,
-                    &["truth", "spp", "noise", "bounces", "backend"],
+                    &["truth", "spp", "noise", "bounces", "backend", "sampler"],
                 ))
             }
         }
+    }
+    if settings.sampler == TruthSampler::Sobol && settings.backend == TruthBackend::Gpu {
+        return Err(c.err(
+            "reference.sampler",
+            "\"sobol\" runs on the CPU backend only: use backend = \"cpu\" or \"auto\", or sampler = \"independent\"",
+        ));
     }
     Ok(TruthSpec { settings })
 }

@@ -92,6 +92,12 @@ impl Renderer {
                     "truth backend \"cpu\" cannot trace this cell: {why}; use backend = \"gpu\" or \"auto\""
                 )))
             }
+            (TruthBackend::Auto, None) if settings.sampler == crate::spec::matrix::TruthSampler::Sobol => true,
+            (TruthBackend::Auto, Some(why)) if settings.sampler == crate::spec::matrix::TruthSampler::Sobol => {
+                return Err(Error::Other(format!(
+                    "the Sobol sampler runs on the CPU backend, which cannot trace this cell: {why}; use sampler = \"independent\""
+                )))
+            }
             (TruthBackend::Auto, why) => {
                 why.is_none() && self.gpu.adapter.get_info().device_type == wgpu::DeviceType::Cpu
             }

@@ -23,6 +23,7 @@ use crate::error::Error;
 use crate::pipelines::Pipeline;
 use crate::render::uniforms::{FrameUniforms, GpuLight, GpuMaterial};
 use crate::shading::twin::{irradiance_per_intensity, Surface, SurfaceTwin};
+use crate::spec::matrix::TruthSampler;
 
 /// Offset of a continued or shadow ray from its surface (rays.wgsl RAY_EPSILON).
 const RAY_EPSILON: f64 = 1e-4;
@@ -108,8 +109,19 @@ fn uv_direction(u: f64, v: f64) -> DVec3 {
 }
 
 /// Random numbers: PCG (O'Neill 2014) hashed from pixel and sample, on a stream of its own (the
-/// GPU's seeds differ), so that the two backends' estimates are independent.
-struct Rng(u32);
+/// GPU's seeds differ), so that the two backends' estimates are independent; or, for the
+/// `sobol` sampler, the sample's point of an Owen-scrambled Sobol sequence seeded per pixel, one
+/// dimension per draw (PCG past the sequence's dimensions).
+struct Rng {
+    state: u32,
+    sobol: Option<SobolPoint>,
+}
+
+struct SobolPoint {
+    index: u32,
+    seed: u32,
+    dimension: u32,
+}
 
 fn pcg_hash(v: u32) -> u32 {
     let state = v.wrapping_mul(747796405).wrapping_add(2891336453);
@@ -119,13 +131,22 @@ fn pcg_hash(v: u32) -> u32 {
 
 impl Rng {
     fn new(pixel: u32, sample: u32) -> Rng {
-        Rng(pcg_hash(pixel ^ pcg_hash(sample.wrapping_mul(7919).wrapping_add(0x9e37_79b9))))
+        Rng { state: pcg_hash(pixel ^ pcg_hash(sample.wrapping_mul(7919).wrapping_add(0x9e37_79b9))), sobol: None }
     }
 
-    /// Uniform in [0, 1), 32 bits.
+    fn sobol(pixel: u32, sample: u32) -> Rng {
+        let seed = pcg_hash(pixel.wrapping_add(0x2c1b_3c6d));
+        Rng { sobol: Some(SobolPoint { index: sample, seed, dimension: 0 }), ..Rng::new(pixel, sample) }
+    }
+
+    /// Uniform in [0, 1): 32 bits (PCG), 24 (Sobol).
     fn next(&mut self) -> f64 {
-        self.0 = pcg_hash(self.0);
-        self.0 as f64 * (1.0 / 4_294_967_296.0)
+        if let Some(p) = self.sobol.as_mut().filter(|p| p.dimension < sobol_burley::NUM_DIMENSIONS) {
+            p.dimension += 1;
+            return sobol_burley::sample(p.index, p.dimension - 1, p.seed) as f64;
+        }
+        self.state = pcg_hash(self.state);
+        self.state as f64 * (1.0 / 4_294_967_296.0)
     }
 }
 
@@ -590,7 +611,10 @@ pub fn trace(scene: &CpuScene, inputs: &CpuTruthInputs, settings: &TruthSettings
                 for x in 0..width as usize {
                     let index = (y * width as usize + x) as u32;
                     for k in 0..count {
-                        let mut rng = Rng::new(index, done + k);
+                        let mut rng = match settings.sampler {
+                            TruthSampler::Independent => Rng::new(index, done + k),
+                            TruthSampler::Sobol => Rng::sobol(index, done + k),
+                        };
                         let (mut c, first) = tracer.path(x as u32, y as u32, &mut rng);
                         row_roles[x] = role_of(first);
                         // A NaN or infinite sample (a model's singularity) counts as 0, as on the GPU.
