@@ -225,8 +225,9 @@ def scene_dict(folder, record):
         "type": "scene",
         "integrator": {
             "type": "path",
-            "max_depth": record["bounces"] + 2,
-            "rr_depth": record["bounces"] + 3,
+            # Every bounce under roulette past the budget (Mitsuba's own roulette, also unbiased).
+            "max_depth": -1 if record.get("roulette") else record["bounces"] + 2,
+            "rr_depth": record["bounces"] + 2 if record.get("roulette") else record["bounces"] + 3,
             "hide_emitters": not record["background"],
         },
         "sensor": {

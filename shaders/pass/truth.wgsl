@@ -187,7 +187,9 @@ fn path(pixel: vec2<u32>) -> vec3<f32> {
     var throughput = vec3<f32>(1.0);
     var c = vec3<f32>(0.0);
     var last_pdf = 0.0;
-    for (var bounce = 0u; bounce <= truth.settings.x + 1u; bounce++) {
+    // settings.z: Russian roulette past the budget, up to MAX_ROULETTE_BOUNCES (spec::matrix)
+    let last = select(truth.settings.x + 1u, 1024u, truth.settings.z == 1u);
+    for (var bounce = 0u; bounce <= last; bounce++) {
         let hit = trace(o, d, 3.4e38, false);
         if (hit.triangle == 0xffffffffu) {
             if (bounce == 0u) {
@@ -205,7 +207,7 @@ fn path(pixel: vec2<u32>) -> vec3<f32> {
         }
         c += throughput * sp.emission;
         // The last vertex only receives the environment along the continued ray (its weight)
-        if (bounce == truth.settings.x + 1u) {
+        if (bounce == last) {
             break;
         }
         let v = -d;
@@ -220,6 +222,14 @@ fn path(pixel: vec2<u32>) -> vec3<f32> {
         throughput *= response(sp, v, l) / pdf;
         if (all(throughput <= vec3<f32>(0.0))) {
             break;
+        }
+        // Past the budget, the continuation survives Russian roulette or the path ends
+        if (truth.settings.z == 1u && bounce >= truth.settings.x) {
+            let q = min(max(throughput.x, max(throughput.y, throughput.z)), 0.95);
+            if (random() >= q) {
+                break;
+            }
+            throughput /= q;
         }
         last_pdf = pdf;
         o = sp.p + sp.ng * RAY_EPSILON;

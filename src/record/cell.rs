@@ -335,8 +335,16 @@ pub enum ReferenceRecord {
     Run { run: String, cell: CellId },
     /// The cell's path-traced truth (reference.exr/png in the cell, its standard error in
     /// truth_noise.exr): which truth, and the most samples, noise target and bounces it was asked for
-    /// (what it reached: the record's `truth`).
-    Truth { truth: String, spp: u32, noise: f64, bounces: u32 },
+    /// (what it reached: the record's `truth`), and whether paths went on past them under Russian
+    /// roulette.
+    Truth {
+        truth: String,
+        spp: u32,
+        noise: f64,
+        bounces: u32,
+        #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+        roulette: bool,
+    },
 }
 
 impl ReferenceRecord {

@@ -65,6 +65,7 @@ pub fn reference_source(
                     spp: t.settings.spp,
                     noise: t.settings.noise,
                     bounces: t.settings.bounces,
+                    roulette: t.settings.roulette,
                 },
             }
         }

@@ -384,7 +384,14 @@ pub struct TruthSettings {
     pub backend: TruthBackend,
     /// The random numbers of its paths.
     pub sampler: TruthSampler,
+    /// Past `bounces`, paths go on under Russian roulette (survival min(0.95, the throughput's
+    /// largest channel), weighted by its inverse): every further bounce, unbiased, up to
+    /// `MAX_ROULETTE_BOUNCES` (a path survives that long with probability below 0.95¹⁰²⁴ ≈ 10⁻²³).
+    pub roulette: bool,
 }
+
+/// The most bounces a path under Russian roulette takes.
+pub const MAX_ROULETTE_BOUNCES: u32 = 1024;
 
 /// `sampler` of a truth: `independent` (PCG) draws independent samples, so each pixel's sample
 /// variance gives an unbiased standard error for the Z-test; `sobol` (CPU backend) draws
@@ -433,6 +440,7 @@ impl Default for TruthSettings {
             batch: 16,
             backend: TruthBackend::Auto,
             sampler: TruthSampler::Independent,
+            roulette: false,
         }
     }
 }
@@ -545,6 +553,10 @@ fn parse_truth(c: &Checker, t: &toml::map::Map<String, toml::Value>) -> Result<T
                     &TruthBackend::NAMES,
                 ))
             }
+            ("roulette", toml::Value::Boolean(b)) => settings.roulette = *b,
+            ("roulette", other) => {
+                return Err(c.err(&at, format!("{other}: true (every bounce past `bounces`, unbiased) or false")))
+            }
             ("sampler", toml::Value::String(s)) if TruthSampler::NAMES.contains(&s.as_str()) => {
                 settings.sampler = if s == "sobol" { TruthSampler::Sobol } else { TruthSampler::Independent }
             }
@@ -563,7 +575,7 @@ fn parse_truth(c: &Checker, t: &toml::map::Map<String, toml::Value>) -> Result<T
                     &at,
                     "truth key",
                     other,
-                    &["truth", "spp", "noise", "bounces", "backend", "sampler"],
+                    &["truth", "spp", "noise", "bounces", "backend", "sampler", "roulette"],
                 ))
             }
         }

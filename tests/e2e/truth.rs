@@ -504,3 +504,48 @@ fn sobol_samples_reach_a_lower_error_than_independent_ones() {
     assert!(sobol < 0.85 * independent, "sobol {sobol} against independent {independent}");
     assert!(sobol_se > sobol, "the reported noise is conservative");
 }
+
+/// Russian roulette past the bounce budget (`roulette = true`): one bounce then roulette is
+/// every bounce, unbiased — it agrees with a budget of twelve (what is left past twelve is below
+/// the noise at these albedos) and differs from a budget of one, on both backends.
+#[test]
+fn russian_roulette_past_the_budget_counts_every_bounce() {
+    use shadematrix::spec::matrix::{TruthBackend, TruthKind};
+    let scene = Scene::load("scenes/default.toml", None, "test", "composition").unwrap();
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let prepared = renderer.prepare_scene(&scene).unwrap();
+    let sliders = Sliders { base_color_linear: [0.8, 0.8, 0.8], metallic: 0.0, smoothness: 0.3 };
+    for (backend, size, spp) in [(TruthBackend::Cpu, 40, 128), (TruthBackend::Gpu, 24, 64)] {
+        let cell = crate::common::cell_params(Pipeline::Urp, "lit", sliders, (2.0, 10.0), size, RenderPath::Forward);
+        let mut subject = |bounces: u32, roulette: bool| {
+            let settings = TruthSettings {
+                kind: TruthKind::Physical,
+                spp,
+                noise: 0.0,
+                bounces,
+                backend,
+                roulette,
+                ..Default::default()
+            };
+            let t = renderer.render_truth(&prepared, &cell, &settings).unwrap();
+            let (mut sum, mut var, mut n) = (0.0, 0.0, 0.0);
+            for i in 0..t.mean.len() {
+                if t.roles[i] == 2 {
+                    sum += t.mean[i].iter().map(|&c| c as f64).sum::<f64>() / 3.0;
+                    var += (t.std_error[i] as f64).powi(2);
+                    n += 1.0;
+                }
+            }
+            (sum / n, var.sqrt() / n)
+        };
+        let (one, one_se) = subject(1, false);
+        let (twelve, twelve_se) = subject(12, false);
+        let (roulette, roulette_se) = subject(1, true);
+        let z = |a: f64, sa: f64, b: f64, sb: f64| (a - b) / (sa * sa + sb * sb).sqrt();
+        eprintln!(
+            "{backend:?}: subject mean, 1 bounce {one:.5} ± {one_se:.5}, 12 bounces {twelve:.5} ± {twelve_se:.5}, 1 + roulette {roulette:.5} ± {roulette_se:.5}"
+        );
+        assert!(z(roulette, roulette_se, twelve, twelve_se).abs() < 4.0, "{backend:?}: roulette against 12 bounces");
+        assert!(z(twelve, twelve_se, one, one_se) > 6.0, "{backend:?}: more bounces must add light here");
+    }
+}

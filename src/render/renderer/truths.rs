@@ -186,7 +186,7 @@ impl Renderer {
             .map(|i| objects.get(i).map_or_else(|| format!("lod mesh {}", i - objects.len()), |o| o.name.clone()))
             .collect();
         self.with_cpu_truth(prepared, cell, &fixed_model, settings, |scene, inputs| {
-            crate::render::truth::export::export(scene, inputs, &names, truth)
+            crate::render::truth::export::export(scene, inputs, &names, truth, settings.roulette)
         })
     }
 

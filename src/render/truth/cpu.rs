@@ -429,6 +429,7 @@ struct Tracer<'a> {
     env_scale: f64,
     subject: GpuMaterial,
     bounces: u32,
+    roulette: bool,
 }
 
 impl Tracer<'_> {
@@ -536,7 +537,8 @@ impl Tracer<'_> {
         let mut last_pdf = 0.0;
         let mut first = None;
         let env = &self.scene.environment;
-        for bounce in 0..=self.bounces + 1 {
+        let last = if self.roulette { crate::spec::matrix::MAX_ROULETTE_BOUNCES } else { self.bounces + 1 };
+        for bounce in 0..=last {
             let Some(hit) = self.scene.trace(o, d, f64::INFINITY) else {
                 if bounce == 0 {
                     if self.inputs.background {
@@ -553,7 +555,7 @@ impl Tracer<'_> {
             }
             c += throughput * sp.emission;
             // The last vertex only receives the environment along the continued ray (its weight).
-            if bounce == self.bounces + 1 {
+            if bounce == last {
                 break;
             }
             let v = -d;
@@ -567,6 +569,14 @@ impl Tracer<'_> {
             throughput *= self.response(&sp, v, l, NO_LIGHT_FLOOR) / pdf;
             if throughput.max_element() <= 0.0 {
                 break;
+            }
+            // Past the budget, the continuation survives Russian roulette or the path ends.
+            if self.roulette && bounce >= self.bounces {
+                let q = throughput.max_element().min(0.95);
+                if rng.next() >= q {
+                    break;
+                }
+                throughput /= q;
             }
             last_pdf = pdf;
             o = sp.p + sp.ng * RAY_EPSILON;
@@ -590,6 +600,7 @@ pub fn trace(scene: &CpuScene, inputs: &CpuTruthInputs, settings: &TruthSettings
         env_scale: f.env[1] as f64,
         subject: f.subject,
         bounces: settings.bounces,
+        roulette: settings.roulette,
     };
     let (width, height) = inputs.size;
     let pixels = (width * height) as usize;

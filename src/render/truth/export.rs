@@ -29,6 +29,10 @@ pub struct TruthSceneRecord {
     /// Continuation bounces after the camera's hit (the camera segment and the segment to a light
     /// are not counted: Mitsuba's `max_depth` is `bounces + 2`).
     pub bounces: u32,
+    /// Paths went on past `bounces` under Russian roulette (every bounce: Mitsuba's
+    /// `max_depth = -1`).
+    #[serde(default)]
+    pub roulette: bool,
     pub spp: u32,
     pub camera: ExportedCamera,
     /// Whether camera rays that miss see the sky.
@@ -154,6 +158,7 @@ pub fn export(
     inputs: &CpuTruthInputs,
     names: &[String],
     truth: &Truth,
+    roulette: bool,
 ) -> Result<TruthSceneExport, Error> {
     if inputs.kind != TruthKind::Physical {
         return Err(Error::Other(
@@ -241,6 +246,7 @@ pub fn export(
         width: truth.width,
         height: truth.height,
         bounces: truth.bounces,
+        roulette,
         spp: truth.spp,
         camera: camera(m4(f.inv_view_proj), v3(f.camera_pos)),
         background: inputs.background,

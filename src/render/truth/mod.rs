@@ -365,7 +365,7 @@ pub fn trace(
         let count = batch.min(settings.spp.max(1) - done);
         let p = TruthParams {
             dims: [width, height, done, count],
-            settings: [settings.bounces, inputs.background as u32, 0, 0],
+            settings: [settings.bounces, inputs.background as u32, settings.roulette as u32, 0],
         };
         gpu.queue.write_buffer(&params, 0, bytemuck::bytes_of(&p));
         let mut encoder = device.create_command_encoder(&Default::default());
