@@ -49,14 +49,7 @@ pub fn rmse(a: &[f64], b: &[f64]) -> f64 {
 /// Pairs where either value is not finite are skipped; None when none is left or the reference
 /// is black.
 pub fn relative_mse(reference: &[f32], test: &[f32]) -> Option<f64> {
-    let lum = |p: &[f32]| 0.2126 * p[0] as f64 + 0.7152 * p[1] as f64 + 0.0722 * p[2] as f64;
-    let finite = |p: &&[f32]| p[..3].iter().all(|v| v.is_finite());
-    let lums: Vec<f64> = reference.chunks_exact(4).filter(finite).map(lum).collect();
-    let mean = lums.iter().sum::<f64>() / lums.len().max(1) as f64;
-    if mean <= 0.0 {
-        return None;
-    }
-    let eps = 0.01 * mean * mean;
+    let eps = relative_epsilon(reference)?;
     let (mut sum, mut n) = (0.0, 0usize);
     for (r, t) in reference.chunks_exact(4).zip(test.chunks_exact(4)) {
         for c in 0..3 {
@@ -70,18 +63,21 @@ pub fn relative_mse(reference: &[f32], test: &[f32]) -> Option<f64> {
     (n > 0).then(|| sum / n as f64)
 }
 
-/// What a reference's noise adds to `relative_mse` against it, in expectation: E[(t − r̂)²] =
-/// (t − r)² + Var r̂, so the mean over pixels and channels of se² / (r² + ε), with `std_error`
-/// the standard error of each pixel's luminance (RGBA, in R) standing for each channel's.
-pub fn relative_mse_noise(reference: &[f32], std_error: &[f32]) -> Option<f64> {
+/// ε of `relative_mse`: 0.01 × the reference's mean luminance² over its finite pixels; None when
+/// the reference is black.
+fn relative_epsilon(reference: &[f32]) -> Option<f64> {
     let lum = |p: &[f32]| 0.2126 * p[0] as f64 + 0.7152 * p[1] as f64 + 0.0722 * p[2] as f64;
     let finite = |p: &&[f32]| p[..3].iter().all(|v| v.is_finite());
     let lums: Vec<f64> = reference.chunks_exact(4).filter(finite).map(lum).collect();
     let mean = lums.iter().sum::<f64>() / lums.len().max(1) as f64;
-    if mean <= 0.0 {
-        return None;
-    }
-    let eps = 0.01 * mean * mean;
+    (mean > 0.0).then(|| 0.01 * mean * mean)
+}
+
+/// What a reference's noise adds to `relative_mse` against it, in expectation: E[(t − r̂)²] =
+/// (t − r)² + Var r̂, so the mean over pixels and channels of se² / (r² + ε), with `std_error`
+/// the standard error of each pixel's luminance (RGBA, in R) standing for each channel's.
+pub fn relative_mse_noise(reference: &[f32], std_error: &[f32]) -> Option<f64> {
+    let eps = relative_epsilon(reference)?;
     let (mut sum, mut n) = (0.0, 0usize);
     for (r, se) in reference.chunks_exact(4).zip(std_error.chunks_exact(4)) {
         let var = (se[0] as f64).powi(2);

@@ -441,15 +441,21 @@ fn a_physical_truth_exports_its_scene() {
     assert!(err.contains("outputs.truth_scene") && err.contains("physical"), "{err}");
 }
 
+/// A renderer with the default composition prepared.
+fn default_room() -> (Renderer, shadematrix::render::prepared::PreparedScene) {
+    let scene = Scene::load("scenes/default.toml", None, "test", "composition").unwrap();
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let prepared = renderer.prepare_scene(&scene).unwrap();
+    (renderer, prepared)
+}
+
 /// Each bounce is sampled from the cell's own model's lobes: a Lambert same-brdf truth draws its
 /// continuations from the cosine alone, so its noise does not grow with a smoothness it ignores
 /// (it had 3× the variance at 0.75 when continuations followed a GGX lobe chosen from smoothness).
 #[test]
 fn a_lambert_truths_noise_does_not_depend_on_smoothness() {
     use shadematrix::spec::matrix::TruthBackend;
-    let scene = Scene::load("scenes/default.toml", None, "test", "composition").unwrap();
-    let mut renderer = Renderer::new(GpuContext::new().unwrap());
-    let prepared = renderer.prepare_scene(&scene).unwrap();
+    let (mut renderer, prepared) = default_room();
     for (backend, size, spp) in [(TruthBackend::Cpu, 48, 64), (TruthBackend::Gpu, 24, 32)] {
         let noise = |smoothness: f64, renderer: &mut Renderer| {
             let sliders = Sliders { base_color_linear: [0.5, 0.5, 0.5], metallic: 0.0, smoothness };
@@ -472,9 +478,7 @@ fn a_lambert_truths_noise_does_not_depend_on_smoothness() {
 #[test]
 fn sobol_samples_reach_a_lower_error_than_independent_ones() {
     use shadematrix::spec::matrix::{TruthBackend, TruthKind, TruthSampler};
-    let scene = Scene::load("scenes/default.toml", None, "test", "composition").unwrap();
-    let mut renderer = Renderer::new(GpuContext::new().unwrap());
-    let prepared = renderer.prepare_scene(&scene).unwrap();
+    let (mut renderer, prepared) = default_room();
     let sliders = Sliders { base_color_linear: [0.284, 0.284, 0.284], metallic: 0.0, smoothness: 0.75 };
     let cell = crate::common::cell_params(Pipeline::Urp, "lit", sliders, (2.0, 10.0), 40, RenderPath::Forward);
     let base = TruthSettings {
@@ -511,9 +515,7 @@ fn sobol_samples_reach_a_lower_error_than_independent_ones() {
 #[test]
 fn russian_roulette_past_the_budget_counts_every_bounce() {
     use shadematrix::spec::matrix::{TruthBackend, TruthKind};
-    let scene = Scene::load("scenes/default.toml", None, "test", "composition").unwrap();
-    let mut renderer = Renderer::new(GpuContext::new().unwrap());
-    let prepared = renderer.prepare_scene(&scene).unwrap();
+    let (mut renderer, prepared) = default_room();
     let sliders = Sliders { base_color_linear: [0.8, 0.8, 0.8], metallic: 0.0, smoothness: 0.3 };
     for (backend, size, spp) in [(TruthBackend::Cpu, 40, 128), (TruthBackend::Gpu, 24, 64)] {
         let cell = crate::common::cell_params(Pipeline::Urp, "lit", sliders, (2.0, 10.0), size, RenderPath::Forward);
