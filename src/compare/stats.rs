@@ -70,7 +70,7 @@ fn relative_epsilon(reference: &[f32]) -> Option<f64> {
     let finite = |p: &&[f32]| p[..3].iter().all(|v| v.is_finite());
     let lums: Vec<f64> = reference.chunks_exact(4).filter(finite).map(lum).collect();
     let mean = lums.iter().sum::<f64>() / lums.len().max(1) as f64;
-    (mean > 0.0).then(|| 0.01 * mean * mean)
+    (mean > 0.0).then_some(0.01 * mean * mean)
 }
 
 /// What a reference's noise adds to `relative_mse` against it, in expectation: E[(t − r̂)²] =
