@@ -6,6 +6,7 @@ pub mod irradiance;
 pub mod prefilter;
 pub mod sh;
 pub mod sky;
+pub mod stylized_sky;
 
 use glam::DVec3;
 

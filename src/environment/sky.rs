@@ -22,6 +22,10 @@ pub fn radiance(sky: &Sky, d: DVec3) -> DVec3 {
                 e.lerp(g, -d.y)
             }
         }
+        Sky::Image { intensity, rotation_deg, image, .. } => match image {
+            Some(image) => image_radiance(image, *rotation_deg, d) * *intensity,
+            None => DVec3::ZERO,
+        },
         Sky::Procedural { sun_direction, sun_size, atmosphere_thickness, sky_tint, ground, exposure } => procedural(
             DVec3::from(*sun_direction).normalize(),
             *sun_size,
@@ -32,6 +36,27 @@ pub fn radiance(sky: &Sky, d: DVec3) -> DVec3 {
             d,
         ),
     }
+}
+
+/// An image sky along d: d turned −rotation about +Y (the image turns +rotation), its texel
+/// coordinates (`super::dir_to_uv`), bilinear between texel centres, wrapping in u and clamped in v.
+fn image_radiance(image: &crate::input::sky_image::SkyImage, rotation_deg: f64, d: DVec3) -> DVec3 {
+    let (s, c) = (-rotation_deg.to_radians()).sin_cos();
+    let d = DVec3::new(c * d.x + s * d.z, d.y, -s * d.x + c * d.z);
+    let [u, v] = super::dir_to_uv(d);
+    let (w, h) = (image.width, image.height);
+    let x = u * w as f64 - 0.5;
+    let y = (v * h as f64 - 0.5).clamp(0.0, (h - 1) as f64);
+    let (x0, y0) = (x.floor(), y.floor());
+    let (tx, ty) = (x - x0, y - y0);
+    let texel = |xi: f64, yi: f64| {
+        let xi = (xi as i64).rem_euclid(w as i64) as usize;
+        let yi = (yi as usize).min(h - 1);
+        DVec3::from(image.texels[yi * w + xi].map(f64::from))
+    };
+    let top = texel(x0, y0).lerp(texel(x0 + 1.0, y0), tx);
+    let bottom = texel(x0, y0 + 1.0).lerp(texel(x0 + 1.0, y0 + 1.0), tx);
+    top.lerp(bottom, ty)
 }
 
 /// APPROXIMATION of Unity's procedural sky (not its scattering integral): a zenith-to-horizon

@@ -3,5 +3,6 @@
 
 pub mod guard;
 pub mod names;
+pub mod sky_image;
 pub mod source;
 pub mod validate;

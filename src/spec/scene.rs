@@ -19,6 +19,11 @@ pub const BUILTIN_SCENES: [(&str, &str); 4] = [
     ("spikes", include_str!("../../scenes/spikes.toml")),
 ];
 
+/// Sky images built into the tool, by the path a built-in scene names them with (relative to
+/// scenes/): scenes/skies/stylized.exr is `environment::stylized_sky`'s bake.
+pub const BUILTIN_SKIES: [(&str, &[u8]); 1] =
+    [("skies/stylized.exr", include_bytes!("../../scenes/skies/stylized.exr"))];
+
 pub fn builtin_scene_names() -> Vec<&'static str> {
     BUILTIN_SCENES.iter().map(|(n, _)| *n).collect()
 }
@@ -548,6 +553,22 @@ pub enum Sky {
     Constant { color: [f64; 3] },
     /// Unity's trilight ambient: sky above, equator at the horizon, ground below (sRGB).
     Gradient { sky: [f64; 3], equator: [f64; 3], ground: [f64; 3] },
+    /// An equirectangular image of linear radiance (OpenEXR or Radiance HDR, 2:1; `path` relative
+    /// to the scene's folder), times `intensity`, turned `rotation_deg` about +Y. Texel (u, v) is
+    /// the direction of `environment::uv_to_dir` (u = atan2(x, −z)/2π + ½, v = acos(y)/π), looked
+    /// up bilinearly; read when the scene is loaded (`input::sky_image`).
+    Image {
+        path: String,
+        #[serde(default = "one")]
+        intensity: f64,
+        #[serde(default)]
+        rotation_deg: f64,
+        /// The file's SHA-256: serialised into keys, so that an edited image changes them.
+        #[serde(default, skip_deserializing)]
+        digest: String,
+        #[serde(skip)]
+        image: Option<std::sync::Arc<crate::input::sky_image::SkyImage>>,
+    },
     /// An analytic approximation of a procedural sky (see `environment::sky`).
     Procedural {
         /// Direction towards the sun.
@@ -602,6 +623,7 @@ impl Scene {
             let origin = format!("<built-in scene {name_or_path}>");
             let mut scene: Scene = parse_toml(&origin, text)?;
             scene.origin = origin;
+            scene.read_sky_image()?;
             scene.validate()?;
             return Ok(scene);
         }
@@ -636,8 +658,30 @@ impl Scene {
         let mut scene: Scene = crate::input::source::read_toml(path)?;
         scene.origin = path.display().to_string();
         scene.base_dir = Some(path.parent().map(Path::to_path_buf).unwrap_or_default());
+        scene.read_sky_image()?;
         scene.validate()?;
         Ok(scene)
+    }
+
+    /// An image sky's pixels: from the scene's folder, or for a built-in scene from the images
+    /// built into the tool (`BUILTIN_SKIES`).
+    fn read_sky_image(&mut self) -> Result<(), InputError> {
+        let Sky::Image { path, digest, image, .. } = &mut self.environment.sky else { return Ok(()) };
+        let at = |m: String| InputError::at_key(&self.origin, "environment.sky.path", format!("`{path}`: {m}"));
+        let read = match (&self.base_dir, BUILTIN_SKIES.iter().find(|(n, _)| n == path)) {
+            (Some(dir), _) => crate::input::sky_image::read_file(&dir.join(&*path)),
+            (None, Some((name, bytes))) => {
+                crate::input::sky_image::read_bytes(bytes, name.rsplit('.').next().unwrap_or(""))
+            }
+            (None, None) => Err(format!(
+                "a built-in scene's sky is one of the built-in images: {}",
+                BUILTIN_SKIES.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", ")
+            )),
+        }
+        .map_err(at)?;
+        *digest = read.digest.clone();
+        *image = Some(std::sync::Arc::new(read));
+        Ok(())
     }
 
     /// The glTF file the subject's mesh comes from, resolved against the scene's folder (None: a
@@ -855,6 +899,13 @@ impl Scene {
                 c.color("environment.sky.sky", *sky)?;
                 c.color("environment.sky.equator", *equator)?;
                 c.color("environment.sky.ground", *ground)?;
+            }
+            Sky::Image { path, intensity, rotation_deg, image, .. } => {
+                c.non_negative("environment.sky.intensity", *intensity)?;
+                c.finite_vector("environment.sky.rotation_deg", [*rotation_deg; 3])?;
+                if image.is_none() {
+                    return Err(c.err("environment.sky.path", format!("`{path}` was not read")));
+                }
             }
             Sky::Procedural { sun_direction, sun_size, atmosphere_thickness, sky_tint, ground, exposure } => {
                 c.nonzero_vector("environment.sky.sun_direction", *sun_direction)?;

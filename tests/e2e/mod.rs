@@ -34,6 +34,7 @@ mod reuse;
 mod shading;
 mod shadows;
 mod shards;
+mod skies;
 mod ssao;
 mod stability;
 mod study;

@@ -1,0 +1,128 @@
+//! An image sky's pixels: an equirectangular (2:1) OpenEXR or Radiance HDR image of linear
+//! radiance, read once when its scene is loaded. The header is read first, so that a huge image is
+//! refused before its pixels are decoded; a texel that is negative or not finite is refused, not
+//! clamped. Decoding is the `exr` and `image` crates'.
+
+use std::path::Path;
+
+use sha2::{Digest, Sha256};
+
+/// The most texels an image sky may have (4096 × 2048: 100 MB as f32 RGB).
+pub const MAX_SKY_TEXELS: usize = 4096 * 2048;
+/// The largest sky file read (bytes).
+const MAX_SKY_FILE: u64 = 256 << 20;
+
+/// Linear RGB texels, row-major from the top (v = 0, +Y), and the file's digest.
+#[derive(Clone, PartialEq)]
+pub struct SkyImage {
+    pub width: usize,
+    pub height: usize,
+    pub texels: Vec<[f32; 3]>,
+    /// SHA-256 of the file's bytes, hex: what keys see of the image.
+    pub digest: String,
+}
+
+impl std::fmt::Debug for SkyImage {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "SkyImage({}×{}, sha256 {})", self.width, self.height, &self.digest[..12.min(self.digest.len())])
+    }
+}
+
+/// The image at `path` (.exr or .hdr), or what is wrong with it.
+pub fn read_file(path: &Path) -> Result<SkyImage, String> {
+    crate::input::source::regular_file(path).map_err(|e| e.message)?;
+    let size = std::fs::metadata(path).map_err(|e| format!("cannot read: {e}"))?.len();
+    if size > MAX_SKY_FILE {
+        return Err(format!("{size} bytes: an image sky file may have at most {MAX_SKY_FILE}"));
+    }
+    let bytes = std::fs::read(path).map_err(|e| format!("cannot read: {e}"))?;
+    let extension = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+    read_bytes(&bytes, &extension)
+}
+
+/// The image in `bytes`, an `extension` ("exr" or "hdr") file.
+pub fn read_bytes(bytes: &[u8], extension: &str) -> Result<SkyImage, String> {
+    let (width, height, texels) = match extension {
+        "exr" => read_exr(bytes)?,
+        "hdr" => read_hdr(bytes)?,
+        other => {
+            return Err(format!(
+                "`.{other}`: an image sky is an equirectangular OpenEXR (.exr) or Radiance HDR (.hdr) file"
+            ))
+        }
+    };
+    if width != 2 * height {
+        return Err(format!("{width}×{height}: an equirectangular sky is twice as wide as it is high"));
+    }
+    let bad = texels.iter().flatten().filter(|v| !v.is_finite() || **v < 0.0).count();
+    if bad > 0 {
+        return Err(format!("{bad} channel values are negative or not finite: radiance is finite and ≥ 0"));
+    }
+    let digest = format!("{:x}", Sha256::digest(bytes));
+    Ok(SkyImage { width, height, texels, digest })
+}
+
+fn check_size(width: usize, height: usize) -> Result<(), String> {
+    if width == 0 || height == 0 || width.saturating_mul(height) > MAX_SKY_TEXELS {
+        return Err(format!("{width}×{height}: an image sky has at most {MAX_SKY_TEXELS} texels (4096×2048)"));
+    }
+    Ok(())
+}
+
+type Decoded = (usize, usize, Vec<[f32; 3]>);
+
+fn read_exr(bytes: &[u8]) -> Result<Decoded, String> {
+    use exr::prelude::*;
+    let meta = exr::meta::MetaData::read_from_buffered(std::io::Cursor::new(bytes), false)
+        .map_err(|e| format!("not a readable OpenEXR file: {e}"))?;
+    let header = meta.headers.first().ok_or("an OpenEXR file without a layer")?;
+    check_size(header.layer_size.width(), header.layer_size.height())?;
+    let image = read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .rgba_channels(
+            |res, _| (res.width(), vec![[0f32; 3]; res.width() * res.height()]),
+            |(w, px), pos, (r, g, b, _a): (f32, f32, f32, f32)| px[pos.y() * *w + pos.x()] = [r, g, b],
+        )
+        .first_valid_layer()
+        .all_attributes()
+        .from_buffered(std::io::Cursor::new(bytes))
+        .map_err(|e| format!("not a readable RGB(A) OpenEXR image: {e}"))?;
+    let size = image.layer_data.size;
+    Ok((size.width(), size.height(), image.layer_data.channel_data.pixels.1))
+}
+
+fn read_hdr(bytes: &[u8]) -> Result<Decoded, String> {
+    use image::ImageDecoder;
+    let decoder = image::codecs::hdr::HdrDecoder::new(std::io::Cursor::new(bytes))
+        .map_err(|e| format!("not a readable Radiance HDR file: {e}"))?;
+    let (w, h) = decoder.dimensions();
+    check_size(w as usize, h as usize)?;
+    let mut buffer = vec![0u8; decoder.total_bytes() as usize];
+    decoder.read_image(&mut buffer).map_err(|e| format!("not a readable Radiance HDR image: {e}"))?;
+    let floats: &[f32] = bytemuck::cast_slice(&buffer);
+    Ok((w as usize, h as usize, floats.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_sky_that_is_not_two_to_one_or_holds_negative_radiance_is_refused() {
+        let exr = |w: u32, h: u32, v: f32| {
+            let px = vec![v; (w * h * 4) as usize];
+            use exr::prelude::*;
+            let channels = SpecificChannels::rgba(|_: Vec2<usize>| (px[0], px[1], px[2], 1.0f32));
+            let mut out = std::io::Cursor::new(Vec::new());
+            Image::from_channels((w as usize, h as usize), channels).write().to_buffered(&mut out).unwrap();
+            out.into_inner()
+        };
+        let ok = read_bytes(&exr(8, 4, 0.5), "exr").unwrap();
+        assert_eq!((ok.width, ok.height, ok.texels[5]), (8, 4, [0.5; 3]));
+        assert!(read_bytes(&exr(8, 8, 0.5), "exr").unwrap_err().contains("twice as wide"));
+        assert!(read_bytes(&exr(8, 4, -1.0), "exr").unwrap_err().contains("negative"));
+        assert!(read_bytes(&exr(8, 4, 0.5), "png").unwrap_err().contains("OpenEXR"));
+        assert!(read_bytes(b"not an image", "exr").unwrap_err().contains("OpenEXR"));
+    }
+}

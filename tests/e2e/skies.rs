@@ -1,0 +1,130 @@
+//! Image skies (`Sky::Image`, input::sky_image): the shipped stylized sky is its bake, an image
+//! sky's SH is the projection of its texels, and a constant-colour image sky lights a cell and its
+//! truth exactly as the constant sky does.
+
+use glam::DVec3;
+use shadematrix::environment::{sh, stylized_sky, EnvironmentMaps};
+use shadematrix::gpu::GpuContext;
+use shadematrix::pipelines::{Pipeline, RenderPath};
+use shadematrix::render::renderer::Renderer;
+use shadematrix::render::truth::TruthSettings;
+use shadematrix::shading::registry::Sliders;
+use shadematrix::spec::scene::Scene;
+
+const DEFAULT_SKY: &str = "sky = { kind = \"gradient\", sky = [0.212, 0.227, 0.259], equator = [0.114, 0.125, 0.133], ground = [0.047, 0.043, 0.035] }";
+
+/// The default composition with another sky line, written beside `files` in `dir`.
+fn default_with_sky(dir: &std::path::Path, name: &str, sky: &str) -> Scene {
+    let text = std::fs::read_to_string(crate::common::repo().join("scenes/default.toml")).unwrap();
+    assert!(text.contains(DEFAULT_SKY));
+    let path = dir.join(format!("{name}.toml"));
+    std::fs::write(&path, text.replace(DEFAULT_SKY, sky).replace("name = \"default\"", &format!("name = \"{name}\"")))
+        .unwrap();
+    Scene::load_file(&path).unwrap()
+}
+
+#[test]
+fn the_shipped_stylized_sky_is_its_bake() {
+    let bytes = std::fs::read(crate::common::repo().join("scenes/skies/stylized.exr")).unwrap();
+    let shipped = shadematrix::input::sky_image::read_bytes(&bytes, "exr").unwrap();
+    let baked = stylized_sky::bake(stylized_sky::WIDTH, stylized_sky::HEIGHT);
+    assert_eq!((shipped.width, shipped.height), (stylized_sky::WIDTH, stylized_sky::HEIGHT));
+    // 16-bit channels: within half a unit in the last place (2⁻¹¹ relative).
+    for (s, b) in shipped.texels.iter().zip(&baked) {
+        for c in 0..3 {
+            assert!((s[c] - b[c]).abs() <= b[c].abs() * 4.9e-4 + 1e-7, "{s:?} against {b:?}");
+        }
+    }
+}
+
+/// The SH the renderer's ambient reads (`EnvironmentMaps`: the image resampled bilinearly at
+/// SOURCE_WIDTH, then projected) against a projection of the image's own texels in f64.
+#[test]
+fn an_image_skys_sh_is_the_projection_of_its_texels() {
+    let tmp = tempfile::tempdir().unwrap();
+    let sky = crate::common::repo().join("scenes/skies/stylized.exr");
+    let scene = default_with_sky(
+        tmp.path(),
+        "stylized",
+        &format!("sky = {{ kind = \"image\", path = {:?} }}", sky.display().to_string()),
+    );
+    let image = shadematrix::input::sky_image::read_file(&sky).unwrap();
+    let texel = |d: DVec3| {
+        let [u, v] = shadematrix::environment::dir_to_uv(d);
+        let x = ((u * image.width as f64) as usize).min(image.width - 1);
+        let y = ((v * image.height as f64) as usize).min(image.height - 1);
+        DVec3::from(image.texels[y * image.width + x].map(f64::from))
+    };
+    let want = sh::project(&texel, 1024);
+    let got = EnvironmentMaps::build(&scene.environment).sh;
+    let scale = want[0].iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let worst = (0..9)
+        .flat_map(|i| (0..3).map(move |c| (i, c)))
+        .map(|(i, c)| (got[i][c] - want[i][c]).abs())
+        .fold(0.0, f64::max);
+    eprintln!("stylized sky SH: worst coefficient difference {:.2e} of L0 {scale:.4}", worst);
+    assert!(worst < 5e-4 * scale, "{got:?} against {want:?}");
+    // And it is not the default sky's: the image reached the ambient.
+    let gradient = EnvironmentMaps::build(&Scene::load("default", None, "test", "composition").unwrap().environment).sh;
+    assert!((gradient[0][2] - got[0][2]).abs() > 0.1 * scale);
+}
+
+/// A constant-colour image sky is the constant sky: the real-time cell (ambient SH, probe) and its
+/// physical truth (importance-sampled sky) agree with the constant sky's.
+#[test]
+fn a_constant_image_sky_lights_like_the_constant_sky() {
+    let tmp = tempfile::tempdir().unwrap();
+    let srgb = [0.4, 0.5, 0.7];
+    let linear: Vec<f32> = srgb.iter().map(|&c| shadematrix::color::srgb_to_linear(c) as f32).collect();
+    let px: Vec<f32> = (0..32 * 16).flat_map(|_| [linear[0], linear[1], linear[2], 1.0]).collect();
+    std::fs::write(tmp.path().join("flat.exr"), shadematrix::images::encode::exr_bytes(32, 16, &px).unwrap()).unwrap();
+    let image = default_with_sky(tmp.path(), "flat", "sky = { kind = \"image\", path = \"flat.exr\" }");
+    let constant =
+        default_with_sky(tmp.path(), "constant", &format!("sky = {{ kind = \"constant\", color = {srgb:?} }}"));
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let sliders = Sliders { base_color_linear: [0.5, 0.5, 0.5], metallic: 0.0, smoothness: 0.6 };
+    let cell = crate::common::cell_params(Pipeline::Urp, "lit", sliders, (2.0, 10.0), 48, RenderPath::Forward);
+    let settings = TruthSettings {
+        kind: shadematrix::spec::matrix::TruthKind::Physical,
+        spp: 32,
+        noise: 0.0,
+        bounces: 1,
+        ..Default::default()
+    };
+    let mut frame = |scene: &Scene| {
+        let prepared = renderer.prepare_scene(scene).unwrap();
+        let hdr = renderer.render(&prepared, &cell, 1, 0).unwrap().hdr;
+        (hdr, renderer.render_truth(&prepared, &cell, &settings).unwrap())
+    };
+    let ((a, ta), (b, tb)) = (frame(&image), frame(&constant));
+    let peak = b.iter().fold(0.0f32, |m, v| m.max(v.abs()));
+    let worst = a.iter().zip(&b).map(|(x, y)| (x - y).abs()).fold(0.0f32, f32::max);
+    eprintln!("constant image sky against the constant sky: real-time worst {:.2e} of peak {peak:.3}", worst);
+    assert!(worst < 2e-4 * peak, "real-time cells differ by {worst}");
+    let z = ta.mean.iter().zip(&tb.mean).zip(ta.std_error.iter().zip(&tb.std_error)).map(|((x, y), (sx, sy))| {
+        let lum = |c: &[f32; 3]| 0.2126 * c[0] as f64 + 0.7152 * c[1] as f64 + 0.0722 * c[2] as f64;
+        let se = ((*sx as f64).powi(2) + (*sy as f64).powi(2)).sqrt().max(1e-9);
+        (lum(x) - lum(y)) / se
+    });
+    let worst_z = z.fold(0.0f64, |m, v| m.max(v.abs()));
+    eprintln!("truths: worst per-pixel |z| {worst_z:.3}");
+    assert!(worst_z < 5.0, "the truths differ beyond noise: {worst_z}");
+}
+
+/// Bad input: a sky image that is missing or not 2:1 is refused naming the key and the file.
+#[test]
+fn a_missing_or_misshapen_sky_image_is_refused_by_name() {
+    let tmp = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(crate::common::repo().join("scenes/default.toml")).unwrap();
+    let missing = tmp.path().join("missing.toml");
+    std::fs::write(&missing, text.replace(DEFAULT_SKY, "sky = { kind = \"image\", path = \"nowhere.exr\" }")).unwrap();
+    let err = Scene::load_file(&missing).unwrap_err().to_string();
+    assert!(err.contains("environment.sky.path") && err.contains("nowhere.exr"), "{err}");
+    let px = vec![0.5f32; 16 * 16 * 4];
+    std::fs::write(tmp.path().join("square.exr"), shadematrix::images::encode::exr_bytes(16, 16, &px).unwrap())
+        .unwrap();
+    let square = tmp.path().join("square.toml");
+    std::fs::write(&square, text.replace(DEFAULT_SKY, "sky = { kind = \"image\", path = \"square.exr\" }")).unwrap();
+    let err = Scene::load_file(&square).unwrap_err().to_string();
+    assert!(err.contains("twice as wide") && err.contains("square.exr"), "{err}");
+}
