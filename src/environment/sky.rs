@@ -26,6 +26,10 @@ pub fn radiance(sky: &Sky, d: DVec3) -> DVec3 {
             Some(image) => image_radiance(image, *rotation_deg, d) * *intensity,
             None => DVec3::ZERO,
         },
+        Sky::Cubemap { intensity, rotation_deg, images, .. } => match images {
+            Some(faces) => cube_radiance(faces, *rotation_deg, d) * *intensity,
+            None => DVec3::ZERO,
+        },
         Sky::Procedural { sun_direction, sun_size, atmosphere_thickness, sky_tint, ground, exposure } => procedural(
             DVec3::from(*sun_direction).normalize(),
             *sun_size,
@@ -38,25 +42,43 @@ pub fn radiance(sky: &Sky, d: DVec3) -> DVec3 {
     }
 }
 
-/// An image sky along d: d turned −rotation about +Y (the image turns +rotation), its texel
-/// coordinates (`super::dir_to_uv`), bilinear between texel centres, wrapping in u and clamped in v.
-fn image_radiance(image: &crate::input::sky_image::SkyImage, rotation_deg: f64, d: DVec3) -> DVec3 {
+/// d turned −rotation about +Y (so that the sky turns +rotation).
+fn unrotated(rotation_deg: f64, d: DVec3) -> DVec3 {
     let (s, c) = (-rotation_deg.to_radians()).sin_cos();
-    let d = DVec3::new(c * d.x + s * d.z, d.y, -s * d.x + c * d.z);
-    let [u, v] = super::dir_to_uv(d);
-    let (w, h) = (image.width, image.height);
-    let x = u * w as f64 - 0.5;
-    let y = (v * h as f64 - 0.5).clamp(0.0, (h - 1) as f64);
-    let (x0, y0) = (x.floor(), y.floor());
-    let (tx, ty) = (x - x0, y - y0);
-    let texel = |xi: f64, yi: f64| {
-        let xi = (xi as i64).rem_euclid(w as i64) as usize;
-        let yi = (yi as usize).min(h - 1);
-        DVec3::from(image.texels[yi * w + xi].map(f64::from))
+    DVec3::new(c * d.x + s * d.z, d.y, -s * d.x + c * d.z)
+}
+
+/// An equirect image sky along d: its texel coordinates (`super::dir_to_uv`), bilinear between
+/// texel centres, wrapping in u and clamped in v.
+fn image_radiance(image: &crate::input::sky_image::SkyImage, rotation_deg: f64, d: DVec3) -> DVec3 {
+    let [u, v] = super::dir_to_uv(unrotated(rotation_deg, d));
+    DVec3::from(image.bilinear(u, v, true))
+}
+
+/// A cube-map sky along d: the face of d's major axis and its (s, t) as a Vulkan or OpenGL
+/// `samplerCube` reads six images (+X −X +Y −Y +Z −Z; t down each image), bilinear within the face.
+fn cube_radiance(faces: &[crate::input::sky_image::SkyImage], rotation_deg: f64, d: DVec3) -> DVec3 {
+    let d = unrotated(rotation_deg, d);
+    let a = d.abs();
+    let (face, sc, tc, ma) = if a.x >= a.y && a.x >= a.z {
+        if d.x > 0.0 {
+            (0, -d.z, -d.y, a.x)
+        } else {
+            (1, d.z, -d.y, a.x)
+        }
+    } else if a.y >= a.z {
+        if d.y > 0.0 {
+            (2, d.x, d.z, a.y)
+        } else {
+            (3, d.x, -d.z, a.y)
+        }
+    } else if d.z > 0.0 {
+        (4, d.x, -d.y, a.z)
+    } else {
+        (5, -d.x, -d.y, a.z)
     };
-    let top = texel(x0, y0).lerp(texel(x0 + 1.0, y0), tx);
-    let bottom = texel(x0, y0 + 1.0).lerp(texel(x0 + 1.0, y0 + 1.0), tx);
-    top.lerp(bottom, ty)
+    let (u, v) = (0.5 * (sc / ma + 1.0), 0.5 * (tc / ma + 1.0));
+    DVec3::from(faces[face].bilinear(u, v, false))
 }
 
 /// APPROXIMATION of Unity's procedural sky (not its scattering integral): a zenith-to-horizon

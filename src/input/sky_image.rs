@@ -22,14 +22,42 @@ pub struct SkyImage {
     pub digest: String,
 }
 
+impl SkyImage {
+    /// Bilinear between texel centres at (u, v) in [0, 1]²; u wraps when `wrap_u`, else clamps.
+    pub fn bilinear(&self, u: f64, v: f64, wrap_u: bool) -> [f64; 3] {
+        let (w, h) = (self.width, self.height);
+        let x = u * w as f64 - 0.5;
+        let x = if wrap_u { x } else { x.clamp(0.0, (w - 1) as f64) };
+        let y = (v * h as f64 - 0.5).clamp(0.0, (h - 1) as f64);
+        let (x0, y0) = (x.floor(), y.floor());
+        let (tx, ty) = (x - x0, y - y0);
+        let texel = |xi: f64, yi: f64| {
+            let xi = if wrap_u { (xi as i64).rem_euclid(w as i64) as usize } else { (xi as usize).min(w - 1) };
+            self.texels[(yi as usize).min(h - 1) * w + xi].map(f64::from)
+        };
+        let lerp = |a: [f64; 3], b: [f64; 3], t: f64| [0, 1, 2].map(|c| a[c] + (b[c] - a[c]) * t);
+        let top = lerp(texel(x0, y0), texel(x0 + 1.0, y0), tx);
+        let bottom = lerp(texel(x0, y0 + 1.0), texel(x0 + 1.0, y0 + 1.0), tx);
+        lerp(top, bottom, ty)
+    }
+}
+
 impl std::fmt::Debug for SkyImage {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(f, "SkyImage({}×{}, sha256 {})", self.width, self.height, &self.digest[..12.min(self.digest.len())])
     }
 }
 
-/// The image at `path` (.exr or .hdr), or what is wrong with it.
+/// The equirectangular sky at `path` (.exr or .hdr), or what is wrong with it.
 pub fn read_file(path: &Path) -> Result<SkyImage, String> {
+    let image = read_any_file(path)?;
+    if image.width != 2 * image.height {
+        return Err(format!("{}×{}: an equirectangular sky is twice as wide as it is high", image.width, image.height));
+    }
+    Ok(image)
+}
+
+fn read_any_file(path: &Path) -> Result<SkyImage, String> {
     crate::input::source::regular_file(path).map_err(|e| e.message)?;
     let size = std::fs::metadata(path).map_err(|e| format!("cannot read: {e}"))?.len();
     if size > MAX_SKY_FILE {
@@ -37,11 +65,28 @@ pub fn read_file(path: &Path) -> Result<SkyImage, String> {
     }
     let bytes = std::fs::read(path).map_err(|e| format!("cannot read: {e}"))?;
     let extension = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
-    read_bytes(&bytes, &extension)
+    decode(&bytes, &extension)
 }
 
-/// The image in `bytes`, an `extension` ("exr" or "hdr") file.
+/// The image in `bytes`, an `extension` ("exr" or "hdr") file: an equirectangular sky, 2:1.
 pub fn read_bytes(bytes: &[u8], extension: &str) -> Result<SkyImage, String> {
+    let image = decode(bytes, extension)?;
+    if image.width != 2 * image.height {
+        return Err(format!("{}×{}: an equirectangular sky is twice as wide as it is high", image.width, image.height));
+    }
+    Ok(image)
+}
+
+/// One face of a cube-map sky at `path`: square.
+pub fn read_face_file(path: &Path) -> Result<SkyImage, String> {
+    let image = read_any_file(path)?;
+    if image.width != image.height {
+        return Err(format!("{}×{}: a cube-map face is square", image.width, image.height));
+    }
+    Ok(image)
+}
+
+fn decode(bytes: &[u8], extension: &str) -> Result<SkyImage, String> {
     let (width, height, texels) = match extension {
         "exr" => read_exr(bytes)?,
         "hdr" => read_hdr(bytes)?,
@@ -51,9 +96,6 @@ pub fn read_bytes(bytes: &[u8], extension: &str) -> Result<SkyImage, String> {
             ))
         }
     };
-    if width != 2 * height {
-        return Err(format!("{width}×{height}: an equirectangular sky is twice as wide as it is high"));
-    }
     let bad = texels.iter().flatten().filter(|v| !v.is_finite() || **v < 0.0).count();
     if bad > 0 {
         return Err(format!("{bad} channel values are negative or not finite: radiance is finite and ≥ 0"));

@@ -569,6 +569,21 @@ pub enum Sky {
         #[serde(skip)]
         image: Option<std::sync::Arc<crate::input::sky_image::SkyImage>>,
     },
+    /// A cube map: six square images of linear radiance (`faces`: +X, −X, +Y, −Y, +Z, −Z, each
+    /// OpenEXR or Radiance HDR, relative to the scene's folder), read as a `samplerCube` reads
+    /// them (`environment::sky`), times `intensity`, turned `rotation_deg` about +Y.
+    Cubemap {
+        faces: [String; 6],
+        #[serde(default = "one")]
+        intensity: f64,
+        #[serde(default)]
+        rotation_deg: f64,
+        /// The six files' SHA-256, joined: serialised into keys.
+        #[serde(default, skip_deserializing)]
+        digest: String,
+        #[serde(skip)]
+        images: Option<std::sync::Arc<Vec<crate::input::sky_image::SkyImage>>>,
+    },
     /// An analytic approximation of a procedural sky (see `environment::sky`).
     Procedural {
         /// Direction towards the sun.
@@ -666,6 +681,35 @@ impl Scene {
     /// An image sky's pixels: from the scene's folder, or for a built-in scene from the images
     /// built into the tool (`BUILTIN_SKIES`).
     fn read_sky_image(&mut self) -> Result<(), InputError> {
+        if let Sky::Cubemap { faces, digest, images, .. } = &mut self.environment.sky {
+            let Some(dir) = &self.base_dir else {
+                return Err(InputError::at_key(
+                    &self.origin,
+                    "environment.sky.faces",
+                    "a built-in scene has no cube-map sky",
+                ));
+            };
+            let mut read = Vec::with_capacity(6);
+            for (i, face) in faces.iter().enumerate() {
+                let image = crate::input::sky_image::read_face_file(&dir.join(face)).map_err(|m| {
+                    InputError::at_key(&self.origin, &format!("environment.sky.faces[{i}]"), format!("`{face}`: {m}"))
+                })?;
+                if read.first().is_some_and(|f: &crate::input::sky_image::SkyImage| f.width != image.width) {
+                    return Err(InputError::at_key(
+                        &self.origin,
+                        &format!("environment.sky.faces[{i}]"),
+                        format!(
+                            "`{face}`: {}×{}, the first face is {}×{}: the faces are one size",
+                            image.width, image.height, read[0].width, read[0].height
+                        ),
+                    ));
+                }
+                read.push(image);
+            }
+            *digest = read.iter().map(|f| f.digest.as_str()).collect::<Vec<_>>().join(",");
+            *images = Some(std::sync::Arc::new(read));
+            return Ok(());
+        }
         let Sky::Image { path, digest, image, .. } = &mut self.environment.sky else { return Ok(()) };
         let at = |m: String| InputError::at_key(&self.origin, "environment.sky.path", format!("`{path}`: {m}"));
         let read = match (&self.base_dir, BUILTIN_SKIES.iter().find(|(n, _)| n == path)) {
@@ -905,6 +949,13 @@ impl Scene {
                 c.finite_vector("environment.sky.rotation_deg", [*rotation_deg; 3])?;
                 if image.is_none() {
                     return Err(c.err("environment.sky.path", format!("`{path}` was not read")));
+                }
+            }
+            Sky::Cubemap { intensity, rotation_deg, images, .. } => {
+                c.non_negative("environment.sky.intensity", *intensity)?;
+                c.finite_vector("environment.sky.rotation_deg", [*rotation_deg; 3])?;
+                if images.is_none() {
+                    return Err(c.err("environment.sky.faces", "the faces were not read"));
                 }
             }
             Sky::Procedural { sun_direction, sun_size, atmosphere_thickness, sky_tint, ground, exposure } => {

@@ -128,3 +128,101 @@ fn a_missing_or_misshapen_sky_image_is_refused_by_name() {
     let err = Scene::load_file(&square).unwrap_err().to_string();
     assert!(err.contains("twice as wide") && err.contains("square.exr"), "{err}");
 }
+
+/// A cube-map sky reads its six faces as a `samplerCube` does: the major axis picks the face
+/// (+X −X +Y −Y +Z −Z), and within a face s and t follow the OpenGL/Vulkan table (t down the
+/// image: +Y is up on the side faces; on the +Y face, +Z is its bottom). Sampled from the stylized
+/// equirect sky, it gives that sky's ambient.
+#[test]
+fn a_cubemap_sky_reads_its_faces_as_a_sampler_cube_does() {
+    use shadematrix::environment::sky::radiance;
+    let tmp = tempfile::tempdir().unwrap();
+    let names = ["px", "nx", "py", "ny", "pz", "nz"];
+    let n = 8;
+    // Face k: grey 0.1·(k + 1), with its top row (t < 1/8) and left column (s < 1/8) marked.
+    for (k, name) in names.iter().enumerate() {
+        let base = 0.1 * (k + 1) as f32;
+        let px: Vec<f32> = (0..n * n)
+            .flat_map(|i| {
+                let (x, y) = (i % n, i / n);
+                let r = if y == 0 { 5.0 } else { base };
+                let g = if x == 0 { 7.0 } else { base };
+                [r, g, base, 1.0]
+            })
+            .collect();
+        std::fs::write(
+            tmp.path().join(format!("{name}.exr")),
+            shadematrix::images::encode::exr_bytes(n as u32, n as u32, &px).unwrap(),
+        )
+        .unwrap();
+    }
+    let faces = names.map(|f| format!("\"{f}.exr\""));
+    let scene = default_with_sky(
+        tmp.path(),
+        "cube",
+        &format!("sky = {{ kind = \"cubemap\", faces = [{}] }}", faces.join(", ")),
+    );
+    let sky = &scene.environment.sky;
+    for (k, d) in [DVec3::X, -DVec3::X, DVec3::Y, -DVec3::Y, DVec3::Z, -DVec3::Z].into_iter().enumerate() {
+        let c = radiance(sky, d);
+        assert!((c.z - 0.1 * (k + 1) as f64).abs() < 1e-6, "face {k} along {d}: {c}");
+    }
+    let t_top = |d: DVec3| radiance(sky, d.normalize()).x > 4.0;
+    let s_left = |d: DVec3| radiance(sky, d.normalize()).y > 6.0;
+    // +X: t = (−y/|x| + 1)/2 → the top row looks up; s = (−z/|x| + 1)/2 → the left column looks +Z.
+    assert!(t_top(DVec3::new(1.0, 0.95, 0.0)) && !t_top(DVec3::new(1.0, -0.95, 0.0)));
+    assert!(s_left(DVec3::new(1.0, 0.0, 0.95)) && !s_left(DVec3::new(1.0, 0.0, -0.95)));
+    // +Y: t = (z/|y| + 1)/2 → its top row looks −Z; s = (x/|y| + 1)/2 → its left column looks −X.
+    assert!(t_top(DVec3::new(0.0, 1.0, -0.95)) && !t_top(DVec3::new(0.0, 1.0, 0.95)));
+    assert!(s_left(DVec3::new(-0.95, 1.0, 0.0)));
+    // −Z: s = (−x/|z| + 1)/2 → its left column looks +X.
+    assert!(s_left(DVec3::new(0.95, 0.0, -1.0)) && !s_left(DVec3::new(-0.95, 0.0, -1.0)));
+
+    // The stylized sky as six 128² faces (each texel the equirect's radiance along its centre)
+    // lights the ambient as the equirect does.
+    let equirect = default_with_sky(
+        tmp.path(),
+        "stylized",
+        &format!(
+            "sky = {{ kind = \"image\", path = {:?} }}",
+            crate::common::repo().join("scenes/skies/stylized.exr").display().to_string()
+        ),
+    );
+    let size = 128;
+    for (k, name) in names.iter().enumerate() {
+        let px: Vec<f32> = (0..size * size)
+            .flat_map(|i| {
+                let (s, t) = (
+                    ((i % size) as f64 + 0.5) / size as f64 * 2.0 - 1.0,
+                    ((i / size) as f64 + 0.5) / size as f64 * 2.0 - 1.0,
+                );
+                let d = match k {
+                    0 => DVec3::new(1.0, -t, -s),
+                    1 => DVec3::new(-1.0, -t, s),
+                    2 => DVec3::new(s, 1.0, t),
+                    3 => DVec3::new(s, -1.0, -t),
+                    4 => DVec3::new(s, -t, 1.0),
+                    _ => DVec3::new(-s, -t, -1.0),
+                };
+                let c = radiance(&equirect.environment.sky, d.normalize());
+                [c.x as f32, c.y as f32, c.z as f32, 1.0]
+            })
+            .collect();
+        std::fs::write(
+            tmp.path().join(format!("s{name}.exr")),
+            shadematrix::images::encode::exr_bytes(size as u32, size as u32, &px).unwrap(),
+        )
+        .unwrap();
+    }
+    let faces = names.map(|f| format!("\"s{f}.exr\""));
+    let cube = default_with_sky(
+        tmp.path(),
+        "scube",
+        &format!("sky = {{ kind = \"cubemap\", faces = [{}] }}", faces.join(", ")),
+    );
+    let (a, b) = (EnvironmentMaps::build(&equirect.environment), EnvironmentMaps::build(&cube.environment));
+    for n in [DVec3::Y, DVec3::X, -DVec3::Z, DVec3::new(0.3, -0.8, 0.5).normalize()] {
+        let (ea, eb) = (a.ambient_diffuse(n), b.ambient_diffuse(n));
+        assert!((ea - eb).abs().max_element() < 0.01 * ea.max_element(), "ambient along {n}: {ea} against {eb}");
+    }
+}
