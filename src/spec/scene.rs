@@ -692,12 +692,12 @@ impl Scene {
             let mut read = Vec::with_capacity(6);
             for (i, face) in faces.iter().enumerate() {
                 let image = crate::input::sky_image::read_face_file(&dir.join(face)).map_err(|m| {
-                    InputError::at_key(&self.origin, &format!("environment.sky.faces[{i}]"), format!("`{face}`: {m}"))
+                    InputError::at_key(&self.origin, format!("environment.sky.faces[{i}]"), format!("`{face}`: {m}"))
                 })?;
                 if read.first().is_some_and(|f: &crate::input::sky_image::SkyImage| f.width != image.width) {
                     return Err(InputError::at_key(
                         &self.origin,
-                        &format!("environment.sky.faces[{i}]"),
+                        format!("environment.sky.faces[{i}]"),
                         format!(
                             "`{face}`: {}×{}, the first face is {}×{}: the faces are one size",
                             image.width, image.height, read[0].width, read[0].height
