@@ -97,15 +97,14 @@ impl CpuEnvironment {
     }
 }
 
-/// (atan2(x, −z)/2π + ½, acos(y)/π): scene.wgsl `equirect_uv`.
+/// (atan2(x, −z)/2π + ½, acos(y)/π): scene.wgsl `equirect_uv` (`environment::dir_to_uv`).
 fn equirect_uv(d: DVec3) -> DVec2 {
-    DVec2::new(d.x.atan2(-d.z) * (0.5 / PI) + 0.5, d.y.clamp(-1.0, 1.0).acos() / PI)
+    DVec2::from(crate::environment::dir_to_uv(d))
 }
 
-/// The inverse of `equirect_uv`: rays.wgsl `uv_direction`.
+/// The inverse of `equirect_uv`: rays.wgsl `uv_direction` (`environment::uv_to_dir`).
 fn uv_direction(u: f64, v: f64) -> DVec3 {
-    let (phi, theta) = ((u - 0.5) * 2.0 * PI, v * PI);
-    DVec3::new(theta.sin() * phi.sin(), theta.cos(), -theta.sin() * phi.cos())
+    crate::environment::uv_to_dir(u, v)
 }
 
 /// Random numbers: PCG (O'Neill 2014) hashed from pixel and sample, on a stream of its own (the
