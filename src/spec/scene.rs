@@ -12,11 +12,12 @@ use crate::input::source::parse_toml;
 use crate::input::validate::Checker;
 
 /// The four compositions of `spec/scenes.md`, embedded so the binary works from any folder.
-pub const BUILTIN_SCENES: [(&str, &str); 4] = [
+pub const BUILTIN_SCENES: [(&str, &str); 5] = [
     ("default", include_str!("../../scenes/default.toml")),
     ("mitsuba", include_str!("../../scenes/mitsuba.toml")),
     ("medusa", include_str!("../../scenes/medusa.toml")),
     ("spikes", include_str!("../../scenes/spikes.toml")),
+    ("composite", include_str!("../../scenes/composite.toml")),
 ];
 
 /// Sky images built into the tool, by the path a built-in scene names them with (relative to
