@@ -396,8 +396,11 @@ impl<'a> Stream<'a> {
         reuse: Reuse,
     ) -> Stream<'a> {
         let Reuse { keys, cache, retime } = reuse;
-        let truth_cache = matches!(matrix.reference, Some(ReferenceSpec::Truth(_)))
-            .then(|| super::truth_cache::TruthCache::new(super::truth_cache::default_dir(&dir.root)));
+        let truth_cache = matches!(matrix.reference, Some(ReferenceSpec::Truth(_))).then(|| match &cache {
+            Some(_) => super::truth_cache::TruthCache::new(super::truth_cache::default_dir(&dir.root)),
+            // `--no-cache`: nothing from earlier runs; truths are still shared within this one.
+            None => super::truth_cache::TruthCache::ephemeral(),
+        });
         Stream {
             truth_cache,
             plans: matrix.compositions.iter().map(FramePlan::for_scene).collect(),

@@ -37,11 +37,23 @@ pub struct TruthCacheRecord {
 
 pub struct TruthCache {
     dir: PathBuf,
+    /// A folder of this run's own, removed when the run ends (`--no-cache`).
+    ephemeral: bool,
 }
 
 impl TruthCache {
     pub fn new(dir: PathBuf) -> TruthCache {
-        TruthCache { dir }
+        TruthCache { dir, ephemeral: false }
+    }
+
+    /// A cache that holds this run's truths only (so that cells whose truths read the same still
+    /// share one) in a temporary folder removed with it: what `--no-cache` runs use.
+    pub fn ephemeral() -> TruthCache {
+        static RUNS: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
+        let n = RUNS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let dir = std::env::temp_dir().join(format!("shadematrix-truths-{}-{n}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        TruthCache { dir, ephemeral: true }
     }
 
     /// The key of `cell`'s truth: what its tracer reads (`Renderer::truth_reads`: the cell's
@@ -126,6 +138,14 @@ impl TruthCache {
                 Ok(())
             }
             Err(e) => Err(Error::io_path("renaming into place", &final_dir, e)),
+        }
+    }
+}
+
+impl Drop for TruthCache {
+    fn drop(&mut self) {
+        if self.ephemeral {
+            let _ = std::fs::remove_dir_all(&self.dir);
         }
     }
 }

@@ -551,3 +551,18 @@ fn russian_roulette_past_the_budget_counts_every_bounce() {
         assert!(z(twelve, twelve_se, one, one_se) > 6.0, "{backend:?}: more bounces must add light here");
     }
 }
+
+/// `--no-cache` reads no truth from earlier runs (each run traces its own), yet the cells of one
+/// run whose truths read the same still share one.
+#[test]
+fn no_cache_retraces_truths_and_still_shares_them_within_the_run() {
+    let tmp = tempfile::tempdir().unwrap();
+    let body = "name = \"nocache\"\ncompositions = [\"default\"]\npipelines = [\"urp\"]\nshaders = [\"lambert\", \"lit\"]\npresets = [\"plastic\"]\nreference = { truth = \"physical\", spp = 4, noise = 0.0, bounces = 1 }\n[image]\nwidth = 16\nheight = 16\n";
+    let traced = |out: &str, extra: &[&str]| {
+        let run = crate::common::run_matrix_with(tmp.path(), body, out, extra);
+        cell_truths(&run).iter().filter(|c| !c.1.cached).count()
+    };
+    assert_eq!(traced("a", &[]), 1, "two cells, one truth (now in the truth cache)");
+    assert_eq!(traced("c", &["--no-cache"]), 1, "--no-cache traces again, once for both cells");
+    assert_eq!(traced("d", &["--no-cache"]), 1, "and again: its truths did not outlive it");
+}
