@@ -234,53 +234,87 @@ fn visit(
     let world = parent * local;
     if let Some(mesh) = node.mesh() {
         for prim in mesh.primitives() {
-            if prim.mode() != gltf::mesh::Mode::Triangles {
-                continue;
+            if let Some(part) = read_primitive(&mesh, &prim, buffers, shown)? {
+                out.append(part.transformed(world));
             }
-            let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
-            let Some(positions) = reader.read_positions() else { continue };
-            let positions: Vec<[f32; 3]> = positions.collect();
-            let normals: Option<Vec<[f32; 3]>> = reader.read_normals().map(|n| n.collect());
-            let uvs: Option<Vec<[f32; 2]>> = reader.read_tex_coords(0).map(|t| t.into_f32().collect());
-            let tangents: Option<Vec<[f32; 4]>> = reader.read_tangents().map(|t| t.collect());
-            let indices: Vec<u32> = match reader.read_indices() {
-                Some(i) => i.into_u32().collect(),
-                None => (0..positions.len() as u32).collect(),
-            };
-            if let Some(bad) = indices.iter().find(|&&i| i as usize >= positions.len()) {
-                return Err(InputError::new(
-                    shown,
-                    format!(
-                        "mesh `{}` has index {bad} beyond its {} vertices",
-                        mesh.name().unwrap_or("?"),
-                        positions.len()
-                    ),
-                )
-                .into());
-            }
-            let mut part = Mesh {
-                vertices: positions
-                    .iter()
-                    .enumerate()
-                    .map(|(i, p)| Vertex {
-                        position: *p,
-                        normal: normals.as_ref().map(|n| n[i]).unwrap_or([0.0; 3]),
-                        uv: uvs.as_ref().map(|t| t[i]).unwrap_or([0.0; 2]),
-                        tangent: tangents.as_ref().map(|t| t[i]).unwrap_or([0.0; 4]),
-                    })
-                    .collect(),
-                indices: indices[..indices.len() / 3 * 3].to_vec(),
-            };
-            if normals.is_none() {
-                part.generate_normals();
-            }
-            out.append(part.transformed(world));
         }
     }
     for child in node.children() {
         visit(&child, world, buffers, out, shown)?;
     }
     Ok(())
+}
+
+/// A triangle-list primitive in its mesh's space (None: another mode, or no positions); normals
+/// generated where it has none.
+fn read_primitive(
+    mesh: &gltf::Mesh,
+    prim: &gltf::Primitive,
+    buffers: &[gltf::buffer::Data],
+    shown: &str,
+) -> Result<Option<Mesh>, Error> {
+    if prim.mode() != gltf::mesh::Mode::Triangles {
+        return Ok(None);
+    }
+    let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
+    let Some(positions) = reader.read_positions() else { return Ok(None) };
+    let positions: Vec<[f32; 3]> = positions.collect();
+    let normals: Option<Vec<[f32; 3]>> = reader.read_normals().map(|n| n.collect());
+    let uvs: Option<Vec<[f32; 2]>> = reader.read_tex_coords(0).map(|t| t.into_f32().collect());
+    let tangents: Option<Vec<[f32; 4]>> = reader.read_tangents().map(|t| t.collect());
+    let indices: Vec<u32> = match reader.read_indices() {
+        Some(i) => i.into_u32().collect(),
+        None => (0..positions.len() as u32).collect(),
+    };
+    if let Some(bad) = indices.iter().find(|&&i| i as usize >= positions.len()) {
+        return Err(InputError::new(
+            shown,
+            format!("mesh `{}` has index {bad} beyond its {} vertices", mesh.name().unwrap_or("?"), positions.len()),
+        )
+        .into());
+    }
+    let mut part = Mesh {
+        vertices: positions
+            .iter()
+            .enumerate()
+            .map(|(i, p)| Vertex {
+                position: *p,
+                normal: normals.as_ref().map(|n| n[i]).unwrap_or([0.0; 3]),
+                uv: uvs.as_ref().map(|t| t[i]).unwrap_or([0.0; 2]),
+                tangent: tangents.as_ref().map(|t| t[i]).unwrap_or([0.0; 4]),
+            })
+            .collect(),
+        indices: indices[..indices.len() / 3 * 3].to_vec(),
+    };
+    if normals.is_none() {
+        part.generate_normals();
+    }
+    Ok(Some(part))
+}
+
+/// Primitive `primitive` of mesh `mesh` in the file at `path`, in the mesh's own space
+/// (`MeshSpec::GltfPrimitive`).
+pub fn load_primitive(path: &Path, mesh: usize, primitive: usize) -> Result<Mesh, Error> {
+    let shown = path.display().to_string();
+    crate::input::guard::without_panics(|| {
+        let gltf::Gltf { document: doc, blob } =
+            gltf::Gltf::open(path).map_err(|e| InputError::new(&shown, format!("cannot read glTF: {e}")))?;
+        super::gltf_files::external_files(path, &doc)?;
+        let buffers = super::gltf_files::read_buffers(path, &doc, blob)?;
+        let m =
+            doc.meshes().nth(mesh).ok_or_else(|| InputError::new(&shown, format!("the file has no mesh {mesh}")))?;
+        let p = m
+            .primitives()
+            .nth(primitive)
+            .ok_or_else(|| InputError::new(&shown, format!("mesh {mesh} has no primitive {primitive}")))?;
+        read_primitive(&m, &p, &buffers, &shown)?.ok_or_else(|| {
+            InputError::new(&shown, format!("mesh {mesh} primitive {primitive} is not a triangle list with positions"))
+                .into()
+        })
+    })
+    .unwrap_or_else(|panic| {
+        Err(InputError::new(&shown, format!("malformed glTF: the glTF reader failed on it ({panic})")).into())
+    })
 }
 
 /// One named mesh to export, in world space, with its material.

@@ -47,7 +47,7 @@ pub fn build(spec: &MeshSpec, base_dir: Option<&Path>, origin: &str, key: &str) 
             let field = MedusaField { radius: *radius, amplitude: *amplitude, k: *k, n: *n as f64, m: *m };
             height_disc(*radius, *rings, *segments, |x, z| field.eval(x, z))
         }
-        MeshSpec::Gltf { path } => {
+        MeshSpec::Gltf { path } | MeshSpec::GltfPrimitive { path, .. } => {
             let resolved = match base_dir {
                 Some(d) => d.join(path),
                 None => {
@@ -61,7 +61,12 @@ pub fn build(spec: &MeshSpec, base_dir: Option<&Path>, origin: &str, key: &str) 
                     .into())
                 }
             };
-            super::gltf_io::load(&resolved)?
+            match spec {
+                MeshSpec::GltfPrimitive { mesh, primitive, .. } => {
+                    super::gltf_io::load_primitive(&resolved, *mesh, *primitive)?
+                }
+                _ => super::gltf_io::load(&resolved)?,
+            }
         }
     })
 }

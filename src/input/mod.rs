@@ -1,6 +1,7 @@
 //! Reading any declarative input (matrices, scenes, model declarations): TOML with line and
 //! column in errors, nearest-name suggestions for typos, and range checks naming the key.
 
+pub mod gltf_scene;
 pub mod guard;
 pub mod names;
 pub mod sky_image;

@@ -100,7 +100,7 @@ pub fn cell_lights(scene: &Scene, key_intensity: f64, key_range: f64) -> Vec<Lig
 
 /// Brightness of `light` at `centre` in `pipeline`'s units (see the module comment).
 pub fn brightness_at(pipeline: Pipeline, light: &Light, centre: DVec3) -> f64 {
-    let c = luminance(pipeline.light_radiance(light.color, light.intensity, light.emitter()));
+    let c = luminance(light.radiance(pipeline, light.intensity, &Default::default()));
     match light.kind {
         LightKind::Directional => c,
         _ => c * pipeline.attenuation().eval((DVec3::from(light.position) - centre).length(), light.range),

@@ -43,7 +43,7 @@ pub(in crate::render) fn write_uniforms(
             .inner_spot_angle_deg
             .map(|a| (a * 0.5).to_radians())
             .unwrap_or_else(|| p.default_inner_spot_half_angle(outer));
-        let color = DVec3::from(p.light_radiance_with(l.color, l.intensity, emitter, &cell.settings.engine));
+        let color = DVec3::from(l.radiance(p, l.intensity, &cell.settings.engine));
         colors.push(color);
         let (shadow, shadow_bias) = shadow_slot(shadow);
         gpu_lights.push(GpuLight {

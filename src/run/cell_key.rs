@@ -138,8 +138,13 @@ pub(crate) fn mesh_digests(matrix: &Matrix, c: &Cell) -> Vec<(String, String)> {
     // The object's mesh and its LOD levels' meshes: a level drawn at this distance reads its file.
     let meshes =
         scene.objects.iter().flat_map(|o| std::iter::once(&o.mesh).chain(o.lod.iter().flat_map(|l| &l.meshes)));
+    let mut seen = std::collections::HashSet::new();
     for mesh in meshes {
-        if let MeshSpec::Gltf { path } = mesh {
+        if let MeshSpec::Gltf { path } | MeshSpec::GltfPrimitive { path, .. } = mesh {
+            // A glTF scene's primitives name one file many times: its digest once.
+            if !seen.insert(path) {
+                continue;
+            }
             let p = scene.base_dir.as_ref().map_or_else(|| PathBuf::from(path), |b| b.join(path));
             for f in std::iter::once(p.clone()).chain(gltf_dependencies(&p)) {
                 out.push((f.display().to_string(), file_digest(&f)));

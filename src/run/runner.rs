@@ -315,7 +315,9 @@ fn build_geometry(matrix: &Matrix, exp: &Expansion) -> Result<Vec<Option<Vec<cra
         .iter()
         .enumerate()
         .map(|(ci, scene)| {
-            let loads_files = scene.objects.iter().any(|o| matches!(o.mesh, crate::spec::scene::MeshSpec::Gltf { .. }));
+            use crate::spec::scene::MeshSpec;
+            let loads_files =
+                scene.objects.iter().any(|o| matches!(o.mesh, MeshSpec::Gltf { .. } | MeshSpec::GltfPrimitive { .. }));
             if loads_files && exp.cells.iter().any(|c| c.composition_index == ci) {
                 crate::geometry::procedural::build_scene(scene).map(Some)
             } else {

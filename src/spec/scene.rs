@@ -51,6 +51,9 @@ pub struct Scene {
     /// HDRP volume overrides (exposure) for this scene; HDRP's default volume where absent.
     #[serde(default)]
     pub hdrp: crate::pipelines::volume::HdrpVolume,
+    /// A glTF file whose nodes, lights and cameras join the scene (`GltfSceneSpec`).
+    #[serde(default)]
+    pub gltf_scene: Option<GltfSceneSpec>,
     /// Where the scene came from: a built-in name or a file path (not part of the TOML).
     #[serde(skip)]
     pub origin: String,
@@ -134,6 +137,11 @@ pub struct Light {
     /// no light says so, the first point light is the key.
     #[serde(default)]
     pub key: bool,
+    /// `intensity` is photometric — candela for point and spot lights, lux for directional ones
+    /// (glTF's `KHR_lights_punctual` units) — and each pipeline converts it (`Light::radiance`):
+    /// HDRP takes it as is; built-in and URP, whose intensity I delivers irradiance π·I, take C/π.
+    #[serde(default)]
+    pub photometric: bool,
 }
 
 /// A light's shadow settings (Unity's Light inspector: Strength, Bias, Normal Bias, Soft/Hard).
@@ -258,6 +266,9 @@ pub struct Transform {
     pub rotate_deg: [f64; 3],
     #[serde(default = "unit_scale")]
     pub scale: [f64; 3],
+    /// A whole object-to-world matrix (column-major) instead of the three above: a glTF node's.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub matrix: Option<[f64; 16]>,
 }
 
 fn unit_scale() -> [f64; 3] {
@@ -266,12 +277,15 @@ fn unit_scale() -> [f64; 3] {
 
 impl Default for Transform {
     fn default() -> Self {
-        Self { translate: [0.0; 3], rotate_deg: [0.0; 3], scale: unit_scale() }
+        Self { translate: [0.0; 3], rotate_deg: [0.0; 3], scale: unit_scale(), matrix: None }
     }
 }
 
 impl Transform {
     pub fn matrix(&self) -> glam::DMat4 {
+        if let Some(m) = self.matrix {
+            return glam::DMat4::from_cols_array(&m);
+        }
         let r = self.rotate_deg.map(f64::to_radians);
         let rotation = glam::DQuat::from_euler(glam::EulerRot::YXZ, r[1], r[0], r[2]);
         glam::DMat4::from_scale_rotation_translation(self.scale.into(), rotation, self.translate.into())
@@ -297,6 +311,22 @@ pub struct FixedMaterial {
 pub struct Checkerboard {
     pub color_linear: [f64; 3],
     pub cell: f64,
+}
+
+/// `[gltf_scene]`: a glTF file as (the rest of) the scene, read when the scene is loaded
+/// (`input::gltf_scene`): each node's triangle primitives become objects with their own
+/// material's factors (base colour, metallic, smoothness = 1 − roughness) at the node's world
+/// transform; the nodes at and below `subject` are the subject (they take the swept material);
+/// `KHR_lights_punctual` lights join `[[lights]]` in their photometric units (`Light::photometric`);
+/// `camera` names a camera node that replaces `[camera]` (its roll is not kept: the tool's camera
+/// keeps +Y up).
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct GltfSceneSpec {
+    pub path: String,
+    pub subject: String,
+    #[serde(default)]
+    pub camera: Option<String>,
 }
 
 /// Mesh sources: procedural kinds with their parameters, or a glTF/GLB file.
@@ -362,6 +392,13 @@ pub enum MeshSpec {
     /// A glTF or GLB file, relative to the scene file.
     Gltf {
         path: String,
+    },
+    /// One primitive of one mesh of a glTF file, in the mesh's own space (`[gltf_scene]` makes
+    /// these).
+    GltfPrimitive {
+        path: String,
+        mesh: usize,
+        primitive: usize,
     },
 }
 
@@ -456,7 +493,7 @@ impl MeshSpec {
                 tess("rings", *rings, 8)?;
                 tess("segments", *segments, 8)
             }
-            MeshSpec::Gltf { path } => {
+            MeshSpec::Gltf { path } | MeshSpec::GltfPrimitive { path, .. } => {
                 if path.is_empty() {
                     Err("path is empty".into())
                 } else {
@@ -477,6 +514,7 @@ impl MeshSpec {
             MeshSpec::Spikes { .. } => "spikes",
             MeshSpec::Medusa { .. } => "medusa",
             MeshSpec::Gltf { .. } => "gltf",
+            MeshSpec::GltfPrimitive { .. } => "gltf_primitive",
         }
     }
 }
@@ -617,6 +655,29 @@ fn sky_exposure() -> f64 {
 
 impl Light {
     /// Units and shape as the pipelines see them, with HDRP's defaults where the scene is silent.
+    /// Linear colour × intensity as `p`'s shaders receive it (per unit attenuation), the
+    /// intensity being `intensity` (the key light's axis value, or the light's own):
+    /// `Pipeline::light_radiance_with` in the pipeline's own units, or for a photometric light
+    /// HDRP's candela or lux as they are, and built-in's and URP's I = C/π through their own
+    /// colour handling (built-in multiplies it into the gamma-space colour).
+    pub fn radiance(
+        &self,
+        p: crate::pipelines::Pipeline,
+        intensity: f64,
+        engine: &crate::pipelines::settings::PipelineSettings,
+    ) -> [f64; 3] {
+        use crate::pipelines::Pipeline;
+        if !self.photometric {
+            return p.light_radiance_with(self.color, intensity, self.emitter(), engine);
+        }
+        match p {
+            Pipeline::Hdrp => self.color.map(|c| crate::color::srgb_to_linear(c) * intensity),
+            Pipeline::Builtin | Pipeline::Urp => {
+                p.light_radiance(self.color, intensity / std::f64::consts::PI, self.emitter())
+            }
+        }
+    }
+
     pub fn emitter(&self) -> crate::pipelines::Emitter {
         use crate::pipelines::{Emitter, HDRP_DEFAULT_ANGULAR_DIAMETER_DEG, HDRP_DEFAULT_SHAPE_RADIUS};
         let radius = self.shape_radius.unwrap_or(HDRP_DEFAULT_SHAPE_RADIUS);
@@ -639,6 +700,9 @@ impl Scene {
             let origin = format!("<built-in scene {name_or_path}>");
             let mut scene: Scene = parse_toml(&origin, text)?;
             scene.origin = origin;
+            if scene.gltf_scene.is_some() {
+                return Err(InputError::at_key(&scene.origin, "gltf_scene", "a built-in scene names no file").into());
+            }
             scene.read_sky_image()?;
             scene.validate()?;
             return Ok(scene);
@@ -674,9 +738,93 @@ impl Scene {
         let mut scene: Scene = crate::input::source::read_toml(path)?;
         scene.origin = path.display().to_string();
         scene.base_dir = Some(path.parent().map(Path::to_path_buf).unwrap_or_default());
+        scene.read_gltf_scene()?;
         scene.read_sky_image()?;
         scene.validate()?;
         Ok(scene)
+    }
+
+    /// `[gltf_scene]`'s nodes, lights and camera into the scene (`GltfSceneSpec`).
+    fn read_gltf_scene(&mut self) -> Result<(), InputError> {
+        let Some(spec) = self.gltf_scene.clone() else { return Ok(()) };
+        let at = |key: &str, m: String| InputError::at_key(&self.origin, key, m);
+        let dir = self.base_dir.clone().unwrap_or_default();
+        let content = crate::input::gltf_scene::read(&dir.join(&spec.path), &spec.subject)
+            .map_err(|m| at("gltf_scene.path", format!("`{}`: {m}", spec.path)))?;
+        let mut used: std::collections::HashSet<String> = self.objects.iter().map(|o| o.name.clone()).collect();
+        for p in &content.primitives {
+            // Object names are lower-case letters, digits, `_` and `-`: `Floor#0` is `floor-0`.
+            let base: String = p
+                .name
+                .chars()
+                .map(|c| match c {
+                    '#' => '-',
+                    c if c.is_ascii_alphanumeric() || c == '_' || c == '-' => c.to_ascii_lowercase(),
+                    _ => '_',
+                })
+                .collect();
+            let name =
+                (0..).map(|k| if k == 0 { base.clone() } else { format!("{base}-{k}") }).find(|n| !used.contains(n));
+            let name = name.unwrap_or(base);
+            used.insert(name.clone());
+            let material = (!p.subject).then_some(FixedMaterial {
+                base_color_linear: p.base_color,
+                metallic: p.metallic,
+                smoothness: 1.0 - p.roughness,
+                checker: None,
+            });
+            self.objects.push(Object {
+                name,
+                role: if p.subject { Role::Subject } else { Role::Fixed },
+                mesh: MeshSpec::GltfPrimitive { path: spec.path.clone(), mesh: p.mesh, primitive: p.primitive },
+                transform: Transform { matrix: Some(p.world), ..Default::default() },
+                material,
+                cast_shadows: true,
+                receive_shadows: true,
+                lod: None,
+            });
+        }
+        for l in &content.lights {
+            use crate::input::gltf_scene::LightKind as K;
+            // Every other field at the scene file's defaults.
+            let kind = match l.kind {
+                K::Directional => "directional",
+                K::Point => "point",
+                K::Spot => "spot",
+            };
+            let table = toml::map::Map::from_iter([("kind".to_string(), toml::Value::String(kind.into()))]);
+            let mut light: Light = toml::Value::Table(table)
+                .try_into()
+                .map_err(|e| at("gltf_scene", format!("light `{}`: {e}", l.name)))?;
+            light.position = l.position;
+            light.direction = l.direction;
+            light.color = l.color_linear.map(crate::color::linear_to_srgb);
+            light.intensity = l.intensity;
+            light.photometric = true;
+            // Unity's defaults where glTF says nothing: range 10 m, shadows on the sun only.
+            light.range = l.range.unwrap_or(10.0);
+            light.shadows = l.kind == K::Directional;
+            if l.kind == K::Spot {
+                light.spot_angle_deg = 2.0 * l.outer_cone.to_degrees();
+                light.inner_spot_angle_deg = Some(2.0 * l.inner_cone.to_degrees());
+            }
+            self.lights.push(light);
+        }
+        if let Some(name) = &spec.camera {
+            let Some(c) = content.cameras.iter().find(|c| &c.name == name) else {
+                let names: Vec<&str> = content.cameras.iter().map(|c| c.name.as_str()).collect();
+                return Err(unknown_name(&self.origin, "gltf_scene.camera", "camera", name, &names));
+            };
+            let target = glam::DVec3::from(c.position) + glam::DVec3::from(c.forward);
+            self.camera = Camera {
+                position: c.position,
+                target: target.to_array(),
+                fov_y_deg: c.yfov_deg,
+                near: c.znear,
+                far: c.zfar.unwrap_or(self.camera.far),
+            };
+        }
+        Ok(())
     }
 
     /// An image sky's pixels: from the scene's folder, or for a built-in scene from the images

@@ -16,6 +16,7 @@ mod flow;
 mod fuzz;
 mod gallery;
 mod gltf_roundtrip;
+mod gltf_scene;
 mod gpu_metrics;
 mod invariants;
 mod layouts;

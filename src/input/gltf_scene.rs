@@ -1,0 +1,193 @@
+//! A glTF file as a whole scene (`[gltf_scene]`): every node's primitives with their own
+//! material factors, its `KHR_lights_punctual` lights and its cameras, in world space, read from
+//! the document alone (the vertices are read per primitive when meshes are built,
+//! `geometry::gltf_io::load_primitive`). What this cannot draw faithfully is refused with the node
+//! and the reason, never dropped: a textured material on a fixed object (fixed objects draw
+//! material factors), a primitive that is not a triangle list, an emissive fixed material.
+
+use std::path::Path;
+
+use glam::{DMat4, DVec3};
+
+/// One triangle-list primitive of a node, placed in the world.
+#[derive(Debug, Clone)]
+pub struct ScenePrimitive {
+    /// `node name#primitive index`.
+    pub name: String,
+    pub mesh: usize,
+    pub primitive: usize,
+    /// Node-to-world, column-major.
+    pub world: [f64; 16],
+    /// In the subject node or below it.
+    pub subject: bool,
+    /// The material's factors: linear base colour, metallic, roughness.
+    pub base_color: [f64; 3],
+    pub metallic: f64,
+    pub roughness: f64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LightKind {
+    Directional,
+    Point,
+    Spot,
+}
+
+/// A punctual light in glTF's photometric units: candela (point, spot) or lux (directional).
+#[derive(Debug, Clone)]
+pub struct SceneLight {
+    pub name: String,
+    pub kind: LightKind,
+    pub color_linear: [f64; 3],
+    pub intensity: f64,
+    pub range: Option<f64>,
+    /// Spot cone half-angles, radians.
+    pub inner_cone: f64,
+    pub outer_cone: f64,
+    pub position: [f64; 3],
+    /// Where the light travels: the node's −Z in world space.
+    pub direction: [f64; 3],
+}
+
+/// A perspective camera node.
+#[derive(Debug, Clone)]
+pub struct SceneCamera {
+    pub name: String,
+    pub position: [f64; 3],
+    /// The node's −Z in world space.
+    pub forward: [f64; 3],
+    pub yfov_deg: f64,
+    pub znear: f64,
+    pub zfar: Option<f64>,
+}
+
+#[derive(Debug, Clone, Default)]
+pub struct SceneContent {
+    pub primitives: Vec<ScenePrimitive>,
+    pub lights: Vec<SceneLight>,
+    pub cameras: Vec<SceneCamera>,
+    /// Every node name, for messages.
+    pub node_names: Vec<String>,
+}
+
+/// The scene of the glTF at `path` with `subject` the node whose primitives take the swept
+/// material.
+pub fn read(path: &Path, subject: &str) -> Result<SceneContent, String> {
+    crate::input::source::regular_file(path).map_err(|e| e.message)?;
+    let gltf = gltf::Gltf::open(path).map_err(|e| format!("cannot read glTF: {e}"))?;
+    let doc = &gltf.document;
+    let roots: Vec<gltf::Node> = match doc.default_scene().or_else(|| doc.scenes().next()) {
+        Some(scene) => scene.nodes().collect(),
+        None => return Err("the file has no scene".into()),
+    };
+    let mut out = SceneContent {
+        node_names: doc.nodes().filter_map(|n| n.name().map(str::to_string)).collect(),
+        ..Default::default()
+    };
+    if !out.node_names.iter().any(|n| n == subject) {
+        let names: Vec<&str> = out.node_names.iter().map(String::as_str).collect();
+        let near = crate::input::names::nearest(subject, &names);
+        return Err(format!(
+            "no node is named `{subject}` (the subject){}; nodes: {}",
+            near.map_or(String::new(), |n| format!(", did you mean `{n}`?")),
+            names.join(", ")
+        ));
+    }
+    for node in roots {
+        visit(&node, DMat4::IDENTITY, false, subject, &mut out)?;
+    }
+    if !out.primitives.iter().any(|p| p.subject) {
+        return Err(format!("the subject node `{subject}` holds no mesh"));
+    }
+    Ok(out)
+}
+
+fn visit(
+    node: &gltf::Node,
+    parent: DMat4,
+    in_subject: bool,
+    subject: &str,
+    out: &mut SceneContent,
+) -> Result<(), String> {
+    let local = DMat4::from_cols_array_2d(&node.transform().matrix().map(|c| c.map(f64::from)));
+    let world = parent * local;
+    let name = node.name().map_or_else(|| format!("node {}", node.index()), str::to_string);
+    let is_subject = in_subject || node.name() == Some(subject);
+    if let Some(mesh) = node.mesh() {
+        for prim in mesh.primitives() {
+            let at = format!("node `{name}`, mesh {} primitive {}", mesh.index(), prim.index());
+            if prim.mode() != gltf::mesh::Mode::Triangles {
+                return Err(format!("{at}: mode {:?}; only triangle lists are drawn", prim.mode()));
+            }
+            let m = prim.material();
+            let pbr = m.pbr_metallic_roughness();
+            let textured = pbr.base_color_texture().is_some()
+                || pbr.metallic_roughness_texture().is_some()
+                || m.normal_texture().is_some()
+                || m.occlusion_texture().is_some()
+                || m.emissive_texture().is_some();
+            if !is_subject && textured {
+                return Err(format!(
+                    "{at}: material `{}` has textures; a fixed object draws its material's factors only",
+                    m.name().unwrap_or("?")
+                ));
+            }
+            if !is_subject && m.emissive_factor().iter().any(|&e| e > 0.0) {
+                return Err(format!("{at}: material `{}` emits; fixed objects do not", m.name().unwrap_or("?")));
+            }
+            let c = pbr.base_color_factor();
+            out.primitives.push(ScenePrimitive {
+                name: format!("{name}#{}", prim.index()),
+                mesh: mesh.index(),
+                primitive: prim.index(),
+                world: world.to_cols_array(),
+                subject: is_subject,
+                base_color: [c[0] as f64, c[1] as f64, c[2] as f64],
+                metallic: pbr.metallic_factor() as f64,
+                roughness: pbr.roughness_factor() as f64,
+            });
+        }
+    }
+    let position = world.transform_point3(DVec3::ZERO).to_array();
+    let forward = world.transform_vector3(-DVec3::Z).normalize_or_zero().to_array();
+    if let Some(light) = node.light() {
+        use gltf::khr_lights_punctual::Kind;
+        let (kind, inner, outer) = match light.kind() {
+            Kind::Directional => (LightKind::Directional, 0.0, 0.0),
+            Kind::Point => (LightKind::Point, 0.0, 0.0),
+            Kind::Spot { inner_cone_angle, outer_cone_angle } => {
+                (LightKind::Spot, inner_cone_angle as f64, outer_cone_angle as f64)
+            }
+        };
+        out.lights.push(SceneLight {
+            name: light.name().map_or_else(|| name.clone(), str::to_string),
+            kind,
+            color_linear: light.color().map(f64::from),
+            intensity: light.intensity() as f64,
+            range: light.range().map(f64::from),
+            inner_cone: inner,
+            outer_cone: outer,
+            position,
+            direction: forward,
+        });
+    }
+    if let Some(camera) = node.camera() {
+        match camera.projection() {
+            gltf::camera::Projection::Perspective(p) => out.cameras.push(SceneCamera {
+                name: camera.name().map_or_else(|| name.clone(), str::to_string),
+                position,
+                forward,
+                yfov_deg: (p.yfov() as f64).to_degrees(),
+                znear: p.znear() as f64,
+                zfar: p.zfar().map(f64::from),
+            }),
+            gltf::camera::Projection::Orthographic(_) => {
+                return Err(format!("node `{name}`: an orthographic camera; the tool's cameras are perspective"))
+            }
+        }
+    }
+    for child in node.children() {
+        visit(&child, world, is_subject, subject, out)?;
+    }
+    Ok(())
+}
