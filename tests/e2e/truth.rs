@@ -190,8 +190,10 @@ fn a_run_compares_each_cell_with_its_truth() {
     let table = std::fs::read_to_string(out.join("tables/error_vs_time.md")).unwrap();
     assert!(table.contains("truth (same-brdf)") && table.contains("Z-test rejects"), "{table}");
     // A second run beside the first reuses each truth from the cache: same bytes, marked cached.
-    // (Without the cell cache, which would hand it the first run's cells whole.)
-    let again = crate::common::run_matrix_with(tmp.path(), &body, "again", &["--no-cache"]);
+    // (With an empty cell cache of its own, so that it is not handed the first run's cells whole;
+    // `--no-cache` would leave the truth cache out too.)
+    let empty = tmp.path().join("empty-cell-cache");
+    let again = crate::common::run_matrix_with(tmp.path(), &body, "again", &["--cache", empty.to_str().unwrap()]);
     assert!(tmp.path().join(".truth-cache").is_dir(), "the cache sits beside the run folders");
     for entry in std::fs::read_dir(again.join("cells")).unwrap() {
         let dir = entry.unwrap().path();
