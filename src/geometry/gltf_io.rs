@@ -295,22 +295,33 @@ fn read_primitive(
 /// Primitive `primitive` of mesh `mesh` in the file at `path`, in the mesh's own space
 /// (`MeshSpec::GltfPrimitive`).
 pub fn load_primitive(path: &Path, mesh: usize, primitive: usize) -> Result<Mesh, Error> {
+    load_primitives(path)?.remove(&(mesh, primitive)).ok_or_else(|| {
+        InputError::new(
+            path.display().to_string(),
+            format!("mesh {mesh} primitive {primitive} is not a triangle list with positions in the file"),
+        )
+        .into()
+    })
+}
+
+/// Every triangle-list primitive of the file at `path` by (mesh, primitive), each in its mesh's
+/// space: a glTF scene's objects read their file once (`procedural::build_scene`).
+pub fn load_primitives(path: &Path) -> Result<std::collections::HashMap<(usize, usize), Mesh>, Error> {
     let shown = path.display().to_string();
     crate::input::guard::without_panics(|| {
         let gltf::Gltf { document: doc, blob } =
             gltf::Gltf::open(path).map_err(|e| InputError::new(&shown, format!("cannot read glTF: {e}")))?;
         super::gltf_files::external_files(path, &doc)?;
         let buffers = super::gltf_files::read_buffers(path, &doc, blob)?;
-        let m =
-            doc.meshes().nth(mesh).ok_or_else(|| InputError::new(&shown, format!("the file has no mesh {mesh}")))?;
-        let p = m
-            .primitives()
-            .nth(primitive)
-            .ok_or_else(|| InputError::new(&shown, format!("mesh {mesh} has no primitive {primitive}")))?;
-        read_primitive(&m, &p, &buffers, &shown)?.ok_or_else(|| {
-            InputError::new(&shown, format!("mesh {mesh} primitive {primitive} is not a triangle list with positions"))
-                .into()
-        })
+        let mut out = std::collections::HashMap::new();
+        for m in doc.meshes() {
+            for p in m.primitives() {
+                if let Some(mesh) = read_primitive(&m, &p, &buffers, &shown)? {
+                    out.insert((m.index(), p.index()), mesh);
+                }
+            }
+        }
+        Ok(out)
     })
     .unwrap_or_else(|panic| {
         Err(InputError::new(&shown, format!("malformed glTF: the glTF reader failed on it ({panic})")).into())

@@ -74,12 +74,32 @@ pub fn build(spec: &MeshSpec, base_dir: Option<&Path>, origin: &str, key: &str) 
 /// Every object's mesh of a scene in object space, in object order (generated in parallel).
 pub fn build_scene(scene: &crate::spec::scene::Scene) -> Result<Vec<Mesh>, Error> {
     use rayon::prelude::*;
+    // A glTF scene's primitives: each file read once, not once per object.
+    let mut files: std::collections::HashMap<&str, std::collections::HashMap<(usize, usize), Mesh>> =
+        std::collections::HashMap::new();
+    for o in &scene.objects {
+        if let (MeshSpec::GltfPrimitive { path, .. }, Some(dir)) = (&o.mesh, &scene.base_dir) {
+            if !files.contains_key(path.as_str()) {
+                files.insert(path, super::gltf_io::load_primitives(&dir.join(path))?);
+            }
+        }
+    }
     scene
         .objects
         .par_iter()
         .enumerate()
         .map(|(i, o)| {
-            let mut mesh = build(&o.mesh, scene.base_dir.as_deref(), &scene.origin, &format!("objects[{i}].mesh"))?;
+            let key = format!("objects[{i}].mesh");
+            let read = match &o.mesh {
+                MeshSpec::GltfPrimitive { path, mesh, primitive } => {
+                    files.get(path.as_str()).and_then(|f| f.get(&(*mesh, *primitive))).cloned()
+                }
+                _ => None,
+            };
+            let mut mesh = match read {
+                Some(m) => m,
+                None => build(&o.mesh, scene.base_dir.as_deref(), &scene.origin, &key)?,
+            };
             // The subject may wear a textured preset: its normal map needs a tangent frame.
             if o.role == crate::spec::scene::Role::Subject {
                 mesh.ensure_tangents();
