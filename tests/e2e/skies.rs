@@ -129,6 +129,29 @@ fn a_missing_or_misshapen_sky_image_is_refused_by_name() {
     assert!(err.contains("twice as wide") && err.contains("square.exr"), "{err}");
 }
 
+/// The default composition under a cube-map sky of six `size`² faces written into `dir` (named
+/// `prefix` + px, nx, py, ny, pz, nz), texel (face, x, y) → linear RGB.
+fn cube_sky(
+    dir: &std::path::Path,
+    prefix: &str,
+    size: usize,
+    texel: impl Fn(usize, usize, usize) -> [f32; 3],
+) -> Scene {
+    let names = ["px", "nx", "py", "ny", "pz", "nz"].map(|f| format!("{prefix}{f}.exr"));
+    for (k, name) in names.iter().enumerate() {
+        let px: Vec<f32> = (0..size * size)
+            .flat_map(|i| {
+                let [r, g, b] = texel(k, i % size, i / size);
+                [r, g, b, 1.0]
+            })
+            .collect();
+        let bytes = shadematrix::images::encode::exr_bytes(size as u32, size as u32, &px).unwrap();
+        std::fs::write(dir.join(name), bytes).unwrap();
+    }
+    let faces: Vec<String> = names.iter().map(|f| format!("{f:?}")).collect();
+    default_with_sky(dir, prefix, &format!("sky = {{ kind = \"cubemap\", faces = [{}] }}", faces.join(", ")))
+}
+
 /// A cube-map sky reads its six faces as a `samplerCube` does: the major axis picks the face
 /// (+X −X +Y −Y +Z −Z), and within a face s and t follow the OpenGL/Vulkan table (t down the
 /// image: +Y is up on the side faces; on the +Y face, +Z is its bottom). Sampled from the stylized
@@ -137,31 +160,11 @@ fn a_missing_or_misshapen_sky_image_is_refused_by_name() {
 fn a_cubemap_sky_reads_its_faces_as_a_sampler_cube_does() {
     use shadematrix::environment::sky::radiance;
     let tmp = tempfile::tempdir().unwrap();
-    let names = ["px", "nx", "py", "ny", "pz", "nz"];
-    let n = 8;
     // Face k: grey 0.1·(k + 1), with its top row (t < 1/8) and left column (s < 1/8) marked.
-    for (k, name) in names.iter().enumerate() {
+    let scene = cube_sky(tmp.path(), "marked", 8, |k, x, y| {
         let base = 0.1 * (k + 1) as f32;
-        let px: Vec<f32> = (0..n * n)
-            .flat_map(|i| {
-                let (x, y) = (i % n, i / n);
-                let r = if y == 0 { 5.0 } else { base };
-                let g = if x == 0 { 7.0 } else { base };
-                [r, g, base, 1.0]
-            })
-            .collect();
-        std::fs::write(
-            tmp.path().join(format!("{name}.exr")),
-            shadematrix::images::encode::exr_bytes(n as u32, n as u32, &px).unwrap(),
-        )
-        .unwrap();
-    }
-    let faces = names.map(|f| format!("\"{f}.exr\""));
-    let scene = default_with_sky(
-        tmp.path(),
-        "cube",
-        &format!("sky = {{ kind = \"cubemap\", faces = [{}] }}", faces.join(", ")),
-    );
+        [if y == 0 { 5.0 } else { base }, if x == 0 { 7.0 } else { base }, base]
+    });
     let sky = &scene.environment.sky;
     for (k, d) in [DVec3::X, -DVec3::X, DVec3::Y, -DVec3::Y, DVec3::Z, -DVec3::Z].into_iter().enumerate() {
         let c = radiance(sky, d);
@@ -189,37 +192,19 @@ fn a_cubemap_sky_reads_its_faces_as_a_sampler_cube_does() {
         ),
     );
     let size = 128;
-    for (k, name) in names.iter().enumerate() {
-        let px: Vec<f32> = (0..size * size)
-            .flat_map(|i| {
-                let (s, t) = (
-                    ((i % size) as f64 + 0.5) / size as f64 * 2.0 - 1.0,
-                    ((i / size) as f64 + 0.5) / size as f64 * 2.0 - 1.0,
-                );
-                let d = match k {
-                    0 => DVec3::new(1.0, -t, -s),
-                    1 => DVec3::new(-1.0, -t, s),
-                    2 => DVec3::new(s, 1.0, t),
-                    3 => DVec3::new(s, -1.0, -t),
-                    4 => DVec3::new(s, -t, 1.0),
-                    _ => DVec3::new(-s, -t, -1.0),
-                };
-                let c = radiance(&equirect.environment.sky, d.normalize());
-                [c.x as f32, c.y as f32, c.z as f32, 1.0]
-            })
-            .collect();
-        std::fs::write(
-            tmp.path().join(format!("s{name}.exr")),
-            shadematrix::images::encode::exr_bytes(size as u32, size as u32, &px).unwrap(),
-        )
-        .unwrap();
-    }
-    let faces = names.map(|f| format!("\"s{f}.exr\""));
-    let cube = default_with_sky(
-        tmp.path(),
-        "scube",
-        &format!("sky = {{ kind = \"cubemap\", faces = [{}] }}", faces.join(", ")),
-    );
+    let cube = cube_sky(tmp.path(), "resampled", size, |k, x, y| {
+        let (s, t) = ((x as f64 + 0.5) / size as f64 * 2.0 - 1.0, (y as f64 + 0.5) / size as f64 * 2.0 - 1.0);
+        let d = match k {
+            0 => DVec3::new(1.0, -t, -s),
+            1 => DVec3::new(-1.0, -t, s),
+            2 => DVec3::new(s, 1.0, t),
+            3 => DVec3::new(s, -1.0, -t),
+            4 => DVec3::new(s, -t, 1.0),
+            _ => DVec3::new(-s, -t, -1.0),
+        };
+        let c = radiance(&equirect.environment.sky, d.normalize());
+        [c.x as f32, c.y as f32, c.z as f32]
+    });
     let (a, b) = (EnvironmentMaps::build(&equirect.environment), EnvironmentMaps::build(&cube.environment));
     for n in [DVec3::Y, DVec3::X, -DVec3::Z, DVec3::new(0.3, -0.8, 0.5).normalize()] {
         let (ea, eb) = (a.ambient_diffuse(n), b.ambient_diffuse(n));

@@ -51,9 +51,10 @@ impl CpuEnvironment {
     }
 
     fn texel_index(&self, d: DVec3) -> usize {
-        let uv = equirect_uv(d);
-        let x = ((uv.x * self.width as f64) as usize).min(self.width - 1);
-        let y = ((uv.y * self.height as f64) as usize).min(self.height - 1);
+        // scene.wgsl `equirect_uv`.
+        let [u, v] = crate::environment::dir_to_uv(d);
+        let x = ((u * self.width as f64) as usize).min(self.width - 1);
+        let y = ((v * self.height as f64) as usize).min(self.height - 1);
         y * self.width + x
     }
 
@@ -92,19 +93,9 @@ impl CpuEnvironment {
         let (w, h) = (self.width, self.height);
         let y = self.find_bin(0, h, rng.next());
         let x = self.find_bin((h + 1) + y * (w + 1), w, rng.next());
-        let d = uv_direction((x as f64 + rng.next()) / w as f64, (y as f64 + rng.next()) / h as f64);
+        let d = crate::environment::uv_to_dir((x as f64 + rng.next()) / w as f64, (y as f64 + rng.next()) / h as f64);
         (d, self.pdf(d))
     }
-}
-
-/// (atan2(x, −z)/2π + ½, acos(y)/π): scene.wgsl `equirect_uv` (`environment::dir_to_uv`).
-fn equirect_uv(d: DVec3) -> DVec2 {
-    DVec2::from(crate::environment::dir_to_uv(d))
-}
-
-/// The inverse of `equirect_uv`: rays.wgsl `uv_direction` (`environment::uv_to_dir`).
-fn uv_direction(u: f64, v: f64) -> DVec3 {
-    crate::environment::uv_to_dir(u, v)
 }
 
 /// Random numbers: PCG (O'Neill 2014) hashed from pixel and sample, on a stream of its own (the
@@ -655,15 +646,6 @@ pub fn trace(scene: &CpuScene, inputs: &CpuTruthInputs, settings: &TruthSettings
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn uv_direction_inverts_equirect_uv() {
-        for d in [DVec3::new(0.3, 0.5, -0.8), DVec3::new(-0.9, -0.1, 0.2), DVec3::new(0.1, 0.95, 0.3)] {
-            let d = d.normalize();
-            let uv = equirect_uv(d);
-            assert!((uv_direction(uv.x, uv.y) - d).length() < 1e-12, "{d}");
-        }
-    }
 
     #[test]
     fn surface_sampling_density_integrates_to_one() {

@@ -47,7 +47,6 @@ pub struct TruthSceneRecord {
     pub fgd: String,
     /// The truth: mean radiance in RGB, the standard error of its luminance in A (RGBA32F).
     pub truth: String,
-    pub truth_spp: u32,
 }
 
 /// A pinhole camera: rays jittered uniformly over each pixel (a box filter).
@@ -255,7 +254,6 @@ pub fn export(
         sky,
         fgd: "fgd.exr".into(),
         truth: "truth.exr".into(),
-        truth_spp: truth.spp,
     };
     Ok(TruthSceneExport { record, meshes, images })
 }
