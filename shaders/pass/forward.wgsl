@@ -99,16 +99,17 @@ fn vertex_lights(p: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
 var<private> material_occlusion: f32 = 1.0;
 
 // The material of the drawn object at uv: the swept one for the subject, the object's own else;
-// a textured subject's maps modulate it (the albedo map, mean 1, multiplies the colour; the mask's
-// smoothness offset, mean 0, adds to the smoothness). Fragment stages sample with derivatives.
+// maps modulate it (the albedo map multiplies the colour; the mask's smoothness offset adds to the
+// smoothness; for the presets' maps their means are 1 and 0). Fragment stages sample with
+// derivatives.
 fn material_at(uv: vec2<f32>) -> Surface {
-    // Sampled only for a textured subject (the branch is on uniforms, so uniform control flow):
-    // on a CPU rasteriser three samples per fragment of every object cost a third of the frame.
+    // Sampled only where the object has maps (the branch is on uniforms, so uniform control
+    // flow): on a CPU rasteriser three samples per fragment of every object cost a third of the frame.
     var albedo = vec4<f32>(1.0);
     var mask = vec4<f32>(1.0, 1.0, 1.0, 0.5);
     if (is_textured()) {
-        albedo = textureSample(material_albedo, material_sampler, uv);
-        mask = textureSample(material_mask, material_sampler, uv);
+        albedo = map_texel(0, uv);
+        mask = map_texel(2, uv);
     }
     return material_from(uv, albedo, mask);
 }
@@ -118,30 +119,68 @@ fn material_at_vertex(uv: vec2<f32>) -> Surface {
     var albedo = vec4<f32>(1.0);
     var mask = vec4<f32>(1.0, 1.0, 1.0, 0.5);
     if (is_textured()) {
-        albedo = textureSampleLevel(material_albedo, material_sampler, uv, 0.0);
-        mask = textureSampleLevel(material_mask, material_sampler, uv, 0.0);
+        albedo = map_texel_level0(0, uv);
+        mask = map_texel_level0(2, uv);
     }
     return material_from(uv, albedo, mask);
 }
 
-// The drawn object's emitted radiance: the subject's where its model emits (zero else), times its
-// emission map, added to the lit colour before tonemapping as Unity's emission is.
+// Map k (0 albedo, 1 normal, 2 mask, 3 emission) of the drawn object at uv: the subject's from
+// the frame's maps, a fixed object's from its layers of fixed_maps.
+fn map_texel(k: i32, uv: vec2<f32>) -> vec4<f32> {
+    if (object.flags.x == 1u) {
+        switch k {
+            case 0: { return textureSample(material_albedo, material_sampler, uv); }
+            case 1: { return textureSample(material_normal, material_sampler, uv); }
+            case 2: { return textureSample(material_mask, material_sampler, uv); }
+            default: { return textureSample(material_emission, material_sampler, uv); }
+        }
+    }
+    return textureSample(fixed_maps, material_sampler, uv, 4 * (i32(object.material.params.w + 0.5) - 1) + k);
+}
+
+fn map_texel_level0(k: i32, uv: vec2<f32>) -> vec4<f32> {
+    if (object.flags.x == 1u) {
+        switch k {
+            case 0: { return textureSampleLevel(material_albedo, material_sampler, uv, 0.0); }
+            case 1: { return textureSampleLevel(material_normal, material_sampler, uv, 0.0); }
+            case 2: { return textureSampleLevel(material_mask, material_sampler, uv, 0.0); }
+            default: { return textureSampleLevel(material_emission, material_sampler, uv, 0.0); }
+        }
+    }
+    return fixed_map_level0(object.material, k, uv);
+}
+
+// The drawn object's emitted radiance: the subject's where its model emits, a fixed object's own
+// (zero for most), times its emission map, added to the lit colour before tonemapping as Unity's
+// emission is.
 fn emission(uv: vec2<f32>) -> vec3<f32> {
-    if (object.flags.x != 1u) {
-        return vec3<f32>(0.0);
+    var e = object.material.emission.rgb;
+    if (object.flags.x == 1u) {
+        e = frame.subject.emission.rgb;
+    }
+    if (all(e == vec3<f32>(0.0))) {
+        return e;
     }
     var map = vec3<f32>(1.0);
     if (is_textured()) {
-        map = textureSample(material_emission, material_sampler, uv).rgb;
+        map = map_texel(3, uv).rgb;
     }
-    return frame.subject.emission.rgb * map;
+    return e * map;
 }
 
-// 1: the pipeline draws a textured subject; 0 compiles the map sampling away for flat cells.
+// 1: the pipeline draws objects that may have maps (the subject's preset or glTF maps, or fixed
+// objects' maps); 0 compiles the map sampling away.
 override TEXTURED: u32 = 0u;
 
 fn is_textured() -> bool {
-    return TEXTURED == 1u && object.flags.x == 1u && frame.subject.params.w > 0.5;
+    if (TEXTURED != 1u) {
+        return false;
+    }
+    if (object.flags.x == 1u) {
+        return frame.subject.params.w > 0.5;
+    }
+    return object.material.params.w > 0.5;
 }
 
 fn material_from(uv: vec2<f32>, albedo: vec4<f32>, mask: vec4<f32>) -> Surface {
@@ -160,7 +199,7 @@ fn mapped_normal(n: vec3<f32>, tangent: vec4<f32>, uv: vec2<f32>) -> vec3<f32> {
     if (!is_textured()) {
         return n;
     }
-    return tangent_to_world(n, tangent, textureSample(material_normal, material_sampler, uv).xyz);
+    return tangent_to_world(n, tangent, map_texel(1, uv).xyz);
 }
 
 // Visibility of `light` at p (1 lit, 0 in shadow), mixed by the light's strength: the receiver

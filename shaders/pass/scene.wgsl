@@ -20,7 +20,7 @@ struct ShadowLayer {
 
 struct Material {
     base_color: vec4<f32>,   // linear
-    params: vec4<f32>,       // metallic (as the shader receives it), smoothness, checker cell (0: none), 1: textured
+    params: vec4<f32>,       // metallic (as the shader receives it), smoothness, checker cell (0: none), w: maps (the subject: 1; a fixed object: 1 + its slot in fixed_maps; 0: none)
     checker_color: vec4<f32>,
     specular: vec4<f32>,     // the model's specular colour
     model0: vec4<f32>,       // the model's parameters, slots 0–3
@@ -78,6 +78,15 @@ struct Object {
 @group(0) @binding(12) var material_sampler: sampler;
 // Emission multiplier (a glTF material's emissiveTexture; white otherwise).
 @group(0) @binding(13) var material_emission: texture_2d<f32>;
+// The fixed objects' maps in the same layouts (render::prepared::GpuFixedMaps): layers 4k … 4k + 3
+// the albedo, normal, mask and emission maps of material k, for a fixed object whose
+// `material.params.w` is k + 1.
+@group(0) @binding(14) var fixed_maps: texture_2d_array<f32>;
+
+// A fixed material's map `k` (0 albedo, 1 normal, 2 mask, 3 emission) at uv, finest level.
+fn fixed_map_level0(m: Material, k: i32, uv: vec2<f32>) -> vec4<f32> {
+    return textureSampleLevel(fixed_maps, material_sampler, uv, 4 * (i32(m.params.w + 0.5) - 1) + k, 0.0);
+}
 
 fn light_mode(object_index: u32, light: u32) -> u32 {
     return light_modes[object_index * frame.counts.x + light];

@@ -81,21 +81,33 @@ fn surface_at(hit: Hit, d: vec3<f32>) -> SurfacePoint {
     if (subject) {
         m = frame.subject;
     }
-    let textured = subject && object.flags.z == 1u;
+    // A textured subject reads the frame's maps, a fixed object with maps its layers of fixed_maps.
+    let subject_maps = subject && object.flags.z == 1u;
+    let fixed_maps = !subject && m.params.w > 0.5;
+    let textured = subject_maps || fixed_maps;
     var albedo = vec4<f32>(1.0);
     var mask = vec4<f32>(1.0, 1.0, 1.0, 0.5);
     var glow = vec3<f32>(1.0);
-    if (textured) {
+    var ts = vec3<f32>(0.0, 0.0, 1.0);
+    if (subject_maps) {
         albedo = textureSampleLevel(material_albedo, material_sampler, sp.uv, 0.0);
         mask = textureSampleLevel(material_mask, material_sampler, sp.uv, 0.0);
         glow = textureSampleLevel(material_emission, material_sampler, sp.uv, 0.0).rgb;
+        ts = textureSampleLevel(material_normal, material_sampler, sp.uv, 0.0).xyz;
+    } else if (fixed_maps) {
+        albedo = fixed_map_level0(m, 0, sp.uv);
+        ts = fixed_map_level0(m, 1, sp.uv).xyz;
+        mask = fixed_map_level0(m, 2, sp.uv);
+        glow = fixed_map_level0(m, 3, sp.uv).rgb;
+    }
+    if (textured) {
         let tangent = a.tangent * b0 + b.tangent * hit.b1 + c.tangent * hit.b2;
-        let ts = textureSampleLevel(material_normal, material_sampler, sp.uv, 0.0).xyz;
         n = tangent_to_world(n, vec4<f32>(tangent.xyz, select(1.0, -1.0, tangent.w < 0.0)), ts);
     }
     sp.n = n;
     sp.s = surface_from(m, sp.uv, albedo, mask, textured);
-    sp.emission = select(vec3<f32>(0.0), frame.subject.emission.rgb * glow, subject);
+    // The subject's emission where its model emits; a fixed object's own (zero for most).
+    sp.emission = m.emission.rgb * glow;
     return sp;
 }
 

@@ -46,6 +46,7 @@ pub fn text(m: &Matrix) -> String {
             }
         }
         let _ = write!(out, "{}", light_plan(m, scene));
+        let _ = write!(out, "{}", fixed_maps_line(scene));
         if m.pipelines.contains(&Pipeline::Hdrp) {
             let x = &scene.hdrp.exposure;
             let _ = writeln!(
@@ -246,5 +247,28 @@ fn reference_line(m: &crate::spec::matrix::Matrix) -> String {
                 s.bounces
             )
         }
+    }
+}
+
+/// Which fixed objects draw maps of their own and from where (`FixedMaterial::base_color_map`,
+/// `gltf_material`); nothing when none does.
+fn fixed_maps_line(scene: &crate::spec::scene::Scene) -> String {
+    let named: Vec<String> = scene
+        .objects
+        .iter()
+        .filter_map(|o| {
+            let m = o.material.as_ref()?;
+            let from = match (&m.base_color_map, &m.gltf_material) {
+                (Some(path), _) => path.clone(),
+                (None, Some(r)) => format!("{} material {}", r.path, r.index),
+                (None, None) => return None,
+            };
+            Some(format!("{} ({from})", o.name))
+        })
+        .collect();
+    match named.len() {
+        0 => String::new(),
+        n if n > 6 => format!("  fixed objects with maps of their own: {n}, {} …\n", named[..6].join(", ")),
+        n => format!("  fixed objects with maps of their own: {n}, {}\n", named.join(", ")),
     }
 }

@@ -7,6 +7,7 @@ use std::path::Path;
 
 use super::mesh::{Mesh, Vertex};
 use crate::error::{Error, InputError};
+use crate::input::texture_transform::{material_uv_transform, UvTransform};
 
 /// Load every triangle primitive of the default scene (or of all nodes when there is none),
 /// with node transforms applied. Normals are generated when absent.
@@ -56,14 +57,9 @@ fn import_unguarded(path: &Path, shown: &str, with_material: bool) -> Result<(Me
     super::gltf_files::external_files(path, &doc)?;
     let buffers = super::gltf_files::read_buffers(path, &doc, blob)?;
     let images = match with_material {
-        true => doc
-            .images()
-            .map(|i| {
-                gltf::image::Data::from_source(i.source(), path.parent(), &buffers).map_err(|e| {
-                    InputError::at_key(&shown, format!("images[{}]", i.index()), format!("cannot read the image: {e}"))
-                })
-            })
-            .collect::<Result<Vec<_>, _>>()?,
+        true => {
+            doc.images().map(|i| decode_image(path, &shown, &i, &buffers).map(Some)).collect::<Result<Vec<_>, _>>()?
+        }
         false => Vec::new(),
     };
     let mut out = Mesh::default();
@@ -149,10 +145,80 @@ fn first_material(doc: &gltf::Document) -> Option<(gltf::Material<'_>, usize)> {
     first.map(|m| (m, seen.len() - 1))
 }
 
-fn read_material(m: &gltf::Material, others: usize, images: Option<&[gltf::image::Data]>) -> GltfMaterial {
+/// Image `i` decoded; an image of more than `MAX_TEXTURE_TEXELS` texels is refused.
+fn decode_image(
+    path: &Path,
+    shown: &str,
+    i: &gltf::Image,
+    buffers: &[gltf::buffer::Data],
+) -> Result<gltf::image::Data, Error> {
+    let key = format!("images[{}]", i.index());
+    let data = gltf::image::Data::from_source(i.source(), path.parent(), buffers)
+        .map_err(|e| InputError::at_key(shown, &key, format!("cannot read the image: {e}")))?;
+    let texels = data.width as usize * data.height as usize;
+    if texels > MAX_TEXTURE_TEXELS {
+        return Err(InputError::at_key(
+            shown,
+            key,
+            format!("{}×{}: a texture may have at most {MAX_TEXTURE_TEXELS} texels (8192²)", data.width, data.height),
+        )
+        .into());
+    }
+    Ok(data)
+}
+
+/// The most texels a glTF texture may have (8192²: 1 GiB as f32 RGBA).
+pub const MAX_TEXTURE_TEXELS: usize = 8192 * 8192;
+
+/// Material `index` of the glTF at `path` with the images it names decoded (a fixed object's
+/// `gltf_material`); the others are not read.
+pub fn material_by_index(path: &Path, index: usize) -> Result<GltfMaterial, Error> {
+    let shown = path.display().to_string();
+    crate::input::guard::without_panics(|| {
+        let gltf::Gltf { document: doc, blob } =
+            gltf::Gltf::open(path).map_err(|e| InputError::new(&shown, format!("cannot read glTF: {e}")))?;
+        super::gltf_files::external_files(path, &doc)?;
+        let buffers = super::gltf_files::read_buffers(path, &doc, blob)?;
+        let m = doc.materials().nth(index).ok_or_else(|| {
+            InputError::at_key(
+                &shown,
+                "materials",
+                format!("no material {index}: the file has {}", doc.materials().len()),
+            )
+        })?;
+        material_uv_transform(&m).map_err(|e| InputError::at_key(&shown, format!("materials[{index}]"), e))?;
+        let named = material_textures(&m).iter().flatten().map(|t| t.source().index()).collect::<Vec<_>>();
+        let images = doc
+            .images()
+            .map(|i| match named.contains(&i.index()) {
+                true => decode_image(path, &shown, &i, &buffers).map(Some),
+                false => Ok(None),
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(read_material(&m, 0, Some(&images)))
+    })
+    .unwrap_or_else(|panic| {
+        Err(InputError::new(&shown, format!("malformed glTF: the glTF reader failed on it ({panic})")).into())
+    })
+}
+
+/// The textures of a material's five slots (base colour, metallic-roughness, normal, occlusion,
+/// emissive).
+fn material_textures<'a>(m: &gltf::Material<'a>) -> [Option<gltf::texture::Texture<'a>>; 5] {
+    let pbr = m.pbr_metallic_roughness();
+    [
+        pbr.base_color_texture().map(|t| t.texture()),
+        pbr.metallic_roughness_texture().map(|t| t.texture()),
+        m.normal_texture().map(|t| t.texture()),
+        m.occlusion_texture().map(|t| t.texture()),
+        m.emissive_texture().map(|t| t.texture()),
+    ]
+}
+
+fn read_material(m: &gltf::Material, others: usize, images: Option<&[Option<gltf::image::Data>]>) -> GltfMaterial {
     let pbr = m.pbr_metallic_roughness();
     let image = |t: Option<gltf::texture::Texture>, srgb: bool| -> Option<TextureImage> {
-        let data = images?.get(t?.source().index())?;
+        let data = images?.get(t?.source().index())?.as_ref()?;
         Some(decode(data, srgb))
     };
     let strength = m.emissive_strength().unwrap_or(1.0) as f64;
@@ -288,6 +354,17 @@ fn read_primitive(
     };
     if normals.is_none() {
         part.generate_normals();
+    }
+    // KHR_texture_transform moves where the maps are read, not the tangent frame: the tangents
+    // come from the file's UVs, then the UVs take the material's transform.
+    let transform = material_uv_transform(&prim.material()).map_err(|e| {
+        InputError::new(shown, format!("mesh `{}` primitive {}: {e}", mesh.name().unwrap_or("?"), prim.index()))
+    })?;
+    if transform != UvTransform::IDENTITY {
+        part.ensure_tangents();
+        for v in &mut part.vertices {
+            v.uv = transform.apply(v.uv);
+        }
     }
     Ok(Some(part))
 }

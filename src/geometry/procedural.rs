@@ -100,13 +100,25 @@ pub fn build_scene(scene: &crate::spec::scene::Scene) -> Result<Vec<Mesh>, Error
                 Some(m) => m,
                 None => build(&o.mesh, scene.base_dir.as_deref(), &scene.origin, &key)?,
             };
-            // The subject may wear a textured preset: its normal map needs a tangent frame.
-            if o.role == crate::spec::scene::Role::Subject {
-                mesh.ensure_tangents();
-            }
+            with_material_uvs(o, &mut mesh);
             Ok(mesh)
         })
         .collect()
+}
+
+/// What an object's material asks of its mesh: the subject may wear a textured preset, a fixed
+/// object its own maps, and a normal map needs a tangent frame, made from the mesh's own UVs
+/// before the material's tiling and offset move them.
+fn with_material_uvs(o: &crate::spec::scene::Object, mesh: &mut Mesh) {
+    let material = o.material.as_ref();
+    if o.role == crate::spec::scene::Role::Subject || material.is_some_and(|m| m.has_maps()) {
+        mesh.ensure_tangents();
+    }
+    if let Some(m) = material.filter(|m| m.map_tiling != [1.0; 2] || m.map_offset != [0.0; 2]) {
+        for v in &mut mesh.vertices {
+            v.uv = [0, 1].map(|k| (v.uv[k] as f64 * m.map_tiling[k] + m.map_offset[k]) as f32);
+        }
+    }
 }
 
 /// The LOD levels after the first of every object that has them, in scene order: (object index,
@@ -118,9 +130,7 @@ pub fn lod_meshes(scene: &crate::spec::scene::Scene) -> Result<Vec<(usize, usize
         for (j, spec) in lod.meshes.iter().enumerate() {
             let key = format!("objects[{i}].lod.meshes[{j}]");
             let mut mesh = build(spec, scene.base_dir.as_deref(), &scene.origin, &key)?;
-            if o.role == crate::spec::scene::Role::Subject {
-                mesh.ensure_tangents();
-            }
+            with_material_uvs(o, &mut mesh);
             out.push((i, j + 1, mesh));
         }
     }

@@ -2,8 +2,10 @@
 //! material factors, its `KHR_lights_punctual` lights and its cameras, in world space, read from
 //! the document alone (the vertices are read per primitive when meshes are built,
 //! `geometry::gltf_io::load_primitive`). What this cannot draw faithfully is refused with the node
-//! and the reason, never dropped: a textured material on a fixed object (fixed objects draw
-//! material factors), a primitive that is not a triangle list, an emissive fixed material.
+//! and the reason, never dropped: a primitive that is not a triangle list, a texture on a second
+//! UV set or maps of one material transformed differently (`texture_transform::material_uv_transform`), an
+//! orthographic camera. A fixed object's textured material keeps its maps
+//! (`FixedMaterial::gltf_material`, read when the composition is prepared).
 
 use std::path::Path;
 
@@ -20,10 +22,14 @@ pub struct ScenePrimitive {
     pub world: [f64; 16],
     /// In the subject node or below it.
     pub subject: bool,
-    /// The material's factors: linear base colour, metallic, roughness.
+    /// The material's factors: linear base colour, metallic, roughness, linear emission
+    /// (`emissiveFactor` × `KHR_materials_emissive_strength`).
     pub base_color: [f64; 3],
     pub metallic: f64,
     pub roughness: f64,
+    pub emissive: [f64; 3],
+    /// The material's index where it has textures (their maps modulate the factors).
+    pub textured_material: Option<usize>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -121,20 +127,12 @@ fn visit(
             }
             let m = prim.material();
             let pbr = m.pbr_metallic_roughness();
+            crate::input::texture_transform::material_uv_transform(&m).map_err(|e| format!("{at}: {e}"))?;
             let textured = pbr.base_color_texture().is_some()
                 || pbr.metallic_roughness_texture().is_some()
                 || m.normal_texture().is_some()
                 || m.occlusion_texture().is_some()
                 || m.emissive_texture().is_some();
-            if !is_subject && textured {
-                return Err(format!(
-                    "{at}: material `{}` has textures; a fixed object draws its material's factors only",
-                    m.name().unwrap_or("?")
-                ));
-            }
-            if !is_subject && m.emissive_factor().iter().any(|&e| e > 0.0) {
-                return Err(format!("{at}: material `{}` emits; fixed objects do not", m.name().unwrap_or("?")));
-            }
             let c = pbr.base_color_factor();
             out.primitives.push(ScenePrimitive {
                 name: format!("{name}#{}", prim.index()),
@@ -145,6 +143,8 @@ fn visit(
                 base_color: [c[0] as f64, c[1] as f64, c[2] as f64],
                 metallic: pbr.metallic_factor() as f64,
                 roughness: pbr.roughness_factor() as f64,
+                emissive: m.emissive_factor().map(|e| e as f64 * m.emissive_strength().unwrap_or(1.0) as f64),
+                textured_material: m.index().filter(|_| textured),
             });
         }
     }

@@ -6,4 +6,6 @@ pub mod guard;
 pub mod names;
 pub mod sky_image;
 pub mod source;
+pub mod texture_file;
+pub mod texture_transform;
 pub mod validate;

@@ -104,16 +104,16 @@ fn decode(bytes: &[u8], extension: &str) -> Result<SkyImage, String> {
     Ok(SkyImage { width, height, texels, digest })
 }
 
-fn check_size(width: usize, height: usize) -> Result<(), String> {
+pub(crate) fn check_size(width: usize, height: usize) -> Result<(), String> {
     if width == 0 || height == 0 || width.saturating_mul(height) > MAX_SKY_TEXELS {
         return Err(format!("{width}×{height}: an image sky has at most {MAX_SKY_TEXELS} texels (4096×2048)"));
     }
     Ok(())
 }
 
-type Decoded = (usize, usize, Vec<[f32; 3]>);
+pub(crate) type Decoded = (usize, usize, Vec<[f32; 3]>);
 
-fn read_exr(bytes: &[u8]) -> Result<Decoded, String> {
+pub(crate) fn read_exr(bytes: &[u8]) -> Result<Decoded, String> {
     use exr::prelude::*;
     let meta = exr::meta::MetaData::read_from_buffered(std::io::Cursor::new(bytes), false)
         .map_err(|e| format!("not a readable OpenEXR file: {e}"))?;

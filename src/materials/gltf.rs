@@ -23,6 +23,11 @@ pub fn maps(m: &GltfMaterial) -> Option<MaterialMaps> {
     if !m.has_textures() {
         return None;
     }
+    Some(maps_at(m, largest_side(m).next_power_of_two().min(MAX_SIZE)))
+}
+
+/// The longest side of `m`'s textures in texels (1 without textures).
+pub fn largest_side(m: &GltfMaterial) -> usize {
     let textures = [
         &m.base_color_texture,
         &m.metallic_roughness_texture,
@@ -30,8 +35,12 @@ pub fn maps(m: &GltfMaterial) -> Option<MaterialMaps> {
         &m.occlusion_texture,
         &m.emissive_texture,
     ];
-    let largest = textures.iter().filter_map(|t| t.as_ref()).map(|t| t.width.max(t.height)).max().unwrap_or(1);
-    let size = largest.next_power_of_two().min(MAX_SIZE);
+    textures.iter().filter_map(|t| t.as_ref()).map(|t| t.width.max(t.height)).max().unwrap_or(1)
+}
+
+/// The maps of `m` on a `size`² grid (a power of two): its textures resampled, the slots it
+/// has no texture for neutral.
+pub fn maps_at(m: &GltfMaterial, size: usize) -> MaterialMaps {
     let texel_count = size * size;
     let sample = |t: &Option<TextureImage>, default: [f32; 4]| -> Vec<[f32; 4]> {
         match t {
@@ -74,7 +83,7 @@ pub fn maps(m: &GltfMaterial) -> Option<MaterialMaps> {
             .collect(),
         emission: if m.emissive_texture.is_some() { emission } else { Vec::new() },
     };
-    Some(with_mips(level))
+    with_mips(level)
 }
 
 /// The inverse of `maps` for export: the finest level of `maps` on a material of linear base
@@ -110,7 +119,7 @@ pub fn export_textures(maps: &MaterialMaps, base: [f64; 3], smoothness: f64) -> 
 }
 
 /// Bilinear lookup at (u, v) in [0, 1), texel centres at (i + 0.5)/width, repeating.
-fn bilinear(img: &TextureImage, u: f64, v: f64) -> [f32; 4] {
+pub(crate) fn bilinear(img: &TextureImage, u: f64, v: f64) -> [f32; 4] {
     let (w, h) = (img.width as isize, img.height as isize);
     let x = u * w as f64 - 0.5;
     let y = v * h as f64 - 0.5;

@@ -12,6 +12,7 @@
 //! layout holds them here. Written by hand: the patterns are the tool's own, on a small value
 //! noise, and no crate generates material maps.
 
+pub mod fixed;
 pub mod gltf;
 pub mod patterns;
 

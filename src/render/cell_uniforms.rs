@@ -132,7 +132,12 @@ pub(in crate::render) fn write_uniforms(
     let mut materials = Vec::with_capacity(prepared.objects.len());
     for (i, o) in prepared.objects.iter().enumerate() {
         let material = match &o.fixed {
-            Some((sliders, pattern)) => gpu_material(&fixed_model.surface(p, sliders), *pattern),
+            Some((sliders, pattern)) => {
+                let mut m = gpu_material(&fixed_model.surface(p, sliders), *pattern);
+                // Emission in the pipeline's light units, as the subject's.
+                m.emission = m.emission.map(|e| e * p.intensity_scale() as f32);
+                m
+            }
             None => GpuMaterial::zeroed(),
         };
         materials.push(material);

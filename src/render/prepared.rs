@@ -66,6 +66,8 @@ pub struct PreparedScene {
     pub(in crate::render) probes: Option<crate::render::passes::probes::SceneProbes>,
     /// The frame bind group per material-map set the subject wears ("" flat), made on first use.
     pub(in crate::render) frame_groups: std::sync::Mutex<HashMap<&'static str, std::sync::Arc<wgpu::BindGroup>>>,
+    /// The fixed objects' material maps (`materials::fixed`), four layers per material.
+    pub(in crate::render) fixed_maps: GpuFixedMaps,
     /// A glTF subject's own material maps (preset `own`), read and uploaded on first use.
     pub(in crate::render) own_textures: std::sync::OnceLock<crate::render::material_maps::MaterialTextures>,
     /// The truth's environment on the GPU, made for the first truth.
@@ -101,7 +103,8 @@ impl PreparedScene {
         let lod_meshes = procedural::lod_meshes(scene)?;
         let lod_levels: Vec<(usize, usize)> = lod_meshes.iter().map(|(i, j, _)| (*i, *j)).collect();
         let layout = SceneLayout::new(scene, &plan, &meshes, &lod_levels);
-        for (o, mesh) in scene.objects.iter().zip(meshes) {
+        let maps = crate::materials::fixed::FixedMaps::of(scene)?;
+        for ((o, mesh), slot) in scene.objects.iter().zip(meshes).zip(&maps.slots) {
             triangle_count += mesh.triangle_count();
             let (vertices, indices) = mesh_buffers(device, &o.name, &mesh);
             let fixed = o.material.as_ref().map(|m| {
@@ -112,6 +115,10 @@ impl PreparedScene {
                     pattern.params[2] = c.cell as f32;
                     pattern.checker_color = rgba(c.color_linear);
                 }
+                // scene.wgsl `Material.params.w`: 1 + the material's slot in the fixed maps' array.
+                pattern.params[3] = slot.map_or(0.0, |s| s as f32 + 1.0);
+                // In the scene's units; the pipeline's light units are applied per cell.
+                pattern.emission = rgba(m.emission_linear);
                 (sliders, pattern)
             });
             objects.push(GpuObject {
@@ -181,6 +188,7 @@ impl PreparedScene {
         let lights_buffer = storage("lights", scene.lights.len() as u64 * light_size, light_size);
         let modes_buffer = storage("light modes", (scene.lights.len() * objects.len() * 4) as u64, 4);
         let shadows = shadow_resources(gpu, shadow_layer_layout, &layout.shadows);
+        let fixed_maps = GpuFixedMaps::new(gpu, maps);
         gpu.check_errors(&format!("uploading composition `{}`", scene.name))?;
         Ok(PreparedScene {
             scene: scene.clone(),
@@ -195,6 +203,7 @@ impl PreparedScene {
             probes,
             frame_groups: Default::default(),
             own_textures: Default::default(),
+            fixed_maps,
             env_table: Default::default(),
             truth_geometry: Default::default(),
             cpu_truth_scene: Default::default(),
@@ -204,6 +213,88 @@ impl PreparedScene {
             triangle_count,
             layout,
         })
+    }
+}
+
+/// The fixed objects' maps on the GPU: one Rgba16Float array, layers 4k … 4k + 3 the albedo,
+/// normal, mask and emission maps of material k (scene.wgsl `fixed_maps`), with their mips; a
+/// 1×1 neutral set where no fixed object has maps.
+pub(in crate::render) struct GpuFixedMaps {
+    pub(in crate::render) view: wgpu::TextureView,
+    /// The maps on the CPU (the CPU truth samples them).
+    pub(in crate::render) maps: std::sync::Arc<crate::materials::fixed::FixedMaps>,
+}
+
+impl GpuFixedMaps {
+    fn new(gpu: &GpuContext, maps: crate::materials::fixed::FixedMaps) -> GpuFixedMaps {
+        let neutral = crate::materials::MaterialMaps {
+            levels: vec![crate::materials::MapLevel {
+                size: 1,
+                albedo: vec![[1.0; 4]],
+                normal: vec![[0.0, 0.0, 1.0, 1.0]],
+                mask: vec![[1.0, 1.0, 1.0, 0.5]],
+                emission: Vec::new(),
+            }],
+        };
+        let materials = if maps.materials.is_empty() { std::slice::from_ref(&neutral) } else { &maps.materials[..] };
+        let size = materials[0].levels[0].size as u32;
+        let mips = materials[0].levels.len() as u32;
+        let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("fixed material maps"),
+            size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 4 * materials.len() as u32 },
+            mip_level_count: mips,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::Rgba16Float,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        });
+        let white = [[1.0f32; 4]];
+        for (k, m) in materials.iter().enumerate() {
+            for (mip, level) in m.levels.iter().enumerate() {
+                let emission: &[[f32; 4]] = if level.emission.is_empty() { &white } else { &level.emission };
+                for (j, texels) in [&level.albedo[..], &level.normal, &level.mask, emission].into_iter().enumerate() {
+                    // A material without an emission map: white, written texel by texel.
+                    let filled;
+                    let texels = if texels.len() == level.size * level.size {
+                        texels
+                    } else {
+                        filled = vec![texels[0]; level.size * level.size];
+                        &filled[..]
+                    };
+                    let half: Vec<half::f16> = texels.iter().flat_map(|t| t.map(half::f16::from_f32)).collect();
+                    gpu.queue.write_texture(
+                        wgpu::TexelCopyTextureInfo {
+                            texture: &texture,
+                            mip_level: mip as u32,
+                            origin: wgpu::Origin3d { x: 0, y: 0, z: (4 * k + j) as u32 },
+                            aspect: wgpu::TextureAspect::All,
+                        },
+                        bytemuck::cast_slice(&half),
+                        wgpu::TexelCopyBufferLayout {
+                            offset: 0,
+                            bytes_per_row: Some(level.size as u32 * 8),
+                            rows_per_image: None,
+                        },
+                        wgpu::Extent3d {
+                            width: level.size as u32,
+                            height: level.size as u32,
+                            depth_or_array_layers: 1,
+                        },
+                    );
+                }
+            }
+        }
+        let view = texture.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        });
+        GpuFixedMaps { view, maps: std::sync::Arc::new(maps) }
+    }
+
+    /// Whether a fixed object samples maps.
+    pub(in crate::render) fn any(&self) -> bool {
+        !self.maps.materials.is_empty()
     }
 }
 

@@ -176,6 +176,14 @@ impl Renderer {
                 material_map_entry(11),
                 material_map_entry(13),
                 wgpu::BindGroupLayoutEntry {
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                        view_dimension: wgpu::TextureViewDimension::D2Array,
+                        multisampled: false,
+                    },
+                    ..material_map_entry(14)
+                },
+                wgpu::BindGroupLayoutEntry {
                     binding: 12,
                     visibility: wgpu::ShaderStages::VERTEX_FRAGMENT.union(wgpu::ShaderStages::COMPUTE),
                     ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
@@ -401,6 +409,10 @@ impl Renderer {
         let vertex_lit = cell.settings.path == RenderPath::VertexLit;
         let samples = plan.multisampling.samples;
         let textured = cell.settings.material_maps.is_some();
+        // Fixed objects with maps of their own (materials::fixed) draw with pipelines that sample
+        // them; the depth-normal prepass draws every object with one pipeline.
+        let fixed_textured = prepared.fixed_maps.any();
+        let prepass_textured = textured || fixed_textured;
         let exact = cell.settings.exact;
         if exact.any() && (deferred || vertex_lit || subject_model.per_vertex || fixed_model.per_vertex) {
             return Err(Error::Other(format!(
@@ -435,7 +447,7 @@ impl Renderer {
             (draw, (additive && adds(subject)).then_some(ForwardKey { pass: ForwardPass::Add, ..draw }))
         };
         let subject_keys = forward_keys(subject_model, textured, true);
-        let fixed_keys = forward_keys(&fixed_model, false, false);
+        let fixed_keys = forward_keys(&fixed_model, fixed_textured, false);
         for (model, (draw, add)) in [(subject_model, subject_keys), (&*fixed_model, fixed_keys)] {
             for key in std::iter::once(draw).chain(add) {
                 self.pipelines.forward_pipeline(&self.gpu, cell.pipeline, model, key)?;
@@ -448,7 +460,7 @@ impl Renderer {
                         &self.gpu,
                         cell.pipeline,
                         model,
-                        textured && role == ROLE_SUBJECT,
+                        if role == ROLE_SUBJECT { textured } else { fixed_textured },
                     )?;
                 }
             }
@@ -488,7 +500,7 @@ impl Renderer {
         }
         let occludes = plan.has(crate::plan::SSAO_PASS);
         if occludes {
-            self.pipelines.depth_normal_pipeline(&self.gpu, cell.pipeline, &fixed_model, textured)?;
+            self.pipelines.depth_normal_pipeline(&self.gpu, cell.pipeline, &fixed_model, prepass_textured)?;
             if self.ssao.is_none() {
                 self.ssao = Some(crate::render::passes::ssao::SsaoPipeline::new(&self.gpu)?);
             }
@@ -539,7 +551,7 @@ impl Renderer {
                 )?;
                 self.traced_shadows.insert(cell.pipeline, p);
             }
-            self.pipelines.depth_normal_pipeline(&self.gpu, cell.pipeline, &fixed_model, textured)?;
+            self.pipelines.depth_normal_pipeline(&self.gpu, cell.pipeline, &fixed_model, prepass_textured)?;
             let t = self.targets.as_mut().expect("targets exist");
             if t.traced.is_none() {
                 t.traced = Some(crate::render::passes::traced_shadows::TracedShadowMask::new(
@@ -643,7 +655,7 @@ impl Renderer {
                 k += 1;
             }
             if let (Some((chain, _)), Some(steps), true) = (ssao, &self.ssao, occludes_now) {
-                let prepass = &self.pipelines.depth_normals[&(cell.pipeline, textured)];
+                let prepass = &self.pipelines.depth_normals[&(cell.pipeline, prepass_textured)];
                 let draw = FrameDraw { group: frame_group, drawn: &drawn, screen: &self.neutral_screen };
                 encode_depth_prepass(&mut encoder, prepared, &draw, prepass, (&chain.normal, &t.depth_view), timed(k));
                 chain.encode(steps, &mut encoder, timed(k + 1).map(|(t, pair)| t.compute_writes(pair)));
@@ -653,7 +665,7 @@ impl Renderer {
                 let normal = match ssao {
                     Some((chain, _)) => &chain.normal,
                     None => {
-                        let prepass = &self.pipelines.depth_normals[&(cell.pipeline, textured)];
+                        let prepass = &self.pipelines.depth_normals[&(cell.pipeline, prepass_textured)];
                         let draw = FrameDraw { group: frame_group, drawn: &drawn, screen: &self.neutral_screen };
                         encode_depth_prepass(
                             &mut encoder,
@@ -829,7 +841,12 @@ impl Renderer {
         }
         self.gpu.queue.write_buffer(&prepared.frame_buffer, 0, bytemuck::bytes_of(&frame));
         let crate::render::passes::probes::Slot::ToCapture(slot) = slot else { return Ok(None) };
-        self.pipelines.forward_pipeline(&self.gpu, cell.pipeline, fixed_model, ForwardKey::plain(false))?;
+        self.pipelines.forward_pipeline(
+            &self.gpu,
+            cell.pipeline,
+            fixed_model,
+            ForwardKey::plain(prepared.fixed_maps.any()),
+        )?;
         if prepared.plan.background {
             self.pipelines.background_pipeline(&self.gpu, 1)?;
         }
@@ -842,8 +859,8 @@ impl Renderer {
             self.probe_timer = Some(PassTimer::new(&self.gpu.device, &self.gpu.queue, 2));
         }
         let timer = self.probe_timer.as_ref().filter(|_| self.gpu.record.timestamp_queries);
-        let pipeline =
-            &self.pipelines.forward[&(cell.pipeline, fixed_model.name.to_string(), ForwardKey::plain(false))];
+        let pipeline = &self.pipelines.forward
+            [&(cell.pipeline, fixed_model.name.to_string(), ForwardKey::plain(prepared.fixed_maps.any()))];
         let background = self.pipelines.background.get(&1).filter(|_| prepared.plan.background);
         let neutral = &self.bindings.material_textures[""];
         let (drawn, casting) = (plan.drawn(), plan.casting());

@@ -122,12 +122,12 @@ pub(in crate::render) fn gpu_material(s: &Surface, pattern: GpuMaterial) -> GpuM
     let q = s.params.map(|x| x as f32);
     GpuMaterial {
         base_color: v(s.base_color),
-        params: [s.metallic as f32, s.smoothness as f32, pattern.params[2], 0.0],
+        params: [s.metallic as f32, s.smoothness as f32, pattern.params[2], pattern.params[3]],
         checker_color: pattern.checker_color,
         specular: v(s.specular),
         model0: [q[0], q[1], q[2], q[3]],
         model1: [q[4], q[5], q[6], q[7]],
-        emission: [0.0; 4],
+        emission: pattern.emission,
     }
 }
 

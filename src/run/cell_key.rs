@@ -131,7 +131,8 @@ pub(crate) fn model_sources(matrix: &Matrix, c: &Cell) -> Vec<String> {
     out
 }
 
-/// (path, digest of the bytes) of every file the composition's meshes (LOD levels included) load.
+/// (path, digest of the bytes) of every file the composition's meshes (LOD levels included) and
+/// fixed materials' glTF maps load.
 pub(crate) fn mesh_digests(matrix: &Matrix, c: &Cell) -> Vec<(String, String)> {
     let scene = &matrix.compositions[c.composition_index];
     let mut out = Vec::new();
@@ -139,16 +140,20 @@ pub(crate) fn mesh_digests(matrix: &Matrix, c: &Cell) -> Vec<(String, String)> {
     let meshes =
         scene.objects.iter().flat_map(|o| std::iter::once(&o.mesh).chain(o.lod.iter().flat_map(|l| &l.meshes)));
     let mut seen = std::collections::HashSet::new();
-    for mesh in meshes {
-        if let MeshSpec::Gltf { path } | MeshSpec::GltfPrimitive { path, .. } = mesh {
-            // A glTF scene's primitives name one file many times: its digest once.
-            if !seen.insert(path) {
-                continue;
-            }
-            let p = scene.base_dir.as_ref().map_or_else(|| PathBuf::from(path), |b| b.join(path));
-            for f in std::iter::once(p.clone()).chain(gltf_dependencies(&p)) {
-                out.push((f.display().to_string(), file_digest(&f)));
-            }
+    // A fixed material's glTF maps read their file too (a base-colour map's digest is in the
+    // scene's serialisation, `FixedMaterial::map_digest`).
+    let materials = scene.objects.iter().filter_map(|o| o.material.as_ref()?.gltf_material.as_ref()).map(|r| &r.path);
+    let files = meshes
+        .filter_map(|mesh| match mesh {
+            MeshSpec::Gltf { path } | MeshSpec::GltfPrimitive { path, .. } => Some(path),
+            _ => None,
+        })
+        .chain(materials);
+    // A glTF scene's primitives name one file many times: its digest once.
+    for path in files.filter(|p| seen.insert(*p)) {
+        let p = scene.base_dir.as_ref().map_or_else(|| PathBuf::from(path), |b| b.join(path));
+        for f in std::iter::once(p.clone()).chain(gltf_dependencies(&p)) {
+            out.push((f.display().to_string(), file_digest(&f)));
         }
     }
     out

@@ -7,5 +7,6 @@ pub mod matrix;
 pub mod outputs;
 pub mod presets;
 pub mod scene;
+mod scene_files;
 pub mod sheets;
 pub mod study;

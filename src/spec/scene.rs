@@ -25,6 +25,13 @@ pub const BUILTIN_SCENES: [(&str, &str); 5] = [
 pub const BUILTIN_SKIES: [(&str, &[u8]); 1] =
     [("skies/stylized.exr", include_bytes!("../../scenes/skies/stylized.exr"))];
 
+/// Texture images built into the tool, by the path a built-in scene names them with (relative to
+/// scenes/): the composite's photos, baked by `examples/bake_composite_photos`.
+pub const BUILTIN_TEXTURES: [(&str, &[u8]); 2] = [
+    ("textures/landscape.png", include_bytes!("../../scenes/textures/landscape.png")),
+    ("textures/tree.png", include_bytes!("../../scenes/textures/tree.png")),
+];
+
 pub fn builtin_scene_names() -> Vec<&'static str> {
     BUILTIN_SCENES.iter().map(|(n, _)| *n).collect()
 }
@@ -304,6 +311,81 @@ pub struct FixedMaterial {
     /// A UV checkerboard: second colour (linear) and cell size in UV units.
     #[serde(default)]
     pub checker: Option<Checkerboard>,
+    /// Emitted radiance, linear colour × intensity in the pipeline's light units (as the
+    /// subject's emission axis), added before tonemapping as Unity's emission is; times the
+    /// emission map of `gltf_material` where it has one.
+    #[serde(default, skip_serializing_if = "is_black")]
+    pub emission_linear: [f64; 3],
+    /// A base-colour map on UV set 0: an image whose texels multiply `base_color_linear`, PNG
+    /// (sRGB-encoded) or OpenEXR (linear), relative to the scene's folder (a built-in scene's
+    /// are the tool's `BUILTIN_TEXTURES`); read when the scene is loaded (`input::texture_file`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub base_color_map: Option<String>,
+    /// A glTF file's material whose maps (base colour, metallic-roughness, normal, occlusion,
+    /// emission; `KHR_texture_transform` applied to the mesh's UVs) modulate this material's
+    /// factors, as the subject's own material does: what `[gltf_scene]` sets for a textured
+    /// material. Read when the composition is prepared (`materials::fixed`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gltf_material: Option<GltfMaterialRef>,
+    /// Unity's texture tiling and offset (`_MainTex_ST`, TRANSFORM_TEX): the object's UVs become
+    /// uv · map_tiling + map_offset, for its maps and its checkerboard alike.
+    #[serde(default = "unit_tiling", skip_serializing_if = "is_unit_tiling")]
+    pub map_tiling: [f64; 2],
+    #[serde(default, skip_serializing_if = "is_zero_offset")]
+    pub map_offset: [f64; 2],
+    /// The base-colour map's SHA-256: serialised into keys, so that an edited image changes them.
+    #[serde(default, skip_deserializing, skip_serializing_if = "String::is_empty")]
+    pub map_digest: String,
+    #[serde(skip)]
+    pub map_image: Option<std::sync::Arc<crate::input::texture_file::TextureFile>>,
+}
+
+impl FixedMaterial {
+    /// A material of factors alone.
+    pub fn flat(base_color_linear: [f64; 3], metallic: f64, smoothness: f64) -> FixedMaterial {
+        FixedMaterial {
+            base_color_linear,
+            metallic,
+            smoothness,
+            checker: None,
+            emission_linear: [0.0; 3],
+            base_color_map: None,
+            gltf_material: None,
+            map_tiling: unit_tiling(),
+            map_offset: [0.0; 2],
+            map_digest: String::new(),
+            map_image: None,
+        }
+    }
+
+    /// Whether the material samples maps.
+    pub fn has_maps(&self) -> bool {
+        self.base_color_map.is_some() || self.gltf_material.is_some()
+    }
+}
+
+fn is_black(c: &[f64; 3]) -> bool {
+    c.iter().all(|v| *v == 0.0)
+}
+
+fn unit_tiling() -> [f64; 2] {
+    [1.0; 2]
+}
+
+fn is_unit_tiling(t: &[f64; 2]) -> bool {
+    *t == [1.0; 2]
+}
+
+fn is_zero_offset(o: &[f64; 2]) -> bool {
+    *o == [0.0; 2]
+}
+
+/// Material `index` of the glTF file at `path` (relative to the scene's folder).
+#[derive(Debug, Clone, PartialEq, Eq, Hash, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct GltfMaterialRef {
+    pub path: String,
+    pub index: usize,
 }
 
 #[derive(Debug, Clone, Deserialize, Serialize)]
@@ -704,6 +786,7 @@ impl Scene {
                 return Err(InputError::at_key(&scene.origin, "gltf_scene", "a built-in scene names no file").into());
             }
             scene.read_sky_image()?;
+            scene.read_map_images()?;
             scene.validate()?;
             return Ok(scene);
         }
@@ -740,141 +823,9 @@ impl Scene {
         scene.base_dir = Some(path.parent().map(Path::to_path_buf).unwrap_or_default());
         scene.read_gltf_scene()?;
         scene.read_sky_image()?;
+        scene.read_map_images()?;
         scene.validate()?;
         Ok(scene)
-    }
-
-    /// `[gltf_scene]`'s nodes, lights and camera into the scene (`GltfSceneSpec`).
-    fn read_gltf_scene(&mut self) -> Result<(), InputError> {
-        let Some(spec) = self.gltf_scene.clone() else { return Ok(()) };
-        let at = |key: &str, m: String| InputError::at_key(&self.origin, key, m);
-        let dir = self.base_dir.clone().unwrap_or_default();
-        let content = crate::input::gltf_scene::read(&dir.join(&spec.path), &spec.subject)
-            .map_err(|m| at("gltf_scene.path", format!("`{}`: {m}", spec.path)))?;
-        let mut used: std::collections::HashSet<String> = self.objects.iter().map(|o| o.name.clone()).collect();
-        for p in &content.primitives {
-            // Object names are lower-case letters, digits, `_` and `-`: `Floor#0` is `floor-0`.
-            let base: String = p
-                .name
-                .chars()
-                .map(|c| match c {
-                    '#' => '-',
-                    c if c.is_ascii_alphanumeric() || c == '_' || c == '-' => c.to_ascii_lowercase(),
-                    _ => '_',
-                })
-                .collect();
-            let name =
-                (0..).map(|k| if k == 0 { base.clone() } else { format!("{base}-{k}") }).find(|n| !used.contains(n));
-            let name = name.unwrap_or(base);
-            used.insert(name.clone());
-            let material = (!p.subject).then_some(FixedMaterial {
-                base_color_linear: p.base_color,
-                metallic: p.metallic,
-                smoothness: 1.0 - p.roughness,
-                checker: None,
-            });
-            self.objects.push(Object {
-                name,
-                role: if p.subject { Role::Subject } else { Role::Fixed },
-                mesh: MeshSpec::GltfPrimitive { path: spec.path.clone(), mesh: p.mesh, primitive: p.primitive },
-                transform: Transform { matrix: Some(p.world), ..Default::default() },
-                material,
-                cast_shadows: true,
-                receive_shadows: true,
-                lod: None,
-            });
-        }
-        for l in &content.lights {
-            use crate::input::gltf_scene::LightKind as K;
-            // Every other field at the scene file's defaults.
-            let kind = match l.kind {
-                K::Directional => "directional",
-                K::Point => "point",
-                K::Spot => "spot",
-            };
-            let table = toml::map::Map::from_iter([("kind".to_string(), toml::Value::String(kind.into()))]);
-            let mut light: Light = toml::Value::Table(table)
-                .try_into()
-                .map_err(|e| at("gltf_scene", format!("light `{}`: {e}", l.name)))?;
-            light.position = l.position;
-            light.direction = l.direction;
-            light.color = l.color_linear.map(crate::color::linear_to_srgb);
-            light.intensity = l.intensity;
-            light.photometric = true;
-            // Unity's defaults where glTF says nothing: range 10 m, shadows on the sun only.
-            light.range = l.range.unwrap_or(10.0);
-            light.shadows = l.kind == K::Directional;
-            if l.kind == K::Spot {
-                light.spot_angle_deg = 2.0 * l.outer_cone.to_degrees();
-                light.inner_spot_angle_deg = Some(2.0 * l.inner_cone.to_degrees());
-            }
-            self.lights.push(light);
-        }
-        if let Some(name) = &spec.camera {
-            let Some(c) = content.cameras.iter().find(|c| &c.name == name) else {
-                let names: Vec<&str> = content.cameras.iter().map(|c| c.name.as_str()).collect();
-                return Err(unknown_name(&self.origin, "gltf_scene.camera", "camera", name, &names));
-            };
-            let target = glam::DVec3::from(c.position) + glam::DVec3::from(c.forward);
-            self.camera = Camera {
-                position: c.position,
-                target: target.to_array(),
-                fov_y_deg: c.yfov_deg,
-                near: c.znear,
-                far: c.zfar.unwrap_or(self.camera.far),
-            };
-        }
-        Ok(())
-    }
-
-    /// An image sky's pixels: from the scene's folder, or for a built-in scene from the images
-    /// built into the tool (`BUILTIN_SKIES`).
-    fn read_sky_image(&mut self) -> Result<(), InputError> {
-        if let Sky::Cubemap { faces, digest, images, .. } = &mut self.environment.sky {
-            let Some(dir) = &self.base_dir else {
-                return Err(InputError::at_key(
-                    &self.origin,
-                    "environment.sky.faces",
-                    "a built-in scene has no cube-map sky",
-                ));
-            };
-            let mut read = Vec::with_capacity(6);
-            for (i, face) in faces.iter().enumerate() {
-                let image = crate::input::sky_image::read_face_file(&dir.join(face)).map_err(|m| {
-                    InputError::at_key(&self.origin, format!("environment.sky.faces[{i}]"), format!("`{face}`: {m}"))
-                })?;
-                if read.first().is_some_and(|f: &crate::input::sky_image::SkyImage| f.width != image.width) {
-                    return Err(InputError::at_key(
-                        &self.origin,
-                        format!("environment.sky.faces[{i}]"),
-                        format!(
-                            "`{face}`: {}×{}, the first face is {}×{}: the faces are one size",
-                            image.width, image.height, read[0].width, read[0].height
-                        ),
-                    ));
-                }
-                read.push(image);
-            }
-            *digest = read.iter().map(|f| f.digest.as_str()).collect::<Vec<_>>().join(",");
-            *images = Some(std::sync::Arc::new(read));
-            return Ok(());
-        }
-        let Sky::Image { path, digest, image, .. } = &mut self.environment.sky else { return Ok(()) };
-        let at = |m: String| InputError::at_key(&self.origin, "environment.sky.path", format!("`{path}`: {m}"));
-        let read = match (&self.base_dir, BUILTIN_SKIES.iter().find(|(n, _)| n == path)) {
-            (Some(dir), _) => crate::input::sky_image::read_file(&dir.join(&*path)),
-            (None, Some((name, bytes))) => {
-                crate::input::sky_image::read_bytes(bytes, name.rsplit('.').next().unwrap_or(""))
-            }
-            (None, None) => Err(format!(
-                "a built-in scene's sky is one of the built-in images: {}",
-                BUILTIN_SKIES.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", ")
-            )),
-        }
-        .map_err(at)?;
-        *digest = read.digest.clone();
-        *image = Some(std::sync::Arc::new(read));
-        Ok(())
     }
 
     /// The glTF file the subject's mesh comes from, resolved against the scene's folder (None: a

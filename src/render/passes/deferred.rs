@@ -72,7 +72,7 @@ pub(in crate::render) fn encode_deferred(
         pass.set_bind_group(0, frame_group, &[]);
         pass.set_bind_group(2, screen, &[]);
         for (i, o) in prepared.objects.iter().enumerate().filter(|(i, _)| drawn[*i] && model_of(*i).deferrable()) {
-            let textured = subject(i) && cell.settings.material_maps.is_some();
+            let textured = if subject(i) { cell.settings.material_maps.is_some() } else { prepared.fixed_maps.any() };
             pass.set_pipeline(&pipelines.gbuffer[&(p, model_of(i).name.to_string(), textured)]);
             pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
             pass.set_vertex_buffer(0, o.vertices.slice(..));

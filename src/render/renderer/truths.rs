@@ -167,6 +167,7 @@ impl Renderer {
             size: (cell.width, cell.height),
             subject_role: ROLE_SUBJECT,
             fixed_role: ROLE_FIXED,
+            fixed_maps: &prepared.fixed_maps.maps,
         };
         then(&scene, &inputs)
     }
@@ -209,10 +210,9 @@ impl Renderer {
         let written = write_uniforms(&self.gpu.queue, prepared, cell, &plan, &fixed_model);
         let f = &written.frame;
         let physical = settings.kind == TruthKind::Physical && on_cpu;
-        let material = |m: &crate::render::uniforms::GpuMaterial, subject: bool| -> serde_json::Value {
+        let material = |m: &crate::render::uniforms::GpuMaterial| -> serde_json::Value {
             if physical {
-                let emission = if subject { m.emission } else { [0.0; 4] };
-                serde_json::json!([m.base_color, m.params, m.checker_color, emission])
+                serde_json::json!([m.base_color, m.params, m.checker_color, m.emission])
             } else {
                 serde_json::json!(bytemuck::cast_slice::<_, u32>(std::slice::from_ref(m)))
             }
@@ -224,7 +224,7 @@ impl Renderer {
             .zip(&written.materials)
             .map(|(slot, m)| match slot.role {
                 Role::Subject => serde_json::json!("subject"),
-                Role::Fixed => material(m, false),
+                Role::Fixed => material(m),
             })
             .collect();
         let lights: Vec<serde_json::Value> = written
@@ -255,7 +255,7 @@ impl Renderer {
             "kept": plan.casting(),
             "camera": [f.inv_view_proj, [f.camera_pos]],
             "environment": f.env[1],
-            "subject": material(&f.subject, true),
+            "subject": material(&f.subject),
             "materials": materials,
             "lights": lights,
             "models": models,

@@ -211,6 +211,9 @@ pub struct CpuTruthInputs<'a> {
     pub size: (u32, u32),
     pub subject_role: u8,
     pub fixed_role: u8,
+    /// The fixed objects' maps (a fixed material's `params.w` is 1 + its slot), read at their
+    /// finest level as the GPU tracer's textureSampleLevel(…, 0) does.
+    pub fixed_maps: &'a crate::materials::fixed::FixedMaps,
 }
 
 /// The scene a CPU truth traces: the triangles and vertices the GPU's reads, over obvhs's
@@ -317,7 +320,53 @@ struct SurfacePoint {
     emission: DVec3,
 }
 
-/// The Surface a model receives from a material at uv: scene.wgsl `surface_from` (untextured).
+/// Bilinear between texel centres at uv, repeating (the maps' sampler at one level).
+fn map_bilinear(texels: &[[f32; 4]], size: usize, uv: DVec2) -> [f64; 4] {
+    let x = uv.x * size as f64 - 0.5;
+    let y = uv.y * size as f64 - 0.5;
+    let (x0, y0) = (x.floor(), y.floor());
+    let (fx, fy) = (x - x0, y - y0);
+    let at = |xi: f64, yi: f64| {
+        let (xi, yi) = ((xi as i64).rem_euclid(size as i64) as usize, (yi as i64).rem_euclid(size as i64) as usize);
+        texels[yi * size + xi].map(f64::from)
+    };
+    let (a, b, c, d) = (at(x0, y0), at(x0 + 1.0, y0), at(x0, y0 + 1.0), at(x0 + 1.0, y0 + 1.0));
+    std::array::from_fn(|k| {
+        let top = a[k] + (b[k] - a[k]) * fx;
+        top + (c[k] + (d[k] - c[k]) * fx - top) * fy
+    })
+}
+
+/// A fixed material's maps at uv (albedo, tangent-space normal, mask, emission): scene.wgsl
+/// `fixed_map_level0`.
+fn fixed_maps_at(maps: &crate::materials::fixed::FixedMaps, m: &GpuMaterial, uv: DVec2) -> Option<[[f64; 4]; 4]> {
+    let slot = (m.params[3] + 0.5) as usize;
+    let level = &maps.materials.get(slot.checked_sub(1)?)?.levels[0];
+    let emission = match level.emission.is_empty() {
+        true => [1.0; 4],
+        false => map_bilinear(&level.emission, level.size, uv),
+    };
+    Some([
+        map_bilinear(&level.albedo, level.size, uv),
+        map_bilinear(&level.normal, level.size, uv),
+        map_bilinear(&level.mask, level.size, uv),
+        emission,
+    ])
+}
+
+/// scene.wgsl `tangent_to_world`: the tangent frame (bitangent = cross(n, t)·w) carries a
+/// tangent-space normal to world space; n where the mesh has no tangent.
+fn tangent_to_world(n: DVec3, tangent: DVec3, sign: f64, ts: DVec3) -> DVec3 {
+    let t_raw = tangent - n * n.dot(tangent);
+    if t_raw.length_squared() < 1e-12 {
+        return n;
+    }
+    let t = t_raw.normalize();
+    let b = n.cross(t) * if sign < 0.0 { -1.0 } else { 1.0 };
+    (t * ts.x + b * ts.y + n * ts.z).normalize_or(n)
+}
+
+/// The Surface a model receives from a material at uv: scene.wgsl `surface_from` without maps.
 fn surface_from(m: &GpuMaterial, uv: DVec2) -> Surface {
     let mut s = Surface {
         base_color: v3(m.base_color),
@@ -449,14 +498,21 @@ impl Tracer<'_> {
         let object = tri[3] as usize;
         let (material, is_subject) = self.inputs.materials[object];
         let m = if is_subject { self.subject } else { material };
-        SurfacePoint {
-            p,
-            n,
-            ng,
-            object,
-            s: surface_from(&m, uv),
-            emission: if is_subject { v3(self.subject.emission) } else { DVec3::ZERO },
+        let mut s = surface_from(&m, uv);
+        // The subject's emission where its model emits; a fixed object's own (zero for most).
+        let mut emission = v3(m.emission);
+        // scene.wgsl `surface_from` with maps: a fixed object's modulate its material.
+        let maps = if is_subject { None } else { fixed_maps_at(self.inputs.fixed_maps, &m, uv) };
+        if let Some([albedo, normal, mask, glow]) = maps {
+            s.base_color *= DVec3::new(albedo[0], albedo[1], albedo[2]);
+            s.metallic *= mask[0];
+            s.smoothness = (s.smoothness + mask[3] - 0.5).clamp(0.0, 1.0);
+            emission *= DVec3::new(glow[0], glow[1], glow[2]);
+            let t = lerp(a.tangent, b.tangent, c.tangent);
+            let w = a.tangent[3] as f64 * b0 + b.tangent[3] as f64 * hit.b1 + c.tangent[3] as f64 * hit.b2;
+            n = tangent_to_world(n, t, w, DVec3::new(normal[0], normal[1], normal[2]));
         }
+        SurfacePoint { p, n, ng, object, s, emission }
     }
 
     /// The GGX share of this point's continuations: none for a diffuse-only model (a same-brdf

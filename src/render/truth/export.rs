@@ -166,6 +166,13 @@ pub fn export(
                 .into(),
         ));
     }
+    if !inputs.fixed_maps.materials.is_empty() {
+        return Err(Error::Other(
+            "[outputs] truth_scene does not carry fixed objects' material maps (base_color_map, \
+             gltf_material) yet: export a composition whose fixed objects have factors alone"
+                .into(),
+        ));
+    }
     let f = inputs.frame;
     let m4 = |m: [[f32; 4]; 4]| DMat4::from_cols_array_2d(&m.map(|c| c.map(|x| x as f64)));
     let scale = irradiance_per_intensity(inputs.pipeline);
@@ -219,7 +226,7 @@ pub fn export(
             base_color: a3(v3(m.base_color)),
             metallic: m.params[0] as f64,
             smoothness: m.params[1] as f64,
-            emission: if *subject { a3(v3(f.subject.emission)) } else { [0.0; 3] },
+            emission: a3(v3(m.emission)),
             checker: (m.params[2] > 0.0)
                 .then(|| ExportedChecker { color: a3(v3(m.checker_color)), cell: m.params[2] as f64 }),
         });
