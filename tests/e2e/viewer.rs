@@ -141,12 +141,17 @@ fn img_srcs(b: &mut Browser) -> Vec<String> {
     v.as_array().unwrap().iter().map(|s| s.as_str().unwrap().to_string()).collect()
 }
 
-const MATRIX: &str = "name = \"viewer\"\ncompositions = [\"default\"]\npipelines = [\"urp\", \"hdrp\"]\nshaders = [\"lit\", \"standard\"]\npresets = [\"gold\", \"plastic\"]\nreference = { pipeline = \"hdrp\", shader = \"lit\" }\n[sweep]\nsmoothness = [0.2, 0.8]\n[image]\nwidth = 40\nheight = 32\n";
+const MATRIX: &str = "name = \"viewer\"\ncompositions = [\"default\", \"my_room.toml\"]\npipelines = [\"urp\", \"hdrp\"]\nshaders = [\"lit\", \"standard\"]\npresets = [\"gold\", \"plastic\"]\nreference = { pipeline = \"hdrp\", shader = \"lit\" }\n[sweep]\nsmoothness = [0.2, 0.8]\n[image]\nwidth = 40\nheight = 32\n";
 
 #[test]
 fn the_viewer_follows_sliders_pickers_wipe_overlay_and_reads_pixels() {
     let Some(binary) = crate::common::chromium() else { return };
     let tmp = tempfile::tempdir().unwrap();
+    // A user scene beside the built-in one: the viewer offers every composition of the run.
+    let default = std::fs::read_to_string(crate::common::repo().join("scenes/default.toml")).unwrap();
+    let mine = default.replacen("name = \"default\"", "name = \"my_room\"", 1);
+    assert_ne!(mine, default, "the scene names itself");
+    std::fs::write(tmp.path().join("my_room.toml"), mine).unwrap();
     let run = crate::common::run_matrix(tmp.path(), MATRIX, "run");
     for f in ["index.html", "viewer-data.js", "gallery.html"] {
         assert!(run.join(f).is_file(), "{f}");
@@ -167,6 +172,16 @@ fn the_viewer_follows_sliders_pickers_wipe_overlay_and_reads_pixels() {
     let srcs = img_srcs(&mut b);
     assert!(srcs.contains(&format!("cells/{}/image.png", id("hdrp", "gold", "0.20"))), "{srcs:?}");
     assert!(srcs.contains(&format!("cells/{}/image.png", id("urp", "gold", "0.20"))), "{srcs:?}");
+
+    // The composition picker lists the user scene beside the built-in one, and picking it shows
+    // its cell.
+    let compositions =
+        b.eval("Array.from(document.getElementById('a-composition').options).map(function(o){return o.textContent;})");
+    assert_eq!(compositions, json!(["default", "my_room"]));
+    set(&mut b, "a-composition", "1");
+    assert!(shown(&mut b).0.starts_with("my_room__hdrp-forward__lit__gold"), "{:?}", shown(&mut b));
+    set(&mut b, "a-composition", "0");
+    assert_eq!(shown(&mut b), (id("hdrp", "gold", "0.20"), id("urp", "gold", "0.20")));
 
     // Moving A's smoothness slider moves B with it (B follows A's sliders) and shows the exact value.
     set(&mut b, "a-smoothness", "1");
