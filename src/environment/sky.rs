@@ -22,12 +22,12 @@ pub fn radiance(sky: &Sky, d: DVec3) -> DVec3 {
                 e.lerp(g, -d.y)
             }
         }
-        Sky::Image { intensity, rotation_deg, image, .. } => match image {
-            Some(image) => image_radiance(image, *rotation_deg, d) * *intensity,
+        Sky::Image { intensity, rotation_deg, image, units, .. } => match image {
+            Some(image) => image_radiance(image, *rotation_deg, d) * (*intensity * units.scale()),
             None => DVec3::ZERO,
         },
-        Sky::Cubemap { intensity, rotation_deg, images, .. } => match images {
-            Some(faces) => cube_radiance(faces, *rotation_deg, d) * *intensity,
+        Sky::Cubemap { intensity, rotation_deg, images, units, .. } => match images {
+            Some(faces) => cube_radiance(faces, *rotation_deg, d) * (*intensity * units.scale()),
             None => DVec3::ZERO,
         },
         Sky::Procedural { sun_direction, sun_size, atmosphere_thickness, sky_tint, ground, exposure } => procedural(

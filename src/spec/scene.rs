@@ -667,6 +667,34 @@ fn yes() -> bool {
     true
 }
 
+/// What an image sky's texels are. `relative` (the default): radiance in the units of built-in
+/// and URP, whose skybox feeds the ambient as it is; HDRP takes it × 10⁴ as every light and sky
+/// of the tool (`Pipeline::environment_scale`), so ambient keeps its proportion to the direct
+/// light. `nits`: physical radiance (cd/m², a calibrated HDRI): HDRP reads the values as they are
+/// (its HDRI Sky at exposure 0, multiplier 1), built-in and URP read them ÷ 10⁴, the tool's one
+/// ratio between their units and HDRP's.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SkyUnits {
+    #[default]
+    Relative,
+    Nits,
+}
+
+impl SkyUnits {
+    fn is_relative(&self) -> bool {
+        *self == SkyUnits::Relative
+    }
+
+    /// The factor from the texels to the tool's radiance (built-in units).
+    pub fn scale(self) -> f64 {
+        match self {
+            SkyUnits::Relative => 1.0,
+            SkyUnits::Nits => 1.0 / crate::pipelines::Pipeline::Hdrp.intensity_scale(),
+        }
+    }
+}
+
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Sky {
@@ -684,6 +712,8 @@ pub enum Sky {
         intensity: f64,
         #[serde(default)]
         rotation_deg: f64,
+        #[serde(default, skip_serializing_if = "SkyUnits::is_relative")]
+        units: SkyUnits,
         /// The file's SHA-256: serialised into keys, so that an edited image changes them.
         #[serde(default, skip_deserializing)]
         digest: String,
@@ -699,6 +729,8 @@ pub enum Sky {
         intensity: f64,
         #[serde(default)]
         rotation_deg: f64,
+        #[serde(default, skip_serializing_if = "SkyUnits::is_relative")]
+        units: SkyUnits,
         /// The six files' SHA-256, joined: serialised into keys.
         #[serde(default, skip_deserializing)]
         digest: String,

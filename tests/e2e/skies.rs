@@ -111,6 +111,42 @@ fn a_constant_image_sky_lights_like_the_constant_sky() {
     assert!(worst_z < 5.0, "the truths differ beyond noise: {worst_z}");
 }
 
+/// A sky in nits is physical radiance: HDRP reads it as it is, built-in and URP ÷ 10⁴ (the tool's
+/// ratio of their units to HDRP's), so a nits sky of 10⁴·L renders every pipeline as the relative
+/// sky of L does, and HDRP's ambient from it equals its texels.
+#[test]
+fn a_sky_in_nits_is_read_as_physical_radiance() {
+    let tmp = tempfile::tempdir().unwrap();
+    let write = |name: &str, v: f32| {
+        let px: Vec<f32> = (0..32 * 16).flat_map(|_| [v, 0.8 * v, 0.6 * v, 1.0]).collect();
+        std::fs::write(tmp.path().join(name), shadematrix::images::encode::exr_bytes(32, 16, &px).unwrap()).unwrap();
+    };
+    write("relative.exr", 0.5);
+    write("nits.exr", 5000.0);
+    let relative = default_with_sky(tmp.path(), "relative", "sky = { kind = \"image\", path = \"relative.exr\" }");
+    let nits =
+        default_with_sky(tmp.path(), "nits", "sky = { kind = \"image\", path = \"nits.exr\", units = \"nits\" }");
+    let up = glam::DVec3::Y;
+    let hdrp = |s: &Scene| {
+        shadematrix::environment::sky::radiance(&s.environment.sky, up)
+            * shadematrix::pipelines::Pipeline::Hdrp.environment_scale()
+    };
+    assert!((hdrp(&nits).x - 5000.0).abs() < 1e-6, "HDRP reads nits as they are: {}", hdrp(&nits));
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let sliders = Sliders { base_color_linear: [0.5, 0.5, 0.5], metallic: 0.0, smoothness: 0.6 };
+    for pipeline in [Pipeline::Urp, Pipeline::Hdrp] {
+        let cell = crate::common::cell_params(pipeline, "lit", sliders, (2.0, 10.0), 32, RenderPath::Forward);
+        let mut frame = |scene: &Scene| {
+            let prepared = renderer.prepare_scene(scene).unwrap();
+            renderer.render(&prepared, &cell, 1, 0).unwrap().hdr
+        };
+        let (a, b) = (frame(&relative), frame(&nits));
+        let peak = a.iter().fold(0.0f32, |m, v| m.max(v.abs()));
+        let worst = a.iter().zip(&b).map(|(x, y)| (x - y).abs()).fold(0.0f32, f32::max);
+        assert!(worst < 1e-3 * peak, "{pipeline:?}: worst {worst} of {peak}");
+    }
+}
+
 /// Bad input: a sky image that is missing or not 2:1 is refused naming the key and the file.
 #[test]
 fn a_missing_or_misshapen_sky_image_is_refused_by_name() {
