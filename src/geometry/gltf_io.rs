@@ -173,29 +173,40 @@ pub const MAX_TEXTURE_TEXELS: usize = 8192 * 8192;
 /// Material `index` of the glTF at `path` with the images it names decoded (a fixed object's
 /// `gltf_material`); the others are not read.
 pub fn material_by_index(path: &Path, index: usize) -> Result<GltfMaterial, Error> {
+    with_buffers(path, |shown, doc, buffers| {
+        let m = doc.materials().nth(index).ok_or_else(|| {
+            InputError::at_key(
+                shown,
+                "materials",
+                format!("no material {index}: the file has {}", doc.materials().len()),
+            )
+        })?;
+        material_uv_transform(&m).map_err(|e| InputError::at_key(shown, format!("materials[{index}]"), e))?;
+        let named = material_textures(&m).iter().flatten().map(|t| t.source().index()).collect::<Vec<_>>();
+        let images = doc
+            .images()
+            .map(|i| match named.contains(&i.index()) {
+                true => decode_image(path, shown, &i, buffers).map(Some),
+                false => Ok(None),
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(read_material(&m, 0, Some(&images)))
+    })
+}
+
+/// `read` over the document at `path` and its buffers (every external file checked first, the
+/// buffers read with bounds: `gltf_files`), with the reader's panics turned into errors.
+fn with_buffers<T>(
+    path: &Path,
+    read: impl FnOnce(&str, &gltf::Document, &[gltf::buffer::Data]) -> Result<T, Error>,
+) -> Result<T, Error> {
     let shown = path.display().to_string();
     crate::input::guard::without_panics(|| {
         let gltf::Gltf { document: doc, blob } =
             gltf::Gltf::open(path).map_err(|e| InputError::new(&shown, format!("cannot read glTF: {e}")))?;
         super::gltf_files::external_files(path, &doc)?;
         let buffers = super::gltf_files::read_buffers(path, &doc, blob)?;
-        let m = doc.materials().nth(index).ok_or_else(|| {
-            InputError::at_key(
-                &shown,
-                "materials",
-                format!("no material {index}: the file has {}", doc.materials().len()),
-            )
-        })?;
-        material_uv_transform(&m).map_err(|e| InputError::at_key(&shown, format!("materials[{index}]"), e))?;
-        let named = material_textures(&m).iter().flatten().map(|t| t.source().index()).collect::<Vec<_>>();
-        let images = doc
-            .images()
-            .map(|i| match named.contains(&i.index()) {
-                true => decode_image(path, &shown, &i, &buffers).map(Some),
-                false => Ok(None),
-            })
-            .collect::<Result<Vec<_>, _>>()?;
-        Ok(read_material(&m, 0, Some(&images)))
+        read(&shown, &doc, &buffers)
     })
     .unwrap_or_else(|panic| {
         Err(InputError::new(&shown, format!("malformed glTF: the glTF reader failed on it ({panic})")).into())
@@ -384,24 +395,16 @@ pub fn load_primitive(path: &Path, mesh: usize, primitive: usize) -> Result<Mesh
 /// Every triangle-list primitive of the file at `path` by (mesh, primitive), each in its mesh's
 /// space: a glTF scene's objects read their file once (`procedural::build_scene`).
 pub fn load_primitives(path: &Path) -> Result<std::collections::HashMap<(usize, usize), Mesh>, Error> {
-    let shown = path.display().to_string();
-    crate::input::guard::without_panics(|| {
-        let gltf::Gltf { document: doc, blob } =
-            gltf::Gltf::open(path).map_err(|e| InputError::new(&shown, format!("cannot read glTF: {e}")))?;
-        super::gltf_files::external_files(path, &doc)?;
-        let buffers = super::gltf_files::read_buffers(path, &doc, blob)?;
+    with_buffers(path, |shown, doc, buffers| {
         let mut out = std::collections::HashMap::new();
         for m in doc.meshes() {
             for p in m.primitives() {
-                if let Some(mesh) = read_primitive(&m, &p, &buffers, &shown)? {
+                if let Some(mesh) = read_primitive(&m, &p, buffers, shown)? {
                     out.insert((m.index(), p.index()), mesh);
                 }
             }
         }
         Ok(out)
-    })
-    .unwrap_or_else(|panic| {
-        Err(InputError::new(&shown, format!("malformed glTF: the glTF reader failed on it ({panic})")).into())
     })
 }
 

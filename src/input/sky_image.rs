@@ -58,13 +58,7 @@ pub fn read_file(path: &Path) -> Result<SkyImage, String> {
 }
 
 fn read_any_file(path: &Path) -> Result<SkyImage, String> {
-    crate::input::source::regular_file(path).map_err(|e| e.message)?;
-    let size = std::fs::metadata(path).map_err(|e| format!("cannot read: {e}"))?.len();
-    if size > MAX_SKY_FILE {
-        return Err(format!("{size} bytes: an image sky file may have at most {MAX_SKY_FILE}"));
-    }
-    let bytes = std::fs::read(path).map_err(|e| format!("cannot read: {e}"))?;
-    let extension = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+    let (bytes, extension) = crate::input::source::read_bounded(path, MAX_SKY_FILE, "an image sky file")?;
     decode(&bytes, &extension)
 }
 

@@ -24,6 +24,18 @@ pub fn read_toml<T: DeserializeOwned>(path: &Path) -> Result<T, Error> {
 }
 
 /// A FIFO or a device would block or read without end: only regular files are input.
+/// The bytes of the regular file at `path` and its extension in lower case, refused when over
+/// `max` bytes (`what` names the kind of file in the message).
+pub fn read_bounded(path: &Path, max: u64, what: &str) -> Result<(Vec<u8>, String), String> {
+    regular_file(path).map_err(|e| e.message)?;
+    let size = std::fs::metadata(path).map_err(|e| format!("cannot read: {e}"))?.len();
+    if size > max {
+        return Err(format!("{size} bytes: {what} may have at most {max}"));
+    }
+    let bytes = std::fs::read(path).map_err(|e| format!("cannot read: {e}"))?;
+    Ok((bytes, path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase()))
+}
+
 pub fn regular_file(path: &Path) -> Result<(), InputError> {
     match std::fs::metadata(path) {
         Ok(m) if !m.is_file() => Err(InputError::new(

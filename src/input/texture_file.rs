@@ -31,13 +31,7 @@ impl std::fmt::Debug for TextureFile {
 
 /// The image at `path` (.png or .exr), or what is wrong with it.
 pub fn read_file(path: &Path) -> Result<TextureFile, String> {
-    crate::input::source::regular_file(path).map_err(|e| e.message)?;
-    let size = std::fs::metadata(path).map_err(|e| format!("cannot read: {e}"))?.len();
-    if size > MAX_TEXTURE_FILE {
-        return Err(format!("{size} bytes: a texture file may have at most {MAX_TEXTURE_FILE}"));
-    }
-    let bytes = std::fs::read(path).map_err(|e| format!("cannot read: {e}"))?;
-    let extension = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+    let (bytes, extension) = crate::input::source::read_bounded(path, MAX_TEXTURE_FILE, "a texture file")?;
     read_bytes(&bytes, &extension)
 }
 
