@@ -1,6 +1,7 @@
 // HDRP Lit (models.md#hdrp-lit): renormalised Disney diffuse, height-correlated Smith GGX (DV_SmithJointGGX),
 // F_Schlick with F90 = 1, GGX energy compensation from the pre-integrated FGD table (fgd_lookup,
-// computed by the tool). params0.x: energy compensation on (1, default) or off (0).
+// computed by the tool). params0.x: energy compensation on (1, default) or off (0); params0.y: the
+// Specular Color material type (1) or Standard (0, default).
 // Physical units: E in lux, radiance = f·E·NL.
 
 const HDRP_FLT_EPS: f32 = 5.960464478e-8;
@@ -38,8 +39,22 @@ fn clamp_n_dot_v(nv: f32) -> f32 {
     return max(nv, 1e-4);
 }
 
+// fresnel0: ComputeFresnel0(baseColor, metallic, 0.04), or the specular colour for the Specular
+// Color material type (params0.y = 1; Lit.hlsl ConvertSurfaceDataToBSDFData)
 fn hdrp_f0(s: Surface) -> vec3<f32> {
+    if (s.params0.y > 0.5) {
+        return s.specular;
+    }
     return mix(vec3<f32>(0.04), s.base_color, s.metallic);
+}
+
+// diffuseColor: baseColor·(1 − metallic), or for Specular Color with its default Energy Conserving
+// Specular Color, baseColor·(1 − max(specularColor)) (LitData.hlsl _ENERGY_CONSERVING_SPECULAR)
+fn hdrp_diffuse_color(s: Surface) -> vec3<f32> {
+    if (s.params0.y > 0.5) {
+        return s.base_color * (1.0 - max(max(s.specular.r, s.specular.g), s.specular.b));
+    }
+    return s.base_color * (1.0 - s.metallic);
 }
 
 // Specular multiplier 1 + F0·(1/y − 1), y = reflectivity from the FGD table (models.md#hdrp-lit)
@@ -86,7 +101,7 @@ fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f3
     let part_lambda_v = smith_joint_ggx_part_lambda_v(clamped_nv, a_material);
     let dv = dv_smith_joint_ggx(nh, abs(nl), clamped_nv, a, part_lambda_v);
     let spec = f_schlick_f90(f0, 1.0, lh) * dv * hdrp_energy_compensation(s, clamped_nv);
-    let diffuse = s.base_color * (1.0 - s.metallic) * INV_PI * fd_disney_renormalized_no_pi(abs(nl), clamped_nv, lv, pr);
+    let diffuse = hdrp_diffuse_color(s) * INV_PI * fd_disney_renormalized_no_pi(abs(nl), clamped_nv, lv, pr);
     return (diffuse + spec) * sat(nl);
 }
 
@@ -99,5 +114,5 @@ fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>)
     let specular_fgd = (vec3<f32>(1.0) - f0) * fgd.x + f0 * fgd.y;
     let diffuse_fgd = fgd.z + 0.5;
     let env = env_specular(hdrp_ibl_direction(n, v, pr, clamped_nv), pr);
-    return s.base_color * (1.0 - s.metallic) * gi_diffuse * diffuse_fgd + specular_fgd * env * hdrp_energy_compensation(s, clamped_nv);
+    return hdrp_diffuse_color(s) * gi_diffuse * diffuse_fgd + specular_fgd * env * hdrp_energy_compensation(s, clamped_nv);
 }

@@ -11,11 +11,19 @@ struct StandardSetup {
     perceptual_roughness: f32,
 };
 
-// specColor = lerp(0.04, albedo, m); oneMinusReflectivity = 0.96(1 − m); diffColor = albedo·that (models.md#standard)
+// MetallicSetup: specColor = lerp(0.04, albedo, m); oneMinusReflectivity = 0.96(1 − m); diffColor = albedo·that (models.md#standard).
+// SpecularSetup (params0.x = 1, StandardSpecular.shader): specColor = _SpecColor; oneMinusReflectivity =
+// 1 − max(specColor) (SpecularStrength); diffColor = albedo·that (EnergyConservationBetweenDiffuseAndSpecular,
+// UNITY_CONSERVE_ENERGY_MONOCHROME; UnityStandardUtils.cginc)
 fn standard_setup(s: Surface) -> StandardSetup {
     var st: StandardSetup;
-    st.spec_color = mix(DIELECTRIC_SPEC.rgb, s.base_color, s.metallic);
-    st.one_minus_reflectivity = DIELECTRIC_SPEC.a - s.metallic * DIELECTRIC_SPEC.a;
+    if (s.params0.x > 0.5) {
+        st.spec_color = s.specular;
+        st.one_minus_reflectivity = 1.0 - max(max(s.specular.r, s.specular.g), s.specular.b);
+    } else {
+        st.spec_color = mix(DIELECTRIC_SPEC.rgb, s.base_color, s.metallic);
+        st.one_minus_reflectivity = DIELECTRIC_SPEC.a - s.metallic * DIELECTRIC_SPEC.a;
+    }
     st.diff_color = s.base_color * st.one_minus_reflectivity;
     st.perceptual_roughness = 1.0 - s.smoothness;
     return st;

@@ -16,9 +16,16 @@ struct UrpBrdfData {
 // kDielectricSpec = (0.04, 0.96); α = max(pr², 2⁻⁷); α² = max(α², 2⁻¹⁴); grazing = sat(s + reflectivity)
 fn urp_brdf_data(s: Surface) -> UrpBrdfData {
     var b: UrpBrdfData;
-    let one_minus_reflectivity = 0.96 - s.metallic * 0.96;
-    b.diffuse = s.base_color * one_minus_reflectivity;
+    // _SPECULAR_SETUP (params0.x = 1): reflectivity = max(specular) (ReflectivitySpecular), specular
+    // as given; else oneMinusReflectivity = 0.96(1 − m), specular = lerp(0.04, albedo, m) (BRDF.hlsl
+    // InitializeBRDFData)
+    var one_minus_reflectivity = 0.96 - s.metallic * 0.96;
     b.specular = mix(vec3<f32>(0.04), s.base_color, s.metallic);
+    if (s.params0.x > 0.5) {
+        one_minus_reflectivity = 1.0 - max(max(s.specular.r, s.specular.g), s.specular.b);
+        b.specular = s.specular;
+    }
+    b.diffuse = s.base_color * one_minus_reflectivity;
     b.perceptual_roughness = 1.0 - s.smoothness;
     b.roughness = max(b.perceptual_roughness * b.perceptual_roughness, HALF_MIN_SQRT);
     b.roughness2 = max(b.roughness * b.roughness, HALF_MIN);

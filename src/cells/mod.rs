@@ -106,6 +106,7 @@ impl Cell {
                 s.params[spec.slot] = *v;
             }
         }
+        crate::shading::registry::apply_workflow(self.model(), &mut s);
         s
     }
 

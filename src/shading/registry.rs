@@ -272,6 +272,40 @@ const ENERGY_COMPENSATION: ParamSpec = ParamSpec {
     doc: Cow::Borrowed("1: multiply specular by 1 + F0·(1/y − 1) from the FGD table (HDRP default); 0: off"),
 };
 
+/// The specular setup of the engines' lit shaders (built-in Standard (Specular setup) with
+/// StandardSpecular.shader's SpecularSetup, URP Lit's Workflow Mode Specular `_SPECULAR_SETUP`,
+/// HDRP Lit's Material Type Specular Color): 1 takes `Surface::specular` as the specular colour.
+const fn specular_setup(slot: usize) -> ParamSpec {
+    ParamSpec {
+        name: Cow::Borrowed("specular_setup"),
+        slot,
+        default: 0.0,
+        min: 0.0,
+        max: 1.0,
+        doc: Cow::Borrowed(
+            "1: the specular workflow (albedo = colour·(1 − metallic), specular colour = lerp(0.04, colour, metallic), the F0 the metallic workflow gives; the engine's own energy rule: diffuse × (1 − max(specular))); 0: metallic (default)",
+        ),
+    }
+}
+
+const SPECULAR_SETUP: ParamSpec = specular_setup(0);
+/// HDRP Lit's: slot 0 is its energy compensation.
+const SPECULAR_SETUP_HDRP: ParamSpec = specular_setup(1);
+
+/// A cell's sliders in the specular workflow where the model's `specular_setup` parameter is on:
+/// the metallic workflow's look carried over (albedo = colour·(1 − metallic), specular colour =
+/// the F0 lerp(0.04, colour, metallic)), metallic 0 as the engines' specular shaders have none.
+pub fn apply_workflow(model: &ShaderModel, s: &mut Surface) {
+    let Some(spec) = model.params.iter().find(|p| p.name == "specular_setup") else { return };
+    if s.params[spec.slot] < 0.5 {
+        return;
+    }
+    let colour = s.base_color;
+    s.specular = DVec3::splat(0.04).lerp(colour, s.metallic);
+    s.base_color = colour * (1.0 - s.metallic);
+    s.metallic = 0.0;
+}
+
 /// Phong-type models: kd = colour·(1 − metallic), ks = lerp(0.5 grey, colour, metallic),
 /// shininess = exp2(10·smoothness + 1) in the shader.
 fn classic_specular(model: &ShaderModel, _: Pipeline, s: &Sliders) -> Surface {
@@ -556,7 +590,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         reads: ALL_AXES,
         expected: RECIPROCAL_ONLY,
         twin: &twin::Standard,
-        params: &[],
+        params: &[SPECULAR_SETUP],
         mapping: METALLIC_WORKFLOW,
         from_sliders: metallic_workflow,
         summary: "built-in Standard, BRDF1: Disney diffuse, approx. joint Smith, GGX, clamps (models.md#standard)",
@@ -613,7 +647,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         reads: ALL_AXES,
         expected: RECIPROCAL_ONLY,
         twin: &twin::UrpLit,
-        params: &[],
+        params: &[SPECULAR_SETUP],
         mapping: METALLIC_WORKFLOW,
         from_sliders: metallic_workflow,
         summary: "URP Lit: minimal Cook-Torrance specular, Lambert without 1/π, EnvironmentBRDF (models.md#urp-lit)",
@@ -689,7 +723,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         reads: ALL_AXES,
         expected: HDRP_LIT,
         twin: &twin::HdrpLit,
-        params: &[ENERGY_COMPENSATION],
+        params: &[ENERGY_COMPENSATION, SPECULAR_SETUP_HDRP],
         mapping: METALLIC_WORKFLOW,
         from_sliders: metallic_workflow,
         summary: "HDRP Lit: renormalised Disney diffuse, height-correlated Smith GGX, F_Schlick(f90), FGD energy compensation (models.md#hdrp-lit)",

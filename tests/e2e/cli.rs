@@ -241,3 +241,26 @@ fn sweep_lists_can_name_the_scenes_and_the_presets_own_value() {
     assert_eq!(rc, 2, "{err}");
     assert!(err.contains("sweep.metallic") && err.contains("\"scene\""), "{err}");
 }
+
+/// Every shipped matrix loads and lists (names, scenes, textures, axes and parameters valid):
+/// a matrix in `matrices/` that no longer parses fails here rather than in a user's hands.
+/// `thesis.toml` is the largest (172800 cells): listed too, its count checked.
+#[test]
+fn every_shipped_matrix_lists() {
+    let repo = crate::common::repo();
+    let mut names: Vec<_> = std::fs::read_dir(repo.join("matrices"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    names.sort();
+    assert!(names.len() >= 10, "{names:?}");
+    for m in &names {
+        let (code, out, err) = crate::common::shadematrix(&repo, &["list", m.to_str().unwrap()], &[]);
+        assert_eq!(code, 0, "{}: {err}", m.display());
+        assert!(out.contains("cells before twins"), "{}: {out}", m.display());
+        if m.ends_with("fig3_10.toml") {
+            assert!(out.contains("_specular_setup1"), "the specular cells: {out}");
+        }
+    }
+}

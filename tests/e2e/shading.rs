@@ -89,6 +89,8 @@ fn gpu_models_match_their_f64_twins() {
                     for spec in &model.params {
                         s.params[spec.slot] = spec.max;
                     }
+                    // The specular workflow where a model has it: its specular colour from the sliders.
+                    shadematrix::shading::registry::apply_workflow(model, &mut s);
                 }
                 let gi_d = DVec3::new(0.2, 0.3, 0.4);
                 let gi_s = DVec3::new(0.5, 0.4, 0.3);
@@ -249,4 +251,57 @@ fn gpu_resources_are_reused_across_cells() {
     // The first smoothness compiles each pipeline's (ForwardBase and ForwardAdd for built-in's
     // point key light, one forward for URP, the background); the others reuse them.
     assert!(compiled[0] >= 5 && compiled.iter().all(|&n| n == compiled[0]), "{compiled:?}");
+}
+
+/// The specular workflow of Standard, URP Lit and HDRP Lit with the specular colour set to the F0
+/// the metallic workflow gives (albedo colour·(1 − metallic)) renders the metallic cell exactly
+/// where the engines' energy rules agree, and differs by the diffuse alone elsewhere: the
+/// specular setups scale the diffuse by 1 − max(F0), built-in's and URP's metallic ones by
+/// 0.96(1 − metallic) — equal for a dielectric (F0 0.04) and a metal (albedo black) — and HDRP's
+/// by 1 − metallic, equal for a metal only: its dielectric's diffuse is 0.96× in the specular
+/// type (Energy Conserving Specular Color).
+#[test]
+fn the_specular_workflow_matches_the_metallic_one_where_the_sources_say_it_must() {
+    let mut renderer = renderer();
+    let prepared = renderer.prepare_scene(&scene("default")).unwrap();
+    let colour = [0.8, 0.5, 0.2];
+    for (pipeline, shader) in [(Pipeline::Builtin, "standard"), (Pipeline::Urp, "lit"), (Pipeline::Hdrp, "lit")] {
+        let mut frame = |metallic: f64, specular: bool| {
+            let mut cell = params(pipeline, shader, colour, metallic, 0.7, 48);
+            if specular {
+                let slot = cell.model.params.iter().find(|p| p.name == "specular_setup").expect("the param").slot;
+                cell.surface.params[slot] = 1.0;
+                shadematrix::shading::registry::apply_workflow(cell.model, &mut cell.surface);
+            }
+            let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
+            let subject: Vec<usize> = (0..r.roles.len()).filter(|&i| r.roles[i] == 2).collect();
+            let mean = |c: usize| subject.iter().map(|&i| r.hdr[4 * i + c] as f64).sum::<f64>() / subject.len() as f64;
+            let means = [mean(0), mean(1), mean(2)];
+            (r.hdr, means)
+        };
+        let equal_at: &[f64] = if pipeline == Pipeline::Hdrp { &[1.0] } else { &[0.0, 1.0] };
+        for &metallic in equal_at {
+            let ((a, _), (b, _)) = (frame(metallic, false), frame(metallic, true));
+            let peak = a.iter().fold(0.0f32, |m, v| m.max(v.abs()));
+            let worst = a.iter().zip(&b).map(|(x, y)| (x - y).abs()).fold(0.0f32, f32::max);
+            eprintln!(
+                "{}/{shader} metallic {metallic}: specular against metallic worst {worst:.2e} of {peak:.3}",
+                pipeline.name()
+            );
+            assert!(worst <= 1e-5 * peak.max(1.0), "{pipeline:?} at metallic {metallic}: {worst}");
+        }
+        if pipeline == Pipeline::Hdrp {
+            // A dielectric: the specular type's diffuse is 0.96× the metallic one's, the specular
+            // term the same, so the image is darker by less than 4 %.
+            let ((a, metal), (b, spec)) = (frame(0.0, false), frame(0.0, true));
+            assert!(a.iter().zip(&b).all(|(x, y)| *y <= *x + 1e-6 * x.abs()), "the specular type is never brighter");
+            let ratio = spec[0] / metal[0];
+            eprintln!("hdrp/lit metallic 0: specular type over metallic {ratio:.4}");
+            assert!(ratio > 0.96 - 1e-4 && ratio < 1.0 - 1e-4, "{ratio}");
+        }
+        // Between them the two workflows differ.
+        let ((_, metal), (_, spec)) = (frame(0.5, false), frame(0.5, true));
+        eprintln!("{}/{shader} metallic 0.5: subject mean {metal:.4?} metallic, {spec:.4?} specular", pipeline.name());
+        assert!((metal[0] - spec[0]).abs() > 1e-3 * metal[0], "{pipeline:?}: the workflows agree at 0.5");
+    }
 }

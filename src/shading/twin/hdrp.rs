@@ -61,9 +61,22 @@ pub fn f_schlick_f90(f0: DVec3, f90: f64, lh: f64) -> DVec3 {
     f0 * (1.0 - x5) + DVec3::splat(f90 * x5)
 }
 
-/// F0 = lerp(0.04, albedo, metallic).
+/// F0 = lerp(0.04, albedo, metallic), or the specular colour for the Specular Color material
+/// type (params[1] = 1).
 pub fn hdrp_f0(s: &Surface) -> DVec3 {
+    if s.params[1] > 0.5 {
+        return s.specular;
+    }
     DVec3::splat(0.04).lerp(s.base_color, s.metallic)
+}
+
+/// The diffuse colour: albedo·(1 − metallic), or for Specular Color with Energy Conserving
+/// Specular Color (its default), albedo·(1 − max(specular)).
+pub fn hdrp_diffuse_color(s: &Surface) -> DVec3 {
+    if s.params[1] > 0.5 {
+        return s.base_color * (1.0 - s.specular.max_element());
+    }
+    s.base_color * (1.0 - s.metallic)
 }
 
 /// Specular multiplier 1 + F0·(1/y − 1), y = reflectivity from the FGD table (models.md#hdrp-lit).
@@ -99,8 +112,7 @@ impl SurfaceTwin for HdrpLit {
         let f = f_schlick_f90(hdrp_f0(s), 1.0, lh);
         let dv = dv_smith_joint_ggx(nh, nl.abs(), clamped_nv, a, smith_joint_ggx_part_lambda_v(clamped_nv, a_material));
         let spec = f * dv * hdrp_energy_compensation(s, clamped_nv);
-        let diffuse =
-            s.base_color * (1.0 - s.metallic) * FRAC_1_PI * fd_disney_renormalized_no_pi(nl.abs(), clamped_nv, lv, pr);
+        let diffuse = hdrp_diffuse_color(s) * FRAC_1_PI * fd_disney_renormalized_no_pi(nl.abs(), clamped_nv, lv, pr);
         (diffuse + spec) * sat(nl)
     }
 
@@ -109,8 +121,7 @@ impl SurfaceTwin for HdrpLit {
         let fgd = FgdTable::get().lookup(clamped_nv, 1.0 - s.smoothness);
         let f0 = hdrp_f0(s);
         let specular_fgd = (DVec3::ONE - f0) * fgd.x + f0 * fgd.y;
-        s.base_color * (1.0 - s.metallic) * gi_d * (fgd.z + 0.5)
-            + specular_fgd * gi_s * hdrp_energy_compensation(s, clamped_nv)
+        hdrp_diffuse_color(s) * gi_d * (fgd.z + 0.5) + specular_fgd * gi_s * hdrp_energy_compensation(s, clamped_nv)
     }
 
     fn env_direction(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3) -> Option<DVec3> {
@@ -143,7 +154,10 @@ pub fn indirect_occlusion(s: &Surface, nv: f64, material_ao: f64, screen_ao: f64
         .min(specular_occlusion_from_ao(nv, screen_ao, roughness));
     (
         gtao_multi_bounce(material_ao.min(screen_ao), s.base_color * (1.0 - s.metallic)),
-        gtao_multi_bounce(so, hdrp_f0(s)),
+        // The metallic form for every model, as the pass computes it (forward.wgsl
+        // `indirect_light`): for HDRP Lit's Specular Color type it is 0.04, not the specular
+        // colour HDRP's GTAOMultiBounce reads (docs/deviations.md).
+        gtao_multi_bounce(so, DVec3::splat(0.04).lerp(s.base_color, s.metallic)),
     )
 }
 

@@ -17,11 +17,19 @@ pub struct StandardSetup {
     pub perceptual_roughness: f64,
 }
 
-/// specColor, oneMinusReflectivity, diffColor and perceptual roughness (models.md#standard).
+/// specColor, oneMinusReflectivity, diffColor and perceptual roughness (models.md#standard):
+/// MetallicSetup, or SpecularSetup where params[0] = 1 (StandardSpecular.shader: oneMinusReflectivity
+/// = 1 − max(specColor), diffColor = albedo·that, UNITY_CONSERVE_ENERGY_MONOCHROME).
 pub fn standard_setup(s: &Surface) -> StandardSetup {
-    let one_minus_reflectivity = DIELECTRIC_SPEC_A - s.metallic * DIELECTRIC_SPEC_A;
+    let (one_minus_reflectivity, spec_color) = match s.params[0] > 0.5 {
+        true => (1.0 - s.specular.max_element(), s.specular),
+        false => (
+            DIELECTRIC_SPEC_A - s.metallic * DIELECTRIC_SPEC_A,
+            DVec3::splat(DIELECTRIC_SPEC_RGB).lerp(s.base_color, s.metallic),
+        ),
+    };
     StandardSetup {
-        spec_color: DVec3::splat(DIELECTRIC_SPEC_RGB).lerp(s.base_color, s.metallic),
+        spec_color,
         diff_color: s.base_color * one_minus_reflectivity,
         one_minus_reflectivity,
         perceptual_roughness: 1.0 - s.smoothness,

@@ -18,12 +18,16 @@ pub struct UrpBrdfData {
 }
 
 pub fn urp_brdf_data(s: &Surface) -> UrpBrdfData {
-    let omr = 0.96 - s.metallic * 0.96;
+    // _SPECULAR_SETUP (params[0] = 1): reflectivity = max(specular), specular as given.
+    let (omr, specular) = match s.params[0] > 0.5 {
+        true => (1.0 - s.specular.max_element(), s.specular),
+        false => (0.96 - s.metallic * 0.96, DVec3::splat(0.04).lerp(s.base_color, s.metallic)),
+    };
     let pr = 1.0 - s.smoothness;
     let roughness = (pr * pr).max(HALF_MIN_SQRT);
     UrpBrdfData {
         diffuse: s.base_color * omr,
-        specular: DVec3::splat(0.04).lerp(s.base_color, s.metallic),
+        specular,
         roughness,
         roughness2: (roughness * roughness).max(HALF_MIN),
         grazing_term: sat(s.smoothness + (1.0 - omr)),
