@@ -192,7 +192,7 @@ fn textures_json() -> String {
 }
 
 /// A fixed object's own glTF maps are drawn and traced: the floor's base-colour texture (red on
-/// the left, blue on the right) shows in the real-time frame and in the CPU truth, its
+/// the left, blue on the right) shows in the real-time frame and in both truth backends, its
 /// KHR_texture_transform offset of half a tile swaps the halves in both, and its emission adds
 /// its radiance to both.
 #[test]
@@ -229,9 +229,15 @@ fn a_fixed_objects_gltf_maps_and_emission_are_drawn_and_traced() {
         let prepared = renderer.prepare_scene(&scene).unwrap();
         let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
         let t = renderer.render_truth(&prepared, &cell, &settings).unwrap();
+        let gpu_settings = shadematrix::render::truth::TruthSettings {
+            backend: shadematrix::spec::matrix::TruthBackend::Gpu,
+            ..settings
+        };
+        let g = renderer.render_truth(&prepared, &cell, &gpu_settings).unwrap();
         let real = thirds(&|i| [0, 1, 2].map(|c| r.hdr[4 * i + c] as f64), &|i| r.roles[i]);
         let traced = thirds(&|i| t.mean[i].map(f64::from), &|i| t.roles[i]);
-        (real, traced)
+        let traced_gpu = thirds(&|i| g.mean[i].map(f64::from), &|i| g.roles[i]);
+        (real, traced, traced_gpu)
     };
     let plain = frame(
         r#""pbrMetallicRoughness": { "baseColorFactor": [1.0, 1.0, 1.0, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.8, "baseColorTexture": { "index": 0 } }"#,
@@ -247,13 +253,19 @@ fn a_fixed_objects_gltf_maps_and_emission_are_drawn_and_traced() {
         ("truth", plain.1, false),
         ("real-time, transformed", moved.0, true),
         ("truth, transformed", moved.1, true),
+        ("GPU truth", plain.2, false),
+        ("GPU truth, transformed", moved.2, true),
     ] {
         eprintln!("{what}: left {left:.3?}, right {right:.3?}");
         let (red, blue) = if swapped { (right, left) } else { (left, right) };
         assert!(red[0] > 3.0 * red[2] && blue[2] > 3.0 * blue[0], "{what}: left {left:?}, right {right:?}");
     }
     // The emission (URP's units: 0.5 as it is) adds to both, beside the lit texture.
-    for (what, lit, glow) in [("real-time", plain.0 .0, glowing.0 .0), ("truth", plain.1 .0, glowing.1 .0)] {
+    for (what, lit, glow) in [
+        ("real-time", plain.0 .0, glowing.0 .0),
+        ("truth", plain.1 .0, glowing.1 .0),
+        ("GPU truth", plain.2 .0, glowing.2 .0),
+    ] {
         let added = glow[1] - lit[1];
         eprintln!("{what}: emission adds {added:.4} to the floor's green");
         assert!((added - 0.5).abs() < 0.02, "{what}: {added}");
