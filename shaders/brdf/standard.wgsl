@@ -67,7 +67,8 @@ fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f3
     let a = roughness_clamped(st.perceptual_roughness);
     var specular_term = max(0.0, v_smith_joint_approx(nl, nv, a) * d_ggx_unity(nh, a) * PI * nl);
     // Pure Lambert is possible: no specular when specColor is black (models.md#standard).
-    if (all(st.spec_color == vec3<f32>(0.0))) {
+    // _SPECULARHIGHLIGHTS_OFF (params0.y = 1): specularTerm = 0 (BRDF1_Unity_PBS).
+    if (all(st.spec_color == vec3<f32>(0.0)) || s.params0.y > 0.5) {
         specular_term = 0.0;
     }
     return st.diff_color * diffuse_term + specular_term * f_schlick(st.spec_color, lh);

@@ -44,6 +44,10 @@ fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f3
     let h = safe_normalize(l + v, 1.175494e-38);
     let nh = sat(dot(n, h));
     let lh = sat(dot(l, h));
+    // _SPECULARHIGHLIGHTS_OFF (params0.y = 1): DirectBRDF returns the diffuse alone.
+    if (s.params0.y > 0.5) {
+        return b.diffuse * sat(dot(n, l));
+    }
     return (b.diffuse + b.specular * spec_urp(nh, lh, b)) * sat(dot(n, l));
 }
 

@@ -634,6 +634,12 @@ fn fs_deferred(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     s.specular = m.specular.rgb;
     s.params0 = m.model0;
     s.params1 = m.model1;
+    // Built-in's Internal-DeferredShading lights the G-buffer with BRDF1 compiled without the
+    // material's keywords: Standard's _SPECULARHIGHLIGHTS_OFF (params0.y) does not reach it
+    // (fragDeferred writes no such flag); URP's G-buffer carries it.
+    if (PIPELINE == PIPELINE_BUILTIN) {
+        s.params0.y = 0.0;
+    }
     let nb = textureLoad(gb_normal, px, 0);
     let n = normalize(nb.xyz * 2.0 - 1.0);
     let v = normalize(frame.camera_pos.xyz - p);

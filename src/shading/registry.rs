@@ -289,6 +289,23 @@ const fn specular_setup(slot: usize) -> ParamSpec {
 }
 
 const SPECULAR_SETUP: ParamSpec = specular_setup(0);
+
+/// Standard's and URP Lit's Specular Highlights toggle turned off (`_SpecularHighlights` 0, which
+/// compiles `_SPECULARHIGHLIGHTS_OFF`; a new material has them on): no specular term from the
+/// lights. Named for the keyword, so that zero parameters are the engines' default. Built-in
+/// Standard's own passes honour it; Internal-DeferredShading does not (fragDeferred writes
+/// diffColor, specColor and smoothness to the G-buffer, no flag), URP's deferred lighting does
+/// (kMaterialFlagSpecularHighlightsOff in the G-buffer).
+const SPECULAR_HIGHLIGHTS_TOGGLE: ParamSpec = ParamSpec {
+    name: Cow::Borrowed("specular_highlights_off"),
+    slot: 1,
+    default: 0.0,
+    min: 0.0,
+    max: 1.0,
+    doc: Cow::Borrowed(
+        "1: _SPECULARHIGHLIGHTS_OFF (BRDF1's specularTerm = 0, URP's DirectBRDF returns the diffuse); 0 (default): highlights on; built-in's deferred lighting does not read it",
+    ),
+};
 /// HDRP Lit's: slot 0 is its energy compensation.
 const SPECULAR_SETUP_HDRP: ParamSpec = specular_setup(1);
 
@@ -590,7 +607,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         reads: ALL_AXES,
         expected: RECIPROCAL_ONLY,
         twin: &twin::Standard,
-        params: &[SPECULAR_SETUP],
+        params: &[SPECULAR_SETUP, SPECULAR_HIGHLIGHTS_TOGGLE],
         mapping: METALLIC_WORKFLOW,
         from_sliders: metallic_workflow,
         summary: "built-in Standard, BRDF1: Disney diffuse, approx. joint Smith, GGX, clamps (models.md#standard)",
@@ -647,7 +664,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         reads: ALL_AXES,
         expected: RECIPROCAL_ONLY,
         twin: &twin::UrpLit,
-        params: &[SPECULAR_SETUP],
+        params: &[SPECULAR_SETUP, SPECULAR_HIGHLIGHTS_TOGGLE],
         mapping: METALLIC_WORKFLOW,
         from_sliders: metallic_workflow,
         summary: "URP Lit: minimal Cook-Torrance specular, Lambert without 1/π, EnvironmentBRDF (models.md#urp-lit)",

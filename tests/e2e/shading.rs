@@ -84,10 +84,12 @@ fn gpu_models_match_their_f64_twins() {
                 };
                 let mut s = model.surface(pipeline, &sliders);
                 // Every other sample takes each parameter at its largest value (Simple Lit's
-                // highlights on, the largest IOR and Fresnel power, ...).
+                // highlights on, Standard's and URP Lit's off, the largest IOR and Fresnel
+                // power, the specular workflow, ...),
+                // every fourth at its smallest (HDRP's energy compensation off).
                 if i % 2 == 1 {
                     for spec in &model.params {
-                        s.params[spec.slot] = spec.max;
+                        s.params[spec.slot] = if i % 4 == 1 { spec.max } else { spec.min };
                     }
                     // The specular workflow where a model has it: its specular colour from the sliders.
                     shadematrix::shading::registry::apply_workflow(model, &mut s);
@@ -303,5 +305,36 @@ fn the_specular_workflow_matches_the_metallic_one_where_the_sources_say_it_must(
         let ((_, metal), (_, spec)) = (frame(0.5, false), frame(0.5, true));
         eprintln!("{}/{shader} metallic 0.5: subject mean {metal:.4?} metallic, {spec:.4?} specular", pipeline.name());
         assert!((metal[0] - spec[0]).abs() > 1e-3 * metal[0], "{pipeline:?}: the workflows agree at 0.5");
+    }
+}
+
+/// Standard's and URP Lit's Specular Highlights toggle: off removes the lights' highlight from a
+/// smooth subject in forward, and in URP's deferred lighting (its G-buffer carries the flag), but
+/// not in built-in's deferred lighting, which Internal-DeferredShading does without the
+/// material's keywords.
+#[test]
+fn the_specular_highlights_toggle_reaches_the_passes_the_engines_read_it_in() {
+    use shadematrix::pipelines::RenderPath;
+    let mut renderer = renderer();
+    let prepared = renderer.prepare_scene(&scene("default")).unwrap();
+    for (pipeline, shader) in [(Pipeline::Builtin, "standard"), (Pipeline::Urp, "lit")] {
+        for path in [RenderPath::Forward, RenderPath::Deferred] {
+            let mut frame = |highlights_off: f64| {
+                let mut cell = params(pipeline, shader, [0.5, 0.5, 0.5], 0.0, 0.9, 48);
+                cell.settings.path = path;
+                let slot = cell.model.params.iter().find(|p| p.name == "specular_highlights_off").unwrap().slot;
+                cell.surface.params[slot] = highlights_off;
+                renderer.render(&prepared, &cell, 1, 0).unwrap().hdr
+            };
+            let (on, off) = (frame(0.0), frame(1.0));
+            let worst = on.iter().zip(&off).map(|(a, b)| a - b).fold(0.0f32, f32::max);
+            let brighter = off.iter().zip(&on).all(|(b, a)| *b <= *a + 1e-6);
+            eprintln!("{}/{shader} {path:?}: highlights take off up to {worst:.4}", pipeline.name());
+            assert!(brighter, "{pipeline:?} {path:?}: highlights off is never brighter");
+            match (pipeline, path) {
+                (Pipeline::Builtin, RenderPath::Deferred) => assert_eq!(worst, 0.0, "built-in deferred ignores it"),
+                _ => assert!(worst > 0.01, "{pipeline:?} {path:?}: the highlight stays ({worst})"),
+            }
+        }
     }
 }

@@ -68,7 +68,8 @@ impl SurfaceTwin for Standard {
         let diffuse_term = fd_disney_unity(nv, nl, lh, st.perceptual_roughness) * nl;
         let a = roughness_clamped(st.perceptual_roughness);
         let mut specular_term = (v_smith_joint_approx(nl, nv, a) * d_ggx_unity(nh, a) * PI * nl).max(0.0);
-        if st.spec_color == DVec3::ZERO {
+        // _SPECULARHIGHLIGHTS_OFF (params[1] = 1).
+        if st.spec_color == DVec3::ZERO || s.params[1] > 0.5 {
             specular_term = 0.0;
         }
         st.diff_color * diffuse_term + specular_term * f_schlick(st.spec_color, lh)

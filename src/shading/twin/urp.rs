@@ -44,6 +44,10 @@ pub struct UrpLit;
 impl SurfaceTwin for UrpLit {
     fn direct(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
         let b = urp_brdf_data(s);
+        // _SPECULARHIGHLIGHTS_OFF (params[1] = 1): the diffuse alone.
+        if s.params[1] > 0.5 {
+            return b.diffuse * sat(n.dot(l));
+        }
         let h = safe_normalize(l + v, f32::MIN_POSITIVE as f64);
         (b.diffuse + b.specular * spec_urp(sat(n.dot(h)), sat(l.dot(h)), &b)) * sat(n.dot(l))
     }
