@@ -55,7 +55,14 @@ fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>)
     let b = urp_brdf_data(s);
     let x = 1.0 - sat(dot(n, v));
     let fresnel_term = x * x * x * x;
-    let env = env_specular(reflect(-v, n), b.perceptual_roughness);
+    // _ENVIRONMENTREFLECTIONS_OFF (params0.z = 1): GlossyEnvironmentReflection returns the
+    // constant _GlossyEnvironmentColor, no probe or sky lookup.
+    var env = vec3<f32>(0.0);
+    if (s.params0.z > 0.5) {
+        env = glossy_environment_color();
+    } else {
+        env = env_specular(reflect(-v, n), b.perceptual_roughness);
+    }
     // c = bakedGI·diffuse + envSpec·1/(α² + 1)·lerp(specular, grazing, (1 − NoV)⁴)
     return gi_diffuse * b.diffuse + env * (1.0 / (b.roughness2 + 1.0)) * mix(b.specular, vec3<f32>(b.grazing_term), fresnel_term);
 }

@@ -32,6 +32,12 @@ fn env_specular(r: vec3<f32>, perceptual_roughness: f32) -> vec3<f32> {
     return probe_gi_specular;
 }
 
+// The constant reflection of a material with environment reflections off: the input's too.
+fn glossy_environment_color() -> vec3<f32> {
+    probe_env_dir = vec3<f32>(0.0);
+    return probe_gi_specular;
+}
+
 @compute @workgroup_size(64)
 fn probe_main(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;

@@ -161,6 +161,14 @@ fn env_specular(r: vec3<f32>, perceptual_roughness: f32) -> vec3<f32> {
     return environment_reflection(r, perceptual_roughness) * indirect_specular_occlusion;
 }
 
+// URP's _GlossyEnvironmentColor, what a material with Environment Reflections off reflects
+// (_ENVIRONMENTREFLECTIONS_OFF): the ambient probe's L0 coefficients × reflectionIntensity (1)
+// (UniversalRenderPipeline.SetupPerFrameShaderConstants), i.e. the environment's mean radiance:
+// the L0 term of the ambient SH (E/π's L0 is the mean radiance).
+fn glossy_environment_color() -> vec3<f32> {
+    return frame.sh[0].rgb * 0.282095 * frame.env.y;
+}
+
 // The occlusion of the reflected environment at the shaded point: HDRP's indirect specular
 // occlusion (forward.wgsl `indirect_light`), 1 elsewhere.
 var<private> indirect_specular_occlusion: vec3<f32> = vec3<f32>(1.0);

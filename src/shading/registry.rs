@@ -290,6 +290,22 @@ const fn specular_setup(slot: usize) -> ParamSpec {
 
 const SPECULAR_SETUP: ParamSpec = specular_setup(0);
 
+/// URP Lit's Environment Reflections toggle turned off (`_EnvironmentReflections` 0, compiling
+/// `_ENVIRONMENTREFLECTIONS_OFF`): the reflections are the constant `_GlossyEnvironmentColor`,
+/// the ambient probe's L0 × reflectionIntensity (UniversalRenderPipeline
+/// .SetupPerFrameShaderConstants). Built-in Standard's counterpart (`_GLOSSYREFLECTIONS_OFF`)
+/// reads `unity_IndirectSpecColor`, which the engine computes in unpublished code: not modelled.
+const ENVIRONMENT_REFLECTIONS_OFF: ParamSpec = ParamSpec {
+    name: Cow::Borrowed("environment_reflections_off"),
+    slot: 2,
+    default: 0.0,
+    min: 0.0,
+    max: 1.0,
+    doc: Cow::Borrowed(
+        "1: _ENVIRONMENTREFLECTIONS_OFF (reflections = _GlossyEnvironmentColor, the environment's mean radiance); 0 (default): probes and sky",
+    ),
+};
+
 /// Standard's and URP Lit's Specular Highlights toggle turned off (`_SpecularHighlights` 0, which
 /// compiles `_SPECULARHIGHLIGHTS_OFF`; a new material has them on): no specular term from the
 /// lights. Named for the keyword, so that zero parameters are the engines' default. Built-in
@@ -664,7 +680,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         reads: ALL_AXES,
         expected: RECIPROCAL_ONLY,
         twin: &twin::UrpLit,
-        params: &[SPECULAR_SETUP, SPECULAR_HIGHLIGHTS_TOGGLE],
+        params: &[SPECULAR_SETUP, SPECULAR_HIGHLIGHTS_TOGGLE, ENVIRONMENT_REFLECTIONS_OFF],
         mapping: METALLIC_WORKFLOW,
         from_sliders: metallic_workflow,
         summary: "URP Lit: minimal Cook-Torrance specular, Lambert without 1/π, EnvironmentBRDF (models.md#urp-lit)",

@@ -338,3 +338,38 @@ fn the_specular_highlights_toggle_reaches_the_passes_the_engines_read_it_in() {
         }
     }
 }
+
+/// URP Lit's Environment Reflections toggle: off, a surface reflects the constant
+/// _GlossyEnvironmentColor (the ambient probe's L0: the environment's mean radiance). Under a
+/// constant sky, which is its own mean, the frame does not change; in the default room, whose
+/// probe holds the walls and floor, the smooth metal sphere's reflections do.
+#[test]
+fn urp_environment_reflections_off_reflect_the_mean_of_the_environment() {
+    let mut renderer = renderer();
+    let mut constant = scene("default");
+    constant.environment.sky = shadematrix::spec::scene::Sky::Constant { color: [0.4, 0.5, 0.6] };
+    constant.environment.reflections = shadematrix::spec::scene::Reflections::Sky;
+    let room = scene("default");
+    for (what, sc, changes) in [("constant sky", constant, false), ("the default room", room, true)] {
+        let prepared = renderer.prepare_scene(&sc).unwrap();
+        let mut frame = |off: f64| {
+            let mut cell = params(Pipeline::Urp, "lit", [0.9, 0.9, 0.9], 1.0, 0.9, 48);
+            let slot = cell.model.params.iter().find(|p| p.name == "environment_reflections_off").unwrap().slot;
+            cell.surface.params[slot] = off;
+            let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
+            (0..r.roles.len())
+                .filter(|&i| r.roles[i] == 2)
+                .flat_map(|i| r.hdr[4 * i..4 * i + 3].to_vec())
+                .collect::<Vec<f32>>()
+        };
+        let (on, off) = (frame(0.0), frame(1.0));
+        let peak = on.iter().fold(0.0f32, |m, v| m.max(v.abs()));
+        let worst = on.iter().zip(&off).map(|(a, b)| (a - b).abs()).fold(0.0f32, f32::max);
+        eprintln!("urp/lit reflections off under {what}: worst change {worst:.4} of {peak:.4}");
+        if changes {
+            assert!(worst > 0.05 * peak, "{what}: the probe's room should leave the reflections");
+        } else {
+            assert!(worst < 2e-3 * peak.max(1e-3), "{what}: a constant sky is its own mean ({worst})");
+        }
+    }
+}

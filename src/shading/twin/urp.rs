@@ -52,6 +52,8 @@ impl SurfaceTwin for UrpLit {
         (b.diffuse + b.specular * spec_urp(sat(n.dot(h)), sat(l.dot(h)), &b)) * sat(n.dot(l))
     }
 
+    /// `gi_s` is what the surface reflects: the probes' and sky's radiance, or with environment
+    /// reflections off (params[2] = 1) the constant _GlossyEnvironmentColor.
     fn indirect(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, gi_d: DVec3, gi_s: DVec3) -> DVec3 {
         let b = urp_brdf_data(s);
         let fresnel = (1.0 - sat(n.dot(v))).powi(4);
