@@ -136,7 +136,7 @@ fn map_texel(k: i32, uv: vec2<f32>) -> vec4<f32> {
             default: { return textureSample(material_emission, material_sampler, uv); }
         }
     }
-    return textureSample(fixed_maps, material_sampler, uv, 4 * (i32(object.material.params.w + 0.5) - 1) + k);
+    return textureSample(fixed_maps, material_sampler, uv, fixed_map_layer(object.material, k));
 }
 
 fn map_texel_level0(k: i32, uv: vec2<f32>) -> vec4<f32> {

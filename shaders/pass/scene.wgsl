@@ -83,9 +83,14 @@ struct Object {
 // `material.params.w` is k + 1.
 @group(0) @binding(14) var fixed_maps: texture_2d_array<f32>;
 
-// A fixed material's map `k` (0 albedo, 1 normal, 2 mask, 3 emission) at uv, finest level.
+// The layer of a fixed material's map `k` (0 albedo, 1 normal, 2 mask, 3 emission) in fixed_maps.
+fn fixed_map_layer(m: Material, k: i32) -> i32 {
+    return 4 * (i32(m.params.w + 0.5) - 1) + k;
+}
+
+// A fixed material's map `k` at uv, finest level.
 fn fixed_map_level0(m: Material, k: i32, uv: vec2<f32>) -> vec4<f32> {
-    return textureSampleLevel(fixed_maps, material_sampler, uv, 4 * (i32(m.params.w + 0.5) - 1) + k, 0.0);
+    return textureSampleLevel(fixed_maps, material_sampler, uv, fixed_map_layer(m, k), 0.0);
 }
 
 fn light_mode(object_index: u32, light: u32) -> u32 {

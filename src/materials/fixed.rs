@@ -10,7 +10,7 @@ use std::sync::Arc;
 
 use super::{with_mips, MapLevel, MaterialMaps};
 use crate::error::Error;
-use crate::geometry::gltf_io::{GltfMaterial, TextureImage};
+use crate::geometry::gltf_io::GltfMaterial;
 use crate::input::texture_file::TextureFile;
 use crate::spec::scene::{GltfMaterialRef, Scene};
 
@@ -114,16 +114,12 @@ fn read_gltf_material(scene: &Scene, r: &GltfMaterialRef) -> Result<GltfMaterial
 /// A base-colour map alone: the image resampled (bilinear, repeating) as the albedo multiplier,
 /// the other maps neutral.
 fn image_maps(t: &TextureFile, size: usize) -> MaterialMaps {
-    let image = TextureImage {
-        width: t.width,
-        height: t.height,
-        texels: t.texels.iter().map(|c| [c[0], c[1], c[2], 1.0]).collect(),
-    };
+    let texels: Vec<[f32; 4]> = t.texels.iter().map(|c| [c[0], c[1], c[2], 1.0]).collect();
     let n = size * size;
     let albedo = (0..n)
         .map(|i| {
             let (x, y) = ((i % size) as f64 + 0.5, (i / size) as f64 + 0.5);
-            super::gltf::bilinear(&image, x / size as f64, y / size as f64)
+            super::bilinear(&texels, t.width, t.height, x / size as f64, y / size as f64)
         })
         .collect();
     with_mips(MapLevel {

@@ -11,7 +11,7 @@
 //! square power-of-two grid — the largest texture's size rounded up, at most `MAX_SIZE` — so the
 //! maps share the procedural presets' texture layout and sampler.
 
-use super::{with_mips, MapLevel, MaterialMaps};
+use super::{bilinear, with_mips, MapLevel, MaterialMaps};
 use crate::color::linear_to_srgb;
 use crate::geometry::gltf_io::{ExportTextures, GltfMaterial, TextureImage};
 
@@ -46,7 +46,8 @@ pub fn maps_at(m: &GltfMaterial, size: usize) -> MaterialMaps {
         match t {
             Some(img) => (0..texel_count)
                 .map(|i| {
-                    bilinear(img, ((i % size) as f64 + 0.5) / size as f64, ((i / size) as f64 + 0.5) / size as f64)
+                    let (u, v) = (((i % size) as f64 + 0.5) / size as f64, ((i / size) as f64 + 0.5) / size as f64);
+                    bilinear(&img.texels, img.width, img.height, u, v)
                 })
                 .collect(),
             None => vec![default; texel_count],
@@ -116,23 +117,6 @@ pub fn export_textures(maps: &MaterialMaps, base: [f64; 3], smoothness: f64) -> 
         occlusion: l0.mask.iter().map(|m| [byte(m[1] as f64), 0, 0, 255]).collect(),
         emissive: (!l0.emission.is_empty()).then(|| l0.emission.iter().map(|t| srgb(t, [1.0; 3])).collect()),
     }
-}
-
-/// Bilinear lookup at (u, v) in [0, 1), texel centres at (i + 0.5)/width, repeating.
-pub(crate) fn bilinear(img: &TextureImage, u: f64, v: f64) -> [f32; 4] {
-    let (w, h) = (img.width as isize, img.height as isize);
-    let x = u * w as f64 - 0.5;
-    let y = v * h as f64 - 0.5;
-    let (x0, y0) = (x.floor(), y.floor());
-    let (fx, fy) = ((x - x0) as f32, (y - y0) as f32);
-    let at = |xi: isize, yi: isize| img.texels[(yi.rem_euclid(h) * w + xi.rem_euclid(w)) as usize];
-    let (x0, y0) = (x0 as isize, y0 as isize);
-    let (a, b, c, d) = (at(x0, y0), at(x0 + 1, y0), at(x0, y0 + 1), at(x0 + 1, y0 + 1));
-    std::array::from_fn(|k| {
-        let top = a[k] + (b[k] - a[k]) * fx;
-        let bottom = c[k] + (d[k] - c[k]) * fx;
-        top + (bottom - top) * fy
-    })
 }
 
 #[cfg(test)]

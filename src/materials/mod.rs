@@ -124,6 +124,25 @@ pub fn generate(preset: &str, size: usize) -> MaterialMaps {
     with_mips(level)
 }
 
+/// Bilinear lookup of RGBA texels (row-major, `width` × `height`) at (u, v), texel centres at
+/// (i + 0.5)/width, repeating: the maps' sampler at one level (glTF's default wrap, Unity's
+/// Repeat), for resampling textures and for the CPU truth's reads.
+pub fn bilinear(texels: &[[f32; 4]], width: usize, height: usize, u: f64, v: f64) -> [f32; 4] {
+    let (w, h) = (width as isize, height as isize);
+    let x = u * w as f64 - 0.5;
+    let y = v * h as f64 - 0.5;
+    let (x0, y0) = (x.floor(), y.floor());
+    let (fx, fy) = ((x - x0) as f32, (y - y0) as f32);
+    let at = |xi: isize, yi: isize| texels[(yi.rem_euclid(h) * w + xi.rem_euclid(w)) as usize];
+    let (x0, y0) = (x0 as isize, y0 as isize);
+    let (a, b, c, d) = (at(x0, y0), at(x0 + 1, y0), at(x0, y0 + 1), at(x0 + 1, y0 + 1));
+    std::array::from_fn(|k| {
+        let top = a[k] + (b[k] - a[k]) * fx;
+        let bottom = c[k] + (d[k] - c[k]) * fx;
+        top + (bottom - top) * fy
+    })
+}
+
 /// The full mip chain of a finest level.
 pub(crate) fn with_mips(level: MapLevel) -> MaterialMaps {
     let mut levels = vec![level];

@@ -33,20 +33,31 @@ fn upload(
         view_formats: &[],
     });
     for (mip, (s, texels)) in levels.iter().enumerate() {
-        let bytes: Vec<f16> = texels.iter().flat_map(|t| t.map(f16::from_f32)).collect();
-        queue.write_texture(
-            wgpu::TexelCopyTextureInfo {
-                texture: &texture,
-                mip_level: mip as u32,
-                origin: wgpu::Origin3d::ZERO,
-                aspect: wgpu::TextureAspect::All,
-            },
-            bytemuck::cast_slice(&bytes),
-            wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(*s as u32 * 8), rows_per_image: None },
-            wgpu::Extent3d { width: *s as u32, height: *s as u32, depth_or_array_layers: 1 },
-        );
+        write_level(queue, &texture, (mip, 0), *s, texels);
     }
     texture.create_view(&Default::default())
+}
+
+/// One `size`² level of linear RGBA texels into mip `mip`, layer `layer` of an Rgba16Float texture.
+pub(in crate::render) fn write_level(
+    queue: &wgpu::Queue,
+    texture: &wgpu::Texture,
+    (mip, layer): (usize, usize),
+    size: usize,
+    texels: &[[f32; 4]],
+) {
+    let bytes: Vec<f16> = texels.iter().flat_map(|t| t.map(f16::from_f32)).collect();
+    queue.write_texture(
+        wgpu::TexelCopyTextureInfo {
+            texture,
+            mip_level: mip as u32,
+            origin: wgpu::Origin3d { x: 0, y: 0, z: layer as u32 },
+            aspect: wgpu::TextureAspect::All,
+        },
+        bytemuck::cast_slice(&bytes),
+        wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(size as u32 * 8), rows_per_image: None },
+        wgpu::Extent3d { width: size as u32, height: size as u32, depth_or_array_layers: 1 },
+    );
 }
 
 impl MaterialTextures {

@@ -249,38 +249,24 @@ impl GpuFixedMaps {
             usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
             view_formats: &[],
         });
-        let white = [[1.0f32; 4]];
         for (k, m) in materials.iter().enumerate() {
             for (mip, level) in m.levels.iter().enumerate() {
-                let emission: &[[f32; 4]] = if level.emission.is_empty() { &white } else { &level.emission };
+                // A material without an emission map: white.
+                let white;
+                let emission = match level.emission.is_empty() {
+                    true => {
+                        white = vec![[1.0f32; 4]; level.size * level.size];
+                        &white[..]
+                    }
+                    false => &level.emission[..],
+                };
                 for (j, texels) in [&level.albedo[..], &level.normal, &level.mask, emission].into_iter().enumerate() {
-                    // A material without an emission map: white, written texel by texel.
-                    let filled;
-                    let texels = if texels.len() == level.size * level.size {
-                        texels
-                    } else {
-                        filled = vec![texels[0]; level.size * level.size];
-                        &filled[..]
-                    };
-                    let half: Vec<half::f16> = texels.iter().flat_map(|t| t.map(half::f16::from_f32)).collect();
-                    gpu.queue.write_texture(
-                        wgpu::TexelCopyTextureInfo {
-                            texture: &texture,
-                            mip_level: mip as u32,
-                            origin: wgpu::Origin3d { x: 0, y: 0, z: (4 * k + j) as u32 },
-                            aspect: wgpu::TextureAspect::All,
-                        },
-                        bytemuck::cast_slice(&half),
-                        wgpu::TexelCopyBufferLayout {
-                            offset: 0,
-                            bytes_per_row: Some(level.size as u32 * 8),
-                            rows_per_image: None,
-                        },
-                        wgpu::Extent3d {
-                            width: level.size as u32,
-                            height: level.size as u32,
-                            depth_or_array_layers: 1,
-                        },
+                    crate::render::material_maps::write_level(
+                        &gpu.queue,
+                        &texture,
+                        (mip, 4 * k + j),
+                        level.size,
+                        texels,
                     );
                 }
             }

@@ -320,38 +320,15 @@ struct SurfacePoint {
     emission: DVec3,
 }
 
-/// Bilinear between texel centres at uv, repeating (the maps' sampler at one level).
-fn map_bilinear(texels: &[[f32; 4]], size: usize, uv: DVec2) -> [f64; 4] {
-    let x = uv.x * size as f64 - 0.5;
-    let y = uv.y * size as f64 - 0.5;
-    let (x0, y0) = (x.floor(), y.floor());
-    let (fx, fy) = (x - x0, y - y0);
-    let at = |xi: f64, yi: f64| {
-        let (xi, yi) = ((xi as i64).rem_euclid(size as i64) as usize, (yi as i64).rem_euclid(size as i64) as usize);
-        texels[yi * size + xi].map(f64::from)
-    };
-    let (a, b, c, d) = (at(x0, y0), at(x0 + 1.0, y0), at(x0, y0 + 1.0), at(x0 + 1.0, y0 + 1.0));
-    std::array::from_fn(|k| {
-        let top = a[k] + (b[k] - a[k]) * fx;
-        top + (c[k] + (d[k] - c[k]) * fx - top) * fy
-    })
-}
-
 /// A fixed material's maps at uv (albedo, tangent-space normal, mask, emission): scene.wgsl
 /// `fixed_map_level0`.
 fn fixed_maps_at(maps: &crate::materials::fixed::FixedMaps, m: &GpuMaterial, uv: DVec2) -> Option<[[f64; 4]; 4]> {
     let slot = (m.params[3] + 0.5) as usize;
     let level = &maps.materials.get(slot.checked_sub(1)?)?.levels[0];
-    let emission = match level.emission.is_empty() {
-        true => [1.0; 4],
-        false => map_bilinear(&level.emission, level.size, uv),
-    };
-    Some([
-        map_bilinear(&level.albedo, level.size, uv),
-        map_bilinear(&level.normal, level.size, uv),
-        map_bilinear(&level.mask, level.size, uv),
-        emission,
-    ])
+    let at =
+        |texels: &[[f32; 4]]| crate::materials::bilinear(texels, level.size, level.size, uv.x, uv.y).map(f64::from);
+    let emission = if level.emission.is_empty() { [1.0; 4] } else { at(&level.emission) };
+    Some([at(&level.albedo), at(&level.normal), at(&level.mask), emission])
 }
 
 /// scene.wgsl `tangent_to_world`: the tangent frame (bitangent = cross(n, t)·w) carries a
