@@ -50,11 +50,13 @@ fn hdrp_f0(s: Surface) -> vec3<f32> {
 
 // diffuseColor: baseColor·(1 − metallic), or for Specular Color with its default Energy Conserving
 // Specular Color, baseColor·(1 − max(specularColor)) (LitData.hlsl _ENERGY_CONSERVING_SPECULAR)
+// × diffuse_weight: a transparent surface's ApplyBlendMode multiplies the diffuse lighting by
+// opacity and keeps the specular (_EnableBlendModePreserveSpecularLighting, Material.hlsl).
 fn hdrp_diffuse_color(s: Surface) -> vec3<f32> {
     if (s.params0.y > 0.5) {
-        return s.base_color * (1.0 - max(max(s.specular.r, s.specular.g), s.specular.b));
+        return s.base_color * (1.0 - max(max(s.specular.r, s.specular.g), s.specular.b)) * diffuse_weight;
     }
-    return s.base_color * (1.0 - s.metallic);
+    return s.base_color * (1.0 - s.metallic) * diffuse_weight;
 }
 
 // Specular multiplier 1 + F0·(1/y − 1), y = reflectivity from the FGD table (models.md#hdrp-lit)

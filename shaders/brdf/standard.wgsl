@@ -24,9 +24,15 @@ fn standard_setup(s: Surface) -> StandardSetup {
         st.spec_color = mix(DIELECTRIC_SPEC.rgb, s.base_color, s.metallic);
         st.one_minus_reflectivity = DIELECTRIC_SPEC.a - s.metallic * DIELECTRIC_SPEC.a;
     }
-    st.diff_color = s.base_color * st.one_minus_reflectivity;
+    st.diff_color = s.base_color * st.one_minus_reflectivity * diffuse_weight;
     st.perceptual_roughness = 1.0 - s.smoothness;
     return st;
+}
+
+// 1 − oneMinusReflectivity: what built-in's Transparent keeps of the background's share
+// (PreMultiplyAlpha: outAlpha = 1 − oneMinusReflectivity + alpha·oneMinusReflectivity)
+fn model_reflectivity(s: Surface) -> f32 {
+    return 1.0 - standard_setup(s).one_minus_reflectivity;
 }
 
 // α = max(pr², 0.002) (models.md#standard roughness clamp, "to match HDRP")

@@ -11,6 +11,11 @@ fn brdf2_one_minus_reflectivity(s: Surface) -> f32 {
 }
 
 // spec = α²/(max(0.1, lh²)·(α + 0.5)·d²·4), d = nh²(α² − 1) + 1.00001 (models.md#standard-brdf2 BRDF2, linear)
+// 1 − oneMinusReflectivity (built-in Transparent's output alpha, as Standard's)
+fn model_reflectivity(s: Surface) -> f32 {
+    return 1.0 - brdf2_one_minus_reflectivity(s);
+}
+
 fn spec_brdf2(nh: f32, lh: f32, a: f32) -> f32 {
     let a2 = a * a;
     let d = nh * nh * (a2 - 1.0) + 1.00001;
@@ -23,7 +28,7 @@ fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f3
     let nh = sat(dot(n, h));
     let lh = sat(dot(l, h));
     let pr = 1.0 - s.smoothness;
-    let diff_color = s.base_color * brdf2_one_minus_reflectivity(s);
+    let diff_color = s.base_color * brdf2_one_minus_reflectivity(s) * diffuse_weight;
     return (diff_color + spec_brdf2(nh, lh, pr * pr) * brdf2_spec_color(s)) * nl;
 }
 
@@ -38,6 +43,6 @@ fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>)
     let x = 1.0 - nv;
     let fresnel = x * x * x * x;
     let gi_specular = env_specular(reflect(-v, n), pr);
-    return gi_diffuse * s.base_color * omr
+    return gi_diffuse * s.base_color * omr * diffuse_weight
         + surface_reduction * gi_specular * mix(brdf2_spec_color(s), vec3<f32>(grazing_term), fresnel);
 }

@@ -7,6 +7,11 @@
 const BRDF3_LUT_RANGE: f32 = 16.0;
 
 // 16·NHxRoughness(rlPow4, pr) ≈ min(16, (n + 2)/2·rlPow4^(n/4))
+// 1 − oneMinusReflectivity (built-in Transparent's output alpha, as Standard's)
+fn model_reflectivity(s: Surface) -> f32 {
+    return 1.0 - (0.96 - s.metallic * 0.96);
+}
+
 fn spec_brdf3(rl_pow4: f32, pr: f32) -> f32 {
     let a = pr * pr;
     let n = max(2.0 / max(1e-4, a * a) - 2.0, 1e-4);
@@ -20,7 +25,7 @@ fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f3
     let rl = dot(r, l);
     let rl_pow4 = rl * rl * rl * rl;
     let spec_color = mix(vec3<f32>(0.04), s.base_color, s.metallic);
-    let diff_color = s.base_color * (0.96 - s.metallic * 0.96);
+    let diff_color = s.base_color * (0.96 - s.metallic * 0.96) * diffuse_weight;
     return (diff_color + spec_brdf3(rl_pow4, 1.0 - s.smoothness) * spec_color) * nl;
 }
 
@@ -32,5 +37,5 @@ fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>)
     let x = 1.0 - nv;
     let fresnel_term = x * x * x * x;
     let gi_specular = env_specular(reflect(-v, n), 1.0 - s.smoothness);
-    return gi_diffuse * s.base_color * omr + gi_specular * mix(spec_color, vec3<f32>(grazing_term), fresnel_term);
+    return gi_diffuse * s.base_color * omr * diffuse_weight + gi_specular * mix(spec_color, vec3<f32>(grazing_term), fresnel_term);
 }

@@ -25,7 +25,8 @@ fn urp_brdf_data(s: Surface) -> UrpBrdfData {
         one_minus_reflectivity = 1.0 - max(max(s.specular.r, s.specular.g), s.specular.b);
         b.specular = s.specular;
     }
-    b.diffuse = s.base_color * one_minus_reflectivity;
+    // _ALPHAPREMULTIPLY_ON: brdfData.diffuse × alpha (InitializeBRDFDataDirect)
+    b.diffuse = s.base_color * one_minus_reflectivity * diffuse_weight;
     b.perceptual_roughness = 1.0 - s.smoothness;
     b.roughness = max(b.perceptual_roughness * b.perceptual_roughness, HALF_MIN_SQRT);
     b.roughness2 = max(b.roughness * b.roughness, HALF_MIN);

@@ -11,6 +11,13 @@ var<private> light_min_roughness: f32 = 4.617e-5;
 // (the custom shader as written, models.md#torrance-sparrow); zero when the scene has none.
 var<private> main_light_color: vec3<f32> = vec3<f32>(1.0);
 
+// The share of the diffuse lobe a model's terms keep: alpha where a premultiplied surface type
+// multiplies the diffuse reflectance (pipelines::surface: built-in's and URP's
+// _ALPHAPREMULTIPLY_ON diffColor × alpha, HDRP's preserved specular lighting), 1 else. Set by the
+// pass; the models that read it keep their diffuse lobe apart (ShaderModel::splits_diffuse).
+// Twin: Surface::diffuse_weight.
+var<private> diffuse_weight: f32 = 1.0;
+
 // Material as the model receives it: metallic already converted by the pipeline (presets.md).
 // specular: the models that take a specular colour; params0/params1: the model's own parameters
 // by slot (registry ParamSpec). Twin: shading::twin::Surface.

@@ -98,6 +98,46 @@ fn vertex_lights(p: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
 // terms, as Unity's occlusion map does (built-in and URP scale indirect diffuse and specular by it).
 var<private> material_occlusion: f32 = 1.0;
 
+// The material's alpha at the shaded point (its base colour's alpha × the albedo map's) and where
+// it clips (0: nothing clips; the subject's cutoff when its surface is a cutout).
+var<private> material_alpha: f32 = 1.0;
+var<private> material_cutoff: f32 = 0.0;
+
+// The subject's surface type (pipelines::surface::SurfaceType; 0 for fixed objects): its blend is
+// the pipeline's, the shader's part is here.
+override SURFACE: u32 = 0u;
+
+// Whether the surface multiplies the diffuse reflectance by alpha before lighting (built-in's and
+// URP's _ALPHAPREMULTIPLY_ON, HDRP's preserved specular lighting; SurfaceType::premultiplies_diffuse)
+fn premultiplies_diffuse() -> bool {
+    return SURFACE == SURFACE_TRANSPARENT || (SURFACE == SURFACE_ADDITIVE && PIPELINE != PIPELINE_BUILTIN);
+}
+
+// A cutout's alpha test, after every derivative of the fragment is taken: clip(alpha − _Cutoff)
+fn clip_alpha() {
+    if (material_alpha < material_cutoff) {
+        discard;
+    }
+}
+
+// The colour and alpha a surface outputs from its lit colour c (SurfaceType::output_color,
+// output_alpha): built-in Transparent's alpha' = 1 − (1 − alpha)(1 − reflectivity) (PreMultiplyAlpha),
+// URP Multiply's lerp(1, c, alpha) (AlphaModulate), alpha for the other transparent surfaces.
+fn surface_output(s: Surface, c: vec3<f32>) -> vec4<f32> {
+    let a = material_alpha;
+    switch SURFACE {
+        case SURFACE_OPAQUE, SURFACE_CUTOUT: { return vec4<f32>(c, 1.0); }
+        case SURFACE_MULTIPLY: { return vec4<f32>(mix(vec3<f32>(1.0), c, a), a); }
+        case SURFACE_TRANSPARENT: {
+            if (PIPELINE == PIPELINE_BUILTIN) {
+                return vec4<f32>(c, 1.0 - (1.0 - a) * (1.0 - model_reflectivity(s)));
+            }
+            return vec4<f32>(c, a);
+        }
+        default: { return vec4<f32>(c, a); }
+    }
+}
+
 // The material of the drawn object at uv: the swept one for the subject, the object's own else;
 // maps modulate it (the albedo map multiplies the colour; the mask's smoothness offset adds to the
 // smoothness; for the presets' maps their means are 1 and 0). Fragment stages sample with
@@ -189,6 +229,8 @@ fn material_from(uv: vec2<f32>, albedo: vec4<f32>, mask: vec4<f32>) -> Surface {
         m = frame.subject;
     }
     material_occlusion = select(1.0, mask.g, is_textured());
+    material_alpha = m.base_color.w * select(1.0, albedo.a, is_textured());
+    material_cutoff = m.specular.w;
     return surface_from(m, uv, albedo, mask, is_textured());
 }
 
@@ -439,12 +481,21 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> FragmentOut {
     add_light_index = in.add_light;
     let n = mapped_normal(shading_normal(in.normal, face, in.world_pos, front), in.tangent, in.uv);
     var out: FragmentOut;
+    let s = material_at(in.uv);
     var glow = vec3<f32>(0.0);
     if (FORWARD_PASS != FORWARD_ADD) {
         glow = emission(in.uv);
     }
-    out.color = vec4<f32>(shade(material_at(in.uv), n, in.world_pos, in.vertex_gi) + glow, 1.0);
+    if (premultiplies_diffuse()) {
+        diffuse_weight = material_alpha;
+        // HDRP's diffuse lighting holds the emission (Lit.hlsl PostEvaluateBSDF)
+        if (PIPELINE == PIPELINE_HDRP) {
+            glow *= material_alpha;
+        }
+    }
+    out.color = surface_output(s, shade(s, n, in.world_pos, in.vertex_gi) + glow);
     out.role = object.flags.y;
+    clip_alpha();
     return out;
 }
 
@@ -553,6 +604,8 @@ fn fs_gouraud(in: GouraudOut) -> FragmentOut {
 fn fs_depth_normals(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
     lod_clip(in.clip.xy, in.world_pos);
     let n = mapped_normal(shading_normal(in.normal, cross(dpdx(in.world_pos), dpdy(in.world_pos)), in.world_pos, front), in.tangent, in.uv);
+    material_at(in.uv);
+    clip_alpha();
     return vec4<f32>(n * 0.5 + 0.5, 1.0);
 }
 
@@ -589,6 +642,7 @@ fn fs_gbuffer(in: VertexOut, @builtin(front_facing) front: bool) -> GBufferOut {
     // Emission joins the indirect light in RT3, as Unity's deferred paths write it.
     out.lighting = vec4<f32>(indirect_light(s, n, v, gi) + emission(in.uv), 1.0);
     out.role = object.flags.y;
+    clip_alpha();
     return out;
 }
 

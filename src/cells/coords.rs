@@ -51,6 +51,12 @@ pub struct CellCoords {
     /// the scene sets it).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ambient_intensity: Option<f64>,
+    /// The subject's surface type, when swept (None: the material's own, opaque for presets).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub surface: Option<crate::pipelines::surface::SurfaceType>,
+    /// The subject's base-colour alpha, when swept (None: the material's own, 1 for presets).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub alpha: Option<f64>,
 }
 
 /// What names a cell before its sweep sets any axis: composition, pipeline, path, shader and preset.
@@ -91,6 +97,8 @@ impl CellCoords {
             textured,
             emission: None,
             ambient_intensity: None,
+            surface: None,
+            alpha: None,
         }
     }
 
@@ -115,6 +123,8 @@ impl CellCoords {
             Axis::Emission => own(self.emission),
             Axis::Textured => AxisValue::Bool(self.textured),
             Axis::AmbientIntensity => own(self.ambient_intensity),
+            Axis::Surface => self.surface.map_or(AxisValue::Own, |s| name(s.name())),
+            Axis::Alpha => own(self.alpha),
         }
     }
 
@@ -142,6 +152,11 @@ impl CellCoords {
             },
             (Axis::Shader, AxisValue::Name(n)) => self.shader = n.clone(),
             (Axis::Preset, AxisValue::Name(n)) => self.preset = n.clone(),
+            (Axis::Surface, AxisValue::Name(n)) => match crate::pipelines::surface::SurfaceType::from_name(n) {
+                Some(s) => self.surface = Some(s),
+                None => return false,
+            },
+            (Axis::Surface, AxisValue::Own) => self.surface = None,
             (Axis::Color, AxisValue::Colour(c)) => self.color = *c,
             (Axis::Params, AxisValue::Params(p)) => self.params = p.clone(),
             (Axis::Textured, AxisValue::Bool(b)) => self.textured = *b,
@@ -153,6 +168,7 @@ impl CellCoords {
             (Axis::LightAngle, v) if optional(v).is_some() => self.light_angle = optional(v).flatten(),
             (Axis::Emission, v) if optional(v).is_some() => self.emission = optional(v).flatten(),
             (Axis::AmbientIntensity, v) if optional(v).is_some() => self.ambient_intensity = optional(v).flatten(),
+            (Axis::Alpha, v) if optional(v).is_some() => self.alpha = optional(v).flatten(),
             _ => return false,
         }
         true
@@ -214,6 +230,7 @@ impl CellCoords {
             },
             AxisValue::Colour(Some(c)) => format!("{prefix}{}", color_code(Some(c))),
             AxisValue::Bool(true) => prefix.to_string(),
+            AxisValue::Name(n) if row.kind == axes::AxisKind::Choice => format!("{prefix}{n}"),
             AxisValue::Params(p) => {
                 p.iter().map(|(k, v)| format!("_{k}{}", crate::cells::id_number(*v, 4, true))).collect()
             }

@@ -6,6 +6,7 @@ use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, HashMap};
 
 use crate::geometry::gltf_io::GltfMaterial;
+use crate::pipelines::surface::SurfaceType;
 use crate::pipelines::{DisplayTransform, Pipeline};
 use crate::shading::registry::{ShaderModel, Sliders};
 use crate::shading::twin::Surface;
@@ -40,6 +41,35 @@ pub struct MaterialParams {
     /// `emissiveFactor` (preset `own`); the emission axis scales it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub emissive_linear: Option<[f64; 3]>,
+    /// The surface type: the axis's, or the material's own (a glTF subject's `alphaMode`).
+    #[serde(default, skip_serializing_if = "is_opaque")]
+    pub surface: SurfaceType,
+    /// The base colour's alpha: the axis's, or the material's own (1 for presets).
+    #[serde(default = "one", skip_serializing_if = "is_one")]
+    pub alpha: f64,
+    /// Where a cutout surface clips: Unity's default `_Cutoff`, or a glTF's `alphaCutoff`.
+    #[serde(default = "default_cutoff", skip_serializing_if = "is_default_cutoff")]
+    pub alpha_cutoff: f64,
+}
+
+fn is_opaque(s: &SurfaceType) -> bool {
+    *s == SurfaceType::Opaque
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+fn is_one(x: &f64) -> bool {
+    *x == 1.0
+}
+
+fn default_cutoff() -> f64 {
+    crate::pipelines::surface::DEFAULT_CUTOFF
+}
+
+fn is_default_cutoff(x: &f64) -> bool {
+    *x == crate::pipelines::surface::DEFAULT_CUTOFF
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -113,6 +143,12 @@ impl Cell {
     pub fn model(&self) -> &ShaderModel {
         &self.model
     }
+
+    /// The subject's surface type, alpha and cutoff, as the material resolves them.
+    pub fn surface_options(&self) -> crate::pipelines::surface::SurfaceOptions {
+        let m = &self.material;
+        crate::pipelines::surface::SurfaceOptions { kind: m.surface, alpha: m.alpha, cutoff: m.alpha_cutoff }
+    }
 }
 
 #[derive(Debug, Clone, Serialize, serde::Deserialize)]
@@ -147,6 +183,30 @@ fn pruned_axes(composition: &str, pipeline: Pipeline, axis: &str, value: &str) -
         ("pipeline".into(), pipeline.name().into()),
         (axis.into(), value.into()),
     ]
+}
+
+/// Why a cell's surface type cannot be drawn: its pipeline's lit shaders have no such surface, or
+/// the surface multiplies a diffuse lobe that the cell's model does not keep apart.
+fn surface_missing(c: &Cell) -> Option<String> {
+    let s = c.material.surface;
+    if let Some(reason) = s.missing_in(c.pipeline) {
+        return Some(reason);
+    }
+    if s != SurfaceType::Opaque && (c.model().per_vertex || c.path == crate::pipelines::RenderPath::VertexLit) {
+        return Some(format!(
+            "lighting at the vertices (the vertex-lit path, Gouraud models) is drawn without alpha here; the `{}` \
+             surface is not modelled there",
+            s.name()
+        ));
+    }
+    (s.premultiplies_diffuse(c.pipeline) && !c.model().splits_diffuse()).then(|| {
+        format!(
+            "the `{}` surface multiplies the diffuse reflection alone by alpha; `{}` keeps no diffuse lobe apart \
+             (the engines' lit shaders do: standard, lit, simple_lit, unlit)",
+            s.name(),
+            c.shader
+        )
+    })
 }
 
 /// The most cells a run expands unless `--max-cells` says otherwise: the thesis is 172 800; a
@@ -201,6 +261,12 @@ fn swept_axes(m: &Matrix) -> Vec<(Axis, Vec<AxisValue>)> {
                     own.into_iter().chain(m.sweep.color.iter().map(|c| AxisValue::Colour(Some(*c)))).collect()
                 }
                 AxisKind::Bool => m.sweep.textured.iter().map(|b| AxisValue::Bool(*b)).collect(),
+                AxisKind::Choice => {
+                    let own = m.sweep.sweeps_own(row.axis).then_some(AxisValue::Own);
+                    own.into_iter()
+                        .chain(m.sweep.surface.iter().map(|s| AxisValue::Name(s.name().to_string())))
+                        .collect()
+                }
                 AxisKind::Name | AxisKind::Params => return None,
             };
             Some((row.axis, if values.is_empty() { vec![AxisValue::Own] } else { values }))
@@ -327,6 +393,17 @@ pub fn expand(m: &Matrix) -> Expansion {
                                     twin_of: None,
                                     model: model.clone(),
                                 };
+                                if let Some(reason) = surface_missing(&cell) {
+                                    // One entry per composition, pipeline, shader and surface.
+                                    let surface = cell.material.surface.name();
+                                    let description =
+                                        format!("{} × {} × {shader} × {surface}", scene.name, pipeline.name());
+                                    if !pruned.iter().any(|p| p.description == description) {
+                                        let axes = pruned_axes(&scene.name, pipeline, "surface", surface);
+                                        pruned.push(PrunedCell { description, axes, reason });
+                                    }
+                                    continue;
+                                }
                                 if passes_filters(&cell, &m.only, &m.exclude) {
                                     cells.push(cell);
                                 } else {
@@ -401,6 +478,9 @@ fn material(preset: &Preset, own: Option<&GltfMaterial>, coords: &CellCoords) ->
         metallic: coords.metallic,
         smoothness: coords.smoothness,
         emissive_linear: emissive,
+        surface: coords.surface.or(own.map(|f| f.surface)).unwrap_or_default(),
+        alpha: coords.alpha.or(own.map(|f| f.base_color[3])).unwrap_or(1.0),
+        alpha_cutoff: own.filter(|f| f.surface == SurfaceType::Cutout).map_or(default_cutoff(), |f| f.alpha_cutoff),
     }
 }
 
@@ -481,6 +561,8 @@ fn render_key(c: &Cell, keyless: bool) -> String {
         Axis::Metallic => !r.metallic,
         Axis::Smoothness => !r.smoothness,
         Axis::Emission => !c.model().emits(),
+        // An opaque surface draws without its alpha (HDRP's ApplyBlendMode sets opacity 1).
+        Axis::Alpha => c.material.surface == SurfaceType::Opaque,
         // Fixed objects are lit by the key light whatever the shader, so light axes count
         // wherever there is a key light.
         Axis::LightIntensity | Axis::LightRange | Axis::LightAngle => keyless,
@@ -577,7 +659,7 @@ mod tests {
         let e = expand(&matrix(
             "[sweep]\nsmoothness = [0.2, 0.8]\nmetallic = [0.1, 0.3]\nlight_intensity = [1.5, 2.5]\nlight_range = [3.0, 7.0]\n\
              camera_distance = [1.25, 2.0]\nlight_angle = [30.0, 60.0]\nemission = [0.5, 1.0]\ncolor = [[1.0, 0.5, 0.0]]\ntextured = [false, true]\n\
-             ambient_intensity = [0.5]\n",
+             ambient_intensity = [0.5]\nsurface = [\"fade\"]\nalpha = [0.25]\n",
         ));
         let c = e.cells.iter().find(|c| c.shader == "standard" && c.textured).unwrap();
         for row in crate::spec::axes::AXES.iter() {
@@ -593,11 +675,40 @@ mod tests {
                 Axis::AmbientIntensity => short_number(c.ambient_intensity.unwrap()),
                 Axis::Color => crate::spec::filter::color_code(c.material.slider_color_srgb),
                 Axis::Textured => String::new(),
+                Axis::Surface => c.material.surface.name().to_string(),
+                Axis::Alpha => id_number(c.material.alpha, 2, false),
                 Axis::Params => continue,
                 other => panic!("{other:?} has an id prefix but no value here"),
             };
             assert!(c.id.0.contains(&format!("{prefix}{value}")), "{}: no `{prefix}{value}` in {}", row.name, c.id);
         }
+    }
+
+    #[test]
+    fn surfaces_a_pipeline_or_model_lacks_are_pruned_and_opaque_alpha_is_a_twin() {
+        let text = "name = \"t\"\ncompositions = [\"default\"]\npipelines = [\"builtin\", \"urp\"]\n\
+                    shaders = [\"standard\", \"lit\", \"lambert\"]\npresets = [\"plastic\"]\n\
+                    [sweep]\nsurface = [\"opaque\", \"fade\", \"transparent\", \"multiply\"]\nalpha = [0.3, 0.6]\n";
+        let m = Matrix::from_text("t.toml", text, None, Arc::new(crate::shading::Registry::builtin())).unwrap();
+        let e = expand(&m);
+        let has = |p: &str, shader: &str, s: &str| {
+            e.cells.iter().any(|c| c.pipeline.name() == p && c.shader == shader && c.material.surface.name() == s)
+        };
+        assert!(has("builtin", "standard", "fade") && has("builtin", "standard", "transparent"));
+        assert!(!has("urp", "lit", "fade"), "URP Lit has no Fade");
+        assert!(has("urp", "lit", "multiply") && !has("builtin", "standard", "multiply"));
+        // Lambert keeps no diffuse lobe apart: no premultiplied surface, but Fade blends it whole.
+        assert!(has("builtin", "lambert", "fade") && !has("builtin", "lambert", "transparent"));
+        assert!(e.pruned.iter().any(|p| p.reason.contains("keeps no diffuse lobe apart")), "{:?}", e.pruned);
+        assert!(e.pruned.iter().any(|p| p.reason.contains("have no `fade` surface")), "{:?}", e.pruned);
+        for c in &e.cells {
+            let opaque = c.material.surface == SurfaceType::Opaque;
+            let first_alpha = c.material.alpha == 0.3;
+            assert_eq!(c.twin_of.is_some(), opaque && !first_alpha, "{}", c.id);
+        }
+        let typo = text.replace("\"fade\"", "\"faed\"");
+        let err = Matrix::from_text("t.toml", &typo, None, Arc::new(crate::shading::Registry::builtin())).unwrap_err();
+        assert!(err.to_string().contains("did you mean `fade`?"), "{err}");
     }
 
     #[test]

@@ -109,6 +109,11 @@ pub struct GltfMaterial {
     pub emissive_texture: Option<TextureImage>,
     /// How many of the five texture slots name a texture (on texture coordinate set 0).
     pub texture_count: usize,
+    /// `alphaMode` as the engines' importers set the surface: OPAQUE opaque, MASK cutout at
+    /// `alphaCutoff`, BLEND transparent (alpha blended, reflections kept).
+    pub surface: crate::pipelines::surface::SurfaceType,
+    pub alpha_cutoff: f64,
+    pub double_sided: bool,
     /// Further materials the subject's primitives name: one material per subject is rendered, the first.
     pub others_ignored: usize,
 }
@@ -257,6 +262,13 @@ fn read_material(m: &gltf::Material, others: usize, images: Option<&[Option<gltf
         normal_texture: image(m.normal_texture().filter(|t| t.tex_coord() == 0).map(|t| t.texture()), false),
         occlusion_texture: image(m.occlusion_texture().filter(|t| t.tex_coord() == 0).map(|t| t.texture()), false),
         emissive_texture: image(m.emissive_texture().filter(|t| t.tex_coord() == 0).map(|t| t.texture()), true),
+        surface: match m.alpha_mode() {
+            gltf::material::AlphaMode::Opaque => crate::pipelines::surface::SurfaceType::Opaque,
+            gltf::material::AlphaMode::Mask => crate::pipelines::surface::SurfaceType::Cutout,
+            gltf::material::AlphaMode::Blend => crate::pipelines::surface::SurfaceType::Transparent,
+        },
+        alpha_cutoff: m.alpha_cutoff().unwrap_or(0.5) as f64,
+        double_sided: m.double_sided(),
         others_ignored: others,
     }
 }

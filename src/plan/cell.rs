@@ -38,6 +38,12 @@ pub struct CellParams<'a> {
 }
 
 impl<'a> CellParams<'a> {
+    /// Whether a deferred path draws the subject into its G-buffer: its model has a G-buffer pass
+    /// and its surface is not transparent (the engines draw the Transparent queue forward).
+    pub fn subject_deferrable(&self) -> bool {
+        self.model.deferrable() && !self.settings.surface.kind.is_transparent()
+    }
+
     /// What a matrix cell asks: its coordinates resolved (material, emission, maps) into what the
     /// renderer reads, with the pipeline as it ships (no exact alternatives).
     pub fn of(cell: &'a crate::cells::Cell) -> CellParams<'a> {
@@ -61,6 +67,7 @@ impl<'a> CellParams<'a> {
                 emission_color: cell.material.emissive_linear,
                 ambient_intensity: cell.ambient_intensity,
                 exact: Default::default(),
+                surface: cell.surface_options(),
             },
         }
     }
@@ -86,6 +93,8 @@ pub struct CellSettings {
     pub ambient_intensity: Option<f64>,
     /// The approximation study's exact alternatives (none: the pipeline as it ships).
     pub exact: ExactAlternatives,
+    /// The subject's surface type, alpha and cutoff.
+    pub surface: crate::pipelines::surface::SurfaceOptions,
 }
 
 /// The samples per pixel a cell renders with, and why they differ from what it asked, if they do.
@@ -270,9 +279,9 @@ impl CellPlan {
         let aspect = cell.width as f64 / cell.height as f64;
         let camera = posed_camera(&scene.camera, &cell.view);
         let lights = cell_lights(scene, cell.light_intensity, cell.light_range, &camera, &cell.view);
-        let forward_only = |i: usize| {
-            let model = if scene.objects[i].role == Role::Subject { cell.model } else { fixed_model };
-            !model.deferrable()
+        let forward_only = |i: usize| match scene.objects[i].role {
+            Role::Subject => !cell.subject_deferrable(),
+            _ => !fixed_model.deferrable(),
         };
         let assignment =
             assign(p, cell.settings.path, &cell.settings.light_budget, &lights, &layout.object_centres, forward_only);
@@ -283,6 +292,13 @@ impl CellPlan {
         let cascades = p.shadow_cascades_with(engine);
         let main = main_light(p, &lights);
         let mut shadows_left_out = Vec::new();
+        if cell.settings.surface.kind.clips() {
+            shadows_left_out.push((
+                "the subject's alpha clipping in the shadow maps".to_string(),
+                "the shadow pass draws depth alone, without the material's alpha: the cutout casts its whole shadow"
+                    .to_string(),
+            ));
+        }
         for (slot, l) in lights.iter().enumerate() {
             let Some(first) = sh.first_layer[slot] else {
                 light_shadows.push(LightShadow::default());
@@ -318,12 +334,15 @@ impl CellPlan {
                 drawn: seen.drawn,
             });
         }
-        let meshes: Vec<(usize, bool, &ShaderModel)> = layout
+        let meshes: Vec<(usize, bool, &ShaderModel, bool)> = layout
             .meshes
             .iter()
             .zip(&fades)
             .map(|(m, fade)| {
-                (m.scene_index, fade.is_some(), if m.role == Role::Subject { cell.model } else { fixed_model })
+                let subject = m.role == Role::Subject;
+                let model = if subject { cell.model } else { fixed_model };
+                let deferrable = if subject { cell.subject_deferrable() } else { fixed_model.deferrable() };
+                (m.scene_index, fade.is_some(), model, deferrable)
             })
             .collect();
         let draws = plan_draws(p, cell.settings.path, engine, &meshes, &assignment, main);

@@ -31,9 +31,17 @@ pub struct DrawPlan {
 }
 
 /// Whether `model` is drawn with ForwardBase + ForwardAdd passes when lit on `path` in `pipeline`.
-pub fn additive_passes(pipeline: Pipeline, path: RenderPath, model: &ShaderModel, engine: &PipelineSettings) -> bool {
+/// `deferrable`: the object is drawn into a G-buffer on a deferred path (its model has a G-buffer
+/// pass and its surface is opaque).
+pub fn additive_passes(
+    pipeline: Pipeline,
+    path: RenderPath,
+    model: &ShaderModel,
+    deferrable: bool,
+    engine: &PipelineSettings,
+) -> bool {
     pipeline == Pipeline::Builtin
-        && lit_path(path, !model.deferrable()) == RenderPath::Forward
+        && lit_path(path, !deferrable) == RenderPath::Forward
         && engine.builtin.forward_add
         && !model.per_vertex
         && !model.main_light_only
@@ -46,13 +54,15 @@ pub fn shadowed_by_additional_lights(pipeline: Pipeline, model: &ShaderModel) ->
     pipeline != Pipeline::Builtin || model.passes.full_forward_shadows
 }
 
-/// The draws of a frame. `meshes`: per mesh, its scene object, whether it is drawn and its model;
+/// The draws of a frame. `meshes`: per mesh, its scene object, whether it is drawn, its model and
+/// whether a deferred path draws it into the G-buffer (a transparent surface is drawn forward,
+/// counted under `transparent` as well);
 /// `main_light`: the pipeline's main light (ForwardBase's).
 pub fn plan_draws(
     pipeline: Pipeline,
     path: RenderPath,
     engine: &PipelineSettings,
-    meshes: &[(usize, bool, &ShaderModel)],
+    meshes: &[(usize, bool, &ShaderModel, bool)],
     assignment: &[ObjectLights],
     main_light: Option<usize>,
 ) -> DrawPlan {
@@ -60,22 +70,25 @@ pub fn plan_draws(
     let mut add = |name: &str, n: u32| *counts.entry(name.to_string()).or_default() += n;
     let mut forward_add = vec![Vec::new(); meshes.len()];
     let mut lighting_models: Vec<&str> = Vec::new();
-    for (m, &(object, drawn, model)) in meshes.iter().enumerate() {
+    for (m, &(object, drawn, model, deferrable)) in meshes.iter().enumerate() {
         if !drawn {
             continue;
+        }
+        if path == RenderPath::Deferred && model.deferrable() && !deferrable {
+            add("transparent", 1);
         }
         if path == RenderPath::VertexLit {
             add("vertex", 1);
             continue;
         }
-        if path == RenderPath::Deferred && model.deferrable() {
+        if path == RenderPath::Deferred && deferrable {
             add("gbuffer", 1);
             if !lighting_models.contains(&model.name.as_ref()) {
                 lighting_models.push(model.name.as_ref());
             }
             continue;
         }
-        if additive_passes(pipeline, path, model, engine) {
+        if additive_passes(pipeline, path, model, deferrable, engine) {
             let lights: Vec<usize> = assignment[object]
                 .lights
                 .iter()

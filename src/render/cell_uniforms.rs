@@ -109,6 +109,8 @@ pub(in crate::render) fn write_uniforms(
     frame.env = [(env_levels - 1) as f32, (prepared.env.intensity * p.environment_scale() * ambient) as f32, 0.0, 0.0];
     frame.subject = gpu_material(&cell.surface, GpuMaterial::zeroed());
     frame.subject.params[3] = if cell.settings.material_maps.is_some() { 1.0 } else { 0.0 };
+    frame.subject.base_color[3] = cell.settings.surface.alpha as f32;
+    frame.subject.specular[3] = cell.settings.surface.clip_threshold() as f32;
     if cell.model.emits() {
         // Emissive radiance: the subject's colour (or own emissive colour) × the axis, in the
         // pipeline's light units.
@@ -209,7 +211,8 @@ pub(in crate::render) fn write_uniforms(
         h.finish()
     };
     // What the depth prepass and SSAO read: the camera, the target's size and every mesh's
-    // transform and LOD fade (materials and lights do not reach them).
+    // transform and LOD fade, and a cutout subject's alpha and cutoff (other materials and the
+    // lights do not reach them).
     let prepass_key = {
         use std::hash::{Hash, Hasher};
         let mut h = std::hash::DefaultHasher::new();
@@ -217,6 +220,7 @@ pub(in crate::render) fn write_uniforms(
             part.hash(&mut h);
         }
         bytemuck::bytes_of(&[frame.camera_pos, frame.screen]).hash(&mut h);
+        [frame.subject.base_color[3], frame.subject.specular[3]].map(f32::to_bits).hash(&mut h);
         for (i, o) in prepared.objects.iter().enumerate() {
             let at = i * prepared.object_stride as usize;
             o.index_count.hash(&mut h);

@@ -6,10 +6,26 @@ use std::collections::HashMap;
 use crate::error::Error;
 use crate::geometry::Vertex;
 use crate::gpu::GpuContext;
+use crate::pipelines::surface::{Blend, SurfaceType};
 use crate::pipelines::Pipeline;
 use crate::plan::lod::CrossFade;
 use crate::render::formats::{DEPTH_FORMAT, HDR_FORMAT, ROLE_FORMAT};
 use crate::shading::{wgsl, ShaderModel};
+
+/// The ROP state of a blend (None: the source replaces the target).
+fn blend_state(blend: Blend) -> Option<wgpu::BlendState> {
+    use wgpu::BlendFactor as F;
+    let (src, dst) = match blend {
+        Blend::Replace => return None,
+        Blend::SrcAlphaOver => (F::SrcAlpha, F::OneMinusSrcAlpha),
+        Blend::PremultipliedOver => (F::One, F::OneMinusSrcAlpha),
+        Blend::Add => (F::One, F::One),
+        Blend::SrcAlphaAdd => (F::SrcAlpha, F::One),
+        Blend::Multiply => (F::Dst, F::Zero),
+    };
+    let color = wgpu::BlendComponent { src_factor: src, dst_factor: dst, operation: wgpu::BlendOperation::Add };
+    Some(wgpu::BlendState { color, alpha: wgpu::BlendComponent::REPLACE })
+}
 
 /// Depth writes with test Less: every opaque draw but built-in's additive ones.
 const DEPTH_WRITE_LESS: (bool, wgpu::CompareFunction) = (true, wgpu::CompareFunction::Less);
@@ -91,6 +107,8 @@ pub(in crate::render) struct ForwardKey {
     pub(in crate::render) exact: crate::plan::exact::ExactAlternatives,
     pub(in crate::render) pass: ForwardPass,
     pub(in crate::render) additional_shadows: bool,
+    /// The drawn surface type: the subject's (fixed objects are opaque).
+    pub(in crate::render) surface: SurfaceType,
 }
 
 impl ForwardKey {
@@ -103,6 +121,7 @@ impl ForwardKey {
             exact: Default::default(),
             pass: ForwardPass::All,
             additional_shadows: true,
+            surface: SurfaceType::Opaque,
         }
     }
 }
@@ -119,7 +138,7 @@ impl PipelineCache {
         model: &ShaderModel,
         key: ForwardKey,
     ) -> Result<(), Error> {
-        let ForwardKey { vertex_lit, samples, textured, exact, pass: forward_pass, additional_shadows } = key;
+        let ForwardKey { vertex_lit, samples, textured, exact, pass: forward_pass, additional_shadows, surface } = key;
         let key = (pipeline, model.name.to_string(), key);
         if self.forward.contains_key(&key) {
             return Ok(());
@@ -135,6 +154,7 @@ impl PipelineCache {
             ("FORWARD_PASS", forward_pass as u32 as f64),
             ("FIXED_FUNCTION", (vertex_lit && model.passes.vertex_lit_fallback) as u32 as f64),
             ("ADDITIONAL_SHADOWS", additional_shadows as u32 as f64),
+            ("SURFACE", surface.shader_id() as f64),
         ]);
         if exact.any() {
             constants.extend(exact.constants());
@@ -142,38 +162,41 @@ impl PipelineCache {
         let entries = if per_vertex { ("vs_gouraud", "fs_gouraud") } else { ("vs_main", "fs_main") };
         let label = format!("forward {}/{}", pipeline.name(), model.name);
         let additive = forward_pass == ForwardPass::Add;
-        let targets = if additive {
-            // One One onto the base pass's colour; the role is the base pass's.
-            let add = wgpu::BlendComponent {
-                src_factor: wgpu::BlendFactor::One,
-                dst_factor: wgpu::BlendFactor::One,
-                operation: wgpu::BlendOperation::Add,
-            };
-            [
-                Some(wgpu::ColorTargetState {
-                    format: HDR_FORMAT,
-                    blend: Some(wgpu::BlendState { color: add, alpha: add }),
-                    write_mask: wgpu::ColorWrites::COLOR,
-                }),
-                Some(wgpu::ColorTargetState {
-                    format: ROLE_FORMAT,
-                    blend: None,
-                    write_mask: wgpu::ColorWrites::empty(),
-                }),
-            ]
-        } else {
-            [Some(HDR_FORMAT.into()), Some(ROLE_FORMAT.into())]
-        };
+        // ForwardAdd blends `[_SrcBlend] One` onto the base pass's colour and keeps its role; a
+        // transparent surface blends as its type says and marks its pixels the subject's.
+        let blend = if additive { surface.forward_add_blend() } else { surface.blend() };
+        let targets = [
+            Some(wgpu::ColorTargetState {
+                format: HDR_FORMAT,
+                blend: blend_state(blend),
+                write_mask: if blend == Blend::Replace { wgpu::ColorWrites::ALL } else { wgpu::ColorWrites::COLOR },
+            }),
+            Some(wgpu::ColorTargetState {
+                format: ROLE_FORMAT,
+                blend: None,
+                write_mask: if additive { wgpu::ColorWrites::empty() } else { wgpu::ColorWrites::ALL },
+            }),
+        ];
         let layout = if exact.any() { &self.exact_layout } else { &self.pipeline_layout };
-        let depth = if additive { (false, wgpu::CompareFunction::LessEqual) } else { DEPTH_WRITE_LESS };
-        let p = Self::mesh_pipeline(gpu, &label, layout, &module, entries, &constants, &targets, (samples, depth));
+        // Additive passes and the Transparent queue test LEqual without writing depth (ZWrite Off).
+        let depth = if additive || surface.is_transparent() {
+            (false, wgpu::CompareFunction::LessEqual)
+        } else {
+            DEPTH_WRITE_LESS
+        };
+        // A transparent surface is drawn single-sided, its back faces culled, as the engines' lit
+        // shaders default to (Cull Back; HDRP's Double-Sided off): blended back faces would
+        // show through it.
+        let cull = surface.is_transparent().then_some(wgpu::Face::Back);
+        let p =
+            Self::mesh_pipeline(gpu, &label, layout, &module, entries, &constants, &targets, (samples, depth, cull));
         gpu.check_errors("creating a forward pipeline")?;
         self.forward.insert(key, p);
         Ok(())
     }
 
-    /// A pipeline that draws scene meshes: both faces (imported and thin meshes are shaded from
-    /// either side, normals flipped), depth test Less with writes.
+    /// A pipeline that draws scene meshes: both faces unless `cull_mode` says otherwise (imported
+    /// and thin meshes are shaded from either side, normals flipped), with the depth state given.
     #[allow(clippy::too_many_arguments)]
     pub(in crate::render) fn mesh_pipeline(
         gpu: &GpuContext,
@@ -183,7 +206,7 @@ impl PipelineCache {
         (vs, fs): (&str, &str),
         constants: &[(&str, f64)],
         targets: &[Option<wgpu::ColorTargetState>],
-        (samples, (depth_write, depth_compare)): (u32, (bool, wgpu::CompareFunction)),
+        (samples, (depth_write, depth_compare), cull_mode): (u32, (bool, wgpu::CompareFunction), Option<wgpu::Face>),
     ) -> wgpu::RenderPipeline {
         let options = wgpu::PipelineCompilationOptions { constants, ..Default::default() };
         gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -199,7 +222,7 @@ impl PipelineCache {
                     attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4],
                 })],
             },
-            primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
+            primitive: wgpu::PrimitiveState { cull_mode, ..Default::default() },
             depth_stencil: Some(wgpu::DepthStencilState {
                 format: DEPTH_FORMAT,
                 depth_write_enabled: Some(depth_write),
@@ -250,7 +273,7 @@ impl PipelineCache {
             ("vs_main", "fs_gbuffer"),
             &constants,
             &targets,
-            (1, DEPTH_WRITE_LESS),
+            (1, DEPTH_WRITE_LESS, None),
         );
         gpu.check_errors("creating a G-buffer pipeline")?;
         self.gbuffer.insert(key, p);
@@ -283,7 +306,7 @@ impl PipelineCache {
             ("vs_main", "fs_depth_normals"),
             &constants,
             &targets,
-            (1, DEPTH_WRITE_LESS),
+            (1, DEPTH_WRITE_LESS, None),
         );
         gpu.check_errors("creating the depth prepass pipeline")?;
         self.depth_normals.insert(key, p);

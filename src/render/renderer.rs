@@ -22,6 +22,7 @@ use crate::geometry::procedural;
 use crate::geometry::Mesh;
 use crate::gpu::timing::PassTimer;
 use crate::gpu::GpuContext;
+use crate::pipelines::surface::SurfaceType;
 use crate::pipelines::{Pipeline, RenderPath};
 pub use crate::plan::cell::{CellParams, CellPlan, CellSettings, MsaaSupport, Multisampling};
 use crate::plan::draws::{additive_passes, shadowed_by_additional_lights};
@@ -434,8 +435,9 @@ impl Renderer {
                 .zip(&prepared.layout.meshes)
                 .any(|(lights, m)| !lights.is_empty() && (m.role == Role::Subject) == subject)
         };
-        let forward_keys = |model: &ShaderModel, textured: bool, subject: bool| {
-            let additive = additive_passes(cell.pipeline, cell.settings.path, model, engine);
+        let forward_keys = |model: &ShaderModel, textured: bool, subject: bool, surface: SurfaceType| {
+            let deferrable = if subject { cell.subject_deferrable() } else { model.deferrable() };
+            let additive = additive_passes(cell.pipeline, cell.settings.path, model, deferrable, engine);
             let draw = ForwardKey {
                 vertex_lit,
                 samples,
@@ -443,19 +445,21 @@ impl Renderer {
                 exact,
                 pass: if additive { ForwardPass::Base } else { ForwardPass::All },
                 additional_shadows: shadowed_by_additional_lights(cell.pipeline, model),
+                surface,
             };
             (draw, (additive && adds(subject)).then_some(ForwardKey { pass: ForwardPass::Add, ..draw }))
         };
-        let subject_keys = forward_keys(subject_model, textured, true);
-        let fixed_keys = forward_keys(&fixed_model, fixed_textured, false);
+        let subject_keys = forward_keys(subject_model, textured, true, cell.settings.surface.kind);
+        let fixed_keys = forward_keys(&fixed_model, fixed_textured, false, SurfaceType::Opaque);
         for (model, (draw, add)) in [(subject_model, subject_keys), (&*fixed_model, fixed_keys)] {
             for key in std::iter::once(draw).chain(add) {
                 self.pipelines.forward_pipeline(&self.gpu, cell.pipeline, model, key)?;
             }
         }
         if deferred {
-            for (model, role) in [(subject_model, ROLE_SUBJECT), (&*fixed_model, ROLE_FIXED)] {
-                if model.deferrable() {
+            let deferred = [(subject_model, cell.subject_deferrable()), (&*fixed_model, fixed_model.deferrable())];
+            for ((model, into_gbuffer), role) in deferred.into_iter().zip([ROLE_SUBJECT, ROLE_FIXED]) {
+                if into_gbuffer {
                     self.pipelines.gbuffer_pipeline(
                         &self.gpu,
                         cell.pipeline,
@@ -464,7 +468,7 @@ impl Renderer {
                     )?;
                 }
             }
-            for (model, role) in lighting_draws(subject_model, &fixed_model) {
+            for (model, role) in lighting_draws(subject_model, cell.subject_deferrable(), &fixed_model) {
                 self.pipelines.lighting_pipeline(&self.gpu, cell.pipeline, model, role)?;
             }
         }
@@ -475,6 +479,12 @@ impl Renderer {
         let written = write_uniforms(&self.gpu.queue, prepared, cell, plan, &fixed_model);
         let probe_times = self.capture_probes(prepared, cell, &fixed_model, plan, &written)?;
         let (drawn, casting) = (plan.drawn(), plan.casting());
+        // The depth prepass draws the opaque queues only: a transparent subject writes no depth.
+        let prepass_drawn: Vec<bool> = drawn
+            .iter()
+            .zip(&prepared.layout.meshes)
+            .map(|(d, m)| *d && !(m.role == Role::Subject && cell.settings.surface.kind.is_transparent()))
+            .collect();
         let rays = if exact.any() { Some(self.ray_scene(prepared, casting.clone())?) } else { None };
         let shadow_key = written.shadow_key;
         let frame_group = self.bindings.frame_group(&self.gpu, prepared, cell.settings.material_maps)?;
@@ -529,7 +539,7 @@ impl Renderer {
         let ssao_key = {
             use std::hash::{Hash, Hasher};
             let mut h = std::hash::DefaultHasher::new();
-            (written.prepass_key, cell.pipeline, cell.width, cell.height, &drawn).hash(&mut h);
+            (written.prepass_key, cell.pipeline, cell.width, cell.height, &prepass_drawn).hash(&mut h);
             cell.settings.material_maps.hash(&mut h);
             h.finish()
         };
@@ -656,7 +666,7 @@ impl Renderer {
             }
             if let (Some((chain, _)), Some(steps), true) = (ssao, &self.ssao, occludes_now) {
                 let prepass = &self.pipelines.depth_normals[&(cell.pipeline, prepass_textured)];
-                let draw = FrameDraw { group: frame_group, drawn: &drawn, screen: &self.neutral_screen };
+                let draw = FrameDraw { group: frame_group, drawn: &prepass_drawn, screen: &self.neutral_screen };
                 encode_depth_prepass(&mut encoder, prepared, &draw, prepass, (&chain.normal, &t.depth_view), timed(k));
                 chain.encode(steps, &mut encoder, timed(k + 1).map(|(t, pair)| t.compute_writes(pair)));
                 k += 2;
@@ -666,7 +676,8 @@ impl Renderer {
                     Some((chain, _)) => &chain.normal,
                     None => {
                         let prepass = &self.pipelines.depth_normals[&(cell.pipeline, prepass_textured)];
-                        let draw = FrameDraw { group: frame_group, drawn: &drawn, screen: &self.neutral_screen };
+                        let draw =
+                            FrameDraw { group: frame_group, drawn: &prepass_drawn, screen: &self.neutral_screen };
                         encode_depth_prepass(
                             &mut encoder,
                             prepared,

@@ -121,7 +121,8 @@ pub(in crate::render) fn gpu_material(s: &Surface, pattern: GpuMaterial) -> GpuM
     let v = |x: DVec3| [x.x as f32, x.y as f32, x.z as f32, 0.0];
     let q = s.params.map(|x| x as f32);
     GpuMaterial {
-        base_color: v(s.base_color),
+        // w: alpha (opaque); specular.w: the cutoff (0: nothing clips). The subject's are its cell's.
+        base_color: [s.base_color.x as f32, s.base_color.y as f32, s.base_color.z as f32, 1.0],
         params: [s.metallic as f32, s.smoothness as f32, pattern.params[2], pattern.params[3]],
         checker_color: pattern.checker_color,
         specular: v(s.specular),

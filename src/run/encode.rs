@@ -99,7 +99,7 @@ pub fn encode_cell(
     let frame = crate::images::stats::FramePixels { width: r.width, hdr: &r.hdr, roles: &r.roles };
     let stats = pixel_stats(frame, pre_exposure(&shown.1), |role| {
         let (role, forward_only) = match role {
-            ROLE_SUBJECT => (Some(Role::Subject), !cell.model().deferrable()),
+            ROLE_SUBJECT => (Some(Role::Subject), !cell.model().deferrable() || cell.material.surface.is_transparent()),
             ROLE_FIXED => (Some(Role::Fixed), false),
             _ => (None, false),
         };

@@ -92,6 +92,15 @@ impl ShaderModel {
         self.passes.gbuffer && !self.per_vertex && !self.main_light_only
     }
 
+    /// Whether the model keeps its diffuse lobe apart, reading `diffuse_weight` (shaders/common/
+    /// conventions.wgsl; the twin's `Surface::diffuse_weight`): what the premultiplied surface
+    /// types need (`SurfaceType::premultiplies_diffuse`). The engines' lit shaders do; the
+    /// classic models, whose engines had no such surface, do not. The WGSL decides, so a user
+    /// model that reads it has it too.
+    pub fn splits_diffuse(&self) -> bool {
+        self.wgsl.contains("diffuse_weight")
+    }
+
     /// The model's inputs for a cell: the mapping applied to the sliders.
     pub fn surface(&self, pipeline: Pipeline, sliders: &Sliders) -> Surface {
         (self.from_sliders)(self, pipeline, sliders)
@@ -125,6 +134,7 @@ pub fn metallic_workflow(model: &ShaderModel, pipeline: Pipeline, s: &Sliders) -
         smoothness: s.smoothness,
         specular: DVec3::ZERO,
         params: model.default_params(),
+        diffuse_weight: 1.0,
     }
 }
 
@@ -349,6 +359,7 @@ fn classic_specular(model: &ShaderModel, _: Pipeline, s: &Sliders) -> Surface {
         smoothness: s.smoothness,
         specular: DVec3::splat(0.5).lerp(c, s.metallic),
         params: model.default_params(),
+        diffuse_weight: 1.0,
     }
 }
 
@@ -365,6 +376,7 @@ fn oren_nayar_sliders(model: &ShaderModel, _: Pipeline, s: &Sliders) -> Surface 
         smoothness: s.smoothness,
         specular: DVec3::ZERO,
         params,
+        diffuse_weight: 1.0,
     }
 }
 
@@ -376,6 +388,7 @@ fn custom_shader_sliders(model: &ShaderModel, _: Pipeline, s: &Sliders) -> Surfa
         smoothness: s.smoothness,
         specular: DVec3::ONE,
         params: model.default_params(),
+        diffuse_weight: 1.0,
     }
 }
 
@@ -387,6 +400,7 @@ fn simple_lit_sliders(model: &ShaderModel, _: Pipeline, s: &Sliders) -> Surface 
         smoothness: s.smoothness,
         specular: DVec3::splat(crate::color::srgb_to_linear(0.5)),
         params: model.default_params(),
+        diffuse_weight: 1.0,
     }
 }
 
@@ -797,6 +811,7 @@ fn metallic_as_is(model: &ShaderModel, _: Pipeline, s: &Sliders) -> Surface {
         smoothness: s.smoothness,
         specular: DVec3::ZERO,
         params: model.default_params(),
+        diffuse_weight: 1.0,
     }
 }
 

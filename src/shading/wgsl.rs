@@ -9,11 +9,20 @@ const CONVENTIONS: &str = include_str!("../../shaders/common/conventions.wgsl");
 /// The pipelines' ids as named WGSL constants (`PIPELINE_BUILTIN`, `PIPELINE_URP`, `PIPELINE_HDRP`),
 /// generated from `Pipeline` so the shaders compare `PIPELINE` with names, never with `2u`.
 pub fn pipeline_ids() -> String {
-    crate::pipelines::Pipeline::ALL
+    let pipelines = crate::pipelines::Pipeline::ALL
         .iter()
-        .map(|p| format!("const PIPELINE_{}: u32 = {}u;\n", p.name().to_uppercase(), p.shader_id()))
-        .collect()
+        .map(|p| format!("const PIPELINE_{}: u32 = {}u;\n", p.name().to_uppercase(), p.shader_id()));
+    // The surface types likewise (`SURFACE_OPAQUE` …), for forward.wgsl's `SURFACE`.
+    let surfaces = crate::pipelines::surface::SurfaceType::ALL
+        .iter()
+        .map(|s| format!("const SURFACE_{}: u32 = {}u;\n", s.name().to_uppercase(), s.shader_id()));
+    pipelines.chain(surfaces).collect()
 }
+
+/// What a model may leave out, with the value the passes then read: 1 − oneMinusReflectivity,
+/// which only built-in Transparent's output alpha reads (models without one reflect nothing
+/// there: the classic models have no such surface and are not drawn with it).
+const DEFAULT_MODEL_HOOKS: &str = "fn model_reflectivity(s: Surface) -> f32 {\n    return 0.0;\n}\n";
 
 /// The shared math, the pipeline ids, the pipeline conventions and the shared BRDF terms: what
 /// every lighting module (and a test kernel of its terms) starts with.
@@ -149,6 +158,9 @@ pub fn compose_mapped(pass: PassKind, model: Option<&ShaderModel>) -> (String, L
     }
     if let Some(m) = model {
         parts.push((&m.source_path, &m.wgsl));
+        if !m.wgsl.contains("fn model_reflectivity") {
+            parts.push(("<default model hooks>", DEFAULT_MODEL_HOOKS));
+        }
     }
     match pass {
         PassKind::Forward => parts.push(("shaders/pass/approximations.wgsl", APPROXIMATIONS)),

@@ -26,6 +26,10 @@ pub enum Axis {
     /// The swept model parameters (`[sweep.params]`); not a filter axis.
     Params,
     AmbientIntensity,
+    /// The subject's surface type (`pipelines::surface`).
+    Surface,
+    /// The subject's base-colour alpha.
+    Alpha,
 }
 
 impl Axis {
@@ -49,6 +53,8 @@ pub enum AxisKind {
     /// An sRGB slider colour, named by its 8-bit hex code.
     Colour,
     Bool,
+    /// A name from a fixed list, swept in `[sweep]` (the surface types).
+    Choice,
     /// The swept model parameters, each its own list (`[sweep.params]`).
     Params,
 }
@@ -101,7 +107,7 @@ const fn slider(name: &'static str, axis: Axis, id_prefix: &'static str) -> Axis
 }
 
 /// Every axis, in the order sheets, the viewer, filters and cell ids list them.
-pub const AXES: [AxisRow; 16] = [
+pub const AXES: [AxisRow; 18] = [
     AxisRow { reference: true, timing: true, ..row("composition", Axis::Composition, AxisKind::Name) },
     AxisRow { reference: true, timing: true, ..row("pipeline", Axis::Pipeline, AxisKind::Name) },
     AxisRow { reference: true, timing: true, ..row("path", Axis::Path, AxisKind::Name) },
@@ -127,6 +133,14 @@ pub const AXES: [AxisRow; 16] = [
         own: "scene",
         ..number("ambient_intensity", Axis::AmbientIntensity, (0.0, 10.0), "_amb")
     },
+    AxisRow {
+        reference: true,
+        timing: true,
+        own: "material",
+        id_prefix: Some("_"),
+        ..row("surface", Axis::Surface, AxisKind::Choice)
+    },
+    AxisRow { own: "material", ..slider("alpha", Axis::Alpha, "_al") },
 ];
 
 /// The row of the axis named `name`.
@@ -187,6 +201,8 @@ mod tests {
             Axis::Emission => "emission",
             Axis::Params => "params",
             Axis::AmbientIntensity => "ambient_intensity",
+            Axis::Surface => "surface",
+            Axis::Alpha => "alpha",
         };
         for r in &AXES {
             assert_eq!(r.name, named(r.axis));

@@ -1,5 +1,6 @@
 //! Matrix files (`matrices/*.toml`): the axes to sweep, the image size, timing and filters.
 
+use crate::pipelines::surface::SurfaceType;
 use serde::Deserialize;
 use sha2::{Digest, Sha256};
 use std::collections::BTreeMap;
@@ -130,6 +131,9 @@ pub struct Sweep {
     pub color: Vec<[f64; 3]>,
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub textured: Vec<bool>,
+    /// The surface types (`pipelines::surface`), and "material" for the material's own.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub surface: Vec<crate::pipelines::surface::SurfaceType>,
     #[serde(skip_serializing_if = "BTreeMap::is_empty")]
     pub params: BTreeMap<String, Vec<f64>>,
     /// Axes whose list also names their own value: the scene's on numeric axes whose table row
@@ -186,6 +190,29 @@ impl<'de> Deserialize<'de> for Sweep {
                     }
                 }
                 Some(AxisKind::Bool) => sweep.textured = value.clone().try_into().map_err(typed)?,
+                Some(AxisKind::Choice) => {
+                    use crate::pipelines::surface::SurfaceType;
+                    let items: Vec<String> = value.clone().try_into().map_err(typed)?;
+                    for (i, item) in items.iter().enumerate() {
+                        match SurfaceType::from_name(item) {
+                            Some(s) => sweep.surface.push(s),
+                            None if item == "material" => {
+                                sweep.own.insert(key.clone());
+                            }
+                            None => {
+                                let mut allowed = SurfaceType::names();
+                                allowed.push("material");
+                                let near = crate::input::names::nearest(item, &allowed)
+                                    .map(|n| format!(" (did you mean `{n}`?)"))
+                                    .unwrap_or_default();
+                                return Err(D::Error::custom(format!(
+                                    "sweep.{key}[{i}]: `{item}` is not a surface type{near}; allowed: {}",
+                                    allowed.join(", ")
+                                )));
+                            }
+                        }
+                    }
+                }
                 Some(AxisKind::Params) => sweep.params = value.clone().try_into().map_err(typed)?,
                 _ => {
                     // As serde words it, so the input layer adds the nearest key.
@@ -793,6 +820,11 @@ impl Matrix {
                 Axis::Shader => model_names.iter().map(|s| s.to_string()).collect(),
                 Axis::Preset => preset_names().iter().map(|s| s.to_string()).collect(),
                 Axis::Textured => vec!["false".into(), "true".into()],
+                Axis::Surface => {
+                    let mut v: Vec<String> = SurfaceType::names().iter().map(|s| s.to_string()).collect();
+                    v.push("material".into());
+                    v
+                }
                 Axis::Color => {
                     let mut v: Vec<String> = file.sweep.color.iter().map(|c| color_code(Some(*c))).collect();
                     if v.is_empty() || file.sweep.sweeps_own(Axis::Color) {

@@ -50,6 +50,8 @@ pub(in crate::render) fn encode_deferred(
     let clear = wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT);
     let subject = |i: usize| prepared.layout.meshes[i].role == Role::Subject;
     let model_of = |i: usize| if subject(i) { cell.model } else { fixed_model };
+    // Into the G-buffer: what the model's G-buffer pass can draw, less a transparent subject.
+    let deferred = |i: usize| if subject(i) { cell.subject_deferrable() } else { fixed_model.deferrable() };
     {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("gbuffer"),
@@ -71,7 +73,7 @@ pub(in crate::render) fn encode_deferred(
         });
         pass.set_bind_group(0, frame_group, &[]);
         pass.set_bind_group(2, screen, &[]);
-        for (i, o) in prepared.objects.iter().enumerate().filter(|(i, _)| drawn[*i] && model_of(*i).deferrable()) {
+        for (i, o) in prepared.objects.iter().enumerate().filter(|(i, _)| drawn[*i] && deferred(*i)) {
             let textured = if subject(i) { cell.settings.material_maps.is_some() } else { prepared.fixed_maps.any() };
             pass.set_pipeline(&pipelines.gbuffer[&(p, model_of(i).name.to_string(), textured)]);
             pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
@@ -105,7 +107,7 @@ pub(in crate::render) fn encode_deferred(
         pass.set_bind_group(1, &prepared.object_bind_group, &[0]);
         pass.set_bind_group(2, gb.read(p), &[]);
         pass.set_bind_group(3, &tiles.read, &[]);
-        for (model, role) in lighting_draws(cell.model, fixed_model) {
+        for (model, role) in lighting_draws(cell.model, cell.subject_deferrable(), fixed_model) {
             if let Some(pipeline) = pipelines.lighting.get(&(p, model.name.to_string(), role as u32)) {
                 pass.set_pipeline(pipeline);
                 pass.draw(0..3, 0..1);
@@ -127,11 +129,14 @@ pub(in crate::render) fn encode_deferred(
     pass.set_bind_group(0, frame_group, &[]);
     pass.set_bind_group(1, &prepared.object_bind_group, &[0]);
     pass.set_bind_group(2, screen, &[]);
-    draw_objects(&mut pass, prepared, forward_only, forward_add, |i| drawn[i] && !model_of(i).deferrable());
+    // The opaque forward-only objects, the sky, then the Transparent queue (the subject alone).
+    let transparent = |i: usize| subject(i) && cell.settings.surface.kind.is_transparent();
+    draw_objects(&mut pass, prepared, forward_only, forward_add, |i| drawn[i] && !deferred(i) && !transparent(i));
     if let (true, Some(bg)) = (prepared.plan.background, pipelines.background.get(&1)) {
         pass.set_pipeline(bg);
         pass.draw(0..3, 0..1);
     }
+    draw_objects(&mut pass, prepared, forward_only, forward_add, |i| drawn[i] && transparent(i));
 }
 
 /// The lighting pass's full-screen draws: (model, role shaded; 0 every G-buffer pixel). One draw
@@ -139,9 +144,10 @@ pub(in crate::render) fn encode_deferred(
 /// the subject is drawn forward); one per model where they differ.
 pub(in crate::render) fn lighting_draws<'m>(
     subject: &'m ShaderModel,
+    subject_deferrable: bool,
     fixed: &'m ShaderModel,
 ) -> Vec<(&'m ShaderModel, u8)> {
-    match (subject.deferrable(), fixed.deferrable()) {
+    match (subject_deferrable, fixed.deferrable()) {
         (true, true) if subject.name == fixed.name => vec![(fixed, ROLE_ANY)],
         (true, true) => vec![(subject, ROLE_SUBJECT), (fixed, ROLE_FIXED)],
         (true, false) => vec![(subject, ROLE_SUBJECT)],

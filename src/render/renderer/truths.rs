@@ -24,6 +24,16 @@ impl Renderer {
         settings: &crate::render::truth::TruthSettings,
     ) -> Result<crate::render::truth::Truth, Error> {
         let fixed_model = self.fixed_model(cell.pipeline)?;
+        // The tracers treat every surface as opaque: a truth of a cutout or blended subject
+        // would be the truth of another scene.
+        let surface = cell.settings.surface.kind;
+        if surface != crate::pipelines::surface::SurfaceType::Opaque {
+            return Err(Error::Other(format!(
+                "the path-traced truth draws opaque surfaces only; this cell's subject is `{}` (compare it \
+                 with a cell reference, or give the truth an opaque cell)",
+                surface.name()
+            )));
+        }
         if self.truth_on_cpu(cell, &fixed_model, settings)? {
             return self.render_truth_cpu(prepared, cell, &fixed_model, settings);
         }

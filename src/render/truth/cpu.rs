@@ -351,6 +351,7 @@ fn surface_from(m: &GpuMaterial, uv: DVec2) -> Surface {
         smoothness: m.params[1] as f64,
         specular: v3(m.specular),
         params: std::array::from_fn(|i| if i < 4 { m.model0[i] as f64 } else { m.model1[i - 4] as f64 }),
+        diffuse_weight: 1.0,
     };
     let scale = m.params[2] as f64;
     if scale > 0.0 {

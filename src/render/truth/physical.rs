@@ -66,8 +66,14 @@ mod tests {
     #[test]
     fn a_white_rough_metal_reflects_all_its_light() {
         // Multiple scattering puts back what single scattering loses on rough metal (Turquin).
-        let metal =
-            Surface { base_color: DVec3::ONE, metallic: 1.0, smoothness: 0.3, specular: DVec3::ZERO, params: [0.0; 8] };
+        let metal = Surface {
+            base_color: DVec3::ONE,
+            metallic: 1.0,
+            smoothness: 0.3,
+            specular: DVec3::ZERO,
+            params: [0.0; 8],
+            diffuse_weight: 1.0,
+        };
         let a = directional_albedo(&metal, 0.7).x;
         assert!((a - 1.0).abs() < 0.03, "white rough metal albedo {a}");
         // Single scattering alone loses a visible share of it at this roughness.

@@ -28,7 +28,9 @@ impl SurfaceTwin for StandardBrdf2 {
         let h = safe_normalize(l + v, 0.001);
         let (nl, nh, lh) = (sat(n.dot(l)), sat(n.dot(h)), sat(l.dot(h)));
         let pr = 1.0 - s.smoothness;
-        (s.base_color * brdf2_one_minus_reflectivity(s) + spec_brdf2(nh, lh, pr * pr) * brdf2_spec_color(s)) * nl
+        (s.base_color * brdf2_one_minus_reflectivity(s) * s.diffuse_weight
+            + spec_brdf2(nh, lh, pr * pr) * brdf2_spec_color(s))
+            * nl
     }
 
     fn indirect(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, gi_d: DVec3, gi_s: DVec3) -> DVec3 {
@@ -39,7 +41,12 @@ impl SurfaceTwin for StandardBrdf2 {
         let surface_reduction = 1.0 - a * pr * (0.6 - 0.08 * pr);
         let grazing = sat(s.smoothness + (1.0 - omr));
         let fresnel = (1.0 - nv).powi(4);
-        gi_d * s.base_color * omr + surface_reduction * gi_s * brdf2_spec_color(s).lerp(DVec3::splat(grazing), fresnel)
+        gi_d * s.base_color * omr * s.diffuse_weight
+            + surface_reduction * gi_s * brdf2_spec_color(s).lerp(DVec3::splat(grazing), fresnel)
+    }
+
+    fn reflectivity(&self, s: &Surface) -> f64 {
+        1.0 - brdf2_one_minus_reflectivity(s)
     }
 }
 
@@ -57,7 +64,8 @@ impl SurfaceTwin for StandardBrdf3 {
         let nl = sat(n.dot(l));
         let r = v - 2.0 * n.dot(v) * n;
         let rl_pow4 = r.dot(l).powi(4);
-        (s.base_color * brdf2_one_minus_reflectivity(s) + spec_brdf3(rl_pow4, 1.0 - s.smoothness) * brdf2_spec_color(s))
+        (s.base_color * brdf2_one_minus_reflectivity(s) * s.diffuse_weight
+            + spec_brdf3(rl_pow4, 1.0 - s.smoothness) * brdf2_spec_color(s))
             * nl
     }
 
@@ -65,6 +73,11 @@ impl SurfaceTwin for StandardBrdf3 {
         let nv = sat(n.dot(v));
         let omr = brdf2_one_minus_reflectivity(s);
         let grazing = sat(s.smoothness + (1.0 - omr));
-        gi_d * s.base_color * omr + gi_s * brdf2_spec_color(s).lerp(DVec3::splat(grazing), (1.0 - nv).powi(4))
+        gi_d * s.base_color * omr * s.diffuse_weight
+            + gi_s * brdf2_spec_color(s).lerp(DVec3::splat(grazing), (1.0 - nv).powi(4))
+    }
+
+    fn reflectivity(&self, s: &Surface) -> f64 {
+        1.0 - brdf2_one_minus_reflectivity(s)
     }
 }

@@ -71,12 +71,13 @@ pub fn hdrp_f0(s: &Surface) -> DVec3 {
 }
 
 /// The diffuse colour: albedo·(1 − metallic), or for Specular Color with Energy Conserving
-/// Specular Color (its default), albedo·(1 − max(specular)).
+/// Specular Color (its default), albedo·(1 − max(specular)); × the diffuse weight a transparent
+/// surface's ApplyBlendMode gives the diffuse lighting.
 pub fn hdrp_diffuse_color(s: &Surface) -> DVec3 {
     if s.params[1] > 0.5 {
-        return s.base_color * (1.0 - s.specular.max_element());
+        return s.base_color * (1.0 - s.specular.max_element()) * s.diffuse_weight;
     }
-    s.base_color * (1.0 - s.metallic)
+    s.base_color * (1.0 - s.metallic) * s.diffuse_weight
 }
 
 /// Specular multiplier 1 + F0·(1/y − 1), y = reflectivity from the FGD table (models.md#hdrp-lit).

@@ -34,12 +34,16 @@ pub struct Surface {
     pub specular: DVec3,
     /// The model's own parameters by slot (`registry::ParamSpec::slot`).
     pub params: [f64; 8],
+    /// The share of the diffuse lobe kept: alpha under a premultiplied surface type
+    /// (`SurfaceType::premultiplies_diffuse`), 1 else; read by the models that keep their diffuse
+    /// lobe apart (WGSL: the pass's private `diffuse_weight`).
+    pub diffuse_weight: f64,
 }
 
 impl Surface {
     /// Base colour, metallic and smoothness only; no specular colour, parameters zero.
     pub fn basic(base_color: DVec3, metallic: f64, smoothness: f64) -> Surface {
-        Surface { base_color, metallic, smoothness, specular: DVec3::ZERO, params: [0.0; 8] }
+        Surface { base_color, metallic, smoothness, specular: DVec3::ZERO, params: [0.0; 8], diffuse_weight: 1.0 }
     }
 
     /// Every value rounded to f32, as the GPU receives it: the twin's input for parity checks.
@@ -51,6 +55,7 @@ impl Surface {
             smoothness: self.smoothness as f32 as f64,
             specular: r(self.specular),
             params: self.params.map(|p| p as f32 as f64),
+            diffuse_weight: self.diffuse_weight as f32 as f64,
         }
     }
 }
@@ -79,6 +84,11 @@ pub trait SurfaceTwin: Sync {
         gi_diffuse: DVec3,
         gi_specular: DVec3,
     ) -> DVec3;
+    /// 1 − oneMinusReflectivity, where built-in's Transparent surface reads it for its output
+    /// alpha (WGSL `model_reflectivity`; 0 for the models that define none).
+    fn reflectivity(&self, _s: &Surface) -> f64 {
+        0.0
+    }
     /// Whether the model reflects light only diffusely (no specular lobe): a path tracer then
     /// samples its continuations from the cosine alone (render::truth, `lobe_share`).
     fn diffuse_only(&self) -> bool {

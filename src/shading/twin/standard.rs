@@ -30,7 +30,7 @@ pub fn standard_setup(s: &Surface) -> StandardSetup {
     };
     StandardSetup {
         spec_color,
-        diff_color: s.base_color * one_minus_reflectivity,
+        diff_color: s.base_color * one_minus_reflectivity * s.diffuse_weight,
         one_minus_reflectivity,
         perceptual_roughness: 1.0 - s.smoothness,
     }
@@ -83,6 +83,10 @@ impl SurfaceTwin for Standard {
         let grazing_term = sat(s.smoothness + (1.0 - st.one_minus_reflectivity));
         st.diff_color * gi_diffuse
             + surface_reduction * gi_specular * f_schlick_lerp(st.spec_color, DVec3::splat(grazing_term), nv)
+    }
+
+    fn reflectivity(&self, s: &Surface) -> f64 {
+        1.0 - standard_setup(s).one_minus_reflectivity
     }
 }
 

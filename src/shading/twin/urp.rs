@@ -26,7 +26,7 @@ pub fn urp_brdf_data(s: &Surface) -> UrpBrdfData {
     let pr = 1.0 - s.smoothness;
     let roughness = (pr * pr).max(HALF_MIN_SQRT);
     UrpBrdfData {
-        diffuse: s.base_color * omr,
+        diffuse: s.base_color * omr * s.diffuse_weight,
         specular,
         roughness,
         roughness2: (roughness * roughness).max(HALF_MIN),
@@ -89,7 +89,7 @@ impl SurfaceTwin for Unlit {
     }
 
     fn indirect(&self, _: Pipeline, s: &Surface, _: DVec3, _: DVec3, _: DVec3, _: DVec3) -> DVec3 {
-        s.base_color
+        s.base_color * s.diffuse_weight
     }
 }
 
