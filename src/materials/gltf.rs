@@ -63,7 +63,8 @@ pub fn maps_at(m: &GltfMaterial, size: usize) -> MaterialMaps {
     let rf = m.roughness as f32;
     let level = MapLevel {
         size,
-        albedo: base.iter().map(|t| [t[0], t[1], t[2], 1.0]).collect(),
+        // Alpha kept: a cutout or blended surface reads it (pipelines::surface).
+        albedo: base,
         // glTF: n = normalize((2c − 1) · (scale, scale, 1)).
         normal: normal
             .iter()

@@ -39,6 +39,7 @@ mod skies;
 mod ssao;
 mod stability;
 mod study;
+mod surfaces;
 mod timing;
 mod truth;
 mod user_models;

@@ -1,0 +1,239 @@
+//! Surface types (pipelines::surface) as the GPU draws them, against the f64 twins: each
+//! premultiplied surface keeps its reflection whole and multiplies its diffuse light by alpha,
+//! Fade multiplies both, and a cutout's coverage is where its alpha reaches the cutoff.
+
+use crate::common::{cell_params, find_model, fixture, shadematrix, write_matrix};
+use glam::{DMat4, DVec3, DVec4};
+use shadematrix::gpu::GpuContext;
+use shadematrix::pipelines::surface::{LitTerms, SurfaceOptions, SurfaceType};
+use shadematrix::pipelines::{Pipeline, RenderPath};
+use shadematrix::plan::camera::view_projection;
+use shadematrix::plan::roles::ROLE_SUBJECT;
+use shadematrix::render::Renderer;
+use shadematrix::shading::registry::Sliders;
+use shadematrix::spec::scene::Scene;
+
+const SIZE: u32 = 48;
+
+/// The point of the plane y = 0 the ray through pixel (x, y)'s centre meets, where it is well
+/// inside the fixture's 6 m plane.
+fn plane_point(inverse: DMat4, camera: DVec3, x: u32, y: u32) -> Option<DVec3> {
+    let ndc = ((x as f64 + 0.5) / SIZE as f64 * 2.0 - 1.0, 1.0 - (y as f64 + 0.5) / SIZE as f64 * 2.0);
+    let far = inverse * DVec4::new(ndc.0, ndc.1, 1.0, 1.0);
+    let dir = far.truncate() / far.w - camera;
+    let p = camera + dir * (-camera.y / dir.y);
+    (dir.y < 0.0 && p.x.abs() < 2.8 && p.z.abs() < 2.8).then_some(p)
+}
+
+#[test]
+fn premultiplied_surfaces_keep_the_reflection_and_fade_fades_it() {
+    let scene = Scene::load_file(&fixture("glass_plane.toml")).unwrap();
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let prepared = renderer.prepare_scene(&scene).unwrap();
+    let sliders = Sliders { base_color_linear: [0.8, 0.3, 0.2], metallic: 0.0, smoothness: 0.8 };
+    let alpha = 0.35;
+    let inverse = view_projection(&scene.camera, 1.0).inverse();
+    let camera = DVec3::from(scene.camera.position);
+    let sun = &scene.lights[0];
+    let l = -DVec3::from(sun.direction).normalize();
+    let cases: [(Pipeline, &str, &[SurfaceType]); 2] = [
+        (Pipeline::Builtin, "standard", &[SurfaceType::Opaque, SurfaceType::Fade, SurfaceType::Transparent]),
+        (Pipeline::Urp, "lit", &[SurfaceType::Transparent, SurfaceType::Premultiply, SurfaceType::Additive]),
+    ];
+    for (pipeline, shader, kinds) in cases {
+        let model = find_model(pipeline, shader).unwrap();
+        let twin = model.twin.unwrap();
+        let radiance = DVec3::from(pipeline.light_radiance(sun.color, sun.intensity, sun.emitter()));
+        let mut images: Vec<(SurfaceType, Vec<f32>)> = Vec::new();
+        for &kind in kinds {
+            let mut cell = cell_params(pipeline, shader, sliders, (sun.intensity, 10.0), SIZE, RenderPath::Forward);
+            cell.settings.surface = SurfaceOptions { kind, alpha, ..Default::default() };
+            let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
+            let s = cell.surface;
+            let (mut worst, mut peak_specular, mut pixels) = (0.0f64, 0.0f64, 0);
+            for y in 0..SIZE {
+                for x in 0..SIZE {
+                    let Some(p) = plane_point(inverse, camera, x, y) else { continue };
+                    let (n, v) = (DVec3::Y, (camera - p).normalize());
+                    let floor = sun.emitter().hdrp_min_roughness();
+                    let full = twin.direct_for_light(pipeline, &s, n, v, l, floor) * radiance;
+                    let specular = twin.direct_for_light(
+                        pipeline,
+                        &shadematrix::shading::twin::Surface { diffuse_weight: 0.0, ..s },
+                        n,
+                        v,
+                        l,
+                        floor,
+                    ) * radiance;
+                    let diffuse = full - specular;
+                    let weight = if kind.premultiplies_diffuse(pipeline) { alpha } else { 1.0 };
+                    let lit = LitTerms {
+                        diffuse: (diffuse * weight).to_array(),
+                        specular: specular.to_array(),
+                        emission: [0.0; 3],
+                    };
+                    let want = DVec3::from(kind.composite(pipeline, &lit, alpha, twin.reflectivity(&s), [0.0; 3]));
+                    let i = ((y * SIZE + x) * 4) as usize;
+                    let got = DVec3::new(r.hdr[i] as f64, r.hdr[i + 1] as f64, r.hdr[i + 2] as f64);
+                    let scale = want.max_element().max(radiance.max_element() * 1e-3);
+                    worst = worst.max((got - want).abs().max_element() / scale);
+                    peak_specular = peak_specular.max(specular.max_element() / full.max_element().max(1e-12));
+                    pixels += 1;
+                }
+            }
+            eprintln!(
+                "{}/{shader} {}: {pixels} plane pixels, worst relative difference from the twin {worst:.2e} (specular share up to {peak_specular:.2})",
+                pipeline.name(),
+                kind.name()
+            );
+            assert!(pixels > SIZE as usize * SIZE as usize / 3, "the plane fills the frame");
+            assert!(peak_specular > 0.5, "the sun's highlight is in the frame");
+            assert!(worst < 2e-3, "{}/{shader} {}: worst relative difference {worst:e}", pipeline.name(), kind.name());
+            images.push((kind, r.hdr));
+        }
+        // Over black, built-in's Transparent less its Fade is exactly (1 − alpha) × the reflection.
+        if pipeline == Pipeline::Builtin {
+            let image = |k: SurfaceType| &images.iter().find(|(kind, _)| *kind == k).unwrap().1;
+            let (opaque, fade, transparent) =
+                (image(SurfaceType::Opaque), image(SurfaceType::Fade), image(SurfaceType::Transparent));
+            let s = find_model(pipeline, shader).unwrap().surface(pipeline, &sliders);
+            let mut worst = 0.0f64;
+            for y in 0..SIZE {
+                for x in 0..SIZE {
+                    let Some(p) = plane_point(inverse, camera, x, y) else { continue };
+                    let v = (camera - p).normalize();
+                    let specular = twin.direct(
+                        pipeline,
+                        &shadematrix::shading::twin::Surface { diffuse_weight: 0.0, ..s },
+                        DVec3::Y,
+                        v,
+                        l,
+                    ) * radiance;
+                    for c in 0..3 {
+                        let i = ((y * SIZE + x) * 4) as usize + c;
+                        let difference = (transparent[i] - fade[i]) as f64;
+                        let want = (1.0 - alpha) * specular[c];
+                        worst = worst.max((difference - want).abs() / (opaque[i] as f64).max(1e-6));
+                        // Fade is alpha × the opaque colour, to float error.
+                        assert!(
+                            ((fade[i] - alpha as f32 * opaque[i]).abs() as f64) <= 1e-5 * opaque[i].abs() as f64 + 1e-7
+                        );
+                    }
+                }
+            }
+            eprintln!("built-in Transparent − Fade against (1 − alpha) × the twin's reflection: worst {worst:.2e} of the opaque colour");
+            assert!(worst < 2e-3, "{worst:e}");
+        }
+    }
+    // HDRP, against its own opaque frame (its light units and volume are held by the parity
+    // tests): over black, Premultiply is the opaque colour, Transparent keeps the specular
+    // lighting whole and alpha of the diffuse, so it lies between alpha × opaque and opaque and
+    // keeps nearly all of the highlight.
+    let mut frame = |kind: SurfaceType| {
+        let mut cell = cell_params(Pipeline::Hdrp, "lit", sliders, (sun.intensity, 10.0), SIZE, RenderPath::Forward);
+        cell.settings.surface = SurfaceOptions { kind, alpha, ..Default::default() };
+        renderer.render(&prepared, &cell, 1, 0).unwrap().hdr
+    };
+    let (opaque, premultiply, transparent) =
+        (frame(SurfaceType::Opaque), frame(SurfaceType::Premultiply), frame(SurfaceType::Transparent));
+    let peak = (0..opaque.len()).step_by(4).max_by(|&a, &b| opaque[a].total_cmp(&opaque[b])).unwrap();
+    for i in 0..opaque.len() {
+        if i % 4 == 3 {
+            continue;
+        }
+        assert!((premultiply[i] - opaque[i]).abs() <= 1e-6 * opaque[i].abs(), "pixel {i}");
+        assert!(
+            transparent[i] >= alpha as f32 * opaque[i] * 0.9999 && transparent[i] <= opaque[i] * 1.0001,
+            "pixel {i}"
+        );
+    }
+    let kept = transparent[peak] / opaque[peak];
+    eprintln!("HDRP Transparent keeps {kept:.3} of the opaque highlight's peak (alpha {alpha})");
+    assert!(kept > 0.8, "{kept}");
+}
+
+/// A quad whose base colour texture's alpha rises from 0 to 1 across u, as a glTF with
+/// `alphaMode` MASK at `cutoff`.
+fn write_alpha_ramp_gltf(dir: &std::path::Path, cutoff: f64) {
+    let positions: [[f32; 3]; 4] = [[-1.0, 0.0, -1.0], [1.0, 0.0, -1.0], [1.0, 0.0, 1.0], [-1.0, 0.0, 1.0]];
+    let normals = [[0.0f32, 1.0, 0.0]; 4];
+    let uvs: [[f32; 2]; 4] = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+    let indices: [u32; 6] = [0, 3, 2, 0, 2, 1];
+    let mut bin = Vec::new();
+    bin.extend_from_slice(bytemuck::cast_slice(&positions));
+    bin.extend_from_slice(bytemuck::cast_slice(&normals));
+    bin.extend_from_slice(bytemuck::cast_slice(&uvs));
+    bin.extend_from_slice(bytemuck::cast_slice(&indices));
+    std::fs::write(dir.join("quad.bin"), &bin).unwrap();
+    // Texel x holds alpha (x + 0.5)/256: bilinear sampling makes alpha(u) = u away from the edges.
+    image::RgbaImage::from_fn(256, 4, |x, _| image::Rgba([255, 255, 255, x as u8])).save(dir.join("ramp.png")).unwrap();
+    let json = format!(
+        r#"{{"asset": {{"version": "2.0"}}, "scene": 0, "scenes": [{{"nodes": [0]}}], "nodes": [{{"mesh": 0}}],
+  "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}}, "indices": 3, "material": 0}}]}}],
+  "materials": [{{"name": "ramp", "alphaMode": "MASK", "alphaCutoff": {cutoff},
+      "pbrMetallicRoughness": {{"baseColorFactor": [1, 1, 1, 1], "metallicFactor": 0, "roughnessFactor": 1, "baseColorTexture": {{"index": 0}}}}}}],
+  "textures": [{{"source": 0}}], "images": [{{"uri": "ramp.png"}}],
+  "buffers": [{{"uri": "quad.bin", "byteLength": {len}}}],
+  "bufferViews": [{{"buffer": 0, "byteOffset": 0, "byteLength": 48}}, {{"buffer": 0, "byteOffset": 48, "byteLength": 48}},
+      {{"buffer": 0, "byteOffset": 96, "byteLength": 32}}, {{"buffer": 0, "byteOffset": 128, "byteLength": 24}}],
+  "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-1, 0, -1], "max": [1, 0, 1]}},
+      {{"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC3"}},
+      {{"bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC2"}},
+      {{"bufferView": 3, "componentType": 5125, "count": 6, "type": "SCALAR"}}]}}"#,
+        len = bin.len()
+    );
+    std::fs::write(dir.join("quad.gltf"), json).unwrap();
+    let scene = std::fs::read_to_string(fixture("textured_plane.toml"))
+        .unwrap()
+        .replace("name = \"textured_plane\"", "name = \"ramp\"")
+        .replace(
+            "mesh = { kind = \"plane\", size = [2.0, 2.0], subdivisions = 1 }",
+            "mesh = { kind = \"gltf\", path = \"quad.gltf\" }",
+        );
+    std::fs::write(dir.join("ramp.toml"), scene).unwrap();
+}
+
+/// The share of the frame's pixels the subject covers.
+fn coverage(roles: &[u8]) -> f64 {
+    roles.iter().filter(|r| **r == ROLE_SUBJECT).count() as f64 / roles.len() as f64
+}
+
+#[test]
+fn a_cutout_quad_covers_what_its_alpha_leaves_above_the_cutoff() {
+    let tmp = tempfile::tempdir().unwrap();
+    write_alpha_ramp_gltf(tmp.path(), 0.3);
+    let scene = Scene::load_file(&tmp.path().join("ramp.toml")).unwrap();
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let prepared = renderer.prepare_scene(&scene).unwrap();
+    let sliders = Sliders { base_color_linear: [1.0; 3], metallic: 0.0, smoothness: 0.0 };
+    let size = 128;
+    for (pipeline, shader, path) in [
+        (Pipeline::Builtin, "standard", RenderPath::Forward),
+        (Pipeline::Urp, "lit", RenderPath::Deferred),
+        (Pipeline::Hdrp, "lit", RenderPath::Forward),
+    ] {
+        let mut cell = cell_params(pipeline, shader, sliders, (1.0, 10.0), size, path);
+        cell.settings.material_maps = Some(shadematrix::spec::presets::OWN.name);
+        let whole = coverage(&renderer.render(&prepared, &cell, 1, 0).unwrap().roles);
+        for cutoff in [0.25, 0.5, 0.75] {
+            cell.settings.surface = SurfaceOptions { kind: SurfaceType::Cutout, alpha: 1.0, cutoff };
+            let share = coverage(&renderer.render(&prepared, &cell, 1, 0).unwrap().roles) / whole;
+            eprintln!("{}-{} cutoff {cutoff}: covers {share:.4} of the opaque quad", pipeline.name(), path.name());
+            // One pixel column of the quad's ~80 is the resolution.
+            assert!((share - (1.0 - cutoff)).abs() < 0.02, "cutoff {cutoff}: coverage {share}");
+        }
+    }
+    // A run reads the file's alphaMode and alphaCutoff: the `own` cell is a cutout at 0.3.
+    let m = write_matrix(
+        tmp.path(),
+        "m.toml",
+        "name = \"t\"\ncompositions = [\"ramp.toml\"]\npipelines = [\"urp\"]\nshaders = [\"lit\"]\npresets = [\"own\"]\n\
+         [sweep]\ntextured = [true]\n[image]\nwidth = 128\nheight = 128\n",
+    );
+    let (rc, out, err) = shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", "r"], &[]);
+    assert_eq!(rc, 0, "{out}\n{err}");
+    let cells = tmp.path().join("r/cells");
+    let dir = std::fs::read_dir(&cells).unwrap().next().unwrap().unwrap().path();
+    let record = std::fs::read_to_string(dir.join("cell.json")).unwrap();
+    assert!(record.contains("\"surface\": \"cutout\"") && record.contains("\"alpha_cutoff\": 0.3"), "{record}");
+}
