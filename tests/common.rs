@@ -114,6 +114,23 @@ pub fn superposition_error(
 /// A textured glTF plane the test writes: base colour red in the half u < 0.5 and blue beyond,
 /// emissive green in the half v < 0.5 (both factors white), with its buffer and PNGs beside it.
 pub fn write_textured_gltf(dir: &std::path::Path) -> std::path::PathBuf {
+    let png = |name: &str, f: &dyn Fn(u32, u32) -> [u8; 4]| {
+        image::RgbaImage::from_fn(8, 8, |x, y| image::Rgba(f(x, y))).save(dir.join(name)).unwrap();
+    };
+    png("base.png", &|x, _| if x < 4 { [255, 0, 0, 255] } else { [0, 0, 255, 255] });
+    png("emissive.png", &|_, y| if y < 4 { [0, 255, 0, 255] } else { [0, 0, 0, 255] });
+    write_quad_gltf(
+        dir,
+        "plane",
+        r#"{"name": "test", "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 1], "metallicFactor": 0, "roughnessFactor": 1,
+      "baseColorTexture": {"index": 0}}, "emissiveFactor": [1, 1, 1], "emissiveTexture": {"index": 1}}"#,
+        &["base.png", "emissive.png"],
+    )
+}
+
+/// A 2 m quad at y = 0 facing +y, uv (0, 0)…(1, 1) across x and z, as `<stem>.gltf` and
+/// `<stem>.bin` with `material` (a glTF material object) and one texture per image in `images`.
+pub fn write_quad_gltf(dir: &std::path::Path, stem: &str, material: &str, images: &[&str]) -> std::path::PathBuf {
     let positions: [[f32; 3]; 4] = [[-1.0, 0.0, -1.0], [1.0, 0.0, -1.0], [1.0, 0.0, 1.0], [-1.0, 0.0, 1.0]];
     let normals = [[0.0f32, 1.0, 0.0]; 4];
     let uvs: [[f32; 2]; 4] = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
@@ -123,28 +140,26 @@ pub fn write_textured_gltf(dir: &std::path::Path) -> std::path::PathBuf {
     bin.extend_from_slice(bytemuck::cast_slice(&normals));
     bin.extend_from_slice(bytemuck::cast_slice(&uvs));
     bin.extend_from_slice(bytemuck::cast_slice(&indices));
-    std::fs::write(dir.join("plane.bin"), &bin).unwrap();
-    let png = |name: &str, f: &dyn Fn(u32, u32) -> [u8; 4]| {
-        image::RgbaImage::from_fn(8, 8, |x, y| image::Rgba(f(x, y))).save(dir.join(name)).unwrap();
-    };
-    png("base.png", &|x, _| if x < 4 { [255, 0, 0, 255] } else { [0, 0, 255, 255] });
-    png("emissive.png", &|_, y| if y < 4 { [0, 255, 0, 255] } else { [0, 0, 0, 255] });
+    std::fs::write(dir.join(format!("{stem}.bin")), &bin).unwrap();
+    let textures: Vec<String> = (0..images.len()).map(|i| format!("{{\"source\": {i}}}")).collect();
+    let uris: Vec<String> = images.iter().map(|u| format!("{{\"uri\": \"{u}\"}}")).collect();
     let json = format!(
         r#"{{"asset": {{"version": "2.0"}}, "scene": 0, "scenes": [{{"nodes": [0]}}], "nodes": [{{"mesh": 0}}],
   "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}}, "indices": 3, "material": 0}}]}}],
-  "materials": [{{"name": "test", "pbrMetallicRoughness": {{"baseColorFactor": [1, 1, 1, 1], "metallicFactor": 0, "roughnessFactor": 1,
-      "baseColorTexture": {{"index": 0}}}}, "emissiveFactor": [1, 1, 1], "emissiveTexture": {{"index": 1}}}}],
-  "textures": [{{"source": 0}}, {{"source": 1}}], "images": [{{"uri": "base.png"}}, {{"uri": "emissive.png"}}],
-  "buffers": [{{"uri": "plane.bin", "byteLength": {len}}}],
+  "materials": [{material}],
+  "textures": [{textures}], "images": [{uris}],
+  "buffers": [{{"uri": "{stem}.bin", "byteLength": {len}}}],
   "bufferViews": [{{"buffer": 0, "byteOffset": 0, "byteLength": 48}}, {{"buffer": 0, "byteOffset": 48, "byteLength": 48}},
       {{"buffer": 0, "byteOffset": 96, "byteLength": 32}}, {{"buffer": 0, "byteOffset": 128, "byteLength": 24}}],
   "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-1, 0, -1], "max": [1, 0, 1]}},
       {{"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC3"}},
       {{"bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC2"}},
       {{"bufferView": 3, "componentType": 5125, "count": 6, "type": "SCALAR"}}]}}"#,
+        textures = textures.join(", "),
+        uris = uris.join(", "),
         len = bin.len()
     );
-    let path = dir.join("plane.gltf");
+    let path = dir.join(format!("{stem}.gltf"));
     std::fs::write(&path, json).unwrap();
     path
 }

@@ -155,34 +155,13 @@ fn premultiplied_surfaces_keep_the_reflection_and_fade_fades_it() {
 /// A quad whose base colour texture's alpha rises from 0 to 1 across u, as a glTF with
 /// `alphaMode` MASK at `cutoff`.
 fn write_alpha_ramp_gltf(dir: &std::path::Path, cutoff: f64) {
-    let positions: [[f32; 3]; 4] = [[-1.0, 0.0, -1.0], [1.0, 0.0, -1.0], [1.0, 0.0, 1.0], [-1.0, 0.0, 1.0]];
-    let normals = [[0.0f32, 1.0, 0.0]; 4];
-    let uvs: [[f32; 2]; 4] = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
-    let indices: [u32; 6] = [0, 3, 2, 0, 2, 1];
-    let mut bin = Vec::new();
-    bin.extend_from_slice(bytemuck::cast_slice(&positions));
-    bin.extend_from_slice(bytemuck::cast_slice(&normals));
-    bin.extend_from_slice(bytemuck::cast_slice(&uvs));
-    bin.extend_from_slice(bytemuck::cast_slice(&indices));
-    std::fs::write(dir.join("quad.bin"), &bin).unwrap();
     // Texel x holds alpha (x + 0.5)/256: bilinear sampling makes alpha(u) = u away from the edges.
     image::RgbaImage::from_fn(256, 4, |x, _| image::Rgba([255, 255, 255, x as u8])).save(dir.join("ramp.png")).unwrap();
-    let json = format!(
-        r#"{{"asset": {{"version": "2.0"}}, "scene": 0, "scenes": [{{"nodes": [0]}}], "nodes": [{{"mesh": 0}}],
-  "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}}, "indices": 3, "material": 0}}]}}],
-  "materials": [{{"name": "ramp", "alphaMode": "MASK", "alphaCutoff": {cutoff},
-      "pbrMetallicRoughness": {{"baseColorFactor": [1, 1, 1, 1], "metallicFactor": 0, "roughnessFactor": 1, "baseColorTexture": {{"index": 0}}}}}}],
-  "textures": [{{"source": 0}}], "images": [{{"uri": "ramp.png"}}],
-  "buffers": [{{"uri": "quad.bin", "byteLength": {len}}}],
-  "bufferViews": [{{"buffer": 0, "byteOffset": 0, "byteLength": 48}}, {{"buffer": 0, "byteOffset": 48, "byteLength": 48}},
-      {{"buffer": 0, "byteOffset": 96, "byteLength": 32}}, {{"buffer": 0, "byteOffset": 128, "byteLength": 24}}],
-  "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-1, 0, -1], "max": [1, 0, 1]}},
-      {{"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC3"}},
-      {{"bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC2"}},
-      {{"bufferView": 3, "componentType": 5125, "count": 6, "type": "SCALAR"}}]}}"#,
-        len = bin.len()
+    let material = format!(
+        r#"{{"name": "ramp", "alphaMode": "MASK", "alphaCutoff": {cutoff},
+      "pbrMetallicRoughness": {{"baseColorFactor": [1, 1, 1, 1], "metallicFactor": 0, "roughnessFactor": 1, "baseColorTexture": {{"index": 0}}}}}}"#
     );
-    std::fs::write(dir.join("quad.gltf"), json).unwrap();
+    crate::common::write_quad_gltf(dir, "quad", &material, &["ramp.png"]);
     let scene = std::fs::read_to_string(fixture("textured_plane.toml"))
         .unwrap()
         .replace("name = \"textured_plane\"", "name = \"ramp\"")
