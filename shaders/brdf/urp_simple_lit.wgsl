@@ -16,7 +16,9 @@ fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f3
     if (s.params0.x > 0.5) {
         spec = s.specular * spec_simple_lit(nh, s.smoothness);
     }
-    return s.base_color * sat(dot(n, l)) + spec;
+    // _ALPHAPREMULTIPLY_ON: the lights' diffuse × alpha (Lighting.hlsl CalculateBlinnPhong); the
+    // baked GI is not (UniversalFragmentBlinnPhong: bakedGI × albedo alone)
+    return s.base_color * diffuse_weight * sat(dot(n, l)) + spec;
 }
 
 fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>) -> vec3<f32> {

@@ -202,7 +202,7 @@ fn surface_missing(c: &Cell) -> Option<String> {
     (s.premultiplies_diffuse(c.pipeline) && !c.model().splits_diffuse()).then(|| {
         format!(
             "the `{}` surface multiplies the diffuse reflection alone by alpha; `{}` keeps no diffuse lobe apart \
-             (the engines' lit shaders do: standard, lit, simple_lit, unlit)",
+             (the engines' lit shaders do: standard and its BRDF2/3 tiers, URP's lit and simple_lit, HDRP's lit, unlit)",
             s.name(),
             c.shader
         )

@@ -36,10 +36,11 @@ fn premultiplied_surfaces_keep_the_reflection_and_fade_fades_it() {
     let camera = DVec3::from(scene.camera.position);
     let sun = &scene.lights[0];
     let l = -DVec3::from(sun.direction).normalize();
-    let cases: [(Pipeline, &str, &[SurfaceType]); 3] = [
+    let cases: [(Pipeline, &str, &[SurfaceType]); 4] = [
         (Pipeline::Builtin, "standard", &[SurfaceType::Opaque, SurfaceType::Fade, SurfaceType::Transparent]),
         (Pipeline::Urp, "lit", &[SurfaceType::Transparent, SurfaceType::Premultiply, SurfaceType::Additive]),
         (Pipeline::Hdrp, "lit", &[SurfaceType::Transparent, SurfaceType::Premultiply, SurfaceType::Additive]),
+        (Pipeline::Urp, "simple_lit", &[SurfaceType::Transparent]),
     ];
     for (pipeline, shader, kinds) in cases {
         let model = find_model(pipeline, shader).unwrap();
@@ -49,6 +50,10 @@ fn premultiplied_surfaces_keep_the_reflection_and_fade_fades_it() {
         for &kind in kinds {
             let mut cell = cell_params(pipeline, shader, sliders, (sun.intensity, 10.0), SIZE, RenderPath::Forward);
             cell.settings.surface = SurfaceOptions { kind, alpha, ..Default::default() };
+            // Simple Lit's highlights on (`specular_highlights`), so that it has a reflection to keep.
+            if shader == "simple_lit" {
+                cell.surface.params[0] = 1.0;
+            }
             let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
             let s = cell.surface;
             let (mut worst, mut peak_specular, mut pixels) = (0.0f64, 0.0f64, 0);
@@ -88,7 +93,7 @@ fn premultiplied_surfaces_keep_the_reflection_and_fade_fades_it() {
                 kind.name()
             );
             assert!(pixels > SIZE as usize * SIZE as usize / 3, "the plane fills the frame");
-            assert!(peak_specular > 0.5, "the sun's highlight is in the frame");
+            assert!(peak_specular > 0.25, "the sun's highlight is in the frame");
             assert!(worst < 2e-3, "{}/{shader} {}: worst relative difference {worst:e}", pipeline.name(), kind.name());
             images.push((kind, r.hdr));
         }

@@ -73,7 +73,8 @@ impl SurfaceTwin for UrpSimpleLit {
         let h = safe_normalize(l + v, f32::MIN_POSITIVE as f64);
         let nh = sat(n.dot(h));
         let highlights = if s.params[0] > 0.5 { 1.0 } else { 0.0 };
-        s.base_color * sat(n.dot(l)) + s.specular * highlights * spec_simple_lit(nh, s.smoothness)
+        // × the diffuse weight: CalculateBlinnPhong's _ALPHAPREMULTIPLY_ON; the GI below keeps it whole.
+        s.base_color * s.diffuse_weight * sat(n.dot(l)) + s.specular * highlights * spec_simple_lit(nh, s.smoothness)
     }
 
     fn indirect(&self, _: Pipeline, s: &Surface, _: DVec3, _: DVec3, gi_d: DVec3, _: DVec3) -> DVec3 {
