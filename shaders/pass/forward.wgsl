@@ -40,13 +40,16 @@ fn vertex_normal(n: vec3<f32>, p: vec3<f32>) -> vec3<f32> {
     return safe_normalize(frame.camera_pos.xyz - p, 1e-30);
 }
 
-// The shading normal of a fragment: the interpolated normal, normalised and flipped on back faces;
-// where it is zero (zero normals in the mesh) the triangle's own normal, turned to the viewer
-// (spec §6: normalize(0) is NaN). `face` = cross(dpdx(p), dpdy(p)), taken in uniform control flow.
+// The shading normal of a fragment: the interpolated normal, normalised; on a back face (drawn
+// where the mesh's render face says) flipped in HDRP, whose Double-Sided Normal Mode (Mirror by
+// default) turns it to the viewer, and kept in built-in and URP, whose lit shaders read the
+// mesh's normal as it is. Where it is zero (zero normals in the mesh) the triangle's own normal,
+// turned to the viewer (spec §6: normalize(0) is NaN). `face` = cross(dpdx(p), dpdy(p)), taken
+// in uniform control flow.
 fn shading_normal(interpolated: vec3<f32>, face: vec3<f32>, p: vec3<f32>, front: bool) -> vec3<f32> {
     if (dot(interpolated, interpolated) > 1e-30) {
         let n = normalize(interpolated);
-        return select(-n, n, front);
+        return select(n, -n, !front && PIPELINE == PIPELINE_HDRP);
     }
     let to_eye = frame.camera_pos.xyz - p;
     if (dot(face, face) > 1e-30) {

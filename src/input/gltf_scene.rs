@@ -30,6 +30,8 @@ pub struct ScenePrimitive {
     pub emissive: [f64; 3],
     /// The material's index where it has textures (their maps modulate the factors).
     pub textured_material: Option<usize>,
+    /// The material's `doubleSided`: both faces drawn.
+    pub double_sided: bool,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -145,6 +147,7 @@ fn visit(
                 roughness: pbr.roughness_factor() as f64,
                 emissive: m.emissive_factor().map(|e| e as f64 * m.emissive_strength().unwrap_or(1.0) as f64),
                 textured_material: m.index().filter(|_| textured),
+                double_sided: m.double_sided(),
             });
         }
     }

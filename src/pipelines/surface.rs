@@ -235,6 +235,38 @@ impl SurfaceType {
     }
 }
 
+/// Which faces of a mesh are drawn (URP Lit's Render Face, `_Cull`; HDRP Lit's Double-Sided; built-in
+/// Standard draws front faces alone, `Cull Back`). Every engine's default is `Front`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum RenderFace {
+    #[default]
+    Front,
+    Back,
+    Both,
+}
+
+impl RenderFace {
+    pub const ALL: [RenderFace; 3] = [RenderFace::Front, RenderFace::Back, RenderFace::Both];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            RenderFace::Front => "front",
+            RenderFace::Back => "back",
+            RenderFace::Both => "both",
+        }
+    }
+
+    /// The faces the rasteriser culls (Cull Back, Cull Front, Cull Off).
+    pub fn culled(self) -> Option<wgpu::Face> {
+        match self {
+            RenderFace::Front => Some(wgpu::Face::Back),
+            RenderFace::Back => Some(wgpu::Face::Front),
+            RenderFace::Both => None,
+        }
+    }
+}
+
 /// Unity's default `_Cutoff` (Standard, URP Lit, HDRP Lit's Alpha Cutoff).
 pub const DEFAULT_CUTOFF: f64 = 0.5;
 

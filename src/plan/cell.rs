@@ -146,6 +146,8 @@ pub struct MeshSlot {
     /// Its level in the object's LOD group, if it has one.
     pub lod_level: Option<usize>,
     pub cast_shadows: bool,
+    /// The faces its pipelines draw (`Object::render_face`).
+    pub render_face: crate::pipelines::surface::RenderFace,
 }
 
 /// The composition's shadow array: per scene light its first layer when it casts shadows (a
@@ -187,6 +189,7 @@ impl SceneLayout {
                 scene_index: i,
                 lod_level: o.lod.as_ref().map(|_| 0),
                 cast_shadows: o.cast_shadows,
+                render_face: o.render_face,
             })
             .collect();
         let further: Vec<MeshSlot> =

@@ -6,11 +6,22 @@ use std::collections::HashMap;
 use crate::error::Error;
 use crate::geometry::Vertex;
 use crate::gpu::GpuContext;
-use crate::pipelines::surface::{Blend, SurfaceType};
+use crate::pipelines::surface::{Blend, RenderFace, SurfaceType};
 use crate::pipelines::Pipeline;
 use crate::plan::lod::CrossFade;
 use crate::render::formats::{DEPTH_FORMAT, HDR_FORMAT, ROLE_FORMAT};
 use crate::shading::{wgsl, ShaderModel};
+
+/// One pipeline per render face (`RenderFace as usize`), where meshes drawn with it have that face.
+pub(in crate::render) type ByFace<'a> = [Option<&'a wgpu::RenderPipeline>; 3];
+
+/// The render faces of the composition's meshes that `which` admits, each once.
+pub(in crate::render) fn faces_of(
+    layout: &crate::plan::cell::SceneLayout,
+    which: impl Fn(&crate::plan::cell::MeshSlot) -> bool,
+) -> Vec<RenderFace> {
+    RenderFace::ALL.into_iter().filter(|f| layout.meshes.iter().any(|m| m.render_face == *f && which(m))).collect()
+}
 
 /// The ROP state of a blend (None: the source replaces the target).
 fn blend_state(blend: Blend) -> Option<wgpu::BlendState> {
@@ -40,12 +51,12 @@ pub(in crate::render) struct PipelineCache {
     pub(in crate::render) deferred_layout: wgpu::PipelineLayout,
     /// By (pipeline, model, what else the pipeline compiles in).
     pub(in crate::render) forward: HashMap<(Pipeline, String, ForwardKey), wgpu::RenderPipeline>,
-    /// By (pipeline, model, textured subject).
-    pub(in crate::render) gbuffer: HashMap<(Pipeline, String, bool), wgpu::RenderPipeline>,
+    /// By (pipeline, model, textured subject, faces drawn).
+    pub(in crate::render) gbuffer: HashMap<(Pipeline, String, bool, RenderFace), wgpu::RenderPipeline>,
     /// By (pipeline, model, role).
     pub(in crate::render) lighting: HashMap<(Pipeline, String, u32), wgpu::RenderPipeline>,
-    /// The depth-normal prepass pipelines, by (pipeline, textured subject).
-    pub(in crate::render) depth_normals: HashMap<(Pipeline, bool), wgpu::RenderPipeline>,
+    /// The depth-normal prepass pipelines, by (pipeline, textured subject, faces drawn).
+    pub(in crate::render) depth_normals: HashMap<(Pipeline, bool, RenderFace), wgpu::RenderPipeline>,
     /// By sample count.
     pub(in crate::render) background: HashMap<u32, wgpu::RenderPipeline>,
 }
@@ -66,6 +77,21 @@ impl PipelineCache {
             depth_normals: HashMap::new(),
             background: HashMap::new(),
         }
+    }
+
+    /// The forward pipelines of `model` drawn with `key` on each of `faces`.
+    pub(in crate::render) fn forward_by_face(
+        &self,
+        pipeline: Pipeline,
+        model: &str,
+        key: ForwardKey,
+        faces: &[RenderFace],
+    ) -> ByFace<'_> {
+        let mut out: ByFace = [None; 3];
+        for &face in faces {
+            out[face as usize] = Some(&self.forward[&(pipeline, model.to_string(), ForwardKey { face, ..key })]);
+        }
+        out
     }
 
     /// Number of forward and background pipelines compiled so far.
@@ -109,11 +135,13 @@ pub(in crate::render) struct ForwardKey {
     pub(in crate::render) additional_shadows: bool,
     /// The drawn surface type: the subject's (fixed objects are opaque).
     pub(in crate::render) surface: SurfaceType,
+    /// The faces drawn (the mesh's `render_face`).
+    pub(in crate::render) face: RenderFace,
 }
 
 impl ForwardKey {
     /// One sample, per-pixel lights in one draw, no exact alternatives (probe captures).
-    pub(in crate::render) fn plain(textured: bool) -> ForwardKey {
+    pub(in crate::render) fn plain(textured: bool, face: RenderFace) -> ForwardKey {
         ForwardKey {
             vertex_lit: false,
             samples: 1,
@@ -122,6 +150,7 @@ impl ForwardKey {
             pass: ForwardPass::All,
             additional_shadows: true,
             surface: SurfaceType::Opaque,
+            face,
         }
     }
 }
@@ -138,7 +167,8 @@ impl PipelineCache {
         model: &ShaderModel,
         key: ForwardKey,
     ) -> Result<(), Error> {
-        let ForwardKey { vertex_lit, samples, textured, exact, pass: forward_pass, additional_shadows, surface } = key;
+        let ForwardKey { vertex_lit, samples, textured, exact, pass: forward_pass, additional_shadows, surface, face } =
+            key;
         let key = (pipeline, model.name.to_string(), key);
         if self.forward.contains_key(&key) {
             return Ok(());
@@ -184,10 +214,7 @@ impl PipelineCache {
         } else {
             DEPTH_WRITE_LESS
         };
-        // A transparent surface is drawn single-sided, its back faces culled, as the engines' lit
-        // shaders default to (Cull Back; HDRP's Double-Sided off): blended back faces would
-        // show through it.
-        let cull = surface.is_transparent().then_some(wgpu::Face::Back);
+        let cull = face.culled();
         let p =
             Self::mesh_pipeline(gpu, &label, layout, &module, entries, &constants, &targets, (samples, depth, cull));
         gpu.check_errors("creating a forward pipeline")?;
@@ -195,8 +222,8 @@ impl PipelineCache {
         Ok(())
     }
 
-    /// A pipeline that draws scene meshes: both faces unless `cull_mode` says otherwise (imported
-    /// and thin meshes are shaded from either side, normals flipped), with the depth state given.
+    /// A pipeline that draws scene meshes, culling `cull_mode` (the mesh's render face), with the
+    /// depth state given.
     #[allow(clippy::too_many_arguments)]
     pub(in crate::render) fn mesh_pipeline(
         gpu: &GpuContext,
@@ -249,8 +276,9 @@ impl PipelineCache {
         pipeline: Pipeline,
         model: &ShaderModel,
         textured: bool,
+        face: RenderFace,
     ) -> Result<(), Error> {
-        let key = (pipeline, model.name.to_string(), textured);
+        let key = (pipeline, model.name.to_string(), textured, face);
         if self.gbuffer.contains_key(&key) {
             return Ok(());
         }
@@ -273,7 +301,7 @@ impl PipelineCache {
             ("vs_main", "fs_gbuffer"),
             &constants,
             &targets,
-            (1, DEPTH_WRITE_LESS, None),
+            (1, DEPTH_WRITE_LESS, face.culled()),
         );
         gpu.check_errors("creating a G-buffer pipeline")?;
         self.gbuffer.insert(key, p);
@@ -288,8 +316,9 @@ impl PipelineCache {
         pipeline: Pipeline,
         model: &ShaderModel,
         textured: bool,
+        face: RenderFace,
     ) -> Result<(), Error> {
-        let key = (pipeline, textured);
+        let key = (pipeline, textured, face);
         if self.depth_normals.contains_key(&key) {
             return Ok(());
         }
@@ -306,7 +335,7 @@ impl PipelineCache {
             ("vs_main", "fs_depth_normals"),
             &constants,
             &targets,
-            (1, DEPTH_WRITE_LESS, None),
+            (1, DEPTH_WRITE_LESS, face.culled()),
         );
         gpu.check_errors("creating the depth prepass pipeline")?;
         self.depth_normals.insert(key, p);

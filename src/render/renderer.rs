@@ -15,13 +15,14 @@ use super::passes::forward::{encode_forward, ForwardDraw, ForwardPipelines, Forw
 use super::passes::prepass::{encode_depth_prepass, neutral_screen_group, screen_group};
 use super::passes::shadow::{encode_shadow_passes, shadow_pipeline};
 use super::passes::FrameDraw;
-use super::pipeline_cache::{ForwardKey, ForwardPass, PipelineCache};
+use super::pipeline_cache::{faces_of, ByFace, ForwardKey, ForwardPass, PipelineCache};
 use super::prepared::PreparedScene;
 use crate::error::Error;
 use crate::geometry::procedural;
 use crate::geometry::Mesh;
 use crate::gpu::timing::PassTimer;
 use crate::gpu::GpuContext;
+use crate::pipelines::surface::RenderFace;
 use crate::pipelines::surface::SurfaceType;
 use crate::pipelines::{Pipeline, RenderPath};
 pub use crate::plan::cell::{CellParams, CellPlan, CellSettings, MsaaSupport, Multisampling};
@@ -446,26 +447,32 @@ impl Renderer {
                 pass: if additive { ForwardPass::Base } else { ForwardPass::All },
                 additional_shadows: shadowed_by_additional_lights(cell.pipeline, model),
                 surface,
+                face: RenderFace::Front,
             };
             (draw, (additive && adds(subject)).then_some(ForwardKey { pass: ForwardPass::Add, ..draw }))
         };
         let subject_keys = forward_keys(subject_model, textured, true, cell.settings.surface.kind);
         let fixed_keys = forward_keys(&fixed_model, fixed_textured, false, SurfaceType::Opaque);
-        for (model, (draw, add)) in [(subject_model, subject_keys), (&*fixed_model, fixed_keys)] {
+        // Each role's pipelines for the render faces its meshes have (plan::cell::MeshSlot).
+        let subject_faces = faces_of(&prepared.layout, |m| m.role == Role::Subject);
+        let fixed_faces = faces_of(&prepared.layout, |m| m.role == Role::Fixed);
+        let prepass_faces = faces_of(&prepared.layout, |_| true);
+        for (model, (draw, add), faces) in
+            [(subject_model, subject_keys, &subject_faces), (&*fixed_model, fixed_keys, &fixed_faces)]
+        {
             for key in std::iter::once(draw).chain(add) {
-                self.pipelines.forward_pipeline(&self.gpu, cell.pipeline, model, key)?;
+                for &face in faces {
+                    self.pipelines.forward_pipeline(&self.gpu, cell.pipeline, model, ForwardKey { face, ..key })?;
+                }
             }
         }
         if deferred {
             let deferred = [(subject_model, cell.subject_deferrable()), (&*fixed_model, fixed_model.deferrable())];
             for ((model, into_gbuffer), role) in deferred.into_iter().zip([ROLE_SUBJECT, ROLE_FIXED]) {
-                if into_gbuffer {
-                    self.pipelines.gbuffer_pipeline(
-                        &self.gpu,
-                        cell.pipeline,
-                        model,
-                        if role == ROLE_SUBJECT { textured } else { fixed_textured },
-                    )?;
+                let (maps, faces) =
+                    if role == ROLE_SUBJECT { (textured, &subject_faces) } else { (fixed_textured, &fixed_faces) };
+                for &face in faces.iter().filter(|_| into_gbuffer) {
+                    self.pipelines.gbuffer_pipeline(&self.gpu, cell.pipeline, model, maps, face)?;
                 }
             }
             for (model, role) in lighting_draws(subject_model, cell.subject_deferrable(), &fixed_model) {
@@ -510,7 +517,9 @@ impl Renderer {
         }
         let occludes = plan.has(crate::plan::SSAO_PASS);
         if occludes {
-            self.pipelines.depth_normal_pipeline(&self.gpu, cell.pipeline, &fixed_model, prepass_textured)?;
+            for &face in &prepass_faces {
+                self.pipelines.depth_normal_pipeline(&self.gpu, cell.pipeline, &fixed_model, prepass_textured, face)?;
+            }
             if self.ssao.is_none() {
                 self.ssao = Some(crate::render::passes::ssao::SsaoPipeline::new(&self.gpu)?);
             }
@@ -561,7 +570,9 @@ impl Renderer {
                 )?;
                 self.traced_shadows.insert(cell.pipeline, p);
             }
-            self.pipelines.depth_normal_pipeline(&self.gpu, cell.pipeline, &fixed_model, prepass_textured)?;
+            for &face in &prepass_faces {
+                self.pipelines.depth_normal_pipeline(&self.gpu, cell.pipeline, &fixed_model, prepass_textured, face)?;
+            }
             let t = self.targets.as_mut().expect("targets exist");
             if t.traced.is_none() {
                 t.traced = Some(crate::render::passes::traced_shadows::TracedShadowMask::new(
@@ -665,7 +676,7 @@ impl Renderer {
                 k += 1;
             }
             if let (Some((chain, _)), Some(steps), true) = (ssao, &self.ssao, occludes_now) {
-                let prepass = &self.pipelines.depth_normals[&(cell.pipeline, prepass_textured)];
+                let prepass = prepass_by_face(&self.pipelines, cell.pipeline, prepass_textured, &prepass_faces);
                 let draw = FrameDraw { group: frame_group, drawn: &prepass_drawn, screen: &self.neutral_screen };
                 encode_depth_prepass(&mut encoder, prepared, &draw, prepass, (&chain.normal, &t.depth_view), timed(k));
                 chain.encode(steps, &mut encoder, timed(k + 1).map(|(t, pair)| t.compute_writes(pair)));
@@ -675,7 +686,7 @@ impl Renderer {
                 let normal = match ssao {
                     Some((chain, _)) => &chain.normal,
                     None => {
-                        let prepass = &self.pipelines.depth_normals[&(cell.pipeline, prepass_textured)];
+                        let prepass = prepass_by_face(&self.pipelines, cell.pipeline, prepass_textured, &prepass_faces);
                         let draw =
                             FrameDraw { group: frame_group, drawn: &prepass_drawn, screen: &self.neutral_screen };
                         encode_depth_prepass(
@@ -701,13 +712,14 @@ impl Renderer {
                 );
                 k += 1;
             }
-            let model_pipelines = |model: &ShaderModel, (draw, add): (ForwardKey, Option<ForwardKey>)| ModelPipelines {
-                draw: &self.pipelines.forward[&(cell.pipeline, model.name.to_string(), draw)],
-                add: add.map(|key| &self.pipelines.forward[&(cell.pipeline, model.name.to_string(), key)]),
-            };
+            let model_pipelines =
+                |model: &ShaderModel, (draw, add): (ForwardKey, Option<ForwardKey>), faces: &[RenderFace]| {
+                    let by_face = |key| self.pipelines.forward_by_face(cell.pipeline, &model.name, key, faces);
+                    ModelPipelines { draw: by_face(draw), add: add.map(by_face) }
+                };
             let pipelines = ForwardPipelines {
-                subject: model_pipelines(subject_model, subject_keys),
-                fixed: model_pipelines(&fixed_model, fixed_keys),
+                subject: model_pipelines(subject_model, subject_keys, &subject_faces),
+                fixed: model_pipelines(&fixed_model, fixed_keys, &fixed_faces),
                 background: self.pipelines.background.get(&samples).filter(|_| background && !deferred),
                 rays: rays.as_ref().map(|(_, group)| group),
             };
@@ -852,12 +864,11 @@ impl Renderer {
         }
         self.gpu.queue.write_buffer(&prepared.frame_buffer, 0, bytemuck::bytes_of(&frame));
         let crate::render::passes::probes::Slot::ToCapture(slot) = slot else { return Ok(None) };
-        self.pipelines.forward_pipeline(
-            &self.gpu,
-            cell.pipeline,
-            fixed_model,
-            ForwardKey::plain(prepared.fixed_maps.any()),
-        )?;
+        let faces = faces_of(&prepared.layout, |m| m.role == Role::Fixed);
+        let key = ForwardKey::plain(prepared.fixed_maps.any(), RenderFace::Front);
+        for &face in &faces {
+            self.pipelines.forward_pipeline(&self.gpu, cell.pipeline, fixed_model, ForwardKey { face, ..key })?;
+        }
         if prepared.plan.background {
             self.pipelines.background_pipeline(&self.gpu, 1)?;
         }
@@ -870,8 +881,7 @@ impl Renderer {
             self.probe_timer = Some(PassTimer::new(&self.gpu.device, &self.gpu.queue, 2));
         }
         let timer = self.probe_timer.as_ref().filter(|_| self.gpu.record.timestamp_queries);
-        let pipeline = &self.pipelines.forward
-            [&(cell.pipeline, fixed_model.name.to_string(), ForwardKey::plain(prepared.fixed_maps.any()))];
+        let pipelines = self.pipelines.forward_by_face(cell.pipeline, &fixed_model.name, key, &faces);
         let background = self.pipelines.background.get(&1).filter(|_| prepared.plan.background);
         let neutral = &self.bindings.material_textures[""];
         let (drawn, casting) = (plan.drawn(), plan.casting());
@@ -939,10 +949,11 @@ impl Renderer {
                 });
                 pass.set_bind_group(0, &groups[face], &[]);
                 pass.set_bind_group(2, &self.neutral_screen, &[]);
-                pass.set_pipeline(pipeline);
                 // The subject is left out: a dynamic object, which baked probes do not see.
                 let fixed = |i: usize| drawn[i] && prepared.layout.meshes[i].role == Role::Fixed;
                 for (i, o) in prepared.objects.iter().enumerate().filter(|(i, _)| fixed(*i)) {
+                    let face = prepared.layout.meshes[i].render_face as usize;
+                    pass.set_pipeline(pipelines[face].expect("a pipeline for every face drawn"));
                     pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
                     pass.set_vertex_buffer(0, o.vertices.slice(..));
                     pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);
@@ -1010,6 +1021,20 @@ impl Renderer {
 
 /// A material map of the frame group, sampled by both stages (the vertex-lit path reads them) and
 /// by the truth's tracer.
+/// The depth prepass's pipelines for the faces drawn.
+fn prepass_by_face<'a>(
+    pipelines: &'a PipelineCache,
+    pipeline: Pipeline,
+    textured: bool,
+    faces: &[RenderFace],
+) -> ByFace<'a> {
+    let mut out: ByFace = [None; 3];
+    for &face in faces {
+        out[face as usize] = Some(&pipelines.depth_normals[&(pipeline, textured, face)]);
+    }
+    out
+}
+
 fn material_map_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,

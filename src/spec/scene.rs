@@ -242,6 +242,12 @@ pub struct Object {
     pub cast_shadows: bool,
     #[serde(default = "yes")]
     pub receive_shadows: bool,
+    /// The faces drawn (`front`, the engines' default; `back`; `both`, a glTF `doubleSided`
+    /// material's). Back faces are shaded with the mesh's normal in built-in and URP, whose
+    /// hand-written lit shaders read it as it is, and with it flipped in HDRP (Double-Sided
+    /// Normal Mode Mirror, its default, which is the flip wherever no normal map bends it).
+    #[serde(default, skip_serializing_if = "is_front")]
+    pub render_face: crate::pipelines::surface::RenderFace,
     /// A LOD group: coarser meshes for smaller screen heights (`plan::lod`).
     #[serde(default)]
     pub lod: Option<LodGroup>,
@@ -276,6 +282,10 @@ pub struct Transform {
     /// A whole object-to-world matrix (column-major) instead of the three above: a glTF node's.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub matrix: Option<[f64; 16]>,
+}
+
+fn is_front(f: &crate::pipelines::surface::RenderFace) -> bool {
+    *f == crate::pipelines::surface::RenderFace::Front
 }
 
 fn unit_scale() -> [f64; 3] {

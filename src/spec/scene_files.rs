@@ -43,6 +43,10 @@ impl Scene {
                 material,
                 cast_shadows: true,
                 receive_shadows: true,
+                render_face: match p.double_sided {
+                    true => crate::pipelines::surface::RenderFace::Both,
+                    false => crate::pipelines::surface::RenderFace::Front,
+                },
                 lod: None,
             });
         }

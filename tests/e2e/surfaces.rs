@@ -197,3 +197,35 @@ fn a_cutout_quad_covers_what_its_alpha_leaves_above_the_cutoff() {
     let record = std::fs::read_to_string(dir.join("cell.json")).unwrap();
     assert!(record.contains("\"surface\": \"cutout\"") && record.contains("\"alpha_cutoff\": 0.3"), "{record}");
 }
+
+#[test]
+fn render_faces_cull_as_the_engines_and_hdrp_alone_flips_a_back_faces_normal() {
+    // The textured-plane fixture seen from below, lit from above, with nothing else in the frame.
+    let tmp = tempfile::tempdir().unwrap();
+    let base = std::fs::read_to_string(fixture("textured_plane.toml"))
+        .unwrap()
+        .replace("position = [0.0, 2.6, 0.001]", "position = [0.0, -2.6, 0.001]");
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let sliders = Sliders { base_color_linear: [0.6; 3], metallic: 0.0, smoothness: 0.3 };
+    let mut frame = |face: &str, pipeline: Pipeline| {
+        let text = base.replace("role = \"subject\"", &format!("role = \"subject\"\nrender_face = \"{face}\""));
+        let path = tmp.path().join(format!("{face}.toml"));
+        std::fs::write(&path, text).unwrap();
+        let scene = Scene::load_file(&path).unwrap();
+        let prepared = renderer.prepare_scene(&scene).unwrap();
+        let cell = cell_params(pipeline, "lit", sliders, (1.0, 10.0), 32, RenderPath::Forward);
+        let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
+        let centre = ((16 * 32 + 16) * 4) as usize;
+        (coverage(&r.roles), r.hdr[centre])
+    };
+    let (front, _) = frame("front", Pipeline::Urp);
+    let (both, urp_lit) = frame("both", Pipeline::Urp);
+    let (back, _) = frame("back", Pipeline::Urp);
+    let (hdrp_both, hdrp_lit) = frame("both", Pipeline::Hdrp);
+    eprintln!("coverage from below: front {front}, back {back}, both {both} (HDRP {hdrp_both}); centre URP {urp_lit}, HDRP {hdrp_lit}");
+    assert_eq!(front, 0.0, "a single-sided plane seen from behind is culled");
+    assert!(both > 0.3 && back == both && hdrp_both == both);
+    // URP shades the back face with the mesh's normal, which faces the light; HDRP flips it away.
+    assert!(urp_lit > 0.01, "{urp_lit}");
+    assert_eq!(hdrp_lit, 0.0);
+}

@@ -75,7 +75,8 @@ pub(in crate::render) fn encode_deferred(
         pass.set_bind_group(2, screen, &[]);
         for (i, o) in prepared.objects.iter().enumerate().filter(|(i, _)| drawn[*i] && deferred(*i)) {
             let textured = if subject(i) { cell.settings.material_maps.is_some() } else { prepared.fixed_maps.any() };
-            pass.set_pipeline(&pipelines.gbuffer[&(p, model_of(i).name.to_string(), textured)]);
+            let face = prepared.layout.meshes[i].render_face;
+            pass.set_pipeline(&pipelines.gbuffer[&(p, model_of(i).name.to_string(), textured, face)]);
             pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
             pass.set_vertex_buffer(0, o.vertices.slice(..));
             pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);

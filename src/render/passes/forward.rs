@@ -12,6 +12,7 @@
 
 use super::FrameDraw;
 use crate::gpu::timing::PassTimer;
+use crate::render::pipeline_cache::ByFace;
 use crate::render::prepared::PreparedScene;
 use crate::render::targets::Targets;
 use crate::spec::scene::Role;
@@ -26,11 +27,11 @@ pub(in crate::render) struct ForwardPipelines<'a> {
     pub(in crate::render) rays: Option<&'a wgpu::BindGroup>,
 }
 
-/// A model's forward pipelines: its one draw (or ForwardBase) and its ForwardAdd.
+/// A model's forward pipelines, per render face: its one draw (or ForwardBase) and its ForwardAdd.
 #[derive(Clone, Copy)]
 pub(in crate::render) struct ModelPipelines<'a> {
-    pub(in crate::render) draw: &'a wgpu::RenderPipeline,
-    pub(in crate::render) add: Option<&'a wgpu::RenderPipeline>,
+    pub(in crate::render) draw: ByFace<'a>,
+    pub(in crate::render) add: Option<ByFace<'a>>,
 }
 
 /// Draw the meshes `which` admits: each in its model's pipeline, then once per ForwardAdd light
@@ -45,13 +46,14 @@ pub(in crate::render) fn draw_objects(
     for (i, o) in prepared.objects.iter().enumerate().filter(|(i, _)| which(*i)) {
         let subject = prepared.layout.meshes[i].role == Role::Subject;
         let model = if subject { pipelines.subject } else { pipelines.fixed };
-        pass.set_pipeline(model.draw);
+        let face = prepared.layout.meshes[i].render_face as usize;
+        pass.set_pipeline(model.draw[face].expect("a pipeline for every face drawn"));
         pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
         pass.set_vertex_buffer(0, o.vertices.slice(..));
         pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);
         pass.draw_indexed(0..o.index_count, 0, 0..1);
         if let (Some(add), Some(lights)) = (model.add, forward_add.get(i).filter(|l| !l.is_empty())) {
-            pass.set_pipeline(add);
+            pass.set_pipeline(add[face].expect("a ForwardAdd pipeline for every face drawn"));
             for &light in lights {
                 pass.draw_indexed(0..o.index_count, 0, light as u32..light as u32 + 1);
             }

@@ -11,7 +11,7 @@ pub(in crate::render) fn encode_depth_prepass(
     encoder: &mut wgpu::CommandEncoder,
     prepared: &PreparedScene,
     draw: &FrameDraw,
-    pipeline: &wgpu::RenderPipeline,
+    pipelines: crate::render::pipeline_cache::ByFace,
     (normal, depth): (&wgpu::TextureView, &wgpu::TextureView),
     timed: Option<(&PassTimer, u32)>,
 ) {
@@ -32,10 +32,11 @@ pub(in crate::render) fn encode_depth_prepass(
         occlusion_query_set: None,
         multiview_mask: None,
     });
-    pass.set_pipeline(pipeline);
     pass.set_bind_group(0, draw.group, &[]);
     pass.set_bind_group(2, draw.screen, &[]);
     for (i, o) in prepared.objects.iter().enumerate().filter(|(i, _)| draw.drawn[*i]) {
+        let face = prepared.layout.meshes[i].render_face as usize;
+        pass.set_pipeline(pipelines[face].expect("a prepass pipeline for every face drawn"));
         pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
         pass.set_vertex_buffer(0, o.vertices.slice(..));
         pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);
