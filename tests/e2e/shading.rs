@@ -251,8 +251,9 @@ fn gpu_resources_are_reused_across_cells() {
         compiled.push(renderer.compiled_pipelines());
     }
     // The first smoothness compiles each pipeline's (ForwardBase and ForwardAdd for built-in's
-    // point key light, one forward for URP, the background); the others reuse them.
-    assert!(compiled[0] >= 5 && compiled.iter().all(|&n| n == compiled[0]), "{compiled:?}");
+    // point key light, one forward for URP, the background; medusa has no fixed object, so no
+    // pipeline of the fixed objects' model); the others reuse them.
+    assert!(compiled[0] >= 4 && compiled.iter().all(|&n| n == compiled[0]), "{compiled:?}");
 }
 
 /// The specular workflow of Standard, URP Lit and HDRP Lit with the specular colour set to the F0
