@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 
 use crate::pipelines::{Pipeline, RenderPath};
 use crate::spec::axes::{self, Axis, AxisRow};
-use crate::spec::filter::{color_code, FilterValue};
+use crate::spec::filter::{colour_label, FilterValue};
 
 /// A cell's value on one axis.
 #[derive(Debug, Clone, PartialEq)]
@@ -57,6 +57,9 @@ pub struct CellCoords {
     /// The subject's base-colour alpha, when swept (None: the material's own, 1 for presets).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub alpha: Option<f64>,
+    /// The subject's sRGB specular colour, when swept (None: the model's own).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub specular: Option<[f64; 3]>,
 }
 
 /// What names a cell before its sweep sets any axis: composition, pipeline, path, shader and preset.
@@ -99,6 +102,7 @@ impl CellCoords {
             ambient_intensity: None,
             surface: None,
             alpha: None,
+            specular: None,
         }
     }
 
@@ -125,6 +129,7 @@ impl CellCoords {
             Axis::AmbientIntensity => own(self.ambient_intensity),
             Axis::Surface => self.surface.map_or(AxisValue::Own, |s| name(s.name())),
             Axis::Alpha => own(self.alpha),
+            Axis::Specular => AxisValue::Colour(self.specular),
         }
     }
 
@@ -158,6 +163,7 @@ impl CellCoords {
             },
             (Axis::Surface, AxisValue::Own) => self.surface = None,
             (Axis::Color, AxisValue::Colour(c)) => self.color = *c,
+            (Axis::Specular, AxisValue::Colour(c)) => self.specular = *c,
             (Axis::Params, AxisValue::Params(p)) => self.params = p.clone(),
             (Axis::Textured, AxisValue::Bool(b)) => self.textured = *b,
             (Axis::Metallic, v) if number(v).is_some() => self.metallic = number(v).unwrap_or_default(),
@@ -182,7 +188,7 @@ impl CellCoords {
             AxisValue::Number(x) => FilterValue::Number(x),
             AxisValue::Own if axis == Axis::Emission => FilterValue::Number(0.0),
             AxisValue::Own => FilterValue::Name(axes::of(axis).own.into()),
-            AxisValue::Colour(c) => FilterValue::Color(color_code(c)),
+            AxisValue::Colour(c) => FilterValue::Color(colour_label(axis, c)),
             AxisValue::Bool(b) => FilterValue::Name(b.to_string()),
             AxisValue::Params(p) => FilterValue::Name(params_label(&p)),
         }
@@ -214,7 +220,7 @@ impl CellCoords {
             AxisValue::Name(n) => n,
             AxisValue::Number(x) => number(x),
             AxisValue::Own => row.own.into(),
-            AxisValue::Colour(c) => color_code(c),
+            AxisValue::Colour(c) => colour_label(row.axis, c),
             AxisValue::Bool(b) => b.to_string(),
             AxisValue::Params(p) => params_label(&p),
         }
@@ -228,7 +234,7 @@ impl CellCoords {
                 Some(d) => format!("{prefix}{}", crate::cells::id_number(x, d, false)),
                 None => format!("{prefix}{}", crate::cells::id_number(x, 4, true)),
             },
-            AxisValue::Colour(Some(c)) => format!("{prefix}{}", color_code(Some(c))),
+            AxisValue::Colour(Some(c)) => format!("{prefix}{}", colour_label(row.axis, Some(c))),
             AxisValue::Bool(true) => prefix.to_string(),
             AxisValue::Name(n) if row.kind == axes::AxisKind::Choice => format!("{prefix}{n}"),
             AxisValue::Params(p) => {

@@ -137,6 +137,11 @@ impl Cell {
             }
         }
         crate::shading::registry::apply_workflow(self.model(), &mut s);
+        // The specular axis's colour where the model reads one (Unity's _SpecColor), in place of
+        // the workflow's F0 or the model's own mapping.
+        if let Some(srgb) = self.specular.filter(|_| self.model().reads_specular(&s.params)) {
+            s.specular = glam::DVec3::from(srgb.map(crate::color::srgb_to_linear));
+        }
         s
     }
 
@@ -258,7 +263,9 @@ fn swept_axes(m: &Matrix) -> Vec<(Axis, Vec<AxisValue>)> {
                 }
                 AxisKind::Colour => {
                     let own = m.sweep.sweeps_own(row.axis).then_some(AxisValue::Own);
-                    own.into_iter().chain(m.sweep.color.iter().map(|c| AxisValue::Colour(Some(*c)))).collect()
+                    own.into_iter()
+                        .chain(m.sweep.colours(row.axis).iter().map(|c| AxisValue::Colour(Some(*c))))
+                        .collect()
                 }
                 AxisKind::Bool => m.sweep.textured.iter().map(|b| AxisValue::Bool(*b)).collect(),
                 AxisKind::Choice => {
@@ -561,6 +568,7 @@ fn render_key(c: &Cell, keyless: bool) -> String {
         Axis::Metallic => !r.metallic,
         Axis::Smoothness => !r.smoothness,
         Axis::Emission => !c.model().emits(),
+        Axis::Specular => !c.model().reads_specular(&c.surface().params),
         // An opaque surface draws without its alpha (HDRP's ApplyBlendMode sets opacity 1).
         Axis::Alpha => c.material.surface == SurfaceType::Opaque,
         // Fixed objects are lit by the key light whatever the shader, so light axes count
@@ -659,7 +667,7 @@ mod tests {
         let e = expand(&matrix(
             "[sweep]\nsmoothness = [0.2, 0.8]\nmetallic = [0.1, 0.3]\nlight_intensity = [1.5, 2.5]\nlight_range = [3.0, 7.0]\n\
              camera_distance = [1.25, 2.0]\nlight_angle = [30.0, 60.0]\nemission = [0.5, 1.0]\ncolor = [[1.0, 0.5, 0.0]]\ntextured = [false, true]\n\
-             ambient_intensity = [0.5]\nsurface = [\"fade\"]\nalpha = [0.25]\n",
+             ambient_intensity = [0.5]\nsurface = [\"fade\"]\nalpha = [0.25]\nspecular = [[0.2, 0.4, 0.6]]\n",
         ));
         let c = e.cells.iter().find(|c| c.shader == "standard" && c.textured).unwrap();
         for row in crate::spec::axes::AXES.iter() {
@@ -677,6 +685,7 @@ mod tests {
                 Axis::Textured => String::new(),
                 Axis::Surface => c.material.surface.name().to_string(),
                 Axis::Alpha => id_number(c.material.alpha, 2, false),
+                Axis::Specular => crate::spec::filter::colour_label(Axis::Specular, c.specular),
                 Axis::Params => continue,
                 other => panic!("{other:?} has an id prefix but no value here"),
             };
@@ -709,6 +718,25 @@ mod tests {
         let typo = text.replace("\"fade\"", "\"faed\"");
         let err = Matrix::from_text("t.toml", &typo, None, Arc::new(crate::shading::Registry::builtin())).unwrap_err();
         assert!(err.to_string().contains("did you mean `fade`?"), "{err}");
+    }
+
+    #[test]
+    fn the_specular_axis_sets_the_specular_colour_where_the_model_reads_one() {
+        let text = "name = \"t\"\ncompositions = [\"default\"]\npipelines = [\"builtin\"]\n\
+                    shaders = [\"standard\", \"phong\", \"lambert\"]\npresets = [\"plastic\"]\n\
+                    [sweep]\nspecular = [\"model\", [0.5, 0.25, 1.0]]\n[sweep.params]\nspecular_setup = [0, 1]\n";
+        let m = Matrix::from_text("t.toml", text, None, Arc::new(crate::shading::Registry::builtin())).unwrap();
+        let e = expand(&m);
+        let want = glam::DVec3::from([0.5, 0.25, 1.0].map(crate::color::srgb_to_linear));
+        for c in e.cells.iter().filter(|c| c.specular.is_some()) {
+            let reads = c.shader == "phong" || c.params.get("specular_setup") == Some(&1.0);
+            assert_eq!(c.surface().specular == want, reads, "{}", c.id);
+            assert_eq!(c.twin_of.is_some(), !reads, "{}", c.id);
+            assert!(c.id.0.ends_with("_sp8040ff"), "{}", c.id);
+        }
+        let typo = text.replace("\"model\"", "\"modle\"");
+        let err = Matrix::from_text("t.toml", &typo, None, Arc::new(crate::shading::Registry::builtin())).unwrap_err();
+        assert!(err.to_string().contains("`modle` is not a colour") && err.to_string().contains("\"model\""), "{err}");
     }
 
     #[test]

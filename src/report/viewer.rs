@@ -138,7 +138,9 @@ pub fn data(run: &RunData, links: Vec<(String, String)>) -> ViewerData {
             run.run.pruned.iter().flat_map(|p| p.axes.iter()).filter(|(a, _)| a == name).map(|(_, v)| v.clone()),
         );
         let mut values: Vec<String> = seen.into_iter().collect();
-        let numeric = values.iter().all(|v| v.parse::<f64>().is_ok()) && name != "color";
+        // Hex codes such as 333333 read as numbers; a colour axis is a list of names.
+        let colour = crate::spec::axes::find(name).is_some_and(|r| r.kind == crate::spec::axes::AxisKind::Colour);
+        let numeric = values.iter().all(|v| v.parse::<f64>().is_ok()) && !colour;
         if numeric {
             values.sort_by(|a, b| a.parse::<f64>().unwrap().total_cmp(&b.parse::<f64>().unwrap()));
         }

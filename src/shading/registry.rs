@@ -116,6 +116,16 @@ impl ShaderModel {
         r
     }
 
+    /// Whether a cell with these parameter values reads `Surface::specular` (the `specular` axis):
+    /// the lit shaders in their specular workflow (`specular_setup` on), Simple Lit with its
+    /// highlights on, and the models that always take one (Phong, Blinn-Phong, the custom shader).
+    pub fn reads_specular(&self, params: &[f64; 8]) -> bool {
+        let gate = |name: &str| self.params.iter().find(|p| p.name == name).map(|p| params[p.slot] >= 0.5);
+        gate("specular_setup")
+            .or_else(|| gate("specular_highlights"))
+            .unwrap_or_else(|| self.wgsl.contains("s.specular"))
+    }
+
     /// Parameters at their defaults, by slot.
     pub fn default_params(&self) -> [f64; 8] {
         let mut p = [0.0; 8];

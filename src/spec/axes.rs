@@ -30,6 +30,8 @@ pub enum Axis {
     Surface,
     /// The subject's base-colour alpha.
     Alpha,
+    /// The subject's specular colour (`Surface::specular`), for the models that read one.
+    Specular,
 }
 
 impl Axis {
@@ -50,7 +52,7 @@ pub enum AxisKind {
     Name,
     /// A number in `AxisRow::range`.
     Number,
-    /// An sRGB slider colour, named by its 8-bit hex code.
+    /// An sRGB colour, named by its 8-bit hex code (its own value by the row's `own`).
     Colour,
     Bool,
     /// A name from a fixed list, swept in `[sweep]` (the surface types).
@@ -107,7 +109,7 @@ const fn slider(name: &'static str, axis: Axis, id_prefix: &'static str) -> Axis
 }
 
 /// Every axis, in the order sheets, the viewer, filters and cell ids list them.
-pub const AXES: [AxisRow; 18] = [
+pub const AXES: [AxisRow; 19] = [
     AxisRow { reference: true, timing: true, ..row("composition", Axis::Composition, AxisKind::Name) },
     AxisRow { reference: true, timing: true, ..row("pipeline", Axis::Pipeline, AxisKind::Name) },
     AxisRow { reference: true, timing: true, ..row("path", Axis::Path, AxisKind::Name) },
@@ -141,6 +143,7 @@ pub const AXES: [AxisRow; 18] = [
         ..row("surface", Axis::Surface, AxisKind::Choice)
     },
     AxisRow { own: "material", ..slider("alpha", Axis::Alpha, "_al") },
+    AxisRow { id_prefix: Some("_sp"), own: "model", ..row("specular", Axis::Specular, AxisKind::Colour) },
 ];
 
 /// The row of the axis named `name`.
@@ -203,6 +206,7 @@ mod tests {
             Axis::AmbientIntensity => "ambient_intensity",
             Axis::Surface => "surface",
             Axis::Alpha => "alpha",
+            Axis::Specular => "specular",
         };
         for r in &AXES {
             assert_eq!(r.name, named(r.axis));

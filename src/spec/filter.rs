@@ -21,9 +21,15 @@ pub enum FilterValue {
 
 /// The colour axis's value of a cell: the slider colour's hex code, or `preset`.
 pub fn color_code(srgb: Option<[f64; 3]>) -> String {
+    colour_label(Axis::Color, srgb)
+}
+
+/// A colour axis's value as cells, filters and sheets name it: its 8-bit hex code, or the axis's
+/// own value (`preset` for `color`, `model` for `specular`).
+pub fn colour_label(axis: Axis, srgb: Option<[f64; 3]>) -> String {
     match srgb {
         Some(rgb) => rgb.iter().map(|v| format!("{:02x}", (v * 255.0).round() as u8)).collect(),
-        None => "preset".into(),
+        None => super::axes::of(axis).own.into(),
     }
 }
 
@@ -46,8 +52,8 @@ pub fn parse_filter(c: &Checker, key: &str, table: &toml::Table) -> Result<Filte
         };
         let mut values = Vec::new();
         for item in items {
-            if axis == Axis::Color {
-                values.push(parse_color_value(c, &format!("{key}.{k}"), item)?);
+            if super::axes::of(axis).kind == super::axes::AxisKind::Colour {
+                values.push(parse_color_value(c, &format!("{key}.{k}"), item, super::axes::of(axis).own)?);
                 continue;
             }
             let value = match (axis.is_numeric(), item) {
@@ -82,13 +88,14 @@ pub fn parse_filter(c: &Checker, key: &str, table: &toml::Table) -> Result<Filte
     Ok(Filter { terms: terms.into_iter().collect() })
 }
 
-/// A colour in a filter: a hex code (`"ff8000"`, `"#ff8000"`), `"preset"`, or [r, g, b] in 0..1.
-fn parse_color_value(c: &Checker, key: &str, item: &toml::Value) -> Result<FilterValue, InputError> {
-    let allowed = "a hex code such as \"ff8000\", \"preset\", or [r, g, b] in 0..1";
+/// A colour in a filter: a hex code (`"ff8000"`, `"#ff8000"`), the axis's own (`"preset"`,
+/// `"model"`), or [r, g, b] in 0..1.
+fn parse_color_value(c: &Checker, key: &str, item: &toml::Value, own: &str) -> Result<FilterValue, InputError> {
+    let allowed = format!("a hex code such as \"ff8000\", \"{own}\", or [r, g, b] in 0..1");
     match item {
         toml::Value::String(s) => {
             let hex = s.trim_start_matches('#').to_ascii_lowercase();
-            if hex == "preset" || (hex.len() == 6 && hex.chars().all(|ch| ch.is_ascii_hexdigit())) {
+            if hex == own || (hex.len() == 6 && hex.chars().all(|ch| ch.is_ascii_hexdigit())) {
                 Ok(FilterValue::Color(hex))
             } else {
                 Err(c.err(key, format!("`{s}` is not a colour; allowed: {allowed}")))

@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use super::asserts::{parse_assert, InvariantKind, InvariantSpec};
-pub use super::filter::{color_code, parse_filter, Axis, Filter, FilterValue};
+pub use super::filter::{color_code, colour_label, parse_filter, Axis, Filter, FilterValue};
 use super::presets::{preset_names, Preset};
 use super::scene::Scene;
 use super::study::Approximation;
@@ -131,6 +131,9 @@ pub struct Sweep {
     pub color: Vec<[f64; 3]>,
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub textured: Vec<bool>,
+    /// The specular colours (sRGB), and "model" for the model's own.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub specular: Vec<[f64; 3]>,
     /// The surface types (`pipelines::surface`), and "material" for the material's own.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub surface: Vec<crate::pipelines::surface::SurfaceType>,
@@ -178,14 +181,27 @@ impl<'de> Deserialize<'de> for Sweep {
                     sweep.numbers.insert(key.clone(), numbers);
                 }
                 Some(AxisKind::Colour) => {
-                    // Colours as [r, g, b] in sRGB, and "preset" for the preset's own.
+                    // Colours as [r, g, b] in sRGB, and the row's own ("preset", "model").
+                    let row = super::axes::find(&key).expect("a row");
                     let items: Vec<toml::Value> = value.clone().try_into().map_err(typed)?;
                     for item in items {
                         match item {
-                            toml::Value::String(s) if s == "preset" => {
+                            toml::Value::String(s) if s == row.own => {
                                 sweep.own.insert(key.clone());
                             }
-                            other => sweep.color.push(other.try_into().map_err(typed)?),
+                            toml::Value::String(s) => {
+                                return Err(D::Error::custom(format!(
+                                    "sweep.{key}: `{s}` is not a colour; allowed: [r, g, b] in sRGB 0..1, or \"{}\" for the {}'s own",
+                                    row.own, row.own
+                                )));
+                            }
+                            other => {
+                                let colour: [f64; 3] = other.try_into().map_err(typed)?;
+                                match row.axis {
+                                    Axis::Specular => sweep.specular.push(colour),
+                                    _ => sweep.color.push(colour),
+                                }
+                            }
                         }
                     }
                 }
@@ -249,6 +265,15 @@ impl Sweep {
             }
         }
         distinct.len() + self.sweeps_own(axis) as usize
+    }
+
+    /// The colours swept on a colour axis.
+    pub fn colours(&self, axis: Axis) -> &[[f64; 3]] {
+        match axis {
+            Axis::Color => &self.color,
+            Axis::Specular => &self.specular,
+            _ => &[],
+        }
     }
 
     /// Whether the axis's list names the scene's own value besides its numbers.
@@ -703,24 +728,29 @@ impl Matrix {
                 c.range(&format!("sweep.{}[{i}]", row.name), *v, lo, hi)?;
             }
         }
-        for (i, col) in s.color.iter().enumerate() {
-            c.color(&format!("sweep.color[{i}]"), *col)?;
-            // Cells, filters and sheets name a colour by its 8-bit hex code: two colours with one
-            // code would be one cell labelled as either.
-            if let Some(j) =
-                s.color[..i].iter().position(|o| o != col && color_code(Some(*o)) == color_code(Some(*col)))
-            {
-                return Err(c
-                    .err(
-                        &format!("sweep.color[{i}]"),
-                        format!(
-                            "colour {col:?} has the hex code `{}` of sweep.color[{j}] {:?}; cells are named by that \
-                             code, so sweep colours must differ in 8-bit sRGB (steps of 1/255)",
-                            color_code(Some(*col)),
-                            s.color[j]
-                        ),
-                    )
-                    .into());
+        for row in super::axes::AXES.iter().filter(|r| r.kind == super::axes::AxisKind::Colour) {
+            let colours = s.colours(row.axis);
+            for (i, col) in colours.iter().enumerate() {
+                let key = format!("sweep.{}[{i}]", row.name);
+                c.color(&key, *col)?;
+                // Cells, filters and sheets name a colour by its 8-bit hex code: two colours with
+                // one code would be one cell labelled as either.
+                if let Some(j) =
+                    colours[..i].iter().position(|o| o != col && color_code(Some(*o)) == color_code(Some(*col)))
+                {
+                    return Err(c
+                        .err(
+                            &key,
+                            format!(
+                                "colour {col:?} has the hex code `{}` of sweep.{}[{j}] {:?}; cells are named by \
+                                 that code, so sweep colours must differ in 8-bit sRGB (steps of 1/255)",
+                                color_code(Some(*col)),
+                                row.name,
+                                colours[j]
+                            ),
+                        )
+                        .into());
+                }
             }
         }
         check_params(&c, origin, &s.params, &file.shaders, &pipelines, &registry)?;
@@ -825,10 +855,11 @@ impl Matrix {
                     v.push("material".into());
                     v
                 }
-                Axis::Color => {
-                    let mut v: Vec<String> = file.sweep.color.iter().map(|c| color_code(Some(*c))).collect();
-                    if v.is_empty() || file.sweep.sweeps_own(Axis::Color) {
-                        v.push(color_code(None));
+                Axis::Color | Axis::Specular => {
+                    let mut v: Vec<String> =
+                        file.sweep.colours(axis).iter().map(|c| colour_label(axis, Some(*c))).collect();
+                    if v.is_empty() || file.sweep.sweeps_own(axis) {
+                        v.push(colour_label(axis, None));
                     }
                     v
                 }
@@ -1002,10 +1033,11 @@ impl Matrix {
                 Axis::Path => self.paths.iter().map(|p| p.name().to_string()).collect(),
                 Axis::Shader => self.shaders.clone(),
                 Axis::Preset => self.presets.iter().map(|p| p.name.to_string()).collect(),
-                Axis::Color => {
-                    let mut v: Vec<String> = self.sweep.color.iter().map(|c| color_code(Some(*c))).collect();
-                    if v.is_empty() || self.sweep.sweeps_own(Axis::Color) {
-                        v.push(color_code(None));
+                Axis::Color | Axis::Specular => {
+                    let mut v: Vec<String> =
+                        self.sweep.colours(*axis).iter().map(|c| colour_label(*axis, Some(*c))).collect();
+                    if v.is_empty() || self.sweep.sweeps_own(*axis) {
+                        v.push(colour_label(*axis, None));
                     }
                     v
                 }
