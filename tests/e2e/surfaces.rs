@@ -229,3 +229,31 @@ fn render_faces_cull_as_the_engines_and_hdrp_alone_flips_a_back_faces_normal() {
     assert!(urp_lit > 0.01, "{urp_lit}");
     assert_eq!(hdrp_lit, 0.0);
 }
+
+#[test]
+fn the_truth_traces_fade_as_coverage_and_a_clipped_cutout_as_absent() {
+    use shadematrix::render::truth::TruthSettings;
+    let scene = Scene::load_file(&fixture("glass_plane.toml")).unwrap();
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let prepared = renderer.prepare_scene(&scene).unwrap();
+    let sliders = Sliders { base_color_linear: [0.8, 0.3, 0.2], metallic: 0.0, smoothness: 0.4 };
+    let settings = TruthSettings { spp: 256, noise: 0.0, bounces: 0, ..Default::default() };
+    let mut truth = |kind: SurfaceType, alpha: f64| {
+        let mut cell = cell_params(Pipeline::Urp, "lit", sliders, (1.0, 10.0), 24, RenderPath::Forward);
+        cell.settings.surface = SurfaceOptions { kind, alpha, ..Default::default() };
+        renderer.render_truth(&prepared, &cell, &settings)
+    };
+    let sum = |t: &shadematrix::render::truth::Truth| t.mean.iter().map(|p| p[0] as f64).sum::<f64>();
+    let opaque = truth(SurfaceType::Opaque, 1.0).unwrap();
+    let fade = truth(SurfaceType::Fade, 0.3).unwrap();
+    // Over the black background, a screen door of 30 % returns 30 % of the light.
+    let ratio = sum(&fade) / sum(&opaque);
+    eprintln!("Fade 0.3 against opaque, red summed over the frame: {ratio:.4}");
+    assert!((ratio - 0.3).abs() < 0.02, "{ratio}");
+    let clipped = truth(SurfaceType::Cutout, 0.4).unwrap();
+    assert_eq!(sum(&clipped), 0.0, "a cutout below its cutoff is not there");
+    let kept = truth(SurfaceType::Cutout, 0.6).unwrap();
+    assert_eq!(sum(&kept), sum(&opaque), "above its cutoff a cutout is the opaque surface, path for path");
+    let refused = truth(SurfaceType::Transparent, 0.3).unwrap_err().to_string();
+    assert!(refused.contains("no counterpart"), "{refused}");
+}

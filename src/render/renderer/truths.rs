@@ -24,16 +24,6 @@ impl Renderer {
         settings: &crate::render::truth::TruthSettings,
     ) -> Result<crate::render::truth::Truth, Error> {
         let fixed_model = self.fixed_model(cell.pipeline)?;
-        // The tracers treat every surface as opaque: a truth of a cutout or blended subject
-        // would be the truth of another scene.
-        let surface = cell.settings.surface.kind;
-        if surface != crate::pipelines::surface::SurfaceType::Opaque {
-            return Err(Error::Other(format!(
-                "the path-traced truth draws opaque surfaces only; this cell's subject is `{}` (compare it \
-                 with a cell reference, or give the truth an opaque cell)",
-                surface.name()
-            )));
-        }
         if self.truth_on_cpu(cell, &fixed_model, settings)? {
             return self.render_truth_cpu(prepared, cell, &fixed_model, settings);
         }
@@ -87,6 +77,30 @@ impl Renderer {
     ) -> Result<bool, Error> {
         use crate::spec::matrix::TruthBackend;
         let twins = cell.model.twin.is_some() && fixed_model.twin.is_some();
+        let coverage = subject_coverage(cell)?;
+        if coverage < 1.0 {
+            // Only the CPU tracer lets rays through a surface.
+            if cell.settings.material_maps.is_some() {
+                return Err(Error::Other(
+                    "the truth of a textured subject that is not opaque is not traced: its alpha map is read by \
+                     the GPU tracer alone, which draws every surface opaque"
+                        .into(),
+                ));
+            }
+            return match settings.backend {
+                crate::spec::matrix::TruthBackend::Gpu => Err(Error::Other(format!(
+                    "truth backend \"gpu\" draws every surface opaque; this cell's subject is `{}`: use \
+                     backend = \"cpu\" or \"auto\"",
+                    cell.settings.surface.kind.name()
+                ))),
+                _ if !twins && settings.kind == TruthKind::SameBrdf => Err(Error::Other(format!(
+                    "`{}` has no f64 twin, and only the CPU tracer traces a `{}` subject",
+                    cell.model.name,
+                    cell.settings.surface.kind.name()
+                ))),
+                _ => Ok(true),
+            };
+        }
         let why_not = if !twins && settings.kind == TruthKind::SameBrdf {
             Some(format!("`{}` has no f64 twin (a user model)", cell.model.name))
         } else if cell.settings.material_maps.is_some() {
@@ -178,6 +192,7 @@ impl Renderer {
             subject_role: ROLE_SUBJECT,
             fixed_role: ROLE_FIXED,
             fixed_maps: &prepared.fixed_maps.maps,
+            subject_coverage: subject_coverage(cell)?,
         };
         then(&scene, &inputs)
     }
@@ -192,6 +207,11 @@ impl Renderer {
         truth: &crate::render::truth::Truth,
     ) -> Result<crate::render::truth::export::TruthSceneExport, Error> {
         let fixed_model = self.fixed_model(cell.pipeline)?;
+        if subject_coverage(cell)? < 1.0 {
+            return Err(Error::Other(
+                "the exported truth scene holds opaque surfaces only; this cell's subject is not all there".into(),
+            ));
+        }
         let objects = &prepared.scene.objects;
         let names: Vec<String> = (0..prepared.layout.meshes.len())
             .map(|i| objects.get(i).map_or_else(|| format!("lod mesh {}", i - objects.len()), |o| o.name.clone()))
@@ -266,6 +286,7 @@ impl Renderer {
             "camera": [f.inv_view_proj, [f.camera_pos]],
             "environment": f.env[1],
             "subject": material(&f.subject),
+            "subject_coverage": subject_coverage(cell)?,
             "materials": materials,
             "lights": lights,
             "models": models,
@@ -274,6 +295,27 @@ impl Renderer {
 }
 
 /// The sky as either truth backend samples it: an ENV_WIDTH × ENV_WIDTH/2 equirect.
+/// How much of the subject's surface is there, as a path tracer sees it: all of an opaque one,
+/// alpha of a Fade surface (alpha blending stands for a screen door), all or none of a cutout.
+/// The premultiplied, additive and multiplying surfaces stand for no such surface (their
+/// reflections stay whole while the rest fades): refused.
+fn subject_coverage(cell: &CellParams) -> Result<f64, Error> {
+    use crate::pipelines::surface::SurfaceType;
+    let o = cell.settings.surface;
+    Ok(match o.kind {
+        SurfaceType::Opaque => 1.0,
+        SurfaceType::Cutout => (o.alpha >= o.cutoff) as u32 as f64,
+        SurfaceType::Fade => o.alpha.clamp(0.0, 1.0),
+        other => {
+            return Err(Error::Other(format!(
+                "the path-traced truth has no counterpart of a `{}` surface (its reflection stays whole while its \
+                 diffuse light fades, which no physical surface does); `fade` and `cutout` are traced as coverage",
+                other.name()
+            )))
+        }
+    })
+}
+
 pub(super) fn truth_sky(scene: &crate::spec::scene::Scene) -> crate::environment::prefilter::EquirectImage {
     let radiance = |d: DVec3| crate::environment::sky::radiance(&scene.environment.sky, d);
     let w = crate::render::truth::ENV_WIDTH;

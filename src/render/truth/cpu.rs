@@ -214,6 +214,10 @@ pub struct CpuTruthInputs<'a> {
     /// The fixed objects' maps (a fixed material's `params.w` is 1 + its slot), read at their
     /// finest level as the GPU tracer's textureSampleLevel(…, 0) does.
     pub fixed_maps: &'a crate::materials::fixed::FixedMaps,
+    /// The share of the subject's surface that is there (`SurfaceType` coverage): 1 opaque, a
+    /// Fade surface's alpha, 1 or 0 for a cutout whose alpha is above or below its cutoff. A ray
+    /// meeting the subject passes it with probability 1 − coverage.
+    pub subject_coverage: f64,
 }
 
 /// The scene a CPU truth traces: the triangles and vertices the GPU's reads, over obvhs's
@@ -450,6 +454,44 @@ struct Tracer<'a> {
 }
 
 impl Tracer<'_> {
+    /// Whether a ray passes the surface it hit: the subject's where it is not all there, with
+    /// probability 1 − coverage (a screen door, as alpha blending a Fade surface stands for). An
+    /// opaque scene draws no number, so its paths are those of a scene without the test.
+    fn passes(&self, hit: &Hit, rng: &mut Rng) -> bool {
+        let coverage = self.inputs.subject_coverage;
+        coverage < 1.0
+            && self.inputs.materials[self.scene.geometry.triangles[hit.triangle][3] as usize].1
+            && rng.next() >= coverage
+    }
+
+    /// The nearest surface along o + t·d that the ray does not pass.
+    fn nearest(&self, mut o: DVec3, d: DVec3, rng: &mut Rng) -> Option<Hit> {
+        loop {
+            let hit = self.scene.trace(o, d, f64::INFINITY)?;
+            if !self.passes(&hit, rng) {
+                return Some(hit);
+            }
+            o = self.surface_at(&hit, d).p + d * RAY_EPSILON;
+        }
+    }
+
+    /// Whether a shadow ray from o along d is stopped before t_max.
+    fn blocked(&self, mut o: DVec3, d: DVec3, t_max: f64, rng: &mut Rng) -> bool {
+        if self.inputs.subject_coverage >= 1.0 {
+            return self.scene.occluded(o, d, t_max);
+        }
+        let mut left = t_max;
+        loop {
+            let Some(hit) = self.scene.trace(o, d, left) else { return false };
+            if !self.passes(&hit, rng) {
+                return true;
+            }
+            let p = self.surface_at(&hit, d).p;
+            left -= (p - o).length();
+            o = p + d * RAY_EPSILON;
+        }
+    }
+
     fn surface_at(&self, hit: &Hit, d: DVec3) -> SurfacePoint {
         let g = &self.scene.geometry;
         let tri = g.triangles[hit.triangle];
@@ -532,7 +574,7 @@ impl Tracer<'_> {
             let distance =
                 if light.kind != 0 { (light.position - sp.p).length() * (1.0 - 1e-4) } else { f64::INFINITY };
             let f = self.response(sp, v, l, light.min_roughness);
-            if f.max_element() > 0.0 && !self.scene.occluded(origin, l, distance) {
+            if f.max_element() > 0.0 && !self.blocked(origin, l, distance, rng) {
                 // Lights are in the pipeline's units: the model's own factor is taken back out.
                 c += f * irradiance_per_intensity(p) * light.color * atten;
             }
@@ -540,7 +582,7 @@ impl Tracer<'_> {
         if self.env_scale > 0.0 {
             let (l, pdf) = self.scene.environment.sample(rng);
             let f = self.response(sp, v, l, NO_LIGHT_FLOOR);
-            if pdf > 0.0 && f.max_element() > 0.0 && !self.scene.occluded(origin, l, f64::INFINITY) {
+            if pdf > 0.0 && f.max_element() > 0.0 && !self.blocked(origin, l, f64::INFINITY, rng) {
                 let radiance = self.scene.environment.radiance(l) * self.env_scale;
                 c += f * radiance / pdf * power_heuristic(pdf, surface_pdf(&sp.s, self.lobe_share(sp), sp.n, v, l));
             }
@@ -563,7 +605,7 @@ impl Tracer<'_> {
         let env = &self.scene.environment;
         let last = if self.roulette { crate::spec::matrix::MAX_ROULETTE_BOUNCES } else { self.bounces + 1 };
         for bounce in 0..=last {
-            let Some(hit) = self.scene.trace(o, d, f64::INFINITY) else {
+            let Some(hit) = self.nearest(o, d, rng) else {
                 if bounce == 0 {
                     if self.inputs.background {
                         c += env.radiance(d) * self.env_scale;
