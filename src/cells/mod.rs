@@ -47,6 +47,10 @@ pub struct MaterialParams {
     /// The base colour's alpha: the axis's, or the material's own (1 for presets).
     #[serde(default = "one", skip_serializing_if = "is_one")]
     pub alpha: f64,
+    /// A glTF subject's `KHR_materials_specular` dielectric F0 (`GltfMaterial::specular_f0`): its
+    /// cells draw the lit shaders' specular workflow with it in place of 0.04.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub specular_f0: Option<[f64; 3]>,
     /// Where a cutout surface clips: Unity's default `_Cutoff`, or a glTF's `alphaCutoff`.
     #[serde(default = "default_cutoff", skip_serializing_if = "is_default_cutoff")]
     pub alpha_cutoff: f64,
@@ -131,12 +135,18 @@ impl Cell {
     /// The subject's material as this cell's model receives it, with the swept parameters.
     pub fn surface(&self) -> Surface {
         let mut s = self.model().surface(self.pipeline, &self.sliders());
+        // A glTF's KHR_materials_specular is the specular workflow with its dielectric F0, unless
+        // the matrix sweeps the workflow itself.
+        let dielectric = self.material.specular_f0.filter(|_| !self.params.contains_key("specular_setup"));
         for spec in &self.model().params {
             if let Some(v) = self.params.get(spec.name.as_ref()) {
                 s.params[spec.slot] = *v;
+            } else if spec.name == "specular_setup" && dielectric.is_some() {
+                s.params[spec.slot] = 1.0;
             }
         }
-        crate::shading::registry::apply_workflow(self.model(), &mut s);
+        let f0 = dielectric.map_or(glam::DVec3::splat(0.04), glam::DVec3::from);
+        crate::shading::registry::apply_workflow_with(self.model(), &mut s, f0);
         // The specular axis's colour where the model reads one (Unity's _SpecColor), in place of
         // the workflow's F0 or the model's own mapping.
         if let Some(srgb) = self.specular.filter(|_| self.model().reads_specular(&s.params)) {
@@ -464,6 +474,11 @@ fn own_material(scene: &crate::spec::scene::Scene) -> Result<GltfMaterial, Strin
         format!("`own` is a glTF subject's material; the subject of `{}` is not a glTF file", scene.name)
     })?;
     match crate::geometry::gltf_io::material_factors(&path) {
+        Ok(Some(m)) if m.specular_textures > 0 => Err(format!(
+            "the subject's glTF material has KHR_materials_specular textures, which are not read (its factors map \
+             to the specular workflow, its textures do not): {}",
+            path.display()
+        )),
         Ok(Some(m)) => Ok(m),
         Ok(None) => Err(format!("the subject's glTF file {} names no material", path.display())),
         // The geometry stage reports an unreadable file as bad input before anything renders.
@@ -487,6 +502,7 @@ fn material(preset: &Preset, own: Option<&GltfMaterial>, coords: &CellCoords) ->
         emissive_linear: emissive,
         surface: coords.surface.or(own.map(|f| f.surface)).unwrap_or_default(),
         alpha: coords.alpha.or(own.map(|f| f.base_color[3])).unwrap_or(1.0),
+        specular_f0: own.and_then(|f| f.specular_f0),
         alpha_cutoff: own.filter(|f| f.surface == SurfaceType::Cutout).map_or(default_cutoff(), |f| f.alpha_cutoff),
     }
 }

@@ -114,6 +114,11 @@ pub struct GltfMaterial {
     pub surface: crate::pipelines::surface::SurfaceType,
     pub alpha_cutoff: f64,
     pub double_sided: bool,
+    /// `KHR_materials_specular`'s dielectric F0, min(0.04·specularColorFactor, 1)·specularFactor
+    /// (ior 1.5), where the material has the extension; its textures, if any, are counted in
+    /// `specular_textures`.
+    pub specular_f0: Option<[f64; 3]>,
+    pub specular_textures: usize,
     /// Further materials the subject's primitives name: one material per subject is rendered, the first.
     pub others_ignored: usize,
 }
@@ -269,6 +274,12 @@ fn read_material(m: &gltf::Material, others: usize, images: Option<&[Option<gltf
         },
         alpha_cutoff: m.alpha_cutoff().unwrap_or(0.5) as f64,
         double_sided: m.double_sided(),
+        specular_f0: m
+            .specular()
+            .map(|s| s.specular_color_factor().map(|c| (0.04 * c as f64).min(1.0) * s.specular_factor() as f64)),
+        specular_textures: m
+            .specular()
+            .map_or(0, |s| s.specular_texture().is_some() as usize + s.specular_color_texture().is_some() as usize),
         others_ignored: others,
     }
 }

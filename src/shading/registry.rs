@@ -349,12 +349,19 @@ const SPECULAR_SETUP_HDRP: ParamSpec = specular_setup(1);
 /// the metallic workflow's look carried over (albedo = colour·(1 − metallic), specular colour =
 /// the F0 lerp(0.04, colour, metallic)), metallic 0 as the engines' specular shaders have none.
 pub fn apply_workflow(model: &ShaderModel, s: &mut Surface) {
+    apply_workflow_with(model, s, DVec3::splat(0.04));
+}
+
+/// `apply_workflow` with the dielectric F0 `dielectric` in place of 0.04 (a glTF's
+/// KHR_materials_specular: min(0.04·specularColorFactor, 1)·specularFactor; its F90 weight,
+/// specularFactor, has no counterpart in the engines, whose F90 is 1).
+pub fn apply_workflow_with(model: &ShaderModel, s: &mut Surface, dielectric: DVec3) {
     let Some(spec) = model.params.iter().find(|p| p.name == "specular_setup") else { return };
     if s.params[spec.slot] < 0.5 {
         return;
     }
     let colour = s.base_color;
-    s.specular = DVec3::splat(0.04).lerp(colour, s.metallic);
+    s.specular = dielectric.lerp(colour, s.metallic);
     s.base_color = colour * (1.0 - s.metallic);
     s.metallic = 0.0;
 }

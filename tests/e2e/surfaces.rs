@@ -257,3 +257,46 @@ fn the_truth_traces_fade_as_coverage_and_a_clipped_cutout_as_absent() {
     let refused = truth(SurfaceType::Transparent, 0.3).unwrap_err().to_string();
     assert!(refused.contains("no counterpart"), "{refused}");
 }
+
+#[test]
+fn khr_materials_specular_draws_the_specular_workflow_with_its_dielectric_f0() {
+    let tmp = tempfile::tempdir().unwrap();
+    crate::common::write_quad_gltf(
+        tmp.path(),
+        "spec",
+        r#"{"name": "spec", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1], "metallicFactor": 0, "roughnessFactor": 0.4},
+            "extensions": {"KHR_materials_specular": {"specularFactor": 0.5, "specularColorFactor": [2.0, 1.0, 10.0]}}}"#,
+        &[],
+    );
+    let scene = std::fs::read_to_string(fixture("textured_plane.toml"))
+        .unwrap()
+        .replace("name = \"textured_plane\"", "name = \"spec\"")
+        .replace(
+            "mesh = { kind = \"plane\", size = [2.0, 2.0], subdivisions = 1 }",
+            "mesh = { kind = \"gltf\", path = \"spec.gltf\" }",
+        );
+    std::fs::write(tmp.path().join("spec.toml"), scene).unwrap();
+    let m = write_matrix(
+        tmp.path(),
+        "m.toml",
+        "name = \"t\"\ncompositions = [\"spec.toml\"]\npipelines = [\"builtin\", \"urp\"]\nshaders = [\"standard\", \"lit\", \"lambert\"]\n\
+         presets = [\"own\"]\n[image]\nwidth = 16\nheight = 16\n",
+    );
+    let (rc, out, err) = shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", "r"], &[]);
+    assert_eq!(rc, 0, "{out}\n{err}");
+    let run = shadematrix::report::run_data::RunData::load(&tmp.path().join("r")).unwrap();
+    // min(0.04·(2, 1, 10), 1)·0.5: the dielectric F0 of the extension, the albedo as the file's.
+    let want = [0.04, 0.02, 0.2];
+    for c in &run.cells {
+        let inputs = &c.shader_inputs;
+        if c.id.0.contains("lambert") {
+            assert!(inputs.params.get("specular_setup").is_none(), "{}", c.id);
+            continue;
+        }
+        assert_eq!(inputs.params.get("specular_setup"), Some(&1.0), "{}", c.id);
+        for k in 0..3 {
+            assert!((inputs.specular[k] - want[k]).abs() < 1e-12, "{}: {:?}", c.id, inputs.specular);
+        }
+    }
+    assert_eq!(run.cells.len(), 4);
+}
