@@ -290,12 +290,12 @@ fn khr_materials_specular_draws_the_specular_workflow_with_its_dielectric_f0() {
     for c in &run.cells {
         let inputs = &c.shader_inputs;
         if c.id.0.contains("lambert") {
-            assert!(inputs.params.get("specular_setup").is_none(), "{}", c.id);
+            assert!(!inputs.params.contains_key("specular_setup"), "{}", c.id);
             continue;
         }
         assert_eq!(inputs.params.get("specular_setup"), Some(&1.0), "{}", c.id);
-        for k in 0..3 {
-            assert!((inputs.specular[k] - want[k]).abs() < 1e-12, "{}: {:?}", c.id, inputs.specular);
+        for (got, want) in inputs.specular.iter().zip(want) {
+            assert!((got - want).abs() < 1e-12, "{}: {:?}", c.id, inputs.specular);
         }
     }
     assert_eq!(run.cells.len(), 4);
