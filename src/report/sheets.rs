@@ -148,6 +148,12 @@ fn sort_values(axis: &str, values: BTreeSet<String>) -> Vec<String> {
             a.parse::<f64>().unwrap_or(f64::NEG_INFINITY).total_cmp(&b.parse::<f64>().unwrap_or(f64::NEG_INFINITY))
         });
     }
+    // The surface types in the engines' order (opaque, cutout, fade, transparent, …), the
+    // material's own first.
+    if axis == crate::spec::axes::of(crate::spec::axes::Axis::Surface).name {
+        let rank = |n: &str| crate::pipelines::surface::SurfaceType::from_name(n).map_or(0, |s| 1 + s.shader_id());
+        v.sort_by_key(|n| rank(n));
+    }
     v
 }
 
