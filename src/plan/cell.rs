@@ -295,10 +295,13 @@ impl CellPlan {
         let cascades = p.shadow_cascades_with(engine);
         let main = main_light(p, &lights);
         let mut shadows_left_out = Vec::new();
-        if cell.settings.surface.kind.clips() {
+        // A cutout's alpha map is not read by the shadow pass (depth alone); a flat cutout is
+        // all there or, below its cutoff, left out entirely (below).
+        let surface = cell.settings.surface;
+        if surface.kind.clips() && cell.settings.material_maps.is_some() {
             shadows_left_out.push((
                 "the subject's alpha clipping in the shadow maps".to_string(),
-                "the shadow pass draws depth alone, without the material's alpha: the cutout casts its whole shadow"
+                "the shadow pass draws depth alone, without the material's alpha map: the cutout casts its whole shadow"
                     .to_string(),
             ));
         }
@@ -336,6 +339,22 @@ impl CellPlan {
                 relative_height: seen.relative_height,
                 drawn: seen.drawn,
             });
+        }
+        // A flat cutout below its cutoff clips every fragment: not drawn, casting no shadow.
+        let clipped = surface.kind.clips() && cell.settings.material_maps.is_none() && surface.alpha < surface.cutoff;
+        if clipped {
+            for (fade, m) in fades.iter_mut().zip(&layout.meshes) {
+                if m.role == Role::Subject {
+                    *fade = None;
+                }
+            }
+            shadows_left_out.push((
+                "the subject".to_string(),
+                format!(
+                    "a cutout whose alpha {} is below its cutoff {} clips all of it: neither drawn nor casting a shadow",
+                    surface.alpha, surface.cutoff
+                ),
+            ));
         }
         let meshes: Vec<(usize, bool, &ShaderModel, bool)> = layout
             .meshes

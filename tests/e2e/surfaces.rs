@@ -300,3 +300,40 @@ fn khr_materials_specular_draws_the_specular_workflow_with_its_dielectric_f0() {
     }
     assert_eq!(run.cells.len(), 4);
 }
+
+#[test]
+fn a_flat_cutout_below_its_cutoff_is_left_out_shadow_and_all() {
+    let text = std::fs::read_to_string(crate::common::repo().join("scenes/invariants/key_only.toml")).unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    let write = |name: &str, text: &str| {
+        let path = tmp.path().join(name);
+        std::fs::write(&path, text).unwrap();
+        Scene::load_file(&path).unwrap()
+    };
+    let scene = write("key_only.toml", &text);
+    let unshadowed =
+        write("no_cast.toml", &text.replace("role = \"subject\"", "role = \"subject\"\ncast_shadows = false"));
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let sliders = Sliders { base_color_linear: [0.6; 3], metallic: 0.0, smoothness: 0.5 };
+    let mut frame = |scene: &Scene, kind: SurfaceType, alpha: f64| {
+        let prepared = renderer.prepare_scene(scene).unwrap();
+        let mut cell = cell_params(Pipeline::Urp, "lit", sliders, (1.0, 10.0), 48, RenderPath::Forward);
+        cell.settings.surface = SurfaceOptions { kind, alpha, ..Default::default() };
+        let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
+        (r.hdr, r.roles)
+    };
+    let opaque = frame(&scene, SurfaceType::Opaque, 1.0);
+    assert_eq!(frame(&scene, SurfaceType::Cutout, 0.6), opaque, "above its cutoff a cutout is the opaque surface");
+    let (clipped, roles) = frame(&scene, SurfaceType::Cutout, 0.3);
+    assert!(roles.iter().all(|r| *r != ROLE_SUBJECT), "no subject pixel");
+    let (no_cast, no_cast_roles) = frame(&unshadowed, SurfaceType::Opaque, 1.0);
+    // Where the floor is seen in both frames it is lit as if the sphere cast nothing.
+    let mut compared = 0;
+    for (i, (r, q)) in roles.iter().zip(&no_cast_roles).enumerate() {
+        if *r == shadematrix::plan::roles::ROLE_FIXED && *q == shadematrix::plan::roles::ROLE_FIXED {
+            assert_eq!(clipped[4 * i..4 * i + 3], no_cast[4 * i..4 * i + 3], "pixel {i}");
+            compared += 1;
+        }
+    }
+    assert!(compared > 500, "{compared}");
+}
