@@ -382,7 +382,7 @@ impl CellPlan {
             shadow_maps,
             lod,
             fades,
-            passes: frame.passes_for(cell.settings.path, p),
+            passes: frame.passes_for(cell.settings.path, p, cell.settings.surface.kind.is_transparent()),
             multisampling: msaa.for_settings(&cell.settings),
         }
     }

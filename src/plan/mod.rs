@@ -46,6 +46,8 @@ pub const PROBE_PREFILTER_PASS: &str = "probe prefilter";
 const VERTEX_LIT_PASS: &str = "forward (lighting per vertex)";
 /// The deferred path's forward pass for the models the G-buffer cannot carry.
 const FORWARD_ONLY_PASS: &str = "forward (models the G-buffer cannot carry)";
+/// A deferred path's Transparent queue, drawn forward after everything else (pipelines::surface).
+pub const TRANSPARENT_PASS: &str = "transparent";
 
 impl FramePlan {
     /// The passes of a frame on `path`: forward draws every object lit in one pass; deferred fills
@@ -55,6 +57,7 @@ impl FramePlan {
         &self,
         path: crate::pipelines::RenderPath,
         pipeline: crate::pipelines::Pipeline,
+        transparent_subject: bool,
     ) -> Vec<&'static str> {
         let mut passes: Vec<&'static str> = Vec::new();
         for probe_pass in [PROBE_CAPTURE_PASS, PROBE_PREFILTER_PASS] {
@@ -81,6 +84,11 @@ impl FramePlan {
         }
         if self.background {
             passes.push("background");
+        }
+        // The engines cannot put a transparent surface in a G-buffer: its own forward pass after
+        // the sky.
+        if path == crate::pipelines::RenderPath::Deferred && transparent_subject {
+            passes.push(TRANSPARENT_PASS);
         }
         if pipeline == crate::pipelines::Pipeline::Hdrp && self.hdrp_bloom {
             passes.push(BLOOM_PASS);

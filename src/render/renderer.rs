@@ -613,6 +613,10 @@ impl Renderer {
             (true, false) => &["gbuffer", "deferred lighting", "forward-only and background"][..],
             _ => &["forward"][..],
         });
+        // The Transparent queue, timed apart on a deferred path (plan::TRANSPARENT_PASS).
+        if deferred && cell.settings.surface.kind.is_transparent() {
+            pass_names.push(crate::plan::TRANSPARENT_PASS);
+        }
         if blooms {
             pass_names.push(crate::plan::BLOOM_PASS);
         }

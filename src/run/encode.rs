@@ -99,7 +99,13 @@ pub fn encode_cell(
     let frame = crate::images::stats::FramePixels { width: r.width, hdr: &r.hdr, roles: &r.roles };
     let stats = pixel_stats(frame, pre_exposure(&shown.1), |role| {
         let (role, forward_only) = match role {
-            ROLE_SUBJECT => (Some(Role::Subject), !cell.model().deferrable() || cell.material.surface.is_transparent()),
+            // A deferred path's transparent subject: its own pass (plan::TRANSPARENT_PASS).
+            ROLE_SUBJECT
+                if cell.path == crate::pipelines::RenderPath::Deferred && cell.material.surface.is_transparent() =>
+            {
+                return crate::plan::TRANSPARENT_PASS.to_string();
+            }
+            ROLE_SUBJECT => (Some(Role::Subject), !cell.model().deferrable()),
             ROLE_FIXED => (Some(Role::Fixed), false),
             _ => (None, false),
         };
@@ -382,7 +388,11 @@ fn cell_record(
         note: None,
         adapter: adapter.to_string(),
         display: m.display,
-        passes: plan.passes_for(cell.path, cell.pipeline).iter().map(|p| p.to_string()).collect(),
+        passes: plan
+            .passes_for(cell.path, cell.pipeline, cell.material.surface.is_transparent())
+            .iter()
+            .map(|p| p.to_string())
+            .collect(),
         left_out: plan.left_out.iter().chain(&m.left_out).cloned().collect(),
         draws: m.draws,
         engine: crate::record::cell::EngineSettingsRecord::of(cell.pipeline, &cell.pipeline_settings),

@@ -26,7 +26,11 @@ fn gpu_bloom_matches_its_twin_and_the_switch_turns_it_off() {
         let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
         let passes: Vec<String> = r.gpu_passes.map(|p| p.into_iter().map(|(n, _)| n).collect()).unwrap_or_default();
         let texels = r.hdr.chunks(4).map(|p| DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64)).collect();
-        (Image { width: 96, height: 96, texels }, passes, prepared.plan.passes_for(RenderPath::Forward, Pipeline::Hdrp))
+        (
+            Image { width: 96, height: 96, texels },
+            passes,
+            prepared.plan.passes_for(RenderPath::Forward, Pipeline::Hdrp, false),
+        )
     };
     let (bloomed, timed, plan) = render(&with);
     let (plain, _, plan_off) = render(&without);

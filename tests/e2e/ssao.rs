@@ -133,7 +133,7 @@ fn render_room(edit: impl Fn(&mut shadematrix::spec::scene::Scene), path: shadem
     let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
     let timed = r.gpu_passes.map(|p| p.into_iter().map(|(n, _)| n).collect()).unwrap_or_default();
     let rgb = r.hdr.chunks(4).map(|p| [p[0], p[1], p[2]]).collect();
-    Room { rgb, roles: r.roles, timed, plan: prepared.plan.passes_for(path, Pipeline::Hdrp) }
+    Room { rgb, roles: r.roles, timed, plan: prepared.plan.passes_for(path, Pipeline::Hdrp, false) }
 }
 
 #[test]

@@ -337,3 +337,26 @@ fn a_flat_cutout_below_its_cutoff_is_left_out_shadow_and_all() {
     }
     assert!(compared > 500, "{compared}");
 }
+
+#[test]
+fn a_deferred_path_draws_its_transparent_subject_in_a_pass_of_its_own() {
+    let scene = Scene::load_file(&crate::common::repo().join("scenes/invariants/key_only.toml")).unwrap();
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let prepared = renderer.prepare_scene(&scene).unwrap();
+    let sliders = Sliders { base_color_linear: [0.6; 3], metallic: 0.0, smoothness: 0.5 };
+    for kind in [SurfaceType::Opaque, SurfaceType::Transparent] {
+        let mut cell = cell_params(Pipeline::Urp, "lit", sliders, (1.0, 10.0), 32, RenderPath::Deferred);
+        cell.settings.surface = SurfaceOptions { kind, alpha: 0.5, ..Default::default() };
+        let plan = renderer.plan(&prepared, &cell).unwrap();
+        let transparent = kind.is_transparent();
+        assert_eq!(plan.passes.contains(&shadematrix::plan::TRANSPARENT_PASS), transparent, "{:?}", plan.passes);
+        assert_eq!(plan.draws.counts.get("transparent").copied().unwrap_or(0), transparent as u32);
+        assert_eq!(plan.draws.counts.get("gbuffer").copied(), Some(if transparent { 1 } else { 2 }));
+        let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
+        if let Some(passes) = &r.gpu_passes {
+            let timed = passes.iter().any(|(name, _)| name == shadematrix::plan::TRANSPARENT_PASS);
+            assert_eq!(timed, transparent, "{passes:?}");
+        }
+        assert!(r.roles.iter().any(|r| *r == ROLE_SUBJECT), "the subject is drawn");
+    }
+}

@@ -115,12 +115,15 @@ pub(in crate::render) fn encode_deferred(
             }
         }
     }
+    // The depth stays for a Transparent queue after this pass.
+    let depth_store =
+        if cell.settings.surface.kind.is_transparent() { wgpu::StoreOp::Store } else { wgpu::StoreOp::Discard };
     let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some("forward-only and background"),
         color_attachments: &[color(&t.color_view, wgpu::LoadOp::Load), color(&t.role_view, wgpu::LoadOp::Load)],
         depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
             view: &t.depth_view,
-            depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Discard }),
+            depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: depth_store }),
             stencil_ops: None,
         }),
         timestamp_writes: timed[last_at].map(|(t, pair)| t.writes(pair, true, true)),
@@ -130,13 +133,33 @@ pub(in crate::render) fn encode_deferred(
     pass.set_bind_group(0, frame_group, &[]);
     pass.set_bind_group(1, &prepared.object_bind_group, &[0]);
     pass.set_bind_group(2, screen, &[]);
-    // The opaque forward-only objects, the sky, then the Transparent queue (the subject alone).
+    // The opaque forward-only objects and the sky; then the Transparent queue (the subject alone)
+    // in its own pass, timed apart.
     let transparent = |i: usize| subject(i) && cell.settings.surface.kind.is_transparent();
     draw_objects(&mut pass, prepared, forward_only, forward_add, |i| drawn[i] && !deferred(i) && !transparent(i));
     if let (true, Some(bg)) = (prepared.plan.background, pipelines.background.get(&1)) {
         pass.set_pipeline(bg);
         pass.draw(0..3, 0..1);
     }
+    drop(pass);
+    if !cell.settings.surface.kind.is_transparent() {
+        return;
+    }
+    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(crate::plan::TRANSPARENT_PASS),
+        color_attachments: &[color(&t.color_view, wgpu::LoadOp::Load), color(&t.role_view, wgpu::LoadOp::Load)],
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view: &t.depth_view,
+            depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Discard }),
+            stencil_ops: None,
+        }),
+        timestamp_writes: timed.get(last_at + 1).copied().flatten().map(|(t, pair)| t.writes(pair, true, true)),
+        occlusion_query_set: None,
+        multiview_mask: None,
+    });
+    pass.set_bind_group(0, frame_group, &[]);
+    pass.set_bind_group(1, &prepared.object_bind_group, &[0]);
+    pass.set_bind_group(2, screen, &[]);
     draw_objects(&mut pass, prepared, forward_only, forward_add, |i| drawn[i] && transparent(i));
 }
 
