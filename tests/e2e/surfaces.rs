@@ -357,6 +357,6 @@ fn a_deferred_path_draws_its_transparent_subject_in_a_pass_of_its_own() {
             let timed = passes.iter().any(|(name, _)| name == shadematrix::plan::TRANSPARENT_PASS);
             assert_eq!(timed, transparent, "{passes:?}");
         }
-        assert!(r.roles.iter().any(|r| *r == ROLE_SUBJECT), "the subject is drawn");
+        assert!(r.roles.contains(&ROLE_SUBJECT), "the subject is drawn");
     }
 }
