@@ -17,5 +17,5 @@ fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f3
 }
 
 fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>) -> vec3<f32> {
-    return s.base_color * (1.0 - s.metallic) * gi_diffuse;
+    return indirect_diffuse(s.base_color * (1.0 - s.metallic) * gi_diffuse);
 }

@@ -9,5 +9,5 @@ fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f3
 fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>) -> vec3<f32> {
     let f = (1.0 - s.params0.x) / (1.0 + s.params0.x);
     let f0 = mix(vec3<f32>(f * f), s.base_color, s.metallic);
-    return f0 + (vec3<f32>(1.0) - f0) * pow(1.0 - sat(dot(n, v)), s.params0.y);
+    return indirect_specular(f0 + (vec3<f32>(1.0) - f0) * pow(1.0 - sat(dot(n, v)), s.params0.y));
 }

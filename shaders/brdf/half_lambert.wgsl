@@ -7,9 +7,9 @@ fn half_lambert_wrap(nl: f32) -> f32 {
 }
 
 fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
-    return fd_lambert(s.base_color) * irradiance_per_intensity() * half_lambert_wrap(dot(n, l));
+    return direct_diffuse(fd_lambert(s.base_color) * irradiance_per_intensity() * half_lambert_wrap(dot(n, l)));
 }
 
 fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>) -> vec3<f32> {
-    return s.base_color * gi_diffuse;
+    return indirect_diffuse(s.base_color * gi_diffuse);
 }

@@ -104,7 +104,7 @@ fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f3
     let dv = dv_smith_joint_ggx(nh, abs(nl), clamped_nv, a, part_lambda_v);
     let spec = f_schlick_f90(f0, 1.0, lh) * dv * hdrp_energy_compensation(s, clamped_nv);
     let diffuse = hdrp_diffuse_color(s) * INV_PI * fd_disney_renormalized_no_pi(abs(nl), clamped_nv, lv, pr);
-    return (diffuse + spec) * sat(nl);
+    return direct_diffuse(diffuse * sat(nl)) + direct_specular(spec * sat(nl));
 }
 
 fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>) -> vec3<f32> {
@@ -116,5 +116,6 @@ fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>)
     let specular_fgd = (vec3<f32>(1.0) - f0) * fgd.x + f0 * fgd.y;
     let diffuse_fgd = fgd.z + 0.5;
     let env = env_specular(hdrp_ibl_direction(n, v, pr, clamped_nv), pr);
-    return hdrp_diffuse_color(s) * gi_diffuse * diffuse_fgd + specular_fgd * env * hdrp_energy_compensation(s, clamped_nv);
+    return indirect_diffuse(hdrp_diffuse_color(s) * gi_diffuse * diffuse_fgd)
+        + indirect_specular(specular_fgd * env * hdrp_energy_compensation(s, clamped_nv));
 }

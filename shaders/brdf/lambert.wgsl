@@ -2,10 +2,10 @@
 // Reads the base colour only (no metallic, no smoothness).
 
 fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
-    return fd_lambert(s.base_color) * irradiance_per_intensity() * max(0.0, dot(n, l));
+    return direct_diffuse(fd_lambert(s.base_color) * irradiance_per_intensity() * max(0.0, dot(n, l)));
 }
 
 // gi_diffuse is E/π of the environment, so a Lambert surface reflects ρ·gi_diffuse.
 fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>) -> vec3<f32> {
-    return s.base_color * gi_diffuse;
+    return indirect_diffuse(s.base_color * gi_diffuse);
 }

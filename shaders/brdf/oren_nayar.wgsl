@@ -18,9 +18,9 @@ fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f3
     let c = max(0.0, cos_azimuth_difference(n, v, l, nl, nv));
     // tan b with cos b ≥ ε: b ≤ a < π/2 on the visible hemisphere (models.md#stability)
     let tan_beta = sin(beta) / max(cos(beta), 1e-4);
-    return fd_lambert(s.base_color) * irradiance_per_intensity() * nl * (a + b * c * sin(alpha) * tan_beta);
+    return direct_diffuse(fd_lambert(s.base_color) * irradiance_per_intensity() * nl * (a + b * c * sin(alpha) * tan_beta));
 }
 
 fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>) -> vec3<f32> {
-    return s.base_color * gi_diffuse;
+    return indirect_diffuse(s.base_color * gi_diffuse);
 }

@@ -15,9 +15,9 @@ fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f3
     let p = max(0.0, cos_azimuth_difference(n, v, l, nl, nv));
     // 1 − NL², 1 − NV² ≥ 0 and max(NL, NV) ≥ ε (models.md#stability)
     let sin_product = sqrt(max(0.0, 1.0 - nl * nl) * max(0.0, 1.0 - nv * nv));
-    return fd_lambert(s.base_color) * irradiance_per_intensity() * nl * (a + b * p * sin_product / max(max(nl, nv), 1e-4));
+    return direct_diffuse(fd_lambert(s.base_color) * irradiance_per_intensity() * nl * (a + b * p * sin_product / max(max(nl, nv), 1e-4)));
 }
 
 fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>) -> vec3<f32> {
-    return s.base_color * gi_diffuse;
+    return indirect_diffuse(s.base_color * gi_diffuse);
 }

@@ -20,10 +20,11 @@ fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f3
         return vec3<f32>(0.0);
     }
     let spec = spec_phong(n, v, l, shininess_from_smoothness(s.smoothness), s.params0.x);
-    return (s.base_color * nl + s.specular * spec) * INV_PI * irradiance_per_intensity();
+    let k = INV_PI * irradiance_per_intensity();
+    return direct_diffuse(s.base_color * nl * k) + direct_specular(s.specular * spec * k);
 }
 
 // DEPARTURE from the reading note (spec §4c): the ambient is scaled by kd, not added as is.
 fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>) -> vec3<f32> {
-    return s.base_color * gi_diffuse;
+    return indirect_diffuse(s.base_color * gi_diffuse);
 }

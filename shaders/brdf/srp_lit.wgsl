@@ -35,7 +35,8 @@ fn specular_strength(nh: f32, lh: f32, b: SrpBrdf) -> f32 {
 fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
     let b = srp_brdf(s);
     let h = safe_normalize(l + v, 1.175494e-38);
-    return (b.specular * specular_strength(sat(dot(n, h)), sat(dot(l, h)), b) + b.diffuse) * sat(dot(n, l));
+    let nl = sat(dot(n, l));
+    return direct_specular(b.specular * specular_strength(sat(dot(n, h)), sat(dot(l, h)), b) * nl) + direct_diffuse(b.diffuse * nl);
 }
 
 // IndirectBRDF: reflection = envSpecular·lerp(specular, fresnel, fresnel_strength·(1 − NV)⁴)/(r² + 1)
@@ -45,5 +46,5 @@ fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>)
     let fresnel_strength = s.params0.x * x * x * x * x;
     let env = env_specular(reflect(-v, n), b.perceptual_roughness);
     let reflection = env * mix(b.specular, vec3<f32>(b.fresnel), fresnel_strength) / (b.roughness * b.roughness + 1.0);
-    return gi_diffuse * b.diffuse + reflection;
+    return indirect_diffuse(gi_diffuse * b.diffuse) + indirect_specular(reflection);
 }

@@ -77,7 +77,7 @@ fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f3
     if (all(st.spec_color == vec3<f32>(0.0)) || s.params0.y > 0.5) {
         specular_term = 0.0;
     }
-    return st.diff_color * diffuse_term + specular_term * f_schlick(st.spec_color, lh);
+    return direct_diffuse(st.diff_color * diffuse_term) + direct_specular(specular_term * f_schlick(st.spec_color, lh));
 }
 
 fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>) -> vec3<f32> {
@@ -88,6 +88,6 @@ fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>)
     let surface_reduction = 1.0 / (a * a + 1.0);
     let grazing_term = sat(s.smoothness + (1.0 - st.one_minus_reflectivity));
     let gi_specular = env_specular(reflect(-v, n), st.perceptual_roughness);
-    return st.diff_color * gi_diffuse
-        + surface_reduction * gi_specular * f_schlick_lerp(st.spec_color, vec3<f32>(grazing_term), nv);
+    return indirect_diffuse(st.diff_color * gi_diffuse)
+        + indirect_specular(surface_reduction * gi_specular * f_schlick_lerp(st.spec_color, vec3<f32>(grazing_term), nv));
 }

@@ -29,7 +29,7 @@ fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f3
     let lh = sat(dot(l, h));
     let pr = 1.0 - s.smoothness;
     let diff_color = s.base_color * brdf2_one_minus_reflectivity(s) * diffuse_weight;
-    return (diff_color + spec_brdf2(nh, lh, pr * pr) * brdf2_spec_color(s)) * nl;
+    return direct_diffuse(diff_color * nl) + direct_specular(spec_brdf2(nh, lh, pr * pr) * brdf2_spec_color(s) * nl);
 }
 
 fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>) -> vec3<f32> {
@@ -43,6 +43,6 @@ fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>)
     let x = 1.0 - nv;
     let fresnel = x * x * x * x;
     let gi_specular = env_specular(reflect(-v, n), pr);
-    return gi_diffuse * s.base_color * omr * diffuse_weight
-        + surface_reduction * gi_specular * mix(brdf2_spec_color(s), vec3<f32>(grazing_term), fresnel);
+    return indirect_diffuse(gi_diffuse * s.base_color * omr * diffuse_weight)
+        + indirect_specular(surface_reduction * gi_specular * mix(brdf2_spec_color(s), vec3<f32>(grazing_term), fresnel));
 }

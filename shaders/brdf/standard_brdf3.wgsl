@@ -26,7 +26,7 @@ fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f3
     let rl_pow4 = rl * rl * rl * rl;
     let spec_color = mix(vec3<f32>(0.04), s.base_color, s.metallic);
     let diff_color = s.base_color * (0.96 - s.metallic * 0.96) * diffuse_weight;
-    return (diff_color + spec_brdf3(rl_pow4, 1.0 - s.smoothness) * spec_color) * nl;
+    return direct_diffuse(diff_color * nl) + direct_specular(spec_brdf3(rl_pow4, 1.0 - s.smoothness) * spec_color * nl);
 }
 
 fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>) -> vec3<f32> {
@@ -37,5 +37,6 @@ fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>)
     let x = 1.0 - nv;
     let fresnel_term = x * x * x * x;
     let gi_specular = env_specular(reflect(-v, n), 1.0 - s.smoothness);
-    return gi_diffuse * s.base_color * omr * diffuse_weight + gi_specular * mix(spec_color, vec3<f32>(grazing_term), fresnel_term);
+    return indirect_diffuse(gi_diffuse * s.base_color * omr * diffuse_weight)
+        + indirect_specular(gi_specular * mix(spec_color, vec3<f32>(grazing_term), fresnel_term));
 }

@@ -23,6 +23,6 @@ fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>)
     // QUIRK: reflect(v, n) with v towards the eye is −reflect(−v, n): it fetches the opposite direction
     let env = env_specular(reflect(v, n), r);
     // QUIRK: ambient SH is multiplied by the light colour (_LightColor0, the main directional light)
-    return s.base_color * main_light_color * gi_diffuse * (1.0 - s.metallic)
-        + s.base_color * s.specular * surface_reduction * env * f;
+    return indirect_diffuse(s.base_color * main_light_color * gi_diffuse * (1.0 - s.metallic))
+        + indirect_specular(s.base_color * s.specular * surface_reduction * env * f);
 }

@@ -19,5 +19,6 @@ fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>)
     // The shader's mip uses r like perceptual roughness: r(1.7 − 0.7r)·6
     let env = env_specular(reflect(-v, n), r);
     // Corrected: the source multiplies ambient SH by the light colour; here ambient stands alone.
-    return s.base_color * gi_diffuse * (1.0 - s.metallic) + s.base_color * s.specular * surface_reduction * env * f;
+    return indirect_diffuse(s.base_color * gi_diffuse * (1.0 - s.metallic))
+        + indirect_specular(s.base_color * s.specular * surface_reduction * env * f);
 }

@@ -47,9 +47,10 @@ fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f3
     let lh = sat(dot(l, h));
     // _SPECULARHIGHLIGHTS_OFF (params0.y = 1): DirectBRDF returns the diffuse alone.
     if (s.params0.y > 0.5) {
-        return b.diffuse * sat(dot(n, l));
+        return direct_diffuse(b.diffuse * sat(dot(n, l)));
     }
-    return (b.diffuse + b.specular * spec_urp(nh, lh, b)) * sat(dot(n, l));
+    let nl = sat(dot(n, l));
+    return direct_diffuse(b.diffuse * nl) + direct_specular(b.specular * spec_urp(nh, lh, b) * nl);
 }
 
 fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>) -> vec3<f32> {
@@ -65,5 +66,6 @@ fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>)
         env = env_specular(reflect(-v, n), b.perceptual_roughness);
     }
     // c = bakedGI·diffuse + envSpec·1/(α² + 1)·lerp(specular, grazing, (1 − NoV)⁴)
-    return gi_diffuse * b.diffuse + env * (1.0 / (b.roughness2 + 1.0)) * mix(b.specular, vec3<f32>(b.grazing_term), fresnel_term);
+    return indirect_diffuse(gi_diffuse * b.diffuse)
+        + indirect_specular(env * (1.0 / (b.roughness2 + 1.0)) * mix(b.specular, vec3<f32>(b.grazing_term), fresnel_term));
 }

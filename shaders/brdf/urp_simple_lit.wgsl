@@ -18,9 +18,9 @@ fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f3
     }
     // _ALPHAPREMULTIPLY_ON: the lights' diffuse × alpha (Lighting.hlsl CalculateBlinnPhong); the
     // baked GI is not (UniversalFragmentBlinnPhong: bakedGI × albedo alone)
-    return s.base_color * diffuse_weight * sat(dot(n, l)) + spec;
+    return direct_diffuse(s.base_color * diffuse_weight * sat(dot(n, l))) + direct_specular(spec);
 }
 
 fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>) -> vec3<f32> {
-    return gi_diffuse * s.base_color;
+    return indirect_diffuse(gi_diffuse * s.base_color);
 }

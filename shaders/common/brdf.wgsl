@@ -99,7 +99,7 @@ fn ts_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f32> 
     let h = safe_normalize(l + v, 1.175494e-38);
     let nh = sat(dot(n, h));
     let specular = max(0.0, d_ggx(nh, r * r) * v_smith_schlick(nl, nv, r * r * 0.5) * PI * nl);
-    return s.base_color * nl * (1.0 - s.metallic) + s.base_color * s.specular * specular;
+    return direct_diffuse(s.base_color * nl * (1.0 - s.metallic)) + direct_specular(s.base_color * s.specular * specular);
 }
 
 // Cook-Torrance's Fresnel as both forms use it: the full dielectric Fresnel at VH from the IOR,
@@ -136,7 +136,8 @@ fn cook_torrance_angles(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) ->
 
 // Both forms' kd·ρ/π plus the specular, times NL and the pipeline's irradiance per intensity
 fn cook_torrance_sum(s: Surface, a: CookTorranceAngles, spec: vec3<f32>) -> vec3<f32> {
-    return (s.base_color * (1.0 - s.metallic) * INV_PI + spec) * a.nl * irradiance_per_intensity();
+    let k = a.nl * irradiance_per_intensity();
+    return direct_diffuse(s.base_color * (1.0 - s.metallic) * INV_PI * k) + direct_specular(spec * k);
 }
 
 // GTAOMultiBounce (Jimenez et al. 2016; core AmbientOcclusion.hlsl): max(x, ((x·a + b)·x + c)·x),

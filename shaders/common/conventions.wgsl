@@ -18,6 +18,38 @@ var<private> main_light_color: vec3<f32> = vec3<f32>(1.0);
 // Twin: Surface::diffuse_weight.
 var<private> diffuse_weight: f32 = 1.0;
 
+// The terms a pass draws (pipelines::terms; TERM_* generated from it): every light term for the
+// image, one group for a term layer (the cell's AOVs), TERM_OCCLUSION alone for the occlusion
+// layer. An override, so the image's pipelines fold the masks away.
+override TERMS: u32 = TERM_LIGHT;
+
+fn term_kept(bits: u32) -> bool {
+    return (TERMS & bits) != 0u;
+}
+
+// A model's lobes, each kept where its term is drawn: models wrap their diffuse and specular
+// parts in these (ShaderModel::splits_lobes); twin: Surface::lobes.
+fn direct_diffuse(c: vec3<f32>) -> vec3<f32> {
+    return select(vec3<f32>(0.0), c, term_kept(TERM_DIRECT_DIFFUSE));
+}
+
+fn direct_specular(c: vec3<f32>) -> vec3<f32> {
+    return select(vec3<f32>(0.0), c, term_kept(TERM_DIRECT_SPECULAR));
+}
+
+fn indirect_diffuse(c: vec3<f32>) -> vec3<f32> {
+    return select(vec3<f32>(0.0), c, term_kept(TERM_INDIRECT_DIFFUSE));
+}
+
+fn indirect_specular(c: vec3<f32>) -> vec3<f32> {
+    return select(vec3<f32>(0.0), c, term_kept(TERM_INDIRECT_SPECULAR));
+}
+
+// Light the surface gives off rather than reflects (emission, an unlit colour, the sky)
+fn emitted(c: vec3<f32>) -> vec3<f32> {
+    return select(vec3<f32>(0.0), c, term_kept(TERM_EMISSION));
+}
+
 // Material as the model receives it: metallic already converted by the pipeline (presets.md).
 // specular: the models that take a specular colour; params0/params1: the model's own parameters
 // by slot (registry ParamSpec). Twin: shading::twin::Surface.

@@ -26,7 +26,9 @@ fn fs_background(in: BackgroundOut) -> BackgroundFragment {
     let far = frame.inv_view_proj * vec4<f32>(in.ndc, 1.0, 1.0);
     let dir = normalize(far.xyz / far.w - frame.camera_pos.xyz);
     var out: BackgroundFragment;
-    out.color = vec4<f32>(probe_level(dir, 0.0) * frame.env.y, 1.0);
+    // The sky is light given off (pipelines::terms::EMISSION); nothing occludes it.
+    let sky = probe_level(dir, 0.0) * frame.env.y;
+    out.color = vec4<f32>(select(emitted(sky), vec3<f32>(1.0), TERMS == TERM_OCCLUSION), 1.0);
     out.role = 0u;
     return out;
 }

@@ -330,6 +330,32 @@ override ADDITIONAL_SHADOWS: u32 = 1u;
 // ForwardAdd: the scene light this draw adds.
 var<private> add_light_index: u32 = 0u;
 
+// Whether the pass draws the lights' direct terms, and the ambient and environment (with an unlit
+// colour, which a model gives as emitted light): a model that does not wrap its lobes
+// (MODEL_SPLITS_LOBES false) gives its indirect light whole, drawn with the indirect bits alone.
+fn draws_direct() -> bool {
+    return term_kept(TERM_DIRECT_DIFFUSE | TERM_DIRECT_SPECULAR);
+}
+
+fn draws_indirect() -> bool {
+    let indirect = TERM_INDIRECT_DIFFUSE | TERM_INDIRECT_SPECULAR;
+    return term_kept(select(indirect, indirect | TERM_EMISSION, MODEL_SPLITS_LOBES));
+}
+
+// The occlusion layer (TERMS = TERM_OCCLUSION): what dims the indirect light at this fragment,
+// min(material AO, SSAO) in HDRP (the diffuse's visibility before the multi-bounce), the
+// material's occlusion in built-in and URP.
+fn draws_occlusion() -> bool {
+    return TERMS == TERM_OCCLUSION;
+}
+
+fn ambient_occlusion() -> f32 {
+    if (PIPELINE == PIPELINE_HDRP) {
+        return min(material_occlusion, screen_ao);
+    }
+    return material_occlusion;
+}
+
 // The lighting sum at one point: the object's per-pixel lights' direct terms plus the ambient
 // (environment SH, the object's SH lights and its vertex lights) and the environment; in a
 // ForwardAdd draw, only its one light's direct term.
@@ -346,7 +372,7 @@ fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>, vertex_gi: vec3<f32>) -> vec3<f
     let additive = FORWARD_PASS == FORWARD_ADD;
     let first = select(0u, add_light_index, additive);
     let end = select(frame.counts.x, add_light_index + 1u, additive);
-    for (var i = first; i < end; i++) {
+    for (var i = first; i < select(first, end, draws_direct()); i++) {
         // The model's own lights: per-pixel ones, or on the vertex-lit path the per-vertex ones
         let own = select(0u, 1u, VERTEX_LIT == 1u);
         let main = i + 1u == frame.counts.y;
@@ -365,7 +391,7 @@ fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>, vertex_gi: vec3<f32>) -> vec3<f
             }
         }
     }
-    if (FORWARD_PASS == FORWARD_ADD) {
+    if (FORWARD_PASS == FORWARD_ADD || !draws_indirect()) {
         return c;
     }
     let gi = environment_ambient(n) + max(sh_eval(object.light_sh, n), vec3<f32>(0.0)) + vertex_gi;
@@ -496,7 +522,11 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> FragmentOut {
             glow *= material_alpha;
         }
     }
-    out.color = surface_output(s, shade(s, n, in.world_pos, in.vertex_gi) + glow);
+    var lit = vec3<f32>(ambient_occlusion());
+    if (!draws_occlusion()) {
+        lit = shade(s, n, in.world_pos, in.vertex_gi) + emitted(glow);
+    }
+    out.color = surface_output(s, lit);
     out.role = object.flags.y;
     clip_alpha();
     return out;
@@ -595,7 +625,7 @@ fn fs_gouraud(in: GouraudOut) -> FragmentOut {
         // (the material's colour and maps are in the primary, taken at the vertices)
         out.color = vec4<f32>(in.color * 2.0 + in.specular, 1.0);
     } else {
-        out.color = vec4<f32>(in.color + emission(in.uv), 1.0);
+        out.color = vec4<f32>(in.color + emitted(emission(in.uv)), 1.0);
     }
     out.role = object.flags.y;
     return out;
@@ -643,7 +673,14 @@ fn fs_gbuffer(in: VertexOut, @builtin(front_facing) front: bool) -> GBufferOut {
     out.material = vec4<f32>(s.metallic, s.smoothness, 0.0, 0.0);
     out.normal = vec4<f32>(n * 0.5 + 0.5, f32(object.flags.w));
     // Emission joins the indirect light in RT3, as Unity's deferred paths write it.
-    out.lighting = vec4<f32>(indirect_light(s, n, v, gi) + emission(in.uv), 1.0);
+    var lighting = vec3<f32>(ambient_occlusion());
+    if (!draws_occlusion()) {
+        lighting = emitted(emission(in.uv));
+        if (draws_indirect()) {
+            lighting += indirect_light(s, n, v, gi);
+        }
+    }
+    out.lighting = vec4<f32>(lighting, 1.0);
     out.role = object.flags.y;
     clip_alpha();
     return out;
@@ -701,6 +738,9 @@ fn fs_deferred(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let n = normalize(nb.xyz * 2.0 - 1.0);
     let v = normalize(frame.camera_pos.xyz - p);
     var c = textureLoad(gb_lighting, px, 0).rgb;
+    if (!draws_direct()) {
+        return vec4<f32>(c, 1.0);
+    }
     if (TILED_LIGHTS == 1u) {
         // HDRP's light loop: only the lights binned into this pixel's tile (cs_light_tiles)
         let words = frame.counts.z;

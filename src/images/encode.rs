@@ -65,6 +65,61 @@ pub fn exr_half_bytes_with(
     write_exr!(width, height, compression, channels)
 }
 
+/// An EXR of `rgba` with extra RGB layers, the OpenEXR convention for AOVs in one part: the
+/// image's channels R, G, B, A, then `<layer>.R`, `.G`, `.B` for each of `layers` (each RGBA at
+/// the image's size; its alpha is not written). Readers of the image's RGBA see the image alone.
+/// `half`: 16-bit channels (each value rounded to the nearest half), else 32-bit.
+pub fn exr_with_layers_bytes(
+    width: u32,
+    height: u32,
+    rgba: &[f32],
+    layers: &[(&str, &[f32])],
+    half: bool,
+    compression: exr::compression::Compression,
+) -> Result<Vec<u8>, AppError> {
+    use exr::prelude::*;
+    let samples = |px: &[f32], k: usize| {
+        let values = px.chunks_exact(4).map(|p| p[k]);
+        if half {
+            FlatSamples::F16(values.map(f16::from_f32).collect())
+        } else {
+            FlatSamples::F32(values.collect())
+        }
+    };
+    let mut list: Vec<AnyChannel<FlatSamples>> =
+        ["R", "G", "B", "A"].iter().enumerate().map(|(k, c)| AnyChannel::new(*c, samples(rgba, k))).collect();
+    for (name, px) in layers {
+        for (k, c) in ["R", "G", "B"].iter().enumerate() {
+            list.push(AnyChannel::new(format!("{name}.{c}").as_str(), samples(px, k)));
+        }
+    }
+    let channels = AnyChannels::sort(SmallVec::from_vec(list));
+    write_exr!(width, height, compression, channels)
+}
+
+/// Read the RGB layer `name` of an EXR written by `exr_with_layers_bytes`, as RGBA (alpha 1).
+pub fn read_exr_layer(path: &std::path::Path, name: &str) -> Result<Vec<f32>, AppError> {
+    use exr::prelude::*;
+    let image =
+        read_all_flat_layers_from_file(path).map_err(|e| AppError::encode(format!("reading {}", path.display()), e))?;
+    let layer = image.layer_data.first().ok_or_else(|| AppError::Other(format!("{}: no layer", path.display())))?;
+    let channel = |c: &str| {
+        let full = format!("{name}.{c}");
+        layer.channel_data.list.iter().find(|ch| ch.name.to_string() == full).ok_or_else(|| {
+            AppError::Other(format!("{}: no channel {full} (layer `{name}` is not in the file)", path.display()))
+        })
+    };
+    let rgb = [channel("R")?, channel("G")?, channel("B")?];
+    let n = layer.size.area();
+    let mut out = vec![1f32; n * 4];
+    for (k, ch) in rgb.iter().enumerate() {
+        for (i, v) in ch.sample_data.values_as_f32().enumerate() {
+            out[i * 4 + k] = v;
+        }
+    }
+    Ok(out)
+}
+
 /// Whether every finite value of `rgba` lies in the half-float range (no finite value would become
 /// an infinity).
 pub fn fits_half(rgba: &[f32]) -> bool {

@@ -6,6 +6,7 @@ use serde::{Deserialize, Serialize};
 
 pub mod settings;
 pub mod surface;
+pub mod terms;
 pub mod volume;
 
 use crate::color::{gamma_to_linear_space_exact, srgb_to_linear};

@@ -74,6 +74,9 @@ pub struct CellRecord {
     /// What the cell's path-traced truth reached, when the matrix compares with one.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub truth: Option<TruthRecord>,
+    /// The cell's term layers, where its run asked for them (`[outputs] terms`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub terms: Option<TermsRecord>,
     /// The approximation study (run::study): the cell rendered again with each real-time
     /// approximation replaced, measured against its truth; left-out ones carry the reason.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -98,6 +101,28 @@ pub struct TruthRecord {
     pub cached: bool,
     /// The per-pixel standard error of the truth's luminance (EXR, grey).
     pub noise_map: String,
+}
+
+/// A cell's term layers (pipelines::terms): the layers image.exr holds besides the image, each
+/// with its PNG, and what the additive ones sum to; or why the cell has none.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct TermsRecord {
+    /// The layers written, in order: image.exr's `<name>.R/G/B`, `terms/<name>.png`.
+    pub layers: Vec<TermLayerRecord>,
+    /// What the additive layers sum to: `image`, or the layer `before_bloom` (the frame before
+    /// bloom, also written) where the cell blooms.
+    pub sum_of: String,
+    /// Why the cell has no layers (then `layers` is empty).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub missing: Option<String>,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct TermLayerRecord {
+    pub name: String,
+    pub png: String,
+    /// Whether it is one of the terms that add up to the frame (the occlusion layer is a factor).
+    pub additive: bool,
 }
 
 /// One frame of the approximation study.

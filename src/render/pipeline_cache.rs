@@ -51,14 +51,17 @@ pub(in crate::render) struct PipelineCache {
     pub(in crate::render) deferred_layout: wgpu::PipelineLayout,
     /// By (pipeline, model, what else the pipeline compiles in).
     pub(in crate::render) forward: HashMap<(Pipeline, String, ForwardKey), wgpu::RenderPipeline>,
-    /// By (pipeline, model, textured subject, faces drawn).
-    pub(in crate::render) gbuffer: HashMap<(Pipeline, String, bool, RenderFace), wgpu::RenderPipeline>,
-    /// By (pipeline, model, role).
-    pub(in crate::render) lighting: HashMap<(Pipeline, String, u32), wgpu::RenderPipeline>,
+    /// By (pipeline, model, textured subject, faces drawn, terms).
+    pub(in crate::render) gbuffer: HashMap<(Pipeline, String, bool, RenderFace, u32), wgpu::RenderPipeline>,
+    /// By (pipeline, model, role, terms).
+    pub(in crate::render) lighting: HashMap<(Pipeline, String, u32, u32), wgpu::RenderPipeline>,
     /// The depth-normal prepass pipelines, by (pipeline, textured subject, faces drawn).
     pub(in crate::render) depth_normals: HashMap<(Pipeline, bool, RenderFace), wgpu::RenderPipeline>,
-    /// By sample count.
-    pub(in crate::render) background: HashMap<u32, wgpu::RenderPipeline>,
+    /// By (sample count, terms).
+    pub(in crate::render) background: HashMap<(u32, u32), wgpu::RenderPipeline>,
+    /// The `TERMS` mask (pipelines::terms) of the frame being encoded: every light term but while
+    /// a cell's term layers are drawn. The passes look their pipelines up with it.
+    pub(in crate::render) terms: u32,
 }
 
 impl PipelineCache {
@@ -76,6 +79,7 @@ impl PipelineCache {
             lighting: HashMap::new(),
             depth_normals: HashMap::new(),
             background: HashMap::new(),
+            terms: crate::pipelines::terms::LIGHT,
         }
     }
 
@@ -137,6 +141,8 @@ pub(in crate::render) struct ForwardKey {
     pub(in crate::render) surface: SurfaceType,
     /// The faces drawn (the mesh's `render_face`).
     pub(in crate::render) face: RenderFace,
+    /// The `TERMS` mask drawn (pipelines::terms): every light term for the image.
+    pub(in crate::render) terms: u32,
 }
 
 impl ForwardKey {
@@ -151,6 +157,7 @@ impl ForwardKey {
             additional_shadows: true,
             surface: SurfaceType::Opaque,
             face,
+            terms: crate::pipelines::terms::LIGHT,
         }
     }
 }
@@ -167,8 +174,17 @@ impl PipelineCache {
         model: &ShaderModel,
         key: ForwardKey,
     ) -> Result<(), Error> {
-        let ForwardKey { vertex_lit, samples, textured, exact, pass: forward_pass, additional_shadows, surface, face } =
-            key;
+        let ForwardKey {
+            vertex_lit,
+            samples,
+            textured,
+            exact,
+            pass: forward_pass,
+            additional_shadows,
+            surface,
+            face,
+            terms,
+        } = key;
         let key = (pipeline, model.name.to_string(), key);
         if self.forward.contains_key(&key) {
             return Ok(());
@@ -185,6 +201,7 @@ impl PipelineCache {
             ("FIXED_FUNCTION", (vertex_lit && model.passes.vertex_lit_fallback) as u32 as f64),
             ("ADDITIONAL_SHADOWS", additional_shadows as u32 as f64),
             ("SURFACE", surface.shader_id() as f64),
+            ("TERMS", terms as f64),
         ]);
         if exact.any() {
             constants.extend(exact.constants());
@@ -278,13 +295,14 @@ impl PipelineCache {
         textured: bool,
         face: RenderFace,
     ) -> Result<(), Error> {
-        let key = (pipeline, model.name.to_string(), textured, face);
+        let key = (pipeline, model.name.to_string(), textured, face, self.terms);
         if self.gbuffer.contains_key(&key) {
             return Ok(());
         }
         let source = wgsl::compose(wgsl::PassKind::Forward, Some(model));
         let module = gpu.shader_module(&format!("gbuffer {}/{}", pipeline.name(), model.name), &source)?;
-        let constants = mesh_constants(pipeline, model, textured);
+        let mut constants = mesh_constants(pipeline, model, textured).to_vec();
+        constants.push(("TERMS", self.terms as f64));
         let targets = [
             Some(crate::render::gbuffer::GB_ALBEDO.into()),
             Some(crate::render::gbuffer::GB_MATERIAL.into()),
@@ -350,7 +368,7 @@ impl PipelineCache {
         model: &ShaderModel,
         role: u8,
     ) -> Result<(), Error> {
-        let key = (pipeline, model.name.to_string(), role as u32);
+        let key = (pipeline, model.name.to_string(), role as u32, self.terms);
         if self.lighting.contains_key(&key) {
             return Ok(());
         }
@@ -360,6 +378,7 @@ impl PipelineCache {
             ("PIPELINE", pipeline.shader_id() as f64),
             ("DEFERRED_ROLE", role as f64),
             ("TILED_LIGHTS", pipeline.tiled_light_loop() as u32 as f64),
+            ("TERMS", self.terms as f64),
         ];
         let options = wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() };
         let p = gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -390,9 +409,12 @@ impl PipelineCache {
 
     /// The environment background (passes::background), per sample count.
     pub(in crate::render) fn background_pipeline(&mut self, gpu: &GpuContext, samples: u32) -> Result<(), Error> {
-        if self.background.contains_key(&samples) {
+        let key = (samples, self.terms);
+        if self.background.contains_key(&key) {
             return Ok(());
         }
+        let constants = [("TERMS", self.terms as f64)];
+        let options = wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() };
         let source = wgsl::compose(wgsl::PassKind::Background, None);
         let module = gpu.shader_module("background", &source)?;
         let p = gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -401,7 +423,7 @@ impl PipelineCache {
             vertex: wgpu::VertexState {
                 module: &module,
                 entry_point: Some("vs_background"),
-                compilation_options: Default::default(),
+                compilation_options: options.clone(),
                 buffers: &[],
             },
             primitive: Default::default(),
@@ -416,14 +438,14 @@ impl PipelineCache {
             fragment: Some(wgpu::FragmentState {
                 module: &module,
                 entry_point: Some("fs_background"),
-                compilation_options: Default::default(),
+                compilation_options: options,
                 targets: &[Some(HDR_FORMAT.into()), Some(ROLE_FORMAT.into())],
             }),
             multiview_mask: None,
             cache: None,
         });
         gpu.check_errors("creating the background pipeline")?;
-        self.background.insert(samples, p);
+        self.background.insert(key, p);
         Ok(())
     }
 }

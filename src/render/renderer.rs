@@ -39,8 +39,23 @@ use crate::shading::{wgsl, Registry, ShaderModel};
 use crate::spec::scene::Role;
 use crate::spec::scene::Scene;
 
+mod terms;
 mod truths;
+pub use terms::RenderedTerms;
 use truths::{truth_geometry, truth_sky};
+
+/// What a drawn frame holds: the terms drawn (pipelines::terms) and whether post-processing
+/// (bloom) runs after them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct FrameMode {
+    pub(crate) terms: u32,
+    pub(crate) post: bool,
+}
+
+impl FrameMode {
+    /// The cell's image: every term, then its post-processing.
+    pub(crate) const IMAGE: FrameMode = FrameMode { terms: crate::pipelines::terms::LIGHT, post: true };
+}
 
 /// The pass name of the study's traced shadows (render::passes::traced_shadows) in timings.
 pub const TRACED_SHADOWS_PASS: &str = "traced shadows";
@@ -74,6 +89,8 @@ pub struct CellRender {
     pub draws: std::collections::BTreeMap<String, u32>,
     /// What the cell's plan left out of the frame and why (shadows its settings do not draw).
     pub left_out: Vec<(String, String)>,
+    /// The cell's term layers where its run asks for them (`draw_terms`), or why it has none.
+    pub terms: Option<Result<RenderedTerms, String>>,
 }
 
 pub struct Renderer {
@@ -369,7 +386,7 @@ impl Renderer {
         frames: u32,
         warmup: u32,
     ) -> Result<CellRender, Error> {
-        self.draw_frames(prepared, cell, plan, frames, warmup, false)
+        self.draw_frames(prepared, cell, plan, frames, warmup, false, FrameMode::IMAGE)
     }
 
     /// One frame of a planned cell whose timings nobody reads (`plan::timing`: a cell timed as
@@ -386,9 +403,10 @@ impl Renderer {
         plan: &CellPlan,
     ) -> Result<CellRender, Error> {
         let reuse = self.reuse;
-        self.draw_frames(prepared, cell, plan, 1, 0, reuse)
+        self.draw_frames(prepared, cell, plan, 1, 0, reuse, FrameMode::IMAGE)
     }
 
+    #[allow(clippy::too_many_arguments)]
     fn draw_frames(
         &mut self,
         prepared: &PreparedScene,
@@ -397,7 +415,10 @@ impl Renderer {
         frames: u32,
         warmup: u32,
         reuse: bool,
+        mode: FrameMode,
     ) -> Result<CellRender, Error> {
+        let terms = mode.terms;
+        self.pipelines.terms = terms;
         // The read-back image is the last frame's: with no frame drawn it would be black, or the
         // cell before's pixels left in the target.
         let Some(total) = warmup.checked_add(frames).filter(|_| frames > 0) else {
@@ -448,6 +469,7 @@ impl Renderer {
                 additional_shadows: shadowed_by_additional_lights(cell.pipeline, model),
                 surface,
                 face: RenderFace::Front,
+                terms,
             };
             (draw, (additive && adds(subject)).then_some(ForwardKey { pass: ForwardPass::Add, ..draw }))
         };
@@ -498,7 +520,7 @@ impl Renderer {
         let frame_group: &wgpu::BindGroup = &frame_group;
         self.targets(cell.width, cell.height);
         self.targets.as_mut().expect("targets exist").ensure_msaa(&self.gpu.device, samples);
-        let blooms = plan.has(crate::plan::BLOOM_PASS);
+        let blooms = plan.has(crate::plan::BLOOM_PASS) && mode.post;
         if blooms {
             if self.bloom.is_none() {
                 self.bloom = Some(crate::render::passes::bloom::BloomPipeline::new(&self.gpu)?);
@@ -629,7 +651,7 @@ impl Renderer {
             let key = {
                 use std::hash::{Hash, Hasher};
                 let mut h = std::hash::DefaultHasher::new();
-                (written.layer_key, shadow_key, occludes.then_some(ssao_key)).hash(&mut h);
+                (written.layer_key, shadow_key, occludes.then_some(ssao_key), terms).hash(&mut h);
                 (cell.pipeline, cell.settings.path, cell.width, cell.height, fixed_keys, background).hash(&mut h);
                 let fixed = |i: &usize| prepared.layout.meshes[*i].role == Role::Fixed;
                 for i in (0..drawn.len()).filter(fixed) {
@@ -724,7 +746,7 @@ impl Renderer {
             let pipelines = ForwardPipelines {
                 subject: model_pipelines(subject_model, subject_keys, &subject_faces),
                 fixed: model_pipelines(&fixed_model, fixed_keys, &fixed_faces),
-                background: self.pipelines.background.get(&samples).filter(|_| background && !deferred),
+                background: self.pipelines.background.get(&(samples, terms)).filter(|_| background && !deferred),
                 rays: rays.as_ref().map(|(_, group)| group),
             };
             if deferred {
@@ -815,6 +837,7 @@ impl Renderer {
             lod: plan.lod.clone(),
             draws: plan.draws.counts.clone(),
             left_out: plan.shadows_left_out.clone(),
+            terms: None,
         })
     }
 
@@ -874,7 +897,11 @@ impl Renderer {
             self.pipelines.forward_pipeline(&self.gpu, cell.pipeline, fixed_model, ForwardKey { face, ..key })?;
         }
         if prepared.plan.background {
-            self.pipelines.background_pipeline(&self.gpu, 1)?;
+            // Probes capture the whole light, whatever the frame being drawn holds.
+            let terms = std::mem::replace(&mut self.pipelines.terms, crate::pipelines::terms::LIGHT);
+            let made = self.pipelines.background_pipeline(&self.gpu, 1);
+            self.pipelines.terms = terms;
+            made?;
         }
         let (device, queue) = (&self.gpu.device, &self.gpu.queue);
         self.bindings
@@ -886,7 +913,8 @@ impl Renderer {
         }
         let timer = self.probe_timer.as_ref().filter(|_| self.gpu.record.timestamp_queries);
         let pipelines = self.pipelines.forward_by_face(cell.pipeline, &fixed_model.name, key, &faces);
-        let background = self.pipelines.background.get(&1).filter(|_| prepared.plan.background);
+        let background =
+            self.pipelines.background.get(&(1, crate::pipelines::terms::LIGHT)).filter(|_| prepared.plan.background);
         let neutral = &self.bindings.material_textures[""];
         let (drawn, casting) = (plan.drawn(), plan.casting());
         let mut encoder = self.gpu.device.create_command_encoder(&Default::default());

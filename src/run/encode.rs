@@ -117,10 +117,23 @@ pub fn encode_cell(
         encode::round_to_half(&mut r.hdr);
     }
     let compression = matrix.outputs.exr_compression.exr();
-    let exr = if half {
-        encode::exr_half_bytes_with(r.width, r.height, &r.hdr, compression)?
-    } else {
-        encode::exr_bytes_with(r.width, r.height, &r.hdr, compression)?
+    let mut terms = r.terms.take().map(|t| term_layers(t, &display));
+    // The layers share the image's channels: 16-bit only where every one fits them too.
+    let half = half && terms.iter().flat_map(|t| &t.layers).all(|l| encode::fits_half(&l.1));
+    let exr = match &mut terms {
+        Some(t) if !t.layers.is_empty() => {
+            if half {
+                t.layers.iter_mut().for_each(|l| encode::round_to_half(&mut l.1));
+            }
+            let layers: Vec<(&str, &[f32])> = t.layers.iter().map(|(n, px)| (n.as_str(), px.as_slice())).collect();
+            encode::exr_with_layers_bytes(r.width, r.height, &r.hdr, &layers, half, compression)?
+        }
+        _ if half => encode::exr_half_bytes_with(r.width, r.height, &r.hdr, compression)?,
+        _ => encode::exr_bytes_with(r.width, r.height, &r.hdr, compression)?,
+    };
+    let terms = match terms {
+        Some(t) => Some(write_term_pngs(dir, cell, t, &display)?),
+        None => None,
     };
     let png = encode::png_bytes(r.width, r.height, &srgb8)?;
     let pixels = match matrix.outputs.pixels {
@@ -160,6 +173,7 @@ pub fn encode_cell(
         shadow_maps: r.shadow_maps.clone(),
         lod: r.lod.clone(),
         truth,
+        terms,
         draws: r.draws.clone(),
         left_out: r.left_out.clone(),
         exr_format: format!("{}, {}", if half { "half" } else { "float" }, matrix.outputs.exr_compression.name()),
@@ -234,6 +248,78 @@ fn store(hdr: &mut [f32], w: u32, h: u32, cell: &Cell, shown: (Vec<u8>, DisplayR
     } else {
         shown
     }
+}
+
+/// A cell's term layers as written: (name, RGBA) of each, the additive ones flagged, and the
+/// record's parts.
+struct TermImages {
+    layers: Vec<(String, Vec<f32>)>,
+    additive: Vec<bool>,
+    sum_of: String,
+    missing: Option<String>,
+}
+
+/// The drawn layers stored as the image is (values past the half range saturated at the image's
+/// pre-exposure), the frame before bloom among them where the cell blooms.
+fn term_layers(terms: Result<crate::render::renderer::RenderedTerms, String>, display: &DisplayRecord) -> TermImages {
+    let t = match terms {
+        Ok(t) => t,
+        Err(why) => {
+            return TermImages { layers: Vec::new(), additive: Vec::new(), sum_of: "image".into(), missing: Some(why) }
+        }
+    };
+    let mut layers = Vec::new();
+    let mut additive = Vec::new();
+    for (layer, px) in t.layers {
+        additive.push(layer.is_additive());
+        layers.push((layer.name.to_string(), px));
+    }
+    let sum_of = match t.before_bloom {
+        Some(px) => {
+            additive.push(false);
+            layers.push((BEFORE_BLOOM_LAYER.to_string(), px));
+            BEFORE_BLOOM_LAYER
+        }
+        None => "image",
+    };
+    for (_, px) in &mut layers {
+        store_half_float(px, pre_exposure(display));
+    }
+    TermImages { layers, additive, sum_of: sum_of.into(), missing: None }
+}
+
+/// The layer holding a blooming cell's frame before bloom: what its terms sum to.
+pub const BEFORE_BLOOM_LAYER: &str = "before_bloom";
+/// The folder of a cell's term PNGs.
+pub const TERMS_DIR: &str = "terms";
+
+/// `terms/<layer>.png` for each layer: the light terms through the cell's display transform at the
+/// exposure the image was shown with (so they compare with it and with each other), the
+/// occlusion as its plain value in grey.
+fn write_term_pngs(
+    dir: &Path,
+    cell: &Cell,
+    t: TermImages,
+    display: &DisplayRecord,
+) -> Result<crate::record::cell::TermsRecord, Error> {
+    use crate::record::cell::{TermLayerRecord, TermsRecord};
+    let mut layers = Vec::with_capacity(t.layers.len());
+    for ((name, px), additive) in t.layers.iter().zip(&t.additive) {
+        let srgb = if name == crate::pipelines::terms::OCCLUSION_LAYER.name {
+            px.chunks_exact(4)
+                .flat_map(|p| {
+                    let v = (p[0].clamp(0.0, 1.0) * 255.0).round() as u8;
+                    [v, v, v, 255]
+                })
+                .collect()
+        } else {
+            tonemap::to_srgb8_at(px, &cell.display, display.exposure).0
+        };
+        let png = format!("{TERMS_DIR}/{name}.png");
+        write_atomic(&dir.join(&png), &encode::png_bytes(cell.width, cell.height, &srgb)?)?;
+        layers.push(TermLayerRecord { name: name.clone(), png, additive: *additive });
+    }
+    Ok(TermsRecord { layers, sum_of: t.sum_of, missing: t.missing })
 }
 
 /// The truth as the cell's reference: reference.exr (its mean, the cell's units), reference.png
@@ -338,6 +424,7 @@ pub fn twin_record(
         shadow_maps: o.shadow_maps,
         lod: o.lod,
         truth: None,
+        terms: o.terms,
         exr_format: o.image.exr_format,
         draws: o.draws,
         // The original's record holds the composition's left-out passes too: keep its own only.
@@ -360,6 +447,7 @@ struct Measured {
     shadow_maps: Vec<crate::plan::ShadowMapUse>,
     lod: Vec<crate::plan::lod::LodUse>,
     truth: Option<crate::record::cell::TruthRecord>,
+    terms: Option<crate::record::cell::TermsRecord>,
     exr_format: String,
     draws: std::collections::BTreeMap<String, u32>,
     left_out: Vec<(String, String)>,
@@ -401,6 +489,7 @@ fn cell_record(
         shadow_maps: m.shadow_maps,
         lod: m.lod,
         truth: m.truth,
+        terms: m.terms,
         approximations: Vec::new(),
         stats: m.stats,
         timing: m.timing,
@@ -416,6 +505,18 @@ pub fn copy_images(from: &Path, to: &Path) -> Result<(), Error> {
         }
         let bytes = std::fs::read(from.join(name)).map_err(|e| Error::io_path("reading", &from.join(name), e))?;
         write_atomic(&to.join(name), &bytes)?;
+    }
+    // The term PNGs, where the run draws them (`[outputs] terms`)
+    let terms = from.join(TERMS_DIR);
+    if terms.is_dir() {
+        let entries = std::fs::read_dir(&terms).map_err(|e| Error::io_path("listing", &terms, e))?;
+        let mut names: Vec<std::path::PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
+        names.sort();
+        for path in names.iter().filter(|p| p.extension().is_some_and(|e| e == "png")) {
+            let bytes = std::fs::read(path).map_err(|e| Error::io_path("reading", path, e))?;
+            let name = path.file_name().expect("a listed file");
+            write_atomic(&to.join(TERMS_DIR).join(name), &bytes)?;
+        }
     }
     Ok(())
 }

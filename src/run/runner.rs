@@ -662,6 +662,9 @@ impl<'a> Stream<'a> {
                         timed.insert(class, (cell.id.clone(), timings));
                     }
                 }
+                if self.matrix.outputs.terms && !retime {
+                    render.terms = Some(renderer.draw_terms(&prepared, &params, &plan)?);
+                }
                 if retime {
                     StageClock::add_ms(&self.clock.render, t.elapsed().as_secs_f64() * 1e3 - render.readback_ms);
                     self.retime_cell(cell, &render)?;

@@ -101,6 +101,15 @@ impl ShaderModel {
         self.wgsl.contains("diffuse_weight")
     }
 
+    /// Whether the model wraps its lobes in the term functions (`direct_diffuse(…)` and the
+    /// rest, shaders/common/conventions.wgsl), so a cell's term layers split its diffuse from its
+    /// specular (pipelines::terms). The WGSL decides: a user model that wraps them has them too.
+    pub fn splits_lobes(&self) -> bool {
+        ["direct_diffuse(", "direct_specular(", "indirect_diffuse(", "indirect_specular(", "emitted("]
+            .iter()
+            .any(|f| self.wgsl.contains(f))
+    }
+
     /// The model's inputs for a cell: the mapping applied to the sliders.
     pub fn surface(&self, pipeline: Pipeline, sliders: &Sliders) -> Surface {
         (self.from_sliders)(self, pipeline, sliders)

@@ -16,7 +16,10 @@ pub fn pipeline_ids() -> String {
     let surfaces = crate::pipelines::surface::SurfaceType::ALL
         .iter()
         .map(|s| format!("const SURFACE_{}: u32 = {}u;\n", s.name().to_uppercase(), s.shader_id()));
-    pipelines.chain(surfaces).collect()
+    // And the term bits (`TERM_DIRECT_DIFFUSE` …), for conventions.wgsl's `TERMS`.
+    let terms =
+        crate::pipelines::terms::WGSL_BITS.iter().map(|(name, bits)| format!("const TERM_{name}: u32 = {bits}u;\n"));
+    pipelines.chain(surfaces).chain(terms).collect()
 }
 
 /// What a model may leave out, with the value the passes then read: 1 − oneMinusReflectivity,
@@ -156,11 +159,15 @@ pub fn compose_mapped(pass: PassKind, model: Option<&ShaderModel>) -> (String, L
         }
         PassKind::BrdfProbe => {}
     }
+    // Whether the model wraps its lobes in the term functions (ShaderModel::splits_lobes), for
+    // the passes' term masks.
+    let splits = format!("const MODEL_SPLITS_LOBES: bool = {};\n", model.is_some_and(|m| m.splits_lobes()));
     if let Some(m) = model {
         parts.push((&m.source_path, &m.wgsl));
         if !m.wgsl.contains("fn model_reflectivity") {
             parts.push(("<default model hooks>", DEFAULT_MODEL_HOOKS));
         }
+        parts.push(("<generated from the model: lobes>", &splits));
     }
     match pass {
         PassKind::Forward => parts.push(("shaders/pass/approximations.wgsl", APPROXIMATIONS)),

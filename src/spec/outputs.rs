@@ -23,10 +23,20 @@ pub struct Outputs {
     /// renderer (render::truth::export; tools/mitsuba_check.py).
     #[serde(default)]
     pub truth_scene: bool,
+    /// The cell's terms as extra layers of image.exr, with a PNG each (pipelines::terms): direct
+    /// and indirect diffuse and specular, emission, and the ambient occlusion. Each is the frame
+    /// drawn again, so only runs that ask draw them. Left out of the serialised settings when off,
+    /// so cell keys from before it stay the same.
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub terms: bool,
 }
 
 fn yes() -> bool {
     true
+}
+
+fn is_false(b: &bool) -> bool {
+    !*b
 }
 
 impl Default for Outputs {
@@ -37,6 +47,7 @@ impl Default for Outputs {
             maps: true,
             pixels: true,
             truth_scene: false,
+            terms: false,
         }
     }
 }

@@ -40,6 +40,7 @@ mod ssao;
 mod stability;
 mod study;
 mod surfaces;
+mod terms;
 mod timing;
 mod truth;
 mod user_models;

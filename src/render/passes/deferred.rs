@@ -76,7 +76,7 @@ pub(in crate::render) fn encode_deferred(
         for (i, o) in prepared.objects.iter().enumerate().filter(|(i, _)| drawn[*i] && deferred(*i)) {
             let textured = if subject(i) { cell.settings.material_maps.is_some() } else { prepared.fixed_maps.any() };
             let face = prepared.layout.meshes[i].render_face;
-            pass.set_pipeline(&pipelines.gbuffer[&(p, model_of(i).name.to_string(), textured, face)]);
+            pass.set_pipeline(&pipelines.gbuffer[&(p, model_of(i).name.to_string(), textured, face, pipelines.terms)]);
             pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
             pass.set_vertex_buffer(0, o.vertices.slice(..));
             pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);
@@ -109,7 +109,7 @@ pub(in crate::render) fn encode_deferred(
         pass.set_bind_group(2, gb.read(p), &[]);
         pass.set_bind_group(3, &tiles.read, &[]);
         for (model, role) in lighting_draws(cell.model, cell.subject_deferrable(), fixed_model) {
-            if let Some(pipeline) = pipelines.lighting.get(&(p, model.name.to_string(), role as u32)) {
+            if let Some(pipeline) = pipelines.lighting.get(&(p, model.name.to_string(), role as u32, pipelines.terms)) {
                 pass.set_pipeline(pipeline);
                 pass.draw(0..3, 0..1);
             }
@@ -137,7 +137,7 @@ pub(in crate::render) fn encode_deferred(
     // in its own pass, timed apart.
     let transparent = |i: usize| subject(i) && cell.settings.surface.kind.is_transparent();
     draw_objects(&mut pass, prepared, forward_only, forward_add, |i| drawn[i] && !deferred(i) && !transparent(i));
-    if let (true, Some(bg)) = (prepared.plan.background, pipelines.background.get(&1)) {
+    if let (true, Some(bg)) = (prepared.plan.background, pipelines.background.get(&(1, pipelines.terms))) {
         pass.set_pipeline(bg);
         pass.draw(0..3, 0..1);
     }

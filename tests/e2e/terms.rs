@@ -1,0 +1,165 @@
+//! Term outputs (pipelines::terms, `[outputs] terms = true`): a cell's image.exr carries its
+//! direct and indirect diffuse and specular, emission and occlusion as extra layers, and the
+//! additive ones sum to the image (or, where the cell blooms, to the frame before bloom) within
+//! float error, on every pipeline and path; cells of a run that does not ask have none.
+
+use shadematrix::images::encode::{read_exr, read_exr_layer};
+use shadematrix::record::cell::CellRecord;
+
+/// The worst difference between the sum of a cell's additive layers and what they sum to,
+/// relative to the larger of that pixel's value and the sum of the layers' magnitudes; and the
+/// layers read.
+fn sum_error(cell: &std::path::Path) -> (f64, CellRecord) {
+    let record: CellRecord = serde_json::from_slice(&std::fs::read(cell.join("cell.json")).unwrap()).unwrap();
+    let terms = record.terms.clone().expect("the run asked for terms");
+    assert!(terms.missing.is_none(), "{}: {:?}", cell.display(), terms.missing);
+    let exr = cell.join("image.exr");
+    let target = match terms.sum_of.as_str() {
+        "image" => read_exr(&exr).unwrap().2,
+        layer => read_exr_layer(&exr, layer).unwrap(),
+    };
+    let mut sum = vec![0f64; target.len()];
+    let mut magnitude = vec![0f64; target.len()];
+    for layer in terms.layers.iter().filter(|l| l.additive) {
+        assert!(cell.join(&layer.png).is_file(), "{} has no {}", cell.display(), layer.png);
+        let px = read_exr_layer(&exr, &layer.name).unwrap();
+        for (i, v) in px.iter().enumerate() {
+            sum[i] += *v as f64;
+            magnitude[i] += v.abs() as f64;
+        }
+    }
+    let mut worst = 0.0f64;
+    for i in (0..target.len()).filter(|i| i % 4 != 3) {
+        let scale = (target[i].abs() as f64).max(magnitude[i]).max(1e-3);
+        worst = worst.max((sum[i] - target[i] as f64).abs() / scale);
+    }
+    (worst, record)
+}
+
+#[test]
+fn terms_sum_to_the_image_on_every_pipeline_and_path() {
+    let tmp = tempfile::tempdir().unwrap();
+    // 32-bit channels: the sum is checked against float error, not the half EXR's rounding.
+    let body = r#"
+name = "terms"
+compositions = ["mitsuba"]
+pipelines = ["builtin", "urp", "hdrp"]
+paths = ["forward", "deferred"]
+shaders = ["standard", "lit", "simple_lit", "phong", "unlit"]
+presets = ["gold", "plastic"]
+
+[sweep]
+smoothness = [0.8]
+
+[outputs]
+terms = true
+exr = "float"
+
+[image]
+width = 48
+height = 48
+"#;
+    let out = crate::common::run_matrix(tmp.path(), body, "run");
+    let mut seen = std::collections::BTreeMap::new();
+    for entry in std::fs::read_dir(out.join("cells")).unwrap() {
+        let cell = entry.unwrap().path();
+        let (worst, record) = sum_error(&cell);
+        let terms = record.terms.as_ref().unwrap();
+        let names: Vec<&str> = terms.layers.iter().map(|l| l.name.as_str()).collect();
+        // Deferred paths keep the ambient and emission in a half-float RT3 (its 11-bit mantissa),
+        // forward ones sum 32-bit floats.
+        let limit = if record.coords.path == shadematrix::pipelines::RenderPath::Deferred { 2e-3 } else { 1e-5 };
+        assert!(worst <= limit, "{}: terms sum to the frame within {worst:e} (limit {limit:e})", cell.display());
+        for name in
+            ["direct_diffuse", "direct_specular", "indirect_diffuse", "indirect_specular", "emission", "occlusion"]
+        {
+            assert!(names.contains(&name), "{}: layers {names:?}", cell.display());
+        }
+        let key = format!("{}/{}", record.coords.pipeline.name(), record.coords.path.name());
+        let entry = seen.entry(key).or_insert((0usize, 0.0f64, Vec::new()));
+        entry.0 += 1;
+        entry.1 = entry.1.max(worst);
+        entry.2 = names.iter().map(|s| s.to_string()).collect();
+    }
+    eprintln!("{seen:#?}");
+    assert!(seen.len() >= 5, "pipelines × paths seen: {:?}", seen.keys());
+}
+
+/// The layers are the terms they name: Phong lit by a sun with no environment light has no
+/// indirect light, its diffuse is where its base colour shows and its highlight is white; an
+/// unlit cell is all emission; HDRP's occlusion layer holds its SSAO (below 1 in the corners).
+#[test]
+fn each_layer_holds_its_term() {
+    let tmp = tempfile::tempdir().unwrap();
+    let body = r#"
+name = "terms_split"
+compositions = ["default"]
+pipelines = ["builtin", "hdrp"]
+shaders = ["phong", "unlit", "lit"]
+presets = ["plastic"]
+
+[outputs]
+terms = true
+exr = "float"
+
+[image]
+width = 48
+height = 48
+"#;
+    let out = crate::common::run_matrix(tmp.path(), body, "run");
+    let mut checked = 0;
+    for entry in std::fs::read_dir(out.join("cells")).unwrap() {
+        let cell = entry.unwrap().path();
+        let (worst, record) = sum_error(&cell);
+        assert!(worst <= 1e-5, "{}: {worst:e}", cell.display());
+        let exr = cell.join("image.exr");
+        let layer = |name: &str| read_exr_layer(&exr, name).unwrap();
+        let total = |px: &[f32]| px.chunks_exact(4).map(|p| (p[0] + p[1] + p[2]) as f64).sum::<f64>();
+        match record.coords.shader.as_str() {
+            "unlit" => {
+                // The subject's colour is all emitted: no reflected light anywhere on it.
+                let roles = record.stats.subject_pixels;
+                assert!(roles > 0);
+                assert!(total(&layer("emission")) > 0.0);
+                checked += 1;
+            }
+            "phong" => {
+                assert!(total(&layer("direct_diffuse")) > 0.0 && total(&layer("direct_specular")) > 0.0);
+                checked += 1;
+            }
+            "lit" if record.coords.pipeline == shadematrix::pipelines::Pipeline::Hdrp => {
+                let ao = layer("occlusion");
+                let (lo, hi) = ao.chunks_exact(4).fold((1f32, 0f32), |(lo, hi), p| (lo.min(p[0]), hi.max(p[0])));
+                assert!(hi <= 1.0 + 1e-6 && lo < 0.99, "HDRP's SSAO in the occlusion layer: {lo}..{hi}");
+                checked += 1;
+            }
+            _ => {}
+        }
+    }
+    assert!(checked >= 3, "cells checked: {checked}");
+}
+
+/// A run that does not ask draws no layers: image.exr holds RGBA alone, no terms/ folder, no
+/// record; the layers' reader says which layer is missing.
+#[test]
+fn terms_are_drawn_only_when_asked() {
+    let tmp = tempfile::tempdir().unwrap();
+    let body = r#"
+name = "no_terms"
+compositions = ["default"]
+pipelines = ["urp"]
+shaders = ["lit"]
+presets = ["plastic"]
+
+[image]
+width = 32
+height = 32
+"#;
+    let out = crate::common::run_matrix(tmp.path(), body, "run");
+    let cell = std::fs::read_dir(out.join("cells")).unwrap().next().unwrap().unwrap().path();
+    let record: CellRecord = serde_json::from_slice(&std::fs::read(cell.join("cell.json")).unwrap()).unwrap();
+    assert!(record.terms.is_none());
+    assert!(!cell.join("terms").exists());
+    let err = read_exr_layer(&cell.join("image.exr"), "direct_diffuse").unwrap_err().to_string();
+    assert!(err.contains("direct_diffuse"), "{err}");
+}
