@@ -10,7 +10,7 @@ use super::run_data::RunData;
 use crate::error::Error;
 use crate::fsutil::write_atomic;
 use crate::record::CellRecord;
-use crate::spec::sheets::SheetSpec;
+use crate::spec::sheets::{SheetSpec, TERM_AXIS, WHOLE_IMAGE};
 
 const SCALE: u32 = 2;
 const GLYPH: u32 = 8 * SCALE;
@@ -164,8 +164,45 @@ pub struct SheetLayout {
     pub title: String,
     pub rows: Vec<String>,
     pub cols: Vec<String>,
-    /// `tiles[r][c]`: the id of the cell at row r, column c.
-    pub tiles: Vec<Vec<Option<String>>>,
+    /// `tiles[r][c]`: the cell at row r, column c and the image of it shown.
+    pub tiles: Vec<Vec<Option<SheetTile>>>,
+}
+
+/// One tile: a cell and its image shown, relative to its folder (image.png, or a term's PNG).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SheetTile {
+    pub id: String,
+    pub image: String,
+}
+
+/// The file of `cell`'s image or term layer `term` (`image` for the image), where it has one.
+fn tile_image(cell: &CellRecord, term: &str) -> Option<String> {
+    if term == WHOLE_IMAGE {
+        return Some("image.png".into());
+    }
+    cell.terms.as_ref()?.layers.iter().find(|l| l.name == term).map(|l| l.png.clone())
+}
+
+/// A cell's value on a sheet axis: the `term` pseudo-axis has none (each cell spans all its values).
+fn sheet_value(cell: &CellRecord, axis: &str) -> String {
+    if axis == TERM_AXIS {
+        return String::new();
+    }
+    cell.axis_value(axis)
+}
+
+/// The values of the `term` pseudo-axis over `cells`: the image, then every layer in the order
+/// the records list them.
+fn term_values(cells: &[&CellRecord]) -> Vec<String> {
+    let mut out = vec![WHOLE_IMAGE.to_string()];
+    for c in cells {
+        for l in c.terms.iter().flat_map(|t| &t.layers) {
+            if !out.contains(&l.name) {
+                out.push(l.name.clone());
+            }
+        }
+    }
+    out
 }
 
 /// The sheets of one spec. Every axis not on the rows or columns that varies independently of
@@ -177,7 +214,7 @@ pub fn layout(run: &RunData, spec: &SheetSpec) -> Vec<SheetLayout> {
     let determined = |axis: &str| {
         let mut seen: BTreeMap<(String, String), String> = BTreeMap::new();
         run.cells.iter().all(|c| {
-            let key = (c.axis_value(&spec.rows), c.axis_value(&spec.cols));
+            let key = (sheet_value(c, &spec.rows), sheet_value(c, &spec.cols));
             let v = c.axis_value(axis);
             seen.entry(key).or_insert_with(|| v.clone()) == &v
         })
@@ -191,28 +228,39 @@ pub fn layout(run: &RunData, spec: &SheetSpec) -> Vec<SheetLayout> {
         groups.entry(per.iter().map(|a| cell.axis_value(a)).collect()).or_default().push(cell);
     }
     let mut out = Vec::new();
+    let values = |axis: &str, cells: &[&CellRecord]| match axis {
+        TERM_AXIS => term_values(cells),
+        _ => sort_values(axis, cells.iter().map(|c| c.axis_value(axis)).collect()),
+    };
+    let shown = spec.image.as_deref().unwrap_or(WHOLE_IMAGE);
     for (key, cells) in groups {
-        let rows = sort_values(&spec.rows, cells.iter().map(|c| c.axis_value(&spec.rows)).collect());
-        let cols = sort_values(&spec.cols, cells.iter().map(|c| c.axis_value(&spec.cols)).collect());
+        let rows = values(&spec.rows, &cells);
+        let cols = values(&spec.cols, &cells);
         if rows.len() * cols.len() < 2 {
             continue;
         }
-        let tiles = rows
-            .iter()
-            .map(|r| {
-                cols.iter()
-                    .map(|c| {
-                        cells
-                            .iter()
-                            .find(|cell| cell.axis_value(&spec.rows) == *r && cell.axis_value(&spec.cols) == *c)
-                            .map(|cell| cell.id.0.clone())
-                    })
-                    .collect()
-            })
-            .collect();
-        let title: Vec<String> =
+        // A tile's cell matches the row's and column's values (any, on the term pseudo-axis) and
+        // shows the term the pseudo-axis names, else the sheet's image.
+        let tile = |r: &str, c: &str| {
+            let matches = |axis: &str, v: &str, cell: &CellRecord| axis == TERM_AXIS || cell.axis_value(axis) == v;
+            let cell = cells.iter().find(|cell| matches(&spec.rows, r, cell) && matches(&spec.cols, c, cell))?;
+            let term = match (spec.rows == TERM_AXIS, spec.cols == TERM_AXIS) {
+                (true, _) => r,
+                (_, true) => c,
+                _ => shown,
+            };
+            Some(SheetTile { id: cell.id.0.clone(), image: tile_image(cell, term)? })
+        };
+        let tiles = rows.iter().map(|r| cols.iter().map(|c| tile(r, c)).collect()).collect();
+        let mut title: Vec<String> =
             per.iter().zip(&key).filter(|(a, _)| **a != "path").map(|(a, v)| format!("{a} {v}")).collect();
-        let name = format!("sheets/{}_x_{}__{}.png", spec.rows, spec.cols, file_safe(&key.join("_")));
+        // A sheet of one term is named and titled by it, beside the image's sheet of the same axes.
+        let term = Some(shown).filter(|s| *s != WHOLE_IMAGE && spec.rows != TERM_AXIS && spec.cols != TERM_AXIS);
+        if let Some(term) = term {
+            title.insert(0, term.replace('_', " "));
+        }
+        let suffix = term.map(|t| format!("_{t}")).unwrap_or_default();
+        let name = format!("sheets/{}_x_{}{suffix}__{}.png", spec.rows, spec.cols, file_safe(&key.join("_")));
         out.push(SheetLayout { name, title: title.join("  "), rows, cols, tiles });
     }
     out
@@ -237,7 +285,7 @@ pub fn write(run: &RunData, specs: &[SheetSpec]) -> Result<Vec<String>, Error> {
             let tiles: Vec<Vec<Option<std::path::PathBuf>>> = sheet
                 .tiles
                 .iter()
-                .map(|row| row.iter().map(|t| t.as_ref().map(|id| run.cell_dir(id).join("image.png"))).collect())
+                .map(|row| row.iter().map(|t| t.as_ref().map(|t| run.cell_dir(&t.id).join(&t.image))).collect())
                 .collect();
             jobs.push(SheetJob { name: sheet.name, title: sheet.title, rows: sheet.rows, cols: sheet.cols, tiles });
         }

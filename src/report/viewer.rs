@@ -42,6 +42,9 @@ pub struct ViewerData {
     pub links: Vec<(String, String)>,
     /// LDR-FLIP's filters, for FLIP of A against B in the page.
     pub flip: ViewerFlip,
+    /// The term layers the run's cells have (`[outputs] terms`), in their records' order: the page
+    /// can show each instead of the image (`terms/<name>.png`).
+    pub terms: Vec<String>,
 }
 
 /// `compare::gpu::flip_filters`: spatial weights (Y, Cx, Cz₁, Cz₂ per tap), feature weights
@@ -87,7 +90,7 @@ pub struct ViewerAxis {
 
 /// One cell: id, the index of its value on every axis, the index of the cell it is a twin of and
 /// of the cell it was compared with (−1: none), its means (LDR-FLIP, SSIM, HDR-FLIP; null: not
-/// computed), GPU median ms, its plan's index, flags (1: FLIP/SSIM maps, 2: pixels.js), its size,
+/// computed), GPU median ms, its plan's index, flags (1: FLIP/SSIM maps, 2: pixels.js, 4: term layers), its size,
 /// its reference's label when that is not a cell of the run, and its other timings.
 #[derive(Debug, Serialize)]
 pub struct ViewerCell(
@@ -172,6 +175,7 @@ pub fn data(run: &RunData, links: Vec<(String, String)>) -> ViewerData {
         let plan = intern(&mut plans, &c.passes);
         let maps = c.metrics.maps.is_some() as u32;
         let pixels = (run.cell_dir(&c.id.0).join(crate::images::pixels::PIXELS_FILE).is_file() as u32) << 1;
+        let layers = (c.terms.as_ref().is_some_and(|t| !t.layers.is_empty()) as u32) << 2;
         let round = |v: Option<f64>| v.map(|x| (x * 1e6).round() / 1e6);
         let passes = c
             .timing
@@ -191,7 +195,7 @@ pub fn data(run: &RunData, links: Vec<(String, String)>) -> ViewerData {
             [round(c.metrics.ldr_flip()), round(c.metrics.ldr_ssim()), round(c.metrics.hdr_flip())],
             round(c.gpu_median_ms()),
             plan,
-            maps | pixels,
+            maps | pixels | layers,
             [c.image.width, c.image.height],
             reference_label,
             timing,
@@ -217,6 +221,15 @@ pub fn data(run: &RunData, links: Vec<(String, String)>) -> ViewerData {
         pruned: run.run.pruned.clone(),
         links,
         flip: ViewerFlip::new(),
+        terms: {
+            let mut terms: Vec<String> = Vec::new();
+            for l in run.cells.iter().filter_map(|c| c.terms.as_ref()).flat_map(|t| &t.layers) {
+                if !terms.contains(&l.name) {
+                    terms.push(l.name.clone());
+                }
+            }
+            terms
+        },
     }
 }
 
@@ -272,6 +285,7 @@ mod tests {
             pruned: Vec::new(),
             links: Vec::new(),
             flip: ViewerFlip::new(),
+            terms: Vec::new(),
         };
         assert!(!data_script(&data).unwrap().contains("</script>"));
     }

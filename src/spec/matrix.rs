@@ -958,11 +958,34 @@ impl Matrix {
 
         let sheets = file.sheets.clone().unwrap_or_else(crate::spec::sheets::default_specs);
         for (i, sheet) in sheets.iter().enumerate() {
+            let terms = file.outputs.terms;
+            let needs_terms = |key: &str, value: &str| {
+                c.err(
+                    &format!("sheets[{i}].{key}"),
+                    &format!("`{value}` shows term layers, which only a run with `[outputs] terms = true` draws"),
+                )
+            };
             for (k, axis) in [("rows", &sheet.rows), ("cols", &sheet.cols)] {
+                if axis == crate::spec::sheets::TERM_AXIS {
+                    if !terms {
+                        return Err(needs_terms(k, axis).into());
+                    }
+                    continue;
+                }
                 if super::axes::find(axis).is_none() {
-                    return Err(
-                        unknown_name(origin, &format!("sheets[{i}].{k}"), "axis", axis, &super::axes::names()).into()
-                    );
+                    let mut allowed = super::axes::names();
+                    allowed.push(crate::spec::sheets::TERM_AXIS);
+                    return Err(unknown_name(origin, &format!("sheets[{i}].{k}"), "axis", axis, &allowed).into());
+                }
+            }
+            if let Some(image) = sheet.image.as_deref().filter(|i| *i != crate::spec::sheets::WHOLE_IMAGE) {
+                let mut allowed = vec![crate::spec::sheets::WHOLE_IMAGE];
+                allowed.extend(crate::pipelines::terms::LAYER_NAMES);
+                if !allowed.contains(&image) {
+                    return Err(unknown_name(origin, &format!("sheets[{i}].image"), "image", image, &allowed).into());
+                }
+                if !terms {
+                    return Err(needs_terms("image", image).into());
                 }
             }
             if sheet.rows == sheet.cols {

@@ -135,7 +135,7 @@ fn sweeps_over_model_parameters_colour_and_view_render_and_sheet_every_cell() {
             .into_iter()
             .flat_map(|s| {
                 assert!(run.dir.join(&s.name).is_file(), "{}", s.name);
-                s.tiles.into_iter().flatten().flatten()
+                s.tiles.into_iter().flatten().flatten().map(|t| t.id)
             })
             .collect();
         placed.sort();

@@ -163,3 +163,31 @@ height = 32
     let err = read_exr_layer(&cell.join("image.exr"), "direct_diffuse").unwrap_err().to_string();
     assert!(err.contains("direct_diffuse"), "{err}");
 }
+
+/// A sheet of terms in a run that draws none, or of a layer that does not exist, is refused
+/// before anything renders: exit 2, the key, the value and what is allowed.
+#[test]
+fn term_sheets_are_checked_against_the_outputs() {
+    let tmp = tempfile::tempdir().unwrap();
+    let matrix = |name: &str, extra: &str| {
+        let body = format!(
+            "name = \"{name}\"\ncompositions = [\"default\"]\npipelines = [\"urp\"]\nshaders = [\"lit\"]\npresets = [\"plastic\"]\n{extra}"
+        );
+        crate::common::write_matrix(tmp.path(), &format!("{name}.toml"), &body)
+    };
+    let refused = |path: std::path::PathBuf, needles: &[&str]| {
+        let (code, _, err) = crate::common::shadematrix(tmp.path(), &["list", path.to_str().unwrap()], &[]);
+        assert_eq!(code, 2, "{err}");
+        for n in needles {
+            assert!(err.contains(n), "`{n}` not in: {err}");
+        }
+    };
+    refused(
+        matrix("no_terms", "sheets = [{ rows = \"pipeline\", cols = \"term\" }]\n"),
+        &["no_terms.toml", "sheets[0].cols", "[outputs] terms = true"],
+    );
+    refused(
+        matrix("typo", "sheets = [{ rows = \"pipeline\", cols = \"preset\", image = \"direct_specualr\" }]\n[outputs]\nterms = true\n"),
+        &["typo.toml", "sheets[0].image", "direct_specualr", "direct_specular"],
+    );
+}

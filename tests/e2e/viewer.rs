@@ -367,6 +367,7 @@ fn a_ten_thousand_cell_run_opens_in_under_two_seconds() {
         pruned: Vec::new(),
         links: Vec::new(),
         flip: shadematrix::report::viewer::ViewerFlip::new(),
+        terms: Vec::new(),
     };
     std::fs::write(tmp.path().join(DATA_FILE), data_script(&data).unwrap()).unwrap();
     std::fs::write(tmp.path().join("index.html"), page("synthetic").unwrap()).unwrap();
@@ -379,4 +380,31 @@ fn a_ten_thousand_cell_run_opens_in_under_two_seconds() {
     set(&mut b, "a-smoothness", "13");
     assert_eq!(shown(&mut b).0, "comp0__pipe0__shader0__preset0__s13");
     assert!(b.errors.iter().all(|e| e.contains("s13/image.png")), "console errors: {:?}", b.errors);
+}
+
+/// A run with term layers offers them: the *show* picker lists every layer, picking one shows
+/// each cell's layer PNG in its stage, and the choice travels in the URL fragment.
+#[test]
+fn the_viewer_shows_a_cells_term_layers() {
+    let Some(binary) = crate::common::chromium() else { return };
+    let tmp = tempfile::tempdir().unwrap();
+    let body = "name = \"viewer_terms\"\ncompositions = [\"default\"]\npipelines = [\"urp\", \"hdrp\"]\nshaders = [\"lit\"]\npresets = [\"plastic\"]\n[outputs]\nterms = true\n[image]\nwidth = 32\nheight = 32\n";
+    let run = crate::common::run_matrix(tmp.path(), body, "run");
+    let mut b = Browser::launch(&binary);
+    b.open(&file_url(&run.join("index.html")));
+    assert_eq!(b.eval("document.getElementById('term-bar').hidden"), json!(false));
+    let options = b.eval("Array.from(document.getElementById('term').options).map(function(o){return o.value;})");
+    for layer in ["image", "direct_diffuse", "direct_specular", "indirect_specular", "occlusion"] {
+        assert!(options.as_array().unwrap().contains(&json!(layer)), "{options}");
+    }
+    assert!(img_srcs(&mut b).iter().all(|s| s.ends_with("/image.png")), "{:?}", img_srcs(&mut b));
+    set(&mut b, "term", "direct_specular");
+    let srcs = img_srcs(&mut b);
+    assert!(!srcs.is_empty() && srcs.iter().all(|s| s.ends_with("/terms/direct_specular.png")), "{srcs:?}");
+    for s in &srcs {
+        assert!(run.join(s).is_file(), "{s}");
+    }
+    let hash = b.eval("location.hash");
+    assert!(hash.as_str().unwrap().contains("term=direct_specular"), "{hash}");
+    assert!(b.errors.is_empty(), "{:?}", b.errors);
 }

@@ -20,8 +20,13 @@
   var state = {
     a: cells.length ? cells[0][1].slice() : axes.map(function () { return 0; }),
     b: null, link: true, mode: 'side', overlay: 'none', opacity: 0.6, zoom: 2, wipe: 0.5,
-    px: null, flickerB: false
+    px: null, flickerB: false, term: 'image'
   };
+  // The picture of cell i shown: its image, or the chosen term layer where the cell has layers.
+  function picture(i) {
+    if (state.term !== 'image' && (cells[i][7] & 4)) return cellDir(i) + '/terms/' + state.term + '.png';
+    return cellDir(i) + '/image.png';
+  }
   state.b = state.a.slice();
   // B starts as A in another pipeline where the run has one.
   if (AXIS.pipeline !== undefined) {
@@ -126,6 +131,12 @@
     });
   });
   $('overlay').addEventListener('input', function () { state.overlay = $('overlay').value; update(); });
+  (D.terms || []).forEach(function (t) {
+    var o = document.createElement('option'); o.value = t; o.textContent = t.replace(/_/g, ' ');
+    $('term').appendChild(o);
+  });
+  $('term-bar').hidden = !(D.terms || []).length;
+  $('term').addEventListener('input', function () { state.term = $('term').value; update(); });
   $('opacity').addEventListener('input', function () { state.opacity = +$('opacity').value; update(); });
   $('zoom').addEventListener('input', function () { state.zoom = +$('zoom').value; update(); });
   document.addEventListener('keydown', function (e) {
@@ -400,7 +411,7 @@
     var s = document.createElement('div');
     s.className = 'stage';
     if (i === null) return s;
-    var c = cells[i], base = img(cellDir(i) + '/image.png');
+    var c = cells[i], base = img(picture(i));
     base.style.width = c[8][0] * state.zoom + 'px'; base.style.height = c[8][1] * state.zoom + 'px';
     s.appendChild(base);
     var o = overlayFor(i, other);
@@ -428,7 +439,7 @@
   function wipeStage(a, b) {
     var s = stage(a, b);
     if (a === null || b === null) return s;
-    var c = cells[b], top = img(cellDir(b) + '/image.png', 'b-clip');
+    var c = cells[b], top = img(picture(b), 'b-clip');
     top.style.width = c[8][0] * state.zoom + 'px'; top.style.height = c[8][1] * state.zoom + 'px';
     top.style.clipPath = 'inset(0 0 0 ' + (state.wipe * 100).toFixed(2) + '%)';
     top.id = 'wipe-b';
@@ -471,8 +482,9 @@
   // One decoded image per cell for the magnifier: a mouse move redraws, it does not reload.
   var magnifiedImages = new Map();
   function magnified(i) {
-    if (!magnifiedImages.has(i)) { var im = new Image(); im.src = cellDir(i) + '/image.png'; magnifiedImages.set(i, im); }
-    return magnifiedImages.get(i);
+    var src = picture(i);
+    if (!magnifiedImages.has(src)) { var im = new Image(); im.src = src; magnifiedImages.set(src, im); }
+    return magnifiedImages.get(src);
   }
   function readout() {
     var out = $('readout');
@@ -515,7 +527,7 @@
       parts.push('b.' + axes[k].name + '=' + encodeURIComponent(axes[k].values[state.b[k]]));
     });
     parts.push('link=' + (state.link ? 1 : 0), 'mode=' + state.mode, 'overlay=' + state.overlay,
-      'opacity=' + state.opacity, 'zoom=' + state.zoom, 'wipe=' + state.wipe.toFixed(3), 'flicker=' + (state.flickerB ? 'b' : 'a'));
+      'term=' + encodeURIComponent(state.term), 'opacity=' + state.opacity, 'zoom=' + state.zoom, 'wipe=' + state.wipe.toFixed(3), 'flicker=' + (state.flickerB ? 'b' : 'a'));
     if (state.px) parts.push('px=' + state.px.join(','));
     return parts.join('&');
   }
@@ -533,6 +545,7 @@
       } else if (key === 'link') state.link = val === '1';
       else if (key === 'mode' && /^(side|wipe|flicker)$/.test(val)) state.mode = val;
       else if (key === 'overlay' && /^(none|flip|ssim|flip_ab|ssim_ab|diff)$/.test(val)) state.overlay = val;
+      else if (key === 'term' && (val === 'image' || (D.terms || []).indexOf(val) >= 0)) state.term = val;
       else if (key === 'opacity') state.opacity = Math.min(1, Math.max(0, +val || 0));
       else if (key === 'zoom') state.zoom = Math.min(8, Math.max(1, Math.round(+val) || 2));
       else if (key === 'wipe') state.wipe = Math.min(1, Math.max(0, +val || 0));
@@ -566,6 +579,7 @@
     });
     $('link').checked = state.link;
     $('overlay').value = state.overlay;
+    $('term').value = state.term;
     $('opacity').value = state.opacity; $('opacity-value').textContent = state.opacity;
     $('zoom').value = state.zoom; $('zoom-value').textContent = state.zoom + '×';
     ['side', 'wipe', 'flicker'].forEach(function (m) { $('mode-' + m).classList.toggle('on', state.mode === m); });
