@@ -962,7 +962,7 @@ impl Matrix {
             let needs_terms = |key: &str, value: &str| {
                 c.err(
                     &format!("sheets[{i}].{key}"),
-                    &format!("`{value}` shows term layers, which only a run with `[outputs] terms = true` draws"),
+                    format!("`{value}` shows term layers, which only a run with `[outputs] terms = true` draws"),
                 )
             };
             for (k, axis) in [("rows", &sheet.rows), ("cols", &sheet.cols)] {
