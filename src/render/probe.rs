@@ -66,7 +66,7 @@ pub struct BrdfProbe {
     bind_layout: wgpu::BindGroupLayout,
     layout: wgpu::PipelineLayout,
     fgd: wgpu::TextureView,
-    pipelines: std::collections::HashMap<(Pipeline, String, String), wgpu::ComputePipeline>,
+    pipelines: std::collections::HashMap<(Pipeline, String, String, u32), wgpu::ComputePipeline>,
 }
 
 impl BrdfProbe {
@@ -104,13 +104,14 @@ impl BrdfProbe {
         gpu: &GpuContext,
         pipeline: Pipeline,
         model: &ShaderModel,
+        terms: u32,
     ) -> Result<&wgpu::ComputePipeline, Error> {
         // Keyed by source path too: user models may share a name across folders in one process.
-        let key = (pipeline, model.name.to_string(), model.source_path.to_string());
+        let key = (pipeline, model.name.to_string(), model.source_path.to_string(), terms);
         if !self.pipelines.contains_key(&key) {
             let source = wgsl::compose(wgsl::PassKind::BrdfProbe, Some(model));
             let module = gpu.shader_module(&format!("probe {}/{}", pipeline.name(), model.name), &source)?;
-            let constants = [("PIPELINE", pipeline.shader_id() as f64)];
+            let constants = [("PIPELINE", pipeline.shader_id() as f64), ("TERMS", terms as f64)];
             let compute = gpu.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some("brdf probe"),
                 layout: Some(&self.layout),
@@ -143,11 +144,24 @@ impl BrdfProbe {
         model: &ShaderModel,
         inputs: &[ProbeInput],
     ) -> Result<Vec<ProbeOutputFull>, Error> {
+        self.evaluate_terms(gpu, pipeline, model, inputs, crate::pipelines::terms::LIGHT)
+    }
+
+    /// The same with the model compiled for the term bits `terms` (pipelines::terms): each lobe
+    /// kept only where its term is, as a term layer draws it.
+    pub fn evaluate_terms(
+        &mut self,
+        gpu: &GpuContext,
+        pipeline: Pipeline,
+        model: &ShaderModel,
+        inputs: &[ProbeInput],
+        terms: u32,
+    ) -> Result<Vec<ProbeOutputFull>, Error> {
         if inputs.is_empty() {
             return Ok(Vec::new());
         }
-        self.pipeline(gpu, pipeline, model)?;
-        let compute = &self.pipelines[&(pipeline, model.name.to_string(), model.source_path.to_string())];
+        self.pipeline(gpu, pipeline, model, terms)?;
+        let compute = &self.pipelines[&(pipeline, model.name.to_string(), model.source_path.to_string(), terms)];
         let device = &gpu.device;
         let input_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("probe inputs"),
