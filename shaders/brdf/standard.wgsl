@@ -91,3 +91,9 @@ fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>)
     return indirect_diffuse(st.diff_color * gi_diffuse)
         + indirect_specular(surface_reduction * gi_specular * f_schlick_lerp(st.spec_color, vec3<f32>(grazing_term), nv));
 }
+
+// The Height Map's scale (`_Parallax`; registry PARALLAX, slot 3): the passes offset the maps'
+// uv by ParallaxOffset1Step with it (conventions.wgsl parallax_offset)
+fn model_height_scale(params0: vec4<f32>, params1: vec4<f32>) -> f32 {
+    return params0.w;
+}

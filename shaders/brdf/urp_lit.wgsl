@@ -69,3 +69,9 @@ fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>)
     return indirect_diffuse(gi_diffuse * b.diffuse)
         + indirect_specular(env * (1.0 / (b.roughness2 + 1.0)) * mix(b.specular, vec3<f32>(b.grazing_term), fresnel_term));
 }
+
+// The Height Map's scale (`_Parallax`; registry PARALLAX, slot 3): the passes offset the maps'
+// uv by ParallaxOffset1Step with it (conventions.wgsl parallax_offset)
+fn model_height_scale(params0: vec4<f32>, params1: vec4<f32>) -> f32 {
+    return params0.w;
+}

@@ -96,3 +96,14 @@ fn angle_attenuation(cos_angle: f32, cos_outer: f32, cos_inner: f32) -> f32 {
     let a = sat((cos_angle - cos_outer) / max(0.001, cos_inner - cos_outer));
     return a * a;
 }
+
+// ParallaxOffset1Step (built-in UnityCG.cginc, URP ParallaxMapping.hlsl): the height h (0..1) of
+// the height map at uv, scaled about its middle, h·height − height/2, along the tangent-space view
+// direction, whose z is raised by 0.42 to bound the shift at grazing angles. Twin:
+// materials::parallax_offset.
+fn parallax_offset(h: f32, height: f32, view_ts: vec3<f32>) -> vec2<f32> {
+    let hh = h * height - height / 2.0;
+    var v = normalize(view_ts);
+    v.z += 0.42;
+    return hh * (v.xy / v.z);
+}

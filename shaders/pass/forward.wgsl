@@ -24,6 +24,8 @@ struct VertexOut {
     @location(4) tangent: vec4<f32>,
     // ForwardAdd: the light this draw adds (the draw's instance index)
     @location(5) @interpolate(flat) add_light: u32,
+    // The view direction in the tangent frame, for parallax (zero without a tangent)
+    @location(6) view_ts: vec3<f32>,
 };
 
 struct FragmentOut {
@@ -72,7 +74,40 @@ fn vs_main(in: VertexIn) -> VertexOut {
     }
     out.add_light = in.instance;
     out.tangent = vec4<f32>((object.model * vec4<f32>(in.tangent.xyz, 0.0)).xyz, in.tangent.w);
+    out.view_ts = tangent_view(out.tangent, out.normal, frame.camera_pos.xyz - world.xyz);
     return out;
+}
+
+// The vertex's view direction in its tangent frame (t, b = cross(n, t)·w, n), interpolated and
+// normalised per fragment as both engines do: built-in's TANGENT_SPACE_ROTATION of the
+// unnormalised ObjSpaceViewDir, URP's GetViewDirectionTangentSpace of the normalised view
+// direction with the frame scaled by 1/|n|. Zero where the mesh has no tangent.
+fn tangent_view(tangent: vec4<f32>, n: vec3<f32>, to_eye: vec3<f32>) -> vec3<f32> {
+    if (tangent.w == 0.0 || dot(n, n) <= 1e-30) {
+        return vec3<f32>(0.0);
+    }
+    let b = cross(n, tangent.xyz) * sign(tangent.w);
+    if (PIPELINE == PIPELINE_URP) {
+        let v = normalize(to_eye) / length(n);
+        return vec3<f32>(dot(tangent.xyz, v), dot(b, v), dot(n, v));
+    }
+    return vec3<f32>(dot(tangent.xyz, to_eye), dot(b, to_eye), dot(n, to_eye));
+}
+
+// The uv the subject's maps are read at: offset by its height map where its model has a Height
+// Map input and a scale (Standard's and URP Lit's `_PARALLAXMAP`; the height in the normal map's
+// alpha, materials::MapLevel). Fixed objects and flat cells read at uv.
+fn parallax_uv(uv: vec2<f32>, view_ts: vec3<f32>) -> vec2<f32> {
+    // Branches on uniforms only: the height is sampled with derivatives.
+    if (!is_textured() || object.flags.x != 1u) {
+        return uv;
+    }
+    let height = model_height_scale(frame.subject.model0, frame.subject.model1);
+    if (height <= 0.0) {
+        return uv;
+    }
+    let h = map_texel(1, uv).a;
+    return select(uv + parallax_offset(h, height, view_ts), uv, all(view_ts == vec3<f32>(0.0)));
 }
 
 // Built-in's Shade4PointLights (UnityCG.cginc): for each vertex light, Lambert with
@@ -508,12 +543,13 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> FragmentOut {
     let face = cross(dpdx(in.world_pos), dpdy(in.world_pos));
     shading_pixel = in.clip.xy;
     add_light_index = in.add_light;
-    let n = mapped_normal(shading_normal(in.normal, face, in.world_pos, front), in.tangent, in.uv);
+    let uv = parallax_uv(in.uv, in.view_ts);
+    let n = mapped_normal(shading_normal(in.normal, face, in.world_pos, front), in.tangent, uv);
     var out: FragmentOut;
-    let s = material_at(in.uv);
+    let s = material_at(uv);
     var glow = vec3<f32>(0.0);
     if (FORWARD_PASS != FORWARD_ADD) {
-        glow = emission(in.uv);
+        glow = emission(uv);
     }
     if (premultiplies_diffuse()) {
         diffuse_weight = material_alpha;
@@ -636,8 +672,9 @@ fn fs_gouraud(in: GouraudOut) -> FragmentOut {
 @fragment
 fn fs_depth_normals(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
     lod_clip(in.clip.xy, in.world_pos);
-    let n = mapped_normal(shading_normal(in.normal, cross(dpdx(in.world_pos), dpdy(in.world_pos)), in.world_pos, front), in.tangent, in.uv);
-    material_at(in.uv);
+    let uv = parallax_uv(in.uv, in.view_ts);
+    let n = mapped_normal(shading_normal(in.normal, cross(dpdx(in.world_pos), dpdy(in.world_pos)), in.world_pos, front), in.tangent, uv);
+    material_at(uv);
     clip_alpha();
     return vec4<f32>(n * 0.5 + 0.5, 1.0);
 }
@@ -658,8 +695,9 @@ struct GBufferOut {
 @fragment
 fn fs_gbuffer(in: VertexOut, @builtin(front_facing) front: bool) -> GBufferOut {
     lod_clip(in.clip.xy, in.world_pos);
-    let n = mapped_normal(shading_normal(in.normal, cross(dpdx(in.world_pos), dpdy(in.world_pos)), in.world_pos, front), in.tangent, in.uv);
-    let s = material_at(in.uv);
+    let uv = parallax_uv(in.uv, in.view_ts);
+    let n = mapped_normal(shading_normal(in.normal, cross(dpdx(in.world_pos), dpdy(in.world_pos)), in.world_pos, front), in.tangent, uv);
+    let s = material_at(uv);
     let v = normalize(frame.camera_pos.xyz - in.world_pos);
     shading_position = in.world_pos;
     screen_ao = load_screen_occlusion(in.clip.xy);
@@ -675,7 +713,7 @@ fn fs_gbuffer(in: VertexOut, @builtin(front_facing) front: bool) -> GBufferOut {
     // Emission joins the indirect light in RT3, as Unity's deferred paths write it.
     var lighting = vec3<f32>(ambient_occlusion());
     if (!draws_occlusion()) {
-        lighting = emitted(emission(in.uv));
+        lighting = emitted(emission(uv));
         if (draws_indirect()) {
             lighting += indirect_light(s, n, v, gi);
         }

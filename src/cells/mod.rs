@@ -594,7 +594,12 @@ fn render_key(c: &Cell, keyless: bool) -> String {
     };
     let mut key = format!("{}", c.composition_index);
     for row in crate::spec::axes::AXES.iter().filter(|row| !ignored(row.axis)) {
-        key.push_str(&format!("|{}={:?}", row.name, c.coords.get(row.axis)));
+        let mut value = c.coords.get(row.axis);
+        // A height map's scale moves the maps: a flat subject has none to move.
+        if let (crate::cells::coords::AxisValue::Params(p), false) = (&mut value, c.coords.textured) {
+            p.remove(crate::shading::registry::PARALLAX_PARAM);
+        }
+        key.push_str(&format!("|{}={:?}", row.name, value));
     }
     if r.color {
         key.push_str(&format!("|c{:?}", m.base_color_linear));

@@ -125,7 +125,7 @@ fn image_maps(t: &TextureFile, size: usize) -> MaterialMaps {
     with_mips(MapLevel {
         size,
         albedo,
-        normal: vec![[0.0, 0.0, 1.0, 1.0]; n],
+        normal: vec![[0.0, 0.0, 1.0, super::NO_HEIGHT]; n],
         mask: vec![[1.0, 1.0, 1.0, 0.5]; n],
         emission: Vec::new(),
     })

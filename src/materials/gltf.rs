@@ -71,7 +71,8 @@ pub fn maps_at(m: &GltfMaterial, size: usize) -> MaterialMaps {
             .map(|t| {
                 let n = [(2.0 * t[0] - 1.0) * scale, (2.0 * t[1] - 1.0) * scale, 2.0 * t[2] - 1.0];
                 let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt().max(1e-6);
-                [n[0] / len, n[1] / len, n[2] / len, 1.0]
+                // glTF has no height map (its KHR_materials_displacement is not taken)
+                [n[0] / len, n[1] / len, n[2] / len, super::NO_HEIGHT]
             })
             .collect(),
         // Smoothness = 1 − rf·g = (1 − rf) + rf·(1 − g): the offset from the factor's smoothness.

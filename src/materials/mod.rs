@@ -24,13 +24,19 @@ use rayon::prelude::*;
 /// Texels per side of the finest level.
 pub const MAP_SIZE: usize = 256;
 
+/// The height of a material without a height map: parallax offsets by h·scale − scale/2, so a
+/// height of one half moves nothing.
+pub const NO_HEIGHT: f32 = 0.5;
+
 /// One mip level: RGBA f32 per texel, row-major, row 0 at v = 0.
 #[derive(Debug, Clone)]
 pub struct MapLevel {
     pub size: usize,
     /// Linear albedo multiplier (mean 1 per channel at level 0), a = 1.
     pub albedo: Vec<[f32; 4]>,
-    /// Tangent-space normal, xyz in −1..1, a = 1.
+    /// Tangent-space normal, xyz in −1..1; a: the height map (0..1, the relief the normals come
+    /// from, what built-in's and URP's `_ParallaxMap` holds in G), `NO_HEIGHT` where the material
+    /// has none.
     pub normal: Vec<[f32; 4]>,
     /// HDRP mask layout: r metallic multiplier (1), g occlusion, b detail mask, a smoothness offset
     /// stored as 0.5 + offset.
@@ -95,6 +101,10 @@ pub fn generate(preset: &str, size: usize) -> MaterialMaps {
     };
     // Central differences in texels → slope per unit of UV; `bump` scales heights to UV units.
     let k = pattern.bump * size as f64 / 2.0;
+    // The height map spans 0..1 over the tile, as a height texture's values do.
+    let (lo, hi) =
+        texels.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), t| (lo.min(t.height), hi.max(t.height)));
+    let height = |h: f64| if hi > lo { ((h - lo) / (hi - lo)) as f32 } else { NO_HEIGHT };
     let mut level = MapLevel {
         size,
         albedo: Vec::with_capacity(texels.len()),
@@ -113,7 +123,7 @@ pub fn generate(preset: &str, size: usize) -> MaterialMaps {
             (t.albedo[2] / mean[2]) as f32,
             1.0,
         ]);
-        level.normal.push([(-du / len) as f32, (-dv / len) as f32, (1.0 / len) as f32, 1.0]);
+        level.normal.push([(-du / len) as f32, (-dv / len) as f32, (1.0 / len) as f32, height(t.height)]);
         level.mask.push([
             1.0,
             t.occlusion.clamp(0.0, 1.0) as f32,
@@ -122,6 +132,18 @@ pub fn generate(preset: &str, size: usize) -> MaterialMaps {
         ]);
     }
     with_mips(level)
+}
+
+/// ParallaxOffset1Step (built-in UnityCG.cginc, URP ParallaxMapping.hlsl): the uv shift of a
+/// height `h` (0..1) at scale `height` seen along the tangent-space view direction `view_ts`,
+/// (h·height − height/2)·v.xy/(v.z + 0.42) with v normalised. The f64 twin of
+/// conventions.wgsl `parallax_offset`.
+pub fn parallax_offset(h: f64, height: f64, view_ts: [f64; 3]) -> [f64; 2] {
+    let hh = h * height - height / 2.0;
+    let len = (view_ts[0] * view_ts[0] + view_ts[1] * view_ts[1] + view_ts[2] * view_ts[2]).sqrt();
+    let v = view_ts.map(|c| c / len);
+    let z = v[2] + 0.42;
+    [hh * v[0] / z, hh * v[1] / z]
 }
 
 /// Bilinear lookup of RGBA texels (row-major, `width` × `height`) at (u, v), texel centres at
@@ -172,7 +194,7 @@ fn downsample(l: &MapLevel) -> MapLevel {
             out.albedo.push(avg(&l.albedo, x, y));
             let mut n = avg(&l.normal, x, y);
             let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt().max(1e-6);
-            n = [n[0] / len, n[1] / len, n[2] / len, 1.0];
+            n = [n[0] / len, n[1] / len, n[2] / len, n[3]];
             out.normal.push(n);
             out.mask.push(avg(&l.mask, x, y));
             if !l.emission.is_empty() {

@@ -81,7 +81,7 @@ impl MaterialTextures {
         let one = |v: [f32; 4], label: &str| upload(device, queue, label, &[(1, &[v][..])]);
         MaterialTextures {
             albedo: one([1.0; 4], "neutral albedo"),
-            normal: one([0.0, 0.0, 1.0, 1.0], "neutral normal"),
+            normal: one([0.0, 0.0, 1.0, crate::materials::NO_HEIGHT], "neutral normal"),
             mask: one([1.0, 1.0, 1.0, 0.5], "neutral mask"),
             emission: one([1.0; 4], "neutral emission"),
         }

@@ -354,6 +354,25 @@ const SPECULAR_HIGHLIGHTS_TOGGLE: ParamSpec = ParamSpec {
 /// HDRP Lit's: slot 0 is its energy compensation.
 const SPECULAR_SETUP_HDRP: ParamSpec = specular_setup(1);
 
+/// The name of the height map's scale parameter: it moves the material's maps, so a cell without
+/// maps draws the same image whatever its value (cells::render_key).
+pub const PARALLAX_PARAM: &str = "parallax";
+
+/// Standard's and URP Lit's Height Map scale (`_Parallax`, compiling `_PARALLAXMAP` where a height
+/// map is assigned): the maps are read at uv + ParallaxOffset1Step(h, scale, viewDirTS)
+/// (UnityStandardInput.cginc Parallax, URP ParallaxMapping.hlsl), h the preset's height map.
+/// 0 is the engines' default, no height map; the inspectors offer 0.005–0.08.
+const PARALLAX: ParamSpec = ParamSpec {
+    name: Cow::Borrowed(PARALLAX_PARAM),
+    slot: 3,
+    default: 0.0,
+    min: 0.0,
+    max: 0.08,
+    doc: Cow::Borrowed(
+        "the height map's scale (_Parallax, 0.005–0.08 in the inspector): the maps are read at the parallax-offset uv; 0 (default): no height map. Needs the textured preset (`materials`)",
+    ),
+};
+
 /// A cell's sliders in the specular workflow where the model's `specular_setup` parameter is on:
 /// the metallic workflow's look carried over (albedo = colour·(1 − metallic), specular colour =
 /// the F0 lerp(0.04, colour, metallic)), metallic 0 as the engines' specular shaders have none.
@@ -663,7 +682,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         reads: ALL_AXES,
         expected: RECIPROCAL_ONLY,
         twin: &twin::Standard,
-        params: &[SPECULAR_SETUP, SPECULAR_HIGHLIGHTS_TOGGLE],
+        params: &[SPECULAR_SETUP, SPECULAR_HIGHLIGHTS_TOGGLE, PARALLAX],
         mapping: METALLIC_WORKFLOW,
         from_sliders: metallic_workflow,
         summary: "built-in Standard, BRDF1: Disney diffuse, approx. joint Smith, GGX, clamps (models.md#standard)",
@@ -720,7 +739,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         reads: ALL_AXES,
         expected: RECIPROCAL_ONLY,
         twin: &twin::UrpLit,
-        params: &[SPECULAR_SETUP, SPECULAR_HIGHLIGHTS_TOGGLE, ENVIRONMENT_REFLECTIONS_OFF],
+        params: &[SPECULAR_SETUP, SPECULAR_HIGHLIGHTS_TOGGLE, ENVIRONMENT_REFLECTIONS_OFF, PARALLAX],
         mapping: METALLIC_WORKFLOW,
         from_sliders: metallic_workflow,
         summary: "URP Lit: minimal Cook-Torrance specular, Lambert without 1/π, EnvironmentBRDF (models.md#urp-lit)",

@@ -27,6 +27,11 @@ pub fn pipeline_ids() -> String {
 /// there: the classic models have no such surface and are not drawn with it).
 const DEFAULT_MODEL_HOOKS: &str = "fn model_reflectivity(s: Surface) -> f32 {\n    return 0.0;\n}\n";
 
+/// The height map's scale a model reads from its parameters (0: no parallax), for models without
+/// a Height Map input.
+const DEFAULT_HEIGHT_HOOK: &str =
+    "fn model_height_scale(params0: vec4<f32>, params1: vec4<f32>) -> f32 {\n    return 0.0;\n}\n";
+
 /// The shared math, the pipeline ids, the pipeline conventions and the shared BRDF terms: what
 /// every lighting module (and a test kernel of its terms) starts with.
 pub fn common() -> String {
@@ -166,6 +171,9 @@ pub fn compose_mapped(pass: PassKind, model: Option<&ShaderModel>) -> (String, L
         parts.push((&m.source_path, &m.wgsl));
         if !m.wgsl.contains("fn model_reflectivity") {
             parts.push(("<default model hooks>", DEFAULT_MODEL_HOOKS));
+        }
+        if !m.wgsl.contains("fn model_height_scale") {
+            parts.push(("<default model hooks>", DEFAULT_HEIGHT_HOOK));
         }
         parts.push(("<generated from the model: lobes>", &splits));
     }

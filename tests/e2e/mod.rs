@@ -24,6 +24,7 @@ mod lights;
 mod lod;
 mod materials;
 mod models;
+mod parallax;
 mod passes;
 mod paths;
 mod probes;

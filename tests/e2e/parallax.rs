@@ -1,0 +1,113 @@
+//! Height maps (Standard's and URP Lit's `_Parallax`, registry PARALLAX): the WGSL
+//! ParallaxOffset1Step against its f64 twin, the subject's maps moved by it in both pipelines'
+//! frames, and cells without maps twins along the parameter.
+
+use shadematrix::gpu::GpuContext;
+use shadematrix::materials::parallax_offset;
+
+#[test]
+fn parallax_offset_matches_its_twin() {
+    let kernel = r#"
+@group(0) @binding(0) var<storage, read> inputs: array<vec4<f32>>;
+@group(0) @binding(1) var<storage, read_write> outputs: array<vec4<f32>>;
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    if (id.x >= arrayLength(&inputs) / 2u) {
+        return;
+    }
+    let a = inputs[2u * id.x];
+    let b = inputs[2u * id.x + 1u];
+    outputs[id.x] = vec4<f32>(parallax_offset(a.x, a.y, b.xyz), 0.0, 0.0);
+}
+"#;
+    let source = [shadematrix::shading::wgsl::common().as_str(), kernel].join("\n");
+    let mut cases = Vec::new();
+    for h in [0.0, 0.25, 0.5, 0.9, 1.0] {
+        for height in [0.005, 0.02, 0.08] {
+            for v in [[0.0, 0.0, 1.0], [0.3, -0.2, 0.9], [0.9, 0.1, 0.1], [-0.5, 0.7, 0.02], [2.0, 1.0, 3.0]] {
+                cases.push((h, height, v));
+            }
+        }
+    }
+    let inputs: Vec<[f32; 4]> = cases
+        .iter()
+        .flat_map(|(h, height, v)| {
+            [[*h as f32, *height as f32, 0.0, 0.0], [v[0] as f32, v[1] as f32, v[2] as f32, 0.0]]
+        })
+        .collect();
+    let gpu = GpuContext::new().unwrap();
+    let got = crate::common::run_kernel(&gpu, &source, &inputs, cases.len(), &[]);
+    let mut worst = 0.0f64;
+    for ((h, height, v), g) in cases.iter().zip(&got) {
+        let want = parallax_offset(*h, *height, *v);
+        for k in 0..2 {
+            worst = worst.max((g[k] as f64 - want[k]).abs() / height.max(1e-9));
+        }
+    }
+    // At h = ½ nothing moves; looking straight down nothing moves.
+    assert_eq!(parallax_offset(0.5, 0.08, [0.3, 0.2, 0.9]), [0.0, 0.0]);
+    assert_eq!(parallax_offset(1.0, 0.08, [0.0, 0.0, 1.0]), [0.0, 0.0]);
+    eprintln!("parallax offset GPU vs twin: worst |Δ|/scale {worst:.2e} over {} inputs", cases.len());
+    assert!(worst < 1e-5, "{worst:e}");
+}
+
+/// A textured subject with a height scale is drawn with its maps moved (built-in Standard, URP
+/// Lit), the fixed objects and the sky not; a flat subject's cells along the scale are twins;
+/// HDRP Lit, whose pixel displacement is a different technique, does not take the parameter.
+#[test]
+fn height_maps_move_the_subjects_maps_only() {
+    let tmp = tempfile::tempdir().unwrap();
+    let body = r#"
+name = "parallax"
+compositions = ["default"]
+pipelines = ["builtin", "urp", "hdrp"]
+shaders = ["standard", "lit"]
+presets = ["brick"]
+[sweep]
+textured = [true, false]
+[sweep.params]
+parallax = [0.0, 0.08]
+[image]
+width = 64
+height = 64
+"#;
+    let out = crate::common::run_matrix(tmp.path(), body, "run");
+    let records: Vec<shadematrix::record::cell::CellRecord> = std::fs::read_dir(out.join("cells"))
+        .unwrap()
+        .map(|e| serde_json::from_slice(&std::fs::read(e.unwrap().path().join("cell.json")).unwrap()).unwrap())
+        .collect();
+    let image = |r: &shadematrix::record::cell::CellRecord| {
+        let (_, _, px) =
+            shadematrix::images::encode::read_exr(&out.join("cells").join(&r.id.0).join("image.exr")).unwrap();
+        px
+    };
+    let mut checked = 0;
+    for r in records.iter().filter(|r| r.coords.params.get("parallax") == Some(&0.08)) {
+        let base = records
+            .iter()
+            .find(|b| {
+                b.coords.params.get("parallax") == Some(&0.0)
+                    && b.coords.pipeline == r.coords.pipeline
+                    && b.coords.textured == r.coords.textured
+            })
+            .expect("the cell at scale 0");
+        if !r.coords.textured {
+            assert!(r.twin_of.is_some(), "{}: a flat subject has no maps to move", r.id);
+            continue;
+        }
+        assert!(r.twin_of.is_none(), "{}", r.id);
+        let (a, b) = (image(r), image(base));
+        let changed = a.chunks_exact(4).zip(b.chunks_exact(4)).filter(|(p, q)| p != q).count();
+        let subject = r.stats.subject_pixels;
+        assert!(changed > subject / 4, "{}: {changed} pixels changed of {subject} subject pixels", r.id);
+        // The subject's pixels and the anti-aliased edge pixels it shares with what is behind it.
+        assert!(changed <= subject * 11 / 10, "{}: only the subject moves ({changed} of {subject})", r.id);
+        checked += 1;
+    }
+    assert_eq!(checked, 2, "built-in Standard and URP Lit");
+    assert!(
+        records.iter().all(|r| r.coords.pipeline != shadematrix::pipelines::Pipeline::Hdrp
+            || !r.coords.params.contains_key("parallax")),
+        "HDRP Lit has no such parameter"
+    );
+}
