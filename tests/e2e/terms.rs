@@ -192,72 +192,86 @@ fn term_sheets_are_checked_against_the_outputs() {
     );
 }
 
-/// The lobe masks split each lit model exactly where its f64 twin keeps the diffuse lobe apart
-/// (`Surface::diffuse_weight`): compiled for the specular terms the GPU gives the twin without
-/// its diffuse lobe, compiled for the diffuse terms the twin's difference, for the same inputs.
+/// Every built-in model's lobes as the GPU draws them under each term mask against its f64
+/// twin's (`SurfaceTwin::direct_lobes`, `indirect_lobes`), for the same inputs: the split is part
+/// of each formula. The premultiplied surfaces' diffuse weight is checked on the lit models,
+/// whose twins keep it: the specular masks give the twin at weight 0.
 #[test]
-fn lobe_masks_split_the_models_as_their_twins_do() {
+fn lobe_masks_split_every_model_as_its_twin_does() {
     use glam::DVec3;
-    use shadematrix::pipelines::terms::{DIRECT_DIFFUSE, DIRECT_SPECULAR, INDIRECT_DIFFUSE, INDIRECT_SPECULAR};
-    use shadematrix::pipelines::Pipeline;
+    use shadematrix::pipelines::terms::{
+        DIRECT_DIFFUSE, DIRECT_SPECULAR, EMISSION, INDIRECT_DIFFUSE, INDIRECT_SPECULAR,
+    };
     use shadematrix::render::probe::{BrdfProbe, ProbeInput};
     use shadematrix::shading::twin::Surface;
     let gpu = shadematrix::gpu::GpuContext::new().unwrap();
     let mut probe = BrdfProbe::new(&gpu);
-    let cases = [
-        (Pipeline::Builtin, "standard", true),
-        (Pipeline::Builtin, "standard_brdf2", true),
-        (Pipeline::Builtin, "standard_brdf3", true),
-        (Pipeline::Urp, "lit", true),
-        (Pipeline::Hdrp, "lit", true),
-        // Simple Lit premultiplies its lights' diffuse only: its indirect keeps the whole colour.
-        (Pipeline::Urp, "simple_lit", false),
-    ];
     let dir = |t: f64, p: f64| DVec3::new(t.sin() * p.cos(), t.cos(), t.sin() * p.sin());
     let (gi_d, gi_s) = (DVec3::new(0.3, 0.25, 0.2), DVec3::new(0.6, 0.5, 0.7));
-    for (pipeline, shader, indirect_split) in cases {
-        let model = crate::common::find_model(pipeline, shader).unwrap();
-        let twin = model.twin.unwrap();
-        let mut surfaces = Vec::new();
-        let mut inputs = Vec::new();
-        for (k, (m, sm)) in [(0.0, 0.3), (0.0, 0.85), (0.5, 0.6), (1.0, 0.9), (0.2, 0.1)].into_iter().enumerate() {
-            let sliders = shadematrix::shading::registry::Sliders {
-                base_color_linear: [0.7, 0.4, 0.2],
-                metallic: m,
-                smoothness: sm,
-            };
-            let mut s = model.surface(pipeline, &sliders).rounded_f32();
-            if shader == "simple_lit" {
-                s.params[0] = 1.0;
-                s.specular = DVec3::new(0.5, 0.5, 0.5);
+    let mut checked = 0;
+    for model in crate::common::models().models() {
+        let Some(twin) = model.twin else { continue };
+        for &pipeline in &model.pipelines {
+            let mut surfaces = Vec::new();
+            let mut inputs = Vec::new();
+            for (k, (m, sm)) in [(0.0, 0.3), (0.0, 0.85), (0.5, 0.6), (1.0, 0.9), (0.2, 0.1)].into_iter().enumerate() {
+                let sliders = shadematrix::shading::registry::Sliders {
+                    base_color_linear: [0.7, 0.4, 0.2],
+                    metallic: m,
+                    smoothness: sm,
+                };
+                let mut s = model.surface(pipeline, &sliders);
+                s.specular = DVec3::new(0.5, 0.45, 0.4);
+                if model.name == "simple_lit" {
+                    s.params[0] = 1.0;
+                }
+                let s = s.rounded_f32();
+                for j in 0..6 {
+                    let (n, v, l) =
+                        (DVec3::Y, dir(0.2 + 0.2 * j as f64, 0.3 * k as f64), dir(0.9 - 0.12 * j as f64, 2.0));
+                    inputs.push(ProbeInput::new(&s, n, v, l, gi_d, gi_s));
+                    surfaces.push((s, n, v, l));
+                }
             }
-            for j in 0..6 {
-                let (n, v, l) = (DVec3::Y, dir(0.2 + 0.2 * j as f64, 0.3 * k as f64), dir(0.9 - 0.12 * j as f64, 2.0));
-                inputs.push(ProbeInput::new(&s, n, v, l, gi_d, gi_s));
-                surfaces.push((s, n, v, l));
+            let mut worst = 0.0f64;
+            let masks = [DIRECT_DIFFUSE, DIRECT_SPECULAR, INDIRECT_DIFFUSE, INDIRECT_SPECULAR, EMISSION];
+            for bits in masks {
+                let got = probe.evaluate_terms(&gpu, pipeline, model, &inputs, bits).unwrap();
+                for (i, (s, n, v, l)) in surfaces.iter().enumerate() {
+                    let d = twin.direct_lobes(pipeline, s, *n, *v, *l);
+                    let ind = twin.indirect_lobes(pipeline, s, *n, *v, gi_d, gi_s);
+                    let (want_d, want_i) = match bits {
+                        DIRECT_DIFFUSE => (d.diffuse, DVec3::ZERO),
+                        DIRECT_SPECULAR => (d.specular, DVec3::ZERO),
+                        INDIRECT_DIFFUSE => (DVec3::ZERO, ind.diffuse),
+                        INDIRECT_SPECULAR => (DVec3::ZERO, ind.specular),
+                        _ => (d.emitted, ind.emitted),
+                    };
+                    let scale = d.sum().abs().max_element().max(ind.sum().abs().max_element()).max(1e-2);
+                    let as_d = |c: [f32; 3]| DVec3::new(c[0] as f64, c[1] as f64, c[2] as f64);
+                    let err = (as_d(got[i].0) - want_d)
+                        .abs()
+                        .max_element()
+                        .max((as_d(got[i].1) - want_i).abs().max_element());
+                    worst = worst.max(err / scale);
+                }
             }
+            // The lit models keep the premultiplied surfaces' diffuse weight in the diffuse lobe.
+            if model.splits_diffuse() {
+                let got =
+                    probe.evaluate_terms(&gpu, pipeline, model, &inputs, DIRECT_SPECULAR | INDIRECT_SPECULAR).unwrap();
+                for (i, (s, n, v, l)) in surfaces.iter().enumerate() {
+                    let none = Surface { diffuse_weight: 0.0, ..*s };
+                    let spec = twin.direct(pipeline, &none, *n, *v, *l);
+                    let scale = twin.direct(pipeline, s, *n, *v, *l).abs().max_element().max(1e-2);
+                    let g = DVec3::new(got[i].0[0] as f64, got[i].0[1] as f64, got[i].0[2] as f64);
+                    worst = worst.max((g - spec).abs().max_element() / scale);
+                }
+            }
+            eprintln!("{}/{}: lobes against the twin within {worst:e}", pipeline.name(), model.name);
+            assert!(worst <= 2e-4, "{}/{}: lobes differ from the twin's by {worst:e}", pipeline.name(), model.name);
+            checked += 1;
         }
-        let specular =
-            probe.evaluate_terms(&gpu, pipeline, model, &inputs, DIRECT_SPECULAR | INDIRECT_SPECULAR).unwrap();
-        let diffuse = probe.evaluate_terms(&gpu, pipeline, model, &inputs, DIRECT_DIFFUSE | INDIRECT_DIFFUSE).unwrap();
-        let mut worst = 0.0f64;
-        for (i, (s, n, v, l)) in surfaces.iter().enumerate() {
-            let no_diffuse = Surface { diffuse_weight: 0.0, ..*s };
-            let full_direct = twin.direct(pipeline, s, *n, *v, *l);
-            let spec_direct = twin.direct(pipeline, &no_diffuse, *n, *v, *l);
-            let full_indirect = twin.indirect(pipeline, s, *n, *v, gi_d, gi_s);
-            let spec_indirect = twin.indirect(pipeline, &no_diffuse, *n, *v, gi_d, gi_s);
-            let mut pairs = vec![(specular[i].0, spec_direct), (diffuse[i].0, full_direct - spec_direct)];
-            if indirect_split {
-                pairs.extend([(specular[i].1, spec_indirect), (diffuse[i].1, full_indirect - spec_indirect)]);
-            }
-            let scale = full_direct.max_element().max(full_indirect.max_element()).max(1e-2);
-            for (gpu, cpu) in pairs {
-                let gpu = DVec3::new(gpu[0] as f64, gpu[1] as f64, gpu[2] as f64);
-                worst = worst.max((gpu - cpu).abs().max_element() / scale);
-            }
-        }
-        eprintln!("{}/{shader}: lobes against the twin within {worst:e}", pipeline.name());
-        assert!(worst <= 1e-4, "{}/{shader}: lobes differ from the twin's by {worst:e}", pipeline.name());
     }
+    assert!(checked >= 40, "every (pipeline, model) with a twin: {checked}");
 }

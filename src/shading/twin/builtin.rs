@@ -2,7 +2,7 @@
 
 use glam::DVec3;
 
-use super::{safe_normalize, sat, Surface, SurfaceTwin};
+use super::{safe_normalize, sat, Lobes, Surface, SurfaceTwin};
 use crate::pipelines::Pipeline;
 
 /// specColor = lerp(0.04, albedo, metallic) (models.md#standard-brdf2 material setup).
@@ -24,16 +24,17 @@ pub fn spec_brdf2(nh: f64, lh: f64, a: f64) -> f64 {
 pub struct StandardBrdf2;
 
 impl SurfaceTwin for StandardBrdf2 {
-    fn direct(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
+    fn direct_lobes(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> Lobes {
         let h = safe_normalize(l + v, 0.001);
         let (nl, nh, lh) = (sat(n.dot(l)), sat(n.dot(h)), sat(l.dot(h)));
         let pr = 1.0 - s.smoothness;
-        (s.base_color * brdf2_one_minus_reflectivity(s) * s.diffuse_weight
-            + spec_brdf2(nh, lh, pr * pr) * brdf2_spec_color(s))
-            * nl
+        Lobes::split(
+            s.base_color * brdf2_one_minus_reflectivity(s) * s.diffuse_weight * nl,
+            spec_brdf2(nh, lh, pr * pr) * brdf2_spec_color(s) * nl,
+        )
     }
 
-    fn indirect(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, gi_d: DVec3, gi_s: DVec3) -> DVec3 {
+    fn indirect_lobes(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, gi_d: DVec3, gi_s: DVec3) -> Lobes {
         let nv = sat(n.dot(v));
         let pr = 1.0 - s.smoothness;
         let a = pr * pr;
@@ -41,8 +42,10 @@ impl SurfaceTwin for StandardBrdf2 {
         let surface_reduction = 1.0 - a * pr * (0.6 - 0.08 * pr);
         let grazing = sat(s.smoothness + (1.0 - omr));
         let fresnel = (1.0 - nv).powi(4);
-        gi_d * s.base_color * omr * s.diffuse_weight
-            + surface_reduction * gi_s * brdf2_spec_color(s).lerp(DVec3::splat(grazing), fresnel)
+        Lobes::split(
+            gi_d * s.base_color * omr * s.diffuse_weight,
+            surface_reduction * gi_s * brdf2_spec_color(s).lerp(DVec3::splat(grazing), fresnel),
+        )
     }
 
     fn reflectivity(&self, s: &Surface) -> f64 {
@@ -60,21 +63,24 @@ pub fn spec_brdf3(rl_pow4: f64, pr: f64) -> f64 {
 pub struct StandardBrdf3;
 
 impl SurfaceTwin for StandardBrdf3 {
-    fn direct(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
+    fn direct_lobes(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> Lobes {
         let nl = sat(n.dot(l));
         let r = v - 2.0 * n.dot(v) * n;
         let rl_pow4 = r.dot(l).powi(4);
-        (s.base_color * brdf2_one_minus_reflectivity(s) * s.diffuse_weight
-            + spec_brdf3(rl_pow4, 1.0 - s.smoothness) * brdf2_spec_color(s))
-            * nl
+        Lobes::split(
+            s.base_color * brdf2_one_minus_reflectivity(s) * s.diffuse_weight * nl,
+            spec_brdf3(rl_pow4, 1.0 - s.smoothness) * brdf2_spec_color(s) * nl,
+        )
     }
 
-    fn indirect(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, gi_d: DVec3, gi_s: DVec3) -> DVec3 {
+    fn indirect_lobes(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, gi_d: DVec3, gi_s: DVec3) -> Lobes {
         let nv = sat(n.dot(v));
         let omr = brdf2_one_minus_reflectivity(s);
         let grazing = sat(s.smoothness + (1.0 - omr));
-        gi_d * s.base_color * omr * s.diffuse_weight
-            + gi_s * brdf2_spec_color(s).lerp(DVec3::splat(grazing), (1.0 - nv).powi(4))
+        Lobes::split(
+            gi_d * s.base_color * omr * s.diffuse_weight,
+            gi_s * brdf2_spec_color(s).lerp(DVec3::splat(grazing), (1.0 - nv).powi(4)),
+        )
     }
 
     fn reflectivity(&self, s: &Surface) -> f64 {

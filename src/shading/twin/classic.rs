@@ -4,7 +4,7 @@
 use glam::DVec3;
 use std::f64::consts::{FRAC_1_PI, PI};
 
-use super::{f_schlick, irradiance_per_intensity as e_per_i, safe_normalize, sat, Surface, SurfaceTwin};
+use super::{f_schlick, irradiance_per_intensity as e_per_i, safe_normalize, sat, Lobes, Surface, SurfaceTwin};
 use crate::pipelines::Pipeline;
 
 pub fn shininess_from_smoothness(s: f64) -> f64 {
@@ -53,43 +53,45 @@ impl SurfaceTwin for HalfLambert {
         true
     }
 
-    fn direct(&self, p: Pipeline, s: &Surface, n: DVec3, _v: DVec3, l: DVec3) -> DVec3 {
-        super::lambert::fd_lambert(s.base_color) * e_per_i(p) * half_lambert_wrap(n.dot(l))
+    fn direct_lobes(&self, p: Pipeline, s: &Surface, n: DVec3, _v: DVec3, l: DVec3) -> Lobes {
+        Lobes::diffuse(super::lambert::fd_lambert(s.base_color) * e_per_i(p) * half_lambert_wrap(n.dot(l)))
     }
-    fn indirect(&self, _: Pipeline, s: &Surface, _: DVec3, _: DVec3, gi_d: DVec3, _: DVec3) -> DVec3 {
-        ambient(s, gi_d)
+    fn indirect_lobes(&self, _: Pipeline, s: &Surface, _: DVec3, _: DVec3, gi_d: DVec3, _: DVec3) -> Lobes {
+        Lobes::diffuse(ambient(s, gi_d))
     }
 }
 
 pub struct Phong;
 
 impl SurfaceTwin for Phong {
-    fn direct(&self, p: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
+    fn direct_lobes(&self, p: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> Lobes {
         let nl = n.dot(l).max(0.0);
         if nl <= 0.0 {
-            return DVec3::ZERO;
+            return Lobes::ZERO;
         }
         let spec = spec_phong(n, v, l, shininess_from_smoothness(s.smoothness), s.params[0]);
-        (s.base_color * nl + s.specular * spec) * FRAC_1_PI * e_per_i(p)
+        let k = FRAC_1_PI * e_per_i(p);
+        Lobes::split(s.base_color * nl * k, s.specular * spec * k)
     }
-    fn indirect(&self, _: Pipeline, s: &Surface, _: DVec3, _: DVec3, gi_d: DVec3, _: DVec3) -> DVec3 {
-        ambient(s, gi_d)
+    fn indirect_lobes(&self, _: Pipeline, s: &Surface, _: DVec3, _: DVec3, gi_d: DVec3, _: DVec3) -> Lobes {
+        Lobes::diffuse(ambient(s, gi_d))
     }
 }
 
 pub struct BlinnPhong;
 
 impl SurfaceTwin for BlinnPhong {
-    fn direct(&self, p: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
+    fn direct_lobes(&self, p: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> Lobes {
         let nl = n.dot(l).max(0.0);
         if nl <= 0.0 {
-            return DVec3::ZERO;
+            return Lobes::ZERO;
         }
         let spec = spec_blinn_phong(n, v, l, shininess_from_smoothness(s.smoothness), s.params[0]);
-        (s.base_color * nl + s.specular * spec) * FRAC_1_PI * e_per_i(p)
+        let k = FRAC_1_PI * e_per_i(p);
+        Lobes::split(s.base_color * nl * k, s.specular * spec * k)
     }
-    fn indirect(&self, _: Pipeline, s: &Surface, _: DVec3, _: DVec3, gi_d: DVec3, _: DVec3) -> DVec3 {
-        ambient(s, gi_d)
+    fn indirect_lobes(&self, _: Pipeline, s: &Surface, _: DVec3, _: DVec3, gi_d: DVec3, _: DVec3) -> Lobes {
+        Lobes::diffuse(ambient(s, gi_d))
     }
 }
 
@@ -114,10 +116,10 @@ impl SurfaceTwin for OrenNayar {
         true
     }
 
-    fn direct(&self, p: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
+    fn direct_lobes(&self, p: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> Lobes {
         let nl = n.dot(l);
         if nl <= 0.0 {
-            return DVec3::ZERO;
+            return Lobes::ZERO;
         }
         let nv = n.dot(v).clamp(0.0, 1.0);
         let sigma2 = s.params[0] * s.params[0];
@@ -133,10 +135,10 @@ impl SurfaceTwin for OrenNayar {
             let sin_product = ((1.0 - nl * nl).max(0.0) * (1.0 - nv * nv).max(0.0)).sqrt();
             a + b * c * sin_product / nl.max(nv).max(1e-4)
         };
-        s.base_color * FRAC_1_PI * e_per_i(p) * nl * term
+        Lobes::diffuse(s.base_color * FRAC_1_PI * e_per_i(p) * nl * term)
     }
-    fn indirect(&self, _: Pipeline, s: &Surface, _: DVec3, _: DVec3, gi_d: DVec3, _: DVec3) -> DVec3 {
-        ambient(s, gi_d)
+    fn indirect_lobes(&self, _: Pipeline, s: &Surface, _: DVec3, _: DVec3, gi_d: DVec3, _: DVec3) -> Lobes {
+        Lobes::diffuse(ambient(s, gi_d))
     }
 }
 
@@ -144,14 +146,14 @@ impl SurfaceTwin for OrenNayar {
 pub struct CookTorrance1982;
 
 impl SurfaceTwin for CookTorrance1982 {
-    fn direct(&self, p: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
-        let Some(a) = cook_torrance_angles(s, n, v, l) else { return DVec3::ZERO };
+    fn direct_lobes(&self, p: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> Lobes {
+        let Some(a) = cook_torrance_angles(s, n, v, l) else { return Lobes::ZERO };
         let g = g_cook_torrance(a.nh, a.nv, a.nl, a.vh);
         let spec = a.f * FRAC_1_PI * d_beckmann_unnormalised(a.nh, a.m) * g / (a.nl * a.nv);
         cook_torrance_sum(p, s, &a, spec)
     }
-    fn indirect(&self, p: Pipeline, s: &Surface, n: DVec3, v: DVec3, gi_d: DVec3, gi_s: DVec3) -> DVec3 {
-        CookTorrance.indirect(p, s, n, v, gi_d, gi_s)
+    fn indirect_lobes(&self, p: Pipeline, s: &Surface, n: DVec3, v: DVec3, gi_d: DVec3, gi_s: DVec3) -> Lobes {
+        CookTorrance.indirect_lobes(p, s, n, v, gi_d, gi_s)
     }
 }
 
@@ -211,18 +213,19 @@ pub fn ct_fresnel(s: &Surface, vh: f64) -> DVec3 {
 }
 
 /// Both forms' diffuse kd·ρ/π plus `spec`, times NL and the pipeline's irradiance per intensity.
-fn cook_torrance_sum(p: Pipeline, s: &Surface, a: &CookTorranceAngles, spec: DVec3) -> DVec3 {
-    (s.base_color * (1.0 - s.metallic) * FRAC_1_PI + spec) * a.nl * e_per_i(p)
+fn cook_torrance_sum(p: Pipeline, s: &Surface, a: &CookTorranceAngles, spec: DVec3) -> Lobes {
+    let k = a.nl * e_per_i(p);
+    Lobes::split(s.base_color * (1.0 - s.metallic) * FRAC_1_PI * k, spec * k)
 }
 
 impl SurfaceTwin for CookTorrance {
-    fn direct(&self, p: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
-        let Some(a) = cook_torrance_angles(s, n, v, l) else { return DVec3::ZERO };
+    fn direct_lobes(&self, p: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> Lobes {
+        let Some(a) = cook_torrance_angles(s, n, v, l) else { return Lobes::ZERO };
         let spec = a.f * d_beckmann(a.nh, a.m) * g_cook_torrance(a.nh, a.nv, a.nl, a.vh) / (4.0 * a.nl * a.nv);
         cook_torrance_sum(p, s, &a, spec)
     }
-    fn indirect(&self, _: Pipeline, s: &Surface, _: DVec3, _: DVec3, gi_d: DVec3, _: DVec3) -> DVec3 {
-        s.base_color * (1.0 - s.metallic) * gi_d
+    fn indirect_lobes(&self, _: Pipeline, s: &Surface, _: DVec3, _: DVec3, gi_d: DVec3, _: DVec3) -> Lobes {
+        Lobes::diffuse(s.base_color * (1.0 - s.metallic) * gi_d)
     }
 }
 

@@ -4,7 +4,7 @@
 use glam::DVec3;
 use std::f64::consts::PI;
 
-use super::{safe_normalize, sat, Surface, SurfaceTwin};
+use super::{safe_normalize, sat, Lobes, Surface, SurfaceTwin};
 use crate::pipelines::Pipeline;
 
 pub fn d_ggx(nh: f64, a: f64) -> f64 {
@@ -25,13 +25,13 @@ pub fn ts_f0(s: &Surface) -> DVec3 {
 
 /// The final stage's direct term: albedo·NL·(1 − metallic) + albedo·tint·max(0, D·Vis·π·NL), D GGX
 /// with a = r², Vis Smith-Schlick with k = r²/2 (no F on the direct specular: a quirk kept).
-pub fn ts_direct(s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
+pub fn ts_direct(s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> Lobes {
     let r = 1.0 - s.smoothness;
     let (nl, nv) = (sat(n.dot(l)), sat(n.dot(v)));
     let h = safe_normalize(l + v, f32::MIN_POSITIVE as f64);
     let nh = sat(n.dot(h));
     let specular = (d_ggx(nh, r * r) * v_smith_schlick(nl, nv, r * r * 0.5) * PI * nl).max(0.0);
-    s.base_color * nl * (1.0 - s.metallic) + s.base_color * s.specular * specular
+    Lobes::split(s.base_color * nl * (1.0 - s.metallic), s.base_color * s.specular * specular)
 }
 
 /// The custom shader's final stage; `as_written` keeps the source's quirks (scalar Fresnel from F0's
@@ -46,11 +46,11 @@ pub fn ts_fresnel_scalar(f0: DVec3, r: f64, nv: f64, p: f64) -> f64 {
 }
 
 impl SurfaceTwin for TorranceSparrow {
-    fn direct(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
+    fn direct_lobes(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> Lobes {
         ts_direct(s, n, v, l)
     }
 
-    fn indirect(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, gi_d: DVec3, gi_s: DVec3) -> DVec3 {
+    fn indirect_lobes(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, gi_d: DVec3, gi_s: DVec3) -> Lobes {
         let r = 1.0 - s.smoothness;
         let nv = sat(n.dot(v));
         let f0 = ts_f0(s);
@@ -61,7 +61,7 @@ impl SurfaceTwin for TorranceSparrow {
             f0 + (DVec3::splat(1.0 - r).max(f0) - f0) * (1.0 - nv).powf(s.params[1])
         };
         let surface_reduction = 1.0 / (r * r + 1.0);
-        s.base_color * gi_d * (1.0 - s.metallic) + s.base_color * s.specular * surface_reduction * gi_s * f
+        Lobes::split(s.base_color * gi_d * (1.0 - s.metallic), s.base_color * s.specular * surface_reduction * gi_s * f)
     }
 
     fn env_direction(&self, _: Pipeline, _: &Surface, n: DVec3, v: DVec3) -> Option<DVec3> {
@@ -74,12 +74,13 @@ impl SurfaceTwin for TorranceSparrow {
 pub struct FresnelView;
 
 impl SurfaceTwin for FresnelView {
-    fn direct(&self, _: Pipeline, _: &Surface, _: DVec3, _: DVec3, _: DVec3) -> DVec3 {
-        DVec3::ZERO
+    fn direct_lobes(&self, _: Pipeline, _: &Surface, _: DVec3, _: DVec3, _: DVec3) -> Lobes {
+        Lobes::ZERO
     }
 
-    fn indirect(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, _: DVec3, _: DVec3) -> DVec3 {
+    /// The reflectance itself, drawn as the reflection term (WGSL `indirect_specular`).
+    fn indirect_lobes(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, _: DVec3, _: DVec3) -> Lobes {
         let f0 = ts_f0(s);
-        f0 + (DVec3::ONE - f0) * (1.0 - sat(n.dot(v))).powf(s.params[1])
+        Lobes::split(DVec3::ZERO, f0 + (DVec3::ONE - f0) * (1.0 - sat(n.dot(v))).powf(s.params[1]))
     }
 }

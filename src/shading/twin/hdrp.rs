@@ -3,7 +3,7 @@
 use glam::DVec3;
 use std::f64::consts::FRAC_1_PI;
 
-use super::{pow5, sat, Surface, SurfaceTwin};
+use super::{pow5, sat, Lobes, Surface, SurfaceTwin};
 use crate::pipelines::{Emitter, Pipeline, HDRP_DEFAULT_SHAPE_RADIUS};
 use crate::shading::fgd::{fd_disney_renormalized_no_pi, FgdTable};
 
@@ -92,14 +92,22 @@ pub fn hdrp_energy_compensation(s: &Surface, clamped_nv: f64) -> DVec3 {
 pub struct HdrpLit;
 
 impl SurfaceTwin for HdrpLit {
-    fn direct(&self, p: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
-        self.direct_for_light(p, s, n, v, l, default_light_min_roughness() as f32 as f64)
+    fn direct_lobes(&self, p: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> Lobes {
+        self.direct_lobes_for_light(p, s, n, v, l, default_light_min_roughness() as f32 as f64)
     }
 
-    fn direct_for_light(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3, min_roughness: f64) -> DVec3 {
+    fn direct_lobes_for_light(
+        &self,
+        _: Pipeline,
+        s: &Surface,
+        n: DVec3,
+        v: DVec3,
+        l: DVec3,
+        min_roughness: f64,
+    ) -> Lobes {
         let nl = n.dot(l);
         if nl <= 0.0 {
-            return DVec3::ZERO;
+            return Lobes::ZERO;
         }
         let nv = n.dot(v);
         let clamped_nv = clamp_n_dot_v(nv);
@@ -114,15 +122,18 @@ impl SurfaceTwin for HdrpLit {
         let dv = dv_smith_joint_ggx(nh, nl.abs(), clamped_nv, a, smith_joint_ggx_part_lambda_v(clamped_nv, a_material));
         let spec = f * dv * hdrp_energy_compensation(s, clamped_nv);
         let diffuse = hdrp_diffuse_color(s) * FRAC_1_PI * fd_disney_renormalized_no_pi(nl.abs(), clamped_nv, lv, pr);
-        (diffuse + spec) * sat(nl)
+        Lobes::split(diffuse * sat(nl), spec * sat(nl))
     }
 
-    fn indirect(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, gi_d: DVec3, gi_s: DVec3) -> DVec3 {
+    fn indirect_lobes(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, gi_d: DVec3, gi_s: DVec3) -> Lobes {
         let clamped_nv = clamp_n_dot_v(n.dot(v));
         let fgd = FgdTable::get().lookup(clamped_nv, 1.0 - s.smoothness);
         let f0 = hdrp_f0(s);
         let specular_fgd = (DVec3::ONE - f0) * fgd.x + f0 * fgd.y;
-        hdrp_diffuse_color(s) * gi_d * (fgd.z + 0.5) + specular_fgd * gi_s * hdrp_energy_compensation(s, clamped_nv)
+        Lobes::split(
+            hdrp_diffuse_color(s) * gi_d * (fgd.z + 0.5),
+            specular_fgd * gi_s * hdrp_energy_compensation(s, clamped_nv),
+        )
     }
 
     fn env_direction(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3) -> Option<DVec3> {

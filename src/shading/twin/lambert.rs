@@ -1,7 +1,7 @@
 use glam::DVec3;
 use std::f64::consts::FRAC_1_PI;
 
-use super::{irradiance_per_intensity, Surface, SurfaceTwin};
+use super::{irradiance_per_intensity, Lobes, Surface, SurfaceTwin};
 use crate::pipelines::Pipeline;
 
 /// ρ/π (models.md#classic Lambert).
@@ -17,11 +17,11 @@ impl SurfaceTwin for Lambert {
         true
     }
 
-    fn direct(&self, p: Pipeline, s: &Surface, n: DVec3, _v: DVec3, l: DVec3) -> DVec3 {
-        fd_lambert(s.base_color) * irradiance_per_intensity(p) * n.dot(l).max(0.0)
+    fn direct_lobes(&self, p: Pipeline, s: &Surface, n: DVec3, _v: DVec3, l: DVec3) -> Lobes {
+        Lobes::diffuse(fd_lambert(s.base_color) * irradiance_per_intensity(p) * n.dot(l).max(0.0))
     }
 
-    fn indirect(
+    fn indirect_lobes(
         &self,
         _p: Pipeline,
         s: &Surface,
@@ -29,8 +29,8 @@ impl SurfaceTwin for Lambert {
         _v: DVec3,
         gi_diffuse: DVec3,
         _gi_specular: DVec3,
-    ) -> DVec3 {
-        s.base_color * gi_diffuse
+    ) -> Lobes {
+        Lobes::diffuse(s.base_color * gi_diffuse)
     }
 }
 

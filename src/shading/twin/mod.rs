@@ -60,21 +60,74 @@ impl Surface {
     }
 }
 
+/// A term split into the parts a model's WGSL wraps apart (shaders/common/conventions.wgsl):
+/// `direct_diffuse(…)` / `indirect_diffuse(…)`, `direct_specular(…)` / `indirect_specular(…)`
+/// and `emitted(…)`, which the term layers draw one at a time (pipelines::terms).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Lobes {
+    pub diffuse: DVec3,
+    pub specular: DVec3,
+    pub emitted: DVec3,
+}
+
+impl Lobes {
+    pub const ZERO: Lobes = Lobes { diffuse: DVec3::ZERO, specular: DVec3::ZERO, emitted: DVec3::ZERO };
+
+    pub fn diffuse(diffuse: DVec3) -> Lobes {
+        Lobes { diffuse, ..Lobes::ZERO }
+    }
+
+    pub fn split(diffuse: DVec3, specular: DVec3) -> Lobes {
+        Lobes { diffuse, specular, emitted: DVec3::ZERO }
+    }
+
+    /// The whole term, as the image draws it.
+    pub fn sum(&self) -> DVec3 {
+        self.diffuse + self.specular + self.emitted
+    }
+}
+
 pub trait SurfaceTwin: Sync {
-    /// Radiance for a light of colour 1 at attenuation 1, N·L included (WGSL `model_direct`).
-    fn direct(&self, pipeline: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3;
-    /// `direct` for a light whose HDRP roughness floor (from its shape) is `min_roughness`; only
-    /// HDRP Lit reads it (WGSL `light_min_roughness`).
-    fn direct_for_light(&self, p: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3, _min_roughness: f64) -> DVec3 {
-        self.direct(p, s, n, v, l)
+    /// Radiance for a light of colour 1 at attenuation 1, N·L included (WGSL `model_direct`), by lobe.
+    fn direct_lobes(&self, pipeline: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> Lobes;
+    /// `direct_lobes` for a light whose HDRP roughness floor (from its shape) is `min_roughness`;
+    /// only HDRP Lit reads it (WGSL `light_min_roughness`).
+    fn direct_lobes_for_light(
+        &self,
+        p: Pipeline,
+        s: &Surface,
+        n: DVec3,
+        v: DVec3,
+        l: DVec3,
+        _min_roughness: f64,
+    ) -> Lobes {
+        self.direct_lobes(p, s, n, v, l)
+    }
+    /// The whole direct term.
+    fn direct(&self, pipeline: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
+        self.direct_lobes(pipeline, s, n, v, l).sum()
+    }
+    /// The whole direct term for a light with HDRP roughness floor `min_roughness`.
+    fn direct_for_light(&self, p: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3, min_roughness: f64) -> DVec3 {
+        self.direct_lobes_for_light(p, s, n, v, l, min_roughness).sum()
     }
     /// The direction the model fetches the prefiltered environment along (WGSL `env_specular`'s
     /// first argument), where the twin states it.
     fn env_direction(&self, _p: Pipeline, _s: &Surface, _n: DVec3, _v: DVec3) -> Option<DVec3> {
         None
     }
-    /// Ambient and environment term; `gi_diffuse` = E/π, `gi_specular` = the prefiltered
-    /// environment along the reflection (WGSL `model_indirect`).
+    /// Ambient and environment term by lobe; `gi_diffuse` = E/π, `gi_specular` = the
+    /// prefiltered environment along the reflection (WGSL `model_indirect`).
+    fn indirect_lobes(
+        &self,
+        pipeline: Pipeline,
+        s: &Surface,
+        n: DVec3,
+        v: DVec3,
+        gi_diffuse: DVec3,
+        gi_specular: DVec3,
+    ) -> Lobes;
+    /// The whole indirect term.
     fn indirect(
         &self,
         pipeline: Pipeline,
@@ -83,7 +136,9 @@ pub trait SurfaceTwin: Sync {
         v: DVec3,
         gi_diffuse: DVec3,
         gi_specular: DVec3,
-    ) -> DVec3;
+    ) -> DVec3 {
+        self.indirect_lobes(pipeline, s, n, v, gi_diffuse, gi_specular).sum()
+    }
     /// 1 − oneMinusReflectivity, where built-in's Transparent surface reads it for its output
     /// alpha (WGSL `model_reflectivity`; 0 for the models that define none).
     fn reflectivity(&self, _s: &Surface) -> f64 {

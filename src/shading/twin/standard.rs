@@ -1,7 +1,7 @@
 use glam::DVec3;
 use std::f64::consts::{FRAC_1_PI, PI};
 
-use super::{f_schlick, f_schlick_lerp, pow5, safe_normalize, sat, Surface, SurfaceTwin};
+use super::{f_schlick, f_schlick_lerp, pow5, safe_normalize, sat, Lobes, Surface, SurfaceTwin};
 use crate::pipelines::Pipeline;
 
 /// Built-in Standard, BRDF1_Unity_PBS, linear colour space (models.md#standard). Twin of shaders/brdf/standard.wgsl.
@@ -58,7 +58,7 @@ pub fn d_ggx_unity(nh: f64, a: f64) -> f64 {
 }
 
 impl SurfaceTwin for Standard {
-    fn direct(&self, _p: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
+    fn direct_lobes(&self, _p: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> Lobes {
         let st = standard_setup(s);
         let h = safe_normalize(l + v, 0.001);
         let nv = n.dot(v).abs();
@@ -72,17 +72,27 @@ impl SurfaceTwin for Standard {
         if st.spec_color == DVec3::ZERO || s.params[1] > 0.5 {
             specular_term = 0.0;
         }
-        st.diff_color * diffuse_term + specular_term * f_schlick(st.spec_color, lh)
+        Lobes::split(st.diff_color * diffuse_term, specular_term * f_schlick(st.spec_color, lh))
     }
 
-    fn indirect(&self, _p: Pipeline, s: &Surface, n: DVec3, v: DVec3, gi_diffuse: DVec3, gi_specular: DVec3) -> DVec3 {
+    fn indirect_lobes(
+        &self,
+        _p: Pipeline,
+        s: &Surface,
+        n: DVec3,
+        v: DVec3,
+        gi_diffuse: DVec3,
+        gi_specular: DVec3,
+    ) -> Lobes {
         let st = standard_setup(s);
         let nv = n.dot(v).abs();
         let a = roughness_clamped(st.perceptual_roughness);
         let surface_reduction = 1.0 / (a * a + 1.0);
         let grazing_term = sat(s.smoothness + (1.0 - st.one_minus_reflectivity));
-        st.diff_color * gi_diffuse
-            + surface_reduction * gi_specular * f_schlick_lerp(st.spec_color, DVec3::splat(grazing_term), nv)
+        Lobes::split(
+            st.diff_color * gi_diffuse,
+            surface_reduction * gi_specular * f_schlick_lerp(st.spec_color, DVec3::splat(grazing_term), nv),
+        )
     }
 
     fn reflectivity(&self, s: &Surface) -> f64 {

@@ -3,7 +3,7 @@
 use glam::DVec3;
 
 use super::classic::shininess_from_smoothness;
-use super::{safe_normalize, sat, Surface, SurfaceTwin};
+use super::{safe_normalize, sat, Lobes, Surface, SurfaceTwin};
 use crate::color::HALF_MIN;
 use crate::pipelines::Pipeline;
 
@@ -42,22 +42,26 @@ pub fn spec_urp(nh: f64, lh: f64, b: &UrpBrdfData) -> f64 {
 pub struct UrpLit;
 
 impl SurfaceTwin for UrpLit {
-    fn direct(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
+    fn direct_lobes(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> Lobes {
         let b = urp_brdf_data(s);
+        let nl = sat(n.dot(l));
         // _SPECULARHIGHLIGHTS_OFF (params[1] = 1): the diffuse alone.
         if s.params[1] > 0.5 {
-            return b.diffuse * sat(n.dot(l));
+            return Lobes::diffuse(b.diffuse * nl);
         }
         let h = safe_normalize(l + v, f32::MIN_POSITIVE as f64);
-        (b.diffuse + b.specular * spec_urp(sat(n.dot(h)), sat(l.dot(h)), &b)) * sat(n.dot(l))
+        Lobes::split(b.diffuse * nl, b.specular * spec_urp(sat(n.dot(h)), sat(l.dot(h)), &b) * nl)
     }
 
     /// `gi_s` is what the surface reflects: the probes' and sky's radiance, or with environment
     /// reflections off (params[2] = 1) the constant _GlossyEnvironmentColor.
-    fn indirect(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, gi_d: DVec3, gi_s: DVec3) -> DVec3 {
+    fn indirect_lobes(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, gi_d: DVec3, gi_s: DVec3) -> Lobes {
         let b = urp_brdf_data(s);
         let fresnel = (1.0 - sat(n.dot(v))).powi(4);
-        gi_d * b.diffuse + gi_s * (1.0 / (b.roughness2 + 1.0)) * b.specular.lerp(DVec3::splat(b.grazing_term), fresnel)
+        Lobes::split(
+            gi_d * b.diffuse,
+            gi_s * (1.0 / (b.roughness2 + 1.0)) * b.specular.lerp(DVec3::splat(b.grazing_term), fresnel),
+        )
     }
 }
 
@@ -69,28 +73,32 @@ pub fn spec_simple_lit(nh: f64, smoothness: f64) -> f64 {
 }
 
 impl SurfaceTwin for UrpSimpleLit {
-    fn direct(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
+    fn direct_lobes(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> Lobes {
         let h = safe_normalize(l + v, f32::MIN_POSITIVE as f64);
         let nh = sat(n.dot(h));
         let highlights = if s.params[0] > 0.5 { 1.0 } else { 0.0 };
         // × the diffuse weight: CalculateBlinnPhong's _ALPHAPREMULTIPLY_ON; the GI below keeps it whole.
-        s.base_color * s.diffuse_weight * sat(n.dot(l)) + s.specular * highlights * spec_simple_lit(nh, s.smoothness)
+        Lobes::split(
+            s.base_color * s.diffuse_weight * sat(n.dot(l)),
+            s.specular * highlights * spec_simple_lit(nh, s.smoothness),
+        )
     }
 
-    fn indirect(&self, _: Pipeline, s: &Surface, _: DVec3, _: DVec3, gi_d: DVec3, _: DVec3) -> DVec3 {
-        gi_d * s.base_color
+    fn indirect_lobes(&self, _: Pipeline, s: &Surface, _: DVec3, _: DVec3, gi_d: DVec3, _: DVec3) -> Lobes {
+        Lobes::diffuse(gi_d * s.base_color)
     }
 }
 
 pub struct Unlit;
 
 impl SurfaceTwin for Unlit {
-    fn direct(&self, _: Pipeline, _: &Surface, _: DVec3, _: DVec3, _: DVec3) -> DVec3 {
-        DVec3::ZERO
+    fn direct_lobes(&self, _: Pipeline, _: &Surface, _: DVec3, _: DVec3, _: DVec3) -> Lobes {
+        Lobes::ZERO
     }
 
-    fn indirect(&self, _: Pipeline, s: &Surface, _: DVec3, _: DVec3, _: DVec3, _: DVec3) -> DVec3 {
-        s.base_color * s.diffuse_weight
+    /// The colour is given off, not reflected (HDRP's Unlit writes it as its emissive).
+    fn indirect_lobes(&self, _: Pipeline, s: &Surface, _: DVec3, _: DVec3, _: DVec3, _: DVec3) -> Lobes {
+        Lobes { emitted: s.base_color * s.diffuse_weight, ..Lobes::ZERO }
     }
 }
 
@@ -125,18 +133,19 @@ pub fn specular_strength(nh: f64, lh: f64, b: &SrpBrdf) -> f64 {
 }
 
 impl SurfaceTwin for SrpLit {
-    fn direct(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
+    fn direct_lobes(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> Lobes {
         let b = srp_brdf(s);
         let h = safe_normalize(l + v, f32::MIN_POSITIVE as f64);
-        (b.specular * specular_strength(sat(n.dot(h)), sat(l.dot(h)), &b) + b.diffuse) * sat(n.dot(l))
+        let nl = sat(n.dot(l));
+        Lobes::split(b.diffuse * nl, b.specular * specular_strength(sat(n.dot(h)), sat(l.dot(h)), &b) * nl)
     }
 
-    fn indirect(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, gi_d: DVec3, gi_s: DVec3) -> DVec3 {
+    fn indirect_lobes(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, gi_d: DVec3, gi_s: DVec3) -> Lobes {
         let b = srp_brdf(s);
         let fresnel_strength = s.params[0] * (1.0 - sat(n.dot(v))).powi(4);
         let reflection =
             gi_s * b.specular.lerp(DVec3::splat(b.fresnel), fresnel_strength) / (b.roughness * b.roughness + 1.0);
-        gi_d * b.diffuse + reflection
+        Lobes::split(gi_d * b.diffuse, reflection)
     }
 }
 
