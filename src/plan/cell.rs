@@ -294,17 +294,10 @@ impl CellPlan {
         let engine = &cell.settings.engine;
         let cascades = p.shadow_cascades_with(engine);
         let main = main_light(p, &lights);
-        let mut shadows_left_out = Vec::new();
-        // A cutout's alpha map is not read by the shadow pass (depth alone); a flat cutout is
+        // A textured cutout's shadow is clipped by its alpha map (passes::shadow); a flat cutout is
         // all there or, below its cutoff, left out entirely (below).
+        let mut shadows_left_out = Vec::new();
         let surface = cell.settings.surface;
-        if surface.kind.clips() && cell.settings.material_maps.is_some() {
-            shadows_left_out.push((
-                "the subject's alpha clipping in the shadow maps".to_string(),
-                "the shadow pass draws depth alone, without the material's alpha map: the cutout casts its whole shadow"
-                    .to_string(),
-            ));
-        }
         for (slot, l) in lights.iter().enumerate() {
             let Some(first) = sh.first_layer[slot] else {
                 light_shadows.push(LightShadow::default());

@@ -173,6 +173,11 @@ pub(in crate::render) fn write_uniforms(
             (prepared.layout.meshes[i].cast_shadows, o.index_count, fades[i].map(f64::to_bits)).hash(&mut h);
             objects[at..at + 64].hash(&mut h);
         }
+        // A textured cutout subject's shadow is clipped by its alpha map (passes::shadow).
+        if cell.settings.surface.kind == crate::pipelines::surface::SurfaceType::Cutout {
+            (cell.settings.material_maps, [frame.subject.base_color[3], frame.subject.specular[3]].map(f32::to_bits))
+                .hash(&mut h);
+        }
         h.finish()
     };
     // What a probe capture sees: everything but the camera and the subject, whose shadow it

@@ -23,6 +23,19 @@ pub(in crate::render) struct FrameBindings {
 }
 
 impl FrameBindings {
+    /// The albedo map the subject wears with `maps`, once `frame_group` has uploaded it.
+    pub(in crate::render) fn albedo_view<'a>(
+        &'a self,
+        prepared: &'a PreparedScene,
+        maps: Option<&'static str>,
+    ) -> Option<&'a wgpu::TextureView> {
+        let key = maps.unwrap_or("");
+        if key == crate::spec::presets::OWN.name {
+            return prepared.own_textures.get().map(|t| &t.albedo);
+        }
+        self.material_textures.get(key).map(|t| &t.albedo)
+    }
+
     /// The frame bind group of a composition with the subject wearing `maps` (None: flat), made and
     /// the maps uploaded on first use.
     pub(in crate::render) fn frame_group(

@@ -13,7 +13,7 @@ use super::frame_bindings::FrameBindings;
 use super::passes::deferred::{encode_deferred, lighting_draws};
 use super::passes::forward::{encode_forward, ForwardDraw, ForwardPipelines, ForwardTargets, ModelPipelines};
 use super::passes::prepass::{encode_depth_prepass, neutral_screen_group, screen_group};
-use super::passes::shadow::{encode_shadow_passes, shadow_pipeline};
+use super::passes::shadow::{encode_shadow_passes, shadow_pipeline, CutoutShadow};
 use super::passes::FrameDraw;
 use super::pipeline_cache::{faces_of, ByFace, ForwardKey, ForwardPass, PipelineCache};
 use super::prepared::PreparedScene;
@@ -114,6 +114,8 @@ pub struct Renderer {
     prefilter: Option<crate::render::passes::probes::Prefilter>,
     /// Two timestamp pairs: probe capture and prefilter.
     probe_timer: Option<PassTimer>,
+    /// The shadow pass of a textured cutout subject, made for the first such cell.
+    cutout_shadow: Option<CutoutShadow>,
     /// HDRP's bloom pipeline, made for the first cell that blooms.
     bloom: Option<crate::render::passes::bloom::BloomPipeline>,
     /// Group 2 of the scene passes: the screen-space occlusion the lighting reads.
@@ -297,6 +299,7 @@ impl Renderer {
             msaa_counts,
             prefilter: None,
             probe_timer: None,
+            cutout_shadow: None,
             bloom: None,
             screen_layout,
             neutral_screen,
@@ -506,7 +509,9 @@ impl Renderer {
             self.pipelines.background_pipeline(&self.gpu, samples)?;
         }
         let written = write_uniforms(&self.gpu.queue, prepared, cell, plan, &fixed_model);
-        let probe_times = self.capture_probes(prepared, cell, &fixed_model, plan, &written)?;
+        let frame_group = self.bindings.frame_group(&self.gpu, prepared, cell.settings.material_maps)?;
+        let cutout_group = self.cutout_shadow_group(prepared, cell, plan);
+        let probe_times = self.capture_probes(prepared, cell, &fixed_model, plan, &written, cutout_group.as_ref())?;
         let (drawn, casting) = (plan.drawn(), plan.casting());
         // The depth prepass draws the opaque queues only: a transparent subject writes no depth.
         let prepass_drawn: Vec<bool> = drawn
@@ -516,7 +521,6 @@ impl Renderer {
             .collect();
         let rays = if exact.any() { Some(self.ray_scene(prepared, casting.clone())?) } else { None };
         let shadow_key = written.shadow_key;
-        let frame_group = self.bindings.frame_group(&self.gpu, prepared, cell.settings.material_maps)?;
         let frame_group: &wgpu::BindGroup = &frame_group;
         self.targets(cell.width, cell.height);
         self.targets.as_mut().expect("targets exist").ensure_msaa(&self.gpu.device, samples);
@@ -691,12 +695,13 @@ impl Renderer {
             let timed = |k: u32| timer.filter(|_| f >= warmup).map(|t| (t, (f - warmup) * per_frame + k));
             let mut k = 0;
             if shadows {
+                let cutout = self.cutout_shadow.as_ref().zip(cutout_group.as_ref()).map(|(c, g)| (&c.pipeline, g));
                 encode_shadow_passes(
                     &mut encoder,
                     &self.shadow_pipeline,
                     prepared,
-                    &plan.used_layers,
-                    &casting,
+                    (&plan.used_layers, &casting),
+                    cutout,
                     timed(k),
                 );
                 k += 1;
@@ -841,6 +846,32 @@ impl Renderer {
         })
     }
 
+    /// The shadow pass's material group for a cell whose subject is a textured cutout that casts
+    /// (its shadow clipped by its alpha map, passes::shadow); None for every other cell.
+    fn cutout_shadow_group(
+        &mut self,
+        prepared: &PreparedScene,
+        cell: &CellParams,
+        plan: &CellPlan,
+    ) -> Option<wgpu::BindGroup> {
+        let surface = &cell.settings.surface;
+        let casts = prepared.plan.passes.contains(&"shadow") && !plan.used_layers.is_empty();
+        if surface.kind != SurfaceType::Cutout || cell.settings.material_maps.is_none() || !casts {
+            return None;
+        }
+        if self.cutout_shadow.is_none() {
+            self.cutout_shadow = Some(CutoutShadow::new(&self.gpu, &self.shadow_layer_layout, &self.object_layout));
+        }
+        let albedo = self.bindings.albedo_view(prepared, cell.settings.material_maps)?;
+        let shadow = self.cutout_shadow.as_ref().expect("just made");
+        Some(shadow.group(
+            &self.gpu,
+            (surface.alpha as f32, surface.cutoff as f32),
+            albedo,
+            &self.bindings.material_sampler,
+        ))
+    }
+
     /// The tiled light loop for a frame: its compute pipeline, room for the masks, and the compute
     /// pass's bind group on this frame's depth.
     fn prepare_light_tiles(&mut self, cell: &CellParams, lights: usize) -> Result<wgpu::BindGroup, Error> {
@@ -880,6 +911,7 @@ impl Renderer {
         fixed_model: &ShaderModel,
         plan: &CellPlan,
         written: &WrittenFrame,
+        cutout: Option<&wgpu::BindGroup>,
     ) -> Result<Option<(f64, f64)>, Error> {
         let Some(probes) = &prepared.probes else { return Ok(None) };
         let slot = probes.slot_for(written.capture_key, self.reuse);
@@ -921,7 +953,9 @@ impl Renderer {
         // The capture is lit as the composition's frames are, whatever the cell's path: a
         // vertex-lit cell draws no shadow pass itself, but the probes it reads hold shadows.
         if prepared.plan.passes.contains(&"shadow") && !plan.used_layers.is_empty() {
-            encode_shadow_passes(&mut encoder, &self.shadow_pipeline, prepared, &plan.used_layers, &casting, None);
+            let cutout = self.cutout_shadow.as_ref().zip(cutout).map(|(c, g)| (&c.pipeline, g));
+            let layers = (&plan.used_layers[..], &casting[..]);
+            encode_shadow_passes(&mut encoder, &self.shadow_pipeline, prepared, layers, cutout, None);
             // The probe's own layers now: a cell cannot keep what it finds there.
             *prepared.shadows.holds.lock().unwrap_or_else(|e| e.into_inner()) = None;
         }

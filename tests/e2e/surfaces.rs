@@ -360,3 +360,70 @@ fn a_deferred_path_draws_its_transparent_subject_in_a_pass_of_its_own() {
         assert!(r.roles.contains(&ROLE_SUBJECT), "the subject is drawn");
     }
 }
+
+/// A textured cutout casts the shadow of what its alpha keeps: the shadow pass clips by the
+/// albedo map's alpha as the engines' ShadowCaster passes do (`_ALPHATEST_ON`: clip(alpha −
+/// _Cutoff) in UnityStandardShadow.cginc, URP's ShadowCasterPass Alpha(), HDRP's shadow pass
+/// with alpha clipping), so the ramp quad's shadow on the floor shrinks as its cutoff rises.
+#[test]
+fn a_textured_cutout_casts_the_shadow_of_what_its_alpha_keeps() {
+    let tmp = tempfile::tempdir().unwrap();
+    write_alpha_ramp_gltf(tmp.path(), 0.5);
+    // The ramp quad 1 m above a floor, a sun at 63° throwing its shadow 2 m aside, seen from above.
+    let scene = r#"
+name = "ramp_shadow"
+[camera]
+position = [1.0, 8.0, 0.001]
+target = [1.0, 0.0, 0.0]
+fov_y_deg = 40.0
+[[lights]]
+kind = "directional"
+direction = [2.0, -1.0, 0.0]
+intensity = 1.0
+shadows = true
+key = true
+[[objects]]
+name = "quad"
+role = "subject"
+mesh = { kind = "gltf", path = "quad.gltf" }
+transform = { translate = [0.0, 1.0, 0.0] }
+[[objects]]
+name = "floor"
+role = "fixed"
+mesh = { kind = "plane", size = [10.0, 10.0], subdivisions = 1 }
+material = { base_color_linear = [0.5, 0.5, 0.5] }
+[environment]
+sky = { kind = "constant", color = [0.0, 0.0, 0.0] }
+ambient_intensity = 0.0
+background = false
+"#;
+    std::fs::write(tmp.path().join("ramp_shadow.toml"), scene).unwrap();
+    let scene = Scene::load_file(&tmp.path().join("ramp_shadow.toml")).unwrap();
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let prepared = renderer.prepare_scene(&scene).unwrap();
+    let sliders = Sliders { base_color_linear: [1.0; 3], metallic: 0.0, smoothness: 0.0 };
+    for (pipeline, shader, path) in [
+        (Pipeline::Builtin, "standard", RenderPath::Forward),
+        (Pipeline::Urp, "lit", RenderPath::Deferred),
+        (Pipeline::Hdrp, "lit", RenderPath::Forward),
+    ] {
+        let mut cell = cell_params(pipeline, shader, sliders, (1.0, 10.0), 96, path);
+        cell.settings.material_maps = Some(shadematrix::spec::presets::OWN.name);
+        // Floor pixels darker than half the lit floor's brightest: the shadow.
+        let mut shadow = |cell: &shadematrix::render::CellParams| {
+            let r = renderer.render(&prepared, cell, 1, 0).unwrap();
+            let floor: Vec<f32> =
+                r.roles.iter().zip(r.hdr.chunks_exact(4)).filter(|(role, _)| **role == 1).map(|(_, p)| p[1]).collect();
+            let lit = floor.iter().cloned().fold(0.0f32, f32::max);
+            floor.iter().filter(|g| **g < 0.5 * lit).count() as f64
+        };
+        let whole = shadow(&cell);
+        assert!(whole > 100.0, "{}: the opaque quad's shadow ({whole} pixels)", pipeline.name());
+        for cutoff in [0.5, 0.75] {
+            cell.settings.surface = SurfaceOptions { kind: SurfaceType::Cutout, alpha: 1.0, cutoff };
+            let share = shadow(&cell) / whole;
+            eprintln!("{}-{} cutoff {cutoff}: shadow {share:.4} of the opaque quad's", pipeline.name(), path.name());
+            assert!((share - (1.0 - cutoff)).abs() < 0.05, "{} cutoff {cutoff}: shadow share {share}", pipeline.name());
+        }
+    }
+}

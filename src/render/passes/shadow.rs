@@ -22,13 +22,14 @@ pub fn shadow_slot(shadow: &LightShadow) -> ([f32; 4], [f32; 4]) {
     }
 }
 
-/// Depth of every casting object into every shadow layer.
+/// Depth of every casting object into every shadow layer; the subject's through `cutout` where it
+/// is a textured cutout (its pipeline and material group).
 pub(in crate::render) fn encode_shadow_passes(
     encoder: &mut wgpu::CommandEncoder,
     pipeline: &wgpu::RenderPipeline,
     prepared: &PreparedScene,
-    layers: &[(usize, u32)],
-    casting: &[bool],
+    (layers, casting): (&[(usize, u32)], &[bool]),
+    cutout: Option<(&wgpu::RenderPipeline, &wgpu::BindGroup)>,
     timed: Option<(&PassTimer, u32)>,
 ) {
     let sh = &prepared.shadows;
@@ -54,11 +55,96 @@ pub(in crate::render) fn encode_shadow_passes(
         pass.set_bind_group(0, &sh.layer_bind_group, &[(layer as u64 * sh.layer_stride) as u32]);
         let casts = |i: usize| casting[i] && prepared.layout.meshes[i].cast_shadows;
         for (i, o) in prepared.objects.iter().enumerate().filter(|(i, _)| casts(*i)) {
+            let subject = prepared.layout.meshes[i].role == crate::spec::scene::Role::Subject;
+            match cutout.filter(|_| subject) {
+                Some((clipped, group)) => {
+                    pass.set_pipeline(clipped);
+                    pass.set_bind_group(2, group, &[]);
+                }
+                None => pass.set_pipeline(pipeline),
+            }
             pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
             pass.set_vertex_buffer(0, o.vertices.slice(..));
             pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);
             pass.draw_indexed(0..o.index_count, 0, 0..1);
         }
+    }
+}
+
+/// The shadow pass's pipeline for a textured cutout subject (shadow.wgsl `fs_shadow_cutout`), its
+/// material group's layout, and the group's constant buffer (base alpha, cutoff).
+pub(in crate::render) struct CutoutShadow {
+    pub(in crate::render) pipeline: wgpu::RenderPipeline,
+    layout: wgpu::BindGroupLayout,
+    material: wgpu::Buffer,
+}
+
+impl CutoutShadow {
+    pub(in crate::render) fn new(
+        gpu: &GpuContext,
+        layer_layout: &wgpu::BindGroupLayout,
+        object_layout: &wgpu::BindGroupLayout,
+    ) -> CutoutShadow {
+        let device = &gpu.device;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("cutout shadow material"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: gpu.constants.binding(),
+                        has_dynamic_offset: false,
+                        min_binding_size: wgpu::BufferSize::new(16),
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 2,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                    count: None,
+                },
+            ],
+        });
+        let material = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("cutout shadow material"),
+            size: 16,
+            usage: gpu.constants.usage() | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let pipeline = build(gpu, &[Some(layer_layout), Some(object_layout), Some(&layout)], true);
+        CutoutShadow { pipeline, layout, material }
+    }
+
+    /// The material group of a cell's subject: its base alpha and cutoff, its albedo map.
+    pub(in crate::render) fn group(
+        &self,
+        gpu: &GpuContext,
+        (alpha, cutoff): (f32, f32),
+        albedo: &wgpu::TextureView,
+        sampler: &wgpu::Sampler,
+    ) -> wgpu::BindGroup {
+        gpu.queue.write_buffer(&self.material, 0, bytemuck::cast_slice(&[alpha, cutoff, 0.0, 0.0]));
+        gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("cutout shadow material"),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: self.material.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(albedo) },
+                wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::Sampler(sampler) },
+            ],
+        })
     }
 }
 
@@ -69,6 +155,11 @@ pub(in crate::render) fn shadow_pipeline(
     layer_layout: &wgpu::BindGroupLayout,
     object_layout: &wgpu::BindGroupLayout,
 ) -> wgpu::RenderPipeline {
+    build(gpu, &[Some(layer_layout), Some(object_layout)], false)
+}
+
+/// The shadow pipeline on `layouts`: depth only, or with the cutout's uv and clipping fragment.
+fn build(gpu: &GpuContext, layouts: &[Option<&wgpu::BindGroupLayout>], cutout: bool) -> wgpu::RenderPipeline {
     let device = &gpu.device;
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some("shadow"),
@@ -76,20 +167,30 @@ pub(in crate::render) fn shadow_pipeline(
     });
     let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: Some("shadow"),
-        bind_group_layouts: &[Some(layer_layout), Some(object_layout)],
+        bind_group_layouts: layouts,
         immediate_size: 0,
     });
+    let attributes: &[wgpu::VertexAttribute] = if cutout {
+        &wgpu::vertex_attr_array![0 => Float32x3, 2 => Float32x2]
+    } else {
+        &wgpu::vertex_attr_array![0 => Float32x3]
+    };
+    let mut uv_layout = attributes.to_vec();
+    if cutout {
+        // The uv follows the position and the normal in a Vertex.
+        uv_layout[1].offset = std::mem::offset_of!(Vertex, uv) as u64;
+    }
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some("shadow"),
+        label: Some(if cutout { "shadow (cutout)" } else { "shadow" }),
         layout: Some(&layout),
         vertex: wgpu::VertexState {
             module: &module,
-            entry_point: Some("vs_shadow"),
+            entry_point: Some(if cutout { "vs_shadow_cutout" } else { "vs_shadow" }),
             compilation_options: Default::default(),
             buffers: &[Some(wgpu::VertexBufferLayout {
                 array_stride: std::mem::size_of::<Vertex>() as u64,
                 step_mode: wgpu::VertexStepMode::Vertex,
-                attributes: &wgpu::vertex_attr_array![0 => Float32x3],
+                attributes: &uv_layout,
             })],
         },
         primitive: Default::default(),
@@ -101,7 +202,12 @@ pub(in crate::render) fn shadow_pipeline(
             bias: wgpu::DepthBiasState { constant: 2, slope_scale: 1.5, clamp: 0.0 },
         }),
         multisample: Default::default(),
-        fragment: None,
+        fragment: cutout.then_some(wgpu::FragmentState {
+            module: &module,
+            entry_point: Some("fs_shadow_cutout"),
+            compilation_options: Default::default(),
+            targets: &[],
+        }),
         multiview_mask: None,
         cache: None,
     })
