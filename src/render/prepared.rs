@@ -70,6 +70,8 @@ pub struct PreparedScene {
     pub(in crate::render) fixed_maps: GpuFixedMaps,
     /// A glTF subject's own material maps (preset `own`), read and uploaded on first use.
     pub(in crate::render) own_textures: std::sync::OnceLock<crate::render::material_maps::MaterialTextures>,
+    /// The same maps on the CPU, for the CPU truth (read on first use).
+    pub(in crate::render) own_maps: std::sync::OnceLock<std::sync::Arc<crate::materials::MaterialMaps>>,
     /// The truth's environment on the GPU, made for the first truth.
     pub(in crate::render) env_table: std::sync::OnceLock<crate::render::truth::TruthEnvironment>,
     /// The truth's geometry on the GPU for the last set of meshes a cell kept (LOD levels change
@@ -203,6 +205,7 @@ impl PreparedScene {
             probes,
             frame_groups: Default::default(),
             own_textures: Default::default(),
+            own_maps: Default::default(),
             fixed_maps,
             env_table: Default::default(),
             truth_geometry: Default::default(),
@@ -396,10 +399,29 @@ pub(in crate::render) fn own_textures(
     queue: &wgpu::Queue,
     scene: &Scene,
 ) -> Result<crate::render::material_maps::MaterialTextures, Error> {
+    Ok(crate::render::material_maps::MaterialTextures::new(device, queue, &own_maps(scene)?))
+}
+
+/// The maps of the scene's glTF subject's own material.
+pub(in crate::render) fn own_maps(scene: &Scene) -> Result<crate::materials::MaterialMaps, Error> {
     let no_maps =
         || Error::Other(format!("composition `{}`: the subject has no glTF material with textures", scene.name));
     let path = scene.subject_gltf().ok_or_else(no_maps)?;
     let (_, material) = crate::geometry::gltf_io::load_with_material(&path)?;
-    let maps = material.as_ref().and_then(crate::materials::gltf::maps).ok_or_else(no_maps)?;
-    Ok(crate::render::material_maps::MaterialTextures::new(device, queue, &maps))
+    material.as_ref().and_then(crate::materials::gltf::maps).ok_or_else(no_maps)
+}
+
+/// The maps the subject wears with `maps` (a preset's, or `own`: its glTF material's), on the CPU.
+pub(in crate::render) fn subject_maps(
+    prepared: &PreparedScene,
+    maps: &str,
+) -> Result<std::sync::Arc<crate::materials::MaterialMaps>, Error> {
+    if maps != crate::spec::presets::OWN.name {
+        return Ok(crate::materials::MaterialMaps::of(maps));
+    }
+    if let Some(m) = prepared.own_maps.get() {
+        return Ok(m.clone());
+    }
+    let m = std::sync::Arc::new(own_maps(&prepared.scene)?);
+    Ok(prepared.own_maps.get_or_init(|| m).clone())
 }

@@ -427,3 +427,75 @@ background = false
         }
     }
 }
+
+/// The CPU tracer reads the subject's maps: a textured cutout is there where its alpha map
+/// reaches the cutoff (the ramp quad covers 1 − cutoff of itself, as the rasteriser's does), and
+/// a textured opaque subject's truth agrees with the GPU tracer's within noise.
+#[test]
+fn the_cpu_truth_reads_the_subjects_maps_and_their_alpha() {
+    use shadematrix::render::truth::{TruthKind, TruthSettings};
+    use shadematrix::spec::matrix::TruthBackend;
+    let tmp = tempfile::tempdir().unwrap();
+    write_alpha_ramp_gltf(tmp.path(), 0.5);
+    let ramp = Scene::load_file(&tmp.path().join("ramp.toml")).unwrap();
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let prepared = renderer.prepare_scene(&ramp).unwrap();
+    let sliders = Sliders { base_color_linear: [1.0; 3], metallic: 0.0, smoothness: 0.3 };
+    let settings = TruthSettings { spp: 16, noise: 0.0, bounces: 0, ..Default::default() };
+    let mut cell = cell_params(Pipeline::Urp, "lit", sliders, (1.0, 10.0), 64, RenderPath::Forward);
+    cell.settings.material_maps = Some(shadematrix::spec::presets::OWN.name);
+    let whole = coverage(&renderer.render_truth(&prepared, &cell, &settings).unwrap().roles);
+    for cutoff in [0.25, 0.75] {
+        cell.settings.surface = SurfaceOptions { kind: SurfaceType::Cutout, alpha: 1.0, cutoff };
+        let traced = coverage(&renderer.render_truth(&prepared, &cell, &settings).unwrap().roles) / whole;
+        let drawn = coverage(&renderer.render(&prepared, &cell, 1, 0).unwrap().roles) / whole;
+        eprintln!("cutoff {cutoff}: the truth covers {traced:.4}, the frame {drawn:.4} of the opaque quad");
+        assert!((traced - (1.0 - cutoff)).abs() < 0.03, "cutoff {cutoff}: traced coverage {traced}");
+    }
+    // Brick's maps on the textured plane: both tracers, the same subject within noise.
+    let plane = Scene::load_file(&fixture("textured_plane.toml")).unwrap();
+    let prepared = renderer.prepare_scene(&plane).unwrap();
+    let sliders = Sliders { base_color_linear: [0.262, 0.095, 0.061], metallic: 0.0, smoothness: 0.6 };
+    let mut cell = cell_params(Pipeline::Urp, "lit", sliders, (1.0, 10.0), 32, RenderPath::Forward);
+    cell.settings.material_maps = Some("brick");
+    let at = |backend, cell: &shadematrix::render::CellParams, renderer: &mut Renderer| {
+        let settings = TruthSettings {
+            kind: TruthKind::SameBrdf,
+            spp: 64,
+            noise: 0.0,
+            bounces: 0,
+            batch: 32,
+            backend,
+            ..Default::default()
+        };
+        renderer.render_truth(&prepared, cell, &settings).unwrap()
+    };
+    let (cpu, gpu) = (at(TruthBackend::Cpu, &cell, &mut renderer), at(TruthBackend::Gpu, &cell, &mut renderer));
+    // A pixel's samples spread over the texture beneath it: its standard error holds the map's
+    // variation, so pixels are compared in standard errors.
+    let (mut diff, mut var, mut z2, mut n, mut outliers) = (0.0f64, 0.0f64, 0.0f64, 0usize, 0usize);
+    for i in 0..cpu.mean.len() {
+        if cpu.roles[i] != ROLE_SUBJECT || gpu.roles[i] != ROLE_SUBJECT {
+            continue;
+        }
+        let v = (cpu.std_error[i] as f64).powi(2) + (gpu.std_error[i] as f64).powi(2);
+        let d = cpu.mean[i][0] as f64 - gpu.mean[i][0] as f64;
+        if v > 0.0 {
+            z2 += d * d / v;
+            outliers += (d.abs() / v.sqrt() > 4.5) as usize;
+        }
+        diff += d;
+        var += v;
+        n += 1;
+    }
+    let z = if var > 0.0 { diff / var.sqrt() } else { 0.0 };
+    let rms = (z2 / n.max(1) as f64).sqrt();
+    eprintln!("textured brick: CPU − GPU truth over the subject Z {z:.2}, per-pixel Z RMS {rms:.3} over {n}, |Z| > 4.5: {outliers}");
+    assert!(n > 100 && z.abs() < 4.0, "subject means differ by {z:.2} standard errors");
+    assert!(rms < 1.5 && outliers * 100 <= n, "per-pixel Z RMS {rms}, {outliers} outliers");
+    // And the maps are read: without them the CPU truth is another image.
+    cell.settings.material_maps = None;
+    let flat = at(TruthBackend::Cpu, &cell, &mut renderer);
+    let moved = cpu.mean.iter().zip(&flat.mean).filter(|(a, b)| (a[0] - b[0]).abs() > 0.1 * b[0].abs()).count();
+    assert!(moved * 4 > n, "the brick maps change {moved} of {n} subject pixels");
+}

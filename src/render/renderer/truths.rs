@@ -78,15 +78,14 @@ impl Renderer {
         use crate::spec::matrix::TruthBackend;
         let twins = cell.model.twin.is_some() && fixed_model.twin.is_some();
         let coverage = subject_coverage(cell)?;
-        if coverage < 1.0 {
-            // Only the CPU tracer lets rays through a surface.
-            if cell.settings.material_maps.is_some() {
-                return Err(Error::Other(
-                    "the truth of a textured subject that is not opaque is not traced: its alpha map is read by \
-                     the GPU tracer alone, which draws every surface opaque"
-                        .into(),
-                ));
-            }
+        // Only the CPU tracer lets rays through a surface; a textured cutout or Fade subject is
+        // not all there wherever its alpha map says so.
+        let textured_see_through = cell.settings.material_maps.is_some()
+            && matches!(
+                cell.settings.surface.kind,
+                crate::pipelines::surface::SurfaceType::Cutout | crate::pipelines::surface::SurfaceType::Fade
+            );
+        if coverage < 1.0 || textured_see_through {
             return match settings.backend {
                 crate::spec::matrix::TruthBackend::Gpu => Err(Error::Other(format!(
                     "truth backend \"gpu\" draws every surface opaque; this cell's subject is `{}`: use \
@@ -103,8 +102,6 @@ impl Renderer {
         }
         let why_not = if !twins && settings.kind == TruthKind::SameBrdf {
             Some(format!("`{}` has no f64 twin (a user model)", cell.model.name))
-        } else if cell.settings.material_maps.is_some() {
-            Some("its subject is textured (material maps), which only the GPU tracer samples".to_string())
         } else {
             None
         };
@@ -122,8 +119,11 @@ impl Renderer {
                     "the Sobol sampler runs on the CPU backend, which cannot trace this cell: {why}; use sampler = \"independent\""
                 )))
             }
+            // A textured opaque subject stays on the GPU tracer under `auto`, as its truths were traced.
             (TruthBackend::Auto, why) => {
-                why.is_none() && self.gpu.adapter.get_info().device_type == wgpu::DeviceType::Cpu
+                why.is_none()
+                    && self.gpu.adapter.get_info().device_type == wgpu::DeviceType::Cpu
+                    && cell.settings.material_maps.is_none()
             }
         })
     }
@@ -179,6 +179,10 @@ impl Renderer {
         if settings.kind == TruthKind::SameBrdf && (twins.0.is_none() || twins.1.is_none()) {
             return Err(Error::Other(format!("`{}` has no f64 twin for the CPU truth", cell.model.name)));
         }
+        let subject_maps = match cell.settings.material_maps {
+            Some(maps) => Some(crate::render::prepared::subject_maps(prepared, maps)?),
+            None => None,
+        };
         let inputs = cpu::CpuTruthInputs {
             pipeline: cell.pipeline,
             kind: settings.kind,
@@ -193,6 +197,8 @@ impl Renderer {
             fixed_role: ROLE_FIXED,
             fixed_maps: &prepared.fixed_maps.maps,
             subject_coverage: subject_coverage(cell)?,
+            subject_maps: subject_maps.as_deref(),
+            subject_surface: cell.settings.surface,
         };
         then(&scene, &inputs)
     }
@@ -277,7 +283,7 @@ impl Renderer {
                 "counts": f.counts,
             })
         });
-        Ok(serde_json::json!({
+        let mut reads = serde_json::json!({
             "backend": if on_cpu { "cpu" } else { "gpu" },
             "settings": format!("{settings:?}"),
             "size": [cell.width, cell.height],
@@ -290,7 +296,13 @@ impl Renderer {
             "materials": materials,
             "lights": lights,
             "models": models,
-        }))
+        });
+        // A textured subject's maps, and how its surface reads their alpha (in every truth kind;
+        // untextured cells' reads stay as they were).
+        if let Some(maps) = cell.settings.material_maps {
+            reads["subject_maps"] = serde_json::json!([maps, format!("{:?}", cell.settings.surface)]);
+        }
+        Ok(reads)
     }
 }
 

@@ -216,8 +216,39 @@ pub struct CpuTruthInputs<'a> {
     pub fixed_maps: &'a crate::materials::fixed::FixedMaps,
     /// The share of the subject's surface that is there (`SurfaceType` coverage): 1 opaque, a
     /// Fade surface's alpha, 1 or 0 for a cutout whose alpha is above or below its cutoff. A ray
-    /// meeting the subject passes it with probability 1 − coverage.
+    /// meeting the subject passes it with probability 1 − coverage. With maps, the coverage at a
+    /// hit is the surface's alpha × the albedo map's there (`subject_surface`).
     pub subject_coverage: f64,
+    /// The subject's maps where it wears them, read at their finest level as the GPU tracer does.
+    pub subject_maps: Option<&'a crate::materials::MaterialMaps>,
+    /// The subject's surface type, alpha and cutoff.
+    pub subject_surface: crate::pipelines::surface::SurfaceOptions,
+}
+
+impl CpuTruthInputs<'_> {
+    /// Whether every ray stops at the first surface it meets (no subject that lets light through).
+    fn all_opaque(&self) -> bool {
+        if self.subject_maps.is_some() {
+            return self.subject_surface.kind == crate::pipelines::surface::SurfaceType::Opaque;
+        }
+        self.subject_coverage >= 1.0
+    }
+
+    /// The share of the subject that is there at uv: its flat coverage, or with maps its alpha
+    /// there as its surface type reads it (Fade: the alpha; a cutout: there where the alpha
+    /// reaches the cutoff) — forward.wgsl `material_alpha`, `clip_alpha`.
+    fn coverage_at(&self, uv: DVec2) -> f64 {
+        use crate::pipelines::surface::SurfaceType;
+        let Some(maps) = self.subject_maps else { return self.subject_coverage };
+        let level = &maps.levels[0];
+        let s = &self.subject_surface;
+        let alpha = s.alpha * crate::materials::bilinear(&level.albedo, level.size, level.size, uv.x, uv.y)[3] as f64;
+        match s.kind {
+            SurfaceType::Fade => alpha.clamp(0.0, 1.0),
+            SurfaceType::Cutout => (alpha >= s.cutoff) as u32 as f64,
+            _ => 1.0,
+        }
+    }
 }
 
 /// The scene a CPU truth traces: the triangles and vertices the GPU's reads, over obvhs's
@@ -328,11 +359,15 @@ struct SurfacePoint {
 /// `fixed_map_level0`.
 fn fixed_maps_at(maps: &crate::materials::fixed::FixedMaps, m: &GpuMaterial, uv: DVec2) -> Option<[[f64; 4]; 4]> {
     let slot = (m.params[3] + 0.5) as usize;
-    let level = &maps.materials.get(slot.checked_sub(1)?)?.levels[0];
+    Some(maps_at(&maps.materials.get(slot.checked_sub(1)?)?.levels[0], uv))
+}
+
+/// One level's maps at uv (albedo, tangent-space normal, mask, emission; emission 1 without a map).
+fn maps_at(level: &crate::materials::MapLevel, uv: DVec2) -> [[f64; 4]; 4] {
     let at =
         |texels: &[[f32; 4]]| crate::materials::bilinear(texels, level.size, level.size, uv.x, uv.y).map(f64::from);
     let emission = if level.emission.is_empty() { [1.0; 4] } else { at(&level.emission) };
-    Some([at(&level.albedo), at(&level.normal), at(&level.mask), emission])
+    [at(&level.albedo), at(&level.normal), at(&level.mask), emission]
 }
 
 /// scene.wgsl `tangent_to_world`: the tangent frame (bitangent = cross(n, t)·w) carries a
@@ -458,10 +493,21 @@ impl Tracer<'_> {
     /// probability 1 − coverage (a screen door, as alpha blending a Fade surface stands for). An
     /// opaque scene draws no number, so its paths are those of a scene without the test.
     fn passes(&self, hit: &Hit, rng: &mut Rng) -> bool {
-        let coverage = self.inputs.subject_coverage;
-        coverage < 1.0
-            && self.inputs.materials[self.scene.geometry.triangles[hit.triangle][3] as usize].1
-            && rng.next() >= coverage
+        if self.inputs.all_opaque() || !self.inputs.materials[self.scene.geometry.triangles[hit.triangle][3] as usize].1
+        {
+            return false;
+        }
+        let coverage = self.inputs.coverage_at(self.uv_at(hit));
+        coverage < 1.0 && rng.next() >= coverage
+    }
+
+    /// The interpolated uv of a hit.
+    fn uv_at(&self, hit: &Hit) -> DVec2 {
+        let g = &self.scene.geometry;
+        let tri = g.triangles[hit.triangle];
+        let [a, b, c] = [0, 1, 2].map(|k| &g.vertices[tri[k] as usize]);
+        let uv_of = |v: &super::bvh::TruthVertex| DVec2::new(v.position[3] as f64, v.normal[3] as f64);
+        uv_of(a) * (1.0 - hit.b1 - hit.b2) + uv_of(b) * hit.b1 + uv_of(c) * hit.b2
     }
 
     /// The nearest surface along o + t·d that the ray does not pass.
@@ -477,7 +523,7 @@ impl Tracer<'_> {
 
     /// Whether a shadow ray from o along d is stopped before t_max.
     fn blocked(&self, mut o: DVec3, d: DVec3, t_max: f64, rng: &mut Rng) -> bool {
-        if self.inputs.subject_coverage >= 1.0 {
+        if self.inputs.all_opaque() {
             return self.scene.occluded(o, d, t_max);
         }
         let mut left = t_max;
@@ -521,8 +567,12 @@ impl Tracer<'_> {
         let mut s = surface_from(&m, uv);
         // The subject's emission where its model emits; a fixed object's own (zero for most).
         let mut emission = v3(m.emission);
-        // scene.wgsl `surface_from` with maps: a fixed object's modulate its material.
-        let maps = if is_subject { None } else { fixed_maps_at(self.inputs.fixed_maps, &m, uv) };
+        // scene.wgsl `surface_from` with maps: the subject's or a fixed object's modulate its material.
+        let maps = match (is_subject, self.inputs.subject_maps) {
+            (true, Some(maps)) => Some(maps_at(&maps.levels[0], uv)),
+            (true, None) => None,
+            (false, _) => fixed_maps_at(self.inputs.fixed_maps, &m, uv),
+        };
         if let Some([albedo, normal, mask, glow]) = maps {
             s.base_color *= DVec3::new(albedo[0], albedo[1], albedo[2]);
             s.metallic *= mask[0];
