@@ -45,11 +45,13 @@ name = "terms"
 compositions = ["mitsuba"]
 pipelines = ["builtin", "urp", "hdrp"]
 paths = ["forward", "deferred"]
-shaders = ["standard", "lit", "simple_lit", "phong", "unlit"]
-presets = ["gold", "plastic"]
+shaders = ["standard", "lit", "simple_lit", "phong", "unlit", "lambert_vertex"]
+presets = ["plastic"]
 
 [sweep]
 smoothness = [0.8]
+surface = ["opaque", "fade", "transparent"]
+alpha = [0.4]
 
 [outputs]
 terms = true
