@@ -596,7 +596,7 @@ fn render_key(c: &Cell, keyless: bool) -> String {
     for row in crate::spec::axes::AXES.iter().filter(|row| !ignored(row.axis)) {
         let mut value = c.coords.get(row.axis);
         // A height map's scale moves the maps: a flat subject has none to move.
-        if let (crate::cells::coords::AxisValue::Params(p), false) = (&mut value, c.coords.textured) {
+        if let (AxisValue::Params(p), false) = (&mut value, c.coords.textured) {
             p.remove(crate::shading::registry::PARALLAX_PARAM);
         }
         key.push_str(&format!("|{}={:?}", row.name, value));
