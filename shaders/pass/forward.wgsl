@@ -558,7 +558,8 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> FragmentOut {
             glow *= material_alpha;
         }
     }
-    var lit = vec3<f32>(ambient_occlusion());
+    // A ForwardAdd draw adds its light to the base draw: in the occlusion layer, nothing.
+    var lit = vec3<f32>(select(ambient_occlusion(), 0.0, FORWARD_PASS == FORWARD_ADD));
     if (!draws_occlusion()) {
         lit = shade(s, n, in.world_pos, in.vertex_gi) + emitted(glow);
     }
@@ -578,6 +579,8 @@ struct GouraudOut {
     @location(2) world_pos: vec3<f32>,
     // The fixed-function fallback's separate specular (FIXED_FUNCTION)
     @location(3) specular: vec3<f32>,
+    // The material's occlusion at the vertex, for the occlusion layer
+    @location(4) occlusion: f32,
 };
 
 // 1: built-in's vertex-lit path drawing a shader without a Vertex pass (Standard), which falls
@@ -649,6 +652,8 @@ fn vs_gouraud(in: VertexIn) -> GouraudOut {
     }
     out.uv = in.uv;
     out.world_pos = world.xyz;
+    // Set by material_at_vertex above (1 without maps)
+    out.occlusion = material_occlusion;
     return out;
 }
 
@@ -662,6 +667,10 @@ fn fs_gouraud(in: GouraudOut) -> FragmentOut {
         out.color = vec4<f32>(in.color * 2.0 + in.specular, 1.0);
     } else {
         out.color = vec4<f32>(in.color + emitted(emission(in.uv)), 1.0);
+        // The occlusion layer: what dimmed the ambient at the vertices
+        if (draws_occlusion()) {
+            out.color = vec4<f32>(vec3<f32>(in.occlusion), 1.0);
+        }
     }
     out.role = object.flags.y;
     return out;

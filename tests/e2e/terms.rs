@@ -77,6 +77,13 @@ height = 48
         {
             assert!(names.contains(&name), "{}: layers {names:?}", cell.display());
         }
+        // The occlusion is a factor in 0..1 wherever a surface is, whatever passes draw it (for an
+        // opaque subject: a transparent one's blends over the background as its colour does).
+        if matches!(record.coords.surface, None | Some(shadematrix::pipelines::surface::SurfaceType::Opaque)) {
+            let ao = read_exr_layer(&cell.join("image.exr"), "occlusion").unwrap();
+            let top = ao.chunks_exact(4).map(|p| p[0]).fold(0f32, f32::max);
+            assert!(top <= 1.0 + 1e-6, "{}: occlusion up to {top}", cell.display());
+        }
         let key = format!("{}/{}", record.coords.pipeline.name(), record.coords.path.name());
         let entry = seen.entry(key).or_insert((0usize, 0.0f64, Vec::new()));
         entry.0 += 1;
