@@ -88,9 +88,16 @@ pub fn encode_cell(
 ) -> Result<EncodedCell, Error> {
     let RenderedCell { cell, render: mut r, reference, study: study_renders, study_left_out, timed_as } = job;
     let t0 = ThreadTimer::start();
-    // 16-bit channels where the frame fits them (`spec::outputs`): rounded here, so the PNG, the
-    // statistics and the metrics see what the file holds.
-    let half = matrix.outputs.exr == ExrPrecision::Half && encode::fits_half(&r.hdr);
+    // 16-bit channels where the frame fits them (`spec::outputs`), and its term layers, which share
+    // the file's channels: rounded here, so the PNG, the statistics and the metrics see what the
+    // file holds.
+    let layers_fit = r
+        .terms
+        .iter()
+        .flat_map(|t| t.as_ref().ok())
+        .flat_map(|t| t.layers.iter().map(|l| &l.1).chain(&t.before_bloom))
+        .all(|px| encode::fits_half(px));
+    let half = matrix.outputs.exr == ExrPrecision::Half && encode::fits_half(&r.hdr) && layers_fit;
     if half {
         encode::round_to_half(&mut r.hdr);
     }
@@ -118,8 +125,6 @@ pub fn encode_cell(
     }
     let compression = matrix.outputs.exr_compression.exr();
     let mut terms = r.terms.take().map(|t| term_layers(t, &display));
-    // The layers share the image's channels: 16-bit only where every one fits them too.
-    let half = half && terms.iter().flat_map(|t| &t.layers).all(|l| encode::fits_half(&l.1));
     let exr = match &mut terms {
         Some(t) if !t.layers.is_empty() => {
             if half {

@@ -72,14 +72,10 @@ width = 64
 height = 64
 "#;
     let out = crate::common::run_matrix(tmp.path(), body, "run");
-    let records: Vec<shadematrix::record::cell::CellRecord> = std::fs::read_dir(out.join("cells"))
-        .unwrap()
-        .map(|e| serde_json::from_slice(&std::fs::read(e.unwrap().path().join("cell.json")).unwrap()).unwrap())
-        .collect();
+    let run = shadematrix::report::run_data::RunData::load(&out).unwrap();
+    let records = &run.cells;
     let image = |r: &shadematrix::record::cell::CellRecord| {
-        let (_, _, px) =
-            shadematrix::images::encode::read_exr(&out.join("cells").join(&r.id.0).join("image.exr")).unwrap();
-        px
+        shadematrix::images::encode::read_exr(&run.cell_dir(&r.id.0).join("image.exr")).unwrap().2
     };
     let mut checked = 0;
     for r in records.iter().filter(|r| r.coords.params.get("parallax") == Some(&0.08)) {
