@@ -216,6 +216,12 @@ pub enum Command {
         #[arg(long)]
         out: PathBuf,
     },
+    /// Fit the LTC tables HDRP's rect lights read (maintainers: writes shaders/data/ltc.bin, which
+    /// the binary embeds; docs/models.md#area-lights).
+    FitLtc {
+        #[arg(default_value = "shaders/data/ltc.bin")]
+        out: PathBuf,
+    },
     /// Write a composition's meshes (world space) as a GLB file.
     ExportMesh {
         /// A built-in composition name or a scene TOML path.
@@ -290,6 +296,12 @@ pub fn dispatch(cmd: Command) -> Result<(), Error> {
         }
         Command::Report { run } => runs::report(&run),
         Command::Merge { shards, out } => runs::merge(&shards, &out),
+        Command::FitLtc { out } => {
+            let tables = crate::shading::ltc_fit::fit();
+            crate::fsutil::write_atomic(&out, &tables.to_bytes())?;
+            eprintln!("wrote {}", out.display());
+            Ok(())
+        }
         Command::ExportMesh { composition, out, preset, textured } => export_mesh::export_mesh(
             &composition,
             &out,

@@ -2,6 +2,8 @@
 //! and the CPU f64 twin of every model.
 
 pub mod fgd;
+pub mod ltc;
+pub mod ltc_fit;
 pub mod registry;
 pub mod twin;
 pub mod user;
