@@ -119,3 +119,21 @@ fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>)
     return indirect_diffuse(hdrp_diffuse_color(s) * gi_diffuse * diffuse_fgd)
         + indirect_specular(specular_fgd * env * hdrp_energy_compensation(s, clamped_nv));
 }
+
+// EvaluateBSDF_Rect: the corners (relative to the shaded point) in the view–normal frame through the
+// Disney-diffuse and GGX inverse LTCs, each PolygonIrradiance times its FGD magnitude
+// (diffuseFGD; specularFGD with the energy compensation PostEvaluateBSDF applies); per unit luminance
+fn model_rect(s: Surface, n: vec3<f32>, v: vec3<f32>, corners: array<vec3<f32>, 4>) -> vec3<f32> {
+    let nv = dot(n, v);
+    let clamped_nv = clamp_n_dot_v(nv);
+    let pr = 1.0 - s.smoothness;
+    let basis = ortho_basis_view_normal(v, n, nv);
+    let ltc_diffuse = polygon_irradiance(polygon_form_factor(ltc_transform(corners, ltc_lookup(LTC_DISNEY_ROW, clamped_nv, pr) * basis)));
+    let ltc_specular = polygon_irradiance(polygon_form_factor(ltc_transform(corners, ltc_lookup(LTC_GGX_ROW, clamped_nv, pr) * basis)));
+    let fgd = fgd_lookup(clamped_nv, pr);
+    let f0 = hdrp_f0(s);
+    let specular_fgd = (vec3<f32>(1.0) - f0) * fgd.x + f0 * fgd.y;
+    let diffuse_fgd = fgd.z + 0.5;
+    return direct_diffuse(hdrp_diffuse_color(s) * diffuse_fgd * ltc_diffuse)
+        + direct_specular(specular_fgd * ltc_specular * hdrp_energy_compensation(s, clamped_nv));
+}

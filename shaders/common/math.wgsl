@@ -1,6 +1,7 @@
 // Shared math and constants (spec/shading.md notation). Prepended to every model and pass.
 const PI: f32 = 3.14159265358979;
 const INV_PI: f32 = 0.318309886183791;
+const HALF_PI: f32 = 1.57079632679490;
 
 // sat(x) = clamp(x, 0, 1) (spec notation)
 fn sat(x: f32) -> f32 {

@@ -416,6 +416,10 @@ fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>, vertex_gi: vec3<f32>) -> vec3<f
             continue;
         }
         let light = lights[i];
+        if (u32(light.position.w) >= LIGHT_RECT) {
+            c += rect_light(light, s, n, v, p);
+            continue;
+        }
         let inc = light_incidence(light, p);
         if (inc.w > 0.0) {
             let receives = object.flags.w != 0u && VERTEX_LIT == 0u && (ADDITIONAL_SHADOWS == 1u || main);
@@ -431,6 +435,18 @@ fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>, vertex_gi: vec3<f32>) -> vec3<f
     }
     let gi = environment_ambient(n) + max(sh_eval(object.light_sh, n), vec3<f32>(0.0)) + vertex_gi;
     return c + indirect_light(s, n, v, gi);
+}
+
+// A rect light's direct term at p (the model's `model_rect`); 0 where the frame leaves it out
+fn rect_light(light: Light, s: Surface, n: vec3<f32>, v: vec3<f32>, p: vec3<f32>) -> vec3<f32> {
+    if (light.shape.w < 0.5) {
+        return vec3<f32>(0.0);
+    }
+    let atten = rect_attenuation(light, p);
+    if (atten <= 0.0) {
+        return vec3<f32>(0.0);
+    }
+    return model_rect(s, n, v, rect_corners(light, p)) * light.color.rgb * atten;
 }
 
 // HDRP's screen-space ambient occlusion (render::passes::ssao): the visibility at each pixel, loaded by the
@@ -810,6 +826,9 @@ fn fs_deferred(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
 
 // One light's direct term at a G-buffer pixel
 fn deferred_light(light: Light, s: Surface, p: vec3<f32>, n: vec3<f32>, v: vec3<f32>, receives: bool) -> vec3<f32> {
+    if (u32(light.position.w) >= LIGHT_RECT) {
+        return rect_light(light, s, n, v, p);
+    }
     let inc = light_incidence(light, p);
     if (inc.w <= 0.0) {
         return vec3<f32>(0.0);
@@ -887,10 +906,15 @@ fn cs_light_tiles(
         let light = lights[i];
         var reaches = u32(light.position.w) == 0u;
         if (!reaches) {
-            // Sphere (position, range) against the box: closest point distance ≤ range
+            // Sphere (position, range) against the box: closest point distance ≤ range; an area
+            // light's sphere holds its attenuation box (range + w/2, range + h/2, range)
             let closest = clamp(light.position.xyz, box_min, box_max);
             let d = light.position.xyz - closest;
-            reaches = dot(d, d) <= light.params.x * light.params.x;
+            var radius = light.params.x;
+            if (u32(light.position.w) >= LIGHT_RECT) {
+                radius = length(vec3<f32>(light.params.x + light.params.y, light.params.x + light.params.z, light.params.x));
+            }
+            reaches = dot(d, d) <= radius * radius;
         }
         if (reaches) {
             atomicOr(&tile_masks_out[tile * words + i / 32u], 1u << (i % 32u));

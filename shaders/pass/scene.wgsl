@@ -1,12 +1,13 @@
 // Frame and object data shared by the forward and background passes; twin: render::uniforms.
 
 struct Light {
-    position: vec4<f32>,   // xyz position; w: 0 directional, 1 point, 2 spot
+    position: vec4<f32>,   // xyz position (an area light's centre); w: 0 directional, 1 point, 2 spot, 3 rect, 4 disc
     direction: vec4<f32>,  // xyz direction the light travels
-    color: vec4<f32>,      // linear colour × intensity in the pipeline's units
-    params: vec4<f32>,     // range, cos outer, cos inner, HDRP minRoughness of the light's shape
+    color: vec4<f32>,      // linear colour × intensity in the pipeline's units (an area light: its luminance)
+    params: vec4<f32>,     // range, cos outer, cos inner, HDRP minRoughness of the light's shape; area: range, half width, half height
     shadow: vec4<f32>,     // first shadow layer (−1: none), layer count, strength, soft
     shadow_bias: vec4<f32>, // bias, normal bias (shadow-map texels)
+    shape: vec4<f32>,      // area lights: right axis; w = 1 where the frame draws it (an HDRP rect)
 };
 
 // One shadow-map layer (plan::shadows): view-projection; params.x texel size (world units, or
@@ -114,6 +115,45 @@ fn sh_eval(c: array<vec4<f32>, 9>, n: vec3<f32>) -> vec3<f32> {
 fn fgd_lookup(nv: f32, pr: f32) -> vec3<f32> {
     return fgd_sample(fgd_lut, nv, pr);
 }
+
+fn ltc_lookup(row: i32, clamped_nv: f32, pr: f32) -> mat3x3<f32> {
+    return ltc_sample(fgd_lut, row, clamped_nv, pr);
+}
+
+const LIGHT_RECT: u32 = 3u;
+const LIGHT_DISC: u32 = 4u;
+
+// A rect light's corners relative to p: −right−up, −right+up, +right+up, +right−up with
+// up = forward × right (HDRP's LL, UL, UR, LR; twin: ltc::RectLight::vertices)
+fn rect_corners(light: Light, p: vec3<f32>) -> array<vec3<f32>, 4> {
+    let forward = normalize(light.direction.xyz);
+    let r = light.shape.xyz * light.params.y;
+    let u = cross(forward, light.shape.xyz) * light.params.z;
+    let c = light.position.xyz - p;
+    return array<vec3<f32>, 4>(c - r - u, c - r + u, c + r + u, c + r - u);
+}
+
+// HDRP's BoxDistanceAttenuation of a rect light, range normalised (rangeAttenuationScale = 1): the
+// light-space vector over (range + w/2, range + h/2, range), cube mapped to sphere, sat(1 − d²)²;
+// 0 behind the light (twin: ltc::RectLight::attenuation)
+fn rect_attenuation(light: Light, p: vec3<f32>) -> f32 {
+    let forward = normalize(light.direction.xyz);
+    let un_l = light.position.xyz - p;
+    if (dot(forward, un_l) >= 1.192092896e-7) {
+        return 0.0;
+    }
+    let range = light.params.x;
+    let q = vec3<f32>(dot(un_l, light.shape.xyz), dot(un_l, cross(forward, light.shape.xyz)), dot(un_l, -forward))
+        / vec3<f32>(range + light.params.y, range + light.params.z, range);
+    if (max(max(abs(q.x), abs(q.y)), abs(q.z)) > 1.0) {
+        return 0.0;
+    }
+    let q2 = q * q;
+    let sq = dot(q, q) - q2.x * q2.y - q2.y * q2.z - q2.z * q2.x + q2.x * q2.y * q2.z;
+    let w = sat(1.0 - sq * sq);
+    return w * w;
+}
+
 
 // The environment's ambient term E(n)/π from its SH (twin: environment::sh)
 fn ambient_diffuse(n: vec3<f32>) -> vec3<f32> {

@@ -46,7 +46,6 @@ struct SsaoFrame {
 @group(0) @binding(6) var depth_in: texture_depth_2d;
 @group(0) @binding(7) var depth_out: texture_storage_2d<rg32float, write>;
 
-const HALF_PI: f32 = 1.570796327;
 const SSAO_CLOSEST: u32 = 1u;
 const SSAO_HORIZONS: u32 = 2u;
 

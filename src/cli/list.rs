@@ -178,7 +178,7 @@ fn light_plan(m: &Matrix, scene: &crate::spec::scene::Scene) -> String {
     }
     for p in &m.pipelines {
         for path in &m.paths {
-            let plan = assign(*p, *path, &m.light_budget, &lights, &centres, |_| false);
+            let plan = assign(*p, *path, &m.light_budget, &lights, &centres, |_| Default::default());
             let label = format!("{}-{}", p.name(), path.name());
             let forward_only: Vec<&str> = m
                 .shaders

@@ -58,6 +58,9 @@ impl Pipeline {
         match (self, emitter) {
             (Pipeline::Builtin | Pipeline::Urp, _) => "unitless (an intensity I delivers irradiance π·I)",
             (Pipeline::Hdrp, Emitter::Directional { .. }) => "lux (axis × 10000)",
+            (Pipeline::Hdrp, Emitter::Rect { .. } | Emitter::Disc { .. }) => {
+                "lumen (axis × 10000), converted to nits by the light's area"
+            }
             (Pipeline::Hdrp, _) => "lumen (axis × 10000), converted to candela by the light's shape",
         }
     }
@@ -175,7 +178,8 @@ impl Pipeline {
             Pipeline::Builtin => {
                 let (factor, max) = match emitter {
                     Emitter::Directional { .. } => (3.8, 4096),
-                    Emitter::Spot { .. } => (2.0, 2048),
+                    // Area lights cast no real-time shadows (spec::area_light): the spot's row.
+                    Emitter::Spot { .. } | Emitter::Rect { .. } | Emitter::Disc { .. } => (2.0, 2048),
                     Emitter::Point { .. } => (1.0, 1024),
                 };
                 let size = (pixel_size * 0.5 * factor).ceil().max(1.0) as u32;
@@ -475,6 +479,10 @@ pub enum Emitter {
         /// `m_EnableSpotReflector = true` by default).
         reflector: bool,
     },
+    /// A rectangle light, metres.
+    Rect { width: f64, height: f64 },
+    /// A disc light, metres.
+    Disc { radius: f64 },
 }
 
 /// Cascaded shadow maps of a directional light: each cascade's far edge as a fraction of the
@@ -504,6 +512,10 @@ impl Emitter {
                 1.0 / (2.0 * PI * (1.0 - (0.5 * angle_deg).to_radians().cos()))
             }
             Emitter::Spot { reflector: false, .. } => 1.0 / (4.0 * PI),
+            // Nits per lumen: LightUtils.ConvertRectLightLumenToLuminance Φ/(w·h·π) and
+            // ConvertDiscLightLumenToLuminance Φ/(π·r²·π).
+            Emitter::Rect { width, height } => 1.0 / (width * height * PI),
+            Emitter::Disc { radius } => 1.0 / (PI * radius * radius * PI),
         }
     }
 
@@ -516,16 +528,29 @@ impl Emitter {
                 1.35 / (1.0 + (1.15 * (0.0315 * d + 0.4)).powi(2)) - 0.11
             }
             Emitter::Point { radius } | Emitter::Spot { radius, .. } => 1.1725 / (1.01 + (radius + 0.1).powi(2)) - 0.15,
+            // Area lights have no floor: maxSmoothness 1 (HDAdditionalLightData).
+            Emitter::Rect { .. } | Emitter::Disc { .. } => 1.0,
         };
         (1.0 - max_smoothness.clamp(0.0, 1.0)).powi(2)
     }
 
-    /// Shader light kind: 0 directional, 1 point, 2 spot (shaders/pass/scene.wgsl `Light`).
+    /// Shader light kind: 0 directional, 1 point, 2 spot, 3 rect, 4 disc (shaders/pass/scene.wgsl `Light`).
     pub fn shader_kind(self) -> u32 {
         match self {
             Emitter::Directional { .. } => 0,
             Emitter::Point { .. } => 1,
             Emitter::Spot { .. } => 2,
+            Emitter::Rect { .. } => 3,
+            Emitter::Disc { .. } => 4,
+        }
+    }
+
+    /// The emitting area of an area light, m² (0 for the others).
+    pub fn area(self) -> f64 {
+        match self {
+            Emitter::Rect { width, height } => width * height,
+            Emitter::Disc { radius } => std::f64::consts::PI * radius * radius,
+            _ => 0.0,
         }
     }
 }

@@ -8,7 +8,7 @@ use glam::DVec3;
 use super::camera::{cell_lights, posed_camera, ViewAxes};
 use super::draws::{plan_draws, DrawPlan};
 use super::exact::ExactAlternatives;
-use super::lights::{assign, main_light, LightBudget, ObjectLights};
+use super::lights::{assign, main_light, LightBudget, ModelLighting, ObjectLights};
 use super::lod::{groups_seen, LodUse};
 use super::shadows::{
     array_side, cell_resolution, light_layers, shadow_style, CascadeView, ShadowLayerPlan, ShadowStyle,
@@ -211,6 +211,8 @@ impl SceneLayout {
                     LightKind::Point => 6,
                     LightKind::Directional => crate::pipelines::MAX_CASCADES,
                     LightKind::Spot => 1,
+                    // Refused by the scene's checks (spec::area_light): no shadow maps.
+                    LightKind::Rect | LightKind::Disc => 0,
                 };
                 side = side.max(array_side(l));
             } else {
@@ -282,12 +284,15 @@ impl CellPlan {
         let aspect = cell.width as f64 / cell.height as f64;
         let camera = posed_camera(&scene.camera, &cell.view);
         let lights = cell_lights(scene, cell.light_intensity, cell.light_range, &camera, &cell.view);
-        let forward_only = |i: usize| match scene.objects[i].role {
-            Role::Subject => !cell.subject_deferrable(),
-            _ => !fixed_model.deferrable(),
+        let model = |i: usize| match scene.objects[i].role {
+            Role::Subject => ModelLighting {
+                forward_only: !cell.subject_deferrable(),
+                area_lights: cell.model.area_lights(),
+            },
+            _ => ModelLighting { forward_only: !fixed_model.deferrable(), area_lights: fixed_model.area_lights() },
         };
         let assignment =
-            assign(p, cell.settings.path, &cell.settings.light_budget, &lights, &layout.object_centres, forward_only);
+            assign(p, cell.settings.path, &cell.settings.light_budget, &lights, &layout.object_centres, model);
         let sh = &layout.shadows;
         let mut shadow_layers = vec![ShadowLayerPlan::default(); sh.layers];
         let (mut used_layers, mut shadow_maps, mut light_shadows) = (Vec::new(), Vec::new(), Vec::new());

@@ -36,6 +36,9 @@ pub enum LightMode {
     Sh,
     /// Not rendered (over URP's per-object limit).
     Dropped,
+    /// Not drawn by the frame: an area light the pipeline only bakes, or one the object's model
+    /// cannot evaluate (the reason says which); the truth still sees it.
+    LeftOut,
 }
 
 impl LightMode {
@@ -46,6 +49,7 @@ impl LightMode {
             LightMode::PerVertex => 1,
             LightMode::Sh => 2,
             LightMode::Dropped => 3,
+            LightMode::LeftOut => 4,
         }
     }
 
@@ -55,6 +59,7 @@ impl LightMode {
             LightMode::PerVertex => "per-vertex",
             LightMode::Sh => "SH",
             LightMode::Dropped => "dropped",
+            LightMode::LeftOut => "left out",
         }
     }
 }
@@ -107,24 +112,58 @@ pub fn brightness_at(pipeline: Pipeline, light: &Light, centre: DVec3) -> f64 {
     }
 }
 
+/// What the light assignment reads of an object's model.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct ModelLighting {
+    /// It cannot be drawn into a G-buffer (`ShaderModel::deferrable`).
+    pub forward_only: bool,
+    /// It evaluates rect lights (`ShaderModel::area_lights`).
+    pub area_lights: bool,
+}
+
 /// Every object's light assignment. `objects`: names and bounds centres in world space;
-/// `forward_only(i)`: object i's model cannot be drawn into a G-buffer (`ShaderModel::deferrable`).
+/// `model(i)`: what object i's model can draw.
 pub fn assign(
     pipeline: Pipeline,
     path: RenderPath,
     budget: &LightBudget,
     lights: &[Light],
     objects: &[(String, DVec3)],
-    forward_only: impl Fn(usize) -> bool,
+    model: impl Fn(usize) -> ModelLighting,
 ) -> Vec<ObjectLights> {
     objects
         .iter()
         .enumerate()
-        .map(|(i, (name, centre))| ObjectLights {
-            object: name.clone(),
-            lights: assign_object(pipeline, lit_path(path, forward_only(i)), budget, lights, *centre),
+        .map(|(i, (name, centre))| {
+            let m = model(i);
+            let mut uses = assign_object(pipeline, lit_path(path, m.forward_only), budget, lights, *centre);
+            for (u, l) in uses.iter_mut().zip(lights) {
+                if let Some(why) = area_left_out(pipeline, l, m.area_lights) {
+                    *u = use_(u.light, LightMode::LeftOut, why);
+                }
+            }
+            ObjectLights { object: name.clone(), lights: uses }
         })
         .collect()
+}
+
+/// Why the frame leaves an area light out, if it does: built-in and URP bake area lights only
+/// (Unity manual, "Area Lights"); HDRP draws rectangles in real time but bakes discs
+/// (HDAdditionalLightData: Disc is Baked-only), and evaluates them in its Lit family's BSDF
+/// (Lit.hlsl EvaluateBSDF_Rect), not in a model without one. Baked GI is not emulated yet.
+pub fn area_left_out(pipeline: Pipeline, light: &Light, model_has_area: bool) -> Option<String> {
+    const BAKED: &str = "it lights through baked GI, which is not emulated yet: the frame leaves it out, the truth has it";
+    match (light.kind, pipeline) {
+        (LightKind::Rect | LightKind::Disc, Pipeline::Builtin | Pipeline::Urp) => {
+            Some(format!("{} bakes area lights only; {BAKED}", pipeline.name()))
+        }
+        (LightKind::Disc, Pipeline::Hdrp) => Some(format!("HDRP bakes disc lights only; {BAKED}")),
+        (LightKind::Rect, Pipeline::Hdrp) if !model_has_area => Some(
+            "the model has no area-light BSDF (HDRP evaluates rect lights in its Lit family's EvaluateBSDF_Rect)"
+                .into(),
+        ),
+        _ => None,
+    }
 }
 
 /// The path whose budget lights an object: on a deferred path, what the G-buffer cannot carry is
@@ -184,13 +223,18 @@ fn assign_object(
     centre: DVec3,
 ) -> Vec<LightUse> {
     let mut out: Vec<Option<LightUse>> = vec![None; lights.len()];
+    // Area lights take no slot of a budget (`assign` says what becomes of them).
+    let area: Vec<usize> = (0..lights.len()).filter(|&i| lights[i].is_area()).collect();
+    for &i in &area {
+        out[i] = Some(use_(i, LightMode::PerPixel, "an area light, in HDRP's light loop"));
+    }
     if path == RenderPath::Deferred {
         return (0..lights.len())
             .map(|i| use_(i, LightMode::PerPixel, "deferred lighting has no per-object limit"))
             .collect();
     }
     if path == RenderPath::VertexLit {
-        let all: Vec<usize> = (0..lights.len()).collect();
+        let all: Vec<usize> = (0..lights.len()).filter(|i| !area.contains(i)).collect();
         for (rank, i) in by_brightness(pipeline, lights, centre, all).into_iter().enumerate() {
             out[i] = Some(if rank < VERTEX_LIT_LIGHT_COUNT {
                 use_(
@@ -207,7 +251,9 @@ fn assign_object(
     match pipeline {
         Pipeline::Hdrp => {
             for (i, slot) in out.iter_mut().enumerate() {
-                *slot = Some(use_(i, LightMode::PerPixel, "HDRP's light loop has no per-object limit"));
+                if slot.is_none() {
+                    *slot = Some(use_(i, LightMode::PerPixel, "HDRP's light loop has no per-object limit"));
+                }
             }
         }
         Pipeline::Urp => {
@@ -215,7 +261,7 @@ fn assign_object(
             if let Some(m) = main {
                 out[m] = Some(use_(m, LightMode::PerPixel, "the main light (brightest directional)"));
             }
-            let rest: Vec<usize> = (0..lights.len()).filter(|&i| Some(i) != main).collect();
+            let rest: Vec<usize> = (0..lights.len()).filter(|&i| Some(i) != main && out[i].is_none()).collect();
             let limit = budget.urp_per_object_limit as usize;
             for (rank, i) in by_brightness(pipeline, lights, centre, rest).into_iter().enumerate() {
                 out[i] = Some(if rank < limit {
@@ -359,7 +405,7 @@ mod tests {
     fn forward_only_models_on_deferred_get_the_forward_budget() {
         let lights = scene_with(12);
         let two = [("subject".to_string(), DVec3::ZERO), ("wall".to_string(), DVec3::ZERO)];
-        let plan = assign(Pipeline::Builtin, RenderPath::Deferred, &LightBudget::default(), &lights, &two, |i| i == 0);
+        let plan = assign(Pipeline::Builtin, RenderPath::Deferred, &LightBudget::default(), &lights, &two, |i| ModelLighting { forward_only: i == 0, area_lights: false });
         let per_pixel = |o: &ObjectLights| o.lights.iter().filter(|u| u.mode == LightMode::PerPixel).count();
         assert_eq!(per_pixel(&plan[0]), 4, "drawn forward: the pixel light count");
         assert_eq!(per_pixel(&plan[1]), 12, "in the G-buffer: every light per pixel");
@@ -371,14 +417,14 @@ mod tests {
         lights[0].render_mode = RenderMode::NotImportant;
         lights[5].render_mode = RenderMode::Important;
         let one = [("o".to_string(), DVec3::ZERO)];
-        let b = assign(Pipeline::Builtin, RenderPath::Forward, &LightBudget::default(), &lights, &one, |_| false);
+        let b = assign(Pipeline::Builtin, RenderPath::Forward, &LightBudget::default(), &lights, &one, |_| ModelLighting::default());
         assert_eq!(b[0].lights[5].mode, LightMode::PerPixel);
         assert_ne!(b[0].lights[0].mode, LightMode::PerPixel);
-        let u = assign(Pipeline::Urp, RenderPath::Forward, &LightBudget::default(), &lights, &one, |_| false);
+        let u = assign(Pipeline::Urp, RenderPath::Forward, &LightBudget::default(), &lights, &one, |_| ModelLighting::default());
         let dropped: Vec<&LightUse> = u[0].lights.iter().filter(|u| u.mode == LightMode::Dropped).collect();
         assert_eq!(dropped.len(), 2, "six points, four additional lights per object");
         assert!(dropped[0].reason.contains("per-object limit of 4"));
-        let h = assign(Pipeline::Hdrp, RenderPath::Forward, &LightBudget::default(), &lights, &one, |_| false);
+        let h = assign(Pipeline::Hdrp, RenderPath::Forward, &LightBudget::default(), &lights, &one, |_| ModelLighting::default());
         assert!(h[0].lights.iter().all(|u| u.mode == LightMode::PerPixel));
     }
 

@@ -154,6 +154,8 @@ pub fn light_layers(
         layer(proj * view, [(2.0 * (fov * 0.5).tan() / res) as f32, 1.0, 0.0, 0.0], resolution, array_side)
     };
     match light.kind {
+        // Refused by the scene's checks (spec::area_light): no shadow maps.
+        LightKind::Rect | LightKind::Disc => Vec::new(),
         LightKind::Directional => {
             let dir = DVec3::from(light.direction).normalize();
             let (lo, hi) = scene_bounds;

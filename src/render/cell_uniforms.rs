@@ -46,13 +46,27 @@ pub(in crate::render) fn write_uniforms(
         let color = DVec3::from(l.radiance(p, l.intensity, &cell.settings.engine));
         colors.push(color);
         let (shadow, shadow_bias) = shadow_slot(shadow);
+        let mut params = [l.range as f32, outer.cos() as f32, inner.cos() as f32, emitter.hdrp_min_roughness() as f32];
+        let mut shape = [0.0; 4];
+        if l.is_area() {
+            // params: range, half width, half height (a disc: its radius twice); shape: right, drawn
+            let (half_w, half_h) = match emitter {
+                crate::pipelines::Emitter::Rect { width, height } => (width * 0.5, height * 0.5),
+                crate::pipelines::Emitter::Disc { radius } => (radius, radius),
+                _ => unreachable!("an area light's emitter"),
+            };
+            params = [l.range as f32, half_w as f32, half_h as f32, 0.0];
+            let drawn = p == crate::pipelines::Pipeline::Hdrp && l.kind == crate::spec::scene::LightKind::Rect;
+            shape = vec4(l.area_frame().1, if drawn { 1.0 } else { 0.0 });
+        }
         gpu_lights.push(GpuLight {
             position: vec4(DVec3::from(l.position), emitter.shader_kind() as f64),
             direction: vec4(DVec3::from(l.direction).normalize_or_zero(), 0.0),
             color: vec4(color, 0.0),
-            params: [l.range as f32, outer.cos() as f32, inner.cos() as f32, emitter.hdrp_min_roughness() as f32],
+            params,
             shadow,
             shadow_bias,
+            shape,
         });
     }
     if !gpu_lights.is_empty() {

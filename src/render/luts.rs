@@ -5,14 +5,18 @@ use wgpu::util::DeviceExt;
 use crate::gpu::GpuContext;
 use crate::shading::fgd::{FgdTable, FGD_SIZE};
 
-/// HDRP's FGD table as an Rgba32Float texture (read with textureLoad, interpolated by hand).
+/// HDRP's FGD table as an Rgba32Float texture (read with textureLoad, interpolated by hand), with
+/// the rect lights' LTC tables below it: rows 64–127 GGX, 128–191 Disney diffuse
+/// (shaders/common/area.wgsl `LTC_GGX_ROW`, `LTC_DISNEY_ROW`).
 pub fn fgd_texture(gpu: &GpuContext) -> wgpu::TextureView {
-    let table = FgdTable::get();
+    let fgd = FgdTable::get();
+    let ltc = crate::shading::ltc::LtcTables::get();
+    let texels: Vec<[f32; 4]> = fgd.texels.iter().chain(&ltc.ggx).chain(&ltc.disney).copied().collect();
     let texture = gpu.device.create_texture_with_data(
         &gpu.queue,
         &wgpu::TextureDescriptor {
             label: Some("hdrp fgd"),
-            size: wgpu::Extent3d { width: FGD_SIZE as u32, height: FGD_SIZE as u32, depth_or_array_layers: 1 },
+            size: wgpu::Extent3d { width: FGD_SIZE as u32, height: 3 * FGD_SIZE as u32, depth_or_array_layers: 1 },
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
@@ -21,7 +25,7 @@ pub fn fgd_texture(gpu: &GpuContext) -> wgpu::TextureView {
             view_formats: &[],
         },
         wgpu::util::TextureDataOrder::LayerMajor,
-        bytemuck::cast_slice(&table.texels),
+        bytemuck::cast_slice(&texels),
     );
     texture.create_view(&Default::default())
 }

@@ -17,6 +17,9 @@ pub struct GpuLight {
     pub shadow: [f32; 4],
     /// Bias and normal bias in shadow-map texels.
     pub shadow_bias: [f32; 4],
+    /// Area lights: their right axis, and w = 1 where the frame's passes draw the light (an HDRP
+    /// rect), 0 where only the truth sees it (plan::lights::area_left_out).
+    pub shape: [f32; 4],
 }
 
 /// One shadow-map layer: its view-projection and (texel size: world units for orthographic, per
@@ -150,7 +153,7 @@ mod tests {
 
     #[test]
     fn sizes_match_wgsl_layout() {
-        assert_eq!(std::mem::size_of::<GpuLight>(), 96);
+        assert_eq!(std::mem::size_of::<GpuLight>(), 112);
         assert_eq!(std::mem::size_of::<ShadowLayer>(), 96);
         assert_eq!(std::mem::size_of::<GpuMaterial>(), 112);
         assert_eq!(std::mem::size_of::<GpuReflectionProbe>(), 48);

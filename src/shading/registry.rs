@@ -110,6 +110,12 @@ impl ShaderModel {
             .any(|f| self.wgsl.contains(f))
     }
 
+    /// Whether the model evaluates rect lights (`model_rect`, shaders/common/area.wgsl): HDRP's Lit
+    /// family and Lambert do; a model without one leaves them out (plan::lights::area_left_out).
+    pub fn area_lights(&self) -> bool {
+        self.wgsl.contains("fn model_rect")
+    }
+
     /// The model's inputs for a cell: the mapping applied to the sliders.
     pub fn surface(&self, pipeline: Pipeline, sliders: &Sliders) -> Surface {
         (self.from_sliders)(self, pipeline, sliders)

@@ -32,15 +32,21 @@ const DEFAULT_MODEL_HOOKS: &str = "fn model_reflectivity(s: Surface) -> f32 {\n 
 const DEFAULT_HEIGHT_HOOK: &str =
     "fn model_height_scale(params0: vec4<f32>, params1: vec4<f32>) -> f32 {\n    return 0.0;\n}\n";
 
+/// Rect lights for a model without a BSDF for them: nothing (the plan leaves them out,
+/// plan::lights::area_left_out).
+const DEFAULT_AREA_HOOK: &str = "fn model_rect(s: Surface, n: vec3<f32>, v: vec3<f32>, q: array<vec3<f32>, 4>) -> vec3<f32> {\n    return vec3<f32>(0.0);\n}\n";
+
 /// The shared math, the pipeline ids, the pipeline conventions and the shared BRDF terms: what
 /// every lighting module (and a test kernel of its terms) starts with.
 pub fn common() -> String {
-    [MATH, &pipeline_ids(), CONVENTIONS, BRDF_TERMS].join("\n")
+    [MATH, &pipeline_ids(), CONVENTIONS, BRDF_TERMS, AREA].join("\n")
 }
 
 /// Where the generated constants stand in a composed module's line map.
 const PIPELINE_IDS_PATH: &str = "<generated from pipelines::Pipeline: pipeline ids>";
 const BRDF_TERMS: &str = include_str!("../../shaders/common/brdf.wgsl");
+/// Area lights' polygon integrals and LTC lookups (shading::ltc's twin).
+const AREA: &str = include_str!("../../shaders/common/area.wgsl");
 const SCENE: &str = include_str!("../../shaders/pass/scene.wgsl");
 const FORWARD: &str = include_str!("../../shaders/pass/forward.wgsl");
 /// The real-time approximations forward.wgsl calls, and their exact alternatives (plan::exact).
@@ -77,6 +83,7 @@ pub fn compose_truth(subject: &ShaderModel, fixed: &ShaderModel) -> String {
         &ids,
         CONVENTIONS,
         BRDF_TERMS,
+        AREA,
         SCENE,
         &subject.wgsl,
         &prefixed(&fixed.wgsl, "fixed_"),
@@ -92,7 +99,7 @@ const TRACED_SHADOWS: &str = include_str!("../../shaders/pass/traced_shadows.wgs
 /// The traced-shadow pass (render::passes::traced_shadows): the scene pass's shared files, the rays, then
 /// the pass.
 pub fn compose_traced_shadows() -> String {
-    [MATH, &pipeline_ids(), CONVENTIONS, BRDF_TERMS, SCENE, RAYS, TRACED_SHADOWS].join("\n")
+    [MATH, &pipeline_ids(), CONVENTIONS, BRDF_TERMS, AREA, SCENE, RAYS, TRACED_SHADOWS].join("\n")
 }
 
 /// `source` with every module-scope name it declares (functions, constants, private variables,
@@ -157,6 +164,7 @@ pub fn compose_mapped(pass: PassKind, model: Option<&ShaderModel>) -> (String, L
         (PIPELINE_IDS_PATH, &ids),
         ("shaders/common/conventions.wgsl", CONVENTIONS),
         ("shaders/common/brdf.wgsl", BRDF_TERMS),
+        ("shaders/common/area.wgsl", AREA),
     ];
     match pass {
         PassKind::Forward | PassKind::ForwardExact | PassKind::Background => {
@@ -174,6 +182,9 @@ pub fn compose_mapped(pass: PassKind, model: Option<&ShaderModel>) -> (String, L
         }
         if !m.wgsl.contains("fn model_height_scale") {
             parts.push(("<default model hooks>", DEFAULT_HEIGHT_HOOK));
+        }
+        if !m.area_lights() {
+            parts.push(("<default model hooks>", DEFAULT_AREA_HOOK));
         }
         parts.push(("<generated from the model: lobes>", &splits));
     }

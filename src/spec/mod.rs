@@ -1,5 +1,6 @@
 //! Declarative input: TOML schemas and validation for scenes, matrices, presets and sheets.
 
+pub mod area_light;
 pub mod asserts;
 pub mod axes;
 pub mod filter;

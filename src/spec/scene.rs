@@ -95,6 +95,10 @@ pub enum LightKind {
     Directional,
     Point,
     Spot,
+    /// An area light: a rectangle `size` wide and high, shining along `direction` (spec::area_light).
+    Rect,
+    /// An area light: a disc of radius `shape_radius`, shining along `direction`.
+    Disc,
 }
 
 #[derive(Debug, Clone, Deserialize, Serialize)]
@@ -127,9 +131,12 @@ pub struct Light {
     #[serde(default)]
     pub shadow: ShadowSettings,
     /// Point and spot: the light's shape radius in metres (HDRP's default 0.025); sets HDRP's
-    /// per-light minimum roughness.
+    /// per-light minimum roughness. Disc: its radius (default 0.5).
     #[serde(default)]
     pub shape_radius: Option<f64>,
+    /// Rect: width and height in metres (HDRP's default 0.5 × 0.5).
+    #[serde(default)]
+    pub size: Option<[f64; 2]>,
     /// Directional: the sun's angular diameter in degrees (HDRP's default 0.5).
     #[serde(default)]
     pub angular_diameter_deg: Option<f64>,
@@ -813,6 +820,13 @@ impl Light {
             LightKind::Spot => {
                 Emitter::Spot { radius, angle_deg: self.spot_angle_deg, reflector: self.reflector.unwrap_or(true) }
             }
+            LightKind::Rect => {
+                let [width, height] = self.size.unwrap_or(super::area_light::HDRP_DEFAULT_RECT_SIZE);
+                Emitter::Rect { width, height }
+            }
+            LightKind::Disc => {
+                Emitter::Disc { radius: self.shape_radius.unwrap_or(super::area_light::DEFAULT_DISC_RADIUS) }
+            }
         }
     }
 }
@@ -994,6 +1008,7 @@ impl Scene {
             if l.kind != LightKind::Point {
                 c.nonzero_vector(&k("direction"), l.direction)?;
             }
+            super::area_light::validate(&c, i, l)?;
             let only = |key: &str, set: bool, kinds: &str| -> Result<(), InputError> {
                 if set {
                     Err(c.err(&k(key), format!("only {kinds} lights have this key; this one is {:?}", l.kind)))
@@ -1011,6 +1026,13 @@ impl Scene {
                     only("reflector", l.reflector.is_some(), "spot")?;
                 }
                 LightKind::Spot => only("angular_diameter_deg", l.angular_diameter_deg.is_some(), "directional")?,
+                LightKind::Rect | LightKind::Disc => {
+                    only("angular_diameter_deg", l.angular_diameter_deg.is_some(), "directional")?;
+                    only("reflector", l.reflector.is_some(), "spot")?;
+                }
+            }
+            if l.kind != LightKind::Rect {
+                only("size", l.size.is_some(), "rect")?;
             }
             c.unit(&k("shadow.strength"), l.shadow.strength)?;
             c.range(&k("shadow.bias"), l.shadow.bias, 0.0, 10.0)?;
