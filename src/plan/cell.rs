@@ -285,10 +285,9 @@ impl CellPlan {
         let camera = posed_camera(&scene.camera, &cell.view);
         let lights = cell_lights(scene, cell.light_intensity, cell.light_range, &camera, &cell.view);
         let model = |i: usize| match scene.objects[i].role {
-            Role::Subject => ModelLighting {
-                forward_only: !cell.subject_deferrable(),
-                area_lights: cell.model.area_lights(),
-            },
+            Role::Subject => {
+                ModelLighting { forward_only: !cell.subject_deferrable(), area_lights: cell.model.area_lights() }
+            }
             _ => ModelLighting { forward_only: !fixed_model.deferrable(), area_lights: fixed_model.area_lights() },
         };
         let assignment =

@@ -152,7 +152,8 @@ pub fn assign(
 /// (HDAdditionalLightData: Disc is Baked-only), and evaluates them in its Lit family's BSDF
 /// (Lit.hlsl EvaluateBSDF_Rect), not in a model without one. Baked GI is not emulated yet.
 pub fn area_left_out(pipeline: Pipeline, light: &Light, model_has_area: bool) -> Option<String> {
-    const BAKED: &str = "it lights through baked GI, which is not emulated yet: the frame leaves it out, the truth has it";
+    const BAKED: &str =
+        "it lights through baked GI, which is not emulated yet: the frame leaves it out, the truth has it";
     match (light.kind, pipeline) {
         (LightKind::Rect | LightKind::Disc, Pipeline::Builtin | Pipeline::Urp) => {
             Some(format!("{} bakes area lights only; {BAKED}", pipeline.name()))
@@ -405,7 +406,9 @@ mod tests {
     fn forward_only_models_on_deferred_get_the_forward_budget() {
         let lights = scene_with(12);
         let two = [("subject".to_string(), DVec3::ZERO), ("wall".to_string(), DVec3::ZERO)];
-        let plan = assign(Pipeline::Builtin, RenderPath::Deferred, &LightBudget::default(), &lights, &two, |i| ModelLighting { forward_only: i == 0, area_lights: false });
+        let plan = assign(Pipeline::Builtin, RenderPath::Deferred, &LightBudget::default(), &lights, &two, |i| {
+            ModelLighting { forward_only: i == 0, area_lights: false }
+        });
         let per_pixel = |o: &ObjectLights| o.lights.iter().filter(|u| u.mode == LightMode::PerPixel).count();
         assert_eq!(per_pixel(&plan[0]), 4, "drawn forward: the pixel light count");
         assert_eq!(per_pixel(&plan[1]), 12, "in the G-buffer: every light per pixel");
@@ -417,14 +420,20 @@ mod tests {
         lights[0].render_mode = RenderMode::NotImportant;
         lights[5].render_mode = RenderMode::Important;
         let one = [("o".to_string(), DVec3::ZERO)];
-        let b = assign(Pipeline::Builtin, RenderPath::Forward, &LightBudget::default(), &lights, &one, |_| ModelLighting::default());
+        let b = assign(Pipeline::Builtin, RenderPath::Forward, &LightBudget::default(), &lights, &one, |_| {
+            ModelLighting::default()
+        });
         assert_eq!(b[0].lights[5].mode, LightMode::PerPixel);
         assert_ne!(b[0].lights[0].mode, LightMode::PerPixel);
-        let u = assign(Pipeline::Urp, RenderPath::Forward, &LightBudget::default(), &lights, &one, |_| ModelLighting::default());
+        let u = assign(Pipeline::Urp, RenderPath::Forward, &LightBudget::default(), &lights, &one, |_| {
+            ModelLighting::default()
+        });
         let dropped: Vec<&LightUse> = u[0].lights.iter().filter(|u| u.mode == LightMode::Dropped).collect();
         assert_eq!(dropped.len(), 2, "six points, four additional lights per object");
         assert!(dropped[0].reason.contains("per-object limit of 4"));
-        let h = assign(Pipeline::Hdrp, RenderPath::Forward, &LightBudget::default(), &lights, &one, |_| ModelLighting::default());
+        let h = assign(Pipeline::Hdrp, RenderPath::Forward, &LightBudget::default(), &lights, &one, |_| {
+            ModelLighting::default()
+        });
         assert!(h[0].lights.iter().all(|u| u.mode == LightMode::PerPixel));
     }
 

@@ -2,6 +2,7 @@
 
 mod ambient;
 mod antialiasing;
+mod area_lights;
 mod bloom;
 mod cache;
 mod check;

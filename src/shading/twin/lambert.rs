@@ -21,6 +21,17 @@ impl SurfaceTwin for Lambert {
         Lobes::diffuse(fd_lambert(s.base_color) * irradiance_per_intensity(p) * n.dot(l).max(0.0))
     }
 
+    /// ρ/π·π·L·(1/π)∫max(0, NL)dω: the exact horizon-clipped integral of the rectangle.
+    fn rect_lobes(&self, p: Pipeline, s: &Surface, n: DVec3, v: DVec3, corners: &[DVec3; 4]) -> Option<Lobes> {
+        use crate::shading::ltc::{ortho_basis_view_normal, polygon_irradiance_clipped};
+        let basis = ortho_basis_view_normal(v, n, n.dot(v));
+        let local: Vec<DVec3> = corners.iter().map(|c| basis * *c).collect();
+        let form_factor = polygon_irradiance_clipped(&local);
+        Some(Lobes::diffuse(
+            fd_lambert(s.base_color) * irradiance_per_intensity(p) * std::f64::consts::PI * form_factor,
+        ))
+    }
+
     fn indirect_lobes(
         &self,
         _p: Pipeline,

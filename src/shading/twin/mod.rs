@@ -111,6 +111,11 @@ pub trait SurfaceTwin: Sync {
     fn direct_for_light(&self, p: Pipeline, s: &Surface, n: DVec3, v: DVec3, l: DVec3, min_roughness: f64) -> DVec3 {
         self.direct_lobes_for_light(p, s, n, v, l, min_roughness).sum()
     }
+    /// A rect light's radiance per unit luminance at attenuation 1, by lobe (WGSL `model_rect`), its
+    /// corners relative to the shaded point; None where the model has no area-light BSDF.
+    fn rect_lobes(&self, _p: Pipeline, _s: &Surface, _n: DVec3, _v: DVec3, _corners: &[DVec3; 4]) -> Option<Lobes> {
+        None
+    }
     /// The direction the model fetches the prefiltered environment along (WGSL `env_specular`'s
     /// first argument), where the twin states it.
     fn env_direction(&self, _p: Pipeline, _s: &Surface, _n: DVec3, _v: DVec3) -> Option<DVec3> {

@@ -1,0 +1,135 @@
+//! Area lights: HDRP's LTC rect light against its f64 twin, a Lambert plane under a rectangle
+//! against the numerical integral of it, and the lights the frame leaves out where the engines
+//! only bake them.
+
+use crate::common::{cell_params, find_model, fixture, models};
+use glam::{DVec2, DVec3};
+use shadematrix::gpu::GpuContext;
+use shadematrix::pipelines::{Pipeline, RenderPath};
+use shadematrix::plan::lights::LightMode;
+use shadematrix::render::{CellRender, Renderer};
+use shadematrix::shading::ltc::{integrate_rect, RectLight};
+use shadematrix::shading::registry::Sliders;
+use shadematrix::spec::scene::{LightKind, Scene};
+
+const SIZE: u32 = 49;
+
+fn scene() -> Scene {
+    let mut s = Scene::load_file(&fixture("rect_light.toml")).unwrap();
+    // One pixel's value: HDRP's bloom would mix its neighbourhood in, SSAO darken it.
+    s.hdrp.bloom = false;
+    s.hdrp.ssao = false;
+    s
+}
+
+fn centre(r: &CellRender) -> DVec3 {
+    let i = ((SIZE / 2) * SIZE + SIZE / 2) as usize * 4;
+    DVec3::new(r.hdr[i] as f64, r.hdr[i + 1] as f64, r.hdr[i + 2] as f64)
+}
+
+fn rect_of(scene: &Scene) -> RectLight {
+    let l = &scene.lights[0];
+    let (forward, right) = l.area_frame();
+    let [w, h] = l.size.unwrap();
+    RectLight { center: DVec3::from(l.position), forward, right, half_size: DVec2::new(w, h) * 0.5, range: l.range }
+}
+
+fn render(
+    renderer: &mut Renderer,
+    scene: &Scene,
+    p: Pipeline,
+    shader: &str,
+    sliders: Sliders,
+    path: RenderPath,
+) -> CellRender {
+    let prepared = renderer.prepare_scene(scene).unwrap();
+    renderer.render(&prepared, &cell_params(p, shader, sliders, (1.0, 8.0), SIZE, path), 1, 0).unwrap()
+}
+
+#[test]
+fn hdrp_rect_lights_match_the_twin_forward_and_deferred() {
+    // The image centre is the plane's origin (N = +Y, V towards the camera): the GPU's LTC
+    // evaluation against the f64 twin's, × the light's luminance and HDRP's box attenuation.
+    let scene = scene();
+    let rect = rect_of(&scene);
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let v = DVec3::new(0.0, 3.0, 3.0).normalize();
+    let l = &scene.lights[0];
+    let color = DVec3::from(l.radiance(Pipeline::Hdrp, 1.0, &Default::default()));
+    for (shader, smoothness, metallic) in [("lit", 0.3, 0.0), ("lit", 0.9, 1.0), ("lambert", 0.5, 0.0)] {
+        let model = find_model(Pipeline::Hdrp, shader).unwrap();
+        let sliders = Sliders { base_color_linear: [0.7, 0.6, 0.5], metallic, smoothness };
+        let s = model.surface(Pipeline::Hdrp, &sliders);
+        let lobes =
+            model.twin.unwrap().rect_lobes(Pipeline::Hdrp, &s, DVec3::Y, v, &rect.vertices(DVec3::ZERO)).unwrap();
+        let want = lobes.sum() * color * rect.attenuation(DVec3::ZERO);
+        // Deferred where the lobe is broad: the G-buffer's 10-bit normal moves a sharp lobe's tail
+        // (6% at smoothness 0.9 here), which is the G-buffer's doing, not the light's.
+        let paths: &[RenderPath] =
+            if smoothness < 0.8 { &[RenderPath::Forward, RenderPath::Deferred] } else { &[RenderPath::Forward] };
+        for &path in paths {
+            let r = render(&mut renderer, &scene, Pipeline::Hdrp, shader, sliders, path);
+            assert_eq!(r.lights[0].lights[0].mode, LightMode::PerPixel, "{:?}", r.lights);
+            let got = centre(&r);
+            let rel = ((got - want).abs() / want.max(DVec3::splat(1e-9))).max_element();
+            // The G-buffer keeps albedo and smoothness in 8 bits (measured 7.1e-3 here).
+            let tolerance = if path == RenderPath::Deferred { 1e-2 } else { 2e-3 };
+            assert!(rel < tolerance, "{shader} s{smoothness} {path:?}: GPU {got} vs twin {want} (rel {rel:e})");
+        }
+    }
+}
+
+#[test]
+fn a_lambert_plane_under_a_rect_is_the_numerical_integral_of_it() {
+    // ρ/π·E with E = L·∫cos θ·cos θ'/d² dA over the rectangle, by a 400² midpoint rule: the
+    // frame's value within 1e-3.
+    let scene = scene();
+    let rect = rect_of(&scene);
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let albedo = [0.7, 0.6, 0.5];
+    let sliders = Sliders { base_color_linear: albedo, metallic: 0.0, smoothness: 0.5 };
+    let got = centre(&render(&mut renderer, &scene, Pipeline::Hdrp, "lambert", sliders, RenderPath::Forward));
+    let l = &scene.lights[0];
+    let luminance = DVec3::from(l.radiance(Pipeline::Hdrp, 1.0, &Default::default()));
+    let irradiance_per_luminance = integrate_rect(&rect, DVec3::ZERO, 400, |d| d.y.max(0.0));
+    let want = DVec3::from(albedo) / std::f64::consts::PI
+        * luminance
+        * irradiance_per_luminance
+        * rect.attenuation(DVec3::ZERO);
+    let rel = ((got - want).abs() / want).max_element();
+    assert!(rel <= 1e-3, "GPU {got} vs numerical {want} (rel {rel:e})");
+}
+
+#[test]
+fn area_lights_the_engines_only_bake_are_left_out_with_the_reason() {
+    let mut scene = scene();
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let sliders = Sliders { base_color_linear: [0.7, 0.6, 0.5], metallic: 0.0, smoothness: 0.5 };
+    let mut dark = |scene: &Scene, p: Pipeline, shader: &str, why: &str| {
+        let r = render(&mut renderer, scene, p, shader, sliders, RenderPath::Forward);
+        let u = &r.lights[0].lights[0];
+        assert_eq!(u.mode, LightMode::LeftOut, "{} {shader}: {u:?}", p.name());
+        assert!(u.reason.contains(why), "{} {shader}: {}", p.name(), u.reason);
+        assert!(r.hdr.iter().all(|&x| x == 0.0 || x == 1.0), "{} {shader}: the left-out light lit the frame", p.name());
+    };
+    dark(&scene, Pipeline::Builtin, "standard", "bakes area lights only");
+    dark(&scene, Pipeline::Urp, "lit", "bakes area lights only");
+    dark(&scene, Pipeline::Hdrp, "blinn_phong", "no area-light BSDF");
+    scene.lights[0].kind = LightKind::Disc;
+    scene.lights[0].size = None;
+    dark(&scene, Pipeline::Hdrp, "lit", "bakes disc lights only");
+}
+
+#[test]
+fn a_model_draws_rect_lights_exactly_when_its_twin_has_them() {
+    let n = DVec3::Y;
+    let v = DVec3::new(0.0, 0.6, 0.8);
+    let corners = rect_of(&scene()).vertices(DVec3::ZERO);
+    for m in models().models() {
+        let Some(twin) = m.twin else { continue };
+        for &p in &m.pipelines {
+            let s = m.surface(p, &Sliders { base_color_linear: [0.5; 3], metallic: 0.0, smoothness: 0.5 });
+            assert_eq!(m.area_lights(), twin.rect_lobes(p, &s, n, v, &corners).is_some(), "{} in {}", m.name, p.name());
+        }
+    }
+}
