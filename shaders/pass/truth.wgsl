@@ -130,6 +130,51 @@ fn response(sp: SurfacePoint, v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
 }
 
 // Physical falloff: inverse square (HDRP's 1 cm floor), no range window; spots keep their cone
+struct AreaSample {
+    xyz_w: vec4<f32>,   // direction to the point drawn, attenuation
+    distance: f32,
+};
+
+// An area light at one point drawn uniformly on it: a point light of intensity L·cos θ'·A, so the
+// attenuation is cos θ'·A/d², times HDRP's box window for a same-BRDF truth of a rect (cpu.rs `area_incidence`)
+fn area_incidence(light: Light, p: vec3<f32>) -> AreaSample {
+    let forward = normalize(light.direction.xyz);
+    let right = light.shape.xyz;
+    let up = cross(forward, right);
+    let hw = light.params.y;
+    let hh = light.params.z;
+    let u1 = random();
+    let u2 = random();
+    var q = vec3<f32>(0.0);
+    var area = 0.0;
+    if (u32(light.position.w) == LIGHT_DISC) {
+        let r = hw * sqrt(u1);
+        let phi = 2.0 * PI * u2;
+        q = light.position.xyz + right * (r * cos(phi)) + up * (r * sin(phi));
+        area = PI * hw * hw;
+    } else {
+        q = light.position.xyz + right * (hw * (2.0 * u1 - 1.0)) + up * (hh * (2.0 * u2 - 1.0));
+        area = 4.0 * hw * hh;
+    }
+    let to = q - p;
+    let d2 = max(dot(to, to), 1e-12);
+    let d = sqrt(d2);
+    let l = to / d;
+    let cos_light = dot(-l, forward);
+    var out: AreaSample;
+    out.distance = d;
+    if (cos_light <= 0.0) {
+        out.xyz_w = vec4<f32>(l, 0.0);
+        return out;
+    }
+    var atten = cos_light * area / d2;
+    if (TRUTH_KIND == 0u && u32(light.position.w) == LIGHT_RECT) {
+        atten *= rect_attenuation(light, p);
+    }
+    out.xyz_w = vec4<f32>(l, atten);
+    return out;
+}
+
 fn physical_attenuation(light: Light, p: vec3<f32>, l: vec3<f32>) -> f32 {
     let kind = u32(light.position.w);
     if (kind == 0u) {
@@ -150,16 +195,23 @@ fn direct_light(sp: SurfacePoint, v: vec3<f32>) -> vec3<f32> {
     let origin = sp.p + sp.ng * RAY_EPSILON;
     for (var i = 0u; i < frame.counts.x; i++) {
         let light = lights[i];
-        var inc = light_incidence(light, sp.p);
-        if (TRUTH_KIND == 1u) {
-            inc.w = physical_attenuation(light, sp.p, inc.xyz);
+        var inc = vec4<f32>(0.0);
+        var distance = 3.4e38;
+        if (u32(light.position.w) >= LIGHT_RECT) {
+            let a = area_incidence(light, sp.p);
+            inc = a.xyz_w;
+            distance = a.distance * (1.0 - 1e-4);
+        } else {
+            inc = light_incidence(light, sp.p);
+            if (TRUTH_KIND == 1u) {
+                inc.w = physical_attenuation(light, sp.p, inc.xyz);
+            }
+            if (u32(light.position.w) != 0u) {
+                distance = length(light.position.xyz - sp.p) * (1.0 - 1e-4);
+            }
         }
         if (inc.w <= 0.0) {
             continue;
-        }
-        var distance = 3.4e38;
-        if (u32(light.position.w) != 0u) {
-            distance = length(light.position.xyz - sp.p) * (1.0 - 1e-4);
         }
         light_min_roughness = light.params.w;
         let f = response(sp, v, inc.xyz);

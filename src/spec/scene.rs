@@ -134,8 +134,9 @@ pub struct Light {
     /// per-light minimum roughness. Disc: its radius (default 0.5).
     #[serde(default)]
     pub shape_radius: Option<f64>,
-    /// Rect: width and height in metres (HDRP's default 0.5 × 0.5).
-    #[serde(default)]
+    /// Rect: width and height in metres (HDRP's default 0.5 × 0.5). Left out of the serialised
+    /// scene when absent, so the keys of scenes without area lights are as they were.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub size: Option<[f64; 2]>,
     /// Directional: the sun's angular diameter in degrees (HDRP's default 0.5).
     #[serde(default)]

@@ -151,7 +151,13 @@ struct TracedLight {
     cos_outer: f64,
     cos_inner: f64,
     min_roughness: f64,
+    /// Area lights: the right axis and the half width and height (a disc: its radius twice).
+    right: DVec3,
 }
+
+/// scene.wgsl's area-light kinds (pipelines::Emitter::shader_kind).
+const LIGHT_RECT: u32 = 3;
+const LIGHT_DISC: u32 = 4;
 
 impl From<&GpuLight> for TracedLight {
     fn from(l: &GpuLight) -> TracedLight {
@@ -165,6 +171,7 @@ impl From<&GpuLight> for TracedLight {
             cos_outer: l.params[1] as f64,
             cos_inner: l.params[2] as f64,
             min_roughness: l.params[3] as f64,
+            right: v3(l.shape),
         }
     }
 }
@@ -176,6 +183,45 @@ fn angle_attenuation(cos_angle: f64, cos_outer: f64, cos_inner: f64) -> f64 {
 }
 
 impl TracedLight {
+    /// A point drawn uniformly on an area light from (u1, u2), and the light's area.
+    fn area_point(&self, u1: f64, u2: f64) -> (DVec3, f64) {
+        let forward = self.direction.normalize();
+        let up = forward.cross(self.right);
+        let (hw, hh) = (self.cos_outer, self.cos_inner);
+        if self.kind == LIGHT_DISC {
+            let (r, phi) = (hw * u1.sqrt(), 2.0 * PI * u2);
+            (self.position + self.right * (r * phi.cos()) + up * (r * phi.sin()), PI * hw * hw)
+        } else {
+            (self.position + self.right * (hw * (2.0 * u1 - 1.0)) + up * (hh * (2.0 * u2 - 1.0)), 4.0 * hw * hh)
+        }
+    }
+
+    /// An area light sampled at one point of it: the direction there, its distance, and the
+    /// attenuation that makes the light one point of intensity L·cos θ'·A (per unit luminance):
+    /// cos θ'·A/d², times HDRP's box window for a same-BRDF truth of a rect.
+    fn area_incidence(&self, p: DVec3, kind: TruthKind, rng: &mut Rng) -> (DVec3, f64, f64) {
+        let (q, area) = self.area_point(rng.next(), rng.next());
+        let to = q - p;
+        let d2 = to.length_squared().max(1e-12);
+        let l = to / d2.sqrt();
+        let cos_light = (-l).dot(self.direction.normalize());
+        if cos_light <= 0.0 {
+            return (l, 0.0, 0.0);
+        }
+        let mut atten = cos_light * area / d2;
+        if kind == TruthKind::SameBrdf && self.kind == LIGHT_RECT {
+            atten *= crate::shading::ltc::RectLight {
+                center: self.position,
+                forward: self.direction.normalize(),
+                right: self.right,
+                half_size: glam::DVec2::new(self.cos_outer, self.cos_inner),
+                range: self.range,
+            }
+            .attenuation(p);
+        }
+        (l, atten, d2.sqrt())
+    }
+
     /// Direction to the light and its attenuation at p: scene.wgsl `light_incidence` with the
     /// pipeline's distance falloff, or truth.wgsl `physical_attenuation` (inverse square).
     fn incidence(&self, p: DVec3, pipeline: Pipeline, kind: TruthKind) -> (DVec3, f64) {
@@ -617,12 +663,17 @@ impl Tracer<'_> {
         let origin = sp.p + sp.ng * RAY_EPSILON;
         let p = self.inputs.pipeline;
         for light in &self.lights {
-            let (l, atten) = light.incidence(sp.p, p, self.inputs.kind);
+            let (l, atten, distance) = if light.kind >= LIGHT_RECT {
+                let (l, atten, d) = light.area_incidence(sp.p, self.inputs.kind, rng);
+                (l, atten, d * (1.0 - 1e-4))
+            } else {
+                let (l, atten) = light.incidence(sp.p, p, self.inputs.kind);
+                let d = if light.kind != 0 { (light.position - sp.p).length() * (1.0 - 1e-4) } else { f64::INFINITY };
+                (l, atten, d)
+            };
             if atten <= 0.0 {
                 continue;
             }
-            let distance =
-                if light.kind != 0 { (light.position - sp.p).length() * (1.0 - 1e-4) } else { f64::INFINITY };
             let f = self.response(sp, v, l, light.min_roughness);
             if f.max_element() > 0.0 && !self.blocked(origin, l, distance, rng) {
                 // Lights are in the pipeline's units: the model's own factor is taken back out.
