@@ -385,7 +385,7 @@ mod tests {
             &LightBudget::default(),
             &lights,
             &[("o".into(), DVec3::ZERO)],
-            |_| false,
+            |_| ModelLighting::default(),
         );
         let count = |m: LightMode| plan[0].lights.iter().filter(|u| u.mode == m).count();
         assert_eq!((count(LightMode::PerPixel), count(LightMode::PerVertex), count(LightMode::Sh)), (4, 4, 4));

@@ -97,8 +97,8 @@ impl Ltc {
     }
 }
 
-/// D(l) of a transform and its inverse; 0 where the cosine is below the horizon.
-fn ltc_eval(m: &DMat3, inv: &DMat3, det: f64, l: DVec3) -> f64 {
+/// D(l) of a transform, from its inverse and determinant; 0 where the cosine is below the horizon.
+fn ltc_eval(inv: &DMat3, det: f64, l: DVec3) -> f64 {
     let lo = *inv * l;
     let len = lo.length();
     let lo = lo / len;
@@ -106,7 +106,6 @@ fn ltc_eval(m: &DMat3, inv: &DMat3, det: f64, l: DVec3) -> f64 {
         return 0.0;
     }
     // |det M⁻¹|/|M⁻¹l|³ = 1/(|det M|·|M⁻¹l|³) with l unit
-    let _ = m;
     lo.z / PI / (det * len * len * len)
 }
 
@@ -120,7 +119,7 @@ fn ltc_sample(m: &DMat3, u1: f64, u2: f64) -> DVec3 {
 fn error(lobe: &dyn Lobe, v: DVec3, norm: f64, ltc: &Ltc) -> f64 {
     let m = ltc.matrix();
     let det = m.determinant();
-    if !(det > 0.0) || !det.is_finite() {
+    if det.is_nan() || det <= 0.0 || !det.is_finite() {
         return f64::INFINITY;
     }
     let inv = m.inverse();
@@ -131,7 +130,7 @@ fn error(lobe: &dyn Lobe, v: DVec3, norm: f64, ltc: &Ltc) -> f64 {
             let u2 = (j as f64 + 0.5) / GRID as f64;
             for l in [ltc_sample(&m, u1, u2), lobe.sample(v, u1, u2)] {
                 let (value, pdf_lobe) = lobe.eval(v, l);
-                let d = ltc_eval(&m, &inv, det, l);
+                let d = ltc_eval(&inv, det, l);
                 let e = (value / norm - d).abs();
                 let pdfs = d + pdf_lobe;
                 if pdfs > 0.0 {
@@ -211,8 +210,8 @@ fn nelder_mead(f: &dyn Fn([f64; 3]) -> f64, start: [f64; 3], k: usize, tie: fn([
             } else {
                 let best = simplex[0].0;
                 for s in simplex.iter_mut().skip(1) {
-                    for d in 0..k {
-                        s.0[d] = best[d] + 0.5 * (s.0[d] - best[d]);
+                    for (d, x) in s.0.iter_mut().enumerate().take(k) {
+                        *x = best[d] + 0.5 * (*x - best[d]);
                     }
                     s.1 = eval(&s.0);
                 }
