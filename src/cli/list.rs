@@ -178,8 +178,30 @@ fn light_plan(m: &Matrix, scene: &crate::spec::scene::Scene) -> String {
     }
     for p in &m.pipelines {
         for path in &m.paths {
-            let plan = assign(*p, *path, &m.light_budget, &lights, &centres, |_| Default::default());
+            // Planned for a model that draws rect lights; the shaders that have no area-light BSDF
+            // are named below.
+            let area = crate::plan::lights::ModelLighting { forward_only: false, area_lights: true };
+            let plan = assign(*p, *path, &m.light_budget, &lights, &centres, |_| area);
             let label = format!("{}-{}", p.name(), path.name());
+            let rects: Vec<String> = (0..lights.len())
+                .filter(|&i| crate::plan::lights::area_left_out(*p, &lights[i], true).is_none() && lights[i].is_area())
+                .map(|i| i.to_string())
+                .collect();
+            let no_area: Vec<&str> = m
+                .shaders
+                .iter()
+                .filter(|s| m.registry.find(*p, s).is_some_and(|model| !model.area_lights()))
+                .map(|s| s.as_str())
+                .collect();
+            if !rects.is_empty() && !no_area.is_empty() {
+                let _ = writeln!(
+                    out,
+                    "  {label}: {} ha{} no area-light BSDF: rect lights [{}] are left out of their frames",
+                    no_area.join(", "),
+                    if no_area.len() == 1 { "s" } else { "ve" },
+                    rects.join(", ")
+                );
+            }
             let forward_only: Vec<&str> = m
                 .shaders
                 .iter()
@@ -204,16 +226,17 @@ fn light_plan(m: &Matrix, scene: &crate::spec::scene::Scene) -> String {
                 let group = |mode: LightMode| -> Vec<String> {
                     o.lights.iter().filter(|u| u.mode == mode).map(|u| u.light.to_string()).collect()
                 };
-                let parts: Vec<String> = [LightMode::PerPixel, LightMode::PerVertex, LightMode::Sh, LightMode::Dropped]
-                    .into_iter()
-                    .filter_map(|mode| {
-                        let g = group(mode);
-                        (!g.is_empty()).then(|| format!("{} [{}]", mode.name(), g.join(", ")))
-                    })
-                    .collect();
+                let parts: Vec<String> =
+                    [LightMode::PerPixel, LightMode::PerVertex, LightMode::Sh, LightMode::Dropped, LightMode::LeftOut]
+                        .into_iter()
+                        .filter_map(|mode| {
+                            let g = group(mode);
+                            (!g.is_empty()).then(|| format!("{} [{}]", mode.name(), g.join(", ")))
+                        })
+                        .collect();
                 let _ = writeln!(out, "    {}: {}", o.object, parts.join("; "));
-                for u in o.lights.iter().filter(|u| u.mode == LightMode::Dropped) {
-                    let _ = writeln!(out, "      lights[{}] dropped: {}", u.light, u.reason);
+                for u in o.lights.iter().filter(|u| matches!(u.mode, LightMode::Dropped | LightMode::LeftOut)) {
+                    let _ = writeln!(out, "      lights[{}] {}: {}", u.light, u.mode.name(), u.reason);
                 }
             }
         }

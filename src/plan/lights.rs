@@ -155,9 +155,10 @@ pub fn area_left_out(pipeline: Pipeline, light: &Light, model_has_area: bool) ->
     const BAKED: &str =
         "it lights through baked GI, which is not emulated yet: the frame leaves it out, the truth has it";
     match (light.kind, pipeline) {
-        (LightKind::Rect | LightKind::Disc, Pipeline::Builtin | Pipeline::Urp) => {
-            Some(format!("{} bakes area lights only; {BAKED}", pipeline.name()))
+        (LightKind::Rect | LightKind::Disc, Pipeline::Builtin) => {
+            Some(format!("built-in bakes area lights only; {BAKED}"))
         }
+        (LightKind::Rect | LightKind::Disc, Pipeline::Urp) => Some(format!("URP bakes area lights only; {BAKED}")),
         (LightKind::Disc, Pipeline::Hdrp) => Some(format!("HDRP bakes disc lights only; {BAKED}")),
         (LightKind::Rect, Pipeline::Hdrp) if !model_has_area => Some(
             "the model has no area-light BSDF (HDRP evaluates rect lights in its Lit family's EvaluateBSDF_Rect)"

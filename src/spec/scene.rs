@@ -810,6 +810,15 @@ impl Light {
         }
     }
 
+    pub fn is_area(&self) -> bool {
+        matches!(self.kind, LightKind::Rect | LightKind::Disc)
+    }
+
+    /// An area light's (forward, right): `area_light::area_frame`.
+    pub fn area_frame(&self) -> (glam::DVec3, glam::DVec3) {
+        super::area_light::area_frame(self.direction)
+    }
+
     pub fn emitter(&self) -> crate::pipelines::Emitter {
         use crate::pipelines::{Emitter, HDRP_DEFAULT_ANGULAR_DIAMETER_DEG, HDRP_DEFAULT_SHAPE_RADIUS};
         let radius = self.shape_radius.unwrap_or(HDRP_DEFAULT_SHAPE_RADIUS);
@@ -1009,7 +1018,15 @@ impl Scene {
             if l.kind != LightKind::Point {
                 c.nonzero_vector(&k("direction"), l.direction)?;
             }
-            super::area_light::validate(&c, i, l)?;
+            if l.is_area() {
+                let keys = super::area_light::AreaKeys {
+                    disc: l.kind == LightKind::Disc,
+                    shadows: l.shadows,
+                    size: l.size,
+                    radius: l.shape_radius,
+                };
+                super::area_light::validate(&c, i, keys)?;
+            }
             let only = |key: &str, set: bool, kinds: &str| -> Result<(), InputError> {
                 if set {
                     Err(c.err(&k(key), format!("only {kinds} lights have this key; this one is {:?}", l.kind)))
