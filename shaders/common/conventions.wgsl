@@ -107,3 +107,16 @@ fn parallax_offset(h: f32, height: f32, view_ts: vec3<f32>) -> vec2<f32> {
     v.z += 0.42;
     return hh * (v.xy / v.z);
 }
+
+// Standard's secondary maps (materials::detail): detail tiles per main tile (_DetailAlbedoMap_ST)
+const DETAIL_TILING: f32 = 4.0;
+
+// LerpWhiteTo(detailAlbedo·unity_ColorSpaceDouble, mask), 2^2.2 in linear space (UnityStandardInput.cginc Albedo, _DETAIL_MULX2)
+fn detail_albedo_mulx2(detail_albedo: f32, mask: f32) -> f32 {
+    return 1.0 + (detail_albedo * 4.59479380 - 1.0) * mask;
+}
+
+// normalize(n₁.xy + n₂.xy, n₁.z·n₂.z) (UnityStandardUtils.cginc BlendNormals)
+fn blend_normals(n1: vec3<f32>, n2: vec3<f32>) -> vec3<f32> {
+    return normalize(vec3<f32>(n1.xy + n2.xy, n1.z * n2.z));
+}

@@ -188,8 +188,18 @@ fn material_at(uv: vec2<f32>) -> Surface {
     if (is_textured()) {
         albedo = map_texel(0, uv);
         mask = map_texel(2, uv);
+        if (draws_detail()) {
+            let d = textureSample(material_detail, material_sampler, uv * DETAIL_TILING);
+            albedo = vec4<f32>(albedo.rgb * detail_albedo_mulx2(d.w, mask.b), albedo.a);
+        }
     }
     return material_from(uv, albedo, mask);
+}
+
+// Whether the drawn object blends Standard's secondary maps in: the subject, textured, its model's
+// `detail` on (uniform, so the samples stay in uniform control flow)
+fn draws_detail() -> bool {
+    return object.flags.x == 1u && is_textured() && model_detail(frame.subject.model0, frame.subject.model1) > 0.5;
 }
 
 // The same at a vertex (the vertex-lit path): the finest level, as a vertex stage has no derivatives.
@@ -279,7 +289,13 @@ fn mapped_normal(n: vec3<f32>, tangent: vec4<f32>, uv: vec2<f32>) -> vec3<f32> {
     if (!is_textured()) {
         return n;
     }
-    return tangent_to_world(n, tangent, map_texel(1, uv).xyz);
+    var ts = map_texel(1, uv).xyz;
+    if (draws_detail()) {
+        // lerp(n, BlendNormals(n, detail), mask) (UnityStandardInput.cginc NormalInTangentSpace)
+        let d = textureSample(material_detail, material_sampler, uv * DETAIL_TILING).xyz;
+        ts = mix(ts, blend_normals(ts, d), map_texel(2, uv).b);
+    }
+    return tangent_to_world(n, tangent, ts);
 }
 
 // Visibility of `light` at p (1 lit, 0 in shadow), mixed by the light's strength: the receiver

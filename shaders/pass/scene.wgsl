@@ -83,6 +83,9 @@ struct Object {
 // the albedo, normal, mask and emission maps of material k, for a fixed object whose
 // `material.params.w` is k + 1.
 @group(0) @binding(14) var fixed_maps: texture_2d_array<f32>;
+// Standard's secondary maps (materials::detail): detail normal xyz, linear detail albedo w;
+// the subject's, tiled DETAIL_TILING times over its maps.
+@group(0) @binding(15) var material_detail: texture_2d<f32>;
 
 // The layer of a fixed material's map `k` (0 albedo, 1 normal, 2 mask, 3 emission) in fixed_maps.
 fn fixed_map_layer(m: Material, k: i32) -> i32 {

@@ -595,9 +595,10 @@ fn render_key(c: &Cell, keyless: bool) -> String {
     let mut key = format!("{}", c.composition_index);
     for row in crate::spec::axes::AXES.iter().filter(|row| !ignored(row.axis)) {
         let mut value = c.coords.get(row.axis);
-        // A height map's scale moves the maps: a flat subject has none to move.
+        // A height map's scale and the secondary maps move the maps: a flat subject has none.
         if let (AxisValue::Params(p), false) = (&mut value, c.coords.textured) {
             p.remove(crate::shading::registry::PARALLAX_PARAM);
+            p.remove(crate::shading::registry::DETAIL_PARAM);
         }
         key.push_str(&format!("|{}={:?}", row.name, value));
     }

@@ -12,6 +12,7 @@
 //! layout holds them here. Written by hand: the patterns are the tool's own, on a small value
 //! noise, and no crate generates material maps.
 
+pub mod detail;
 pub mod fixed;
 pub mod gltf;
 pub mod patterns;
@@ -38,8 +39,8 @@ pub struct MapLevel {
     /// from, what built-in's and URP's `_ParallaxMap` holds in G), `NO_HEIGHT` where the material
     /// has none.
     pub normal: Vec<[f32; 4]>,
-    /// HDRP mask layout: r metallic multiplier (1), g occlusion, b detail mask, a smoothness offset
-    /// stored as 0.5 + offset.
+    /// HDRP mask layout: r metallic multiplier (1), g occlusion, b detail mask (`detail::mask_at`),
+    /// a smoothness offset stored as 0.5 + offset.
     pub mask: Vec<[f32; 4]>,
     /// Emission multiplier (linear); empty where the material has no emission map.
     pub emission: Vec<[f32; 4]>,
@@ -127,7 +128,7 @@ pub fn generate(preset: &str, size: usize) -> MaterialMaps {
         level.mask.push([
             1.0,
             t.occlusion.clamp(0.0, 1.0) as f32,
-            1.0,
+            detail::mask_at((x as f64 + 0.5) / size as f64, (y as f64 + 0.5) / size as f64) as f32,
             (0.5 + t.smoothness - mean_s).clamp(0.0, 1.0) as f32,
         ]);
     }

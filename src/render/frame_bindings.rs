@@ -98,6 +98,7 @@ impl FrameBindings {
                 wgpu::BindGroupEntry { binding: 11, resource: wgpu::BindingResource::TextureView(&textures.mask) },
                 wgpu::BindGroupEntry { binding: 12, resource: wgpu::BindingResource::Sampler(&self.material_sampler) },
                 wgpu::BindGroupEntry { binding: 13, resource: wgpu::BindingResource::TextureView(&textures.emission) },
+                wgpu::BindGroupEntry { binding: 15, resource: wgpu::BindingResource::TextureView(&textures.detail) },
                 wgpu::BindGroupEntry {
                     binding: 14,
                     resource: wgpu::BindingResource::TextureView(&prepared.fixed_maps.view),

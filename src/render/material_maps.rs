@@ -13,6 +13,8 @@ pub struct MaterialTextures {
     pub mask: wgpu::TextureView,
     /// Emission multiplier (white 1×1 where the material has no emission map).
     pub emission: wgpu::TextureView,
+    /// Standard's secondary maps (`materials::detail`): detail normal xyz, linear detail albedo w.
+    pub detail: wgpu::TextureView,
 }
 
 fn upload(
@@ -73,6 +75,15 @@ impl MaterialTextures {
                 true => upload(device, queue, "no emission map", &[(1, &[[1.0; 4]][..])]),
                 false => upload(device, queue, "material emission", &pick(|l| &l.emission)),
             },
+            detail: upload(
+                device,
+                queue,
+                "material detail",
+                &crate::materials::detail::detail_levels()
+                    .iter()
+                    .map(|l| (l.size, l.texels.as_slice()))
+                    .collect::<Vec<_>>(),
+            ),
         }
     }
 
@@ -84,6 +95,7 @@ impl MaterialTextures {
             normal: one([0.0, 0.0, 1.0, crate::materials::NO_HEIGHT], "neutral normal"),
             mask: one([1.0, 1.0, 1.0, 0.5], "neutral mask"),
             emission: one([1.0; 4], "neutral emission"),
+            detail: one([0.0, 0.0, 1.0, crate::materials::detail::NEUTRAL_DETAIL_ALBEDO as f32], "neutral detail"),
         }
     }
 }

@@ -196,6 +196,7 @@ impl Renderer {
                 material_map_entry(10),
                 material_map_entry(11),
                 material_map_entry(13),
+                material_map_entry(15),
                 wgpu::BindGroupLayoutEntry {
                     ty: wgpu::BindingType::Texture {
                         sample_type: wgpu::TextureSampleType::Float { filterable: true },

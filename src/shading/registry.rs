@@ -110,6 +110,12 @@ impl ShaderModel {
             .any(|f| self.wgsl.contains(f))
     }
 
+    /// Whether a cell of this model with surface `s` draws Standard's secondary maps (its `detail`
+    /// parameter on; WGSL `model_detail`).
+    pub fn draws_detail(&self, s: &Surface) -> bool {
+        self.params.iter().any(|p| p.name == DETAIL_PARAM && s.params[p.slot] > 0.5)
+    }
+
     /// Whether the model evaluates rect lights (`model_rect`, shaders/common/area.wgsl): HDRP's Lit
     /// family and Lambert do; a model without one leaves them out (plan::lights::area_left_out).
     pub fn area_lights(&self) -> bool {
@@ -376,6 +382,24 @@ const PARALLAX: ParamSpec = ParamSpec {
     max: 0.08,
     doc: Cow::Borrowed(
         "the height map's scale (_Parallax, 0.005–0.08 in the inspector): the maps are read at the parallax-offset uv; 0 (default): no height map. Needs the textured preset (`materials`)",
+    ),
+};
+
+/// The name of Standard's secondary-maps switch: like the height map, it moves only what the maps
+/// carry, so a cell without maps draws the same image whatever its value (cells::render_key).
+pub const DETAIL_PARAM: &str = "detail";
+
+/// Standard's secondary maps assigned (`_DetailAlbedoMap` and `_DetailNormalMap`, compiling
+/// `_DETAIL_MULX2`): the tool's detail grain (materials::detail) tiled 4× over the main maps,
+/// where the main mask's detail mask lets it. 0 is a new material's: no secondary maps.
+const DETAIL: ParamSpec = ParamSpec {
+    name: Cow::Borrowed(DETAIL_PARAM),
+    slot: 4,
+    default: 0.0,
+    min: 0.0,
+    max: 1.0,
+    doc: Cow::Borrowed(
+        "1: the secondary maps (Detail Albedo ×2 and Detail Normal, _DETAIL_MULX2) under the detail mask; 0 (default): none. Needs the textured preset (`materials`)",
     ),
 };
 
@@ -688,7 +712,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         reads: ALL_AXES,
         expected: RECIPROCAL_ONLY,
         twin: &twin::Standard,
-        params: &[SPECULAR_SETUP, SPECULAR_HIGHLIGHTS_TOGGLE, PARALLAX],
+        params: &[SPECULAR_SETUP, SPECULAR_HIGHLIGHTS_TOGGLE, PARALLAX, DETAIL],
         mapping: METALLIC_WORKFLOW,
         from_sliders: metallic_workflow,
         summary: "built-in Standard, BRDF1: Disney diffuse, approx. joint Smith, GGX, clamps (models.md#standard)",

@@ -32,6 +32,10 @@ const DEFAULT_MODEL_HOOKS: &str = "fn model_reflectivity(s: Surface) -> f32 {\n 
 const DEFAULT_HEIGHT_HOOK: &str =
     "fn model_height_scale(params0: vec4<f32>, params1: vec4<f32>) -> f32 {\n    return 0.0;\n}\n";
 
+/// Secondary maps for a model without them (Standard has them, registry::DETAIL).
+const DEFAULT_DETAIL_HOOK: &str =
+    "fn model_detail(params0: vec4<f32>, params1: vec4<f32>) -> f32 {\n    return 0.0;\n}\n";
+
 /// Rect lights for a model without a BSDF for them: nothing (the plan leaves them out,
 /// plan::lights::area_left_out).
 const DEFAULT_AREA_HOOK: &str = "fn model_rect(s: Surface, n: vec3<f32>, v: vec3<f32>, q: array<vec3<f32>, 4>) -> vec3<f32> {\n    return vec3<f32>(0.0);\n}\n";
@@ -78,6 +82,7 @@ pub const TRUTH_PHYSICAL: &str = include_str!("../../shaders/pass/truth_physical
 /// define `model_direct`), the physical truth's model, the rays, then the tracer.
 pub fn compose_truth(subject: &ShaderModel, fixed: &ShaderModel) -> String {
     let ids = pipeline_ids();
+    let detail = if subject.wgsl.contains("fn model_detail") { "" } else { DEFAULT_DETAIL_HOOK };
     [
         MATH,
         &ids,
@@ -86,6 +91,7 @@ pub fn compose_truth(subject: &ShaderModel, fixed: &ShaderModel) -> String {
         AREA,
         SCENE,
         &subject.wgsl,
+        detail,
         &prefixed(&fixed.wgsl, "fixed_"),
         TRUTH_PHYSICAL,
         RAYS,
@@ -185,6 +191,9 @@ pub fn compose_mapped(pass: PassKind, model: Option<&ShaderModel>) -> (String, L
         }
         if !m.area_lights() {
             parts.push(("<default model hooks>", DEFAULT_AREA_HOOK));
+        }
+        if !m.wgsl.contains("fn model_detail") {
+            parts.push(("<default model hooks>", DEFAULT_DETAIL_HOOK));
         }
         parts.push(("<generated from the model: lobes>", &splits));
     }

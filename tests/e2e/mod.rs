@@ -11,6 +11,7 @@ mod compare;
 mod constants;
 mod conventions;
 mod coverage;
+mod detail;
 mod docs;
 mod faults;
 mod flow;

@@ -198,6 +198,7 @@ impl Renderer {
             fixed_maps: &prepared.fixed_maps.maps,
             subject_coverage: subject_coverage(cell)?,
             subject_maps: subject_maps.as_deref(),
+            subject_detail: subject_maps.is_some() && cell.model.draws_detail(&cell.surface),
             subject_surface: cell.settings.surface,
         };
         then(&scene, &inputs)

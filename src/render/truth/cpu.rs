@@ -267,6 +267,8 @@ pub struct CpuTruthInputs<'a> {
     pub subject_coverage: f64,
     /// The subject's maps where it wears them, read at their finest level as the GPU tracer does.
     pub subject_maps: Option<&'a crate::materials::MaterialMaps>,
+    /// The subject blends Standard's secondary maps into its maps (`ShaderModel::draws_detail`).
+    pub subject_detail: bool,
     /// The subject's surface type, alpha and cutoff.
     pub subject_surface: crate::pipelines::surface::SurfaceOptions,
 }
@@ -619,7 +621,19 @@ impl Tracer<'_> {
             (true, None) => None,
             (false, _) => fixed_maps_at(self.inputs.fixed_maps, &m, uv),
         };
-        if let Some([albedo, normal, mask, glow]) = maps {
+        if let Some([mut albedo, mut normal, mask, glow]) = maps {
+            if is_subject && self.inputs.subject_detail {
+                // Standard's secondary maps (materials::detail, truth.wgsl)
+                use crate::materials::detail::{detail_albedo_mulx2, detail_levels, detail_normal, DETAIL_TILING};
+                let l = &detail_levels()[0];
+                let d =
+                    crate::materials::bilinear(&l.texels, l.size, l.size, uv.x * DETAIL_TILING, uv.y * DETAIL_TILING);
+                let f = detail_albedo_mulx2(d[3] as f64, mask[2]);
+                albedo = [albedo[0] * f, albedo[1] * f, albedo[2] * f, albedo[3]];
+                let dn = [d[0] as f64, d[1] as f64, d[2] as f64];
+                let blended = detail_normal([normal[0], normal[1], normal[2]], dn, mask[2]);
+                normal = [blended[0], blended[1], blended[2], normal[3]];
+            }
             s.base_color *= DVec3::new(albedo[0], albedo[1], albedo[2]);
             s.metallic *= mask[0];
             s.smoothness = (s.smoothness + mask[3] - 0.5).clamp(0.0, 1.0);

@@ -1,0 +1,175 @@
+//! Standard's secondary maps (registry DETAIL, materials::detail): blended in where the detail
+//! mask lets them, in the frame and in both tracers (truth.wgsl against the CPU's f64 twin).
+
+use crate::common::{cell_params, fixture};
+use shadematrix::gpu::GpuContext;
+use shadematrix::pipelines::{Pipeline, RenderPath};
+use shadematrix::render::truth::{Truth, TruthKind, TruthSettings};
+use shadematrix::render::uniforms::ROLE_SUBJECT;
+use shadematrix::render::{CellParams, PreparedScene, Renderer};
+use shadematrix::shading::registry::Sliders;
+use shadematrix::spec::matrix::TruthBackend;
+use shadematrix::spec::scene::Scene;
+
+fn truth(renderer: &mut Renderer, prepared: &PreparedScene, cell: &CellParams, backend: TruthBackend) -> Truth {
+    let settings = TruthSettings {
+        kind: TruthKind::SameBrdf,
+        spp: 64,
+        noise: 0.0,
+        bounces: 0,
+        batch: 32,
+        backend,
+        ..Default::default()
+    };
+    renderer.render_truth(prepared, cell, &settings).unwrap()
+}
+
+/// The subject's mean red over pixels both images see it in.
+fn subject_mean(roles: &[u8], values: impl Fn(usize) -> f64, n: usize) -> f64 {
+    let (sum, count) =
+        (0..n).filter(|&i| roles[i] == ROLE_SUBJECT).fold((0.0, 0usize), |(s, c), i| (s + values(i), c + 1));
+    sum / count as f64
+}
+
+#[test]
+fn secondary_maps_blend_in_under_the_mask_and_both_tracers_follow_them() {
+    let plane = Scene::load_file(&fixture("textured_plane.toml")).unwrap();
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let prepared = renderer.prepare_scene(&plane).unwrap();
+    let sliders = Sliders { base_color_linear: [0.83, 0.79, 0.75], metallic: 0.0, smoothness: 0.5 };
+    let mut cell = cell_params(Pipeline::Builtin, "standard", sliders, (1.0, 10.0), 48, RenderPath::Forward);
+    cell.settings.material_maps = Some("marble");
+    let without = renderer.render(&prepared, &cell, 1, 0).unwrap();
+    let truth_without = truth(&mut renderer, &prepared, &cell, TruthBackend::Cpu);
+    cell.surface.params[4] = 1.0;
+    let with = renderer.render(&prepared, &cell, 1, 0).unwrap();
+    // The frame: detail where the mask lets it (part of the tile), the rest as it was.
+    let n = with.roles.len();
+    let changed = (0..n).filter(|&i| (with.hdr[4 * i] - without.hdr[4 * i]).abs() > 0.01 * without.hdr[4 * i]).count();
+    let same = (0..n).filter(|&i| (with.hdr[4 * i] - without.hdr[4 * i]).abs() <= 0.002 * without.hdr[4 * i]).count();
+    eprintln!("secondary maps: {changed} of {n} pixels change by over 1%, {same} by at most 0.2%");
+    assert!(changed * 10 > n && same * 10 > n, "{changed} changed, {same} the same of {n}");
+    // Both tracers blend them as the frame does: their subjects agree within noise…
+    let (cpu, gpu) = (
+        truth(&mut renderer, &prepared, &cell, TruthBackend::Cpu),
+        truth(&mut renderer, &prepared, &cell, TruthBackend::Gpu),
+    );
+    let (mut diff, mut var) = (0.0f64, 0.0f64);
+    for i in 0..n {
+        if cpu.roles[i] == ROLE_SUBJECT && gpu.roles[i] == ROLE_SUBJECT {
+            diff += cpu.mean[i][0] as f64 - gpu.mean[i][0] as f64;
+            var += (cpu.std_error[i] as f64).powi(2) + (gpu.std_error[i] as f64).powi(2);
+        }
+    }
+    let z = diff / var.sqrt();
+    // …and the frame's change of the subject's mean is the truth's (mip-mapped against level 0).
+    let frame_ratio = subject_mean(&with.roles, |i| with.hdr[4 * i] as f64, n)
+        / subject_mean(&without.roles, |i| without.hdr[4 * i] as f64, n);
+    let truth_ratio = subject_mean(&cpu.roles, |i| cpu.mean[i][0] as f64, n)
+        / subject_mean(&truth_without.roles, |i| truth_without.mean[i][0] as f64, n);
+    eprintln!("CPU − GPU truth Z {z:.2}; subject mean with/without: frame {frame_ratio:.4}, truth {truth_ratio:.4}");
+    assert!(z.abs() < 4.0, "the tracers' subjects differ by {z:.2} standard errors");
+    // Both darken: the ×2 albedo of a grain around sRGB 0.5 is 0.98 on average. The truth reads
+    // the finest level, where the grain's normals tilt NL away; the frame's mips average them
+    // flat (as Unity's do), so the truth darkens more (measured 0.9605 against 0.9887).
+    assert!(frame_ratio < 0.997 && truth_ratio < frame_ratio, "frame {frame_ratio}, truth {truth_ratio}");
+    assert!(frame_ratio - truth_ratio < 0.04, "frame {frame_ratio} vs truth {truth_ratio}");
+}
+
+#[test]
+fn the_detail_blends_match_their_twins() {
+    use shadematrix::materials::detail::{blend_normals, detail_albedo_mulx2};
+    let kernel = r#"
+@group(0) @binding(0) var<storage, read> inputs: array<vec4<f32>>;
+@group(0) @binding(1) var<storage, read_write> outputs: array<vec4<f32>>;
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    if (id.x >= arrayLength(&inputs) / 2u) {
+        return;
+    }
+    let a = inputs[2u * id.x];
+    let b = inputs[2u * id.x + 1u];
+    outputs[id.x] = vec4<f32>(blend_normals(a.xyz, b.xyz), detail_albedo_mulx2(a.w, b.w));
+}
+"#;
+    let source = [shadematrix::shading::wgsl::common().as_str(), kernel].join("\n");
+    let normals = [[0.0, 0.0, 1.0], [0.3, -0.2, 0.93], [-0.6, 0.1, 0.79], [0.05, 0.7, 0.71]];
+    let mut cases = Vec::new();
+    for n1 in normals {
+        for n2 in normals {
+            for (albedo, mask) in [(0.214, 1.0), (0.1, 0.5), (0.4, 0.25), (0.3, 0.0)] {
+                cases.push((n1, n2, albedo, mask));
+            }
+        }
+    }
+    let inputs: Vec<[f32; 4]> = cases
+        .iter()
+        .flat_map(|(a, b, albedo, mask)| {
+            [
+                [a[0] as f32, a[1] as f32, a[2] as f32, *albedo as f32],
+                [b[0] as f32, b[1] as f32, b[2] as f32, *mask as f32],
+            ]
+        })
+        .collect();
+    let gpu = GpuContext::new().unwrap();
+    let got = crate::common::run_kernel(&gpu, &source, &inputs, cases.len(), &[]);
+    let mut worst = 0.0f64;
+    for ((a, b, albedo, mask), g) in cases.iter().zip(&got) {
+        let n = blend_normals(*a, *b);
+        let f = detail_albedo_mulx2(*albedo, *mask);
+        for k in 0..3 {
+            worst = worst.max((g[k] as f64 - n[k]).abs());
+        }
+        worst = worst.max((g[3] as f64 - f).abs());
+    }
+    eprintln!("detail blends GPU vs twin: worst |Δ| {worst:.2e} over {} inputs", cases.len());
+    assert!(worst < 1e-5, "{worst:e}");
+}
+
+/// In a run: a flat subject has no maps to blend into, so its cells along `detail` are twins; a
+/// textured one changes its own pixels only; URP and HDRP Lit have no such parameter.
+#[test]
+fn secondary_maps_change_only_a_textured_subject() {
+    let tmp = tempfile::tempdir().unwrap();
+    let body = r#"
+name = "detail"
+compositions = ["default"]
+pipelines = ["builtin", "urp"]
+shaders = ["standard", "lit"]
+presets = ["brick"]
+[sweep]
+textured = [true, false]
+[sweep.params]
+detail = [0.0, 1.0]
+[image]
+width = 64
+height = 64
+"#;
+    let out = crate::common::run_matrix(tmp.path(), body, "run");
+    let run = shadematrix::report::run_data::RunData::load(&out).unwrap();
+    let image = |r: &shadematrix::record::cell::CellRecord| {
+        shadematrix::images::encode::read_exr(&run.cell_dir(&r.id.0).join("image.exr")).unwrap().2
+    };
+    let on: Vec<_> = run.cells.iter().filter(|r| r.coords.params.get("detail") == Some(&1.0)).collect();
+    assert_eq!(on.len(), 2, "built-in Standard, textured and flat");
+    for r in on {
+        let base = run
+            .cells
+            .iter()
+            .find(|b| b.coords.params.get("detail") == Some(&0.0) && b.coords.textured == r.coords.textured)
+            .expect("the cell without");
+        if !r.coords.textured {
+            assert!(r.twin_of.is_some(), "{}: a flat subject has no maps", r.id);
+            continue;
+        }
+        let (a, b) = (image(r), image(base));
+        let changed = a.chunks_exact(4).zip(b.chunks_exact(4)).filter(|(p, q)| p != q).count();
+        let subject = r.stats.subject_pixels;
+        assert!(changed > subject / 4, "{}: {changed} of {subject}", r.id);
+        assert!(changed <= subject * 11 / 10, "{}: only the subject changes ({changed} of {subject})", r.id);
+    }
+    assert!(
+        run.cells.iter().all(|r| r.coords.pipeline != Pipeline::Urp || !r.coords.params.contains_key("detail")),
+        "URP Lit has no such parameter"
+    );
+}
