@@ -44,7 +44,7 @@ fn generate(size: usize) -> Vec<DetailLevel> {
             (x.rem_euclid(size as isize) as f64 + 0.5) / size as f64,
             (y.rem_euclid(size as isize) as f64 + 0.5) / size as f64,
         );
-        fbm(u, v, 16, 0x6A41_4E)
+        fbm(u, v, 16, 0x006A_414E)
     };
     // Slope per unit of detail uv: a grain a few hundredths deep.
     let k = 0.03 * size as f64 / 2.0;
