@@ -120,6 +120,11 @@ fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>)
         + indirect_specular(specular_fgd * env * hdrp_energy_compensation(s, clamped_nv));
 }
 
+// The LTC tables below the FGD table (`fgd_lut`, declared by the pass)
+fn ltc_lookup(row: i32, clamped_nv: f32, pr: f32) -> mat3x3<f32> {
+    return ltc_sample(fgd_lut, row, clamped_nv, pr);
+}
+
 // EvaluateBSDF_Rect: the corners (relative to the shaded point) in the view–normal frame through the
 // Disney-diffuse and GGX inverse LTCs, each PolygonIrradiance times its FGD magnitude
 // (diffuseFGD; specularFGD with the energy compensation PostEvaluateBSDF applies); per unit luminance

@@ -22,10 +22,6 @@ fn fgd_lookup(nv: f32, pr: f32) -> vec3<f32> {
     return fgd_sample(fgd_lut, nv, pr);
 }
 
-fn ltc_lookup(row: i32, clamped_nv: f32, pr: f32) -> mat3x3<f32> {
-    return ltc_sample(fgd_lut, row, clamped_nv, pr);
-}
-
 var<private> probe_gi_specular: vec3<f32>;
 var<private> probe_env_dir: vec3<f32>;
 

@@ -119,10 +119,6 @@ fn fgd_lookup(nv: f32, pr: f32) -> vec3<f32> {
     return fgd_sample(fgd_lut, nv, pr);
 }
 
-fn ltc_lookup(row: i32, clamped_nv: f32, pr: f32) -> mat3x3<f32> {
-    return ltc_sample(fgd_lut, row, clamped_nv, pr);
-}
-
 const LIGHT_RECT: u32 = 3u;
 const LIGHT_DISC: u32 = 4u;
 

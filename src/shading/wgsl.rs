@@ -83,12 +83,14 @@ pub const TRUTH_PHYSICAL: &str = include_str!("../../shaders/pass/truth_physical
 pub fn compose_truth(subject: &ShaderModel, fixed: &ShaderModel) -> String {
     let ids = pipeline_ids();
     let detail = if subject.wgsl.contains("fn model_detail") { "" } else { DEFAULT_DETAIL_HOOK };
+    // The polygon integrals only where a model evaluates rect lights: less for the driver to compile.
+    let area = if subject.area_lights() || fixed.area_lights() { AREA } else { "" };
     [
         MATH,
         &ids,
         CONVENTIONS,
         BRDF_TERMS,
-        AREA,
+        area,
         SCENE,
         &subject.wgsl,
         detail,
@@ -105,7 +107,7 @@ const TRACED_SHADOWS: &str = include_str!("../../shaders/pass/traced_shadows.wgs
 /// The traced-shadow pass (render::passes::traced_shadows): the scene pass's shared files, the rays, then
 /// the pass.
 pub fn compose_traced_shadows() -> String {
-    [MATH, &pipeline_ids(), CONVENTIONS, BRDF_TERMS, AREA, SCENE, RAYS, TRACED_SHADOWS].join("\n")
+    [MATH, &pipeline_ids(), CONVENTIONS, BRDF_TERMS, SCENE, RAYS, TRACED_SHADOWS].join("\n")
 }
 
 /// `source` with every module-scope name it declares (functions, constants, private variables,
@@ -170,8 +172,11 @@ pub fn compose_mapped(pass: PassKind, model: Option<&ShaderModel>) -> (String, L
         (PIPELINE_IDS_PATH, &ids),
         ("shaders/common/conventions.wgsl", CONVENTIONS),
         ("shaders/common/brdf.wgsl", BRDF_TERMS),
-        ("shaders/common/area.wgsl", AREA),
     ];
+    // The polygon integrals only where the model evaluates rect lights (`model_rect`).
+    if model.is_some_and(|m| m.area_lights()) {
+        parts.push(("shaders/common/area.wgsl", AREA));
+    }
     match pass {
         PassKind::Forward | PassKind::ForwardExact | PassKind::Background => {
             parts.push(("shaders/pass/scene.wgsl", SCENE))
