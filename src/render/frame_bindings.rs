@@ -20,6 +20,8 @@ pub(in crate::render) struct FrameBindings {
     pub(in crate::render) material_sampler: wgpu::Sampler,
     /// Per preset ("" the neutral set), uploaded on first use and kept.
     pub(in crate::render) material_textures: HashMap<&'static str, MaterialTextures>,
+    /// Standard's secondary maps, the same for every subject (`material_maps::detail_texture`).
+    pub(in crate::render) detail: wgpu::TextureView,
 }
 
 impl FrameBindings {
@@ -98,7 +100,7 @@ impl FrameBindings {
                 wgpu::BindGroupEntry { binding: 11, resource: wgpu::BindingResource::TextureView(&textures.mask) },
                 wgpu::BindGroupEntry { binding: 12, resource: wgpu::BindingResource::Sampler(&self.material_sampler) },
                 wgpu::BindGroupEntry { binding: 13, resource: wgpu::BindingResource::TextureView(&textures.emission) },
-                wgpu::BindGroupEntry { binding: 15, resource: wgpu::BindingResource::TextureView(&textures.detail) },
+                wgpu::BindGroupEntry { binding: 15, resource: wgpu::BindingResource::TextureView(&self.detail) },
                 wgpu::BindGroupEntry {
                     binding: 14,
                     resource: wgpu::BindingResource::TextureView(&prepared.fixed_maps.view),

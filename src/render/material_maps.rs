@@ -13,8 +13,14 @@ pub struct MaterialTextures {
     pub mask: wgpu::TextureView,
     /// Emission multiplier (white 1×1 where the material has no emission map).
     pub emission: wgpu::TextureView,
-    /// Standard's secondary maps (`materials::detail`): detail normal xyz, linear detail albedo w.
-    pub detail: wgpu::TextureView,
+}
+
+/// Standard's secondary maps (`materials::detail`: detail normal xyz, linear detail albedo w), one
+/// grain for every subject: uploaded once per renderer and bound beside whatever maps it wears.
+pub fn detail_texture(device: &wgpu::Device, queue: &wgpu::Queue) -> wgpu::TextureView {
+    let levels: Vec<(usize, &[[f32; 4]])> =
+        crate::materials::detail::detail_levels().iter().map(|l| (l.size, l.texels.as_slice())).collect();
+    upload(device, queue, "material detail", &levels)
 }
 
 fn upload(
@@ -75,15 +81,6 @@ impl MaterialTextures {
                 true => upload(device, queue, "no emission map", &[(1, &[[1.0; 4]][..])]),
                 false => upload(device, queue, "material emission", &pick(|l| &l.emission)),
             },
-            detail: upload(
-                device,
-                queue,
-                "material detail",
-                &crate::materials::detail::detail_levels()
-                    .iter()
-                    .map(|l| (l.size, l.texels.as_slice()))
-                    .collect::<Vec<_>>(),
-            ),
         }
     }
 
@@ -95,7 +92,6 @@ impl MaterialTextures {
             normal: one([0.0, 0.0, 1.0, crate::materials::NO_HEIGHT], "neutral normal"),
             mask: one([1.0, 1.0, 1.0, 0.5], "neutral mask"),
             emission: one([1.0; 4], "neutral emission"),
-            detail: one([0.0, 0.0, 1.0, crate::materials::detail::NEUTRAL_DETAIL_ALBEDO as f32], "neutral detail"),
         }
     }
 }

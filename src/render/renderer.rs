@@ -278,6 +278,7 @@ impl Renderer {
             immediate_size: 0,
         });
         let msaa_counts = gpu.multisample_counts(&[HDR_FORMAT, ROLE_FORMAT, DEPTH_FORMAT]);
+        let detail = crate::render::material_maps::detail_texture(device, &gpu.queue);
         Renderer {
             gpu,
             object_layout,
@@ -288,6 +289,7 @@ impl Renderer {
                 shadow_sampler,
                 material_sampler,
                 material_textures: HashMap::new(),
+                detail,
             },
             pipelines: PipelineCache::new(pipeline_layout, exact_layout, deferred_layout),
             fixed_models: Registry::builtin(),

@@ -86,6 +86,11 @@ impl LtcTables {
     }
 }
 
+/// M⁻¹ of `lobe` at (clampedNV, pr) from the embedded tables (hdrp_lit.wgsl `ltc_lookup`).
+pub fn ltc_lookup(lobe: LtcLobe, clamped_nv: f64, pr: f64) -> DMat3 {
+    LtcTables::get().lookup(lobe, clamped_nv, pr)
+}
+
 /// [[m00, 0, m02], [0, m11, 0], [m20, 0, 1]] from a texel.
 pub fn inverse_matrix([m00, m02, m11, m20]: [f64; 4]) -> DMat3 {
     DMat3::from_cols(DVec3::new(m00, 0.0, m20), DVec3::new(0.0, m11, 0.0), DVec3::new(m02, 0.0, 1.0))
@@ -209,9 +214,8 @@ pub fn hdrp_rect_ltc(light: &RectLight, p: DVec3, n: DVec3, v: DVec3, pr: f64) -
     let clamped_nv = nv.max(1e-4);
     let basis = ortho_basis_view_normal(v, n, nv);
     let corners = light.vertices(p);
-    let t = LtcTables::get();
-    let d = ltc_evaluate(&corners, &basis, &t.lookup(LtcLobe::DisneyDiffuse, clamped_nv, pr));
-    let s = ltc_evaluate(&corners, &basis, &t.lookup(LtcLobe::Ggx, clamped_nv, pr));
+    let d = ltc_evaluate(&corners, &basis, &ltc_lookup(LtcLobe::DisneyDiffuse, clamped_nv, pr));
+    let s = ltc_evaluate(&corners, &basis, &ltc_lookup(LtcLobe::Ggx, clamped_nv, pr));
     (d, s)
 }
 

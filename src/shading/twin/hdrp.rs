@@ -137,14 +137,13 @@ impl SurfaceTwin for HdrpLit {
     }
 
     fn rect_lobes(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, corners: &[DVec3; 4]) -> Option<Lobes> {
-        use crate::shading::ltc::{ltc_evaluate, ortho_basis_view_normal, LtcLobe, LtcTables};
+        use crate::shading::ltc::{ltc_evaluate, ltc_lookup, ortho_basis_view_normal, LtcLobe};
         let nv = n.dot(v);
         let clamped_nv = clamp_n_dot_v(nv);
         let pr = 1.0 - s.smoothness;
         let basis = ortho_basis_view_normal(v, n, nv);
-        let t = LtcTables::get();
-        let ltc_diffuse = ltc_evaluate(corners, &basis, &t.lookup(LtcLobe::DisneyDiffuse, clamped_nv, pr));
-        let ltc_specular = ltc_evaluate(corners, &basis, &t.lookup(LtcLobe::Ggx, clamped_nv, pr));
+        let ltc_diffuse = ltc_evaluate(corners, &basis, &ltc_lookup(LtcLobe::DisneyDiffuse, clamped_nv, pr));
+        let ltc_specular = ltc_evaluate(corners, &basis, &ltc_lookup(LtcLobe::Ggx, clamped_nv, pr));
         let fgd = FgdTable::get().lookup(clamped_nv, pr);
         let f0 = hdrp_f0(s);
         let specular_fgd = (DVec3::ONE - f0) * fgd.x + f0 * fgd.y;
