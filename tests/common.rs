@@ -164,6 +164,27 @@ pub fn write_quad_gltf(dir: &std::path::Path, stem: &str, material: &str, images
     path
 }
 
+/// A kernel over input pairs for `run_kernel`, after the shared WGSL (`shading::wgsl::common`):
+/// each output is `expr`, reading the pair's vec4s `a` and `b`.
+pub fn pair_kernel(expr: &str) -> String {
+    let kernel = format!(
+        r#"
+@group(0) @binding(0) var<storage, read> inputs: array<vec4<f32>>;
+@group(0) @binding(1) var<storage, read_write> outputs: array<vec4<f32>>;
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {{
+    if (id.x >= arrayLength(&inputs) / 2u) {{
+        return;
+    }}
+    let a = inputs[2u * id.x];
+    let b = inputs[2u * id.x + 1u];
+    outputs[id.x] = {expr};
+}}
+"#
+    );
+    [shadematrix::shading::wgsl::common().as_str(), &kernel].join("\n")
+}
+
 /// Run `source`'s compute entry `main` (workgroup 64) over `inputs`: binding 0 the inputs, 1 the
 /// `outputs` results (vec4 each), then `extra` bindings from 2 on; returns the results.
 pub fn run_kernel(

@@ -79,20 +79,7 @@ fn secondary_maps_blend_in_under_the_mask_and_both_tracers_follow_them() {
 #[test]
 fn the_detail_blends_match_their_twins() {
     use shadematrix::materials::detail::{blend_normals, detail_albedo_mulx2};
-    let kernel = r#"
-@group(0) @binding(0) var<storage, read> inputs: array<vec4<f32>>;
-@group(0) @binding(1) var<storage, read_write> outputs: array<vec4<f32>>;
-@compute @workgroup_size(64)
-fn main(@builtin(global_invocation_id) id: vec3<u32>) {
-    if (id.x >= arrayLength(&inputs) / 2u) {
-        return;
-    }
-    let a = inputs[2u * id.x];
-    let b = inputs[2u * id.x + 1u];
-    outputs[id.x] = vec4<f32>(blend_normals(a.xyz, b.xyz), detail_albedo_mulx2(a.w, b.w));
-}
-"#;
-    let source = [shadematrix::shading::wgsl::common().as_str(), kernel].join("\n");
+    let source = crate::common::pair_kernel("vec4<f32>(blend_normals(a.xyz, b.xyz), detail_albedo_mulx2(a.w, b.w))");
     let normals = [[0.0, 0.0, 1.0], [0.3, -0.2, 0.93], [-0.6, 0.1, 0.79], [0.05, 0.7, 0.71]];
     let mut cases = Vec::new();
     for n1 in normals {

@@ -7,20 +7,7 @@ use shadematrix::materials::parallax_offset;
 
 #[test]
 fn parallax_offset_matches_its_twin() {
-    let kernel = r#"
-@group(0) @binding(0) var<storage, read> inputs: array<vec4<f32>>;
-@group(0) @binding(1) var<storage, read_write> outputs: array<vec4<f32>>;
-@compute @workgroup_size(64)
-fn main(@builtin(global_invocation_id) id: vec3<u32>) {
-    if (id.x >= arrayLength(&inputs) / 2u) {
-        return;
-    }
-    let a = inputs[2u * id.x];
-    let b = inputs[2u * id.x + 1u];
-    outputs[id.x] = vec4<f32>(parallax_offset(a.x, a.y, b.xyz), 0.0, 0.0);
-}
-"#;
-    let source = [shadematrix::shading::wgsl::common().as_str(), kernel].join("\n");
+    let source = crate::common::pair_kernel("vec4<f32>(parallax_offset(a.x, a.y, b.xyz), 0.0, 0.0)");
     let mut cases = Vec::new();
     for h in [0.0, 0.25, 0.5, 0.9, 1.0] {
         for height in [0.005, 0.02, 0.08] {
