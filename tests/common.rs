@@ -164,6 +164,52 @@ pub fn write_quad_gltf(dir: &std::path::Path, stem: &str, material: &str, images
     path
 }
 
+/// A run's cells along a parameter that moves only the subject's maps (the height scale, the
+/// secondary maps), checked against the cell at `off` of the same pipeline and texturing: a flat
+/// subject's is a twin, a textured one's image changes in the subject's pixels (and the edge
+/// pixels it shares) only. Returns how many textured cells were compared; `excluded`: a pipeline
+/// whose cells must not take the parameter.
+pub fn check_map_parameter(
+    run: &shadematrix::report::run_data::RunData,
+    param: &str,
+    (on, off): (f64, f64),
+    excluded: shadematrix::pipelines::Pipeline,
+) -> usize {
+    let image = |r: &shadematrix::record::cell::CellRecord| {
+        shadematrix::images::encode::read_exr(&run.cell_dir(&r.id.0).join("image.exr")).unwrap().2
+    };
+    let mut checked = 0;
+    for r in run.cells.iter().filter(|r| r.coords.params.get(param) == Some(&on)) {
+        let base = run
+            .cells
+            .iter()
+            .find(|b| {
+                b.coords.params.get(param) == Some(&off)
+                    && b.coords.pipeline == r.coords.pipeline
+                    && b.coords.textured == r.coords.textured
+            })
+            .expect("the cell at the parameter's other value");
+        if !r.coords.textured {
+            assert!(r.twin_of.is_some(), "{}: a flat subject has no maps for {param} to move", r.id);
+            continue;
+        }
+        assert!(r.twin_of.is_none(), "{}", r.id);
+        let (a, b) = (image(r), image(base));
+        let changed = a.chunks_exact(4).zip(b.chunks_exact(4)).filter(|(p, q)| p != q).count();
+        let subject = r.stats.subject_pixels;
+        assert!(changed > subject / 4, "{}: {changed} pixels changed of {subject} subject pixels", r.id);
+        // The subject's pixels and the anti-aliased edge pixels it shares with what is behind it.
+        assert!(changed <= subject * 11 / 10, "{}: only the subject changes ({changed} of {subject})", r.id);
+        checked += 1;
+    }
+    assert!(
+        run.cells.iter().all(|r| r.coords.pipeline != excluded || !r.coords.params.contains_key(param)),
+        "{} takes no {param}",
+        excluded.name()
+    );
+    checked
+}
+
 /// A kernel over input pairs for `run_kernel`, after the shared WGSL (`shading::wgsl::common`):
 /// each output is `expr`, reading the pair's vec4s `a` and `b`.
 pub fn pair_kernel(expr: &str) -> String {

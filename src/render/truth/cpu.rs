@@ -153,6 +153,7 @@ struct TracedLight {
     min_roughness: f64,
     /// Area lights: the right axis and the half width and height (a disc: its radius twice).
     right: DVec3,
+    half_size: DVec2,
 }
 
 /// scene.wgsl's area-light kinds (pipelines::Emitter::shader_kind).
@@ -172,6 +173,7 @@ impl From<&GpuLight> for TracedLight {
             cos_inner: l.params[2] as f64,
             min_roughness: l.params[3] as f64,
             right: v3(l.shape),
+            half_size: DVec2::new(l.params[1] as f64, l.params[2] as f64),
         }
     }
 }
@@ -187,7 +189,7 @@ impl TracedLight {
     fn area_point(&self, u1: f64, u2: f64) -> (DVec3, f64) {
         let forward = self.direction.normalize();
         let up = forward.cross(self.right);
-        let (hw, hh) = (self.cos_outer, self.cos_inner);
+        let (hw, hh) = (self.half_size.x, self.half_size.y);
         if self.kind == LIGHT_DISC {
             let (r, phi) = (hw * u1.sqrt(), 2.0 * PI * u2);
             (self.position + self.right * (r * phi.cos()) + up * (r * phi.sin()), PI * hw * hw)
@@ -214,7 +216,7 @@ impl TracedLight {
                 center: self.position,
                 forward: self.direction.normalize(),
                 right: self.right,
-                half_size: glam::DVec2::new(self.cos_outer, self.cos_inner),
+                half_size: self.half_size,
                 range: self.range,
             }
             .attenuation(p);
