@@ -449,8 +449,17 @@ fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>, vertex_gi: vec3<f32>) -> vec3<f
     if (FORWARD_PASS == FORWARD_ADD || !draws_indirect()) {
         return c;
     }
-    let gi = environment_ambient(n) + max(sh_eval(object.light_sh, n), vec3<f32>(0.0)) + vertex_gi;
+    let gi = object_ambient(n) + max(sh_eval(object.light_sh, n), vec3<f32>(0.0)) + vertex_gi;
     return c + indirect_light(s, n, v, gi);
+}
+
+// The object's ambient light: the sky's SH, or where the scene bakes (render::gi) what the bake
+// gives it — its interpolated light probe, whose SH is folded into object.light_sh (lod.z = 1)
+fn object_ambient(n: vec3<f32>) -> vec3<f32> {
+    if (object.lod.z > 0.5) {
+        return vec3<f32>(0.0);
+    }
+    return environment_ambient(n);
 }
 
 // A rect light's direct term at p (the model's `model_rect`); 0 where the frame leaves it out
@@ -746,7 +755,7 @@ fn fs_gbuffer(in: VertexOut, @builtin(front_facing) front: bool) -> GBufferOut {
     if (frame.counts.y > 0u) {
         main_light_color = lights[frame.counts.y - 1u].color.rgb;
     }
-    let gi = environment_ambient(n) + max(sh_eval(object.light_sh, n), vec3<f32>(0.0));
+    let gi = object_ambient(n) + max(sh_eval(object.light_sh, n), vec3<f32>(0.0));
     var out: GBufferOut;
     out.albedo = vec4<f32>(s.base_color, 1.0);
     out.material = vec4<f32>(s.metallic, s.smoothness, 0.0, 0.0);
@@ -842,6 +851,10 @@ fn fs_deferred(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
 
 // One light's direct term at a G-buffer pixel
 fn deferred_light(light: Light, s: Surface, p: vec3<f32>, n: vec3<f32>, v: vec3<f32>, receives: bool) -> vec3<f32> {
+    // A light the frame draws on no object: it reaches the frame through the bake alone (plan::gi)
+    if (light.color.w > 0.5) {
+        return vec3<f32>(0.0);
+    }
     if (u32(light.position.w) >= LIGHT_RECT) {
         return rect_light(light, s, n, v, p);
     }

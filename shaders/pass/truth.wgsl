@@ -31,6 +31,24 @@ struct TruthObject {
 // Per pixel: the role of the first hit (0 none)
 @group(1) @binding(3) var<storage, read_write> first_roles: array<u32>;
 
+// ---- The bake (render::truth::bake): the points it gathers light at and what each light gives it.
+
+// A lightmap texel (position.w = 0: its normal in `normal`) or a light probe (position.w = 1)
+struct BakePoint {
+    position: vec4<f32>,
+    normal: vec4<f32>,
+};
+
+// Per light: weights (x: direct at a texel, y: direct at a probe, z: bounced light, w: shadow-mask
+// channel, −1 none) and shape (x: baked shadow radius, y: tan of half the baked shadow angle)
+struct BakeLight {
+    weights: vec4<f32>,
+    shape: vec4<f32>,
+};
+
+@group(1) @binding(4) var<storage, read> bake_points: array<BakePoint>;
+@group(1) @binding(5) var<storage, read> bake_lights: array<BakeLight>;
+
 // 0: `same-brdf` (each surface's own model, the pipeline's falloff); 1: `physical` (one physical
 // model for every surface, inverse-square falloff; truth_physical.wgsl)
 override TRUTH_KIND: u32 = 0u;
@@ -123,6 +141,10 @@ fn response(sp: SurfacePoint, v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
     if (dot(sp.ng, l) <= 0.0) {
         return vec3<f32>(0.0);
     }
+    if (sp.object == BAKE_TEXEL) {
+        // A lightmap texel gathers irradiance/π: a white Lambertian surface's NL/π
+        return vec3<f32>(max(dot(sp.n, l), 0.0) * INV_PI);
+    }
     if (TRUTH_KIND == 1u) {
         return physical_response(sp.s, sp.n, v, l);
     }
@@ -201,6 +223,10 @@ fn direct_light(sp: SurfacePoint, v: vec3<f32>) -> vec3<f32> {
     let origin = sp.p + sp.ng * RAY_EPSILON;
     for (var i = 0u; i < frame.counts.x; i++) {
         let light = lights[i];
+        let weight = light_weight(i);
+        if (weight <= 0.0) {
+            continue;
+        }
         var inc = vec4<f32>(0.0);
         var distance = 3.4e38;
         if (u32(light.position.w) >= LIGHT_RECT) {
@@ -221,9 +247,12 @@ fn direct_light(sp: SurfacePoint, v: vec3<f32>) -> vec3<f32> {
         }
         light_min_roughness = light.params.w;
         let f = response(sp, v, inc.xyz);
-        if (any(f > vec3<f32>(0.0)) && !occluded(origin, inc.xyz, distance)) {
+        let shadow_l = soft_shadow_direction(i, light, sp.p, inc.xyz);
+        if (any(f > vec3<f32>(0.0)) && !occluded(origin, shadow_l, distance)) {
             // Lights are in the pipeline's units: the model's own factor is taken back out
-            c += f * irradiance_per_intensity() * light.color.rgb * inc.w;
+            let e = f * irradiance_per_intensity() * light.color.rgb * inc.w * weight;
+            c += e;
+            note_direction(inc.xyz, e);
         }
     }
     light_min_roughness = 4.617e-5;
@@ -232,7 +261,9 @@ fn direct_light(sp: SurfacePoint, v: vec3<f32>) -> vec3<f32> {
         let l = e.xyz;
         let f = response(sp, v, l);
         if (e.w > 0.0 && any(f > vec3<f32>(0.0)) && !occluded(origin, l, 3.4e38)) {
-            c += f * env_radiance(l) / e.w * power_heuristic(e.w, surface_pdf(sp.s, lobe_share(sp), sp.n, v, l));
+            let radiance = f * env_radiance(l) / e.w * power_heuristic(e.w, surface_pdf(sp.s, lobe_share(sp), sp.n, v, l));
+            c += radiance;
+            note_direction(l, radiance);
         }
     }
     return c;
@@ -241,30 +272,34 @@ fn direct_light(sp: SurfacePoint, v: vec3<f32>) -> vec3<f32> {
 // The GGX share of a point's continuations: none for a same-brdf truth's diffuse-only model,
 // else specular_share — each bounce sampled from the model's own lobes (cpu.rs `lobe_share`)
 fn lobe_share(sp: SurfacePoint) -> f32 {
+    if (sp.object == BAKE_TEXEL) {
+        return 0.0;
+    }
     let subject = objects[sp.object].flags.x == 1u;
     let diffuse = select(FIXED_DIFFUSE_ONLY, SUBJECT_DIFFUSE_ONLY, subject) == 1u;
     return select(specular_share(sp.s), 0.0, TRUTH_KIND == 0u && diffuse);
 }
 
-// One path from the camera through pixel `pixel`
-fn path(pixel: vec2<u32>) -> vec3<f32> {
-    let size = vec2<f32>(truth.dims.xy);
-    let jitter = vec2<f32>(random(), random());
-    let ndc = vec2<f32>((f32(pixel.x) + jitter.x) / size.x * 2.0 - 1.0, 1.0 - (f32(pixel.y) + jitter.y) / size.y * 2.0);
-    let far = frame.inv_view_proj * vec4<f32>(ndc, 1.0, 1.0);
-    var o = frame.camera_pos.xyz;
-    var d = normalize(far.xyz / far.w - o);
+// The light arriving at o from −d along one path: `first` is the index of the first surface vertex
+// it meets (0 for a camera ray, whose vertex 0 is directly lit; 1 for a probe's, whose first surface
+// already bounces the light), `mis_pdf` the density d was drawn with at o against the environment's
+// sampling there (< 0: o does not sample the environment, so a miss counts whole)
+fn incoming(o_in: vec3<f32>, d_in: vec3<f32>, first: u32, mis_pdf: f32) -> vec3<f32> {
+    var o = o_in;
+    var d = d_in;
     var throughput = vec3<f32>(1.0);
     var c = vec3<f32>(0.0);
-    var last_pdf = 0.0;
+    var last_pdf = mis_pdf;
     // settings.z: Russian roulette past the budget, up to MAX_ROULETTE_BOUNCES (spec::matrix)
     let last = select(truth.settings.x + 1u, 1024u, truth.settings.z == 1u);
-    for (var bounce = 0u; bounce <= last; bounce++) {
+    for (var bounce = first; bounce <= last; bounce++) {
+        path_vertex = bounce;
         let hit = trace(o, d, 3.4e38, false);
         if (hit.triangle == 0xffffffffu) {
-            if (bounce == 0u) {
-                if (truth.settings.y == 1u) {
-                    c += env_radiance(d);
+            if (last_pdf < 0.0) {
+                // A camera ray sees the sky where the background shows it; a probe's always does
+                if (!camera_path || truth.settings.y == 1u) {
+                    c += throughput * env_radiance(d);
                 }
             } else if (frame.env.y > 0.0) {
                 c += throughput * env_radiance(d) * power_heuristic(last_pdf, env_pdf(d));
@@ -272,8 +307,8 @@ fn path(pixel: vec2<u32>) -> vec3<f32> {
             break;
         }
         let sp = surface_at(hit, d);
-        if (bounce == 0u) {
-            first_roles[pixel.y * truth.dims.x + pixel.x] = objects[sp.object].flags.y;
+        if (bounce == 0u && camera_path) {
+            first_roles[path_pixel] = objects[sp.object].flags.y;
         }
         c += throughput * sp.emission;
         // The last vertex only receives the environment along the continued ray (its weight)
@@ -308,6 +343,18 @@ fn path(pixel: vec2<u32>) -> vec3<f32> {
     return c;
 }
 
+// One path from the camera through pixel `pixel`
+fn path(pixel: vec2<u32>) -> vec3<f32> {
+    let size = vec2<f32>(truth.dims.xy);
+    let jitter = vec2<f32>(random(), random());
+    let ndc = vec2<f32>((f32(pixel.x) + jitter.x) / size.x * 2.0 - 1.0, 1.0 - (f32(pixel.y) + jitter.y) / size.y * 2.0);
+    let far = frame.inv_view_proj * vec4<f32>(ndc, 1.0, 1.0);
+    let o = frame.camera_pos.xyz;
+    camera_path = true;
+    path_pixel = pixel.y * truth.dims.x + pixel.x;
+    return incoming(o, normalize(far.xyz / far.w - o), 0u, -1.0);
+}
+
 @compute @workgroup_size(8, 8)
 fn cs_truth(@builtin(global_invocation_id) id: vec3<u32>) {
     if (id.x >= truth.dims.x || id.y >= truth.dims.y) {
@@ -333,4 +380,218 @@ fn cs_truth(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     accum[2u * index] = sum;
     accum[2u * index + 1u] = squares;
+}
+
+// ---- The bake: light gathered at lightmap texels and light probes (render::truth::bake), with the
+// tracer's own paths. Each light is weighed by what the bake holds of it (plan::gi): its direct light
+// at the bake point itself, its bounced light at every later vertex; the sky is always baked.
+
+// The object index a lightmap texel's own surface point carries (no scene object has it)
+const BAKE_TEXEL: u32 = 0xfffffffeu;
+// Per point: BAKE_STRIDE vec4 sums in `accum`
+const BAKE_STRIDE: u32 = 12u;
+
+// 0: the truth (every light whole); 1: a texel; 2: a probe
+var<private> bake_kind: u32 = 0u;
+// The index of the surface vertex being lit along the current path (0: the bake point's own)
+var<private> path_vertex: u32 = 0u;
+var<private> camera_path: bool = false;
+var<private> path_pixel: u32 = 0u;
+// A texel's incoming light weighted by luminance, summed by direction (xyz) and alone (w)
+var<private> dominant: vec4<f32> = vec4<f32>(0.0);
+
+// What light i gives at this vertex: 1 in the truth; in the bake its direct weight at the bake point
+// itself and its bounced weight (Indirect Multiplier, or 0 when realtime) further along
+fn light_weight(i: u32) -> f32 {
+    if (bake_kind == 0u) {
+        return 1.0;
+    }
+    let w = bake_lights[i].weights;
+    if (path_vertex == 0u) {
+        return select(w.y, w.x, bake_kind == 1u);
+    }
+    return w.z;
+}
+
+// The shadow ray's direction towards light i: in the bake, towards a point drawn on its baked
+// shadow radius (a sphere about a point or spot light) or within its baked shadow angle (a cone
+// about a directional light's direction), which softens baked shadows as Unity's lightmapper does
+fn soft_shadow_direction(i: u32, light: Light, p: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
+    if (bake_kind == 0u || u32(light.position.w) >= LIGHT_RECT) {
+        return l;
+    }
+    let shape = bake_lights[i].shape;
+    let u = vec2<f32>(random(), random());
+    let z = 1.0 - 2.0 * u.x;
+    let r = sqrt(max(0.0, 1.0 - z * z));
+    let phi = 2.0 * PI * u.y;
+    let sphere = vec3<f32>(r * cos(phi), r * sin(phi), z);
+    if (u32(light.position.w) == 0u) {
+        if (shape.y <= 0.0) {
+            return l;
+        }
+        // A uniform point on the disc of radius tan(angle/2) at unit distance
+        let b = basis(l);
+        let rr = shape.y * sqrt(u.x);
+        return normalize(l + b[0] * (rr * cos(phi)) + b[1] * (rr * sin(phi)));
+    }
+    if (shape.x <= 0.0) {
+        return l;
+    }
+    return normalize(light.position.xyz + sphere * shape.x - p);
+}
+
+// A texel's dominant direction: the luminance-weighted sum of where its light comes from
+fn note_direction(l: vec3<f32>, c: vec3<f32>) {
+    if (bake_kind == 1u && path_vertex == 0u) {
+        let y = dot(c, vec3<f32>(0.2126, 0.7152, 0.0722));
+        dominant += vec4<f32>(l * y, y);
+    }
+}
+
+// The light at a texel (its position and normal) for one sample: its direct light, then one
+// cosine-sampled continuation; irradiance/π in the pipeline's units
+fn texel_sample(p: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
+    var sp: SurfacePoint;
+    sp.p = p;
+    sp.n = n;
+    sp.ng = n;
+    sp.object = BAKE_TEXEL;
+    sp.s.base_color = vec3<f32>(1.0);
+    path_vertex = 0u;
+    var c = direct_light(sp, n);
+    let l = sample_surface(sp.s, 0.0, n, n);
+    let pdf = surface_pdf(sp.s, 0.0, n, n, l);
+    if (pdf <= 0.0 || dot(l, n) <= 0.0) {
+        return c;
+    }
+    let indirect = incoming(p + n * RAY_EPSILON, l, 1u, pdf);
+    // The continuation's weight response/pdf is 1 for a white Lambertian surface sampled by its cosine
+    c += indirect;
+    let y = dot(indirect, vec3<f32>(0.2126, 0.7152, 0.0722));
+    dominant += vec4<f32>(l * y, y);
+    return c;
+}
+
+// The real SH basis Y_0..Y_8 in scene.wgsl's `sh_eval` order (twin: environment::sh::basis)
+fn sh_basis(d: vec3<f32>) -> array<f32, 9> {
+    return array<f32, 9>(
+        0.282095,
+        0.488603 * d.y,
+        0.488603 * d.z,
+        0.488603 * d.x,
+        1.092548 * d.x * d.y,
+        1.092548 * d.y * d.z,
+        0.315392 * (3.0 * d.z * d.z - 1.0),
+        1.092548 * d.x * d.z,
+        0.546274 * (d.x * d.x - d.y * d.y),
+    );
+}
+
+// The visibility of light i from p along a soft shadow ray (the shadow mask's texel or probe value)
+fn light_visible(i: u32, p: vec3<f32>, n: vec3<f32>) -> f32 {
+    let light = lights[i];
+    let inc = light_incidence(light, p);
+    var distance = 3.4e38;
+    if (u32(light.position.w) != 0u) {
+        distance = length(light.position.xyz - p) * (1.0 - 1e-4);
+    }
+    return select(1.0, 0.0, occluded(p + n * RAY_EPSILON, soft_shadow_direction(i, light, p, inc.xyz), distance));
+}
+
+@compute @workgroup_size(64)
+fn cs_bake(@builtin(global_invocation_id) id: vec3<u32>) {
+    let index = id.x;
+    if (index >= truth.dims.x) {
+        return;
+    }
+    main_light_color = vec3<f32>(0.0);
+    if (frame.counts.y > 0u) {
+        main_light_color = lights[frame.counts.y - 1u].color.rgb;
+    }
+    let point = bake_points[index];
+    let p = point.position.xyz;
+    let base = index * BAKE_STRIDE;
+    var sums: array<vec4<f32>, 12>;
+    for (var k = 0u; k < BAKE_STRIDE; k++) {
+        sums[k] = accum[base + k];
+    }
+    for (var k = 0u; k < truth.dims.w; k++) {
+        rng_seed(index, truth.dims.z + k);
+        if (point.position.w < 0.5) {
+            bake_kind = 1u;
+            dominant = vec4<f32>(0.0);
+            let n = normalize(point.normal.xyz);
+            var c = texel_sample(p, n);
+            if (any(c != c) || any(abs(c) > vec3<f32>(1e30))) {
+                c = vec3<f32>(0.0);
+                dominant = vec4<f32>(0.0);
+            }
+            sums[0] += vec4<f32>(c, 1.0);
+            sums[1] += vec4<f32>(c * c, 0.0);
+            sums[2] += dominant;
+            var mask = vec4<f32>(0.0);
+            for (var i = 0u; i < frame.counts.x; i++) {
+                let channel = bake_lights[i].weights.w;
+                if (channel >= 0.0) {
+                    mask[u32(channel)] = light_visible(i, p, n);
+                }
+            }
+            sums[3] += mask;
+        } else {
+            bake_kind = 2u;
+            // A direction drawn uniformly on the sphere: the radiance arriving along it, then each
+            // light's direct light as a delta at its direction (its irradiance E, projected as E·Y)
+            let u = vec2<f32>(random(), random());
+            let z = 1.0 - 2.0 * u.x;
+            let r = sqrt(max(0.0, 1.0 - z * z));
+            let d = vec3<f32>(r * cos(2.0 * PI * u.y), r * sin(2.0 * PI * u.y), z);
+            var radiance = incoming(p, d, 1u, -1.0) * (4.0 * PI);
+            if (any(radiance != radiance) || any(abs(radiance) > vec3<f32>(1e30))) {
+                radiance = vec3<f32>(0.0);
+            }
+            var y = sh_basis(d);
+            for (var b = 0u; b < 9u; b++) {
+                sums[b] += vec4<f32>(radiance * y[b], 0.0);
+            }
+            path_vertex = 0u;
+            var occlusion = vec4<f32>(0.0);
+            for (var i = 0u; i < frame.counts.x; i++) {
+                let light = lights[i];
+                let w = light_weight(i);
+                let channel = bake_lights[i].weights.w;
+                if (channel >= 0.0) {
+                    occlusion[u32(channel)] = light_visible(i, p, vec3<f32>(0.0));
+                }
+                if (w <= 0.0) {
+                    continue;
+                }
+                var inc = vec4<f32>(0.0);
+                var distance = 3.4e38;
+                if (u32(light.position.w) >= LIGHT_RECT) {
+                    let a = area_incidence(light, p);
+                    inc = a.xyz_w;
+                    distance = a.distance * (1.0 - 1e-4);
+                } else {
+                    inc = light_incidence(light, p);
+                    if (u32(light.position.w) != 0u) {
+                        distance = length(light.position.xyz - p) * (1.0 - 1e-4);
+                    }
+                }
+                if (inc.w <= 0.0 || occluded(p, soft_shadow_direction(i, light, p, inc.xyz), distance)) {
+                    continue;
+                }
+                let e = irradiance_per_intensity() * light.color.rgb * inc.w * w;
+                let yl = sh_basis(inc.xyz);
+                for (var b = 0u; b < 9u; b++) {
+                    sums[b] += vec4<f32>(e * yl[b], 0.0);
+                }
+            }
+            sums[9] += vec4<f32>(0.0, 0.0, 0.0, 1.0);
+            sums[10] += occlusion;
+        }
+    }
+    for (var k = 0u; k < BAKE_STRIDE; k++) {
+        accum[base + k] = sums[k];
+    }
 }

@@ -180,8 +180,23 @@ fn light_plan(m: &Matrix, scene: &crate::spec::scene::Scene) -> String {
         for path in &m.paths {
             // Planned for a model that draws rect lights; the shaders that have no area-light BSDF
             // are named below.
-            let area = crate::plan::lights::ModelLighting { forward_only: false, area_lights: true };
-            let plan = assign(*p, *path, &m.light_budget, &lights, &centres, |_| area);
+            let main = crate::plan::lights::main_light(*p, &lights);
+            let gi = scene.gi.as_ref().map(|g| crate::plan::gi::GiPlan::new(g, *p, &lights, main));
+            let plan = assign(*p, *path, &m.light_budget, &lights, &centres, |i| {
+                let dynamic = scene.objects[i].role == crate::spec::scene::Role::Subject;
+                let baked = gi.as_ref().map_or_else(Vec::new, |g| {
+                    g.lights
+                        .iter()
+                        .map(|b| {
+                            (!if dynamic { b.drawn_on_dynamic } else { b.drawn_on_static }).then(|| b.note.clone())
+                        })
+                        .collect()
+                });
+                crate::plan::lights::ModelLighting { forward_only: false, area_lights: true, baked }
+            });
+            if let Some(gi) = &gi {
+                let _ = writeln!(out, "  baked lighting in {}: {}", p.name(), gi.summary());
+            }
             let label = format!("{}-{}", p.name(), path.name());
             let rects: Vec<String> = (0..lights.len())
                 .filter(|&i| crate::plan::lights::area_left_out(*p, &lights[i], true).is_none() && lights[i].is_area())
@@ -226,14 +241,20 @@ fn light_plan(m: &Matrix, scene: &crate::spec::scene::Scene) -> String {
                 let group = |mode: LightMode| -> Vec<String> {
                     o.lights.iter().filter(|u| u.mode == mode).map(|u| u.light.to_string()).collect()
                 };
-                let parts: Vec<String> =
-                    [LightMode::PerPixel, LightMode::PerVertex, LightMode::Sh, LightMode::Dropped, LightMode::LeftOut]
-                        .into_iter()
-                        .filter_map(|mode| {
-                            let g = group(mode);
-                            (!g.is_empty()).then(|| format!("{} [{}]", mode.name(), g.join(", ")))
-                        })
-                        .collect();
+                let parts: Vec<String> = [
+                    LightMode::PerPixel,
+                    LightMode::PerVertex,
+                    LightMode::Sh,
+                    LightMode::Dropped,
+                    LightMode::LeftOut,
+                    LightMode::Baked,
+                ]
+                .into_iter()
+                .filter_map(|mode| {
+                    let g = group(mode);
+                    (!g.is_empty()).then(|| format!("{} [{}]", mode.name(), g.join(", ")))
+                })
+                .collect();
                 let _ = writeln!(out, "    {}: {}", o.object, parts.join("; "));
                 for u in o.lights.iter().filter(|u| matches!(u.mode, LightMode::Dropped | LightMode::LeftOut)) {
                     let _ = writeln!(out, "      lights[{}] {}: {}", u.light, u.mode.name(), u.reason);

@@ -24,7 +24,8 @@ pub fn basis(n: DVec3) -> [f64; 9] {
 /// Cosine-lobe convolution divided by π, per band: Â_l/π = 1, 2/3, 1/4.
 const BAND_SCALE: [f64; 9] = [1.0, 2.0 / 3.0, 2.0 / 3.0, 2.0 / 3.0, 0.25, 0.25, 0.25, 0.25, 0.25];
 
-fn finish(mut coeffs: [[f64; 3]; 9]) -> [[f64; 3]; 9] {
+/// The cosine-lobe convolution over π of projected radiance: the coefficients of E(n)/π.
+pub fn convolve(mut coeffs: [[f64; 3]; 9]) -> [[f64; 3]; 9] {
     for (c, s) in coeffs.iter_mut().zip(BAND_SCALE) {
         for v in c.iter_mut() {
             *v *= s;
@@ -58,7 +59,7 @@ pub fn project(radiance: &dyn Fn(DVec3) -> DVec3, n: usize) -> [[f64; 3]; 9] {
             accumulate(&mut c, d, radiance(d), d_omega);
         }
     }
-    finish(c)
+    convolve(c)
 }
 
 /// Project an equirectangular image (each texel weighted by its solid angle).
@@ -70,7 +71,7 @@ pub fn project_image(img: &EquirectImage) -> [[f64; 3]; 9] {
             accumulate(&mut c, d, img.get(x, y), d_omega);
         }
     }
-    finish(c)
+    convolve(c)
 }
 
 fn accumulate(c: &mut [[f64; 3]; 9], d: DVec3, l: DVec3, w: f64) {

@@ -267,6 +267,8 @@ pub struct CellPlan {
     /// The passes of the frame (`FramePlan::passes_for` the cell's path and pipeline).
     pub passes: Vec<&'static str>,
     pub multisampling: Multisampling,
+    /// The scene's baked lighting in this pipeline (None: the scene bakes nothing).
+    pub gi: Option<super::gi::GiPlan>,
 }
 
 impl CellPlan {
@@ -284,11 +286,27 @@ impl CellPlan {
         let aspect = cell.width as f64 / cell.height as f64;
         let camera = posed_camera(&scene.camera, &cell.view);
         let lights = cell_lights(scene, cell.light_intensity, cell.light_range, &camera, &cell.view);
+        let gi = scene.gi.as_ref().map(|g| super::gi::GiPlan::new(g, p, &lights, main_light(p, &lights)));
+        // Per light, why the bake alone brings it to static (fixed) and to dynamic objects.
+        let baked_on = |dynamic: bool| -> Vec<Option<String>> {
+            let Some(gi) = &gi else { return Vec::new() };
+            gi.lights
+                .iter()
+                .map(|b| (!if dynamic { b.drawn_on_dynamic } else { b.drawn_on_static }).then(|| b.note.clone()))
+                .collect()
+        };
+        let (baked_static, baked_dynamic) = (baked_on(false), baked_on(true));
         let model = |i: usize| match scene.objects[i].role {
-            Role::Subject => {
-                ModelLighting { forward_only: !cell.subject_deferrable(), area_lights: cell.model.area_lights() }
-            }
-            _ => ModelLighting { forward_only: !fixed_model.deferrable(), area_lights: fixed_model.area_lights() },
+            Role::Subject => ModelLighting {
+                forward_only: !cell.subject_deferrable(),
+                area_lights: cell.model.area_lights(),
+                baked: baked_dynamic.clone(),
+            },
+            _ => ModelLighting {
+                forward_only: !fixed_model.deferrable(),
+                area_lights: fixed_model.area_lights(),
+                baked: baked_static.clone(),
+            },
         };
         let assignment =
             assign(p, cell.settings.path, &cell.settings.light_budget, &lights, &layout.object_centres, model);
@@ -307,6 +325,15 @@ impl CellPlan {
                 light_shadows.push(LightShadow::default());
                 continue;
             };
+            if let Some(b) = gi.as_ref().map(|g| &g.lights[slot]).filter(|b| !b.drawn_on_static && !b.drawn_on_dynamic)
+            {
+                shadows_left_out.push((
+                    format!("shadow of light {slot} ({:?})", l.kind),
+                    format!("not drawn in real time ({}); its shadows are in the bake", b.note),
+                ));
+                light_shadows.push(LightShadow::default());
+                continue;
+            }
             let style = match shadow_style(p, engine, l, main == Some(slot)) {
                 Ok(style) => style,
                 Err(why) => {
@@ -381,6 +408,7 @@ impl CellPlan {
             fades,
             passes: frame.passes_for(cell.settings.path, p, cell.settings.surface.kind.is_transparent()),
             multisampling: msaa.for_settings(&cell.settings),
+            gi,
         }
     }
 

@@ -39,6 +39,8 @@ pub enum LightMode {
     /// Not drawn by the frame: an area light the pipeline only bakes, or one the object's model
     /// cannot evaluate (the reason says which); the truth still sees it.
     LeftOut,
+    /// Reaches the object through the scene's bake (lightmaps or light probes) alone (plan::gi).
+    Baked,
 }
 
 impl LightMode {
@@ -50,6 +52,7 @@ impl LightMode {
             LightMode::Sh => 2,
             LightMode::Dropped => 3,
             LightMode::LeftOut => 4,
+            LightMode::Baked => 5,
         }
     }
 
@@ -60,6 +63,7 @@ impl LightMode {
             LightMode::Sh => "SH",
             LightMode::Dropped => "dropped",
             LightMode::LeftOut => "left out",
+            LightMode::Baked => "baked",
         }
     }
 }
@@ -113,12 +117,15 @@ pub fn brightness_at(pipeline: Pipeline, light: &Light, centre: DVec3) -> f64 {
 }
 
 /// What the light assignment reads of an object's model.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Default)]
 pub struct ModelLighting {
     /// It cannot be drawn into a G-buffer (`ShaderModel::deferrable`).
     pub forward_only: bool,
     /// It evaluates rect lights (`ShaderModel::area_lights`).
     pub area_lights: bool,
+    /// Per light: why it reaches the object through the bake alone (plan::gi), taking no slot of a
+    /// budget; empty: every light is real-time.
+    pub baked: Vec<Option<String>>,
 }
 
 /// Every object's light assignment. `objects`: names and bounds centres in world space;
@@ -136,9 +143,13 @@ pub fn assign(
         .enumerate()
         .map(|(i, (name, centre))| {
             let m = model(i);
-            let mut uses = assign_object(pipeline, lit_path(path, m.forward_only), budget, lights, *centre);
+            let baked = |i: usize| m.baked.get(i).cloned().flatten();
+            let realtime: Vec<bool> = (0..lights.len()).map(|i| baked(i).is_none()).collect();
+            let mut uses = assign_object(pipeline, lit_path(path, m.forward_only), budget, lights, &realtime, *centre);
             for (u, l) in uses.iter_mut().zip(lights) {
-                if let Some(why) = area_left_out(pipeline, l, m.area_lights) {
+                if let Some(why) = baked(u.light) {
+                    *u = use_(u.light, LightMode::Baked, why);
+                } else if let Some(why) = area_left_out(pipeline, l, m.area_lights) {
                     *u = use_(u.light, LightMode::LeftOut, why);
                 }
             }
@@ -150,10 +161,11 @@ pub fn assign(
 /// Why the frame leaves an area light out, if it does: built-in and URP bake area lights only
 /// (Unity manual, "Area Lights"); HDRP draws rectangles in real time but bakes discs
 /// (HDAdditionalLightData: Disc is Baked-only), and evaluates them in its Lit family's BSDF
-/// (Lit.hlsl EvaluateBSDF_Rect), not in a model without one. Baked GI is not emulated yet.
+/// (Lit.hlsl EvaluateBSDF_Rect), not in a model without one. In a scene with `[gi]` such a light
+/// is baked (plan::gi) and never reaches this question.
 pub fn area_left_out(pipeline: Pipeline, light: &Light, model_has_area: bool) -> Option<String> {
     const BAKED: &str =
-        "it lights through baked GI, which is not emulated yet: the frame leaves it out, the truth has it";
+        "it lights only through baked GI, which this scene does not bake (no [gi]): the frame leaves it out, the truth has it";
     match (light.kind, pipeline) {
         (LightKind::Rect | LightKind::Disc, Pipeline::Builtin) => {
             Some(format!("built-in bakes area lights only; {BAKED}"))
@@ -188,8 +200,10 @@ fn use_(light: usize, mode: LightMode, reason: impl Into<String>) -> LightUse {
 /// The main light — the base pass's in built-in (a Not Important light cannot be it), URP's main
 /// light — and the one whose colour scales a ForwardBase shader's ambient.
 pub fn main_light(pipeline: Pipeline, lights: &[Light]) -> Option<usize> {
+    // A baked light is not among the frame's lights at all.
     brightest_directional(pipeline, lights, |l| {
-        pipeline != Pipeline::Builtin || l.render_mode != RenderMode::NotImportant
+        l.mode != crate::spec::gi::LightBakeMode::Baked
+            && (pipeline != Pipeline::Builtin || l.render_mode != RenderMode::NotImportant)
     })
 }
 
@@ -222,11 +236,12 @@ fn assign_object(
     path: RenderPath,
     budget: &LightBudget,
     lights: &[Light],
+    realtime: &[bool],
     centre: DVec3,
 ) -> Vec<LightUse> {
     let mut out: Vec<Option<LightUse>> = vec![None; lights.len()];
-    // Area lights take no slot of a budget (`assign` says what becomes of them).
-    let area: Vec<usize> = (0..lights.len()).filter(|&i| lights[i].is_area()).collect();
+    // Area lights and baked ones take no slot of a budget (`assign` says what becomes of them).
+    let area: Vec<usize> = (0..lights.len()).filter(|&i| lights[i].is_area() || !realtime[i]).collect();
     for &i in &area {
         out[i] = Some(use_(i, LightMode::PerPixel, "an area light, in HDRP's light loop"));
     }
@@ -259,7 +274,7 @@ fn assign_object(
             }
         }
         Pipeline::Urp => {
-            let main = main_light(pipeline, lights);
+            let main = main_light(pipeline, lights).filter(|&m| realtime[m]);
             if let Some(m) = main {
                 out[m] = Some(use_(m, LightMode::PerPixel, "the main light (brightest directional)"));
             }
@@ -285,7 +300,7 @@ fn assign_object(
             }
         }
         Pipeline::Builtin => {
-            let main = main_light(pipeline, lights);
+            let main = main_light(pipeline, lights).filter(|&m| realtime[m]);
             let mut pixel = 0usize;
             if let Some(m) = main {
                 out[m] = Some(use_(m, LightMode::PerPixel, "the brightest directional light (base pass)"));
@@ -408,7 +423,7 @@ mod tests {
         let lights = scene_with(12);
         let two = [("subject".to_string(), DVec3::ZERO), ("wall".to_string(), DVec3::ZERO)];
         let plan = assign(Pipeline::Builtin, RenderPath::Deferred, &LightBudget::default(), &lights, &two, |i| {
-            ModelLighting { forward_only: i == 0, area_lights: false }
+            ModelLighting { forward_only: i == 0, area_lights: false, baked: Vec::new() }
         });
         let per_pixel = |o: &ObjectLights| o.lights.iter().filter(|u| u.mode == LightMode::PerPixel).count();
         assert_eq!(per_pixel(&plan[0]), 4, "drawn forward: the pixel light count");

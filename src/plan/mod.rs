@@ -7,6 +7,7 @@ pub mod camera;
 pub mod cell;
 pub mod draws;
 pub mod exact;
+pub mod gi;
 pub mod lights;
 pub mod lod;
 pub mod roles;

@@ -22,6 +22,7 @@ pub(in crate::render) fn write_uniforms(
     cell: &CellParams,
     plan: &CellPlan,
     fixed_model: &ShaderModel,
+    baked: Option<&crate::render::gi::BakedLighting>,
 ) -> WrittenFrame {
     let p = cell.pipeline;
     let (camera, lights) = (&plan.camera, &plan.lights);
@@ -59,10 +60,14 @@ pub(in crate::render) fn write_uniforms(
             let drawn = p == crate::pipelines::Pipeline::Hdrp && l.kind == crate::spec::scene::LightKind::Rect;
             shape = vec4(l.area_frame().1, if drawn { 1.0 } else { 0.0 });
         }
+        // color.w: 1 where the frame draws the light on no object (baked alone: plan::gi)
+        let slot = gpu_lights.len();
+        let baked_alone =
+            plan.gi.as_ref().is_some_and(|g| !g.lights[slot].drawn_on_static && !g.lights[slot].drawn_on_dynamic);
         gpu_lights.push(GpuLight {
             position: vec4(DVec3::from(l.position), emitter.shader_kind() as f64),
             direction: vec4(DVec3::from(l.direction).normalize_or_zero(), 0.0),
-            color: vec4(color, 0.0),
+            color: vec4(color, if baked_alone { 1.0 } else { 0.0 }),
             params,
             shadow,
             shadow_bias,
@@ -110,6 +115,29 @@ pub(in crate::render) fn write_uniforms(
             sh.map(|c| [c.x as f32, c.y as f32, c.z as f32, 0.0])
         })
         .collect();
+    // Each scene object's ambient: the bake's where it reaches the object (render::gi), else the sky's.
+    let grid = prepared.scene.gi.as_ref().and_then(|g| g.probes.as_ref());
+    let sources: Vec<crate::render::gi::AmbientSource> = prepared
+        .layout
+        .object_centres
+        .iter()
+        .zip(&prepared.scene.objects)
+        .map(|((_, centre), o)| match (baked, o.role) {
+            (Some(b), Role::Subject) => b.dynamic_ambient(grid, *centre),
+            _ => crate::render::gi::AmbientSource::Sky,
+        })
+        .collect();
+    let mut sh_per_object = sh_per_object;
+    for (sh, source) in sh_per_object.iter_mut().zip(&sources) {
+        if let crate::render::gi::AmbientSource::Probe(probe) = source {
+            // The probe's SH is in the frame's units already (the sky's scale is in its light).
+            for (c, p) in sh.iter_mut().zip(&probe.sh) {
+                for k in 0..3 {
+                    c[k] += p[k] as f32;
+                }
+            }
+        }
+    }
     let (tiles_x, _, words) = crate::render::gbuffer::tile_grid(cell.width, cell.height, lights.len());
     frame.counts = [lights.len() as u32, plan.main_light.map_or(0, |slot| slot as u32 + 1), words, tiles_x];
     for (dst, src) in frame.sh.iter_mut().zip(prepared.env.sh.iter()) {
@@ -169,8 +197,8 @@ pub(in crate::render) fn write_uniforms(
             light_sh: sh_per_object[slot.scene_index],
             // A level fading in or out keeps its dither's share of the fragments.
             lod: match fades[i] {
-                Some(f) if f < 1.0 => [f as f32, 1.0, 0.0, 0.0],
-                _ => [1.0, 0.0, 0.0, 0.0],
+                Some(f) if f < 1.0 => [f as f32, 1.0, sources[slot.scene_index].shader_value(), 0.0],
+                _ => [1.0, 0.0, sources[slot.scene_index].shader_value(), 0.0],
             },
         };
         let at = i * prepared.object_stride as usize;

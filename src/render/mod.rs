@@ -5,6 +5,7 @@ pub mod cell_uniforms;
 pub mod formats;
 pub mod frame_bindings;
 pub mod gbuffer;
+pub mod gi;
 pub mod luts;
 pub mod material_maps;
 pub mod passes;

@@ -79,6 +79,8 @@ pub struct PreparedScene {
     pub(in crate::render) truth_geometry: TruthGeometryCache,
     /// The same for the CPU tracer (render::truth::cpu): its geometry and environment.
     pub(in crate::render) cpu_truth_scene: CpuTruthSceneCache,
+    /// The scene's bakes by what they read (render::gi), made for the first cell that reads each.
+    pub(in crate::render) bakes: std::sync::Mutex<HashMap<u64, std::sync::Arc<crate::render::gi::BakedLighting>>>,
     pub(in crate::render) lights_buffer: wgpu::Buffer,
     pub(in crate::render) modes_buffer: wgpu::Buffer,
     pub(in crate::render) shadows: ShadowResources,
@@ -210,6 +212,7 @@ impl PreparedScene {
             env_table: Default::default(),
             truth_geometry: Default::default(),
             cpu_truth_scene: Default::default(),
+            bakes: Default::default(),
             lights_buffer,
             modes_buffer,
             shadows,

@@ -39,6 +39,7 @@ use crate::shading::{wgsl, Registry, ShaderModel};
 use crate::spec::scene::Role;
 use crate::spec::scene::Scene;
 
+mod gi;
 mod terms;
 mod truths;
 pub use terms::RenderedTerms;
@@ -511,7 +512,8 @@ impl Renderer {
         if background {
             self.pipelines.background_pipeline(&self.gpu, samples)?;
         }
-        let written = write_uniforms(&self.gpu.queue, prepared, cell, plan, &fixed_model);
+        let baked = self.baked_lighting(prepared, cell, plan, &fixed_model)?;
+        let written = write_uniforms(&self.gpu.queue, prepared, cell, plan, &fixed_model, baked.as_deref());
         let frame_group = self.bindings.frame_group(&self.gpu, prepared, cell.settings.material_maps)?;
         let cutout_group = self.cutout_shadow_group(prepared, cell, plan);
         let probe_times = self.capture_probes(prepared, cell, &fixed_model, plan, &written, cutout_group.as_ref())?;

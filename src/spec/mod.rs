@@ -4,6 +4,7 @@ pub mod area_light;
 pub mod asserts;
 pub mod axes;
 pub mod filter;
+pub mod gi;
 pub mod matrix;
 pub mod outputs;
 pub mod presets;

@@ -61,6 +61,9 @@ pub struct Scene {
     /// A glTF file whose nodes, lights and cameras join the scene (`GltfSceneSpec`).
     #[serde(default)]
     pub gltf_scene: Option<GltfSceneSpec>,
+    /// Baked global illumination (spec::gi); absent: nothing is baked.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gi: Option<super::gi::GiSettings>,
     /// Where the scene came from: a built-in name or a file path (not part of the TOML).
     #[serde(skip)]
     pub origin: String,
@@ -157,6 +160,17 @@ pub struct Light {
     /// HDRP takes it as is; built-in and URP, whose intensity I delivers irradiance π·I, take C/π.
     #[serde(default)]
     pub photometric: bool,
+    /// Unity's Light Mode (`realtime`, `mixed`, `baked`; spec::gi); baking needs the scene's `[gi]`.
+    #[serde(default, skip_serializing_if = "super::gi::is_realtime")]
+    pub mode: super::gi::LightBakeMode,
+    /// Indirect Multiplier: the scale of this light's bounced light in the bake.
+    #[serde(default = "one", skip_serializing_if = "super::gi::is_one")]
+    pub indirect_multiplier: f64,
+    /// Baked Shadow Radius (point, spot: metres) and Angle (directional: degrees): soft baked shadows.
+    #[serde(default, skip_serializing_if = "super::gi::is_zero")]
+    pub baked_shadow_radius: f64,
+    #[serde(default, skip_serializing_if = "super::gi::is_zero")]
+    pub baked_shadow_angle_deg: f64,
 }
 
 /// A light's shadow settings (Unity's Light inspector: Strength, Bias, Normal Bias, Soft/Hard).
@@ -946,6 +960,9 @@ impl Scene {
         if self.camera.position == self.camera.target {
             return Err(c.err("camera.target", "target equals position: the view direction is undefined"));
         }
+        if let Some(gi) = &self.gi {
+            super::gi::validate(&c, gi)?;
+        }
         if self.lights.iter().filter(|l| l.key).count() > 1 {
             return Err(c.err("lights.key", "at most one light may be the key light"));
         }
@@ -1018,6 +1035,15 @@ impl Scene {
             if l.kind != LightKind::Point {
                 c.nonzero_vector(&k("direction"), l.direction)?;
             }
+            let gi_keys = super::gi::LightGiKeys {
+                mode: l.mode,
+                indirect_multiplier: l.indirect_multiplier,
+                baked_shadow_radius: l.baked_shadow_radius,
+                baked_shadow_angle_deg: l.baked_shadow_angle_deg,
+                directional: l.kind == LightKind::Directional,
+                area: l.is_area(),
+            };
+            super::gi::validate_light(&c, i, gi_keys, self.gi.is_some())?;
             if l.is_area() {
                 let keys = super::area_light::AreaKeys {
                     disc: l.kind == LightKind::Disc,

@@ -39,11 +39,12 @@ impl Renderer {
                 id,
                 settings.kind,
                 [cell.model, &fixed_model].map(|m| m.twin.is_some_and(|t| t.diffuse_only())),
+                "cs_truth",
             )?;
             self.truth_pipelines.insert(key.clone(), p);
         }
         let plan = self.plan(prepared, cell)?;
-        let written = write_uniforms(&self.gpu.queue, prepared, cell, &plan, &fixed_model);
+        let written = write_uniforms(&self.gpu.queue, prepared, cell, &plan, &fixed_model, None);
         let frame_group = self.bindings.frame_group(&self.gpu, prepared, cell.settings.material_maps)?;
         let geometry = self.ray_scene(prepared, plan.casting())?;
         let textured = cell.settings.material_maps.is_some();
@@ -155,7 +156,7 @@ impl Renderer {
     ) -> Result<T, Error> {
         use crate::render::truth::cpu;
         let plan = self.plan(prepared, cell)?;
-        let written = write_uniforms(&self.gpu.queue, prepared, cell, &plan, fixed_model);
+        let written = write_uniforms(&self.gpu.queue, prepared, cell, &plan, fixed_model, None);
         let kept = plan.casting();
         let cached = prepared.cpu_truth_scene.lock().unwrap_or_else(|e| e.into_inner()).clone();
         let scene = match cached {
@@ -244,7 +245,7 @@ impl Renderer {
         let fixed_model = self.fixed_model(cell.pipeline)?;
         let on_cpu = self.truth_on_cpu(cell, &fixed_model, settings)?;
         let plan = self.plan(prepared, cell)?;
-        let written = write_uniforms(&self.gpu.queue, prepared, cell, &plan, &fixed_model);
+        let written = write_uniforms(&self.gpu.queue, prepared, cell, &plan, &fixed_model, None);
         let f = &written.frame;
         let physical = settings.kind == TruthKind::Physical && on_cpu;
         let material = |m: &crate::render::uniforms::GpuMaterial| -> serde_json::Value {

@@ -16,6 +16,7 @@
 //! Written here rather than taken from a crate: no maintained crate traces WGSL models on wgpu;
 //! the BVH comes from `obvhs`.
 
+pub mod bake;
 pub mod bvh;
 pub mod cpu;
 pub mod export;
@@ -112,7 +113,14 @@ pub fn group_layout(device: &wgpu::Device, space: ConstantSpace) -> wgpu::BindGr
     use super::compute_entry::{constants, read_only_storage, read_write_storage};
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("truth"),
-        entries: &[constants(space, 0), read_only_storage(1), read_write_storage(2), read_write_storage(3)],
+        entries: &[
+            constants(space, 0),
+            read_only_storage(1),
+            read_write_storage(2),
+            read_write_storage(3),
+            read_only_storage(4),
+            read_only_storage(5),
+        ],
     })
 }
 
@@ -142,6 +150,7 @@ pub fn ray_layout(device: &wgpu::Device, space: ConstantSpace) -> wgpu::BindGrou
 }
 
 impl TruthPipeline {
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         gpu: &GpuContext,
         frame_layout: &wgpu::BindGroupLayout,
@@ -150,6 +159,7 @@ impl TruthPipeline {
         pipeline_id: u32,
         kind: TruthKind,
         diffuse_only: [bool; 2],
+        entry: &str,
     ) -> Result<TruthPipeline, Error> {
         let device = &gpu.device;
         let module = gpu.shader_module("truth", source)?;
@@ -161,7 +171,7 @@ impl TruthPipeline {
             ("FIXED_DIFFUSE_ONLY", diffuse_only[1] as u32 as f64),
         ];
         let pipeline =
-            ray_compute_pipeline(device, "truth", &module, [frame_layout, &layout, ray_layout], "cs_truth", &constants);
+            ray_compute_pipeline(device, entry, &module, [frame_layout, &layout, ray_layout], entry, &constants);
         gpu.check_errors("creating the truth pipeline")?;
         Ok(TruthPipeline { pipeline, layout })
     }
@@ -293,7 +303,7 @@ pub struct TruthInputs<'a> {
     pub subject_role: u8,
 }
 
-fn storage(device: &wgpu::Device, label: &str, bytes: &[u8]) -> wgpu::Buffer {
+pub(crate) fn storage(device: &wgpu::Device, label: &str, bytes: &[u8]) -> wgpu::Buffer {
     let mut contents = bytes.to_vec();
     contents.resize(bytes.len().max(16).next_multiple_of(16), 0);
     device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -316,6 +326,7 @@ pub fn trace(
     let (width, height) = inputs.size;
     let pixels = (width * height) as usize;
     let objects = storage(device, "truth objects", inputs.objects);
+    let unused = storage(device, "no bake", &[0; 64]);
     let accum_bytes = (pixels * 32) as u64;
     let accum = device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("truth accumulation"),
@@ -344,6 +355,9 @@ pub fn trace(
             wgpu::BindGroupEntry { binding: 1, resource: objects.as_entire_binding() },
             wgpu::BindGroupEntry { binding: 2, resource: accum.as_entire_binding() },
             wgpu::BindGroupEntry { binding: 3, resource: roles.as_entire_binding() },
+            // The bake's points and lights: unread by the truth's entry point.
+            wgpu::BindGroupEntry { binding: 4, resource: unused.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 5, resource: unused.as_entire_binding() },
         ],
     });
     let readback = |buffer: &wgpu::Buffer, size: u64| -> Result<Vec<u8>, Error> {

@@ -1,0 +1,256 @@
+//! What a cell's baked lighting holds: each light's effective mode in this pipeline, what of it
+//! goes into the bake (lightmaps of the static objects, light probes of the dynamic ones), and
+//! which objects the frame draws it on in real time.
+//!
+//! - Light Mode per light (Unity's Light.lightmapBakeType): realtime lights are drawn, never
+//!   baked; baked lights are baked (direct and indirect) and never drawn; mixed lights follow the
+//!   scene's Lighting Mode. Area lights are baked-only in built-in and URP, and discs in HDRP
+//!   (Unity manual, "Area Lights"; HDAdditionalLightData), whatever the scene says.
+//! - Lighting Mode (Unity manual, "Lighting Mode"): Baked Indirect bakes a mixed light's indirect
+//!   light only; Shadowmask and Distance Shadowmask also bake its occlusion by static objects into
+//!   one of four shadow-mask channels (a fifth overlapping mixed light is baked fully instead);
+//!   Subtractive bakes its direct light into the static objects' lightmaps and into the probes,
+//!   keeping the main directional light real-time on dynamic objects. HDRP has no Subtractive
+//!   mode (HDRP manual, "Lighting Mode"): it bakes as Baked Indirect, and the plan says so.
+//! - Indirect Multiplier scales a light's bounced light in the bake; Max Bounces ends the paths.
+//!
+//! Static objects are the fixed ones (lightmapped); the subjects are dynamic (lit by probes).
+
+use serde::Serialize;
+
+use crate::pipelines::Pipeline;
+use crate::spec::gi::{GiSettings, LightBakeMode, MixedLighting, SHADOW_MASK_CHANNELS};
+use crate::spec::scene::{Light, LightKind};
+
+/// What the bake holds of one light, and where the frame draws it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BakedLight {
+    /// The light's mode in this pipeline (an area light may be baked whatever the scene says).
+    pub mode: LightBakeMode,
+    /// Its direct light is in the static objects' lightmaps.
+    pub direct_in_lightmaps: bool,
+    /// Its direct light is in the light probes.
+    pub direct_in_probes: bool,
+    /// The scale of its bounced light in the bake (0: none).
+    pub indirect: f64,
+    /// Its shadow-mask channel (Shadowmask modes).
+    pub shadow_mask: Option<u8>,
+    /// The frame draws it on static (fixed) objects, and on dynamic ones (the subjects).
+    pub drawn_on_static: bool,
+    pub drawn_on_dynamic: bool,
+    /// Why it is as it is, in one line.
+    pub note: String,
+}
+
+/// A cell's baked lighting.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct GiPlan {
+    /// The Lighting Mode the pipeline bakes with.
+    pub mixed_lighting: MixedLighting,
+    /// Why it differs from the scene's, if it does.
+    pub mixed_lighting_note: Option<String>,
+    pub lights: Vec<BakedLight>,
+    /// The dynamic objects take light probes (a grid in `[gi]`), else the sky's ambient probe.
+    pub probes: bool,
+    pub bounces: u32,
+}
+
+impl GiPlan {
+    /// The plan of a scene that bakes (`gi`), in `pipeline`, for `lights` as the cell sees them;
+    /// `main`: the pipeline's main directional light.
+    pub fn new(gi: &GiSettings, pipeline: Pipeline, lights: &[Light], main: Option<usize>) -> GiPlan {
+        let (mixed_lighting, mixed_lighting_note) = match (gi.mixed_lighting, pipeline) {
+            (MixedLighting::Subtractive, Pipeline::Hdrp) => (
+                MixedLighting::BakedIndirect,
+                Some("HDRP has no Subtractive mode; its mixed lights bake as Baked Indirect".to_string()),
+            ),
+            (m, _) => (m, None),
+        };
+        let mut channels = 0usize;
+        let lights = lights
+            .iter()
+            .enumerate()
+            .map(|(i, l)| {
+                let (mode, why) = effective_mode(pipeline, l);
+                let indirect = l.indirect_multiplier;
+                match mode {
+                    LightBakeMode::Realtime => BakedLight {
+                        mode,
+                        direct_in_lightmaps: false,
+                        direct_in_probes: false,
+                        indirect: 0.0,
+                        shadow_mask: None,
+                        drawn_on_static: true,
+                        drawn_on_dynamic: true,
+                        note: "realtime: drawn every frame, not baked".into(),
+                    },
+                    LightBakeMode::Baked => BakedLight {
+                        mode,
+                        direct_in_lightmaps: true,
+                        direct_in_probes: true,
+                        indirect,
+                        shadow_mask: None,
+                        drawn_on_static: false,
+                        drawn_on_dynamic: false,
+                        note: why.unwrap_or_else(|| "baked: direct and indirect light in lightmaps and probes".into()),
+                    },
+                    LightBakeMode::Mixed => mixed(mixed_lighting, Some(i) == main, indirect, &mut channels),
+                }
+            })
+            .collect();
+        GiPlan { mixed_lighting, mixed_lighting_note, lights, probes: gi.probes.is_some(), bounces: gi.bounces }
+    }
+
+    /// Whether anything baked can reach the frame: a light with baked direct or indirect light,
+    /// or the environment (always baked: Unity's lightmaps and probes hold the sky's light).
+    pub fn bakes_light(&self, environment: bool) -> bool {
+        environment || self.lights.iter().any(|l| l.direct_in_lightmaps || l.direct_in_probes || l.indirect > 0.0)
+    }
+
+    /// One line for `list`: the Lighting Mode and what each light bakes.
+    pub fn summary(&self) -> String {
+        let mut s = self.mixed_lighting.name().to_string();
+        if let Some(note) = &self.mixed_lighting_note {
+            s += &format!(" ({note})");
+        }
+        s += &format!(", {} bounces, {}", self.bounces, if self.probes { "a probe grid" } else { "no probe grid" });
+        for (i, l) in self.lights.iter().enumerate() {
+            s += &format!("; lights[{i}] {}", l.note);
+        }
+        s
+    }
+
+    /// The number of shadow-mask channels in use.
+    pub fn shadow_mask_channels(&self) -> usize {
+        self.lights.iter().filter(|l| l.shadow_mask.is_some()).count()
+    }
+}
+
+/// A mixed light under `mode`.
+fn mixed(mode: MixedLighting, main: bool, indirect: f64, channels: &mut usize) -> BakedLight {
+    let realtime = |note: String, shadow_mask| BakedLight {
+        mode: LightBakeMode::Mixed,
+        direct_in_lightmaps: false,
+        direct_in_probes: false,
+        indirect,
+        shadow_mask,
+        drawn_on_static: true,
+        drawn_on_dynamic: true,
+        note,
+    };
+    match mode {
+        MixedLighting::BakedIndirect => {
+            realtime("mixed (baked indirect): direct in real time, indirect baked".into(), None)
+        }
+        MixedLighting::Shadowmask | MixedLighting::DistanceShadowmask if *channels < SHADOW_MASK_CHANNELS => {
+            *channels += 1;
+            realtime(
+                format!(
+                    "mixed ({}): direct in real time, indirect and static occlusion baked (shadow-mask channel {})",
+                    mode.name(),
+                    *channels - 1
+                ),
+                Some((*channels - 1) as u8),
+            )
+        }
+        MixedLighting::Shadowmask | MixedLighting::DistanceShadowmask => BakedLight {
+            mode: LightBakeMode::Baked,
+            direct_in_lightmaps: true,
+            direct_in_probes: true,
+            indirect,
+            shadow_mask: None,
+            drawn_on_static: false,
+            drawn_on_dynamic: false,
+            note: format!(
+                "mixed, but the {SHADOW_MASK_CHANNELS} shadow-mask channels are taken: baked fully, as Unity does"
+            ),
+        },
+        MixedLighting::Subtractive => BakedLight {
+            mode: LightBakeMode::Mixed,
+            direct_in_lightmaps: true,
+            direct_in_probes: !main,
+            indirect,
+            shadow_mask: None,
+            drawn_on_static: false,
+            drawn_on_dynamic: main,
+            note: if main {
+                "mixed (subtractive), the main directional light: baked into the lightmaps, real-time on dynamic objects".into()
+            } else {
+                "mixed (subtractive): direct and indirect baked into lightmaps and probes".into()
+            },
+        },
+    }
+}
+
+/// The mode a light has in `pipeline`, and why it differs from the scene's, if it does.
+pub fn effective_mode(pipeline: Pipeline, light: &Light) -> (LightBakeMode, Option<String>) {
+    match (light.kind, pipeline) {
+        (LightKind::Rect | LightKind::Disc, Pipeline::Builtin | Pipeline::Urp)
+            if light.mode != LightBakeMode::Baked =>
+        {
+            (LightBakeMode::Baked, Some(format!("{} bakes area lights only", pipeline.name())))
+        }
+        (LightKind::Disc, Pipeline::Hdrp) if light.mode != LightBakeMode::Baked => {
+            (LightBakeMode::Baked, Some("HDRP bakes disc lights only".into()))
+        }
+        _ => (light.mode, None),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn light(kind: LightKind, mode: LightBakeMode) -> Light {
+        let mut scene = crate::spec::scene::Scene::load("default", None, "t", "k").unwrap();
+        let mut l = scene.lights.remove(0);
+        l.kind = kind;
+        l.mode = mode;
+        l
+    }
+
+    fn gi(mode: MixedLighting) -> GiSettings {
+        toml::from_str::<GiSettings>(&format!("mixed_lighting = \"{}\"", mode.name())).unwrap()
+    }
+
+    #[test]
+    fn modes_decide_what_is_baked_and_what_is_drawn() {
+        let lights = [
+            light(LightKind::Point, LightBakeMode::Realtime),
+            light(LightKind::Point, LightBakeMode::Baked),
+            light(LightKind::Directional, LightBakeMode::Mixed),
+        ];
+        let plan = GiPlan::new(&gi(MixedLighting::BakedIndirect), Pipeline::Urp, &lights, Some(2));
+        let [r, b, m] = [0, 1, 2].map(|i| plan.lights[i].clone());
+        assert!(r.drawn_on_static && r.indirect == 0.0 && !r.direct_in_lightmaps);
+        assert!(!b.drawn_on_static && !b.drawn_on_dynamic && b.direct_in_lightmaps && b.direct_in_probes);
+        assert!(m.drawn_on_static && m.drawn_on_dynamic && !m.direct_in_lightmaps && m.indirect == 1.0);
+        // Subtractive: the main directional light stays real-time on dynamic objects only.
+        let sub = GiPlan::new(&gi(MixedLighting::Subtractive), Pipeline::Builtin, &lights, Some(2));
+        let m = &sub.lights[2];
+        assert!(!m.drawn_on_static && m.drawn_on_dynamic && m.direct_in_lightmaps && !m.direct_in_probes);
+        // HDRP has no Subtractive mode.
+        let hdrp = GiPlan::new(&gi(MixedLighting::Subtractive), Pipeline::Hdrp, &lights, Some(2));
+        assert_eq!(hdrp.mixed_lighting, MixedLighting::BakedIndirect);
+        assert!(hdrp.mixed_lighting_note.is_some() && hdrp.lights[2].drawn_on_static);
+    }
+
+    #[test]
+    fn a_fifth_mixed_light_is_baked_fully_under_shadowmask() {
+        let lights: Vec<Light> = (0..5).map(|_| light(LightKind::Point, LightBakeMode::Mixed)).collect();
+        let plan = GiPlan::new(&gi(MixedLighting::Shadowmask), Pipeline::Builtin, &lights, None);
+        let channels: Vec<Option<u8>> = plan.lights.iter().map(|l| l.shadow_mask).collect();
+        assert_eq!(channels, [Some(0), Some(1), Some(2), Some(3), None]);
+        assert_eq!(plan.lights[4].mode, LightBakeMode::Baked);
+        assert!(!plan.lights[4].drawn_on_static && plan.lights[4].direct_in_lightmaps);
+    }
+
+    #[test]
+    fn area_lights_are_baked_where_the_pipeline_bakes_them() {
+        let rect = light(LightKind::Rect, LightBakeMode::Realtime);
+        assert_eq!(effective_mode(Pipeline::Builtin, &rect).0, LightBakeMode::Baked);
+        assert_eq!(effective_mode(Pipeline::Hdrp, &rect).0, LightBakeMode::Realtime);
+        let disc = light(LightKind::Disc, LightBakeMode::Realtime);
+        assert_eq!(effective_mode(Pipeline::Hdrp, &disc).0, LightBakeMode::Baked);
+    }
+}

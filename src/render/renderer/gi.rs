@@ -1,0 +1,130 @@
+//! The renderer's bake (render::gi): made for the first cell whose bake inputs it has not seen,
+//! kept with the composition and shared by every later cell that reads the same.
+
+use std::sync::Arc;
+
+use super::{write_uniforms, CellParams, Renderer, ROLE_FIXED};
+use crate::error::Error;
+use crate::plan::cell::CellPlan;
+use crate::render::gi::{probes, BakedLighting};
+use crate::render::prepared::PreparedScene;
+use crate::render::truth::bake::{gather, BakeLight, BakePoint};
+use crate::render::truth::TruthKind;
+use crate::shading::{wgsl, ShaderModel};
+use crate::spec::scene::Role;
+
+impl Renderer {
+    /// The bake this cell's frame reads (None: its scene bakes nothing, or nothing baked can
+    /// reach the frame).
+    pub(super) fn baked_lighting(
+        &mut self,
+        prepared: &PreparedScene,
+        cell: &CellParams,
+        plan: &CellPlan,
+        fixed_model: &ShaderModel,
+    ) -> Result<Option<Arc<BakedLighting>>, Error> {
+        let (Some(gi_plan), Some(gi)) = (&plan.gi, &prepared.scene.gi) else { return Ok(None) };
+        let written = write_uniforms(&self.gpu.queue, prepared, cell, plan, fixed_model, None);
+        let environment = written.frame.env[1] > 0.0;
+        if !gi_plan.bakes_light(environment) {
+            return Ok(None);
+        }
+        let lights: Vec<BakeLight> = gi_plan
+            .lights
+            .iter()
+            .zip(&plan.lights)
+            .map(|(b, l)| BakeLight {
+                weights: [
+                    b.direct_in_lightmaps as u32 as f32,
+                    b.direct_in_probes as u32 as f32,
+                    b.indirect as f32,
+                    b.shadow_mask.map_or(-1.0, f32::from),
+                ],
+                shape: [
+                    l.baked_shadow_radius as f32,
+                    (l.baked_shadow_angle_deg * 0.5).to_radians().tan() as f32,
+                    0.0,
+                    0.0,
+                ],
+            })
+            .collect();
+        // Static objects alone: dynamic ones (the subjects) are not in the bake.
+        let kept: Vec<bool> =
+            plan.casting().iter().zip(&prepared.layout.meshes).map(|(c, m)| *c && m.role == Role::Fixed).collect();
+        let mut objects = Vec::with_capacity(prepared.objects.len() * 128);
+        for (slot, material) in prepared.layout.meshes.iter().zip(&written.materials) {
+            objects.extend_from_slice(bytemuck::bytes_of(material));
+            let flags: [u32; 4] = [0, ROLE_FIXED as u32, 0, 0];
+            debug_assert!(slot.role == Role::Fixed || !kept.is_empty());
+            objects.extend_from_slice(bytemuck::cast_slice(&flags));
+        }
+        let grid_points: Vec<[f64; 3]> = gi.probes.as_ref().map(|g| g.positions()).unwrap_or_default();
+        let key = {
+            use std::hash::{Hash, Hasher};
+            let mut h = std::hash::DefaultHasher::new();
+            cell.pipeline.name().hash(&mut h);
+            fixed_model.name.hash(&mut h);
+            serde_json::to_string(gi).unwrap_or_default().hash(&mut h);
+            kept.hash(&mut h);
+            for (slot, k) in prepared.layout.meshes.iter().zip(&kept) {
+                if *k {
+                    bytemuck::bytes_of(&written.materials[slot.scene_index]).hash(&mut h);
+                }
+            }
+            let f = &written.frame;
+            (bytemuck::bytes_of(&f.env), bytemuck::bytes_of(&f.fixed), f.counts).hash(&mut h);
+            for (l, b) in written.lights.iter().zip(&lights) {
+                if b.weights[..3].iter().any(|w| *w != 0.0) || b.weights[3] >= 0.0 {
+                    bytemuck::bytes_of(l).hash(&mut h);
+                    bytemuck::bytes_of(b).hash(&mut h);
+                }
+            }
+            h.finish()
+        };
+        if let Some(b) = prepared.bakes.lock().unwrap_or_else(|e| e.into_inner()).get(&key) {
+            return Ok(Some(b.clone()));
+        }
+        let start = std::time::Instant::now();
+        let pipeline_key =
+            (cell.pipeline, format!("bake:{}", fixed_model.name), fixed_model.name.to_string(), TruthKind::SameBrdf);
+        if !self.truth_pipelines.contains_key(&pipeline_key) {
+            let source = wgsl::compose_truth(fixed_model, fixed_model);
+            let diffuse_only = fixed_model.twin.is_some_and(|t| t.diffuse_only());
+            let p = crate::render::truth::TruthPipeline::new(
+                &self.gpu,
+                &self.bindings.layout,
+                &self.ray_layout,
+                &source,
+                cell.pipeline.shader_id(),
+                TruthKind::SameBrdf,
+                [diffuse_only; 2],
+                "cs_bake",
+            )?;
+            self.truth_pipelines.insert(pipeline_key.clone(), p);
+        }
+        let frame_group = self.bindings.frame_group(&self.gpu, prepared, cell.settings.material_maps)?;
+        let geometry = self.ray_scene(prepared, kept)?;
+        let points: Vec<BakePoint> =
+            grid_points.iter().map(|p| BakePoint::probe([p[0] as f32, p[1] as f32, p[2] as f32])).collect();
+        let sums = gather(
+            &self.gpu,
+            &self.truth_pipelines[&pipeline_key],
+            &frame_group,
+            &geometry,
+            &objects,
+            &points,
+            &lights,
+            (gi.samples, gi.bounces),
+        )?;
+        let probes = gi.probes.as_ref().map(|_| probes::probes_from_sums(&sums, 0, grid_points.len()));
+        let baked = Arc::new(BakedLighting {
+            key,
+            probes,
+            samples: gi.samples,
+            bounces: gi.bounces,
+            seconds: start.elapsed().as_secs_f64(),
+        });
+        prepared.bakes.lock().unwrap_or_else(|e| e.into_inner()).insert(key, baked.clone());
+        Ok(Some(baked))
+    }
+}
