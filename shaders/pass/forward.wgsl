@@ -7,6 +7,8 @@ struct VertexIn {
     @location(1) normal: vec3<f32>,
     @location(2) uv: vec2<f32>,
     @location(3) tangent: vec4<f32>,
+    // The lightmap's uv (geometry::lightmap_uv), zero for an object without one
+    @location(4) uv2: vec2<f32>,
     // Built-in's ForwardAdd draws one instance whose index is the scene light it adds
     @builtin(instance_index) instance: u32,
 };
@@ -26,6 +28,7 @@ struct VertexOut {
     @location(5) @interpolate(flat) add_light: u32,
     // The view direction in the tangent frame, for parallax (zero without a tangent)
     @location(6) view_ts: vec3<f32>,
+    @location(7) uv2: vec2<f32>,
 };
 
 struct FragmentOut {
@@ -68,6 +71,7 @@ fn vs_main(in: VertexIn) -> VertexOut {
     out.clip = frame.view_proj * world;
     out.normal = (object.normal_matrix * vec4<f32>(in.normal, 0.0)).xyz;
     out.uv = in.uv;
+    out.uv2 = in.uv2;
     out.vertex_gi = vec3<f32>(0.0);
     if (FORWARD_PASS != FORWARD_ADD) {
         out.vertex_gi = vertex_lights(world.xyz, vertex_normal(out.normal, world.xyz));
@@ -455,12 +459,19 @@ fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>, vertex_gi: vec3<f32>) -> vec3<f
 
 // The object's ambient light: the sky's SH, or where the scene bakes (render::gi) what the bake
 // gives it — its interpolated light probe, whose SH is folded into object.light_sh (lod.z = 1)
+// — or its lightmap at `lightmap_uv` (lod.z = 2; lod.w = 1 in Directional mode)
 fn object_ambient(n: vec3<f32>) -> vec3<f32> {
+    if (object.lod.z > 1.5) {
+        return lightmap_gi(lightmap_uv, n, object.lod.w > 0.5);
+    }
     if (object.lod.z > 0.5) {
         return vec3<f32>(0.0);
     }
     return environment_ambient(n);
 }
+
+// The fragment's (or vertex's) lightmap uv, set by the entry points before shading
+var<private> lightmap_uv: vec2<f32> = vec2<f32>(0.0);
 
 // A rect light's direct term at p (the model's `model_rect`); 0 where the frame leaves it out
 fn rect_light(light: Light, s: Surface, n: vec3<f32>, v: vec3<f32>, p: vec3<f32>) -> vec3<f32> {
@@ -580,6 +591,7 @@ var<private> shading_pixel: vec2<f32> = vec2<f32>(0.0);
 @fragment
 fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> FragmentOut {
     lod_clip(in.clip.xy, in.world_pos);
+    lightmap_uv = in.uv2;
     screen_ao = load_screen_occlusion(in.clip.xy);
     let face = cross(dpdx(in.world_pos), dpdy(in.world_pos));
     shading_pixel = in.clip.xy;
@@ -679,6 +691,7 @@ fn vertex_lit_ffp(c: vec3<f32>, n: vec3<f32>, p: vec3<f32>) -> array<vec3<f32>, 
 
 @vertex
 fn vs_gouraud(in: VertexIn) -> GouraudOut {
+    lightmap_uv = in.uv2;
     let world = object.model * vec4<f32>(in.position, 1.0);
     let n = vertex_normal((object.normal_matrix * vec4<f32>(in.normal, 0.0)).xyz, world.xyz);
     var out: GouraudOut;
@@ -745,6 +758,7 @@ struct GBufferOut {
 @fragment
 fn fs_gbuffer(in: VertexOut, @builtin(front_facing) front: bool) -> GBufferOut {
     lod_clip(in.clip.xy, in.world_pos);
+    lightmap_uv = in.uv2;
     let uv = parallax_uv(in.uv, in.view_ts);
     let n = mapped_normal(shading_normal(in.normal, cross(dpdx(in.world_pos), dpdy(in.world_pos)), in.world_pos, front), in.tangent, uv);
     let s = material_at(uv);

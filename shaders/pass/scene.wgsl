@@ -86,6 +86,39 @@ struct Object {
 // Standard's secondary maps (materials::detail): detail normal xyz, linear detail albedo w;
 // the subject's, tiled DETAIL_TILING times over its maps.
 @group(0) @binding(15) var material_detail: texture_2d<f32>;
+// The static objects' lightmap (render::gi::lightmaps): layer 0 the irradiance/π as the pipeline
+// stores it (RGBM in built-in and URP, half floats in HDRP), layer 1 the dominant direction, layer 2
+// the shadow mask
+@group(0) @binding(16) var lightmap: texture_2d_array<f32>;
+
+// 5^2.2: the RGBM range in linear colour space (core EntityLighting.hlsl LIGHTMAP_RGBM_MAX_LINEAR)
+const LIGHTMAP_RGBM_MAX_LINEAR: f32 = 34.493242;
+
+// UnpackLightmapRGBM, linear colour space: rgb·a^2.2·5^2.2 (twin: render::gi::lightmaps)
+fn unpack_lightmap_rgbm(c: vec4<f32>) -> vec3<f32> {
+    return c.rgb * (pow(c.a, 2.2) * LIGHTMAP_RGBM_MAX_LINEAR);
+}
+
+// DecodeDirectionalLightmap (UnityCG.cginc; core EntityLighting.hlsl): half-Lambert against the
+// baked dominant direction, rebalanced by w (twin: render::gi::lightmaps)
+fn decode_directional_lightmap(color: vec3<f32>, dir: vec4<f32>, n: vec3<f32>) -> vec3<f32> {
+    let half_lambert = dot(n, dir.xyz - 0.5) + 0.5;
+    return color * half_lambert / max(1e-4, dir.w);
+}
+
+// The baked diffuse light at uv for normal n: SampleLightmap / SampleDirectionalLightmap
+// (URP Lighting, HDRP SampleBakedGI, built-in UnityGI_Base), decoded as the pipeline stores it
+fn lightmap_gi(uv: vec2<f32>, n: vec3<f32>, directional: bool) -> vec3<f32> {
+    let encoded = textureSampleLevel(lightmap, env_sampler, uv, 0, 0.0);
+    var color = encoded.rgb;
+    if (PIPELINE != PIPELINE_HDRP) {
+        color = unpack_lightmap_rgbm(encoded);
+    }
+    if (directional) {
+        color = decode_directional_lightmap(color, textureSampleLevel(lightmap, env_sampler, uv, 1, 0.0), n);
+    }
+    return max(color, vec3<f32>(0.0));
+}
 
 // The layer of a fixed material's map `k` (0 albedo, 1 normal, 2 mask, 3 emission) in fixed_maps.
 fn fixed_map_layer(m: Material, k: i32) -> i32 {

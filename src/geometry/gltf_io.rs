@@ -382,6 +382,7 @@ fn read_primitive(
                 normal: normals.as_ref().map(|n| n[i]).unwrap_or([0.0; 3]),
                 uv: uvs.as_ref().map(|t| t[i]).unwrap_or([0.0; 2]),
                 tangent: tangents.as_ref().map(|t| t[i]).unwrap_or([0.0; 4]),
+                uv2: [0.0; 2],
             })
             .collect(),
         indices: indices[..indices.len() / 3 * 3].to_vec(),

@@ -11,6 +11,8 @@ pub struct Vertex {
     pub uv: [f32; 2],
     /// xyz tangent, w handedness; zero when unknown.
     pub tangent: [f32; 4],
+    /// The lightmap's uv (geometry::lightmap_uv; zero where the object has no lightmap).
+    pub uv2: [f32; 2],
 }
 
 impl Vertex {
@@ -20,6 +22,7 @@ impl Vertex {
             normal: normal.normalize_or_zero().as_vec3().to_array(),
             uv: [uv[0] as f32, uv[1] as f32],
             tangent: [0.0; 4],
+            uv2: [0.0; 2],
         }
     }
 }

@@ -2,6 +2,7 @@
 
 pub mod gltf_files;
 pub mod gltf_io;
+pub mod lightmap_uv;
 pub mod mesh;
 pub mod placement;
 pub mod procedural;

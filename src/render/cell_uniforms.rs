@@ -122,8 +122,14 @@ pub(in crate::render) fn write_uniforms(
         .object_centres
         .iter()
         .zip(&prepared.scene.objects)
-        .map(|((_, centre), o)| match (baked, o.role) {
+        .zip(0..)
+        .map(|(((_, centre), o), i)| match (baked, o.role) {
             (Some(b), Role::Subject) => b.dynamic_ambient(grid, *centre),
+            (Some(b), Role::Fixed)
+                if b.lightmap.is_some() && prepared.lightmap.as_ref().is_some_and(|a| a.lightmapped[i]) =>
+            {
+                crate::render::gi::AmbientSource::Lightmap { directional: b.directional }
+            }
             _ => crate::render::gi::AmbientSource::Sky,
         })
         .collect();
@@ -196,9 +202,16 @@ pub(in crate::render) fn write_uniforms(
             },
             light_sh: sh_per_object[slot.scene_index],
             // A level fading in or out keeps its dither's share of the fragments.
-            lod: match fades[i] {
-                Some(f) if f < 1.0 => [f as f32, 1.0, sources[slot.scene_index].shader_value(), 0.0],
-                _ => [1.0, 0.0, sources[slot.scene_index].shader_value(), 0.0],
+            // z: where the ambient comes from, w: 1 where the lightmap's direction is read; LOD
+            // levels past the first have no lightmap (only the object's own mesh is unwrapped).
+            lod: {
+                let sky = crate::render::gi::AmbientSource::Sky;
+                let source = if i < prepared.scene.objects.len() { &sources[slot.scene_index] } else { &sky };
+                let (z, w) = (source.shader_value(), source.directional());
+                match fades[i] {
+                    Some(f) if f < 1.0 => [f as f32, 1.0, z, w],
+                    _ => [1.0, 0.0, z, w],
+                }
             },
         };
         let at = i * prepared.object_stride as usize;

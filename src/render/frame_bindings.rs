@@ -102,6 +102,10 @@ impl FrameBindings {
                 wgpu::BindGroupEntry { binding: 13, resource: wgpu::BindingResource::TextureView(&textures.emission) },
                 wgpu::BindGroupEntry { binding: 15, resource: wgpu::BindingResource::TextureView(&self.detail) },
                 wgpu::BindGroupEntry {
+                    binding: 16,
+                    resource: wgpu::BindingResource::TextureView(&prepared.lightmap_texture.view),
+                },
+                wgpu::BindGroupEntry {
                     binding: 14,
                     resource: wgpu::BindingResource::TextureView(&prepared.fixed_maps.view),
                 },

@@ -81,6 +81,10 @@ pub struct PreparedScene {
     pub(in crate::render) cpu_truth_scene: CpuTruthSceneCache,
     /// The scene's bakes by what they read (render::gi), made for the first cell that reads each.
     pub(in crate::render) bakes: std::sync::Mutex<HashMap<u64, std::sync::Arc<crate::render::gi::BakedLighting>>>,
+    /// The static objects' lightmap atlas (where the scene bakes), and the texture that holds the
+    /// last bake's lightmap (a 1×1 stand-in elsewhere).
+    pub lightmap: Option<crate::geometry::lightmap_uv::LightmapAtlas>,
+    pub(in crate::render) lightmap_texture: crate::render::gi::LightmapTexture,
     pub(in crate::render) lights_buffer: wgpu::Buffer,
     pub(in crate::render) modes_buffer: wgpu::Buffer,
     pub(in crate::render) shadows: ShadowResources,
@@ -98,7 +102,7 @@ impl PreparedScene {
         prefilter: Option<&crate::render::passes::probes::Prefilter>,
         scene: &Scene,
         plan: FramePlan,
-        meshes: Vec<Mesh>,
+        mut meshes: Vec<Mesh>,
     ) -> Result<PreparedScene, Error> {
         let env = EnvironmentMaps::build(&scene.environment);
         let device = &gpu.device;
@@ -108,6 +112,12 @@ impl PreparedScene {
         let lod_levels: Vec<(usize, usize)> = lod_meshes.iter().map(|(i, j, _)| (*i, *j)).collect();
         let layout = SceneLayout::new(scene, &plan, &meshes, &lod_levels);
         let maps = crate::materials::fixed::FixedMaps::of(scene)?;
+        // Lightmap UVs for the static objects where the scene bakes (their meshes are re-cut at seams).
+        let lightmap = match &scene.gi {
+            Some(gi) => Some(crate::geometry::lightmap_uv::unwrap(scene, &mut meshes, gi)?),
+            None => None,
+        };
+        let lightmap_texture = crate::render::gi::LightmapTexture::new(gpu, lightmap.as_ref());
         for ((o, mesh), slot) in scene.objects.iter().zip(meshes).zip(&maps.slots) {
             triangle_count += mesh.triangle_count();
             let (vertices, indices) = mesh_buffers(device, &o.name, &mesh);
@@ -213,6 +223,8 @@ impl PreparedScene {
             truth_geometry: Default::default(),
             cpu_truth_scene: Default::default(),
             bakes: Default::default(),
+            lightmap,
+            lightmap_texture,
             lights_buffer,
             modes_buffer,
             shadows,

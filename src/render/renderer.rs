@@ -204,6 +204,14 @@ impl Renderer {
                         view_dimension: wgpu::TextureViewDimension::D2Array,
                         multisampled: false,
                     },
+                    ..material_map_entry(16)
+                },
+                wgpu::BindGroupLayoutEntry {
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                        view_dimension: wgpu::TextureViewDimension::D2Array,
+                        multisampled: false,
+                    },
                     ..material_map_entry(14)
                 },
                 wgpu::BindGroupLayoutEntry {
@@ -513,6 +521,9 @@ impl Renderer {
             self.pipelines.background_pipeline(&self.gpu, samples)?;
         }
         let baked = self.baked_lighting(prepared, cell, plan, &fixed_model)?;
+        if let Some(b) = &baked {
+            prepared.lightmap_texture.hold(&self.gpu.queue, b);
+        }
         let written = write_uniforms(&self.gpu.queue, prepared, cell, plan, &fixed_model, baked.as_deref());
         let frame_group = self.bindings.frame_group(&self.gpu, prepared, cell.settings.material_maps)?;
         let cutout_group = self.cutout_shadow_group(prepared, cell, plan);

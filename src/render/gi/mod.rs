@@ -3,6 +3,7 @@
 //! (render::truth::bake) as Unity's Progressive Lightmapper gathers them, and how each object
 //! reads it in place of the sky's ambient SH.
 
+pub mod lightmaps;
 pub mod probes;
 
 use glam::DVec3;
@@ -16,6 +17,10 @@ pub struct BakedLighting {
     pub key: u64,
     /// The grid's probes (None: the scene has no probe grid).
     pub probes: Option<Vec<Probe>>,
+    /// The static objects' lightmap (None: the scene has no static object).
+    pub lightmap: Option<lightmaps::Lightmap>,
+    /// Directional Mode: the lightmap's direction layer is read.
+    pub directional: bool,
     /// Samples per probe and texel, and the bounces of their paths.
     pub samples: u32,
     pub bounces: u32,
@@ -30,6 +35,8 @@ pub enum AmbientSource {
     Sky,
     /// Its interpolated light probe.
     Probe(Box<Probe>),
+    /// Its lightmap (`directional`: with the dominant direction).
+    Lightmap { directional: bool },
 }
 
 impl AmbientSource {
@@ -38,7 +45,68 @@ impl AmbientSource {
         match self {
             AmbientSource::Sky => 0.0,
             AmbientSource::Probe(_) => 1.0,
+            AmbientSource::Lightmap { .. } => 2.0,
         }
+    }
+
+    /// `Object.lod.w`: 1 where the lightmap's direction layer is read.
+    pub fn directional(&self) -> f32 {
+        matches!(self, AmbientSource::Lightmap { directional: true }) as u32 as f32
+    }
+}
+
+/// The lightmap texture of a composition: LIGHTMAP_LAYERS layers of Rgba16Float at the atlas's
+/// size, holding the bake whose key `holds` says (a cell reading another bake uploads its own).
+pub struct LightmapTexture {
+    pub texture: wgpu::Texture,
+    pub view: wgpu::TextureView,
+    pub holds: std::sync::Mutex<Option<u64>>,
+}
+
+impl LightmapTexture {
+    pub fn new(gpu: &crate::gpu::GpuContext, atlas: Option<&crate::geometry::lightmap_uv::LightmapAtlas>) -> Self {
+        let (width, height) = atlas.map_or((1, 1), |a| (a.width, a.height));
+        let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("lightmap"),
+            size: wgpu::Extent3d { width, height, depth_or_array_layers: lightmaps::LIGHTMAP_LAYERS },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::Rgba16Float,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        });
+        let view = texture.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        });
+        LightmapTexture { texture, view, holds: std::sync::Mutex::new(None) }
+    }
+
+    /// Make the texture hold `baked`'s lightmap, unless it does already.
+    pub fn hold(&self, queue: &wgpu::Queue, baked: &BakedLighting) {
+        let Some(map) = &baked.lightmap else { return };
+        let mut holds = self.holds.lock().unwrap_or_else(|e| e.into_inner());
+        if *holds == Some(baked.key) {
+            return;
+        }
+        let halves: Vec<half::f16> = map.texels.iter().flatten().map(|&v| half::f16::from_f32(v)).collect();
+        queue.write_texture(
+            wgpu::TexelCopyTextureInfo {
+                texture: &self.texture,
+                mip_level: 0,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            bytemuck::cast_slice(&halves),
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(map.width * 8),
+                rows_per_image: Some(map.height),
+            },
+            wgpu::Extent3d { width: map.width, height: map.height, depth_or_array_layers: lightmaps::LIGHTMAP_LAYERS },
+        );
+        *holds = Some(baked.key);
     }
 }
 

@@ -6,6 +6,7 @@ use std::sync::Arc;
 use super::{write_uniforms, CellParams, Renderer, ROLE_FIXED};
 use crate::error::Error;
 use crate::plan::cell::CellPlan;
+use crate::render::gi::lightmaps::{lightmap_from_sums, LightmapEncoding};
 use crate::render::gi::{probes, BakedLighting};
 use crate::render::prepared::PreparedScene;
 use crate::render::truth::bake::{gather, BakeLight, BakePoint};
@@ -104,8 +105,13 @@ impl Renderer {
         }
         let frame_group = self.bindings.frame_group(&self.gpu, prepared, cell.settings.material_maps)?;
         let geometry = self.ray_scene(prepared, kept)?;
-        let points: Vec<BakePoint> =
-            grid_points.iter().map(|p| BakePoint::probe([p[0] as f32, p[1] as f32, p[2] as f32])).collect();
+        // The lightmap's texels first, then the probes.
+        let texels = prepared.lightmap.as_ref().map_or(&[][..], |a| &a.texels[..]);
+        let points: Vec<BakePoint> = texels
+            .iter()
+            .map(|t| BakePoint::texel(t.position, t.normal))
+            .chain(grid_points.iter().map(|p| BakePoint::probe([p[0] as f32, p[1] as f32, p[2] as f32])))
+            .collect();
         let sums = gather(
             &self.gpu,
             &self.truth_pipelines[&pipeline_key],
@@ -116,10 +122,18 @@ impl Renderer {
             &lights,
             (gi.samples, gi.bounces),
         )?;
-        let probes = gi.probes.as_ref().map(|_| probes::probes_from_sums(&sums, 0, grid_points.len()));
+        let probes = gi.probes.as_ref().map(|_| probes::probes_from_sums(&sums, texels.len(), grid_points.len()));
+        let encoding = LightmapEncoding::of(cell.pipeline);
+        let lightmap = prepared
+            .lightmap
+            .as_ref()
+            .filter(|a| !a.texels.is_empty())
+            .map(|a| lightmap_from_sums(a, &sums, 0, encoding, gi.padding));
         let baked = Arc::new(BakedLighting {
             key,
             probes,
+            lightmap,
+            directional: gi.directional,
             samples: gi.samples,
             bounces: gi.bounces,
             seconds: start.elapsed().as_secs_f64(),
