@@ -443,7 +443,7 @@ fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>, vertex_gi: vec3<f32>) -> vec3<f
         let inc = light_incidence(light, p);
         if (inc.w > 0.0) {
             let receives = object.flags.w != 0u && VERTEX_LIT == 0u && (ADDITIONAL_SHADOWS == 1u || main);
-            let visible = light_visibility(light, i, p, n, inc.xyz, receives);
+            let visible = min(light_visibility(light, i, p, n, inc.xyz, receives), baked_occlusion(light));
             if (visible > 0.0) {
                 light_min_roughness = light.params.w;
                 c += model_direct(s, n, v, inc.xyz) * light.color.rgb * (inc.w * visible);
@@ -459,15 +459,52 @@ fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>, vertex_gi: vec3<f32>) -> vec3<f
 
 // The object's ambient light: the sky's SH, or where the scene bakes (render::gi) what the bake
 // gives it — its interpolated light probe, whose SH is folded into object.light_sh (lod.z = 1)
-// — or its lightmap at `lightmap_uv` (lod.z = 2; lod.w = 1 in Directional mode)
+// — or its lightmap at `lightmap_uv` (bake.x = 2), which Subtractive's main-light shadow darkens
 fn object_ambient(n: vec3<f32>) -> vec3<f32> {
-    if (object.lod.z > 1.5) {
-        return lightmap_gi(lightmap_uv, n, object.lod.w > 0.5);
+    let flags = u32(object.bake.y + 0.5);
+    if (object.bake.x > 1.5) {
+        let baked = lightmap_gi(lightmap_uv, n, (flags & 1u) != 0u);
+        if ((flags & 2u) != 0u && frame.counts.y > 0u) {
+            return subtract_main_light(baked, n);
+        }
+        return baked;
     }
-    if (object.lod.z > 0.5) {
+    if (object.bake.x > 0.5) {
         return vec3<f32>(0.0);
     }
     return environment_ambient(n);
+}
+
+// SubtractMainLightWithRealtimeAttenuationFromLightmap (URP Lighting.hlsl; built-in UnityGI_Base
+// under LIGHTMAP_SHADOW_MIXING without SHADOWS_SHADOWMASK): the main light's Lambert term where
+// its real-time shadow falls is taken out of the baked light, no lower than the Realtime Shadow
+// Color, blended by the shadow's strength, never above the baked light
+fn subtract_main_light(baked: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
+    let index = frame.counts.y - 1u;
+    let light = lights[index];
+    let inc = light_incidence(light, shading_position);
+    let shadow = light_visibility(light, index, shading_position, n, inc.xyz, object.flags.w != 0u);
+    let lambert = light.color.rgb * sat(dot(inc.xyz, n));
+    var subtracted = max(baked - lambert * (1.0 - shadow), object.shadow_color.rgb);
+    subtracted = mix(baked, subtracted, select(light.shadow.z, 0.0, light.shadow.x < 0.0));
+    return min(subtracted, baked);
+}
+
+// The baked occlusion of a Shadowmask light at this object: its lightmap's shadow-mask channel, or
+// its probe's occlusion (1 for a light without a channel, or an object the bake does not reach);
+// the real-time shadow takes the darker of the two (URP MixRealtimeAndBakedShadows)
+fn baked_occlusion(light: Light) -> f32 {
+    let channel = i32(light.color.w + 0.5) - 2;
+    if (channel < 0) {
+        return 1.0;
+    }
+    if (object.bake.x > 1.5) {
+        return textureSampleLevel(lightmap, env_sampler, lightmap_uv, 2, 0.0)[channel];
+    }
+    if (object.bake.x > 0.5) {
+        return object.occlusion[channel];
+    }
+    return 1.0;
 }
 
 // The fragment's (or vertex's) lightmap uv, set by the entry points before shading
@@ -866,7 +903,7 @@ fn fs_deferred(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
 // One light's direct term at a G-buffer pixel
 fn deferred_light(light: Light, s: Surface, p: vec3<f32>, n: vec3<f32>, v: vec3<f32>, receives: bool) -> vec3<f32> {
     // A light the frame draws on no object: it reaches the frame through the bake alone (plan::gi)
-    if (light.color.w > 0.5) {
+    if (light.color.w > 0.5 && light.color.w < 1.5) {
         return vec3<f32>(0.0);
     }
     if (u32(light.position.w) >= LIGHT_RECT) {

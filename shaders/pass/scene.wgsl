@@ -57,6 +57,9 @@ struct Object {
     flags: vec4<u32>,         // x: 1 = subject (uses the swept material), y: role id written to the mask, z: object index
     light_sh: array<vec4<f32>, 9>, // the lights this object takes as SH (plan::lights), unscaled
     lod: vec4<f32>,           // x: LOD cross-fade (plan::lod), y: 1 when dithered
+    bake: vec4<f32>,          // x: ambient from 0 the sky, 1 its probe, 2 its lightmap; y: 1 directional | 2 subtractive
+    occlusion: vec4<f32>,     // its probe's occlusion of each shadow-mask light
+    shadow_color: vec4<f32>,  // Subtractive's Realtime Shadow Color, linear
 };
 
 @group(0) @binding(0) var<uniform> frame: Frame;

@@ -540,12 +540,14 @@ fn cs_bake(@builtin(global_invocation_id) id: vec3<u32>) {
             sums[3] += mask;
         } else {
             bake_kind = 2u;
-            // A direction drawn uniformly on the sphere: the radiance arriving along it, then each
-            // light's direct light as a delta at its direction (its irradiance E, projected as E·Y)
-            let u = vec2<f32>(random(), random());
-            let z = 1.0 - 2.0 * u.x;
+            // Sample j of the probe's settings.w: the spherical Fibonacci point j (uniform over the
+            // sphere, stratified) and the radiance arriving along it, then each light's direct
+            // light as a delta at its direction (its irradiance E, projected as E·Y)
+            let j = truth.dims.z + k;
+            let z = 1.0 - (2.0 * f32(j) + 1.0) / f32(max(truth.settings.w, 1u));
             let r = sqrt(max(0.0, 1.0 - z * z));
-            let d = vec3<f32>(r * cos(2.0 * PI * u.y), r * sin(2.0 * PI * u.y), z);
+            let phi = 2.0 * PI * fract(f32(j) * 0.618033988749895);
+            let d = vec3<f32>(r * cos(phi), r * sin(phi), z);
             var radiance = incoming(p, d, 1u, -1.0) * (4.0 * PI);
             if (any(radiance != radiance) || any(abs(radiance) > vec3<f32>(1e30))) {
                 radiance = vec3<f32>(0.0);

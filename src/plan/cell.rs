@@ -269,6 +269,9 @@ pub struct CellPlan {
     pub multisampling: Multisampling,
     /// The scene's baked lighting in this pipeline (None: the scene bakes nothing).
     pub gi: Option<super::gi::GiPlan>,
+    /// Shadow layers that draw the dynamic objects alone: a mixed light's under Shadowmask and
+    /// Subtractive, whose static objects' shadows are baked.
+    pub dynamic_casters_only: Vec<usize>,
 }
 
 impl CellPlan {
@@ -319,6 +322,7 @@ impl CellPlan {
         // A textured cutout's shadow is clipped by its alpha map (passes::shadow); a flat cutout is
         // all there or, below its cutoff, left out entirely (below).
         let mut shadows_left_out = Vec::new();
+        let mut dynamic_casters_only = Vec::new();
         let surface = cell.settings.surface;
         for (slot, l) in lights.iter().enumerate() {
             let Some(first) = sh.first_layer[slot] else {
@@ -348,6 +352,9 @@ impl CellPlan {
             let layers = light_layers(l, (resolution, sh.side), layout.scene_bounds, &view);
             used_layers.extend((first..first + layers.len()).map(|layer| (layer, resolution)));
             light_shadows.push(LightShadow { first_layer: Some(first), layers: layers.len(), style: Some(style) });
+            if gi.as_ref().is_some_and(|g| g.static_shadows_baked(slot)) {
+                dynamic_casters_only.extend(first..first + layers.len());
+            }
             for (k, layer) in layers.into_iter().enumerate() {
                 shadow_layers[first + k] = layer;
             }
@@ -409,6 +416,7 @@ impl CellPlan {
             passes: frame.passes_for(cell.settings.path, p, cell.settings.surface.kind.is_transparent()),
             multisampling: msaa.for_settings(&cell.settings),
             gi,
+            dynamic_casters_only,
         }
     }
 

@@ -120,6 +120,14 @@ impl GiPlan {
         s
     }
 
+    /// Whether light `i`'s real-time shadow map holds the dynamic objects alone: a mixed light under
+    /// Shadowmask (the static objects' shadows are in the shadow mask) or Subtractive (in the
+    /// lightmaps). Distance Shadowmask draws every caster within the shadow distance.
+    pub fn static_shadows_baked(&self, i: usize) -> bool {
+        self.lights[i].mode == LightBakeMode::Mixed
+            && matches!(self.mixed_lighting, MixedLighting::Shadowmask | MixedLighting::Subtractive)
+    }
+
     /// The number of shadow-mask channels in use.
     pub fn shadow_mask_channels(&self) -> usize {
         self.lights.iter().filter(|l| l.shadow_mask.is_some()).count()

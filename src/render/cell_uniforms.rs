@@ -60,14 +60,21 @@ pub(in crate::render) fn write_uniforms(
             let drawn = p == crate::pipelines::Pipeline::Hdrp && l.kind == crate::spec::scene::LightKind::Rect;
             shape = vec4(l.area_frame().1, if drawn { 1.0 } else { 0.0 });
         }
-        // color.w: 1 where the frame draws the light on no object (baked alone: plan::gi)
         let slot = gpu_lights.len();
-        let baked_alone =
-            plan.gi.as_ref().is_some_and(|g| !g.lights[slot].drawn_on_static && !g.lights[slot].drawn_on_dynamic);
+        // color.w: 1 where the frame draws the light on no object (baked alone), 2 + c for a
+        // Shadowmask light's channel c (plan::gi); 0 otherwise
+        let bake_flag = plan.gi.as_ref().map_or(0.0, |g| {
+            let b = &g.lights[slot];
+            match b.shadow_mask {
+                _ if !b.drawn_on_static && !b.drawn_on_dynamic => 1.0,
+                Some(c) => 2.0 + c as f64,
+                None => 0.0,
+            }
+        });
         gpu_lights.push(GpuLight {
             position: vec4(DVec3::from(l.position), emitter.shader_kind() as f64),
             direction: vec4(DVec3::from(l.direction).normalize_or_zero(), 0.0),
-            color: vec4(color, if baked_alone { 1.0 } else { 0.0 }),
+            color: vec4(color, bake_flag),
             params,
             shadow,
             shadow_bias,
@@ -133,6 +140,13 @@ pub(in crate::render) fn write_uniforms(
             _ => crate::render::gi::AmbientSource::Sky,
         })
         .collect();
+    // Subtractive: the main directional light's real-time shadow darkens the lightmaps, down to
+    // the Realtime Shadow Color (SubtractMainLightWithRealtimeAttenuationFromLightmap).
+    let subtractive = plan.gi.as_ref().is_some_and(|g| g.mixed_lighting == crate::spec::gi::MixedLighting::Subtractive);
+    let shadow_color = prepared.scene.gi.as_ref().map_or([0.0; 4], |g| {
+        let c = g.realtime_shadow_color.map(crate::color::srgb_to_linear);
+        [c[0] as f32, c[1] as f32, c[2] as f32, 0.0]
+    });
     let mut sh_per_object = sh_per_object;
     for (sh, source) in sh_per_object.iter_mut().zip(&sources) {
         if let crate::render::gi::AmbientSource::Probe(probe) = source {
@@ -202,17 +216,23 @@ pub(in crate::render) fn write_uniforms(
             },
             light_sh: sh_per_object[slot.scene_index],
             // A level fading in or out keeps its dither's share of the fragments.
-            // z: where the ambient comes from, w: 1 where the lightmap's direction is read; LOD
-            // levels past the first have no lightmap (only the object's own mesh is unwrapped).
-            lod: {
+            lod: match fades[i] {
+                Some(f) if f < 1.0 => [f as f32, 1.0, 0.0, 0.0],
+                _ => [1.0, 0.0, 0.0, 0.0],
+            },
+            // LOD levels past the first have no lightmap (only the object's own mesh is unwrapped).
+            bake: {
                 let sky = crate::render::gi::AmbientSource::Sky;
                 let source = if i < prepared.scene.objects.len() { &sources[slot.scene_index] } else { &sky };
-                let (z, w) = (source.shader_value(), source.directional());
-                match fades[i] {
-                    Some(f) if f < 1.0 => [f as f32, 1.0, z, w],
-                    _ => [1.0, 0.0, z, w],
-                }
+                [source.shader_value(), source.flags(subtractive), 0.0, 0.0]
             },
+            occlusion: match &sources[slot.scene_index] {
+                crate::render::gi::AmbientSource::Probe(p) if i < prepared.scene.objects.len() => {
+                    p.occlusion.map(|v| v as f32)
+                }
+                _ => [1.0; 4],
+            },
+            shadow_color,
         };
         let at = i * prepared.object_stride as usize;
         objects[at..at + std::mem::size_of::<ObjectUniforms>()].copy_from_slice(bytemuck::bytes_of(&u));
@@ -222,6 +242,7 @@ pub(in crate::render) fn write_uniforms(
         use std::hash::{Hash, Hasher};
         let mut h = std::hash::DefaultHasher::new();
         plan.used_layers.hash(&mut h);
+        plan.dynamic_casters_only.hash(&mut h);
         bytemuck::cast_slice::<ShadowLayer, u8>(&shadow_layers).hash(&mut h);
         for (i, o) in prepared.objects.iter().enumerate() {
             let at = i * prepared.object_stride as usize;

@@ -716,7 +716,7 @@ impl Renderer {
                     &mut encoder,
                     &self.shadow_pipeline,
                     prepared,
-                    (&plan.used_layers, &casting),
+                    (&plan.used_layers, &casting, &plan.dynamic_casters_only),
                     cutout,
                     timed(k),
                 );
@@ -970,7 +970,7 @@ impl Renderer {
         // vertex-lit cell draws no shadow pass itself, but the probes it reads hold shadows.
         if prepared.plan.passes.contains(&"shadow") && !plan.used_layers.is_empty() {
             let cutout = self.cutout_shadow.as_ref().zip(cutout).map(|(c, g)| (&c.pipeline, g));
-            let layers = (&plan.used_layers[..], &casting[..]);
+            let layers = (&plan.used_layers[..], &casting[..], &plan.dynamic_casters_only[..]);
             encode_shadow_passes(&mut encoder, &self.shadow_pipeline, prepared, layers, cutout, None);
             // The probe's own layers now: a cell cannot keep what it finds there.
             *prepared.shadows.holds.lock().unwrap_or_else(|e| e.into_inner()) = None;

@@ -103,6 +103,14 @@ pub struct ObjectUniforms {
     pub light_sh: [[f32; 4]; 9],
     /// x: LOD fade (`plan::lod`), y: 1 when the mesh is dithered by it.
     pub lod: [f32; 4],
+    /// The bake's light at this object (render::gi::AmbientSource): x where the ambient comes
+    /// from (0 the sky's SH, 1 its light probe, 2 its lightmap), y flags (1: Directional mode,
+    /// 2: Subtractive's main-light shadow darkens the lightmap).
+    pub bake: [f32; 4],
+    /// Its probe's occlusion of each shadow-mask light (1 where it has no probe).
+    pub occlusion: [f32; 4],
+    /// Subtractive's Realtime Shadow Color, linear.
+    pub shadow_color: [f32; 4],
 }
 
 pub use crate::plan::roles::{ROLE_BACKGROUND, ROLE_FIXED, ROLE_SUBJECT};

@@ -39,7 +39,14 @@ fn uniform_mirrors_match_their_wgsl_structs() {
                 [view_proj, inv_view_proj, camera_pos, counts, sh, env, subject, fixed, reflection, probes, screen]
             ),
         ),
-        (&forward, "Object", mirror_layout!(ObjectUniforms, [model, normal_matrix, material, flags, light_sh, lod])),
+        (
+            &forward,
+            "Object",
+            mirror_layout!(
+                ObjectUniforms,
+                [model, normal_matrix, material, flags, light_sh, lod, bake, occlusion, shadow_color]
+            ),
+        ),
         (&exact, "BvhNode", mirror_layout!(GpuBvhNode, [min, max])),
         (&exact, "RayVertex", mirror_layout!(TruthVertex, [position, normal, tangent])),
         (

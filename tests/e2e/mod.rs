@@ -17,6 +17,7 @@ mod faults;
 mod flow;
 mod fuzz;
 mod gallery;
+mod gi;
 mod gltf_roundtrip;
 mod gltf_scene;
 mod gpu_metrics;

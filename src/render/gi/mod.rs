@@ -40,7 +40,7 @@ pub enum AmbientSource {
 }
 
 impl AmbientSource {
-    /// The value the shaders read in `Object.lod.z` (forward.wgsl `object_ambient`).
+    /// The value the shaders read in `Object.bake.x` (forward.wgsl `object_ambient`).
     pub fn shader_value(&self) -> f32 {
         match self {
             AmbientSource::Sky => 0.0,
@@ -49,9 +49,13 @@ impl AmbientSource {
         }
     }
 
-    /// `Object.lod.w`: 1 where the lightmap's direction layer is read.
-    pub fn directional(&self) -> f32 {
-        matches!(self, AmbientSource::Lightmap { directional: true }) as u32 as f32
+    /// `Object.bake.y`: 1 where the lightmap's direction is read, + 2 where Subtractive's
+    /// main-light shadow darkens it.
+    pub fn flags(&self, subtractive: bool) -> f32 {
+        match self {
+            AmbientSource::Lightmap { directional } => (*directional as u32 + 2 * subtractive as u32) as f32,
+            _ => 0.0,
+        }
     }
 }
 

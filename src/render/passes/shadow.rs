@@ -22,13 +22,14 @@ pub fn shadow_slot(shadow: &LightShadow) -> ([f32; 4], [f32; 4]) {
     }
 }
 
-/// Depth of every casting object into every shadow layer; the subject's through `cutout` where it
-/// is a textured cutout (its pipeline and material group).
+/// Depth of every casting object into every shadow layer (the dynamic ones alone into the
+/// `dynamic_only` layers, whose light's static shadows are baked); the subject's through `cutout`
+/// where it is a textured cutout (its pipeline and material group).
 pub(in crate::render) fn encode_shadow_passes(
     encoder: &mut wgpu::CommandEncoder,
     pipeline: &wgpu::RenderPipeline,
     prepared: &PreparedScene,
-    (layers, casting): (&[(usize, u32)], &[bool]),
+    (layers, casting, dynamic_only): (&[(usize, u32)], &[bool], &[usize]),
     cutout: Option<(&wgpu::RenderPipeline, &wgpu::BindGroup)>,
     timed: Option<(&PassTimer, u32)>,
 ) {
@@ -53,7 +54,11 @@ pub(in crate::render) fn encode_shadow_passes(
         // The light's map is the top-left resolution² of the layer (plan::shadows).
         pass.set_viewport(0.0, 0.0, resolution as f32, resolution as f32, 0.0, 1.0);
         pass.set_bind_group(0, &sh.layer_bind_group, &[(layer as u64 * sh.layer_stride) as u32]);
-        let casts = |i: usize| casting[i] && prepared.layout.meshes[i].cast_shadows;
+        let static_baked = dynamic_only.contains(&layer);
+        let casts = |i: usize| {
+            let m = &prepared.layout.meshes[i];
+            casting[i] && m.cast_shadows && !(static_baked && m.role == crate::spec::scene::Role::Fixed)
+        };
         for (i, o) in prepared.objects.iter().enumerate().filter(|(i, _)| casts(*i)) {
             let subject = prepared.layout.meshes[i].role == crate::spec::scene::Role::Subject;
             match cutout.filter(|_| subject) {

@@ -9,14 +9,48 @@ use crate::plan::cell::CellPlan;
 use crate::render::gi::lightmaps::{lightmap_from_sums, LightmapEncoding};
 use crate::render::gi::{probes, BakedLighting};
 use crate::render::prepared::PreparedScene;
-use crate::render::truth::bake::{gather, BakeLight, BakePoint};
+use crate::render::truth::bake::{gather, BakeLight, BakePoint, BakeSums};
 use crate::render::truth::TruthKind;
 use crate::shading::{wgsl, ShaderModel};
+use crate::spec::gi::GiSettings;
 use crate::spec::scene::Role;
 
+/// What one bake reads: the lights' shares, the static meshes, their materials and the points.
+struct BakeInputs {
+    key: u64,
+    lights: Vec<BakeLight>,
+    kept: Vec<bool>,
+    objects: Vec<u8>,
+    points: Vec<BakePoint>,
+    texels: usize,
+    probes: usize,
+    gi: GiSettings,
+}
+
 impl Renderer {
-    /// The bake this cell's frame reads (None: its scene bakes nothing, or nothing baked can
-    /// reach the frame).
+    /// The bake `cell` reads (None: its scene bakes nothing, or nothing baked can reach it).
+    pub fn bake(&mut self, prepared: &PreparedScene, cell: &CellParams) -> Result<Option<Arc<BakedLighting>>, Error> {
+        let plan = self.plan(prepared, cell)?;
+        let fixed_model = self.fixed_model(cell.pipeline)?;
+        self.baked_lighting(prepared, cell, &plan, &fixed_model)
+    }
+
+    /// The same bake gathered by the CPU tracer in f64 (render::truth::cpu::bake), never cached:
+    /// an independent estimate to check the GPU's against.
+    pub fn bake_on_cpu(&mut self, prepared: &PreparedScene, cell: &CellParams) -> Result<Option<BakedLighting>, Error> {
+        let plan = self.plan(prepared, cell)?;
+        let fixed_model = self.fixed_model(cell.pipeline)?;
+        let Some(inputs) = self.bake_inputs(prepared, cell, &plan, &fixed_model) else { return Ok(None) };
+        let start = std::time::Instant::now();
+        let settings = crate::render::truth::TruthSettings { kind: TruthKind::SameBrdf, ..Default::default() };
+        let (points, lights, budget) = (&inputs.points, &inputs.lights, (inputs.gi.samples, inputs.gi.bounces));
+        let sums = self.with_cpu_truth(prepared, cell, &fixed_model, &settings, true, |scene, cpu_inputs| {
+            crate::render::truth::cpu::bake::gather(scene, cpu_inputs, points, lights, budget)
+        })?;
+        Ok(Some(finish(prepared, cell, &inputs, &sums, start.elapsed().as_secs_f64())))
+    }
+
+    /// The bake this cell's frame reads, made on first use.
     pub(super) fn baked_lighting(
         &mut self,
         prepared: &PreparedScene,
@@ -24,11 +58,58 @@ impl Renderer {
         plan: &CellPlan,
         fixed_model: &ShaderModel,
     ) -> Result<Option<Arc<BakedLighting>>, Error> {
-        let (Some(gi_plan), Some(gi)) = (&plan.gi, &prepared.scene.gi) else { return Ok(None) };
+        let Some(inputs) = self.bake_inputs(prepared, cell, plan, fixed_model) else { return Ok(None) };
+        if let Some(b) = prepared.bakes.lock().unwrap_or_else(|e| e.into_inner()).get(&inputs.key) {
+            return Ok(Some(b.clone()));
+        }
+        let start = std::time::Instant::now();
+        let pipeline_key =
+            (cell.pipeline, format!("bake:{}", fixed_model.name), fixed_model.name.to_string(), TruthKind::SameBrdf);
+        if !self.truth_pipelines.contains_key(&pipeline_key) {
+            let source = wgsl::compose_truth(fixed_model, fixed_model);
+            let diffuse_only = fixed_model.twin.is_some_and(|t| t.diffuse_only());
+            let p = crate::render::truth::TruthPipeline::new(
+                &self.gpu,
+                &self.bindings.layout,
+                &self.ray_layout,
+                &source,
+                cell.pipeline.shader_id(),
+                TruthKind::SameBrdf,
+                [diffuse_only; 2],
+                "cs_bake",
+            )?;
+            self.truth_pipelines.insert(pipeline_key.clone(), p);
+        }
+        let frame_group = self.bindings.frame_group(&self.gpu, prepared, cell.settings.material_maps)?;
+        let geometry = self.ray_scene(prepared, inputs.kept.clone())?;
+        let sums = gather(
+            &self.gpu,
+            &self.truth_pipelines[&pipeline_key],
+            &frame_group,
+            &geometry,
+            &inputs.objects,
+            &inputs.points,
+            &inputs.lights,
+            (inputs.gi.samples, inputs.gi.bounces),
+        )?;
+        let baked = Arc::new(finish(prepared, cell, &inputs, &sums, start.elapsed().as_secs_f64()));
+        prepared.bakes.lock().unwrap_or_else(|e| e.into_inner()).insert(inputs.key, baked.clone());
+        Ok(Some(baked))
+    }
+
+    /// What this cell's bake reads, and its key; None where nothing baked can reach the frame.
+    /// Writes the cell's uniforms without baked light (the bake reads the frame's lights).
+    fn bake_inputs(
+        &self,
+        prepared: &PreparedScene,
+        cell: &CellParams,
+        plan: &CellPlan,
+        fixed_model: &ShaderModel,
+    ) -> Option<BakeInputs> {
+        let (Some(gi_plan), Some(gi)) = (&plan.gi, &prepared.scene.gi) else { return None };
         let written = write_uniforms(&self.gpu.queue, prepared, cell, plan, fixed_model, None);
-        let environment = written.frame.env[1] > 0.0;
-        if !gi_plan.bakes_light(environment) {
-            return Ok(None);
+        if !gi_plan.bakes_light(written.frame.env[1] > 0.0) {
+            return None;
         }
         let lights: Vec<BakeLight> = gi_plan
             .lights
@@ -53,13 +134,18 @@ impl Renderer {
         let kept: Vec<bool> =
             plan.casting().iter().zip(&prepared.layout.meshes).map(|(c, m)| *c && m.role == Role::Fixed).collect();
         let mut objects = Vec::with_capacity(prepared.objects.len() * 128);
-        for (slot, material) in prepared.layout.meshes.iter().zip(&written.materials) {
+        for material in &written.materials {
             objects.extend_from_slice(bytemuck::bytes_of(material));
-            let flags: [u32; 4] = [0, ROLE_FIXED as u32, 0, 0];
-            debug_assert!(slot.role == Role::Fixed || !kept.is_empty());
-            objects.extend_from_slice(bytemuck::cast_slice(&flags));
+            objects.extend_from_slice(bytemuck::cast_slice(&[0u32, ROLE_FIXED as u32, 0, 0]));
         }
-        let grid_points: Vec<[f64; 3]> = gi.probes.as_ref().map(|g| g.positions()).unwrap_or_default();
+        // The lightmap's texels first, then the probes.
+        let texels = prepared.lightmap.as_ref().map_or(&[][..], |a| &a.texels[..]);
+        let grid: Vec<[f64; 3]> = gi.probes.as_ref().map(|g| g.positions()).unwrap_or_default();
+        let points: Vec<BakePoint> = texels
+            .iter()
+            .map(|t| BakePoint::texel(t.position, t.normal))
+            .chain(grid.iter().map(|p| BakePoint::probe([p[0] as f32, p[1] as f32, p[2] as f32])))
+            .collect();
         let key = {
             use std::hash::{Hash, Hasher};
             let mut h = std::hash::DefaultHasher::new();
@@ -74,6 +160,7 @@ impl Renderer {
             }
             let f = &written.frame;
             (bytemuck::bytes_of(&f.env), bytemuck::bytes_of(&f.fixed), f.counts).hash(&mut h);
+            // A light the bake holds nothing of does not reach it.
             for (l, b) in written.lights.iter().zip(&lights) {
                 if b.weights[..3].iter().any(|w| *w != 0.0) || b.weights[3] >= 0.0 {
                     bytemuck::bytes_of(l).hash(&mut h);
@@ -82,63 +169,41 @@ impl Renderer {
             }
             h.finish()
         };
-        if let Some(b) = prepared.bakes.lock().unwrap_or_else(|e| e.into_inner()).get(&key) {
-            return Ok(Some(b.clone()));
-        }
-        let start = std::time::Instant::now();
-        let pipeline_key =
-            (cell.pipeline, format!("bake:{}", fixed_model.name), fixed_model.name.to_string(), TruthKind::SameBrdf);
-        if !self.truth_pipelines.contains_key(&pipeline_key) {
-            let source = wgsl::compose_truth(fixed_model, fixed_model);
-            let diffuse_only = fixed_model.twin.is_some_and(|t| t.diffuse_only());
-            let p = crate::render::truth::TruthPipeline::new(
-                &self.gpu,
-                &self.bindings.layout,
-                &self.ray_layout,
-                &source,
-                cell.pipeline.shader_id(),
-                TruthKind::SameBrdf,
-                [diffuse_only; 2],
-                "cs_bake",
-            )?;
-            self.truth_pipelines.insert(pipeline_key.clone(), p);
-        }
-        let frame_group = self.bindings.frame_group(&self.gpu, prepared, cell.settings.material_maps)?;
-        let geometry = self.ray_scene(prepared, kept)?;
-        // The lightmap's texels first, then the probes.
-        let texels = prepared.lightmap.as_ref().map_or(&[][..], |a| &a.texels[..]);
-        let points: Vec<BakePoint> = texels
-            .iter()
-            .map(|t| BakePoint::texel(t.position, t.normal))
-            .chain(grid_points.iter().map(|p| BakePoint::probe([p[0] as f32, p[1] as f32, p[2] as f32])))
-            .collect();
-        let sums = gather(
-            &self.gpu,
-            &self.truth_pipelines[&pipeline_key],
-            &frame_group,
-            &geometry,
-            &objects,
-            &points,
-            &lights,
-            (gi.samples, gi.bounces),
-        )?;
-        let probes = gi.probes.as_ref().map(|_| probes::probes_from_sums(&sums, texels.len(), grid_points.len()));
-        let encoding = LightmapEncoding::of(cell.pipeline);
-        let lightmap = prepared
-            .lightmap
-            .as_ref()
-            .filter(|a| !a.texels.is_empty())
-            .map(|a| lightmap_from_sums(a, &sums, 0, encoding, gi.padding));
-        let baked = Arc::new(BakedLighting {
+        Some(BakeInputs {
             key,
-            probes,
-            lightmap,
-            directional: gi.directional,
-            samples: gi.samples,
-            bounces: gi.bounces,
-            seconds: start.elapsed().as_secs_f64(),
-        });
-        prepared.bakes.lock().unwrap_or_else(|e| e.into_inner()).insert(key, baked.clone());
-        Ok(Some(baked))
+            lights,
+            kept,
+            objects,
+            points,
+            texels: texels.len(),
+            probes: grid.len(),
+            gi: gi.clone(),
+        })
+    }
+}
+
+/// The bake from the gathered sums: the probes' SH and the encoded lightmap.
+fn finish(
+    prepared: &PreparedScene,
+    cell: &CellParams,
+    inputs: &BakeInputs,
+    sums: &BakeSums,
+    seconds: f64,
+) -> BakedLighting {
+    let gi = &inputs.gi;
+    let probes = gi.probes.as_ref().map(|_| probes::probes_from_sums(sums, inputs.texels, inputs.probes));
+    let lightmap = prepared
+        .lightmap
+        .as_ref()
+        .filter(|a| !a.texels.is_empty())
+        .map(|a| lightmap_from_sums(a, sums, 0, LightmapEncoding::of(cell.pipeline), gi.padding));
+    BakedLighting {
+        key: inputs.key,
+        probes,
+        lightmap,
+        directional: gi.directional,
+        samples: gi.samples,
+        bounces: gi.bounces,
+        seconds,
     }
 }

@@ -136,19 +136,20 @@ impl Renderer {
         fixed_model: &ShaderModel,
         settings: &crate::render::truth::TruthSettings,
     ) -> Result<crate::render::truth::Truth, Error> {
-        self.with_cpu_truth(prepared, cell, fixed_model, settings, |scene, inputs| {
+        self.with_cpu_truth(prepared, cell, fixed_model, settings, false, |scene, inputs| {
             crate::render::truth::cpu::trace(scene, inputs, settings)
         })
     }
 
     /// `then` with the CPU truth's scene (built once per composition and set of kept meshes) and
     /// this cell's inputs.
-    fn with_cpu_truth<T>(
+    pub(super) fn with_cpu_truth<T>(
         &mut self,
         prepared: &PreparedScene,
         cell: &CellParams,
         fixed_model: &ShaderModel,
         settings: &crate::render::truth::TruthSettings,
+        static_only: bool,
         then: impl FnOnce(
             &crate::render::truth::cpu::CpuScene,
             &crate::render::truth::cpu::CpuTruthInputs,
@@ -157,7 +158,13 @@ impl Renderer {
         use crate::render::truth::cpu;
         let plan = self.plan(prepared, cell)?;
         let written = write_uniforms(&self.gpu.queue, prepared, cell, &plan, fixed_model, None);
-        let kept = plan.casting();
+        // A bake traces the static (fixed) objects alone.
+        let kept: Vec<bool> = plan
+            .casting()
+            .iter()
+            .zip(&prepared.layout.meshes)
+            .map(|(c, m)| *c && !(static_only && m.role == Role::Subject))
+            .collect();
         let cached = prepared.cpu_truth_scene.lock().unwrap_or_else(|e| e.into_inner()).clone();
         let scene = match cached {
             Some((k, s)) if k == kept => s,
@@ -224,7 +231,7 @@ impl Renderer {
         let names: Vec<String> = (0..prepared.layout.meshes.len())
             .map(|i| objects.get(i).map_or_else(|| format!("lod mesh {}", i - objects.len()), |o| o.name.clone()))
             .collect();
-        self.with_cpu_truth(prepared, cell, &fixed_model, settings, |scene, inputs| {
+        self.with_cpu_truth(prepared, cell, &fixed_model, settings, false, |scene, inputs| {
             crate::render::truth::export::export(scene, inputs, &names, truth, settings.roulette)
         })
     }

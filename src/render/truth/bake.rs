@@ -46,6 +46,10 @@ pub type BakeSums = Vec<[[f32; 4]; BAKE_STRIDE]>;
 
 /// Paths per dispatch: enough to fill a GPU, few enough that one dispatch stays short.
 const PATHS_PER_DISPATCH: u64 = 1 << 18;
+/// The most samples one invocation takes per dispatch: lavapipe was measured to end invocations
+/// whose loops run long (a 4096-sample loop kept 158–1525 samples), so each dispatch keeps them
+/// short, and the counts are checked after.
+const SAMPLES_PER_DISPATCH: u64 = 32;
 
 /// Gather `samples` samples at every point with paths of `bounces` bounces.
 #[allow(clippy::too_many_arguments)]
@@ -93,11 +97,11 @@ pub fn gather(
         ],
     });
     let n = points.len() as u32;
-    let batch = (PATHS_PER_DISPATCH / n as u64).clamp(1, samples.max(1) as u64) as u32;
+    let batch = (PATHS_PER_DISPATCH / n as u64).clamp(1, SAMPLES_PER_DISPATCH.min(samples.max(1) as u64)) as u32;
     let mut done = 0u32;
     while done < samples.max(1) {
         let count = batch.min(samples.max(1) - done);
-        let p = TruthParams { dims: [n, 1, done, count], settings: [bounces, 0, 0, 0] };
+        let p = TruthParams { dims: [n, 1, done, count], settings: [bounces, 0, 0, samples.max(1)] };
         gpu.queue.write_buffer(&params, 0, bytemuck::bytes_of(&p));
         let mut encoder = device.create_command_encoder(&Default::default());
         {
@@ -124,6 +128,17 @@ pub fn gather(
     let bytes = crate::gpu::readback::map_read(device, &staging)?;
     gpu.check_errors("baking lightmaps and probes")?;
     let sums: &[[[f32; 4]; BAKE_STRIDE]] = bytemuck::cast_slice(&bytes);
+    // Every point must have taken every sample: a bake missing some would look complete.
+    for (point, s) in points.iter().zip(sums) {
+        let count = if point.position[3] < 0.5 { s[0][3] } else { s[9][3] };
+        if count != samples.max(1) as f32 {
+            return Err(Error::Other(format!(
+                "the bake on {} took {count} of {} samples at a point: the adapter ended the work early",
+                gpu.adapter.get_info().name,
+                samples.max(1)
+            )));
+        }
+    }
     Ok(sums.to_vec())
 }
 

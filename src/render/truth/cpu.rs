@@ -25,6 +25,8 @@ use crate::render::uniforms::{FrameUniforms, GpuLight, GpuMaterial};
 use crate::shading::twin::{irradiance_per_intensity, Surface, SurfaceTwin};
 use crate::spec::matrix::TruthSampler;
 
+pub mod bake;
+
 /// Offset of a continued or shadow ray from its surface (rays.wgsl RAY_EPSILON).
 const RAY_EPSILON: f64 = 1e-4;
 /// The HDRP roughness floor of environment and continuation directions (truth.wgsl).
@@ -538,7 +540,23 @@ struct Tracer<'a> {
     roulette: bool,
 }
 
-impl Tracer<'_> {
+impl<'a> Tracer<'a> {
+    fn new(scene: &'a CpuScene, inputs: &'a CpuTruthInputs<'a>, bounces: u32, roulette: bool) -> Tracer<'a> {
+        let f = inputs.frame;
+        let m4 = |m: [[f32; 4]; 4]| DMat4::from_cols_array_2d(&m.map(|c| c.map(|x| x as f64)));
+        Tracer {
+            scene,
+            inputs,
+            lights: inputs.lights.iter().map(TracedLight::from).collect(),
+            inv_view_proj: m4(f.inv_view_proj),
+            camera: v3(f.camera_pos),
+            env_scale: f.env[1] as f64,
+            subject: f.subject,
+            bounces,
+            roulette,
+        }
+    }
+
     /// Whether a ray passes the surface it hit: the subject's where it is not all there, with
     /// probability 1 − coverage (a screen door, as alpha blending a Fade surface stands for). An
     /// opaque scene draws no number, so its paths are those of a scene without the test.
@@ -673,12 +691,17 @@ impl Tracer<'_> {
             / irradiance_per_intensity(p)
     }
 
-    /// Every light exactly and the environment sampled once (truth.wgsl `direct_light`).
-    fn direct_light(&self, sp: &SurfacePoint, v: DVec3, rng: &mut Rng) -> DVec3 {
+    /// Every light exactly (light i scaled by `weight(i)`: 1 in the truth, the bake's share in a
+    /// bake) and the environment sampled once (truth.wgsl `direct_light`).
+    fn direct_light(&self, sp: &SurfacePoint, v: DVec3, rng: &mut Rng, weight: &dyn Fn(usize) -> f64) -> DVec3 {
         let mut c = DVec3::ZERO;
         let origin = sp.p + sp.ng * RAY_EPSILON;
         let p = self.inputs.pipeline;
-        for light in &self.lights {
+        for (i, light) in self.lights.iter().enumerate() {
+            let w = weight(i);
+            if w <= 0.0 {
+                continue;
+            }
             let (l, atten, distance) = if light.kind >= LIGHT_RECT {
                 let (l, atten, d) = light.area_incidence(sp.p, self.inputs.kind, rng);
                 (l, atten, d * (1.0 - 1e-4))
@@ -693,7 +716,7 @@ impl Tracer<'_> {
             let f = self.response(sp, v, l, light.min_roughness);
             if f.max_element() > 0.0 && !self.blocked(origin, l, distance, rng) {
                 // Lights are in the pipeline's units: the model's own factor is taken back out.
-                c += f * irradiance_per_intensity(p) * light.color * atten;
+                c += f * irradiance_per_intensity(p) * light.color * atten * w;
             }
         }
         if self.env_scale > 0.0 {
@@ -713,28 +736,45 @@ impl Tracer<'_> {
         let (jx, jy) = (rng.next(), rng.next());
         let ndc = DVec2::new((x as f64 + jx) / w as f64 * 2.0 - 1.0, 1.0 - (y as f64 + jy) / h as f64 * 2.0);
         let far = self.inv_view_proj * DVec4::new(ndc.x, ndc.y, 1.0, 1.0);
-        let mut o = self.camera;
-        let mut d = (far.truncate() / far.w - o).normalize();
+        let o = self.camera;
+        let d = (far.truncate() / far.w - o).normalize();
+        self.incoming(o, d, (0, None), rng, &|_, _| 1.0)
+    }
+
+    /// The light arriving at o from −d along one path (truth.wgsl `incoming`), and the object of
+    /// its first hit. `first`: the index of the first surface vertex (0 for a camera ray, 1 for a
+    /// bake's ray) and the density d was drawn with against the environment's sampling at o (None:
+    /// a camera ray, which sees the sky where the background shows it, or a probe's, which always
+    /// does); `weight(vertex, light)`: each light's share at each vertex.
+    pub(super) fn incoming(
+        &self,
+        mut o: DVec3,
+        mut d: DVec3,
+        (first, mis_pdf): (u32, Option<f64>),
+        rng: &mut Rng,
+        weight: &dyn Fn(u32, usize) -> f64,
+    ) -> (DVec3, Option<usize>) {
         let mut throughput = DVec3::ONE;
         let mut c = DVec3::ZERO;
-        let mut last_pdf = 0.0;
-        let mut first = None;
+        let mut last_pdf = mis_pdf;
+        let mut first_object = None;
         let env = &self.scene.environment;
         let last = if self.roulette { crate::spec::matrix::MAX_ROULETTE_BOUNCES } else { self.bounces + 1 };
-        for bounce in 0..=last {
+        for bounce in first..=last {
             let Some(hit) = self.nearest(o, d, rng) else {
-                if bounce == 0 {
-                    if self.inputs.background {
-                        c += env.radiance(d) * self.env_scale;
+                match last_pdf {
+                    None if first > 0 || self.inputs.background => c += throughput * env.radiance(d) * self.env_scale,
+                    None => {}
+                    Some(pdf) if self.env_scale > 0.0 => {
+                        c += throughput * env.radiance(d) * self.env_scale * power_heuristic(pdf, env.pdf(d))
                     }
-                } else if self.env_scale > 0.0 {
-                    c += throughput * env.radiance(d) * self.env_scale * power_heuristic(last_pdf, env.pdf(d));
+                    Some(_) => {}
                 }
                 break;
             };
             let sp = self.surface_at(&hit, d);
-            if bounce == 0 {
-                first = Some(sp.object);
+            if bounce == first {
+                first_object = Some(sp.object);
             }
             c += throughput * sp.emission;
             // The last vertex only receives the environment along the continued ray (its weight).
@@ -742,7 +782,7 @@ impl Tracer<'_> {
                 break;
             }
             let v = -d;
-            c += throughput * self.direct_light(&sp, v, rng);
+            c += throughput * self.direct_light(&sp, v, rng, &|i| weight(bounce, i));
             let k = self.lobe_share(&sp);
             let l = sample_surface(&sp.s, k, sp.n, v, rng);
             let pdf = surface_pdf(&sp.s, k, sp.n, v, l);
@@ -761,30 +801,18 @@ impl Tracer<'_> {
                 }
                 throughput /= q;
             }
-            last_pdf = pdf;
+            last_pdf = Some(pdf);
             o = sp.p + sp.ng * RAY_EPSILON;
             d = l;
         }
-        (c, first)
+        (c, first_object)
     }
 }
 
 /// Trace batches until converged (render::truth's module comment), on every core.
 pub fn trace(scene: &CpuScene, inputs: &CpuTruthInputs, settings: &TruthSettings) -> Result<Truth, Error> {
     let start = std::time::Instant::now();
-    let f = inputs.frame;
-    let m4 = |m: [[f32; 4]; 4]| DMat4::from_cols_array_2d(&m.map(|c| c.map(|x| x as f64)));
-    let tracer = Tracer {
-        scene,
-        inputs,
-        lights: inputs.lights.iter().map(TracedLight::from).collect(),
-        inv_view_proj: m4(f.inv_view_proj),
-        camera: v3(f.camera_pos),
-        env_scale: f.env[1] as f64,
-        subject: f.subject,
-        bounces: settings.bounces,
-        roulette: settings.roulette,
-    };
+    let tracer = Tracer::new(scene, inputs, settings.bounces, settings.roulette);
     let (width, height) = inputs.size;
     let pixels = (width * height) as usize;
     // Per pixel: the sum (rgb) and count (w), then the sum of squares, as the GPU accumulates.
