@@ -501,7 +501,8 @@ fn light_visible(i: u32, p: vec3<f32>, n: vec3<f32>) -> f32 {
 
 @compute @workgroup_size(64)
 fn cs_bake(@builtin(global_invocation_id) id: vec3<u32>) {
-    let index = id.x;
+    // dims: x the points, y this dispatch's first point, z its first sample, w its samples
+    let index = id.x + truth.dims.y;
     if (index >= truth.dims.x) {
         return;
     }

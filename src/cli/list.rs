@@ -46,6 +46,7 @@ pub fn text(m: &Matrix) -> String {
             }
         }
         let _ = write!(out, "{}", light_plan(m, scene));
+        let _ = write!(out, "{}", bake_line(m, &exp.cells, scene));
         let _ = write!(out, "{}", fixed_maps_line(scene));
         if m.pipelines.contains(&Pipeline::Hdrp) {
             let x = &scene.hdrp.exposure;
@@ -263,6 +264,34 @@ fn light_plan(m: &Matrix, scene: &crate::spec::scene::Scene) -> String {
         }
     }
     out
+}
+
+/// How many bakes the composition's cells need (render::gi): one per pipeline and per value of
+/// the axes a baked or mixed key light takes (intensity, range, angle) and of the ambient axis;
+/// every other axis (the subject's material above all: the subject is dynamic) shares one.
+fn bake_line(m: &Matrix, cells: &[crate::cells::Cell], scene: &crate::spec::scene::Scene) -> String {
+    let Some(gi) = &scene.gi else { return String::new() };
+    let Some(index) = m.compositions.iter().position(|s| std::ptr::eq(s, scene)) else { return String::new() };
+    let key_baked = scene.key_light().is_some_and(|k| {
+        let l = &scene.lights[k];
+        !l.mode.is_realtime() || l.is_area()
+    });
+    let mut keys = std::collections::BTreeSet::new();
+    let mut count = 0usize;
+    for c in cells.iter().filter(|c| c.composition_index == index && c.twin_of.is_none()) {
+        count += 1;
+        let key_values =
+            key_baked.then(|| [c.light_intensity, c.light_range, c.light_angle.unwrap_or(f64::NAN)].map(f64::to_bits));
+        keys.insert((c.pipeline.name(), key_values, c.ambient_intensity.map(f64::to_bits)));
+    }
+    format!(
+        "  bakes: {} for its {count} rendered cells ({} texels per unit, {} samples, {} bounces{}); each is made once per run and shared\n",
+        keys.len(),
+        gi.texels_per_unit,
+        gi.samples,
+        gi.bounces,
+        if gi.probes.is_some() { ", a light-probe grid" } else { "" }
+    )
 }
 
 /// What each cell is compared against, in words.

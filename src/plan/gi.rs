@@ -16,14 +16,14 @@
 //!
 //! Static objects are the fixed ones (lightmapped); the subjects are dynamic (lit by probes).
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::pipelines::Pipeline;
 use crate::spec::gi::{GiSettings, LightBakeMode, MixedLighting, SHADOW_MASK_CHANNELS};
 use crate::spec::scene::{Light, LightKind};
 
 /// What the bake holds of one light, and where the frame draws it.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct BakedLight {
     /// The light's mode in this pipeline (an area light may be baked whatever the scene says).
     pub mode: LightBakeMode,
@@ -43,7 +43,7 @@ pub struct BakedLight {
 }
 
 /// A cell's baked lighting.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct GiPlan {
     /// The Lighting Mode the pipeline bakes with.
     pub mixed_lighting: MixedLighting,

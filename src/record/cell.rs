@@ -74,6 +74,9 @@ pub struct CellRecord {
     /// What the cell's path-traced truth reached, when the matrix compares with one.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub truth: Option<TruthRecord>,
+    /// The scene's baked lighting as this cell read it (absent: the scene bakes nothing).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bake: Option<BakeRecord>,
     /// The cell's term layers, where its run asked for them (`[outputs] terms`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub terms: Option<TermsRecord>,
@@ -84,6 +87,30 @@ pub struct CellRecord {
     pub stats: PixelStats,
     pub timing: CellTiming,
     pub metrics: CellMetrics,
+}
+
+/// A cell's bake (render::gi): what each light gave it and what the bake cost — a one-off, not
+/// per frame; cells whose bake inputs agree share one, and only the first pays its time.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct BakeRecord {
+    /// The Lighting Mode, each light's share and why (plan::gi).
+    pub plan: crate::plan::gi::GiPlan,
+    /// Made for this cell (false: shared with an earlier cell of the run, or nothing to bake).
+    pub made: bool,
+    /// Read from the bake cache beside the run folders (`seconds` is the run's that made it).
+    #[serde(default)]
+    pub cached: bool,
+    /// Wall time of the bake, s.
+    pub seconds: f64,
+    pub samples: u32,
+    pub bounces: u32,
+    /// The lightmap: size in texels, texels its charts cover, how it is stored, and the mean of
+    /// its texels' relative standard error (missing with no lightmap).
+    pub lightmap_size: Option<[u32; 2]>,
+    pub lightmap_texels: usize,
+    pub lightmap_encoding: String,
+    pub lightmap_noise: Maybe<f64>,
+    pub probes: usize,
 }
 
 /// A cell's truth as rendered: samples drawn, the subject's relative standard error (missing when

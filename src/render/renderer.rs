@@ -92,6 +92,8 @@ pub struct CellRender {
     pub left_out: Vec<(String, String)>,
     /// The cell's term layers where its run asks for them (`draw_terms`), or why it has none.
     pub terms: Option<Result<RenderedTerms, String>>,
+    /// What the frame read of the scene's bake (None: the scene bakes nothing).
+    pub bake: Option<crate::render::gi::BakeUse>,
 }
 
 pub struct Renderer {
@@ -135,6 +137,8 @@ pub struct Renderer {
     /// Whether an untimed cell may take a pass's output from the cell before when the pass's
     /// inputs are the same (`--no-reuse`: false); probe captures likewise.
     pub reuse: bool,
+    /// Bakes kept across runs (render::gi::cache); None: each run bakes its own.
+    pub bake_cache: Option<crate::render::gi::cache::BakeCache>,
 }
 
 impl Renderer {
@@ -320,6 +324,7 @@ impl Renderer {
             ray_layout,
             traced_shadows: HashMap::new(),
             reuse: true,
+            bake_cache: None,
         }
     }
 
@@ -520,7 +525,9 @@ impl Renderer {
         if background {
             self.pipelines.background_pipeline(&self.gpu, samples)?;
         }
+        let bakes_before = prepared.bakes.lock().unwrap_or_else(|e| e.into_inner()).len();
         let baked = self.baked_lighting(prepared, cell, plan, &fixed_model)?;
+        let made_bake = prepared.bakes.lock().unwrap_or_else(|e| e.into_inner()).len() > bakes_before;
         if let Some(b) = &baked {
             prepared.lightmap_texture.hold(&self.gpu.queue, b);
         }
@@ -859,6 +866,33 @@ impl Renderer {
             draws: plan.draws.counts.clone(),
             left_out: plan.shadows_left_out.clone(),
             terms: None,
+            bake: plan.gi.as_ref().map(|g| match &baked {
+                Some(b) => crate::render::gi::BakeUse {
+                    plan: g.clone(),
+                    made: made_bake,
+                    cached: b.cached,
+                    seconds: b.seconds,
+                    samples: b.samples,
+                    bounces: b.bounces,
+                    lightmap: b.lightmap.as_ref().map(|m| {
+                        let covered = prepared.lightmap.as_ref().map_or(0, |a| a.texels.len());
+                        ([m.width, m.height], covered, m.noise)
+                    }),
+                    probes: b.probes.as_ref().map_or(0, Vec::len),
+                    encoding: crate::render::gi::lightmaps::LightmapEncoding::of(cell.pipeline).name(),
+                },
+                None => crate::render::gi::BakeUse {
+                    plan: g.clone(),
+                    made: false,
+                    cached: false,
+                    seconds: 0.0,
+                    samples: 0,
+                    bounces: g.bounces,
+                    lightmap: None,
+                    probes: 0,
+                    encoding: crate::render::gi::lightmaps::LightmapEncoding::of(cell.pipeline).name(),
+                },
+            }),
         })
     }
 

@@ -35,6 +35,9 @@ pub struct Point {
     pub truth_noise: Option<f64>,
     /// What the cell was compared with (its reference's label).
     pub reference: String,
+    /// Its scene's bake: the wall time in s where this cell made it (a one-off cost, not per
+    /// frame), 0 where it shared an earlier cell's; None where the scene bakes nothing.
+    pub bake_seconds: Option<f64>,
 }
 
 /// Points not dominated by another (no other is at most as slow and at most as wrong, and better in one).
@@ -154,6 +157,7 @@ pub fn points(run: &RunData) -> (BTreeMap<String, (ErrorMeasure, Vec<Point>)>, b
                 z_rejected: c.metrics.ztest.as_ref().and_then(|z| z.value()).map(|z| z.rejected),
                 truth_noise: c.metrics.ztest.as_ref().and_then(|z| z.value()).and_then(|z| z.noise_relative_mse),
                 reference: c.metrics.reference.value().map_or_else(String::new, |r| r.label()),
+                bake_seconds: c.bake.as_ref().map(|b| if b.made { b.seconds } else { 0.0 }),
             }),
             _ => skipped += 1,
         }
@@ -184,18 +188,21 @@ pub fn write(run: &RunData) -> Result<(), Error> {
     };
     let mut md = format!("# Error against run time\n\nAdapter: **{}**. Time: {time_label}. Error: LDR-FLIP mean against each cell's reference, with SSIM, HDR-FLIP, the linear images' relative MSE and, against a path-traced truth, the share of pixels its Z-test rejects and the truth's noise: what it adds to the relMSE in expectation (`—`: not measured). The Pareto front is on the FLIP mean, or on the relMSE where every cell of the composition is compared with its truth. {skipped} cells have no reference (or no time) and are left out.\n", run.adapter());
     let mut csv = String::from(
-        "composition,cell,pipeline_shader,reference,time_ms,flip_mean,ssim_mean,hdr_flip_mean,relative_mse,truth_noise_relative_mse,z_rejected,pareto\n",
+        "composition,cell,pipeline_shader,reference,time_ms,flip_mean,ssim_mean,hdr_flip_mean,relative_mse,truth_noise_relative_mse,z_rejected,pareto,bake_seconds\n",
     );
     let opt = |v: Option<f64>, digits: usize| v.map_or("—".to_string(), |v| format!("{v:.digits$}"));
     let raw = |v: Option<f64>| v.map_or(String::new(), |v| v.to_string());
     for (comp, (measure, pts)) in &by {
-        let _ = writeln!(md, "\n## {comp}\n\n![error vs time](../plots/error_vs_time_{comp}.svg)\n\nPareto front on: {}.\n\n| cell | reference | time (ms) | FLIP mean | SSIM | HDR-FLIP | relMSE | truth noise | Z-test rejects | Pareto |\n|---|---|---|---|---|---|---|---|---|---|", measure.axis());
+        // A baked scene's cells say what their bake cost, once (0: shared with an earlier cell).
+        let baked = pts.iter().any(|p| p.bake_seconds.is_some());
+        let (bake_head, bake_rule) = if baked { (" bake (s, once) |", "---|") } else { ("", "") };
+        let _ = writeln!(md, "\n## {comp}\n\n![error vs time](../plots/error_vs_time_{comp}.svg)\n\nPareto front on: {}.\n\n| cell | reference | time (ms) | FLIP mean | SSIM | HDR-FLIP | relMSE | truth noise | Z-test rejects | Pareto |{bake_head}\n|---|---|---|---|---|---|---|---|---|---|{bake_rule}", measure.axis());
         let mut sorted: Vec<&Point> = pts.iter().collect();
         sorted.sort_by(|a, b| a.time_ms.total_cmp(&b.time_ms));
         for p in sorted {
             let _ = writeln!(
                 md,
-                "| `{}` | {} | {:.3} | {:.5} | {} | {} | {} | {} | {} | {} |",
+                "| `{}` | {} | {:.3} | {:.5} | {} | {} | {} | {} | {} | {} |{}",
                 p.id,
                 p.reference,
                 p.time_ms,
@@ -205,11 +212,12 @@ pub fn write(run: &RunData) -> Result<(), Error> {
                 opt(p.relative_mse, 4),
                 opt(p.truth_noise, 4),
                 opt(p.z_rejected, 3),
-                if p.pareto { "●" } else { "" }
+                if p.pareto { "●" } else { "" },
+                if baked { format!(" {} |", opt(p.bake_seconds, 2)) } else { String::new() }
             );
             let _ = writeln!(
                 csv,
-                "{comp},{},{},\"{}\",{},{},{},{},{},{},{},{}",
+                "{comp},{},{},\"{}\",{},{},{},{},{},{},{},{},{}",
                 p.id,
                 p.label,
                 p.reference,
@@ -220,7 +228,8 @@ pub fn write(run: &RunData) -> Result<(), Error> {
                 raw(p.relative_mse),
                 raw(p.truth_noise),
                 raw(p.z_rejected),
-                p.pareto
+                p.pareto,
+                raw(p.bake_seconds)
             );
         }
         write_atomic(
@@ -252,6 +261,7 @@ mod tests {
             z_rejected: None,
             truth_noise: None,
             reference: String::new(),
+            bake_seconds: None,
         };
         let mut pts = vec![p(1.0, 0.5), p(2.0, 0.2), p(3.0, 0.3), p(4.0, 0.1), p(2.0, 0.2)];
         mark_pareto(&mut pts);

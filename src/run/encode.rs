@@ -177,6 +177,7 @@ pub fn encode_cell(
         },
         shadow_maps: r.shadow_maps.clone(),
         lod: r.lod.clone(),
+        bake: r.bake.as_ref().map(bake_record),
         truth,
         terms,
         draws: r.draws.clone(),
@@ -408,6 +409,26 @@ fn write_supersampled(
     write_atomic(&dir.join("reference.png"), &encode::png_bytes(cell.width, cell.height, &srgb)?)
 }
 
+/// What a cell read of its scene's bake, as its record says it.
+fn bake_record(b: &crate::render::gi::BakeUse) -> crate::record::cell::BakeRecord {
+    crate::record::cell::BakeRecord {
+        plan: b.plan.clone(),
+        made: b.made,
+        cached: b.cached,
+        seconds: b.seconds,
+        samples: b.samples,
+        bounces: b.bounces,
+        lightmap_size: b.lightmap.map(|(size, _, _)| size),
+        lightmap_texels: b.lightmap.map_or(0, |(_, n, _)| n),
+        lightmap_encoding: b.encoding.to_string(),
+        lightmap_noise: match b.lightmap.and_then(|(_, _, n)| n) {
+            Some(n) => Maybe::Value(n),
+            None => Maybe::missing("no lightmap, or no covered texel".to_string()),
+        },
+        probes: b.probes,
+    }
+}
+
 /// A twin's record: its own axes and hash; its original's adapter and everything rendering measured.
 pub fn twin_record(
     matrix: &Matrix,
@@ -428,6 +449,7 @@ pub fn twin_record(
         antialiasing: o.antialiasing,
         shadow_maps: o.shadow_maps,
         lod: o.lod,
+        bake: o.bake,
         truth: None,
         terms: o.terms,
         exr_format: o.image.exr_format,
@@ -451,6 +473,7 @@ struct Measured {
     antialiasing: AntialiasingRecord,
     shadow_maps: Vec<crate::plan::ShadowMapUse>,
     lod: Vec<crate::plan::lod::LodUse>,
+    bake: Option<crate::record::cell::BakeRecord>,
     truth: Option<crate::record::cell::TruthRecord>,
     terms: Option<crate::record::cell::TermsRecord>,
     exr_format: String,
@@ -493,6 +516,7 @@ fn cell_record(
         antialiasing: m.antialiasing,
         shadow_maps: m.shadow_maps,
         lod: m.lod,
+        bake: m.bake,
         truth: m.truth,
         terms: m.terms,
         approximations: Vec::new(),

@@ -177,6 +177,11 @@ pub fn run(matrix: &Matrix, opts: &RunOptions) -> Result<RunSummary, Error> {
     stream.gpu_metrics = gpu_metrics;
     let mut renderer = Renderer::new(gpu);
     renderer.reuse = !opts.no_reuse;
+    // Bakes are kept beside the truths (`--no-cache`: this run's alone).
+    renderer.bake_cache = opts
+        .cache
+        .as_ref()
+        .map(|_| crate::render::gi::cache::BakeCache { dir: super::truth_cache::default_dir(&dir.root).join("bakes") });
     let result = stream.run(&mut renderer, geometry, workers, &mut record);
     bar.finish_and_clear();
     record.counts.rendered = stream.rendered.load(Ordering::Relaxed);

@@ -198,3 +198,38 @@ fn subtractive_and_shadowmask_differ_where_dynamic_shadows_fall_on_static_object
     assert!(mean(&outside) < 0.08, "outside the dynamic shadows the modes differ by {:.3}", mean(&outside));
     assert!(mean(&inside) > 3.0 * mean(&outside), "inside {:.3} vs outside {:.3}", mean(&inside), mean(&outside));
 }
+
+#[test]
+fn cells_share_a_bake_within_a_run_and_across_runs_and_list_counts_them() {
+    // Two presets in one run share the room's bake (the subject is dynamic, so its material
+    // cannot change the lightmaps): the first cell makes it, the second reads it. A later run's
+    // new cell reads it from the cache beside the runs.
+    let dir = tempfile::tempdir().unwrap();
+    let mut scene = std::fs::read_to_string(fixture("cornell_gi.toml")).unwrap();
+    scene = scene.replace("texels_per_unit = 4", "texels_per_unit = 2").replace("samples = 128", "samples = 16");
+    std::fs::write(dir.path().join("room.toml"), scene).unwrap();
+    let body = |presets: &str| {
+        format!(
+            "name = \"bakes\"\ncompositions = [\"room.toml\"]\npipelines = [\"urp\"]\nshaders = [\"lit\"]\npresets = [{presets}]\n[image]\nwidth = 32\nheight = 24\n"
+        )
+    };
+    let bakes = |run: &std::path::Path| -> Vec<(bool, bool)> {
+        let mut out = Vec::new();
+        for entry in std::fs::read_dir(run.join("cells")).unwrap() {
+            let record: serde_json::Value =
+                serde_json::from_slice(&std::fs::read(entry.unwrap().path().join("cell.json")).unwrap()).unwrap();
+            let b = &record["bake"];
+            out.push((b["made"].as_bool().unwrap(), b["cached"].as_bool().unwrap()));
+        }
+        out.sort();
+        out
+    };
+    let m = crate::common::write_matrix(dir.path(), "list.toml", &body("\"plastic\", \"gold\""));
+    let (code, listed, err) = crate::common::shadematrix(dir.path(), &["list", m.to_str().unwrap()], &[]);
+    assert_eq!(code, 0, "{err}");
+    assert!(listed.contains("bakes: 1 for its 2 rendered cells"), "{listed}");
+    let first = crate::common::run_matrix(dir.path(), &body("\"plastic\", \"gold\""), "a");
+    assert_eq!(bakes(&first), [(false, false), (true, false)]);
+    let second = crate::common::run_matrix(dir.path(), &body("\"rubber\""), "b");
+    assert_eq!(bakes(&second), [(true, true)]);
+}

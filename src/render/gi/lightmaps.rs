@@ -33,6 +33,13 @@ pub enum LightmapEncoding {
 }
 
 impl LightmapEncoding {
+    pub fn name(self) -> &'static str {
+        match self {
+            LightmapEncoding::Rgbm => "rgbm",
+            LightmapEncoding::Hdr => "hdr",
+        }
+    }
+
     pub fn of(pipeline: Pipeline) -> LightmapEncoding {
         match pipeline {
             Pipeline::Hdrp => LightmapEncoding::Hdr,

@@ -3,6 +3,7 @@
 //! (render::truth::bake) as Unity's Progressive Lightmapper gathers them, and how each object
 //! reads it in place of the sky's ambient SH.
 
+pub mod cache;
 pub mod lightmaps;
 pub mod probes;
 
@@ -26,6 +27,26 @@ pub struct BakedLighting {
     pub bounces: u32,
     /// Wall time of the bake, s (a one-off cost, not per frame).
     pub seconds: f64,
+    /// Read from the bake cache (an earlier run made it).
+    pub cached: bool,
+}
+
+/// What a cell's frame read of the bake: the plan's decisions and what the bake reached.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BakeUse {
+    pub plan: crate::plan::gi::GiPlan,
+    /// Made for this cell (false: an earlier cell's, whose inputs were the same).
+    pub made: bool,
+    /// Read from the bake cache (an earlier run made it; `seconds` is that run's).
+    pub cached: bool,
+    pub seconds: f64,
+    pub samples: u32,
+    pub bounces: u32,
+    /// The lightmap's size in texels and covered texels, and its stated noise.
+    pub lightmap: Option<([u32; 2], usize, Option<f64>)>,
+    pub probes: usize,
+    /// How the lightmap is stored (`rgbm`, `hdr`).
+    pub encoding: &'static str,
 }
 
 /// Where an object's ambient (diffuse indirect) light comes from.

@@ -18,6 +18,8 @@ use crate::spec::scene::Role;
 /// What one bake reads: the lights' shares, the static meshes, their materials and the points.
 struct BakeInputs {
     key: u64,
+    /// The stable key of the bake cache across runs (render::gi::cache).
+    disk_key: String,
     lights: Vec<BakeLight>,
     kept: Vec<bool>,
     objects: Vec<u8>,
@@ -62,6 +64,15 @@ impl Renderer {
         if let Some(b) = prepared.bakes.lock().unwrap_or_else(|e| e.into_inner()).get(&inputs.key) {
             return Ok(Some(b.clone()));
         }
+        if let Some((sums, record)) =
+            self.bake_cache.as_ref().and_then(|c| c.load(&inputs.disk_key, inputs.points.len()))
+        {
+            let mut baked = finish(prepared, cell, &inputs, &sums, record.seconds);
+            baked.cached = true;
+            let baked = Arc::new(baked);
+            prepared.bakes.lock().unwrap_or_else(|e| e.into_inner()).insert(inputs.key, baked.clone());
+            return Ok(Some(baked));
+        }
         let start = std::time::Instant::now();
         let pipeline_key =
             (cell.pipeline, format!("bake:{}", fixed_model.name), fixed_model.name.to_string(), TruthKind::SameBrdf);
@@ -93,6 +104,18 @@ impl Renderer {
             (inputs.gi.samples, inputs.gi.bounces),
         )?;
         let baked = Arc::new(finish(prepared, cell, &inputs, &sums, start.elapsed().as_secs_f64()));
+        if let Some(cache) = &self.bake_cache {
+            let record = crate::render::gi::cache::BakeCacheRecord {
+                schema: crate::render::gi::cache::BAKE_CACHE_SCHEMA,
+                key: inputs.disk_key.clone(),
+                points: inputs.points.len(),
+                samples: inputs.gi.samples,
+                bounces: inputs.gi.bounces,
+                seconds: baked.seconds,
+                adapter: self.gpu.adapter.get_info().name,
+            };
+            cache.store(&record, &sums)?;
+        }
         prepared.bakes.lock().unwrap_or_else(|e| e.into_inner()).insert(inputs.key, baked.clone());
         Ok(Some(baked))
     }
@@ -169,8 +192,37 @@ impl Renderer {
             }
             h.finish()
         };
+        let disk_key = {
+            let f = &written.frame;
+            let source = wgsl::compose_truth(fixed_model, fixed_model);
+            let scene = serde_json::to_vec(&prepared.scene).unwrap_or_default();
+            let settings = serde_json::to_vec(gi).unwrap_or_default();
+            let used: Vec<u8> = written
+                .lights
+                .iter()
+                .zip(&lights)
+                .filter(|(_, b)| b.weights[..3].iter().any(|w| *w != 0.0) || b.weights[3] >= 0.0)
+                .flat_map(|(l, b)| [bytemuck::bytes_of(l), bytemuck::bytes_of(b)].concat())
+                .collect();
+            let kept_bytes: Vec<u8> = kept.iter().map(|k| *k as u8).collect();
+            let frame =
+                [bytemuck::bytes_of(&f.env), bytemuck::bytes_of(&f.fixed), bytemuck::bytes_of(&f.counts)].concat();
+            crate::render::gi::cache::key(&[
+                cell.pipeline.name().as_bytes(),
+                source.as_bytes(),
+                &scene,
+                &settings,
+                bytemuck::cast_slice(&points),
+                &objects,
+                &used,
+                &kept_bytes,
+                &frame,
+                self.gpu.adapter.get_info().name.as_bytes(),
+            ])
+        };
         Some(BakeInputs {
             key,
+            disk_key,
             lights,
             kept,
             objects,
@@ -205,5 +257,6 @@ fn finish(
         samples: gi.samples,
         bounces: gi.bounces,
         seconds,
+        cached: false,
     }
 }

@@ -44,12 +44,12 @@ pub struct BakeLight {
 /// The sums of every point after `samples` samples each.
 pub type BakeSums = Vec<[[f32; 4]; BAKE_STRIDE]>;
 
-/// Paths per dispatch: enough to fill a GPU, few enough that one dispatch stays short.
-const PATHS_PER_DISPATCH: u64 = 1 << 18;
-/// The most samples one invocation takes per dispatch: lavapipe was measured to end invocations
-/// whose loops run long (a 4096-sample loop kept 158–1525 samples), so each dispatch keeps them
-/// short, and the counts are checked after.
-const SAMPLES_PER_DISPATCH: u64 = 32;
+/// Paths per dispatch: enough to fill a GPU, few enough that one dispatch stays short. Lavapipe
+/// was measured to end long dispatches early (a 4096-sample loop kept 158–1525 samples per point;
+/// 32 samples over the composite's 10⁴ texels lost some), so dispatches are cut by points and by
+/// samples, and the counts are checked after.
+const PATHS_PER_DISPATCH: u64 = 1 << 14;
+const SAMPLES_PER_DISPATCH: u64 = 8;
 
 /// Gather `samples` samples at every point with paths of `bounces` bounces.
 #[allow(clippy::too_many_arguments)]
@@ -97,23 +97,27 @@ pub fn gather(
         ],
     });
     let n = points.len() as u32;
-    let batch = (PATHS_PER_DISPATCH / n as u64).clamp(1, SAMPLES_PER_DISPATCH.min(samples.max(1) as u64)) as u32;
+    let chunk = (n as u64).min(PATHS_PER_DISPATCH) as u32;
+    let batch = (PATHS_PER_DISPATCH / chunk as u64).clamp(1, SAMPLES_PER_DISPATCH.min(samples.max(1) as u64)) as u32;
     let mut done = 0u32;
     while done < samples.max(1) {
         let count = batch.min(samples.max(1) - done);
-        let p = TruthParams { dims: [n, 1, done, count], settings: [bounces, 0, 0, samples.max(1)] };
-        gpu.queue.write_buffer(&params, 0, bytemuck::bytes_of(&p));
-        let mut encoder = device.create_command_encoder(&Default::default());
-        {
-            let mut pass = encoder.begin_compute_pass(&Default::default());
-            pass.set_pipeline(&pipeline.pipeline);
-            pass.set_bind_group(0, frame_group, &[]);
-            pass.set_bind_group(1, &group, &[]);
-            pass.set_bind_group(3, &scene.group, &[]);
-            pass.dispatch_workgroups(n.div_ceil(64), 1, 1);
+        for first in (0..n).step_by(chunk as usize) {
+            // dims: points, the chunk's first point, the batch's first sample, its samples
+            let p = TruthParams { dims: [n, first, done, count], settings: [bounces, 0, 0, samples.max(1)] };
+            gpu.queue.write_buffer(&params, 0, bytemuck::bytes_of(&p));
+            let mut encoder = device.create_command_encoder(&Default::default());
+            {
+                let mut pass = encoder.begin_compute_pass(&Default::default());
+                pass.set_pipeline(&pipeline.pipeline);
+                pass.set_bind_group(0, frame_group, &[]);
+                pass.set_bind_group(1, &group, &[]);
+                pass.set_bind_group(3, &scene.group, &[]);
+                pass.dispatch_workgroups(chunk.min(n - first).div_ceil(64), 1, 1);
+            }
+            gpu.queue.submit([encoder.finish()]);
+            gpu.wait_idle()?;
         }
-        gpu.queue.submit([encoder.finish()]);
-        gpu.wait_idle()?;
         done += count;
     }
     let staging = device.create_buffer(&wgpu::BufferDescriptor {
