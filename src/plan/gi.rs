@@ -84,16 +84,10 @@ impl GiPlan {
                         drawn_on_dynamic: true,
                         note: "realtime: drawn every frame, not baked".into(),
                     },
-                    LightBakeMode::Baked => BakedLight {
-                        mode,
-                        direct_in_lightmaps: true,
-                        direct_in_probes: true,
+                    LightBakeMode::Baked => baked_fully(
                         indirect,
-                        shadow_mask: None,
-                        drawn_on_static: false,
-                        drawn_on_dynamic: false,
-                        note: why.unwrap_or_else(|| "baked: direct and indirect light in lightmaps and probes".into()),
-                    },
+                        why.unwrap_or_else(|| "baked: direct and indirect light in lightmaps and probes".into()),
+                    ),
                     LightBakeMode::Mixed => mixed(mixed_lighting, Some(i) == main, indirect, &mut channels),
                 }
             })
@@ -134,6 +128,20 @@ impl GiPlan {
     }
 }
 
+/// A light whose direct and bounced light are baked and which the frame never draws.
+fn baked_fully(indirect: f64, note: String) -> BakedLight {
+    BakedLight {
+        mode: LightBakeMode::Baked,
+        direct_in_lightmaps: true,
+        direct_in_probes: true,
+        indirect,
+        shadow_mask: None,
+        drawn_on_static: false,
+        drawn_on_dynamic: false,
+        note,
+    }
+}
+
 /// A mixed light under `mode`.
 fn mixed(mode: MixedLighting, main: bool, indirect: f64, channels: &mut usize) -> BakedLight {
     let realtime = |note: String, shadow_mask| BakedLight {
@@ -161,18 +169,10 @@ fn mixed(mode: MixedLighting, main: bool, indirect: f64, channels: &mut usize) -
                 Some((*channels - 1) as u8),
             )
         }
-        MixedLighting::Shadowmask | MixedLighting::DistanceShadowmask => BakedLight {
-            mode: LightBakeMode::Baked,
-            direct_in_lightmaps: true,
-            direct_in_probes: true,
+        MixedLighting::Shadowmask | MixedLighting::DistanceShadowmask => baked_fully(
             indirect,
-            shadow_mask: None,
-            drawn_on_static: false,
-            drawn_on_dynamic: false,
-            note: format!(
-                "mixed, but the {SHADOW_MASK_CHANNELS} shadow-mask channels are taken: baked fully, as Unity does"
-            ),
-        },
+            format!("mixed, but the {SHADOW_MASK_CHANNELS} shadow-mask channels are taken: baked fully, as Unity does"),
+        ),
         MixedLighting::Subtractive => BakedLight {
             mode: LightBakeMode::Mixed,
             direct_in_lightmaps: true,

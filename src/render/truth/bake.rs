@@ -78,24 +78,8 @@ pub fn gather(
         mapped_at_creation: false,
     });
     let no_roles = storage(device, "bake: no roles", &[0; 16]);
-    let params = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("bake params"),
-        size: std::mem::size_of::<TruthParams>() as u64,
-        usage: gpu.constants.usage() | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("bake"),
-        layout: &pipeline.layout,
-        entries: &[
-            wgpu::BindGroupEntry { binding: 0, resource: params.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 1, resource: objects.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 2, resource: accum.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 3, resource: no_roles.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 4, resource: point_buffer.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 5, resource: light_buffer.as_entire_binding() },
-        ],
-    });
+    let buffers = [&objects, &accum, &no_roles, &point_buffer, &light_buffer];
+    let (group, params) = super::tracer_group(gpu, pipeline, "bake", buffers);
     let n = points.len() as u32;
     let chunk = (n as u64).min(PATHS_PER_DISPATCH) as u32;
     let batch = (PATHS_PER_DISPATCH / chunk as u64).clamp(1, SAMPLES_PER_DISPATCH.min(samples.max(1) as u64)) as u32;
@@ -120,16 +104,7 @@ pub fn gather(
         }
         done += count;
     }
-    let staging = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("bake readback"),
-        size: accum_bytes,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    let mut encoder = device.create_command_encoder(&Default::default());
-    encoder.copy_buffer_to_buffer(&accum, 0, &staging, 0, accum_bytes);
-    gpu.queue.submit([encoder.finish()]);
-    let bytes = crate::gpu::readback::map_read(device, &staging)?;
+    let bytes = super::read_buffer(gpu, &accum, accum_bytes)?;
     gpu.check_errors("baking lightmaps and probes")?;
     let sums: &[[[f32; 4]; BAKE_STRIDE]] = bytemuck::cast_slice(&bytes);
     // Every point must have taken every sample: a bake missing some would look complete.

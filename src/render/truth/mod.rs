@@ -341,37 +341,9 @@ pub fn trace(
         usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
         mapped_at_creation: false,
     });
-    let params = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("truth params"),
-        size: std::mem::size_of::<TruthParams>() as u64,
-        usage: gpu.constants.usage() | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("truth"),
-        layout: &pipeline.layout,
-        entries: &[
-            wgpu::BindGroupEntry { binding: 0, resource: params.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 1, resource: objects.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 2, resource: accum.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 3, resource: roles.as_entire_binding() },
-            // The bake's points and lights: unread by the truth's entry point.
-            wgpu::BindGroupEntry { binding: 4, resource: unused.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 5, resource: unused.as_entire_binding() },
-        ],
-    });
-    let readback = |buffer: &wgpu::Buffer, size: u64| -> Result<Vec<u8>, Error> {
-        let staging = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("truth readback"),
-            size,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let mut encoder = device.create_command_encoder(&Default::default());
-        encoder.copy_buffer_to_buffer(buffer, 0, &staging, 0, size);
-        gpu.queue.submit([encoder.finish()]);
-        crate::gpu::readback::map_read(device, &staging)
-    };
+    // The bake's points and lights: unread by the truth's entry point.
+    let (group, params) = tracer_group(gpu, pipeline, "truth", [&objects, &accum, &roles, &unused, &unused]);
+    let readback = |buffer: &wgpu::Buffer, size: u64| read_buffer(gpu, buffer, size);
     let batch = settings.batch.max(1);
     let mut done = 0u32;
     let mut result;
@@ -412,6 +384,46 @@ pub fn trace(
     result.bounces = settings.bounces;
     result.kind = settings.kind;
     Ok(result)
+}
+
+/// The tracer's group (group 1) over its buffers — objects, sums, first roles, the bake's points
+/// and lights — with a fresh parameter buffer, which it returns for each batch to write.
+pub(crate) fn tracer_group(
+    gpu: &GpuContext,
+    pipeline: &TruthPipeline,
+    label: &str,
+    buffers: [&wgpu::Buffer; 5],
+) -> (wgpu::BindGroup, wgpu::Buffer) {
+    let params = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: std::mem::size_of::<TruthParams>() as u64,
+        usage: gpu.constants.usage() | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut entries = vec![wgpu::BindGroupEntry { binding: 0, resource: params.as_entire_binding() }];
+    for (binding, buffer) in (1..).zip(buffers) {
+        entries.push(wgpu::BindGroupEntry { binding, resource: buffer.as_entire_binding() });
+    }
+    let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout: &pipeline.layout,
+        entries: &entries,
+    });
+    (group, params)
+}
+
+/// The first `size` bytes of a GPU buffer, copied out through a staging buffer.
+pub(crate) fn read_buffer(gpu: &GpuContext, buffer: &wgpu::Buffer, size: u64) -> Result<Vec<u8>, Error> {
+    let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("tracer readback"),
+        size,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    encoder.copy_buffer_to_buffer(buffer, 0, &staging, 0, size);
+    gpu.queue.submit([encoder.finish()]);
+    crate::gpu::readback::map_read(&gpu.device, &staging)
 }
 
 /// Mean and standard error per pixel from the sums; the subject's relative noise.
