@@ -18,8 +18,10 @@ use crate::spec::scene::Role;
 /// What one bake reads: the lights' shares, the static meshes, their materials and the points.
 struct BakeInputs {
     key: u64,
-    /// The stable key of the bake cache across runs (render::gi::cache).
-    disk_key: String,
+    /// The lights the bake reads (values and shares) and the frame's environment, as bytes: part
+    /// of the cross-run key, which is made only when the run has not this bake already.
+    used_lights: Vec<u8>,
+    frame: Vec<u8>,
     lights: Vec<BakeLight>,
     kept: Vec<bool>,
     objects: Vec<u8>,
@@ -64,9 +66,8 @@ impl Renderer {
         if let Some(b) = prepared.bakes.lock().unwrap_or_else(|e| e.into_inner()).get(&inputs.key) {
             return Ok(Some(b.clone()));
         }
-        if let Some((sums, record)) =
-            self.bake_cache.as_ref().and_then(|c| c.load(&inputs.disk_key, inputs.points.len()))
-        {
+        let disk_key = self.disk_key(prepared, cell, fixed_model, &inputs);
+        if let Some((sums, record)) = self.bake_cache.as_ref().and_then(|c| c.load(&disk_key, inputs.points.len())) {
             let mut baked = finish(prepared, cell, &inputs, &sums, record.seconds);
             baked.cached = true;
             let baked = Arc::new(baked);
@@ -107,7 +108,7 @@ impl Renderer {
         if let Some(cache) = &self.bake_cache {
             let record = crate::render::gi::cache::BakeCacheRecord {
                 schema: crate::render::gi::cache::BAKE_CACHE_SCHEMA,
-                key: inputs.disk_key.clone(),
+                key: disk_key.clone(),
                 points: inputs.points.len(),
                 samples: inputs.gi.samples,
                 bounces: inputs.gi.bounces,
@@ -118,6 +119,34 @@ impl Renderer {
         }
         prepared.bakes.lock().unwrap_or_else(|e| e.into_inner()).insert(inputs.key, baked.clone());
         Ok(Some(baked))
+    }
+
+    /// The bake's key across runs (render::gi::cache): the composed tracer, the scene as parsed,
+    /// the Lighting Settings, the points, the static objects' materials, the lights and frame it
+    /// reads, the meshes kept, and the adapter.
+    fn disk_key(
+        &self,
+        prepared: &PreparedScene,
+        cell: &CellParams,
+        fixed_model: &ShaderModel,
+        inputs: &BakeInputs,
+    ) -> String {
+        let source = wgsl::compose_truth(fixed_model, fixed_model);
+        let scene = serde_json::to_vec(&prepared.scene).unwrap_or_default();
+        let settings = serde_json::to_vec(&inputs.gi).unwrap_or_default();
+        let kept: Vec<u8> = inputs.kept.iter().map(|k| *k as u8).collect();
+        crate::render::gi::cache::key(&[
+            cell.pipeline.name().as_bytes(),
+            source.as_bytes(),
+            &scene,
+            &settings,
+            bytemuck::cast_slice(&inputs.points),
+            &inputs.objects,
+            &inputs.used_lights,
+            &kept,
+            &inputs.frame,
+            self.gpu.adapter.get_info().name.as_bytes(),
+        ])
     }
 
     /// What this cell's bake reads, and its key; None where nothing baked can reach the frame.
@@ -192,37 +221,19 @@ impl Renderer {
             }
             h.finish()
         };
-        let disk_key = {
-            let f = &written.frame;
-            let source = wgsl::compose_truth(fixed_model, fixed_model);
-            let scene = serde_json::to_vec(&prepared.scene).unwrap_or_default();
-            let settings = serde_json::to_vec(gi).unwrap_or_default();
-            let used: Vec<u8> = written
-                .lights
-                .iter()
-                .zip(&lights)
-                .filter(|(_, b)| b.weights[..3].iter().any(|w| *w != 0.0) || b.weights[3] >= 0.0)
-                .flat_map(|(l, b)| [bytemuck::bytes_of(l), bytemuck::bytes_of(b)].concat())
-                .collect();
-            let kept_bytes: Vec<u8> = kept.iter().map(|k| *k as u8).collect();
-            let frame =
-                [bytemuck::bytes_of(&f.env), bytemuck::bytes_of(&f.fixed), bytemuck::bytes_of(&f.counts)].concat();
-            crate::render::gi::cache::key(&[
-                cell.pipeline.name().as_bytes(),
-                source.as_bytes(),
-                &scene,
-                &settings,
-                bytemuck::cast_slice(&points),
-                &objects,
-                &used,
-                &kept_bytes,
-                &frame,
-                self.gpu.adapter.get_info().name.as_bytes(),
-            ])
-        };
+        let f = &written.frame;
+        let used_lights: Vec<u8> = written
+            .lights
+            .iter()
+            .zip(&lights)
+            .filter(|(_, b)| b.weights[..3].iter().any(|w| *w != 0.0) || b.weights[3] >= 0.0)
+            .flat_map(|(l, b)| [bytemuck::bytes_of(l), bytemuck::bytes_of(b)].concat())
+            .collect();
+        let frame = [bytemuck::bytes_of(&f.env), bytemuck::bytes_of(&f.fixed), bytemuck::bytes_of(&f.counts)].concat();
         Some(BakeInputs {
             key,
-            disk_key,
+            used_lights,
+            frame,
             lights,
             kept,
             objects,
