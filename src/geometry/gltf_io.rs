@@ -361,6 +361,8 @@ fn read_primitive(
     let positions: Vec<[f32; 3]> = positions.collect();
     let normals: Option<Vec<[f32; 3]>> = reader.read_normals().map(|n| n.collect());
     let uvs: Option<Vec<[f32; 2]>> = reader.read_tex_coords(0).map(|t| t.into_f32().collect());
+    // TEXCOORD_1: the file's own lightmap UVs, which the lightmap then uses (geometry::lightmap_uv).
+    let uv2s: Option<Vec<[f32; 2]>> = reader.read_tex_coords(1).map(|t| t.into_f32().collect());
     let tangents: Option<Vec<[f32; 4]>> = reader.read_tangents().map(|t| t.collect());
     let indices: Vec<u32> = match reader.read_indices() {
         Some(i) => i.into_u32().collect(),
@@ -382,7 +384,7 @@ fn read_primitive(
                 normal: normals.as_ref().map(|n| n[i]).unwrap_or([0.0; 3]),
                 uv: uvs.as_ref().map(|t| t[i]).unwrap_or([0.0; 2]),
                 tangent: tangents.as_ref().map(|t| t[i]).unwrap_or([0.0; 4]),
-                uv2: [0.0; 2],
+                uv2: uv2s.as_ref().map(|t| t[i]).unwrap_or([0.0; 2]),
             })
             .collect(),
         indices: indices[..indices.len() / 3 * 3].to_vec(),

@@ -12,6 +12,10 @@
 //! so that its projection does not fold: exact for the planar faces of rooms and boxes, a
 //! flattening of curved ones that Unity's unwrapper would distort less.
 //!
+//! A mesh that brings its own lightmap UVs (a glTF file's TEXCOORD_1, read into `uv2`) keeps them:
+//! its [0, 1]² square becomes one chart, scaled so that its texels cover the mesh's world area at
+//! the scene's texels per unit, as Unity scales an imported lightmap UV set by the renderer's area.
+//!
 //! A texel that no triangle covers stays empty; the bake's dilation fills those beside charts
 //! (render::gi::lightmaps).
 
@@ -122,6 +126,30 @@ fn charts_of(object: usize, mesh: &Mesh, p: &[DVec3], texels_per_unit: f64) -> V
     charts
 }
 
+/// The chart of a mesh that brings its own lightmap UVs (every face's `uv2` of non-zero area),
+/// scaled so that its UV area holds the mesh's world area at `texels_per_unit`.
+fn own_chart(object: usize, mesh: &Mesh, p: &[DVec3], texels_per_unit: f64) -> Option<Chart> {
+    let faces = mesh.indices.len() / 3;
+    let corner = |f: usize, k: usize| mesh.indices[3 * f + k] as usize;
+    let uv = |i: usize| DVec2::new(mesh.vertices[i].uv2[0] as f64, mesh.vertices[i].uv2[1] as f64);
+    let (mut uv_area, mut world_area) = (0.0, 0.0);
+    for f in 0..faces {
+        let [a, b, c] = [0, 1, 2].map(|k| corner(f, k));
+        let area = (uv(b) - uv(a)).perp_dot(uv(c) - uv(a)).abs() * 0.5;
+        if area <= 0.0 {
+            return None;
+        }
+        uv_area += area;
+        world_area += (p[b] - p[a]).cross(p[c] - p[a]).length() * 0.5;
+    }
+    let scale = (world_area / uv_area).sqrt() * texels_per_unit;
+    let corners: Vec<[DVec2; 3]> = (0..faces).map(|f| [0, 1, 2].map(|k| uv(corner(f, k)) * scale)).collect();
+    let lo = corners.iter().flatten().fold(DVec2::splat(f64::MAX), |m, c| m.min(*c));
+    let hi = corners.iter().flatten().fold(DVec2::splat(f64::MIN), |m, c| m.max(*c));
+    let corners = corners.into_iter().map(|c| c.map(|q| q - lo)).collect();
+    Some(Chart { object, faces: (0..faces).collect(), corners, size: hi - lo, offset: DVec2::ZERO })
+}
+
 /// Pack charts on shelves (tallest first) into a square-ish atlas; returns its size in texels.
 fn pack(charts: &mut [Chart], padding: f64) -> (u32, u32) {
     let area: f64 = charts.iter().map(|c| (c.size.x + padding) * (c.size.y + padding)).sum();
@@ -165,8 +193,13 @@ pub fn unwrap(scene: &Scene, meshes: &mut [Mesh], gi: &GiSettings) -> Result<Lig
                 .collect()
         })
         .collect();
-    let mut charts: Vec<Chart> =
-        fixed.iter().flat_map(|&i| charts_of(i, &meshes[i], &world[i], gi.texels_per_unit)).collect();
+    let mut charts: Vec<Chart> = fixed
+        .iter()
+        .flat_map(|&i| match own_chart(i, &meshes[i], &world[i], gi.texels_per_unit) {
+            Some(chart) => vec![chart],
+            None => charts_of(i, &meshes[i], &world[i], gi.texels_per_unit),
+        })
+        .collect();
     let (width, height) = pack(&mut charts, gi.padding as f64);
     if width > MAX_LIGHTMAP_SIDE || height > MAX_LIGHTMAP_SIDE {
         return Err(Error::Other(format!(
@@ -310,6 +343,24 @@ mod tests {
         for i in (0..scene.objects.len()).filter(|&i| atlas.lightmapped[i]) {
             assert!(meshes[i].vertices.iter().all(|v| v.uv2.iter().all(|c| (0.0..=1.0).contains(c))));
         }
+    }
+
+    #[test]
+    fn a_mesh_with_its_own_lightmap_uvs_keeps_them() {
+        // The floor brings uv2 mirrored in u (as a glTF TEXCOORD_1 would): one chart, its texels
+        // laid out by those UVs at the scene's density.
+        let (scene, mut meshes) = room();
+        let gi = scene.gi.clone().unwrap();
+        let floor = scene.objects.iter().position(|o| o.name == "floor").unwrap();
+        for v in &mut meshes[floor].vertices {
+            v.uv2 = [1.0 - (v.position[0] / 8.0 + 0.5), v.position[2] / 8.0 + 0.5];
+        }
+        let atlas = unwrap(&scene, &mut meshes, &gi).unwrap();
+        let texels: Vec<_> = atlas.texels.iter().filter(|t| t.object == floor).collect();
+        assert!((1024..=34 * 34).contains(&texels.len()), "{} floor texels", texels.len());
+        // Mirrored: further right in the lightmap is further left in the world.
+        let (a, b) = (texels.iter().min_by_key(|t| t.x).unwrap(), texels.iter().max_by_key(|t| t.x).unwrap());
+        assert!(a.position[0] > 3.5 && b.position[0] < -3.5, "{a:?} {b:?}");
     }
 
     #[test]
