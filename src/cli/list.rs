@@ -185,14 +185,7 @@ fn light_plan(m: &Matrix, scene: &crate::spec::scene::Scene) -> String {
             let gi = scene.gi.as_ref().map(|g| crate::plan::gi::GiPlan::new(g, *p, &lights, main));
             let plan = assign(*p, *path, &m.light_budget, &lights, &centres, |i| {
                 let dynamic = scene.objects[i].role == crate::spec::scene::Role::Subject;
-                let baked = gi.as_ref().map_or_else(Vec::new, |g| {
-                    g.lights
-                        .iter()
-                        .map(|b| {
-                            (!if dynamic { b.drawn_on_dynamic } else { b.drawn_on_static }).then(|| b.note.clone())
-                        })
-                        .collect()
-                });
+                let baked = gi.as_ref().map_or_else(Vec::new, |g| g.baked_alone(dynamic));
                 crate::plan::lights::ModelLighting { forward_only: false, area_lights: true, baked }
             });
             if let Some(gi) = &gi {

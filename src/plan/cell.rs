@@ -291,13 +291,7 @@ impl CellPlan {
         let lights = cell_lights(scene, cell.light_intensity, cell.light_range, &camera, &cell.view);
         let gi = scene.gi.as_ref().map(|g| super::gi::GiPlan::new(g, p, &lights, main_light(p, &lights)));
         // Per light, why the bake alone brings it to static (fixed) and to dynamic objects.
-        let baked_on = |dynamic: bool| -> Vec<Option<String>> {
-            let Some(gi) = &gi else { return Vec::new() };
-            gi.lights
-                .iter()
-                .map(|b| (!if dynamic { b.drawn_on_dynamic } else { b.drawn_on_static }).then(|| b.note.clone()))
-                .collect()
-        };
+        let baked_on = |dynamic: bool| gi.as_ref().map_or_else(Vec::new, |g| g.baked_alone(dynamic));
         let (baked_static, baked_dynamic) = (baked_on(false), baked_on(true));
         let model = |i: usize| match scene.objects[i].role {
             Role::Subject => ModelLighting {

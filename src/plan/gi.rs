@@ -101,6 +101,15 @@ impl GiPlan {
         environment || self.lights.iter().any(|l| l.direct_in_lightmaps || l.direct_in_probes || l.indirect > 0.0)
     }
 
+    /// Per light, why the bake alone brings it to dynamic objects (the subjects) or static ones
+    /// (None where the frame draws it on them): what the light budgets leave out (plan::lights).
+    pub fn baked_alone(&self, dynamic: bool) -> Vec<Option<String>> {
+        self.lights
+            .iter()
+            .map(|b| (!if dynamic { b.drawn_on_dynamic } else { b.drawn_on_static }).then(|| b.note.clone()))
+            .collect()
+    }
+
     /// One line for `list`: the Lighting Mode and what each light bakes.
     pub fn summary(&self) -> String {
         let mut s = self.mixed_lighting.name().to_string();
