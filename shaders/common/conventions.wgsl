@@ -91,6 +91,22 @@ fn distance_attenuation(d: f32, range: f32) -> f32 {
     return g * g;
 }
 
+// The lightmapper's distance falloff (twin: pipelines::BakedFalloff; core
+// PathTracing/LightFalloffLUT.cs): built-in bakes LegacyUnityFalloff (`legacy`), URP and HDRP
+// InverseSquaredFalloffSmooth, as their lights delegates set
+fn baked_distance_attenuation(legacy: bool, d: f32, range: f32) -> f32 {
+    if (legacy) {
+        // 1/(1 + 25x²), x = d/range clamped to 1, faded linearly in x² from 0.64 to 1
+        let x2 = sat(d / range) * sat(d / range);
+        return (1.0 / (1.0 + 25.0 * x2)) * select(1.0, 1.0 - (x2 - 0.64) / 0.36, x2 >= 0.64);
+    }
+    // (1/max(d², 10⁻⁴))·sat(1 − (d²/max(r², 10⁻⁴))²)²
+    let d2 = d * d;
+    let factor = d2 / max(range * range, 1e-4);
+    let window = sat(1.0 - factor * factor);
+    return window * window / max(d2, 1e-4);
+}
+
 // Spot cone: sat((S·L − cosOuter)/max(ε, cosInner − cosOuter))² (URP models.md#urp; HDRP's form is the same with ε = 1e-4)
 fn angle_attenuation(cos_angle: f32, cos_outer: f32, cos_inner: f32) -> f32 {
     let a = sat((cos_angle - cos_outer) / max(0.001, cos_inner - cos_outer));

@@ -216,6 +216,20 @@ fn physical_attenuation(light: Light, p: vec3<f32>, l: vec3<f32>) -> f32 {
     return atten;
 }
 
+// The lightmapper's falloff of the pipeline's punctual lights (conventions.wgsl
+// `baked_distance_attenuation`); spots keep the pipeline's cone
+fn baked_attenuation(light: Light, p: vec3<f32>, l: vec3<f32>) -> f32 {
+    let kind = u32(light.position.w);
+    if (kind == 0u) {
+        return 1.0;
+    }
+    var atten = baked_distance_attenuation(PIPELINE == PIPELINE_BUILTIN, length(light.position.xyz - p), light.params.x);
+    if (kind == 2u) {
+        atten *= angle_attenuation(dot(normalize(light.direction.xyz), -l), light.params.y, light.params.z);
+    }
+    return atten;
+}
+
 // ---- The light at a point: every light and the environment, sampled once each.
 
 fn direct_light(sp: SurfacePoint, v: vec3<f32>) -> vec3<f32> {
@@ -237,6 +251,8 @@ fn direct_light(sp: SurfacePoint, v: vec3<f32>) -> vec3<f32> {
             inc = light_incidence(light, sp.p);
             if (TRUTH_KIND == 1u) {
                 inc.w = physical_attenuation(light, sp.p, inc.xyz);
+            } else if (bake_kind != 0u) {
+                inc.w = baked_attenuation(light, sp.p, inc.xyz);
             }
             if (u32(light.position.w) != 0u) {
                 distance = length(light.position.xyz - sp.p) * (1.0 - 1e-4);
@@ -501,7 +517,7 @@ fn light_visible(i: u32, p: vec3<f32>, n: vec3<f32>) -> f32 {
 
 @compute @workgroup_size(64)
 fn cs_bake(@builtin(global_invocation_id) id: vec3<u32>) {
-    // dims: x the points, y this dispatch's first point, z its first sample, w its samples
+    // dims: x the end of the points taken, y this dispatch's first point, z its first sample, w its samples
     let index = id.x + truth.dims.y;
     if (index >= truth.dims.x) {
         return;
@@ -577,6 +593,7 @@ fn cs_bake(@builtin(global_invocation_id) id: vec3<u32>) {
                     distance = a.distance * (1.0 - 1e-4);
                 } else {
                     inc = light_incidence(light, p);
+                    inc.w = baked_attenuation(light, p, inc.xyz);
                     if (u32(light.position.w) != 0u) {
                         distance = length(light.position.xyz - p) * (1.0 - 1e-4);
                     }

@@ -140,6 +140,17 @@ impl Pipeline {
         }
     }
 
+    /// The falloff Unity's Progressive Lightmapper bakes this pipeline's point and spot lights
+    /// with (`LightDataGI.falloff`): URP's lights delegate (UniversalRenderPipeline.cs
+    /// `lightsDelegate`) and HDRP's (GlobalIlluminationUtils.cs `LightDataGIExtract`, range
+    /// attenuation on) set InverseSquared; built-in sets no delegate and bakes the Legacy falloff.
+    pub fn baked_falloff(self) -> BakedFalloff {
+        match self {
+            Pipeline::Builtin => BakedFalloff::Legacy,
+            Pipeline::Urp | Pipeline::Hdrp => BakedFalloff::InverseSquared,
+        }
+    }
+
     /// The tonemapper each pipeline ships with: none for built-in (no post-processing stack) and
     /// URP (its Tonemapping override defaults to None); ACES for HDRP, whose default volume profile
     /// sets Tonemapping mode ACES (DefaultSettingsVolumeProfile.asset, models.md#display).
@@ -325,6 +336,42 @@ impl Attenuation {
                 let inv_d = (1.0 / distance).min(100.0);
                 let f = (1.0 - (d2 / (range * range)).powi(2)).clamp(0.0, 1.0);
                 (inv_d * f).powi(2)
+            }
+        }
+    }
+}
+
+/// A baked light's distance falloff (`FalloffType`), as core's path tracer builds its falloff
+/// tables (com.unity.render-pipelines.core Runtime/PathTracing/LightFalloffLUT.cs). The tables
+/// sample these curves at 1024 points; the bake evaluates them exactly.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BakedFalloff {
+    /// `LegacyUnityFalloff`: 1/(1 + 25x²), x = d/range clamped to 1, faded linearly in x² to 0
+    /// from x² = 0.64 to 1.
+    Legacy,
+    /// `InverseSquaredFalloffSmooth`: (1/max(d², 10⁻⁴))·sat(1 − (d²/r²)²)², r² floored at 10⁻⁴.
+    InverseSquared,
+}
+
+impl BakedFalloff {
+    /// f64 twin of truth.wgsl `baked_distance_attenuation`.
+    pub fn eval(self, distance: f64, range: f64) -> f64 {
+        match self {
+            BakedFalloff::Legacy => {
+                let x2 = (distance / range).clamp(0.0, 1.0).powi(2);
+                let atten = 1.0 / (1.0 + 25.0 * x2);
+                if x2 >= 0.64 {
+                    atten * (1.0 - (x2 - 0.64) / (1.0 - 0.64))
+                } else {
+                    atten
+                }
+            }
+            BakedFalloff::InverseSquared => {
+                let d2 = distance * distance;
+                let factor = d2 / (range * range).max(1e-4);
+                let smooth = (1.0 - factor * factor).clamp(0.0, 1.0);
+                smooth * smooth / d2.max(1e-4)
             }
         }
     }
@@ -558,6 +605,32 @@ impl Emitter {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn baked_falloffs_follow_the_lightmappers_curves() {
+        let range = 10.0;
+        // Legacy: the vertex-lighting curve 1/(1 + 25x²) inside x² < 0.64, a linear fade in x²
+        // after it, zero at and past the range.
+        for d in [0.0, 2.0, 5.0, 7.9] {
+            let x = d / range;
+            assert!((BakedFalloff::Legacy.eval(d, range) - 1.0 / (1.0 + 25.0 * x * x)).abs() < 1e-15);
+        }
+        let x2: f64 = 0.82;
+        let half_way = BakedFalloff::Legacy.eval(x2.sqrt() * range, range);
+        assert!((half_way - 0.5 / (1.0 + 25.0 * x2)).abs() < 1e-12, "{half_way}");
+        assert_eq!(BakedFalloff::Legacy.eval(range, range), 0.0);
+        assert_eq!(BakedFalloff::Legacy.eval(2.0 * range, range), 0.0);
+        // Inverse squared: URP's and HDRP's real-time curves past their floors.
+        for d in [0.5, 3.0, 9.0, 9.99] {
+            let baked = BakedFalloff::InverseSquared.eval(d, range);
+            for a in [Attenuation::UrpSmoothInverseSquare, Attenuation::HdrpPunctual] {
+                assert!((baked - a.eval(d, range)).abs() <= 1e-12 * baked.max(1.0), "{a:?} at {d}");
+            }
+        }
+        assert!((BakedFalloff::InverseSquared.eval(0.001, range) - 1e4).abs() < 1e-6, "floored at 1 cm");
+        assert_eq!(Pipeline::Builtin.baked_falloff(), BakedFalloff::Legacy);
+        assert_eq!(Pipeline::Hdrp.baked_falloff(), BakedFalloff::InverseSquared);
+    }
 
     #[test]
     fn shadow_resolution_defaults_follow_each_pipeline() {

@@ -102,7 +102,14 @@ pub struct BakeRecord {
     pub cached: bool,
     /// Wall time of the bake, s.
     pub seconds: f64,
+    /// Samples per probe, and the most per texel.
     pub samples: u32,
+    /// The samples the texels took to reach `noise_target` (0: a bake without texels).
+    #[serde(default)]
+    pub texel_samples: u32,
+    /// The lightmap noise the bake converged towards (0: every texel took `samples`).
+    #[serde(default)]
+    pub noise_target: f64,
     pub bounces: u32,
     /// The lightmap: size in texels, texels its charts cover, how it is stored, and the mean of
     /// its texels' relative standard error (missing with no lightmap).

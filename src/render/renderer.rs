@@ -873,6 +873,8 @@ impl Renderer {
                     cached: b.cached,
                     seconds: b.seconds,
                     samples: b.samples,
+                    texel_samples: b.texel_samples,
+                    noise_target: b.noise_target,
                     bounces: b.bounces,
                     lightmap: b.lightmap.as_ref().map(|m| {
                         let covered = prepared.lightmap.as_ref().map_or(0, |a| a.texels.len());
@@ -887,6 +889,8 @@ impl Renderer {
                     cached: false,
                     seconds: 0.0,
                     samples: 0,
+                    texel_samples: 0,
+                    noise_target: 0.0,
                     bounces: g.bounces,
                     lightmap: None,
                     probes: 0,

@@ -417,6 +417,8 @@ fn bake_record(b: &crate::render::gi::BakeUse) -> crate::record::cell::BakeRecor
         cached: b.cached,
         seconds: b.seconds,
         samples: b.samples,
+        texel_samples: b.lightmap.map_or(0, |_| b.texel_samples),
+        noise_target: b.noise_target,
         bounces: b.bounces,
         lightmap_size: b.lightmap.map(|(size, _, _)| size),
         lightmap_texels: b.lightmap.map_or(0, |(_, n, _)| n),

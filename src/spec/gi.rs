@@ -76,6 +76,8 @@ pub const DEFAULT_TEXELS_PER_UNIT: f64 = 40.0;
 pub const DEFAULT_PADDING: u32 = 2;
 /// Indirect samples per texel and per probe (Unity's default Indirect Samples, 512).
 pub const DEFAULT_SAMPLES: u32 = 512;
+/// The lightmap noise a bake converges to (`noise`): 2 % of the mean texel's light.
+pub const DEFAULT_NOISE: f64 = 0.02;
 /// The subtractive mode's Realtime Shadow Color (Lighting Settings default: 0.42, 0.478, 0.627 sRGB).
 pub const DEFAULT_REALTIME_SHADOW_COLOR: [f64; 3] = [0.42, 0.478, 0.627];
 /// Shadow-mask channels: a texel holds the occlusion of at most four overlapping Mixed lights;
@@ -97,9 +99,14 @@ pub struct GiSettings {
     /// Lightmap Padding: texels between charts.
     #[serde(default = "default_padding")]
     pub padding: u32,
-    /// Samples per texel and per probe; the bake records the noise they leave.
+    /// Samples per probe, and the most per texel; the bake records the noise they leave.
     #[serde(default = "default_samples")]
     pub samples: u32,
+    /// The lightmap's noise to converge to: texels take rounds of samples until the mean over
+    /// them of their light's standard error, over their mean light, falls to it (`samples` at
+    /// most; 0: every texel takes `samples`).
+    #[serde(default = "default_noise")]
+    pub noise: f64,
     /// Directional Mode: `true` (Directional, the default) also bakes the dominant direction.
     #[serde(default = "yes")]
     pub directional: bool,
@@ -155,6 +162,9 @@ fn default_padding() -> u32 {
 fn default_samples() -> u32 {
     DEFAULT_SAMPLES
 }
+fn default_noise() -> f64 {
+    DEFAULT_NOISE
+}
 fn default_shadow_color() -> [f64; 3] {
     DEFAULT_REALTIME_SHADOW_COLOR
 }
@@ -171,6 +181,7 @@ pub fn validate(c: &Checker, gi: &GiSettings) -> Result<(), InputError> {
     c.range("gi.texels_per_unit", gi.texels_per_unit, 0.1, 200.0)?;
     c.range("gi.padding", gi.padding as f64, 1.0, 16.0)?;
     c.range("gi.samples", gi.samples as f64, 1.0, 65536.0)?;
+    c.range("gi.noise", gi.noise, 0.0, 1.0)?;
     c.color("gi.realtime_shadow_color", gi.realtime_shadow_color)?;
     if let Some(g) = &gi.probes {
         c.finite_vector("gi.probes.min", g.min)?;

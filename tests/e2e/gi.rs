@@ -233,3 +233,31 @@ fn cells_share_a_bake_within_a_run_and_across_runs_and_list_counts_them() {
     let second = crate::common::run_matrix(dir.path(), &body("\"rubber\""), "b");
     assert_eq!(bakes(&second), [(true, true)]);
 }
+
+#[test]
+fn the_baked_falloffs_match_their_twins() {
+    use shadematrix::pipelines::BakedFalloff;
+    let source =
+        crate::common::pair_kernel("vec4<f32>(baked_distance_attenuation(a.x > 0.5, a.y, a.z), 0.0, 0.0, 0.0)");
+    let mut cases = Vec::new();
+    for falloff in [BakedFalloff::Legacy, BakedFalloff::InverseSquared] {
+        for range in [0.5, 6.0, 40.0] {
+            for x in [0.0005, 0.01, 0.2, 0.5, 0.79, 0.8, 0.85, 0.95, 0.999, 1.0, 1.3] {
+                cases.push((falloff, x * range, range));
+            }
+        }
+    }
+    let inputs: Vec<[f32; 4]> = cases
+        .iter()
+        .flat_map(|(f, d, r)| [[(*f == BakedFalloff::Legacy) as u32 as f32, *d as f32, *r as f32, 0.0], [0.0; 4]])
+        .collect();
+    let gpu = GpuContext::new().unwrap();
+    let got = crate::common::run_kernel(&gpu, &source, &inputs, cases.len(), &[]);
+    for ((f, d, r), g) in cases.iter().zip(&got) {
+        let want = f.eval(*d, *r);
+        let err = (g[0] as f64 - want).abs();
+        assert!(err <= 2e-6 * want.max(1.0), "{f:?} at d {d} of range {r}: GPU {} vs twin {want}", g[0]);
+    }
+    // The curves differ: Legacy is normalised to the range, inverse square is not.
+    assert!(BakedFalloff::Legacy.eval(1.0, 6.0) > 0.4 && BakedFalloff::InverseSquared.eval(1.0, 6.0) > 0.9);
+}

@@ -13,7 +13,7 @@ use sha2::{Digest, Sha256};
 use crate::error::Error;
 use crate::render::truth::bake::{BakeSums, BAKE_STRIDE};
 
-pub const BAKE_CACHE_SCHEMA: u32 = 1;
+pub const BAKE_CACHE_SCHEMA: u32 = 2;
 
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 pub struct BakeCacheRecord {
@@ -21,6 +21,8 @@ pub struct BakeCacheRecord {
     pub key: String,
     pub points: usize,
     pub samples: u32,
+    /// The samples the texels took (a converging bake stops at its noise target).
+    pub texel_samples: u32,
     pub bounces: u32,
     /// Wall time of the bake when it was made, s.
     pub seconds: f64,

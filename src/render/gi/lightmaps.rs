@@ -16,7 +16,7 @@
 
 use glam::DVec3;
 
-use super::super::truth::bake::{BakeSums, BAKE_STRIDE};
+use super::super::truth::bake::{texel_noise, BakeSums, BAKE_STRIDE};
 use crate::geometry::lightmap_uv::LightmapAtlas;
 use crate::pipelines::Pipeline;
 
@@ -99,17 +99,10 @@ pub fn lightmap_from_sums(
 ) -> Lightmap {
     let (w, h) = (atlas.width as usize, atlas.height as usize);
     let mut value = vec![None::<(DVec3, [f64; 4], [f64; 4])>; w * h];
-    let (mut se_sum, mut lum_sum, mut count) = (0.0, 0.0, 0usize);
-    let lum = |c: DVec3| 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
     for (t, s) in atlas.texels.iter().zip(&sums[first..first + atlas.texels.len()]) {
         let s: &[[f32; 4]; BAKE_STRIDE] = s;
         let n = (s[0][3] as f64).max(1.0);
         let mean = DVec3::new(s[0][0] as f64, s[0][1] as f64, s[0][2] as f64) / n;
-        let sq = DVec3::new(s[1][0] as f64, s[1][1] as f64, s[1][2] as f64) / n;
-        let sd = (sq - mean * mean).max(DVec3::ZERO).map(f64::sqrt);
-        se_sum += lum(sd) / (n - 1.0).max(1.0).sqrt();
-        lum_sum += lum(mean);
-        count += 1;
         let d = if s[2][3] > 0.0 {
             DVec3::new(s[2][0] as f64, s[2][1] as f64, s[2][2] as f64) / s[2][3] as f64
         } else {
@@ -162,7 +155,7 @@ pub fn lightmap_from_sums(
         texels[w * h + i] = dir.map(quantize8);
         texels[2 * w * h + i] = mask.map(quantize8);
     }
-    let noise = (count > 0 && lum_sum > 0.0).then(|| se_sum / lum_sum);
+    let noise = texel_noise(&sums[first..first + atlas.texels.len()]);
     Lightmap { width: atlas.width, height: atlas.height, texels, irradiance, noise }
 }
 

@@ -22,8 +22,11 @@ pub struct BakedLighting {
     pub lightmap: Option<lightmaps::Lightmap>,
     /// Directional Mode: the lightmap's direction layer is read.
     pub directional: bool,
-    /// Samples per probe and texel, and the bounces of their paths.
+    /// Samples per probe, the samples the texels took to reach `noise_target` (or the most
+    /// they may take), the target (0: none) and the bounces of their paths.
     pub samples: u32,
+    pub texel_samples: u32,
+    pub noise_target: f64,
     pub bounces: u32,
     /// Wall time of the bake, s (a one-off cost, not per frame).
     pub seconds: f64,
@@ -41,6 +44,8 @@ pub struct BakeUse {
     pub cached: bool,
     pub seconds: f64,
     pub samples: u32,
+    pub texel_samples: u32,
+    pub noise_target: f64,
     pub bounces: u32,
     /// The lightmap's size in texels and covered texels, and its stated noise.
     pub lightmap: Option<([u32; 2], usize, Option<f64>)>,

@@ -9,7 +9,7 @@ use crate::plan::cell::CellPlan;
 use crate::render::gi::lightmaps::{lightmap_from_sums, LightmapEncoding};
 use crate::render::gi::{probes, BakedLighting};
 use crate::render::prepared::PreparedScene;
-use crate::render::truth::bake::{gather, BakeLight, BakePoint, BakeSums};
+use crate::render::truth::bake::{gather, BakeBudget, BakeLight, BakePoint, BakeSums};
 use crate::render::truth::TruthKind;
 use crate::shading::{wgsl, ShaderModel};
 use crate::spec::gi::GiSettings;
@@ -51,7 +51,8 @@ impl Renderer {
         let sums = self.with_cpu_truth(prepared, cell, &fixed_model, &settings, true, |scene, cpu_inputs| {
             crate::render::truth::cpu::bake::gather(scene, cpu_inputs, points, lights, budget)
         })?;
-        Ok(Some(finish(prepared, cell, &inputs, &sums, start.elapsed().as_secs_f64())))
+        let gathered = (&sums, inputs.gi.samples);
+        Ok(Some(finish(prepared, cell, &inputs, gathered, start.elapsed().as_secs_f64())))
     }
 
     /// The bake this cell's frame reads, made on first use.
@@ -68,7 +69,7 @@ impl Renderer {
         }
         let disk_key = self.disk_key(prepared, cell, fixed_model, &inputs);
         if let Some((sums, record)) = self.bake_cache.as_ref().and_then(|c| c.load(&disk_key, inputs.points.len())) {
-            let mut baked = finish(prepared, cell, &inputs, &sums, record.seconds);
+            let mut baked = finish(prepared, cell, &inputs, (&sums, record.texel_samples), record.seconds);
             baked.cached = true;
             let baked = Arc::new(baked);
             prepared.bakes.lock().unwrap_or_else(|e| e.into_inner()).insert(inputs.key, baked.clone());
@@ -94,23 +95,28 @@ impl Renderer {
         }
         let frame_group = self.bindings.frame_group(&self.gpu, prepared, cell.settings.material_maps)?;
         let geometry = self.ray_scene(prepared, inputs.kept.clone())?;
-        let sums = gather(
+        let budget = BakeBudget { samples: inputs.gi.samples, bounces: inputs.gi.bounces, noise: inputs.gi.noise };
+        let gathered = gather(
             &self.gpu,
             &self.truth_pipelines[&pipeline_key],
             &frame_group,
             &geometry,
             &inputs.objects,
             &inputs.points,
+            inputs.texels,
             &inputs.lights,
-            (inputs.gi.samples, inputs.gi.bounces),
+            budget,
         )?;
-        let baked = Arc::new(finish(prepared, cell, &inputs, &sums, start.elapsed().as_secs_f64()));
+        let sums = gathered.sums;
+        let at = (&sums, gathered.texel_samples);
+        let baked = Arc::new(finish(prepared, cell, &inputs, at, start.elapsed().as_secs_f64()));
         if let Some(cache) = &self.bake_cache {
             let record = crate::render::gi::cache::BakeCacheRecord {
                 schema: crate::render::gi::cache::BAKE_CACHE_SCHEMA,
                 key: disk_key.clone(),
                 points: inputs.points.len(),
                 samples: inputs.gi.samples,
+                texel_samples: gathered.texel_samples,
                 bounces: inputs.gi.bounces,
                 seconds: baked.seconds,
                 adapter: self.gpu.adapter.get_info().name,
@@ -245,12 +251,13 @@ impl Renderer {
     }
 }
 
-/// The bake from the gathered sums: the probes' SH and the encoded lightmap.
+/// The bake from the gathered sums and the samples its texels took: the probes' SH and the
+/// encoded lightmap.
 fn finish(
     prepared: &PreparedScene,
     cell: &CellParams,
     inputs: &BakeInputs,
-    sums: &BakeSums,
+    (sums, texel_samples): (&BakeSums, u32),
     seconds: f64,
 ) -> BakedLighting {
     let gi = &inputs.gi;
@@ -266,6 +273,8 @@ fn finish(
         lightmap,
         directional: gi.directional,
         samples: gi.samples,
+        texel_samples,
+        noise_target: gi.noise,
         bounces: gi.bounces,
         seconds,
         cached: false,

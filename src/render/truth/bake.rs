@@ -51,7 +51,53 @@ pub type BakeSums = Vec<[[f32; 4]; BAKE_STRIDE]>;
 const PATHS_PER_DISPATCH: u64 = 1 << 14;
 const SAMPLES_PER_DISPATCH: u64 = 8;
 
-/// Gather `samples` samples at every point with paths of `bounces` bounces.
+/// How long a bake gathers: `samples` per probe and at most per texel, paths of `bounces`
+/// bounces, texels in rounds until their noise (`texel_noise`) falls to `noise` (0: every texel
+/// takes `samples`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BakeBudget {
+    pub samples: u32,
+    pub bounces: u32,
+    pub noise: f64,
+}
+
+/// A gathered bake: every point's sums, the samples its texels took and the noise they reached.
+#[derive(Debug, Clone)]
+pub struct GatheredBake {
+    pub sums: BakeSums,
+    pub texel_samples: u32,
+    pub noise: Option<f64>,
+}
+
+/// Texel samples of a converging bake's first round.
+const FIRST_ROUND: u32 = 32;
+
+/// The relative noise of texels' sums: the mean over them of their luminance's standard error,
+/// over the mean of their luminance (None: no texel, or no light).
+pub fn texel_noise(sums: &[[[f32; 4]; BAKE_STRIDE]]) -> Option<f64> {
+    let lum = |c: [f64; 3]| 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+    let (mut se_sum, mut lum_sum) = (0.0, 0.0);
+    for s in sums {
+        let n = (s[0][3] as f64).max(1.0);
+        let mean: [f64; 3] = std::array::from_fn(|k| s[0][k] as f64 / n);
+        let sd: [f64; 3] = std::array::from_fn(|k| (s[1][k] as f64 / n - mean[k] * mean[k]).max(0.0).sqrt());
+        se_sum += lum(sd) / (n - 1.0).max(1.0).sqrt();
+        lum_sum += lum(mean);
+    }
+    (!sums.is_empty() && lum_sum > 0.0).then(|| se_sum / lum_sum)
+}
+
+/// The texel samples a converging bake takes next: what the noise measured after `done` predicts
+/// the target needs (noise falls as 1/√samples), a tenth over, in whole dispatches; at least one
+/// more dispatch, at most `samples`.
+fn next_round(done: u32, noise: f64, budget: &BakeBudget) -> u32 {
+    let predicted = done as f64 * (noise / budget.noise).powi(2) * 1.1;
+    let step = SAMPLES_PER_DISPATCH as u32;
+    let rounded = (predicted.min(budget.samples as f64).ceil() as u32).div_ceil(step) * step;
+    rounded.max(done + step).min(budget.samples)
+}
+
+/// Gather the bake at `points`: the first `texels` are lightmap texels, the rest probes.
 #[allow(clippy::too_many_arguments)]
 pub fn gather(
     gpu: &GpuContext,
@@ -60,12 +106,14 @@ pub fn gather(
     scene: &TruthScene,
     objects: &[u8],
     points: &[BakePoint],
+    texels: usize,
     lights: &[BakeLight],
-    (samples, bounces): (u32, u32),
-) -> Result<BakeSums, Error> {
+    budget: BakeBudget,
+) -> Result<GatheredBake, Error> {
     let device = &gpu.device;
+    let samples = budget.samples.max(1);
     if points.is_empty() {
-        return Ok(Vec::new());
+        return Ok(GatheredBake { sums: Vec::new(), texel_samples: samples, noise: None });
     }
     let objects = storage(device, "bake objects", objects);
     let point_buffer = storage(device, "bake points", bytemuck::cast_slice(points));
@@ -81,44 +129,105 @@ pub fn gather(
     let buffers = [&objects, &accum, &no_roles, &point_buffer, &light_buffer];
     let (group, params) = super::tracer_group(gpu, pipeline, "bake", buffers);
     let n = points.len() as u32;
-    let chunk = (n as u64).min(PATHS_PER_DISPATCH) as u32;
-    let batch = (PATHS_PER_DISPATCH / chunk as u64).clamp(1, SAMPLES_PER_DISPATCH.min(samples.max(1) as u64)) as u32;
-    let mut done = 0u32;
-    while done < samples.max(1) {
-        let count = batch.min(samples.max(1) - done);
-        for first in (0..n).step_by(chunk as usize) {
-            // dims: points, the chunk's first point, the batch's first sample, its samples
-            let p = TruthParams { dims: [n, first, done, count], settings: [bounces, 0, 0, samples.max(1)] };
-            gpu.queue.write_buffer(&params, 0, bytemuck::bytes_of(&p));
-            let mut encoder = device.create_command_encoder(&Default::default());
-            {
-                let mut pass = encoder.begin_compute_pass(&Default::default());
-                pass.set_pipeline(&pipeline.pipeline);
-                pass.set_bind_group(0, frame_group, &[]);
-                pass.set_bind_group(1, &group, &[]);
-                pass.set_bind_group(3, &scene.group, &[]);
-                pass.dispatch_workgroups(chunk.min(n - first).div_ceil(64), 1, 1);
+    // Samples [from, to) at points [lo, hi), cut into short dispatches.
+    let run = |(lo, hi): (u32, u32), (from, to): (u32, u32)| -> Result<(), Error> {
+        let chunk = ((hi - lo) as u64).clamp(1, PATHS_PER_DISPATCH) as u32;
+        let batch = (PATHS_PER_DISPATCH / chunk as u64).clamp(1, SAMPLES_PER_DISPATCH) as u32;
+        let mut done = from;
+        while done < to {
+            let count = batch.min(to - done);
+            for first in (lo..hi).step_by(chunk as usize) {
+                // dims: the end of the points taken, the chunk's first point, the batch's first
+                // sample, its samples; settings.w: a probe's samples, over which its directions
+                // are stratified
+                let p = TruthParams { dims: [hi, first, done, count], settings: [budget.bounces, 0, 0, samples] };
+                gpu.queue.write_buffer(&params, 0, bytemuck::bytes_of(&p));
+                let mut encoder = device.create_command_encoder(&Default::default());
+                {
+                    let mut pass = encoder.begin_compute_pass(&Default::default());
+                    pass.set_pipeline(&pipeline.pipeline);
+                    pass.set_bind_group(0, frame_group, &[]);
+                    pass.set_bind_group(1, &group, &[]);
+                    pass.set_bind_group(3, &scene.group, &[]);
+                    pass.dispatch_workgroups(chunk.min(hi - first).div_ceil(64), 1, 1);
+                }
+                gpu.queue.submit([encoder.finish()]);
+                gpu.wait_idle()?;
             }
-            gpu.queue.submit([encoder.finish()]);
-            gpu.wait_idle()?;
+            done += count;
         }
-        done += count;
+        Ok(())
+    };
+    let t = texels as u32;
+    if t < n {
+        run((t, n), (0, samples))?;
     }
-    let bytes = super::read_buffer(gpu, &accum, accum_bytes)?;
-    gpu.check_errors("baking lightmaps and probes")?;
-    let sums: &[[[f32; 4]; BAKE_STRIDE]] = bytemuck::cast_slice(&bytes);
+    let read = || -> Result<BakeSums, Error> {
+        let bytes = super::read_buffer(gpu, &accum, accum_bytes)?;
+        gpu.check_errors("baking lightmaps and probes")?;
+        Ok(bytemuck::cast_slice::<u8, [[f32; 4]; BAKE_STRIDE]>(&bytes).to_vec())
+    };
+    let converging = budget.noise > 0.0;
+    let mut done = 0;
+    let mut target = if converging { FIRST_ROUND.min(samples) } else { samples };
+    let mut sums = loop {
+        if t > 0 {
+            run((0, t), (done, target))?;
+        }
+        done = target;
+        let sums = read()?;
+        if !converging || done >= samples || t == 0 {
+            break sums;
+        }
+        match texel_noise(&sums[..texels]) {
+            Some(noise) if noise > budget.noise => target = next_round(done, noise, &budget),
+            _ => break sums,
+        }
+    };
     // Every point must have taken every sample: a bake missing some would look complete.
-    for (point, s) in points.iter().zip(sums) {
-        let count = if point.position[3] < 0.5 { s[0][3] } else { s[9][3] };
-        if count != samples.max(1) as f32 {
+    for (point, s) in points.iter().zip(&sums) {
+        let (count, asked) = if point.position[3] < 0.5 { (s[0][3], done) } else { (s[9][3], samples) };
+        if count != asked as f32 {
             return Err(Error::Other(format!(
-                "the bake on {} took {count} of {} samples at a point: the adapter ended the work early",
+                "the bake on {} took {count} of {asked} samples at a point: the adapter ended the work early",
                 gpu.adapter.get_info().name,
-                samples.max(1)
             )));
         }
     }
-    Ok(sums.to_vec())
+    sums.shrink_to_fit();
+    let noise = texel_noise(&sums[..texels]);
+    Ok(GatheredBake { sums, texel_samples: if t > 0 { done } else { samples }, noise })
+}
+
+#[cfg(test)]
+mod round_tests {
+    use super::*;
+
+    #[test]
+    fn rounds_aim_at_the_noise_target_in_whole_dispatches() {
+        let budget = BakeBudget { samples: 512, bounces: 2, noise: 0.02 };
+        // Twice the target after 32 samples: four times the samples, a tenth over, in eights.
+        assert_eq!(next_round(32, 0.04, &budget), 144);
+        // Barely above it: one more dispatch at least.
+        assert_eq!(next_round(32, 0.02001, &budget), 40);
+        // Far above it: no more than the budget.
+        assert_eq!(next_round(128, 0.5, &budget), 512);
+    }
+
+    #[test]
+    fn texel_noise_is_the_mean_standard_error_over_the_mean_light() {
+        // Two texels of 4 samples each: values {1, 3, 1, 3} (mean 2, sd 1) and {2, 2, 2, 2}.
+        let texel = |sum: f32, sq: f32| {
+            let mut s = [[0f32; 4]; BAKE_STRIDE];
+            s[0] = [sum, sum, sum, 4.0];
+            s[1] = [sq, sq, sq, 0.0];
+            s
+        };
+        let noise = texel_noise(&[texel(8.0, 20.0), texel(8.0, 16.0)]).unwrap();
+        // (1/√3 + 0)/(2 + 2)
+        assert!((noise - 1.0 / 3f64.sqrt() / 4.0).abs() < 1e-6, "{noise}");
+        assert_eq!(texel_noise(&[]), None);
+    }
 }
 
 #[cfg(test)]

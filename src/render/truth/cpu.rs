@@ -227,17 +227,19 @@ impl TracedLight {
     }
 
     /// Direction to the light and its attenuation at p: scene.wgsl `light_incidence` with the
-    /// pipeline's distance falloff, or truth.wgsl `physical_attenuation` (inverse square).
-    fn incidence(&self, p: DVec3, pipeline: Pipeline, kind: TruthKind) -> (DVec3, f64) {
+    /// pipeline's distance falloff, truth.wgsl `physical_attenuation` (inverse square) or
+    /// `baked_attenuation` (the lightmapper's).
+    fn incidence(&self, p: DVec3, falloff: Falloff) -> (DVec3, f64) {
         if self.kind == 0 {
             return (-self.direction.normalize(), 1.0);
         }
         let to_light = self.position - p;
         let d = to_light.length();
         let l = to_light / d.max(1e-6);
-        let mut atten = match kind {
-            TruthKind::Physical => 1.0 / to_light.length_squared().max(1e-4),
-            TruthKind::SameBrdf => pipeline.attenuation().eval(d, self.range),
+        let mut atten = match falloff {
+            Falloff::InverseSquare => 1.0 / to_light.length_squared().max(1e-4),
+            Falloff::RealTime(a) => a.eval(d, self.range),
+            Falloff::Baked(b) => b.eval(d, self.range),
         };
         if self.kind == 2 {
             atten *= angle_attenuation(self.direction.normalize().dot(-l), self.cos_outer, self.cos_inner);
@@ -538,9 +540,27 @@ struct Tracer<'a> {
     subject: GpuMaterial,
     bounces: u32,
     roulette: bool,
+    /// Whether the paths gather a bake (cpu::bake): lights fall off as the lightmapper's do.
+    baking: bool,
+}
+
+/// A punctual light's distance falloff in one trace.
+#[derive(Debug, Clone, Copy)]
+enum Falloff {
+    RealTime(crate::pipelines::Attenuation),
+    Baked(crate::pipelines::BakedFalloff),
+    InverseSquare,
 }
 
 impl<'a> Tracer<'a> {
+    fn falloff(&self) -> Falloff {
+        match (self.inputs.kind, self.baking) {
+            (TruthKind::Physical, _) => Falloff::InverseSquare,
+            (TruthKind::SameBrdf, true) => Falloff::Baked(self.inputs.pipeline.baked_falloff()),
+            (TruthKind::SameBrdf, false) => Falloff::RealTime(self.inputs.pipeline.attenuation()),
+        }
+    }
+
     fn new(scene: &'a CpuScene, inputs: &'a CpuTruthInputs<'a>, bounces: u32, roulette: bool) -> Tracer<'a> {
         let f = inputs.frame;
         let m4 = |m: [[f32; 4]; 4]| DMat4::from_cols_array_2d(&m.map(|c| c.map(|x| x as f64)));
@@ -554,6 +574,7 @@ impl<'a> Tracer<'a> {
             subject: f.subject,
             bounces,
             roulette,
+            baking: false,
         }
     }
 
@@ -706,7 +727,7 @@ impl<'a> Tracer<'a> {
                 let (l, atten, d) = light.area_incidence(sp.p, self.inputs.kind, rng);
                 (l, atten, d * (1.0 - 1e-4))
             } else {
-                let (l, atten) = light.incidence(sp.p, p, self.inputs.kind);
+                let (l, atten) = light.incidence(sp.p, self.falloff());
                 let d = if light.kind != 0 { (light.position - sp.p).length() * (1.0 - 1e-4) } else { f64::INFINITY };
                 (l, atten, d)
             };

@@ -27,7 +27,8 @@ pub fn gather(
             "the CPU bake traces hard baked shadows only (no baked shadow radius or angle)".into(),
         ));
     }
-    let tracer = Tracer::new(scene, inputs, bounces, false);
+    let mut tracer = Tracer::new(scene, inputs, bounces, false);
+    tracer.baking = true;
     let weights: Vec<[f64; 4]> = lights.iter().map(|l| l.weights.map(f64::from)).collect();
     let sums = points
         .par_iter()
@@ -58,7 +59,7 @@ fn lum(c: DVec3) -> f64 {
 /// Light i's visibility from p (a hard shadow ray).
 fn visible(tracer: &Tracer, i: usize, p: DVec3, rng: &mut Rng) -> (DVec3, f64, bool) {
     let light = &tracer.lights[i];
-    let (l, atten) = light.incidence(p, tracer.inputs.pipeline, tracer.inputs.kind);
+    let (l, atten) = light.incidence(p, tracer.falloff());
     let distance = if light.kind != 0 { (light.position - p).length() * (1.0 - 1e-4) } else { f64::INFINITY };
     (l, atten, !tracer.blocked(p, l, distance, rng))
 }
@@ -84,7 +85,7 @@ fn texel_sample(
             let (l, atten, d) = light.area_incidence(p, tracer.inputs.kind, rng);
             (l, atten, d * (1.0 - 1e-4))
         } else {
-            let (l, atten) = light.incidence(p, pipeline, tracer.inputs.kind);
+            let (l, atten) = light.incidence(p, tracer.falloff());
             let d = if light.kind != 0 { (light.position - p).length() * (1.0 - 1e-4) } else { f64::INFINITY };
             (l, atten, d)
         };
