@@ -464,7 +464,7 @@ fn object_ambient(n: vec3<f32>) -> vec3<f32> {
     let flags = u32(object.bake.y + 0.5);
     if (object.bake.x > 1.5) {
         let baked = lightmap_gi(lightmap_uv, n, (flags & 1u) != 0u);
-        if ((flags & 2u) != 0u && frame.counts.y > 0u) {
+        if ((flags & 2u) != 0u && frame.counts.y > 0u && subtracts_main_light) {
             return subtract_main_light(baked, n);
         }
         return baked;
@@ -474,6 +474,11 @@ fn object_ambient(n: vec3<f32>) -> vec3<f32> {
     }
     return environment_ambient(n);
 }
+
+// Whether this pass takes Subtractive's main light out of the lightmap: every forward pass, and
+// URP's G-buffer pass (LitGBufferPass.hlsl MixRealtimeAndBakedGI); built-in's is compiled
+// without SHADOWS_SCREEN, so its UnityGI_Base leaves the lightmap whole (UnityGlobalIllumination.cginc)
+var<private> subtracts_main_light: bool = true;
 
 // SubtractMainLightWithRealtimeAttenuationFromLightmap (URP Lighting.hlsl; built-in UnityGI_Base
 // under LIGHTMAP_SHADOW_MIXING without SHADOWS_SHADOWMASK): the main light's Lambert term where
@@ -494,17 +499,28 @@ fn subtract_main_light(baked: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
 // its probe's occlusion (1 for a light without a channel, or an object the bake does not reach);
 // the real-time shadow takes the darker of the two (URP MixRealtimeAndBakedShadows)
 fn baked_occlusion(light: Light) -> f32 {
-    let channel = i32(light.color.w + 0.5) - 2;
+    let channel = shadow_mask_channel(light);
     if (channel < 0) {
         return 1.0;
     }
+    return baked_occlusions()[channel];
+}
+
+// The light's shadow-mask channel (color.w = 2 + c), or −1
+fn shadow_mask_channel(light: Light) -> i32 {
+    let channel = i32(light.color.w + 0.5) - 2;
+    return select(-1, channel, channel >= 0 && channel < 4);
+}
+
+// Every shadow-mask channel's baked occlusion at this object (1 where nothing is baked)
+fn baked_occlusions() -> vec4<f32> {
     if (object.bake.x > 1.5) {
-        return textureSampleLevel(lightmap, env_sampler, lightmap_uv, 2, 0.0)[channel];
+        return textureSampleLevel(lightmap, env_sampler, lightmap_uv, 2, 0.0);
     }
     if (object.bake.x > 0.5) {
-        return object.occlusion[channel];
+        return object.occlusion;
     }
-    return 1.0;
+    return vec4<f32>(1.0);
 }
 
 // The fragment's (or vertex's) lightmap uv, set by the entry points before shading
@@ -790,6 +806,7 @@ struct GBufferOut {
     @location(2) normal: vec4<f32>,
     @location(3) lighting: vec4<f32>,
     @location(4) role: u32,
+    @location(5) shadow_mask: vec4<f32>,
 };
 
 @fragment
@@ -806,10 +823,14 @@ fn fs_gbuffer(in: VertexOut, @builtin(front_facing) front: bool) -> GBufferOut {
     if (frame.counts.y > 0u) {
         main_light_color = lights[frame.counts.y - 1u].color.rgb;
     }
+    subtracts_main_light = PIPELINE != PIPELINE_BUILTIN;
     let gi = object_ambient(n) + max(sh_eval(object.light_sh, n), vec3<f32>(0.0));
     var out: GBufferOut;
     out.albedo = vec4<f32>(s.base_color, 1.0);
-    out.material = vec4<f32>(s.metallic, s.smoothness, 0.0, 0.0);
+    // w: lightmapped (URP's kMaterialFlagSubtractiveMixedLighting where the scene is Subtractive)
+    out.material = vec4<f32>(s.metallic, s.smoothness, 0.0, select(0.0, 1.0, object.bake.x > 1.5));
+    // The object's baked occlusion per shadow-mask channel (built-in's RT4: UnityGetRawBakedOcclusions)
+    out.shadow_mask = baked_occlusions();
     out.normal = vec4<f32>(n * 0.5 + 0.5, f32(object.flags.w));
     // Emission joins the indirect light in RT3, as Unity's deferred paths write it.
     var lighting = vec3<f32>(ambient_occlusion());
@@ -831,6 +852,7 @@ fn fs_gbuffer(in: VertexOut, @builtin(front_facing) front: bool) -> GBufferOut {
 @group(2) @binding(3) var gb_lighting: texture_2d<f32>;
 @group(2) @binding(4) var gb_role: texture_2d<u32>;
 @group(2) @binding(5) var gb_depth: texture_depth_2d;
+@group(2) @binding(7) var gb_shadow_mask: texture_2d<f32>;
 
 // The role whose pixels this lighting pipeline shades: 2 subject (the cell's model), 1 fixed, 0
 // every G-buffer pixel (one model lights the whole G-buffer; each role's material values).
@@ -880,6 +902,7 @@ fn fs_deferred(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     if (!draws_direct()) {
         return vec4<f32>(c, 1.0);
     }
+    let baked = DeferredBake(textureLoad(gb_shadow_mask, px, 0), mat.w > 0.5);
     if (TILED_LIGHTS == 1u) {
         // HDRP's light loop: only the lights binned into this pixel's tile (cs_light_tiles)
         let words = frame.counts.z;
@@ -889,21 +912,33 @@ fn fs_deferred(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
             while (bits != 0u) {
                 let i = w * 32u + firstTrailingBit(bits);
                 bits &= bits - 1u;
-                c += deferred_light(lights[i], s, p, n, v, nb.a > 0.5);
+                c += deferred_light(lights[i], s, p, n, v, nb.a > 0.5, baked);
             }
         }
     } else {
         for (var i = 0u; i < frame.counts.x; i++) {
-            c += deferred_light(lights[i], s, p, n, v, nb.a > 0.5);
+            c += deferred_light(lights[i], s, p, n, v, nb.a > 0.5, baked);
         }
     }
     return vec4<f32>(c, 1.0);
 }
 
+// What the G-buffer holds of a pixel's bake: its shadow mask and whether it is lightmapped
+struct DeferredBake {
+    shadow_mask: vec4<f32>,
+    lightmapped: bool,
+};
+
 // One light's direct term at a G-buffer pixel
-fn deferred_light(light: Light, s: Surface, p: vec3<f32>, n: vec3<f32>, v: vec3<f32>, receives: bool) -> vec3<f32> {
+fn deferred_light(light: Light, s: Surface, p: vec3<f32>, n: vec3<f32>, v: vec3<f32>, receives: bool, baked: DeferredBake) -> vec3<f32> {
     // A light the frame draws on no object: it reaches the frame through the bake alone (plan::gi)
     if (light.color.w > 0.5 && light.color.w < 1.5) {
+        return vec3<f32>(0.0);
+    }
+    // Subtractive's main light on a lightmapped pixel: URP's StencilDeferred returns before
+    // lighting where the light's and the material's SubtractiveMixedLighting flags meet; built-in's
+    // deferred lighting has no such flag and draws it
+    if (light.color.w > 5.5 && baked.lightmapped && PIPELINE == PIPELINE_URP) {
         return vec3<f32>(0.0);
     }
     if (u32(light.position.w) >= LIGHT_RECT) {
@@ -913,7 +948,13 @@ fn deferred_light(light: Light, s: Surface, p: vec3<f32>, n: vec3<f32>, v: vec3<
     if (inc.w <= 0.0) {
         return vec3<f32>(0.0);
     }
-    let visible = shadow_visibility(light, p, n, inc.xyz, receives);
+    // A Shadowmask light's real-time shadow takes the darker of it and the G-buffer's baked
+    // occlusion (built-in UnityDeferredComputeShadow, URP's and HDRP's shadow-mask G-buffer)
+    var visible = shadow_visibility(light, p, n, inc.xyz, receives);
+    let channel = shadow_mask_channel(light);
+    if (channel >= 0) {
+        visible = min(visible, baked.shadow_mask[channel]);
+    }
     if (visible <= 0.0) {
         return vec3<f32>(0.0);
     }

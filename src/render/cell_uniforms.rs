@@ -63,14 +63,17 @@ pub(in crate::render) fn write_uniforms(
         let slot = gpu_lights.len();
         // color.w: 1 where the frame draws the light on no object (baked alone), 2 + c for a
         // Shadowmask light's channel c, whose real-time shadow takes the baked one's minimum (URP
-        // MixRealtimeAndBakedShadows under LIGHTMAP_SHADOW_MIXING); 0 otherwise. Distance
-        // Shadowmask reads the real-time map alone inside the shadow distance, where every
-        // composition lies (its fade to the baked mask beyond is not drawn).
+        // MixRealtimeAndBakedShadows under LIGHTMAP_SHADOW_MIXING), 6 for a light drawn on the
+        // dynamic objects alone (Subtractive's main light: forward paths leave it out of the static
+        // objects' light lists, deferred lighting reads the G-buffer's lightmapped flag); 0
+        // otherwise. Distance Shadowmask reads the real-time map alone inside the shadow
+        // distance, where every composition lies (its fade to the baked mask beyond is not drawn).
         let bake_flag = plan.gi.as_ref().map_or(0.0, |g| {
             let b = &g.lights[slot];
             let mixing = g.mixed_lighting == crate::spec::gi::MixedLighting::Shadowmask;
             match b.shadow_mask {
                 _ if !b.drawn_on_static && !b.drawn_on_dynamic => 1.0,
+                _ if !b.drawn_on_static => 6.0,
                 Some(c) if mixing => 2.0 + c as f64,
                 _ => 0.0,
             }

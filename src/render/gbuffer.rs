@@ -1,6 +1,7 @@
 //! The deferred path's screen-space resources: the G-buffer (base colour and occlusion 8-bit
 //! sRGB, metallic and smoothness 8-bit, the normal in the pipeline's format, the
-//! ambient/environment term in half float as Unity's RT3) and HDRP's light tiles. The G-buffer
+//! ambient/environment term in half float as Unity's RT3, the baked shadow mask 8-bit as
+//! built-in's RT4, URP's and HDRP's shadow-mask G-buffer) and HDRP's light tiles. The G-buffer
 //! stores base colour and metallic where built-in's stores diffuse and specular colours: the same
 //! information at the same 8-bit precision, laid out for any model. passes::deferred draws them.
 
@@ -9,6 +10,10 @@ use crate::pipelines::Pipeline;
 pub const GB_ALBEDO: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 pub const GB_MATERIAL: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 pub const GB_LIGHTING: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+pub const GB_SHADOW_MASK: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+/// The lighting pass's binding of the shadow mask (0–5: the other targets and depth; 6 is the
+/// G-buffer pass's screen occlusion).
+const SHADOW_MASK_BINDING: u32 = 7;
 
 /// Each pipeline's normal buffer: built-in's RT2 is ARGB2101010; URP's default ("Accurate G-buffer
 /// normals" off) is 8-bit; HDRP packs octahedral normals into 8-bit channels, APPROXIMATED here by
@@ -27,6 +32,7 @@ pub struct GBuffer {
     pub normal_10: wgpu::TextureView,
     pub normal_8: wgpu::TextureView,
     pub lighting: wgpu::TextureView,
+    pub shadow_mask: wgpu::TextureView,
     /// Lighting-pass bind groups reading the G-buffer with the 10-bit and the 8-bit normals.
     pub read_10: wgpu::BindGroup,
     pub read_8: wgpu::BindGroup,
@@ -50,15 +56,15 @@ impl GBuffer {
         let normal_10 = make("gbuffer normal 10:10:10:2", wgpu::TextureFormat::Rgb10a2Unorm);
         let normal_8 = make("gbuffer normal 8", wgpu::TextureFormat::Rgba8Unorm);
         let lighting = make("gbuffer lighting", GB_LIGHTING);
+        let shadow_mask = make("gbuffer shadow mask", GB_SHADOW_MASK);
         let read = |normal: &wgpu::TextureView| {
             let views = [&albedo, &material, normal, &lighting, role, depth];
             let entries: Vec<wgpu::BindGroupEntry> = views
                 .iter()
                 .enumerate()
-                .map(|(i, v)| wgpu::BindGroupEntry {
-                    binding: i as u32,
-                    resource: wgpu::BindingResource::TextureView(v),
-                })
+                .map(|(i, v)| (i as u32, *v))
+                .chain([(SHADOW_MASK_BINDING, &shadow_mask)])
+                .map(|(binding, v)| wgpu::BindGroupEntry { binding, resource: wgpu::BindingResource::TextureView(v) })
                 .collect();
             device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("gbuffer read"),
@@ -68,7 +74,7 @@ impl GBuffer {
         };
         let read_10 = read(&normal_10);
         let read_8 = read(&normal_8);
-        GBuffer { albedo, material, normal_10, normal_8, lighting, read_10, read_8 }
+        GBuffer { albedo, material, normal_10, normal_8, lighting, shadow_mask, read_10, read_8 }
     }
 
     pub fn normal(&self, p: Pipeline) -> &wgpu::TextureView {
@@ -108,6 +114,7 @@ pub fn read_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
             texture(3, float),
             texture(4, wgpu::TextureSampleType::Uint),
             texture(5, wgpu::TextureSampleType::Depth),
+            texture(SHADOW_MASK_BINDING, float),
         ],
     })
 }

@@ -309,6 +309,7 @@ impl PipelineCache {
             Some(crate::render::gbuffer::normal_format(pipeline).into()),
             Some(crate::render::gbuffer::GB_LIGHTING.into()),
             Some(ROLE_FORMAT.into()),
+            Some(crate::render::gbuffer::GB_SHADOW_MASK.into()),
         ];
         let label = format!("gbuffer {}/{}", pipeline.name(), model.name);
         let p = Self::mesh_pipeline(

@@ -261,3 +261,68 @@ fn the_baked_falloffs_match_their_twins() {
     // The curves differ: Legacy is normalised to the range, inverse square is not.
     assert!(BakedFalloff::Legacy.eval(1.0, 6.0) > 0.4 && BakedFalloff::InverseSquared.eval(1.0, 6.0) > 0.9);
 }
+
+#[test]
+fn deferred_paths_read_the_shadow_mask_and_leave_subtractives_main_light_to_the_lightmap() {
+    // The default room under a mixed directional light, with a static pillar whose shadow on the
+    // floor is baked (the light's shadow map holds the dynamic objects alone). URP's deferred path
+    // reads the baked occlusion from its shadow-mask G-buffer and, under Subtractive, leaves the
+    // main light off lightmapped pixels: its static objects match the forward frame's. Built-in's
+    // deferred lighting has no lightmapped flag and draws the light over the lightmap there.
+    let mut scene = Scene::load("default", None, "t", "k").unwrap();
+    scene.lights = vec![scene.lights[0].clone()];
+    let l = &mut scene.lights[0];
+    l.kind = shadematrix::spec::scene::LightKind::Directional;
+    l.direction = [-0.4, -0.8, -0.45];
+    l.intensity = 1.0;
+    l.mode = LightBakeMode::Mixed;
+    scene.environment.sky = shadematrix::spec::scene::Sky::Constant { color: [0.0; 3] };
+    scene.environment.reflections = shadematrix::spec::scene::Reflections::Sky;
+    scene.probes.clear();
+    let mut pillar = scene.objects.iter().find(|o| o.role == Role::Fixed).unwrap().clone();
+    pillar.name = "pillar".into();
+    pillar.mesh = toml::from_str("kind = \"box\"\nsize = [0.5, 2.4, 0.5]").unwrap();
+    pillar.transform = toml::from_str("translate = [0.2, 1.2, -1.6]").unwrap();
+    scene.objects.push(pillar);
+    scene.gi = Some(toml::from_str("texels_per_unit = 8\nsamples = 64\nnoise = 0\nbounces = 1").unwrap());
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let lum = |img: &[f32], i: usize| {
+        0.2126 * img[4 * i] as f64 + 0.7152 * img[4 * i + 1] as f64 + 0.0722 * img[4 * i + 2] as f64
+    };
+    for (mode, p, shader) in [
+        (MixedLighting::Shadowmask, Pipeline::Urp, "lit"),
+        (MixedLighting::Subtractive, Pipeline::Urp, "lit"),
+        (MixedLighting::Subtractive, Pipeline::Builtin, "standard"),
+    ] {
+        let mut s = scene.clone();
+        s.gi.as_mut().unwrap().mixed_lighting = mode;
+        let prepared = renderer.prepare_scene(&s).unwrap();
+        let mut frames = Vec::new();
+        for path in [RenderPath::Forward, RenderPath::Deferred] {
+            let cell = cell_params(p, shader, sliders(), (1.0, 10.0), 64, path);
+            frames.push(renderer.render(&prepared, &cell, 1, 0).unwrap());
+        }
+        let (fwd, def) = (&frames[0], &frames[1]);
+        let fixed: Vec<usize> =
+            (0..fwd.roles.len()).filter(|&i| fwd.roles[i] == shadematrix::render::uniforms::ROLE_FIXED).collect();
+        let apart = fixed
+            .iter()
+            .filter(|&&i| (lum(&def.hdr, i) - lum(&fwd.hdr, i)).abs() > 0.15 * lum(&fwd.hdr, i).max(1e-3))
+            .count();
+        let share = apart as f64 / fixed.len() as f64;
+        let brighter =
+            fixed.iter().map(|&i| lum(&def.hdr, i) / lum(&fwd.hdr, i).max(1e-3)).sum::<f64>() / fixed.len() as f64;
+        let what = format!(
+            "{} {}: {apart} of {} static pixels apart, deferred/forward {brighter:.3}",
+            p.name(),
+            mode.name(),
+            fixed.len()
+        );
+        eprintln!("{what}");
+        if p == Pipeline::Urp {
+            assert!(share < 0.02 && (brighter - 1.0).abs() < 0.05, "{what}");
+        } else {
+            assert!(brighter > 1.3, "{what}");
+        }
+    }
+}

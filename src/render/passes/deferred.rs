@@ -1,6 +1,6 @@
 //! The deferred path: a G-buffer pass (base colour and occlusion 8-bit sRGB, metallic and
 //! smoothness 8-bit, the normal in the pipeline's format, the ambient/environment term in half
-//! float as Unity's RT3, the role, depth) of the objects whose shader has a G-buffer pass, then
+//! float as Unity's RT3, the role, the baked shadow mask as RT4, depth) of the objects whose shader has a G-buffer pass, then
 //! one screen-space lighting pass that evaluates every light per pixel from it: one full-screen
 //! draw over every G-buffer pixel, or one per material type where the subject's deferred model
 //! differs from the fixed objects' (URP's StencilDeferred Lit and SimpleLit passes). Every other
@@ -61,6 +61,8 @@ pub(in crate::render) fn encode_deferred(
                 color(gb.normal(p), clear),
                 color(&gb.lighting, clear),
                 color(&t.role_view, clear),
+                // Unlit by any shadow-mask light until an object's bake says otherwise
+                color(&gb.shadow_mask, wgpu::LoadOp::Clear(wgpu::Color::WHITE)),
             ],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &t.depth_view,
