@@ -147,6 +147,21 @@ pub(in crate::render) fn write_uniforms(
             _ => crate::render::gi::AmbientSource::Sky,
         })
         .collect();
+    // LOD levels past the first are not unwrapped: a dynamic object's levels read its probe, and a
+    // static object's the probes at its centre (Unity lights lower LODs' indirect light from the
+    // probes; their baked direct light is not drawn), or the sky without a grid.
+    let level_sources: Vec<crate::render::gi::AmbientSource> = prepared
+        .layout
+        .object_centres
+        .iter()
+        .zip(&prepared.scene.objects)
+        .zip(&sources)
+        .map(|(((_, centre), o), own)| match (baked, o.role) {
+            (Some(_), Role::Subject) => own.clone(),
+            (Some(b), Role::Fixed) => b.dynamic_ambient(grid, *centre),
+            (None, _) => crate::render::gi::AmbientSource::Sky,
+        })
+        .collect();
     // Subtractive: the main directional light's real-time shadow darkens the lightmaps, down to
     // the Realtime Shadow Color (SubtractMainLightWithRealtimeAttenuationFromLightmap).
     let subtractive = plan.gi.as_ref().is_some_and(|g| g.mixed_lighting == crate::spec::gi::MixedLighting::Subtractive);
@@ -154,17 +169,22 @@ pub(in crate::render) fn write_uniforms(
         let c = g.realtime_shadow_color.map(crate::color::srgb_to_linear);
         [c[0] as f32, c[1] as f32, c[2] as f32, 0.0]
     });
-    let mut sh_per_object = sh_per_object;
-    for (sh, source) in sh_per_object.iter_mut().zip(&sources) {
+    // The probe's SH is in the frame's units already (the sky's scale is in its light).
+    let with_probe = |sh: &[[f32; 4]; 9], source: &crate::render::gi::AmbientSource| {
+        let mut sh = *sh;
         if let crate::render::gi::AmbientSource::Probe(probe) = source {
-            // The probe's SH is in the frame's units already (the sky's scale is in its light).
             for (c, p) in sh.iter_mut().zip(&probe.sh) {
                 for k in 0..3 {
                     c[k] += p[k] as f32;
                 }
             }
         }
-    }
+        sh
+    };
+    let level_sh: Vec<[[f32; 4]; 9]> =
+        sh_per_object.iter().zip(&level_sources).map(|(sh, s)| with_probe(sh, s)).collect();
+    let sh_per_object: Vec<[[f32; 4]; 9]> =
+        sh_per_object.iter().zip(&sources).map(|(sh, s)| with_probe(sh, s)).collect();
     let (tiles_x, _, words) = crate::render::gbuffer::tile_grid(cell.width, cell.height, lights.len());
     frame.counts = [lights.len() as u32, plan.main_light.map_or(0, |slot| slot as u32 + 1), words, tiles_x];
     for (dst, src) in frame.sh.iter_mut().zip(prepared.env.sh.iter()) {
@@ -213,6 +233,9 @@ pub(in crate::render) fn write_uniforms(
         };
         materials.push(material);
         let slot = &prepared.layout.meshes[i];
+        // The scene's own meshes come first, then the further LOD levels.
+        let first_level = i < prepared.scene.objects.len();
+        let source = if first_level { &sources[slot.scene_index] } else { &level_sources[slot.scene_index] };
         let u = ObjectUniforms {
             model: mat(o.model),
             normal_matrix: mat(o.model.inverse().transpose()),
@@ -221,22 +244,15 @@ pub(in crate::render) fn write_uniforms(
                 Role::Subject => [1, ROLE_SUBJECT as u32, slot.scene_index as u32, o.receive_shadows as u32],
                 Role::Fixed => [0, ROLE_FIXED as u32, slot.scene_index as u32, o.receive_shadows as u32],
             },
-            light_sh: sh_per_object[slot.scene_index],
+            light_sh: if first_level { sh_per_object[slot.scene_index] } else { level_sh[slot.scene_index] },
             // A level fading in or out keeps its dither's share of the fragments.
             lod: match fades[i] {
                 Some(f) if f < 1.0 => [f as f32, 1.0, 0.0, 0.0],
                 _ => [1.0, 0.0, 0.0, 0.0],
             },
-            // LOD levels past the first have no lightmap (only the object's own mesh is unwrapped).
-            bake: {
-                let sky = crate::render::gi::AmbientSource::Sky;
-                let source = if i < prepared.scene.objects.len() { &sources[slot.scene_index] } else { &sky };
-                [source.shader_value(), source.flags(subtractive), 0.0, 0.0]
-            },
-            occlusion: match &sources[slot.scene_index] {
-                crate::render::gi::AmbientSource::Probe(p) if i < prepared.scene.objects.len() => {
-                    p.occlusion.map(|v| v as f32)
-                }
+            bake: [source.shader_value(), source.flags(subtractive), 0.0, 0.0],
+            occlusion: match source {
+                crate::render::gi::AmbientSource::Probe(p) => p.occlusion.map(|v| v as f32),
                 _ => [1.0; 4],
             },
             shadow_color,

@@ -326,3 +326,45 @@ fn deferred_paths_read_the_shadow_mask_and_leave_subtractives_main_light_to_the_
         }
     }
 }
+
+#[test]
+fn a_dynamic_objects_further_lod_levels_read_its_probe() {
+    // The Cornell room's light is baked and it opens on a grey sky: the dynamic ball's ambient is
+    // the probes', which hold the sky's light. Drawn at its second LOD level it reads the same
+    // (before: the probe plus the sky's SH again).
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let mut scene = cornell();
+    scene.environment.sky = shadematrix::spec::scene::Sky::Constant { color: [0.3; 3] };
+    let lum = |img: &[f32], roles: &[u8]| {
+        let px: Vec<usize> =
+            (0..roles.len()).filter(|&i| roles[i] == shadematrix::render::uniforms::ROLE_SUBJECT).collect();
+        let sum: f64 = px
+            .iter()
+            .map(|&i| 0.2126 * img[4 * i] as f64 + 0.7152 * img[4 * i + 1] as f64 + 0.0722 * img[4 * i + 2] as f64)
+            .sum();
+        (sum / px.len().max(1) as f64, px.len())
+    };
+    let mut seen = Vec::new();
+    // Level 0 above a screen height of 0.9 (never here), level 1 down to 0.001: the ball's
+    // second level is drawn; then the same mesh as the ball's only level.
+    for lod in [true, false] {
+        let ball = scene.objects.iter_mut().find(|o| o.name == "ball").unwrap();
+        ball.lod = lod.then(|| {
+            toml::from_str(
+                "meshes = [{ kind = \"uv_sphere\", radius = 0.25, rings = 12, segments = 24 }]\ntransitions = [0.9, 0.001]",
+            )
+            .unwrap()
+        });
+        if !lod {
+            ball.mesh = toml::from_str("kind = \"uv_sphere\"\nradius = 0.25\nrings = 12\nsegments = 24").unwrap();
+        }
+        let prepared = renderer.prepare_scene(&scene).unwrap();
+        let cell = cell_params(Pipeline::Urp, "lit", sliders(), (1.5, 6.0), 64, RenderPath::Forward);
+        let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
+        seen.push(lum(&r.hdr, &r.roles));
+    }
+    let ((at_level_1, n1), (alone, n)) = (seen[0], seen[1]);
+    assert!(n1 > 20 && n > 20, "ball pixels: {n1}, {n}");
+    assert!(alone > 0.0, "the probe lights the ball");
+    assert!((at_level_1 - alone).abs() < 0.02 * alone, "LOD 1 {at_level_1} vs the same mesh alone {alone}");
+}

@@ -188,9 +188,12 @@ impl Renderer {
                 ],
             })
             .collect();
-        // Static objects alone: dynamic ones (the subjects) are not in the bake.
+        // Static objects alone, at their first LOD level whatever the camera draws ("only LOD0
+        // affects the surrounding geometry", Unity manual, LOD for baked lightmaps): dynamic
+        // objects (the subjects) are not in the bake.
+        let first_levels = prepared.scene.objects.len();
         let kept: Vec<bool> =
-            plan.casting().iter().zip(&prepared.layout.meshes).map(|(c, m)| *c && m.role == Role::Fixed).collect();
+            prepared.layout.meshes.iter().enumerate().map(|(i, m)| i < first_levels && m.role == Role::Fixed).collect();
         let mut objects = Vec::with_capacity(prepared.objects.len() * 128);
         for material in &written.materials {
             objects.extend_from_slice(bytemuck::bytes_of(material));
