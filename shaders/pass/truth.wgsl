@@ -14,7 +14,8 @@
 struct TruthParams {
     // x, y: frame size; z: index of this batch's first sample; w: samples per pixel in this batch
     dims: vec4<u32>,
-    // x: bounces; y: 1 when the background shows the sky (else black)
+    // x: bounces; y: 1 when the background shows the sky (else black); z: Russian roulette;
+    // w: the truth's first row in this dispatch, a probe's samples in the bake
     settings: vec4<u32>,
 };
 
@@ -372,7 +373,9 @@ fn path(pixel: vec2<u32>) -> vec3<f32> {
 }
 
 @compute @workgroup_size(8, 8)
-fn cs_truth(@builtin(global_invocation_id) id: vec3<u32>) {
+fn cs_truth(@builtin(global_invocation_id) gid: vec3<u32>) {
+    // settings.w: this dispatch's first row (render::truth cuts a batch into bands of rows)
+    let id = vec3<u32>(gid.x, gid.y + truth.settings.w, gid.z);
     if (id.x >= truth.dims.x || id.y >= truth.dims.y) {
         return;
     }

@@ -48,8 +48,8 @@ pub type BakeSums = Vec<[[f32; 4]; BAKE_STRIDE]>;
 /// was measured to end long dispatches early (a 4096-sample loop kept 158–1525 samples per point;
 /// 32 samples over the composite's 10⁴ texels lost some), so dispatches are cut by points and by
 /// samples, and the counts are checked after.
-const PATHS_PER_DISPATCH: u64 = 1 << 14;
-const SAMPLES_PER_DISPATCH: u64 = 8;
+pub(crate) const PATHS_PER_DISPATCH: u64 = 1 << 14;
+pub(crate) const SAMPLES_PER_DISPATCH: u64 = 8;
 
 /// How long a bake gathers: `samples` per probe and at most per texel, paths of `bounces`
 /// bounces, texels in rounds until their noise (`texel_noise`) falls to `noise` (0: every texel

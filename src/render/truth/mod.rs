@@ -347,26 +347,54 @@ pub fn trace(
     let batch = settings.batch.max(1);
     let mut done = 0u32;
     let mut result;
+    // On a CPU adapter a batch is traced in short dispatches — bands of rows, a few samples each —
+    // of at most bake::PATHS_PER_DISPATCH paths: lavapipe was measured to end longer ones early
+    // (a 16-sample batch over 160×120 pixels kept 13 at some). A GPU takes the batch whole.
+    let cpu = gpu.adapter.get_info().device_type == wgpu::DeviceType::Cpu;
+    let (samples_per, rows_per) = if cpu {
+        let samples = (bake::PATHS_PER_DISPATCH / (width as u64 * 8)).clamp(1, bake::SAMPLES_PER_DISPATCH) as u32;
+        (samples, ((bake::PATHS_PER_DISPATCH / (width as u64 * samples as u64)) as u32 / 8).max(1) * 8)
+    } else {
+        (batch, height)
+    };
     loop {
         let count = batch.min(settings.spp.max(1) - done);
-        let p = TruthParams {
-            dims: [width, height, done, count],
-            settings: [settings.bounces, inputs.background as u32, settings.roulette as u32, 0],
-        };
-        gpu.queue.write_buffer(&params, 0, bytemuck::bytes_of(&p));
-        let mut encoder = device.create_command_encoder(&Default::default());
-        {
-            let mut pass = encoder.begin_compute_pass(&Default::default());
-            pass.set_pipeline(&pipeline.pipeline);
-            pass.set_bind_group(0, frame_group, &[]);
-            pass.set_bind_group(1, &group, &[]);
-            pass.set_bind_group(3, &inputs.scene.group, &[]);
-            pass.dispatch_workgroups(width.div_ceil(8), height.div_ceil(8), 1);
+        let mut first = done;
+        while first < done + count {
+            let n = samples_per.min(done + count - first);
+            for row in (0..height).step_by(rows_per as usize) {
+                let p = TruthParams {
+                    dims: [width, height, first, n],
+                    settings: [settings.bounces, inputs.background as u32, settings.roulette as u32, row],
+                };
+                gpu.queue.write_buffer(&params, 0, bytemuck::bytes_of(&p));
+                let mut encoder = device.create_command_encoder(&Default::default());
+                {
+                    let mut pass = encoder.begin_compute_pass(&Default::default());
+                    pass.set_pipeline(&pipeline.pipeline);
+                    pass.set_bind_group(0, frame_group, &[]);
+                    pass.set_bind_group(1, &group, &[]);
+                    pass.set_bind_group(3, &inputs.scene.group, &[]);
+                    pass.dispatch_workgroups(width.div_ceil(8), rows_per.min(height - row).div_ceil(8), 1);
+                }
+                gpu.queue.submit([encoder.finish()]);
+                gpu.wait_idle()?;
+            }
+            first += n;
         }
-        gpu.queue.submit([encoder.finish()]);
         done += count;
         let bytes = readback(&accum, accum_bytes)?;
         let role_bytes = readback(&roles, roles_bytes)?;
+        // Every pixel must have taken every sample: a truth short of some would claim spp it lacks
+        // (render::truth::bake measured lavapipe ending long dispatches early).
+        let sums: &[[f32; 4]] = bytemuck::cast_slice(&bytes);
+        if let Some(short) = sums.iter().step_by(2).take(pixels).find(|s| s[3] != done as f32) {
+            return Err(Error::Other(format!(
+                "the truth on {} took {} of {done} samples at a pixel: the adapter ended the work early",
+                gpu.adapter.get_info().name,
+                short[3]
+            )));
+        }
         result = summarise(
             bytemuck::cast_slice(&bytes),
             bytemuck::cast_slice(&role_bytes),
