@@ -463,7 +463,7 @@ fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>, vertex_gi: vec3<f32>) -> vec3<f
 fn object_ambient(n: vec3<f32>) -> vec3<f32> {
     let flags = u32(object.bake.y + 0.5);
     if (object.bake.x > 1.5) {
-        let baked = lightmap_gi(lightmap_uv, n, (flags & 1u) != 0u);
+        let baked = lightmap_gi(lightmap_uv, n, (flags & 1u) != 0u, object.bake.z);
         if ((flags & 2u) != 0u && frame.counts.y > 0u && subtracts_main_light) {
             return subtract_main_light(baked, n);
         }

@@ -109,12 +109,21 @@ fn decode_directional_lightmap(color: vec3<f32>, dir: vec4<f32>, n: vec3<f32>) -
     return color * half_lambert / max(1e-4, dir.w);
 }
 
+// UnpackLightmapDoubleLDR in linear colour space: rgb · 4.59 (core EntityLighting.hlsl
+// LIGHTMAP_HDR_MULTIPLIER, 2^2.2 rounded; twin: render::gi::lightmaps::unpack_lightmap_double_ldr)
+fn unpack_lightmap_double_ldr(c: vec4<f32>) -> vec3<f32> {
+    return c.rgb * 4.59;
+}
+
 // The baked diffuse light at uv for normal n: SampleLightmap / SampleDirectionalLightmap
-// (URP Lighting, HDRP SampleBakedGI, built-in UnityGI_Base), decoded as the pipeline stores it
-fn lightmap_gi(uv: vec2<f32>, n: vec3<f32>, directional: bool) -> vec3<f32> {
+// (URP Lighting, HDRP SampleBakedGI, built-in UnityGI_Base), decoded as the Lightmap Encoding
+// stores it (`encoding`: 0 High Quality, 1 Normal Quality RGBM, 2 Low Quality double LDR)
+fn lightmap_gi(uv: vec2<f32>, n: vec3<f32>, directional: bool, encoding: f32) -> vec3<f32> {
     let encoded = textureSampleLevel(lightmap, env_sampler, uv, 0, 0.0);
     var color = encoded.rgb;
-    if (PIPELINE != PIPELINE_HDRP) {
+    if (encoding > 1.5) {
+        color = unpack_lightmap_double_ldr(encoded);
+    } else if (encoding > 0.5) {
         color = unpack_lightmap_rgbm(encoded);
     }
     if (directional) {

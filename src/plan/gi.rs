@@ -19,7 +19,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::pipelines::Pipeline;
-use crate::spec::gi::{GiSettings, LightBakeMode, MixedLighting, SHADOW_MASK_CHANNELS};
+use crate::spec::gi::{GiSettings, LightBakeMode, LightmapQuality, MixedLighting, SHADOW_MASK_CHANNELS};
 use crate::spec::scene::{Light, LightKind};
 
 /// What the bake holds of one light, and where the frame draws it.
@@ -53,6 +53,30 @@ pub struct GiPlan {
     /// The dynamic objects take light probes (a grid in `[gi]`), else the sky's ambient probe.
     pub probes: bool,
     pub bounces: u32,
+    /// The Lightmap Encoding the pipeline stores its lightmaps with, and why it differs from the
+    /// scene's, if it does.
+    #[serde(default = "normal_quality")]
+    pub encoding: LightmapQuality,
+    #[serde(default)]
+    pub encoding_note: Option<String>,
+}
+
+fn normal_quality() -> LightmapQuality {
+    LightmapQuality::Normal
+}
+
+/// The Lightmap Encoding `pipeline` stores with when the scene asks for `asked`: built-in's and
+/// URP's desktop default is Normal Quality (RGBM); HDRP supports High Quality alone (the HDRP
+/// Wizard's lightmap-encoding check sets it), so it stores that whatever is asked.
+pub fn lightmap_quality(pipeline: Pipeline, asked: Option<LightmapQuality>) -> (LightmapQuality, Option<String>) {
+    match (pipeline, asked) {
+        (Pipeline::Hdrp, Some(q)) if q != LightmapQuality::High => {
+            (LightmapQuality::High, Some(format!("HDRP stores High Quality lightmaps only, not {} quality", q.name())))
+        }
+        (Pipeline::Hdrp, _) => (LightmapQuality::High, None),
+        (_, Some(q)) => (q, None),
+        (_, None) => (LightmapQuality::Normal, None),
+    }
 }
 
 impl GiPlan {
@@ -92,7 +116,16 @@ impl GiPlan {
                 }
             })
             .collect();
-        GiPlan { mixed_lighting, mixed_lighting_note, lights, probes: gi.probes.is_some(), bounces: gi.bounces }
+        let (encoding, encoding_note) = lightmap_quality(pipeline, gi.encoding);
+        GiPlan {
+            mixed_lighting,
+            mixed_lighting_note,
+            lights,
+            probes: gi.probes.is_some(),
+            bounces: gi.bounces,
+            encoding,
+            encoding_note,
+        }
     }
 
     /// Whether anything baked can reach the frame: a light with baked direct or indirect light,
@@ -114,6 +147,10 @@ impl GiPlan {
     pub fn summary(&self) -> String {
         let mut s = self.mixed_lighting.name().to_string();
         if let Some(note) = &self.mixed_lighting_note {
+            s += &format!(" ({note})");
+        }
+        s += &format!(", {} quality lightmaps", self.encoding.name());
+        if let Some(note) = &self.encoding_note {
             s += &format!(" ({note})");
         }
         s += &format!(", {} bounces, {}", self.bounces, if self.probes { "a probe grid" } else { "no probe grid" });
@@ -228,6 +265,17 @@ mod tests {
 
     fn gi(mode: MixedLighting) -> GiSettings {
         toml::from_str::<GiSettings>(&format!("mixed_lighting = \"{}\"", mode.name())).unwrap()
+    }
+
+    #[test]
+    fn hdrp_stores_high_quality_lightmaps_whatever_is_asked() {
+        use crate::spec::gi::LightmapQuality::*;
+        assert_eq!(lightmap_quality(Pipeline::Builtin, None), (Normal, None));
+        assert_eq!(lightmap_quality(Pipeline::Urp, Some(Low)), (Low, None));
+        assert_eq!(lightmap_quality(Pipeline::Hdrp, None), (High, None));
+        let (q, note) = lightmap_quality(Pipeline::Hdrp, Some(Normal));
+        assert_eq!(q, High);
+        assert!(note.unwrap().contains("High Quality"));
     }
 
     #[test]

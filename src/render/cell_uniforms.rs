@@ -165,6 +165,11 @@ pub(in crate::render) fn write_uniforms(
     // Subtractive: the main directional light's real-time shadow darkens the lightmaps, down to
     // the Realtime Shadow Color (SubtractMainLightWithRealtimeAttenuationFromLightmap).
     let subtractive = plan.gi.as_ref().is_some_and(|g| g.mixed_lighting == crate::spec::gi::MixedLighting::Subtractive);
+    // How the lightmap holds its light (Object.bake.z, scene.wgsl `lightmap_gi`)
+    let encoding = plan
+        .gi
+        .as_ref()
+        .map_or(0.0, |g| crate::render::gi::lightmaps::LightmapEncoding::of_quality(g.encoding).shader_value());
     let shadow_color = prepared.scene.gi.as_ref().map_or([0.0; 4], |g| {
         let c = g.realtime_shadow_color.map(crate::color::srgb_to_linear);
         [c[0] as f32, c[1] as f32, c[2] as f32, 0.0]
@@ -250,7 +255,7 @@ pub(in crate::render) fn write_uniforms(
                 Some(f) if f < 1.0 => [f as f32, 1.0, 0.0, 0.0],
                 _ => [1.0, 0.0, 0.0, 0.0],
             },
-            bake: [source.shader_value(), source.flags(subtractive), 0.0, 0.0],
+            bake: [source.shader_value(), source.flags(subtractive), encoding, 0.0],
             occlusion: match source {
                 crate::render::gi::AmbientSource::Probe(p) => p.occlusion.map(|v| v as f32),
                 _ => [1.0; 4],

@@ -881,7 +881,7 @@ impl Renderer {
                         ([m.width, m.height], covered, m.noise)
                     }),
                     probes: b.probes.as_ref().map_or(0, Vec::len),
-                    encoding: crate::render::gi::lightmaps::LightmapEncoding::of(cell.pipeline).name(),
+                    encoding: crate::render::gi::lightmaps::LightmapEncoding::of_quality(g.encoding).name(),
                 },
                 None => crate::render::gi::BakeUse {
                     plan: g.clone(),
@@ -894,7 +894,7 @@ impl Renderer {
                     bounces: g.bounces,
                     lightmap: None,
                     probes: 0,
-                    encoding: crate::render::gi::lightmaps::LightmapEncoding::of(cell.pipeline).name(),
+                    encoding: crate::render::gi::lightmaps::LightmapEncoding::of_quality(g.encoding).name(),
                 },
             }),
         })

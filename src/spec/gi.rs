@@ -70,6 +70,26 @@ impl MixedLighting {
     }
 }
 
+/// Player Settings' Lightmap Encoding: Low Quality stores double LDR (dLDR), Normal Quality RGBM,
+/// High Quality HDR (BC6H-compressed in the engine, half floats here).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LightmapQuality {
+    Low,
+    Normal,
+    High,
+}
+
+impl LightmapQuality {
+    pub fn name(self) -> &'static str {
+        match self {
+            LightmapQuality::Low => "low",
+            LightmapQuality::Normal => "normal",
+            LightmapQuality::High => "high",
+        }
+    }
+}
+
 /// Unity's Lighting Settings defaults (Lightmapping settings of a new asset).
 pub const DEFAULT_BOUNCES: u32 = 2;
 pub const DEFAULT_TEXELS_PER_UNIT: f64 = 40.0;
@@ -110,6 +130,9 @@ pub struct GiSettings {
     /// Directional Mode: `true` (Directional, the default) also bakes the dominant direction.
     #[serde(default = "yes")]
     pub directional: bool,
+    /// Player Settings' Lightmap Encoding (absent: each pipeline's default, plan::gi).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub encoding: Option<LightmapQuality>,
     /// Subtractive's Realtime Shadow Color (sRGB).
     #[serde(default = "default_shadow_color")]
     pub realtime_shadow_color: [f64; 3],

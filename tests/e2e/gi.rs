@@ -368,3 +368,59 @@ fn a_dynamic_objects_further_lod_levels_read_its_probe() {
     assert!(alone > 0.0, "the probe lights the ball");
     assert!((at_level_1 - alone).abs() < 0.02 * alone, "LOD 1 {at_level_1} vs the same mesh alone {alone}");
 }
+
+#[test]
+fn lightmap_encodings_decode_to_the_same_light() {
+    // The Cornell room's URP frame with its lightmap stored at each Lightmap Encoding quality:
+    // double LDR, RGBM and half floats decode to the same light within their 8-bit steps, where
+    // the light stays inside double LDR's range (the ceiling over the lamp clips at 4.59, as
+    // Unity's would). HDRP keeps High Quality whatever is asked.
+    use shadematrix::spec::gi::LightmapQuality;
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let mut frames = Vec::new();
+    for q in [LightmapQuality::Low, LightmapQuality::Normal, LightmapQuality::High] {
+        let mut scene = cornell();
+        scene.gi.as_mut().unwrap().encoding = Some(q);
+        let prepared = renderer.prepare_scene(&scene).unwrap();
+        let cell = cell_params(Pipeline::Urp, "lit", sliders(), (1.5, 6.0), 48, RenderPath::Forward);
+        let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
+        assert_eq!(r.bake.as_ref().unwrap().encoding, ["dldr", "rgbm", "hdr"][frames.len()]);
+        frames.push(r.hdr);
+    }
+    let high = &frames[2];
+    let peak = high.iter().cloned().fold(0.0f32, f32::max) as f64;
+    assert!(peak > 0.05, "the room is lit: peak {peak}");
+    let clipped = frames[0].iter().zip(high).filter(|(a, b)| (**a as f64 - **b as f64).abs() > 0.5).count();
+    assert!(clipped > 0, "double LDR clips the brightest texels");
+    let inside: Vec<usize> = (0..high.len() / 4).filter(|&i| high[4 * i..4 * i + 3].iter().all(|v| *v < 2.0)).collect();
+    assert!(inside.len() > high.len() / 8, "{} of {} pixels in range", inside.len(), high.len() / 4);
+    for (name, f) in ["dldr", "rgbm"].iter().zip(&frames[..2]) {
+        let mut d: Vec<f64> = inside
+            .iter()
+            .flat_map(|&i| (0..3).map(move |k| 4 * i + k))
+            .map(|k| {
+                let delta = (f[k] as f64 - high[k] as f64).abs();
+                // RGBM's step scales with the texel's multiplier: compared relative to the light
+                if *name == "rgbm" {
+                    delta / (high[k] as f64 + 0.02)
+                } else {
+                    delta
+                }
+            })
+            .collect();
+        d.sort_by(f64::total_cmp);
+        let (mean, p99) = (d.iter().sum::<f64>() / d.len() as f64, d[d.len() * 99 / 100]);
+        eprintln!("{name}: mean {mean:.2e}, 99th percentile {p99:.2e} against half floats");
+        // Double LDR within one 8-bit step of its range (4.59/255); RGBM within a few steps of
+        // its multiplier (bilinear reads blend encoded texels, as the engines' do).
+        let (p99_bound, mean_bound) = if *name == "rgbm" { (0.1, 0.02) } else { (4.59 / 255.0, 0.25 * 4.59 / 255.0) };
+        assert!(p99 < p99_bound && mean < mean_bound, "{name}: mean {mean}, 99th percentile {p99}");
+    }
+    let mut scene = cornell();
+    scene.gi.as_mut().unwrap().encoding = Some(LightmapQuality::Low);
+    let prepared = renderer.prepare_scene(&scene).unwrap();
+    let cell = cell_params(Pipeline::Hdrp, "lit", sliders(), (1.5, 6.0), 32, RenderPath::Forward);
+    let bake = renderer.render(&prepared, &cell, 1, 0).unwrap().bake.unwrap();
+    assert_eq!(bake.encoding, "hdr");
+    assert!(bake.plan.encoding_note.is_some());
+}

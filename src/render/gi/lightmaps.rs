@@ -1,10 +1,11 @@
 //! Lightmaps from the bake's sums, stored as each pipeline stores them and read back as its
 //! shaders decode them (scene.wgsl `lightmap_gi`; the f64 twins below use the same names).
 //!
-//! - Layer 0, the irradiance/π: built-in and URP keep it RGBM-encoded in 8 bits (the "Normal
-//!   Quality" lightmap encoding on desktop; core EntityLighting.hlsl: in linear colour space
-//!   rgb·a^2.2·34.493242, the RGBM range 5 to the power 2.2), HDRP in half floats ("High
-//!   Quality", which HDRP requires; BC6H's block compression is not emulated).
+//! - Layer 0, the irradiance/π, as the Lightmap Encoding stores it (plan::gi): Normal Quality,
+//!   built-in's and URP's desktop default, RGBM in 8 bits (core EntityLighting.hlsl: in linear
+//!   colour space rgb·a^2.2·34.493242, the RGBM range 5 to the power 2.2); Low Quality double LDR
+//!   in 8 bits (rgb·4.59); High Quality, which HDRP requires, half floats (BC6H's block
+//!   compression is not emulated).
 //! - Layer 1, the Directional mode's dominant direction: rgb = d·0.5 + 0.5 where d is the
 //!   luminance-weighted mean direction of the texel's incoming light (|d| ≤ 1, its
 //!   directionality), a = the half-Lambert term at the texel's own normal, so that
@@ -18,16 +19,20 @@ use glam::DVec3;
 
 use super::super::truth::bake::{texel_noise, BakeSums, BAKE_STRIDE};
 use crate::geometry::lightmap_uv::LightmapAtlas;
-use crate::pipelines::Pipeline;
 
 /// 5^2.2: the RGBM range in linear colour space (core EntityLighting.hlsl LIGHTMAP_RGBM_MAX_LINEAR).
 pub const LIGHTMAP_RGBM_MAX_LINEAR: f64 = 34.493242;
 /// The layers of the lightmap array.
 pub const LIGHTMAP_LAYERS: u32 = 3;
 
+/// 2^2.2 rounded as core EntityLighting.hlsl rounds it: the double-LDR range in linear colour
+/// space (LIGHTMAP_HDR_MULTIPLIER under UNITY_LIGHTMAP_DLDR_ENCODING).
+pub const LIGHTMAP_DLDR_MAX_LINEAR: f64 = 4.59;
+
 /// How a pipeline stores its lightmap's irradiance.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum LightmapEncoding {
+    DoubleLdr,
     Rgbm,
     Hdr,
 }
@@ -35,15 +40,27 @@ pub enum LightmapEncoding {
 impl LightmapEncoding {
     pub fn name(self) -> &'static str {
         match self {
+            LightmapEncoding::DoubleLdr => "dldr",
             LightmapEncoding::Rgbm => "rgbm",
             LightmapEncoding::Hdr => "hdr",
         }
     }
 
-    pub fn of(pipeline: Pipeline) -> LightmapEncoding {
-        match pipeline {
-            Pipeline::Hdrp => LightmapEncoding::Hdr,
-            Pipeline::Builtin | Pipeline::Urp => LightmapEncoding::Rgbm,
+    /// The encoding of a Lightmap Encoding quality.
+    pub fn of_quality(q: crate::spec::gi::LightmapQuality) -> LightmapEncoding {
+        match q {
+            crate::spec::gi::LightmapQuality::Low => LightmapEncoding::DoubleLdr,
+            crate::spec::gi::LightmapQuality::Normal => LightmapEncoding::Rgbm,
+            crate::spec::gi::LightmapQuality::High => LightmapEncoding::Hdr,
+        }
+    }
+
+    /// The value the shaders read in `Object.bake.z` (scene.wgsl `lightmap_gi`).
+    pub fn shader_value(self) -> f32 {
+        match self {
+            LightmapEncoding::Hdr => 0.0,
+            LightmapEncoding::Rgbm => 1.0,
+            LightmapEncoding::DoubleLdr => 2.0,
         }
     }
 }
@@ -59,6 +76,17 @@ pub struct Lightmap {
     pub irradiance: Vec<[f32; 3]>,
     /// The mean over covered texels of the standard error of their luminance over its mean.
     pub noise: Option<f64>,
+}
+
+/// UnpackLightmapDoubleLDR in linear colour space: rgb · 4.59.
+pub fn unpack_lightmap_double_ldr(c: [f64; 4]) -> DVec3 {
+    DVec3::new(c[0], c[1], c[2]) * LIGHTMAP_DLDR_MAX_LINEAR
+}
+
+/// The double-LDR texel nearest `v` in 8 bits a channel (values above 4.59 clip).
+pub fn pack_lightmap_double_ldr(v: DVec3) -> [f64; 4] {
+    let q = |x: f64| ((x / LIGHTMAP_DLDR_MAX_LINEAR).clamp(0.0, 1.0) * 255.0).round() / 255.0;
+    [q(v.x), q(v.y), q(v.z), 1.0]
 }
 
 /// UnpackLightmapRGBM in linear colour space: rgb · a^2.2 · 5^2.2.
@@ -150,6 +178,7 @@ pub fn lightmap_from_sums(
         irradiance[i] = c.as_vec3().to_array();
         texels[i] = match encoding {
             LightmapEncoding::Rgbm => pack_lightmap_rgbm(c).map(|x| x as f32),
+            LightmapEncoding::DoubleLdr => pack_lightmap_double_ldr(c).map(|x| x as f32),
             LightmapEncoding::Hdr => [c.x as f32, c.y as f32, c.z as f32, 1.0],
         };
         texels[w * h + i] = dir.map(quantize8);
@@ -174,6 +203,17 @@ mod tests {
         }
         let over = unpack_lightmap_rgbm(pack_lightmap_rgbm(DVec3::splat(100.0)));
         assert!((over.x - LIGHTMAP_RGBM_MAX_LINEAR).abs() < 1e-9, "{over}");
+    }
+
+    #[test]
+    fn double_ldr_round_trips_within_its_8_bit_step_and_clips_at_4_59() {
+        for v in [0.0, 0.01, 0.5, 1.0, 3.0, 4.5] {
+            let c = DVec3::new(v, v * 0.5, v * 0.25);
+            let back = unpack_lightmap_double_ldr(pack_lightmap_double_ldr(c));
+            assert!((back - c).abs().max_element() <= 0.51 * LIGHTMAP_DLDR_MAX_LINEAR / 255.0, "{c} → {back}");
+        }
+        let over = unpack_lightmap_double_ldr(pack_lightmap_double_ldr(DVec3::splat(10.0)));
+        assert_eq!(over, DVec3::splat(LIGHTMAP_DLDR_MAX_LINEAR));
     }
 
     #[test]

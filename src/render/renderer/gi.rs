@@ -265,11 +265,10 @@ fn finish(
 ) -> BakedLighting {
     let gi = &inputs.gi;
     let probes = gi.probes.as_ref().map(|_| probes::probes_from_sums(sums, inputs.texels, inputs.probes));
-    let lightmap = prepared
-        .lightmap
-        .as_ref()
-        .filter(|a| !a.texels.is_empty())
-        .map(|a| lightmap_from_sums(a, sums, 0, LightmapEncoding::of(cell.pipeline), gi.padding));
+    let lightmap = prepared.lightmap.as_ref().filter(|a| !a.texels.is_empty()).map(|a| {
+        let quality = crate::plan::gi::lightmap_quality(cell.pipeline, gi.encoding).0;
+        lightmap_from_sums(a, sums, 0, LightmapEncoding::of_quality(quality), gi.padding)
+    });
     BakedLighting {
         key: inputs.key,
         probes,
