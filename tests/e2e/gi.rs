@@ -138,6 +138,22 @@ fn an_indirect_multiplier_of_zero_equals_the_realtime_cell() {
     }
 }
 
+/// The default room lit by one mixed directional light under a black sky, its reflection probe
+/// left out: the static objects' light is the sun's, real-time or baked.
+fn mixed_sun_room() -> Scene {
+    let mut scene = Scene::load("default", None, "t", "k").unwrap();
+    scene.lights = vec![scene.lights[0].clone()];
+    let l = &mut scene.lights[0];
+    l.kind = shadematrix::spec::scene::LightKind::Directional;
+    l.direction = [-0.4, -0.8, -0.45];
+    l.intensity = 1.0;
+    l.mode = LightBakeMode::Mixed;
+    scene.environment.sky = shadematrix::spec::scene::Sky::Constant { color: [0.0; 3] };
+    scene.environment.reflections = shadematrix::spec::scene::Reflections::Sky;
+    scene.probes.clear();
+    scene
+}
+
 #[test]
 fn subtractive_and_shadowmask_differ_where_dynamic_shadows_fall_on_static_objects() {
     // The default room under a mixed directional light: Subtractive bakes the light into the
@@ -145,16 +161,7 @@ fn subtractive_and_shadowmask_differ_where_dynamic_shadows_fall_on_static_object
     // object's real-time shadow falls; Shadowmask draws it in real time with baked static
     // occlusion. On the static objects they agree (to the lightmap's resolution) outside the
     // dynamic shadows and part inside them.
-    let mut base = Scene::load("default", None, "t", "k").unwrap();
-    base.lights = vec![base.lights[0].clone()];
-    let l = &mut base.lights[0];
-    l.kind = shadematrix::spec::scene::LightKind::Directional;
-    l.direction = [-0.4, -0.8, -0.45];
-    l.intensity = 1.0;
-    l.mode = LightBakeMode::Mixed;
-    base.environment.sky = shadematrix::spec::scene::Sky::Constant { color: [0.0; 3] };
-    base.environment.reflections = shadematrix::spec::scene::Reflections::Sky;
-    base.probes.clear();
+    let mut base = mixed_sun_room();
     base.gi = Some(toml::from_str("texels_per_unit = 8\nsamples = 96\nbounces = 1").unwrap());
     let with = |mode: MixedLighting, subjects_cast: bool| {
         let mut s = base.clone();
@@ -269,16 +276,7 @@ fn deferred_paths_read_the_shadow_mask_and_leave_subtractives_main_light_to_the_
     // reads the baked occlusion from its shadow-mask G-buffer and, under Subtractive, leaves the
     // main light off lightmapped pixels: its static objects match the forward frame's. Built-in's
     // deferred lighting has no lightmapped flag and draws the light over the lightmap there.
-    let mut scene = Scene::load("default", None, "t", "k").unwrap();
-    scene.lights = vec![scene.lights[0].clone()];
-    let l = &mut scene.lights[0];
-    l.kind = shadematrix::spec::scene::LightKind::Directional;
-    l.direction = [-0.4, -0.8, -0.45];
-    l.intensity = 1.0;
-    l.mode = LightBakeMode::Mixed;
-    scene.environment.sky = shadematrix::spec::scene::Sky::Constant { color: [0.0; 3] };
-    scene.environment.reflections = shadematrix::spec::scene::Reflections::Sky;
-    scene.probes.clear();
+    let mut scene = mixed_sun_room();
     let mut pillar = scene.objects.iter().find(|o| o.role == Role::Fixed).unwrap().clone();
     pillar.name = "pillar".into();
     pillar.mesh = toml::from_str("kind = \"box\"\nsize = [0.5, 2.4, 0.5]").unwrap();

@@ -141,18 +141,8 @@ pub fn gather(
                 // sample, its samples; settings.w: a probe's samples, over which its directions
                 // are stratified
                 let p = TruthParams { dims: [hi, first, done, count], settings: [budget.bounces, 0, 0, samples] };
-                gpu.queue.write_buffer(&params, 0, bytemuck::bytes_of(&p));
-                let mut encoder = device.create_command_encoder(&Default::default());
-                {
-                    let mut pass = encoder.begin_compute_pass(&Default::default());
-                    pass.set_pipeline(&pipeline.pipeline);
-                    pass.set_bind_group(0, frame_group, &[]);
-                    pass.set_bind_group(1, &group, &[]);
-                    pass.set_bind_group(3, &scene.group, &[]);
-                    pass.dispatch_workgroups(chunk.min(hi - first).div_ceil(64), 1, 1);
-                }
-                gpu.queue.submit([encoder.finish()]);
-                gpu.wait_idle()?;
+                let groups = [frame_group, &group, &scene.group];
+                super::dispatch(gpu, pipeline, groups, (&params, &p), [chunk.min(hi - first).div_ceil(64), 1])?;
             }
             done += count;
         }

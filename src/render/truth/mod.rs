@@ -367,18 +367,9 @@ pub fn trace(
                     dims: [width, height, first, n],
                     settings: [settings.bounces, inputs.background as u32, settings.roulette as u32, row],
                 };
-                gpu.queue.write_buffer(&params, 0, bytemuck::bytes_of(&p));
-                let mut encoder = device.create_command_encoder(&Default::default());
-                {
-                    let mut pass = encoder.begin_compute_pass(&Default::default());
-                    pass.set_pipeline(&pipeline.pipeline);
-                    pass.set_bind_group(0, frame_group, &[]);
-                    pass.set_bind_group(1, &group, &[]);
-                    pass.set_bind_group(3, &inputs.scene.group, &[]);
-                    pass.dispatch_workgroups(width.div_ceil(8), rows_per.min(height - row).div_ceil(8), 1);
-                }
-                gpu.queue.submit([encoder.finish()]);
-                gpu.wait_idle()?;
+                let groups = [frame_group, &group, &inputs.scene.group];
+                let workgroups = [width.div_ceil(8), rows_per.min(height - row).div_ceil(8)];
+                dispatch(gpu, pipeline, groups, (&params, &p), workgroups)?;
             }
             first += n;
         }
@@ -412,6 +403,29 @@ pub fn trace(
     result.bounces = settings.bounces;
     result.kind = settings.kind;
     Ok(result)
+}
+
+/// One dispatch of the tracer with parameters `p` (written to `params`), waited for: `groups` are
+/// the frame's (group 0), the tracer's own (1) and the scene's (3).
+fn dispatch(
+    gpu: &GpuContext,
+    pipeline: &TruthPipeline,
+    groups: [&wgpu::BindGroup; 3],
+    (params, p): (&wgpu::Buffer, &TruthParams),
+    workgroups: [u32; 2],
+) -> Result<(), Error> {
+    gpu.queue.write_buffer(params, 0, bytemuck::bytes_of(p));
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    {
+        let mut pass = encoder.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&pipeline.pipeline);
+        for (index, group) in [0, 1, 3].into_iter().zip(groups) {
+            pass.set_bind_group(index, group, &[]);
+        }
+        pass.dispatch_workgroups(workgroups[0], workgroups[1], 1);
+    }
+    gpu.queue.submit([encoder.finish()]);
+    gpu.wait_idle()
 }
 
 /// The tracer's group (group 1) over its buffers — objects, sums, first roles, the bake's points
