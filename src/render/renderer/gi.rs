@@ -29,6 +29,8 @@ struct BakeInputs {
     texels: usize,
     probes: usize,
     gi: GiSettings,
+    /// How the lightmap is stored (the plan's Lightmap Encoding).
+    encoding: LightmapEncoding,
 }
 
 impl Renderer {
@@ -52,7 +54,7 @@ impl Renderer {
             crate::render::truth::cpu::bake::gather(scene, cpu_inputs, points, lights, budget)
         })?;
         let gathered = (&sums, inputs.gi.samples);
-        Ok(Some(finish(prepared, cell, &inputs, gathered, start.elapsed().as_secs_f64())))
+        Ok(Some(finish(prepared, &inputs, gathered, start.elapsed().as_secs_f64())))
     }
 
     /// The bake this cell's frame reads, made on first use.
@@ -69,7 +71,7 @@ impl Renderer {
         }
         let disk_key = self.disk_key(prepared, cell, fixed_model, &inputs);
         if let Some((sums, record)) = self.bake_cache.as_ref().and_then(|c| c.load(&disk_key, inputs.points.len())) {
-            let mut baked = finish(prepared, cell, &inputs, (&sums, record.texel_samples), record.seconds);
+            let mut baked = finish(prepared, &inputs, (&sums, record.texel_samples), record.seconds);
             baked.cached = true;
             let baked = Arc::new(baked);
             prepared.bakes.lock().unwrap_or_else(|e| e.into_inner()).insert(inputs.key, baked.clone());
@@ -109,7 +111,7 @@ impl Renderer {
         )?;
         let sums = gathered.sums;
         let at = (&sums, gathered.texel_samples);
-        let baked = Arc::new(finish(prepared, cell, &inputs, at, start.elapsed().as_secs_f64()));
+        let baked = Arc::new(finish(prepared, &inputs, at, start.elapsed().as_secs_f64()));
         if let Some(cache) = &self.bake_cache {
             let record = crate::render::gi::cache::BakeCacheRecord {
                 schema: crate::render::gi::cache::BAKE_CACHE_SCHEMA,
@@ -250,6 +252,7 @@ impl Renderer {
             texels: texels.len(),
             probes: grid.len(),
             gi: gi.clone(),
+            encoding: LightmapEncoding::of_quality(gi_plan.encoding),
         })
     }
 }
@@ -258,17 +261,17 @@ impl Renderer {
 /// encoded lightmap.
 fn finish(
     prepared: &PreparedScene,
-    cell: &CellParams,
     inputs: &BakeInputs,
     (sums, texel_samples): (&BakeSums, u32),
     seconds: f64,
 ) -> BakedLighting {
     let gi = &inputs.gi;
     let probes = gi.probes.as_ref().map(|_| probes::probes_from_sums(sums, inputs.texels, inputs.probes));
-    let lightmap = prepared.lightmap.as_ref().filter(|a| !a.texels.is_empty()).map(|a| {
-        let quality = crate::plan::gi::lightmap_quality(cell.pipeline, gi.encoding).0;
-        lightmap_from_sums(a, sums, 0, LightmapEncoding::of_quality(quality), gi.padding)
-    });
+    let lightmap = prepared
+        .lightmap
+        .as_ref()
+        .filter(|a| !a.texels.is_empty())
+        .map(|a| lightmap_from_sums(a, sums, 0, inputs.encoding, gi.padding));
     BakedLighting {
         key: inputs.key,
         probes,

@@ -61,12 +61,11 @@ pub struct BakeBudget {
     pub noise: f64,
 }
 
-/// A gathered bake: every point's sums, the samples its texels took and the noise they reached.
+/// A gathered bake: every point's sums and the samples its texels took.
 #[derive(Debug, Clone)]
 pub struct GatheredBake {
     pub sums: BakeSums,
     pub texel_samples: u32,
-    pub noise: Option<f64>,
 }
 
 /// Texel samples of a converging bake's first round.
@@ -113,7 +112,7 @@ pub fn gather(
     let device = &gpu.device;
     let samples = budget.samples.max(1);
     if points.is_empty() {
-        return Ok(GatheredBake { sums: Vec::new(), texel_samples: samples, noise: None });
+        return Ok(GatheredBake { sums: Vec::new(), texel_samples: samples });
     }
     let objects = storage(device, "bake objects", objects);
     let point_buffer = storage(device, "bake points", bytemuck::cast_slice(points));
@@ -160,7 +159,7 @@ pub fn gather(
     let converging = budget.noise > 0.0;
     let mut done = 0;
     let mut target = if converging { FIRST_ROUND.min(samples) } else { samples };
-    let mut sums = loop {
+    let sums = loop {
         if t > 0 {
             run((0, t), (done, target))?;
         }
@@ -184,9 +183,7 @@ pub fn gather(
             )));
         }
     }
-    sums.shrink_to_fit();
-    let noise = texel_noise(&sums[..texels]);
-    Ok(GatheredBake { sums, texel_samples: if t > 0 { done } else { samples }, noise })
+    Ok(GatheredBake { sums, texel_samples: if t > 0 { done } else { samples } })
 }
 
 #[cfg(test)]
