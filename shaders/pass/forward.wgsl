@@ -443,7 +443,7 @@ fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>, vertex_gi: vec3<f32>) -> vec3<f
         let inc = light_incidence(light, p);
         if (inc.w > 0.0) {
             let receives = object.flags.w != 0u && VERTEX_LIT == 0u && (ADDITIONAL_SHADOWS == 1u || main);
-            let visible = min(light_visibility(light, i, p, n, inc.xyz, receives), baked_occlusion(light));
+            let visible = probe_shadowed(light, min(light_visibility(light, i, p, n, inc.xyz, receives), baked_occlusion(light)));
             if (visible > 0.0) {
                 light_min_roughness = light.params.w;
                 c += model_direct(s, n, v, inc.xyz) * light.color.rgb * (inc.w * visible);
@@ -504,6 +504,21 @@ fn baked_occlusion(light: Light) -> f32 {
         return 1.0;
     }
     return baked_occlusions()[channel];
+}
+
+// Subtractive's main light (color.w = 6) on a probe-lit dynamic object, shadowed by static
+// objects through the probe's occlusion of it (channel 0): built-in scales the light's colour by
+// it on the CPU (UnityShadowLibrary.cginc UnitySampleBakedOcclusion, "light probe occlusion is
+// done on the CPU by attenuating the light color"), URP takes min(real-time, baked) of
+// unity_ProbesOcclusion (MixRealtimeAndBakedShadows under LIGHTMAP_SHADOW_MIXING)
+fn probe_shadowed(light: Light, visible: f32) -> f32 {
+    if (light.color.w < 5.5 || object.bake.x < 0.5 || object.bake.x > 1.5) {
+        return visible;
+    }
+    if (PIPELINE == PIPELINE_BUILTIN) {
+        return visible * object.occlusion.x;
+    }
+    return min(visible, object.occlusion.x);
 }
 
 // The light's shadow-mask channel (color.w = 2 + c), or −1

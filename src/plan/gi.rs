@@ -35,6 +35,10 @@ pub struct BakedLight {
     pub indirect: f64,
     /// Its shadow-mask channel (Shadowmask modes).
     pub shadow_mask: Option<u8>,
+    /// The probes' occlusion channel of a light the frame draws on dynamic objects without a
+    /// shadow mask: Subtractive's main light, which the probes shadow (below).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub probe_occlusion: Option<u8>,
     /// The frame draws it on static (fixed) objects, and on dynamic ones (the subjects).
     pub drawn_on_static: bool,
     pub drawn_on_dynamic: bool,
@@ -104,6 +108,7 @@ impl GiPlan {
                         direct_in_probes: false,
                         indirect: 0.0,
                         shadow_mask: None,
+                        probe_occlusion: None,
                         drawn_on_static: true,
                         drawn_on_dynamic: true,
                         note: "realtime: drawn every frame, not baked".into(),
@@ -182,6 +187,7 @@ fn baked_fully(indirect: f64, note: String) -> BakedLight {
         direct_in_probes: true,
         indirect,
         shadow_mask: None,
+        probe_occlusion: None,
         drawn_on_static: false,
         drawn_on_dynamic: false,
         note,
@@ -196,6 +202,7 @@ fn mixed(mode: MixedLighting, main: bool, indirect: f64, channels: &mut usize) -
         direct_in_probes: false,
         indirect,
         shadow_mask,
+        probe_occlusion: None,
         drawn_on_static: true,
         drawn_on_dynamic: true,
         note,
@@ -225,10 +232,13 @@ fn mixed(mode: MixedLighting, main: bool, indirect: f64, channels: &mut usize) -
             direct_in_probes: !main,
             indirect,
             shadow_mask: None,
+            // Dynamic objects take static shadows through the probes alone (Unity manual,
+            // Subtractive mode): their occlusion of the main light, in the probes' first channel
+            probe_occlusion: main.then_some(0),
             drawn_on_static: false,
             drawn_on_dynamic: main,
             note: if main {
-                "mixed (subtractive), the main directional light: baked into the lightmaps, real-time on dynamic objects".into()
+                "mixed (subtractive), the main directional light: baked into the lightmaps, real-time on dynamic objects, shadowed there by the probes' occlusion".into()
             } else {
                 "mixed (subtractive): direct and indirect baked into lightmaps and probes".into()
             },

@@ -422,3 +422,57 @@ fn lightmap_encodings_decode_to_the_same_light() {
     assert_eq!(bake.encoding, "hdr");
     assert!(bake.plan.encoding_note.is_some());
 }
+
+#[test]
+fn under_subtractive_static_objects_shadow_dynamic_ones_through_the_probes() {
+    // A static roof over the sun-lit room: the main light's shadow map holds the dynamic objects
+    // alone (Subtractive, Shadowmask), so the subjects under the roof are shadowed by the probes'
+    // occlusion of the sun or not at all. Subtractive (the engine scales the light by it) and
+    // Shadowmask (min with the shadow mask's probe channel) agree on them; without a roof the
+    // subjects take the sun.
+    let mut scene = mixed_sun_room();
+    let mut roof = scene.objects.iter().find(|o| o.role == Role::Fixed).unwrap().clone();
+    roof.name = "roof".into();
+    roof.mesh = toml::from_str("kind = \"box\"\nsize = [8.0, 0.2, 6.0]").unwrap();
+    roof.transform = toml::from_str("translate = [0.0, 3.5, 0.0]").unwrap();
+    scene.gi = Some(
+        toml::from_str(
+            "texels_per_unit = 2\nsamples = 32\nnoise = 0\nbounces = 1\nprobes = { min = [-3.5, 0.3, -2.5], max = [3.5, 3.0, 2.5], counts = [3, 2, 3] }",
+        )
+        .unwrap(),
+    );
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let subject_light = |renderer: &mut Renderer, s: &Scene, p: Pipeline, shader: &str| {
+        let prepared = renderer.prepare_scene(s).unwrap();
+        let cell = cell_params(p, shader, sliders(), (1.0, 10.0), 48, RenderPath::Forward);
+        let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
+        let px: Vec<usize> =
+            (0..r.roles.len()).filter(|&i| r.roles[i] == shadematrix::render::uniforms::ROLE_SUBJECT).collect();
+        px.iter()
+            .map(|&i| {
+                0.2126 * r.hdr[4 * i] as f64 + 0.7152 * r.hdr[4 * i + 1] as f64 + 0.0722 * r.hdr[4 * i + 2] as f64
+            })
+            .sum::<f64>()
+            / px.len() as f64
+    };
+    for (p, shader) in [(Pipeline::Builtin, "standard"), (Pipeline::Urp, "lit")] {
+        let mut seen = Vec::new();
+        for (mode, roofed) in
+            [(MixedLighting::Subtractive, true), (MixedLighting::Shadowmask, true), (MixedLighting::Subtractive, false)]
+        {
+            let mut s = scene.clone();
+            s.gi.as_mut().unwrap().mixed_lighting = mode;
+            if roofed {
+                s.objects.push(roof.clone());
+            }
+            seen.push(subject_light(&mut renderer, &s, p, shader));
+        }
+        let [subtractive, shadowmask, open] = [seen[0], seen[1], seen[2]];
+        eprintln!(
+            "{}: subjects under the roof {subtractive:.4} (subtractive), {shadowmask:.4} (shadowmask); open {open:.4}",
+            p.name()
+        );
+        assert!((subtractive - shadowmask).abs() < 0.1 * shadowmask, "{}: {subtractive} vs {shadowmask}", p.name());
+        assert!(open > 2.0 * subtractive, "{}: the roof's probe shadow: open {open} vs roofed {subtractive}", p.name());
+    }
+}

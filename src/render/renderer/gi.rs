@@ -180,7 +180,7 @@ impl Renderer {
                     b.direct_in_lightmaps as u32 as f32,
                     b.direct_in_probes as u32 as f32,
                     b.indirect as f32,
-                    b.shadow_mask.map_or(-1.0, f32::from),
+                    b.shadow_mask.or(b.probe_occlusion).map_or(-1.0, f32::from),
                 ],
                 shape: [
                     l.baked_shadow_radius as f32,
