@@ -154,6 +154,15 @@ fn mixed_sun_room() -> Scene {
     scene
 }
 
+/// A static box of `size` centred at `at`, in the material of `scene`'s first fixed object.
+fn static_box(scene: &Scene, name: &str, size: [f64; 3], at: [f64; 3]) -> shadematrix::spec::scene::Object {
+    let mut o = scene.objects.iter().find(|o| o.role == Role::Fixed).unwrap().clone();
+    o.name = name.into();
+    o.mesh = toml::from_str(&format!("kind = \"box\"\nsize = {size:?}")).unwrap();
+    o.transform = toml::from_str(&format!("translate = {at:?}")).unwrap();
+    o
+}
+
 #[test]
 fn subtractive_and_shadowmask_differ_where_dynamic_shadows_fall_on_static_objects() {
     // The default room under a mixed directional light: Subtractive bakes the light into the
@@ -277,10 +286,7 @@ fn deferred_paths_read_the_shadow_mask_and_leave_subtractives_main_light_to_the_
     // main light off lightmapped pixels: its static objects match the forward frame's. Built-in's
     // deferred lighting has no lightmapped flag and draws the light over the lightmap there.
     let mut scene = mixed_sun_room();
-    let mut pillar = scene.objects.iter().find(|o| o.role == Role::Fixed).unwrap().clone();
-    pillar.name = "pillar".into();
-    pillar.mesh = toml::from_str("kind = \"box\"\nsize = [0.5, 2.4, 0.5]").unwrap();
-    pillar.transform = toml::from_str("translate = [0.2, 1.2, -1.6]").unwrap();
+    let pillar = static_box(&scene, "pillar", [0.5, 2.4, 0.5], [0.2, 1.2, -1.6]);
     scene.objects.push(pillar);
     scene.gi = Some(toml::from_str("texels_per_unit = 8\nsamples = 64\nnoise = 0\nbounces = 1").unwrap());
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
@@ -431,10 +437,7 @@ fn under_subtractive_static_objects_shadow_dynamic_ones_through_the_probes() {
     // Shadowmask (min with the shadow mask's probe channel) agree on them; without a roof the
     // subjects take the sun.
     let mut scene = mixed_sun_room();
-    let mut roof = scene.objects.iter().find(|o| o.role == Role::Fixed).unwrap().clone();
-    roof.name = "roof".into();
-    roof.mesh = toml::from_str("kind = \"box\"\nsize = [8.0, 0.2, 6.0]").unwrap();
-    roof.transform = toml::from_str("translate = [0.0, 3.5, 0.0]").unwrap();
+    let roof = static_box(&scene, "roof", [8.0, 0.2, 6.0], [0.0, 3.5, 0.0]);
     scene.gi = Some(
         toml::from_str(
             "texels_per_unit = 2\nsamples = 32\nnoise = 0\nbounces = 1\nprobes = { min = [-3.5, 0.3, -2.5], max = [3.5, 3.0, 2.5], counts = [3, 2, 3] }",
