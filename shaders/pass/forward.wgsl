@@ -964,9 +964,11 @@ fn deferred_light(light: Light, s: Surface, p: vec3<f32>, n: vec3<f32>, v: vec3<
         return vec3<f32>(0.0);
     }
     // A Shadowmask light's real-time shadow takes the darker of it and the G-buffer's baked
-    // occlusion (built-in UnityDeferredComputeShadow, URP's and HDRP's shadow-mask G-buffer)
+    // occlusion (built-in UnityDeferredComputeShadow, URP's and HDRP's shadow-mask G-buffer);
+    // so does URP's Subtractive main light on a dynamic pixel, whose mask holds its probe's
+    // occlusion (unity_ProbesOcclusion, channel 0: probe_shadowed)
     var visible = shadow_visibility(light, p, n, inc.xyz, receives);
-    let channel = shadow_mask_channel(light);
+    let channel = select(shadow_mask_channel(light), 0, light.color.w > 5.5 && PIPELINE == PIPELINE_URP);
     if (channel >= 0) {
         visible = min(visible, baked.shadow_mask[channel]);
     }

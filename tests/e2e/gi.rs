@@ -445,9 +445,9 @@ fn under_subtractive_static_objects_shadow_dynamic_ones_through_the_probes() {
         .unwrap(),
     );
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
-    let subject_light = |renderer: &mut Renderer, s: &Scene, p: Pipeline, shader: &str| {
+    let subject_light = |renderer: &mut Renderer, s: &Scene, p: Pipeline, shader: &str, path: RenderPath| {
         let prepared = renderer.prepare_scene(s).unwrap();
-        let cell = cell_params(p, shader, sliders(), (1.0, 10.0), 48, RenderPath::Forward);
+        let cell = cell_params(p, shader, sliders(), (1.0, 10.0), 48, path);
         let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
         let px: Vec<usize> =
             (0..r.roles.len()).filter(|&i| r.roles[i] == shadematrix::render::uniforms::ROLE_SUBJECT).collect();
@@ -468,7 +468,13 @@ fn under_subtractive_static_objects_shadow_dynamic_ones_through_the_probes() {
             if roofed {
                 s.objects.push(roof.clone());
             }
-            seen.push(subject_light(&mut renderer, &s, p, shader));
+            seen.push(subject_light(&mut renderer, &s, p, shader, RenderPath::Forward));
+            if p == Pipeline::Urp && mode == MixedLighting::Subtractive {
+                // URP's deferred lighting reads the probe's occlusion from the shadow-mask G-buffer
+                let deferred = subject_light(&mut renderer, &s, p, shader, RenderPath::Deferred);
+                let forward = seen[seen.len() - 1];
+                assert!((deferred - forward).abs() < 0.1 * forward, "urp deferred {deferred} vs forward {forward}");
+            }
         }
         let [subtractive, shadowmask, open] = [seen[0], seen[1], seen[2]];
         eprintln!(
