@@ -32,5 +32,6 @@ pub mod report;
 pub mod run;
 pub mod shading;
 pub mod spec;
+pub mod store;
 
 pub use error::{Error, InputError, Result};

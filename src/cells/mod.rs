@@ -18,8 +18,39 @@ pub mod coords;
 pub use coords::{AxisValue, CellCoords};
 
 /// Stable, readable, filesystem-safe id, e.g. `mitsuba__builtin-forward__standard__gold__m1.00_s0.80_i1_r10`.
+/// One read from a record is checked (`CellId::parse`): it names a folder, and a record is input.
 #[derive(Debug, Clone, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(try_from = "String")]
 pub struct CellId(pub String);
+
+/// The longest id: a cell's folder name, with room for the longest temporary name the tool gives
+/// it beside its folder (`.ID.droppedPID`, a PID of up to 10 digits) within a file name's 255 bytes.
+pub const MAX_ID_BYTES: usize = 255 - ".".len() - ".dropped".len() - 10;
+
+impl CellId {
+    /// `text` as an id: one path component of the id alphabet (ASCII letters, digits, `_`, `-`,
+    /// `.`, `+`), not starting with `.`, at most `MAX_ID_BYTES`; never a path.
+    pub fn parse(text: &str) -> Result<CellId, String> {
+        let allowed = |b: u8| b.is_ascii_alphanumeric() || matches!(b, b'_' | b'-' | b'.' | b'+');
+        if text.is_empty() || text.starts_with('.') || !text.bytes().all(allowed) {
+            return Err(format!(
+                "`{text}` is not a cell id (one folder name of ASCII letters, digits, `_`, `-`, `.` and `+`, \
+                 not starting with `.`)"
+            ));
+        }
+        if text.len() > MAX_ID_BYTES {
+            return Err(format!("cell id `{text}` is {} bytes; an id has at most {MAX_ID_BYTES}", text.len()));
+        }
+        Ok(CellId(text.to_string()))
+    }
+}
+
+impl TryFrom<String> for CellId {
+    type Error = String;
+    fn try_from(text: String) -> Result<CellId, String> {
+        CellId::parse(&text)
+    }
+}
 
 impl std::fmt::Display for CellId {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {

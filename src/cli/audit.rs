@@ -57,7 +57,8 @@ pub fn convergence(out: Option<PathBuf>, quick: bool) -> Result<(), Error> {
 
 /// The CPU the studies ran on, for the report (timings compare only on one machine).
 fn cpu_description() -> String {
-    let model = std::fs::read_to_string("/proc/cpuinfo")
+    let cpuinfo = std::path::Path::new("/proc/cpuinfo");
+    let model = crate::input::read::read_text(cpuinfo, crate::input::read::TEXT)
         .ok()
         .and_then(|t| {
             t.lines()

@@ -215,6 +215,12 @@ pub enum Command {
         /// The merged run's folder (must not hold a run).
         #[arg(long)]
         out: PathBuf,
+        /// The matrix the shards ran (default: the file their run.json names), loaded again so
+        /// that their cells are checked against today's expansion and inputs.
+        #[arg(long)]
+        matrix: Option<PathBuf>,
+        #[command(flatten)]
+        models: ModelsArg,
     },
     /// Fit the LTC tables HDRP's rect lights read (maintainers: writes shaders/data/ltc.bin, which
     /// the binary embeds; docs/models.md#area-lights).
@@ -295,7 +301,7 @@ pub fn dispatch(cmd: Command) -> Result<(), Error> {
             runs::check(&run, baseline.as_deref(), flip_mean, ssim_min)
         }
         Command::Report { run } => runs::report(&run),
-        Command::Merge { shards, out } => runs::merge(&shards, &out),
+        Command::Merge { shards, out, matrix, models } => runs::merge(&shards, &out, matrix.as_deref(), &models),
         Command::FitLtc { out } => {
             let tables = crate::shading::ltc_fit::fit();
             crate::fsutil::write_atomic(&out, &tables.to_bytes())?;

@@ -202,8 +202,24 @@ pub fn check(run: &Path, baseline: Option<&Path>, flip_mean: Option<f64>, ssim_m
     Ok(())
 }
 
-pub fn merge(shards: &[PathBuf], out: &Path) -> Result<(), Error> {
-    let m = crate::run::merge::merge(shards, out)?;
+pub fn merge(shards: &[PathBuf], out: &Path, matrix: Option<&Path>, models: &ModelsArg) -> Result<(), Error> {
+    let load = |origin: &str| {
+        let path = match matrix {
+            Some(p) => Some(p.to_path_buf()),
+            None if origin == crate::spec::matrix::EMBEDDED_ORIGIN => None,
+            None => Some(PathBuf::from(origin)),
+        };
+        if let Some(p) = path.as_deref().filter(|p| !p.exists()) {
+            let why = format!(
+                "the shards' matrix `{}` is not there to load (merge recomputes their cells from it); give it \
+                 with --matrix",
+                p.display()
+            );
+            return Err(crate::error::InputError::new("command line", why).into());
+        }
+        load_matrix(path.as_deref(), registry_for(models, path.as_deref())?)
+    };
+    let m = crate::run::merge::merge(shards, out, &load)?;
     crate::report::build(&m.dir)?;
     crate::record::RunRecord::mark_complete(&m.dir)?;
     super::outln!("{} cells from {} shards merged into {}", m.cells, m.shards, m.dir.display());

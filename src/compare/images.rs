@@ -20,17 +20,23 @@ pub enum LoadedImage {
 impl LoadedImage {
     pub fn load(path: &Path) -> Result<LoadedImage, Error> {
         let shown = path.display().to_string();
-        if !path.is_file() {
-            return Err(InputError::new(shown, "image not found").into());
+        let extension = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+        if !matches!(extension.as_deref(), Some("png" | "exr")) {
+            return Err(InputError::new(shown, "unsupported image type; allowed: .png (sRGB) and .exr (linear)").into());
         }
-        match path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
+        let bytes = crate::input::read::read(path, crate::input::read::IMAGE).map_err(|e| match e {
+            crate::input::read::ReadError::NotFound => InputError::new(&shown, "image not found"),
+            e => InputError::new(&shown, e.to_string()),
+        })?;
+        match extension.as_deref() {
             Some("png") => {
-                let img =
-                    image::open(path).map_err(|e| InputError::new(&shown, format!("cannot read PNG: {e}")))?.to_rgba8();
+                let img = image::load_from_memory_with_format(&bytes, image::ImageFormat::Png)
+                    .map_err(|e| InputError::new(&shown, format!("cannot read PNG: {e}")))?
+                    .to_rgba8();
                 Ok(LoadedImage::Ldr { width: img.width(), height: img.height(), rgba8: img.into_raw() })
             }
             Some("exr") => {
-                let (width, height, rgba) = crate::images::encode::read_exr(path)
+                let (width, height, rgba) = crate::images::encode::exr_from_bytes(&bytes)
                     .map_err(|e| InputError::new(&shown, format!("cannot read EXR: {e}")))?;
                 Ok(LoadedImage::Hdr { width, height, rgba })
             }

@@ -7,13 +7,14 @@
 //! refused. The cell key hashes the same resolved paths (`run::cell_key`), so editing a file named
 //! `my%20mesh.bin` re-renders its cells.
 
-use std::io::Read;
 use std::path::{Path, PathBuf};
 
 use crate::error::InputError;
 
 /// The largest image file a glTF may name (a 16k RGBA PNG is well under it).
 pub const MAX_IMAGE_BYTES: u64 = 512 << 20;
+
+pub use crate::input::gltf_file::open;
 
 /// What a buffer or image of a glTF file is read from.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -106,15 +107,10 @@ pub fn read_buffers(
         let want = b.length();
         let mut data = match b.source() {
             gltf::buffer::Source::Uri(uri) => match resolve(gltf_path, &format!("{key}.uri"), uri)? {
-                External::File(p) => {
-                    let f = std::fs::File::open(&p)
-                        .map_err(|e| InputError::at_key(&shown, &key, format!("{}: {e}", p.display())))?;
-                    let mut bytes = Vec::with_capacity(want);
-                    f.take(want as u64)
-                        .read_to_end(&mut bytes)
-                        .map_err(|e| InputError::at_key(&shown, &key, format!("{}: {e}", p.display())))?;
-                    bytes
-                }
+                // At most `byteLength` bytes, allocated as the file holds them: a declared 2⁴⁰
+                // is refused by the limit, never allocated.
+                External::File(p) => crate::input::read::read_prefix(&p, want as u64, crate::input::read::MESH)
+                    .map_err(|e| InputError::at_key(&shown, &key, format!("{}: {e}", p.display())))?,
                 External::Embedded => {
                     gltf::buffer::Data::from_source(b.source(), None)
                         .map_err(|e| InputError::at_key(&shown, &key, format!("cannot decode the data: URI: {e}")))?

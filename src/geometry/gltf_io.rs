@@ -1,7 +1,7 @@
 //! glTF import (through the `gltf` crate) and GLB export of a composition's meshes.
 //! glTF is Y-up and right-handed like the tool, so no axis conversion is needed.
 
-use glam::{DMat4, Vec3};
+use glam::Vec3;
 use serde_json::json;
 use std::path::Path;
 
@@ -36,7 +36,7 @@ pub fn load_with_material(path: &Path) -> Result<(Mesh, Option<GltfMaterial>), E
 pub fn material_factors(path: &Path) -> Result<Option<GltfMaterial>, Error> {
     let shown = path.display().to_string();
     crate::input::guard::without_panics(|| {
-        let doc = gltf::Gltf::open(path).map_err(|e| InputError::new(&shown, format!("cannot read glTF: {e}")))?;
+        let doc = super::gltf_files::open(path).map_err(|e| InputError::new(&shown, e))?;
         Ok(first_material(&doc.document).map(|(m, others)| read_material(&m, others, None)))
     })
     .unwrap_or_else(|panic| {
@@ -46,13 +46,18 @@ pub fn material_factors(path: &Path) -> Result<Option<GltfMaterial>, Error> {
 
 fn import_unguarded(path: &Path, shown: &str, with_material: bool) -> Result<(Mesh, Option<GltfMaterial>), Error> {
     let shown = shown.to_string();
-    if !path.is_file() {
-        return Err(
-            InputError::new(&shown, "glTF file not found (the path is resolved relative to the scene file)").into()
-        );
+    match crate::input::read::is_regular_file(path) {
+        Err(crate::input::read::ReadError::NotFound) => {
+            return Err(InputError::new(
+                &shown,
+                "glTF file not found (the path is resolved relative to the scene file)",
+            )
+            .into())
+        }
+        Err(e) => return Err(InputError::new(&shown, e.to_string()).into()),
+        Ok(()) => {}
     }
-    let gltf::Gltf { document: doc, blob } =
-        gltf::Gltf::open(path).map_err(|e| InputError::new(&shown, format!("cannot read glTF: {e}")))?;
+    let gltf::Gltf { document: doc, blob } = super::gltf_files::open(path).map_err(|e| InputError::new(&shown, e))?;
     // Every external file checked before any is read; buffers read with bounds (`gltf_files`).
     super::gltf_files::external_files(path, &doc)?;
     let buffers = super::gltf_files::read_buffers(path, &doc, blob)?;
@@ -63,12 +68,14 @@ fn import_unguarded(path: &Path, shown: &str, with_material: bool) -> Result<(Me
         false => Vec::new(),
     };
     let mut out = Mesh::default();
-    let roots: Vec<gltf::Node> = match doc.default_scene().or_else(|| doc.scenes().next()) {
-        Some(scene) => scene.nodes().collect(),
-        None => doc.nodes().collect(),
-    };
-    for node in roots {
-        visit(&node, DMat4::IDENTITY, &buffers, &mut out, &shown)?;
+    for p in crate::input::gltf_file::walk(&doc).map_err(|e| InputError::new(&shown, e))? {
+        if let Some(mesh) = p.node.mesh() {
+            for prim in mesh.primitives() {
+                if let Some(part) = read_primitive(&mesh, &prim, buffers.as_slice(), &shown)? {
+                    out.append(part.transformed(p.world));
+                }
+            }
+        }
     }
     if out.indices.is_empty() {
         return Err(InputError::new(
@@ -213,7 +220,7 @@ fn with_buffers<T>(
     let shown = path.display().to_string();
     crate::input::guard::without_panics(|| {
         let gltf::Gltf { document: doc, blob } =
-            gltf::Gltf::open(path).map_err(|e| InputError::new(&shown, format!("cannot read glTF: {e}")))?;
+            super::gltf_files::open(path).map_err(|e| InputError::new(&shown, e))?;
         super::gltf_files::external_files(path, &doc)?;
         let buffers = super::gltf_files::read_buffers(path, &doc, blob)?;
         read(&shown, &doc, &buffers)
@@ -321,28 +328,6 @@ fn decode(data: &gltf::image::Data, srgb: bool) -> TextureImage {
         })
         .collect();
     TextureImage { width: data.width as usize, height: data.height as usize, texels }
-}
-
-fn visit(
-    node: &gltf::Node,
-    parent: DMat4,
-    buffers: &[gltf::buffer::Data],
-    out: &mut Mesh,
-    shown: &str,
-) -> Result<(), Error> {
-    let local = DMat4::from_cols_array_2d(&node.transform().matrix().map(|c| c.map(f64::from)));
-    let world = parent * local;
-    if let Some(mesh) = node.mesh() {
-        for prim in mesh.primitives() {
-            if let Some(part) = read_primitive(&mesh, &prim, buffers, shown)? {
-                out.append(part.transformed(world));
-            }
-        }
-    }
-    for child in node.children() {
-        visit(&child, world, buffers, out, shown)?;
-    }
-    Ok(())
 }
 
 /// A triangle-list primitive in its mesh's space (None: another mode, or no positions); normals

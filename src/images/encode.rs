@@ -100,8 +100,15 @@ pub fn exr_with_layers_bytes(
 /// Read the RGB layer `name` of an EXR written by `exr_with_layers_bytes`, as RGBA (alpha 1).
 pub fn read_exr_layer(path: &std::path::Path, name: &str) -> Result<Vec<f32>, AppError> {
     use exr::prelude::*;
-    let image =
-        read_all_flat_layers_from_file(path).map_err(|e| AppError::encode(format!("reading {}", path.display()), e))?;
+    let bytes = read_output(path)?;
+    let image = read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .all_channels()
+        .all_layers()
+        .all_attributes()
+        .from_buffered(std::io::Cursor::new(bytes))
+        .map_err(|e| AppError::encode(format!("reading {}", path.display()), e))?;
     let layer = image.layer_data.first().ok_or_else(|| AppError::Other(format!("{}: no layer", path.display())))?;
     let channel = |c: &str| {
         let full = format!("{name}.{c}");
@@ -135,18 +142,42 @@ pub fn round_to_half(rgba: &mut [f32]) {
 
 /// Read an EXR back as linear RGBA (for tests, references and later comparisons).
 pub fn read_exr(path: &std::path::Path) -> Result<(u32, u32, Vec<f32>), AppError> {
+    exr_from_bytes(&read_output(path)?).map_err(|e| AppError::Other(format!("reading {}: {e}", path.display())))
+}
+
+/// The first RGBA layer of the EXR file in `bytes`, as linear RGBA.
+pub fn exr_from_bytes(bytes: &[u8]) -> Result<(u32, u32, Vec<f32>), String> {
     use exr::prelude::*;
-    let image = read_first_rgba_layer_from_file(
-        path,
-        |res, _| (res.width(), vec![0f32; res.width() * res.height() * 4]),
-        |(w, px), pos, (r, g, b, a): (f32, f32, f32, f32)| {
-            let i = (pos.y() * *w + pos.x()) * 4;
-            px[i..i + 4].copy_from_slice(&[r, g, b, a]);
-        },
-    )
-    .map_err(|e| AppError::encode(format!("reading {}", path.display()), e))?;
+    let image = read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .rgba_channels(
+            |res, _| (res.width(), vec![0f32; res.width() * res.height() * 4]),
+            |(w, px), pos, (r, g, b, a): (f32, f32, f32, f32)| {
+                let i = (pos.y() * *w + pos.x()) * 4;
+                px[i..i + 4].copy_from_slice(&[r, g, b, a]);
+            },
+        )
+        .first_valid_layer()
+        .all_attributes()
+        .from_buffered(std::io::Cursor::new(bytes))
+        .map_err(|e| e.to_string())?;
     let size = image.layer_data.size;
     Ok((size.width() as u32, size.height() as u32, image.layer_data.channel_data.pixels.1))
+}
+
+/// The PNG at `path` (a run's own image), as 8-bit RGBA.
+pub fn read_png(path: &std::path::Path) -> Result<image::RgbaImage, AppError> {
+    let bytes = read_output(path)?;
+    image::load_from_memory_with_format(&bytes, image::ImageFormat::Png)
+        .map(|i| i.to_rgba8())
+        .map_err(|e| AppError::Other(format!("reading {}: {e}", path.display())))
+}
+
+/// A file of a run folder, through the bounded reader.
+fn read_output(path: &std::path::Path) -> Result<Vec<u8>, AppError> {
+    crate::input::read::read(path, crate::input::read::OUTPUT)
+        .map_err(|e| AppError::Other(format!("reading {}: {e}", path.display())))
 }
 
 /// A PNG at the fast deflate level with adaptive filters: measured in the README against the

@@ -81,13 +81,11 @@ pub struct SceneContent {
 /// The scene of the glTF at `path` with `subject` the node whose primitives take the swept
 /// material.
 pub fn read(path: &Path, subject: &str) -> Result<SceneContent, String> {
-    crate::input::source::regular_file(path).map_err(|e| e.message)?;
-    let gltf = gltf::Gltf::open(path).map_err(|e| format!("cannot read glTF: {e}"))?;
+    let gltf = super::gltf_file::open(path)?;
     let doc = &gltf.document;
-    let roots: Vec<gltf::Node> = match doc.default_scene().or_else(|| doc.scenes().next()) {
-        Some(scene) => scene.nodes().collect(),
-        None => return Err("the file has no scene".into()),
-    };
+    if doc.scenes().next().is_none() {
+        return Err("the file has no scene".into());
+    }
     let mut out = SceneContent {
         node_names: doc.nodes().filter_map(|n| n.name().map(str::to_string)).collect(),
         ..Default::default()
@@ -101,8 +99,11 @@ pub fn read(path: &Path, subject: &str) -> Result<SceneContent, String> {
             names.join(", ")
         ));
     }
-    for node in roots {
-        visit(&node, DMat4::IDENTITY, false, subject, &mut out)?;
+    let placed = super::gltf_file::walk(doc)?;
+    let mut in_subject: Vec<bool> = Vec::with_capacity(placed.len());
+    for p in &placed {
+        let inherited = p.parent.is_some_and(|u| in_subject[u]);
+        in_subject.push(visit(&p.node, p.world, inherited, subject, &mut out)?);
     }
     if !out.primitives.iter().any(|p| p.subject) {
         return Err(format!("the subject node `{subject}` holds no mesh"));
@@ -110,15 +111,15 @@ pub fn read(path: &Path, subject: &str) -> Result<SceneContent, String> {
     Ok(out)
 }
 
+/// One node of the walk (`gltf_file::walk`): its primitives, light and camera; whether it is in
+/// the subject (it or an ancestor is the node named `subject`).
 fn visit(
     node: &gltf::Node,
-    parent: DMat4,
+    world: DMat4,
     in_subject: bool,
     subject: &str,
     out: &mut SceneContent,
-) -> Result<(), String> {
-    let local = DMat4::from_cols_array_2d(&node.transform().matrix().map(|c| c.map(f64::from)));
-    let world = parent * local;
+) -> Result<bool, String> {
     let name = node.name().map_or_else(|| format!("node {}", node.index()), str::to_string);
     let is_subject = in_subject || node.name() == Some(subject);
     if let Some(mesh) = node.mesh() {
@@ -189,8 +190,5 @@ fn visit(
             }
         }
     }
-    for child in node.children() {
-        visit(&child, world, is_subject, subject, out)?;
-    }
-    Ok(())
+    Ok(is_subject)
 }

@@ -9,8 +9,9 @@ use sha2::{Digest, Sha256};
 
 /// The most texels an image sky may have (4096 × 2048: 100 MB as f32 RGB).
 pub const MAX_SKY_TEXELS: usize = 4096 * 2048;
-/// The largest sky file read (bytes).
-const MAX_SKY_FILE: u64 = 256 << 20;
+/// The largest sky file read.
+const MAX_SKY_FILE: crate::input::read::Limit =
+    crate::input::read::Limit { bytes: 256 << 20, what: "an image sky file" };
 
 /// Linear RGB texels, row-major from the top (v = 0, +Y), and the file's digest.
 #[derive(Clone, PartialEq)]
@@ -58,7 +59,7 @@ pub fn read_file(path: &Path) -> Result<SkyImage, String> {
 }
 
 fn read_any_file(path: &Path) -> Result<SkyImage, String> {
-    let (bytes, extension) = crate::input::source::read_bounded(path, MAX_SKY_FILE, "an image sky file")?;
+    let (bytes, extension) = crate::input::source::read_bounded(path, MAX_SKY_FILE)?;
     decode(&bytes, &extension)
 }
 
@@ -82,7 +83,7 @@ pub fn read_face_file(path: &Path) -> Result<SkyImage, String> {
 
 fn decode(bytes: &[u8], extension: &str) -> Result<SkyImage, String> {
     let (width, height, texels) = match extension {
-        "exr" => read_exr(bytes)?,
+        "exr" => read_exr(bytes, check_size)?,
         "hdr" => read_hdr(bytes)?,
         other => {
             return Err(format!(
@@ -107,12 +108,24 @@ pub(crate) fn check_size(width: usize, height: usize) -> Result<(), String> {
 
 pub(crate) type Decoded = (usize, usize, Vec<[f32; 3]>);
 
-pub(crate) fn read_exr(bytes: &[u8]) -> Result<Decoded, String> {
+/// The first RGB(A) layer of the OpenEXR file in `bytes`. Every part's declared size passes
+/// `check_size` before any pixel is decoded: the decoder may read any of the parts.
+pub(crate) fn read_exr(bytes: &[u8], check_size: fn(usize, usize) -> Result<(), String>) -> Result<Decoded, String> {
     use exr::prelude::*;
     let meta = exr::meta::MetaData::read_from_buffered(std::io::Cursor::new(bytes), false)
         .map_err(|e| format!("not a readable OpenEXR file: {e}"))?;
-    let header = meta.headers.first().ok_or("an OpenEXR file without a layer")?;
-    check_size(header.layer_size.width(), header.layer_size.height())?;
+    if meta.headers.is_empty() {
+        return Err("an OpenEXR file without a layer".into());
+    }
+    for (i, header) in meta.headers.iter().enumerate() {
+        check_size(header.layer_size.width(), header.layer_size.height()).map_err(|e| {
+            if meta.headers.len() > 1 {
+                format!("part {i}: {e}")
+            } else {
+                e
+            }
+        })?;
+    }
     let image = read()
         .no_deep_data()
         .largest_resolution_level()

@@ -6,6 +6,7 @@ use std::path::Path;
 
 use crate::error::{Error, InputError};
 use crate::input::names::nearest;
+use crate::input::read;
 
 /// Parse `text` (from `origin`, a file name for messages) into `T`.
 pub fn parse_toml<T: DeserializeOwned>(origin: &str, text: &str) -> Result<T, InputError> {
@@ -18,30 +19,29 @@ pub fn parse_toml<T: DeserializeOwned>(origin: &str, text: &str) -> Result<T, In
 /// Read and parse a TOML file; a missing or unreadable file is bad input.
 pub fn read_toml<T: DeserializeOwned>(path: &Path) -> Result<T, Error> {
     let shown = path.display().to_string();
-    regular_file(path)?;
-    let text = std::fs::read_to_string(path).map_err(|e| InputError::new(&shown, format!("cannot read file: {e}")))?;
+    let text = read_text(path)?;
     Ok(parse_toml(&shown, &text)?)
 }
 
-/// A FIFO or a device would block or read without end: only regular files are input.
-/// The bytes of the regular file at `path` and its extension in lower case, refused when over
-/// `max` bytes (`what` names the kind of file in the message).
-pub fn read_bounded(path: &Path, max: u64, what: &str) -> Result<(Vec<u8>, String), String> {
-    regular_file(path).map_err(|e| e.message)?;
-    let size = std::fs::metadata(path).map_err(|e| format!("cannot read: {e}"))?.len();
-    if size > max {
-        return Err(format!("{size} bytes: {what} may have at most {max}"));
-    }
-    let bytes = std::fs::read(path).map_err(|e| format!("cannot read: {e}"))?;
+/// The text of the input file at `path` (`input::read`: a regular file, bounded), or bad input
+/// naming the file.
+pub fn read_text(path: &Path) -> Result<String, InputError> {
+    read::read_text(path, read::TEXT).map_err(|e| InputError::new(path.display().to_string(), e.to_string()))
+}
+
+/// The bytes of the regular file at `path` and its extension in lower case, refused past `limit`.
+pub fn read_bounded(path: &Path, limit: read::Limit) -> Result<(Vec<u8>, String), String> {
+    let bytes = read::read(path, limit).map_err(|e| e.to_string())?;
     Ok((bytes, path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase()))
 }
 
+/// A FIFO or a device would block or read without end: only regular files are input (an absent
+/// file passes here, for the caller to say so with its key).
 pub fn regular_file(path: &Path) -> Result<(), InputError> {
-    match std::fs::metadata(path) {
-        Ok(m) if !m.is_file() => Err(InputError::new(
-            path.display().to_string(),
-            "not a regular file (a folder, FIFO or device is not read)",
-        )),
+    match read::is_regular_file(path) {
+        Err(read::ReadError::NotRegular) => {
+            Err(InputError::new(path.display().to_string(), read::ReadError::NotRegular.to_string()))
+        }
         _ => Ok(()),
     }
 }

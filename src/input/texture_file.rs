@@ -9,8 +9,9 @@ use sha2::{Digest, Sha256};
 
 /// The most texels a base-colour map may have (8192²).
 pub const MAX_TEXTURE_TEXELS: usize = 8192 * 8192;
-/// The largest texture file read (bytes).
-const MAX_TEXTURE_FILE: u64 = 512 << 20;
+/// The largest texture file read.
+const MAX_TEXTURE_FILE: crate::input::read::Limit =
+    crate::input::read::Limit { bytes: 512 << 20, what: "a texture file" };
 
 /// Linear RGB texels, row-major from the top (v = 0, as glTF and the tool's UVs put the image's
 /// first row), and the file's digest.
@@ -31,7 +32,7 @@ impl std::fmt::Debug for TextureFile {
 
 /// The image at `path` (.png or .exr), or what is wrong with it.
 pub fn read_file(path: &Path) -> Result<TextureFile, String> {
-    let (bytes, extension) = crate::input::source::read_bounded(path, MAX_TEXTURE_FILE, "a texture file")?;
+    let (bytes, extension) = crate::input::source::read_bounded(path, MAX_TEXTURE_FILE)?;
     read_bytes(&bytes, &extension)
 }
 
@@ -39,11 +40,7 @@ pub fn read_file(path: &Path) -> Result<TextureFile, String> {
 pub fn read_bytes(bytes: &[u8], extension: &str) -> Result<TextureFile, String> {
     let (width, height, texels) = match extension {
         "png" => read_png(bytes)?,
-        "exr" => {
-            let (w, h, texels) = crate::input::sky_image::read_exr(bytes)?;
-            check_size(w, h)?;
-            (w, h, texels)
-        }
+        "exr" => crate::input::sky_image::read_exr(bytes, check_size)?,
         other => return Err(format!("`.{other}`: a texture is a PNG (.png, sRGB) or OpenEXR (.exr, linear) file")),
     };
     let bad = texels.iter().flatten().filter(|v| !v.is_finite() || **v < 0.0).count();

@@ -36,6 +36,10 @@ pub struct CellRecord {
     pub id: CellId,
     /// Hash of everything the cell's image depends on; `--resume` keeps a cell whose hash matches.
     pub input_hash: String,
+    /// The digest of each input the key covers (`run::cell_key::KEY_INPUTS`), so that a cell
+    /// whose key differs from a recomputed one can say which input changed.
+    #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub key_inputs: std::collections::BTreeMap<String, String>,
     pub matrix_sha256: String,
     /// What the cell is: its value on every axis (`spec::axes`).
     pub coords: CellCoords,
@@ -135,6 +139,12 @@ pub struct TruthRecord {
     pub cached: bool,
     /// The per-pixel standard error of the truth's luminance (EXR, grey).
     pub noise_map: String,
+    /// The truth store's key and the digest of the entry the cell was compared with
+    /// (`run::truth_cache`): a cached cell is taken only while that entry is the one stored.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub store_key: String,
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub store_sha256: String,
 }
 
 /// A cell's term layers (pipelines::terms): the layers image.exr holds besides the image, each
@@ -241,14 +251,14 @@ impl CellRecord {
     pub fn read(path: &Path) -> Result<CellRecord, RecordError> {
         match read_record(path, CELL_SCHEMA) {
             Err(RecordError::OtherVersion { found: NO_DRAWS_SCHEMA, .. }) => {
-                let text = std::fs::read_to_string(path).map_err(|e| RecordError::Invalid(e.to_string()))?;
+                let text = super::versioned::record_text(path)?;
                 let mut old: serde_json::Value =
                     serde_json::from_str(&text).map_err(|e| RecordError::Invalid(e.to_string()))?;
                 old["schema"] = CELL_SCHEMA.into();
                 serde_json::from_value(old).map_err(|e| RecordError::Invalid(e.to_string()))
             }
             Err(RecordError::OtherVersion { found: SEPARATE_AXES_SCHEMA, .. }) => {
-                let text = std::fs::read_to_string(path).map_err(|e| RecordError::Invalid(e.to_string()))?;
+                let text = super::versioned::record_text(path)?;
                 let old: serde_json::Value =
                     serde_json::from_str(&text).map_err(|e| RecordError::Invalid(e.to_string()))?;
                 serde_json::from_value(with_coords(old)).map_err(|e| RecordError::Invalid(e.to_string()))

@@ -141,6 +141,27 @@ fn foreign_entry(dir: &Path) -> Option<String> {
     None
 }
 
+/// `path` (to be written or replaced) lies inside the run folder `root`: its parent canonicalises
+/// under `root`'s canonical path and it is not itself a symbolic link, so nothing is written or
+/// removed through a link out of the run (a linked `tables/` or `cells/<id>`).
+pub fn check_inside(root: &Path, path: &Path) -> Result<(), Error> {
+    let outside = |why: String| Error::from(InputError::new(path.display().to_string(), why));
+    let root = root.canonicalize().map_err(|e| outside(format!("the run folder cannot be resolved: {e}")))?;
+    let parent = path.parent().unwrap_or(Path::new("."));
+    let parent = parent.canonicalize().map_err(|e| outside(format!("its folder cannot be resolved: {e}")))?;
+    if !parent.starts_with(&root) {
+        return Err(outside(format!(
+            "leads out of the run folder {} (to {}): a symbolic link in the run is not followed",
+            root.display(),
+            parent.display()
+        )));
+    }
+    if std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) {
+        return Err(outside("is a symbolic link: the run writes its own files, not through links".into()));
+    }
+    Ok(())
+}
+
 /// Whether `name` is one of this tool's temporary names (`.NAME.TAGPID`) with one of `tags`.
 pub fn is_temp_name(name: &str, tags: &[&str]) -> bool {
     let Some(rest) = name.strip_prefix('.') else { return false };

@@ -98,6 +98,9 @@ pub struct MatrixRecord {
     pub frames: u32,
     pub warmup: u32,
     pub shard: Option<String>,
+    /// The `--only` filter the run was given: `merge` recomputes the same expansion.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub only: Option<crate::spec::filter::Filter>,
     /// The contact sheets `report` draws.
     #[serde(default)]
     pub sheets: Vec<SheetSpec>,

@@ -49,13 +49,18 @@ impl RecordError {
     }
 }
 
+/// The text of the record at `path` (`input::read`: a regular file, bounded).
+pub fn record_text(path: &Path) -> Result<String, RecordError> {
+    match crate::input::read::read_text(path, crate::input::read::RECORD) {
+        Ok(t) => Ok(t),
+        Err(crate::input::read::ReadError::NotFound) => Err(RecordError::Absent),
+        Err(e) => Err(RecordError::Invalid(e.to_string())),
+    }
+}
+
 /// Read a record of schema `expected` from `path`.
 pub fn read_record<T: DeserializeOwned>(path: &Path, expected: u32) -> Result<T, RecordError> {
-    let text = match std::fs::read_to_string(path) {
-        Ok(t) => t,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Err(RecordError::Absent),
-        Err(e) => return Err(RecordError::Invalid(e.to_string())),
-    };
+    let text = record_text(path)?;
     let head: Head = serde_json::from_str(&text).map_err(|e| RecordError::Invalid(e.to_string()))?;
     if head.schema != expected {
         return Err(RecordError::OtherVersion { found: head.schema, expected });

@@ -68,7 +68,7 @@ impl TileCache {
 }
 
 fn load_tile(path: &std::path::Path, tile: u32) -> Option<RgbaImage> {
-    let img = image::open(path).ok()?.to_rgba8();
+    let img = crate::images::encode::read_png(path).ok()?;
     if img.width() <= tile && img.height() <= tile {
         return Some(img);
     }

@@ -21,8 +21,22 @@ use crate::cells::{reference_cell_id, Cell, CellId};
 use crate::spec::matrix::{hex, Matrix, ReferenceSpec};
 use crate::spec::scene::MeshSpec;
 
-/// Bumped when what a key covers changes meaning.
-pub const CELL_KEY_SCHEMA: u32 = 2;
+/// Bumped when what a key covers changes meaning (3: a digest per input, recorded in the cell's
+/// record so `merge` can name the input that differs).
+pub const CELL_KEY_SCHEMA: u32 = 3;
+
+/// The inputs a key covers, in the order `merge` reports the first that differs, each with what
+/// it is in words.
+pub const KEY_INPUTS: [(&str, &str); 8] = [
+    ("tool", "the tool (its version, code or pass shaders)"),
+    ("adapter", "the adapter"),
+    ("settings", "the matrix's run settings (timing, outputs, metrics, approximations)"),
+    ("cell", "the cell's values on its axes"),
+    ("scene", "the composition as parsed (its scene file, or a sky or texture it reads)"),
+    ("mesh_files", "a mesh, buffer or image file the composition loads"),
+    ("models", "the WGSL or declaration of a surface model the frame draws"),
+    ("reference", "what the cell is compared with"),
+];
 
 /// The tool's own identity in keys: its version and the digests build.rs made of its code and
 /// pass shaders (the surface models are per cell).
@@ -39,6 +53,8 @@ pub fn tool_fingerprint() -> String {
 #[derive(Debug, Clone, Default)]
 pub struct CellKeys {
     keys: HashMap<CellId, String>,
+    /// Each cell's digest of every input (`KEY_INPUTS`), which its record keeps.
+    inputs: HashMap<CellId, std::collections::BTreeMap<String, String>>,
 }
 
 impl CellKeys {
@@ -60,34 +76,54 @@ impl CellKeys {
             "outputs": matrix.outputs,
             "metrics": matrix.metrics,
         });
+        let digest = |v: &serde_json::Value| hex(&Sha256::digest(v.to_string().as_bytes()));
+        let (tool, adapter, settings) = (digest(&json!(tool_fingerprint())), digest(&adapter), digest(&settings));
+        let mut scenes: HashMap<usize, String> = HashMap::new();
+        let mut inputs: HashMap<CellId, std::collections::BTreeMap<String, String>> = HashMap::new();
         let own: HashMap<&CellId, String> = cells
             .iter()
             .map(|c| {
                 let files = meshes.entry(c.composition_index).or_insert_with(|| mesh_digests(matrix, c)).clone();
                 let source =
                     sources.entry((c.pipeline, c.shader.clone())).or_insert_with(|| model_sources(matrix, c)).clone();
-                let text = json!({
-                    "schema": CELL_KEY_SCHEMA,
-                    "tool": tool_fingerprint(),
-                    "cell": c,
-                    "scene": matrix.compositions[c.composition_index],
-                    "mesh_files": files,
-                    "models": source,
-                    "settings": settings,
-                    "adapter": adapter,
-                });
-                (&c.id, hex(&Sha256::digest(text.to_string().as_bytes())))
+                let scene = scenes
+                    .entry(c.composition_index)
+                    .or_insert_with(|| digest(&json!(matrix.compositions[c.composition_index])))
+                    .clone();
+                let parts = [
+                    ("tool", tool.clone()),
+                    ("adapter", adapter.clone()),
+                    ("settings", settings.clone()),
+                    ("cell", digest(&json!(c))),
+                    ("scene", scene),
+                    ("mesh_files", digest(&json!(files))),
+                    ("models", digest(&json!(source))),
+                ];
+                let mut text = format!("schema {CELL_KEY_SCHEMA}\n");
+                for (name, d) in &parts {
+                    text.push_str(&format!("{name} {d}\n"));
+                }
+                inputs.insert(c.id.clone(), parts.into_iter().map(|(n, d)| (n.to_string(), d)).collect());
+                (&c.id, hex(&Sha256::digest(text.as_bytes())))
             })
             .collect();
         let keys = cells
             .iter()
             .map(|c| {
                 let reference = reference_identity(matrix, c, &own);
+                if let Some(i) = inputs.get_mut(&c.id) {
+                    i.insert("reference".into(), hex(&Sha256::digest(reference.as_bytes())));
+                }
                 let key = hex(&Sha256::digest(format!("{}\n{reference}", own[&c.id]).as_bytes()));
                 (c.id.clone(), key)
             })
             .collect();
-        CellKeys { keys }
+        CellKeys { keys, inputs }
+    }
+
+    /// The digest of each input of `id`'s key, by name (`KEY_INPUTS`).
+    pub fn inputs(&self, id: &CellId) -> std::collections::BTreeMap<String, String> {
+        self.inputs.get(id).cloned().unwrap_or_default()
     }
 
     pub fn get(&self, id: &CellId) -> &str {
@@ -162,12 +198,15 @@ pub(crate) fn mesh_digests(matrix: &Matrix, c: &Cell) -> Vec<(String, String)> {
 /// The external buffers and images a glTF file names, resolved as the loader resolves them
 /// (`geometry::gltf_files`: percent-decoded, relative to the file); a GLB's are inside it.
 fn gltf_dependencies(path: &Path) -> Vec<PathBuf> {
-    let Ok(g) = gltf::Gltf::open(path) else { return Vec::new() };
+    let Ok(Ok(g)) = crate::input::guard::without_panics(|| crate::geometry::gltf_files::open(path)) else {
+        return Vec::new();
+    };
     // The geometry stage refused the scene already if a reference is not allowed.
     crate::geometry::gltf_files::external_files(path, &g.document).unwrap_or_default()
 }
 
 /// The file's bytes' digest, or "absent".
 fn file_digest(path: &Path) -> String {
-    std::fs::read(path).map_or_else(|_| "absent".into(), |b| hex(&Sha256::digest(&b)))
+    crate::input::read::read(path, crate::input::read::OUTPUT)
+        .map_or_else(|_| "absent".into(), |b| hex(&Sha256::digest(&b)))
 }

@@ -356,6 +356,8 @@ fn write_truth(
         seconds: t.seconds,
         cached: t.cached,
         noise_map: TRUTH_NOISE_MAP.into(),
+        store_key: t.stored.as_ref().map(|s| s.0.clone()).unwrap_or_default(),
+        store_sha256: t.stored.as_ref().map(|s| s.1.clone()).unwrap_or_default(),
     })
 }
 
@@ -495,6 +497,7 @@ fn cell_record(
         schema: CELL_SCHEMA,
         id: cell.id.clone(),
         input_hash: key.to_string(),
+        key_inputs: Default::default(),
         matrix_sha256: matrix.hash.clone(),
         coords: cell.coords.clone(),
         shader_source: cell.model().source_path.to_string(),
@@ -528,13 +531,19 @@ fn cell_record(
     }
 }
 
+/// A file of the run folder, through the bounded reader.
+fn read_run_file(path: &Path) -> Result<Vec<u8>, Error> {
+    crate::input::read::read(path, crate::input::read::OUTPUT)
+        .map_err(|e| Error::Other(format!("reading {}: {e}", path.display())))
+}
+
 /// Copy a twin's images from its original's folder.
 pub fn copy_images(from: &Path, to: &Path) -> Result<(), Error> {
     for name in ["image.exr", "image.png", crate::images::pixels::PIXELS_FILE] {
         if name == crate::images::pixels::PIXELS_FILE && !from.join(name).is_file() {
             continue; // `[outputs] pixels = false`
         }
-        let bytes = std::fs::read(from.join(name)).map_err(|e| Error::io_path("reading", &from.join(name), e))?;
+        let bytes = read_run_file(&from.join(name))?;
         write_atomic(&to.join(name), &bytes)?;
     }
     // The term PNGs, where the run draws them (`[outputs] terms`)
@@ -544,7 +553,7 @@ pub fn copy_images(from: &Path, to: &Path) -> Result<(), Error> {
         let mut names: Vec<std::path::PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
         names.sort();
         for path in names.iter().filter(|p| p.extension().is_some_and(|e| e == "png")) {
-            let bytes = std::fs::read(path).map_err(|e| Error::io_path("reading", path, e))?;
+            let bytes = read_run_file(path)?;
             let name = path.file_name().expect("a listed file");
             write_atomic(&to.join(TERMS_DIR).join(name), &bytes)?;
         }

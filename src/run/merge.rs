@@ -3,13 +3,21 @@
 //! the same matrix (hash) on the same adapter, and together cover every shard of their count;
 //! anything else is refused with the folder and the value that differs. Cells are copied (a
 //! merged run shares no file with its shards); a support cell comes from the shard that owns it.
+//!
+//! Nothing a shard's records say is taken on trust: the matrix is loaded again and each shard's
+//! expansion and cell keys recomputed (`run::cell_key`). A cell id is a typed single path
+//! component (`CellId::parse`) and must be a cell of its shard's recomputed expansion; a cell
+//! whose recorded key differs from the recomputed one was rendered from other inputs (another
+//! scene file, mesh or tool) and is refused, naming the first input that differs.
 
 use std::collections::{BTreeMap, HashSet};
 use std::path::{Path, PathBuf};
 
+use crate::cells::CellId;
 use crate::error::{Error, InputError};
 use crate::record::run::{RunStatus, StageTimes};
 use crate::record::{CellRecord, Maybe, RunDir, RunRecord, CELL_FILE, RUN_FILE};
+use crate::spec::matrix::Matrix;
 
 pub struct MergeSummary {
     pub dir: PathBuf,
@@ -19,7 +27,13 @@ pub struct MergeSummary {
     pub shards: u32,
 }
 
-pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<MergeSummary, Error> {
+/// Merge the shard folders `inputs` into `out`; `load_matrix` loads the matrix the shards name
+/// (their `matrix.origin`), so that their expansion and keys are recomputed from today's files.
+pub fn merge(
+    inputs: &[PathBuf],
+    out: &Path,
+    load_matrix: &dyn Fn(&str) -> Result<Matrix, Error>,
+) -> Result<MergeSummary, Error> {
     let shown = |p: &Path| p.display().to_string();
     if inputs.is_empty() {
         return Err(InputError::new("command line", "merge needs the shard folders: merge DIR... --out DIR").into());
@@ -71,7 +85,6 @@ pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<MergeSummary, Error> {
                 .into());
             }
         }
-        check_shard_cells(dir, &r)?;
         if *count.get_or_insert(n) != n {
             return Err(InputError::at_key(
                 shown(&dir.join(RUN_FILE)),
@@ -100,6 +113,23 @@ pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<MergeSummary, Error> {
     }
 
     let first = shards.values().next().map(|(_, r)| r.clone()).expect("at least one shard");
+    let matrix = load_matrix(&first.matrix.origin)?;
+    if matrix.hash != first.matrix.sha256 {
+        return Err(InputError::at_key(
+            first.matrix.origin.clone(),
+            "sha256",
+            format!(
+                "`{}` now; the shards were run from `{}`: the matrix changed since, so their cells are not \
+                 its cells (run the shards again)",
+                matrix.hash, first.matrix.sha256
+            ),
+        )
+        .into());
+    }
+    for (k, (src, r)) in &shards {
+        check_against_expansion(&matrix, src, r, (*k, n))?;
+        check_shard_cells(src, r)?;
+    }
     // A merge killed part-way left its own run.json (status `running`, `merged_from` set): merging
     // again into it continues it; any other run there is refused.
     let again = RunRecord::load(out).is_ok_and(|r| !r.merged_from.is_empty() && r.status != RunStatus::Complete);
@@ -128,7 +158,7 @@ pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<MergeSummary, Error> {
             ids.sort();
             for id in ids {
                 let from = src.join("cells").join(&id);
-                if id.starts_with('.') || placed.contains(&id) || support.contains(id.as_str()) == owners_only {
+                if placed.contains(&id) || support.contains(id.as_str()) == owners_only {
                     continue;
                 }
                 let path = from.join(CELL_FILE);
@@ -139,8 +169,12 @@ pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<MergeSummary, Error> {
                     Err(e) => return Err(e.into_error(&path, "cell record")),
                 };
                 twins += usize::from(record.twin_of.is_some());
-                // A folder left by an interrupted merge into `--out` is replaced.
-                super::cell_cache::copy_into_place(&from, &dir.cell_dir(&id), "merge")?;
+                // A folder left by an interrupted merge into `--out` is replaced; only ever one
+                // inside the merged run's cells/ (the id is one path component, and cells/ is
+                // the run's own folder, not a link out of it).
+                let to = dir.cell_dir(&id);
+                crate::record::layout::check_inside(&dir.root, &to)?;
+                super::cell_cache::copy_into_place(&from, &to, "merge")?;
                 placed.insert(id);
             }
         }
@@ -172,6 +206,63 @@ pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<MergeSummary, Error> {
     merged.cells = cells;
     crate::fsutil::write_json(&dir.root.join(RUN_FILE), &merged)?;
     Ok(MergeSummary { dir: dir.root, lock: dir.lock, cells: placed.len(), shards: n })
+}
+
+/// Every cell the shard lists is a cell of its recomputed expansion, and every finished one was
+/// rendered from the inputs that key says: else refused, naming the cell and the first input
+/// that differs.
+fn check_against_expansion(matrix: &Matrix, dir: &Path, r: &RunRecord, shard: (u32, u32)) -> Result<(), Error> {
+    let shown = dir.join(RUN_FILE).display().to_string();
+    let opts = super::runner::RunOptions { shard: Some(shard), only: r.matrix.only.clone(), ..Default::default() };
+    let exp = super::runner::select_cells(matrix, &opts);
+    let by_id: std::collections::HashMap<&CellId, &crate::cells::Cell> = exp.cells.iter().map(|c| (&c.id, c)).collect();
+    let listed: Vec<&crate::cells::Cell> = r.cells.iter().filter_map(|id| by_id.get(id).copied()).collect();
+    if let Some(id) = r.cells.iter().find(|id| !by_id.contains_key(id)) {
+        return Err(InputError::at_key(
+            shown,
+            "cells",
+            format!(
+                "`{id}` is not a cell of shard {}/{} of {} as it expands today: a composition changed since \
+                 the shard ran, or the record was edited",
+                shard.0, shard.1, matrix.origin
+            ),
+        )
+        .into());
+    }
+    let keys = super::cell_key::CellKeys::new(matrix, &listed, &r.adapter);
+    for c in listed {
+        let path = dir.join("cells").join(&c.id.0).join(CELL_FILE);
+        let record = match CellRecord::load(&path) {
+            Ok(rec) => rec,
+            Err(crate::record::RecordError::Absent) => continue,
+            Err(e) => return Err(e.into_error(&path, "cell record")),
+        };
+        let key = keys.get(&c.id);
+        if record.input_hash == key {
+            continue;
+        }
+        let now = keys.inputs(&c.id);
+        let differs = super::cell_key::KEY_INPUTS
+            .iter()
+            .find(|(name, _)| record.key_inputs.get(*name) != now.get(*name))
+            .map_or("an input its record does not list (a record of an older tool)".to_string(), |(name, what)| {
+                format!("{what} (`{name}`)")
+            });
+        return Err(InputError::at_key(
+            path.display().to_string(),
+            "input_hash",
+            format!(
+                "cell `{}` was rendered from other inputs than the matrix reads today: {differs} differs; \
+                 render the shard again (`run --shard {}/{} --out {}`)",
+                c.id,
+                shard.0,
+                shard.1,
+                dir.display()
+            ),
+        )
+        .into());
+    }
+    Ok(())
 }
 
 /// The adapter as far as timings and images compare: its name, backend and driver.

@@ -136,6 +136,7 @@ pub fn run(matrix: &Matrix, opts: &RunOptions) -> Result<RunSummary, Error> {
             frames: matrix.timing.frames,
             warmup: matrix.timing.warmup,
             shard: opts.shard.map(|(k, n)| format!("{k}/{n}")),
+            only: opts.only.clone(),
             sheets: matrix.sheets.clone(),
             asserts: matrix.asserts.clone(),
         },
@@ -181,7 +182,7 @@ pub fn run(matrix: &Matrix, opts: &RunOptions) -> Result<RunSummary, Error> {
     renderer.bake_cache = opts
         .cache
         .as_ref()
-        .map(|_| crate::render::gi::cache::BakeCache { dir: super::truth_cache::default_dir(&dir.root).join("bakes") });
+        .map(|_| crate::render::gi::cache::BakeCache::new(super::truth_cache::default_dir(&dir.root).join("bakes")));
     let result = stream.run(&mut renderer, geometry, workers, &mut record);
     bar.finish_and_clear();
     record.counts.rendered = stream.rendered.load(Ordering::Relaxed);
@@ -217,11 +218,13 @@ pub fn run(matrix: &Matrix, opts: &RunOptions) -> Result<RunSummary, Error> {
     })
 }
 
-/// The longest file name most file systems allow (ext4, APFS, NTFS: 255 bytes).
-const MAX_FILE_NAME: usize = 255;
+/// The longest id (`cells::MAX_ID_BYTES`): a folder name with room for its temporary names in the
+/// 255 bytes most file systems allow (ext4, APFS, NTFS).
+const MAX_FILE_NAME: usize = crate::cells::MAX_ID_BYTES;
 
-/// Every cell id is a folder name: one too long for the file system is bad input, found before
-/// anything renders rather than as an I/O error half-way through the run.
+/// Every cell id is a folder name: one too long for the file system, or for the temporary names
+/// the cache and merge give it, is bad input, found before anything renders rather than as an
+/// I/O error half-way through the run (or a cache entry dropped and rendered again every run).
 fn check_id_lengths(matrix: &Matrix, exp: &Expansion) -> Result<(), Error> {
     match exp.cells.iter().find(|c| c.id.0.len() > MAX_FILE_NAME) {
         Some(c) => Err(crate::error::InputError::new(
@@ -390,6 +393,10 @@ struct Stream<'a> {
     truth_cache: Option<super::truth_cache::TruthCache>,
     /// Each composition's frame plan, built once: the renderer, the records and run.json read it.
     plans: Vec<FramePlan>,
+    /// The truth store's entry digests checked this run, by key (None: no entry).
+    truth_digests: Mutex<HashMap<String, Option<String>>>,
+    /// Cells whose cache entry was compared with another truth: stored in its place when finished.
+    replacing: Mutex<HashSet<CellId>>,
 }
 
 impl<'a> Stream<'a> {
@@ -406,9 +413,11 @@ impl<'a> Stream<'a> {
         let truth_cache = matches!(matrix.reference, Some(ReferenceSpec::Truth(_))).then(|| match &cache {
             Some(_) => super::truth_cache::TruthCache::new(super::truth_cache::default_dir(&dir.root)),
             // `--no-cache`: nothing from earlier runs; truths are still shared within this one.
-            None => super::truth_cache::TruthCache::ephemeral(),
+            None => super::truth_cache::TruthCache::ephemeral(super::truth_cache::private_dir(&dir.root)),
         });
         Stream {
+            truth_digests: Mutex::new(HashMap::new()),
+            replacing: Mutex::new(HashSet::new()),
             truth_cache,
             plans: matrix.compositions.iter().map(FramePlan::for_scene).collect(),
             matrix,
@@ -435,6 +444,20 @@ impl<'a> Stream<'a> {
 
     fn tracker(&self) -> std::sync::MutexGuard<'_, Tracker<'a>> {
         self.tracker.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// Whether a cached cell was compared with the truth the truth store holds now under the same
+    /// key (the same entry digest); a cell without a truth passes. The truth cache's entries are
+    /// verified once per run.
+    fn compared_with_stored_truth(&self, record: &CellRecord) -> bool {
+        let Some(t) = &record.truth else { return true };
+        let Some(cache) = &self.truth_cache else { return false };
+        if t.store_key.is_empty() {
+            return false;
+        }
+        let mut verified = self.truth_digests.lock().unwrap_or_else(|e| e.into_inner());
+        let digest = verified.entry(t.store_key.clone()).or_insert_with(|| cache.digest(&t.store_key));
+        digest.as_deref() == Some(t.store_sha256.as_str())
     }
 
     fn fail(&self, e: Error) {
@@ -467,11 +490,25 @@ impl<'a> Stream<'a> {
                     self.resumed.fetch_add(1, Ordering::Relaxed);
                     true
                 } else if let Some(cache) = self.cache.as_ref().filter(|cache| cache.contains(key)) {
-                    let taken = cache.restore(key, &self.dir.cell_dir(&c.id.0), &self.matrix.hash)?;
-                    if taken {
-                        self.cached.fetch_add(1, Ordering::Relaxed);
+                    match cache.take(key) {
+                        Some((record, entry)) if self.compared_with_stored_truth(&record) => {
+                            super::cell_cache::write_entry(
+                                &entry,
+                                record,
+                                &self.dir.cell_dir(&c.id.0),
+                                &self.matrix.hash,
+                            )?;
+                            self.cached.fetch_add(1, Ordering::Relaxed);
+                            true
+                        }
+                        // Its metrics are of a truth no longer stored: measured again, and the
+                        // entry replaced when the cell finishes.
+                        Some(_) => {
+                            self.replacing.lock().unwrap_or_else(|e| e.into_inner()).insert(c.id.clone());
+                            false
+                        }
+                        None => false,
                     }
-                    taken
                 } else {
                     false
                 };
@@ -695,9 +732,9 @@ impl<'a> Stream<'a> {
                         let truth = match cached {
                             Some(truth) => truth,
                             None => {
-                                let truth = renderer.render_truth(&prepared, &params, &t.settings)?;
+                                let mut truth = renderer.render_truth(&prepared, &params, &t.settings)?;
                                 if let Some(c) = &self.truth_cache {
-                                    c.store(&key, &truth, &self.adapter)?;
+                                    truth.stored = c.store(&key, &truth, &self.adapter)?.map(|d| (key.clone(), d));
                                 }
                                 truth
                             }
@@ -933,12 +970,14 @@ impl<'a> Stream<'a> {
     /// Write the cell's record, last: its presence marks the cell finished.
     fn finish(&self, job: MetricsJob<'a>, metrics: CellMetrics, started: Option<ThreadTimer>) -> Result<(), Error> {
         let mut record = job.record;
+        record.key_inputs = self.keys.inputs(&job.cell.id);
         record.timing.metrics_ms = started.map(|t| t.elapsed_ns() as f64 / 1e6);
         record.metrics = metrics;
         let cdir = self.dir.cell_dir(&job.cell.id.0);
         write_json(&cdir.join(CELL_FILE), &record)?;
         if let Some(cache) = &self.cache {
-            cache.store(self.keys.get(&job.cell.id), &cdir)?;
+            let replacing = self.replacing.lock().unwrap_or_else(|e| e.into_inner()).remove(&job.cell.id);
+            cache.store(self.keys.get(&job.cell.id), &cdir, replacing)?;
         }
         if let Some(t) = started {
             StageClock::add_cpu(&self.clock.metrics, t);

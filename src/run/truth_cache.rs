@@ -2,7 +2,8 @@
 //! every cell whose truth reads the same shares one — the three shaders of one preset and
 //! pipeline share a physical truth — and stored in a folder per key: truth.exr (mean RGB, standard
 //! error in A), roles.png (the first surface's role in R) and truth.json (what it reached).
-//! A folder appears whole or not at all (written beside, then renamed).
+//! Entries live in the verified store (`store`): whole or not at all, read-only, every file's
+//! size and SHA-256 checked when read; a broken entry is dropped and traced again.
 
 use std::path::{Path, PathBuf};
 
@@ -14,13 +15,25 @@ use crate::error::Error;
 use crate::images::encode;
 use crate::render::truth::Truth;
 use crate::spec::matrix::Matrix;
+use crate::store::{Entry, Store};
 
-pub const TRUTH_CACHE_SCHEMA: u32 = 2;
+/// 3: entries in the verified store (`store`), every file checked when read.
+pub const TRUTH_CACHE_SCHEMA: u32 = 3;
 
 /// The default cache: beside the run folders (results/.truth-cache for results/<run>).
 pub fn default_dir(run_dir: &Path) -> PathBuf {
     run_dir.parent().unwrap_or(Path::new(".")).join(".truth-cache")
 }
+
+/// A `--no-cache` run's truths: a private folder inside the run (`.truth-cache.tmpPID`, a
+/// temporary name `--resume` clears), so a killed run leaves nothing behind outside its folder.
+pub fn private_dir(run_dir: &Path) -> PathBuf {
+    crate::store::temp_name(&run_dir.join("truth-cache"), "tmp")
+}
+
+const EXR_FILE: &str = "truth.exr";
+const ROLES_FILE: &str = "roles.png";
+const RECORD_FILE: &str = "truth.json";
 
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 pub struct TruthCacheRecord {
@@ -36,24 +49,21 @@ pub struct TruthCacheRecord {
 }
 
 pub struct TruthCache {
-    dir: PathBuf,
+    store: Store,
     /// A folder of this run's own, removed when the run ends (`--no-cache`).
     ephemeral: bool,
 }
 
 impl TruthCache {
     pub fn new(dir: PathBuf) -> TruthCache {
-        TruthCache { dir, ephemeral: false }
+        TruthCache { store: Store::new(dir, "truth cache", false), ephemeral: false }
     }
 
     /// A cache that holds this run's truths only (so that cells whose truths read the same still
-    /// share one) in a temporary folder removed with it: what `--no-cache` runs use.
-    pub fn ephemeral() -> TruthCache {
-        static RUNS: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
-        let n = RUNS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-        let dir = std::env::temp_dir().join(format!("shadematrix-truths-{}-{n}", std::process::id()));
+    /// share one) in `dir` (`private_dir`), removed with it: what `--no-cache` runs use.
+    pub fn ephemeral(dir: PathBuf) -> TruthCache {
         let _ = std::fs::remove_dir_all(&dir);
-        TruthCache { dir, ephemeral: true }
+        TruthCache { store: Store::new(dir, "truth cache", false), ephemeral: true }
     }
 
     /// The key of `cell`'s truth: what its tracer reads (`Renderer::truth_reads`: the cell's
@@ -75,49 +85,33 @@ impl TruthCache {
         crate::spec::matrix::hex(&Sha256::digest(text.to_string().as_bytes()))
     }
 
-    /// The truth stored under `key`, if a whole one is (`kind`: which truth the key was made for).
-    pub fn load(&self, key: &str, kind: crate::render::truth::TruthKind) -> Option<Truth> {
-        let dir = self.dir.join(key);
-        let record: TruthCacheRecord = serde_json::from_slice(&std::fs::read(dir.join("truth.json")).ok()?).ok()?;
-        if record.schema != TRUTH_CACHE_SCHEMA || record.key != key {
-            return None;
-        }
-        let (w, h, px) = encode::read_exr(&dir.join("truth.exr")).ok()?;
-        let roles = image::open(dir.join("roles.png")).ok()?.to_rgba8();
-        if (w, h) != (record.width, record.height) || roles.dimensions() != (w, h) {
-            return None;
-        }
-        Some(Truth {
-            kind,
-            width: w,
-            height: h,
-            mean: px.chunks_exact(4).map(|p| [p[0], p[1], p[2]]).collect(),
-            std_error: px.chunks_exact(4).map(|p| p[3]).collect(),
-            roles: roles.pixels().map(|p| p[0]).collect(),
-            spp: record.spp,
-            bounces: record.bounces,
-            subject_noise: record.subject_noise,
-            seconds: record.seconds,
-            cached: true,
-        })
+    /// The digest of the verified entry under `key`, if a whole one is there (a broken one is
+    /// dropped): what a cached cell's record is checked against.
+    pub fn digest(&self, key: &str) -> Option<String> {
+        self.store.get(key).found().map(|e| e.digest)
     }
 
-    /// Keep `truth` under `key`: written into a temporary folder, then renamed into place.
-    pub fn store(&self, key: &str, truth: &Truth, adapter: &str) -> Result<(), Error> {
-        let final_dir = self.dir.join(key);
-        if final_dir.join("truth.json").is_file() {
-            return Ok(());
+    /// The truth stored under `key`, if a whole one is (`kind`: which truth the key was made for).
+    /// An entry whose files verify but do not decode into the truth its record describes is
+    /// dropped, so it is traced and stored again rather than skipped on every run.
+    pub fn load(&self, key: &str, kind: crate::render::truth::TruthKind) -> Option<Truth> {
+        let entry = self.store.get(key).found()?;
+        match decode(&entry, key, kind) {
+            Ok(truth) => Some(truth),
+            Err(why) => {
+                eprintln!("warning: truth cache entry {key} dropped: {why}; the truth is traced again");
+                self.store.drop_entry(key);
+                None
+            }
         }
-        let tmp = self.dir.join(format!(".{key}.tmp{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&tmp);
-        std::fs::create_dir_all(&tmp).map_err(|e| Error::io_path("creating folder", &tmp, e))?;
+    }
+
+    /// Keep `truth` under `key` (a cache that cannot be written warns once); the digest of the
+    /// entry under `key`, when there is one.
+    pub fn store(&self, key: &str, truth: &Truth, adapter: &str) -> Result<Option<String>, Error> {
         let px: Vec<f32> =
             truth.mean.iter().zip(&truth.std_error).flat_map(|(m, &se)| [m[0], m[1], m[2], se]).collect();
-        std::fs::write(tmp.join("truth.exr"), encode::exr_bytes(truth.width, truth.height, &px)?)
-            .map_err(|e| Error::io_path("writing", &tmp.join("truth.exr"), e))?;
         let roles: Vec<u8> = truth.roles.iter().flat_map(|&r| [r, 0, 0, 255]).collect();
-        std::fs::write(tmp.join("roles.png"), encode::png_bytes(truth.width, truth.height, &roles)?)
-            .map_err(|e| Error::io_path("writing", &tmp.join("roles.png"), e))?;
         let record = TruthCacheRecord {
             schema: TRUTH_CACHE_SCHEMA,
             key: key.to_string(),
@@ -129,23 +123,51 @@ impl TruthCache {
             seconds: truth.seconds,
             adapter: adapter.to_string(),
         };
-        crate::fsutil::write_json(&tmp.join("truth.json"), &record)?;
-        match std::fs::rename(&tmp, &final_dir) {
-            Ok(()) => Ok(()),
-            // Another worker or run stored the same key first: theirs is as good.
-            Err(_) if final_dir.join("truth.json").is_file() => {
-                let _ = std::fs::remove_dir_all(&tmp);
-                Ok(())
-            }
-            Err(e) => Err(Error::io_path("renaming into place", &final_dir, e)),
-        }
+        let record = serde_json::to_vec_pretty(&record).map_err(|e| Error::encode("encoding truth.json", e))?;
+        let files = vec![
+            (EXR_FILE.to_string(), encode::exr_bytes(truth.width, truth.height, &px)?),
+            (ROLES_FILE.to_string(), encode::png_bytes(truth.width, truth.height, &roles)?),
+            (RECORD_FILE.to_string(), record),
+        ];
+        Ok(self.store.keep(key, &files, false))
     }
+}
+
+/// The truth in a verified entry, checked against its record.
+fn decode(entry: &Entry, key: &str, kind: crate::render::truth::TruthKind) -> Result<Truth, String> {
+    let file = |name: &str| entry.file(name).ok_or_else(|| format!("it holds no {name}"));
+    let record: TruthCacheRecord =
+        serde_json::from_slice(file(RECORD_FILE)?).map_err(|e| format!("its {RECORD_FILE} does not parse: {e}"))?;
+    if record.schema != TRUTH_CACHE_SCHEMA || record.key != key {
+        return Err(format!("its {RECORD_FILE} is of schema {} and key {}", record.schema, record.key));
+    }
+    let (w, h, px) = encode::exr_from_bytes(file(EXR_FILE)?).map_err(|e| format!("{EXR_FILE}: {e}"))?;
+    let roles = image::load_from_memory_with_format(file(ROLES_FILE)?, image::ImageFormat::Png)
+        .map_err(|e| format!("{ROLES_FILE}: {e}"))?
+        .to_rgba8();
+    if (w, h) != (record.width, record.height) || roles.dimensions() != (w, h) {
+        return Err(format!("its images are not the {}×{} its record says", record.width, record.height));
+    }
+    Ok(Truth {
+        kind,
+        width: w,
+        height: h,
+        mean: px.chunks_exact(4).map(|p| [p[0], p[1], p[2]]).collect(),
+        std_error: px.chunks_exact(4).map(|p| p[3]).collect(),
+        roles: roles.pixels().map(|p| p[0]).collect(),
+        spp: record.spp,
+        bounces: record.bounces,
+        subject_noise: record.subject_noise,
+        seconds: record.seconds,
+        cached: true,
+        stored: Some((key.to_string(), entry.digest.clone())),
+    })
 }
 
 impl Drop for TruthCache {
     fn drop(&mut self) {
         if self.ephemeral {
-            let _ = std::fs::remove_dir_all(&self.dir);
+            let _ = std::fs::remove_dir_all(self.store.dir());
         }
     }
 }

@@ -96,11 +96,9 @@ fn load_model(
 ) -> Result<ShaderModel, Error> {
     let decl_shown = decl_path.display().to_string();
     let wgsl_shown = wgsl_path.display().to_string();
-    let text =
-        std::fs::read_to_string(decl_path).map_err(|e| InputError::new(&decl_shown, format!("cannot read: {e}")))?;
+    let text = crate::input::source::read_text(decl_path)?;
     let decl: Declaration = parse_toml(&decl_shown, &text)?;
-    let wgsl =
-        std::fs::read_to_string(wgsl_path).map_err(|e| InputError::new(&wgsl_shown, format!("cannot read: {e}")))?;
+    let wgsl = crate::input::source::read_text(wgsl_path)?;
     let stem = wgsl_path.file_stem().map(|s| s.to_string_lossy().to_string()).unwrap_or_default();
     let name = decl.name.clone().unwrap_or(stem);
     crate::input::validate::Checker::new(&decl_shown).name("name", &name)?;

@@ -100,6 +100,9 @@ struct MatrixFile {
     models: Option<String>,
 }
 
+/// The origin the embedded default matrix records (`run.json`'s `matrix.origin`).
+pub const EMBEDDED_ORIGIN: &str = "<embedded default matrix>";
+
 /// The `models` key of a matrix file, resolved against the file's folder, without validating the
 /// rest: user models must be registered before the matrix's shader names are checked.
 pub fn models_dir(path: &Path) -> Result<Option<std::path::PathBuf>, Error> {
@@ -108,7 +111,7 @@ pub fn models_dir(path: &Path) -> Result<Option<std::path::PathBuf>, Error> {
         models: Option<String>,
     }
     let shown = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| InputError::new(&shown, format!("cannot read: {e}")))?;
+    let text = crate::input::source::read_text(path)?;
     let key: ModelsKey = parse_toml(&shown, &text)?;
     Ok(key.models.map(|m| path.parent().unwrap_or(Path::new(".")).join(m)))
 }
@@ -658,15 +661,13 @@ impl Matrix {
     }
 
     pub fn load_default(registry: Arc<Registry>) -> Result<Matrix, Error> {
-        Self::from_text("<embedded default matrix>", DEFAULT_MATRIX, Some(Path::new(".")), registry)
+        Self::from_text(EMBEDDED_ORIGIN, DEFAULT_MATRIX, Some(Path::new(".")), registry)
     }
 
     /// Shader names are checked against `registry`, which the matrix keeps for its cells.
     pub fn load(path: &Path, registry: Arc<Registry>) -> Result<Matrix, Error> {
         let shown = path.display().to_string();
-        crate::input::source::regular_file(path)?;
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| InputError::new(&shown, format!("cannot read matrix file: {e}")))?;
+        let text = crate::input::source::read_text(path)?;
         Self::from_text(&shown, &text, path.parent(), registry)
     }
 

@@ -692,3 +692,184 @@ fn reports_say_complete_only_once_written_and_report_clears_a_killed_reports_tem
     run_ok(d, &["report", "r"]);
     assert!(!run.join("tables/.perf.md.tmp4242").exists() && !run.join(".index.html.tmp4242").exists());
 }
+
+// Issue 46: one spine for every cache and every input --------------------------------------------
+
+/// `args` exits 2 within `secs` with each of `needles` in its message: a read that blocks or never
+/// ends fails the test instead of hanging it.
+fn refused_soon(dir: &Path, args: &[&str], needles: &[&str], secs: u64) -> String {
+    use std::process::{Command, Stdio};
+    let mut child = Command::new(env!("CARGO_BIN_EXE_shadematrix"))
+        .current_dir(dir)
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let started = std::time::Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if started.elapsed().as_secs() > secs {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("{args:?} still running after {secs} s: it blocked on, or read without end, an input");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr).to_string();
+    assert_eq!(out.status.code(), Some(2), "{args:?} should exit 2\n{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    for n in needles {
+        assert!(err.contains(n), "{args:?}: `{n}` not in the message:\n{err}");
+    }
+    err
+}
+
+fn mkfifo(path: &Path) {
+    let c = std::ffi::CString::new(path.to_str().unwrap()).unwrap();
+    assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o644) }, 0);
+}
+
+/// Edit `run.json` of `run` as text.
+fn edit_run_json(run: &Path, edit: impl Fn(&str) -> String) {
+    let p = run.join("run.json");
+    let text = std::fs::read_to_string(&p).unwrap();
+    std::fs::write(&p, edit(&text)).unwrap();
+}
+
+#[test]
+fn merge_takes_no_path_and_no_cell_outside_the_expansion_from_a_shard() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    small_matrix(d, "m", "[sweep]\nsmoothness = [0.2, 0.8]\n");
+    run_two_shards(d);
+    std::fs::create_dir_all(d.join("victim")).unwrap();
+    std::fs::write(d.join("victim/keep.txt"), b"the user's").unwrap();
+    let own = cell_dirs(&d.join("s1"))[0].file_name().unwrap().to_string_lossy().to_string();
+    let original = std::fs::read_to_string(d.join("s1/run.json")).unwrap();
+    // An id that is a path: refused as no id, and nothing outside --out is touched.
+    std::fs::rename(d.join("s1/cells").join(&own), d.join("s1/cells/a")).unwrap();
+    edit_run_json(&d.join("s1"), |t| t.replace(&format!("\"{own}\""), "\"a/../../../victim\""));
+    refused(d, &["merge", "s1", "s2", "--out", "merged"], &["s1/run.json", "a/../../../victim", "not a cell id"]);
+    assert!(d.join("victim/keep.txt").is_file(), "merge removed a folder outside --out");
+    // An id of the alphabet that is not a cell of the shard's expansion.
+    edit_run_json(&d.join("s1"), |_| original.replace(&format!("\"{own}\""), "\"a\""));
+    refused(d, &["merge", "s1", "s2", "--out", "merged2"], &["`a` is not a cell of shard 1/2"]);
+    std::fs::rename(d.join("s1/cells/a"), d.join("s1/cells").join(&own)).unwrap();
+    std::fs::write(d.join("s1/run.json"), &original).unwrap();
+    run_ok(d, &["merge", "s1", "s2", "--out", "merged3"]);
+}
+
+#[test]
+fn merge_refuses_shards_rendered_from_other_inputs_naming_the_input() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    small_matrix(d, "m", "[sweep]\nsmoothness = [0.2, 0.8]\n");
+    run_ok(d, &["run", "m.toml", "--out", "s1", "--shard", "1/2", "--no-cache"]);
+    // The scene changes between the shards: its light comes from another direction.
+    let scene = std::fs::read_to_string(d.join("plane.toml")).unwrap();
+    std::fs::write(
+        d.join("plane.toml"),
+        scene.replace("direction = [0.0, -1.0, -0.2]", "direction = [0.0, -1.0, -0.3]"),
+    )
+    .unwrap();
+    run_ok(d, &["run", "m.toml", "--out", "s2", "--shard", "2/2", "--no-cache"]);
+    refused(d, &["merge", "s1", "s2", "--out", "merged"], &["s1/cells", "the composition as parsed", "differs"]);
+    assert!(!d.join("merged/run.json").exists());
+    // With the scene the first shard read, the second is the odd one out.
+    std::fs::write(d.join("plane.toml"), &scene).unwrap();
+    refused(d, &["merge", "s1", "s2", "--out", "merged2"], &["s2/cells", "the composition as parsed"]);
+}
+
+#[test]
+fn inputs_that_are_fifos_or_devices_are_refused_without_blocking() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    // The matrix itself.
+    mkfifo(&d.join("fifo-matrix.toml"));
+    refused_soon(d, &["list", "fifo-matrix.toml"], &["fifo-matrix.toml", "not a regular file"], 60);
+    // A user model's WGSL (a FIFO), its declaration (a FIFO), a WGSL linked to /dev/zero.
+    small_matrix(d, "m", "");
+    for (name, wgsl_fifo) in [("fifo_wgsl", true), ("fifo_decl", false)] {
+        let models = d.join(name);
+        std::fs::create_dir_all(&models).unwrap();
+        let (fifo, regular) = match wgsl_fifo {
+            true => (models.join("mine.wgsl"), models.join("mine.toml")),
+            false => (models.join("mine.toml"), models.join("mine.wgsl")),
+        };
+        mkfifo(&fifo);
+        std::fs::write(regular, "").unwrap();
+        refused_soon(d, &["list", "m.toml", "--models", name], &["mine.", "not a regular file"], 60);
+    }
+    let zero = d.join("zero");
+    std::fs::create_dir_all(&zero).unwrap();
+    std::os::unix::fs::symlink("/dev/zero", zero.join("mine.wgsl")).unwrap();
+    std::fs::write(zero.join("mine.toml"), "").unwrap();
+    refused_soon(d, &["list", "m.toml", "--models", "zero"], &["mine.wgsl", "not a regular file"], 60);
+    // A fixed material's glTF maps, and a LOD level's glTF file.
+    mkfifo(&d.join("fifo.gltf"));
+    let scene = std::fs::read_to_string(crate::common::fixture("textured_plane.toml")).unwrap();
+    let material = scene.clone()
+        + "\n[[objects]]\nname = \"back\"\nrole = \"fixed\"\nmesh = { kind = \"plane\", size = [1.0, 1.0], subdivisions = 1 }\n\
+           material = { base_color_linear = [0.5, 0.5, 0.5], gltf_material = { path = \"fifo.gltf\", index = 0 } }\n";
+    std::fs::write(d.join("material.toml"), material).unwrap();
+    one_cell_matrix(d, "mat", "material.toml");
+    refused_soon(d, &["run", "mat.toml", "--out", "r1", "--no-cache"], &["fifo.gltf", "not a regular file"], 60);
+    let lod = scene.replace(
+        "mesh = { kind = \"plane\", size = [2.0, 2.0], subdivisions = 1 }",
+        "mesh = { kind = \"plane\", size = [2.0, 2.0], subdivisions = 1 }\n\
+         lod = { meshes = [{ kind = \"gltf\", path = \"fifo.gltf\" }], transitions = [0.5, 0.1], fade_width = 0.0 }",
+    );
+    std::fs::write(d.join("lod.toml"), lod).unwrap();
+    one_cell_matrix(d, "lodm", "lod.toml");
+    refused_soon(d, &["run", "lodm.toml", "--out", "r2", "--no-cache"], &["fifo.gltf", "not a regular file"], 60);
+}
+
+#[test]
+fn every_file_read_of_the_crate_goes_through_the_bounded_reader() {
+    // What opens a file for reading. The reader (`input::read`) is the one place allowed to.
+    let patterns = [
+        "fs::read(",
+        "fs::read_to_string(",
+        "File::open(",
+        "image::open(",
+        "Gltf::open(",
+        "gltf::import(",
+        "_from_file(",
+        "ImageReader::open(",
+        "OpenOptions::new()",
+    ];
+    // The reader itself, and the run folder's lock (opened to lock, its content never read).
+    let allowed = [("src/input/read.rs", ""), ("src/record/layout.rs", "OpenOptions::new()")];
+    let mut found = Vec::new();
+    let mut stack = vec![repo().join("src")];
+    while let Some(dir) = stack.pop() {
+        for e in std::fs::read_dir(&dir).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+                continue;
+            }
+            let rel = p.strip_prefix(repo()).unwrap().to_string_lossy().replace('\\', "/");
+            if p.extension().is_none_or(|x| x != "rs") || allowed.contains(&(rel.as_str(), "")) {
+                continue;
+            }
+            let text = std::fs::read_to_string(&p).unwrap();
+            // Unit tests beside the code make their own fixtures.
+            let code = text.split("#[cfg(test)]").next().unwrap_or("");
+            for (i, line) in code.lines().enumerate() {
+                let line = line.split("//").next().unwrap_or("");
+                let bypass =
+                    patterns.iter().find(|pat| line.contains(*pat) && !allowed.contains(&(rel.as_str(), **pat)));
+                if let Some(pat) = bypass {
+                    found.push(format!("{rel}:{}: `{pat}`", i + 1));
+                }
+            }
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "file reads outside input::read (use it: regular files only, bounded):\n{}",
+        found.join("\n")
+    );
+}

@@ -3,17 +3,20 @@
 //! geometry as the lightmap's texels and the probes' positions give it, the static objects'
 //! materials, the lights' values and shares, the frame's environment scale, the Lighting
 //! Settings and the adapter — and stored as its raw sums (sums.bin) with a record (bake.json).
-//! A folder appears whole or not at all (written beside, then renamed).
+//! Entries live in the verified store (`store`): whole or not at all, read-only, every file's
+//! size and SHA-256 checked when read; a broken entry is dropped and baked again.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
 use crate::error::Error;
 use crate::render::truth::bake::{BakeSums, BAKE_STRIDE};
+use crate::store::{Entry, Store};
 
-pub const BAKE_CACHE_SCHEMA: u32 = 2;
+/// 3: entries in the verified store (`store`), every file checked when read.
+pub const BAKE_CACHE_SCHEMA: u32 = 3;
 
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 pub struct BakeCacheRecord {
@@ -41,53 +44,59 @@ pub fn key(parts: &[&[u8]]) -> String {
 }
 
 pub struct BakeCache {
-    pub dir: PathBuf,
+    store: Store,
 }
+
+const SUMS_FILE: &str = "sums.bin";
+const RECORD_FILE: &str = "bake.json";
 
 impl BakeCache {
-    /// The sums and record stored under `key`, if a whole bake with `points` points is.
-    pub fn load(&self, key: &str, points: usize) -> Option<(BakeSums, BakeCacheRecord)> {
-        let dir = self.dir.join(key);
-        let record: BakeCacheRecord = serde_json::from_slice(&std::fs::read(dir.join("bake.json")).ok()?).ok()?;
-        if record.schema != BAKE_CACHE_SCHEMA || record.key != key || record.points != points {
-            return None;
-        }
-        let bytes = std::fs::read(dir.join("sums.bin")).ok()?;
-        if bytes.len() != points * BAKE_STRIDE * 16 {
-            return None;
-        }
-        let floats: Vec<f32> = bytes.chunks_exact(4).map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]])).collect();
-        let sums = floats
-            .chunks_exact(BAKE_STRIDE * 4)
-            .map(|p| std::array::from_fn(|k| [p[4 * k], p[4 * k + 1], p[4 * k + 2], p[4 * k + 3]]))
-            .collect();
-        Some((sums, record))
+    pub fn new(dir: PathBuf) -> BakeCache {
+        BakeCache { store: Store::new(dir, "bake cache", false) }
     }
 
-    /// Keep `sums` under `record.key`: written into a temporary folder, then renamed into place.
-    pub fn store(&self, record: &BakeCacheRecord, sums: &BakeSums) -> Result<(), Error> {
-        let final_dir = self.dir.join(&record.key);
-        if final_dir.join("bake.json").is_file() {
-            return Ok(());
-        }
-        let tmp = self.dir.join(format!(".{}.tmp{}", record.key, std::process::id()));
-        let _ = std::fs::remove_dir_all(&tmp);
-        std::fs::create_dir_all(&tmp).map_err(|e| Error::io_path("creating folder", &tmp, e))?;
-        let bytes: Vec<u8> = sums.iter().flatten().flatten().flat_map(|v| v.to_le_bytes()).collect();
-        write(&tmp.join("sums.bin"), &bytes)?;
-        crate::fsutil::write_json(&tmp.join("bake.json"), record)?;
-        match std::fs::rename(&tmp, &final_dir) {
-            Ok(()) => Ok(()),
-            // Another worker or run stored the same key first: theirs is as good.
-            Err(_) if final_dir.join("bake.json").is_file() => {
-                let _ = std::fs::remove_dir_all(&tmp);
-                Ok(())
+    /// The sums and record stored under `key`, if a whole bake with `points` points is. An entry
+    /// whose files verify but do not hold such a bake is dropped, so it is baked and stored again.
+    pub fn load(&self, key: &str, points: usize) -> Option<(BakeSums, BakeCacheRecord)> {
+        let entry = self.store.get(key).found()?;
+        match decode(&entry, key, points) {
+            Ok(found) => Some(found),
+            Err(why) => {
+                eprintln!("warning: bake cache entry {key} dropped: {why}; the scene bakes again");
+                self.store.drop_entry(key);
+                None
             }
-            Err(e) => Err(Error::io_path("renaming into place", &final_dir, e)),
         }
+    }
+
+    /// Keep `sums` under `record.key` (a cache that cannot be written warns once).
+    pub fn store(&self, record: &BakeCacheRecord, sums: &BakeSums) -> Result<(), Error> {
+        let bytes: Vec<u8> = sums.iter().flatten().flatten().flat_map(|v| v.to_le_bytes()).collect();
+        let json = serde_json::to_vec_pretty(record).map_err(|e| Error::encode("encoding bake.json", e))?;
+        let _ = self.store.keep(&record.key, &[(SUMS_FILE.to_string(), bytes), (RECORD_FILE.to_string(), json)], false);
+        Ok(())
     }
 }
 
-fn write(path: &Path, bytes: &[u8]) -> Result<(), Error> {
-    std::fs::write(path, bytes).map_err(|e| Error::io_path("writing", path, e))
+/// The bake in a verified entry, checked against its record and the points asked for.
+fn decode(entry: &Entry, key: &str, points: usize) -> Result<(BakeSums, BakeCacheRecord), String> {
+    let file = |name: &str| entry.file(name).ok_or_else(|| format!("it holds no {name}"));
+    let record: BakeCacheRecord =
+        serde_json::from_slice(file(RECORD_FILE)?).map_err(|e| format!("its {RECORD_FILE} does not parse: {e}"))?;
+    if record.schema != BAKE_CACHE_SCHEMA || record.key != key || record.points != points {
+        return Err(format!(
+            "its {RECORD_FILE} is of schema {}, key {} and {} points ({points} asked for)",
+            record.schema, record.key, record.points
+        ));
+    }
+    let bytes = file(SUMS_FILE)?;
+    if bytes.len() != points * BAKE_STRIDE * 16 {
+        return Err(format!("{SUMS_FILE} is {} bytes, not {}", bytes.len(), points * BAKE_STRIDE * 16));
+    }
+    let floats: Vec<f32> = bytes.chunks_exact(4).map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]])).collect();
+    let sums = floats
+        .chunks_exact(BAKE_STRIDE * 4)
+        .map(|p| std::array::from_fn(|k| [p[4 * k], p[4 * k + 1], p[4 * k + 2], p[4 * k + 3]]))
+        .collect();
+    Ok((sums, record))
 }

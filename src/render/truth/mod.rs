@@ -53,6 +53,10 @@ pub struct Truth {
     pub seconds: f64,
     /// Reused from the truth cache rather than traced for this cell.
     pub cached: bool,
+    /// The truth store's key and entry digest (`run::truth_cache`), once stored or taken from
+    /// there: what the cell's record keeps, so that a cell compared with this truth is not reused
+    /// once the truth under that key is another.
+    pub stored: Option<(String, String)>,
 }
 
 #[repr(C)]
@@ -508,6 +512,7 @@ fn summarise(accum: &[[f32; 4]], roles: &[u32], size: (u32, u32), subject_role: 
         subject_noise,
         seconds: 0.0,
         cached: false,
+        stored: None,
     }
 }
 
