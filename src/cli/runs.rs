@@ -189,6 +189,10 @@ pub fn check(run: &Path, baseline: Option<&Path>, flip_mean: Option<f64>, ssim_m
     }
     super::outln!("junit.xml and summary.md in {}", run.display());
     let mut failed = Vec::new();
+    if let Some(why) = &r.incomplete {
+        super::outln!("run: INCOMPLETE — {why}");
+        failed.push(format!("the run is incomplete: {why}"));
+    }
     if r.failures() > 0 {
         failed.push(format!("{} cells regressed", r.failures()));
     }

@@ -46,6 +46,9 @@ pub struct CheckReport {
     pub thresholds: Thresholds,
     pub baseline: Option<std::path::PathBuf>,
     pub invariants: Vec<InvariantResult>,
+    /// Why the run is not a whole run (not complete, or cells of its expansion missing): a gate
+    /// that passed a killed run would pass what was never rendered.
+    pub incomplete: Option<String>,
 }
 
 impl CheckReport {
@@ -62,7 +65,9 @@ impl CheckReport {
 pub fn check(run_dir: &Path, baseline_dir: Option<&Path>, t: Thresholds) -> Result<CheckReport, Error> {
     let run = RunData::load(run_dir)?;
     let invariants = super::invariants::evaluate(&run)?;
-    if baseline_dir.is_none() && invariants.is_empty() {
+    let incomplete = completeness(&run);
+    // An incomplete run fails whatever else is asked; a whole one needs something to check.
+    if baseline_dir.is_none() && invariants.is_empty() && incomplete.is_none() {
         return Err(crate::error::InputError::new(
             run_dir.display().to_string(),
             "nothing to check: give --baseline DIR, or declare [[assert]] invariants in the matrix",
@@ -73,10 +78,33 @@ pub fn check(run_dir: &Path, baseline_dir: Option<&Path>, t: Thresholds) -> Resu
         Some(b) => against_baseline(&run, &RunData::load(b)?, t)?,
         None => Vec::new(),
     };
-    let report = CheckReport { cells, thresholds: t, baseline: baseline_dir.map(Path::to_path_buf), invariants };
+    let report =
+        CheckReport { cells, thresholds: t, baseline: baseline_dir.map(Path::to_path_buf), invariants, incomplete };
     write_atomic(&run_dir.join("junit.xml"), junit(&report, &run.adapter()).as_bytes())?;
     write_atomic(&run_dir.join("summary.md"), summary(&report, &run.adapter()).as_bytes())?;
     Ok(report)
+}
+
+/// Why `run` is not whole: its status, and the cells of its expansion without a record.
+fn completeness(run: &RunData) -> Option<String> {
+    let mut why = Vec::new();
+    if run.run.status != crate::record::run::RunStatus::Complete {
+        why.push(format!("its status is `{}`, not `complete`: the run did not finish", run.run.status.name()));
+    }
+    let have: std::collections::HashSet<&crate::cells::CellId> = run.cells.iter().map(|c| &c.id).collect();
+    let missing: Vec<&str> = run.run.cells.iter().filter(|id| !have.contains(id)).map(|id| id.0.as_str()).collect();
+    if !missing.is_empty() {
+        let shown: Vec<&str> = missing.iter().take(3).copied().collect();
+        why.push(format!(
+            "{} of its {} cells have no record ({}{})",
+            missing.len(),
+            run.run.cells.len(),
+            shown.join(", "),
+            if missing.len() > 3 { ", …" } else { "" }
+        ));
+    }
+    (!why.is_empty())
+        .then(|| format!("{}; continue it with `run --resume --out {}`", why.join("; "), run.dir.display()))
 }
 
 fn against_baseline(run: &RunData, baseline: &RunData, t: Thresholds) -> Result<Vec<CellCheck>, Error> {
@@ -149,6 +177,10 @@ pub fn junit(r: &CheckReport, adapter: &str) -> String {
         c
     };
     let mut report = Report::new("shadematrix check");
+    let mut whole = TestSuite::new("shadematrix run");
+    whole.add_property(Property::new("adapter", adapter));
+    whole.add_test_case(case("run", "complete", r.incomplete.as_deref()));
+    report.add_test_suite(whole);
     if r.baseline.is_some() {
         let mut suite = TestSuite::new("shadematrix check");
         suite.add_property(Property::new("adapter", adapter));
@@ -169,6 +201,9 @@ pub fn junit(r: &CheckReport, adapter: &str) -> String {
 
 pub fn summary(r: &CheckReport, adapter: &str) -> String {
     let mut s = String::new();
+    if let Some(why) = &r.incomplete {
+        let _ = writeln!(s, "### shadematrix run: incomplete\n\n❌ {why}\n");
+    }
     if !r.invariants.is_empty() {
         let _ = writeln!(
             s,

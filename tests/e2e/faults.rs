@@ -873,3 +873,194 @@ fn every_file_read_of_the_crate_goes_through_the_bounded_reader() {
         found.join("\n")
     );
 }
+
+/// `args` run with every file it writes limited to `max_bytes` (as a full disk refuses writes:
+/// EFBIG, the signal ignored); returns (exit code, stderr).
+fn shadematrix_with_small_disk(dir: &Path, args: &[&str], max_bytes: u64) -> (i32, String) {
+    use std::os::unix::process::CommandExt;
+    let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_shadematrix"));
+    cmd.current_dir(dir).args(args);
+    unsafe {
+        cmd.pre_exec(move || {
+            libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+            let limit = libc::rlimit { rlim_cur: max_bytes, rlim_max: max_bytes };
+            match libc::setrlimit(libc::RLIMIT_FSIZE, &limit) {
+                0 => Ok(()),
+                _ => Err(std::io::Error::last_os_error()),
+            }
+        });
+    }
+    let out = cmd.output().unwrap();
+    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stderr).to_string())
+}
+
+#[test]
+fn a_write_error_while_restoring_keeps_every_valid_cache_entry() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    small_matrix(d, "m", "[sweep]\nsmoothness = [0.2, 0.4, 0.6, 0.8]\n");
+    run_ok(d, &["run", "m.toml", "--out", "a", "--cache", "cache"]);
+    let entries = files_under(&d.join("cache")).len();
+    // The run folder's disk takes run.json (2 KB) but no cell record (5 KB): restoring fails.
+    let (rc, err) = shadematrix_with_small_disk(d, &["run", "m.toml", "--out", "full", "--cache", "cache"], 4096);
+    assert_ne!(rc, 0, "{err}");
+    assert!(!err.contains("dropped"), "a write error at the destination dropped a cache entry:\n{err}");
+    assert_eq!(files_under(&d.join("cache")).len(), entries, "cache files were removed\n{err}");
+    let b = d.join("b");
+    run_ok(d, &["run", "m.toml", "--out", "b", "--cache", "cache"]);
+    assert_eq!(count(&b, "cached"), 4);
+}
+
+#[test]
+fn a_cache_folder_that_cannot_be_written_warns_once_and_the_run_goes_on() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    small_matrix(d, "m", "[sweep]\nsmoothness = [0.2, 0.8]\n");
+    // A file where the cache folder would be: nothing can be stored there (as a full or read-only
+    // folder refuses writes, which root's permissions would not show).
+    std::fs::write(d.join("cache"), b"not a folder").unwrap();
+    let (rc, out, err) = shadematrix(d, &["run", "m.toml", "--out", "a", "--cache", "cache"], &[]);
+    assert_eq!(rc, 0, "{out}\n{err}");
+    assert_eq!(err.matches("cannot be written").count(), 1, "one warning, not one per cell:\n{err}");
+    assert_eq!(count(&d.join("a"), "rendered"), 2);
+}
+
+/// A one-cell truth matrix: URP Lambert on the textured plane against a same-BRDF truth.
+fn truth_matrix(dir: &Path) {
+    std::fs::copy(crate::common::fixture("textured_plane.toml"), dir.join("plane.toml")).unwrap();
+    write_matrix(
+        dir,
+        "t.toml",
+        "name = \"t\"\ncompositions = [\"plane.toml\"]\npipelines = [\"urp\"]\nshaders = [\"lambert\"]\n\
+         presets = [\"plastic\"]\nreference = { truth = \"same-brdf\", spp = 16, noise = 0.05, bounces = 1 }\n\
+         [image]\nwidth = 16\nheight = 16\n",
+    );
+}
+
+fn flip_mean(cell: &Path) -> f64 {
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(cell.join("cell.json")).unwrap()).unwrap();
+    json["metrics"]["ldr"]["flip"]["value"]["mean"]
+        .as_f64()
+        .or_else(|| json["metrics"]["ldr"]["flip"]["mean"].as_f64())
+        .unwrap_or_else(|| panic!("no FLIP mean in {}", json["metrics"]))
+}
+
+#[test]
+fn a_tampered_truth_is_dropped_and_traced_again_and_cells_follow_their_truth() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    truth_matrix(d);
+    run_ok(d, &["run", "t.toml", "--out", "a", "--cache", "cache"]);
+    let a = cell_dirs(&d.join("a")).remove(0);
+    let truth_png = std::fs::read(a.join("reference.png")).unwrap();
+    let exr = cached(&d.join(".truth-cache"), "truth.exr");
+    // The truth swapped for another image of its size: the cell's own frame.
+    make_writable(&exr);
+    std::fs::copy(a.join("image.exr"), &exr).unwrap();
+    // A cell not in the cell cache reads the truth: the swapped one is not served.
+    let (rc, _, err) = shadematrix(d, &["run", "t.toml", "--out", "c", "--cache", "other-cache"], &[]);
+    assert_eq!(rc, 0, "{err}");
+    assert!(err.contains("truth cache entry") && err.contains("dropped"), "no warning:\n{err}");
+    let c = cell_dirs(&d.join("c")).remove(0);
+    assert_eq!(std::fs::read(c.join("reference.png")).unwrap(), truth_png, "the tampered truth was served");
+    assert!((flip_mean(&c) - flip_mean(&a)).abs() < 1e-9, "{} vs {}", flip_mean(&c), flip_mean(&a));
+    let exr2 = cached(&d.join(".truth-cache"), "truth.exr");
+    assert_ne!(std::fs::read(&exr2).unwrap(), std::fs::read(a.join("image.exr")).unwrap());
+    // The truth the cached cell was compared with is gone: the cell is measured again, not taken.
+    std::fs::remove_dir_all(exr2.parent().unwrap()).unwrap();
+    run_ok(d, &["run", "t.toml", "--out", "e", "--cache", "cache"]);
+    assert_eq!((count(&d.join("e"), "cached"), count(&d.join("e"), "rendered")), (0, 1));
+    // …and its entry replaced: the next run takes it.
+    run_ok(d, &["run", "t.toml", "--out", "f", "--cache", "cache"]);
+    assert_eq!(count(&d.join("f"), "cached"), 1);
+}
+
+#[test]
+fn a_scaled_bake_is_dropped_not_served() {
+    use shadematrix::render::gi::cache::{BakeCache, BakeCacheRecord, BAKE_CACHE_SCHEMA};
+    use shadematrix::render::truth::bake::BAKE_STRIDE;
+    let tmp = tempfile::tempdir().unwrap();
+    let cache = BakeCache::new(tmp.path().join("bakes"));
+    let points = 3;
+    let sums: Vec<[[f32; 4]; BAKE_STRIDE]> = (0..points).map(|i| [[i as f32 + 1.0; 4]; BAKE_STRIDE]).collect();
+    let key = "ab".repeat(32);
+    let record = BakeCacheRecord {
+        schema: BAKE_CACHE_SCHEMA,
+        key: key.clone(),
+        points,
+        samples: 8,
+        texel_samples: 8,
+        bounces: 1,
+        seconds: 0.1,
+        adapter: "test".into(),
+    };
+    cache.store(&record, &sums).unwrap();
+    assert_eq!(cache.load(&key, points).map(|(s, _)| s), Some(sums.clone()));
+    // Every sum doubled, as a scaled file would be.
+    let path = tmp.path().join("bakes").join(&key).join("sums.bin");
+    make_writable(&path);
+    let scaled: Vec<u8> = std::fs::read(&path)
+        .unwrap()
+        .chunks_exact(4)
+        .flat_map(|b| (2.0 * f32::from_le_bytes([b[0], b[1], b[2], b[3]])).to_le_bytes())
+        .collect();
+    std::fs::write(&path, scaled).unwrap();
+    assert!(cache.load(&key, points).is_none(), "a scaled bake was served");
+    // Dropped, so a new bake takes its place rather than the broken one staying forever.
+    assert!(!path.exists());
+    cache.store(&record, &sums).unwrap();
+    assert_eq!(cache.load(&key, points).map(|(s, _)| s), Some(sums));
+}
+
+#[test]
+fn ids_leave_room_for_their_temporary_names() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    // An id of 245 bytes: a file name, but `.ID.cachedPID` beside it would not be.
+    let prefix_len = "__urp-forward__lit__gold__m1.00_s0.20_i1_r10".len();
+    for (len, ok) in [(shadematrix::cells::MAX_ID_BYTES, true), (245, false)] {
+        let name = "p".repeat(len - prefix_len);
+        let scene = std::fs::read_to_string(crate::common::fixture("textured_plane.toml"))
+            .unwrap()
+            .replace("name = \"textured_plane\"", &format!("name = \"{name}\""));
+        std::fs::write(d.join(format!("s{len}.toml")), scene).unwrap();
+        write_matrix(
+            d,
+            &format!("m{len}.toml"),
+            &format!(
+                "name = \"m{len}\"\ncompositions = [\"s{len}.toml\"]\npipelines = [\"urp\"]\nshaders = [\"lit\"]\n\
+                 presets = [\"gold\"]\n[image]\nwidth = 16\nheight = 16\n[sweep]\nsmoothness = [0.2]\n"
+            ),
+        );
+        let m = format!("m{len}.toml");
+        if !ok {
+            refused(d, &["run", &m, "--out", "long"], &["longer than a file name"]);
+            continue;
+        }
+        run_ok(d, &["run", &m, "--out", "a", "--cache", "cache"]);
+        assert_eq!(cell_dirs(&d.join("a"))[0].file_name().unwrap().len(), len);
+        run_ok(d, &["run", &m, "--out", "b", "--cache", "cache"]);
+        assert_eq!(count(&d.join("b"), "cached"), 1, "an id at the limit was not taken from the cache");
+        for k in 1..=2 {
+            run_ok(d, &["run", &m, "--out", &format!("s{k}"), "--shard", &format!("{k}/2"), "--cache", "cache"]);
+        }
+        run_ok(d, &["merge", "s1", "s2", "--out", "merged"]);
+    }
+}
+
+#[test]
+fn check_fails_a_run_that_did_not_finish() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    small_matrix(d, "m", "[sweep]\nsmoothness = [0.2, 0.8]\n");
+    run_ok(d, &["run", "m.toml", "--out", "a", "--no-cache"]);
+    // As a killed run leaves it: status running, a cell without its record.
+    edit_run_json(&d.join("a"), |t| t.replace("\"status\": \"complete\"", "\"status\": \"running\""));
+    std::fs::remove_file(cell_dirs(&d.join("a"))[0].join("cell.json")).unwrap();
+    let (rc, out, err) = shadematrix(d, &["check", "a"], &[]);
+    assert_eq!(rc, 1, "{out}\n{err}");
+    assert!(out.contains("INCOMPLETE") && out.contains("running") && out.contains("1 of its 2 cells"), "{out}");
+    let junit = std::fs::read_to_string(d.join("a/junit.xml")).unwrap();
+    assert!(junit.contains("complete") && junit.contains("<failure"), "{junit}");
+}
