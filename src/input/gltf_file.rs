@@ -7,11 +7,14 @@ use glam::DMat4;
 
 /// The glTF or GLB file at `path`, read through the bounded reader (`input::read`) and parsed
 /// from memory: the `gltf` crate's own `open` reads a FIFO forever and allocates a GLB header's
-/// declared length before reading it (a header claiming 3.9 GB took 7.6 GB). Its panics on
-/// malformed files are the caller's `without_panics`.
+/// declared length before reading it (a header claiming 3.9 GB took 7.6 GB).
 pub fn open(path: &Path) -> Result<gltf::Gltf, String> {
     let bytes = super::read::read(path, super::read::MESH).map_err(|e| e.to_string())?;
-    gltf::Gltf::from_slice(&bytes).map_err(|e| format!("cannot read glTF: {e}"))
+    // The GLB reader subtracts its header's length from a declared one and underflows on a short
+    // one: a panic, which becomes the file's error.
+    super::guard::without_panics(|| gltf::Gltf::from_slice(&bytes))
+        .map_err(|panic| format!("malformed glTF: the glTF reader failed on it ({panic})"))?
+        .map_err(|e| format!("cannot read glTF: {e}"))
 }
 
 /// A node reached from the scene's roots, with its world transform and the position in the walk

@@ -158,6 +158,25 @@ mod tests {
     use super::*;
 
     #[test]
+    fn every_part_of_a_multi_part_exr_is_size_checked_before_decoding() {
+        use exr::prelude::*;
+        let channels = |names: &[&str], n: usize| {
+            AnyChannels::sort(names.iter().map(|c| AnyChannel::new(*c, FlatSamples::F32(vec![0.5; n]))).collect())
+        };
+        // A first part the RGB reader skips (luminance only, 2 texels), a second it decodes (32).
+        let small = Layer::new((2, 1), LayerAttributes::named("y"), Encoding::FAST_LOSSLESS, channels(&["Y"], 2));
+        let big =
+            Layer::new((8, 4), LayerAttributes::named("rgb"), Encoding::FAST_LOSSLESS, channels(&["B", "G", "R"], 32));
+        let image = Image::from_layers(ImageAttributes::new(IntegerBounds::from_dimensions((8, 4))), vec![small, big]);
+        let mut bytes = Vec::new();
+        image.write().to_buffered(std::io::Cursor::new(&mut bytes)).unwrap();
+        let at_most_16 = |w: usize, h: usize| if w * h <= 16 { Ok(()) } else { Err(format!("{w}×{h}: too large")) };
+        let err = read_exr(&bytes, at_most_16).unwrap_err();
+        assert!(err.contains("part 1") && err.contains("8×4"), "{err}");
+        assert_eq!(read_exr(&bytes, |_, _| Ok(())).map(|d| (d.0, d.1)), Ok((8, 4)));
+    }
+
+    #[test]
     fn a_sky_that_is_not_two_to_one_or_holds_negative_radiance_is_refused() {
         let exr = |w: u32, h: u32, v: f32| {
             let px = vec![v; (w * h * 4) as usize];

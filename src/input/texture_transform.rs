@@ -40,6 +40,7 @@ impl UvTransform {
 /// why it cannot be drawn: a texture on a texture coordinate set other than 0, or textures of one
 /// material transformed differently (the tool's material maps share one UV set).
 pub fn material_uv_transform(m: &gltf::Material) -> Result<UvTransform, String> {
+    check_emission(m)?;
     let pbr = m.pbr_metallic_roughness();
     let info = |t: Option<gltf::texture::Info>| {
         t.map(|t| {
@@ -88,7 +89,38 @@ pub fn material_uv_transform(m: &gltf::Material) -> Result<UvTransform, String> 
             _ => shared = Some((slot, transform)),
         }
     }
-    Ok(shared.map_or(UvTransform::IDENTITY, |(_, t)| t))
+    let t = shared.map_or(UvTransform::IDENTITY, |(_, t)| t);
+    let values = t.offset.iter().chain(&t.scale).chain([&t.rotation]);
+    if let Some(v) = values.copied().find(|v| !v.is_finite() || v.abs() > crate::spec::scene::MAX_UV) {
+        return Err(format!(
+            "material `{}`: KHR_texture_transform value {v} is not allowed; offset, rotation and scale are finite, \
+             at most {} in magnitude",
+            m.name().unwrap_or("?"),
+            crate::spec::scene::MAX_UV
+        ));
+    }
+    Ok(t)
+}
+
+/// The material's emission (`emissiveFactor` × `KHR_materials_emissive_strength`) is radiance:
+/// finite, ≥ 0 and bounded like a scene's (a NaN or negative strength gave NaN or negative images).
+fn check_emission(m: &gltf::Material) -> Result<(), String> {
+    let strength = m.emissive_strength().unwrap_or(1.0) as f64;
+    let factor = m.emissive_factor().map(f64::from);
+    let max = crate::spec::scene::MAX_INTENSITY;
+    if !(strength.is_finite() && (0.0..=max).contains(&strength)) {
+        return Err(format!(
+            "material `{}`: KHR_materials_emissive_strength {strength} is out of range; allowed 0..={max}",
+            m.name().unwrap_or("?")
+        ));
+    }
+    if factor.iter().any(|f| !f.is_finite() || *f < 0.0) {
+        return Err(format!(
+            "material `{}`: emissiveFactor {factor:?} must be finite and ≥ 0",
+            m.name().unwrap_or("?")
+        ));
+    }
+    Ok(())
 }
 
 #[cfg(test)]

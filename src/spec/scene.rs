@@ -855,6 +855,13 @@ impl Light {
     }
 }
 
+/// The largest light, sky or emission intensity a scene may give: far past any engine's (HDRP's
+/// sun is 1e5 lux), and small enough that no frame overflows f32 (a sky of 1e308 saturated every
+/// pixel and passed `--fail-on overflow`).
+pub const MAX_INTENSITY: f64 = 1e6;
+/// The largest UV tiling or offset magnitude (Unity's `_MainTex_ST`).
+pub const MAX_UV: f64 = 1e4;
+
 impl Scene {
     /// Load a composition: a built-in name, or a path to a scene TOML (relative to `base_dir`).
     pub fn load(name_or_path: &str, base_dir: Option<&Path>, referenced_from: &str, key: &str) -> Result<Scene, Error> {
@@ -1030,7 +1037,7 @@ impl Scene {
             let k = |f: &str| format!("lights[{i}].{f}");
             c.finite_vector(&k("position"), l.position)?;
             c.color(&k("color"), l.color)?;
-            c.non_negative(&k("intensity"), l.intensity)?;
+            c.range(&k("intensity"), l.intensity, 0.0, MAX_INTENSITY)?;
             c.positive(&k("range"), l.range)?;
             if l.kind != LightKind::Point {
                 c.nonzero_vector(&k("direction"), l.direction)?;
@@ -1125,6 +1132,16 @@ impl Scene {
                         c.color(&k("material.checker.color_linear"), ch.color_linear)?;
                         c.positive(&k("material.checker.cell"), ch.cell)?;
                     }
+                    // Emitted radiance is ≥ 0 and finite; a NaN or negative one gave NaN or
+                    // negative images with exit 0.
+                    for (j, e) in m.emission_linear.iter().enumerate() {
+                        c.range(&k(&format!("material.emission_linear[{j}]")), *e, 0.0, MAX_INTENSITY)?;
+                    }
+                    for (key, v) in [("map_tiling", m.map_tiling), ("map_offset", m.map_offset)] {
+                        for (j, x) in v.iter().enumerate() {
+                            c.range(&k(&format!("material.{key}[{j}]")), *x, -MAX_UV, MAX_UV)?;
+                        }
+                    }
                 }
                 _ => {}
             }
@@ -1144,7 +1161,7 @@ impl Scene {
         c.range("hdrp.exposure.histogram_percent[0]", x.histogram_percent[0], 0.0, 100.0)?;
         c.range("hdrp.exposure.histogram_percent[1]", x.histogram_percent[1], x.histogram_percent[0], 100.0)?;
         let e = &self.environment;
-        c.non_negative("environment.ambient_intensity", e.ambient_intensity)?;
+        c.range("environment.ambient_intensity", e.ambient_intensity, 0.0, MAX_INTENSITY)?;
         match &e.sky {
             Sky::Constant { color } => c.color("environment.sky.color", *color)?,
             Sky::Gradient { sky, equator, ground } => {
@@ -1153,14 +1170,14 @@ impl Scene {
                 c.color("environment.sky.ground", *ground)?;
             }
             Sky::Image { path, intensity, rotation_deg, image, .. } => {
-                c.non_negative("environment.sky.intensity", *intensity)?;
+                c.range("environment.sky.intensity", *intensity, 0.0, MAX_INTENSITY)?;
                 c.finite_vector("environment.sky.rotation_deg", [*rotation_deg; 3])?;
                 if image.is_none() {
                     return Err(c.err("environment.sky.path", format!("`{path}` was not read")));
                 }
             }
             Sky::Cubemap { intensity, rotation_deg, images, .. } => {
-                c.non_negative("environment.sky.intensity", *intensity)?;
+                c.range("environment.sky.intensity", *intensity, 0.0, MAX_INTENSITY)?;
                 c.finite_vector("environment.sky.rotation_deg", [*rotation_deg; 3])?;
                 if images.is_none() {
                     return Err(c.err("environment.sky.faces", "the faces were not read"));

@@ -1064,3 +1064,85 @@ fn check_fails_a_run_that_did_not_finish() {
     let junit = std::fs::read_to_string(d.join("a/junit.xml")).unwrap();
     assert!(junit.contains("complete") && junit.contains("<failure"), "{junit}");
 }
+
+#[test]
+fn declared_sizes_are_not_trusted_before_reading() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    crate::common::write_textured_gltf(d);
+    gltf_plane_scene(d);
+    one_cell_matrix(d, "m", "scene.toml");
+    let original = std::fs::read_to_string(d.join("plane.gltf")).unwrap();
+    // A buffer of 2⁴⁰ declared bytes (the file holds 152): refused, not allocated (it aborted).
+    let declared = original.replace("\"byteLength\": 152", "\"byteLength\": 1099511627776");
+    assert_ne!(declared, original);
+    std::fs::write(d.join("plane.gltf"), declared).unwrap();
+    refused_soon(d, &["run", "m.toml", "--out", "r1", "--no-cache"], &["plane.gltf", "buffers[0]"], 60);
+    // A GLB whose header claims 3.9 GB: read as the file is (a few bytes), refused.
+    let mut glb = b"glTF".to_vec();
+    glb.extend_from_slice(&2u32.to_le_bytes());
+    glb.extend_from_slice(&3_900_000_000u32.to_le_bytes());
+    glb.extend_from_slice(&[0; 8]);
+    std::fs::write(d.join("plane.glb"), &glb).unwrap();
+    let scene = std::fs::read_to_string(d.join("scene.toml")).unwrap().replace("plane.gltf", "plane.glb");
+    std::fs::write(d.join("glb.toml"), scene).unwrap();
+    one_cell_matrix(d, "g", "glb.toml");
+    refused_soon(d, &["run", "g.toml", "--out", "r2", "--no-cache"], &["plane.glb"], 60);
+}
+
+#[test]
+fn non_finite_negative_or_unbounded_material_and_light_values_are_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    let base = std::fs::read_to_string(crate::common::fixture("textured_plane.toml")).unwrap();
+    let fixed = |material: &str| {
+        format!(
+            "{base}\n[[objects]]\nname = \"back\"\nrole = \"fixed\"\nmesh = {{ kind = \"plane\", size = [1.0, 1.0], \
+             subdivisions = 1 }}\nmaterial = {{ base_color_linear = [0.5, 0.5, 0.5], {material} }}\n"
+        )
+    };
+    let cases = [
+        (fixed("emission_linear = [nan, 0.0, 0.0]"), "material.emission_linear[0]"),
+        (fixed("emission_linear = [-1.0, 0.0, 0.0]"), "material.emission_linear[0]"),
+        (fixed("map_tiling = [inf, 1.0]"), "material.map_tiling[0]"),
+        (fixed("map_offset = [0.0, nan]"), "material.map_offset[1]"),
+        (base.replace("intensity = 1.0", "intensity = 1e308"), "lights[0].intensity"),
+        (
+            base.replace(
+                "sky = { kind = \"constant\", color = [0.0, 0.0, 0.0] }\nambient_intensity = 0.0",
+                "sky = { kind = \"constant\", color = [0.0, 0.0, 0.0] }\nambient_intensity = 1e308",
+            ),
+            "environment.ambient_intensity",
+        ),
+    ];
+    for (i, (scene, key)) in cases.iter().enumerate() {
+        std::fs::write(d.join(format!("s{i}.toml")), scene).unwrap();
+        one_cell_matrix(d, &format!("m{i}"), &format!("s{i}.toml"));
+        refused(d, &["list", &format!("m{i}.toml")], &[&format!("s{i}.toml"), key]);
+    }
+    // A glTF subject's emissive strength and texture transform.
+    crate::common::write_textured_gltf(d);
+    gltf_plane_scene(d);
+    one_cell_matrix(d, "g", "scene.toml");
+    let original = std::fs::read_to_string(d.join("plane.gltf")).unwrap();
+    for (edit, needle) in [
+        (
+            original.replace(
+                "\"emissiveFactor\": [1, 1, 1]",
+                "\"emissiveFactor\": [1, 1, 1], \"extensions\": {\"KHR_materials_emissive_strength\": {\"emissiveStrength\": -5}}",
+            ),
+            "emissive_strength",
+        ),
+        (
+            original.replace(
+                "\"baseColorTexture\": {\"index\": 0}",
+                "\"baseColorTexture\": {\"index\": 0, \"extensions\": {\"KHR_texture_transform\": {\"scale\": [1e30, 1]}}}",
+            ),
+            "KHR_texture_transform",
+        ),
+    ] {
+        assert_ne!(edit, original);
+        std::fs::write(d.join("plane.gltf"), edit).unwrap();
+        refused(d, &["run", "g.toml", "--out", "r", "--no-cache"], &["plane.gltf", needle]);
+    }
+}
