@@ -470,7 +470,7 @@ pub fn expand(m: &Matrix) -> Expansion {
     // A value listed twice in a sweep gives the same cell twice: keep one.
     let mut seen = std::collections::HashSet::new();
     cells.retain(|c| seen.insert(c.id.clone()));
-    mark_twins(&mut cells, &m.invariant_filters(), &keyless(m));
+    mark_twins(&mut cells, &m.invariant_filters(), &keyless(m), reads_material(m));
     Expansion { cells, pruned, filtered_out, support: Vec::new() }
 }
 
@@ -602,13 +602,27 @@ pub fn matches_filter(c: &Cell, f: &Filter) -> bool {
     f.terms.iter().all(|(axis, values)| c.coords.matches(*axis, values))
 }
 
-/// What the image of a cell depends on, given the axes its shader reads (`keyless`: its composition
-/// has no key light for the light axes to change). Every axis counts unless the cell's model
-/// cannot see it, so an axis added to the table splits twins until said otherwise here.
-fn render_key(c: &Cell, keyless: bool) -> String {
+/// Whether the matrix's reference reads a cell's material whatever its shader reads: a physical
+/// truth traces the preset's physical material, so two cells a shader draws alike (a Lambert
+/// cell's smoothness) have different truths and are each compared with their own.
+fn reads_material(m: &Matrix) -> bool {
+    matches!(&m.reference, Some(crate::spec::matrix::ReferenceSpec::Truth(t))
+        if t.settings.kind == crate::spec::matrix::TruthKind::Physical)
+}
+
+/// What the image of a cell — and what it is compared with — depends on, given the axes its
+/// shader reads (`keyless`: its composition has no key light for the light axes to change;
+/// `material_read`: the reference reads the whole material, `reads_material`). Every axis counts
+/// unless the cell's model cannot see it, so an axis added to the table splits twins until said
+/// otherwise here.
+fn render_key(c: &Cell, keyless: bool, material_read: bool) -> String {
     let r = c.model().reads_for(&c.surface().params);
     let m = &c.material;
+    let material_axis = |axis: Axis| {
+        matches!(axis, Axis::Color | Axis::Metallic | Axis::Smoothness | Axis::Emission | Axis::Specular | Axis::Alpha)
+    };
     let ignored = |axis: Axis| match axis {
+        _ if material_read && material_axis(axis) => false,
         // The preset reaches the image through the material alone.
         Axis::Preset => true,
         Axis::Color => !r.color,
@@ -633,7 +647,9 @@ fn render_key(c: &Cell, keyless: bool) -> String {
         }
         key.push_str(&format!("|{}={:?}", row.name, value));
     }
-    if r.color {
+    if material_read {
+        key.push_str(&format!("|m{m:?}"));
+    } else if r.color {
         key.push_str(&format!("|c{:?}", m.base_color_linear));
     }
     key.push_str(&format!(
@@ -649,7 +665,7 @@ pub fn remark_twins(cells: &mut [Cell], present: &std::collections::HashSet<Cell
         for c in cells.iter_mut() {
             c.twin_of = None;
         }
-        mark_twins(cells, &m.invariant_filters(), &keyless(m));
+        mark_twins(cells, &m.invariant_filters(), &keyless(m), reads_material(m));
     }
 }
 
@@ -660,13 +676,13 @@ fn keyless(m: &Matrix) -> Vec<bool> {
 
 /// `asserted`: the cells an `invariant` assert covers are all rendered — the assert tests the very
 /// independence that twinning would take on trust.
-fn mark_twins(cells: &mut [Cell], asserted: &[Filter], keyless: &[bool]) {
+fn mark_twins(cells: &mut [Cell], asserted: &[Filter], keyless: &[bool], material_read: bool) {
     let mut first: HashMap<String, CellId> = HashMap::new();
     for c in cells.iter_mut() {
         if asserted.iter().any(|f| matches_filter(c, f)) {
             continue;
         }
-        let key = render_key(c, keyless[c.composition_index]);
+        let key = render_key(c, keyless[c.composition_index], material_read);
         match first.get(&key) {
             Some(id) => c.twin_of = Some(id.clone()),
             None => {

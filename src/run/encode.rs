@@ -537,11 +537,14 @@ fn read_run_file(path: &Path) -> Result<Vec<u8>, Error> {
         .map_err(|e| Error::Other(format!("reading {}: {e}", path.display())))
 }
 
-/// Copy a twin's images from its original's folder.
+/// Copy a twin's images from its original's folder, with the reference the original was
+/// compared with where it is the cell's own (a supersampled render, a truth: the same for the twin,
+/// whose truth reads what the original's does — `cells::reads_material`).
 pub fn copy_images(from: &Path, to: &Path) -> Result<(), Error> {
-    for name in ["image.exr", "image.png", crate::images::pixels::PIXELS_FILE] {
-        if name == crate::images::pixels::PIXELS_FILE && !from.join(name).is_file() {
-            continue; // `[outputs] pixels = false`
+    let optional = [crate::images::pixels::PIXELS_FILE, "reference.exr", "reference.png", TRUTH_NOISE_MAP];
+    for name in ["image.exr", "image.png"].into_iter().chain(optional) {
+        if optional.contains(&name) && !from.join(name).is_file() {
+            continue; // `[outputs] pixels = false`, or no reference of the cell's own
         }
         let bytes = read_run_file(&from.join(name))?;
         write_atomic(&to.join(name), &bytes)?;

@@ -1146,3 +1146,33 @@ fn non_finite_negative_or_unbounded_material_and_light_values_are_refused() {
         refused(d, &["run", "g.toml", "--out", "r", "--no-cache"], &["plane.gltf", needle]);
     }
 }
+
+#[test]
+fn twins_under_a_truth_get_the_comparison_their_truth_allows() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    std::fs::copy(crate::common::fixture("textured_plane.toml"), d.join("plane.toml")).unwrap();
+    for kind in ["same-brdf", "physical"] {
+        let name = format!("t-{kind}");
+        write_matrix(
+            d,
+            &format!("{name}.toml"),
+            &format!(
+                "name = \"{name}\"\ncompositions = [\"plane.toml\"]\npipelines = [\"urp\"]\nshaders = [\"lambert\"]\n\
+                 presets = [\"plastic\"]\nreference = {{ truth = \"{kind}\", spp = 16, noise = 0.05, bounces = 1 }}\n\
+                 [image]\nwidth = 16\nheight = 16\n[sweep]\nsmoothness = [0.2, 0.8]\n"
+            ),
+        );
+        run_ok(d, &["run", &format!("{name}.toml"), "--out", &name, "--no-cache"]);
+        let run = d.join(&name);
+        // Lambert ignores smoothness: under a same-BRDF truth (which ignores it too) the second cell
+        // is a twin with the original's comparison; a physical truth reads it, so each cell is
+        // compared with its own truth.
+        let twins = count(&run, "twins");
+        assert_eq!(twins, if kind == "same-brdf" { 1 } else { 0 }, "{kind}");
+        let means: Vec<f64> = cell_dirs(&run).iter().map(|c| flip_mean(c)).collect();
+        if kind == "same-brdf" {
+            assert_eq!(means[0], means[1], "{kind}: {means:?}");
+        }
+    }
+}
