@@ -204,7 +204,7 @@ impl Store {
                 stored.push(StoredFile {
                     path: path.clone(),
                     bytes: bytes.len() as u64,
-                    sha256: crate::spec::matrix::hex(&Sha256::digest(bytes)),
+                    sha256: hex(&Sha256::digest(bytes)),
                 });
             }
             stored.sort_by(|a, b| a.path.cmp(&b.path));
@@ -259,7 +259,7 @@ fn verified(dir: &Path, key: &str) -> Result<Entry, String> {
         if bytes.len() as u64 != f.bytes {
             return Err(format!("{} is {} bytes, {} when stored", f.path, bytes.len(), f.bytes));
         }
-        let digest = crate::spec::matrix::hex(&Sha256::digest(&bytes));
+        let digest = hex(&Sha256::digest(&bytes));
         if digest != f.sha256 {
             return Err(format!("{} has changed since it was stored (SHA-256 {digest}, stored {})", f.path, f.sha256));
         }
@@ -274,7 +274,11 @@ fn list_digest(files: &[StoredFile]) -> String {
     for f in files {
         list.update(format!("{} {} {}\n", f.path, f.bytes, f.sha256));
     }
-    crate::spec::matrix::hex(&list.finalize())
+    hex(&list.finalize())
+}
+
+fn hex(digest: &[u8]) -> String {
+    digest.iter().map(|b| format!("{b:02x}")).collect()
 }
 
 /// A relative, `/`-separated path that stays inside its folder.

@@ -236,6 +236,7 @@ pub fn report(run: &Path) -> Result<(), Error> {
     }
     // A run or merge still writing the folder holds its lock: refused, not interleaved.
     let _lock = crate::record::RunLock::acquire(run)?;
+    crate::record::layout::check_own_tree(run)?;
     // What a killed report (or run) left half-written goes before the reports are written again.
     crate::record::layout::remove_unfinished_writes(run);
     crate::report::build(run)?;

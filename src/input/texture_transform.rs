@@ -91,12 +91,12 @@ pub fn material_uv_transform(m: &gltf::Material) -> Result<UvTransform, String> 
     }
     let t = shared.map_or(UvTransform::IDENTITY, |(_, t)| t);
     let values = t.offset.iter().chain(&t.scale).chain([&t.rotation]);
-    if let Some(v) = values.copied().find(|v| !v.is_finite() || v.abs() > crate::spec::scene::MAX_UV) {
+    if let Some(v) = values.copied().find(|v| !v.is_finite() || v.abs() > super::validate::MAX_UV) {
         return Err(format!(
             "material `{}`: KHR_texture_transform value {v} is not allowed; offset, rotation and scale are finite, \
              at most {} in magnitude",
             m.name().unwrap_or("?"),
-            crate::spec::scene::MAX_UV
+            super::validate::MAX_UV
         ));
     }
     Ok(t)
@@ -107,7 +107,7 @@ pub fn material_uv_transform(m: &gltf::Material) -> Result<UvTransform, String> 
 fn check_emission(m: &gltf::Material) -> Result<(), String> {
     let strength = m.emissive_strength().unwrap_or(1.0) as f64;
     let factor = m.emissive_factor().map(f64::from);
-    let max = crate::spec::scene::MAX_INTENSITY;
+    let max = super::validate::MAX_INTENSITY;
     if !(strength.is_finite() && (0.0..=max).contains(&strength)) {
         return Err(format!(
             "material `{}`: KHR_materials_emissive_strength {strength} is out of range; allowed 0..={max}",

@@ -2,6 +2,13 @@
 
 use crate::error::InputError;
 
+/// The largest light, sky or emission intensity an input may give: far past any engine's (HDRP's
+/// sun is 1e5 lux), and small enough that no frame overflows f32 (a sky of 1e308 saturated every
+/// pixel and passed `--fail-on overflow`).
+pub const MAX_INTENSITY: f64 = 1e6;
+/// The largest UV tiling, offset or texture-transform magnitude (Unity's `_MainTex_ST`).
+pub const MAX_UV: f64 = 1e4;
+
 pub struct Checker<'a> {
     file: &'a str,
 }

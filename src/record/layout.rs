@@ -84,26 +84,41 @@ impl RunDir {
             return Err(InputError::new(root.display().to_string(), "--out: this is a file, not a folder").into());
         }
         std::fs::create_dir_all(&root).map_err(|e| Error::io_path("creating run folder", &root, e))?;
+        let had_lock = root.join(LOCK_FILE).exists();
         let lock = RunLock::acquire(&root)?;
+        // A refused folder is left as it was found: no lock file of ours in it.
+        let refuse = |e: Error| -> Result<RunDir, Error> {
+            if !had_lock {
+                let _ = std::fs::remove_file(root.join(LOCK_FILE));
+            }
+            Err(e)
+        };
         let holds_run = root.join(RUN_FILE).exists();
         if !resume && holds_run {
-            return Err(InputError::new(
-                root.display().to_string(),
-                "this folder already holds a run; pass --resume to continue it, or choose another --out",
-            )
-            .into());
+            return refuse(
+                InputError::new(
+                    root.display().to_string(),
+                    "this folder already holds a run; pass --resume to continue it, or choose another --out",
+                )
+                .into(),
+            );
         }
         if !holds_run {
             if let Some(name) = foreign_entry(&root) {
-                return Err(InputError::new(
-                    root.display().to_string(),
-                    format!(
-                        "--out: the folder is not empty and holds no run (it has `{name}`); a run writes \
-                         index.html, tables/ and more here, so choose an empty or new folder"
-                    ),
-                )
-                .into());
+                return refuse(
+                    InputError::new(
+                        root.display().to_string(),
+                        format!(
+                            "--out: the folder is not empty and holds no run (it has `{name}`); a run writes \
+                             index.html, tables/ and more here, so choose an empty or new folder"
+                        ),
+                    )
+                    .into(),
+                );
             }
+        }
+        if let Err(e) = check_own_tree(&root) {
+            return refuse(e);
         }
         std::fs::create_dir_all(root.join("cells")).map_err(|e| Error::io_path("creating run folder", &root, e))?;
         if resume {
@@ -139,6 +154,33 @@ fn foreign_entry(dir: &Path) -> Option<String> {
         }
     }
     None
+}
+
+/// The folders and files a run writes (`tables/`, `sheets/`, `plots/`, `cells/`, each cell's
+/// folder, the reports) are the run's own, not symbolic links: `report` and `--resume` wrote
+/// through a linked `tables/` or `cells/<id>` and overwrote a file outside the run.
+pub fn check_own_tree(root: &Path) -> Result<(), Error> {
+    let link = |p: &Path| std::fs::symlink_metadata(p).is_ok_and(|m| m.file_type().is_symlink());
+    let mut paths: Vec<PathBuf> =
+        ["tables", "sheets", "plots", "cells", "index.html", "gallery.html", "viewer-data.js"]
+            .iter()
+            .chain(&[RUN_FILE, "junit.xml", "summary.md"])
+            .map(|n| root.join(n))
+            .collect();
+    if let Ok(entries) = std::fs::read_dir(root.join("cells")) {
+        // Each cell's folder (hidden names are temporary ones, which the clean-up never follows).
+        let cells = entries.filter_map(|e| e.ok()).filter(|e| !e.file_name().to_string_lossy().starts_with('.'));
+        paths.extend(cells.map(|e| e.path()));
+    }
+    match paths.iter().find(|p| link(p)) {
+        Some(p) => Err(InputError::new(
+            p.display().to_string(),
+            "is a symbolic link: a run writes its own files and folders, never through a link out of the run \
+             (replace the link with the folder's contents, or run into a new folder)",
+        )
+        .into()),
+        None => Ok(()),
+    }
 }
 
 /// `path` (to be written or replaced) lies inside the run folder `root`: its parent canonicalises

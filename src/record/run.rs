@@ -87,6 +87,15 @@ impl RunStatus {
             RunStatus::Failed => "failed",
         }
     }
+
+    /// The status a report states: the reports are written while the run is `reporting`, and the
+    /// run is `complete` exactly when they exist, so a page that exists to be read says so.
+    pub fn in_reports(self) -> RunStatus {
+        match self {
+            RunStatus::Reporting => RunStatus::Complete,
+            other => other,
+        }
+    }
 }
 
 #[derive(Debug, Clone, Serialize, Deserialize)]

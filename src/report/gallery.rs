@@ -139,7 +139,7 @@ pub fn html(run: &RunData, sheets: &[String], plots: &[String]) -> Result<String
             sha => m.sha256.chars().take(12).collect::<String>(),
             adapter => run.adapter(),
             counts => run.run.counts,
-            status => run.run.status.name(),
+            status => run.run.status.in_reports().name(),
             approximations => run.dir.join("tables/approximations.md").is_file(),
             filters => filters,
             cells => cells,

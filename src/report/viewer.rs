@@ -208,7 +208,7 @@ pub fn data(run: &RunData, links: Vec<(String, String)>) -> ViewerData {
             name: run.run.matrix.name.clone(),
             adapter: run.adapter(),
             matrix: run.run.matrix.origin.clone(),
-            status: run.run.status.name().to_string(),
+            status: run.run.status.in_reports().name().to_string(),
             cells: counts.cells,
             rendered: counts.rendered,
             twins: counts.twins,

@@ -79,7 +79,12 @@ pub fn parse(value: &str, env: &dyn Fn(&str) -> Option<String>) -> Result<(u32, 
             let n = n_given.ok_or_else(|| {
                 key("JOB_COMPLETION_INDEX is set, but not the completions count: pass --shard auto/N (N = the Job's completions) or set SHADEMATRIX_SHARDS".into())
             })?;
-            (number("JOB_COMPLETION_INDEX", &index)? + 1, n)
+            // The index is 0-based; its largest value would wrap to shard 0 (u32::MAX + 1).
+            let i = number("JOB_COMPLETION_INDEX", &index)?;
+            let k = i.checked_add(1).ok_or_else(|| {
+                key(format!("JOB_COMPLETION_INDEX={i} is past any Job's completions (at most {})", u32::MAX - 1))
+            })?;
+            (k, n)
         } else if let Some(task) = env("SLURM_ARRAY_TASK_ID") {
             let task = number("SLURM_ARRAY_TASK_ID", &task)?;
             let min = env("SLURM_ARRAY_TASK_MIN").map(|v| number("SLURM_ARRAY_TASK_MIN", &v)).transpose()?.unwrap_or(0);
@@ -90,7 +95,10 @@ pub fn parse(value: &str, env: &dyn Fn(&str) -> Option<String>) -> Result<(u32, 
             if task < min {
                 return Err(key(format!("SLURM_ARRAY_TASK_ID={task} is below SLURM_ARRAY_TASK_MIN={min}")));
             }
-            (task - min + 1, n)
+            let k = (task - min).checked_add(1).ok_or_else(|| {
+                key(format!("SLURM_ARRAY_TASK_ID={task} is past any array's tasks (at most {})", u32::MAX - 1))
+            })?;
+            (k, n)
         } else {
             return Err(key(format!("`auto` found no scheduler index; it reads {AUTO_SOURCES}")));
         }
@@ -119,6 +127,9 @@ mod tests {
         assert_eq!(parse("auto/4", &env(&[("JOB_COMPLETION_INDEX", "0")])).unwrap(), (1, 4));
         assert_eq!(parse("auto", &env(&[("JOB_COMPLETION_INDEX", "3"), ("SHADEMATRIX_SHARDS", "4")])).unwrap(), (4, 4));
         assert!(parse("auto", &env(&[("JOB_COMPLETION_INDEX", "3")])).is_err());
+        // The largest index does not wrap to shard 0 (it was taken as shard 1 of N, silently).
+        let err = parse("auto/4", &env(&[("JOB_COMPLETION_INDEX", "4294967295")])).unwrap_err();
+        assert!(err.to_string().contains("4294967295"), "{err}");
         assert!(parse("auto/3", &env(&[("JOB_COMPLETION_INDEX", "3")])).is_err());
         // Slurm: --array=1-8 numbers tasks from SLURM_ARRAY_TASK_MIN.
         let slurm = [("SLURM_ARRAY_TASK_ID", "8"), ("SLURM_ARRAY_TASK_COUNT", "8"), ("SLURM_ARRAY_TASK_MIN", "1")];

@@ -100,6 +100,9 @@ struct MatrixFile {
     models: Option<String>,
 }
 
+/// The longest matrix name: its run folder's name adds `-YYYYmmdd-HHMMSS-N`.
+pub const MAX_NAME_BYTES: usize = 200;
+
 /// The origin the embedded default matrix records (`run.json`'s `matrix.origin`).
 pub const EMBEDDED_ORIGIN: &str = "<embedded default matrix>";
 
@@ -681,6 +684,16 @@ impl Matrix {
         let file: MatrixFile = parse_toml(origin, text)?;
         let c = Checker::new(origin);
         c.name("name", &file.name)?;
+        // The run folder is `<name>-<date>-<time>[-N]`: a name that leaves it no room in a file
+        // name's 255 bytes failed only when the run folder was made.
+        if file.name.len() > MAX_NAME_BYTES {
+            return Err(c
+                .err(
+                    "name",
+                    format!("`{}` is {} bytes; a matrix name has at most {MAX_NAME_BYTES}", file.name, file.name.len()),
+                )
+                .into());
+        }
         non_empty(&c, "compositions", &file.compositions)?;
         non_empty(&c, "pipelines", &file.pipelines)?;
         non_empty(&c, "paths", &file.paths)?;

@@ -855,12 +855,7 @@ impl Light {
     }
 }
 
-/// The largest light, sky or emission intensity a scene may give: far past any engine's (HDRP's
-/// sun is 1e5 lux), and small enough that no frame overflows f32 (a sky of 1e308 saturated every
-/// pixel and passed `--fail-on overflow`).
-pub const MAX_INTENSITY: f64 = 1e6;
-/// The largest UV tiling or offset magnitude (Unity's `_MainTex_ST`).
-pub const MAX_UV: f64 = 1e4;
+pub use crate::input::validate::{MAX_INTENSITY, MAX_UV};
 
 impl Scene {
     /// Load a composition: a built-in name, or a path to a scene TOML (relative to `base_dir`).

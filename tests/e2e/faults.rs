@@ -1176,3 +1176,32 @@ fn twins_under_a_truth_get_the_comparison_their_truth_allows() {
         }
     }
 }
+
+#[test]
+fn report_and_resume_write_through_no_link_and_a_refused_out_is_left_as_found() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    small_matrix(d, "m", "");
+    run_ok(d, &["run", "m.toml", "--out", "a", "--no-cache"]);
+    // A finished run's pages say so (they said `reporting`, the status while they were written).
+    let gallery = std::fs::read_to_string(d.join("a/gallery.html")).unwrap();
+    assert!(gallery.contains("Status: complete"), "{gallery}");
+    // A matrix name too long for its run folder is bad input, found before anything is written.
+    small_matrix(d, &"n".repeat(240), "");
+    refused(d, &["list", &format!("{}.toml", "n".repeat(240))], &["name", "at most 200"]);
+    // tables/ made a link to a user's folder: report and --resume refuse to write through it.
+    std::fs::create_dir_all(d.join("user")).unwrap();
+    std::fs::write(d.join("user/cells.csv"), b"the user's").unwrap();
+    std::fs::remove_dir_all(d.join("a/tables")).unwrap();
+    std::os::unix::fs::symlink(d.join("user"), d.join("a/tables")).unwrap();
+    refused(d, &["report", "a"], &["tables", "symbolic link"]);
+    refused(d, &["run", "m.toml", "--out", "a", "--resume", "--no-cache"], &["tables", "symbolic link"]);
+    assert_eq!(std::fs::read(d.join("user/cells.csv")).unwrap(), b"the user's");
+    // A refused --out keeps no lock file of ours.
+    std::fs::create_dir_all(d.join("other")).unwrap();
+    std::fs::write(d.join("other/notes.txt"), b"x").unwrap();
+    refused(d, &["run", "m.toml", "--out", "other", "--no-cache"], &["not empty"]);
+    let names: Vec<String> =
+        std::fs::read_dir(d.join("other")).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into()).collect();
+    assert_eq!(names, vec!["notes.txt".to_string()]);
+}

@@ -13,6 +13,8 @@ const STAGES: &[&str] = &[
     "color",
     "fsutil",
     "input",
+    // The verified store every cache goes through (cells, truths, bakes).
+    "store",
     "pipelines",
     "adapter",
     "gpu",
