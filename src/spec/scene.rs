@@ -107,6 +107,10 @@ pub enum LightKind {
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Light {
+    /// The glTF file and light name of a light `[gltf_scene]` brought in (None: the scene file's
+    /// `[[lights]]`): what a message about it names.
+    #[serde(skip)]
+    pub from_gltf: Option<String>,
     pub kind: LightKind,
     /// Point and spot lights.
     #[serde(default)]
@@ -1029,7 +1033,10 @@ impl Scene {
             }
         }
         for (i, l) in self.lights.iter().enumerate() {
-            let k = |f: &str| format!("lights[{i}].{f}");
+            let k = |f: &str| match &l.from_gltf {
+                Some(from) => format!("gltf_scene.path: {from}: {f}"),
+                None => format!("lights[{i}].{f}"),
+            };
             c.finite_vector(&k("position"), l.position)?;
             c.color(&k("color"), l.color)?;
             c.range(&k("intensity"), l.intensity, 0.0, MAX_INTENSITY)?;

@@ -62,6 +62,7 @@ impl Scene {
             let mut light: Light = toml::Value::Table(table)
                 .try_into()
                 .map_err(|e| at("gltf_scene", format!("light `{}`: {e}", l.name)))?;
+            light.from_gltf = Some(format!("`{}` light `{}`", spec.path, l.name));
             light.position = l.position;
             light.direction = l.direction;
             light.color = l.color_linear.map(crate::color::linear_to_srgb);

@@ -1205,3 +1205,54 @@ fn report_and_resume_write_through_no_link_and_a_refused_out_is_left_as_found() 
         std::fs::read_dir(d.join("other")).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into()).collect();
     assert_eq!(names, vec!["notes.txt".to_string()]);
 }
+
+#[test]
+fn gltf_node_graphs_must_be_forests_and_gltf_lights_are_named_as_theirs() {
+    use crate::e2e::gltf_scene::{room_gltf, scene_text, TILE};
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    std::fs::write(d.join("room.toml"), scene_text("Vase")).unwrap();
+    one_cell_matrix(d, "m", "room.toml");
+    let room = room_gltf(TILE, "");
+    let floor = "{ \"name\": \"Floor\", \"mesh\": 0,";
+    let vase = "{ \"name\": \"Vase\", \"mesh\": 1,";
+    assert!(room.contains(floor) && room.contains(vase));
+    // The deepest chain: 50 000 empty nodes under the eye. Walked without recursion, it loads.
+    let n = 50_000;
+    let chain: Vec<String> =
+        (0..n).map(|i| if i + 1 < n { format!("{{ \"children\": [{}] }}", 6 + i) } else { "{}".into() }).collect();
+    let deep = room
+        .replace("{ \"name\": \"Eye\", \"camera\": 0,", "{ \"name\": \"Eye\", \"camera\": 0, \"children\": [5],")
+        .replace("\n  ],\n  \"scenes\"", &format!(",\n    {}\n  ],\n  \"scenes\"", chain.join(",\n    ")));
+    assert_ne!(deep, room);
+    std::fs::write(d.join("room.gltf"), &deep).unwrap();
+    run_ok(d, &["list", "m.toml"]);
+    let cases = [
+        (room.replace(floor, "{ \"name\": \"Floor\", \"children\": [0], \"mesh\": 0,"), "its own child"),
+        (
+            room.replace(floor, "{ \"name\": \"Floor\", \"children\": [1], \"mesh\": 0,")
+                .replace(vase, "{ \"name\": \"Vase\", \"children\": [0], \"mesh\": 1,"),
+            "node 0",
+        ),
+        (
+            room.replace(floor, "{ \"name\": \"Floor\", \"children\": [2], \"mesh\": 0,")
+                .replace(vase, "{ \"name\": \"Vase\", \"children\": [2], \"mesh\": 1,"),
+            "at most one parent",
+        ),
+        // A spot whose cone is 180°: the message names the glTF light, not a `lights[0]` the
+        // scene file does not have.
+        (
+            room.replace(
+                "{ \"name\": \"SunLight\", \"type\": \"directional\",",
+                "{ \"name\": \"SunLight\", \"type\": \"spot\", \"spot\": { \"outerConeAngle\": 1.5707963 },",
+            ),
+            "light `SunLight`",
+        ),
+    ];
+    for (i, (text, needle)) in cases.iter().enumerate() {
+        assert_ne!(text, &room, "case {i}");
+        std::fs::write(d.join("room.gltf"), text).unwrap();
+        let err = refused_soon(d, &["list", "m.toml"], &["room.gltf", needle], 60);
+        assert!(!err.contains("lights["), "{err}");
+    }
+}

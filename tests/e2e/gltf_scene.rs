@@ -11,7 +11,7 @@ use shadematrix::spec::scene::{LightKind, MeshSpec, Role, Scene};
 /// Two quad meshes with their own materials (the floor, scaled 8×; the vase's), a point and a
 /// directional light, and a camera; `tile` is the floor material's members after its name (`TILE`
 /// the plain one) and `textures` the file's `textures`/`images` members, if any.
-fn room_gltf(tile: &str, textures: &str) -> String {
+pub(crate) fn room_gltf(tile: &str, textures: &str) -> String {
     let mut bytes = Vec::new();
     for p in [[-0.5f32, 0.0, -0.5], [0.5, 0.0, -0.5], [0.5, 0.0, 0.5], [-0.5, 0.0, 0.5]] {
         bytes.extend(p.iter().flat_map(|v| v.to_le_bytes()));
@@ -73,7 +73,7 @@ fn room_gltf(tile: &str, textures: &str) -> String {
     )
 }
 
-fn scene_text(subject: &str) -> String {
+pub(crate) fn scene_text(subject: &str) -> String {
     format!(
         "name = \"gltf_room\"\nobjects = []\n[camera]\nposition = [0.0, 2.0, 6.0]\ntarget = [0.0, 0.0, 0.0]\nfov_y_deg = 40.0\n[gltf_scene]\npath = \"room.gltf\"\nsubject = \"{subject}\"\ncamera = \"Main\"\n[environment]\nsky = {{ kind = \"constant\", color = [0.2, 0.2, 0.2] }}\n"
     )
@@ -176,7 +176,7 @@ fn what_a_gltf_scene_cannot_draw_is_refused_by_name() {
 }
 
 /// The floor's material of factors alone.
-const TILE: &str = r#""pbrMetallicRoughness": { "baseColorFactor": [0.5, 0.4, 0.3, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.8 }"#;
+pub(crate) const TILE: &str = r#""pbrMetallicRoughness": { "baseColorFactor": [0.5, 0.4, 0.3, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.8 }"#;
 
 /// A 4×1 texture, red on the left half and blue on the right, as a PNG data URI: the file's
 /// `textures` and `images`.
