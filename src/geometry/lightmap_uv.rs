@@ -202,10 +202,16 @@ pub fn unwrap(scene: &Scene, meshes: &mut [Mesh], gi: &GiSettings) -> Result<Lig
         .collect();
     let (width, height) = pack(&mut charts, gi.padding as f64);
     if width > MAX_LIGHTMAP_SIDE || height > MAX_LIGHTMAP_SIDE {
-        return Err(Error::Other(format!(
-            "{}: the lightmap at gi.texels_per_unit = {} would be {width}×{height} texels; at most {MAX_LIGHTMAP_SIDE} a side: lower texels_per_unit",
-            scene.origin, gi.texels_per_unit
-        )));
+        return Err(crate::error::InputError::at_key(
+            &scene.origin,
+            "gi.texels_per_unit",
+            format!(
+                "{}: the lightmap would be {width}×{height} texels; at most {MAX_LIGHTMAP_SIDE} a side: lower \
+                 texels_per_unit",
+                gi.texels_per_unit
+            ),
+        )
+        .into());
     }
     let mut texels = Vec::new();
     let mut taken = vec![false; (width * height) as usize];

@@ -116,8 +116,9 @@ pub fn run(matrix: &Matrix, opts: &RunOptions) -> Result<RunSummary, Error> {
     let exp = select_cells(matrix, opts);
     check_id_lengths(matrix, &exp)?;
     // Geometry first: a bad mesh or glTF file is bad input, found before any GPU work or output.
-    let geometry = build_geometry(matrix, &exp)?;
+    let (geometry, bake_points): (Vec<_>, Vec<_>) = build_geometry_and_bakes(matrix, &exp)?.into_iter().unzip();
     let gpu = GpuContext::new()?;
+    check_bake_sizes(matrix, &bake_points, &gpu)?;
     let adapter = gpu.record.clone();
     let dir = RunDir::open(&opts.results_root, opts.out.as_deref(), &matrix.name, opts.resume)?;
     let set_aside = match opts.resume {
@@ -312,12 +313,15 @@ fn progress_bar(show: bool, len: u64) -> indicatif::ProgressBar {
     bar
 }
 
-/// Meshes of every composition that has cells and loads a mesh file, in composition order (None:
-/// no cells, or built-in meshes only). A file is input and is checked here, before any GPU work;
+/// Meshes of every composition that has cells and loads a mesh file or bakes (its lightmap's size
+/// is checked), in composition order (None: no cells, or built-in meshes only that do not bake).
+/// A file is input and is checked here, before any GPU work;
 /// the built-in meshes are built when a cell of theirs renders (`render_all`), so a run whose
 /// cells all come from the cache or an earlier run builds none (medusa and spikes take about
 /// 1.6 s each).
-fn build_geometry(matrix: &Matrix, exp: &Expansion) -> Result<Vec<Option<Vec<crate::geometry::Mesh>>>, Error> {
+/// With the meshes, the points each composition's bake gathers (lightmap texels and probes;
+/// None: it does not bake).
+fn build_geometry_and_bakes(matrix: &Matrix, exp: &Expansion) -> Result<Vec<GeometryAndBake>, Error> {
     matrix
         .compositions
         .iter()
@@ -326,13 +330,49 @@ fn build_geometry(matrix: &Matrix, exp: &Expansion) -> Result<Vec<Option<Vec<cra
             use crate::spec::scene::MeshSpec;
             let loads_files =
                 scene.objects.iter().any(|o| matches!(o.mesh, MeshSpec::Gltf { .. } | MeshSpec::GltfPrimitive { .. }));
-            if loads_files && exp.cells.iter().any(|c| c.composition_index == ci) {
-                crate::geometry::procedural::build_scene(scene).map(Some)
-            } else {
-                Ok(None)
+            let has_cells = exp.cells.iter().any(|c| c.composition_index == ci);
+            if !has_cells || !(loads_files || scene.gi.is_some()) {
+                return Ok((None, None));
             }
+            let meshes = crate::geometry::procedural::build_scene(scene)?;
+            // A lightmap larger than allowed is bad input too: found here, not at render time.
+            let points = match &scene.gi {
+                Some(gi) => {
+                    let atlas = crate::geometry::lightmap_uv::unwrap(scene, &mut meshes.clone(), gi)?;
+                    Some(atlas.texels.len() + gi.probes.as_ref().map_or(0, |g| g.positions().len()))
+                }
+                None => None,
+            };
+            Ok((Some(meshes), points))
         })
         .collect()
+}
+
+type GeometryAndBake = (Option<Vec<crate::geometry::Mesh>>, Option<usize>);
+
+/// Each baking composition's sums fit one storage buffer binding of the adapter: a bake past it
+/// failed with a device error half-way through the run (155 MB of sums against lavapipe's
+/// 128 MiB at texels_per_unit 200). Bad input for this adapter, refused before the run folder.
+fn check_bake_sizes(matrix: &Matrix, points: &[Option<usize>], gpu: &GpuContext) -> Result<(), Error> {
+    let limit = gpu.device.limits().max_storage_buffer_binding_size as u64;
+    let per_point = (crate::render::truth::bake::BAKE_STRIDE * 16) as u64;
+    for (scene, n) in matrix.compositions.iter().zip(points) {
+        let Some(n) = n else { continue };
+        let bytes = *n as u64 * per_point;
+        if bytes > limit {
+            return Err(crate::error::InputError::at_key(
+                &scene.origin,
+                "gi.texels_per_unit",
+                format!(
+                    "the bake gathers {n} points ({bytes} bytes of sums), past the {limit} bytes this adapter binds \
+                     ({}): lower texels_per_unit or the probe counts",
+                    gpu.record.name
+                ),
+            )
+            .into());
+        }
+    }
+    Ok(())
 }
 
 /// An encoded cell on its way to the metric workers.

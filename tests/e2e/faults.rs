@@ -1256,3 +1256,35 @@ fn gltf_node_graphs_must_be_forests_and_gltf_lights_are_named_as_theirs() {
         assert!(!err.contains("lights["), "{err}");
     }
 }
+
+#[test]
+fn bad_input_found_at_render_time_before_is_refused_up_front() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    // A bake past what the adapter binds: exit 2 before any folder is made (a device error failed
+    // the run half-way before).
+    let cornell = std::fs::read_to_string(crate::common::fixture("cornell_gi.toml")).unwrap();
+    std::fs::write(d.join("big.toml"), cornell.replace("texels_per_unit = 4", "texels_per_unit = 200")).unwrap();
+    one_cell_matrix(d, "gi", "big.toml");
+    refused(
+        d,
+        &["run", "gi.toml", "--out", "gi", "--no-cache"],
+        &["big.toml", "gi.texels_per_unit", "lower texels_per_unit"],
+    );
+    assert!(!d.join("gi").exists());
+    // truth_scene of a composition whose fixed objects have maps: the export cannot carry them.
+    crate::common::write_textured_gltf(d);
+    let base = std::fs::read_to_string(crate::common::fixture("textured_plane.toml")).unwrap();
+    let mapped = format!(
+        "{base}\n[[objects]]\nname = \"back\"\nrole = \"fixed\"\nmesh = {{ kind = \"plane\", size = [1.0, 1.0], \
+         subdivisions = 1 }}\nmaterial = {{ base_color_linear = [0.5, 0.5, 0.5], base_color_map = \"base.png\" }}\n"
+    );
+    std::fs::write(d.join("mapped.toml"), mapped).unwrap();
+    write_matrix(
+        d,
+        "ts.toml",
+        "name = \"ts\"\ncompositions = [\"mapped.toml\"]\npipelines = [\"urp\"]\nshaders = [\"lit\"]\npresets = [\"gold\"]\n\
+         reference = { truth = \"physical\", spp = 16 }\n[outputs]\ntruth_scene = true\n[image]\nwidth = 16\nheight = 16\n",
+    );
+    refused(d, &["list", "ts.toml"], &["outputs.truth_scene", "back", "material maps"]);
+}
