@@ -354,7 +354,7 @@ type GeometryAndBake = (Option<Vec<crate::geometry::Mesh>>, Option<usize>);
 /// failed with a device error half-way through the run (155 MB of sums against lavapipe's
 /// 128 MiB at texels_per_unit 200). Bad input for this adapter, refused before the run folder.
 fn check_bake_sizes(matrix: &Matrix, points: &[Option<usize>], gpu: &GpuContext) -> Result<(), Error> {
-    let limit = gpu.device.limits().max_storage_buffer_binding_size as u64;
+    let limit = gpu.device.limits().max_storage_buffer_binding_size;
     let per_point = (crate::render::truth::bake::BAKE_STRIDE * 16) as u64;
     for (scene, n) in matrix.compositions.iter().zip(points) {
         let Some(n) = n else { continue };
