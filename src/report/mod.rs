@@ -15,6 +15,22 @@ pub mod viewer;
 /// Every report of a run, from its recorded files.
 pub fn build(run_dir: &std::path::Path) -> Result<(), crate::error::Error> {
     let run = run_data::RunData::load(run_dir)?;
+    // A sheet or page drawn without a cell's image would look complete: say what is missing.
+    let missing: Vec<&str> = run
+        .cells
+        .iter()
+        .filter(|c| crate::input::read::is_regular_file(&run.cell_dir(&c.id.0).join(&c.image.png)).is_err())
+        .map(|c| c.id.0.as_str())
+        .collect();
+    if !missing.is_empty() {
+        eprintln!(
+            "warning: {} cell(s) of {} have no image.png (their sheet tiles and viewer images are empty): {}{}",
+            missing.len(),
+            run.dir.display(),
+            missing.iter().take(3).copied().collect::<Vec<_>>().join(", "),
+            if missing.len() > 3 { ", …" } else { "" }
+        );
+    }
     perf::write(&run)?;
     error_time::write(&run)?;
     approximations::write(&run)?;

@@ -115,6 +115,7 @@ pub fn run(matrix: &Matrix, opts: &RunOptions) -> Result<RunSummary, Error> {
     crate::cells::check_size(matrix, opts.max_cells.unwrap_or(crate::cells::DEFAULT_MAX_CELLS))?;
     let exp = select_cells(matrix, opts);
     check_id_lengths(matrix, &exp)?;
+    warn_of_another_matrix(matrix, &exp);
     // Geometry first: a bad mesh or glTF file is bad input, found before any GPU work or output.
     let (geometry, bake_points): (Vec<_>, Vec<_>) = build_geometry_and_bakes(matrix, &exp)?.into_iter().unzip();
     let gpu = GpuContext::new()?;
@@ -217,6 +218,26 @@ pub fn run(matrix: &Matrix, opts: &RunOptions) -> Result<RunSummary, Error> {
         adapter: adapter.name,
         stages,
     })
+}
+
+/// A reference run is compared with cell by cell, by id: one made from another matrix is allowed
+/// (a baseline of the matrix before an edit), but said, with how many of this run's cells it has.
+fn warn_of_another_matrix(matrix: &Matrix, exp: &Expansion) {
+    let Some(ReferenceSpec::Run(dir)) = &matrix.reference else { return };
+    let Ok(other) = RunRecord::load(dir) else { return };
+    if other.matrix.sha256 == matrix.hash {
+        return;
+    }
+    let found = exp.cells.iter().filter(|c| dir.join("cells").join(&c.id.0).join(CELL_FILE).is_file()).count();
+    eprintln!(
+        "warning: the reference run {} was made from another matrix (`{}`, {}, sha256 {}…); cells are compared by \
+         id: {found} of this run's {} cells are there, the others have no comparison",
+        dir.display(),
+        other.matrix.name,
+        other.matrix.origin,
+        &other.matrix.sha256[..12.min(other.matrix.sha256.len())],
+        exp.cells.len()
+    );
 }
 
 /// The longest id (`cells::MAX_ID_BYTES`): a folder name with room for its temporary names in the

@@ -955,9 +955,11 @@ fn a_tampered_truth_is_dropped_and_traced_again_and_cells_follow_their_truth() {
     let a = cell_dirs(&d.join("a")).remove(0);
     let truth_png = std::fs::read(a.join("reference.png")).unwrap();
     let exr = cached(&d.join(".truth-cache"), "truth.exr");
-    // The truth swapped for another image of its size: the cell's own frame.
+    // The truth scaled (a swapped file would do as well): twice the radiance, its noise kept.
     make_writable(&exr);
-    std::fs::copy(a.join("image.exr"), &exr).unwrap();
+    let (w, h, mut px) = shadematrix::images::encode::read_exr(&exr).unwrap();
+    px.chunks_exact_mut(4).for_each(|p| p[..3].iter_mut().for_each(|v| *v *= 2.0));
+    std::fs::write(&exr, shadematrix::images::encode::exr_bytes(w, h, &px).unwrap()).unwrap();
     // A cell not in the cell cache reads the truth: the swapped one is not served.
     let (rc, _, err) = shadematrix(d, &["run", "t.toml", "--out", "c", "--cache", "other-cache"], &[]);
     assert_eq!(rc, 0, "{err}");
@@ -966,7 +968,7 @@ fn a_tampered_truth_is_dropped_and_traced_again_and_cells_follow_their_truth() {
     assert_eq!(std::fs::read(c.join("reference.png")).unwrap(), truth_png, "the tampered truth was served");
     assert!((flip_mean(&c) - flip_mean(&a)).abs() < 1e-9, "{} vs {}", flip_mean(&c), flip_mean(&a));
     let exr2 = cached(&d.join(".truth-cache"), "truth.exr");
-    assert_ne!(std::fs::read(&exr2).unwrap(), std::fs::read(a.join("image.exr")).unwrap());
+    assert_ne!(shadematrix::images::encode::read_exr(&exr2).unwrap().2, px, "the scaled truth is still stored");
     // The truth the cached cell was compared with is gone: the cell is measured again, not taken.
     std::fs::remove_dir_all(exr2.parent().unwrap()).unwrap();
     run_ok(d, &["run", "t.toml", "--out", "e", "--cache", "cache"]);
@@ -1287,4 +1289,24 @@ fn bad_input_found_at_render_time_before_is_refused_up_front() {
          reference = { truth = \"physical\", spp = 16 }\n[outputs]\ntruth_scene = true\n[image]\nwidth = 16\nheight = 16\n",
     );
     refused(d, &["list", "ts.toml"], &["outputs.truth_scene", "back", "material maps"]);
+}
+
+#[test]
+fn report_says_what_it_draws_without_and_a_reference_run_of_another_matrix_is_named() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    small_matrix(d, "m", "[sweep]\nsmoothness = [0.2, 0.8]\n");
+    run_ok(d, &["run", "m.toml", "--out", "a", "--no-cache"]);
+    let cell = cell_dirs(&d.join("a")).remove(0);
+    std::fs::remove_file(cell.join("image.png")).unwrap();
+    let said = run_ok(d, &["report", "a"]);
+    assert!(said.contains("warning") && said.contains("no image.png"), "{said}");
+    // A reference run of another matrix: compared by id, and said so.
+    small_matrix(d, "other", "[sweep]\nsmoothness = [0.2, 0.5]\n");
+    let text = std::fs::read_to_string(d.join("other.toml"))
+        .unwrap()
+        .replace("[image]", "reference = { run = \"a\" }\n[image]");
+    std::fs::write(d.join("other.toml"), text).unwrap();
+    let said = run_ok(d, &["run", "other.toml", "--out", "b", "--no-cache"]);
+    assert!(said.contains("another matrix") && said.contains("1 of this run's 2 cells"), "{said}");
 }
