@@ -1170,6 +1170,14 @@ fn twins_under_a_truth_get_the_comparison_their_truth_allows() {
         // Lambert ignores smoothness: under a same-BRDF truth (which ignores it too) the second cell
         // is a twin with the original's comparison; a physical truth reads it, so each cell is
         // compared with its own truth.
+        // A `--no-cache` run's truths lived in a private folder inside the run, removed at its end
+        // (they were in /tmp, where a killed run left them).
+        let hidden: Vec<_> = std::fs::read_dir(&run)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().to_string())
+            .filter(|n| n.starts_with(".truth-cache"))
+            .collect();
+        assert!(hidden.is_empty(), "{hidden:?}");
         let twins = count(&run, "twins");
         assert_eq!(twins, if kind == "same-brdf" { 1 } else { 0 }, "{kind}");
         let means: Vec<f64> = cell_dirs(&run).iter().map(|c| flip_mean(c)).collect();
