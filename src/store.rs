@@ -131,6 +131,21 @@ impl Store {
         }
     }
 
+    /// The entry under `key` read as `T` by `decode`. An entry whose bytes verify but do not
+    /// decode (a record naming another key, images of another size than it says) is dropped with
+    /// a warning as a broken one is, so it is built again rather than skipped on every run.
+    pub fn get_as<T>(&self, key: &str, decode: impl FnOnce(Entry) -> Result<T, String>) -> Option<T> {
+        let entry = self.get(key).found()?;
+        match decode(entry) {
+            Ok(value) => Some(value),
+            Err(why) => {
+                eprintln!("warning: {} entry {key} dropped: {why}; it is built again", self.name);
+                self.drop_entry(key);
+                None
+            }
+        }
+    }
+
     /// Remove the entry under `key`: renamed aside first, so no reader sees it half-removed.
     pub fn drop_entry(&self, key: &str) {
         let Some(entry) = self.entry_dir(key) else { return };

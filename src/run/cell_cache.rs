@@ -49,26 +49,15 @@ impl CellCache {
     /// The verified record stored under `key`, and the entry it came from, without writing
     /// anything: what a caller checks (the truth it was compared with) before `restore`.
     pub fn take(&self, key: &str) -> Option<(CellRecord, crate::store::Entry)> {
-        let entry = self.store.get(key).found()?;
-        let record = entry
-            .file(CELL_FILE)
-            .ok_or_else(|| format!("it holds no {CELL_FILE}"))
-            .and_then(|b| std::str::from_utf8(b).map_err(|e| e.to_string()))
-            .and_then(|t| {
-                serde_json::from_str::<CellRecord>(t).map_err(|e| format!("its {CELL_FILE} does not parse: {e}"))
-            })
-            .and_then(|r| match r.input_hash == key {
-                true => Ok(r),
-                false => Err(format!("its {CELL_FILE} is of key {}, not {key}", r.input_hash)),
-            });
-        match record {
-            Ok(r) => Some((r, entry)),
-            Err(why) => {
-                eprintln!("warning: cell cache entry {key} dropped: {why}; the cell renders again",);
-                self.store.drop_entry(key);
-                None
+        self.store.get_as(key, |entry| {
+            let text = entry.file(CELL_FILE).ok_or_else(|| format!("it holds no {CELL_FILE}"))?;
+            let record: CellRecord =
+                serde_json::from_slice(text).map_err(|e| format!("its {CELL_FILE} does not parse: {e}"))?;
+            match record.input_hash == key {
+                true => Ok((record, entry)),
+                false => Err(format!("its {CELL_FILE} is of key {}, not {key}", record.input_hash)),
             }
-        }
+        })
     }
 
     /// Put the entry under `key` in `cell_dir` (replacing what is there), with its record's

@@ -95,15 +95,7 @@ impl TruthCache {
     /// An entry whose files verify but do not decode into the truth its record describes is
     /// dropped, so it is traced and stored again rather than skipped on every run.
     pub fn load(&self, key: &str, kind: crate::render::truth::TruthKind) -> Option<Truth> {
-        let entry = self.store.get(key).found()?;
-        match decode(&entry, key, kind) {
-            Ok(truth) => Some(truth),
-            Err(why) => {
-                eprintln!("warning: truth cache entry {key} dropped: {why}; the truth is traced again");
-                self.store.drop_entry(key);
-                None
-            }
-        }
+        self.store.get_as(key, |entry| decode(&entry, key, kind))
     }
 
     /// Keep `truth` under `key` (a cache that cannot be written warns once); the digest of the

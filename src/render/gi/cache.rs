@@ -58,15 +58,7 @@ impl BakeCache {
     /// The sums and record stored under `key`, if a whole bake with `points` points is. An entry
     /// whose files verify but do not hold such a bake is dropped, so it is baked and stored again.
     pub fn load(&self, key: &str, points: usize) -> Option<(BakeSums, BakeCacheRecord)> {
-        let entry = self.store.get(key).found()?;
-        match decode(&entry, key, points) {
-            Ok(found) => Some(found),
-            Err(why) => {
-                eprintln!("warning: bake cache entry {key} dropped: {why}; the scene bakes again");
-                self.store.drop_entry(key);
-                None
-            }
-        }
+        self.store.get_as(key, |entry| decode(&entry, key, points))
     }
 
     /// Keep `sums` under `record.key` (a cache that cannot be written warns once).
