@@ -131,6 +131,17 @@ impl Store {
         }
     }
 
+    /// The digest of the entry stored under `key`, from its manifest alone (None: no entry, or a
+    /// manifest that does not parse or names another key). What a record that used an entry is
+    /// checked against: the same digest is the same files, whose bytes `get` verifies when they
+    /// are read — a warm run need not read every truth its cached cells were compared with.
+    pub fn digest(&self, key: &str) -> Option<String> {
+        let dir = self.entry_dir(key)?;
+        let bytes = read::read(&dir.join(MANIFEST_FILE), read::RECORD).ok()?;
+        let manifest: Manifest = serde_json::from_slice(&bytes).ok()?;
+        (manifest.schema == MANIFEST_SCHEMA && manifest.key == key).then(|| list_digest(&manifest.files))
+    }
+
     /// The entry under `key` read as `T` by `decode`. An entry whose bytes verify but do not
     /// decode (a record naming another key, images of another size than it says) is dropped with
     /// a warning as a broken one is, so it is built again rather than skipped on every run.
@@ -332,6 +343,7 @@ mod tests {
         let store = Store::new(tmp.path().join("s"), "test store", true);
         store.put("abcd", &files(&[("a.bin", b"aaa"), ("sub/b.bin", b"b")])).unwrap();
         let e = store.get("abcd").found().expect("stored");
+        assert_eq!(store.digest("abcd").as_deref(), Some(e.digest.as_str()), "the manifest's digest is the entry's");
         assert_eq!(e.file("a.bin"), Some(&b"aaa"[..]));
         assert_eq!(e.file("sub/b.bin"), Some(&b"b"[..]));
         assert!(matches!(store.get("abce"), Lookup::Absent));

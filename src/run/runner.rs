@@ -508,8 +508,8 @@ impl<'a> Stream<'a> {
     }
 
     /// Whether a cached cell was compared with the truth the truth store holds now under the same
-    /// key (the same entry digest); a cell without a truth passes. The truth cache's entries are
-    /// verified once per run.
+    /// key (the same entry digest, read from its manifest once per run); a cell without a truth
+    /// passes.
     fn compared_with_stored_truth(&self, record: &CellRecord) -> bool {
         let Some(t) = &record.truth else { return true };
         let Some(cache) = &self.truth_cache else { return false };

@@ -85,10 +85,10 @@ impl TruthCache {
         crate::spec::matrix::hex(&Sha256::digest(text.to_string().as_bytes()))
     }
 
-    /// The digest of the verified entry under `key`, if a whole one is there (a broken one is
-    /// dropped): what a cached cell's record is checked against.
+    /// The digest of the entry under `key`, from its manifest: what a cached cell's record is
+    /// checked against (the files are verified when a cell traces with them).
     pub fn digest(&self, key: &str) -> Option<String> {
-        self.store.get(key).found().map(|e| e.digest)
+        self.store.digest(key)
     }
 
     /// The truth stored under `key`, if a whole one is (`kind`: which truth the key was made for).
