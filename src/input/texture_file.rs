@@ -74,6 +74,28 @@ fn read_png(bytes: &[u8]) -> Result<crate::input::sky_image::Decoded, String> {
 mod tests {
     use super::*;
 
+    /// A 2×2 EXR whose header's data window is rewritten to `w`×`h`: what the size checks read,
+    /// with no pixels behind it.
+    fn exr_declaring(w: i32, h: i32) -> Vec<u8> {
+        let mut bytes = crate::images::encode::exr_bytes(2, 2, &[0.5; 16]).unwrap();
+        let at = bytes.windows(b"dataWindow\0box2i\0".len()).position(|x| x == b"dataWindow\0box2i\0").unwrap();
+        let values = at + b"dataWindow\0box2i\0".len() + 4;
+        for (k, v) in [0, 0, w - 1, h - 1].into_iter().enumerate() {
+            bytes[values + 4 * k..values + 4 * k + 4].copy_from_slice(&v.to_le_bytes());
+        }
+        bytes
+    }
+
+    #[test]
+    fn a_texture_exr_is_held_to_the_texture_limit_not_the_skys() {
+        // 4096² is a texture's to have (at most 8192²) and past a sky's (4096×2048): the size check
+        // passes, and what fails is the missing pixels, not a message about skies.
+        let err = read_bytes(&exr_declaring(4096, 4096), "exr").unwrap_err();
+        assert!(!err.contains("sky") && !err.contains("at most"), "{err}");
+        let err = read_bytes(&exr_declaring(8193, 8192), "exr").unwrap_err();
+        assert!(err.contains("a texture has at most"), "{err}");
+    }
+
     fn png(w: u32, h: u32, px: [u8; 3]) -> Vec<u8> {
         let img = image::RgbImage::from_pixel(w, h, image::Rgb(px));
         let mut out = std::io::Cursor::new(Vec::new());
