@@ -77,7 +77,11 @@ mod tests {
     /// A 2×2 EXR whose header's data window is rewritten to `w`×`h`: what the size checks read,
     /// with no pixels behind it.
     fn exr_declaring(w: i32, h: i32) -> Vec<u8> {
-        let mut bytes = crate::images::encode::exr_bytes(2, 2, &[0.5; 16]).unwrap();
+        use exr::prelude::*;
+        let image =
+            Image::from_channels((2, 2), SpecificChannels::rgba(|_: Vec2<usize>| (0.5f32, 0.5f32, 0.5f32, 1.0f32)));
+        let mut bytes = Vec::new();
+        image.write().to_buffered(std::io::Cursor::new(&mut bytes)).unwrap();
         let at = bytes.windows(b"dataWindow\0box2i\0".len()).position(|x| x == b"dataWindow\0box2i\0").unwrap();
         let values = at + b"dataWindow\0box2i\0".len() + 4;
         for (k, v) in [0, 0, w - 1, h - 1].into_iter().enumerate() {

@@ -943,38 +943,7 @@ impl Matrix {
         }
         let physical_truth =
             matches!(&reference, Some(ReferenceSpec::Truth(t)) if t.settings.kind == TruthKind::Physical);
-        if file.outputs.truth_scene && !physical_truth {
-            return Err(c
-                .err(
-                    "outputs.truth_scene",
-                    "exports the scene as the physical truth traces it: set `reference = { truth = \"physical\" }`",
-                )
-                .into());
-        }
-        // The export carries factors, not maps (`render::truth::export`): found here, not when
-        // the first cell of such a composition renders into a failed run folder.
-        if file.outputs.truth_scene {
-            let mapped = compositions.iter().enumerate().find_map(|(i, s)| {
-                s.objects
-                    .iter()
-                    .find(|o| {
-                        o.material.as_ref().is_some_and(|m| m.base_color_map.is_some() || m.gltf_material.is_some())
-                    })
-                    .map(|o| (i, &s.name, &o.name))
-            });
-            if let Some((i, scene, object)) = mapped {
-                return Err(c
-                    .err(
-                        "outputs.truth_scene",
-                        format!(
-                            "compositions[{i}] (`{scene}`): fixed object `{object}` has material maps (base_color_map or \
-                             gltf_material), which the exported scene does not carry yet; export a composition whose \
-                             fixed objects have factors alone"
-                        ),
-                    )
-                    .into());
-            }
-        }
+        super::outputs::check_truth_scene(&c, &file.outputs, physical_truth, &compositions)?;
         if let Some(ReferenceSpec::Cell(terms)) = &reference {
             for (axis, v) in terms {
                 if let FilterValue::Name(n) = v {

@@ -4,6 +4,9 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::error::InputError;
+use crate::input::validate::Checker;
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Outputs {
@@ -92,5 +95,38 @@ impl ExrCompression {
             ExrCompression::Rle => "rle",
             ExrCompression::None => "none",
         }
+    }
+}
+
+/// `truth_scene` exports what a physical truth traces, as factors: it needs a physical truth, and
+/// no composition whose fixed objects have maps (`render::truth::export`) — found when the matrix
+/// loads, not when the first such cell renders into a failed run folder.
+pub fn check_truth_scene(
+    c: &Checker,
+    outputs: &Outputs,
+    physical_truth: bool,
+    compositions: &[super::scene::Scene],
+) -> Result<(), InputError> {
+    if !outputs.truth_scene {
+        return Ok(());
+    }
+    if !physical_truth {
+        let why = "exports the scene as the physical truth traces it: set `reference = { truth = \"physical\" }`";
+        return Err(c.err("outputs.truth_scene", why));
+    }
+    let mapped = compositions.iter().enumerate().find_map(|(i, s)| {
+        let has_maps = |m: &super::scene::FixedMaterial| m.base_color_map.is_some() || m.gltf_material.is_some();
+        s.objects.iter().find(|o| o.material.as_ref().is_some_and(has_maps)).map(|o| (i, &s.name, &o.name))
+    });
+    match mapped {
+        Some((i, scene, object)) => Err(c.err(
+            "outputs.truth_scene",
+            format!(
+                "compositions[{i}] (`{scene}`): fixed object `{object}` has material maps (base_color_map or \
+                 gltf_material), which the exported scene does not carry yet; export a composition whose fixed \
+                 objects have factors alone"
+            ),
+        )),
+        None => Ok(()),
     }
 }
