@@ -19,15 +19,6 @@ pub fn default_dir(results_root: &Path) -> PathBuf {
     results_root.join(".cell-cache")
 }
 
-/// What a restore found.
-#[derive(Debug, PartialEq, Eq)]
-pub enum Restored {
-    /// Nothing usable under the key (absent, or dropped for its own bytes).
-    No,
-    /// The cell's folder is in place.
-    Yes,
-}
-
 pub struct CellCache {
     store: Store,
 }
@@ -47,7 +38,7 @@ impl CellCache {
     }
 
     /// The verified record stored under `key`, and the entry it came from, without writing
-    /// anything: what a caller checks (the truth it was compared with) before `restore`.
+    /// anything: what a caller checks (the truth it was compared with) before `write_entry`.
     pub fn take(&self, key: &str) -> Option<(CellRecord, crate::store::Entry)> {
         self.store.get_as(key, |entry| {
             let text = entry.file(CELL_FILE).ok_or_else(|| format!("it holds no {CELL_FILE}"))?;
@@ -58,20 +49,6 @@ impl CellCache {
                 false => Err(format!("its {CELL_FILE} is of key {}, not {key}", record.input_hash)),
             }
         })
-    }
-
-    /// Put the entry under `key` in `cell_dir` (replacing what is there), with its record's
-    /// matrix hash set to this run's. `No` when there is no such entry, or when it failed its check
-    /// (then it is dropped, with a warning on stderr, and the cell renders again). An error writing
-    /// into the run folder is returned and the entry stays: its bytes were good.
-    pub fn restore(&self, key: &str, cell_dir: &Path, matrix_sha256: &str) -> Result<Restored, Error> {
-        match self.take(key) {
-            Some((record, entry)) => {
-                write_entry(&entry, record, cell_dir, matrix_sha256)?;
-                Ok(Restored::Yes)
-            }
-            None => Ok(Restored::No),
-        }
     }
 
     /// Keep the finished cell in `cell_dir` under `key` (nothing when an entry is there already;
@@ -88,7 +65,9 @@ impl CellCache {
     }
 }
 
-/// The verified `entry` written into `cell_dir` whole: beside under a temporary name, then renamed.
+/// The verified `entry` (`CellCache::take`) written into `cell_dir` whole, its record's matrix
+/// hash set to this run's: beside under a temporary name, then renamed. An error writing is the
+/// run's, and leaves the cache entry alone: its bytes were good.
 pub fn write_entry(
     entry: &crate::store::Entry,
     mut record: CellRecord,
@@ -198,8 +177,7 @@ mod tests {
         cache.store("abcd", &cell, false).unwrap();
         let out = tmp.path().join("other/cells/a");
         std::fs::create_dir_all(out.parent().unwrap()).unwrap();
-        assert_eq!(cache.restore("abcd", &out, "m").unwrap(), Restored::No);
-        assert_eq!(cache.restore("ffff", &out, "m").unwrap(), Restored::No);
+        assert!(cache.take("abcd").is_none() && cache.take("ffff").is_none());
         assert!(!out.exists());
         assert!(!cache.contains("abcd") && !tmp.path().join("cache/ab").exists(), "an unfinished cell was stored");
     }

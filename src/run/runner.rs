@@ -334,14 +334,12 @@ fn progress_bar(show: bool, len: u64) -> indicatif::ProgressBar {
     bar
 }
 
-/// Meshes of every composition that has cells and loads a mesh file or bakes (its lightmap's size
-/// is checked), in composition order (None: no cells, or built-in meshes only that do not bake).
-/// A file is input and is checked here, before any GPU work;
-/// the built-in meshes are built when a cell of theirs renders (`render_all`), so a run whose
-/// cells all come from the cache or an earlier run builds none (medusa and spikes take about
-/// 1.6 s each).
-/// With the meshes, the points each composition's bake gathers (lightmap texels and probes;
-/// None: it does not bake).
+/// Meshes of every composition that has cells and loads a mesh file or bakes, in composition
+/// order, with the points its bake gathers (lightmap texels and probes). None: no cells, or
+/// built-in meshes only that do not bake. Files are input and are checked here, before any GPU
+/// work, and so is a baking composition's lightmap size; other built-in meshes are built when a
+/// cell of theirs renders (`render_all`), so a run whose cells all come from the cache or an
+/// earlier run builds none of those (medusa and spikes take about 1.6 s each).
 fn build_geometry_and_bakes(matrix: &Matrix, exp: &Expansion) -> Result<Vec<GeometryAndBake>, Error> {
     matrix
         .compositions
