@@ -16,6 +16,7 @@ pub mod cells;
 pub mod cli;
 pub mod color;
 pub mod compare;
+pub mod declarations;
 pub mod environment;
 pub mod error;
 pub mod fsutil;
@@ -31,7 +32,6 @@ pub mod render;
 pub mod report;
 pub mod run;
 pub mod shading;
-pub mod spec;
 pub mod store;
 
 pub use error::{Error, InputError, Result};

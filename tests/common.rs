@@ -47,9 +47,9 @@ pub fn find_model(
 }
 
 /// A matrix file, its shaders resolved among the built-in models.
-pub fn load_matrix(path: &Path) -> shadematrix::spec::matrix::Matrix {
+pub fn load_matrix(path: &Path) -> shadematrix::declarations::matrix::Matrix {
     let registry = std::sync::Arc::new(shadematrix::shading::Registry::builtin());
-    shadematrix::spec::matrix::Matrix::load(path, registry).unwrap()
+    shadematrix::declarations::matrix::Matrix::load(path, registry).unwrap()
 }
 
 /// A cell of `shader` in `pipeline` with the sweep values `sliders`, the key light at
@@ -80,8 +80,8 @@ pub fn cell_params(
 /// lights and the sum of the images of one light each (the others at intensity 0); `render(scene,
 /// key intensity)` returns a scene's linear RGBA.
 pub fn superposition_error(
-    base: &shadematrix::spec::scene::Scene,
-    mut render: impl FnMut(&shadematrix::spec::scene::Scene, f64) -> Vec<f32>,
+    base: &shadematrix::declarations::scene::Scene,
+    mut render: impl FnMut(&shadematrix::declarations::scene::Scene, f64) -> Vec<f32>,
 ) -> f64 {
     // HDRP's bloom prefilter weights each tap by 1/(1 + luminance) (Karis): not linear in the
     // light, so the lights' superposition is checked without it.

@@ -246,7 +246,7 @@ fn sphere_directions(n: usize) -> Vec<DVec3> {
 }
 
 fn prefilter_curves(s: &Settings) -> Result<Vec<Curve>, Error> {
-    let scene = crate::spec::scene::Scene::load("mitsuba", None, "convergence study", "composition")?;
+    let scene = crate::declarations::scene::Scene::load("mitsuba", None, "convergence study", "composition")?;
     let sky = scene.environment.sky.clone();
     let radiance = |d: DVec3| crate::environment::sky::radiance(&sky, d);
     let mut image = EquirectImage::sample(&radiance, s.prefilter_reference_width, s.prefilter_reference_width / 2, 4);

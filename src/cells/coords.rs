@@ -1,13 +1,13 @@
-//! What a cell is: its value on every axis of the table (`spec::axes`), one field per axis. Cells,
+//! What a cell is: its value on every axis of the table (`declarations::axes`), one field per axis. Cells,
 //! filters, references, ids, records, sheets, invariants and the viewer read and change a cell's
 //! axes only through `get`/`set`, so an axis is a row of the table and a field here.
 
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
+use crate::declarations::axes::{self, Axis, AxisRow};
+use crate::declarations::filter::{colour_label, FilterValue};
 use crate::pipelines::{Pipeline, RenderPath};
-use crate::spec::axes::{self, Axis, AxisRow};
-use crate::spec::filter::{colour_label, FilterValue};
 
 /// A cell's value on one axis.
 #[derive(Debug, Clone, PartialEq)]
@@ -180,7 +180,7 @@ impl CellCoords {
         true
     }
 
-    /// The cell's value on `axis` as filters and invariants compare it (`spec::filter`): an
+    /// The cell's value on `axis` as filters and invariants compare it (`declarations::filter`): an
     /// unswept view axis is `scene`, an unswept emission 0.
     pub fn filter_value(&self, axis: Axis) -> FilterValue {
         match self.get(axis) {

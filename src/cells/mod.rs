@@ -5,13 +5,13 @@
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, HashMap};
 
+use crate::declarations::matrix::{Axis, Filter, FilterValue, Matrix};
+use crate::declarations::presets::Preset;
 use crate::geometry::gltf_io::GltfMaterial;
 use crate::pipelines::surface::SurfaceType;
 use crate::pipelines::{DisplayTransform, Pipeline};
 use crate::shading::registry::{ShaderModel, Sliders};
 use crate::shading::twin::Surface;
-use crate::spec::matrix::{Axis, Filter, FilterValue, Matrix};
-use crate::spec::presets::Preset;
 use std::sync::Arc;
 
 pub mod coords;
@@ -150,12 +150,12 @@ impl Cell {
         if !self.textured {
             return None;
         }
-        crate::spec::presets::find_matrix_preset(&self.preset).map(|p| p.name)
+        crate::declarations::presets::find_matrix_preset(&self.preset).map(|p| p.name)
     }
 
     /// Whether the subject wears its glTF file's own material.
     pub fn own_material(&self) -> bool {
-        self.preset == crate::spec::presets::OWN.name
+        self.preset == crate::declarations::presets::OWN.name
     }
 
     pub fn sliders(&self) -> Sliders {
@@ -293,8 +293,8 @@ pub fn check_size(m: &Matrix, limit: u64) -> Result<u128, crate::error::InputErr
 /// The swept values of every axis a sweep list sets (numbers, the colour, `textured`), in table
 /// order; an axis the matrix does not sweep has the one value `Own` (the preset's or the scene's).
 fn swept_axes(m: &Matrix) -> Vec<(Axis, Vec<AxisValue>)> {
-    use crate::spec::axes::AxisKind;
-    crate::spec::axes::AXES
+    use crate::declarations::axes::AxisKind;
+    crate::declarations::axes::AXES
         .iter()
         .filter_map(|row| {
             let values: Vec<AxisValue> = match row.kind {
@@ -356,7 +356,7 @@ pub fn expand(m: &Matrix) -> Expansion {
     for (ci, scene) in m.compositions.iter().enumerate() {
         let key = scene.key_light().map(|k| &scene.lights[k]);
         // Read only where a matrix names `own`: the file's factors, not its images.
-        let own = match m.presets.iter().any(|p| p.name == crate::spec::presets::OWN.name) {
+        let own = match m.presets.iter().any(|p| p.name == crate::declarations::presets::OWN.name) {
             true => own_material(scene),
             false => Err(String::new()),
         };
@@ -386,7 +386,7 @@ pub fn expand(m: &Matrix) -> Expansion {
                     let display = DisplayTransform::new(pipeline, m.tonemap_for(pipeline), &scene.hdrp);
                     let param_sets = param_product(&model.params, &m.sweep.params);
                     for preset in &m.presets {
-                        let own_factors = if preset.name == crate::spec::presets::OWN.name {
+                        let own_factors = if preset.name == crate::declarations::presets::OWN.name {
                             match &own {
                                 Ok(f) => Some(f),
                                 Err(reason) => {
@@ -500,7 +500,7 @@ fn param_product(
 }
 
 /// The factors of a composition's glTF subject's own material, or why `own` has none there.
-fn own_material(scene: &crate::spec::scene::Scene) -> Result<GltfMaterial, String> {
+fn own_material(scene: &crate::declarations::scene::Scene) -> Result<GltfMaterial, String> {
     let path = scene.subject_gltf().ok_or_else(|| {
         format!("`own` is a glTF subject's material; the subject of `{}` is not a glTF file", scene.name)
     })?;
@@ -542,7 +542,7 @@ fn material(preset: &Preset, own: Option<&GltfMaterial>, coords: &CellCoords) ->
 /// order after its prefix (`_m1.00_s0.90_i1.5_r12`).
 pub fn cell_id(c: &CellCoords) -> CellId {
     let mut id = format!("{}__{}-{}__{}__{}", c.composition, c.pipeline.name(), c.path.name(), c.shader, c.preset);
-    for row in crate::spec::axes::AXES.iter() {
+    for row in crate::declarations::axes::AXES.iter() {
         id.push_str(&c.id_part(row));
     }
     CellId(id)
@@ -606,8 +606,8 @@ pub fn matches_filter(c: &Cell, f: &Filter) -> bool {
 /// truth traces the preset's physical material, so two cells a shader draws alike (a Lambert
 /// cell's smoothness) have different truths and are each compared with their own.
 fn reads_material(m: &Matrix) -> bool {
-    matches!(&m.reference, Some(crate::spec::matrix::ReferenceSpec::Truth(t))
-        if t.settings.kind == crate::spec::matrix::TruthKind::Physical)
+    matches!(&m.reference, Some(crate::declarations::matrix::ReferenceSpec::Truth(t))
+        if t.settings.kind == crate::declarations::matrix::TruthKind::Physical)
 }
 
 /// What the image of a cell — and what it is compared with — depends on, given the axes its
@@ -638,7 +638,7 @@ fn render_key(c: &Cell, keyless: bool, material_read: bool) -> String {
         _ => false,
     };
     let mut key = format!("{}", c.composition_index);
-    for row in crate::spec::axes::AXES.iter().filter(|row| !ignored(row.axis)) {
+    for row in crate::declarations::axes::AXES.iter().filter(|row| !ignored(row.axis)) {
         let mut value = c.coords.get(row.axis);
         // A height map's scale and the secondary maps move the maps: a flat subject has none.
         if let (AxisValue::Params(p), false) = (&mut value, c.coords.textured) {
@@ -739,7 +739,7 @@ mod tests {
              ambient_intensity = [0.5]\nsurface = [\"fade\"]\nalpha = [0.25]\nspecular = [[0.2, 0.4, 0.6]]\n",
         ));
         let c = e.cells.iter().find(|c| c.shader == "standard" && c.textured).unwrap();
-        for row in crate::spec::axes::AXES.iter() {
+        for row in crate::declarations::axes::AXES.iter() {
             let Some(prefix) = row.id_prefix else { continue };
             let value = match row.axis {
                 Axis::Metallic => id_number(c.material.metallic, 2, false),
@@ -750,11 +750,11 @@ mod tests {
                 Axis::LightAngle => short_number(c.light_angle.unwrap()),
                 Axis::Emission => short_number(c.emission.unwrap()),
                 Axis::AmbientIntensity => short_number(c.ambient_intensity.unwrap()),
-                Axis::Color => crate::spec::filter::color_code(c.material.slider_color_srgb),
+                Axis::Color => crate::declarations::filter::color_code(c.material.slider_color_srgb),
                 Axis::Textured => String::new(),
                 Axis::Surface => c.material.surface.name().to_string(),
                 Axis::Alpha => id_number(c.material.alpha, 2, false),
-                Axis::Specular => crate::spec::filter::colour_label(Axis::Specular, c.specular),
+                Axis::Specular => crate::declarations::filter::colour_label(Axis::Specular, c.specular),
                 Axis::Params => continue,
                 other => panic!("{other:?} has an id prefix but no value here"),
             };

@@ -5,12 +5,12 @@
 use std::fmt::Write;
 use std::time::Instant;
 
+use crate::declarations::matrix::Matrix;
 use crate::error::Error;
 use crate::fsutil::{write_atomic, write_json};
 use crate::record::bench::{BenchRecord, GpuPassRow, BENCH_SCHEMA};
 use crate::record::Maybe;
 use crate::run::{run, ProcessUsage, RunOptions};
-use crate::spec::matrix::Matrix;
 
 pub fn bench(matrix: &Matrix, opts: &RunOptions) -> Result<BenchRecord, Error> {
     let started = Instant::now();

@@ -4,11 +4,11 @@
 
 use std::path::Path;
 
+use crate::declarations::presets::{find_matrix_preset, matrix_preset_names, OWN};
+use crate::declarations::scene::{Role, Scene};
 use crate::error::{Error, InputError};
 use crate::geometry::{gltf_io, procedural};
 use crate::materials::MaterialMaps;
-use crate::spec::presets::{find_matrix_preset, matrix_preset_names, OWN};
-use crate::spec::scene::{Role, Scene};
 
 /// The subject's material in the export: a preset name (`own`: the glTF subject's own, with its
 /// textures), flat or in its textured form.

@@ -5,11 +5,11 @@ use std::path::Path;
 
 use super::{load_matrix, print_out, registry_for, ModelsArg};
 use crate::cells::expand;
+use crate::declarations::matrix::Matrix;
 use crate::error::Error;
 use crate::pipelines::Pipeline;
 use crate::plan::lights::{assign, LightMode};
 use crate::plan::FramePlan;
-use crate::spec::matrix::Matrix;
 
 pub fn list(matrix: Option<&Path>, limit: super::CellLimit, models: &ModelsArg) -> Result<(), Error> {
     let m = load_matrix(matrix, registry_for(models, matrix)?)?;
@@ -96,7 +96,7 @@ pub fn text(m: &Matrix) -> String {
 
 /// The LOD levels each camera distance of the matrix draws (the scene's own camera when the
 /// matrix does not sweep it), as the renderer selects them.
-fn lod_plan(m: &Matrix, scene: &crate::spec::scene::Scene, meshes: &[crate::geometry::Mesh]) -> String {
+fn lod_plan(m: &Matrix, scene: &crate::declarations::scene::Scene, meshes: &[crate::geometry::Mesh]) -> String {
     let mut out = String::new();
     if scene.objects.iter().all(|o| o.lod.is_none()) {
         return out;
@@ -107,9 +107,10 @@ fn lod_plan(m: &Matrix, scene: &crate::spec::scene::Scene, meshes: &[crate::geom
         .zip(meshes)
         .map(|(o, mesh)| crate::geometry::placement::world_bounds_of(o, &mesh.bounds()))
         .collect();
-    let distances: Vec<Option<f64>> = match m.sweep.numbers(crate::spec::axes::Axis::CameraDistance).is_empty() {
+    let distances: Vec<Option<f64>> = match m.sweep.numbers(crate::declarations::axes::Axis::CameraDistance).is_empty()
+    {
         true => vec![None],
-        false => m.sweep.numbers(crate::spec::axes::Axis::CameraDistance).iter().copied().map(Some).collect(),
+        false => m.sweep.numbers(crate::declarations::axes::Axis::CameraDistance).iter().copied().map(Some).collect(),
     };
     for (p, d) in m.pipelines.iter().flat_map(|p| distances.iter().map(move |d| (*p, *d))) {
         let view = crate::plan::camera::ViewAxes { camera_distance: d, light_angle: None };
@@ -142,7 +143,7 @@ fn lod_plan(m: &Matrix, scene: &crate::spec::scene::Scene, meshes: &[crate::geom
 /// How each light reaches each object in every pipeline × path of the matrix, at the scene's own
 /// key-light values (a cell's sweep values can reorder lights by brightness; `cell.json` has each
 /// cell's).
-fn light_plan(m: &Matrix, scene: &crate::spec::scene::Scene) -> String {
+fn light_plan(m: &Matrix, scene: &crate::declarations::scene::Scene) -> String {
     let mut out = String::new();
     let meshes = match crate::geometry::procedural::build_scene(scene) {
         Ok(meshes) => meshes,
@@ -184,7 +185,7 @@ fn light_plan(m: &Matrix, scene: &crate::spec::scene::Scene) -> String {
             let main = crate::plan::lights::main_light(*p, &lights);
             let gi = scene.gi.as_ref().map(|g| crate::plan::gi::GiPlan::new(g, *p, &lights, main));
             let plan = assign(*p, *path, &m.light_budget, &lights, &centres, |i| {
-                let dynamic = scene.objects[i].role == crate::spec::scene::Role::Subject;
+                let dynamic = scene.objects[i].role == crate::declarations::scene::Role::Subject;
                 let baked = gi.as_ref().map_or_else(Vec::new, |g| g.baked_alone(dynamic));
                 crate::plan::lights::ModelLighting { forward_only: false, area_lights: true, baked }
             });
@@ -262,7 +263,7 @@ fn light_plan(m: &Matrix, scene: &crate::spec::scene::Scene) -> String {
 /// How many bakes the composition's cells need (render::gi): one per pipeline and per value of
 /// the axes a baked or mixed key light takes (intensity, range, angle) and of the ambient axis;
 /// every other axis (the subject's material above all: the subject is dynamic) shares one.
-fn bake_line(m: &Matrix, cells: &[crate::cells::Cell], scene: &crate::spec::scene::Scene) -> String {
+fn bake_line(m: &Matrix, cells: &[crate::cells::Cell], scene: &crate::declarations::scene::Scene) -> String {
     let Some(gi) = &scene.gi else { return String::new() };
     let Some(index) = m.compositions.iter().position(|s| std::ptr::eq(s, scene)) else { return String::new() };
     let key_baked = scene.key_light().is_some_and(|k| {
@@ -288,12 +289,12 @@ fn bake_line(m: &Matrix, cells: &[crate::cells::Cell], scene: &crate::spec::scen
 }
 
 /// What each cell is compared against, in words.
-fn reference_line(m: &crate::spec::matrix::Matrix) -> String {
-    use crate::spec::matrix::ReferenceSpec;
+fn reference_line(m: &crate::declarations::matrix::Matrix) -> String {
+    use crate::declarations::matrix::ReferenceSpec;
     match &m.reference {
         None => "none (no metrics)".into(),
         Some(ReferenceSpec::Cell(terms)) => {
-            use crate::spec::matrix::FilterValue;
+            use crate::declarations::matrix::FilterValue;
             let value = |v: &FilterValue| match v {
                 FilterValue::Name(n) | FilterValue::Color(n) => n.clone(),
                 FilterValue::Number(x) => x.to_string(),
@@ -318,7 +319,7 @@ fn reference_line(m: &crate::spec::matrix::Matrix) -> String {
 
 /// Which fixed objects draw maps of their own and from where (`FixedMaterial::base_color_map`,
 /// `gltf_material`); nothing when none does.
-fn fixed_maps_line(scene: &crate::spec::scene::Scene) -> String {
+fn fixed_maps_line(scene: &crate::declarations::scene::Scene) -> String {
     let named: Vec<String> = scene
         .objects
         .iter()

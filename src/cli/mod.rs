@@ -13,9 +13,9 @@ pub mod shaders;
 use clap::{Parser, Subcommand};
 use std::path::{Path, PathBuf};
 
+use crate::declarations::matrix::Matrix;
 use crate::error::Error;
 use crate::shading::Registry;
-use crate::spec::matrix::Matrix;
 use std::sync::Arc;
 
 /// Where user-supplied models are read from.
@@ -338,7 +338,7 @@ pub fn registry(models: &ModelsArg) -> Result<Arc<Registry>, Error> {
 /// As `registry`, where a matrix is named: its `models` key comes before the default folder.
 pub fn registry_for(models: &ModelsArg, matrix: Option<&Path>) -> Result<Arc<Registry>, Error> {
     let from_matrix = match (&models.models, matrix) {
-        (None, Some(m)) => crate::spec::matrix::models_dir(m)?,
+        (None, Some(m)) => crate::declarations::matrix::models_dir(m)?,
         _ => None,
     };
     if let Some(dir) = &from_matrix {

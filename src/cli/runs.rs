@@ -210,7 +210,7 @@ pub fn merge(shards: &[PathBuf], out: &Path, matrix: Option<&Path>, models: &Mod
     let load = |origin: &str| {
         let path = match matrix {
             Some(p) => Some(p.to_path_buf()),
-            None if origin == crate::spec::matrix::EMBEDDED_ORIGIN => None,
+            None if origin == crate::declarations::matrix::EMBEDDED_ORIGIN => None,
             None => Some(PathBuf::from(origin)),
         };
         if let Some(p) = path.as_deref().filter(|p| !p.exists()) {

@@ -10,7 +10,7 @@ pub mod stylized_sky;
 
 use glam::DVec3;
 
-use crate::spec::scene::{Environment, Sky};
+use crate::declarations::scene::{Environment, Sky};
 
 /// Everything the GPU needs about an environment (unscaled: pipelines scale radiance).
 #[derive(Debug, Clone)]

@@ -3,7 +3,7 @@
 use glam::DVec3;
 
 use crate::color::srgb_to_linear;
-use crate::spec::scene::Sky;
+use crate::declarations::scene::Sky;
 
 fn lin(c: [f64; 3]) -> DVec3 {
     DVec3::from(c.map(srgb_to_linear))

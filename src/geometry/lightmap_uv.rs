@@ -24,9 +24,9 @@ use std::collections::HashMap;
 use glam::{DMat4, DVec2, DVec3};
 
 use super::{Mesh, Vertex};
+use crate::declarations::gi::GiSettings;
+use crate::declarations::scene::{Role, Scene};
 use crate::error::Error;
-use crate::spec::gi::GiSettings;
-use crate::spec::scene::{Role, Scene};
 
 /// The largest lightmap side; a scene that needs more at its texels per unit is refused.
 pub const MAX_LIGHTMAP_SIDE: u32 = 4096;

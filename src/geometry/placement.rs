@@ -4,7 +4,7 @@
 use glam::DVec3;
 
 use super::Mesh;
-use crate::spec::scene::Scene;
+use crate::declarations::scene::Scene;
 
 /// World-space bounds of every object together.
 pub fn world_bounds(scene: &Scene, meshes: &[Mesh]) -> (DVec3, DVec3) {
@@ -37,7 +37,7 @@ pub fn object_centres(scene: &Scene, meshes: &[Mesh]) -> Vec<(String, DVec3)> {
 }
 
 /// The world-space box around an object's object-space `bounds` (its eight corners transformed).
-pub fn world_bounds_of(o: &crate::spec::scene::Object, bounds: &(glam::Vec3, glam::Vec3)) -> (DVec3, DVec3) {
+pub fn world_bounds_of(o: &crate::declarations::scene::Object, bounds: &(glam::Vec3, glam::Vec3)) -> (DVec3, DVec3) {
     let (a, b) = *bounds;
     let m = o.transform.matrix();
     let mut lo = DVec3::splat(f64::MAX);

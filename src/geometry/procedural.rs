@@ -6,8 +6,8 @@ use std::f64::consts::{PI, TAU};
 use std::path::Path;
 
 use super::mesh::Mesh;
+use crate::declarations::scene::MeshSpec;
 use crate::error::{Error, InputError};
-use crate::spec::scene::MeshSpec;
 
 /// Golden angle of the sunflower lattice (scenes.md: φ = 2.39996 rad).
 const GOLDEN_ANGLE: f64 = 2.399_963_229_728_653;
@@ -72,7 +72,7 @@ pub fn build(spec: &MeshSpec, base_dir: Option<&Path>, origin: &str, key: &str) 
 }
 
 /// Every object's mesh of a scene in object space, in object order (generated in parallel).
-pub fn build_scene(scene: &crate::spec::scene::Scene) -> Result<Vec<Mesh>, Error> {
+pub fn build_scene(scene: &crate::declarations::scene::Scene) -> Result<Vec<Mesh>, Error> {
     use rayon::prelude::*;
     // A glTF scene's primitives: each file read once, not once per object.
     let mut files: std::collections::HashMap<&str, std::collections::HashMap<(usize, usize), Mesh>> =
@@ -109,9 +109,9 @@ pub fn build_scene(scene: &crate::spec::scene::Scene) -> Result<Vec<Mesh>, Error
 /// What an object's material asks of its mesh: the subject may wear a textured preset, a fixed
 /// object its own maps, and a normal map needs a tangent frame, made from the mesh's own UVs
 /// before the material's tiling and offset move them.
-fn with_material_uvs(o: &crate::spec::scene::Object, mesh: &mut Mesh) {
+fn with_material_uvs(o: &crate::declarations::scene::Object, mesh: &mut Mesh) {
     let material = o.material.as_ref();
-    if o.role == crate::spec::scene::Role::Subject || material.is_some_and(|m| m.has_maps()) {
+    if o.role == crate::declarations::scene::Role::Subject || material.is_some_and(|m| m.has_maps()) {
         mesh.ensure_tangents();
     }
     if let Some(m) = material.filter(|m| m.map_tiling != [1.0; 2] || m.map_offset != [0.0; 2]) {
@@ -123,7 +123,7 @@ fn with_material_uvs(o: &crate::spec::scene::Object, mesh: &mut Mesh) {
 
 /// The LOD levels after the first of every object that has them, in scene order: (object index,
 /// level, mesh). The renderer draws them after the scene's own objects, in this order.
-pub fn lod_meshes(scene: &crate::spec::scene::Scene) -> Result<Vec<(usize, usize, Mesh)>, Error> {
+pub fn lod_meshes(scene: &crate::declarations::scene::Scene) -> Result<Vec<(usize, usize, Mesh)>, Error> {
     let mut out = Vec::new();
     for (i, o) in scene.objects.iter().enumerate() {
         let Some(lod) = &o.lod else { continue };

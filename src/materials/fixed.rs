@@ -9,10 +9,10 @@
 use std::sync::Arc;
 
 use super::{with_mips, MapLevel, MaterialMaps};
+use crate::declarations::scene::{GltfMaterialRef, Scene};
 use crate::error::Error;
 use crate::geometry::gltf_io::GltfMaterial;
 use crate::input::texture_file::TextureFile;
-use crate::spec::scene::{GltfMaterialRef, Scene};
 
 /// The largest the fixed maps' array may be on the GPU (Rgba16Float with mips).
 pub const MAX_ARRAY_BYTES: usize = 256 << 20;

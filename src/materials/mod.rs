@@ -212,7 +212,7 @@ mod tests {
 
     #[test]
     fn every_preset_has_maps_whose_means_are_the_flat_preset() {
-        for p in crate::spec::presets::PRESETS {
+        for p in crate::declarations::presets::PRESETS {
             let maps = generate(p.name, MAP_SIZE);
             let l0 = &maps.levels[0];
             let n = l0.albedo.len() as f64;

@@ -189,7 +189,7 @@ impl Pipeline {
             Pipeline::Builtin => {
                 let (factor, max) = match emitter {
                     Emitter::Directional { .. } => (3.8, 4096),
-                    // Area lights cast no real-time shadows (spec::area_light): the spot's row.
+                    // Area lights cast no real-time shadows (declarations::area_light): the spot's row.
                     Emitter::Spot { .. } | Emitter::Rect { .. } | Emitter::Disc { .. } => (2.0, 2048),
                     Emitter::Point { .. } => (1.0, 1024),
                 };

@@ -1,6 +1,6 @@
 use glam::{DMat4, DVec3};
 
-use crate::spec::scene::{Camera, Light, LightKind, Scene};
+use crate::declarations::scene::{Camera, Light, LightKind, Scene};
 
 /// Right-handed view and wgpu (0..1 depth) projection.
 pub fn view_projection(c: &Camera, aspect: f64) -> DMat4 {
@@ -91,7 +91,8 @@ mod tests {
         let view = ViewAxes { camera_distance: Some(0.5), light_angle: Some(70.0) };
         let c = posed_camera(&cam, &view);
         assert!((DVec3::from(c.position).length() - 0.5).abs() < 1e-12);
-        let scene: crate::spec::scene::Scene = crate::spec::scene::Scene::load("medusa", None, "t", "k").unwrap();
+        let scene: crate::declarations::scene::Scene =
+            crate::declarations::scene::Scene::load("medusa", None, "t", "k").unwrap();
         let l = posed_key_light(&scene.lights[0], &c, &view);
         let angle = DVec3::from(l.position).normalize().angle_between(DVec3::from(c.position).normalize());
         assert!((angle.to_degrees() - 70.0).abs() < 1e-9, "{}", angle.to_degrees());

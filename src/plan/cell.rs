@@ -14,11 +14,11 @@ use super::shadows::{
     array_side, cell_resolution, light_layers, shadow_style, CascadeView, ShadowLayerPlan, ShadowStyle,
 };
 use super::{FramePlan, ShadowMapUse};
+use crate::declarations::scene::{Camera, Light, LightKind, Role, Scene};
 use crate::geometry::Mesh;
 use crate::pipelines::{Antialiasing, Pipeline, RenderPath};
 use crate::shading::twin::Surface;
 use crate::shading::ShaderModel;
-use crate::spec::scene::{Camera, Light, LightKind, Role, Scene};
 
 /// What one cell asks (no matrix types: plans and the renderer know scenes, not sweeps).
 #[derive(Debug, Clone, Copy)]
@@ -211,7 +211,7 @@ impl SceneLayout {
                     LightKind::Point => 6,
                     LightKind::Directional => crate::pipelines::MAX_CASCADES,
                     LightKind::Spot => 1,
-                    // Refused by the scene's checks (spec::area_light): no shadow maps.
+                    // Refused by the scene's checks (declarations::area_light): no shadow maps.
                     LightKind::Rect | LightKind::Disc => 0,
                 };
                 side = side.max(array_side(l));

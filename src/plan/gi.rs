@@ -18,9 +18,9 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::declarations::gi::{GiSettings, LightBakeMode, LightmapQuality, MixedLighting, SHADOW_MASK_CHANNELS};
+use crate::declarations::scene::{Light, LightKind};
 use crate::pipelines::Pipeline;
-use crate::spec::gi::{GiSettings, LightBakeMode, LightmapQuality, MixedLighting, SHADOW_MASK_CHANNELS};
-use crate::spec::scene::{Light, LightKind};
 
 /// What the bake holds of one light, and where the frame draws it.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -266,7 +266,7 @@ mod tests {
     use super::*;
 
     fn light(kind: LightKind, mode: LightBakeMode) -> Light {
-        let mut scene = crate::spec::scene::Scene::load("default", None, "t", "k").unwrap();
+        let mut scene = crate::declarations::scene::Scene::load("default", None, "t", "k").unwrap();
         let mut l = scene.lights.remove(0);
         l.kind = kind;
         l.mode = mode;
@@ -279,7 +279,7 @@ mod tests {
 
     #[test]
     fn hdrp_stores_high_quality_lightmaps_whatever_is_asked() {
-        use crate::spec::gi::LightmapQuality::*;
+        use crate::declarations::gi::LightmapQuality::*;
         assert_eq!(lightmap_quality(Pipeline::Builtin, None), (Normal, None));
         assert_eq!(lightmap_quality(Pipeline::Urp, Some(Low)), (Low, None));
         assert_eq!(lightmap_quality(Pipeline::Hdrp, None), (High, None));

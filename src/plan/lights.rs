@@ -21,9 +21,9 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use crate::color::luminance;
+use crate::declarations::scene::{Light, LightKind, RenderMode, Scene};
 pub use crate::pipelines::LightBudget;
 use crate::pipelines::{Pipeline, RenderPath};
-use crate::spec::scene::{Light, LightKind, RenderMode, Scene};
 
 /// How one light reaches one object.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -202,7 +202,7 @@ fn use_(light: usize, mode: LightMode, reason: impl Into<String>) -> LightUse {
 pub fn main_light(pipeline: Pipeline, lights: &[Light]) -> Option<usize> {
     // A baked light is not among the frame's lights at all.
     brightest_directional(pipeline, lights, |l| {
-        l.mode != crate::spec::gi::LightBakeMode::Baked
+        l.mode != crate::declarations::gi::LightBakeMode::Baked
             && (pipeline != Pipeline::Builtin || l.render_mode != RenderMode::NotImportant)
     })
 }

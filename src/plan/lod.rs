@@ -13,7 +13,7 @@
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-use crate::spec::scene::{Camera, Scene};
+use crate::declarations::scene::{Camera, Scene};
 
 /// One level drawn in a frame: its index (0 the object's own mesh) and its fade (1: whole; in
 /// (0, 1): fading out; in (−1, 0): fading in).

@@ -14,7 +14,7 @@ pub mod roles;
 pub mod shadows;
 pub mod timing;
 
-use crate::spec::scene::{Reflections, Scene, Sky};
+use crate::declarations::scene::{Reflections, Scene, Sky};
 
 #[derive(Debug, Clone, Serialize)]
 pub struct FramePlan {
@@ -111,7 +111,7 @@ impl FramePlan {
     pub fn pass_writing(
         &self,
         path: crate::pipelines::RenderPath,
-        role: Option<crate::spec::scene::Role>,
+        role: Option<crate::declarations::scene::Role>,
         forward_only: bool,
     ) -> &'static str {
         use crate::pipelines::RenderPath;

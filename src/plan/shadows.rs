@@ -13,9 +13,9 @@ use glam::{DMat4, DVec3};
 
 use serde::{Deserialize, Serialize};
 
+use crate::declarations::scene::{Camera, Light, LightKind};
 use crate::pipelines::settings::PipelineSettings;
 use crate::pipelines::{Pipeline, ShadowCascades};
-use crate::spec::scene::{Camera, Light, LightKind};
 
 /// One shadow layer as planned: its view-projection, (texel size per unit depth or per metre,
 /// perspective flag, resolution, share of the layer its map covers) and, for a cascade, its
@@ -154,7 +154,7 @@ pub fn light_layers(
         layer(proj * view, [(2.0 * (fov * 0.5).tan() / res) as f32, 1.0, 0.0, 0.0], resolution, array_side)
     };
     match light.kind {
-        // Refused by the scene's checks (spec::area_light): no shadow maps.
+        // Refused by the scene's checks (declarations::area_light): no shadow maps.
         LightKind::Rect | LightKind::Disc => Vec::new(),
         LightKind::Directional => {
             let dir = DVec3::from(light.direction).normalize();
@@ -233,7 +233,7 @@ mod tests {
 
     #[test]
     fn cascades_cover_the_view_in_order() {
-        let scene = crate::spec::scene::Scene::load("default", None, "t", "k").unwrap();
+        let scene = crate::declarations::scene::Scene::load("default", None, "t", "k").unwrap();
         let mut sun = scene.lights[0].clone();
         sun.kind = LightKind::Directional;
         sun.direction = [0.3, -1.0, 0.2];
@@ -256,7 +256,7 @@ mod tests {
 
     #[test]
     fn a_point_light_has_six_faces_each_seeing_its_axis() {
-        let scene = crate::spec::scene::Scene::load("default", None, "t", "k").unwrap();
+        let scene = crate::declarations::scene::Scene::load("default", None, "t", "k").unwrap();
         let light = &scene.lights[scene.key_light().unwrap()];
         let cascades = crate::pipelines::Pipeline::Hdrp.shadow_cascades();
         let view = CascadeView { camera: &scene.camera, aspect: 1.0, cascades: &cascades };
@@ -273,7 +273,7 @@ mod tests {
 
     #[test]
     fn cell_resolutions_follow_the_pipeline_and_clamp_to_the_layer() {
-        let scene = crate::spec::scene::Scene::load("default", None, "t", "k").unwrap();
+        let scene = crate::declarations::scene::Scene::load("default", None, "t", "k").unwrap();
         let mut sun = scene.lights[0].clone();
         sun.kind = LightKind::Directional;
         sun.shadow.resolution = None;
@@ -295,7 +295,7 @@ mod tests {
 
     #[test]
     fn a_point_light_sized_by_its_projected_range_in_builtin() {
-        let scene = crate::spec::scene::Scene::load("default", None, "t", "k").unwrap();
+        let scene = crate::declarations::scene::Scene::load("default", None, "t", "k").unwrap();
         let mut light = scene.lights[scene.key_light().unwrap()].clone();
         light.shadow.resolution = None;
         let d = (DVec3::from(light.position) - DVec3::from(scene.camera.position)).length();

@@ -9,7 +9,7 @@
 use crate::cells::Cell;
 
 /// The class of `cell`: equal for cells whose frames run the same passes over the same work. The
-/// axes it counts are the table's rows marked `timing` (`spec::axes`); the light range is one: the
+/// axes it counts are the table's rows marked `timing` (`declarations::axes`); the light range is one: the
 /// pipelines cull a light from objects beyond its range, which changes how many lights each
 /// object's pass evaluates. The image size, anti-aliasing and light budgets are the matrix's.
 pub fn timing_class(cell: &Cell) -> String {
@@ -17,7 +17,7 @@ pub fn timing_class(cell: &Cell) -> String {
         "{}x{}|{:?}|{:?}|{:?}",
         cell.width, cell.height, cell.antialiasing, cell.light_budget, cell.pipeline_settings
     );
-    for row in crate::spec::axes::AXES.iter().filter(|r| r.timing) {
+    for row in crate::declarations::axes::AXES.iter().filter(|r| r.timing) {
         class.push_str(&format!("|{}={}", row.name, cell.coords.exact(row.name)));
     }
     class
@@ -26,7 +26,7 @@ pub fn timing_class(cell: &Cell) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::spec::matrix::Matrix;
+    use crate::declarations::matrix::Matrix;
     use std::sync::Arc;
 
     #[test]
@@ -66,7 +66,7 @@ mod tests {
         };
         let mine = coords(c);
         for (k, axis) in axes.iter().enumerate() {
-            let row = crate::spec::axes::find(axis).unwrap();
+            let row = crate::declarations::axes::find(axis).unwrap();
             let other = e
                 .cells
                 .iter()

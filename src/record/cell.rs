@@ -41,7 +41,7 @@ pub struct CellRecord {
     #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
     pub key_inputs: std::collections::BTreeMap<String, String>,
     pub matrix_sha256: String,
-    /// What the cell is: its value on every axis (`spec::axes`).
+    /// What the cell is: its value on every axis (`declarations::axes`).
     pub coords: CellCoords,
     pub shader_source: String,
     /// The material its preset and sliders resolved to (slider units).
@@ -172,7 +172,7 @@ pub struct TermLayerRecord {
 /// One frame of the approximation study.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 pub struct ApproximationRecord {
-    /// spec::study::Approximation's name.
+    /// declarations::study::Approximation's name.
     pub approximation: String,
     /// The frame's name: the approximation, or the MSAA level (`msaa8`).
     pub variant: String,

@@ -6,8 +6,8 @@ use std::path::Path;
 
 use super::{read_record, Maybe};
 use crate::adapter::AdapterRecord;
+use crate::declarations::sheets::SheetSpec;
 use crate::error::Error;
-use crate::spec::sheets::SheetSpec;
 
 /// Version of the `run.json` layout. 2: `schema`, `stages`.
 pub const RUN_SCHEMA: u32 = 2;
@@ -109,13 +109,13 @@ pub struct MatrixRecord {
     pub shard: Option<String>,
     /// The `--only` filter the run was given: `merge` recomputes the same expansion.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub only: Option<crate::spec::filter::Filter>,
+    pub only: Option<crate::declarations::filter::Filter>,
     /// The contact sheets `report` draws.
     #[serde(default)]
     pub sheets: Vec<SheetSpec>,
     /// The matrix's `[[assert]]` invariants, which `report` checks.
     #[serde(default)]
-    pub asserts: Vec<crate::spec::asserts::InvariantSpec>,
+    pub asserts: Vec<crate::declarations::asserts::InvariantSpec>,
 }
 
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]

@@ -6,12 +6,12 @@ use glam::DVec3;
 
 use super::passes::shadow::shadow_slot;
 use super::prepared::PreparedScene;
+use crate::declarations::scene::{LightKind, Role};
 use crate::plan::cell::{CellParams, CellPlan};
 use crate::plan::lights::{sh_of_light, LightMode};
 use crate::render::uniforms::*;
 use crate::shading::registry::Sliders;
 use crate::shading::ShaderModel;
-use crate::spec::scene::{LightKind, Role};
 
 /// Write the frame and object uniforms and the light buffers; returns the light assignment
 /// and the shadow layers this cell renders.
@@ -57,7 +57,7 @@ pub(in crate::render) fn write_uniforms(
                 _ => unreachable!("an area light's emitter"),
             };
             params = [l.range as f32, half_w as f32, half_h as f32, 0.0];
-            let drawn = p == crate::pipelines::Pipeline::Hdrp && l.kind == crate::spec::scene::LightKind::Rect;
+            let drawn = p == crate::pipelines::Pipeline::Hdrp && l.kind == crate::declarations::scene::LightKind::Rect;
             shape = vec4(l.area_frame().1, if drawn { 1.0 } else { 0.0 });
         }
         let slot = gpu_lights.len();
@@ -70,7 +70,7 @@ pub(in crate::render) fn write_uniforms(
         // distance, where every composition lies (its fade to the baked mask beyond is not drawn).
         let bake_flag = plan.gi.as_ref().map_or(0.0, |g| {
             let b = &g.lights[slot];
-            let mixing = g.mixed_lighting == crate::spec::gi::MixedLighting::Shadowmask;
+            let mixing = g.mixed_lighting == crate::declarations::gi::MixedLighting::Shadowmask;
             match b.shadow_mask {
                 _ if !b.drawn_on_static && !b.drawn_on_dynamic => 1.0,
                 _ if !b.drawn_on_static => 6.0,
@@ -164,7 +164,8 @@ pub(in crate::render) fn write_uniforms(
         .collect();
     // Subtractive: the main directional light's real-time shadow darkens the lightmaps, down to
     // the Realtime Shadow Color (SubtractMainLightWithRealtimeAttenuationFromLightmap).
-    let subtractive = plan.gi.as_ref().is_some_and(|g| g.mixed_lighting == crate::spec::gi::MixedLighting::Subtractive);
+    let subtractive =
+        plan.gi.as_ref().is_some_and(|g| g.mixed_lighting == crate::declarations::gi::MixedLighting::Subtractive);
     // How the lightmap holds its light (Object.bake.z, scene.wgsl `lightmap_gi`)
     let encoding = plan
         .gi

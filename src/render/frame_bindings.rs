@@ -32,7 +32,7 @@ impl FrameBindings {
         maps: Option<&'static str>,
     ) -> Option<&'a wgpu::TextureView> {
         let key = maps.unwrap_or("");
-        if key == crate::spec::presets::OWN.name {
+        if key == crate::declarations::presets::OWN.name {
             return prepared.own_textures.get().map(|t| &t.albedo);
         }
         self.material_textures.get(key).map(|t| &t.albedo)
@@ -51,7 +51,7 @@ impl FrameBindings {
             return Ok(g.clone());
         }
         let (device, queue) = (&gpu.device, &gpu.queue);
-        let textures = if key == crate::spec::presets::OWN.name {
+        let textures = if key == crate::declarations::presets::OWN.name {
             if prepared.own_textures.get().is_none() {
                 let textures = own_textures(device, queue, &prepared.scene)?;
                 let _ = prepared.own_textures.set(textures);

@@ -7,6 +7,7 @@ use std::collections::HashMap;
 use wgpu::util::DeviceExt;
 
 use super::formats::SHADOW_FORMAT;
+use crate::declarations::scene::Scene;
 use crate::environment::EnvironmentMaps;
 use crate::error::Error;
 use crate::geometry::{procedural, Mesh};
@@ -15,7 +16,6 @@ use crate::plan::cell::{SceneLayout, ShadowArray};
 use crate::plan::FramePlan;
 use crate::render::uniforms::*;
 use crate::shading::registry::Sliders;
-use crate::spec::scene::Scene;
 use bytemuck::Zeroable;
 
 /// One mesh on the GPU; its role, scene object and whether it casts are its slot in the layout
@@ -177,7 +177,7 @@ impl PreparedScene {
             mapped_at_creation: false,
         });
         let probes = match scene.environment.reflections {
-            crate::spec::scene::Reflections::Probe if !scene.probes.is_empty() => {
+            crate::declarations::scene::Reflections::Probe if !scene.probes.is_empty() => {
                 let prefilter =
                     prefilter.ok_or_else(|| Error::Other("reflection probes without their prefilter".into()))?;
                 Some(crate::render::passes::probes::SceneProbes::new(gpu, prefilter, &scene.probes, &env.probe))
@@ -431,7 +431,7 @@ pub(in crate::render) fn subject_maps(
     prepared: &PreparedScene,
     maps: &str,
 ) -> Result<std::sync::Arc<crate::materials::MaterialMaps>, Error> {
-    if maps != crate::spec::presets::OWN.name {
+    if maps != crate::declarations::presets::OWN.name {
         return Ok(crate::materials::MaterialMaps::of(maps));
     }
     if let Some(m) = prepared.own_maps.get() {

@@ -17,6 +17,8 @@ use super::passes::shadow::{encode_shadow_passes, shadow_pipeline, CutoutShadow}
 use super::passes::FrameDraw;
 use super::pipeline_cache::{faces_of, ByFace, ForwardKey, ForwardPass, PipelineCache};
 use super::prepared::PreparedScene;
+use crate::declarations::scene::Role;
+use crate::declarations::scene::Scene;
 use crate::error::Error;
 use crate::geometry::procedural;
 use crate::geometry::Mesh;
@@ -36,8 +38,6 @@ use crate::render::formats::{DEPTH_FORMAT, HDR_FORMAT, ROLE_FORMAT};
 use crate::render::targets::Targets;
 use crate::render::uniforms::*;
 use crate::shading::{wgsl, Registry, ShaderModel};
-use crate::spec::scene::Role;
-use crate::spec::scene::Scene;
 
 mod gi;
 mod terms;
@@ -352,7 +352,7 @@ impl Renderer {
         meshes: Vec<Mesh>,
     ) -> Result<PreparedScene, Error> {
         let probes =
-            scene.environment.reflections == crate::spec::scene::Reflections::Probe && !scene.probes.is_empty();
+            scene.environment.reflections == crate::declarations::scene::Reflections::Probe && !scene.probes.is_empty();
         if probes && self.prefilter.is_none() {
             self.prefilter = Some(crate::render::passes::probes::Prefilter::new(&self.gpu)?);
         }

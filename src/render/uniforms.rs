@@ -61,7 +61,7 @@ pub struct GpuReflectionProbe {
 
 impl GpuReflectionProbe {
     /// Probe `index` of `count`, its levels in capture slot `slot`.
-    pub fn new(p: &crate::spec::scene::ReflectionProbe, index: usize, count: usize, slot: usize) -> Self {
+    pub fn new(p: &crate::declarations::scene::ReflectionProbe, index: usize, count: usize, slot: usize) -> Self {
         let v = |a: [f64; 3], w: f64| [a[0] as f32, a[1] as f32, a[2] as f32, w as f32];
         GpuReflectionProbe {
             position: v(p.position, if p.box_projection { 1.0 } else { 0.0 }),
@@ -86,7 +86,7 @@ pub struct FrameUniforms {
     pub fixed: GpuMaterial,
     /// x: the reflection probes the shading blends (0: the sky alone).
     pub reflection: [u32; 4],
-    pub probes: [GpuReflectionProbe; crate::spec::scene::MAX_PROBES],
+    pub probes: [GpuReflectionProbe; crate::declarations::scene::MAX_PROBES],
     /// x, y: the target's size in pixels (HDRP's _ScreenSize, for the LOD dither's seed).
     pub screen: [f32; 4],
 }

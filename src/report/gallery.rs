@@ -30,9 +30,9 @@ fn url(s: &str) -> String {
 }
 
 /// The axes the gallery filters by: the named axes (composition … preset) and every other axis of
-/// the table (`spec::axes`) that takes more than one value among the run's cells.
+/// the table (`declarations::axes`) that takes more than one value among the run's cells.
 fn filter_axes(run: &RunData) -> Vec<&'static str> {
-    use crate::spec::axes::{AxisKind, AXES};
+    use crate::declarations::axes::{AxisKind, AXES};
     AXES.iter()
         .filter(|r| {
             r.kind == AxisKind::Name

@@ -1,4 +1,4 @@
-//! The matrix's `[[assert]]` invariants (`spec::asserts`), checked over a finished run from its
+//! The matrix's `[[assert]]` invariants (`declarations::asserts`), checked over a finished run from its
 //! records and EXRs: tables/invariants.{md,csv} with every assert, and the results `check` puts in
 //! its JUnit. A group is the cells an assert covers that differ only in its `along` axis; an assert
 //! that covers no cells, or no group with two values, fails — an invariant that checks nothing
@@ -10,12 +10,12 @@ use std::fmt::Write;
 use serde::Serialize;
 
 use super::run_data::RunData;
+use crate::declarations::asserts::{InvariantKind, InvariantSpec, Measure};
+use crate::declarations::matrix::{Axis, Filter, FilterValue};
 use crate::error::Error;
 use crate::fsutil::write_atomic;
 use crate::images::encode::read_exr;
 use crate::record::CellRecord;
-use crate::spec::asserts::{InvariantKind, InvariantSpec, Measure};
-use crate::spec::matrix::{Axis, Filter, FilterValue};
 
 /// Failing groups named in a result, at most (the count is always whole).
 const SHOWN_FAILURES: usize = 8;
@@ -92,7 +92,7 @@ fn measure(r: &CellRecord, m: Measure) -> Option<f64> {
 /// parameters included.
 fn group_key(r: &CellRecord, along: Axis) -> String {
     let mut key = String::new();
-    for row in crate::spec::axes::AXES.iter().filter(|row| row.axis != along) {
+    for row in crate::declarations::axes::AXES.iter().filter(|row| row.axis != along) {
         let _ = write!(key, "{}={} ", row.name, r.coords.exact(row.name));
     }
     key.trim_end().to_string()

@@ -37,7 +37,7 @@ pub fn build(run_dir: &std::path::Path) -> Result<(), crate::error::Error> {
     stability::write(&run)?;
     invariants::write(&run)?;
     let specs = match &run.run.matrix.sheets {
-        s if s.is_empty() => crate::spec::sheets::default_specs(),
+        s if s.is_empty() => crate::declarations::sheets::default_specs(),
         s => s.clone(),
     };
     let written = sheets::write(&run, &specs)?;

@@ -7,10 +7,10 @@ use image::{imageops, Rgba, RgbaImage};
 use std::collections::{BTreeMap, BTreeSet};
 
 use super::run_data::RunData;
+use crate::declarations::sheets::{SheetSpec, TERM_AXIS, WHOLE_IMAGE};
 use crate::error::Error;
 use crate::fsutil::write_atomic;
 use crate::record::CellRecord;
-use crate::spec::sheets::{SheetSpec, TERM_AXIS, WHOLE_IMAGE};
 
 const SCALE: u32 = 2;
 const GLYPH: u32 = 8 * SCALE;
@@ -143,14 +143,14 @@ fn file_safe(s: &str) -> String {
 fn sort_values(axis: &str, values: BTreeSet<String>) -> Vec<String> {
     let mut v: Vec<String> = values.into_iter().collect();
     // Numeric axes in numeric order (a value the axis leaves unset sorts first).
-    if crate::spec::axes::find(axis).is_some_and(|r| r.kind == crate::spec::axes::AxisKind::Number) {
+    if crate::declarations::axes::find(axis).is_some_and(|r| r.kind == crate::declarations::axes::AxisKind::Number) {
         v.sort_by(|a, b| {
             a.parse::<f64>().unwrap_or(f64::NEG_INFINITY).total_cmp(&b.parse::<f64>().unwrap_or(f64::NEG_INFINITY))
         });
     }
     // The surface types in the engines' order (opaque, cutout, fade, transparent, …), the
     // material's own first.
-    if axis == crate::spec::axes::of(crate::spec::axes::Axis::Surface).name {
+    if axis == crate::declarations::axes::of(crate::declarations::axes::Axis::Surface).name {
         let rank = |n: &str| crate::pipelines::surface::SurfaceType::from_name(n).map_or(0, |s| 1 + s.shader_id());
         v.sort_by_key(|n| rank(n));
     }
@@ -219,7 +219,7 @@ pub fn layout(run: &RunData, spec: &SheetSpec) -> Vec<SheetLayout> {
             seen.entry(key).or_insert_with(|| v.clone()) == &v
         })
     };
-    let per: Vec<&str> = crate::spec::axes::names()
+    let per: Vec<&str> = crate::declarations::axes::names()
         .into_iter()
         .filter(|a| *a != spec.rows && *a != spec.cols && !determined(a))
         .collect();

@@ -132,7 +132,7 @@ fn intern<T: PartialEq + Clone>(table: &mut Vec<T>, value: &T) -> u32 {
 
 pub fn data(run: &RunData, links: Vec<(String, String)>) -> ViewerData {
     // The axes the viewer offers, in the order its controls appear: every axis of the table.
-    let names = crate::spec::axes::names();
+    let names = crate::declarations::axes::names();
     let mut axes = Vec::new();
     for name in names.iter().copied() {
         let mut seen: BTreeSet<String> = run.cells.iter().map(|c| value(c, name)).collect();
@@ -142,7 +142,8 @@ pub fn data(run: &RunData, links: Vec<(String, String)>) -> ViewerData {
         );
         let mut values: Vec<String> = seen.into_iter().collect();
         // Hex codes such as 333333 read as numbers; a colour axis is a list of names.
-        let colour = crate::spec::axes::find(name).is_some_and(|r| r.kind == crate::spec::axes::AxisKind::Colour);
+        let colour = crate::declarations::axes::find(name)
+            .is_some_and(|r| r.kind == crate::declarations::axes::AxisKind::Colour);
         let numeric = values.iter().all(|v| v.parse::<f64>().is_ok()) && !colour;
         if numeric {
             values.sort_by(|a, b| a.parse::<f64>().unwrap().total_cmp(&b.parse::<f64>().unwrap()));

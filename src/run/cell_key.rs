@@ -18,8 +18,8 @@ use sha2::{Digest, Sha256};
 
 use crate::adapter::AdapterRecord;
 use crate::cells::{reference_cell_id, Cell, CellId};
-use crate::spec::matrix::{hex, Matrix, ReferenceSpec};
-use crate::spec::scene::MeshSpec;
+use crate::declarations::matrix::{hex, Matrix, ReferenceSpec};
+use crate::declarations::scene::MeshSpec;
 
 /// Bumped when what a key covers changes meaning (3: a digest per input, recorded in the cell's
 /// record so `merge` can name the input that differs).

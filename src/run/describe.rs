@@ -1,8 +1,8 @@
 //! A cell's record before it is measured: its axes, the model's inputs and the light.
 
 use crate::cells::Cell;
+use crate::declarations::matrix::Matrix;
 use crate::record::cell::{ImageFiles, KeyLight, ShaderInputs};
-use crate::spec::matrix::Matrix;
 
 /// The model's inputs as the shader receives them, with its parameters by name.
 pub fn shader_inputs(cell: &Cell) -> ShaderInputs {

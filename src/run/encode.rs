@@ -8,6 +8,9 @@ use super::clock::ThreadTimer;
 use super::describe::{image_files, key_light, shader_inputs};
 use super::study::{LeftOutVariant, StudyVariant};
 use crate::cells::Cell;
+use crate::declarations::matrix::Matrix;
+use crate::declarations::outputs::ExrPrecision;
+use crate::declarations::scene::Role;
 use crate::error::Error;
 use crate::fsutil::write_atomic;
 use crate::images::stats::{pixel_stats, PixelStats};
@@ -20,9 +23,6 @@ use crate::record::cell::{
 use crate::record::Maybe;
 use crate::render::uniforms::{ROLE_FIXED, ROLE_SUBJECT};
 use crate::render::CellRender;
-use crate::spec::matrix::Matrix;
-use crate::spec::outputs::ExrPrecision;
-use crate::spec::scene::Role;
 
 /// A frame the render thread finished, on its way to the encode workers.
 pub struct RenderedCell<'a> {
@@ -88,7 +88,7 @@ pub fn encode_cell(
 ) -> Result<EncodedCell, Error> {
     let RenderedCell { cell, render: mut r, reference, study: study_renders, study_left_out, timed_as } = job;
     let t0 = ThreadTimer::start();
-    // 16-bit channels where the frame fits them (`spec::outputs`), and its term layers, which share
+    // 16-bit channels where the frame fits them (`declarations::outputs`), and its term layers, which share
     // the file's channels: rounded here, so the PNG, the statistics and the metrics see what the
     // file holds.
     let layers_fit = r

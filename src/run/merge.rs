@@ -14,10 +14,10 @@ use std::collections::{BTreeMap, HashSet};
 use std::path::{Path, PathBuf};
 
 use crate::cells::CellId;
+use crate::declarations::matrix::Matrix;
 use crate::error::{Error, InputError};
 use crate::record::run::{RunStatus, StageTimes};
 use crate::record::{CellRecord, Maybe, RunDir, RunRecord, CELL_FILE, RUN_FILE};
-use crate::spec::matrix::Matrix;
 
 pub struct MergeSummary {
     pub dir: PathBuf,

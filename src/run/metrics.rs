@@ -10,6 +10,7 @@ use super::encode::CellImages;
 use crate::cells::{reference_cell_id, Cell, CellId};
 use crate::compare::images::{compare_on, MetricsBackend};
 use crate::compare::LoadedImage;
+use crate::declarations::matrix::{Matrix, ReferenceSpec};
 use crate::error::Error;
 use crate::fsutil::write_atomic;
 use crate::images::encode::map_png_bytes;
@@ -17,7 +18,6 @@ use crate::record::cell::{
     ApproximationRecord, ApproximationResult, CellMetrics, HdrComparison, MetricMaps, ReferenceRecord,
 };
 use crate::record::{Maybe, RunDir};
-use crate::spec::matrix::{Matrix, ReferenceSpec};
 
 /// Where a cell's reference is.
 pub enum ReferenceSource {

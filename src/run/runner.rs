@@ -18,6 +18,8 @@ use super::clock::{StageClock, ThreadTimer};
 use super::encode::{copy_images, encode_cell, twin_record, CellImages, RenderedCell, RenderedReference, StudyImages};
 use super::metrics::{compare_cell, measure_study, reference_source, ReferenceCache, ReferenceSource};
 use crate::cells::{expand, matches_filter, reference_cell_id, remark_twins, Cell, CellId, Expansion};
+use crate::declarations::matrix::{Filter, Matrix, ReferenceSpec};
+use crate::declarations::study::Approximation;
 use crate::error::Error;
 use crate::fsutil::write_json;
 use crate::gpu::GpuContext;
@@ -26,8 +28,6 @@ use crate::record::cell::{CellMetrics, CellRecord, ReferenceRecord};
 use crate::record::run::{CompositionRecord, MatrixRecord, RunCounts, RunStatus, StageTimes};
 use crate::record::{RunDir, RunRecord, CELL_FILE, RUN_FILE, RUN_SCHEMA};
 use crate::render::{CellParams, Renderer};
-use crate::spec::matrix::{Filter, Matrix, ReferenceSpec};
-use crate::spec::study::Approximation;
 
 #[derive(Debug, Clone, Default)]
 pub struct RunOptions {
@@ -346,7 +346,7 @@ fn build_geometry_and_bakes(matrix: &Matrix, exp: &Expansion) -> Result<Vec<Geom
         .iter()
         .enumerate()
         .map(|(ci, scene)| {
-            use crate::spec::scene::MeshSpec;
+            use crate::declarations::scene::MeshSpec;
             let loads_files =
                 scene.objects.iter().any(|o| matches!(o.mesh, MeshSpec::Gltf { .. } | MeshSpec::GltfPrimitive { .. }));
             let has_cells = exp.cells.iter().any(|c| c.composition_index == ci);

@@ -15,8 +15,8 @@ use std::collections::{HashMap, HashSet};
 use sha2::{Digest, Sha256};
 
 use crate::cells::{reference_cell_id, Cell, CellId, Expansion};
+use crate::declarations::matrix::{Matrix, ReferenceSpec};
 use crate::error::{Error, InputError};
-use crate::spec::matrix::{Matrix, ReferenceSpec};
 
 /// Which shard of `n` (1-based) owns `cell`.
 pub fn owner(matrix: &Matrix, cells: &HashMap<&CellId, &Cell>, cell: &Cell, n: u32) -> u32 {

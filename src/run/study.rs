@@ -1,13 +1,13 @@
-//! The approximation study (spec::study): the frames each cell is rendered again as, one per
+//! The approximation study (declarations::study): the frames each cell is rendered again as, one per
 //! real-time approximation replaced, and the ones left out because they cannot change the image
 //! or do not exist on the cell's path. The metrics stage measures each against the cell's truth.
 
 use crate::cells::Cell;
+use crate::declarations::scene::{Scene, Sky};
+use crate::declarations::study::Approximation;
 use crate::pipelines::{Antialiasing, RenderPath};
 use crate::plan::exact::ExactAlternatives;
 use crate::render::renderer::CellSettings;
-use crate::spec::scene::{Scene, Sky};
-use crate::spec::study::Approximation;
 
 /// One frame of the study: the cell with one approximation replaced.
 #[derive(Debug, Clone)]

@@ -11,10 +11,10 @@ use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
 use crate::cells::Cell;
+use crate::declarations::matrix::Matrix;
 use crate::error::Error;
 use crate::images::encode;
 use crate::render::truth::Truth;
-use crate::spec::matrix::Matrix;
 use crate::store::{Entry, Store};
 
 /// 3: entries in the verified store (`store`), every file checked when read.
@@ -82,7 +82,7 @@ impl TruthCache {
             "reads": reads,
             "adapter": on_gpu.then_some(adapter),
         });
-        crate::spec::matrix::hex(&Sha256::digest(text.to_string().as_bytes()))
+        crate::declarations::matrix::hex(&Sha256::digest(text.to_string().as_bytes()))
     }
 
     /// The digest of the entry under `key`, from its manifest: what a cached cell's record is

@@ -3,10 +3,10 @@
 //! I(2) − I(1) = I(1) − I(0) on every pixel, and the ambient changes the image.
 
 use crate::common::cell_params;
+use shadematrix::declarations::scene::{Reflections, Scene};
 use shadematrix::gpu::GpuContext;
 use shadematrix::pipelines::{Pipeline, RenderPath};
 use shadematrix::render::renderer::Renderer;
-use shadematrix::spec::scene::{Reflections, Scene};
 
 #[test]
 fn the_frame_is_linear_in_the_ambient_axis() {

@@ -2,11 +2,11 @@
 //! paths render one sample and say why, and the cell record says what was rendered.
 
 use crate::common::cell_params;
+use shadematrix::declarations::scene::Scene;
 use shadematrix::gpu::GpuContext;
 use shadematrix::pipelines::{Antialiasing, Pipeline, RenderPath};
 use shadematrix::render::{CellParams, Renderer};
 use shadematrix::shading::registry::Sliders;
-use shadematrix::spec::scene::Scene;
 
 #[test]
 fn msaa_brings_edges_closer_to_a_supersampled_render() {

@@ -4,13 +4,13 @@
 
 use crate::common::{cell_params, find_model, fixture, models};
 use glam::{DVec2, DVec3};
+use shadematrix::declarations::scene::{LightKind, Scene};
 use shadematrix::gpu::GpuContext;
 use shadematrix::pipelines::{Pipeline, RenderPath};
 use shadematrix::plan::lights::LightMode;
 use shadematrix::render::{CellRender, Renderer};
 use shadematrix::shading::ltc::{integrate_rect, RectLight};
 use shadematrix::shading::registry::Sliders;
-use shadematrix::spec::scene::{LightKind, Scene};
 
 const SIZE: u32 = 49;
 
@@ -139,8 +139,8 @@ fn the_truth_samples_a_rect_light_and_agrees_with_the_exact_lambert_frame() {
     // A same-BRDF truth draws points on the rectangle (cos θ'·A/d² each, HDRP's box window at the
     // shaded point); the Lambert frame integrates it exactly: their subject means agree within the
     // truth's noise, on the CPU and on the GPU.
+    use shadematrix::declarations::matrix::{TruthBackend, TruthSettings};
     use shadematrix::render::truth::TruthKind;
-    use shadematrix::spec::matrix::{TruthBackend, TruthSettings};
     let scene = scene();
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     let prepared = renderer.prepare_scene(&scene).unwrap();

@@ -2,11 +2,11 @@
 //! turns it off.
 
 use glam::DVec3;
+use shadematrix::declarations::scene::Scene;
 use shadematrix::gpu::GpuContext;
 use shadematrix::images::bloom::{bloom, Image};
 use shadematrix::pipelines::{Pipeline, RenderPath};
 use shadematrix::render::renderer::Renderer;
-use shadematrix::spec::scene::Scene;
 
 #[test]
 fn gpu_bloom_matches_its_twin_and_the_switch_turns_it_off() {

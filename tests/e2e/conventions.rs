@@ -6,6 +6,7 @@ use crate::common::{cell_params, find_model, fixture, shadematrix, write_matrix}
 use glam::DVec3;
 use shadematrix::color::linear_to_srgb;
 use shadematrix::compare::images::LoadedImage;
+use shadematrix::declarations::scene::Scene;
 use shadematrix::gpu::GpuContext;
 use shadematrix::images::aces::aces_display;
 use shadematrix::pipelines::{Pipeline, RenderPath};
@@ -13,7 +14,6 @@ use shadematrix::record::CellRecord;
 use shadematrix::render::Renderer;
 use shadematrix::report::run_data::RunData;
 use shadematrix::shading::registry::Sliders;
-use shadematrix::spec::scene::Scene;
 use std::path::Path;
 
 fn run(dir: &Path, body: &str) -> RunData {

@@ -3,11 +3,11 @@
 
 use crate::common::find_model;
 use glam::DVec3;
+use shadematrix::declarations::scene::Scene;
 use shadematrix::gpu::GpuContext;
 use shadematrix::pipelines::Pipeline;
 use shadematrix::render::{CellParams, Renderer};
 use shadematrix::shading::twin::Surface;
-use shadematrix::spec::scene::Scene;
 
 /// θh per visible subject pixel: the rendered role mask says which pixels see the subject; the
 /// mesh vertex nearest the camera in each pixel gives its position and analytic normal, from which

@@ -2,14 +2,14 @@
 //! mask lets them, in the frame and in both tracers (truth.wgsl against the CPU's f64 twin).
 
 use crate::common::{cell_params, fixture};
+use shadematrix::declarations::matrix::TruthBackend;
+use shadematrix::declarations::scene::Scene;
 use shadematrix::gpu::GpuContext;
 use shadematrix::pipelines::{Pipeline, RenderPath};
 use shadematrix::render::truth::{Truth, TruthKind, TruthSettings};
 use shadematrix::render::uniforms::ROLE_SUBJECT;
 use shadematrix::render::{CellParams, PreparedScene, Renderer};
 use shadematrix::shading::registry::Sliders;
-use shadematrix::spec::matrix::TruthBackend;
-use shadematrix::spec::scene::Scene;
 
 fn truth(renderer: &mut Renderer, prepared: &PreparedScene, cell: &CellParams, backend: TruthBackend) -> Truth {
     let settings = TruthSettings {

@@ -123,7 +123,7 @@ fn ids_are_exact_so_near_values_stay_distinct_cells() {
     let text =
         "name = \"t\"\ncompositions = [\"medusa\"]\npipelines = [\"urp\"]\nshaders = [\"lit\"]\npresets = [\"gold\"]\n\
                 [sweep]\nsmoothness = [0.999, 1.0]\nmetallic = [0.0, 0.001]\nlight_intensity = [1.0, 1.00001]\n";
-    let m = shadematrix::spec::matrix::Matrix::from_text(
+    let m = shadematrix::declarations::matrix::Matrix::from_text(
         "t.toml",
         text,
         None,

@@ -301,7 +301,7 @@ fn fuzz_matrix_files() {
         fuzz("matrix", &seeds, TOML_TOKENS, |input| {
             let text = String::from_utf8_lossy(input);
             let r = catch_unwind(AssertUnwindSafe(|| {
-                shadematrix::spec::matrix::Matrix::from_text("fuzz.toml", &text, Some(&base), registry.clone())
+                shadematrix::declarations::matrix::Matrix::from_text("fuzz.toml", &text, Some(&base), registry.clone())
                     .map(|_| ())
             }));
             // A composition the matrix references names its own file.
@@ -322,7 +322,9 @@ fn fuzz_scene_files() {
     {
         fuzz("scene", &seeds, TOML_TOKENS, |input| {
             std::fs::write(&file, input).unwrap();
-            let r = catch_unwind(AssertUnwindSafe(|| shadematrix::spec::scene::Scene::load_file(&file).map(|_| ())));
+            let r = catch_unwind(AssertUnwindSafe(|| {
+                shadematrix::declarations::scene::Scene::load_file(&file).map(|_| ())
+            }));
             judge(r, &["fuzz_scene.toml"])
         })
     }

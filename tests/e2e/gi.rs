@@ -3,13 +3,13 @@
 
 use crate::common::{cell_params, fixture};
 use glam::DVec3;
+use shadematrix::declarations::gi::{LightBakeMode, MixedLighting};
+use shadematrix::declarations::scene::{Role, Scene};
 use shadematrix::gpu::GpuContext;
 use shadematrix::pipelines::{Pipeline, RenderPath};
 use shadematrix::render::gi::BakedLighting;
 use shadematrix::render::Renderer;
 use shadematrix::shading::registry::Sliders;
-use shadematrix::spec::gi::{LightBakeMode, MixedLighting};
-use shadematrix::spec::scene::{Role, Scene};
 
 fn sliders() -> Sliders {
     Sliders { base_color_linear: [0.5; 3], metallic: 0.0, smoothness: 0.3 }
@@ -144,18 +144,18 @@ fn mixed_sun_room() -> Scene {
     let mut scene = Scene::load("default", None, "t", "k").unwrap();
     scene.lights = vec![scene.lights[0].clone()];
     let l = &mut scene.lights[0];
-    l.kind = shadematrix::spec::scene::LightKind::Directional;
+    l.kind = shadematrix::declarations::scene::LightKind::Directional;
     l.direction = [-0.4, -0.8, -0.45];
     l.intensity = 1.0;
     l.mode = LightBakeMode::Mixed;
-    scene.environment.sky = shadematrix::spec::scene::Sky::Constant { color: [0.0; 3] };
-    scene.environment.reflections = shadematrix::spec::scene::Reflections::Sky;
+    scene.environment.sky = shadematrix::declarations::scene::Sky::Constant { color: [0.0; 3] };
+    scene.environment.reflections = shadematrix::declarations::scene::Reflections::Sky;
     scene.probes.clear();
     scene
 }
 
 /// A static box of `size` centred at `at`, in the material of `scene`'s first fixed object.
-fn static_box(scene: &Scene, name: &str, size: [f64; 3], at: [f64; 3]) -> shadematrix::spec::scene::Object {
+fn static_box(scene: &Scene, name: &str, size: [f64; 3], at: [f64; 3]) -> shadematrix::declarations::scene::Object {
     let mut o = scene.objects.iter().find(|o| o.role == Role::Fixed).unwrap().clone();
     o.name = name.into();
     o.mesh = toml::from_str(&format!("kind = \"box\"\nsize = {size:?}")).unwrap();
@@ -338,7 +338,7 @@ fn a_dynamic_objects_further_lod_levels_read_its_probe() {
     // (before: the probe plus the sky's SH again).
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     let mut scene = cornell();
-    scene.environment.sky = shadematrix::spec::scene::Sky::Constant { color: [0.3; 3] };
+    scene.environment.sky = shadematrix::declarations::scene::Sky::Constant { color: [0.3; 3] };
     let lum = |img: &[f32], roles: &[u8]| {
         let px: Vec<usize> =
             (0..roles.len()).filter(|&i| roles[i] == shadematrix::render::uniforms::ROLE_SUBJECT).collect();
@@ -379,7 +379,7 @@ fn lightmap_encodings_decode_to_the_same_light() {
     // double LDR, RGBM and half floats decode to the same light within their 8-bit steps, where
     // the light stays inside double LDR's range (the ceiling over the lamp clips at 4.59, as
     // Unity's would). HDRP keeps High Quality whatever is asked.
-    use shadematrix::spec::gi::LightmapQuality;
+    use shadematrix::declarations::gi::LightmapQuality;
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     let mut frames = Vec::new();
     for q in [LightmapQuality::Low, LightmapQuality::Normal, LightmapQuality::High] {

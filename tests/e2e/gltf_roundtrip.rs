@@ -1,7 +1,7 @@
 //! `export-mesh` writes GLB that the importer reads back with the same vertices and bounds.
 
+use shadematrix::declarations::scene::Scene;
 use shadematrix::geometry::{gltf_io, procedural, Mesh};
-use shadematrix::spec::scene::Scene;
 
 #[test]
 fn exported_composition_loads_back_identically() {
@@ -61,7 +61,7 @@ fn a_textured_preset_exports_as_gltf_textures() {
     assert_eq!(rc, 0, "{stderr}");
     assert!(stdout.contains("4 textured materials"), "the four subject parts: {stdout}");
     let (doc, _, images) = gltf::import(&out).unwrap();
-    let brick = shadematrix::spec::presets::find_preset("brick").unwrap();
+    let brick = shadematrix::declarations::presets::find_preset("brick").unwrap();
     let shell = doc.materials().find(|m| m.name() == Some("shell")).expect("the subject's material");
     let pbr = shell.pbr_metallic_roughness();
     assert!(shell.normal_texture().is_some() && shell.occlusion_texture().is_some());

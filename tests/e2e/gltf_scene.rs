@@ -2,11 +2,11 @@
 //! material, the `KHR_lights_punctual` lights in photometric units converted per pipeline, a camera
 //! chosen by name, the subject node taking the swept material; and what it cannot draw refused.
 
+use shadematrix::declarations::scene::{LightKind, MeshSpec, Role, Scene};
 use shadematrix::gpu::GpuContext;
 use shadematrix::pipelines::{Pipeline, RenderPath};
 use shadematrix::render::renderer::Renderer;
 use shadematrix::shading::registry::Sliders;
-use shadematrix::spec::scene::{LightKind, MeshSpec, Role, Scene};
 
 /// Two quad meshes with their own materials (the floor, scaled 8×; the vase's), a point and a
 /// directional light, and a camera; `tile` is the floor material's members after its name (`TILE`
@@ -203,11 +203,11 @@ fn a_fixed_objects_gltf_maps_and_emission_are_drawn_and_traced() {
     let sliders = Sliders { base_color_linear: [0.8, 0.8, 0.8], metallic: 0.0, smoothness: 0.5 };
     let cell = crate::common::cell_params(Pipeline::Urp, "lit", sliders, (20.0, 8.0), 48, RenderPath::Forward);
     let settings = shadematrix::render::truth::TruthSettings {
-        kind: shadematrix::spec::matrix::TruthKind::Physical,
+        kind: shadematrix::declarations::matrix::TruthKind::Physical,
         spp: 16,
         noise: 0.0,
         bounces: 1,
-        backend: shadematrix::spec::matrix::TruthBackend::Cpu,
+        backend: shadematrix::declarations::matrix::TruthBackend::Cpu,
         ..Default::default()
     };
     // Mean linear colour of the floor's pixels in the left and right thirds of the frame.
@@ -230,7 +230,7 @@ fn a_fixed_objects_gltf_maps_and_emission_are_drawn_and_traced() {
         let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
         let t = renderer.render_truth(&prepared, &cell, &settings).unwrap();
         let gpu_settings = shadematrix::render::truth::TruthSettings {
-            backend: shadematrix::spec::matrix::TruthBackend::Gpu,
+            backend: shadematrix::declarations::matrix::TruthBackend::Gpu,
             ..settings
         };
         let g = renderer.render_truth(&prepared, &cell, &gpu_settings).unwrap();

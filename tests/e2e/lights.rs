@@ -3,12 +3,12 @@
 
 use crate::common::{cell_params, find_model, fixture, shadematrix, write_matrix};
 use glam::DVec3;
+use shadematrix::declarations::scene::{LightKind, RenderMode, Scene};
 use shadematrix::gpu::GpuContext;
 use shadematrix::pipelines::{Pipeline, RenderPath};
 use shadematrix::plan::lights::{sh_of_light, LightMode};
 use shadematrix::render::{CellRender, PreparedScene, Renderer};
 use shadematrix::shading::registry::Sliders;
-use shadematrix::spec::scene::{LightKind, RenderMode, Scene};
 
 const SIZE: u32 = 49;
 

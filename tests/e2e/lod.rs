@@ -3,11 +3,11 @@
 //! cell's plan and tested there (`plan::cell`).
 
 use crate::common::{cell_params, repo};
+use shadematrix::declarations::scene::Scene;
 use shadematrix::gpu::GpuContext;
 use shadematrix::pipelines::{Pipeline, RenderPath};
 use shadematrix::plan::camera::ViewAxes;
 use shadematrix::render::renderer::{LodUse, Renderer};
-use shadematrix::spec::scene::Scene;
 
 fn render(renderer: &mut Renderer, scene: &Scene, distance: f64, shader: &str) -> (Vec<f64>, Vec<u8>, Vec<LodUse>) {
     let plastic =
@@ -24,7 +24,7 @@ fn render(renderer: &mut Renderer, scene: &Scene, distance: f64, shader: &str) -
 fn a_cross_fade_band_dithers_the_two_levels_into_complementary_pixels() {
     let mut scene = Scene::load_file(&repo().join("scenes/default_lod.toml")).unwrap();
     // The sky's reflections: a probe would be captured anew for every render here.
-    scene.environment.reflections = shadematrix::spec::scene::Reflections::Sky;
+    scene.environment.reflections = shadematrix::declarations::scene::Reflections::Sky;
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     // Which levels each distance draws is the plan's (plan::cell's unit tests); here, the pixels.
     // In the band each pixel of the sphere is one level's or the other's, in the share the fade says.

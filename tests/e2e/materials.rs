@@ -44,7 +44,7 @@ fn textured_presets_differ_from_flat_and_keep_its_mean() {
     let (rc, out, err) = shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", "r"], &[]);
     assert_eq!(rc, 0, "{out}\n{err}");
     let dir = tmp.path().join("r");
-    for p in shadematrix::spec::presets::PRESETS {
+    for p in shadematrix::declarations::presets::PRESETS {
         let base =
             format!("white_furnace__urp-forward__lambert__{}__m{:.2}_s{:.2}_i0_r0", p.name, p.metallic, p.smoothness);
         let (flat, flat_px, w) = cell(&dir, &base);
@@ -125,7 +125,7 @@ fn emission_adds_the_subjects_colour_in_models_that_have_it() {
     let (rc, out, err) = shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", "r"], &[]);
     assert_eq!(rc, 0, "{out}\n{err}");
     let dir = tmp.path().join("r");
-    let preset = shadematrix::spec::presets::find_preset("blue_paint").unwrap();
+    let preset = shadematrix::declarations::presets::find_preset("blue_paint").unwrap();
     let luminance = |c: [f64; 3]| 0.2126729 * c[0] + 0.7151522 * c[1] + 0.0721750 * c[2];
     for (pipeline, shader, scale) in
         [("builtin", "standard", 1.0), ("urp", "lit", 1.0), ("urp", "simple_lit", 1.0), ("hdrp", "lit", 1e4)]

@@ -3,12 +3,12 @@
 //! additional-light shadows off; models without a G-buffer pass drawn forward on deferred paths.
 
 use crate::common::{cell_params, fixture};
+use shadematrix::declarations::scene::Scene;
 use shadematrix::gpu::GpuContext;
 use shadematrix::pipelines::{Pipeline, RenderPath};
 use shadematrix::render::renderer::Renderer;
 use shadematrix::render::CellParams;
 use shadematrix::shading::registry::Sliders;
-use shadematrix::spec::scene::Scene;
 
 const PLASTIC: Sliders = Sliders { base_color_linear: [0.4, 0.3, 0.2], metallic: 0.0, smoothness: 0.7 };
 

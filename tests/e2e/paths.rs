@@ -2,12 +2,12 @@
 //! lights add up on the deferred path, and `list` shows each path's passes.
 
 use crate::common::{cell_params, fixture, shadematrix, write_matrix};
+use shadematrix::declarations::scene::Scene;
 use shadematrix::gpu::GpuContext;
 use shadematrix::pipelines::{Pipeline, RenderPath};
 use shadematrix::render::Renderer;
 use shadematrix::report::run_data::RunData;
 use shadematrix::shading::registry::Sliders;
-use shadematrix::spec::scene::Scene;
 
 /// Without MSAA on either side: built-in forward's default 4× MSAA would add its edge blending to
 /// the difference (worst FLIP 0.0199 instead of 0.0094, measured).

@@ -44,16 +44,16 @@ fn gpu_prefilter_matches_its_cpu_twin() {
 
 #[test]
 fn a_probe_puts_the_room_into_a_metal_sphere() {
+    use shadematrix::declarations::scene::{Reflections, Scene};
     use shadematrix::pipelines::{Pipeline, RenderPath};
     use shadematrix::render::renderer::Renderer;
-    use shadematrix::spec::scene::{Reflections, Scene};
     let with_probe = Scene::load_file(&fixture("probe_room.toml")).unwrap();
     assert_eq!(with_probe.environment.reflections, Reflections::Probe);
     let mut sky_only = with_probe.clone();
     sky_only.environment.reflections = Reflections::Sky;
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     let silver = shadematrix::shading::registry::Sliders {
-        base_color_linear: shadematrix::spec::presets::find_preset("silver").unwrap().base_color,
+        base_color_linear: shadematrix::declarations::presets::find_preset("silver").unwrap().base_color,
         metallic: 1.0,
         smoothness: 1.0,
     };
@@ -91,9 +91,9 @@ fn a_probe_puts_the_room_into_a_metal_sphere() {
 
 #[test]
 fn a_reused_capture_renders_the_same_image() {
+    use shadematrix::declarations::scene::Scene;
     use shadematrix::pipelines::{Pipeline, RenderPath};
     use shadematrix::render::renderer::Renderer;
-    use shadematrix::spec::scene::Scene;
     let scene = Scene::load_file(&fixture("probe_room.toml")).unwrap();
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     let prepared = renderer.prepare_scene(&scene).unwrap();

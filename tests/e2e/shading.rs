@@ -3,12 +3,12 @@
 use crate::common::find_model;
 use glam::DVec3;
 use shadematrix::color::luminance;
+use shadematrix::declarations::scene::Scene;
 use shadematrix::gpu::GpuContext;
 use shadematrix::pipelines::Pipeline;
 use shadematrix::render::probe::{evaluate, ProbeInput};
 use shadematrix::render::{CellParams, CellRender, Renderer};
 use shadematrix::shading::registry::Sliders;
-use shadematrix::spec::scene::Scene;
 
 fn renderer() -> Renderer {
     Renderer::new(GpuContext::new().expect("a GPU adapter (lavapipe in CI)"))
@@ -348,8 +348,8 @@ fn the_specular_highlights_toggle_reaches_the_passes_the_engines_read_it_in() {
 fn urp_environment_reflections_off_reflect_the_mean_of_the_environment() {
     let mut renderer = renderer();
     let mut constant = scene("default");
-    constant.environment.sky = shadematrix::spec::scene::Sky::Constant { color: [0.4, 0.5, 0.6] };
-    constant.environment.reflections = shadematrix::spec::scene::Reflections::Sky;
+    constant.environment.sky = shadematrix::declarations::scene::Sky::Constant { color: [0.4, 0.5, 0.6] };
+    constant.environment.reflections = shadematrix::declarations::scene::Reflections::Sky;
     let room = scene("default");
     for (what, sc, changes) in [("constant sky", constant, false), ("the default room", room, true)] {
         let prepared = renderer.prepare_scene(&sc).unwrap();

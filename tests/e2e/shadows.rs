@@ -3,12 +3,12 @@
 
 use crate::common::{cell_params, fixture};
 use shadematrix::color::luminance;
+use shadematrix::declarations::scene::{LightKind, Scene};
 use shadematrix::gpu::GpuContext;
 use shadematrix::pipelines::{Pipeline, RenderPath};
 use shadematrix::plan::FramePlan;
 use shadematrix::render::Renderer;
 use shadematrix::shading::registry::Sliders;
-use shadematrix::spec::scene::{LightKind, Scene};
 
 const SIZE: u32 = 65;
 

@@ -3,13 +3,13 @@
 //! truth exactly as the constant sky does.
 
 use glam::DVec3;
+use shadematrix::declarations::scene::Scene;
 use shadematrix::environment::{sh, stylized_sky, EnvironmentMaps};
 use shadematrix::gpu::GpuContext;
 use shadematrix::pipelines::{Pipeline, RenderPath};
 use shadematrix::render::renderer::Renderer;
 use shadematrix::render::truth::TruthSettings;
 use shadematrix::shading::registry::Sliders;
-use shadematrix::spec::scene::Scene;
 
 const DEFAULT_SKY: &str = "sky = { kind = \"gradient\", sky = [0.212, 0.227, 0.259], equator = [0.114, 0.125, 0.133], ground = [0.047, 0.043, 0.035] }";
 
@@ -85,7 +85,7 @@ fn a_constant_image_sky_lights_like_the_constant_sky() {
     let sliders = Sliders { base_color_linear: [0.5, 0.5, 0.5], metallic: 0.0, smoothness: 0.6 };
     let cell = crate::common::cell_params(Pipeline::Urp, "lit", sliders, (2.0, 10.0), 48, RenderPath::Forward);
     let settings = TruthSettings {
-        kind: shadematrix::spec::matrix::TruthKind::Physical,
+        kind: shadematrix::declarations::matrix::TruthKind::Physical,
         spp: 32,
         noise: 0.0,
         bounces: 1,
@@ -253,7 +253,7 @@ fn a_cubemap_sky_reads_its_faces_as_a_sampler_cube_does() {
 /// every pipeline draws it with the vase (the subject) in view and finite values.
 #[test]
 fn the_composite_room_loads_and_renders_in_every_pipeline() {
-    use shadematrix::spec::scene::{LightKind, Role, Sky};
+    use shadematrix::declarations::scene::{LightKind, Role, Sky};
     let scene = Scene::load("composite", None, "test", "composition").unwrap();
     let triangles: usize =
         shadematrix::geometry::procedural::build_scene(&scene).unwrap().iter().map(|m| m.triangle_count()).sum();

@@ -3,10 +3,10 @@
 //! open surfaces and the direct light alone, and the switch turns it off.
 
 use glam::DVec3;
+use shadematrix::declarations::scene::Camera;
 use shadematrix::gpu::GpuContext;
 use shadematrix::images::ssao as ssao_twin;
 use shadematrix::render::passes::ssao::{visibility_of, SsaoFrame, SsaoSettings};
-use shadematrix::spec::scene::Camera;
 
 /// A ray-cast frame: a floor (y = 0) with a unit box standing on it and a sphere resting beside
 /// it, seen from above and in front. Returns raw depth (wgpu's 0..1) and encoded world normals,
@@ -120,9 +120,12 @@ struct Room {
 }
 
 /// One HDRP Lit frame of the default room (bloom off, to see the lighting alone).
-fn render_room(edit: impl Fn(&mut shadematrix::spec::scene::Scene), path: shadematrix::pipelines::RenderPath) -> Room {
+fn render_room(
+    edit: impl Fn(&mut shadematrix::declarations::scene::Scene),
+    path: shadematrix::pipelines::RenderPath,
+) -> Room {
     use shadematrix::pipelines::Pipeline;
-    let mut scene = shadematrix::spec::scene::Scene::load("default", None, "test", "composition").unwrap();
+    let mut scene = shadematrix::declarations::scene::Scene::load("default", None, "test", "composition").unwrap();
     scene.hdrp.bloom = false;
     edit(&mut scene);
     let mut renderer = shadematrix::render::renderer::Renderer::new(GpuContext::new().unwrap());
@@ -167,9 +170,9 @@ fn ssao_darkens_the_indirect_light_where_surfaces_meet_and_the_switch_turns_it_o
         assert!(darker < ratios.len() / 2, "open surfaces stay lit: {darker} of {}", ratios.len());
     }
     // Without indirect light there is nothing to occlude: the direct light is left alone.
-    let dark = |s: &mut shadematrix::spec::scene::Scene| {
+    let dark = |s: &mut shadematrix::declarations::scene::Scene| {
         s.environment.ambient_intensity = 0.0;
-        s.environment.reflections = shadematrix::spec::scene::Reflections::Sky;
+        s.environment.reflections = shadematrix::declarations::scene::Reflections::Sky;
     };
     let on = render_room(dark, RenderPath::Forward).rgb;
     let off = render_room(|s| (dark(s), s.hdrp.ssao = false).1, RenderPath::Forward).rgb;

@@ -4,6 +4,7 @@
 
 use crate::common::{cell_params, find_model, fixture, shadematrix, write_matrix};
 use glam::{DMat4, DVec3, DVec4};
+use shadematrix::declarations::scene::Scene;
 use shadematrix::gpu::GpuContext;
 use shadematrix::pipelines::surface::{LitTerms, SurfaceOptions, SurfaceType};
 use shadematrix::pipelines::{Pipeline, RenderPath};
@@ -11,7 +12,6 @@ use shadematrix::plan::camera::view_projection;
 use shadematrix::plan::roles::ROLE_SUBJECT;
 use shadematrix::render::Renderer;
 use shadematrix::shading::registry::Sliders;
-use shadematrix::spec::scene::Scene;
 
 const SIZE: u32 = 48;
 
@@ -173,7 +173,7 @@ fn a_cutout_quad_covers_what_its_alpha_leaves_above_the_cutoff() {
         (Pipeline::Hdrp, "lit", RenderPath::Forward),
     ] {
         let mut cell = cell_params(pipeline, shader, sliders, (1.0, 10.0), size, path);
-        cell.settings.material_maps = Some(shadematrix::spec::presets::OWN.name);
+        cell.settings.material_maps = Some(shadematrix::declarations::presets::OWN.name);
         let whole = coverage(&renderer.render(&prepared, &cell, 1, 0).unwrap().roles);
         for cutoff in [0.25, 0.5, 0.75] {
             cell.settings.surface = SurfaceOptions { kind: SurfaceType::Cutout, alpha: 1.0, cutoff };
@@ -408,7 +408,7 @@ background = false
         (Pipeline::Hdrp, "lit", RenderPath::Forward),
     ] {
         let mut cell = cell_params(pipeline, shader, sliders, (1.0, 10.0), 96, path);
-        cell.settings.material_maps = Some(shadematrix::spec::presets::OWN.name);
+        cell.settings.material_maps = Some(shadematrix::declarations::presets::OWN.name);
         // Floor pixels darker than half the lit floor's brightest: the shadow.
         let mut shadow = |cell: &shadematrix::render::CellParams| {
             let r = renderer.render(&prepared, cell, 1, 0).unwrap();
@@ -433,8 +433,8 @@ background = false
 /// a textured opaque subject's truth agrees with the GPU tracer's within noise.
 #[test]
 fn the_cpu_truth_reads_the_subjects_maps_and_their_alpha() {
+    use shadematrix::declarations::matrix::TruthBackend;
     use shadematrix::render::truth::{TruthKind, TruthSettings};
-    use shadematrix::spec::matrix::TruthBackend;
     let tmp = tempfile::tempdir().unwrap();
     write_alpha_ramp_gltf(tmp.path(), 0.5);
     let ramp = Scene::load_file(&tmp.path().join("ramp.toml")).unwrap();
@@ -443,7 +443,7 @@ fn the_cpu_truth_reads_the_subjects_maps_and_their_alpha() {
     let sliders = Sliders { base_color_linear: [1.0; 3], metallic: 0.0, smoothness: 0.3 };
     let settings = TruthSettings { spp: 16, noise: 0.0, bounces: 0, ..Default::default() };
     let mut cell = cell_params(Pipeline::Urp, "lit", sliders, (1.0, 10.0), 64, RenderPath::Forward);
-    cell.settings.material_maps = Some(shadematrix::spec::presets::OWN.name);
+    cell.settings.material_maps = Some(shadematrix::declarations::presets::OWN.name);
     let whole = coverage(&renderer.render_truth(&prepared, &cell, &settings).unwrap().roles);
     for cutoff in [0.25, 0.75] {
         cell.settings.surface = SurfaceOptions { kind: SurfaceType::Cutout, alpha: 1.0, cutoff };

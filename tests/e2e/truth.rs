@@ -1,12 +1,12 @@
 //! The path-traced truth (`render::truth`): the white furnace, a convex subject under one
 //! directional light against the real-time cell, and the noise's 1/√spp.
 
+use shadematrix::declarations::scene::Scene;
 use shadematrix::gpu::GpuContext;
 use shadematrix::pipelines::{Pipeline, RenderPath};
 use shadematrix::render::renderer::Renderer;
 use shadematrix::render::truth::{Truth, TruthSettings};
 use shadematrix::shading::registry::Sliders;
-use shadematrix::spec::scene::Scene;
 
 const SIZE: u32 = 64;
 
@@ -316,8 +316,8 @@ fn a_physical_truth_in_the_furnace_reflects_the_models_albedo() {
 /// pixels' differences are as large as the pixels' noise says (a two-sample Z-test).
 #[test]
 fn the_cpu_and_gpu_truths_agree_within_noise_on_every_composition() {
+    use shadematrix::declarations::matrix::TruthBackend;
     use shadematrix::render::truth::TruthKind;
-    use shadematrix::spec::matrix::TruthBackend;
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     let sliders = Sliders { base_color_linear: [0.8, 0.5, 0.3], metallic: 0.5, smoothness: 0.7 };
     for (name, pipeline, shader, kind) in [
@@ -458,7 +458,7 @@ fn default_room() -> (Renderer, shadematrix::render::prepared::PreparedScene) {
 /// (it had 3× the variance at 0.75 when continuations followed a GGX lobe chosen from smoothness).
 #[test]
 fn a_lambert_truths_noise_does_not_depend_on_smoothness() {
-    use shadematrix::spec::matrix::TruthBackend;
+    use shadematrix::declarations::matrix::TruthBackend;
     let (mut renderer, prepared) = default_room();
     for (backend, size, spp) in [(TruthBackend::Cpu, 48, 64), (TruthBackend::Gpu, 24, 32)] {
         let noise = |smoothness: f64, renderer: &mut Renderer| {
@@ -481,7 +481,7 @@ fn a_lambert_truths_noise_does_not_depend_on_smoothness() {
 /// overstates that error (the noise it reports is conservative).
 #[test]
 fn sobol_samples_reach_a_lower_error_than_independent_ones() {
-    use shadematrix::spec::matrix::{TruthBackend, TruthKind, TruthSampler};
+    use shadematrix::declarations::matrix::{TruthBackend, TruthKind, TruthSampler};
     let (mut renderer, prepared) = default_room();
     let sliders = Sliders { base_color_linear: [0.284, 0.284, 0.284], metallic: 0.0, smoothness: 0.75 };
     let cell = crate::common::cell_params(Pipeline::Urp, "lit", sliders, (2.0, 10.0), 40, RenderPath::Forward);
@@ -518,7 +518,7 @@ fn sobol_samples_reach_a_lower_error_than_independent_ones() {
 /// the noise at these albedos) and differs from a budget of one, on both backends.
 #[test]
 fn russian_roulette_past_the_budget_counts_every_bounce() {
-    use shadematrix::spec::matrix::{TruthBackend, TruthKind};
+    use shadematrix::declarations::matrix::{TruthBackend, TruthKind};
     let (mut renderer, prepared) = default_room();
     let sliders = Sliders { base_color_linear: [0.8, 0.8, 0.8], metallic: 0.0, smoothness: 0.3 };
     for (backend, size, spp) in [(TruthBackend::Cpu, 40, 128), (TruthBackend::Gpu, 24, 64)] {

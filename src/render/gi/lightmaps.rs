@@ -47,11 +47,11 @@ impl LightmapEncoding {
     }
 
     /// The encoding of a Lightmap Encoding quality.
-    pub fn of_quality(q: crate::spec::gi::LightmapQuality) -> LightmapEncoding {
+    pub fn of_quality(q: crate::declarations::gi::LightmapQuality) -> LightmapEncoding {
         match q {
-            crate::spec::gi::LightmapQuality::Low => LightmapEncoding::DoubleLdr,
-            crate::spec::gi::LightmapQuality::Normal => LightmapEncoding::Rgbm,
-            crate::spec::gi::LightmapQuality::High => LightmapEncoding::Hdr,
+            crate::declarations::gi::LightmapQuality::Low => LightmapEncoding::DoubleLdr,
+            crate::declarations::gi::LightmapQuality::Normal => LightmapEncoding::Rgbm,
+            crate::declarations::gi::LightmapQuality::High => LightmapEncoding::Hdr,
         }
     }
 

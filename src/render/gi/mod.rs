@@ -142,7 +142,7 @@ impl LightmapTexture {
 
 impl BakedLighting {
     /// The ambient source of a dynamic object whose bounds centre is `centre`.
-    pub fn dynamic_ambient(&self, grid: Option<&crate::spec::gi::ProbeGrid>, centre: DVec3) -> AmbientSource {
+    pub fn dynamic_ambient(&self, grid: Option<&crate::declarations::gi::ProbeGrid>, centre: DVec3) -> AmbientSource {
         match (&self.probes, grid) {
             (Some(probes), Some(grid)) => AmbientSource::Probe(Box::new(probes::interpolate(grid, probes, centre))),
             _ => AmbientSource::Sky,

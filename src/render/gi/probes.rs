@@ -8,8 +8,8 @@
 
 use glam::DVec3;
 
+use crate::declarations::gi::ProbeGrid;
 use crate::render::truth::bake::{BakeSums, BAKE_STRIDE};
-use crate::spec::gi::ProbeGrid;
 
 /// One probe: SH coefficients of E(n)/π (environment::sh's convention), and the visibility of
 /// each shadow-mask light (Unity's probe occlusion).

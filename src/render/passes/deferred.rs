@@ -10,6 +10,7 @@
 
 use super::forward::{draw_objects, ForwardPipelines};
 use super::FrameDraw;
+use crate::declarations::scene::Role;
 use crate::gpu::timing::PassTimer;
 use crate::plan::cell::CellParams;
 use crate::render::gbuffer::{tile_grid, LightTiles};
@@ -18,7 +19,6 @@ use crate::render::prepared::PreparedScene;
 use crate::render::targets::Targets;
 use crate::render::uniforms::{ROLE_FIXED, ROLE_SUBJECT};
 use crate::shading::ShaderModel;
-use crate::spec::scene::Role;
 
 /// One deferred frame: G-buffer, lighting per role, then what the G-buffer cannot carry drawn
 /// forward, and the background. The frame's timestamps bracket all three passes.

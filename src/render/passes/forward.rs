@@ -11,11 +11,11 @@
 //! same bytes as the whole frame (`--no-reuse` draws it whole; a test compares the two).
 
 use super::FrameDraw;
+use crate::declarations::scene::Role;
 use crate::gpu::timing::PassTimer;
 use crate::render::pipeline_cache::ByFace;
 use crate::render::prepared::PreparedScene;
 use crate::render::targets::Targets;
-use crate::spec::scene::Role;
 
 /// The pipelines a forward frame draws with: the subject's and the fixed objects' (each with its
 /// ForwardAdd pipeline where it has additive passes), the background's (None: the frame has none),

@@ -21,11 +21,11 @@ use crate::environment::prefilter::{self, EquirectImage, LEVELS, MIRROR_ALPHA, P
 use crate::error::Error;
 use crate::gpu::GpuContext;
 
+use crate::declarations::scene::ReflectionProbe;
 pub use crate::render::uniforms::{first_layer, GpuReflectionProbe};
 use crate::render::ComputeStep;
-use crate::spec::scene::ReflectionProbe;
 
-pub use crate::spec::scene::MAX_PROBES;
+pub use crate::declarations::scene::MAX_PROBES;
 /// The capture's colour format: the forward pipelines' target format.
 pub const CAPTURE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 const LEVEL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;

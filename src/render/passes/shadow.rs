@@ -57,10 +57,10 @@ pub(in crate::render) fn encode_shadow_passes(
         let static_baked = dynamic_only.contains(&layer);
         let casts = |i: usize| {
             let m = &prepared.layout.meshes[i];
-            casting[i] && m.cast_shadows && !(static_baked && m.role == crate::spec::scene::Role::Fixed)
+            casting[i] && m.cast_shadows && !(static_baked && m.role == crate::declarations::scene::Role::Fixed)
         };
         for (i, o) in prepared.objects.iter().enumerate().filter(|(i, _)| casts(*i)) {
-            let subject = prepared.layout.meshes[i].role == crate::spec::scene::Role::Subject;
+            let subject = prepared.layout.meshes[i].role == crate::declarations::scene::Role::Subject;
             match cutout.filter(|_| subject) {
                 Some((clipped, group)) => {
                     pass.set_pipeline(clipped);

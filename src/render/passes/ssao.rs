@@ -21,10 +21,10 @@ use bytemuck::{Pod, Zeroable};
 use glam::{DMat4, DVec3};
 use wgpu::util::DeviceExt;
 
+use crate::declarations::scene::Camera;
 use crate::error::Error;
 use crate::gpu::GpuContext;
 use crate::render::ComputeStep;
-use crate::spec::scene::Camera;
 
 const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
 /// The prepass's normal buffer: HDRP's is octahedral in 8-bit channels, APPROXIMATED by 10:10:10:2

@@ -4,6 +4,8 @@
 use std::sync::Arc;
 
 use super::{write_uniforms, CellParams, Renderer, ROLE_FIXED};
+use crate::declarations::gi::GiSettings;
+use crate::declarations::scene::Role;
 use crate::error::Error;
 use crate::plan::cell::CellPlan;
 use crate::render::gi::lightmaps::{lightmap_from_sums, LightmapEncoding};
@@ -12,8 +14,6 @@ use crate::render::prepared::PreparedScene;
 use crate::render::truth::bake::{gather, BakeBudget, BakeLight, BakePoint, BakeSums};
 use crate::render::truth::TruthKind;
 use crate::shading::{wgsl, ShaderModel};
-use crate::spec::gi::GiSettings;
-use crate::spec::scene::Role;
 
 /// What one bake reads: the lights' shares, the static meshes, their materials and the points.
 struct BakeInputs {

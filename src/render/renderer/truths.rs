@@ -5,13 +5,13 @@
 use glam::DVec3;
 
 use super::{write_uniforms, CellParams, Renderer, ROLE_FIXED, ROLE_SUBJECT};
+use crate::declarations::scene::Role;
 use crate::error::Error;
 use crate::geometry::procedural;
 use crate::render::prepared::PreparedScene;
 use crate::render::truth::TruthKind;
 use crate::shading::twin::irradiance_per_intensity;
 use crate::shading::{wgsl, ShaderModel};
-use crate::spec::scene::Role;
 
 impl Renderer {
     /// The ground truth of a cell (render::truth): its scene, lights and materials path traced
@@ -76,7 +76,7 @@ impl Renderer {
         fixed_model: &ShaderModel,
         settings: &crate::render::truth::TruthSettings,
     ) -> Result<bool, Error> {
-        use crate::spec::matrix::TruthBackend;
+        use crate::declarations::matrix::TruthBackend;
         let twins = cell.model.twin.is_some() && fixed_model.twin.is_some();
         let coverage = subject_coverage(cell)?;
         // Only the CPU tracer lets rays through a surface; a textured cutout or Fade subject is
@@ -88,7 +88,7 @@ impl Renderer {
             );
         if coverage < 1.0 || textured_see_through {
             return match settings.backend {
-                crate::spec::matrix::TruthBackend::Gpu => Err(Error::Other(format!(
+                crate::declarations::matrix::TruthBackend::Gpu => Err(Error::Other(format!(
                     "truth backend \"gpu\" draws every surface opaque; this cell's subject is `{}`: use \
                      backend = \"cpu\" or \"auto\"",
                     cell.settings.surface.kind.name()
@@ -114,8 +114,8 @@ impl Renderer {
                     "truth backend \"cpu\" cannot trace this cell: {why}; use backend = \"gpu\" or \"auto\""
                 )))
             }
-            (TruthBackend::Auto, None) if settings.sampler == crate::spec::matrix::TruthSampler::Sobol => true,
-            (TruthBackend::Auto, Some(why)) if settings.sampler == crate::spec::matrix::TruthSampler::Sobol => {
+            (TruthBackend::Auto, None) if settings.sampler == crate::declarations::matrix::TruthSampler::Sobol => true,
+            (TruthBackend::Auto, Some(why)) if settings.sampler == crate::declarations::matrix::TruthSampler::Sobol => {
                 return Err(Error::Other(format!(
                     "the Sobol sampler runs on the CPU backend, which cannot trace this cell: {why}; use sampler = \"independent\""
                 )))
@@ -337,7 +337,7 @@ fn subject_coverage(cell: &CellParams) -> Result<f64, Error> {
     })
 }
 
-pub(super) fn truth_sky(scene: &crate::spec::scene::Scene) -> crate::environment::prefilter::EquirectImage {
+pub(super) fn truth_sky(scene: &crate::declarations::scene::Scene) -> crate::environment::prefilter::EquirectImage {
     let radiance = |d: DVec3| crate::environment::sky::radiance(&scene.environment.sky, d);
     let w = crate::render::truth::ENV_WIDTH;
     crate::environment::prefilter::EquirectImage::sample(&radiance, w, w / 2, 2)

@@ -18,12 +18,12 @@ use std::f64::consts::PI;
 
 use super::bvh::TruthGeometry;
 use super::{physical, Truth, TruthKind, TruthSettings};
+use crate::declarations::matrix::TruthSampler;
 use crate::environment::prefilter::EquirectImage;
 use crate::error::Error;
 use crate::pipelines::Pipeline;
 use crate::render::uniforms::{FrameUniforms, GpuLight, GpuMaterial};
 use crate::shading::twin::{irradiance_per_intensity, Surface, SurfaceTwin};
-use crate::spec::matrix::TruthSampler;
 
 pub mod bake;
 
@@ -780,7 +780,7 @@ impl<'a> Tracer<'a> {
         let mut last_pdf = mis_pdf;
         let mut first_object = None;
         let env = &self.scene.environment;
-        let last = if self.roulette { crate::spec::matrix::MAX_ROULETTE_BOUNCES } else { self.bounces + 1 };
+        let last = if self.roulette { crate::declarations::matrix::MAX_ROULETTE_BOUNCES } else { self.bounces + 1 };
         for bounce in first..=last {
             let Some(hit) = self.nearest(o, d, rng) else {
                 match last_pdf {

@@ -33,7 +33,7 @@ use crate::gpu::{ConstantSpace, GpuContext};
 /// Width of the environment table the truth samples (height is half).
 pub const ENV_WIDTH: usize = 1024;
 
-pub use crate::spec::matrix::{TruthKind, TruthSettings};
+pub use crate::declarations::matrix::{TruthKind, TruthSettings};
 
 /// A rendered truth: the mean radiance per pixel in the cell's linear units, the standard error
 /// of that mean per pixel (of its luminance), and what convergence reached.

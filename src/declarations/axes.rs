@@ -1,11 +1,11 @@
 //! The axes of a matrix, in one table: one row per axis with its name, its kind, the range a sweep
 //! may take, whether a cell reference may change it, whether it enters the timing class, and what
-//! precedes its value in a cell id. Filters (`spec::filter::Axis`), references, sheets, sort
+//! precedes its value in a cell id. Filters (`declarations::filter::Axis`), references, sheets, sort
 //! orders and the viewer read the axes from here, so a new axis is a new row.
 
 use serde::Deserialize;
 
-/// Axes a filter can name; each has a row in `spec::axes::AXES`.
+/// Axes a filter can name; each has a row in `declarations::axes::AXES`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, serde::Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Axis {
@@ -35,7 +35,7 @@ pub enum Axis {
 }
 
 impl Axis {
-    /// As matrices and filters name it (`spec::axes`).
+    /// As matrices and filters name it (`declarations::axes`).
     pub fn name(self) -> &'static str {
         of(self).name
     }
@@ -153,7 +153,7 @@ pub fn find(name: &str) -> Option<&'static AxisRow> {
 
 /// The row of a filter axis.
 pub fn of(axis: Axis) -> &'static AxisRow {
-    AXES.iter().find(|r| r.axis == axis).expect("every axis has a row in spec::axes::AXES")
+    AXES.iter().find(|r| r.axis == axis).expect("every axis has a row in declarations::axes::AXES")
 }
 
 /// Every axis's name, in table order (what a sheet may lay out).

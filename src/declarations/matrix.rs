@@ -58,9 +58,9 @@ struct MatrixFile {
     antialiasing: Option<toml::Value>,
     #[serde(default)]
     timing: Timing,
-    /// How cells' files are written (`spec::outputs`).
+    /// How cells' files are written (`declarations::outputs`).
     #[serde(default)]
-    outputs: crate::spec::outputs::Outputs,
+    outputs: crate::declarations::outputs::Outputs,
     /// Where FLIP and SSIM are computed: `"auto"` (default: the GPU on a hardware adapter, the
     /// CPU on a software one such as lavapipe, where compute passes run slower than flip-rs on the
     /// same cores), `"gpu"` (`compare::gpu`) or `"cpu"` (flip-rs and `compare::ssim`, the references).
@@ -80,17 +80,17 @@ struct MatrixFile {
     /// the other axes equal), `"supersampled"` or `{ supersampled = N }`, or `{ run = "DIR" }`.
     #[serde(default)]
     reference: Option<toml::Value>,
-    /// The approximation study (spec::study): `approximations = ["ambient", "environment",
+    /// The approximation study (declarations::study): `approximations = ["ambient", "environment",
     /// "visibility", "msaa"]`, each cell rendered again without each; needs a truth reference.
     #[serde(default)]
     approximations: Vec<String>,
     /// Contact sheets: `[{ rows = "smoothness", cols = "metallic" }]`; default: pipelines × presets
     /// and smoothness × metallic, the other axes as separate sheets.
     #[serde(default)]
-    sheets: Option<Vec<crate::spec::sheets::SheetSpec>>,
+    sheets: Option<Vec<crate::declarations::sheets::SheetSpec>>,
     #[serde(default)]
     exclude: Vec<toml::Table>,
-    /// Invariants checked after the run (`spec::asserts`).
+    /// Invariants checked after the run (`declarations::asserts`).
     #[serde(default, rename = "assert")]
     asserts: Vec<toml::Table>,
     /// A folder of user models (NAME.wgsl + NAME.toml), relative to the matrix file. Read before
@@ -124,7 +124,7 @@ fn default_paths() -> Vec<String> {
 }
 
 /// Value lists; an empty list means "the preset's (or the scene's) own value". Its keys are the
-/// axis table's (`spec::axes`): a number list per numeric axis, `color` (sRGB slider colours,
+/// axis table's (`declarations::axes`): a number list per numeric axis, `color` (sRGB slider colours,
 /// linearised before shading), `textured` (the subject's preset flat or in its textured form) and
 /// `[sweep.params]` (a list per model parameter, `ior = [1.3, 1.5]`; a cell whose model lacks a
 /// parameter is not multiplied by it). A new numeric axis is a row of the table, not a field here.
@@ -378,14 +378,14 @@ pub struct Matrix {
     pub light_budget: LightBudget,
     pub pipeline_settings: crate::pipelines::settings::PipelineSettings,
     pub timing: Timing,
-    pub outputs: crate::spec::outputs::Outputs,
+    pub outputs: crate::declarations::outputs::Outputs,
     pub metrics: MetricsDevice,
     pub only: Vec<Filter>,
     pub exclude: Vec<Filter>,
     pub reference: Option<ReferenceSpec>,
     /// The approximation study's list, in the file's order without repeats.
     pub approximations: Vec<Approximation>,
-    pub sheets: Vec<crate::spec::sheets::SheetSpec>,
+    pub sheets: Vec<crate::declarations::sheets::SheetSpec>,
     /// `[[assert]]` invariants, checked after the run.
     pub asserts: Vec<InvariantSpec>,
 }
@@ -735,7 +735,7 @@ impl Matrix {
         };
 
         let s = &file.sweep;
-        // Each numeric axis's values within its row's range (`spec::axes`).
+        // Each numeric axis's values within its row's range (`declarations::axes`).
         for row in super::axes::AXES.iter().filter(|r| r.kind == super::axes::AxisKind::Number) {
             let (axis, Some((lo, hi))) = (row.axis, row.range) else { continue };
             for (i, v) in s.numbers(axis).iter().enumerate() {
@@ -963,7 +963,7 @@ impl Matrix {
             }
         }
 
-        let sheets = file.sheets.clone().unwrap_or_else(crate::spec::sheets::default_specs);
+        let sheets = file.sheets.clone().unwrap_or_else(crate::declarations::sheets::default_specs);
         for (i, sheet) in sheets.iter().enumerate() {
             let terms = file.outputs.terms;
             let needs_terms = |key: &str, value: &str| {
@@ -973,7 +973,7 @@ impl Matrix {
                 )
             };
             for (k, axis) in [("rows", &sheet.rows), ("cols", &sheet.cols)] {
-                if axis == crate::spec::sheets::TERM_AXIS {
+                if axis == crate::declarations::sheets::TERM_AXIS {
                     if !terms {
                         return Err(needs_terms(k, axis).into());
                     }
@@ -981,12 +981,12 @@ impl Matrix {
                 }
                 if super::axes::find(axis).is_none() {
                     let mut allowed = super::axes::names();
-                    allowed.push(crate::spec::sheets::TERM_AXIS);
+                    allowed.push(crate::declarations::sheets::TERM_AXIS);
                     return Err(unknown_name(origin, &format!("sheets[{i}].{k}"), "axis", axis, &allowed).into());
                 }
             }
-            if let Some(image) = sheet.image.as_deref().filter(|i| *i != crate::spec::sheets::WHOLE_IMAGE) {
-                let mut allowed = vec![crate::spec::sheets::WHOLE_IMAGE];
+            if let Some(image) = sheet.image.as_deref().filter(|i| *i != crate::declarations::sheets::WHOLE_IMAGE) {
+                let mut allowed = vec![crate::declarations::sheets::WHOLE_IMAGE];
                 allowed.extend(crate::pipelines::terms::LAYER_NAMES);
                 if !allowed.contains(&image) {
                     return Err(unknown_name(origin, &format!("sheets[{i}].image"), "image", image, &allowed).into());
@@ -1071,7 +1071,7 @@ impl Matrix {
                     }
                     v
                 }
-                _ if crate::spec::axes::of(*axis).own == "scene" => vec!["scene".into()],
+                _ if crate::declarations::axes::of(*axis).own == "scene" => vec!["scene".into()],
                 _ => continue,
             };
             for v in values {

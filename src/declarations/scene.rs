@@ -61,7 +61,7 @@ pub struct Scene {
     /// A glTF file whose nodes, lights and cameras join the scene (`GltfSceneSpec`).
     #[serde(default)]
     pub gltf_scene: Option<GltfSceneSpec>,
-    /// Baked global illumination (spec::gi); absent: nothing is baked.
+    /// Baked global illumination (declarations::gi); absent: nothing is baked.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub gi: Option<super::gi::GiSettings>,
     /// Where the scene came from: a built-in name or a file path (not part of the TOML).
@@ -98,7 +98,7 @@ pub enum LightKind {
     Directional,
     Point,
     Spot,
-    /// An area light: a rectangle `size` wide and high, shining along `direction` (spec::area_light).
+    /// An area light: a rectangle `size` wide and high, shining along `direction` (declarations::area_light).
     Rect,
     /// An area light: a disc of radius `shape_radius`, shining along `direction`.
     Disc,
@@ -164,7 +164,7 @@ pub struct Light {
     /// HDRP takes it as is; built-in and URP, whose intensity I delivers irradiance π·I, take C/π.
     #[serde(default)]
     pub photometric: bool,
-    /// Unity's Light Mode (`realtime`, `mixed`, `baked`; spec::gi); baking needs the scene's `[gi]`.
+    /// Unity's Light Mode (`realtime`, `mixed`, `baked`; declarations::gi); baking needs the scene's `[gi]`.
     #[serde(default, skip_serializing_if = "super::gi::is_realtime")]
     pub mode: super::gi::LightBakeMode,
     /// Indirect Multiplier: the scale of this light's bounced light in the bake.
