@@ -10,6 +10,7 @@ use super::draws::{plan_draws, DrawPlan};
 use super::exact::ExactAlternatives;
 use super::lights::{assign, main_light, LightBudget, ModelLighting, ObjectLights};
 use super::lod::{groups_seen, LodUse};
+use super::pass::{frame_passes, Pass, PassInputs};
 use super::shadows::{
     array_side, cell_resolution, light_layers, shadow_style, CascadeView, ShadowLayerPlan, ShadowStyle,
 };
@@ -201,7 +202,7 @@ impl SceneLayout {
             .zip(meshes)
             .map(|(o, m)| crate::geometry::placement::world_bounds_of(o, &m.bounds()))
             .collect();
-        let active = frame.passes.contains(&"shadow");
+        let active = frame.shadows();
         let mut first_layer = Vec::with_capacity(scene.lights.len());
         let (mut layers, mut side) = (0usize, 1u32);
         for l in &scene.lights {
@@ -264,8 +265,9 @@ pub struct CellPlan {
     pub fades: Vec<Option<f64>>,
     /// The draws of each pass, and each mesh's additive (ForwardAdd) lights.
     pub draws: DrawPlan,
-    /// The passes of the frame (`FramePlan::passes_for` the cell's path and pipeline).
-    pub passes: Vec<&'static str>,
+    /// The passes of the frame in the order they run (`pass::frame_passes`): what the frame loop
+    /// runs, what `cell.json` records and what the timings are keyed by.
+    pub passes: Vec<Pass>,
     pub multisampling: Multisampling,
     /// The scene's baked lighting in this pipeline (None: the scene bakes nothing).
     pub gi: Option<super::gi::GiPlan>,
@@ -393,6 +395,16 @@ impl CellPlan {
             })
             .collect();
         let draws = plan_draws(p, cell.settings.path, engine, &meshes, &assignment, main);
+        let passes = frame_passes(PassInputs {
+            pipeline: p,
+            path: cell.settings.path,
+            probes: frame.probes(),
+            shadow_maps: frame.shadows() && !used_layers.is_empty(),
+            ssao: frame.occludes(cell.settings.path, p),
+            transparent_subject: surface.kind.is_transparent(),
+            traced_visibility: cell.settings.exact.visibility,
+            bloom: frame.hdrp_bloom,
+        });
         CellPlan {
             draws,
             main_light: main,
@@ -407,7 +419,7 @@ impl CellPlan {
             shadow_maps,
             lod,
             fades,
-            passes: frame.passes_for(cell.settings.path, p, cell.settings.surface.kind.is_transparent()),
+            passes,
             multisampling: msaa.for_settings(&cell.settings),
             gi,
             dynamic_casters_only,
@@ -425,8 +437,8 @@ impl CellPlan {
         self.fades.iter().map(|f| f.is_some_and(|f| f > 0.0)).collect()
     }
 
-    /// Whether the frame draws `pass` (a `FramePlan` pass name).
-    pub fn has(&self, pass: &str) -> bool {
+    /// Whether the frame draws `pass`.
+    pub fn has(&self, pass: Pass) -> bool {
         self.passes.contains(&pass)
     }
 }
@@ -518,7 +530,7 @@ mod tests {
         let scene = Scene::load_file(&repo("tests/fixtures/shadow_box.toml")).unwrap();
         for p in Pipeline::ALL {
             let plan = plan_of(&scene, p, RenderPath::Forward, ViewAxes::default(), 128);
-            assert!(plan.has("shadow"), "{p:?}: {:?}", plan.passes);
+            assert!(plan.has(Pass::Shadow), "{p:?}: {:?}", plan.passes);
             if p == Pipeline::Urp {
                 // The code-default URP asset draws no additional-light shadows.
                 assert_eq!(plan.light_shadows[0].first_layer, None);
@@ -546,7 +558,7 @@ mod tests {
         }
         // The vertex-lit path renders no shadows, so its plan has no shadow pass.
         let v = plan_of(&scene, Pipeline::Builtin, RenderPath::VertexLit, ViewAxes::default(), 128);
-        assert!(!v.has("shadow"), "{:?}", v.passes);
+        assert!(!v.has(Pass::Shadow), "{:?}", v.passes);
     }
 
     #[test]

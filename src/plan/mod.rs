@@ -10,17 +10,23 @@ pub mod exact;
 pub mod gi;
 pub mod lights;
 pub mod lod;
+pub mod pass;
 pub mod roles;
 pub mod shadows;
 pub mod timing;
 
-use crate::declarations::scene::{Reflections, Scene, Sky};
+pub use pass::Pass;
+use pass::{frame_passes, PassInputs};
+
+use crate::declarations::scene::{Reflections, Role, Scene, Sky};
+use crate::pipelines::{Pipeline, RenderPath};
 
 #[derive(Debug, Clone, Serialize)]
 pub struct FramePlan {
-    /// Passes in order.
-    pub passes: Vec<&'static str>,
-    /// Whether the environment background pass is drawn.
+    /// The passes the composition's frames can draw, in order (a cell's plan narrows them to its
+    /// path: `CellPlan::passes`).
+    pub passes: Vec<Pass>,
+    /// Whether the environment background is drawn (by the forward or forward-only pass).
     pub background: bool,
     /// (what, why) for everything left out.
     pub left_out: Vec<(String, String)>,
@@ -30,108 +36,64 @@ pub struct FramePlan {
     pub hdrp_ssao: bool,
 }
 
-/// HDRP's bloom, after the frame's passes (render::passes::bloom).
-pub const BLOOM_PASS: &str = "bloom";
-
-/// HDRP's depth prepass with its normal buffer, and the SSAO it feeds (render::passes::ssao), before the
-/// lighting that reads the occlusion.
-pub const DEPTH_PREPASS: &str = "depth prepass";
-pub const SSAO_PASS: &str = "ssao";
-
-/// Reflection probes: each renders the scene into six faces, then the faces are prefiltered; once
-/// per set of inputs a capture sees (a later cell with the same lights reuses it).
-pub const PROBE_CAPTURE_PASS: &str = "probe capture";
-pub const PROBE_PREFILTER_PASS: &str = "probe prefilter";
-
-/// The vertex-lit path's one pass.
-const VERTEX_LIT_PASS: &str = "forward (lighting per vertex)";
-/// The deferred path's forward pass for the models the G-buffer cannot carry.
-const FORWARD_ONLY_PASS: &str = "forward (models the G-buffer cannot carry)";
-/// A deferred path's Transparent queue, drawn forward after everything else (pipelines::surface).
-pub const TRANSPARENT_PASS: &str = "transparent";
-
 impl FramePlan {
-    /// The passes of a frame on `path`: forward draws every object lit in one pass; deferred fills
-    /// the G-buffer, lights it in screen space, then draws forward what the G-buffer cannot carry
-    /// (per-vertex and ForwardBase-only models) with the background.
-    pub fn passes_for(
-        &self,
-        path: crate::pipelines::RenderPath,
-        pipeline: crate::pipelines::Pipeline,
-        transparent_subject: bool,
-    ) -> Vec<&'static str> {
-        let mut passes: Vec<&'static str> = Vec::new();
-        for probe_pass in [PROBE_CAPTURE_PASS, PROBE_PREFILTER_PASS] {
-            if self.passes.contains(&probe_pass) {
-                passes.push(probe_pass);
-            }
-        }
-        if self.passes.contains(&"shadow") && path != crate::pipelines::RenderPath::VertexLit {
-            passes.push("shadow");
-        }
-        if self.occludes(path, pipeline) {
-            passes.extend([DEPTH_PREPASS, SSAO_PASS]);
-        }
-        match path {
-            crate::pipelines::RenderPath::Forward => passes.push("forward"),
-            crate::pipelines::RenderPath::VertexLit => passes.push(VERTEX_LIT_PASS),
-            crate::pipelines::RenderPath::Deferred => {
-                passes.push("gbuffer");
-                if pipeline.tiled_light_loop() {
-                    passes.push("light tiles");
-                }
-                passes.extend(["deferred lighting", FORWARD_ONLY_PASS])
-            }
-        }
-        if self.background {
-            passes.push("background");
-        }
-        // The engines cannot put a transparent surface in a G-buffer: its own forward pass after
-        // the sky.
-        if path == crate::pipelines::RenderPath::Deferred && transparent_subject {
-            passes.push(TRANSPARENT_PASS);
-        }
-        if pipeline == crate::pipelines::Pipeline::Hdrp && self.hdrp_bloom {
-            passes.push(BLOOM_PASS);
-        }
-        passes
+    /// Whether the composition's frames draw shadow maps at all.
+    pub fn shadows(&self) -> bool {
+        self.passes.contains(&Pass::Shadow)
+    }
+
+    /// Whether the composition's reflection probes are captured.
+    pub fn probes(&self) -> bool {
+        self.passes.contains(&Pass::ProbeCapture)
+    }
+
+    /// The passes of a frame on `path` in `pipeline` (`pass::frame_passes`) where every shadow the
+    /// composition asks for is drawn and no visibility is traced.
+    pub fn passes_for(&self, path: RenderPath, pipeline: Pipeline, transparent_subject: bool) -> Vec<Pass> {
+        frame_passes(PassInputs {
+            pipeline,
+            path,
+            probes: self.probes(),
+            shadow_maps: self.shadows(),
+            ssao: self.occludes(path, pipeline),
+            transparent_subject,
+            traced_visibility: false,
+            bloom: self.hdrp_bloom,
+        })
     }
 
     /// Whether a frame on `path` in `pipeline` renders SSAO: HDRP's, where the scene keeps it on
     /// (HDRP has no vertex-lit path to leave it out of).
-    pub fn occludes(&self, path: crate::pipelines::RenderPath, pipeline: crate::pipelines::Pipeline) -> bool {
-        pipeline == crate::pipelines::Pipeline::Hdrp
-            && self.hdrp_ssao
-            && path != crate::pipelines::RenderPath::VertexLit
+    pub fn occludes(&self, path: RenderPath, pipeline: Pipeline) -> bool {
+        pipeline == Pipeline::Hdrp && self.hdrp_ssao && path != RenderPath::VertexLit
     }
 
     /// The pass that writes the final colour of a pixel showing `role` (None: no object) on
-    /// `path`, in the names of `passes_for`; `forward_only`: the object's model cannot be drawn
-    /// into a G-buffer.
+    /// `path`; `forward_only`: the object's model cannot be drawn into a G-buffer; `transparent`:
+    /// the object is in the Transparent queue. None: nothing draws the pixel (the clear colour).
     pub fn pass_writing(
         &self,
-        path: crate::pipelines::RenderPath,
-        role: Option<crate::declarations::scene::Role>,
+        path: RenderPath,
+        role: Option<Role>,
         forward_only: bool,
-    ) -> &'static str {
-        use crate::pipelines::RenderPath;
-        match (role, path) {
-            (None, _) if self.background => "background",
-            (None, _) => "clear (no background pass)",
-            (Some(_), RenderPath::Forward) => "forward",
-            (Some(_), RenderPath::VertexLit) => VERTEX_LIT_PASS,
-            (Some(_), RenderPath::Deferred) if forward_only => FORWARD_ONLY_PASS,
-            (Some(_), RenderPath::Deferred) => "deferred lighting",
-        }
+        transparent: bool,
+    ) -> Option<Pass> {
+        Some(match (role, path) {
+            (None, _) if !self.background => return None,
+            (_, RenderPath::Forward) => Pass::Forward,
+            (_, RenderPath::VertexLit) => Pass::VertexLit,
+            (Some(_), RenderPath::Deferred) if transparent => Pass::Transparent,
+            (None, RenderPath::Deferred) => Pass::ForwardOnly,
+            (Some(_), RenderPath::Deferred) if forward_only => Pass::ForwardOnly,
+            (Some(_), RenderPath::Deferred) => Pass::DeferredLighting,
+        })
     }
 
     pub fn for_scene(scene: &Scene) -> FramePlan {
-        let mut passes = vec!["forward"];
+        let mut passes = vec![Pass::Forward];
         let mut left_out = Vec::new();
         let background = scene.environment.background;
-        if background {
-            passes.push("background");
-        } else {
+        if !background {
             left_out.push((
                 "background pass".into(),
                 "environment.background = false: the clear colour (black) shows".into(),
@@ -141,12 +103,12 @@ impl FramePlan {
             left_out.push(("probe prefiltering".into(), "constant sky: every roughness sees the same colour".into()));
         }
         match scene.shadow_pass_needed() {
-            Ok(()) => passes.insert(0, "shadow"),
+            Ok(()) => passes.insert(0, Pass::Shadow),
             Err(why) => left_out.push(("shadow pass".into(), why)),
         }
         match (scene.environment.reflections, scene.probes.len()) {
             (Reflections::Probe, n) if n > 0 => {
-                passes.splice(0..0, [PROBE_CAPTURE_PASS, PROBE_PREFILTER_PASS]);
+                passes.splice(0..0, [Pass::ProbeCapture, Pass::ProbePrefilter]);
             }
             (Reflections::Sky, n) if n > 0 => left_out.push((
                 "reflection probes".into(),

@@ -56,7 +56,7 @@ pub struct CellRecord {
     pub note: Option<String>,
     pub adapter: String,
     pub display: DisplayRecord,
-    /// The passes of this cell's frame, in order (`FramePlan::passes_for` its path), and what the
+    /// The passes of this cell's frame, in the order they ran (its plan's, `plan::Pass`), and what the
     /// composition's plan left out and why.
     pub passes: Vec<String>,
     pub left_out: Vec<(String, String)>,

@@ -173,7 +173,7 @@ impl LightTiles {
             ],
         });
         let compute_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("light tiles"),
+            label: Some(crate::plan::Pass::LightTiles.name()),
             bind_group_layouts: &[Some(frame_layout), None, None, Some(&write_layout)],
             immediate_size: 0,
         });

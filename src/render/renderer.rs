@@ -29,10 +29,9 @@ use crate::pipelines::surface::SurfaceType;
 use crate::pipelines::{Pipeline, RenderPath};
 pub use crate::plan::cell::{CellParams, CellPlan, CellSettings, MsaaSupport, Multisampling};
 use crate::plan::draws::{additive_passes, shadowed_by_additional_lights};
-use crate::plan::lights::ObjectLights;
 pub use crate::plan::lod::LodUse;
-use crate::plan::FramePlan;
 pub use crate::plan::ShadowMapUse;
+use crate::plan::{FramePlan, Pass};
 use crate::render::cell_uniforms::{write_uniforms, WrittenFrame};
 use crate::render::formats::{DEPTH_FORMAT, HDR_FORMAT, ROLE_FORMAT};
 use crate::render::targets::Targets;
@@ -58,9 +57,6 @@ impl FrameMode {
     pub(crate) const IMAGE: FrameMode = FrameMode { terms: crate::pipelines::terms::LIGHT, post: true };
 }
 
-/// The pass name of the study's traced shadows (render::passes::traced_shadows) in timings.
-pub const TRACED_SHADOWS_PASS: &str = "traced shadows";
-
 pub struct CellRender {
     pub width: u32,
     pub height: u32,
@@ -73,23 +69,12 @@ pub struct CellRender {
     /// GPU time of the frame's render pass from timestamp queries, ms; None when the adapter has
     /// no timestamp queries.
     pub gpu_pass_ms: Option<Vec<f64>>,
-    /// GPU time of each timed pass per frame, ms, by pass name (`shadow`, `forward`, `gbuffer`,
-    /// `deferred lighting`, `forward-only and background`); None without timestamp queries.
-    pub gpu_passes: Option<Vec<(String, Vec<f64>)>>,
+    /// GPU time of each timed pass per frame, ms, in the order they ran (the plan's, less what
+    /// the frame kept from the cell before); the probe captures once. None without timestamp
+    /// queries.
+    pub gpu_passes: Option<Vec<(Pass, Vec<f64>)>>,
     /// CPU time to map and copy the image back, ms.
     pub readback_ms: f64,
-    /// How each light reached each object.
-    pub lights: Vec<ObjectLights>,
-    pub multisampling: Multisampling,
-    /// Each shadowed light's map resolution in this cell (its pipeline's default unless the scene
-    /// sets one); empty when the frame has no shadow pass.
-    pub shadow_maps: Vec<ShadowMapUse>,
-    /// The LOD levels drawn, per LOD group.
-    pub lod: Vec<LodUse>,
-    /// Draws per pass (plan::draws).
-    pub draws: std::collections::BTreeMap<String, u32>,
-    /// What the cell's plan left out of the frame and why (shadows its settings do not draw).
-    pub left_out: Vec<(String, String)>,
     /// The cell's term layers where its run asks for them (`draw_terms`), or why it has none.
     pub terms: Option<Result<RenderedTerms, String>>,
     /// What the frame read of the scene's bake (None: the scene bakes nothing).
@@ -281,7 +266,7 @@ impl Renderer {
         let gbuffer_read_layout = crate::render::gbuffer::read_layout(device);
         let tiles = crate::render::gbuffer::LightTiles::new(device, &frame_layout);
         let deferred_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("deferred lighting"),
+            label: Some(crate::plan::Pass::DeferredLighting.name()),
             bind_group_layouts: &[
                 Some(&frame_layout),
                 Some(&object_layout),
@@ -394,6 +379,19 @@ impl Renderer {
     ) -> Result<CellRender, Error> {
         let plan = self.plan(prepared, cell)?;
         self.draw(prepared, cell, &plan, frames, warmup)
+    }
+
+    /// `render`, with the plan the frame was drawn from.
+    pub fn render_planned(
+        &mut self,
+        prepared: &PreparedScene,
+        cell: &CellParams,
+        frames: u32,
+        warmup: u32,
+    ) -> Result<(CellPlan, CellRender), Error> {
+        let plan = self.plan(prepared, cell)?;
+        let render = self.draw(prepared, cell, &plan, frames, warmup)?;
+        Ok((plan, render))
     }
 
     /// Render one planned cell: `warmup` untimed frames, then `frames` timed ones; the last is
@@ -521,7 +519,7 @@ impl Renderer {
                 self.pipelines.lighting_pipeline(&self.gpu, cell.pipeline, model, role)?;
             }
         }
-        let background = plan.has("background");
+        let background = prepared.plan.background;
         if background {
             self.pipelines.background_pipeline(&self.gpu, samples)?;
         }
@@ -547,7 +545,7 @@ impl Renderer {
         let frame_group: &wgpu::BindGroup = &frame_group;
         self.targets(cell.width, cell.height);
         self.targets.as_mut().expect("targets exist").ensure_msaa(&self.gpu.device, samples);
-        let blooms = plan.has(crate::plan::BLOOM_PASS) && mode.post;
+        let blooms = plan.has(Pass::Bloom) && mode.post;
         if blooms {
             if self.bloom.is_none() {
                 self.bloom = Some(crate::render::passes::bloom::BloomPipeline::new(&self.gpu)?);
@@ -564,7 +562,7 @@ impl Renderer {
                 ));
             }
         }
-        let occludes = plan.has(crate::plan::SSAO_PASS);
+        let occludes = plan.has(Pass::Ssao);
         if occludes {
             for &face in &prepass_faces {
                 self.pipelines.depth_normal_pipeline(&self.gpu, cell.pipeline, &fixed_model, prepass_textured, face)?;
@@ -634,7 +632,7 @@ impl Renderer {
         // The vertex-lit path has no shadows (Unity's legacy vertex-lit renders none); traced
         // visibility needs no shadow maps.
         // The vertex-lit path's plan has no shadow pass (Unity's legacy vertex-lit renders none).
-        let shadows = plan.has("shadow") && !plan.used_layers.is_empty() && !exact.visibility;
+        let shadows = plan.has(Pass::Shadow);
         let shadows = {
             let mut holds = prepared.shadows.holds.lock().unwrap_or_else(|e| e.into_inner());
             let kept = shadows && reuse && *holds == Some(shadow_key);
@@ -643,33 +641,25 @@ impl Renderer {
             }
             shadows && !kept
         };
-        let mut pass_names: Vec<&'static str> = Vec::new();
-        if shadows {
-            pass_names.push("shadow");
-        }
-        if occludes_now {
-            pass_names.extend([crate::plan::DEPTH_PREPASS, crate::plan::SSAO_PASS]);
-        }
-        if exact.visibility {
-            if !occludes {
-                pass_names.push(crate::plan::DEPTH_PREPASS);
-            }
-            pass_names.push(TRACED_SHADOWS_PASS);
-        }
-        let tiled = plan.has("light tiles");
-        pass_names.extend(match (deferred, tiled) {
-            (true, true) => &["gbuffer", "light tiles", "deferred lighting", "forward-only and background"][..],
-            (true, false) => &["gbuffer", "deferred lighting", "forward-only and background"][..],
-            _ => &["forward"][..],
-        });
-        // The Transparent queue, timed apart on a deferred path (plan::TRANSPARENT_PASS).
-        if deferred && cell.settings.surface.kind.is_transparent() {
-            pass_names.push(crate::plan::TRANSPARENT_PASS);
-        }
-        if blooms {
-            pass_names.push(crate::plan::BLOOM_PASS);
-        }
-        let tile_group = if tiled { Some(self.prepare_light_tiles(cell, prepared.scene.lights.len())?) } else { None };
+        // The passes this frame runs: the plan's, less what runs before the frames, the
+        // post-processing a term layer leaves out and what an untimed cell keeps from the cell before.
+        let pass_names: Vec<Pass> = plan
+            .passes
+            .iter()
+            .filter(|p| !p.before_frames() && (mode.post || !p.post()))
+            .filter(|p| match p {
+                Pass::Shadow => shadows,
+                Pass::Ssao => occludes_now,
+                Pass::DepthPrepass => occludes_now || exact.visibility,
+                _ => true,
+            })
+            .copied()
+            .collect();
+        let tile_group = if plan.has(Pass::LightTiles) {
+            Some(self.prepare_light_tiles(cell, prepared.scene.lights.len())?)
+        } else {
+            None
+        };
         // An untimed forward frame whose fixed objects and background read what the last layer's
         // did draws the subject alone over a copy of that layer (passes::forward). Some(true):
         // the layer is drawn first.
@@ -837,16 +827,18 @@ impl Renderer {
         let gpu_pass_ms =
             pairs.as_ref().map(|p| p.chunks(per_frame as usize).map(|frame| frame.iter().sum()).collect());
         let gpu_passes = pairs.as_ref().map(|p| {
-            let mut passes: Vec<(String, Vec<f64>)> = pass_names
-                .iter()
-                .enumerate()
-                .map(|(k, name)| (name.to_string(), p.iter().skip(k).step_by(per_frame as usize).copied().collect()))
-                .collect();
-            // Once per set of inputs, before the frames: not part of a frame's time.
-            if let Some((capture, prefilter)) = probe_times {
-                passes.push(("probe capture".into(), vec![capture]));
-                passes.push(("probe prefilter".into(), vec![prefilter]));
-            }
+            // The probe captures once per set of inputs, before the frames: not part of a frame's
+            // time. Every pass in the plan's order.
+            let once =
+                [(Pass::ProbeCapture, probe_times.map(|t| t.0)), (Pass::ProbePrefilter, probe_times.map(|t| t.1))];
+            let mut passes: Vec<(Pass, Vec<f64>)> =
+                once.into_iter().filter_map(|(pass, ms)| ms.map(|ms| (pass, vec![ms]))).collect();
+            passes.extend(
+                pass_names
+                    .iter()
+                    .enumerate()
+                    .map(|(k, pass)| (*pass, p.iter().skip(k).step_by(per_frame as usize).copied().collect())),
+            );
             passes
         });
         self.gpu.check_errors("rendering a cell")?;
@@ -859,12 +851,6 @@ impl Renderer {
             gpu_pass_ms,
             gpu_passes,
             readback_ms,
-            lights: plan.assignment.clone(),
-            multisampling: plan.multisampling.clone(),
-            shadow_maps: plan.shadow_maps.clone(),
-            lod: plan.lod.clone(),
-            draws: plan.draws.counts.clone(),
-            left_out: plan.shadows_left_out.clone(),
             terms: None,
             bake: plan.gi.as_ref().map(|g| match &baked {
                 Some(b) => crate::render::gi::BakeUse {
@@ -909,7 +895,7 @@ impl Renderer {
         plan: &CellPlan,
     ) -> Option<wgpu::BindGroup> {
         let surface = &cell.settings.surface;
-        let casts = prepared.plan.passes.contains(&"shadow") && !plan.used_layers.is_empty();
+        let casts = prepared.plan.shadows() && !plan.used_layers.is_empty();
         if surface.kind != SurfaceType::Cutout || cell.settings.material_maps.is_none() || !casts {
             return None;
         }
@@ -936,9 +922,9 @@ impl Renderer {
                 .cloned()
                 .ok_or_else(|| Error::Other("HDRP lacks its fixed-object shader".into()))?;
             let source = wgsl::compose(wgsl::PassKind::Forward, Some(&model));
-            let module = self.gpu.shader_module("light tiles", &source)?;
+            let module = self.gpu.shader_module(crate::plan::Pass::LightTiles.name(), &source)?;
             let pipeline = self.gpu.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some("light tiles"),
+                label: Some(crate::plan::Pass::LightTiles.name()),
                 layout: Some(&self.tiles.compute_layout),
                 module: &module,
                 entry_point: Some("cs_light_tiles"),
@@ -956,8 +942,8 @@ impl Renderer {
 
     /// Render every probe's faces (the fixed objects and the sky seen from the probe, lit as the
     /// cell lights them, reflecting the sky alone) and prefilter them, unless the last capture saw
-    /// the same inputs. Returns the GPU time of the capture and of the prefilter, ms (None:
-    /// reused, or no timestamp queries).
+    /// the same inputs. Returns the GPU time of the capture and of the prefilter, ms, that made
+    /// the levels the cell reads (None: no probes, or no timestamp queries).
     fn capture_probes(
         &mut self,
         prepared: &PreparedScene,
@@ -976,7 +962,10 @@ impl Renderer {
             frame.probes[k] = GpuReflectionProbe::new(&t.probe, k, count, slot.index());
         }
         self.gpu.queue.write_buffer(&prepared.frame_buffer, 0, bytemuck::bytes_of(&frame));
-        let crate::render::passes::probes::Slot::ToCapture(slot) = slot else { return Ok(None) };
+        let slot = match slot {
+            crate::render::passes::probes::Slot::ToCapture(slot) => slot,
+            crate::render::passes::probes::Slot::Captured(slot) => return Ok(probes.capture_times(slot)),
+        };
         let faces = faces_of(&prepared.layout, |m| m.role == Role::Fixed);
         let key = ForwardKey::plain(prepared.fixed_maps.any(), RenderFace::Front);
         for &face in &faces {
@@ -1006,7 +995,7 @@ impl Renderer {
         let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
         // The capture is lit as the composition's frames are, whatever the cell's path: a
         // vertex-lit cell draws no shadow pass itself, but the probes it reads hold shadows.
-        if prepared.plan.passes.contains(&"shadow") && !plan.used_layers.is_empty() {
+        if prepared.plan.shadows() && !plan.used_layers.is_empty() {
             let cutout = self.cutout_shadow.as_ref().zip(cutout).map(|(c, g)| (&c.pipeline, g));
             let layers = (&plan.used_layers[..], &casting[..], &plan.dynamic_casters_only[..]);
             encode_shadow_passes(&mut encoder, &self.shadow_pipeline, prepared, layers, cutout, None);
@@ -1034,7 +1023,7 @@ impl Renderer {
                 let (first, last) = (face == 0, face + 1 == faces);
                 let timestamps = timer.filter(|_| first || last).map(|tm| tm.writes(0, first, last));
                 let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("probe capture"),
+                    label: Some(crate::plan::Pass::ProbeCapture.name()),
                     color_attachments: &[
                         Some(wgpu::RenderPassColorAttachment {
                             view: &t.face_views[f],
@@ -1096,8 +1085,9 @@ impl Renderer {
         self.gpu.wait_idle()?;
         let times = timer.map(|t| t.read_ms(&self.gpu.device, 2)).transpose()?;
         self.gpu.check_errors("capturing reflection probes")?;
-        probes.captured(slot, written.capture_key);
-        Ok(times.map(|t| (t[0], t[1])))
+        let times = times.map(|t| (t[0], t[1]));
+        probes.captured(slot, written.capture_key, times);
+        Ok(times)
     }
 
     /// The targets of `width`×`height` frames, made when the size changes.

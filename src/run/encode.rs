@@ -31,10 +31,13 @@ pub struct RenderedCell<'a> {
     /// The reference the render thread made for the cell, or why it could not be made.
     pub reference: Option<Result<RenderedReference, String>>,
     /// The approximation study's frames of the cell, and the ones left out.
-    pub study: Vec<(StudyVariant, CellRender)>,
+    /// Each study frame with the samples per pixel its plan rendered.
+    pub study: Vec<(StudyVariant, u32, CellRender)>,
     pub study_left_out: Vec<LeftOutVariant>,
     /// The cell of the same timing class whose frame timings `render` carries (`plan::timing`).
     pub timed_as: Option<crate::cells::CellId>,
+    /// What the frame was drawn from: its record is written from it.
+    pub plan: crate::plan::cell::CellPlan,
 }
 
 /// The folder of a cell's study frames (run::study), inside the cell's.
@@ -86,7 +89,15 @@ pub fn encode_cell(
     plan: &crate::plan::FramePlan,
     job: RenderedCell,
 ) -> Result<EncodedCell, Error> {
-    let RenderedCell { cell, render: mut r, reference, study: study_renders, study_left_out, timed_as } = job;
+    let RenderedCell {
+        cell,
+        render: mut r,
+        reference,
+        study: study_renders,
+        study_left_out,
+        timed_as,
+        plan: cell_plan,
+    } = job;
     let t0 = ThreadTimer::start();
     // 16-bit channels where the frame fits them (`declarations::outputs`), and its term layers, which share
     // the file's channels: rounded here, so the PNG, the statistics and the metrics see what the
@@ -106,17 +117,13 @@ pub fn encode_cell(
     let frame = crate::images::stats::FramePixels { width: r.width, hdr: &r.hdr, roles: &r.roles };
     let stats = pixel_stats(frame, pre_exposure(&shown.1), |role| {
         let (role, forward_only) = match role {
-            // A deferred path's transparent subject: its own pass (plan::TRANSPARENT_PASS).
-            ROLE_SUBJECT
-                if cell.path == crate::pipelines::RenderPath::Deferred && cell.material.surface.is_transparent() =>
-            {
-                return crate::plan::TRANSPARENT_PASS.to_string();
-            }
             ROLE_SUBJECT => (Some(Role::Subject), !cell.model().deferrable()),
             ROLE_FIXED => (Some(Role::Fixed), false),
             _ => (None, false),
         };
-        plan.pass_writing(cell.path, role, forward_only).to_string()
+        let transparent = role == Some(Role::Subject) && cell.material.surface.is_transparent();
+        plan.pass_writing(cell.path, role, forward_only, transparent)
+            .map_or("clear (no background pass)".to_string(), |p| p.name().to_string())
     });
     let (srgb8, display) = store(&mut r.hdr, r.width, r.height, cell, shown);
     if half {
@@ -169,19 +176,20 @@ pub fn encode_cell(
         display,
         stats,
         timing,
-        lights: r.lights.clone(),
+        passes: cell_plan.passes.iter().map(|p| p.name().to_string()).collect(),
+        lights: cell_plan.assignment,
         antialiasing: AntialiasingRecord {
             asked: cell.antialiasing,
-            samples: r.multisampling.samples,
-            note: r.multisampling.note.clone(),
+            samples: cell_plan.multisampling.samples,
+            note: cell_plan.multisampling.note,
         },
-        shadow_maps: r.shadow_maps.clone(),
-        lod: r.lod.clone(),
+        shadow_maps: cell_plan.shadow_maps,
+        lod: cell_plan.lod,
         bake: r.bake.as_ref().map(bake_record),
         truth,
         terms,
-        draws: r.draws.clone(),
-        left_out: r.left_out.clone(),
+        draws: cell_plan.draws.counts,
+        left_out: cell_plan.shadows_left_out,
         exr_format: format!("{}, {}", if half { "half" } else { "float" }, matrix.outputs.exr_compression.name()),
     };
     let mut record = cell_record(matrix, cell, (adapter, key), plan, measured);
@@ -196,7 +204,7 @@ pub fn encode_cell(
         .collect();
     let median = |ms: &[f64]| FrameSeries::new("", ms).median_ms;
     let mut study = Vec::with_capacity(study_renders.len());
-    for (variant, mut s) in study_renders {
+    for (variant, samples, mut s) in study_renders {
         // Shown as the cell is: its own display transform, its exposure metered from this frame.
         let shown = tonemap::to_srgb8(&s.hdr, s.width, s.height, &cell.display);
         let (srgb8, _) = store(&mut s.hdr, s.width, s.height, cell, shown);
@@ -208,7 +216,7 @@ pub fn encode_cell(
             images: CellImages { width: s.width, height: s.height, srgb8, hdr: s.hdr },
             gpu_ms: s.gpu_pass_ms.as_deref().and_then(median),
             cpu_wall_ms: median(&s.frame_ms).unwrap_or(0.0),
-            samples: s.multisampling.samples,
+            samples,
         });
     }
     Ok(EncodedCell {
@@ -229,7 +237,7 @@ pub fn cell_timing(matrix: &Matrix, r: &CellRender, encode_ms: f64) -> CellTimin
             None => Maybe::missing("the adapter has no timestamp queries; see cpu_wall"),
         },
         gpu_passes: match &r.gpu_passes {
-            Some(passes) => Maybe::Value(passes.iter().map(|(name, ms)| FrameSeries::new(name.clone(), ms)).collect()),
+            Some(passes) => Maybe::Value(passes.iter().map(|(pass, ms)| FrameSeries::new(pass.name(), ms)).collect()),
             None => Maybe::missing("the adapter has no timestamp queries"),
         },
         cpu_wall: FrameSeries::new("CPU wall time from queue submit to device idle", &r.frame_ms),
@@ -449,6 +457,7 @@ pub fn twin_record(
         display: o.display,
         stats: o.stats,
         timing: o.timing,
+        passes: o.passes,
         lights: o.lights,
         antialiasing: o.antialiasing,
         shadow_maps: o.shadow_maps,
@@ -473,6 +482,8 @@ struct Measured {
     display: DisplayRecord,
     stats: PixelStats,
     timing: CellTiming,
+    /// The frame's passes in order (the plan's), as the timings name them.
+    passes: Vec<String>,
     lights: Vec<crate::plan::lights::ObjectLights>,
     antialiasing: AntialiasingRecord,
     shadow_maps: Vec<crate::plan::ShadowMapUse>,
@@ -509,11 +520,7 @@ fn cell_record(
         note: None,
         adapter: adapter.to_string(),
         display: m.display,
-        passes: plan
-            .passes_for(cell.path, cell.pipeline, cell.material.surface.is_transparent())
-            .iter()
-            .map(|p| p.to_string())
-            .collect(),
+        passes: m.passes,
         left_out: plan.left_out.iter().chain(&m.left_out).cloned().collect(),
         draws: m.draws,
         engine: crate::record::cell::EngineSettingsRecord::of(cell.pipeline, &cell.pipeline_settings),

@@ -417,7 +417,7 @@ struct Tracker<'a> {
 }
 
 /// A timed frame series: CPU wall, GPU total and GPU per pass (`CellRender`'s).
-type FrameTimings = (Vec<f64>, Option<Vec<f64>>, Option<Vec<(String, Vec<f64>)>>);
+type FrameTimings = (Vec<f64>, Option<Vec<f64>>, Option<Vec<(crate::plan::Pass, Vec<f64>)>>);
 
 /// What lets a run reuse finished cells: their keys, the cache, and whether to time them again.
 struct Reuse {
@@ -813,7 +813,7 @@ impl<'a> Stream<'a> {
                     let (kept, left_out) =
                         super::study::variants(cell, scene, &params.settings, &self.matrix.approximations);
                     study_left_out = left_out;
-                    let mut sample_counts = vec![render.multisampling.samples];
+                    let mut sample_counts = vec![plan.multisampling.samples];
                     for v in kept {
                         // An MSAA level the adapter cannot give renders one it can: measured already.
                         let m = renderer.msaa_support().for_settings(&v.settings);
@@ -834,16 +834,19 @@ impl<'a> Stream<'a> {
                             sample_counts.push(m.samples);
                         }
                         let p = CellParams { settings: v.settings, ..params };
-                        let r = renderer.render(&prepared, &p, self.matrix.timing.frames, self.matrix.timing.warmup)?;
+                        let variant_plan = renderer.plan(&prepared, &p)?;
+                        let (frames, warmup) = (self.matrix.timing.frames, self.matrix.timing.warmup);
+                        let r = renderer.draw(&prepared, &p, &variant_plan, frames, warmup)?;
                         readback += r.readback_ms;
-                        study.push((v, r));
+                        study.push((v, variant_plan.multisampling.samples, r));
                     }
                 }
                 StageClock::add_ms(&self.clock.render, t.elapsed().as_secs_f64() * 1e3 - readback);
                 StageClock::add_ms(&self.clock.readback, readback);
                 self.rendered.fetch_add(1, Ordering::Relaxed);
                 let t = Instant::now();
-                if encode_tx.send(RenderedCell { cell, render, reference, study, study_left_out, timed_as }).is_err() {
+                let job = RenderedCell { cell, render, reference, study, study_left_out, timed_as, plan };
+                if encode_tx.send(job).is_err() {
                     return Ok(()); // the workers stopped: an error is recorded
                 }
                 StageClock::add(&self.clock.render_blocked, t);

@@ -27,8 +27,8 @@ fn msaa_brings_edges_closer_to_a_supersampled_render() {
         let reference = renderer.render(&prepared, &with(Antialiasing::None, size * k), 1, 0).unwrap();
         let mut errors = Vec::new();
         for aa in [Antialiasing::None, Antialiasing::Msaa4] {
-            let r = renderer.render(&prepared, &with(aa, size), 1, 0).unwrap();
-            assert_eq!(r.multisampling.samples, aa.samples(), "{:?}", r.multisampling.note);
+            let (plan, r) = renderer.render_planned(&prepared, &with(aa, size), 1, 0).unwrap();
+            assert_eq!(plan.multisampling.samples, aa.samples(), "{:?}", plan.multisampling.note);
             let (err, pixels) = edge_error(&r.hdr, &reference.hdr, &reference.roles, size as usize, k as usize);
             eprintln!(
             "URP lit, {comp} {size}²: {} relative L1 error on {pixels} edge pixels against {k}×{k} supersampled {err:.4}",
@@ -72,7 +72,7 @@ fn deferred_paths_render_one_sample_and_say_why() {
     let sliders = Sliders { base_color_linear: [0.6, 0.6, 0.6], metallic: 0.0, smoothness: 0.3 };
     let mut cell = cell_params(Pipeline::Builtin, "standard", sliders, (2.0, 10.0), 32, RenderPath::Deferred);
     cell.settings.antialiasing = Antialiasing::Msaa4;
-    let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
-    assert_eq!(r.multisampling.samples, 1);
-    assert!(r.multisampling.note.as_deref().is_some_and(|n| n.contains("forward paths only")), "{:?}", r.multisampling);
+    let m = renderer.plan(&prepared, &cell).unwrap().multisampling;
+    assert_eq!(m.samples, 1);
+    assert!(m.note.as_deref().is_some_and(|n| n.contains("forward paths only")), "{m:?}");
 }

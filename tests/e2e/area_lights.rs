@@ -41,9 +41,9 @@ fn render(
     shader: &str,
     sliders: Sliders,
     path: RenderPath,
-) -> CellRender {
+) -> (shadematrix::render::CellPlan, CellRender) {
     let prepared = renderer.prepare_scene(scene).unwrap();
-    renderer.render(&prepared, &cell_params(p, shader, sliders, (1.0, 8.0), SIZE, path), 1, 0).unwrap()
+    renderer.render_planned(&prepared, &cell_params(p, shader, sliders, (1.0, 8.0), SIZE, path), 1, 0).unwrap()
 }
 
 #[test]
@@ -68,8 +68,8 @@ fn hdrp_rect_lights_match_the_twin_forward_and_deferred() {
         let paths: &[RenderPath] =
             if smoothness < 0.8 { &[RenderPath::Forward, RenderPath::Deferred] } else { &[RenderPath::Forward] };
         for &path in paths {
-            let r = render(&mut renderer, &scene, Pipeline::Hdrp, shader, sliders, path);
-            assert_eq!(r.lights[0].lights[0].mode, LightMode::PerPixel, "{:?}", r.lights);
+            let (plan, r) = render(&mut renderer, &scene, Pipeline::Hdrp, shader, sliders, path);
+            assert_eq!(plan.assignment[0].lights[0].mode, LightMode::PerPixel, "{:?}", plan.assignment);
             let got = centre(&r);
             let rel = ((got - want).abs() / want.max(DVec3::splat(1e-9))).max_element();
             // The G-buffer keeps albedo and smoothness in 8 bits (measured 7.1e-3 here).
@@ -88,7 +88,7 @@ fn a_lambert_plane_under_a_rect_is_the_numerical_integral_of_it() {
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     let albedo = [0.7, 0.6, 0.5];
     let sliders = Sliders { base_color_linear: albedo, metallic: 0.0, smoothness: 0.5 };
-    let got = centre(&render(&mut renderer, &scene, Pipeline::Hdrp, "lambert", sliders, RenderPath::Forward));
+    let got = centre(&render(&mut renderer, &scene, Pipeline::Hdrp, "lambert", sliders, RenderPath::Forward).1);
     let l = &scene.lights[0];
     let luminance = DVec3::from(l.radiance(Pipeline::Hdrp, 1.0, &Default::default()));
     let irradiance_per_luminance = integrate_rect(&rect, DVec3::ZERO, 400, |d| d.y.max(0.0));
@@ -106,8 +106,8 @@ fn area_lights_the_engines_only_bake_are_left_out_with_the_reason() {
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     let sliders = Sliders { base_color_linear: [0.7, 0.6, 0.5], metallic: 0.0, smoothness: 0.5 };
     let mut dark = |scene: &Scene, p: Pipeline, shader: &str, why: &str| {
-        let r = render(&mut renderer, scene, p, shader, sliders, RenderPath::Forward);
-        let u = &r.lights[0].lights[0];
+        let (plan, r) = render(&mut renderer, scene, p, shader, sliders, RenderPath::Forward);
+        let u = &plan.assignment[0].lights[0];
         assert_eq!(u.mode, LightMode::LeftOut, "{} {shader}: {u:?}", p.name());
         assert!(u.reason.contains(why), "{} {shader}: {}", p.name(), u.reason);
         assert!(r.hdr.iter().all(|&x| x == 0.0 || x == 1.0), "{} {shader}: the left-out light lit the frame", p.name());

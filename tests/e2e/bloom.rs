@@ -6,6 +6,7 @@ use shadematrix::declarations::scene::Scene;
 use shadematrix::gpu::GpuContext;
 use shadematrix::images::bloom::{bloom, Image};
 use shadematrix::pipelines::{Pipeline, RenderPath};
+use shadematrix::plan::Pass;
 use shadematrix::render::renderer::Renderer;
 
 #[test]
@@ -24,7 +25,7 @@ fn gpu_bloom_matches_its_twin_and_the_switch_turns_it_off() {
     let mut render = |scene: &Scene| {
         let prepared = renderer.prepare_scene(scene).unwrap();
         let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
-        let passes: Vec<String> = r.gpu_passes.map(|p| p.into_iter().map(|(n, _)| n).collect()).unwrap_or_default();
+        let passes: Vec<Pass> = r.gpu_passes.map(|p| p.into_iter().map(|(n, _)| n).collect()).unwrap_or_default();
         let texels = r.hdr.chunks(4).map(|p| DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64)).collect();
         (
             Image { width: 96, height: 96, texels },
@@ -34,9 +35,9 @@ fn gpu_bloom_matches_its_twin_and_the_switch_turns_it_off() {
     };
     let (bloomed, timed, plan) = render(&with);
     let (plain, _, plan_off) = render(&without);
-    assert!(plan.contains(&"bloom") && !plan_off.contains(&"bloom"), "{plan:?} / {plan_off:?}");
+    assert!(plan.contains(&Pass::Bloom) && !plan_off.contains(&Pass::Bloom), "{plan:?} / {plan_off:?}");
     if !timed.is_empty() {
-        assert!(timed.iter().any(|n| n == "bloom"), "{timed:?}");
+        assert!(timed.contains(&Pass::Bloom), "{timed:?}");
     }
     let twin = bloom(&plain, &shadematrix::render::passes::bloom::BloomSettings::default());
     let peak = plain.texels.iter().map(|t| t.max_element()).fold(0.0, f64::max);

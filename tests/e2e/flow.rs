@@ -330,6 +330,6 @@ fn no_file_level_circles_inside_a_module() {
     std::fs::create_dir_all(src.join("spec")).unwrap();
     std::fs::write(src.join("spec/mod.rs"), "pub mod a;\npub mod b;\n").unwrap();
     std::fs::write(src.join("spec/a.rs"), "use super::b::B;\npub struct A;\n").unwrap();
-    std::fs::write(src.join("spec/b.rs"), "pub struct B;\nfn f() { crate::declarations::a::A; }\n").unwrap();
+    std::fs::write(src.join("spec/b.rs"), "pub struct B;\nfn f() { crate::spec::a::A; }\n").unwrap();
     assert_eq!(file_circles(&src), vec![vec!["spec::a".to_string(), "spec::b".to_string()]]);
 }

@@ -24,6 +24,18 @@ fn render_on(
     renderer.render(prepared, &cell_params(pipeline, "lambert", ALBEDO, (intensity, 8.0), SIZE, path), 1, 0).unwrap()
 }
 
+/// How each light reaches each object in a lambert cell (its plan).
+fn lights_of(
+    renderer: &Renderer,
+    prepared: &PreparedScene,
+    pipeline: Pipeline,
+    intensity: f64,
+    path: RenderPath,
+) -> Vec<shadematrix::plan::lights::ObjectLights> {
+    let cell = cell_params(pipeline, "lambert", ALBEDO, (intensity, 8.0), SIZE, path);
+    renderer.plan(prepared, &cell).unwrap().assignment
+}
+
 fn render(renderer: &mut Renderer, prepared: &PreparedScene, pipeline: Pipeline, intensity: f64) -> CellRender {
     render_on(renderer, prepared, pipeline, intensity, RenderPath::Forward)
 }
@@ -94,7 +106,8 @@ fn a_vertex_light_is_shade4pointlights_and_an_sh_light_is_its_clamped_cosine() {
     scene.lights[0].position = [0.4, 1.2, -0.3];
     let prepared = renderer.prepare_scene(&scene).unwrap();
     let r = render(&mut renderer, &prepared, Pipeline::Builtin, 1.5);
-    assert_eq!(r.lights[0].lights[0].mode, LightMode::PerVertex, "{:?}", r.lights);
+    let lights = lights_of(&renderer, &prepared, Pipeline::Builtin, 1.5, RenderPath::Forward);
+    assert_eq!(lights[0].lights[0].mode, LightMode::PerVertex, "{lights:?}");
     let l = &scene.lights[0];
     let c = DVec3::from(Pipeline::Builtin.light_radiance(l.color, 1.5, l.emitter()));
     let to = DVec3::from(l.position);
@@ -112,7 +125,8 @@ fn a_vertex_light_is_shade4pointlights_and_an_sh_light_is_its_clamped_cosine() {
     scene.lights[0].render_mode = RenderMode::NotImportant;
     let prepared = renderer.prepare_scene(&scene).unwrap();
     let r = render(&mut renderer, &prepared, Pipeline::Builtin, 1.5);
-    assert_eq!(r.lights[0].lights[0].mode, LightMode::Sh, "{:?}", r.lights);
+    let lights = lights_of(&renderer, &prepared, Pipeline::Builtin, 1.5, RenderPath::Forward);
+    assert_eq!(lights[0].lights[0].mode, LightMode::Sh, "{lights:?}");
     // Without a point light there is no key light: the sun keeps its own intensity.
     assert_eq!(scene.key_light(), None);
     let l = &scene.lights[0];
@@ -179,13 +193,14 @@ fn the_vertex_lit_path_lights_eight_lights_at_the_vertices_and_drops_the_rest() 
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     let model = find_model(Pipeline::Builtin, "lambert").unwrap();
     let sliders = ALBEDO;
+    let prepared = renderer.prepare_scene(&base).unwrap();
+    let all = lights_of(&renderer, &prepared, Pipeline::Builtin, base.lights[0].intensity, RenderPath::VertexLit);
     let mut render = |scene: &Scene, intensity: f64| {
         let prepared = renderer.prepare_scene(scene).unwrap();
         render_on(&mut renderer, &prepared, Pipeline::Builtin, intensity, RenderPath::VertexLit)
     };
-    let all = render(&base, base.lights[0].intensity);
-    let count = |m: LightMode| all.lights[0].lights.iter().filter(|u| u.mode == m).count();
-    assert_eq!((count(LightMode::PerVertex), count(LightMode::Dropped)), (8, 4), "{:?}", all.lights);
+    let count = |m: LightMode| all[0].lights.iter().filter(|u| u.mode == m).count();
+    assert_eq!((count(LightMode::PerVertex), count(LightMode::Dropped)), (8, 4), "{all:?}");
     // One light: the model's own Lambert term at the vertex under the image centre.
     let mut one = base.clone();
     one.lights.truncate(1);

@@ -15,9 +15,9 @@ fn render(renderer: &mut Renderer, scene: &Scene, distance: f64, shader: &str) -
     let mut cell = cell_params(Pipeline::Urp, shader, plastic, (2.0, 10.0), 128, RenderPath::Forward);
     cell.view = ViewAxes { camera_distance: Some(distance), light_angle: None };
     let prepared = renderer.prepare_scene(scene).unwrap();
-    let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
+    let (plan, r) = renderer.render_planned(&prepared, &cell, 1, 0).unwrap();
     let lum = r.hdr.chunks(4).map(|p| 0.2126 * p[0] as f64 + 0.7152 * p[1] as f64 + 0.0722 * p[2] as f64).collect();
-    (lum, r.roles, r.lod)
+    (lum, r.roles, plan.lod)
 }
 
 #[test]

@@ -28,7 +28,7 @@ mod lod;
 mod materials;
 mod models;
 mod parallax;
-mod passes;
+pub mod passes;
 mod paths;
 mod probes;
 mod records;

@@ -205,3 +205,46 @@ fn standard_on_the_vertex_lit_path_falls_back_to_fixed_function_vertexlit() {
     let forward = centre(&renderer.render(&lit_scene, &own, 1, 0).unwrap());
     assert!((forward - lit).abs().max_element() > 1e-3, "{forward} vs {lit}");
 }
+
+/// A cell's record names the passes its frame ran: `passes` (from the plan) is the list of passes
+/// its timings name, in the same order (the plan is the frame's script). None: the adapter has
+/// no timestamp queries.
+pub fn timed_passes_match_the_record(record: &shadematrix::record::CellRecord) -> Option<()> {
+    let timed: Vec<&str> = record.timing.gpu_passes.value()?.iter().map(|s| s.kind.as_str()).collect();
+    assert_eq!(record.passes, timed, "{}: cell.json's passes against its timings", record.id.0);
+    Some(())
+}
+
+#[test]
+fn every_cell_json_names_the_passes_its_frame_timed_on_every_path_and_surface() {
+    // surfaces.toml on every path (its surfaces, two alphas, the default room's probes and
+    // shadows; the vertex-lit path in built-in), smaller: the passes do not depend on the size.
+    let text = std::fs::read_to_string(crate::common::repo().join("matrices/surfaces.toml")).unwrap();
+    let text = text
+        .replace(
+            "shaders = [\"standard\", \"lit\"]",
+            "shaders = [\"standard\", \"lit\"]\npaths = [\"forward\", \"deferred\", \"vertex_lit\"]",
+        )
+        .replace("width = 160\nheight = 160", "width = 24\nheight = 24");
+    assert!(text.contains("vertex_lit") && text.contains("width = 24"), "surfaces.toml changed shape");
+    let tmp = tempfile::tempdir().unwrap();
+    let path = tmp.path().join("surfaces.toml");
+    std::fs::write(&path, text).unwrap();
+    let matrix = crate::common::load_matrix(&path);
+    let out = tmp.path().join("run");
+    let options =
+        shadematrix::run::RunOptions { results_root: tmp.path().into(), out: Some(out.clone()), ..Default::default() };
+    shadematrix::run::run(&matrix, &options).unwrap();
+    let mut checked = Vec::new();
+    for dir in std::fs::read_dir(out.join("cells")).unwrap() {
+        let record = shadematrix::record::CellRecord::load(&dir.unwrap().path().join("cell.json")).unwrap();
+        if timed_passes_match_the_record(&record).is_none() {
+            return; // no timestamp queries on this adapter: nothing timed to compare
+        }
+        checked.push((record.path.clone(), record.passes.clone()));
+    }
+    for path in [RenderPath::Forward, RenderPath::Deferred, RenderPath::VertexLit] {
+        assert!(checked.iter().any(|(p, _)| *p == path), "no {path:?} cell among {}", checked.len());
+    }
+    assert!(checked.iter().any(|(_, passes)| passes.iter().any(|p| p == "transparent")), "a Transparent queue");
+}

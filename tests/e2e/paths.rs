@@ -47,12 +47,14 @@ fn twelve_lights_add_up_on_the_deferred_path() {
     // Each pipeline's own G-buffer shader: a model without a G-buffer pass is drawn forward.
     for (pipeline, shader) in [(Pipeline::Builtin, "standard"), (Pipeline::Hdrp, "lit")] {
         let sliders = Sliders { base_color_linear: [0.7, 0.6, 0.5], metallic: 0.0, smoothness: 0.5 };
+        let prepared = renderer.prepare_scene(&base).unwrap();
+        let cell = cell_params(pipeline, shader, sliders, (base.lights[0].intensity, 8.0), 49, RenderPath::Deferred);
+        let plan = renderer.plan(&prepared, &cell).unwrap().assignment;
         let mut render = |scene: &Scene, intensity: f64| {
             let prepared = renderer.prepare_scene(scene).unwrap();
             let cell = cell_params(pipeline, shader, sliders, (intensity, 8.0), 49, RenderPath::Deferred);
             renderer.render(&prepared, &cell, 1, 0).unwrap()
         };
-        let plan = render(&base, base.lights[0].intensity).lights;
         assert!(plan[0].lights.iter().all(|u| u.reason.contains("deferred")), "{plan:?}");
         let worst = crate::common::superposition_error(&base, |scene, intensity| render(scene, intensity).hdr);
         eprintln!("superposition of 12 lights, {} deferred: worst relative difference {worst:.2e}", pipeline.name());
@@ -72,18 +74,21 @@ fn list_shows_each_paths_passes() {
     assert_eq!(code, 0, "{err}");
     // The default room's reflection probe is captured and prefiltered before the frame's passes.
     assert!(
-        out.contains(
-            "composition default (urp-forward): passes probe capture → probe prefilter → shadow → forward → background"
-        ),
+        out.contains("composition default (urp-forward): passes probe capture → probe prefilter → shadow → forward;"),
         "{out}"
     );
     assert!(
-        out.contains("composition default (urp-deferred): passes probe capture → probe prefilter → shadow → gbuffer → deferred lighting → forward (models the G-buffer cannot carry) → background"),
+        out.contains("composition default (urp-deferred): passes probe capture → probe prefilter → shadow → gbuffer → deferred lighting → forward-only;"),
         "{out}"
     );
     // HDRP's SSAO reads a depth-normal prepass before the lighting, and its bloom follows the frame.
     assert!(out.contains("(hdrp-deferred): passes probe capture → probe prefilter → shadow → depth prepass → ssao → gbuffer → light tiles → deferred lighting"), "{out}");
-    assert!(out.contains("(hdrp-forward): passes probe capture → probe prefilter → shadow → depth prepass → ssao → forward → background → bloom"), "{out}");
+    assert!(
+        out.contains(
+            "(hdrp-forward): passes probe capture → probe prefilter → shadow → depth prepass → ssao → forward → bloom;"
+        ),
+        "{out}"
+    );
 }
 
 #[test]
@@ -126,7 +131,7 @@ fn hdrp_tiled_light_loop_keeps_every_light_where_it_reaches() {
     };
     let deferred = render(RenderPath::Deferred);
     assert!(
-        deferred.gpu_passes.as_ref().is_none_or(|p| p.iter().any(|(n, _)| n == "light tiles")),
+        deferred.gpu_passes.as_ref().is_none_or(|p| p.iter().any(|(n, _)| *n == shadematrix::plan::Pass::LightTiles)),
         "{:?}",
         deferred.gpu_passes
     );

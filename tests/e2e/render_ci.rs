@@ -42,6 +42,7 @@ fn ci_matrix_renders_every_cell_at_the_requested_size() {
         assert!(px.chunks(4).any(|p| p[0] > 0.0), "{}: all black", dir.display());
         assert_eq!(cell.stats.nan, 0);
         assert!(cell.stats.subject_pixels > 0, "{}: subject not visible", dir.display());
+        crate::e2e::passes::timed_passes_match_the_record(&cell);
     }
     let expected: BTreeSet<String> = ["default", "mitsuba", "medusa", "spikes"].iter().map(|s| s.to_string()).collect();
     assert_eq!(compositions, expected);

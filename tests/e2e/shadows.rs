@@ -65,10 +65,10 @@ fn a_caster_darkens_the_receiver_under_it_only_with_shadows_on() {
 #[test]
 fn no_shadow_pass_without_a_caster_a_receiver_or_a_shadowed_light() {
     let base = Scene::load_file(&fixture("shadow_box.toml")).unwrap();
-    assert!(FramePlan::for_scene(&base).passes.contains(&"shadow"));
+    assert!(FramePlan::for_scene(&base).passes.contains(&shadematrix::plan::Pass::Shadow));
     let reason = |scene: &Scene| {
         let plan = FramePlan::for_scene(scene);
-        assert!(!plan.passes.contains(&"shadow"));
+        assert!(!plan.passes.contains(&shadematrix::plan::Pass::Shadow));
         plan.left_out.iter().find(|(what, _)| what == "shadow pass").map(|(_, why)| why.clone()).unwrap()
     };
     let mut no_caster = base.clone();

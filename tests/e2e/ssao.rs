@@ -6,6 +6,7 @@ use glam::DVec3;
 use shadematrix::declarations::scene::Camera;
 use shadematrix::gpu::GpuContext;
 use shadematrix::images::ssao as ssao_twin;
+use shadematrix::plan::Pass;
 use shadematrix::render::passes::ssao::{visibility_of, SsaoFrame, SsaoSettings};
 
 /// A ray-cast frame: a floor (y = 0) with a unit box standing on it and a sphere resting beside
@@ -115,8 +116,8 @@ fn gpu_ssao_matches_its_twin_and_occludes_where_surfaces_meet() {
 struct Room {
     rgb: Vec<[f32; 3]>,
     roles: Vec<u8>,
-    timed: Vec<String>,
-    plan: Vec<&'static str>,
+    timed: Vec<Pass>,
+    plan: Vec<Pass>,
 }
 
 /// One HDRP Lit frame of the default room (bloom off, to see the lighting alone).
@@ -145,10 +146,13 @@ fn ssao_darkens_the_indirect_light_where_surfaces_meet_and_the_switch_turns_it_o
     for path in [RenderPath::Forward, RenderPath::Deferred] {
         let Room { rgb: on, roles, timed, plan } = render_room(|_| {}, path);
         let Room { rgb: off, plan: plan_off, .. } = render_room(|s| s.hdrp.ssao = false, path);
-        assert!(plan.contains(&"ssao") && plan.contains(&"depth prepass"), "{plan:?}");
-        assert!(!plan_off.contains(&"ssao") && !plan_off.contains(&"depth prepass"), "{plan_off:?}");
+        assert!(plan.contains(&Pass::Ssao) && plan.contains(&Pass::DepthPrepass), "{plan:?}");
+        assert!(!plan_off.contains(&Pass::Ssao) && !plan_off.contains(&Pass::DepthPrepass), "{plan_off:?}");
         if !timed.is_empty() {
-            assert!(timed.iter().any(|n| n == "ssao") && timed.iter().any(|n| n == "depth prepass"), "{timed:?}");
+            assert!(
+                timed.iter().any(|n| *n == Pass::Ssao) && timed.iter().any(|n| *n == Pass::DepthPrepass),
+                "{timed:?}"
+            );
         }
         let lum = |c: &[f32; 3]| (c[0] + c[1] + c[2]) as f64;
         let ratios: Vec<f64> = on

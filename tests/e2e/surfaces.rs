@@ -349,12 +349,12 @@ fn a_deferred_path_draws_its_transparent_subject_in_a_pass_of_its_own() {
         cell.settings.surface = SurfaceOptions { kind, alpha: 0.5, ..Default::default() };
         let plan = renderer.plan(&prepared, &cell).unwrap();
         let transparent = kind.is_transparent();
-        assert_eq!(plan.passes.contains(&shadematrix::plan::TRANSPARENT_PASS), transparent, "{:?}", plan.passes);
+        assert_eq!(plan.passes.contains(&shadematrix::plan::Pass::Transparent), transparent, "{:?}", plan.passes);
         assert_eq!(plan.draws.counts.get("transparent").copied().unwrap_or(0), transparent as u32);
         assert_eq!(plan.draws.counts.get("gbuffer").copied(), Some(if transparent { 1 } else { 2 }));
         let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
         if let Some(passes) = &r.gpu_passes {
-            let timed = passes.iter().any(|(name, _)| name == shadematrix::plan::TRANSPARENT_PASS);
+            let timed = passes.iter().any(|(name, _)| *name == shadematrix::plan::Pass::Transparent);
             assert_eq!(timed, transparent, "{passes:?}");
         }
         assert!(r.roles.contains(&ROLE_SUBJECT), "the subject is drawn");

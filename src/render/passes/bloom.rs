@@ -84,13 +84,15 @@ pub struct BloomPipeline {
 impl BloomPipeline {
     pub fn new(gpu: &GpuContext) -> Result<BloomPipeline, Error> {
         let device = &gpu.device;
-        let module = gpu.shader_module("bloom", include_str!("../../../shaders/pass/bloom.wgsl"))?;
+        let module =
+            gpu.shader_module(crate::plan::Pass::Bloom.name(), include_str!("../../../shaders/pass/bloom.wgsl"))?;
         use crate::render::compute_entry::{constants, float_2d, storage_2d};
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("bloom"),
+            label: Some(crate::plan::Pass::Bloom.name()),
             entries: &[constants(gpu.constants, 0), float_2d(1), float_2d(2), storage_2d(3, FORMAT)],
         });
-        let pipeline = crate::render::compute_pipeline(device, "bloom", &layout, &module, "cs_bloom");
+        let pipeline =
+            crate::render::compute_pipeline(device, crate::plan::Pass::Bloom.name(), &layout, &module, "cs_bloom");
         Ok(BloomPipeline { pipeline, layout, space: gpu.constants })
     }
 }
@@ -187,8 +189,10 @@ impl BloomChain {
         encoder: &mut wgpu::CommandEncoder,
         timestamps: Option<wgpu::ComputePassTimestampWrites>,
     ) {
-        let mut pass = encoder
-            .begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("bloom"), timestamp_writes: timestamps });
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(crate::plan::Pass::Bloom.name()),
+            timestamp_writes: timestamps,
+        });
         pass.set_pipeline(&pipeline.pipeline);
         for s in &self.steps {
             pass.set_bind_group(0, &s.group, &[]);

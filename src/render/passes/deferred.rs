@@ -13,6 +13,7 @@ use super::FrameDraw;
 use crate::declarations::scene::Role;
 use crate::gpu::timing::PassTimer;
 use crate::plan::cell::CellParams;
+use crate::plan::Pass;
 use crate::render::gbuffer::{tile_grid, LightTiles};
 use crate::render::pipeline_cache::PipelineCache;
 use crate::render::prepared::PreparedScene;
@@ -54,7 +55,7 @@ pub(in crate::render) fn encode_deferred(
     let deferred = |i: usize| if subject(i) { cell.subject_deferrable() } else { fixed_model.deferrable() };
     {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("gbuffer"),
+            label: Some(Pass::GBuffer.name()),
             color_attachments: &[
                 color(&gb.albedo, clear),
                 color(&gb.material, clear),
@@ -88,7 +89,7 @@ pub(in crate::render) fn encode_deferred(
     if let (Some(group), Some(pipeline)) = (tile_group, &tiles.pipeline) {
         encoder.clear_buffer(&tiles.masks, 0, None);
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("light tiles"),
+            label: Some(Pass::LightTiles.name()),
             timestamp_writes: timed[1].map(|(t, pair)| t.compute_writes(pair)),
         });
         let (tx, ty, _) = tile_grid(t.width, t.height, 0);
@@ -99,7 +100,7 @@ pub(in crate::render) fn encode_deferred(
     }
     {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("deferred lighting"),
+            label: Some(Pass::DeferredLighting.name()),
             color_attachments: &[color(&t.color_view, wgpu::LoadOp::Clear(wgpu::Color::BLACK))],
             depth_stencil_attachment: None,
             timestamp_writes: timed[light_at].map(|(t, pair)| t.writes(pair, true, true)),
@@ -121,7 +122,7 @@ pub(in crate::render) fn encode_deferred(
     let depth_store =
         if cell.settings.surface.kind.is_transparent() { wgpu::StoreOp::Store } else { wgpu::StoreOp::Discard };
     let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some("forward-only and background"),
+        label: Some(Pass::ForwardOnly.name()),
         color_attachments: &[color(&t.color_view, wgpu::LoadOp::Load), color(&t.role_view, wgpu::LoadOp::Load)],
         depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
             view: &t.depth_view,
@@ -148,7 +149,7 @@ pub(in crate::render) fn encode_deferred(
         return;
     }
     let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some(crate::plan::TRANSPARENT_PASS),
+        label: Some(Pass::Transparent.name()),
         color_attachments: &[color(&t.color_view, wgpu::LoadOp::Load), color(&t.role_view, wgpu::LoadOp::Load)],
         depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
             view: &t.depth_view,

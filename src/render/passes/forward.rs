@@ -123,7 +123,7 @@ pub(in crate::render) fn encode_forward(
         ),
     };
     let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some("forward"),
+        label: Some(crate::plan::Pass::Forward.name()),
         color_attachments: &[
             Some(wgpu::RenderPassColorAttachment {
                 view: targets.color,

@@ -16,7 +16,7 @@ pub(in crate::render) fn encode_depth_prepass(
     timed: Option<(&PassTimer, u32)>,
 ) {
     let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some("depth prepass"),
+        label: Some(crate::plan::Pass::DepthPrepass.name()),
         color_attachments: &[Some(wgpu::RenderPassColorAttachment {
             view: normal,
             depth_slice: None,

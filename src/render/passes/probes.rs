@@ -103,7 +103,7 @@ impl Prefilter {
             count: None,
         };
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("probe prefilter"),
+            label: Some(crate::plan::Pass::ProbePrefilter.name()),
             entries: &[
                 constants(gpu.constants, 0),
                 texture(1, float, wgpu::TextureViewDimension::D2Array),
@@ -113,7 +113,13 @@ impl Prefilter {
                 sampler_entry(5, wgpu::SamplerBindingType::Filtering),
             ],
         });
-        let pipeline = crate::render::compute_pipeline(device, "probe prefilter", &layout, &module, "cs_prefilter");
+        let pipeline = crate::render::compute_pipeline(
+            device,
+            crate::plan::Pass::ProbePrefilter.name(),
+            &layout,
+            &module,
+            "cs_prefilter",
+        );
         let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("probe faces"),
             mag_filter: wgpu::FilterMode::Nearest,
@@ -400,6 +406,9 @@ pub struct SceneProbes {
     /// Per slot: the hash of everything its capture saw (lights, shadows, fixed objects,
     /// environment, pipeline) and when it was last used; a cell with the same inputs reuses it.
     slots: std::sync::Mutex<Vec<Option<(u64, u64)>>>,
+    /// Per slot: the GPU time of its capture and prefilter, ms (a cell that reads the slot
+    /// reports the cost of what it reads).
+    times: std::sync::Mutex<Vec<Option<(f64, f64)>>>,
     uses: std::sync::atomic::AtomicU64,
 }
 
@@ -513,6 +522,7 @@ impl SceneProbes {
             levels,
             probes,
             slots: std::sync::Mutex::new(vec![None; CAPTURE_SLOTS]),
+            times: std::sync::Mutex::new(vec![None; CAPTURE_SLOTS]),
             uses: Default::default(),
         }
     }
@@ -530,10 +540,17 @@ impl SceneProbes {
         Slot::ToCapture(i)
     }
 
-    /// Record that `slot` now holds the capture of inputs `key`.
-    pub fn captured(&self, slot: usize, key: u64) {
+    /// Record that `slot` now holds the capture of inputs `key`, made in `times` (capture,
+    /// prefilter; ms; None without timestamp queries).
+    pub fn captured(&self, slot: usize, key: u64, times: Option<(f64, f64)>) {
         let now = self.uses.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
         self.slots.lock().unwrap_or_else(|e| e.into_inner())[slot] = Some((key, now));
+        self.times.lock().unwrap_or_else(|e| e.into_inner())[slot] = times;
+    }
+
+    /// The GPU time of the capture `slot` holds, ms.
+    pub fn capture_times(&self, slot: usize) -> Option<(f64, f64)> {
+        self.times.lock().unwrap_or_else(|e| e.into_inner())[slot]
     }
 
     pub fn view(&self) -> wgpu::TextureView {
@@ -553,7 +570,13 @@ impl SceneProbes {
         timestamps: Option<wgpu::ComputePassTimestampWrites>,
     ) {
         let steps = self.probes.iter().flat_map(|p| &p.steps[slot][weight.code() as usize]);
-        crate::render::encode_steps(encoder, "probe prefilter", &prefilter.pipeline, steps, timestamps);
+        crate::render::encode_steps(
+            encoder,
+            crate::plan::Pass::ProbePrefilter.name(),
+            &prefilter.pipeline,
+            steps,
+            timestamps,
+        );
     }
 }
 

@@ -38,7 +38,7 @@ pub(in crate::render) fn encode_shadow_passes(
     for (n, &(layer, resolution)) in layers.iter().enumerate() {
         let view = &sh.layer_views[layer];
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("shadow"),
+            label: Some(crate::plan::Pass::Shadow.name()),
             color_attachments: &[],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view,
@@ -167,11 +167,11 @@ pub(in crate::render) fn shadow_pipeline(
 fn build(gpu: &GpuContext, layouts: &[Option<&wgpu::BindGroupLayout>], cutout: bool) -> wgpu::RenderPipeline {
     let device = &gpu.device;
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some("shadow"),
+        label: Some(crate::plan::Pass::Shadow.name()),
         source: wgpu::ShaderSource::Wgsl(gpu.constants.wgsl(include_str!("../../../shaders/pass/shadow.wgsl"))),
     });
     let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: Some("shadow"),
+        label: Some(crate::plan::Pass::Shadow.name()),
         bind_group_layouts: layouts,
         immediate_size: 0,
     });

@@ -128,7 +128,7 @@ impl SsaoPipeline {
     pub fn new(gpu: &GpuContext) -> Result<SsaoPipeline, Error> {
         let device = &gpu.device;
         let source = crate::shading::wgsl::with_math(include_str!("../../../shaders/pass/ssao.wgsl"));
-        let module = gpu.shader_module("ssao", &source)?;
+        let module = gpu.shader_module(crate::plan::Pass::Ssao.name(), &source)?;
         use crate::render::compute_entry::{constants, float_2d, storage_2d, texture};
         let steps_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("ssao steps"),
@@ -146,7 +146,8 @@ impl SsaoPipeline {
             label: Some("ssao depth copy"),
             entries: &[depth, storage_2d(7, FORMAT)],
         });
-        let steps = crate::render::compute_pipeline(device, "ssao", &steps_layout, &module, "cs_ssao");
+        let steps =
+            crate::render::compute_pipeline(device, crate::plan::Pass::Ssao.name(), &steps_layout, &module, "cs_ssao");
         let copy = crate::render::compute_pipeline(device, "ssao depth copy", &copy_layout, &module, "cs_depth_copy");
         gpu.check_errors("creating the SSAO pipelines")?;
         Ok(SsaoPipeline { steps, steps_layout, copy, copy_layout, space: gpu.constants })
@@ -263,8 +264,10 @@ impl SsaoChain {
         encoder: &mut wgpu::CommandEncoder,
         timestamps: Option<wgpu::ComputePassTimestampWrites>,
     ) {
-        let mut pass = encoder
-            .begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("ssao"), timestamp_writes: timestamps });
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(crate::plan::Pass::Ssao.name()),
+            timestamp_writes: timestamps,
+        });
         let mut run = |p: &wgpu::ComputePipeline, s: &ComputeStep| {
             pass.set_pipeline(p);
             pass.set_bind_group(0, &s.group, &[]);

@@ -25,14 +25,15 @@ impl TracedShadowsPipeline {
         use crate::render::compute_entry::{read_write_storage, texture};
         let device = &gpu.device;
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("traced shadows"),
+            label: Some(crate::plan::Pass::TracedShadows.name()),
             entries: &[
                 texture(0, wgpu::TextureSampleType::Depth, wgpu::TextureViewDimension::D2),
                 texture(1, wgpu::TextureSampleType::Float { filterable: false }, wgpu::TextureViewDimension::D2),
                 read_write_storage(2),
             ],
         });
-        let module = gpu.shader_module("traced shadows", &crate::shading::wgsl::compose_traced_shadows())?;
+        let module = gpu
+            .shader_module(crate::plan::Pass::TracedShadows.name(), &crate::shading::wgsl::compose_traced_shadows())?;
         let constants = [("PIPELINE", pipeline_id as f64)];
         let layouts = [frame_layout, &layout, ray_layout];
         let pipeline = crate::render::truth::ray_compute_pipeline(
@@ -88,7 +89,7 @@ impl TracedShadowMask {
         timestamp_writes: Option<wgpu::ComputePassTimestampWrites>,
     ) {
         let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("traced shadows"),
+            label: Some(crate::plan::Pass::TracedShadows.name()),
             layout: &pipeline.layout,
             entries: &[
                 wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(depth) },
@@ -96,8 +97,10 @@ impl TracedShadowMask {
                 wgpu::BindGroupEntry { binding: 2, resource: self.mask.as_entire_binding() },
             ],
         });
-        let mut pass = encoder
-            .begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("traced shadows"), timestamp_writes });
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(crate::plan::Pass::TracedShadows.name()),
+            timestamp_writes,
+        });
         pass.set_pipeline(&pipeline.pipeline);
         pass.set_bind_group(0, frame_group, &[]);
         pass.set_bind_group(1, &group, &[]);

@@ -60,7 +60,7 @@ impl Renderer {
                 let frame = self.draw_frames(prepared, cell, plan, 1, 0, false, mode)?;
                 out.layers.push((layer, frame.hdr));
             }
-            if plan.has(crate::plan::BLOOM_PASS) {
+            if plan.has(crate::plan::Pass::Bloom) {
                 let mode = FrameMode { terms: terms::LIGHT, post: false };
                 out.before_bloom = Some(self.draw_frames(prepared, cell, plan, 1, 0, false, mode)?.hdr);
             }
