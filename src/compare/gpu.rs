@@ -81,7 +81,7 @@ fn storage(device: &wgpu::Device, label: &str, bytes: u64, extra: wgpu::BufferUs
 
 impl GpuMetrics {
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, space: ConstantSpace) -> GpuMetrics {
-        use crate::render::compute_entry::{constants, read_only_storage, read_write_storage};
+        use crate::render::resources::compute_entry::{constants, read_only_storage, read_write_storage};
         let flip_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("flip"),
             entries: &[
@@ -112,7 +112,7 @@ impl GpuMetrics {
             })
         };
         let (flip_module, ssim_module) = (module("flip", FLIP_WGSL), module("ssim", SSIM_WGSL));
-        let pipe = |layout, m, entry| crate::render::compute_pipeline(device, entry, layout, m, entry);
+        let pipe = |layout, m, entry| crate::render::resources::compute_pipeline(device, entry, layout, m, entry);
         let flip =
             ["convert", "color_h", "color_v", "feature_h", "feature_v"].map(|e| pipe(&flip_layout, &flip_module, e));
         let ssim = ["ssim_h", "ssim_v"].map(|e| pipe(&ssim_layout, &ssim_module, e));

@@ -6,7 +6,7 @@
 use glam::DVec3;
 
 use super::camera::{cell_lights, posed_camera, ViewAxes};
-use super::draws::{plan_draws, DrawPlan};
+use super::draws::{plan_draws, DrawPlan, GBufferModels};
 use super::exact::ExactAlternatives;
 use super::lights::{assign, main_light, LightBudget, ModelLighting, ObjectLights};
 use super::lod::{groups_seen, LodUse};
@@ -42,7 +42,7 @@ impl<'a> CellParams<'a> {
     /// Whether a deferred path draws the subject into its G-buffer: its model has a G-buffer pass
     /// and its surface is not transparent (the engines draw the Transparent queue forward).
     pub fn subject_deferrable(&self) -> bool {
-        self.model.deferrable() && !self.settings.surface.kind.is_transparent()
+        super::draws::gbuffer_pass(self.pipeline, self.model) && !self.settings.surface.kind.is_transparent()
     }
 
     /// What a matrix cell asks: its coordinates resolved (material, emission, maps) into what the
@@ -271,6 +271,15 @@ pub struct CellPlan {
     pub multisampling: Multisampling,
     /// The scene's baked lighting in this pipeline (None: the scene bakes nothing).
     pub gi: Option<super::gi::GiPlan>,
+    /// How the frame reads each of the scene's reflection probes (`probes::probe_use`); empty
+    /// where the composition captures none.
+    pub probes: Vec<super::probes::ProbeUse>,
+    /// How the subject casts into the shadow maps (`shadows::subject_caster`).
+    pub subject_caster: super::shadows::SubjectCaster,
+    /// Where the frame's screen-space occlusion applies (`ao::ambient_occlusion`).
+    pub ao: super::ao::AoUse,
+    /// Which models a deferred path draws into the G-buffer (`draws::gbuffer_pass`).
+    pub gbuffer: GBufferModels,
     /// Shadow layers that draw the dynamic objects alone: a mixed light's under Shadowmask and
     /// Subtractive, whose static objects' shadows are baked.
     pub dynamic_casters_only: Vec<usize>,
@@ -302,7 +311,7 @@ impl CellPlan {
                 baked: baked_dynamic.clone(),
             },
             _ => ModelLighting {
-                forward_only: !fixed_model.deferrable(),
+                forward_only: !super::draws::gbuffer_pass(p, fixed_model),
                 area_lights: fixed_model.area_lights(),
                 baked: baked_static.clone(),
             },
@@ -355,6 +364,8 @@ impl CellPlan {
                 shadow_layers[first + k] = layer;
             }
         }
+        let gbuffer =
+            GBufferModels { subject: cell.subject_deferrable(), fixed: super::draws::gbuffer_pass(p, fixed_model) };
         let mut lod = Vec::new();
         let mut fades: Vec<Option<f64>> = layout.meshes.iter().map(|m| m.lod_level.is_none().then_some(1.0)).collect();
         for seen in groups_seen(scene, &layout.world_bounds, &camera, p.quality_lod_bias()) {
@@ -368,7 +379,8 @@ impl CellPlan {
             });
         }
         // A flat cutout below its cutoff clips every fragment: not drawn, casting no shadow.
-        let clipped = surface.kind.clips() && cell.settings.material_maps.is_none() && surface.alpha < surface.cutoff;
+        let subject_caster = super::shadows::subject_caster(p, &surface, cell.settings.material_maps.is_some());
+        let clipped = subject_caster == super::shadows::SubjectCaster::Nothing;
         if clipped {
             for (fade, m) in fades.iter_mut().zip(&layout.meshes) {
                 if m.role == Role::Subject {
@@ -390,22 +402,31 @@ impl CellPlan {
             .map(|(m, fade)| {
                 let subject = m.role == Role::Subject;
                 let model = if subject { cell.model } else { fixed_model };
-                let deferrable = if subject { cell.subject_deferrable() } else { fixed_model.deferrable() };
+                let deferrable = if subject { gbuffer.subject } else { gbuffer.fixed };
                 (m.scene_index, fade.is_some(), model, deferrable)
             })
             .collect();
         let draws = plan_draws(p, cell.settings.path, engine, &meshes, &assignment, main);
+        let ao = super::ao::ambient_occlusion(p, cell.settings.path, surface.kind, frame.hdrp_ssao);
         let passes = frame_passes(PassInputs {
             pipeline: p,
             path: cell.settings.path,
             probes: frame.probes(),
             shadow_maps: frame.shadows() && !used_layers.is_empty(),
-            ssao: frame.occludes(cell.settings.path, p),
+            ssao: ao.ssao,
             transparent_subject: surface.kind.is_transparent(),
             traced_visibility: cell.settings.exact.visibility,
             bloom: frame.hdrp_bloom,
         });
+        let probes = match frame.probes() {
+            true => scene.probes.iter().map(|probe| super::probes::probe_use(p, engine, probe)).collect(),
+            false => Vec::new(),
+        };
         CellPlan {
+            probes,
+            subject_caster,
+            ao,
+            gbuffer,
             draws,
             main_light: main,
             shadows_left_out,
@@ -530,8 +551,9 @@ mod tests {
         let scene = Scene::load_file(&repo("tests/fixtures/shadow_box.toml")).unwrap();
         for p in Pipeline::ALL {
             let plan = plan_of(&scene, p, RenderPath::Forward, ViewAxes::default(), 128);
-            assert!(plan.has(Pass::Shadow), "{p:?}: {:?}", plan.passes);
             if p == Pipeline::Urp {
+                // No layer in use: no shadow pass either.
+                assert!(!plan.has(Pass::Shadow), "{:?}", plan.passes);
                 // The code-default URP asset draws no additional-light shadows.
                 assert_eq!(plan.light_shadows[0].first_layer, None);
                 assert!(
@@ -541,6 +563,7 @@ mod tests {
                 );
                 continue;
             }
+            assert!(plan.has(Pass::Shadow), "{p:?}: {:?}", plan.passes);
             assert_eq!((plan.light_shadows[0].first_layer, plan.light_shadows[0].layers), (Some(0), 6));
             assert_eq!(plan.shadow_maps.len(), 1);
             let res = plan.shadow_maps[0].resolution;

@@ -20,6 +20,43 @@ use crate::pipelines::settings::PipelineSettings;
 use crate::pipelines::{Pipeline, RenderPath};
 use crate::shading::ShaderModel;
 
+/// What a draw of a frame is, as `DrawPlan::counts` names it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DrawKind {
+    /// Built-in's ForwardBase and ForwardAdd draws.
+    ForwardBase,
+    ForwardAdd,
+    /// One draw with every light (URP, HDRP, a model without additive passes).
+    Forward,
+    /// An object into the G-buffer.
+    GBuffer,
+    /// A full-screen lighting draw per material type.
+    DeferredLighting,
+    /// An object the G-buffer cannot carry, drawn forward on a deferred path.
+    ForwardOnly,
+    /// An object of the vertex-lit path.
+    Vertex,
+    /// The Transparent queue's draws on a deferred path (counted in `ForwardOnly`'s too).
+    Transparent,
+}
+
+impl DrawKind {
+    /// Its name in `DrawPlan::counts` and `cell.json`'s `draws`: the pass's own where the draws
+    /// are one pass's (`plan::Pass`).
+    pub fn name(self) -> &'static str {
+        match self {
+            DrawKind::ForwardBase => "forward_base",
+            DrawKind::ForwardAdd => "forward_add",
+            DrawKind::Forward => super::Pass::Forward.name(),
+            DrawKind::GBuffer => super::Pass::GBuffer.name(),
+            DrawKind::DeferredLighting => "deferred_lighting",
+            DrawKind::ForwardOnly => "forward_only",
+            DrawKind::Vertex => "vertex",
+            DrawKind::Transparent => super::Pass::Transparent.name(),
+        }
+    }
+}
+
 /// The frame's draws: per mesh the lights of its additive passes, and the count of draws per pass.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct DrawPlan {
@@ -28,6 +65,26 @@ pub struct DrawPlan {
     /// Draws per pass, by name: `forward_base`, `forward_add`, `forward`, `gbuffer`,
     /// `deferred_lighting`, `forward_only`, `vertex`.
     pub counts: BTreeMap<String, u32>,
+}
+
+/// Whether `model` has a G-buffer pass in `pipeline`, so that a deferred path draws it into the
+/// G-buffer: where the engine's shader has one (built-in Standard's DEFERRED pass,
+/// Standard.shader; URP Lit's and Simple Lit's GBuffer pass, UniversalGBuffer in Lit.shader and
+/// SimpleLit.shader; HDRP Lit's GBuffer pass, ShaderPassGBuffer), declared per model
+/// (`EnginePasses::gbuffer`). A model lit per vertex or by the main light alone has none: the
+/// engines draw such shaders forward after the deferred lighting.
+pub fn gbuffer_pass(pipeline: Pipeline, model: &ShaderModel) -> bool {
+    let _ = pipeline;
+    model.deferrable()
+}
+
+/// Which of a cell's models its deferred path draws into the G-buffer: the subject's (where its
+/// model has a G-buffer pass and its surface is opaque: the engines draw the Transparent queue
+/// forward) and the fixed objects'.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct GBufferModels {
+    pub subject: bool,
+    pub fixed: bool,
 }
 
 /// Whether `model` is drawn with ForwardBase + ForwardAdd passes when lit on `path` in `pipeline`.
@@ -67,22 +124,22 @@ pub fn plan_draws(
     main_light: Option<usize>,
 ) -> DrawPlan {
     let mut counts: BTreeMap<String, u32> = BTreeMap::new();
-    let mut add = |name: &str, n: u32| *counts.entry(name.to_string()).or_default() += n;
+    let mut add = |kind: DrawKind, n: u32| *counts.entry(kind.name().to_string()).or_default() += n;
     let mut forward_add = vec![Vec::new(); meshes.len()];
     let mut lighting_models: Vec<&str> = Vec::new();
     for (m, &(object, drawn, model, deferrable)) in meshes.iter().enumerate() {
         if !drawn {
             continue;
         }
-        if path == RenderPath::Deferred && model.deferrable() && !deferrable {
-            add("transparent", 1);
+        if path == RenderPath::Deferred && gbuffer_pass(pipeline, model) && !deferrable {
+            add(DrawKind::Transparent, 1);
         }
         if path == RenderPath::VertexLit {
-            add("vertex", 1);
+            add(DrawKind::Vertex, 1);
             continue;
         }
         if path == RenderPath::Deferred && deferrable {
-            add("gbuffer", 1);
+            add(DrawKind::GBuffer, 1);
             if !lighting_models.contains(&model.name.as_ref()) {
                 lighting_models.push(model.name.as_ref());
             }
@@ -95,17 +152,40 @@ pub fn plan_draws(
                 .filter(|u| u.mode == LightMode::PerPixel && Some(u.light) != main_light)
                 .map(|u| u.light)
                 .collect();
-            add("forward_base", 1);
-            add("forward_add", lights.len() as u32);
+            add(DrawKind::ForwardBase, 1);
+            add(DrawKind::ForwardAdd, lights.len() as u32);
             forward_add[m] = lights;
         } else if path == RenderPath::Deferred {
-            add("forward_only", 1);
+            add(DrawKind::ForwardOnly, 1);
         } else {
-            add("forward", 1);
+            add(DrawKind::Forward, 1);
         }
     }
     if path == RenderPath::Deferred {
-        add("deferred_lighting", lighting_models.len().max(1) as u32);
+        add(DrawKind::DeferredLighting, lighting_models.len().max(1) as u32);
     }
     DrawPlan { forward_add, counts }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_engines_lit_shaders_have_a_gbuffer_pass_and_per_vertex_or_main_light_models_do_not() {
+        let models = crate::shading::Registry::builtin();
+        let has = |p: Pipeline, name: &str| gbuffer_pass(p, models.find(p, name).expect(name));
+        for (p, name) in [
+            (Pipeline::Builtin, "standard"),
+            (Pipeline::Urp, "lit"),
+            (Pipeline::Urp, "simple_lit"),
+            (Pipeline::Hdrp, "lit"),
+        ] {
+            assert!(has(p, name), "{p:?} {name}");
+        }
+        for p in Pipeline::ALL {
+            assert!(!has(p, "phong_vertex") && !has(p, "lambert_vertex"), "{p:?}: lit per vertex");
+        }
+        assert!(!has(Pipeline::Builtin, "torrance_sparrow"), "ForwardBase only");
+    }
 }

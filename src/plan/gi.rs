@@ -65,6 +65,54 @@ pub struct GiPlan {
     pub encoding_note: Option<String>,
 }
 
+/// How a light's real-time light reaches the frame under the bake: the value the passes read in
+/// the light's `color.w` (forward.wgsl, the deferred lighting).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RealtimeOnBake {
+    /// Drawn on every object, shadowed by its real-time map alone.
+    Full,
+    /// Drawn on no object: its light is all in the bake.
+    BakedAlone,
+    /// Drawn on the dynamic objects alone: Subtractive's main light (forward paths leave it out of
+    /// the static objects' light lists; the deferred lighting reads the G-buffer's lightmapped
+    /// flag).
+    DynamicOnly,
+    /// A Shadowmask light of mask channel c: its real-time shadow takes the minimum with the baked
+    /// one (URP MixRealtimeAndBakedShadows under LIGHTMAP_SHADOW_MIXING; built-in
+    /// UnityDeferredComputeShadow).
+    ShadowmaskChannel(u8),
+}
+
+impl RealtimeOnBake {
+    /// The value the shaders read: 0 full, 1 baked alone, 2 + c a Shadowmask channel, 6 dynamic
+    /// objects alone.
+    pub fn shader_value(self) -> f64 {
+        match self {
+            RealtimeOnBake::Full => 0.0,
+            RealtimeOnBake::BakedAlone => 1.0,
+            RealtimeOnBake::ShadowmaskChannel(c) => 2.0 + c as f64,
+            RealtimeOnBake::DynamicOnly => 6.0,
+        }
+    }
+}
+
+impl GiPlan {
+    /// How light `slot` reaches the frame: which objects it lights in real time and how its
+    /// shadow mixes with the baked one. Distance Shadowmask reads the real-time map alone inside
+    /// the shadow distance, where every composition lies (its fade to the baked mask beyond is
+    /// not drawn), so only Shadowmask mixes.
+    pub fn realtime_on_bake(&self, slot: usize) -> RealtimeOnBake {
+        let b = &self.lights[slot];
+        let mixing = self.mixed_lighting == MixedLighting::Shadowmask;
+        match b.shadow_mask {
+            _ if !b.drawn_on_static && !b.drawn_on_dynamic => RealtimeOnBake::BakedAlone,
+            _ if !b.drawn_on_static => RealtimeOnBake::DynamicOnly,
+            Some(c) if mixing => RealtimeOnBake::ShadowmaskChannel(c),
+            _ => RealtimeOnBake::Full,
+        }
+    }
+}
+
 fn normal_quality() -> LightmapQuality {
     LightmapQuality::Normal
 }
@@ -308,6 +356,25 @@ mod tests {
         let hdrp = GiPlan::new(&gi(MixedLighting::Subtractive), Pipeline::Hdrp, &lights, Some(2));
         assert_eq!(hdrp.mixed_lighting, MixedLighting::BakedIndirect);
         assert!(hdrp.mixed_lighting_note.is_some() && hdrp.lights[2].drawn_on_static);
+    }
+
+    #[test]
+    fn which_lights_reach_a_lightmapped_frame_and_how() {
+        use RealtimeOnBake::*;
+        let lights = [
+            light(LightKind::Point, LightBakeMode::Realtime),
+            light(LightKind::Point, LightBakeMode::Baked),
+            light(LightKind::Directional, LightBakeMode::Mixed),
+        ];
+        let on = |mode, p| {
+            let plan = GiPlan::new(&gi(mode), p, &lights, Some(2));
+            [0, 1, 2].map(|i| plan.realtime_on_bake(i))
+        };
+        assert_eq!(on(MixedLighting::BakedIndirect, Pipeline::Urp), [Full, BakedAlone, Full]);
+        assert_eq!(on(MixedLighting::Subtractive, Pipeline::Builtin), [Full, BakedAlone, DynamicOnly]);
+        assert_eq!(on(MixedLighting::Shadowmask, Pipeline::Urp), [Full, BakedAlone, ShadowmaskChannel(0)]);
+        assert_eq!(ShadowmaskChannel(3).shader_value(), 5.0);
+        assert_eq!(DynamicOnly.shader_value(), 6.0);
     }
 
     #[test]

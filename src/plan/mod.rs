@@ -3,6 +3,7 @@
 
 use serde::Serialize;
 
+pub mod ao;
 pub mod camera;
 pub mod cell;
 pub mod draws;
@@ -11,6 +12,7 @@ pub mod gi;
 pub mod lights;
 pub mod lod;
 pub mod pass;
+pub mod probes;
 pub mod roles;
 pub mod shadows;
 pub mod timing;
@@ -65,7 +67,7 @@ impl FramePlan {
     /// Whether a frame on `path` in `pipeline` renders SSAO: HDRP's, where the scene keeps it on
     /// (HDRP has no vertex-lit path to leave it out of).
     pub fn occludes(&self, path: RenderPath, pipeline: Pipeline) -> bool {
-        pipeline == Pipeline::Hdrp && self.hdrp_ssao && path != RenderPath::VertexLit
+        ao::ambient_occlusion(pipeline, path, crate::pipelines::surface::SurfaceType::Opaque, self.hdrp_ssao).ssao
     }
 
     /// The pass that writes the final colour of a pixel showing `role` (None: no object) on

@@ -15,6 +15,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::declarations::scene::{Camera, Light, LightKind};
 use crate::pipelines::settings::PipelineSettings;
+use crate::pipelines::surface::SurfaceOptions;
 use crate::pipelines::{Pipeline, ShadowCascades};
 
 /// One shadow layer as planned: its view-projection, (texel size per unit depth or per metre,
@@ -42,8 +43,6 @@ pub fn array_side(light: &Light) -> u32 {
 /// The image side up to which default shadow resolutions fit the array unclamped.
 const ARRAY_IMAGE_SIDE: f64 = 1024.0;
 
-/// A light's shadow-map resolution in a cell, at most the array's `side`, and a note when the
-/// pipeline's default had to be clamped to it.
 /// How a shadowed light's shadow is drawn in a pipeline: soft (3×3 PCF) or hard, and its receiver
 /// biases in shadow-map texels, along the light and along the normal.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -90,6 +89,8 @@ pub fn shadow_style(
     }
 }
 
+/// A light's shadow-map resolution in a cell, at most the array's `side`, and a note when the
+/// pipeline's default had to be clamped to it.
 pub fn cell_resolution(
     pipeline: Pipeline,
     engine: &PipelineSettings,
@@ -308,5 +309,73 @@ mod tests {
             cell_resolution(Pipeline::Builtin, &Default::default(), &light, &scene.camera, (1024, 1024), 4096);
         assert_eq!(full, 512, "camera inside the range: the whole image, NextPow2(1024 × 0.5)");
         assert!(small < full, "{small} vs {full}");
+    }
+
+    #[test]
+    fn shadow_biases_follow_each_engine_per_light() {
+        let scene = crate::declarations::scene::Scene::load("default", None, "t", "k").unwrap();
+        let mut light = scene.lights[0].clone();
+        light.shadows = true;
+        light.shadow.bias = 0.05;
+        light.shadow.normal_bias = 0.4;
+        light.shadow.soft = true;
+        let engine = PipelineSettings::default();
+        // Built-in: the light's own Bias and Normal Bias.
+        let b = shadow_style(Pipeline::Builtin, &engine, &light, false).unwrap();
+        assert_eq!((b.bias, b.normal_bias, b.soft), (0.05, 0.4, true));
+        // URP: the asset's biases, ×2.5 for soft shadows (ShadowUtils.GetShadowBias); an
+        // additional light casts only where the asset lets it.
+        let u = shadow_style(Pipeline::Urp, &engine, &light, true).unwrap();
+        let k = if u.soft { 2.5 } else { 1.0 };
+        assert_eq!((u.bias, u.normal_bias), (engine.urp.depth_bias * k, engine.urp.normal_bias * k));
+        assert!(shadow_style(Pipeline::Urp, &engine, &light, false).is_err(), "additional-light shadows off");
+        // HDRP: HDAdditionalLightData's normal bias 0.75 texel, its slope bias as half a texel.
+        let h = shadow_style(Pipeline::Hdrp, &engine, &light, false).unwrap();
+        assert_eq!((h.bias, h.normal_bias), (0.5, 0.75));
+    }
+
+    #[test]
+    fn a_cutout_clips_its_shadow_and_everything_else_casts_opaque_today() {
+        use crate::pipelines::surface::SurfaceType;
+        let at = |kind, alpha, textured| {
+            let surface = SurfaceOptions { kind, alpha, cutoff: 0.5 };
+            Pipeline::ALL.map(|p| subject_caster(p, &surface, textured))
+        };
+        assert_eq!(at(SurfaceType::Cutout, 0.8, true), [SubjectCaster::AlphaClipped { cutoff: 0.5 }; 3]);
+        assert_eq!(at(SurfaceType::Cutout, 0.3, false), [SubjectCaster::Nothing; 3]);
+        assert_eq!(at(SurfaceType::Cutout, 0.8, false), [SubjectCaster::Opaque; 3]);
+        for kind in [SurfaceType::Opaque, SurfaceType::Fade, SurfaceType::Transparent] {
+            assert_eq!(at(kind, 0.3, true), [SubjectCaster::Opaque; 3], "{kind:?}");
+        }
+    }
+}
+
+/// How the subject casts into the shadow maps.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum SubjectCaster {
+    /// Every fragment casts.
+    Opaque,
+    /// Fragments whose alpha (its alpha map's × the base alpha) is below `cutoff` are clipped.
+    AlphaClipped { cutoff: f64 },
+    /// Nothing casts: a flat cutout whose alpha is below its cutoff clips all of itself (neither
+    /// drawn nor casting).
+    Nothing,
+}
+
+/// How the subject of `surface` (wearing a textured preset where `textured`) casts in `pipeline`.
+/// The ShadowCaster passes clip a cutout at its cutoff: built-in Standard's
+/// (UnityStandardShadow.cginc, `clip(alpha - _Cutoff)` under _ALPHATEST_ON), URP Lit's
+/// (ShadowCasterPass.hlsl, `Alpha(...)` clipping under _ALPHATEST_ON) and HDRP Lit's
+/// (ShaderPassShadow with `_ALPHATEST_ON`); a flat cutout has one alpha, so it casts whole or not
+/// at all. Every transparent surface casts opaque today in every pipeline: URP and HDRP
+/// transparent Lit do; built-in's Fade and Transparent dither by alpha (semitransparent shadows),
+/// which docs/deviations.md lists, to be drawn here.
+pub fn subject_caster(pipeline: Pipeline, surface: &SurfaceOptions, textured: bool) -> SubjectCaster {
+    let _ = pipeline;
+    match (surface.kind.clips(), textured) {
+        (true, true) => SubjectCaster::AlphaClipped { cutoff: surface.cutoff },
+        (true, false) if surface.alpha < surface.cutoff => SubjectCaster::Nothing,
+        _ => SubjectCaster::Opaque,
     }
 }

@@ -22,9 +22,13 @@ use crate::plan::lights::ObjectLights;
 /// 4: anti-aliasing (asked, rendered samples and why they differ) and shadow-map resolutions;
 /// 5: the subject's peak luminance, overflow counted before the half-float store saturates it, and
 /// whether the subject wore its textured preset, and its emission.
-pub const CELL_SCHEMA: u32 = 10;
+/// 11: passes named by `plan::Pass` (the frame's list, the same as its timings) and the engine
+/// rules the plan decided (`rules`).
+pub const CELL_SCHEMA: u32 = 11;
 /// Schema 9: no draws per pass and no engine settings (read with both empty).
 const NO_DRAWS_SCHEMA: u32 = 9;
+/// Schema 10: passes named before `plan::Pass` and no engine rules (read with the rules empty).
+const NO_RULES_SCHEMA: u32 = 10;
 
 /// The schema before `coords`: a cell's axes were separate fields (`composition` … `emission`,
 /// `view`, and the sliders' and key light's values). Reports still read it (`CellRecord::read`).
@@ -67,6 +71,11 @@ pub struct CellRecord {
     /// The engine settings the cell rendered with: built-in's pass structure or the URP asset.
     #[serde(default)]
     pub engine: EngineSettingsRecord,
+    /// The engine's rules as the plan decided them and the frame applied them: how each
+    /// reflection probe is read (`plan::probes`), how the subject casts (`plan::shadows`), where
+    /// SSAO applies (`plan::ao`).
+    #[serde(default)]
+    pub rules: EngineRules,
     /// How each light reached each object (per-pixel, per-vertex, SH, dropped) and why.
     pub lights: Vec<ObjectLights>,
     pub antialiasing: AntialiasingRecord,
@@ -240,6 +249,20 @@ impl std::ops::Deref for CellRecord {
     }
 }
 
+/// The engine's rules a cell's plan decided (`plan::probes`, `plan::shadows`, `plan::ao`).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct EngineRules {
+    /// How the frame read each of the scene's reflection probes (empty: it captured none).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub reflection_probes: Vec<crate::plan::probes::ProbeUse>,
+    /// How the subject cast into the shadow maps.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub subject_shadow: Option<crate::plan::shadows::SubjectCaster>,
+    /// Where screen-space ambient occlusion applied.
+    #[serde(default)]
+    pub ambient_occlusion: crate::plan::ao::AoUse,
+}
+
 impl CellRecord {
     /// A record of this schema: what a run writes, resumes, caches and merges.
     pub fn load(path: &Path) -> Result<CellRecord, RecordError> {
@@ -250,7 +273,7 @@ impl CellRecord {
     /// reports, the viewer and `diff` read, so a run made before still opens.
     pub fn read(path: &Path) -> Result<CellRecord, RecordError> {
         match read_record(path, CELL_SCHEMA) {
-            Err(RecordError::OtherVersion { found: NO_DRAWS_SCHEMA, .. }) => {
+            Err(RecordError::OtherVersion { found: NO_DRAWS_SCHEMA | NO_RULES_SCHEMA, .. }) => {
                 let text = super::versioned::record_text(path)?;
                 let mut old: serde_json::Value =
                     serde_json::from_str(&text).map_err(|e| RecordError::Invalid(e.to_string()))?;
@@ -504,7 +527,7 @@ mod tests {
     #[test]
     fn a_schema_8_record_reads_with_its_axes_in_coords() {
         let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/records/cell_schema8.json");
-        assert!(matches!(CellRecord::load(&path), Err(RecordError::OtherVersion { found: 8, expected: 10 })));
+        assert!(matches!(CellRecord::load(&path), Err(RecordError::OtherVersion { found: 8, expected: CELL_SCHEMA })));
         let r = CellRecord::read(&path).unwrap();
         let old: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
         assert_eq!(r.schema, CELL_SCHEMA);

@@ -13,8 +13,6 @@ use crate::render::uniforms::*;
 use crate::shading::registry::Sliders;
 use crate::shading::ShaderModel;
 
-/// Write the frame and object uniforms and the light buffers; returns the light assignment
-/// and the shadow layers this cell renders.
 /// Write the frame and object uniforms and the light and shadow buffers of `plan`.
 pub(in crate::render) fn write_uniforms(
     queue: &wgpu::Queue,
@@ -24,17 +22,39 @@ pub(in crate::render) fn write_uniforms(
     fixed_model: &ShaderModel,
     baked: Option<&crate::render::gi::BakedLighting>,
 ) -> WrittenFrame {
-    let p = cell.pipeline;
-    let (camera, lights) = (&plan.camera, &plan.lights);
-    let vp = crate::plan::camera::view_projection(camera, plan.aspect);
-    let mut frame = FrameUniforms::zeroed();
-    frame.view_proj = mat(vp);
-    frame.inv_view_proj = mat(vp.inverse());
-    frame.camera_pos = vec4(DVec3::from(camera.position), 1.0);
-    frame.screen = [cell.width as f32, cell.height as f32, 0.0, 0.0];
-    let assignment = &plan.assignment;
+    let (gpu_lights, colors) = gpu_lights(cell, plan);
     let sh = &prepared.shadows;
     let shadow_layers: Vec<ShadowLayer> = plan.shadow_layers.iter().map(ShadowLayer::from).collect();
+    if !gpu_lights.is_empty() {
+        queue.write_buffer(&prepared.lights_buffer, 0, bytemuck::cast_slice(&gpu_lights));
+    }
+    if !plan.used_layers.is_empty() {
+        queue.write_buffer(&sh.layers_storage, 0, bytemuck::cast_slice(&shadow_layers));
+        let mut slots = vec![0u8; (sh.layer_stride as usize) * shadow_layers.len()];
+        for (i, layer) in shadow_layers.iter().enumerate() {
+            let at = i * sh.layer_stride as usize;
+            slots[at..at + 64].copy_from_slice(bytemuck::bytes_of(&layer.view_proj));
+        }
+        queue.write_buffer(&sh.layer_uniforms, 0, &slots);
+    }
+    let modes: Vec<u32> = plan.assignment.iter().flat_map(|o| o.lights.iter().map(|u| u.mode.shader_value())).collect();
+    if !modes.is_empty() {
+        queue.write_buffer(&prepared.modes_buffer, 0, bytemuck::cast_slice(&modes));
+    }
+    let frame = frame_uniforms(prepared, cell, plan, fixed_model);
+    queue.write_buffer(&prepared.frame_buffer, 0, bytemuck::bytes_of(&frame));
+    let ambient = ObjectAmbient::of(prepared, cell, plan, &colors, baked);
+    let (objects, materials) = object_uniforms(prepared, cell, plan, fixed_model, &ambient);
+    queue.write_buffer(&prepared.object_buffer, 0, &objects);
+    let written = (&frame, &gpu_lights[..], &shadow_layers[..], &modes[..], &objects[..]);
+    let (shadow_key, key, layer_key, prepass_key) = frame_keys(prepared, cell, plan, written);
+    WrittenFrame { frame, lights: gpu_lights, capture_key: key, materials, shadow_key, layer_key, prepass_key }
+}
+
+/// The lights as the passes read them, and each light's radiance in the pipeline's units.
+fn gpu_lights(cell: &CellParams, plan: &CellPlan) -> (Vec<GpuLight>, Vec<DVec3>) {
+    let p = cell.pipeline;
+    let lights = &plan.lights;
     let mut gpu_lights = Vec::with_capacity(lights.len());
     let mut colors = Vec::with_capacity(lights.len());
     for (l, shadow) in lights.iter().zip(&plan.light_shadows) {
@@ -61,23 +81,8 @@ pub(in crate::render) fn write_uniforms(
             shape = vec4(l.area_frame().1, if drawn { 1.0 } else { 0.0 });
         }
         let slot = gpu_lights.len();
-        // color.w: 1 where the frame draws the light on no object (baked alone), 2 + c for a
-        // Shadowmask light's channel c, whose real-time shadow takes the baked one's minimum (URP
-        // MixRealtimeAndBakedShadows under LIGHTMAP_SHADOW_MIXING), 6 for a light drawn on the
-        // dynamic objects alone (Subtractive's main light: forward paths leave it out of the static
-        // objects' light lists, deferred lighting reads the G-buffer's lightmapped flag); 0
-        // otherwise. Distance Shadowmask reads the real-time map alone inside the shadow
-        // distance, where every composition lies (its fade to the baked mask beyond is not drawn).
-        let bake_flag = plan.gi.as_ref().map_or(0.0, |g| {
-            let b = &g.lights[slot];
-            let mixing = g.mixed_lighting == crate::declarations::gi::MixedLighting::Shadowmask;
-            match b.shadow_mask {
-                _ if !b.drawn_on_static && !b.drawn_on_dynamic => 1.0,
-                _ if !b.drawn_on_static => 6.0,
-                Some(c) if mixing => 2.0 + c as f64,
-                _ => 0.0,
-            }
-        });
+        // color.w: how the light reaches the frame under the bake (plan::gi::RealtimeOnBake).
+        let bake_flag = plan.gi.as_ref().map_or(0.0, |g| g.realtime_on_bake(slot).shader_value());
         gpu_lights.push(GpuLight {
             position: vec4(DVec3::from(l.position), emitter.shader_kind() as f64),
             direction: vec4(DVec3::from(l.direction).normalize_or_zero(), 0.0),
@@ -88,110 +93,139 @@ pub(in crate::render) fn write_uniforms(
             shape,
         });
     }
-    if !gpu_lights.is_empty() {
-        queue.write_buffer(&prepared.lights_buffer, 0, bytemuck::cast_slice(&gpu_lights));
-    }
-    if !plan.used_layers.is_empty() {
-        queue.write_buffer(&sh.layers_storage, 0, bytemuck::cast_slice(&shadow_layers));
-        let mut slots = vec![0u8; (sh.layer_stride as usize) * shadow_layers.len()];
-        for (i, layer) in shadow_layers.iter().enumerate() {
-            let at = i * sh.layer_stride as usize;
-            slots[at..at + 64].copy_from_slice(bytemuck::bytes_of(&layer.view_proj));
-        }
-        queue.write_buffer(&sh.layer_uniforms, 0, &slots);
-    }
-    let modes: Vec<u32> = assignment.iter().flat_map(|o| o.lights.iter().map(|u| u.mode.shader_value())).collect();
-    if !modes.is_empty() {
-        queue.write_buffer(&prepared.modes_buffer, 0, bytemuck::cast_slice(&modes));
-    }
-    // Lights folded into an object's SH: a directional light from its direction, a point or
-    // spot from the object's centre with its attenuation there, in the ambient term's units.
-    let sh_per_object: Vec<[[f32; 4]; 9]> = assignment
-        .iter()
-        .zip(&prepared.layout.object_centres)
-        .map(|(o, (_, centre))| {
-            let mut sh = [DVec3::ZERO; 9];
-            for u in o.lights.iter().filter(|u| u.mode == LightMode::Sh) {
-                let l = &lights[u.light];
-                let color = colors[u.light];
-                let (dir, atten) = match l.kind {
-                    LightKind::Directional => (-DVec3::from(l.direction), 1.0),
-                    _ => {
-                        let to = DVec3::from(l.position) - *centre;
-                        (to, p.attenuation().eval(to.length(), l.range))
+    (gpu_lights, colors)
+}
+
+/// Each object's ambient light: the lights folded into its SH, where its indirect light comes
+/// from (the bake's where it reaches the object, else the sky's), and the bake's flags.
+struct ObjectAmbient {
+    sh_per_object: Vec<[[f32; 4]; 9]>,
+    level_sh: Vec<[[f32; 4]; 9]>,
+    sources: Vec<crate::render::gi::AmbientSource>,
+    level_sources: Vec<crate::render::gi::AmbientSource>,
+    subtractive: bool,
+    encoding: f32,
+    shadow_color: [f32; 4],
+}
+
+impl ObjectAmbient {
+    fn of(
+        prepared: &PreparedScene,
+        cell: &CellParams,
+        plan: &CellPlan,
+        colors: &[DVec3],
+        baked: Option<&crate::render::gi::BakedLighting>,
+    ) -> ObjectAmbient {
+        let p = cell.pipeline;
+        let (lights, assignment) = (&plan.lights, &plan.assignment);
+        // Lights folded into an object's SH: a directional light from its direction, a point or
+        // spot from the object's centre with its attenuation there, in the ambient term's units.
+        let sh_per_object: Vec<[[f32; 4]; 9]> = assignment
+            .iter()
+            .zip(&prepared.layout.object_centres)
+            .map(|(o, (_, centre))| {
+                let mut sh = [DVec3::ZERO; 9];
+                for u in o.lights.iter().filter(|u| u.mode == LightMode::Sh) {
+                    let l = &lights[u.light];
+                    let color = colors[u.light];
+                    let (dir, atten) = match l.kind {
+                        LightKind::Directional => (-DVec3::from(l.direction), 1.0),
+                        _ => {
+                            let to = DVec3::from(l.position) - *centre;
+                            (to, p.attenuation().eval(to.length(), l.range))
+                        }
+                    };
+                    let scale = crate::shading::twin::irradiance_per_intensity(p) / std::f64::consts::PI;
+                    for (acc, c) in sh.iter_mut().zip(sh_of_light(dir, color * atten * scale)) {
+                        *acc += c;
                     }
-                };
-                let scale = crate::shading::twin::irradiance_per_intensity(p) / std::f64::consts::PI;
-                for (acc, c) in sh.iter_mut().zip(sh_of_light(dir, color * atten * scale)) {
-                    *acc += c;
+                }
+                sh.map(|c| [c.x as f32, c.y as f32, c.z as f32, 0.0])
+            })
+            .collect();
+        // Each scene object's ambient: the bake's where it reaches the object (render::gi), else the sky's.
+        let grid = prepared.scene.gi.as_ref().and_then(|g| g.probes.as_ref());
+        let sources: Vec<crate::render::gi::AmbientSource> = prepared
+            .layout
+            .object_centres
+            .iter()
+            .zip(&prepared.scene.objects)
+            .zip(0..)
+            .map(|(((_, centre), o), i)| match (baked, o.role) {
+                (Some(b), Role::Subject) => b.dynamic_ambient(grid, *centre),
+                (Some(b), Role::Fixed)
+                    if b.lightmap.is_some() && prepared.lightmap.as_ref().is_some_and(|a| a.lightmapped[i]) =>
+                {
+                    crate::render::gi::AmbientSource::Lightmap { directional: b.directional }
+                }
+                _ => crate::render::gi::AmbientSource::Sky,
+            })
+            .collect();
+        // LOD levels past the first are not unwrapped: a dynamic object's levels read its probe, and a
+        // static object's the probes at its centre (Unity lights lower LODs' indirect light from the
+        // probes; their baked direct light is not drawn), or the sky without a grid.
+        let level_sources: Vec<crate::render::gi::AmbientSource> = prepared
+            .layout
+            .object_centres
+            .iter()
+            .zip(&prepared.scene.objects)
+            .zip(&sources)
+            .map(|(((_, centre), o), own)| match (baked, o.role) {
+                (Some(_), Role::Subject) => own.clone(),
+                (Some(b), Role::Fixed) => b.dynamic_ambient(grid, *centre),
+                (None, _) => crate::render::gi::AmbientSource::Sky,
+            })
+            .collect();
+        // Subtractive: the main directional light's real-time shadow darkens the lightmaps, down to
+        // the Realtime Shadow Color (SubtractMainLightWithRealtimeAttenuationFromLightmap).
+        let subtractive =
+            plan.gi.as_ref().is_some_and(|g| g.mixed_lighting == crate::declarations::gi::MixedLighting::Subtractive);
+        // How the lightmap holds its light (Object.bake.z, scene.wgsl `lightmap_gi`)
+        let encoding = plan
+            .gi
+            .as_ref()
+            .map_or(0.0, |g| crate::render::gi::lightmaps::LightmapEncoding::of_quality(g.encoding).shader_value());
+        let shadow_color = prepared.scene.gi.as_ref().map_or([0.0; 4], |g| {
+            let c = g.realtime_shadow_color.map(crate::color::srgb_to_linear);
+            [c[0] as f32, c[1] as f32, c[2] as f32, 0.0]
+        });
+        // The probe's SH is in the frame's units already (the sky's scale is in its light).
+        let with_probe = |sh: &[[f32; 4]; 9], source: &crate::render::gi::AmbientSource| {
+            let mut sh = *sh;
+            if let crate::render::gi::AmbientSource::Probe(probe) = source {
+                for (c, p) in sh.iter_mut().zip(&probe.sh) {
+                    for k in 0..3 {
+                        c[k] += p[k] as f32;
+                    }
                 }
             }
-            sh.map(|c| [c.x as f32, c.y as f32, c.z as f32, 0.0])
-        })
-        .collect();
-    // Each scene object's ambient: the bake's where it reaches the object (render::gi), else the sky's.
-    let grid = prepared.scene.gi.as_ref().and_then(|g| g.probes.as_ref());
-    let sources: Vec<crate::render::gi::AmbientSource> = prepared
-        .layout
-        .object_centres
-        .iter()
-        .zip(&prepared.scene.objects)
-        .zip(0..)
-        .map(|(((_, centre), o), i)| match (baked, o.role) {
-            (Some(b), Role::Subject) => b.dynamic_ambient(grid, *centre),
-            (Some(b), Role::Fixed)
-                if b.lightmap.is_some() && prepared.lightmap.as_ref().is_some_and(|a| a.lightmapped[i]) =>
-            {
-                crate::render::gi::AmbientSource::Lightmap { directional: b.directional }
-            }
-            _ => crate::render::gi::AmbientSource::Sky,
-        })
-        .collect();
-    // LOD levels past the first are not unwrapped: a dynamic object's levels read its probe, and a
-    // static object's the probes at its centre (Unity lights lower LODs' indirect light from the
-    // probes; their baked direct light is not drawn), or the sky without a grid.
-    let level_sources: Vec<crate::render::gi::AmbientSource> = prepared
-        .layout
-        .object_centres
-        .iter()
-        .zip(&prepared.scene.objects)
-        .zip(&sources)
-        .map(|(((_, centre), o), own)| match (baked, o.role) {
-            (Some(_), Role::Subject) => own.clone(),
-            (Some(b), Role::Fixed) => b.dynamic_ambient(grid, *centre),
-            (None, _) => crate::render::gi::AmbientSource::Sky,
-        })
-        .collect();
-    // Subtractive: the main directional light's real-time shadow darkens the lightmaps, down to
-    // the Realtime Shadow Color (SubtractMainLightWithRealtimeAttenuationFromLightmap).
-    let subtractive =
-        plan.gi.as_ref().is_some_and(|g| g.mixed_lighting == crate::declarations::gi::MixedLighting::Subtractive);
-    // How the lightmap holds its light (Object.bake.z, scene.wgsl `lightmap_gi`)
-    let encoding = plan
-        .gi
-        .as_ref()
-        .map_or(0.0, |g| crate::render::gi::lightmaps::LightmapEncoding::of_quality(g.encoding).shader_value());
-    let shadow_color = prepared.scene.gi.as_ref().map_or([0.0; 4], |g| {
-        let c = g.realtime_shadow_color.map(crate::color::srgb_to_linear);
-        [c[0] as f32, c[1] as f32, c[2] as f32, 0.0]
-    });
-    // The probe's SH is in the frame's units already (the sky's scale is in its light).
-    let with_probe = |sh: &[[f32; 4]; 9], source: &crate::render::gi::AmbientSource| {
-        let mut sh = *sh;
-        if let crate::render::gi::AmbientSource::Probe(probe) = source {
-            for (c, p) in sh.iter_mut().zip(&probe.sh) {
-                for k in 0..3 {
-                    c[k] += p[k] as f32;
-                }
-            }
-        }
-        sh
-    };
-    let level_sh: Vec<[[f32; 4]; 9]> =
-        sh_per_object.iter().zip(&level_sources).map(|(sh, s)| with_probe(sh, s)).collect();
-    let sh_per_object: Vec<[[f32; 4]; 9]> =
-        sh_per_object.iter().zip(&sources).map(|(sh, s)| with_probe(sh, s)).collect();
-    let (tiles_x, _, words) = crate::render::gbuffer::tile_grid(cell.width, cell.height, lights.len());
+            sh
+        };
+        let level_sh: Vec<[[f32; 4]; 9]> =
+            sh_per_object.iter().zip(&level_sources).map(|(sh, s)| with_probe(sh, s)).collect();
+        let sh_per_object: Vec<[[f32; 4]; 9]> =
+            sh_per_object.iter().zip(&sources).map(|(sh, s)| with_probe(sh, s)).collect();
+        ObjectAmbient { sh_per_object, level_sh, sources, level_sources, subtractive, encoding, shadow_color }
+    }
+}
+
+/// The frame's uniforms: camera, light counts, the environment, the subject's and the fixed
+/// objects' materials, and the probes (slot 0 until the capture picks theirs).
+fn frame_uniforms(
+    prepared: &PreparedScene,
+    cell: &CellParams,
+    plan: &CellPlan,
+    fixed_model: &ShaderModel,
+) -> FrameUniforms {
+    let p = cell.pipeline;
+    let (camera, lights) = (&plan.camera, &plan.lights);
+    let vp = crate::plan::camera::view_projection(camera, plan.aspect);
+    let mut frame = FrameUniforms::zeroed();
+    frame.view_proj = mat(vp);
+    frame.inv_view_proj = mat(vp.inverse());
+    frame.camera_pos = vec4(DVec3::from(camera.position), 1.0);
+    frame.screen = [cell.width as f32, cell.height as f32, 0.0, 0.0];
+    let (tiles_x, _, words) = crate::render::passes::light_tiles::tile_grid(cell.width, cell.height, lights.len());
     frame.counts = [lights.len() as u32, plan.main_light.map_or(0, |slot| slot as u32 + 1), words, tiles_x];
     for (dst, src) in frame.sh.iter_mut().zip(prepared.env.sh.iter()) {
         *dst = [src[0] as f32, src[1] as f32, src[2] as f32, 0.0];
@@ -220,10 +254,21 @@ pub(in crate::render) fn write_uniforms(
     if let Some(probes) = &prepared.probes {
         frame.reflection = [probes.probes.len() as u32, 0, 0, 0];
         for (k, t) in probes.probes.iter().enumerate() {
-            frame.probes[k] = GpuReflectionProbe::new(&t.probe, k, probes.probes.len(), 0);
+            frame.probes[k] = GpuReflectionProbe::new(&t.probe, &plan.probes[k], (k, probes.probes.len(), 0));
         }
     }
-    queue.write_buffer(&prepared.frame_buffer, 0, bytemuck::bytes_of(&frame));
+    frame
+}
+
+/// Every mesh's object uniforms (in its slot of the object buffer) and material.
+fn object_uniforms(
+    prepared: &PreparedScene,
+    cell: &CellParams,
+    plan: &CellPlan,
+    fixed_model: &ShaderModel,
+    a: &ObjectAmbient,
+) -> (Vec<u8>, Vec<GpuMaterial>) {
+    let p = cell.pipeline;
     let fades = &plan.fades;
     let mut objects = vec![0u8; (prepared.object_stride as usize) * prepared.objects.len()];
     let mut materials = Vec::with_capacity(prepared.objects.len());
@@ -241,7 +286,7 @@ pub(in crate::render) fn write_uniforms(
         let slot = &prepared.layout.meshes[i];
         // The scene's own meshes come first, then the further LOD levels.
         let first_level = i < prepared.scene.objects.len();
-        let source = if first_level { &sources[slot.scene_index] } else { &level_sources[slot.scene_index] };
+        let source = if first_level { &a.sources[slot.scene_index] } else { &a.level_sources[slot.scene_index] };
         let u = ObjectUniforms {
             model: mat(o.model),
             normal_matrix: mat(o.model.inverse().transpose()),
@@ -250,29 +295,41 @@ pub(in crate::render) fn write_uniforms(
                 Role::Subject => [1, ROLE_SUBJECT as u32, slot.scene_index as u32, o.receive_shadows as u32],
                 Role::Fixed => [0, ROLE_FIXED as u32, slot.scene_index as u32, o.receive_shadows as u32],
             },
-            light_sh: if first_level { sh_per_object[slot.scene_index] } else { level_sh[slot.scene_index] },
+            light_sh: if first_level { a.sh_per_object[slot.scene_index] } else { a.level_sh[slot.scene_index] },
             // A level fading in or out keeps its dither's share of the fragments.
             lod: match fades[i] {
                 Some(f) if f < 1.0 => [f as f32, 1.0, 0.0, 0.0],
                 _ => [1.0, 0.0, 0.0, 0.0],
             },
-            bake: [source.shader_value(), source.flags(subtractive), encoding, 0.0],
+            bake: [source.shader_value(), source.flags(a.subtractive), a.encoding, 0.0],
             occlusion: match source {
                 crate::render::gi::AmbientSource::Probe(p) => p.occlusion.map(|v| v as f32),
                 _ => [1.0; 4],
             },
-            shadow_color,
+            shadow_color: a.shadow_color,
         };
         let at = i * prepared.object_stride as usize;
         objects[at..at + std::mem::size_of::<ObjectUniforms>()].copy_from_slice(bytemuck::bytes_of(&u));
     }
-    queue.write_buffer(&prepared.object_buffer, 0, &objects);
+    (objects, materials)
+}
+
+/// The hashes of what the shadow pass, a probe capture, the fixed-object layer and the depth
+/// prepass read of the written frame (`WrittenFrame`).
+fn frame_keys(
+    prepared: &PreparedScene,
+    cell: &CellParams,
+    plan: &CellPlan,
+    (frame, gpu_lights, shadow_layers, modes, objects): (&FrameUniforms, &[GpuLight], &[ShadowLayer], &[u32], &[u8]),
+) -> (u64, u64, u64, u64) {
+    let p = cell.pipeline;
+    let fades = &plan.fades;
     let shadow_key = {
         use std::hash::{Hash, Hasher};
         let mut h = std::hash::DefaultHasher::new();
         plan.used_layers.hash(&mut h);
         plan.dynamic_casters_only.hash(&mut h);
-        bytemuck::cast_slice::<ShadowLayer, u8>(&shadow_layers).hash(&mut h);
+        bytemuck::cast_slice::<ShadowLayer, u8>(shadow_layers).hash(&mut h);
         for (i, o) in prepared.objects.iter().enumerate() {
             let at = i * prepared.object_stride as usize;
             (prepared.layout.meshes[i].cast_shadows, o.index_count, fades[i].map(f64::to_bits)).hash(&mut h);
@@ -292,12 +349,12 @@ pub(in crate::render) fn write_uniforms(
         let mut h = std::hash::DefaultHasher::new();
         p.name().hash(&mut h);
         shadow_key.hash(&mut h);
-        let mut seen = frame;
+        let mut seen = *frame;
         (seen.view_proj, seen.inv_view_proj, seen.camera_pos) = Default::default();
         seen.subject = GpuMaterial::zeroed();
         bytemuck::bytes_of(&seen).hash(&mut h);
-        bytemuck::cast_slice::<GpuLight, u8>(&gpu_lights).hash(&mut h);
-        bytemuck::cast_slice::<ShadowLayer, u8>(&shadow_layers).hash(&mut h);
+        bytemuck::cast_slice::<GpuLight, u8>(gpu_lights).hash(&mut h);
+        bytemuck::cast_slice::<ShadowLayer, u8>(shadow_layers).hash(&mut h);
         modes.hash(&mut h);
         for (i, o) in
             prepared.objects.iter().enumerate().filter(|(i, _)| prepared.layout.meshes[*i].role == Role::Fixed)
@@ -338,7 +395,7 @@ pub(in crate::render) fn write_uniforms(
         }
         h.finish()
     };
-    WrittenFrame { frame, lights: gpu_lights, capture_key: key, materials, shadow_key, layer_key, prepass_key }
+    (shadow_key, key, layer_key, prepass_key)
 }
 
 /// What writing a cell's uniforms made: the frame written, the hash of what a probe capture

@@ -9,3 +9,7 @@ pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// The shadow maps' depth (passes::shadow).
 pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// The prepass's normal buffer: HDRP's is octahedral in 8-bit channels, APPROXIMATED by 10:10:10:2
+/// as the deferred G-buffer's is (render::gbuffer::normal_format).
+pub const NORMAL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgb10a2Unorm;

@@ -344,7 +344,7 @@ impl PipelineCache {
         let source = wgsl::compose(wgsl::PassKind::Forward, Some(model));
         let module = gpu.shader_module(&format!("depth prepass {}", pipeline.name()), &source)?;
         let constants = mesh_constants(pipeline, model, textured);
-        let targets = [Some(crate::render::passes::ssao::NORMAL_FORMAT.into())];
+        let targets = [Some(crate::render::formats::NORMAL_FORMAT.into())];
         let label = format!("depth prepass {}", pipeline.name());
         let p = Self::mesh_pipeline(
             gpu,

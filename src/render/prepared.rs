@@ -63,7 +63,7 @@ pub struct PreparedScene {
     pub(in crate::render) env_view: wgpu::TextureView,
     /// The scene's reflection probes (`environment.reflections = "probe"`); their levels follow
     /// the sky's in `env_view`.
-    pub(in crate::render) probes: Option<crate::render::passes::probes::SceneProbes>,
+    pub(in crate::render) probes: Option<crate::render::reflection_probes::SceneProbes>,
     /// The frame bind group per material-map set the subject wears ("" flat), made on first use.
     pub(in crate::render) frame_groups: std::sync::Mutex<HashMap<&'static str, std::sync::Arc<wgpu::BindGroup>>>,
     /// The fixed objects' material maps (`materials::fixed`), four layers per material.
@@ -99,7 +99,7 @@ impl PreparedScene {
     pub(in crate::render) fn upload(
         gpu: &GpuContext,
         (object_layout, shadow_layer_layout): (&wgpu::BindGroupLayout, &wgpu::BindGroupLayout),
-        prefilter: Option<&crate::render::passes::probes::Prefilter>,
+        prefilter: Option<&crate::render::reflection_probes::Prefilter>,
         scene: &Scene,
         plan: FramePlan,
         mut meshes: Vec<Mesh>,
@@ -162,7 +162,7 @@ impl PreparedScene {
                 });
             }
         }
-        let (object_buffer, object_stride, object_bind_group) = crate::render::uniform_slots(
+        let (object_buffer, object_stride, object_bind_group) = crate::render::resources::uniform_slots(
             device,
             gpu.constants,
             object_layout,
@@ -180,7 +180,7 @@ impl PreparedScene {
             crate::declarations::scene::Reflections::Probe if !scene.probes.is_empty() => {
                 let prefilter =
                     prefilter.ok_or_else(|| Error::Other("reflection probes without their prefilter".into()))?;
-                Some(crate::render::passes::probes::SceneProbes::new(gpu, prefilter, &scene.probes, &env.probe))
+                Some(crate::render::reflection_probes::SceneProbes::new(gpu, prefilter, &scene.probes, &env.probe))
             }
             _ => None,
         };
@@ -336,7 +336,7 @@ pub(in crate::render) fn shadow_resources(
         dimension: Some(wgpu::TextureViewDimension::D2Array),
         ..Default::default()
     });
-    let (layer_uniforms, layer_stride, layer_bind_group) = crate::render::uniform_slots(
+    let (layer_uniforms, layer_stride, layer_bind_group) = crate::render::resources::uniform_slots(
         device,
         gpu.constants,
         shadow_layer_layout,
@@ -381,8 +381,11 @@ pub(in crate::render) fn sky_probe_view(
     gpu: &GpuContext,
     probe: &crate::environment::prefilter::Probe,
 ) -> wgpu::TextureView {
-    let texels: Vec<half::f16> =
-        probe.levels.iter().flat_map(|l| l.texels.iter().flat_map(|t| crate::render::half_texel(*t))).collect();
+    let texels: Vec<half::f16> = probe
+        .levels
+        .iter()
+        .flat_map(|l| l.texels.iter().flat_map(|t| crate::render::resources::half_texel(*t)))
+        .collect();
     let env_texture = gpu.device.create_texture_with_data(
         &gpu.queue,
         &wgpu::TextureDescriptor {

@@ -1,5 +1,7 @@
 //! A frame's render targets, made per image size and kept: colour, role and depth with their
-//! read-backs, the G-buffer, the MSAA twins and the screen-space chains that read the frame.
+//! read-backs, the G-buffer, the MSAA twins and the forward pass's fixed-object layer. The passes
+//! that read the frame (SSAO, bloom, traced shadows) keep their own textures, made again when the
+//! targets' `generation` changes.
 
 use super::formats::{DEPTH_FORMAT, HDR_FORMAT, ROLE_FORMAT};
 use super::gbuffer::GBuffer;
@@ -8,6 +10,8 @@ use crate::gpu::readback::TextureReadback;
 pub(in crate::render) struct Targets {
     pub(in crate::render) width: u32,
     pub(in crate::render) height: u32,
+    /// Which targets these are (a new size makes new ones): what the passes' own textures follow.
+    pub(in crate::render) generation: u64,
     pub(in crate::render) gbuffer: GBuffer,
     pub(in crate::render) color: wgpu::Texture,
     pub(in crate::render) role: wgpu::Texture,
@@ -19,17 +23,8 @@ pub(in crate::render) struct Targets {
     pub(in crate::render) role_readback: TextureReadback,
     /// The forward pass's multisampled targets, when a cell renders with MSAA.
     pub(in crate::render) msaa: Option<MsaaTargets>,
-    /// HDRP's bloom chain on `color`, made on first use.
-    pub(in crate::render) bloom: Option<crate::render::passes::bloom::BloomChain>,
-    /// HDRP's SSAO on the prepass depth and normals, and the screen group reading its result.
-    pub(in crate::render) ssao: Option<(crate::render::passes::ssao::SsaoChain, wgpu::BindGroup)>,
-    /// The study's traced shadow mask, made for the first cell that traces visibility.
-    pub(in crate::render) traced: Option<crate::render::passes::traced_shadows::TracedShadowMask>,
     /// The fixed objects and background of the last forward frame that drew them apart.
     pub(in crate::render) layer: Option<FixedLayer>,
-    /// The key (`WrittenFrame::prepass_key` and the renderer's) of the depth prepass and SSAO
-    /// whose visibility `ssao` holds.
-    pub(in crate::render) ssao_holds: Option<u64>,
 }
 
 /// A forward frame's fixed objects and background (passes::forward::ForwardDraw::FixedLayer):
@@ -54,7 +49,14 @@ impl ColorRoleDepth {
         let usage =
             wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::COPY_DST;
         let make = |what: &str, format| {
-            crate::render::multisampled_2d(device, &format!("{label} {what}"), (width, height), format, usage, samples)
+            crate::render::resources::multisampled_2d(
+                device,
+                &format!("{label} {what}"),
+                (width, height),
+                format,
+                usage,
+                samples,
+            )
         };
         let textures = [make("hdr", HDR_FORMAT), make("role", ROLE_FORMAT), make("depth", DEPTH_FORMAT)];
         let view = |t: &wgpu::Texture| t.create_view(&Default::default());
@@ -73,15 +75,16 @@ impl ColorRoleDepth {
 pub(in crate::render) type MsaaTargets = ColorRoleDepth;
 
 impl Targets {
-    /// The targets of `width`×`height` frames.
+    /// The targets of `width`×`height` frames, the `generation`th made.
     pub(in crate::render) fn new(
         device: &wgpu::Device,
         gbuffer_read_layout: &wgpu::BindGroupLayout,
         (width, height): (u32, u32),
+        generation: u64,
     ) -> Targets {
         {
             let make = |label: &str, format: wgpu::TextureFormat, usage: wgpu::TextureUsages| {
-                crate::render::texture_2d(device, label, (width, height), format, usage)
+                crate::render::resources::texture_2d(device, label, (width, height), format, usage)
             };
             // Copy destinations too: a fixed-object layer is copied in (passes::forward).
             let attach =
@@ -102,6 +105,7 @@ impl Targets {
             Targets {
                 width,
                 height,
+                generation,
                 gbuffer,
                 color_view: color.create_view(&Default::default()),
                 role_view,
@@ -112,11 +116,7 @@ impl Targets {
                 role,
                 depth,
                 msaa: None,
-                bloom: None,
-                ssao: None,
-                traced: None,
                 layer: None,
-                ssao_holds: None,
             }
         }
     }

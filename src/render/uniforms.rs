@@ -60,12 +60,18 @@ pub struct GpuReflectionProbe {
 }
 
 impl GpuReflectionProbe {
-    /// Probe `index` of `count`, its levels in capture slot `slot`.
-    pub fn new(p: &crate::declarations::scene::ReflectionProbe, index: usize, count: usize, slot: usize) -> Self {
+    /// Probe `index` of `count`, read as its plan says (`plan::probes`), its levels in capture
+    /// slot `slot`.
+    pub fn new(
+        p: &crate::declarations::scene::ReflectionProbe,
+        used: &crate::plan::probes::ProbeUse,
+        (index, count, slot): (usize, usize, usize),
+    ) -> Self {
         let v = |a: [f64; 3], w: f64| [a[0] as f32, a[1] as f32, a[2] as f32, w as f32];
+        let crate::plan::probes::ProbeWeight::FadeInside { distance } = used.weight;
         GpuReflectionProbe {
-            position: v(p.position, if p.box_projection { 1.0 } else { 0.0 }),
-            box_min: v(p.box_min, p.blend_distance),
+            position: v(p.position, if used.box_projection { 1.0 } else { 0.0 }),
+            box_min: v(p.box_min, distance),
             box_max: v(p.box_max, first_layer(slot, index, count) as f64),
         }
     }

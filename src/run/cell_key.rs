@@ -22,8 +22,9 @@ use crate::declarations::matrix::{hex, Matrix, ReferenceSpec};
 use crate::declarations::scene::MeshSpec;
 
 /// Bumped when what a key covers changes meaning (3: a digest per input, recorded in the cell's
-/// record so `merge` can name the input that differs).
-pub const CELL_KEY_SCHEMA: u32 = 3;
+/// record so `merge` can name the input that differs; 4: records name their passes by
+/// `plan::Pass` and carry the engine rules, so a cached record of 3 is not this tree's).
+pub const CELL_KEY_SCHEMA: u32 = 4;
 
 /// The inputs a key covers, in the order `merge` reports the first that differs, each with what
 /// it is in words.

@@ -177,6 +177,11 @@ pub fn encode_cell(
         stats,
         timing,
         passes: cell_plan.passes.iter().map(|p| p.name().to_string()).collect(),
+        rules: crate::record::cell::EngineRules {
+            reflection_probes: cell_plan.probes.clone(),
+            subject_shadow: Some(cell_plan.subject_caster),
+            ambient_occlusion: cell_plan.ao,
+        },
         lights: cell_plan.assignment,
         antialiasing: AntialiasingRecord {
             asked: cell.antialiasing,
@@ -458,6 +463,7 @@ pub fn twin_record(
         stats: o.stats,
         timing: o.timing,
         passes: o.passes,
+        rules: o.rules,
         lights: o.lights,
         antialiasing: o.antialiasing,
         shadow_maps: o.shadow_maps,
@@ -484,6 +490,7 @@ struct Measured {
     timing: CellTiming,
     /// The frame's passes in order (the plan's), as the timings name them.
     passes: Vec<String>,
+    rules: crate::record::cell::EngineRules,
     lights: Vec<crate::plan::lights::ObjectLights>,
     antialiasing: AntialiasingRecord,
     shadow_maps: Vec<crate::plan::ShadowMapUse>,
@@ -521,6 +528,7 @@ fn cell_record(
         adapter: adapter.to_string(),
         display: m.display,
         passes: m.passes,
+        rules: m.rules,
         left_out: plan.left_out.iter().chain(&m.left_out).cloned().collect(),
         draws: m.draws,
         engine: crate::record::cell::EngineSettingsRecord::of(cell.pipeline, &cell.pipeline_settings),

@@ -74,7 +74,7 @@ fn a_one_pixel_highlight_blooms_as_hdrps_formulas_say() {
         let at = (height as usize / 2) * width as usize + width as usize / 3;
         image.texels[at] = DVec3::new(400.0, 300.0, 200.0);
         let texels: Vec<f32> = image.texels.iter().flat_map(|t| [t.x as f32, t.y as f32, t.z as f32, 1.0]).collect();
-        let color = shadematrix::render::texture_2d(
+        let color = shadematrix::render::resources::texture_2d(
             &gpu.device,
             "highlight",
             (width, height),

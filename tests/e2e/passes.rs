@@ -241,7 +241,7 @@ fn every_cell_json_names_the_passes_its_frame_timed_on_every_path_and_surface() 
         if timed_passes_match_the_record(&record).is_none() {
             return; // no timestamp queries on this adapter: nothing timed to compare
         }
-        checked.push((record.path.clone(), record.passes.clone()));
+        checked.push((record.path, record.passes.clone()));
     }
     for path in [RenderPath::Forward, RenderPath::Deferred, RenderPath::VertexLit] {
         assert!(checked.iter().any(|(p, _)| *p == path), "no {path:?} cell among {}", checked.len());

@@ -8,7 +8,7 @@ use shadematrix::environment::filtered::LobeWeight;
 use shadematrix::environment::prefilter::{EquirectImage, SOURCE_WIDTH};
 use shadematrix::gpu::GpuContext;
 use shadematrix::plan::Pass;
-use shadematrix::render::passes::probes::Prefilter;
+use shadematrix::render::reflection_probes::Prefilter;
 
 #[test]
 fn gpu_prefilter_matches_its_cpu_twin() {

@@ -149,10 +149,7 @@ fn ssao_darkens_the_indirect_light_where_surfaces_meet_and_the_switch_turns_it_o
         assert!(plan.contains(&Pass::Ssao) && plan.contains(&Pass::DepthPrepass), "{plan:?}");
         assert!(!plan_off.contains(&Pass::Ssao) && !plan_off.contains(&Pass::DepthPrepass), "{plan_off:?}");
         if !timed.is_empty() {
-            assert!(
-                timed.iter().any(|n| *n == Pass::Ssao) && timed.iter().any(|n| *n == Pass::DepthPrepass),
-                "{timed:?}"
-            );
+            assert!(timed.contains(&Pass::Ssao) && timed.contains(&Pass::DepthPrepass), "{timed:?}");
         }
         let lum = |c: &[f32; 3]| (c[0] + c[1] + c[2]) as f64;
         let ratios: Vec<f64> = on

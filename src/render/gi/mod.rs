@@ -54,6 +54,42 @@ pub struct BakeUse {
     pub encoding: &'static str,
 }
 
+impl BakeUse {
+    /// What a frame planned with `plan` read of `baked` (None: nothing baked reached it); `made`:
+    /// baked for this cell; `covered`: the composition's lightmap texels.
+    pub fn of(plan: &crate::plan::gi::GiPlan, baked: Option<&BakedLighting>, made: bool, covered: usize) -> BakeUse {
+        let encoding = lightmaps::LightmapEncoding::of_quality(plan.encoding).name();
+        match baked {
+            Some(b) => BakeUse {
+                plan: plan.clone(),
+                made,
+                cached: b.cached,
+                seconds: b.seconds,
+                samples: b.samples,
+                texel_samples: b.texel_samples,
+                noise_target: b.noise_target,
+                bounces: b.bounces,
+                lightmap: b.lightmap.as_ref().map(|m| ([m.width, m.height], covered, m.noise)),
+                probes: b.probes.as_ref().map_or(0, Vec::len),
+                encoding,
+            },
+            None => BakeUse {
+                plan: plan.clone(),
+                made: false,
+                cached: false,
+                seconds: 0.0,
+                samples: 0,
+                texel_samples: 0,
+                noise_target: 0.0,
+                bounces: plan.bounces,
+                lightmap: None,
+                probes: 0,
+                encoding,
+            },
+        }
+    }
+}
+
 /// Where an object's ambient (diffuse indirect) light comes from.
 #[derive(Debug, Clone, PartialEq)]
 pub enum AmbientSource {

@@ -15,7 +15,7 @@ use wgpu::util::DeviceExt;
 
 use crate::error::Error;
 use crate::gpu::GpuContext;
-use crate::render::ComputeStep;
+use crate::render::resources::ComputeStep;
 
 const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
@@ -86,13 +86,18 @@ impl BloomPipeline {
         let device = &gpu.device;
         let module =
             gpu.shader_module(crate::plan::Pass::Bloom.name(), include_str!("../../../shaders/pass/bloom.wgsl"))?;
-        use crate::render::compute_entry::{constants, float_2d, storage_2d};
+        use crate::render::resources::compute_entry::{constants, float_2d, storage_2d};
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some(crate::plan::Pass::Bloom.name()),
             entries: &[constants(gpu.constants, 0), float_2d(1), float_2d(2), storage_2d(3, FORMAT)],
         });
-        let pipeline =
-            crate::render::compute_pipeline(device, crate::plan::Pass::Bloom.name(), &layout, &module, "cs_bloom");
+        let pipeline = crate::render::resources::compute_pipeline(
+            device,
+            crate::plan::Pass::Bloom.name(),
+            &layout,
+            &module,
+            "cs_bloom",
+        );
         Ok(BloomPipeline { pipeline, layout, space: gpu.constants })
     }
 }
@@ -115,7 +120,7 @@ impl BloomChain {
         settings: BloomSettings,
     ) -> BloomChain {
         let make = |label: &str, (w, h): (u32, u32), extra: wgpu::TextureUsages| {
-            crate::render::texture_2d(
+            crate::render::resources::texture_2d(
                 device,
                 label,
                 (w, h),
@@ -230,5 +235,39 @@ mod tests {
         assert!((hdrp.composite_weight() - 0.148698).abs() < 1e-6);
         assert!((hdrp.upsample_scatter() - 0.68).abs() < 1e-12);
         assert!(!hdrp.bicubic(799, 600) && !hdrp.bicubic(1024, 449) && hdrp.bicubic(800, 450));
+    }
+}
+
+/// HDRP's bloom as a frame runs it: its pipeline (made for the first cell that blooms) and its
+/// chain on the frame's colour target.
+#[derive(Default)]
+pub(in crate::render) struct BloomPass {
+    pipeline: Option<BloomPipeline>,
+    /// (the targets' generation, the chain on their colour)
+    chain: Option<(u64, BloomChain)>,
+}
+
+impl BloomPass {
+    /// Ready the pass for a frame on `targets`.
+    pub(in crate::render) fn prepare(
+        &mut self,
+        gpu: &GpuContext,
+        targets: &crate::render::targets::Targets,
+    ) -> Result<(), Error> {
+        if self.pipeline.is_none() {
+            self.pipeline = Some(BloomPipeline::new(gpu)?);
+        }
+        let pipeline = self.pipeline.as_ref().expect("just made");
+        if self.chain.as_ref().is_none_or(|(generation, _)| *generation != targets.generation) {
+            let size = (targets.width, targets.height);
+            let chain = BloomChain::new(&gpu.device, pipeline, &targets.color, size, BloomSettings::default());
+            self.chain = Some((targets.generation, chain));
+        }
+        Ok(())
+    }
+
+    /// The prepared chain and its pipeline.
+    pub(in crate::render) fn ready(&self) -> Option<(&BloomChain, &BloomPipeline)> {
+        Some((&self.chain.as_ref()?.1, self.pipeline.as_ref()?))
     }
 }

@@ -6,7 +6,8 @@
 //! differs from the fixed objects' (URP's StencilDeferred Lit and SimpleLit passes). Every other
 //! object is drawn forward afterwards (built-in: ForwardBase + ForwardAdd), as the engines draw
 //! shaders without a deferred pass.
-//! The G-buffer and the light tiles are the renderer's (render::gbuffer).
+//! One function per pass; the G-buffer's textures are render::gbuffer's, HDRP's light list
+//! passes::light_tiles'.
 
 use super::forward::{draw_objects, ForwardPipelines};
 use super::FrameDraw;
@@ -14,167 +15,204 @@ use crate::declarations::scene::Role;
 use crate::gpu::timing::PassTimer;
 use crate::plan::cell::CellParams;
 use crate::plan::Pass;
-use crate::render::gbuffer::{tile_grid, LightTiles};
 use crate::render::pipeline_cache::PipelineCache;
 use crate::render::prepared::PreparedScene;
 use crate::render::targets::Targets;
 use crate::render::uniforms::{ROLE_FIXED, ROLE_SUBJECT};
 use crate::shading::ShaderModel;
 
-/// One deferred frame: G-buffer, lighting per role, then what the G-buffer cannot carry drawn
-/// forward, and the background. The frame's timestamps bracket all three passes.
-#[allow(clippy::too_many_arguments)]
-pub(in crate::render) fn encode_deferred(
+/// What a deferred frame's passes draw: the frame's meshes and groups, the cell and its fixed
+/// objects' model, the targets and pipelines, and the forward draws of what the G-buffer cannot
+/// carry (`forward_add`: each mesh's ForwardAdd lights).
+pub(in crate::render) struct DeferredFrame<'a> {
+    pub(in crate::render) prepared: &'a PreparedScene,
+    pub(in crate::render) draw: FrameDraw<'a>,
+    pub(in crate::render) cell: &'a CellParams<'a>,
+    pub(in crate::render) fixed_model: &'a ShaderModel,
+    pub(in crate::render) targets: &'a Targets,
+    pub(in crate::render) pipelines: &'a PipelineCache,
+    pub(in crate::render) forward: &'a ForwardPipelines<'a>,
+    pub(in crate::render) forward_add: &'a [Vec<usize>],
+    /// Which models go into the G-buffer (the plan's).
+    pub(in crate::render) gbuffer: crate::plan::draws::GBufferModels,
+}
+
+impl DeferredFrame<'_> {
+    fn subject(&self, i: usize) -> bool {
+        self.prepared.layout.meshes[i].role == Role::Subject
+    }
+
+    /// Whether mesh `i` goes into the G-buffer: what its model's G-buffer pass can draw, less a
+    /// transparent subject.
+    fn deferred(&self, i: usize) -> bool {
+        if self.subject(i) {
+            self.gbuffer.subject
+        } else {
+            self.gbuffer.fixed
+        }
+    }
+
+    fn transparent(&self, i: usize) -> bool {
+        self.subject(i) && self.cell.settings.surface.kind.is_transparent()
+    }
+}
+
+fn attachment(
+    view: &wgpu::TextureView,
+    load: wgpu::LoadOp<wgpu::Color>,
+) -> Option<wgpu::RenderPassColorAttachment<'_>> {
+    Some(wgpu::RenderPassColorAttachment {
+        view,
+        depth_slice: None,
+        resolve_target: None,
+        ops: wgpu::Operations { load, store: wgpu::StoreOp::Store },
+    })
+}
+
+/// The G-buffer pass: every drawn object whose model has a G-buffer pass.
+pub(in crate::render) fn encode_gbuffer(
+    f: &DeferredFrame,
     encoder: &mut wgpu::CommandEncoder,
-    prepared: &PreparedScene,
-    draw: FrameDraw,
-    cell: &CellParams,
-    fixed_model: &ShaderModel,
-    tile_group: Option<&wgpu::BindGroup>,
-    timed: &[Option<(&PassTimer, u32)>],
-    (t, pipelines, tiles): (&Targets, &PipelineCache, &LightTiles),
-    (forward_only, forward_add): (&ForwardPipelines, &[Vec<usize>]),
+    timed: Option<(&PassTimer, u32)>,
 ) {
-    let p = cell.pipeline;
-    let FrameDraw { group: frame_group, drawn, screen } = draw;
-    // With the tiled loop, its compute pass sits between the G-buffer and the lighting.
-    let (light_at, last_at) = if tile_group.is_some() { (2, 3) } else { (1, 2) };
+    let (p, t) = (f.cell.pipeline, f.targets);
     let gb = &t.gbuffer;
-    let color = |view, clear| {
-        Some(wgpu::RenderPassColorAttachment {
-            view,
-            depth_slice: None,
-            resolve_target: None,
-            ops: wgpu::Operations { load: clear, store: wgpu::StoreOp::Store },
-        })
-    };
     let clear = wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT);
-    let subject = |i: usize| prepared.layout.meshes[i].role == Role::Subject;
-    let model_of = |i: usize| if subject(i) { cell.model } else { fixed_model };
-    // Into the G-buffer: what the model's G-buffer pass can draw, less a transparent subject.
-    let deferred = |i: usize| if subject(i) { cell.subject_deferrable() } else { fixed_model.deferrable() };
-    {
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some(Pass::GBuffer.name()),
-            color_attachments: &[
-                color(&gb.albedo, clear),
-                color(&gb.material, clear),
-                color(gb.normal(p), clear),
-                color(&gb.lighting, clear),
-                color(&t.role_view, clear),
-                // Unlit by any shadow-mask light until an object's bake says otherwise
-                color(&gb.shadow_mask, wgpu::LoadOp::Clear(wgpu::Color::WHITE)),
-            ],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &t.depth_view,
-                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
-                stencil_ops: None,
-            }),
-            timestamp_writes: timed[0].map(|(t, pair)| t.writes(pair, true, true)),
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        pass.set_bind_group(0, frame_group, &[]);
-        pass.set_bind_group(2, screen, &[]);
-        for (i, o) in prepared.objects.iter().enumerate().filter(|(i, _)| drawn[*i] && deferred(*i)) {
-            let textured = if subject(i) { cell.settings.material_maps.is_some() } else { prepared.fixed_maps.any() };
-            let face = prepared.layout.meshes[i].render_face;
-            pass.set_pipeline(&pipelines.gbuffer[&(p, model_of(i).name.to_string(), textured, face, pipelines.terms)]);
-            pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
-            pass.set_vertex_buffer(0, o.vertices.slice(..));
-            pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);
-            pass.draw_indexed(0..o.index_count, 0, 0..1);
-        }
-    }
-    if let (Some(group), Some(pipeline)) = (tile_group, &tiles.pipeline) {
-        encoder.clear_buffer(&tiles.masks, 0, None);
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some(Pass::LightTiles.name()),
-            timestamp_writes: timed[1].map(|(t, pair)| t.compute_writes(pair)),
-        });
-        let (tx, ty, _) = tile_grid(t.width, t.height, 0);
-        pass.set_pipeline(pipeline);
-        pass.set_bind_group(0, frame_group, &[]);
-        pass.set_bind_group(3, group, &[]);
-        pass.dispatch_workgroups(tx, ty, 1);
-    }
-    {
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some(Pass::DeferredLighting.name()),
-            color_attachments: &[color(&t.color_view, wgpu::LoadOp::Clear(wgpu::Color::BLACK))],
-            depth_stencil_attachment: None,
-            timestamp_writes: timed[light_at].map(|(t, pair)| t.writes(pair, true, true)),
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        pass.set_bind_group(0, frame_group, &[]);
-        pass.set_bind_group(1, &prepared.object_bind_group, &[0]);
-        pass.set_bind_group(2, gb.read(p), &[]);
-        pass.set_bind_group(3, &tiles.read, &[]);
-        for (model, role) in lighting_draws(cell.model, cell.subject_deferrable(), fixed_model) {
-            if let Some(pipeline) = pipelines.lighting.get(&(p, model.name.to_string(), role as u32, pipelines.terms)) {
-                pass.set_pipeline(pipeline);
-                pass.draw(0..3, 0..1);
-            }
-        }
-    }
-    // The depth stays for a Transparent queue after this pass.
-    let depth_store =
-        if cell.settings.surface.kind.is_transparent() { wgpu::StoreOp::Store } else { wgpu::StoreOp::Discard };
     let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some(Pass::ForwardOnly.name()),
-        color_attachments: &[color(&t.color_view, wgpu::LoadOp::Load), color(&t.role_view, wgpu::LoadOp::Load)],
+        label: Some(Pass::GBuffer.name()),
+        color_attachments: &[
+            attachment(&gb.albedo, clear),
+            attachment(&gb.material, clear),
+            attachment(gb.normal(p), clear),
+            attachment(&gb.lighting, clear),
+            attachment(&t.role_view, clear),
+            // Unlit by any shadow-mask light until an object's bake says otherwise
+            attachment(&gb.shadow_mask, wgpu::LoadOp::Clear(wgpu::Color::WHITE)),
+        ],
         depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
             view: &t.depth_view,
-            depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: depth_store }),
+            depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
             stencil_ops: None,
         }),
-        timestamp_writes: timed[last_at].map(|(t, pair)| t.writes(pair, true, true)),
+        timestamp_writes: timed.map(|(t, pair)| t.writes(pair, true, true)),
         occlusion_query_set: None,
         multiview_mask: None,
     });
-    pass.set_bind_group(0, frame_group, &[]);
-    pass.set_bind_group(1, &prepared.object_bind_group, &[0]);
-    pass.set_bind_group(2, screen, &[]);
-    // The opaque forward-only objects and the sky; then the Transparent queue (the subject alone)
-    // in its own pass, timed apart.
-    let transparent = |i: usize| subject(i) && cell.settings.surface.kind.is_transparent();
-    draw_objects(&mut pass, prepared, forward_only, forward_add, |i| drawn[i] && !deferred(i) && !transparent(i));
-    if let (true, Some(bg)) = (prepared.plan.background, pipelines.background.get(&(1, pipelines.terms))) {
+    pass.set_bind_group(0, f.draw.group, &[]);
+    pass.set_bind_group(2, f.draw.screen, &[]);
+    let prepared = f.prepared;
+    for (i, o) in prepared.objects.iter().enumerate().filter(|(i, _)| f.draw.drawn[*i] && f.deferred(*i)) {
+        let subject = f.subject(i);
+        let model = if subject { f.cell.model } else { f.fixed_model };
+        let textured = if subject { f.cell.settings.material_maps.is_some() } else { prepared.fixed_maps.any() };
+        let face = prepared.layout.meshes[i].render_face;
+        let key = (p, model.name.to_string(), textured, face, f.pipelines.terms);
+        pass.set_bind_group(2, f.draw.screen_of(prepared, i), &[]);
+        pass.set_pipeline(&f.pipelines.gbuffer[&key]);
+        pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
+        pass.set_vertex_buffer(0, o.vertices.slice(..));
+        pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);
+        pass.draw_indexed(0..o.index_count, 0, 0..1);
+    }
+}
+
+/// The lighting pass: a full-screen draw per material type over the G-buffer (`tiles`: the light
+/// list's masks, read where HDRP's tiled loop filled them).
+pub(in crate::render) fn encode_lighting(
+    f: &DeferredFrame,
+    tiles: &wgpu::BindGroup,
+    encoder: &mut wgpu::CommandEncoder,
+    timed: Option<(&PassTimer, u32)>,
+) {
+    let (p, t) = (f.cell.pipeline, f.targets);
+    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(Pass::DeferredLighting.name()),
+        color_attachments: &[attachment(&t.color_view, wgpu::LoadOp::Clear(wgpu::Color::BLACK))],
+        depth_stencil_attachment: None,
+        timestamp_writes: timed.map(|(t, pair)| t.writes(pair, true, true)),
+        occlusion_query_set: None,
+        multiview_mask: None,
+    });
+    pass.set_bind_group(0, f.draw.group, &[]);
+    pass.set_bind_group(1, &f.prepared.object_bind_group, &[0]);
+    pass.set_bind_group(2, t.gbuffer.read(p), &[]);
+    pass.set_bind_group(3, tiles, &[]);
+    for (model, role) in lighting_draws((f.cell.model, f.fixed_model), f.gbuffer) {
+        if let Some(pipeline) = f.pipelines.lighting.get(&(p, model.name.to_string(), role as u32, f.pipelines.terms)) {
+            pass.set_pipeline(pipeline);
+            pass.draw(0..3, 0..1);
+        }
+    }
+}
+
+/// A forward pass over the lit frame, on its depth (kept where `keep_depth`: a later pass reads it).
+fn forward_over<'e>(
+    f: &DeferredFrame,
+    encoder: &'e mut wgpu::CommandEncoder,
+    (label, keep_depth): (Pass, bool),
+    timed: Option<(&PassTimer, u32)>,
+) -> wgpu::RenderPass<'e> {
+    let t = f.targets;
+    let store = if keep_depth { wgpu::StoreOp::Store } else { wgpu::StoreOp::Discard };
+    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label.name()),
+        color_attachments: &[
+            attachment(&t.color_view, wgpu::LoadOp::Load),
+            attachment(&t.role_view, wgpu::LoadOp::Load),
+        ],
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view: &t.depth_view,
+            depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store }),
+            stencil_ops: None,
+        }),
+        timestamp_writes: timed.map(|(t, pair)| t.writes(pair, true, true)),
+        occlusion_query_set: None,
+        multiview_mask: None,
+    });
+    pass.set_bind_group(0, f.draw.group, &[]);
+    pass.set_bind_group(1, &f.prepared.object_bind_group, &[0]);
+    pass.set_bind_group(2, f.draw.screen, &[]);
+    pass
+}
+
+/// The forward-only pass: the opaque objects the G-buffer cannot carry, then the sky.
+/// `keep_depth`: a Transparent queue follows.
+pub(in crate::render) fn encode_forward_only(
+    f: &DeferredFrame,
+    keep_depth: bool,
+    encoder: &mut wgpu::CommandEncoder,
+    timed: Option<(&PassTimer, u32)>,
+) {
+    let mut pass = forward_over(f, encoder, (Pass::ForwardOnly, keep_depth), timed);
+    let (prepared, drawn) = (f.prepared, f.draw.drawn);
+    draw_objects(&mut pass, (prepared, &f.draw), f.forward, f.forward_add, |i| {
+        drawn[i] && !f.deferred(i) && !f.transparent(i)
+    });
+    if let (true, Some(bg)) = (prepared.plan.background, f.pipelines.background.get(&(1, f.pipelines.terms))) {
         pass.set_pipeline(bg);
         pass.draw(0..3, 0..1);
     }
-    drop(pass);
-    if !cell.settings.surface.kind.is_transparent() {
-        return;
-    }
-    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some(Pass::Transparent.name()),
-        color_attachments: &[color(&t.color_view, wgpu::LoadOp::Load), color(&t.role_view, wgpu::LoadOp::Load)],
-        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-            view: &t.depth_view,
-            depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Discard }),
-            stencil_ops: None,
-        }),
-        timestamp_writes: timed.get(last_at + 1).copied().flatten().map(|(t, pair)| t.writes(pair, true, true)),
-        occlusion_query_set: None,
-        multiview_mask: None,
-    });
-    pass.set_bind_group(0, frame_group, &[]);
-    pass.set_bind_group(1, &prepared.object_bind_group, &[0]);
-    pass.set_bind_group(2, screen, &[]);
-    draw_objects(&mut pass, prepared, forward_only, forward_add, |i| drawn[i] && transparent(i));
+}
+
+/// The Transparent queue (the subject alone), after everything else.
+pub(in crate::render) fn encode_transparent(
+    f: &DeferredFrame,
+    encoder: &mut wgpu::CommandEncoder,
+    timed: Option<(&PassTimer, u32)>,
+) {
+    let mut pass = forward_over(f, encoder, (Pass::Transparent, false), timed);
+    let drawn = f.draw.drawn;
+    draw_objects(&mut pass, (f.prepared, &f.draw), f.forward, f.forward_add, |i| drawn[i] && f.transparent(i));
 }
 
 /// The lighting pass's full-screen draws: (model, role shaded; 0 every G-buffer pixel). One draw
 /// when one deferred model covers the frame's G-buffer (the subject's is the fixed objects', or
 /// the subject is drawn forward); one per model where they differ.
 pub(in crate::render) fn lighting_draws<'m>(
-    subject: &'m ShaderModel,
-    subject_deferrable: bool,
-    fixed: &'m ShaderModel,
+    (subject, fixed): (&'m ShaderModel, &'m ShaderModel),
+    gbuffer: crate::plan::draws::GBufferModels,
 ) -> Vec<(&'m ShaderModel, u8)> {
-    match (subject_deferrable, fixed.deferrable()) {
+    match (gbuffer.subject, gbuffer.fixed) {
         (true, true) if subject.name == fixed.name => vec![(fixed, ROLE_ANY)],
         (true, true) => vec![(subject, ROLE_SUBJECT), (fixed, ROLE_FIXED)],
         (true, false) => vec![(subject, ROLE_SUBJECT)],

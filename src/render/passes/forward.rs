@@ -34,16 +34,18 @@ pub(in crate::render) struct ModelPipelines<'a> {
     pub(in crate::render) add: Option<ByFace<'a>>,
 }
 
-/// Draw the meshes `which` admits: each in its model's pipeline, then once per ForwardAdd light
-/// (`forward_add`, plan::draws) as one instance whose index is the light.
+/// Draw the meshes `which` admits: each in its model's pipeline with its screen group (`draw`),
+/// then once per ForwardAdd light (`forward_add`, plan::draws) as one instance whose index is the
+/// light.
 pub(in crate::render) fn draw_objects(
     pass: &mut wgpu::RenderPass,
-    prepared: &PreparedScene,
+    (prepared, draw): (&PreparedScene, &FrameDraw),
     pipelines: &ForwardPipelines,
     forward_add: &[Vec<usize>],
     which: impl Fn(usize) -> bool,
 ) {
     for (i, o) in prepared.objects.iter().enumerate().filter(|(i, _)| which(*i)) {
+        pass.set_bind_group(2, draw.screen_of(prepared, i), &[]);
         let subject = prepared.layout.meshes[i].role == Role::Subject;
         let model = if subject { pipelines.subject } else { pipelines.fixed };
         let face = prepared.layout.meshes[i].render_face as usize;
@@ -157,13 +159,42 @@ pub(in crate::render) fn encode_forward(
     }
     let subject = |i: usize| prepared.layout.meshes[i].role == Role::Subject;
     if part != ForwardDraw::SubjectOver {
-        draw_objects(&mut pass, prepared, pipelines, forward_add, |i| draw.drawn[i] && !subject(i));
+        draw_objects(&mut pass, (prepared, draw), pipelines, forward_add, |i| draw.drawn[i] && !subject(i));
         // The background's layout has the object group, which it does not read: with no fixed
         // object drawn before it, one is bound.
         pass.set_bind_group(1, &prepared.object_bind_group, &[0]);
         super::background::draw_background(&mut pass, pipelines.background);
     }
     if part != ForwardDraw::FixedLayer {
-        draw_objects(&mut pass, prepared, pipelines, forward_add, |i| draw.drawn[i] && subject(i));
+        draw_objects(&mut pass, (prepared, draw), pipelines, forward_add, |i| draw.drawn[i] && subject(i));
     }
+}
+
+/// The forward (or vertex-lit) pass of a frame on `targets`. `layer`: Some where the frame may
+/// draw the subject alone over the fixed-object layer (Some(true): the layer is drawn first, its
+/// inputs having changed); None: the whole frame.
+#[allow(clippy::too_many_arguments)]
+pub(in crate::render) fn encode_forward_pass(
+    encoder: &mut wgpu::CommandEncoder,
+    prepared: &PreparedScene,
+    draw: &FrameDraw,
+    (pipelines, forward_add): (&ForwardPipelines, &[Vec<usize>]),
+    targets: &Targets,
+    samples: u32,
+    layer: Option<bool>,
+    timed: Option<(&PassTimer, u32)>,
+) {
+    let part = match (layer, targets.layer.as_ref()) {
+        (Some(build), Some(l)) => {
+            if build {
+                let into = ForwardTargets::layer(&l.targets);
+                encode_forward(encoder, prepared, draw, pipelines, forward_add, &into, ForwardDraw::FixedLayer, None);
+            }
+            targets.restore_layer(encoder, samples);
+            ForwardDraw::SubjectOver
+        }
+        _ => ForwardDraw::Whole,
+    };
+    let into = ForwardTargets::of(targets, samples);
+    encode_forward(encoder, prepared, draw, pipelines, forward_add, &into, part, timed);
 }

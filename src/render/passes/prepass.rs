@@ -3,7 +3,6 @@
 
 use super::FrameDraw;
 use crate::gpu::timing::PassTimer;
-use crate::gpu::GpuContext;
 use crate::render::prepared::PreparedScene;
 
 /// HDRP's depth prepass: every drawn object's depth and shading normal, what SSAO reads.
@@ -42,38 +41,4 @@ pub(in crate::render) fn encode_depth_prepass(
         pass.set_index_buffer(o.indices.slice(..), wgpu::IndexFormat::Uint32);
         pass.draw_indexed(0..o.index_count, 0, 0..1);
     }
-}
-
-/// The screen group over an SSAO visibility texture.
-pub(in crate::render) fn screen_group(
-    device: &wgpu::Device,
-    layout: &wgpu::BindGroupLayout,
-    visibility: &wgpu::Texture,
-) -> wgpu::BindGroup {
-    device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("screen"),
-        layout,
-        entries: &[wgpu::BindGroupEntry {
-            binding: 6,
-            resource: wgpu::BindingResource::TextureView(&visibility.create_view(&Default::default())),
-        }],
-    })
-}
-
-/// The screen group of a frame without SSAO: a 1×1 visibility of 1.
-pub(in crate::render) fn neutral_screen_group(gpu: &GpuContext, layout: &wgpu::BindGroupLayout) -> wgpu::BindGroup {
-    let texture = crate::render::texture_2d(
-        &gpu.device,
-        "no ssao",
-        (1, 1),
-        wgpu::TextureFormat::Rg32Float,
-        wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-    );
-    gpu.queue.write_texture(
-        texture.as_image_copy(),
-        bytemuck::cast_slice(&[1.0f32, 0.0]),
-        wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(8), rows_per_image: None },
-        wgpu::Extent3d { width: 1, height: 1, depth_or_array_layers: 1 },
-    );
-    screen_group(&gpu.device, layout, &texture)
 }

@@ -186,7 +186,7 @@ fn build(gpu: &GpuContext, layouts: &[Option<&wgpu::BindGroupLayout>], cutout: b
         uv_layout[1].offset = std::mem::offset_of!(Vertex, uv) as u64;
     }
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some(if cutout { "shadow (cutout)" } else { "shadow" }),
+        label: Some(if cutout { "shadow (cutout)" } else { crate::plan::Pass::Shadow.name() }),
         layout: Some(&layout),
         vertex: wgpu::VertexState {
             module: &module,
@@ -216,4 +216,53 @@ fn build(gpu: &GpuContext, layouts: &[Option<&wgpu::BindGroupLayout>], cutout: b
         multiview_mask: None,
         cache: None,
     })
+}
+
+/// The shadow pass's own state: the layer slot's layout, the depth-only pipeline, and a textured
+/// cutout subject's pipeline (made for the first such cell).
+pub(in crate::render) struct ShadowPass {
+    pub(in crate::render) layer_layout: wgpu::BindGroupLayout,
+    pub(in crate::render) pipeline: wgpu::RenderPipeline,
+    cutout: Option<CutoutShadow>,
+}
+
+impl ShadowPass {
+    pub(in crate::render) fn new(gpu: &GpuContext, object_layout: &wgpu::BindGroupLayout) -> ShadowPass {
+        let layer_layout = crate::render::resources::uniform_slot_layout(
+            &gpu.device,
+            gpu.constants,
+            "shadow layer",
+            wgpu::ShaderStages::VERTEX,
+            64,
+        );
+        let pipeline = shadow_pipeline(gpu, &layer_layout, object_layout);
+        ShadowPass { layer_layout, pipeline, cutout: None }
+    }
+
+    /// The material group of a cell whose subject casts clipped by its alpha map (`albedo`, times
+    /// its base `alpha`; `plan::shadows::SubjectCaster::AlphaClipped`) into shadow maps the frame
+    /// draws (`casts`); None for every other cell.
+    pub(in crate::render) fn cutout_group(
+        &mut self,
+        gpu: &GpuContext,
+        object_layout: &wgpu::BindGroupLayout,
+        (caster, alpha, casts): (crate::plan::shadows::SubjectCaster, f64, bool),
+        (albedo, sampler): (Option<&wgpu::TextureView>, &wgpu::Sampler),
+    ) -> Option<wgpu::BindGroup> {
+        let crate::plan::shadows::SubjectCaster::AlphaClipped { cutoff } = caster else { return None };
+        if !casts {
+            return None;
+        }
+        let albedo = albedo?;
+        let cutout = self.cutout.get_or_insert_with(|| CutoutShadow::new(gpu, &self.layer_layout, object_layout));
+        Some(cutout.group(gpu, (alpha as f32, cutoff as f32), albedo, sampler))
+    }
+
+    /// The cutout pipeline with the cell's material `group`, where it has one.
+    pub(in crate::render) fn cutout<'a>(
+        &'a self,
+        group: Option<&'a wgpu::BindGroup>,
+    ) -> Option<(&'a wgpu::RenderPipeline, &'a wgpu::BindGroup)> {
+        self.cutout.as_ref().map(|c| &c.pipeline).zip(group)
+    }
 }

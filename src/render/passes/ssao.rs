@@ -24,12 +24,9 @@ use wgpu::util::DeviceExt;
 use crate::declarations::scene::Camera;
 use crate::error::Error;
 use crate::gpu::GpuContext;
-use crate::render::ComputeStep;
+use crate::render::resources::ComputeStep;
 
 const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
-/// The prepass's normal buffer: HDRP's is octahedral in 8-bit channels, APPROXIMATED by 10:10:10:2
-/// as the deferred G-buffer's is (render::gbuffer::normal_format).
-pub const NORMAL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgb10a2Unorm;
 
 const CLOSEST: u32 = 1;
 const HORIZONS: u32 = 2;
@@ -129,7 +126,7 @@ impl SsaoPipeline {
         let device = &gpu.device;
         let source = crate::shading::wgsl::with_math(include_str!("../../../shaders/pass/ssao.wgsl"));
         let module = gpu.shader_module(crate::plan::Pass::Ssao.name(), &source)?;
-        use crate::render::compute_entry::{constants, float_2d, storage_2d, texture};
+        use crate::render::resources::compute_entry::{constants, float_2d, storage_2d, texture};
         let steps_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("ssao steps"),
             entries: &[
@@ -146,9 +143,20 @@ impl SsaoPipeline {
             label: Some("ssao depth copy"),
             entries: &[depth, storage_2d(7, FORMAT)],
         });
-        let steps =
-            crate::render::compute_pipeline(device, crate::plan::Pass::Ssao.name(), &steps_layout, &module, "cs_ssao");
-        let copy = crate::render::compute_pipeline(device, "ssao depth copy", &copy_layout, &module, "cs_depth_copy");
+        let steps = crate::render::resources::compute_pipeline(
+            device,
+            crate::plan::Pass::Ssao.name(),
+            &steps_layout,
+            &module,
+            "cs_ssao",
+        );
+        let copy = crate::render::resources::compute_pipeline(
+            device,
+            "ssao depth copy",
+            &copy_layout,
+            &module,
+            "cs_depth_copy",
+        );
         gpu.check_errors("creating the SSAO pipelines")?;
         Ok(SsaoPipeline { steps, steps_layout, copy, copy_layout, space: gpu.constants })
     }
@@ -179,7 +187,7 @@ impl SsaoChain {
     ) -> (SsaoChain, wgpu::Texture) {
         let storage = wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING;
         let make = |label: &str, size: (u32, u32), extra: wgpu::TextureUsages| {
-            crate::render::texture_2d(device, label, size, FORMAT, storage | extra)
+            crate::render::resources::texture_2d(device, label, size, FORMAT, storage | extra)
         };
         let [full, l1, l2] = level_sizes(width, height);
         let depth0 = make("ssao depth", full, wgpu::TextureUsages::COPY_DST);
@@ -188,11 +196,11 @@ impl SsaoChain {
         let packed = make("ssao packed", l1, wgpu::TextureUsages::empty());
         let visibility = make("ssao visibility", full, wgpu::TextureUsages::COPY_SRC);
         let normal = normal.unwrap_or_else(|| {
-            crate::render::texture_2d(
+            crate::render::resources::texture_2d(
                 device,
                 "ssao normals",
                 full,
-                NORMAL_FORMAT,
+                crate::render::formats::NORMAL_FORMAT,
                 wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
             )
             .create_view(&Default::default())
@@ -294,7 +302,7 @@ pub fn visibility_of(
 ) -> Result<Vec<f32>, Error> {
     let device = &gpu.device;
     let pipeline = SsaoPipeline::new(gpu)?;
-    let normal_texture = crate::render::texture_2d(
+    let normal_texture = crate::render::resources::texture_2d(
         device,
         "ssao test normals",
         (width, height),
@@ -349,4 +357,90 @@ mod tests {
         assert_eq!(level_sizes(384, 256), [(384, 256), (192, 128), (96, 64)]);
         assert_eq!(level_sizes(5, 3), [(5, 3), (3, 2), (2, 1)]);
     }
+}
+
+/// HDRP's SSAO as a frame runs it: its pipelines (made for the first cell that occludes), its
+/// chain on the frame's targets with the screen group the lighting reads it through, and the key
+/// of the prepass and SSAO whose visibility the chain holds.
+#[derive(Default)]
+pub(in crate::render) struct SsaoPass {
+    pipeline: Option<SsaoPipeline>,
+    /// (the targets' generation, the chain on their depth, the group reading its visibility)
+    chain: Option<(u64, SsaoChain, wgpu::BindGroup)>,
+    holds: Option<u64>,
+}
+
+impl SsaoPass {
+    /// Ready the pass for a frame on `targets` seen by `camera`.
+    pub(in crate::render) fn prepare(
+        &mut self,
+        gpu: &GpuContext,
+        screen_layout: &wgpu::BindGroupLayout,
+        targets: &crate::render::targets::Targets,
+        camera: &Camera,
+    ) -> Result<(), Error> {
+        if self.pipeline.is_none() {
+            self.pipeline = Some(SsaoPipeline::new(gpu)?);
+        }
+        let pipeline = self.pipeline.as_ref().expect("just made");
+        if self.chain.as_ref().is_none_or(|(generation, _, _)| *generation != targets.generation) {
+            let size = (targets.width, targets.height);
+            let (chain, _) = SsaoChain::new(&gpu.device, pipeline, size, Some(&targets.depth_view), None);
+            let group = screen_group(&gpu.device, screen_layout, &chain.visibility);
+            self.chain = Some((targets.generation, chain, group));
+            self.holds = None;
+        }
+        let (_, chain, _) = self.chain.as_ref().expect("just made");
+        let frame = SsaoFrame::new(camera, targets.width, targets.height, &SsaoSettings::default());
+        chain.write_frame(&gpu.queue, &frame);
+        Ok(())
+    }
+
+    /// Whether the prepass and SSAO must run for a frame whose inputs hash to `key`: not where
+    /// `reuse` lets the frame keep what the chain holds from the cell before.
+    pub(in crate::render) fn needed(&mut self, key: u64, reuse: bool) -> bool {
+        let kept = reuse && self.holds == Some(key);
+        self.holds = Some(key);
+        !kept
+    }
+
+    /// The prepared chain, its pipelines and the screen group reading its visibility.
+    pub(in crate::render) fn ready(&self) -> Option<(&SsaoChain, &SsaoPipeline, &wgpu::BindGroup)> {
+        let (_, chain, group) = self.chain.as_ref()?;
+        Some((chain, self.pipeline.as_ref()?, group))
+    }
+}
+
+/// The screen group over an SSAO visibility texture.
+pub(in crate::render) fn screen_group(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    visibility: &wgpu::Texture,
+) -> wgpu::BindGroup {
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("screen"),
+        layout,
+        entries: &[wgpu::BindGroupEntry {
+            binding: 6,
+            resource: wgpu::BindingResource::TextureView(&visibility.create_view(&Default::default())),
+        }],
+    })
+}
+
+/// The screen group of a frame without SSAO: a 1×1 visibility of 1.
+pub(in crate::render) fn neutral_screen_group(gpu: &GpuContext, layout: &wgpu::BindGroupLayout) -> wgpu::BindGroup {
+    let texture = crate::render::resources::texture_2d(
+        &gpu.device,
+        "no ssao",
+        (1, 1),
+        wgpu::TextureFormat::Rg32Float,
+        wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+    );
+    gpu.queue.write_texture(
+        texture.as_image_copy(),
+        bytemuck::cast_slice(&[1.0f32, 0.0]),
+        wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(8), rows_per_image: None },
+        wgpu::Extent3d { width: 1, height: 1, depth_or_array_layers: 1 },
+    );
+    screen_group(&gpu.device, layout, &texture)
 }

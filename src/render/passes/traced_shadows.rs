@@ -22,7 +22,7 @@ impl TracedShadowsPipeline {
         ray_layout: &wgpu::BindGroupLayout,
         pipeline_id: u32,
     ) -> Result<TracedShadowsPipeline, Error> {
-        use crate::render::compute_entry::{read_write_storage, texture};
+        use crate::render::resources::compute_entry::{read_write_storage, texture};
         let device = &gpu.device;
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some(crate::plan::Pass::TracedShadows.name()),
@@ -38,7 +38,7 @@ impl TracedShadowsPipeline {
         let layouts = [frame_layout, &layout, ray_layout];
         let pipeline = crate::render::truth::ray_compute_pipeline(
             device,
-            "traced shadows",
+            crate::plan::Pass::TracedShadows.name(),
             &module,
             layouts,
             "cs_traced_shadows",
@@ -65,11 +65,11 @@ impl TracedShadowMask {
             usage: wgpu::BufferUsages::STORAGE,
             mapped_at_creation: false,
         });
-        let normal = crate::render::texture_2d(
+        let normal = crate::render::resources::texture_2d(
             device,
             "traced shadows normals",
             (width, height),
-            crate::render::passes::ssao::NORMAL_FORMAT,
+            crate::render::formats::NORMAL_FORMAT,
             wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
         )
         .create_view(&Default::default());
@@ -106,5 +106,42 @@ impl TracedShadowMask {
         pass.set_bind_group(1, &group, &[]);
         pass.set_bind_group(3, rays_group, &[]);
         pass.dispatch_workgroups(self.size.0.div_ceil(8), self.size.1.div_ceil(8), 1);
+    }
+}
+
+/// The study's traced visibility as a frame runs it: a pipeline per engine (its light
+/// attenuation), made for the first cell that traces, and the mask on the frame's size.
+#[derive(Default)]
+pub(in crate::render) struct TracedShadowsPass {
+    pipelines: std::collections::HashMap<crate::pipelines::Pipeline, TracedShadowsPipeline>,
+    /// (the targets' generation, the mask of their size)
+    mask: Option<(u64, TracedShadowMask)>,
+}
+
+impl TracedShadowsPass {
+    /// Ready the pass for a `pipeline` frame on `targets`.
+    pub(in crate::render) fn prepare(
+        &mut self,
+        gpu: &GpuContext,
+        (frame_layout, ray_layout): (&wgpu::BindGroupLayout, &wgpu::BindGroupLayout),
+        pipeline: crate::pipelines::Pipeline,
+        targets: &crate::render::targets::Targets,
+    ) -> Result<(), Error> {
+        if let std::collections::hash_map::Entry::Vacant(slot) = self.pipelines.entry(pipeline) {
+            slot.insert(TracedShadowsPipeline::new(gpu, frame_layout, ray_layout, pipeline.shader_id())?);
+        }
+        if self.mask.as_ref().is_none_or(|(generation, _)| *generation != targets.generation) {
+            let mask = TracedShadowMask::new(&gpu.device, (targets.width, targets.height));
+            self.mask = Some((targets.generation, mask));
+        }
+        Ok(())
+    }
+
+    /// The prepared mask and the `pipeline`'s tracer.
+    pub(in crate::render) fn ready(
+        &self,
+        pipeline: crate::pipelines::Pipeline,
+    ) -> Option<(&TracedShadowMask, &TracedShadowsPipeline)> {
+        Some((&self.mask.as_ref()?.1, self.pipelines.get(&pipeline)?))
     }
 }

@@ -58,7 +58,7 @@ impl Renderer {
     }
 
     /// The bake this cell's frame reads, made on first use.
-    pub(super) fn baked_lighting(
+    pub(in crate::render) fn baked_lighting(
         &mut self,
         prepared: &PreparedScene,
         cell: &CellParams,

@@ -114,7 +114,7 @@ pub struct TruthPipeline {
 
 /// The layout of the tracer's own group (group 1).
 pub fn group_layout(device: &wgpu::Device, space: ConstantSpace) -> wgpu::BindGroupLayout {
-    use super::compute_entry::{constants, read_only_storage, read_write_storage};
+    use super::resources::compute_entry::{constants, read_only_storage, read_write_storage};
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("truth"),
         entries: &[

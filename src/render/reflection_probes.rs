@@ -22,8 +22,8 @@ use crate::error::Error;
 use crate::gpu::GpuContext;
 
 use crate::declarations::scene::ReflectionProbe;
+use crate::render::resources::ComputeStep;
 pub use crate::render::uniforms::{first_layer, GpuReflectionProbe};
-use crate::render::ComputeStep;
 
 pub use crate::declarations::scene::MAX_PROBES;
 /// The capture's colour format: the forward pipelines' target format.
@@ -90,10 +90,10 @@ impl Prefilter {
     pub fn new(gpu: &GpuContext) -> Result<Prefilter, Error> {
         let device = &gpu.device;
         let module = gpu.shader_module(
-            "probe prefilter",
-            &crate::shading::wgsl::with_math(include_str!("../../../shaders/pass/probe_prefilter.wgsl")),
+            crate::plan::Pass::ProbePrefilter.name(),
+            &crate::shading::wgsl::with_math(include_str!("../../shaders/pass/probe_prefilter.wgsl")),
         )?;
-        use crate::render::compute_entry::{constants, storage_2d, texture};
+        use crate::render::resources::compute_entry::{constants, storage_2d, texture};
         let float = wgpu::TextureSampleType::Float { filterable: false };
         let filterable = wgpu::TextureSampleType::Float { filterable: true };
         let sampler_entry = |binding, kind| wgpu::BindGroupLayoutEntry {
@@ -113,7 +113,7 @@ impl Prefilter {
                 sampler_entry(5, wgpu::SamplerBindingType::Filtering),
             ],
         });
-        let pipeline = crate::render::compute_pipeline(
+        let pipeline = crate::render::resources::compute_pipeline(
             device,
             crate::plan::Pass::ProbePrefilter.name(),
             &layout,
@@ -151,7 +151,7 @@ impl Prefilter {
                 | wgpu::TextureUsages::COPY_DST,
             view_formats: &[],
         });
-        let no_source = crate::render::texture_2d(
+        let no_source = crate::render::resources::texture_2d(
             device,
             "no probe source",
             (1, 1),
@@ -286,7 +286,8 @@ impl Prefilter {
                 source.height
             )));
         }
-        let texels: Vec<half::f16> = source.texels.iter().flat_map(|t| crate::render::half_texel(*t)).collect();
+        let texels: Vec<half::f16> =
+            source.texels.iter().flat_map(|t| crate::render::resources::half_texel(*t)).collect();
         gpu.queue.write_texture(
             self.chain.as_image_copy(),
             bytemuck::cast_slice(&texels),
@@ -300,7 +301,7 @@ impl Prefilter {
         let levels = level_texture(device, LEVELS, wgpu::TextureUsages::COPY_SRC);
         let steps = self.steps(device, None, (&levels, 0), weight);
         let mut encoder = device.create_command_encoder(&Default::default());
-        crate::render::encode_steps(&mut encoder, "probe prefilter", &self.pipeline, &steps, None);
+        crate::render::resources::encode_steps(&mut encoder, crate::plan::Pass::ProbePrefilter.name(), &self.pipeline, &steps, None);
         let row = PROBE_WIDTH as u32 * 8;
         let readback = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("probe levels readback"),
@@ -378,7 +379,7 @@ pub fn sky_levels(probe: &prefilter::Probe) -> Vec<half::f16> {
                         .texel_direction(x, y);
                     level.lookup(d)
                 };
-                out.extend(crate::render::half_texel(t));
+                out.extend(crate::render::resources::half_texel(t));
             }
         }
     }
@@ -570,7 +571,7 @@ impl SceneProbes {
         timestamps: Option<wgpu::ComputePassTimestampWrites>,
     ) {
         let steps = self.probes.iter().flat_map(|p| &p.steps[slot][weight.code() as usize]);
-        crate::render::encode_steps(
+        crate::render::resources::encode_steps(
             encoder,
             crate::plan::Pass::ProbePrefilter.name(),
             &prefilter.pipeline,
@@ -586,7 +587,7 @@ mod tests {
 
     #[test]
     fn prefilter_params_mirror_the_wgsl_struct() {
-        let source = crate::shading::wgsl::with_math(include_str!("../../../shaders/pass/probe_prefilter.wgsl"));
+        let source = crate::shading::wgsl::with_math(include_str!("../../shaders/pass/probe_prefilter.wgsl"));
         let (size, fields) = crate::mirror_layout!(PrefilterParams, [dims, level, faces, probe_position]);
         crate::gpu::layout::check_mirror(&source, "PrefilterParams", size, &fields).unwrap();
     }
