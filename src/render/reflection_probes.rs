@@ -301,7 +301,13 @@ impl Prefilter {
         let levels = level_texture(device, LEVELS, wgpu::TextureUsages::COPY_SRC);
         let steps = self.steps(device, None, (&levels, 0), weight);
         let mut encoder = device.create_command_encoder(&Default::default());
-        crate::render::resources::encode_steps(&mut encoder, crate::plan::Pass::ProbePrefilter.name(), &self.pipeline, &steps, None);
+        crate::render::resources::encode_steps(
+            &mut encoder,
+            crate::plan::Pass::ProbePrefilter.name(),
+            &self.pipeline,
+            &steps,
+            None,
+        );
         let row = PROBE_WIDTH as u32 * 8;
         let readback = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("probe levels readback"),

@@ -190,7 +190,7 @@ pub fn encode_cell(
         },
         shadow_maps: cell_plan.shadow_maps,
         lod: cell_plan.lod,
-        bake: r.bake.as_ref().map(bake_record),
+        bake: cell_plan.gi.as_ref().zip(r.bake.as_ref()).map(|(plan, b)| bake_record(plan, b)),
         truth,
         terms,
         draws: cell_plan.draws.counts,
@@ -425,9 +425,9 @@ fn write_supersampled(
 }
 
 /// What a cell read of its scene's bake, as its record says it.
-fn bake_record(b: &crate::render::gi::BakeUse) -> crate::record::cell::BakeRecord {
+fn bake_record(plan: &crate::plan::gi::GiPlan, b: &crate::render::gi::BakeUse) -> crate::record::cell::BakeRecord {
     crate::record::cell::BakeRecord {
-        plan: b.plan.clone(),
+        plan: plan.clone(),
         made: b.made,
         cached: b.cached,
         seconds: b.seconds,

@@ -424,9 +424,9 @@ fn lightmap_encodings_decode_to_the_same_light() {
     scene.gi.as_mut().unwrap().encoding = Some(LightmapQuality::Low);
     let prepared = renderer.prepare_scene(&scene).unwrap();
     let cell = cell_params(Pipeline::Hdrp, "lit", sliders(), (1.5, 6.0), 32, RenderPath::Forward);
-    let bake = renderer.render(&prepared, &cell, 1, 0).unwrap().bake.unwrap();
-    assert_eq!(bake.encoding, "hdr");
-    assert!(bake.plan.encoding_note.is_some());
+    let (plan, r) = renderer.render_planned(&prepared, &cell, 1, 0).unwrap();
+    assert_eq!(r.bake.unwrap().encoding, "hdr");
+    assert!(plan.gi.unwrap().encoding_note.is_some());
 }
 
 #[test]

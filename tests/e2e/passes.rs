@@ -248,3 +248,42 @@ fn every_cell_json_names_the_passes_its_frame_timed_on_every_path_and_surface() 
     }
     assert!(checked.iter().any(|(_, passes)| passes.iter().any(|p| p == "transparent")), "a Transparent queue");
 }
+
+#[test]
+fn a_pass_is_named_in_plan_pass_alone() {
+    // Every pass name is `Pass::name`'s; a string literal with one elsewhere is a second list that
+    // can drift from the plan. A path (`forward`) and a surface type (`transparent`) share words
+    // with passes and are named where they are declared.
+    let allowed = [
+        ("src/pipelines/mod.rs", "forward"),
+        ("src/declarations/matrix.rs", "forward"),
+        ("src/pipelines/surface.rs", "transparent"),
+    ];
+    let names: Vec<String> = shadematrix::plan::Pass::ALL.iter().map(|p| format!("\"{}\"", p.name())).collect();
+    let mut found = Vec::new();
+    let mut stack = vec![crate::common::repo().join("src")];
+    while let Some(dir) = stack.pop() {
+        for e in std::fs::read_dir(&dir).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+                continue;
+            }
+            let rel = p.strip_prefix(crate::common::repo()).unwrap().to_string_lossy().replace('\\', "/");
+            if p.extension().is_none_or(|x| x != "rs") || rel == "src/plan/pass.rs" {
+                continue;
+            }
+            let text = std::fs::read_to_string(&p).unwrap();
+            let code = text.split("#[cfg(test)]").next().unwrap_or("");
+            for (i, line) in code.lines().enumerate() {
+                let line = line.split("//").next().unwrap_or("");
+                for name in names.iter().filter(|n| line.contains(n.as_str())) {
+                    if !allowed.contains(&(rel.as_str(), name.trim_matches('"'))) {
+                        found.push(format!("{rel}:{}: {name}", i + 1));
+                    }
+                }
+            }
+        }
+    }
+    assert!(found.is_empty(), "pass names outside plan::Pass::name:\n{}", found.join("\n"));
+}

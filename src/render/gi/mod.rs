@@ -34,10 +34,9 @@ pub struct BakedLighting {
     pub cached: bool,
 }
 
-/// What a cell's frame read of the bake: the plan's decisions and what the bake reached.
+/// What a cell's frame measured of the bake it read (the plan's decisions are `CellPlan::gi`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct BakeUse {
-    pub plan: crate::plan::gi::GiPlan,
     /// Made for this cell (false: an earlier cell's, whose inputs were the same).
     pub made: bool,
     /// Read from the bake cache (an earlier run made it; `seconds` is that run's).
@@ -61,7 +60,6 @@ impl BakeUse {
         let encoding = lightmaps::LightmapEncoding::of_quality(plan.encoding).name();
         match baked {
             Some(b) => BakeUse {
-                plan: plan.clone(),
                 made,
                 cached: b.cached,
                 seconds: b.seconds,
@@ -74,7 +72,6 @@ impl BakeUse {
                 encoding,
             },
             None => BakeUse {
-                plan: plan.clone(),
                 made: false,
                 cached: false,
                 seconds: 0.0,
