@@ -27,17 +27,25 @@ pub struct ProbeUse {
     pub weight: ProbeWeight,
 }
 
-/// How `pipeline` (with its `engine` settings) reads `probe`. Today every pipeline follows the
-/// scene's probe: box projection where the probe asks for it, the weight faded inside the box
-/// over the probe's blend distance, URP's CalculateProbeWeight (GlobalIllumination.hlsl) and
-/// BoxProjectedCubemapDirection (UnityStandardUtils.cginc; URP's of the same name). What the
-/// engines decide beyond that (the URP asset's `reflectionProbeBoxProjection` and
-/// `reflectionProbeBlending`, built-in deferred's fade outside the box, HDRP's influence volume)
-/// is docs/deviations.md's, to be drawn here.
+/// How `pipeline` (with its `engine` settings) reads `probe`.
+/// - Box projection: where the probe asks for it (Reflection Probe ▸ Box Projection), and in URP
+///   only where the asset turns the feature on: UniversalRenderPipeline.cs enables
+///   `_REFLECTION_PROBE_BOX_PROJECTION` from `asset.reflectionProbeBoxProjection`, and
+///   GlobalIllumination.hlsl box-projects (BoxProjectedCubemapDirection) only under it; the
+///   default asset has it off, High Fidelity on. Built-in box-projects a box-projected probe
+///   (UnityStandardUtils.cginc BoxProjectedCubemapDirection under UNITY_SPECCUBE_BOX_PROJECTION,
+///   on in every desktop tier), HDRP likewise (its proxy volume is the influence box by default).
+/// - Weight: faded inside the box over the probe's blend distance, URP's CalculateProbeWeight
+///   (GlobalIllumination.hlsl), for every pipeline today; what the engines decide beyond that
+///   (URP's `reflectionProbeBlending`, built-in deferred's fade outside the box, HDRP's influence
+///   volume) is docs/deviations.md's, to be drawn here.
 pub fn probe_use(pipeline: Pipeline, engine: &PipelineSettings, probe: &ReflectionProbe) -> ProbeUse {
-    let _ = (pipeline, engine);
+    let feature = match pipeline {
+        Pipeline::Urp => engine.urp.reflection_probe_box_projection,
+        Pipeline::Builtin | Pipeline::Hdrp => true,
+    };
     ProbeUse {
-        box_projection: probe.box_projection,
+        box_projection: probe.box_projection && feature,
         weight: ProbeWeight::FadeInside { distance: probe.blend_distance },
     }
 }
@@ -59,22 +67,29 @@ mod tests {
     }
 
     #[test]
-    fn every_pipeline_follows_the_scenes_probe_today() {
-        for p in Pipeline::ALL {
-            for (box_projection, blend) in [(true, 1.0), (false, 0.5)] {
-                let u = probe_use(p, &PipelineSettings::default(), &probe(box_projection, blend));
-                assert_eq!(u.box_projection, box_projection, "{p:?}");
-                assert_eq!(u.weight, ProbeWeight::FadeInside { distance: blend }, "{p:?}");
-            }
+    fn box_projection_follows_the_probe_and_in_urp_the_asset() {
+        let default = PipelineSettings::default();
+        let mut high = PipelineSettings::default();
+        high.urp = crate::pipelines::settings::UrpAssetPreset::HighFidelity.asset();
+        for (p, engine, expected) in [
+            (Pipeline::Builtin, &default, true),
+            (Pipeline::Hdrp, &default, true),
+            // URP's default asset has reflectionProbeBoxProjection off: sampled along the ray.
+            (Pipeline::Urp, &default, false),
+            (Pipeline::Urp, &high, true),
+        ] {
+            assert_eq!(probe_use(p, engine, &probe(true, 1.0)).box_projection, expected, "{p:?}");
+            assert!(!probe_use(p, engine, &probe(false, 1.0)).box_projection, "{p:?}: the probe's own toggle");
         }
     }
 
     #[test]
-    fn the_urp_default_asset_box_projects_what_the_probe_asks_today() {
-        // URP's default asset records reflectionProbeBoxProjection off, and the frame still box
-        // projects: the difference docs/deviations.md lists, fixed as its own change.
-        let engine = PipelineSettings::default();
-        assert!(!engine.urp.reflection_probe_box_projection);
-        assert!(probe_use(Pipeline::Urp, &engine, &probe(true, 1.0)).box_projection);
+    fn every_pipeline_fades_the_weight_inside_the_box_today() {
+        for p in Pipeline::ALL {
+            for blend in [1.0, 0.5] {
+                let u = probe_use(p, &PipelineSettings::default(), &probe(true, blend));
+                assert_eq!(u.weight, ProbeWeight::FadeInside { distance: blend }, "{p:?}");
+            }
+        }
     }
 }

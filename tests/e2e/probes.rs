@@ -1,4 +1,4 @@
-//! Reflection probes (`render::passes::probes`): the GPU prefilter is the twin of the CPU one
+//! Reflection probes (`render::reflection_probes`): the GPU prefilter is the twin of the CPU one
 //! (filtered importance sampling, environment::filtered),
 //! and a probe in the default room puts the walls into a metal sphere's reflection.
 
@@ -120,4 +120,33 @@ fn a_reused_capture_renders_the_same_image() {
         assert!(hdrp_capture.is_some() && first_capture.is_some(), "every probe cell reports its capture");
         assert_eq!(capture_again, first_capture, "URP's second cell reads (and reports) its first capture");
     }
+}
+
+#[test]
+fn urps_default_asset_reads_a_box_projected_probe_along_the_ray() {
+    // URP's default asset has reflectionProbeBoxProjection off: its frame is the one the probe
+    // would give without box projection; High Fidelity's asset box-projects it (plan::probes).
+    use shadematrix::declarations::scene::Scene;
+    use shadematrix::pipelines::settings::UrpAssetPreset;
+    use shadematrix::pipelines::{Pipeline, RenderPath};
+    use shadematrix::render::renderer::Renderer;
+    let mut projected = Scene::load_file(&fixture("probe_room.toml")).unwrap();
+    projected.probes[0].box_projection = true;
+    let mut along_ray = projected.clone();
+    along_ray.probes[0].box_projection = false;
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let silver = shadematrix::shading::registry::Sliders {
+        base_color_linear: [0.972, 0.960, 0.915],
+        metallic: 1.0,
+        smoothness: 1.0,
+    };
+    let mut render = |scene: &Scene, asset: UrpAssetPreset| {
+        let prepared = renderer.prepare_scene(scene).unwrap();
+        let mut cell = crate::common::cell_params(Pipeline::Urp, "lit", silver, (2.0, 10.0), 48, RenderPath::Forward);
+        cell.settings.engine.urp = asset.asset();
+        renderer.render(&prepared, &cell, 1, 0).unwrap().hdr
+    };
+    assert!(render(&projected, UrpAssetPreset::Default) == render(&along_ray, UrpAssetPreset::Default));
+    let high = (render(&projected, UrpAssetPreset::HighFidelity), render(&along_ray, UrpAssetPreset::HighFidelity));
+    assert!(high.0 != high.1, "High Fidelity box-projects the probe");
 }
