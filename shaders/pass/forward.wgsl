@@ -417,6 +417,7 @@ fn ambient_occlusion() -> f32 {
 fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>, vertex_gi: vec3<f32>) -> vec3<f32> {
     let v = normalize(frame.camera_pos.xyz - p);
     shading_position = p;
+    renderer_probe = i32(object.reflection_probe.x) - 1;
     // counts.y: 1 + index of the main directional light (the brightest), 0 when there is none
     main_light_color = vec3<f32>(0.0);
     if (frame.counts.y > 0u) {
@@ -833,6 +834,7 @@ fn fs_gbuffer(in: VertexOut, @builtin(front_facing) front: bool) -> GBufferOut {
     let s = material_at(uv);
     let v = normalize(frame.camera_pos.xyz - in.world_pos);
     shading_position = in.world_pos;
+    renderer_probe = i32(object.reflection_probe.x) - 1;
     screen_ao = load_screen_occlusion(in.clip.xy);
     main_light_color = vec3<f32>(0.0);
     if (frame.counts.y > 0u) {

@@ -31,7 +31,7 @@ struct Material {
 
 // A reflection probe (render::passes::probes): its levels are layers box_max.w … + 6 of env_probe.
 struct ReflectionProbe {
-    position: vec4<f32>,   // w: 1 box projection
+    position: vec4<f32>,   // w: 1 box projection + 2 × the weight rule (plan::probes::ProbeWeight)
     box_min: vec4<f32>,    // w: blend distance
     box_max: vec4<f32>,    // w: first layer
 };
@@ -59,6 +59,7 @@ struct Object {
     lod: vec4<f32>,           // x: LOD cross-fade (plan::lod), y: 1 when dithered
     bake: vec4<f32>,          // x: ambient from 0 the sky, 1 its probe, 2 its lightmap; y: 1 directional | 2 subtractive
     occlusion: vec4<f32>,     // its probe's occlusion of each shadow-mask light
+    reflection_probe: vec4<u32>, // x: 1 + the probe it takes at full weight (plan::probes::renderer_probe), 0 none
     shadow_color: vec4<f32>,  // Subtractive's Realtime Shadow Color, linear
 };
 
@@ -216,6 +217,9 @@ fn probe_level(d: vec3<f32>, level: f32) -> vec3<f32> {
 // The world position being shaded, for the probes' weights and box projection; set by the
 // passes before they evaluate a model (`shade`, the G-buffer pass).
 var<private> shading_position: vec3<f32> = vec3<f32>(0.0);
+// The probe the shaded renderer takes at full weight where probes are chosen per renderer
+// (Object.reflection_probe.x − 1; −1 none), set with shading_position.
+var<private> renderer_probe: i32 = -1;
 
 // A probe's seven levels at mip (layers from `first`), blended linearly between levels.
 fn probe_levels(d: vec3<f32>, mip: f32, first: f32) -> vec3<f32> {
@@ -224,18 +228,32 @@ fn probe_levels(d: vec3<f32>, mip: f32, first: f32) -> vec3<f32> {
     return mix(probe_level(d, first + lo), probe_level(d, first + hi), mip - lo);
 }
 
-// URP CalculateProbeWeight (GlobalIllumination.hlsl): sat(min over axes of the distance into the
-// box / blend distance).
-fn probe_weight(p: vec3<f32>, probe: ReflectionProbe) -> f32 {
-    let inside = min(p - probe.box_min.xyz, probe.box_max.xyz - p) / max(probe.box_min.w, 1e-4);
+// A probe's weight at p by its engine's rule (plan::probes::ProbeWeight; k: its index):
+// 0 URP CalculateProbeWeight (GlobalIllumination.hlsl), sat(min over axes of the distance into the
+//   box / blend distance);
+// 1 built-in Internal-DeferredReflections, saturate(1 − |distance outside the box| / blend distance);
+// 2 the renderer's own probe at full weight (URP without probe blending).
+fn probe_weight(p: vec3<f32>, probe: ReflectionProbe, k: u32) -> f32 {
+    let mode = u32(probe.position.w) >> 1u;
+    let blend = max(probe.box_min.w, 1e-4);
+    if (mode == 1u) {
+        let outside = max(max(p - probe.box_max.xyz, probe.box_min.xyz - p), vec3<f32>(0.0));
+        return sat(1.0 - length(outside) / blend);
+    }
+    if (mode == 2u) {
+        return select(0.0, 1.0, i32(k) == renderer_probe);
+    }
+    let inside = min(p - probe.box_min.xyz, probe.box_max.xyz - p) / blend;
     return sat(min(inside.x, min(inside.y, inside.z)));
 }
 
 // BoxProjectedCubemapDirection (UnityStandardUtils.cginc; URP BoxProjectedCubemapDirection): the
 // ray from p along r meets the box; the lookup direction is from the probe to that point.
+// Built-in deferred box-projects on the box grown by the blend distance, the volume it draws.
 fn box_projected_direction(r: vec3<f32>, p: vec3<f32>, probe: ReflectionProbe) -> vec3<f32> {
     let d = normalize(r);
-    let rb = select(probe.box_min.xyz, probe.box_max.xyz, d > vec3<f32>(0.0)) - p;
+    let grow = select(0.0, probe.box_min.w, (u32(probe.position.w) >> 1u) == 1u);
+    let rb = select(probe.box_min.xyz - grow, probe.box_max.xyz + grow, d > vec3<f32>(0.0)) - p;
     let f = rb / d;
     let fa = min(min(f.x, f.y), f.z);
     return p - probe.position.xyz + d * fa;
@@ -269,10 +287,10 @@ fn environment_reflection(r: vec3<f32>, perceptual_roughness: f32) -> vec3<f32> 
     var total = 0.0;
     for (var i = 0u; i < frame.reflection.x; i++) {
         let probe = frame.probes[i];
-        let w = min(probe_weight(shading_position, probe), 1.0 - total);
+        let w = min(probe_weight(shading_position, probe, i), 1.0 - total);
         if (w > 0.0) {
             var d = r;
-            if (probe.position.w > 0.5) {
+            if ((u32(probe.position.w) & 1u) == 1u) {
                 d = box_projected_direction(r, shading_position, probe);
             }
             c += probe_levels(d, mip, probe.box_max.w) * w;

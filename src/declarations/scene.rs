@@ -663,8 +663,9 @@ pub enum Reflections {
 
 /// A reflection probe: it captures the scene (without the subject: a dynamic object, which Unity's
 /// baked probes of all three pipelines leave out) from `position` into a cubemap, prefiltered for
-/// roughness; points inside its box take its reflections, blended over `blend_distance` at the
-/// box's faces (Unity's defaults: box projection off, blend distance 1 m, 128² faces).
+/// roughness; points inside its box take its reflections, weighed by the engine's rule over
+/// `blend_distance` (`plan::probes`; absent: each engine's default, 1 m for the Reflection Probe
+/// component of built-in and URP, 0 for HDRP's influence volume; box projection off, 128² faces).
 #[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct ReflectionProbe {
@@ -672,8 +673,8 @@ pub struct ReflectionProbe {
     /// The influence (and box-projection) volume, world space, axis-aligned.
     pub box_min: [f64; 3],
     pub box_max: [f64; 3],
-    #[serde(default = "default_blend_distance")]
-    pub blend_distance: f64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub blend_distance: Option<f64>,
     #[serde(default)]
     pub box_projection: bool,
     /// Texels per cube face (a power of two, 16–512).
@@ -686,10 +687,6 @@ pub struct ReflectionProbe {
 
 /// Probes a scene may place (the frame uniform holds this many).
 pub const MAX_PROBES: usize = 4;
-
-fn default_blend_distance() -> f64 {
-    1.0
-}
 
 fn default_probe_resolution() -> u32 {
     128
@@ -1024,7 +1021,9 @@ impl Scene {
                     format!("box_max {:?} must exceed box_min {:?} on every axis", p.box_max, p.box_min),
                 ));
             }
-            c.range(&k("blend_distance"), p.blend_distance, 0.0, 1e4)?;
+            if let Some(blend) = p.blend_distance {
+                c.range(&k("blend_distance"), blend, 0.0, 1e4)?;
+            }
             c.range(&k("near"), p.near, 1e-3, 100.0)?;
             if !p.resolution.is_power_of_two() || !(16..=512).contains(&p.resolution) {
                 return Err(

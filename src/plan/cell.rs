@@ -274,6 +274,9 @@ pub struct CellPlan {
     /// How the frame reads each of the scene's reflection probes (`probes::probe_use`); empty
     /// where the composition captures none.
     pub probes: Vec<super::probes::ProbeUse>,
+    /// Per mesh (layout order), the probe it takes at full weight where probes are chosen per
+    /// renderer (`probes::renderer_probe`); None elsewhere, or where no probe holds it.
+    pub renderer_probes: Vec<Option<usize>>,
     /// How the subject casts into the shadow maps (`shadows::subject_caster`).
     pub subject_caster: super::shadows::SubjectCaster,
     /// Where the frame's screen-space occlusion applies (`ao::ambient_occlusion`).
@@ -419,11 +422,26 @@ impl CellPlan {
             bloom: frame.hdrp_bloom,
         });
         let probes = match frame.probes() {
-            true => scene.probes.iter().map(|probe| super::probes::probe_use(p, engine, probe)).collect(),
+            true => scene
+                .probes
+                .iter()
+                .map(|probe| super::probes::probe_use(p, cell.settings.path, engine, probe))
+                .collect(),
             false => Vec::new(),
         };
+        let per_renderer =
+            probes.iter().any(|u: &super::probes::ProbeUse| u.weight == super::probes::ProbeWeight::Renderer);
+        let renderer_probes = layout
+            .meshes
+            .iter()
+            .map(|m| {
+                let centre = layout.object_centres[m.scene_index].1;
+                per_renderer.then(|| super::probes::renderer_probe(&scene.probes, centre)).flatten()
+            })
+            .collect();
         CellPlan {
             probes,
+            renderer_probes,
             subject_caster,
             ao,
             gbuffer,

@@ -306,6 +306,7 @@ fn object_uniforms(
                 crate::render::gi::AmbientSource::Probe(p) => p.occlusion.map(|v| v as f32),
                 _ => [1.0; 4],
             },
+            reflection_probe: [plan.renderer_probes[i].map_or(0, |k| k as u32 + 1), 0, 0, 0],
             shadow_color: a.shadow_color,
         };
         let at = i * prepared.object_stride as usize;

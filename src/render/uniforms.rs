@@ -51,7 +51,8 @@ pub struct GpuMaterial {
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
 pub struct GpuReflectionProbe {
-    /// xyz position; w 1 for box projection.
+    /// xyz position; w: 1 for box projection, plus twice the weight rule
+    /// (`plan::probes::ProbeWeight::shader_mode`).
     pub position: [f32; 4],
     /// xyz box minimum; w blend distance.
     pub box_min: [f32; 4],
@@ -68,10 +69,10 @@ impl GpuReflectionProbe {
         (index, count, slot): (usize, usize, usize),
     ) -> Self {
         let v = |a: [f64; 3], w: f64| [a[0] as f32, a[1] as f32, a[2] as f32, w as f32];
-        let crate::plan::probes::ProbeWeight::FadeInside { distance } = used.weight;
+        let mode = used.box_projection as u32 + 2 * used.weight.shader_mode();
         GpuReflectionProbe {
-            position: v(p.position, if used.box_projection { 1.0 } else { 0.0 }),
-            box_min: v(p.box_min, distance),
+            position: v(p.position, mode as f64),
+            box_min: v(p.box_min, used.weight.distance()),
             box_max: v(p.box_max, first_layer(slot, index, count) as f64),
         }
     }
@@ -115,6 +116,9 @@ pub struct ObjectUniforms {
     pub bake: [f32; 4],
     /// Its probe's occlusion of each shadow-mask light (1 where it has no probe).
     pub occlusion: [f32; 4],
+    /// x: 1 + the reflection probe it takes at full weight where probes are chosen per renderer
+    /// (`plan::probes::renderer_probe`); 0: none.
+    pub reflection_probe: [u32; 4],
     /// Subtractive's Realtime Shadow Color, linear.
     pub shadow_color: [f32; 4],
 }
@@ -172,6 +176,6 @@ mod tests {
         assert_eq!(std::mem::size_of::<GpuMaterial>(), 112);
         assert_eq!(std::mem::size_of::<GpuReflectionProbe>(), 48);
         assert_eq!(std::mem::size_of::<FrameUniforms>(), 64 + 64 + 16 + 16 + 144 + 16 + 112 + 112 + 16 + 4 * 48 + 16);
-        assert_eq!(std::mem::size_of::<ObjectUniforms>(), 64 + 64 + 112 + 16 + 144 + 16 + 3 * 16);
+        assert_eq!(std::mem::size_of::<ObjectUniforms>(), 64 + 64 + 112 + 16 + 144 + 16 + 4 * 16);
     }
 }

@@ -44,7 +44,7 @@ fn uniform_mirrors_match_their_wgsl_structs() {
             "Object",
             mirror_layout!(
                 ObjectUniforms,
-                [model, normal_matrix, material, flags, light_sh, lod, bake, occlusion, shadow_color]
+                [model, normal_matrix, material, flags, light_sh, lod, bake, occlusion, reflection_probe, shadow_color]
             ),
         ),
         (&exact, "BvhNode", mirror_layout!(GpuBvhNode, [min, max])),

@@ -150,3 +150,36 @@ fn urps_default_asset_reads_a_box_projected_probe_along_the_ray() {
     let high = (render(&projected, UrpAssetPreset::HighFidelity), render(&along_ray, UrpAssetPreset::HighFidelity));
     assert!(high.0 != high.1, "High Fidelity box-projects the probe");
 }
+
+#[test]
+fn urps_default_asset_takes_the_renderers_probe_at_full_weight() {
+    // Without reflectionProbeBlending each renderer samples its unity_SpecCube0 at full weight:
+    // the frame does not depend on the probe's blend distance (a per-pixel fade would darken the
+    // subject where it stands within a metre of the box's floor). High Fidelity blends: it does.
+    use shadematrix::declarations::scene::Scene;
+    use shadematrix::pipelines::settings::UrpAssetPreset;
+    use shadematrix::pipelines::{Pipeline, RenderPath};
+    use shadematrix::render::renderer::Renderer;
+    let near = Scene::load("default", None, "test", "composition").unwrap();
+    let (mut sharp, mut wide) = (near.clone(), near.clone());
+    sharp.probes[0].blend_distance = Some(0.01);
+    wide.probes[0].blend_distance = Some(1.5);
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let silver = shadematrix::shading::registry::Sliders {
+        base_color_linear: [0.972, 0.960, 0.915],
+        metallic: 1.0,
+        smoothness: 0.9,
+    };
+    let mut render = |scene: &Scene, asset: UrpAssetPreset| {
+        let prepared = renderer.prepare_scene(scene).unwrap();
+        let mut cell = crate::common::cell_params(Pipeline::Urp, "lit", silver, (2.0, 10.0), 48, RenderPath::Forward);
+        cell.settings.engine.urp = asset.asset();
+        let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
+        let subject: Vec<f32> =
+            r.hdr.chunks(4).zip(&r.roles).filter(|(_, role)| **role == 2).flat_map(|(p, _)| p[..3].to_vec()).collect();
+        assert!(!subject.is_empty(), "the subject is in view");
+        subject
+    };
+    assert!(render(&sharp, UrpAssetPreset::Default) == render(&wide, UrpAssetPreset::Default));
+    assert!(render(&sharp, UrpAssetPreset::HighFidelity) != render(&wide, UrpAssetPreset::HighFidelity));
+}
