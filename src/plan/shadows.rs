@@ -54,12 +54,15 @@ pub struct ShadowStyle {
 }
 
 /// The style of `light`'s shadow in `pipeline`, or why it casts none there.
-/// - Built-in: the light's own settings (Light inspector: Strength, Bias 0.05, Normal Bias 0.4).
+/// - Built-in: the light's own settings (Light inspector: Strength, Bias 0.05, Normal Bias 0.4),
+///   except a point light's normal bias, which the engine sets to 0 (unity_LightShadowBias.z,
+///   Shadows.cpp, as URP's ShadowUtils.GetShadowBias quotes it).
 /// - URP: a light other than the main one casts only with the asset's additional-light shadows
 ///   (UniversalRenderPipelineAsset m_AdditionalLightShadowsSupported, off in the code defaults);
 ///   soft only with the asset's soft shadows; a light's bias "Use settings from Render Pipeline
 ///   Asset" (UniversalAdditionalLightData default) takes the asset's depth and normal bias, both
-///   ×2.5 when soft (ShadowUtils.GetShadowBias: kernelRadius 2.5).
+///   ×2.5 when soft (ShadowUtils.GetShadowBias: kernelRadius 2.5), and no normal bias for a point
+///   light.
 /// - HDRP: HDAdditionalLightData's normalBias 0.75 texel; its slopeBias 0.5 is a rasterisation
 ///   slope-scaled depth bias, APPROXIMATED here as half a texel along the light at the receiver.
 pub fn shadow_style(
@@ -71,7 +74,8 @@ pub fn shadow_style(
     let s = &light.shadow;
     match pipeline {
         Pipeline::Builtin => {
-            Ok(ShadowStyle { strength: s.strength, soft: s.soft, bias: s.bias, normal_bias: s.normal_bias })
+            let normal_bias = if light.kind == LightKind::Point { 0.0 } else { s.normal_bias };
+            Ok(ShadowStyle { strength: s.strength, soft: s.soft, bias: s.bias, normal_bias })
         }
         Pipeline::Urp => {
             let a = &engine.urp;
@@ -83,7 +87,9 @@ pub fn shadow_style(
             }
             let soft = s.soft && a.soft_shadows;
             let k = if soft { 2.5 } else { 1.0 };
-            Ok(ShadowStyle { strength: s.strength, soft, bias: a.depth_bias * k, normal_bias: a.normal_bias * k })
+            // ShadowUtils.GetShadowBias: "normalBias = 0.0f" for a point light, following built-in.
+            let normal_bias = if light.kind == LightKind::Point { 0.0 } else { a.normal_bias * k };
+            Ok(ShadowStyle { strength: s.strength, soft, bias: a.depth_bias * k, normal_bias })
         }
         Pipeline::Hdrp => Ok(ShadowStyle { strength: s.strength, soft: s.soft, bias: 0.5, normal_bias: 0.75 }),
     }
@@ -311,6 +317,10 @@ mod tests {
         assert!(small < full, "{small} vs {full}");
     }
 
+    fn high_fidelity() -> PipelineSettings {
+        PipelineSettings { urp: crate::pipelines::settings::UrpAssetPreset::HighFidelity.asset(), ..Default::default() }
+    }
+
     #[test]
     fn shadow_biases_follow_each_engine_per_light() {
         let scene = crate::declarations::scene::Scene::load("default", None, "t", "k").unwrap();
@@ -319,6 +329,7 @@ mod tests {
         light.shadow.bias = 0.05;
         light.shadow.normal_bias = 0.4;
         light.shadow.soft = true;
+        light.kind = LightKind::Spot;
         let engine = PipelineSettings::default();
         // Built-in: the light's own Bias and Normal Bias.
         let b = shadow_style(Pipeline::Builtin, &engine, &light, false).unwrap();
@@ -332,6 +343,15 @@ mod tests {
         // HDRP: HDAdditionalLightData's normal bias 0.75 texel, its slope bias as half a texel.
         let h = shadow_style(Pipeline::Hdrp, &engine, &light, false).unwrap();
         assert_eq!((h.bias, h.normal_bias), (0.5, 0.75));
+        // A point light has no normal bias in built-in (Shadows.cpp) and URP, which follows it.
+        let mut point = light.clone();
+        point.kind = LightKind::Point;
+        let b = shadow_style(Pipeline::Builtin, &engine, &point, false).unwrap();
+        assert_eq!((b.bias, b.normal_bias), (0.05, 0.0));
+        let urp_point = shadow_style(Pipeline::Urp, &high_fidelity(), &point, false).unwrap();
+        assert_eq!(urp_point.normal_bias, 0.0);
+        assert!(urp_point.bias > 0.0);
+        assert_eq!(shadow_style(Pipeline::Hdrp, &engine, &point, false).unwrap().normal_bias, 0.75);
     }
 
     #[test]
