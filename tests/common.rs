@@ -7,6 +7,28 @@ pub fn repo() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
+/// Every Rust file under `src/`: its path from the repository's root and its code before any
+/// unit-test module (`#[cfg(test)]`), for tests that scan what the crate does.
+pub fn crate_code() -> Vec<(String, String)> {
+    let mut files = Vec::new();
+    let mut stack = vec![repo().join("src")];
+    while let Some(dir) = stack.pop() {
+        for e in std::fs::read_dir(&dir).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+            } else if p.extension().is_some_and(|x| x == "rs") {
+                let rel = p.strip_prefix(repo()).unwrap().to_string_lossy().replace('\\', "/");
+                let text = std::fs::read_to_string(&p).unwrap();
+                files.push((rel, text.split("#[cfg(test)]").next().unwrap_or("").to_string()));
+            }
+        }
+    }
+    files.sort();
+    assert!(files.len() > 100, "src/ read as {} Rust files: a scan that reads nothing proves nothing", files.len());
+    files
+}
+
 pub fn fixture(name: &str) -> PathBuf {
     repo().join("tests/fixtures").join(name)
 }

@@ -261,26 +261,15 @@ fn a_pass_is_named_in_plan_pass_alone() {
     ];
     let names: Vec<String> = shadematrix::plan::Pass::ALL.iter().map(|p| format!("\"{}\"", p.name())).collect();
     let mut found = Vec::new();
-    let mut stack = vec![crate::common::repo().join("src")];
-    while let Some(dir) = stack.pop() {
-        for e in std::fs::read_dir(&dir).unwrap() {
-            let p = e.unwrap().path();
-            if p.is_dir() {
-                stack.push(p);
-                continue;
-            }
-            let rel = p.strip_prefix(crate::common::repo()).unwrap().to_string_lossy().replace('\\', "/");
-            if p.extension().is_none_or(|x| x != "rs") || rel == "src/plan/pass.rs" {
-                continue;
-            }
-            let text = std::fs::read_to_string(&p).unwrap();
-            let code = text.split("#[cfg(test)]").next().unwrap_or("");
-            for (i, line) in code.lines().enumerate() {
-                let line = line.split("//").next().unwrap_or("");
-                for name in names.iter().filter(|n| line.contains(n.as_str())) {
-                    if !allowed.contains(&(rel.as_str(), name.trim_matches('"'))) {
-                        found.push(format!("{rel}:{}: {name}", i + 1));
-                    }
+    for (rel, code) in crate::common::crate_code() {
+        if rel == "src/plan/pass.rs" {
+            continue;
+        }
+        for (i, line) in code.lines().enumerate() {
+            let line = line.split("//").next().unwrap_or("");
+            for name in names.iter().filter(|n| line.contains(n.as_str())) {
+                if !allowed.contains(&(rel.as_str(), name.trim_matches('"'))) {
+                    found.push(format!("{rel}:{}: {name}", i + 1));
                 }
             }
         }
