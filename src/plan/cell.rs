@@ -382,7 +382,9 @@ impl CellPlan {
             });
         }
         // A flat cutout below its cutoff clips every fragment: not drawn, casting no shadow.
-        let subject_caster = super::shadows::subject_caster(p, &surface, cell.settings.material_maps.is_some());
+        let reflectivity = cell.model.twin.map_or(0.0, |t| t.reflectivity(&cell.surface));
+        let subject_caster =
+            super::shadows::subject_caster(p, &surface, cell.settings.material_maps.is_some(), reflectivity);
         let clipped = subject_caster == super::shadows::SubjectCaster::Nothing;
         if clipped {
             for (fade, m) in fades.iter_mut().zip(&layout.meshes) {

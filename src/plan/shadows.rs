@@ -355,17 +355,37 @@ mod tests {
     }
 
     #[test]
-    fn a_cutout_clips_its_shadow_and_everything_else_casts_opaque_today() {
+    fn a_cutout_clips_its_shadow_and_builtins_fade_and_transparent_dither_theirs() {
         use crate::pipelines::surface::SurfaceType;
         let at = |kind, alpha, textured| {
             let surface = SurfaceOptions { kind, alpha, cutoff: 0.5 };
-            Pipeline::ALL.map(|p| subject_caster(p, &surface, textured))
+            Pipeline::ALL.map(|p| subject_caster(p, &surface, textured, 0.2))
         };
         assert_eq!(at(SurfaceType::Cutout, 0.8, true), [SubjectCaster::AlphaClipped { cutoff: 0.5 }; 3]);
         assert_eq!(at(SurfaceType::Cutout, 0.3, false), [SubjectCaster::Nothing; 3]);
         assert_eq!(at(SurfaceType::Cutout, 0.8, false), [SubjectCaster::Opaque; 3]);
-        for kind in [SurfaceType::Opaque, SurfaceType::Fade, SurfaceType::Transparent] {
-            assert_eq!(at(kind, 0.3, true), [SubjectCaster::Opaque; 3], "{kind:?}");
+        assert_eq!(at(SurfaceType::Opaque, 0.3, true), [SubjectCaster::Opaque; 3]);
+        // Built-in: UnityStandardShadow.cginc dithers Fade by alpha and Transparent by the alpha
+        // PreMultiplyAlpha outputs; URP and HDRP transparent Lit cast opaque shadows.
+        for textured in [false, true] {
+            let [b, u, h] = at(SurfaceType::Fade, 0.3, textured);
+            assert_eq!(b, SubjectCaster::Dithered { reflectivity: 0.0 });
+            let [b, ..] = at(SurfaceType::Transparent, 0.3, textured);
+            assert_eq!(b, SubjectCaster::Dithered { reflectivity: 0.2 });
+            assert_eq!([u, h], [SubjectCaster::Opaque; 2]);
+            for kind in [SurfaceType::Transparent, SurfaceType::Premultiply, SurfaceType::Additive] {
+                let [_, u, h] = at(kind, 0.3, textured);
+                assert_eq!([u, h], [SubjectCaster::Opaque; 2], "{kind:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn the_dither_keeps_the_share_of_each_block_its_alpha_slice_names() {
+        for (alpha, kept) in [(0.0, 0), (0.05, 0), (0.35, 5), (0.5, 7), (0.75, 12), (0.99, 15), (1.0, 16)] {
+            let n =
+                (0..4).flat_map(|y| (0..4).map(move |x| (x, y))).filter(|&(x, y)| dither_keeps(x, y, alpha)).count();
+            assert_eq!(n, kept, "alpha {alpha}");
         }
     }
 }
@@ -378,24 +398,55 @@ pub enum SubjectCaster {
     Opaque,
     /// Fragments whose alpha (its alpha map's × the base alpha) is below `cutoff` are clipped.
     AlphaClipped { cutoff: f64 },
+    /// Fragments cast by a 4×4 dither of their alpha, so the shadow lets 1 − alpha through
+    /// (built-in's semitransparent shadows, `dither_keeps`); the alpha is PreMultiplyAlpha's
+    /// 1 − (1 − alpha)(1 − `reflectivity`), which is alpha itself for Fade (`reflectivity` 0).
+    Dithered { reflectivity: f64 },
     /// Nothing casts: a flat cutout whose alpha is below its cutoff clips all of itself (neither
     /// drawn nor casting).
     Nothing,
 }
 
-/// How the subject of `surface` (wearing a textured preset where `textured`) casts in `pipeline`.
-/// The ShadowCaster passes clip a cutout at its cutoff: built-in Standard's
-/// (UnityStandardShadow.cginc, `clip(alpha - _Cutoff)` under _ALPHATEST_ON), URP Lit's
-/// (ShadowCasterPass.hlsl, `Alpha(...)` clipping under _ALPHATEST_ON) and HDRP Lit's
-/// (ShaderPassShadow with `_ALPHATEST_ON`); a flat cutout has one alpha, so it casts whole or not
-/// at all. Every transparent surface casts opaque today in every pipeline: URP and HDRP
-/// transparent Lit do; built-in's Fade and Transparent dither by alpha (semitransparent shadows),
-/// which docs/deviations.md lists, to be drawn here.
-pub fn subject_caster(pipeline: Pipeline, surface: &SurfaceOptions, textured: bool) -> SubjectCaster {
-    let _ = pipeline;
-    match (surface.kind.clips(), textured) {
-        (true, true) => SubjectCaster::AlphaClipped { cutoff: surface.cutoff },
-        (true, false) if surface.alpha < surface.cutoff => SubjectCaster::Nothing,
+/// How the subject of `surface` (wearing a textured preset where `textured`) casts in `pipeline`;
+/// `reflectivity`: 1 − oneMinusReflectivity of its material (`SurfaceTwin::reflectivity`).
+/// - A cutout is clipped at its cutoff by every engine's ShadowCaster pass: built-in Standard's
+///   (UnityStandardShadow.cginc, `clip(alpha - _Cutoff)` under _ALPHATEST_ON), URP Lit's
+///   (ShadowCasterPass.hlsl, `Alpha(...)` clipping under _ALPHATEST_ON) and HDRP Lit's
+///   (ShaderPassShadow with `_ALPHATEST_ON`); a flat cutout has one alpha, so it casts whole or
+///   not at all.
+/// - Built-in Fade (_ALPHABLEND_ON) and Transparent (_ALPHAPREMULTIPLY_ON): fragShadowCaster
+///   (UnityStandardShadow.cginc, 2019.4) takes PreMultiplyAlpha's outModifiedAlpha under
+///   _ALPHAPREMULTIPLY_ON and, with UNITY_USE_DITHER_MASK_FOR_ALPHABLENDED_SHADOWS (Graphics
+///   tier settings' Semitransparent Shadows, on for desktop tiers), clips
+///   `tex3D(_DitherMaskLOD, float3(vpos.xy*0.25, alpha*0.9375)).a - 0.01`.
+/// - URP and HDRP transparent Lit cast opaque shadows: their ShadowCaster passes clip only under
+///   _ALPHATEST_ON.
+pub fn subject_caster(
+    pipeline: Pipeline,
+    surface: &SurfaceOptions,
+    textured: bool,
+    reflectivity: f64,
+) -> SubjectCaster {
+    use crate::pipelines::surface::SurfaceType;
+    match (surface.kind, pipeline, textured) {
+        (SurfaceType::Cutout, _, true) => SubjectCaster::AlphaClipped { cutoff: surface.cutoff },
+        (SurfaceType::Cutout, _, false) if surface.alpha < surface.cutoff => SubjectCaster::Nothing,
+        (SurfaceType::Fade, Pipeline::Builtin, _) => SubjectCaster::Dithered { reflectivity: 0.0 },
+        (SurfaceType::Transparent, Pipeline::Builtin, _) => SubjectCaster::Dithered { reflectivity },
         _ => SubjectCaster::Opaque,
     }
+}
+
+/// The 4×4 ordered (Bayer) dither matrix: each texel's rank in the order the block fills.
+pub const DITHER_4X4: [[u32; 4]; 4] = [[0, 8, 2, 10], [12, 4, 14, 6], [3, 11, 1, 9], [15, 7, 13, 5]];
+
+/// Whether the shadow-map texel (`x`, `y`) of a dithered caster of `alpha` casts: Unity's
+/// `_DitherMaskLOD` is 4×4×16, read at vpos/4 and depth alpha·0.9375, so a caster's alpha picks
+/// slice ⌊15·alpha⌋ of 16 (nearest). APPROXIMATED: the slices' own patterns are the engine's
+/// texture, not published; here slice s keeps the texels of the Bayer matrix whose rank r has
+/// (r + ½)/16 < s/15, so slice 0 keeps none, slice 15 all, and slice s about s/15 of each block.
+/// The WGSL twin is shadow.wgsl's `dither_keeps`.
+pub fn dither_keeps(x: u32, y: u32, alpha: f64) -> bool {
+    let slice = (15.0 * alpha.clamp(0.0, 1.0)).floor();
+    (DITHER_4X4[(y % 4) as usize][(x % 4) as usize] as f64 + 0.5) / 16.0 < slice / 15.0
 }

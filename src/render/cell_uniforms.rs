@@ -336,8 +336,9 @@ fn frame_keys(
             (prepared.layout.meshes[i].cast_shadows, o.index_count, fades[i].map(f64::to_bits)).hash(&mut h);
             objects[at..at + 64].hash(&mut h);
         }
-        // A textured cutout subject's shadow is clipped by its alpha map (passes::shadow).
-        if cell.settings.surface.kind == crate::pipelines::surface::SurfaceType::Cutout {
+        // The subject's alpha reaches its shadow where it clips or dithers it (passes::shadow).
+        if plan.subject_caster != crate::plan::shadows::SubjectCaster::Opaque {
+            format!("{:?}", plan.subject_caster).hash(&mut h);
             (cell.settings.material_maps, [frame.subject.base_color[3], frame.subject.specular[3]].map(f32::to_bits))
                 .hash(&mut h);
         }

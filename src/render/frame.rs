@@ -59,7 +59,8 @@ struct FrameInputs<'a> {
     keys: &'a FrameKeys,
     /// The SSAO visibility the lighting reads (the neutral group without SSAO).
     screen: &'a wgpu::BindGroup,
-    cutout: Option<&'a wgpu::BindGroup>,
+    /// The subject's alpha-caster shadow group (`passes::shadow`), where its alpha reaches its shadow.
+    alpha_caster: Option<&'a wgpu::BindGroup>,
     /// The rays' group without and with the traced mask (the study's exact alternatives).
     rays: Option<(wgpu::BindGroup, wgpu::BindGroup)>,
     tile_group: Option<wgpu::BindGroup>,
@@ -99,10 +100,11 @@ impl Renderer {
         }
         let written = write_uniforms(&self.gpu.queue, prepared, cell, plan, &fixed_model, baked.as_deref());
         let frame_group = self.bindings.frame_group(&self.gpu, prepared, cell.settings.material_maps)?;
-        let albedo = cell.settings.material_maps.and_then(|m| self.bindings.albedo_view(prepared, Some(m)));
+        // A flat subject's albedo is the neutral set's (alpha 1): its base alpha alone.
+        let albedo = self.bindings.albedo_view(prepared, cell.settings.material_maps);
         let casts = prepared.plan.shadows() && !plan.used_layers.is_empty();
         let surface = (plan.subject_caster, cell.settings.surface.alpha, casts);
-        let cutout = self.shadow.cutout_group(
+        let alpha_caster = self.shadow.alpha_caster_group(
             &self.gpu,
             &self.object_layout,
             surface,
@@ -115,7 +117,7 @@ impl Renderer {
             fixed_model: &fixed_model,
             frame: &written.frame,
             capture_key: written.capture_key,
-            shadow: (&self.shadow.pipeline, self.shadow.cutout(cutout.as_ref())),
+            shadow: (&self.shadow.pipeline, self.shadow.alpha_caster(alpha_caster.as_ref())),
             neutral_screen: &self.neutral_screen,
             reuse: self.reuse,
         };
@@ -137,7 +139,7 @@ impl Renderer {
             meshes: &meshes,
             keys: &keys,
             screen,
-            cutout: cutout.as_ref(),
+            alpha_caster: alpha_caster.as_ref(),
             rays: runs.rays,
             tile_group: runs.tile_group,
             layer: runs.layer,
@@ -340,8 +342,8 @@ impl Renderer {
             Pass::ProbeCapture | Pass::ProbePrefilter => unreachable!("captured before the frames"),
             Pass::Shadow => {
                 let layers = (&plan.used_layers[..], &f.meshes.casting[..], &plan.dynamic_casters_only[..]);
-                let cutout = self.shadow.cutout(f.cutout);
-                encode_shadow_passes(encoder, &self.shadow.pipeline, prepared, layers, cutout, timed);
+                let alpha_caster = self.shadow.alpha_caster(f.alpha_caster);
+                encode_shadow_passes(encoder, &self.shadow.pipeline, prepared, layers, alpha_caster, timed);
             }
             Pass::DepthPrepass => {
                 let by_face = self.prepass_by_face(cell, f.keys);

@@ -499,3 +499,86 @@ fn the_cpu_truth_reads_the_subjects_maps_and_their_alpha() {
     let moved = cpu.mean.iter().zip(&flat.mean).filter(|(a, b)| (a[0] - b[0]).abs() > 0.1 * b[0].abs()).count();
     assert!(moved * 4 > n, "the brick maps change {moved} of {n} subject pixels");
 }
+
+/// Built-in's Fade and Transparent cast semitransparent shadows: UnityStandardShadow.cginc's
+/// fragShadowCaster dithers by alpha (`_DitherMaskLOD`, slice ⌊15·alpha⌋ of a 4×4 block), taking
+/// PreMultiplyAlpha's alpha under Transparent, so the floor under a sphere of alpha 0.35 keeps
+/// about 1 − 5/16 of its light. URP's and HDRP's transparent Lit cast opaque shadows.
+#[test]
+fn builtins_fade_and_transparent_cast_a_shadow_that_lets_their_alpha_through() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = r#"
+name = "fade_shadow"
+[camera]
+position = [0.0, 7.0, 0.001]
+target = [0.0, 0.0, 0.0]
+fov_y_deg = 40.0
+[[lights]]
+kind = "directional"
+direction = [1.0, -2.0, 0.0]
+intensity = 1.0
+shadows = true
+key = true
+[[objects]]
+name = "sphere"
+role = "subject"
+mesh = { kind = "uv_sphere", radius = 0.5, rings = 24, segments = 48 }
+transform = { translate = [-0.6, 1.2, 0.0] }
+[[objects]]
+name = "floor"
+role = "fixed"
+mesh = { kind = "plane", size = [10.0, 10.0], subdivisions = 1 }
+material = { base_color_linear = [0.5, 0.5, 0.5] }
+[environment]
+sky = { kind = "constant", color = [0.0, 0.0, 0.0] }
+ambient_intensity = 0.0
+background = false
+"#;
+    let path = tmp.path().join("fade_shadow.toml");
+    std::fs::write(&path, scene).unwrap();
+    let no_cast = tmp.path().join("no_cast.toml");
+    std::fs::write(&no_cast, scene.replace("role = \"subject\"", "role = \"subject\"\ncast_shadows = false")).unwrap();
+    let (scene, no_cast) = (Scene::load_file(&path).unwrap(), Scene::load_file(&no_cast).unwrap());
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let mut frame = |scene: &Scene, pipeline: Pipeline, kind: SurfaceType, metallic: f64| {
+        let prepared = renderer.prepare_scene(scene).unwrap();
+        let shader = if pipeline == Pipeline::Builtin { "standard" } else { "lit" };
+        let sliders = Sliders { base_color_linear: [0.6; 3], metallic, smoothness: 0.5 };
+        let mut cell = cell_params(pipeline, shader, sliders, (1.0, 10.0), 96, RenderPath::Forward);
+        cell.settings.surface = SurfaceOptions { kind, alpha: 0.35, ..Default::default() };
+        let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
+        (r.hdr, r.roles)
+    };
+    // The share of the opaque shadow's darkening a caster leaves lit, over floor pixels in shadow.
+    let mut light_through = |pipeline: Pipeline, kind: SurfaceType, metallic: f64| {
+        let (shadowed, roles) = frame(&scene, pipeline, SurfaceType::Opaque, metallic);
+        let (lit, lit_roles) = frame(&no_cast, pipeline, SurfaceType::Opaque, metallic);
+        let (through, through_roles) = frame(&scene, pipeline, kind, metallic);
+        let fixed = shadematrix::plan::roles::ROLE_FIXED;
+        let (mut sum, mut n) = (0.0, 0);
+        for i in 0..roles.len() {
+            let (s, l, t) = (shadowed[4 * i + 1] as f64, lit[4 * i + 1] as f64, through[4 * i + 1] as f64);
+            if roles[i] == fixed && lit_roles[i] == fixed && through_roles[i] == fixed && l - s > 0.5 * l {
+                sum += (t - s) / (l - s);
+                n += 1;
+            }
+        }
+        assert!(n > 200, "{} {kind:?}: {n} shadowed floor pixels", pipeline.name());
+        sum / n as f64
+    };
+    // Fade: alpha 0.35 → slice 5 keeps 5 of 16. Transparent at the metallic slider's 0.5, which
+    // Standard reads as 0.214 ([Gamma] _Metallic): reflectivity 1 − 0.96·0.786 = 0.245, alpha' =
+    // 1 − 0.65·0.755 = 0.510 → slice 7 keeps 7 of 16.
+    for (kind, metallic, expected) in
+        [(SurfaceType::Fade, 0.0, 1.0 - 5.0 / 16.0), (SurfaceType::Transparent, 0.5, 1.0 - 7.0 / 16.0)]
+    {
+        let through = light_through(Pipeline::Builtin, kind, metallic);
+        eprintln!("built-in {kind:?}: {through:.3} of the light through its shadow (dither {expected:.3})");
+        assert!((through - expected).abs() < 0.08, "built-in {kind:?}: {through} against {expected}");
+    }
+    for pipeline in [Pipeline::Urp, Pipeline::Hdrp] {
+        let through = light_through(pipeline, SurfaceType::Transparent, 0.0);
+        // (HDRP's SSAO no longer sees the transparent sphere, which moves the floor by a hair.)
+        assert!(through.abs() < 0.02, "{}: a transparent Lit casts opaque ({through})", pipeline.name());
+    }
+}

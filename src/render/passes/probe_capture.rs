@@ -31,7 +31,7 @@ pub(in crate::render) struct ProbeCapture {
 
 /// What a capture draws: the cell as planned, its frame's uniforms with the hash of what a
 /// capture sees of them, and the shadow pass it lights the faces with (the shadow pipeline, and
-/// a textured cutout subject's where it casts).
+/// the subject's where its alpha clips or dithers what it casts).
 pub(in crate::render) struct CaptureScene<'a> {
     pub(in crate::render) prepared: &'a PreparedScene,
     pub(in crate::render) cell: &'a CellParams<'a>,

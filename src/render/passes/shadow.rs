@@ -23,14 +23,14 @@ pub fn shadow_slot(shadow: &LightShadow) -> ([f32; 4], [f32; 4]) {
 }
 
 /// Depth of every casting object into every shadow layer (the dynamic ones alone into the
-/// `dynamic_only` layers, whose light's static shadows are baked); the subject's through `cutout`
-/// where it is a textured cutout (its pipeline and material group).
+/// `dynamic_only` layers, whose light's static shadows are baked); the subject's through
+/// `alpha_caster` where its alpha clips or dithers what it casts (its pipeline and material group).
 pub(in crate::render) fn encode_shadow_passes(
     encoder: &mut wgpu::CommandEncoder,
     pipeline: &wgpu::RenderPipeline,
     prepared: &PreparedScene,
     (layers, casting, dynamic_only): (&[(usize, u32)], &[bool], &[usize]),
-    cutout: Option<(&wgpu::RenderPipeline, &wgpu::BindGroup)>,
+    alpha_caster: Option<(&wgpu::RenderPipeline, &wgpu::BindGroup)>,
     timed: Option<(&PassTimer, u32)>,
 ) {
     let sh = &prepared.shadows;
@@ -61,7 +61,7 @@ pub(in crate::render) fn encode_shadow_passes(
         };
         for (i, o) in prepared.objects.iter().enumerate().filter(|(i, _)| casts(*i)) {
             let subject = prepared.layout.meshes[i].role == crate::declarations::scene::Role::Subject;
-            match cutout.filter(|_| subject) {
+            match alpha_caster.filter(|_| subject) {
                 Some((clipped, group)) => {
                     pass.set_pipeline(clipped);
                     pass.set_bind_group(2, group, &[]);
@@ -76,23 +76,24 @@ pub(in crate::render) fn encode_shadow_passes(
     }
 }
 
-/// The shadow pass's pipeline for a textured cutout subject (shadow.wgsl `fs_shadow_cutout`), its
-/// material group's layout, and the group's constant buffer (base alpha, cutoff).
-pub(in crate::render) struct CutoutShadow {
+/// The shadow pass's pipeline for a subject whose alpha clips or dithers what it casts (shadow.wgsl
+/// `fs_shadow_alpha`), its material group's layout, and the group's constant buffer (base alpha,
+/// cutoff, mode, reflectivity).
+pub(in crate::render) struct AlphaCasterShadow {
     pub(in crate::render) pipeline: wgpu::RenderPipeline,
     layout: wgpu::BindGroupLayout,
     material: wgpu::Buffer,
 }
 
-impl CutoutShadow {
+impl AlphaCasterShadow {
     pub(in crate::render) fn new(
         gpu: &GpuContext,
         layer_layout: &wgpu::BindGroupLayout,
         object_layout: &wgpu::BindGroupLayout,
-    ) -> CutoutShadow {
+    ) -> AlphaCasterShadow {
         let device = &gpu.device;
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("cutout shadow material"),
+            label: Some("alpha caster shadow material"),
             entries: &[
                 wgpu::BindGroupLayoutEntry {
                     binding: 0,
@@ -123,26 +124,27 @@ impl CutoutShadow {
             ],
         });
         let material = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("cutout shadow material"),
+            label: Some("alpha caster shadow material"),
             size: 16,
             usage: gpu.constants.usage() | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
         let pipeline = build(gpu, &[Some(layer_layout), Some(object_layout), Some(&layout)], true);
-        CutoutShadow { pipeline, layout, material }
+        AlphaCasterShadow { pipeline, layout, material }
     }
 
-    /// The material group of a cell's subject: its base alpha and cutoff, its albedo map.
+    /// The material group of a cell's subject: its base alpha, cutoff, mode (0 clipped, 1
+    /// dithered) and reflectivity (shadow.wgsl `AlphaCaster`), its albedo map.
     pub(in crate::render) fn group(
         &self,
         gpu: &GpuContext,
-        (alpha, cutoff): (f32, f32),
+        constants: [f32; 4],
         albedo: &wgpu::TextureView,
         sampler: &wgpu::Sampler,
     ) -> wgpu::BindGroup {
-        gpu.queue.write_buffer(&self.material, 0, bytemuck::cast_slice(&[alpha, cutoff, 0.0, 0.0]));
+        gpu.queue.write_buffer(&self.material, 0, bytemuck::cast_slice(&constants));
         gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("cutout shadow material"),
+            label: Some("alpha caster shadow material"),
             layout: &self.layout,
             entries: &[
                 wgpu::BindGroupEntry { binding: 0, resource: self.material.as_entire_binding() },
@@ -163,8 +165,9 @@ pub(in crate::render) fn shadow_pipeline(
     build(gpu, &[Some(layer_layout), Some(object_layout)], false)
 }
 
-/// The shadow pipeline on `layouts`: depth only, or with the cutout's uv and clipping fragment.
-fn build(gpu: &GpuContext, layouts: &[Option<&wgpu::BindGroupLayout>], cutout: bool) -> wgpu::RenderPipeline {
+/// The shadow pipeline on `layouts`: depth only, or with the uv and the fragment that clips or
+/// dithers by alpha (`alpha_caster`).
+fn build(gpu: &GpuContext, layouts: &[Option<&wgpu::BindGroupLayout>], alpha_caster: bool) -> wgpu::RenderPipeline {
     let device = &gpu.device;
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some(crate::plan::Pass::Shadow.name()),
@@ -175,22 +178,22 @@ fn build(gpu: &GpuContext, layouts: &[Option<&wgpu::BindGroupLayout>], cutout: b
         bind_group_layouts: layouts,
         immediate_size: 0,
     });
-    let attributes: &[wgpu::VertexAttribute] = if cutout {
+    let attributes: &[wgpu::VertexAttribute] = if alpha_caster {
         &wgpu::vertex_attr_array![0 => Float32x3, 2 => Float32x2]
     } else {
         &wgpu::vertex_attr_array![0 => Float32x3]
     };
     let mut uv_layout = attributes.to_vec();
-    if cutout {
+    if alpha_caster {
         // The uv follows the position and the normal in a Vertex.
         uv_layout[1].offset = std::mem::offset_of!(Vertex, uv) as u64;
     }
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some(if cutout { "shadow (cutout)" } else { crate::plan::Pass::Shadow.name() }),
+        label: Some(if alpha_caster { "shadow (alpha caster)" } else { crate::plan::Pass::Shadow.name() }),
         layout: Some(&layout),
         vertex: wgpu::VertexState {
             module: &module,
-            entry_point: Some(if cutout { "vs_shadow_cutout" } else { "vs_shadow" }),
+            entry_point: Some(if alpha_caster { "vs_shadow_alpha" } else { "vs_shadow" }),
             compilation_options: Default::default(),
             buffers: &[Some(wgpu::VertexBufferLayout {
                 array_stride: std::mem::size_of::<Vertex>() as u64,
@@ -207,9 +210,9 @@ fn build(gpu: &GpuContext, layouts: &[Option<&wgpu::BindGroupLayout>], cutout: b
             bias: wgpu::DepthBiasState { constant: 2, slope_scale: 1.5, clamp: 0.0 },
         }),
         multisample: Default::default(),
-        fragment: cutout.then_some(wgpu::FragmentState {
+        fragment: alpha_caster.then_some(wgpu::FragmentState {
             module: &module,
-            entry_point: Some("fs_shadow_cutout"),
+            entry_point: Some("fs_shadow_alpha"),
             compilation_options: Default::default(),
             targets: &[],
         }),
@@ -218,12 +221,12 @@ fn build(gpu: &GpuContext, layouts: &[Option<&wgpu::BindGroupLayout>], cutout: b
     })
 }
 
-/// The shadow pass's own state: the layer slot's layout, the depth-only pipeline, and a textured
-/// cutout subject's pipeline (made for the first such cell).
+/// The shadow pass's own state: the layer slot's layout, the depth-only pipeline, and the
+/// pipeline of a subject whose alpha clips or dithers what it casts (made for the first such cell).
 pub(in crate::render) struct ShadowPass {
     pub(in crate::render) layer_layout: wgpu::BindGroupLayout,
     pub(in crate::render) pipeline: wgpu::RenderPipeline,
-    cutout: Option<CutoutShadow>,
+    alpha_caster: Option<AlphaCasterShadow>,
 }
 
 impl ShadowPass {
@@ -236,33 +239,39 @@ impl ShadowPass {
             64,
         );
         let pipeline = shadow_pipeline(gpu, &layer_layout, object_layout);
-        ShadowPass { layer_layout, pipeline, cutout: None }
+        ShadowPass { layer_layout, pipeline, alpha_caster: None }
     }
 
-    /// The material group of a cell whose subject casts clipped by its alpha map (`albedo`, times
-    /// its base `alpha`; `plan::shadows::SubjectCaster::AlphaClipped`) into shadow maps the frame
-    /// draws (`casts`); None for every other cell.
-    pub(in crate::render) fn cutout_group(
+    /// The material group of a cell whose subject's alpha (its albedo map's, `albedo`, times its
+    /// base `alpha`) clips or dithers what it casts (`plan::shadows::SubjectCaster`) into shadow
+    /// maps the frame draws (`casts`); None for every other cell.
+    pub(in crate::render) fn alpha_caster_group(
         &mut self,
         gpu: &GpuContext,
         object_layout: &wgpu::BindGroupLayout,
         (caster, alpha, casts): (crate::plan::shadows::SubjectCaster, f64, bool),
         (albedo, sampler): (Option<&wgpu::TextureView>, &wgpu::Sampler),
     ) -> Option<wgpu::BindGroup> {
-        let crate::plan::shadows::SubjectCaster::AlphaClipped { cutoff } = caster else { return None };
+        use crate::plan::shadows::SubjectCaster;
+        let constants = match caster {
+            SubjectCaster::AlphaClipped { cutoff } => [alpha as f32, cutoff as f32, 0.0, 0.0],
+            SubjectCaster::Dithered { reflectivity } => [alpha as f32, 0.0, 1.0, reflectivity as f32],
+            SubjectCaster::Opaque | SubjectCaster::Nothing => return None,
+        };
         if !casts {
             return None;
         }
         let albedo = albedo?;
-        let cutout = self.cutout.get_or_insert_with(|| CutoutShadow::new(gpu, &self.layer_layout, object_layout));
-        Some(cutout.group(gpu, (alpha as f32, cutoff as f32), albedo, sampler))
+        let caster =
+            self.alpha_caster.get_or_insert_with(|| AlphaCasterShadow::new(gpu, &self.layer_layout, object_layout));
+        Some(caster.group(gpu, constants, albedo, sampler))
     }
 
-    /// The cutout pipeline with the cell's material `group`, where it has one.
-    pub(in crate::render) fn cutout<'a>(
+    /// The alpha caster's pipeline with the cell's material `group`, where it has one.
+    pub(in crate::render) fn alpha_caster<'a>(
         &'a self,
         group: Option<&'a wgpu::BindGroup>,
     ) -> Option<(&'a wgpu::RenderPipeline, &'a wgpu::BindGroup)> {
-        self.cutout.as_ref().map(|c| &c.pipeline).zip(group)
+        self.alpha_caster.as_ref().map(|c| &c.pipeline).zip(group)
     }
 }
