@@ -444,7 +444,7 @@ fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>, vertex_gi: vec3<f32>) -> vec3<f
         let inc = light_incidence(light, p);
         if (inc.w > 0.0) {
             let receives = object.flags.w != 0u && VERTEX_LIT == 0u && (ADDITIONAL_SHADOWS == 1u || main);
-            let visible = probe_shadowed(light, min(light_visibility(light, i, p, n, inc.xyz, receives), baked_occlusion(light)));
+            let visible = with_baked_occlusion(light, light_visibility(light, i, p, n, inc.xyz, receives));
             if (visible > 0.0) {
                 light_min_roughness = light.params.w;
                 c += model_direct(s, n, v, inc.xyz) * light.color.rgb * (inc.w * visible);
@@ -496,30 +496,27 @@ fn subtract_main_light(baked: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
     return min(subtracted, baked);
 }
 
-// The baked occlusion of a Shadowmask light at this object: its lightmap's shadow-mask channel, or
-// its probe's occlusion (1 for a light without a channel, or an object the bake does not reach);
-// the real-time shadow takes the darker of the two (URP MixRealtimeAndBakedShadows)
-fn baked_occlusion(light: Light) -> f32 {
-    let channel = shadow_mask_channel(light);
-    if (channel < 0) {
-        return 1.0;
+// The light's real-time visibility `visible` with what the bake holds of its occlusion at this
+// object: a Shadowmask light's (color.w = 2 + c) lightmap shadow-mask channel or probe occlusion,
+// and on a probe-lit object Subtractive's main light's (color.w = 6) probe occlusion, channel 0.
+// The darker of the two (URP MixRealtimeAndBakedShadows, built-in UnityMixRealtimeAndBakedShadows
+// under LIGHTMAP_SHADOW_MIXING), or on a probe-lit object their product where the engine scales
+// the light's colour by the probe's occlusion on the CPU (shadow_bias.z = 1:
+// plan::gi::ProbeOcclusion::LightColour)
+fn with_baked_occlusion(light: Light, visible: f32) -> f32 {
+    let probe_lit = object.bake.x > 0.5 && object.bake.x < 1.5;
+    var channel = shadow_mask_channel(light);
+    if (light.color.w > 5.5 && probe_lit) {
+        channel = 0;
     }
-    return baked_occlusions()[channel];
-}
-
-// Subtractive's main light (color.w = 6) on a probe-lit dynamic object, shadowed by static
-// objects through the probe's occlusion of it (channel 0): built-in scales the light's colour by
-// it on the CPU (UnityShadowLibrary.cginc UnitySampleBakedOcclusion, "light probe occlusion is
-// done on the CPU by attenuating the light color"), URP takes min(real-time, baked) of
-// unity_ProbesOcclusion (MixRealtimeAndBakedShadows under LIGHTMAP_SHADOW_MIXING)
-fn probe_shadowed(light: Light, visible: f32) -> f32 {
-    if (light.color.w < 5.5 || object.bake.x < 0.5 || object.bake.x > 1.5) {
+    if (channel < 0) {
         return visible;
     }
-    if (PIPELINE == PIPELINE_BUILTIN) {
-        return visible * object.occlusion.x;
+    let baked = baked_occlusions()[channel];
+    if (probe_lit && light.shadow_bias.z > 0.5) {
+        return visible * baked;
     }
-    return min(visible, object.occlusion.x);
+    return min(visible, baked);
 }
 
 // The light's shadow-mask channel (color.w = 2 + c), or −1
@@ -968,7 +965,7 @@ fn deferred_light(light: Light, s: Surface, p: vec3<f32>, n: vec3<f32>, v: vec3<
     // A Shadowmask light's real-time shadow takes the darker of it and the G-buffer's baked
     // occlusion (built-in UnityDeferredComputeShadow, URP's and HDRP's shadow-mask G-buffer);
     // so does URP's Subtractive main light on a dynamic pixel, whose mask holds its probe's
-    // occlusion (unity_ProbesOcclusion, channel 0: probe_shadowed)
+    // occlusion (unity_ProbesOcclusion, channel 0: with_baked_occlusion)
     var visible = shadow_visibility(light, p, n, inc.xyz, receives);
     let channel = select(shadow_mask_channel(light), 0, light.color.w > 5.5 && PIPELINE == PIPELINE_URP);
     if (channel >= 0) {

@@ -6,7 +6,7 @@ struct Light {
     color: vec4<f32>,      // linear colour × intensity in the pipeline's units (an area light: its luminance)
     params: vec4<f32>,     // range, cos outer, cos inner, HDRP minRoughness of the light's shape; area: range, half width, half height
     shadow: vec4<f32>,     // first shadow layer (−1: none), layer count, strength, soft
-    shadow_bias: vec4<f32>, // bias, normal bias (shadow-map texels)
+    shadow_bias: vec4<f32>, // bias, normal bias (shadow-map texels); z 1: a dynamic object's probe occlusion scales the light (plan::gi::ProbeOcclusion)
     shape: vec4<f32>,      // area lights: right axis; w = 1 where the frame draws it (an HDRP rect)
 };
 

@@ -281,6 +281,9 @@ pub struct CellPlan {
     pub subject_caster: super::shadows::SubjectCaster,
     /// Where the frame's screen-space occlusion applies (`ao::ambient_occlusion`).
     pub ao: super::ao::AoUse,
+    /// How a forward-drawn dynamic object's probe occlusion meets a real-time shadow
+    /// (`gi::probe_occlusion`).
+    pub probe_occlusion: super::gi::ProbeOcclusion,
     /// Which models a deferred path draws into the G-buffer (`draws::gbuffer_pass`).
     pub gbuffer: GBufferModels,
     /// Shadow layers that draw the dynamic objects alone: a mixed light's under Shadowmask and
@@ -446,6 +449,7 @@ impl CellPlan {
             renderer_probes,
             subject_caster,
             ao,
+            probe_occlusion: super::gi::probe_occlusion(p),
             gbuffer,
             draws,
             main_light: main,

@@ -83,6 +83,45 @@ pub enum RealtimeOnBake {
     ShadowmaskChannel(u8),
 }
 
+/// How a probe-lit (dynamic) object's baked occlusion of a light meets the light's real-time
+/// shadow: a Shadowmask light's probe channel, and Subtractive's main light's (channel 0).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ProbeOcclusion {
+    /// The darker of the two: URP's MixRealtimeAndBakedShadows (LIGHTMAP_SHADOW_MIXING) of
+    /// unity_ProbesOcclusion; built-in's deferred lighting, whose shadow-mask G-buffer holds it
+    /// (UnityStandardCore.cginc UnityGetRawBakedOcclusions, Internal-DeferredShading's
+    /// UnityDeferredComputeShadow); HDRP's shadow mask.
+    #[default]
+    Min,
+    /// Their product: built-in's forward and vertex-lit passes set each object's lights on the
+    /// CPU, which scales a light's colour by the object's probe occlusion (UnityShadowLibrary.cginc
+    /// UnitySampleBakedOcclusion: "light probe occlusion is done on the CPU by attenuating the
+    /// light color"; the shader's baked occlusion is 1 there).
+    LightColour,
+}
+
+impl ProbeOcclusion {
+    /// The value the forward passes read in a light's `shadow_bias.z`.
+    pub fn shader_value(self) -> f64 {
+        match self {
+            ProbeOcclusion::Min => 0.0,
+            ProbeOcclusion::LightColour => 1.0,
+        }
+    }
+}
+
+/// How `pipeline`'s forward-drawn objects (every object of a forward or vertex-lit path, and the
+/// forward-only ones of a deferred path) mix a dynamic object's probe occlusion with a real-time
+/// shadow. The deferred lighting reads the occlusion from the shadow-mask G-buffer and takes the
+/// darker in every engine (`ProbeOcclusion::Min`).
+pub fn probe_occlusion(pipeline: Pipeline) -> ProbeOcclusion {
+    match pipeline {
+        Pipeline::Builtin => ProbeOcclusion::LightColour,
+        Pipeline::Urp | Pipeline::Hdrp => ProbeOcclusion::Min,
+    }
+}
+
 impl RealtimeOnBake {
     /// The value the shaders read: 0 full, 1 baked alone, 2 + c a Shadowmask channel, 6 dynamic
     /// objects alone.
@@ -375,6 +414,13 @@ mod tests {
         assert_eq!(on(MixedLighting::Shadowmask, Pipeline::Urp), [Full, BakedAlone, ShadowmaskChannel(0)]);
         assert_eq!(ShadowmaskChannel(3).shader_value(), 5.0);
         assert_eq!(DynamicOnly.shader_value(), 6.0);
+    }
+
+    #[test]
+    fn builtins_forward_scales_the_light_by_the_probes_occlusion_and_the_rest_take_the_darker() {
+        assert_eq!(probe_occlusion(Pipeline::Builtin), ProbeOcclusion::LightColour);
+        assert_eq!(probe_occlusion(Pipeline::Urp), ProbeOcclusion::Min);
+        assert_eq!(probe_occlusion(Pipeline::Hdrp), ProbeOcclusion::Min);
     }
 
     #[test]

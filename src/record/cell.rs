@@ -249,7 +249,8 @@ impl std::ops::Deref for CellRecord {
     }
 }
 
-/// The engine's rules a cell's plan decided (`plan::probes`, `plan::shadows`, `plan::ao`).
+/// The engine's rules a cell's plan decided (`plan::probes`, `plan::shadows`, `plan::ao`,
+/// `plan::gi`).
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct EngineRules {
     /// How the frame read each of the scene's reflection probes (empty: it captured none).
@@ -261,6 +262,9 @@ pub struct EngineRules {
     /// Where screen-space ambient occlusion applied.
     #[serde(default)]
     pub ambient_occlusion: crate::plan::ao::AoUse,
+    /// How a dynamic object's probe occlusion met a real-time shadow (under a bake that has it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub probe_occlusion: Option<crate::plan::gi::ProbeOcclusion>,
 }
 
 impl CellRecord {

@@ -66,7 +66,9 @@ fn gpu_lights(cell: &CellParams, plan: &CellPlan) -> (Vec<GpuLight>, Vec<DVec3>)
             .unwrap_or_else(|| p.default_inner_spot_half_angle(outer));
         let color = DVec3::from(l.radiance(p, l.intensity, &cell.settings.engine));
         colors.push(color);
-        let (shadow, shadow_bias) = shadow_slot(shadow);
+        let (shadow, mut shadow_bias) = shadow_slot(shadow);
+        // shadow_bias.z: how a dynamic object's probe occlusion meets its real-time shadow.
+        shadow_bias[2] = plan.probe_occlusion.shader_value() as f32;
         let mut params = [l.range as f32, outer.cos() as f32, inner.cos() as f32, emitter.hdrp_min_roughness() as f32];
         let mut shape = [0.0; 4];
         if l.is_area() {

@@ -181,6 +181,7 @@ pub fn encode_cell(
             reflection_probes: cell_plan.probes.clone(),
             subject_shadow: Some(cell_plan.subject_caster),
             ambient_occlusion: cell_plan.ao,
+            probe_occlusion: cell_plan.gi.is_some().then_some(cell_plan.probe_occlusion),
         },
         lights: cell_plan.assignment,
         antialiasing: AntialiasingRecord {

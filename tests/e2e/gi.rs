@@ -485,3 +485,113 @@ fn under_subtractive_static_objects_shadow_dynamic_ones_through_the_probes() {
         assert!(open > 2.0 * subtractive, "{}: the roof's probe shadow: open {open} vs roofed {subtractive}", p.name());
     }
 }
+
+/// Shadowmask on a dynamic object: built-in's forward passes attenuate the light's colour by the
+/// object's probe occlusion on the CPU (UnityShadowLibrary.cginc UnitySampleBakedOcclusion: "light
+/// probe occlusion is done on the CPU by attenuating the light color"), so a real-time shadow of
+/// strength 0.5 on it halves what the probe left: the product. URP takes min(real-time, baked)
+/// (MixRealtimeAndBakedShadows), so where the probe's occlusion is already at or below the
+/// real-time shadow's, the shadow adds nothing.
+#[test]
+fn builtins_forward_multiplies_a_dynamic_objects_shadow_by_its_probe_occlusion() {
+    let scene = |sphere_casts: bool| {
+        let text = format!(
+            r#"
+name = "probe_occlusion"
+[camera]
+position = [1.5, 5.0, 3.0]
+target = [1.5, 0.8, 0.0]
+fov_y_deg = 40.0
+[[lights]]
+kind = "directional"
+direction = [0.0, -1.0, 0.0001]
+intensity = 1.0
+shadows = true
+shadow = {{ strength = 0.5 }}
+key = true
+mode = "mixed"
+[[objects]]
+name = "box"
+role = "subject"
+mesh = {{ kind = "box", size = [1.0, 1.0, 1.0] }}
+transform = {{ translate = [1.5, 0.5, 0.0] }}
+[[objects]]
+name = "ball"
+role = "subject"
+cast_shadows = {sphere_casts}
+mesh = {{ kind = "uv_sphere", radius = 0.4, rings = 16, segments = 32 }}
+transform = {{ translate = [1.5, 2.0, 0.0] }}
+[[objects]]
+name = "floor"
+role = "fixed"
+mesh = {{ kind = "plane", size = [12.0, 12.0], subdivisions = 2 }}
+material = {{ base_color_linear = [0.5, 0.5, 0.5], smoothness = 0.0 }}
+[[objects]]
+name = "roof"
+role = "fixed"
+mesh = {{ kind = "box", size = [6.0, 0.2, 12.0] }}
+transform = {{ translate = [-1.9, 4.0, 0.0] }}
+material = {{ base_color_linear = [0.5, 0.5, 0.5], smoothness = 0.0 }}
+[environment]
+sky = {{ kind = "constant", color = [0.0, 0.0, 0.0] }}
+ambient_intensity = 0.0
+background = false
+[gi]
+mixed_lighting = "shadowmask"
+bounces = 0
+texels_per_unit = 2
+samples = 16
+noise = 0
+probes = {{ min = [0.0, 0.3, -3.0], max = [3.0, 3.0, 3.0], counts = [2, 2, 2] }}
+"#
+        );
+        let tmp = tempfile::tempdir().unwrap();
+        std::fs::write(tmp.path().join("s.toml"), text).unwrap();
+        Scene::load_file(&tmp.path().join("s.toml")).unwrap()
+    };
+    let (cast, uncast) = (scene(true), scene(false));
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let mut subject = |s: &Scene, p: Pipeline, shader: &str| {
+        let prepared = renderer.prepare_scene(s).unwrap();
+        let cell = cell_params(p, shader, sliders(), (1.0, 10.0), 96, RenderPath::Forward);
+        let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
+        let luma = |i: usize| {
+            0.2126 * r.hdr[4 * i] as f64 + 0.7152 * r.hdr[4 * i + 1] as f64 + 0.0722 * r.hdr[4 * i + 2] as f64
+        };
+        (0..r.roles.len())
+            .map(|i| (r.roles[i] == shadematrix::render::uniforms::ROLE_SUBJECT).then(|| luma(i)))
+            .collect::<Vec<_>>()
+    };
+    // The box's top under the ball's real-time shadow: subject pixels the ball's cast darkens.
+    for (p, shader, product) in [(Pipeline::Builtin, "standard", true), (Pipeline::Urp, "lit", false)] {
+        let (a, b) = (subject(&cast, p, shader), subject(&uncast, p, shader));
+        let lit = b.iter().flatten().cloned().fold(0.0, f64::max);
+        let ratios: Vec<f64> = a
+            .iter()
+            .zip(&b)
+            .filter_map(|(x, y)| match (x, y) {
+                (Some(x), Some(y)) if *y > 0.1 * lit => Some(x / y),
+                _ => None,
+            })
+            .collect();
+        let darkened: Vec<f64> = ratios.iter().cloned().filter(|r| *r < 0.9).collect();
+        let mean = darkened.iter().sum::<f64>() / darkened.len().max(1) as f64;
+        eprintln!(
+            "{}: {} of {} lit subject pixels darkened by the ball's shadow, mean ratio {mean:.3}",
+            p.name(),
+            darkened.len(),
+            ratios.len()
+        );
+        if product {
+            assert!(darkened.len() > 40, "{}: the ball's shadow on the box ({} pixels)", p.name(), darkened.len());
+            assert!((mean - 0.5).abs() < 0.1, "{}: strength 0.5 times the probe's occlusion: {mean}", p.name());
+        } else {
+            assert!(
+                darkened.len() < 10,
+                "{}: min with the probe's occlusion hides it ({} pixels)",
+                p.name(),
+                darkened.len()
+            );
+        }
+    }
+}
