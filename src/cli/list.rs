@@ -188,7 +188,8 @@ fn light_plan(m: &Matrix, scene: &crate::declarations::scene::Scene) -> String {
             let plan = assign(*p, *path, &m.light_budget, &lights, &centres, |i| {
                 let dynamic = scene.objects[i].role == crate::declarations::scene::Role::Subject;
                 let baked = gi.as_ref().map_or_else(Vec::new, |g| g.baked_alone(dynamic));
-                crate::plan::lights::ModelLighting { forward_only: false, area_lights: true, baked }
+                let lightmapped = gi.is_some() && !dynamic;
+                crate::plan::lights::ModelLighting { forward_only: false, area_lights: true, baked, lightmapped }
             });
             if let Some(gi) = &gi {
                 let _ = writeln!(out, "  baked lighting in {}: {}", p.name(), gi.summary());

@@ -315,11 +315,14 @@ impl CellPlan {
                 forward_only: !cell.subject_deferrable(),
                 area_lights: cell.model.area_lights(),
                 baked: baked_dynamic.clone(),
+                lightmapped: false,
             },
             _ => ModelLighting {
                 forward_only: !super::draws::gbuffer_pass(p, fixed_model),
                 area_lights: fixed_model.area_lights(),
                 baked: baked_static.clone(),
+                // The static objects are lightmapped wherever the scene bakes (geometry::lightmap_uv).
+                lightmapped: gi.is_some(),
             },
         };
         let assignment =

@@ -34,7 +34,8 @@ pub enum LightMode {
     PerVertex,
     /// Projected into the object's order-2 spherical harmonics.
     Sh,
-    /// Not rendered (over URP's per-object limit).
+    /// Not rendered: over URP's per-object limit or the vertex-lit path's 8, or a built-in vertex
+    /// or SH light on a lightmapped object (`lightmapped_left_out`).
     Dropped,
     /// Not drawn by the frame: an area light the pipeline only bakes, or one the object's model
     /// cannot evaluate (the reason says which); the truth still sees it.
@@ -126,6 +127,8 @@ pub struct ModelLighting {
     /// Per light: why it reaches the object through the bake alone (plan::gi), taking no slot of a
     /// budget; empty: every light is real-time.
     pub baked: Vec<Option<String>>,
+    /// It is lit by a lightmap (a static object under `[gi]`).
+    pub lightmapped: bool,
 }
 
 /// Every object's light assignment. `objects`: names and bounds centres in world space;
@@ -151,11 +154,30 @@ pub fn assign(
                     *u = use_(u.light, LightMode::Baked, why);
                 } else if let Some(why) = area_left_out(pipeline, l, m.area_lights) {
                     *u = use_(u.light, LightMode::LeftOut, why);
+                } else if let Some(why) = lightmapped_left_out(pipeline, m.lightmapped, u.mode) {
+                    *u = use_(u.light, LightMode::Dropped, why);
                 }
             }
             ObjectLights { object: name.clone(), lights: uses }
         })
         .collect()
+}
+
+/// Why a lightmapped object in `pipeline` takes no light of `mode`, if it takes none: built-in's
+/// ForwardBase reads the lightmap in place of the vertex lights and the spherical harmonics
+/// (UnityStandardCore.cginc VertexGIForward: under LIGHTMAP_ON the ambient slot holds the
+/// lightmap's uv, and Shade4PointLights and ShadeSHPerVertex run only under
+/// UNITY_SHOULD_SAMPLE_SH; surface shaders likewise), so its Not Important lights light it not at
+/// all; the vertex-lit path draws a lightmapped object with its shader's VertexLM pass, the
+/// lightmap alone (Lighting Off). URP's per-object lights do not depend on the lightmap.
+pub fn lightmapped_left_out(pipeline: Pipeline, lightmapped: bool, mode: LightMode) -> Option<String> {
+    match (pipeline, lightmapped, mode) {
+        (Pipeline::Builtin, true, LightMode::PerVertex | LightMode::Sh) => Some(format!(
+            "a lightmapped object: built-in lights it by its lightmap, not by {} lights (ForwardBase without UNITY_SHOULD_SAMPLE_SH; VertexLM)",
+            mode.name()
+        )),
+        _ => None,
+    }
 }
 
 /// Why the frame leaves an area light out, if it does: built-in and URP bake area lights only
@@ -393,6 +415,26 @@ mod tests {
     }
 
     #[test]
+    fn a_lightmapped_object_in_builtin_forward_takes_no_vertex_or_sh_lights() {
+        let lights = scene_with(12);
+        let objects = [("static".into(), DVec3::ZERO), ("dynamic".into(), DVec3::ZERO)];
+        let model = |i: usize| ModelLighting { lightmapped: i == 0, ..Default::default() };
+        let count = |u: &ObjectLights, m: LightMode| u.lights.iter().filter(|u| u.mode == m).count();
+        let builtin = assign(Pipeline::Builtin, RenderPath::Forward, &LightBudget::default(), &lights, &objects, model);
+        let (lightmapped, probe_lit) = (&builtin[0], &builtin[1]);
+        assert_eq!((count(lightmapped, LightMode::PerPixel), count(lightmapped, LightMode::Dropped)), (4, 8));
+        assert_eq!((count(probe_lit, LightMode::PerVertex), count(probe_lit, LightMode::Sh)), (4, 4));
+        assert!(lightmapped
+            .lights
+            .iter()
+            .filter(|u| u.mode == LightMode::Dropped)
+            .all(|u| u.reason.contains("lightmapped")));
+        // URP's per-object budget does not look at the lightmap.
+        let urp = assign(Pipeline::Urp, RenderPath::Forward, &LightBudget::default(), &lights, &objects, model);
+        assert_eq!(urp[0].lights, urp[1].lights);
+    }
+
+    #[test]
     fn builtin_forward_twelve_points_four_pixel_four_vertex_four_sh() {
         let lights = scene_with(12);
         let plan = assign(
@@ -423,7 +465,7 @@ mod tests {
         let lights = scene_with(12);
         let two = [("subject".to_string(), DVec3::ZERO), ("wall".to_string(), DVec3::ZERO)];
         let plan = assign(Pipeline::Builtin, RenderPath::Deferred, &LightBudget::default(), &lights, &two, |i| {
-            ModelLighting { forward_only: i == 0, area_lights: false, baked: Vec::new() }
+            ModelLighting { forward_only: i == 0, ..Default::default() }
         });
         let per_pixel = |o: &ObjectLights| o.lights.iter().filter(|u| u.mode == LightMode::PerPixel).count();
         assert_eq!(per_pixel(&plan[0]), 4, "drawn forward: the pixel light count");
