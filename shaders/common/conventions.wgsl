@@ -70,14 +70,20 @@ fn irradiance_per_intensity() -> f32 {
     return PI;
 }
 
+// Unity's legacy falloff (core PathTracing/LightFalloffLUT.cs LegacyUnityFalloff; built-in's
+// _LightTextureB0): 1/(1 + 25x²), x = d/range clamped to 1, faded linearly in x² from 0.64 to 1;
+// twin: pipelines::BakedFalloff::Legacy
+fn legacy_unity_falloff(d: f32, range: f32) -> f32 {
+    let x2 = sat(d / range) * sat(d / range);
+    return (1.0 / (1.0 + 25.0 * x2)) * select(1.0, 1.0 - (x2 - 0.64) / 0.36, x2 >= 0.64);
+}
+
 // Distance attenuation, d in metres (models.md#builtin built-in approximation, models.md#urp URP, models.md#hdrp HDRP); twin: pipelines::Attenuation
 fn distance_attenuation(d: f32, range: f32) -> f32 {
     let d2 = d * d;
     if (PIPELINE == PIPELINE_BUILTIN) {
-        // APPROXIMATION of the unpublished falloff texture: 1/(1 + 25x²)·smoothstep(1, 0.8, x)
-        let x = d / range;
-        let t = sat((x - 1.0) / (0.8 - 1.0));
-        return t * t * (3.0 - 2.0 * t) / (1.0 + 25.0 * x * x);
+        // _LightTextureB0's legacy curve, as core's LightFalloffLUT.cs LegacyUnityFalloff has it
+        return legacy_unity_falloff(d, range);
     }
     if (PIPELINE == PIPELINE_URP) {
         // (1/max(d², HALF_MIN))·sat(1 − (d²/r²)²)²
@@ -96,9 +102,7 @@ fn distance_attenuation(d: f32, range: f32) -> f32 {
 // InverseSquaredFalloffSmooth, as their lights delegates set
 fn baked_distance_attenuation(legacy: bool, d: f32, range: f32) -> f32 {
     if (legacy) {
-        // 1/(1 + 25x²), x = d/range clamped to 1, faded linearly in x² from 0.64 to 1
-        let x2 = sat(d / range) * sat(d / range);
-        return (1.0 / (1.0 + 25.0 * x2)) * select(1.0, 1.0 - (x2 - 0.64) / 0.36, x2 >= 0.64);
+        return legacy_unity_falloff(d, range);
     }
     // (1/max(d², 10⁻⁴))·sat(1 − (d²/max(r², 10⁻⁴))²)²
     let d2 = d * d;

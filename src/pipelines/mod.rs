@@ -134,7 +134,7 @@ impl Pipeline {
 
     pub fn attenuation(self) -> Attenuation {
         match self {
-            Pipeline::Builtin => Attenuation::BuiltinTextureApprox,
+            Pipeline::Builtin => Attenuation::BuiltinLegacy,
             Pipeline::Urp => Attenuation::UrpSmoothInverseSquare,
             Pipeline::Hdrp => Attenuation::HdrpPunctual,
         }
@@ -308,8 +308,12 @@ impl RenderPath {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Attenuation {
-    /// Built-in's falloff texture is not public. APPROXIMATION: 1/(1 + 25x²)·smoothstep(1, 0.8, x).
-    BuiltinTextureApprox,
+    /// Built-in: its falloff texture (_LightTextureB0, read at x²) holds Unity's legacy curve,
+    /// which core's LightFalloffLUT.cs LegacyUnityFalloff reproduces for the lightmapper:
+    /// 1/(1 + 25x²), x clamped to 1, faded linearly in x² to 0 from x² = 0.64
+    /// (`BakedFalloff::Legacy`), evaluated exactly where Unity samples a texture.
+    #[serde(alias = "builtin_texture_approx")]
+    BuiltinLegacy,
     /// URP: (1/max(d², HALF_MIN))·sat(1 − (d²/r²)²)².
     UrpSmoothInverseSquare,
     /// HDRP: [min(1/d, 100)·sat(1 − (d²/r²)²)]².
@@ -321,12 +325,7 @@ impl Attenuation {
     pub fn eval(self, distance: f64, range: f64) -> f64 {
         let d2 = distance * distance;
         match self {
-            Attenuation::BuiltinTextureApprox => {
-                let x = distance / range;
-                let t = ((x - 1.0) / (0.8 - 1.0)).clamp(0.0, 1.0);
-                let smooth = t * t * (3.0 - 2.0 * t);
-                smooth / (1.0 + 25.0 * x * x)
-            }
+            Attenuation::BuiltinLegacy => BakedFalloff::Legacy.eval(distance, range),
             Attenuation::UrpSmoothInverseSquare => {
                 let a = 1.0 / (range * range).max(1e-4);
                 let f = (1.0 - (d2 * a).powi(2)).clamp(0.0, 1.0);
@@ -680,8 +679,21 @@ mod tests {
     }
 
     #[test]
+    fn builtins_realtime_falloff_is_the_legacy_curve_its_bake_uses() {
+        for range in [0.5, 6.0, 40.0] {
+            for x in [0.01, 0.3, 0.7, 0.8, 0.85, 0.9, 0.95, 0.99, 1.0, 1.2] {
+                let (realtime, baked) = (
+                    Pipeline::Builtin.attenuation().eval(x * range, range),
+                    BakedFalloff::Legacy.eval(x * range, range),
+                );
+                assert!((realtime - baked).abs() <= 1e-12, "x {x} of range {range}: {realtime} vs the bake's {baked}");
+            }
+        }
+    }
+
+    #[test]
     fn attenuation_reaches_zero_at_range() {
-        for a in [Attenuation::BuiltinTextureApprox, Attenuation::UrpSmoothInverseSquare, Attenuation::HdrpPunctual] {
+        for a in [Attenuation::BuiltinLegacy, Attenuation::UrpSmoothInverseSquare, Attenuation::HdrpPunctual] {
             assert_eq!(a.eval(10.0, 10.0), 0.0, "{a:?}");
             assert!(a.eval(1.0, 10.0) > a.eval(5.0, 10.0), "{a:?} must fall off");
         }

@@ -152,11 +152,12 @@ fn each_pipeline_falls_off_as_its_source_says() {
     let window = |d: f64| sat(1.0 - (d * d / (range * range)).powi(2));
     let falloff = |p: Pipeline, d: f64| -> f64 {
         match p {
-            // Built-in: APPROXIMATION of the falloff texture, 1/(1 + 25x²)·smoothstep(1, 0.8, x).
+            // Built-in: _LightTextureB0's curve, core LightFalloffLUT.cs LegacyUnityFalloff:
+            // 1/(1 + 25x²), faded linearly in x² from 0.64 to 1.
             Pipeline::Builtin => {
-                let x = d / range;
-                let t = sat((x - 1.0) / (0.8 - 1.0));
-                t * t * (3.0 - 2.0 * t) / (1.0 + 25.0 * x * x)
+                let x2 = sat(d / range).powi(2);
+                let fade = if x2 >= 0.64 { 1.0 - (x2 - 0.64) / 0.36 } else { 1.0 };
+                fade / (1.0 + 25.0 * x2)
             }
             // URP DistanceAttenuation: (1/max(d², HALF_MIN))·sat(1 − (d²/r²)²)².
             Pipeline::Urp => window(d).powi(2) / (d * d).max(6.103515625e-5),
