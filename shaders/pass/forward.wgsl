@@ -405,6 +405,9 @@ fn draws_occlusion() -> bool {
 }
 
 fn ambient_occlusion() -> f32 {
+    if (hdrp_occlusion_in_bake()) {
+        return material_occlusion * screen_ao;
+    }
     if (PIPELINE == PIPELINE_HDRP) {
         return min(material_occlusion, screen_ao);
     }
@@ -583,9 +586,26 @@ fn indirect_light(s: Surface, n: vec3<f32>, v: vec3<f32>, gi: vec3<f32>) -> vec3
     let ao = min(material_occlusion, screen_ao);
     let so = min(specular_occlusion_from_ao(nv, material_occlusion, roughness), specular_occlusion_from_ao(nv, screen_ao, roughness));
     indirect_specular_occlusion = gtao_multi_bounce(so, mix(vec3<f32>(0.04), s.base_color, s.metallic)) * probe;
-    let lit = model_indirect(s, n, v, gi * gtao_multi_bounce(ao, s.base_color * (1.0 - s.metallic)));
+    var diffuse_occlusion = gtao_multi_bounce(ao, s.base_color * (1.0 - s.metallic));
+    if (hdrp_occlusion_in_bake()) {
+        diffuse_occlusion = material_occlusion * bake_occlusion(s);
+    }
+    let lit = model_indirect(s, n, v, gi * diffuse_occlusion);
     indirect_specular_occlusion = vec3<f32>(1.0);
     return lit + exact * ao;
+}
+
+// HDRP's deferred Lit (frame.screen.z, plan::ao::AoUse::in_bake): its G-buffer pass multiplies the
+// baked diffuse light by the material's occlusion and adds the emission (Lit.hlsl
+// EncodeIntoGBuffer); the lighting pass multiplies that sum by SSAO's visibility alone,
+// GTAOMultiBounce(min(1, SSAO), diffuse colour) (DecodeFromGBuffer's ambientOcclusion is 1;
+// MaterialEvaluation.hlsl ApplyAmbientOcclusionFactor)
+fn hdrp_occlusion_in_bake() -> bool {
+    return PIPELINE == PIPELINE_HDRP && frame.screen.z > 0.5;
+}
+
+fn bake_occlusion(s: Surface) -> vec3<f32> {
+    return gtao_multi_bounce(screen_ao, s.base_color * (1.0 - s.metallic));
 }
 
 // Interleaved gradient noise (Jimenez 2014; core Random.hlsl InterleavedGradientNoise, frame 0):
@@ -846,10 +866,14 @@ fn fs_gbuffer(in: VertexOut, @builtin(front_facing) front: bool) -> GBufferOut {
     // The object's baked occlusion per shadow-mask channel (built-in's RT4: UnityGetRawBakedOcclusions)
     out.shadow_mask = baked_occlusions();
     out.normal = vec4<f32>(n * 0.5 + 0.5, f32(object.flags.w));
-    // Emission joins the indirect light in RT3, as Unity's deferred paths write it.
+    // Emission joins the indirect light in RT3, as Unity's deferred paths write it; HDRP's SSAO
+    // darkens it there too (hdrp_occlusion_in_bake).
     var lighting = vec3<f32>(ambient_occlusion());
     if (!draws_occlusion()) {
         lighting = emitted(emission(uv));
+        if (hdrp_occlusion_in_bake()) {
+            lighting *= bake_occlusion(s);
+        }
         if (draws_indirect()) {
             lighting += indirect_light(s, n, v, gi);
         }

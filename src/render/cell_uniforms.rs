@@ -226,7 +226,8 @@ fn frame_uniforms(
     frame.view_proj = mat(vp);
     frame.inv_view_proj = mat(vp.inverse());
     frame.camera_pos = vec4(DVec3::from(camera.position), 1.0);
-    frame.screen = [cell.width as f32, cell.height as f32, 0.0, 0.0];
+    // z: HDRP's deferred Lit folds its occlusion into the baked light (plan::ao::AoUse::in_bake).
+    frame.screen = [cell.width as f32, cell.height as f32, plan.ao.in_bake as u32 as f32, 0.0];
     let (tiles_x, _, words) = crate::render::passes::light_tiles::tile_grid(cell.width, cell.height, lights.len());
     frame.counts = [lights.len() as u32, plan.main_light.map_or(0, |slot| slot as u32 + 1), words, tiles_x];
     for (dst, src) in frame.sh.iter_mut().zip(prepared.env.sh.iter()) {
@@ -390,7 +391,15 @@ fn frame_keys(
         for part in [bytemuck::bytes_of(&frame.view_proj), bytemuck::bytes_of(&frame.inv_view_proj)] {
             part.hash(&mut h);
         }
-        bytemuck::bytes_of(&[frame.camera_pos, frame.screen]).hash(&mut h);
+        // The target's size, not how the lighting reads the occlusion.
+        bytemuck::bytes_of(&[
+            frame.camera_pos[0],
+            frame.camera_pos[1],
+            frame.camera_pos[2],
+            frame.screen[0],
+            frame.screen[1],
+        ])
+        .hash(&mut h);
         [frame.subject.base_color[3], frame.subject.specular[3]].map(f32::to_bits).hash(&mut h);
         for (i, o) in prepared.objects.iter().enumerate() {
             let at = i * prepared.object_stride as usize;

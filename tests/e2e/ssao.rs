@@ -248,3 +248,40 @@ fn the_temporal_path_converges_darker_than_the_single_frame_one() {
     assert!(bias > 0.0 && occluded(&temporal) > occluded(&single), "the single frame is the brighter: {bias}");
     assert!(temporal.iter().cloned().fold(1.0, f64::min) < 0.8, "the converged AO darkens the crease too");
 }
+
+/// HDRP's deferred Lit writes the emission into the baked-light G-buffer target, which its SSAO
+/// then multiplies (MaterialEvaluation.hlsl ApplyAmbientOcclusionFactor: "SSAO is multiplied by
+/// emissive which is wrong"): with no ambient light, a glowing subject darkens where it meets the
+/// floor on the deferred path and stays whole on the forward one.
+#[test]
+fn hdrps_deferred_ssao_darkens_the_emission_it_bakes_with_and_forward_does_not() {
+    use shadematrix::pipelines::{Pipeline, RenderPath};
+    let frame = |path: RenderPath, ssao: bool| {
+        let mut scene = shadematrix::declarations::scene::Scene::load("default", None, "test", "composition").unwrap();
+        scene.hdrp.bloom = false;
+        scene.hdrp.ssao = ssao;
+        scene.environment.ambient_intensity = 0.0;
+        scene.environment.reflections = shadematrix::declarations::scene::Reflections::Sky;
+        let mut renderer = shadematrix::render::renderer::Renderer::new(GpuContext::new().unwrap());
+        let sliders =
+            shadematrix::shading::registry::Sliders { base_color_linear: [0.8; 3], metallic: 0.0, smoothness: 0.5 };
+        let mut cell = crate::common::cell_params(Pipeline::Hdrp, "lit", sliders, (2.0, 10.0), 128, path);
+        cell.settings.emission = 1.0;
+        let prepared = renderer.prepare_scene(&scene).unwrap();
+        let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
+        let subject = shadematrix::render::uniforms::ROLE_SUBJECT;
+        (0..r.roles.len()).filter(|&i| r.roles[i] == subject).map(|i| r.hdr[4 * i + 1] as f64).collect::<Vec<_>>()
+    };
+    for path in [RenderPath::Forward, RenderPath::Deferred] {
+        let (on, off) = (frame(path, true), frame(path, false));
+        assert_eq!(on.len(), off.len());
+        let darker = on.iter().zip(&off).filter(|(a, b)| **a < 0.97 * **b).count();
+        let brightest = on.iter().zip(&off).map(|(a, b)| a / b.max(1e-12)).fold(0.0, f64::max);
+        eprintln!("{path:?}: {darker} of {} glowing subject pixels darker by >3 % with SSAO", on.len());
+        assert!(brightest < 1.001, "{path:?}: occlusion never brightens ({brightest})");
+        match path {
+            RenderPath::Deferred => assert!(darker > on.len() / 50, "deferred: SSAO darkens the baked emission"),
+            _ => assert_eq!(darker, 0, "forward: the emission and the direct light are left alone"),
+        }
+    }
+}
