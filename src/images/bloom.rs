@@ -127,9 +127,15 @@ pub fn bloom(image: &Image, settings: &crate::render::passes::bloom::BloomSettin
             level.texels[y * level.width + x].lerp(filter(&up, u, v), scatter)
         });
     }
+    composite(image, &up, settings)
+}
+
+/// UberPost.compute's composite of `bloom` over `image`: lerp(colour, bicubic(bloom), weight),
+/// bicubic at every size (its bilinear fetch is compiled out, `#if 0`), unlike the upsamples.
+fn composite(image: &Image, bloom: &Image, settings: &crate::render::passes::bloom::BloomSettings) -> Image {
     let weight = settings.composite_weight();
     Image::map(image.width, image.height, |x, y, u, v| {
-        image.texels[y * image.width + x].lerp(filter(&up, u, v), weight)
+        image.texels[y * image.width + x].lerp(bloom.bicubic(u, v), weight)
     })
 }
 
@@ -138,6 +144,27 @@ mod tests {
     use super::*;
 
     use crate::render::passes::bloom::BloomSettings;
+
+    #[test]
+    fn the_composite_filters_bicubically_below_800_by_450_where_the_upsamples_do_not() {
+        let hdrp = BloomSettings::default();
+        assert!(!hdrp.bicubic(96, 64), "the upsamples are bilinear at 96×64");
+        // A 4×4 bloom with one lit texel over a black 96×64 frame: the composite reads it with
+        // core's B-spline SampleTexture2DBicubic, which a bilinear fetch does not match.
+        let mut spot = Image { width: 4, height: 4, texels: vec![DVec3::ZERO; 16] };
+        spot.texels[5] = DVec3::ONE;
+        let black = Image { width: 96, height: 64, texels: vec![DVec3::ZERO; 96 * 64] };
+        let out = composite(&black, &spot, &hdrp);
+        let w = hdrp.composite_weight();
+        let (mut bicubic, mut bilinear) = (0.0f64, 0.0f64);
+        for (i, t) in out.texels.iter().enumerate() {
+            let (u, v) = (((i % 96) as f64 + 0.5) / 96.0, ((i / 96) as f64 + 0.5) / 64.0);
+            bicubic = bicubic.max((t.x - w * spot.bicubic(u, v).x).abs());
+            bilinear = bilinear.max((t.x - w * spot.bilinear(u, v).x).abs());
+        }
+        assert!(bicubic < 1e-12, "bicubic: {bicubic}");
+        assert!(bilinear > 1e-3, "not bilinear: {bilinear}");
+    }
 
     #[test]
     fn a_uniform_image_is_unchanged_and_an_impulse_spreads() {

@@ -6,7 +6,8 @@
 //!   uniform image is unchanged;
 //! - each upsample lerps towards the coarser level by lerp(0.05, 0.95, scatter) (0.68 for 0.7);
 //! - ⌊log2(max side) − 2⌋ levels (at most 16), level i RoundToInt(side / 2^(i+1));
-//! - below 800×450 the upsamples and the composite filter bilinearly instead of bicubically.
+//! - below 800×450 the upsamples filter bilinearly instead of bicubically; the composite filters
+//!   bicubically at every size (UberPost.compute compiles its bilinear fetch out, `#if 0`).
 //!
 //! The chain's textures are made per target size and kept with the targets.
 
@@ -59,7 +60,7 @@ impl BloomSettings {
     }
 
     /// Whether a `width`×`height` frame upsamples bicubically: DoBloom turns high-quality
-    /// filtering off below 800×450.
+    /// filtering off below 800×450. The composite is bicubic at every size (UberPost.compute).
     pub fn bicubic(&self, width: u32, height: u32) -> bool {
         self.high_quality_filtering && width >= 800 && height >= 450
     }
@@ -149,8 +150,8 @@ impl BloomChain {
                         coarse: &wgpu::Texture,
                         dst: &wgpu::Texture,
                         size: (u32, u32),
-                        factor: f64| {
-            let bicubic = settings.bicubic(width, height) as u32 as f32;
+                        (factor, bicubic): (f64, bool)| {
+            let bicubic = bicubic as u32 as f32;
             let params = BloomParams { dims: [size.0, size.1, mode, 0], factor: [factor as f32, bicubic, 0.0, 0.0] };
             let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("bloom step"),
@@ -171,20 +172,22 @@ impl BloomChain {
         };
         for (k, (&size, [m, s, t])) in sizes.iter().zip(&levels).enumerate() {
             match k {
-                0 => step(PREFILTER, color, color, t, size, 0.0),
-                _ => step(DOWNSAMPLE, &levels[k - 1][0], color, t, size, 0.0),
+                0 => step(PREFILTER, color, color, t, size, (0.0, false)),
+                _ => step(DOWNSAMPLE, &levels[k - 1][0], color, t, size, (0.0, false)),
             }
-            step(BLUR_ACROSS, t, color, s, size, 0.0);
-            step(BLUR_DOWN, s, color, m, size, 0.0);
+            step(BLUR_ACROSS, t, color, s, size, (0.0, false));
+            step(BLUR_DOWN, s, color, m, size, (0.0, false));
         }
         // Upsampled level k (in its `t`): lerp(level k, bicubic(upsampled k + 1), scatter); the
         // coarsest level is its own upsampled result.
         let n = levels.len();
         let upsampled = |k: usize| if k + 1 == n { &levels[k][0] } else { &levels[k][2] };
         for k in (0..n.saturating_sub(1)).rev() {
-            step(LERP, &levels[k][0], upsampled(k + 1), &levels[k][2], sizes[k], settings.upsample_scatter());
+            let upsample = (settings.upsample_scatter(), settings.bicubic(width, height));
+            step(LERP, &levels[k][0], upsampled(k + 1), &levels[k][2], sizes[k], upsample);
         }
-        step(LERP, color, upsampled(0), &output, (width, height), settings.composite_weight());
+        // UberPost.compute: the composite's fetch is bicubic whatever the size.
+        step(LERP, color, upsampled(0), &output, (width, height), (settings.composite_weight(), true));
         BloomChain { settings, output, steps }
     }
 
