@@ -155,20 +155,39 @@ fn premultiplies_diffuse() -> bool {
     return SURFACE == SURFACE_TRANSPARENT || (SURFACE == SURFACE_ADDITIVE && PIPELINE != PIPELINE_BUILTIN);
 }
 
-// A cutout's alpha test, after every derivative of the fragment is taken: clip(alpha − _Cutoff)
+// 1: the subject's alpha test resolves by alpha-to-coverage (plan::draws::alpha_to_coverage): URP's
+// AlphaClip under IsAlphaToMaskAvailable exports SharpenAlpha instead of clipping
+override ALPHA_TO_COVERAGE: u32 = 0u;
+
+// SharpenAlpha (URP ShaderVariablesFunctions.hlsl): sat((alpha − cutoff)/max(fwidth(alpha), 10⁻⁴) + ½),
+// the alpha the MSAA coverage takes; 1 where the cutoff is 0 (no clipping) or nothing covers
+fn coverage_alpha() -> f32 {
+    if (ALPHA_TO_COVERAGE == 0u || material_cutoff <= 0.0) {
+        return 1.0;
+    }
+    return sat((material_alpha - material_cutoff) / max(fwidth(material_alpha), 1e-4) + 0.5);
+}
+
+// A cutout's alpha test, after every derivative of the fragment is taken: clip(alpha − _Cutoff),
+// or under alpha-to-coverage clip(SharpenAlpha − 0.0001) (AlphaClip)
 fn clip_alpha() {
-    if (material_alpha < material_cutoff) {
+    if (ALPHA_TO_COVERAGE == 1u) {
+        if (coverage_alpha() < 1e-4) {
+            discard;
+        }
+    } else if (material_alpha < material_cutoff) {
         discard;
     }
 }
 
 // The colour and alpha a surface outputs from its lit colour c (SurfaceType::output_color,
-// output_alpha): built-in Transparent's alpha' = 1 − (1 − alpha)(1 − reflectivity) (PreMultiplyAlpha),
+// output_alpha): a cutout's coverage alpha under alpha-to-coverage (1 else), built-in Transparent's alpha' = 1 − (1 − alpha)(1 − reflectivity) (PreMultiplyAlpha),
 // URP Multiply's lerp(1, c, alpha) (AlphaModulate), alpha for the other transparent surfaces.
 fn surface_output(s: Surface, c: vec3<f32>) -> vec4<f32> {
     let a = material_alpha;
     switch SURFACE {
-        case SURFACE_OPAQUE, SURFACE_CUTOUT: { return vec4<f32>(c, 1.0); }
+        case SURFACE_OPAQUE: { return vec4<f32>(c, 1.0); }
+        case SURFACE_CUTOUT: { return vec4<f32>(c, coverage_alpha()); }
         case SURFACE_MULTIPLY: { return vec4<f32>(mix(vec3<f32>(1.0), c, a), a); }
         case SURFACE_TRANSPARENT: {
             if (PIPELINE == PIPELINE_BUILTIN) {

@@ -284,6 +284,8 @@ pub struct CellPlan {
     /// How a forward-drawn dynamic object's probe occlusion meets a real-time shadow
     /// (`gi::probe_occlusion`).
     pub probe_occlusion: super::gi::ProbeOcclusion,
+    /// The subject's alpha test resolves by alpha-to-coverage (`draws::alpha_to_coverage`).
+    pub alpha_to_coverage: bool,
     /// Which models a deferred path draws into the G-buffer (`draws::gbuffer_pass`).
     pub gbuffer: GBufferModels,
     /// Shadow layers that draw the dynamic objects alone: a mixed light's under Shadowmask and
@@ -447,8 +449,11 @@ impl CellPlan {
                 per_renderer.then(|| super::probes::renderer_probe(&scene.probes, centre)).flatten()
             })
             .collect();
+        let multisampling = msaa.for_settings(&cell.settings);
+        let alpha_to_coverage = super::draws::alpha_to_coverage(p, surface.kind, multisampling.samples);
         CellPlan {
             probes,
+            alpha_to_coverage,
             renderer_probes,
             subject_caster,
             ao,
@@ -468,7 +473,7 @@ impl CellPlan {
             lod,
             fades,
             passes,
-            multisampling: msaa.for_settings(&cell.settings),
+            multisampling,
             gi,
             dynamic_casters_only,
         }

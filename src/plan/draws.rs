@@ -78,6 +78,16 @@ pub fn gbuffer_pass(pipeline: Pipeline, model: &ShaderModel) -> bool {
     model.deferrable()
 }
 
+/// Whether the subject's alpha test resolves by alpha-to-coverage: URP Lit's passes declare
+/// `AlphaToMask[_AlphaToMask]`, which BaseShaderGUI turns on with Alpha Clipping, and AlphaClip
+/// (ShaderVariablesFunctions.hlsl) then exports SharpenAlpha(alpha, cutoff) = sat((alpha −
+/// cutoff)/max(fwidth(alpha), 10⁻⁴) + ½) instead of clipping wherever the renderer multisamples
+/// (IsAlphaToMaskAvailable). Built-in Standard has no AlphaToMask; HDRP Lit's Alpha To Mask is off
+/// by default. `samples`: the forward frame's samples per pixel.
+pub fn alpha_to_coverage(pipeline: Pipeline, surface: crate::pipelines::surface::SurfaceType, samples: u32) -> bool {
+    pipeline == Pipeline::Urp && surface.clips() && samples > 1
+}
+
 /// Which of a cell's models its deferred path draws into the G-buffer: the subject's (where its
 /// model has a G-buffer pass and its surface is opaque: the engines draw the Transparent queue
 /// forward) and the fixed objects'.
@@ -170,6 +180,18 @@ pub fn plan_draws(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn urps_alpha_clipping_turns_to_coverage_under_msaa_alone() {
+        use crate::pipelines::surface::SurfaceType;
+        assert!(alpha_to_coverage(Pipeline::Urp, SurfaceType::Cutout, 4));
+        assert!(!alpha_to_coverage(Pipeline::Urp, SurfaceType::Cutout, 1), "no MSAA: the alpha test");
+        assert!(!alpha_to_coverage(Pipeline::Urp, SurfaceType::Opaque, 4));
+        assert!(!alpha_to_coverage(Pipeline::Urp, SurfaceType::Transparent, 4));
+        for p in [Pipeline::Builtin, Pipeline::Hdrp] {
+            assert!(!alpha_to_coverage(p, SurfaceType::Cutout, 8), "{p:?}");
+        }
+    }
 
     #[test]
     fn the_engines_lit_shaders_have_a_gbuffer_pass_and_per_vertex_or_main_light_models_do_not() {

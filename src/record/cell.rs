@@ -265,6 +265,9 @@ pub struct EngineRules {
     /// How a dynamic object's probe occlusion met a real-time shadow (under a bake that has it).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub probe_occlusion: Option<crate::plan::gi::ProbeOcclusion>,
+    /// The subject's alpha test resolved by alpha-to-coverage (URP's clipped Lit under MSAA).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub alpha_to_coverage: bool,
 }
 
 impl CellRecord {

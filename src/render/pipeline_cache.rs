@@ -143,6 +143,8 @@ pub(in crate::render) struct ForwardKey {
     pub(in crate::render) face: RenderFace,
     /// The `TERMS` mask drawn (pipelines::terms): every light term for the image.
     pub(in crate::render) terms: u32,
+    /// The alpha test resolves by alpha-to-coverage (`plan::draws::alpha_to_coverage`).
+    pub(in crate::render) alpha_to_coverage: bool,
 }
 
 impl ForwardKey {
@@ -158,6 +160,7 @@ impl ForwardKey {
             surface: SurfaceType::Opaque,
             face,
             terms: crate::pipelines::terms::LIGHT,
+            alpha_to_coverage: false,
         }
     }
 }
@@ -184,6 +187,7 @@ impl PipelineCache {
             surface,
             face,
             terms,
+            alpha_to_coverage,
         } = key;
         let key = (pipeline, model.name.to_string(), key);
         if self.forward.contains_key(&key) {
@@ -202,6 +206,7 @@ impl PipelineCache {
             ("ADDITIONAL_SHADOWS", additional_shadows as u32 as f64),
             ("SURFACE", surface.shader_id() as f64),
             ("TERMS", terms as f64),
+            ("ALPHA_TO_COVERAGE", alpha_to_coverage as u32 as f64),
         ]);
         if exact.any() {
             constants.extend(exact.constants());
@@ -232,8 +237,21 @@ impl PipelineCache {
             DEPTH_WRITE_LESS
         };
         let cull = face.culled();
-        let p =
-            Self::mesh_pipeline(gpu, &label, layout, &module, entries, &constants, &targets, (samples, depth, cull));
+        let multisample = wgpu::MultisampleState {
+            count: samples,
+            alpha_to_coverage_enabled: alpha_to_coverage,
+            ..Default::default()
+        };
+        let p = Self::mesh_pipeline(
+            gpu,
+            &label,
+            layout,
+            &module,
+            entries,
+            &constants,
+            &targets,
+            (multisample, depth, cull),
+        );
         gpu.check_errors("creating a forward pipeline")?;
         self.forward.insert(key, p);
         Ok(())
@@ -250,7 +268,11 @@ impl PipelineCache {
         (vs, fs): (&str, &str),
         constants: &[(&str, f64)],
         targets: &[Option<wgpu::ColorTargetState>],
-        (samples, (depth_write, depth_compare), cull_mode): (u32, (bool, wgpu::CompareFunction), Option<wgpu::Face>),
+        (multisample, (depth_write, depth_compare), cull_mode): (
+            wgpu::MultisampleState,
+            (bool, wgpu::CompareFunction),
+            Option<wgpu::Face>,
+        ),
     ) -> wgpu::RenderPipeline {
         let options = wgpu::PipelineCompilationOptions { constants, ..Default::default() };
         gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -274,7 +296,7 @@ impl PipelineCache {
                 stencil: Default::default(),
                 bias: Default::default(),
             }),
-            multisample: wgpu::MultisampleState { count: samples, ..Default::default() },
+            multisample,
             fragment: Some(wgpu::FragmentState {
                 module,
                 entry_point: Some(fs),
@@ -320,7 +342,7 @@ impl PipelineCache {
             ("vs_main", "fs_gbuffer"),
             &constants,
             &targets,
-            (1, DEPTH_WRITE_LESS, face.culled()),
+            (wgpu::MultisampleState::default(), DEPTH_WRITE_LESS, face.culled()),
         );
         gpu.check_errors("creating a G-buffer pipeline")?;
         self.gbuffer.insert(key, p);
@@ -354,7 +376,7 @@ impl PipelineCache {
             ("vs_main", "fs_depth_normals"),
             &constants,
             &targets,
-            (1, DEPTH_WRITE_LESS, face.culled()),
+            (wgpu::MultisampleState::default(), DEPTH_WRITE_LESS, face.culled()),
         );
         gpu.check_errors("creating the depth prepass pipeline")?;
         self.depth_normals.insert(key, p);

@@ -57,6 +57,7 @@ fn model_keys(
         surface,
         face: RenderFace::Front,
         terms: 0,
+        alpha_to_coverage: subject && plan.alpha_to_coverage,
     };
     (draw, (additive && adds).then_some(ForwardKey { pass: ForwardPass::Add, ..draw }))
 }

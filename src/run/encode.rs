@@ -182,6 +182,7 @@ pub fn encode_cell(
             subject_shadow: Some(cell_plan.subject_caster),
             ambient_occlusion: cell_plan.ao,
             probe_occlusion: cell_plan.gi.is_some().then_some(cell_plan.probe_occlusion),
+            alpha_to_coverage: cell_plan.alpha_to_coverage,
         },
         lights: cell_plan.assignment,
         antialiasing: AntialiasingRecord {

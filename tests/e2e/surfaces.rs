@@ -582,3 +582,43 @@ background = false
         assert!(through.abs() < 0.02, "{}: a transparent Lit casts opaque ({through})", pipeline.name());
     }
 }
+
+/// URP resolves an alpha-clipped Lit by alpha-to-coverage under MSAA: Lit.shader's
+/// `AlphaToMask[_AlphaToMask]`, on for alpha clipping, and AlphaClip (ShaderVariablesFunctions.hlsl)
+/// exporting SharpenAlpha(alpha, cutoff) = sat((alpha − cutoff)/fwidth(alpha) + ½) where the
+/// renderer has MSAA (IsAlphaToMaskAvailable). So the cut across the ramp quad is antialiased in
+/// URP, as its silhouette is; built-in Standard's alpha test leaves it hard (no AlphaToMask).
+#[test]
+fn urps_alpha_clipped_lit_is_antialiased_by_alpha_to_coverage_under_msaa() {
+    let tmp = tempfile::tempdir().unwrap();
+    write_alpha_ramp_gltf(tmp.path(), 0.45);
+    let scene = Scene::load_file(&tmp.path().join("ramp.toml")).unwrap();
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let prepared = renderer.prepare_scene(&scene).unwrap();
+    let sliders = Sliders { base_color_linear: [1.0; 3], metallic: 0.0, smoothness: 0.0 };
+    // Per row, pixels between the black background and the row's lit quad: the antialiased cut
+    // (at u = 0.45 it falls inside a pixel column, which 4× MSAA covers in part).
+    let mut partial = |pipeline: Pipeline, shader: &str, aa: shadematrix::pipelines::Antialiasing| {
+        let mut cell = cell_params(pipeline, shader, sliders, (1.0, 10.0), 128, RenderPath::Forward);
+        cell.settings.material_maps = Some(shadematrix::declarations::presets::OWN.name);
+        cell.settings.antialiasing = aa;
+        cell.settings.surface = SurfaceOptions { kind: SurfaceType::Cutout, alpha: 1.0, cutoff: 0.45 };
+        let samples = renderer.plan(&prepared, &cell).unwrap().multisampling.samples;
+        assert_eq!(samples, aa.samples(), "the adapter multisamples");
+        let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
+        let lum: Vec<f64> = r.hdr.chunks_exact(4).map(|p| p[1] as f64).collect();
+        lum.chunks_exact(128)
+            .map(|row| {
+                let lit = row.iter().cloned().fold(0.0, f64::max);
+                row.iter().filter(|&&l| l > 0.1 * lit && l < 0.9 * lit).count()
+            })
+            .sum::<usize>()
+    };
+    let msaa = shadematrix::pipelines::Antialiasing::Msaa4;
+    let (urp, builtin) = (partial(Pipeline::Urp, "lit", msaa), partial(Pipeline::Builtin, "standard", msaa));
+    let urp_aliased = partial(Pipeline::Urp, "lit", shadematrix::pipelines::Antialiasing::None);
+    eprintln!("partial pixels at 4× MSAA: URP {urp}, built-in {builtin}; URP without MSAA {urp_aliased}");
+    // The quad fills the frame; the cut runs its height, 128 pixels.
+    assert!(urp >= 100, "URP's cut is antialiased: {urp} partial pixels");
+    assert!(builtin < 10 && urp_aliased < 10, "an alpha test's cut is not: {builtin}, {urp_aliased}");
+}
