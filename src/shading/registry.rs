@@ -79,8 +79,9 @@ pub struct ShaderModel {
 
 impl ShaderModel {
     /// Whether the engine's shader has an emission term (Standard in all its BRDF tiers, URP Lit
-    /// and Simple Lit, HDRP Lit): the emission axis reaches only these; the classic models, Unlit
-    /// and user models have none.
+    /// and Simple Lit, HDRP Lit, the custom roughness/metallic shader's final stage, which adds
+    /// its emission as is): the emission axis reaches only these; the classic models, Unlit and
+    /// user models have none.
     pub fn emits(&self) -> bool {
         self.emits
     }
@@ -660,7 +661,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         from_sliders: custom_shader_sliders,
         summary: "custom roughness/metallic PBR shader AS WRITTEN: scalar Fresnel (red channel), reflect(v, n), ambient × light colour, main directional light only (models.md#torrance-sparrow)",
         gouraud: None,
-        emits: false,
+        emits: true,
         stiff_terms: "ts_direct (d_ggx, v_smith_schlick: no floor on α)",
         passes: FORWARD_PASSES,
         main_light_only: true,
@@ -679,7 +680,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         from_sliders: custom_shader_sliders,
         summary: "the custom shader corrected: colour Fresnel, reflect(−v, n), ambient alone, every light (models.md#torrance-sparrow-corrected)",
         gouraud: None,
-        emits: false,
+        emits: true,
         stiff_terms: "ts_direct (d_ggx, v_smith_schlick: no floor on α)",
         passes: FORWARD_PASSES,
         main_light_only: false,
@@ -1029,6 +1030,8 @@ mod tests {
         assert_eq!(
             emitting,
             [
+                "builtin/torrance_sparrow",
+                "builtin/torrance_sparrow_corrected",
                 "builtin/standard",
                 "builtin/standard_brdf2",
                 "builtin/standard_brdf3",
