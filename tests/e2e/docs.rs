@@ -105,3 +105,17 @@ fn user_docs_describe_the_tool_as_it_is() {
         }
     }
 }
+
+/// Every picture under docs/ is rebuilt by tools/docs_pictures.sh from the code as it is, so none
+/// can show what the code no longer draws without a line that would redraw it.
+#[test]
+fn every_docs_picture_has_a_recipe_in_the_rebuild_script() {
+    let script = std::fs::read_to_string(repo().join("tools/docs_pictures.sh")).unwrap();
+    let mut pictures = Vec::new();
+    files(&repo().join("docs"), &["png"], &mut pictures);
+    assert!(!pictures.is_empty());
+    for p in pictures {
+        let name = p.strip_prefix(repo()).unwrap().to_string_lossy().replace('\\', "/");
+        assert!(script.contains(&name), "{name}: tools/docs_pictures.sh does not write it");
+    }
+}
