@@ -220,10 +220,19 @@ impl GiPlan {
         }
     }
 
-    /// Whether anything baked can reach the frame: a light with baked direct or indirect light,
-    /// or the environment (always baked: Unity's lightmaps and probes hold the sky's light).
-    pub fn bakes_light(&self, environment: bool) -> bool {
-        environment || self.lights.iter().any(|l| l.direct_in_lightmaps || l.direct_in_probes || l.indirect > 0.0)
+    /// Whether the bake holds anything that can reach the frame: a light with baked direct or
+    /// indirect light, a light whose occlusion is baked (a Shadowmask channel, Subtractive's probe
+    /// occlusion: the static objects' shadows of a mixed light live there alone), or the
+    /// environment (always baked: Unity's lightmaps and probes hold the sky's light).
+    pub fn needs_bake(&self, environment: bool) -> bool {
+        environment
+            || self.lights.iter().any(|l| {
+                l.direct_in_lightmaps
+                    || l.direct_in_probes
+                    || l.indirect > 0.0
+                    || l.shadow_mask.is_some()
+                    || l.probe_occlusion.is_some()
+            })
     }
 
     /// Per light, why the bake alone brings it to dynamic objects (the subjects) or static ones

@@ -595,3 +595,79 @@ probes = {{ min = [0.0, 0.3, -3.0], max = [3.0, 3.0, 3.0], counts = [2, 2, 2] }}
         }
     }
 }
+
+/// Under Shadowmask a static object's shadow of a mixed light lives in the bake alone (the
+/// light's real-time map draws the dynamic casters): a bake whose lights carry no baked light
+/// (indirect multiplier 0, black sky) must still bake the shadow mask, or the static shadows vanish.
+#[test]
+fn a_shadow_mask_is_baked_when_nothing_else_is() {
+    let text = |multiplier: f64| {
+        format!(
+            r#"
+name = "mask_only"
+[camera]
+position = [0.0, 8.0, 0.001]
+target = [0.0, 0.0, 0.0]
+fov_y_deg = 50.0
+[[lights]]
+kind = "directional"
+direction = [1.0, -1.0, 0.0]
+intensity = 1.0
+shadows = true
+key = true
+mode = "mixed"
+indirect_multiplier = {multiplier}
+[[objects]]
+name = "ball"
+role = "subject"
+mesh = {{ kind = "uv_sphere", radius = 0.3, rings = 12, segments = 24 }}
+transform = {{ translate = [0.0, 0.3, -3.0] }}
+[[objects]]
+name = "floor"
+role = "fixed"
+mesh = {{ kind = "plane", size = [8.0, 8.0], subdivisions = 2 }}
+material = {{ base_color_linear = [0.5, 0.5, 0.5], smoothness = 0.0 }}
+[[objects]]
+name = "roof"
+role = "fixed"
+mesh = {{ kind = "box", size = [4.0, 0.2, 8.0] }}
+transform = {{ translate = [-3.0, 3.0, 0.0] }}
+material = {{ base_color_linear = [0.5, 0.5, 0.5], smoothness = 0.0 }}
+[environment]
+sky = {{ kind = "constant", color = [0.0, 0.0, 0.0] }}
+ambient_intensity = 0.0
+background = false
+[gi]
+mixed_lighting = "shadowmask"
+bounces = 0
+texels_per_unit = 2
+samples = 16
+noise = 0
+"#
+        )
+    };
+    let tmp = tempfile::tempdir().unwrap();
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    // Seen from 8 m above (the floor spans x ∈ ±3.73 m), the sun at 45° throws the roof's shadow
+    // (x ∈ [-5, -1] at 3 m) onto x ∈ [-2, 2]: the floor's mean green at x ∈ (0, 1), columns
+    // 50–63, and in the open at x ∈ (2.5, 3.3), columns 84–94.
+    let mut floor = |multiplier: f64| {
+        std::fs::write(tmp.path().join("s.toml"), text(multiplier)).unwrap();
+        let scene = Scene::load_file(&tmp.path().join("s.toml")).unwrap();
+        let prepared = renderer.prepare_scene(&scene).unwrap();
+        let cell = cell_params(Pipeline::Builtin, "standard", sliders(), (1.0, 10.0), 100, RenderPath::Forward);
+        let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
+        let mean = |x0: usize, x1: usize| {
+            let px: Vec<f64> =
+                (40..60).flat_map(|y| (x0..x1).map(move |x| y * 100 + x)).map(|i| r.hdr[4 * i + 1] as f64).collect();
+            px.iter().sum::<f64>() / px.len() as f64
+        };
+        (mean(50, 63), mean(84, 94))
+    };
+    for multiplier in [1.0, 0.0] {
+        let (under, open) = floor(multiplier);
+        eprintln!("indirect multiplier {multiplier}: floor under the roof {under:.4}, in the open {open:.4}");
+        assert!(open > 0.05, "the sun lights the open floor");
+        assert!(under < 0.2 * open, "multiplier {multiplier}: the roof's baked shadow ({under} against {open})");
+    }
+}

@@ -168,7 +168,7 @@ impl Renderer {
     ) -> Option<BakeInputs> {
         let (Some(gi_plan), Some(gi)) = (&plan.gi, &prepared.scene.gi) else { return None };
         let written = write_uniforms(&self.gpu.queue, prepared, cell, plan, fixed_model, None);
-        if !gi_plan.bakes_light(written.frame.env[1] > 0.0) {
+        if !gi_plan.needs_bake(written.frame.env[1] > 0.0) {
             return None;
         }
         let lights: Vec<BakeLight> = gi_plan
