@@ -11,8 +11,8 @@ work=${1:-target/docs-pictures}
 mkdir -p "$work"
 work=$(realpath "$work")
 cargo build --release --bin shadematrix --example docs_montage
-bin=target/release/shadematrix
-montage=target/release/examples/docs_montage
+bin=${CARGO_TARGET_DIR:-target}/release/shadematrix
+montage=${CARGO_TARGET_DIR:-target}/release/examples/docs_montage
 
 # run NAME [MATRIX]: a fresh run of MATRIX (the embedded default matrix without one) into $work/NAME.
 run() {

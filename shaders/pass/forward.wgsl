@@ -915,6 +915,31 @@ fn fs_gbuffer(in: VertexOut, @builtin(front_facing) front: bool) -> GBufferOut {
 // every G-buffer pixel (one model lights the whole G-buffer; each role's material values).
 override DEFERRED_ROLE: u32 = 2u;
 
+// Built-in's legacy Deferred pass whose data the shaded pixels hold (plan::draws::legacy_deferred;
+// shading::registry::LegacyLighting): 0 none, 1 LightingLambert_Deferred, 2 LightingBlinnPhong_Deferred.
+// The pipeline is the Standard model's: Internal-DeferredShading lights every pixel with BRDF1.
+override LEGACY_DEFERRED: u32 = 0u;
+
+// The UnityStandardData a legacy Deferred pass wrote (Lighting.cginc), as the Standard model's
+// specular setup reads it: diffuseColor = Albedo (divided here by 1 − max(spec), which the setup
+// multiplies back: Internal-DeferredShading takes it as stored), specularColor 0 and smoothness 0
+// (Lambert), or _SpecColor·Gloss/π and Specular (Blinn-Phong; Gloss 1, Specular = n/128 for the
+// shininess n the model's smoothness gives, at most 1); occlusion 1.
+fn legacy_standard_data(g: Surface, m: Material) -> Surface {
+    var s = g;
+    s.params0.x = 1.0;
+    s.params0.y = 0.0;
+    s.metallic = 0.0;
+    s.specular = vec3<f32>(0.0);
+    s.smoothness = 0.0;
+    if (LEGACY_DEFERRED == 2u) {
+        s.specular = m.specular.rgb * INV_PI;
+        s.smoothness = min(shininess_from_smoothness(g.smoothness) / 128.0, 1.0);
+    }
+    s.base_color = g.base_color / (1.0 - max(max(s.specular.r, s.specular.g), s.specular.b));
+    return s;
+}
+
 @vertex
 fn vs_fullscreen(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
     let uv = vec2<f32>(f32((i << 1u) & 2u), f32(i & 2u));
@@ -952,10 +977,19 @@ fn fs_deferred(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     if (PIPELINE == PIPELINE_BUILTIN) {
         s.params0.y = 0.0;
     }
+    if (LEGACY_DEFERRED != 0u) {
+        s = legacy_standard_data(s, m);
+    }
     let nb = textureLoad(gb_normal, px, 0);
     let n = normalize(nb.xyz * 2.0 - 1.0);
     let v = normalize(frame.camera_pos.xyz - p);
     var c = textureLoad(gb_lighting, px, 0).rgb;
+    // A legacy pass's RT3 holds the emission and Albedo·indirect diffuse alone
+    // (UNITY_LIGHT_FUNCTION_APPLY_INDIRECT); Internal-DeferredReflections adds BRDF1's reflection
+    if (LEGACY_DEFERRED != 0u && draws_indirect()) {
+        shading_position = p;
+        c += model_indirect(s, n, v, vec3<f32>(0.0));
+    }
     if (!draws_direct()) {
         return vec4<f32>(c, 1.0);
     }

@@ -375,8 +375,11 @@ impl CellPlan {
                 shadow_layers[first + k] = layer;
             }
         }
-        let gbuffer =
-            GBufferModels { subject: cell.subject_deferrable(), fixed: super::draws::gbuffer_pass(p, fixed_model) };
+        let gbuffer = GBufferModels {
+            subject: cell.subject_deferrable(),
+            fixed: super::draws::gbuffer_pass(p, fixed_model),
+            subject_legacy: super::draws::legacy_deferred(p, cell.model),
+        };
         let mut lod = Vec::new();
         let mut fades: Vec<Option<f64>> = layout.meshes.iter().map(|m| m.lod_level.is_none().then_some(1.0)).collect();
         for seen in groups_seen(scene, &layout.world_bounds, &camera, p.quality_lod_bias()) {

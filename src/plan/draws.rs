@@ -74,8 +74,19 @@ pub struct DrawPlan {
 /// (`EnginePasses::gbuffer`). A model lit per vertex or by the main light alone has none: the
 /// engines draw such shaders forward after the deferred lighting.
 pub fn gbuffer_pass(pipeline: Pipeline, model: &ShaderModel) -> bool {
-    let _ = pipeline;
-    model.deferrable()
+    model.deferrable() || legacy_deferred(pipeline, model).is_some()
+}
+
+/// Whether `model` in `pipeline` has built-in's legacy Deferred pass: a surface shader lit by
+/// Lighting.cginc's Lambert or BlinnPhong, whose LightingLambert_Deferred and
+/// LightingBlinnPhong_Deferred write UnityStandardData (diffuseColor = Albedo; specularColor 0
+/// and smoothness 0, or _SpecColor·Gloss/π and Specular; occlusion 1; the emission and
+/// Albedo·indirect diffuse into RT3), which Internal-DeferredShading lights with BRDF1 and
+/// Internal-DeferredReflections reflects (`EnginePasses::legacy_deferred`). A per-vertex or
+/// ForwardBase-only variant has none.
+pub fn legacy_deferred(pipeline: Pipeline, model: &ShaderModel) -> Option<crate::shading::registry::LegacyLighting> {
+    let has = pipeline == Pipeline::Builtin && !model.per_vertex && !model.main_light_only;
+    model.passes.legacy_deferred.filter(|_| has)
 }
 
 /// Whether the subject's alpha test resolves by alpha-to-coverage: URP Lit's passes declare
@@ -95,6 +106,9 @@ pub fn alpha_to_coverage(pipeline: Pipeline, surface: crate::pipelines::surface:
 pub struct GBufferModels {
     pub subject: bool,
     pub fixed: bool,
+    /// The subject's G-buffer holds built-in's legacy UnityStandardData of this lighting function,
+    /// lit with BRDF1 (the fixed objects' Standard) rather than its own model (`legacy_deferred`).
+    pub subject_legacy: Option<crate::shading::registry::LegacyLighting>,
 }
 
 /// Whether `model` is drawn with ForwardBase + ForwardAdd passes when lit on `path` in `pipeline`.
@@ -209,5 +223,23 @@ mod tests {
             assert!(!has(p, "phong_vertex") && !has(p, "lambert_vertex"), "{p:?}: lit per vertex");
         }
         assert!(!has(Pipeline::Builtin, "torrance_sparrow"), "ForwardBase only");
+    }
+
+    #[test]
+    fn builtins_lambert_and_blinn_phong_have_the_legacy_deferred_pass_and_custom_lighting_none() {
+        let models = crate::shading::Registry::builtin();
+        let model = |p: Pipeline, name: &str| models.find(p, name).expect(name).clone();
+        for name in ["lambert", "blinn_phong"] {
+            assert!(gbuffer_pass(Pipeline::Builtin, &model(Pipeline::Builtin, name)), "{name}");
+            assert!(legacy_deferred(Pipeline::Builtin, &model(Pipeline::Builtin, name)).is_some(), "{name}");
+            for p in [Pipeline::Urp, Pipeline::Hdrp] {
+                assert!(!gbuffer_pass(p, &model(p, name)), "{p:?} {name}: a custom shader there");
+            }
+            assert!(model(Pipeline::Builtin, name).passes.vertex_lit_fallback, "{name}: VertexLit fallback");
+        }
+        for name in ["phong", "oren_nayar", "half_lambert", "cook_torrance", "lambert_vertex", "blinn_phong_vertex"] {
+            assert!(!gbuffer_pass(Pipeline::Builtin, &model(Pipeline::Builtin, name)), "{name}: forward only");
+        }
+        assert_eq!(legacy_deferred(Pipeline::Builtin, &model(Pipeline::Builtin, "standard")), None, "Standard's own");
     }
 }

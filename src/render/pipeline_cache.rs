@@ -54,7 +54,8 @@ pub(in crate::render) struct PipelineCache {
     /// By (pipeline, model, textured subject, faces drawn, terms).
     pub(in crate::render) gbuffer: HashMap<(Pipeline, String, bool, RenderFace, u32), wgpu::RenderPipeline>,
     /// By (pipeline, model, role, terms).
-    pub(in crate::render) lighting: HashMap<(Pipeline, String, u32, u32), wgpu::RenderPipeline>,
+    /// Keyed by pipeline, model, role, terms and the legacy lighting whose data it lights (0: none).
+    pub(in crate::render) lighting: HashMap<(Pipeline, String, u32, u32, u32), wgpu::RenderPipeline>,
     /// The depth-normal prepass pipelines, by (pipeline, textured subject, faces drawn).
     pub(in crate::render) depth_normals: HashMap<(Pipeline, bool, RenderFace), wgpu::RenderPipeline>,
     /// By (sample count, terms).
@@ -383,15 +384,18 @@ impl PipelineCache {
         Ok(())
     }
 
-    /// The deferred lighting pipeline shading the pixels of `role` with `model`.
+    /// The deferred lighting pipeline shading the pixels of `role` with `model`; `legacy`: the
+    /// built-in lighting function whose UnityStandardData those pixels hold (forward.wgsl
+    /// `LEGACY_DEFERRED`).
     pub(in crate::render) fn lighting_pipeline(
         &mut self,
         gpu: &GpuContext,
         pipeline: Pipeline,
         model: &ShaderModel,
-        role: u8,
+        (role, legacy): (u8, Option<crate::shading::registry::LegacyLighting>),
     ) -> Result<(), Error> {
-        let key = (pipeline, model.name.to_string(), role as u32, self.terms);
+        let legacy = legacy.map_or(0, |l| l.shader_value());
+        let key = (pipeline, model.name.to_string(), role as u32, self.terms, legacy);
         if self.lighting.contains_key(&key) {
             return Ok(());
         }
@@ -402,6 +406,7 @@ impl PipelineCache {
             ("DEFERRED_ROLE", role as f64),
             ("TILED_LIGHTS", pipeline.tiled_light_loop() as u32 as f64),
             ("TERMS", self.terms as f64),
+            ("LEGACY_DEFERRED", legacy as f64),
         ];
         let options = wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() };
         let p = gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {

@@ -104,8 +104,8 @@ pub(in crate::render) fn warm_up(
                 pipelines.gbuffer_pipeline(gpu, cell.pipeline, model, maps, face)?;
             }
         }
-        for (model, role) in lighting_draws((cell.model, fixed_model), plan.gbuffer) {
-            pipelines.lighting_pipeline(gpu, cell.pipeline, model, role)?;
+        for (model, role, legacy) in lighting_draws((cell.model, fixed_model), plan.gbuffer) {
+            pipelines.lighting_pipeline(gpu, cell.pipeline, model, (role, legacy))?;
         }
     }
     if prepared.plan.background {

@@ -195,21 +195,56 @@ pub struct EnginePasses {
     /// Shaders: fullforwardshadows").
     pub full_forward_shadows: bool,
     /// Built-in: the shader has no `Vertex` pass, so the legacy vertex-lit path draws its fallback,
-    /// Legacy Shaders/VertexLit (Standard.shader ends `FallBack "VertexLit"`). The classic models
-    /// are drawn with their own lighting at the vertices, as a shader with a Vertex pass is.
+    /// Legacy Shaders/VertexLit (Standard.shader ends `FallBack "VertexLit"`; Legacy
+    /// Shaders/Diffuse and Specular fall back to it too). The other classic models are drawn with
+    /// their own lighting at the vertices, as a shader with a Vertex pass is.
     pub vertex_lit_fallback: bool,
+    /// Built-in: a surface shader whose lighting function has a `_Deferred` variant
+    /// (Lighting.cginc LightingLambert_Deferred, LightingBlinnPhong_Deferred), so the surface
+    /// compiler gives it a Deferred pass writing UnityStandardData, which Internal-DeferredShading
+    /// lights with BRDF1 (`plan::draws::legacy_deferred`). Custom lighting functions have none.
+    pub legacy_deferred: Option<LegacyLighting>,
+}
+
+/// Built-in's Lighting.cginc lighting functions that have a `_Deferred` variant.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+pub enum LegacyLighting {
+    /// LightingLambert_Deferred: specularColor 0, smoothness 0.
+    Lambert,
+    /// LightingBlinnPhong_Deferred: specularColor = _SpecColor·Gloss/π, smoothness = Specular.
+    BlinnPhong,
+}
+
+impl LegacyLighting {
+    /// The value the deferred lighting reads (forward.wgsl `LEGACY_DEFERRED`; 0: none).
+    pub fn shader_value(self) -> u32 {
+        match self {
+            LegacyLighting::Lambert => 1,
+            LegacyLighting::BlinnPhong => 2,
+        }
+    }
 }
 
 /// Standard and its BRDF tiers: a G-buffer pass, shadows from every forward light, VertexLit on
 /// the vertex-lit path.
 const STANDARD_PASSES: EnginePasses =
-    EnginePasses { gbuffer: true, full_forward_shadows: true, vertex_lit_fallback: true };
+    EnginePasses { gbuffer: true, full_forward_shadows: true, vertex_lit_fallback: true, legacy_deferred: None };
 /// The SRP lit shaders: a G-buffer pass (full forward shadows is a built-in notion).
 const GBUFFER_PASS: EnginePasses =
-    EnginePasses { gbuffer: true, full_forward_shadows: false, vertex_lit_fallback: false };
-/// Forward only: the classic and legacy models, Unlit, user models.
+    EnginePasses { gbuffer: true, full_forward_shadows: false, vertex_lit_fallback: false, legacy_deferred: None };
+/// Lambert and Blinn-Phong, which built-in's surface shaders light with Lighting.cginc's functions:
+/// a Deferred pass of UnityStandardData there, and Legacy Shaders/VertexLit on the vertex-lit path.
+const fn legacy_surface_passes(lighting: LegacyLighting) -> EnginePasses {
+    EnginePasses {
+        gbuffer: false,
+        full_forward_shadows: false,
+        vertex_lit_fallback: true,
+        legacy_deferred: Some(lighting),
+    }
+}
+/// Forward only: the other classic models, Unlit, user models.
 pub const FORWARD_PASSES: EnginePasses =
-    EnginePasses { gbuffer: false, full_forward_shadows: false, vertex_lit_fallback: false };
+    EnginePasses { gbuffer: false, full_forward_shadows: false, vertex_lit_fallback: false, legacy_deferred: None };
 
 const ALL_AXES: Reads = Reads { color: true, metallic: true, smoothness: true, light: true };
 
@@ -508,7 +543,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         gouraud: Some("Lambert evaluated per vertex (Gouraud, models.md#gouraud)"),
         emits: false,
         stiff_terms: "none needed: the model reads no roughness",
-        passes: FORWARD_PASSES,
+        passes: legacy_surface_passes(LegacyLighting::Lambert),
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: 1e-4,
@@ -565,7 +600,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         gouraud: Some("Blinn-Phong per vertex (Gouraud)"),
         emits: false,
         stiff_terms: "shininess_from_smoothness (n = 2..2048)",
-        passes: FORWARD_PASSES,
+        passes: legacy_surface_passes(LegacyLighting::BlinnPhong),
         main_light_only: false,
         smoothness_gate: None,
         parity_tolerance: 1e-4,
@@ -926,10 +961,12 @@ pub struct BuiltinModel {
 impl BuiltinModel {
     /// The row's model, and its per-vertex (Gouraud) variant where it has one.
     fn models(&self) -> impl Iterator<Item = ShaderModel> + '_ {
+        // A per-vertex variant is a shader with a Vertex pass of its own: no fallback, no G-buffer.
         let gouraud = self.gouraud.map(|summary| ShaderModel {
             name: Cow::Owned(format!("{}_vertex", self.name)),
             summary: Cow::Borrowed(summary),
             per_vertex: true,
+            passes: FORWARD_PASSES,
             ..self.model()
         });
         std::iter::once(self.model()).chain(gouraud)

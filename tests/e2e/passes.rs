@@ -98,7 +98,7 @@ fn a_model_without_a_gbuffer_pass_is_drawn_forward_on_deferred_paths() {
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     let prepared = renderer.prepare_scene(&scene()).unwrap();
     for (pipeline, shader) in
-        [(Pipeline::Builtin, "lambert"), (Pipeline::Urp, "phong"), (Pipeline::Hdrp, "blinn_phong")]
+        [(Pipeline::Builtin, "phong"), (Pipeline::Urp, "lambert"), (Pipeline::Hdrp, "blinn_phong")]
     {
         let forward = cell_params(pipeline, shader, PLASTIC, (1.5, 8.0), 96, RenderPath::Forward);
         let deferred = cell_params(pipeline, shader, PLASTIC, (1.5, 8.0), 96, RenderPath::Deferred);

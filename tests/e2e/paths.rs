@@ -161,3 +161,52 @@ fn hdrp_tiled_light_loop_keeps_every_light_where_it_reaches() {
     assert!(lit > 1000, "the lights reach the plane: {lit}");
     assert!(worst < 0.03, "{worst}");
 }
+
+/// Built-in's Lambert and Blinn-Phong surface shaders have Deferred passes (Lighting.cginc
+/// LightingLambert_Deferred / LightingBlinnPhong_Deferred) writing UnityStandardData, which
+/// Internal-DeferredShading lights with BRDF1: a deferred Lambert is the G-buffer of a Standard
+/// in its specular setup with specular colour 0 and smoothness 0 — Disney diffuse at perceptual
+/// roughness 1, no specular — not the forward Lambert.
+#[test]
+fn builtins_deferred_lambert_is_lit_as_standard_data_by_brdf1() {
+    let scene = Scene::load("default", None, "test", "composition").unwrap();
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let prepared = renderer.prepare_scene(&scene).unwrap();
+    let sliders = Sliders { base_color_linear: [0.6, 0.4, 0.3], metallic: 0.0, smoothness: 0.0 };
+    let mut subject = |shader: &str, path: RenderPath, specular_setup: bool| {
+        let mut cell = cell_params(Pipeline::Builtin, shader, sliders, (2.0, 10.0), 96, path);
+        if specular_setup {
+            cell.surface.params[0] = 1.0;
+            cell.surface.specular = glam::DVec3::ZERO;
+        }
+        let plan = renderer.plan(&prepared, &cell).unwrap();
+        let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
+        let role = shadematrix::render::uniforms::ROLE_SUBJECT;
+        let px: Vec<[f32; 3]> = (0..r.roles.len())
+            .filter(|&i| r.roles[i] == role)
+            .map(|i| [r.hdr[4 * i], r.hdr[4 * i + 1], r.hdr[4 * i + 2]])
+            .collect();
+        (plan.draws.counts.get("gbuffer").copied().unwrap_or(0), px)
+    };
+    let (gbuffer, deferred) = subject("lambert", RenderPath::Deferred, false);
+    let (_, forward) = subject("lambert", RenderPath::Forward, false);
+    let (_, standard) = subject("standard", RenderPath::Deferred, true);
+    assert_eq!(gbuffer, scene.objects.len() as u32, "every object into the G-buffer, the Lambert subject too");
+    assert_eq!((deferred.len(), forward.len()), (standard.len(), standard.len()));
+    let rel = |a: &[[f32; 3]], b: &[[f32; 3]]| {
+        let (mut d, mut t) = (0.0f64, 0.0f64);
+        for (x, y) in a.iter().zip(b) {
+            for k in 0..3 {
+                d += (x[k] - y[k]).abs() as f64;
+                t += y[k].abs() as f64;
+            }
+        }
+        d / t
+    };
+    let (as_standard, as_forward) = (rel(&deferred, &standard), rel(&deferred, &forward));
+    eprintln!(
+        "deferred Lambert against deferred Standard data: {as_standard:.5}; against forward Lambert: {as_forward:.5}"
+    );
+    assert!(as_standard < 0.01, "BRDF1 on UnityStandardData: {as_standard}");
+    assert!(as_forward > 2.0 * as_standard, "not the forward Lambert: {as_forward}");
+}

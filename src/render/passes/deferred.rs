@@ -19,6 +19,7 @@ use crate::render::pipeline_cache::PipelineCache;
 use crate::render::prepared::PreparedScene;
 use crate::render::targets::Targets;
 use crate::render::uniforms::{ROLE_FIXED, ROLE_SUBJECT};
+use crate::shading::registry::LegacyLighting;
 use crate::shading::ShaderModel;
 
 /// What a deferred frame's passes draw: the frame's meshes and groups, the cell and its fixed
@@ -137,8 +138,10 @@ pub(in crate::render) fn encode_lighting(
     pass.set_bind_group(1, &f.prepared.object_bind_group, &[0]);
     pass.set_bind_group(2, t.gbuffer.read(p), &[]);
     pass.set_bind_group(3, tiles, &[]);
-    for (model, role) in lighting_draws((f.cell.model, f.fixed_model), f.gbuffer) {
-        if let Some(pipeline) = f.pipelines.lighting.get(&(p, model.name.to_string(), role as u32, f.pipelines.terms)) {
+    for (model, role, legacy) in lighting_draws((f.cell.model, f.fixed_model), f.gbuffer) {
+        let key =
+            (p, model.name.to_string(), role as u32, f.pipelines.terms, legacy.map_or(0, LegacyLighting::shader_value));
+        if let Some(pipeline) = f.pipelines.lighting.get(&key) {
             pass.set_pipeline(pipeline);
             pass.draw(0..3, 0..1);
         }
@@ -205,19 +208,22 @@ pub(in crate::render) fn encode_transparent(
     draw_objects(&mut pass, (f.prepared, &f.draw), f.forward, f.forward_add, |i| drawn[i] && f.transparent(i));
 }
 
-/// The lighting pass's full-screen draws: (model, role shaded; 0 every G-buffer pixel). One draw
-/// when one deferred model covers the frame's G-buffer (the subject's is the fixed objects', or
-/// the subject is drawn forward); one per model where they differ.
+/// The lighting pass's full-screen draws: (model, role shaded (0 every G-buffer pixel), the
+/// subject's legacy data lit by it). One draw when one deferred model covers the frame's G-buffer
+/// (the subject's is the fixed objects', or the subject is drawn forward); one per model where
+/// they differ. A built-in legacy subject (`GBufferModels::subject_legacy`) is lit by the fixed
+/// objects' Standard, as Internal-DeferredShading lights every G-buffer pixel with BRDF1.
 pub(in crate::render) fn lighting_draws<'m>(
     (subject, fixed): (&'m ShaderModel, &'m ShaderModel),
     gbuffer: crate::plan::draws::GBufferModels,
-) -> Vec<(&'m ShaderModel, u8)> {
-    match (gbuffer.subject, gbuffer.fixed) {
-        (true, true) if subject.name == fixed.name => vec![(fixed, ROLE_ANY)],
-        (true, true) => vec![(subject, ROLE_SUBJECT), (fixed, ROLE_FIXED)],
-        (true, false) => vec![(subject, ROLE_SUBJECT)],
-        (false, true) => vec![(fixed, ROLE_FIXED)],
-        (false, false) => Vec::new(),
+) -> Vec<(&'m ShaderModel, u8, Option<LegacyLighting>)> {
+    match (gbuffer.subject, gbuffer.fixed, gbuffer.subject_legacy) {
+        (true, true, Some(legacy)) => vec![(fixed, ROLE_SUBJECT, Some(legacy)), (fixed, ROLE_FIXED, None)],
+        (true, true, None) if subject.name == fixed.name => vec![(fixed, ROLE_ANY, None)],
+        (true, true, None) => vec![(subject, ROLE_SUBJECT, None), (fixed, ROLE_FIXED, None)],
+        (true, false, _) => vec![(subject, ROLE_SUBJECT, None)],
+        (false, true, _) => vec![(fixed, ROLE_FIXED, None)],
+        (false, false, _) => Vec::new(),
     }
 }
 
