@@ -424,7 +424,7 @@ fn draws_occlusion() -> bool {
 }
 
 fn ambient_occlusion() -> f32 {
-    if (hdrp_occlusion_in_bake()) {
+    if (occlusion_in_bake()) {
         return material_occlusion * screen_ao;
     }
     if (PIPELINE == PIPELINE_HDRP) {
@@ -606,7 +606,7 @@ fn indirect_light(s: Surface, n: vec3<f32>, v: vec3<f32>, gi: vec3<f32>) -> vec3
     let so = min(specular_occlusion_from_ao(nv, material_occlusion, roughness), specular_occlusion_from_ao(nv, screen_ao, roughness));
     indirect_specular_occlusion = gtao_multi_bounce(so, mix(vec3<f32>(0.04), s.base_color, s.metallic)) * probe;
     var diffuse_occlusion = gtao_multi_bounce(ao, s.base_color * (1.0 - s.metallic));
-    if (hdrp_occlusion_in_bake()) {
+    if (occlusion_in_bake()) {
         diffuse_occlusion = material_occlusion * bake_occlusion(s);
     }
     let lit = model_indirect(s, n, v, gi * diffuse_occlusion);
@@ -619,8 +619,9 @@ fn indirect_light(s: Surface, n: vec3<f32>, v: vec3<f32>, gi: vec3<f32>) -> vec3
 // EncodeIntoGBuffer); the lighting pass multiplies that sum by SSAO's visibility alone,
 // GTAOMultiBounce(min(1, SSAO), diffuse colour) (DecodeFromGBuffer's ambientOcclusion is 1;
 // MaterialEvaluation.hlsl ApplyAmbientOcclusionFactor)
-fn hdrp_occlusion_in_bake() -> bool {
-    return PIPELINE == PIPELINE_HDRP && frame.screen.z > 0.5;
+// (The plan sets it for HDRP's deferred path alone; the shader takes its word.)
+fn occlusion_in_bake() -> bool {
+    return frame.screen.z > 0.5;
 }
 
 fn bake_occlusion(s: Surface) -> vec3<f32> {
@@ -886,11 +887,11 @@ fn fs_gbuffer(in: VertexOut, @builtin(front_facing) front: bool) -> GBufferOut {
     out.shadow_mask = baked_occlusions();
     out.normal = vec4<f32>(n * 0.5 + 0.5, f32(object.flags.w));
     // Emission joins the indirect light in RT3, as Unity's deferred paths write it; HDRP's SSAO
-    // darkens it there too (hdrp_occlusion_in_bake).
+    // darkens it there too (occlusion_in_bake).
     var lighting = vec3<f32>(ambient_occlusion());
     if (!draws_occlusion()) {
         lighting = emitted(emission(uv));
-        if (hdrp_occlusion_in_bake()) {
+        if (occlusion_in_bake()) {
             lighting *= bake_occlusion(s);
         }
         if (draws_indirect()) {
