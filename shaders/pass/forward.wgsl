@@ -417,8 +417,8 @@ fn draws_indirect() -> bool {
 }
 
 // The occlusion layer (TERMS = TERM_OCCLUSION): what dims the indirect light at this fragment,
-// min(material AO, SSAO) in HDRP (the diffuse's visibility before the multi-bounce), the
-// material's occlusion in built-in and URP.
+// min(material AO, SSAO): in HDRP the diffuse's visibility before the multi-bounce, in URP what
+// GlobalIllumination scales by; built-in has no SSAO (its visibility is the neutral 1).
 fn draws_occlusion() -> bool {
     return TERMS == TERM_OCCLUSION;
 }
@@ -427,11 +427,21 @@ fn ambient_occlusion() -> f32 {
     if (occlusion_in_bake()) {
         return material_occlusion * screen_ao;
     }
-    if (PIPELINE == PIPELINE_HDRP) {
-        return min(material_occlusion, screen_ao);
-    }
-    return material_occlusion;
+    return min(material_occlusion, screen_ao);
 }
+
+// The share of the SSAO the direct light takes: URP's AmbientOcclusionFactor
+// directAmbientOcclusion = lerp(1, SSAO, DirectLightingStrength) (AmbientOcclusion.hlsl
+// GetScreenSpaceAmbientOcclusion), which GetMainLight and GetAdditionalLight multiply every light's
+// colour by (Lighting.hlsl; StencilDeferred's lighting passes too). frame.screen.w is 0 in HDRP
+// (its lit shaders leave the direct light alone) and built-in.
+fn direct_occlusion(visibility: f32) -> f32 {
+    return mix(1.0, visibility, frame.screen.w);
+}
+
+// URP's Unlit (plan::ao::OcclusionRead::Unlit, UnlitForwardPass.hlsl): its colour times the direct
+// factor, nothing through the indirect rule
+override UNLIT_OCCLUSION: u32 = 0u;
 
 // The lighting sum at one point: the object's per-pixel lights' direct terms plus the ambient
 // (environment SH, the object's SH lights and its vertex lights) and the environment; in a
@@ -460,7 +470,7 @@ fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>, vertex_gi: vec3<f32>) -> vec3<f
         }
         let light = lights[i];
         if (u32(light.position.w) >= LIGHT_RECT) {
-            c += rect_light(light, s, n, v, p);
+            c += rect_light(light, s, n, v, p) * direct_occlusion(screen_ao);
             continue;
         }
         let inc = light_incidence(light, p);
@@ -469,7 +479,7 @@ fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>, vertex_gi: vec3<f32>) -> vec3<f
             let visible = with_baked_occlusion(light, light_visibility(light, i, p, n, inc.xyz, receives));
             if (visible > 0.0) {
                 light_min_roughness = light.params.w;
-                c += model_direct(s, n, v, inc.xyz) * light.color.rgb * (inc.w * visible);
+                c += model_direct(s, n, v, inc.xyz) * light.color.rgb * (inc.w * visible * direct_occlusion(screen_ao));
             }
         }
     }
@@ -587,7 +597,9 @@ fn load_screen_occlusion(pixel: vec2<f32>) -> f32 {
 // GetScreenSpaceAmbientOcclusionMultibounce, then LightLoop.hlsl ApplyAmbientOcclusionFactor):
 // the indirect diffuse × GTAOMultiBounce(min(material AO, SSAO), diffuse colour), the reflected
 // environment × GTAOMultiBounce(min(SO(material AO), SO(SSAO)), F0); the direct light stays
-// unoccluded (direct lighting strength 0). Built-in and URP scale both by the material's occlusion.
+// unoccluded (direct lighting strength 0). Built-in and URP scale both by the material's occlusion,
+// URP by the lower of it and SSAO's visibility (AmbientOcclusion.hlsl CreateAmbientOcclusionFactor:
+// indirectAmbientOcclusion = min(SSAO, occlusion), GlobalIllumination's occlusion).
 fn indirect_light(s: Surface, n: vec3<f32>, v: vec3<f32>, gi: vec3<f32>) -> vec3<f32> {
     // Where the study's exact environment replaces them, the probe reflection is off (and the
     // SH ambient left out of gi): the integral takes the environment's whole share.
@@ -595,7 +607,7 @@ fn indirect_light(s: Surface, n: vec3<f32>, v: vec3<f32>, gi: vec3<f32>) -> vec3
     let exact = environment_exact(s, n, v);
     if (PIPELINE != PIPELINE_HDRP) {
         indirect_specular_occlusion = vec3<f32>(probe);
-        let lit = (model_indirect(s, n, v, gi) + exact) * material_occlusion;
+        let lit = (model_indirect(s, n, v, gi) + exact) * min(material_occlusion, screen_ao);
         indirect_specular_occlusion = vec3<f32>(1.0);
         return lit;
     }
@@ -622,6 +634,15 @@ fn indirect_light(s: Surface, n: vec3<f32>, v: vec3<f32>, gi: vec3<f32>) -> vec3
 // (The plan sets it for HDRP's deferred path alone; the shader takes its word.)
 fn occlusion_in_bake() -> bool {
     return frame.screen.z > 0.5;
+}
+
+// URP's deferred: the first directional light's pass (or, without one, the SSAO-only pass)
+// multiplies the lighting buffer, the G-buffer pass's GI with the material's occlusion plus the
+// emission, by SSAO < occlusion ? SSAO/occlusion : 1 (StencilDeferred.shader _DEFERRED_FIRST_LIGHT,
+// DeferredLights.cs RenderSSAOBeforeShading). The GI here already takes min(occlusion, SSAO)
+// (indirect_light); the emission takes the ratio.
+fn urp_lighting_buffer_occlusion() -> f32 {
+    return select(1.0, screen_ao / material_occlusion, screen_ao < material_occlusion);
 }
 
 fn bake_occlusion(s: Surface) -> vec3<f32> {
@@ -699,6 +720,10 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> FragmentOut {
     lod_clip(in.clip.xy, in.world_pos);
     lightmap_uv = in.uv2;
     screen_ao = load_screen_occlusion(in.clip.xy);
+    let unlit_occlusion = direct_occlusion(screen_ao);
+    if (UNLIT_OCCLUSION == 1u) {
+        screen_ao = 1.0;
+    }
     let face = cross(dpdx(in.world_pos), dpdy(in.world_pos));
     shading_pixel = in.clip.xy;
     add_light_index = in.add_light;
@@ -721,6 +746,9 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> FragmentOut {
     var lit = vec3<f32>(select(ambient_occlusion(), 0.0, FORWARD_PASS == FORWARD_ADD));
     if (!draws_occlusion()) {
         lit = shade(s, n, in.world_pos, in.vertex_gi) + emitted(glow);
+        if (UNLIT_OCCLUSION == 1u) {
+            lit *= unlit_occlusion;
+        }
     }
     out.color = surface_output(s, lit);
     out.role = object.flags.y;
@@ -882,7 +910,9 @@ fn fs_gbuffer(in: VertexOut, @builtin(front_facing) front: bool) -> GBufferOut {
     var out: GBufferOut;
     out.albedo = vec4<f32>(s.base_color, 1.0);
     // w: lightmapped (URP's kMaterialFlagSubtractiveMixedLighting where the scene is Subtractive)
-    out.material = vec4<f32>(s.metallic, s.smoothness, 0.0, select(0.0, 1.0, object.bake.x > 1.5));
+    // z: the pixel's SSAO visibility, for URP's lighting passes' direct factor (the R8 value
+    // StencilDeferred samples, at the same 8 bits)
+    out.material = vec4<f32>(s.metallic, s.smoothness, screen_ao, select(0.0, 1.0, object.bake.x > 1.5));
     // The object's baked occlusion per shadow-mask channel (built-in's RT4: UnityGetRawBakedOcclusions)
     out.shadow_mask = baked_occlusions();
     out.normal = vec4<f32>(n * 0.5 + 0.5, f32(object.flags.w));
@@ -893,6 +923,9 @@ fn fs_gbuffer(in: VertexOut, @builtin(front_facing) front: bool) -> GBufferOut {
         lighting = emitted(emission(uv));
         if (occlusion_in_bake()) {
             lighting *= bake_occlusion(s);
+        }
+        if (PIPELINE == PIPELINE_URP) {
+            lighting *= urp_lighting_buffer_occlusion();
         }
         if (draws_indirect()) {
             lighting += indirect_light(s, n, v, gi);
@@ -1004,12 +1037,12 @@ fn fs_deferred(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
             while (bits != 0u) {
                 let i = w * 32u + firstTrailingBit(bits);
                 bits &= bits - 1u;
-                c += deferred_light(lights[i], s, p, n, v, nb.a > 0.5, baked);
+                c += deferred_light(lights[i], s, p, n, v, nb.a > 0.5, baked) * direct_occlusion(mat.z);
             }
         }
     } else {
         for (var i = 0u; i < frame.counts.x; i++) {
-            c += deferred_light(lights[i], s, p, n, v, nb.a > 0.5, baked);
+            c += deferred_light(lights[i], s, p, n, v, nb.a > 0.5, baked) * direct_occlusion(mat.z);
         }
     }
     return vec4<f32>(c, 1.0);

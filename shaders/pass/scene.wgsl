@@ -47,7 +47,7 @@ struct Frame {
     fixed: Material,          // the fixed objects' model inputs besides the G-buffer's (deferred lighting)
     reflection: vec4<u32>,    // x: probes blended (0: the sky alone)
     probes: array<ReflectionProbe, 4>,
-    screen: vec4<f32>,        // x, y: the target's size in pixels; z 1: HDRP's deferred Lit folds its occlusion into the baked light (plan::ao::AoUse::in_bake)
+    screen: vec4<f32>,        // x, y: the target's size in pixels; z 1: HDRP's deferred Lit folds its occlusion into the baked light (plan::ao::AoUse::in_bake); w: URP's SSAO direct lighting strength
 };
 
 struct Object {

@@ -26,7 +26,8 @@ pub fn text(m: &Matrix) -> String {
         let plan = FramePlan::for_scene(scene);
         for p in &m.pipelines {
             for path in m.paths.iter().filter(|path| p.paths().contains(path)) {
-                let passes: Vec<&str> = plan.passes_for(*path, *p, false).iter().map(|p| p.name()).collect();
+                let passes: Vec<&str> =
+                    plan.passes_for(*path, *p, &m.pipeline_settings, false).iter().map(|p| p.name()).collect();
                 let passes = passes.join(" → ");
                 let (samples, why_one) = m.antialiasing_for(*p).samples_on(*path);
                 let aa = match (samples, why_one) {

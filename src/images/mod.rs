@@ -9,3 +9,4 @@ pub mod ssao;
 pub mod stats;
 pub mod target;
 pub mod tonemap;
+pub mod urp_ssao;

@@ -130,12 +130,14 @@ impl UrpAssetPreset {
                 depth_bias: 1.0,
                 normal_bias: 1.0,
                 soft_shadows: false,
+                ssao: None,
             },
             // URP-HighFidelity.asset: m_MSAA: 4, m_MainLightShadowmapResolution: 4096,
             // m_AdditionalLightsPerObjectLimit: 8, m_AdditionalLightShadowsSupported: 1,
             // m_AdditionalLightsShadowResolutionTierHigh: 512, m_ReflectionProbeBlending: 1,
             // m_ReflectionProbeBoxProjection: 1, m_ShadowDistance: 150, m_ShadowCascadeCount: 2
-            // (m_Cascade2Split 0.25), biases 1 / 1, m_SoftShadowsSupported: 1.
+            // (m_Cascade2Split 0.25), biases 1 / 1, m_SoftShadowsSupported: 1; its renderer,
+            // URP-HighFidelity-Renderer.asset, has the SSAO feature (UrpSsaoFeature::HIGH_FIDELITY).
             UrpAssetPreset::HighFidelity => UrpAsset {
                 preset: self,
                 msaa: Antialiasing::Msaa4,
@@ -150,6 +152,7 @@ impl UrpAssetPreset {
                 depth_bias: 1.0,
                 normal_bias: 1.0,
                 soft_shadows: true,
+                ssao: Some(UrpSsaoFeature::HIGH_FIDELITY),
             },
         }
     }
@@ -185,6 +188,39 @@ pub struct UrpAsset {
     pub normal_bias: f64,
     /// m_SoftShadowsSupported: lights asking for soft shadows get them only with it.
     pub soft_shadows: bool,
+    /// The asset's renderer's Screen Space Ambient Occlusion feature, where it has one (the
+    /// default asset's renderer has none; `[pipeline_settings.urp] ssao` adds or removes it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ssao: Option<UrpSsaoFeature>,
+}
+
+/// URP's Screen Space Ambient Occlusion renderer feature (ScreenSpaceAmbientOcclusion.cs
+/// ScreenSpaceAmbientOcclusionSettings), the fields a frame reads. The rest are fixed at what the
+/// High Fidelity renderer ships and this tool draws: AOMethod InterleavedGradient (1), Source
+/// DepthNormals, full resolution (Downsample 0), BlurQuality High (bilateral), AfterOpaque off (the
+/// lit shaders read it).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct UrpSsaoFeature {
+    /// Intensity (_SSAOParams.x).
+    pub intensity: f64,
+    /// Radius, metres (_SSAOParams.y; the Interleaved Gradient method passes it as is).
+    pub radius: f64,
+    /// DirectLightingStrength: how much of the occlusion reaches the direct light
+    /// (_AmbientOcclusionParam.w; AmbientOcclusion.hlsl lerp(1, SSAO, w)).
+    pub direct_lighting_strength: f64,
+    /// Samples per pixel: the Samples option's count (High 12, Medium 8, Low 4; SSAO.hlsl SAMPLE_COUNT).
+    pub samples: u32,
+    /// Falloff distance, metres (_SSAOParams.w): no occlusion beyond it.
+    pub falloff: f64,
+}
+
+impl UrpSsaoFeature {
+    /// URP-HighFidelity-Renderer.asset's feature (the URP template, URP 14): AOMethod 1, Downsample
+    /// 0, AfterOpaque 0, Source 1, NormalSamples 1, Intensity 0.5, DirectLightingStrength 0.25,
+    /// Radius 0.25, Samples 0 (High), BlurQuality 0 (High), Falloff 100.
+    pub const HIGH_FIDELITY: UrpSsaoFeature =
+        UrpSsaoFeature { intensity: 0.5, radius: 0.25, direct_lighting_strength: 0.25, samples: 12, falloff: 100.0 };
 }
 
 impl Default for UrpAsset {
@@ -222,6 +258,9 @@ pub struct UrpAssetFile {
     pub depth_bias: Option<f64>,
     pub normal_bias: Option<f64>,
     pub soft_shadows: Option<bool>,
+    /// The renderer's SSAO feature: false removes it; true gives an asset without one the High
+    /// Fidelity renderer's.
+    pub ssao: Option<bool>,
 }
 
 /// `[pipeline_settings]` as written.
@@ -316,6 +355,11 @@ impl PipelineSettingsFile {
                 *into = v;
             }
         }
+        match u.ssao {
+            Some(false) => a.ssao = None,
+            Some(true) => a.ssao = a.ssao.or(Some(UrpSsaoFeature::HIGH_FIDELITY)),
+            None => {}
+        }
         let light_unit = match &self.hdrp.light_unit {
             None => HdrpLightUnit::default(),
             Some(name) => HdrpLightUnit::ALL.into_iter().find(|u| u.name() == name).ok_or_else(|| {
@@ -349,5 +393,20 @@ mod tests {
         assert_eq!(bad.resolve().unwrap_err().0, "urp.asset");
         let bad: PipelineSettingsFile = toml::from_str("[urp]\ncascade_count = 5\n").unwrap();
         assert_eq!(bad.resolve().unwrap_err().0, "urp.cascade_count");
+    }
+
+    #[test]
+    fn only_the_high_fidelity_renderer_has_the_ssao_feature_and_the_switch_moves_it() {
+        assert_eq!(UrpAssetPreset::Default.asset().ssao, None);
+        let hf = UrpAssetPreset::HighFidelity.asset().ssao.unwrap();
+        assert_eq!((hf.intensity, hf.radius, hf.direct_lighting_strength), (0.5, 0.25, 0.25));
+        assert_eq!((hf.samples, hf.falloff), (12, 100.0));
+        let off: PipelineSettingsFile = toml::from_str("[urp]\nasset = \"high_fidelity\"\nssao = false\n").unwrap();
+        assert_eq!(off.resolve().unwrap().urp.ssao, None);
+        let on: PipelineSettingsFile = toml::from_str("[urp]\nssao = true\n").unwrap();
+        assert_eq!(on.resolve().unwrap().urp.ssao, Some(hf));
+        // A default asset's record is what it was before the feature existed (its cells' ids hold).
+        let json = serde_json::to_string(&UrpAssetPreset::Default.asset()).unwrap();
+        assert!(!json.contains("ssao"), "{json}");
     }
 }

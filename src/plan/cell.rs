@@ -423,13 +423,19 @@ impl CellPlan {
             })
             .collect();
         let draws = plan_draws(p, cell.settings.path, engine, &meshes, &assignment, main);
-        let ao = super::ao::ambient_occlusion(p, cell.settings.path, surface.kind, frame.hdrp_ssao);
+        let ao = super::ao::ambient_occlusion(
+            p,
+            cell.settings.path,
+            engine,
+            (&cell.model.name, surface.kind),
+            frame.hdrp_ssao,
+        );
         let passes = frame_passes(PassInputs {
             pipeline: p,
             path: cell.settings.path,
             probes: frame.probes(),
             shadow_maps: frame.shadows() && !used_layers.is_empty(),
-            ssao: ao.ssao,
+            ssao: ao.ssao.then_some(ao.method),
             transparent_subject: surface.kind.is_transparent(),
             traced_visibility: cell.settings.exact.visibility,
             bloom: frame.hdrp_bloom,

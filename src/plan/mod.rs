@@ -51,23 +51,37 @@ impl FramePlan {
 
     /// The passes of a frame on `path` in `pipeline` (`pass::frame_passes`) where every shadow the
     /// composition asks for is drawn and no visibility is traced.
-    pub fn passes_for(&self, path: RenderPath, pipeline: Pipeline, transparent_subject: bool) -> Vec<Pass> {
+    pub fn passes_for(
+        &self,
+        path: RenderPath,
+        pipeline: Pipeline,
+        engine: &crate::pipelines::settings::PipelineSettings,
+        transparent_subject: bool,
+    ) -> Vec<Pass> {
         frame_passes(PassInputs {
             pipeline,
             path,
             probes: self.probes(),
             shadow_maps: self.shadows(),
-            ssao: self.occludes(path, pipeline),
+            ssao: self.occludes(path, pipeline, engine),
             transparent_subject,
             traced_visibility: false,
             bloom: self.hdrp_bloom,
         })
     }
 
-    /// Whether a frame on `path` in `pipeline` renders SSAO: HDRP's, where the scene keeps it on
-    /// (HDRP has no vertex-lit path to leave it out of).
-    pub fn occludes(&self, path: RenderPath, pipeline: Pipeline) -> bool {
-        ao::ambient_occlusion(pipeline, path, crate::pipelines::surface::SurfaceType::Opaque, self.hdrp_ssao).ssao
+    /// The SSAO a frame on `path` in `pipeline` with `engine`'s settings renders (`ao::ambient_occlusion`):
+    /// HDRP's where the scene keeps it on, URP's where the asset's renderer has the feature.
+    pub fn occludes(
+        &self,
+        path: RenderPath,
+        pipeline: Pipeline,
+        engine: &crate::pipelines::settings::PipelineSettings,
+    ) -> Option<ao::SsaoMethod> {
+        let opaque = crate::pipelines::surface::SurfaceType::Opaque;
+        let model = pipeline.fixed_object_shader();
+        let ao = ao::ambient_occlusion(pipeline, path, engine, (model, opaque), self.hdrp_ssao);
+        ao.ssao.then_some(ao.method)
     }
 
     /// The pass that writes the final colour of a pixel showing `role` (None: no object) on

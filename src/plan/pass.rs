@@ -15,10 +15,13 @@ pub enum Pass {
     ProbePrefilter,
     /// Every shadow-casting light's layers of the shadow array, as one span.
     Shadow,
-    /// HDRP's depth prepass with its normal buffer (what SSAO and traced shadows read).
+    /// The depth prepass with its normal buffer (what SSAO and traced shadows read): HDRP's, and
+    /// URP's DepthNormals prepass.
     DepthPrepass,
-    /// HDRP's screen-space ambient occlusion.
+    /// HDRP's screen-space ambient occlusion (GTAO).
     Ssao,
+    /// URP's SSAO renderer feature (the Alchemy estimator and its bilateral blur).
+    UrpSsao,
     /// The approximation study's exact visibility: one shadow ray per light and pixel.
     TracedShadows,
     /// The forward path: every object lit, with the background where the plan draws one.
@@ -42,12 +45,13 @@ pub enum Pass {
 }
 
 impl Pass {
-    pub const ALL: [Pass; 14] = [
+    pub const ALL: [Pass; 15] = [
         Pass::ProbeCapture,
         Pass::ProbePrefilter,
         Pass::Shadow,
         Pass::DepthPrepass,
         Pass::Ssao,
+        Pass::UrpSsao,
         Pass::TracedShadows,
         Pass::Forward,
         Pass::VertexLit,
@@ -67,6 +71,7 @@ impl Pass {
             Pass::Shadow => "shadow",
             Pass::DepthPrepass => "depth prepass",
             Pass::Ssao => "ssao",
+            Pass::UrpSsao => "urp ssao",
             Pass::TracedShadows => "traced shadows",
             Pass::Forward => "forward",
             Pass::VertexLit => "vertex-lit",
@@ -118,8 +123,8 @@ pub struct PassInputs {
     pub probes: bool,
     /// Some light draws a shadow map this cell (the plan's used layers).
     pub shadow_maps: bool,
-    /// The pipeline renders SSAO on this path (`FramePlan::occludes`).
-    pub ssao: bool,
+    /// The SSAO the pipeline renders on this path, if any (`FramePlan::occludes`).
+    pub ssao: Option<super::ao::SsaoMethod>,
     /// The subject is in the Transparent queue.
     pub transparent_subject: bool,
     /// The approximation study traces visibility instead of reading shadow maps.
@@ -141,11 +146,15 @@ pub fn frame_passes(i: PassInputs) -> Vec<Pass> {
     if i.shadow_maps && i.path != RenderPath::VertexLit && !i.traced_visibility {
         passes.push(Pass::Shadow);
     }
-    if i.ssao {
-        passes.extend([Pass::DepthPrepass, Pass::Ssao]);
+    if let Some(method) = i.ssao {
+        let ssao = match method {
+            super::ao::SsaoMethod::HdrpGtao => Pass::Ssao,
+            super::ao::SsaoMethod::UrpAlchemy => Pass::UrpSsao,
+        };
+        passes.extend([Pass::DepthPrepass, ssao]);
     }
     if i.traced_visibility {
-        if !i.ssao {
+        if i.ssao.is_none() {
             passes.push(Pass::DepthPrepass);
         }
         passes.push(Pass::TracedShadows);
@@ -181,7 +190,7 @@ mod tests {
             path,
             probes: false,
             shadow_maps: true,
-            ssao: false,
+            ssao: None,
             transparent_subject: false,
             traced_visibility: false,
             bloom: false,
@@ -206,7 +215,7 @@ mod tests {
         let v = frame_passes(PassInputs { probes: true, ..inputs(Pipeline::Builtin, RenderPath::VertexLit) });
         assert_eq!(v, [Pass::ProbeCapture, Pass::ProbePrefilter, Pass::VertexLit], "no shadows per vertex");
         let d = frame_passes(PassInputs {
-            ssao: true,
+            ssao: Some(crate::plan::ao::SsaoMethod::HdrpGtao),
             bloom: true,
             transparent_subject: true,
             ..inputs(Pipeline::Hdrp, RenderPath::Deferred)
@@ -235,7 +244,7 @@ mod tests {
         assert_eq!(t, [Pass::DepthPrepass, Pass::TracedShadows, Pass::Forward]);
         let h = frame_passes(PassInputs {
             traced_visibility: true,
-            ssao: true,
+            ssao: Some(crate::plan::ao::SsaoMethod::HdrpGtao),
             ..inputs(Pipeline::Hdrp, RenderPath::Forward)
         });
         assert_eq!(h, [Pass::DepthPrepass, Pass::Ssao, Pass::TracedShadows, Pass::Forward], "one prepass");

@@ -226,8 +226,10 @@ fn frame_uniforms(
     frame.view_proj = mat(vp);
     frame.inv_view_proj = mat(vp.inverse());
     frame.camera_pos = vec4(DVec3::from(camera.position), 1.0);
-    // z: HDRP's deferred Lit folds its occlusion into the baked light (plan::ao::AoUse::in_bake).
-    frame.screen = [cell.width as f32, cell.height as f32, plan.ao.in_bake as u32 as f32, 0.0];
+    // z: HDRP's deferred Lit folds its occlusion into the baked light (plan::ao::AoUse::in_bake);
+    // w: the share of URP's SSAO the direct light takes (its DirectLightingStrength).
+    let direct = plan.ao.direct_lighting_strength() as f32;
+    frame.screen = [cell.width as f32, cell.height as f32, plan.ao.in_bake as u32 as f32, direct];
     let (tiles_x, _, words) = crate::render::passes::light_tiles::tile_grid(cell.width, cell.height, lights.len());
     frame.counts = [lights.len() as u32, plan.main_light.map_or(0, |slot| slot as u32 + 1), words, tiles_x];
     for (dst, src) in frame.sh.iter_mut().zip(prepared.env.sh.iter()) {

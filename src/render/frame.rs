@@ -129,7 +129,12 @@ impl Renderer {
             self.timer = Some(PassTimer::new(&self.gpu.device, &self.gpu.queue, frames * per_frame));
         }
         let timer = self.timer.as_ref().filter(|_| self.gpu.record.timestamp_queries);
-        let screen = self.ssao.ready().filter(|_| plan.has(Pass::Ssao)).map_or(&self.neutral_screen, |(_, _, g)| g);
+        let screen = match (plan.has(Pass::Ssao), plan.has(Pass::UrpSsao)) {
+            (true, _) => self.ssao.ready().map(|(_, _, g)| g),
+            (_, true) => self.urp_ssao.ready().map(|(_, _, g)| g),
+            _ => None,
+        }
+        .unwrap_or(&self.neutral_screen);
         let f = FrameInputs {
             prepared,
             cell,
@@ -224,10 +229,18 @@ impl Renderer {
             cell.settings.material_maps.hash(&mut h);
             h.finish()
         };
-        let occludes = plan.has(Pass::Ssao);
-        let occludes_now = occludes && {
-            self.ssao.prepare(&self.gpu, &self.screen_layout, t, &plan.camera)?;
-            self.ssao.needed(ssao_key, reuse && !exact.any())
+        let occludes = plan.has(Pass::Ssao) || plan.has(Pass::UrpSsao);
+        let keep = reuse && !exact.any();
+        let occludes_now = match (plan.has(Pass::Ssao), plan.ao.urp.filter(|_| plan.has(Pass::UrpSsao))) {
+            (true, _) => {
+                self.ssao.prepare(&self.gpu, &self.screen_layout, t, &plan.camera)?;
+                self.ssao.needed(ssao_key, keep)
+            }
+            (false, Some(feature)) => {
+                self.urp_ssao.prepare(&self.gpu, &self.screen_layout, t, &plan.camera, &feature)?;
+                self.urp_ssao.needed(ssao_key, keep)
+            }
+            (false, None) => false,
         };
         if plan.has(Pass::TracedShadows) {
             let layouts = (&self.bindings.layout, &self.ray_layout);
@@ -246,7 +259,7 @@ impl Renderer {
             .filter(|p| !p.before_frames() && (mode.post || !p.post()))
             .filter(|p| match p {
                 Pass::Shadow => shadows_now,
-                Pass::Ssao => occludes_now,
+                Pass::Ssao | Pass::UrpSsao => occludes_now,
                 Pass::DepthPrepass => occludes_now || plan.has(Pass::TracedShadows),
                 _ => true,
             })
@@ -333,10 +346,14 @@ impl Renderer {
             gbuffer: plan.gbuffer,
         };
         // The prepass's normals: SSAO's, or the traced mask's where the frame has no SSAO.
-        let normal = || match (self.ssao.ready().filter(|_| plan.has(Pass::Ssao)), self.traced.ready(cell.pipeline)) {
-            (Some((chain, _, _)), _) => &chain.normal,
-            (None, Some((traced, _))) => &traced.normal,
-            (None, None) => unreachable!("a depth prepass feeds SSAO or traced shadows"),
+        let normal = || {
+            let hdrp = self.ssao.ready().filter(|_| plan.has(Pass::Ssao)).map(|(c, _, _)| &c.normal);
+            let urp = self.urp_ssao.ready().filter(|_| plan.has(Pass::UrpSsao)).map(|(c, _, _)| &c.normal);
+            match (hdrp.or(urp), self.traced.ready(cell.pipeline)) {
+                (Some(normal), _) => normal,
+                (None, Some((traced, _))) => &traced.normal,
+                (None, None) => unreachable!("a depth prepass feeds SSAO or traced shadows"),
+            }
         };
         match pass {
             Pass::ProbeCapture | Pass::ProbePrefilter => unreachable!("captured before the frames"),
@@ -353,6 +370,10 @@ impl Renderer {
             }
             Pass::Ssao => {
                 let (chain, pipeline, _) = self.ssao.ready().expect("prepared with the frame");
+                chain.encode(pipeline, encoder, timed.map(|(t, pair)| t.compute_writes(pair)));
+            }
+            Pass::UrpSsao => {
+                let (chain, pipeline, _) = self.urp_ssao.ready().expect("prepared with the frame");
                 chain.encode(pipeline, encoder, timed.map(|(t, pair)| t.compute_writes(pair)));
             }
             Pass::TracedShadows => {

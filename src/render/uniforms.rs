@@ -94,7 +94,9 @@ pub struct FrameUniforms {
     /// x: the reflection probes the shading blends (0: the sky alone).
     pub reflection: [u32; 4],
     pub probes: [GpuReflectionProbe; crate::declarations::scene::MAX_PROBES],
-    /// x, y: the target's size in pixels (HDRP's _ScreenSize, for the LOD dither's seed).
+    /// x, y: the target's size in pixels (HDRP's _ScreenSize, for the LOD dither's seed); z 1:
+    /// HDRP's deferred Lit folds its occlusion into the baked light; w: URP's SSAO direct lighting
+    /// strength (plan::ao::AoUse).
     pub screen: [f32; 4],
 }
 

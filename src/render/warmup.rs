@@ -58,6 +58,7 @@ fn model_keys(
         face: RenderFace::Front,
         terms: 0,
         alpha_to_coverage: subject && plan.alpha_to_coverage,
+        unlit_occlusion: subject && plan.ao.subject_read == crate::plan::ao::OcclusionRead::Unlit,
     };
     (draw, (additive && adds).then_some(ForwardKey { pass: ForwardPass::Add, ..draw }))
 }

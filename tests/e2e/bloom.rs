@@ -30,7 +30,7 @@ fn gpu_bloom_matches_its_twin_and_the_switch_turns_it_off() {
         (
             Image { width: 96, height: 96, texels },
             passes,
-            prepared.plan.passes_for(RenderPath::Forward, Pipeline::Hdrp, false),
+            prepared.plan.passes_for(RenderPath::Forward, Pipeline::Hdrp, &Default::default(), false),
         )
     };
     let (bloomed, timed, plan) = render(&with);

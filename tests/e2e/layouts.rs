@@ -18,7 +18,9 @@ fn uniform_mirrors_match_their_wgsl_structs() {
     let exact = compose(PassKind::ForwardExact, Some(lambert()));
     let probe = compose(PassKind::BrdfProbe, Some(lambert()));
     let ssao = with_math(include_str!("../../shaders/pass/ssao.wgsl"));
+    let urp_ssao = with_math(include_str!("../../shaders/pass/urp_ssao.wgsl"));
     use shadematrix::render::passes::ssao::SsaoFrame;
+    use shadematrix::render::passes::urp_ssao::UrpSsaoFrame;
     use shadematrix::render::probe::ProbeInput;
     use shadematrix::render::truth::bvh::{GpuBvhNode, TruthVertex};
     type Mirror<'a> = (&'a str, &'a str, (usize, Vec<(&'a str, usize)>));
@@ -61,6 +63,14 @@ fn uniform_mirrors_match_their_wgsl_structs() {
             &ssao,
             "SsaoFrame",
             mirror_layout!(SsaoFrame, [buffer_size, params0, params1, depth_to_view, z_buffer, view_x, view_y, view_z]),
+        ),
+        (
+            &urp_ssao,
+            "UrpSsaoFrame",
+            mirror_layout!(
+                UrpSsaoFrame,
+                [source_size, params, top_left, x_extent, y_extent, camera, view_proj0, view_proj1, view_z]
+            ),
         ),
     ];
     let bad: Vec<String> = mirrors

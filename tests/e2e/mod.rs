@@ -47,5 +47,6 @@ mod surfaces;
 mod terms;
 mod timing;
 mod truth;
+mod urp_ssao;
 mod user_models;
 mod viewer;

@@ -12,7 +12,7 @@ use shadematrix::render::passes::ssao::{visibility_of, SsaoFrame, SsaoSettings};
 /// A ray-cast frame: a floor (y = 0) with a unit box standing on it and a sphere resting beside
 /// it, seen from above and in front. Returns raw depth (wgpu's 0..1) and encoded world normals,
 /// the normals rounded to the 10-bit grid of the prepass target.
-fn synthetic_frame(camera: &Camera, (w, h): (u32, u32)) -> (Vec<f64>, Vec<DVec3>) {
+pub(super) fn synthetic_frame(camera: &Camera, (w, h): (u32, u32)) -> (Vec<f64>, Vec<DVec3>) {
     let view = shadematrix::plan::camera::view_matrix(camera);
     let proj = glam::DMat4::perspective_rh(camera.fov_y_deg.to_radians(), w as f64 / h as f64, camera.near, camera.far);
     let inv = (proj * view).inverse();
@@ -137,7 +137,12 @@ fn render_room(
     let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
     let timed = r.gpu_passes.map(|p| p.into_iter().map(|(n, _)| n).collect()).unwrap_or_default();
     let rgb = r.hdr.chunks(4).map(|p| [p[0], p[1], p[2]]).collect();
-    Room { rgb, roles: r.roles, timed, plan: prepared.plan.passes_for(path, Pipeline::Hdrp, false) }
+    Room {
+        rgb,
+        roles: r.roles,
+        timed,
+        plan: prepared.plan.passes_for(path, Pipeline::Hdrp, &Default::default(), false),
+    }
 }
 
 #[test]

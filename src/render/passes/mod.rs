@@ -11,6 +11,7 @@ pub mod probe_capture;
 pub mod shadow;
 pub mod ssao;
 pub mod traced_shadows;
+pub mod urp_ssao;
 
 /// What a frame's passes draw with: the frame bind group, which meshes are drawn, and the screen
 /// group (the SSAO visibility, or the neutral one).
