@@ -89,7 +89,7 @@ impl UrpSsaoPipeline {
         use crate::render::resources::compute_entry::{constants, float_2d, storage_2d, texture};
         let filterable = wgpu::TextureSampleType::Float { filterable: true };
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("urp ssao"),
+            label: Some("urp ssao steps"),
             entries: &[
                 constants(gpu.constants, 0),
                 texture(1, filterable, wgpu::TextureViewDimension::D2),
