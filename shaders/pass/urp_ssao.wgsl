@@ -56,8 +56,8 @@ const K_EPSILON: f32 = 0.0001;
 const SKY_DEPTH_VALUE: f32 = 0.00001;
 
 // SSAORandomUV: frac(43758.5453·sin(dot((12.9898, 78.233), uv))) tabulated, 0–19 for u = 0 and
-// 20–39 for u = 1
-const SSAO_RANDOM_UV = array<f32, 40>(
+// 20–39 for u = 1 (a private copy: a const array indexed at run time is copied at every read)
+var<private> ssao_random_uv: array<f32, 40> = array<f32, 40>(
     0.00000000, 0.33984375, 0.75390625, 0.56640625, 0.98437500, 0.07421875, 0.23828125, 0.64062500,
     0.35937500, 0.50781250, 0.38281250, 0.98437500, 0.17578125, 0.53906250, 0.28515625, 0.23137260,
     0.45882360, 0.54117650, 0.12941180, 0.64313730,
@@ -68,8 +68,7 @@ const SSAO_RANDOM_UV = array<f32, 40>(
 
 // GetRandomVal: SSAORandomUV[u·20 + sampleIndex]
 fn get_random_val(u: u32, sample_index: u32) -> f32 {
-    var table = SSAO_RANDOM_UV;
-    return table[u * 20u + sample_index];
+    return ssao_random_uv[u * 20u + sample_index];
 }
 
 // InterleavedGradientNoise (core Random.hlsl): frac(52.9829189·frac(dot(p + frame·(2.083, 4.867),
