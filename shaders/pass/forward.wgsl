@@ -460,6 +460,7 @@ fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>, vertex_gi: vec3<f32>) -> vec3<f
     let additive = FORWARD_PASS == FORWARD_ADD;
     let first = select(0u, add_light_index, additive);
     let end = select(frame.counts.x, add_light_index + 1u, additive);
+    let direct_ao = direct_occlusion(screen_ao);
     for (var i = first; i < select(first, end, draws_direct()); i++) {
         // The model's own lights: per-pixel ones, or on the vertex-lit path the per-vertex ones
         let own = select(0u, 1u, VERTEX_LIT == 1u);
@@ -470,7 +471,7 @@ fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>, vertex_gi: vec3<f32>) -> vec3<f
         }
         let light = lights[i];
         if (u32(light.position.w) >= LIGHT_RECT) {
-            c += rect_light(light, s, n, v, p) * direct_occlusion(screen_ao);
+            c += rect_light(light, s, n, v, p) * direct_ao;
             continue;
         }
         let inc = light_incidence(light, p);
@@ -479,7 +480,7 @@ fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>, vertex_gi: vec3<f32>) -> vec3<f
             let visible = with_baked_occlusion(light, light_visibility(light, i, p, n, inc.xyz, receives));
             if (visible > 0.0) {
                 light_min_roughness = light.params.w;
-                c += model_direct(s, n, v, inc.xyz) * light.color.rgb * (inc.w * visible * direct_occlusion(screen_ao));
+                c += model_direct(s, n, v, inc.xyz) * light.color.rgb * (inc.w * visible * direct_ao);
             }
         }
     }
@@ -1028,6 +1029,7 @@ fn fs_deferred(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
         return vec4<f32>(c, 1.0);
     }
     let baked = DeferredBake(textureLoad(gb_shadow_mask, px, 0), mat.w > 0.5);
+    let direct_ao = direct_occlusion(mat.z);
     if (TILED_LIGHTS == 1u) {
         // HDRP's light loop: only the lights binned into this pixel's tile (cs_light_tiles)
         let words = frame.counts.z;
@@ -1037,12 +1039,12 @@ fn fs_deferred(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
             while (bits != 0u) {
                 let i = w * 32u + firstTrailingBit(bits);
                 bits &= bits - 1u;
-                c += deferred_light(lights[i], s, p, n, v, nb.a > 0.5, baked) * direct_occlusion(mat.z);
+                c += deferred_light(lights[i], s, p, n, v, nb.a > 0.5, baked) * direct_ao;
             }
         }
     } else {
         for (var i = 0u; i < frame.counts.x; i++) {
-            c += deferred_light(lights[i], s, p, n, v, nb.a > 0.5, baked) * direct_occlusion(mat.z);
+            c += deferred_light(lights[i], s, p, n, v, nb.a > 0.5, baked) * direct_ao;
         }
     }
     return vec4<f32>(c, 1.0);

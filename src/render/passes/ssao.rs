@@ -336,64 +336,42 @@ pub fn visibility_of(
     Ok(texels.iter().map(|t| t[0]).collect())
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn parameters_follow_prepare_render_ao_parameters() {
-        let camera = Camera { position: [0.0, 0.0, 5.0], target: [0.0; 3], fov_y_deg: 60.0, near: 0.1, far: 100.0 };
-        let f = SsaoFrame::new(&camera, 384, 256, &SsaoSettings::default());
-        assert_eq!(f.buffer_size[..2], [192.0, 128.0]);
-        // runningRes.y·cot(fov/2)·0.25
-        let cot = 1.0 / 30f64.to_radians().tan();
-        assert!((f.params0[0] as f64 - 128.0 * cot * 0.25).abs() < 1e-4);
-        // √(192·128/(960·540)) · 40 < 16: the floor holds
-        assert_eq!(f.params1[3], 16.0);
-        assert!((f.params1[1] - 1.0 / 2.25).abs() < 1e-7);
-        // The pixel at the running resolution's centre maps to the view axis.
-        let c = [96.0 * f.depth_to_view[0] - f.depth_to_view[2], 64.0 * f.depth_to_view[1] - f.depth_to_view[3]];
-        assert!(c[0].abs() < 1e-6 && c[1].abs() < 1e-6, "{c:?}");
-        assert_eq!(level_sizes(384, 256), [(384, 256), (192, 128), (96, 64)]);
-        assert_eq!(level_sizes(5, 3), [(5, 3), (3, 2), (2, 1)]);
-    }
-}
-
-/// HDRP's SSAO as a frame runs it: its pipelines (made for the first cell that occludes), its
-/// chain on the frame's targets with the screen group the lighting reads it through, and the key
-/// of the prepass and SSAO whose visibility the chain holds.
-#[derive(Default)]
-pub(in crate::render) struct SsaoPass {
-    pipeline: Option<SsaoPipeline>,
+/// A screen-space occlusion pass across a run's cells: its pipelines (made for the first cell that
+/// occludes), its chain on the frame's targets with the screen group the lighting reads the
+/// visibility through, and the key of the prepass and SSAO whose visibility the chain holds.
+/// HDRP's (`SsaoPass`) and URP's (`urp_ssao::UrpSsaoPass`) differ in their pipeline and chain.
+pub(in crate::render) struct OcclusionPass<P, C> {
+    pipeline: Option<P>,
     /// (the targets' generation, the chain on their depth, the group reading its visibility)
-    chain: Option<(u64, SsaoChain, wgpu::BindGroup)>,
+    chain: Option<(u64, C, wgpu::BindGroup)>,
     holds: Option<u64>,
 }
 
-impl SsaoPass {
-    /// Ready the pass for a frame on `targets` seen by `camera`.
-    pub(in crate::render) fn prepare(
+impl<P, C> Default for OcclusionPass<P, C> {
+    fn default() -> Self {
+        OcclusionPass { pipeline: None, chain: None, holds: None }
+    }
+}
+
+impl<P, C> OcclusionPass<P, C> {
+    /// The pipeline (`make` for the first frame) and the chain on `targets` (`chain` where the
+    /// targets are new: a new chain holds nothing yet).
+    pub(in crate::render) fn ensure(
         &mut self,
-        gpu: &GpuContext,
-        screen_layout: &wgpu::BindGroupLayout,
         targets: &crate::render::targets::Targets,
-        camera: &Camera,
-    ) -> Result<(), Error> {
+        make: impl FnOnce() -> Result<P, Error>,
+        chain: impl FnOnce(&P) -> (C, wgpu::BindGroup),
+    ) -> Result<&C, Error> {
         if self.pipeline.is_none() {
-            self.pipeline = Some(SsaoPipeline::new(gpu)?);
+            self.pipeline = Some(make()?);
         }
         let pipeline = self.pipeline.as_ref().expect("just made");
         if self.chain.as_ref().is_none_or(|(generation, _, _)| *generation != targets.generation) {
-            let size = (targets.width, targets.height);
-            let (chain, _) = SsaoChain::new(&gpu.device, pipeline, size, Some(&targets.depth_view), None);
-            let group = screen_group(&gpu.device, screen_layout, &chain.visibility);
-            self.chain = Some((targets.generation, chain, group));
+            let (c, group) = chain(pipeline);
+            self.chain = Some((targets.generation, c, group));
             self.holds = None;
         }
-        let (_, chain, _) = self.chain.as_ref().expect("just made");
-        let frame = SsaoFrame::new(camera, targets.width, targets.height, &SsaoSettings::default());
-        chain.write_frame(&gpu.queue, &frame);
-        Ok(())
+        Ok(&self.chain.as_ref().expect("just made").1)
     }
 
     /// Whether the prepass and SSAO must run for a frame whose inputs hash to `key`: not where
@@ -405,9 +383,37 @@ impl SsaoPass {
     }
 
     /// The prepared chain, its pipelines and the screen group reading its visibility.
-    pub(in crate::render) fn ready(&self) -> Option<(&SsaoChain, &SsaoPipeline, &wgpu::BindGroup)> {
+    pub(in crate::render) fn ready(&self) -> Option<(&C, &P, &wgpu::BindGroup)> {
         let (_, chain, group) = self.chain.as_ref()?;
         Some((chain, self.pipeline.as_ref()?, group))
+    }
+}
+
+/// HDRP's SSAO as a frame runs it.
+pub(in crate::render) type SsaoPass = OcclusionPass<SsaoPipeline, SsaoChain>;
+
+impl SsaoPass {
+    /// Ready the pass for a frame on `targets` seen by `camera`.
+    pub(in crate::render) fn prepare(
+        &mut self,
+        gpu: &GpuContext,
+        screen_layout: &wgpu::BindGroupLayout,
+        targets: &crate::render::targets::Targets,
+        camera: &Camera,
+    ) -> Result<(), Error> {
+        let chain = self.ensure(
+            targets,
+            || SsaoPipeline::new(gpu),
+            |pipeline| {
+                let size = (targets.width, targets.height);
+                let (chain, _) = SsaoChain::new(&gpu.device, pipeline, size, Some(&targets.depth_view), None);
+                let group = screen_group(&gpu.device, screen_layout, &chain.visibility);
+                (chain, group)
+            },
+        )?;
+        let frame = SsaoFrame::new(camera, targets.width, targets.height, &SsaoSettings::default());
+        chain.write_frame(&gpu.queue, &frame);
+        Ok(())
     }
 }
 
@@ -443,4 +449,27 @@ pub(in crate::render) fn neutral_screen_group(gpu: &GpuContext, layout: &wgpu::B
         wgpu::Extent3d { width: 1, height: 1, depth_or_array_layers: 1 },
     );
     screen_group(&gpu.device, layout, &texture)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parameters_follow_prepare_render_ao_parameters() {
+        let camera = Camera { position: [0.0, 0.0, 5.0], target: [0.0; 3], fov_y_deg: 60.0, near: 0.1, far: 100.0 };
+        let f = SsaoFrame::new(&camera, 384, 256, &SsaoSettings::default());
+        assert_eq!(f.buffer_size[..2], [192.0, 128.0]);
+        // runningRes.y·cot(fov/2)·0.25
+        let cot = 1.0 / 30f64.to_radians().tan();
+        assert!((f.params0[0] as f64 - 128.0 * cot * 0.25).abs() < 1e-4);
+        // √(192·128/(960·540)) · 40 < 16: the floor holds
+        assert_eq!(f.params1[3], 16.0);
+        assert!((f.params1[1] - 1.0 / 2.25).abs() < 1e-7);
+        // The pixel at the running resolution's centre maps to the view axis.
+        let c = [96.0 * f.depth_to_view[0] - f.depth_to_view[2], 64.0 * f.depth_to_view[1] - f.depth_to_view[3]];
+        assert!(c[0].abs() < 1e-6 && c[1].abs() < 1e-6, "{c:?}");
+        assert_eq!(level_sizes(384, 256), [(384, 256), (192, 128), (96, 64)]);
+        assert_eq!(level_sizes(5, 3), [(5, 3), (3, 2), (2, 1)]);
+    }
 }

@@ -285,16 +285,8 @@ pub fn visibility_of(
     Ok(bytes.chunks(4).map(|t| t[0] as f32 / 255.0).collect())
 }
 
-/// URP's SSAO as a frame runs it: its pipeline (made for the first cell that occludes), its chain
-/// on the frame's targets with the screen group the lighting reads it through, and the key of the
-/// prepass and SSAO whose visibility the chain holds.
-#[derive(Default)]
-pub(in crate::render) struct UrpSsaoPass {
-    pipeline: Option<UrpSsaoPipeline>,
-    /// (the targets' generation, the chain on their depth, the group reading its visibility)
-    chain: Option<(u64, UrpSsaoChain, wgpu::BindGroup)>,
-    holds: Option<u64>,
-}
+/// URP's SSAO as a frame runs it.
+pub(in crate::render) type UrpSsaoPass = super::ssao::OcclusionPass<UrpSsaoPipeline, UrpSsaoChain>;
 
 impl UrpSsaoPass {
     /// Ready the pass for a frame on `targets` seen by `camera`, with the renderer's `feature`.
@@ -306,34 +298,18 @@ impl UrpSsaoPass {
         camera: &Camera,
         feature: &UrpSsaoFeature,
     ) -> Result<(), Error> {
-        if self.pipeline.is_none() {
-            self.pipeline = Some(UrpSsaoPipeline::new(gpu)?);
-        }
-        let pipeline = self.pipeline.as_ref().expect("just made");
-        if self.chain.as_ref().is_none_or(|(generation, _, _)| *generation != targets.generation) {
-            let size = (targets.width, targets.height);
-            let chain = UrpSsaoChain::new(&gpu.device, pipeline, size, &targets.depth_view, None);
-            let group = super::ssao::screen_group(&gpu.device, screen_layout, &chain.visibility);
-            self.chain = Some((targets.generation, chain, group));
-            self.holds = None;
-        }
-        let (_, chain, _) = self.chain.as_ref().expect("just made");
+        let chain = self.ensure(
+            targets,
+            || UrpSsaoPipeline::new(gpu),
+            |pipeline| {
+                let size = (targets.width, targets.height);
+                let chain = UrpSsaoChain::new(&gpu.device, pipeline, size, &targets.depth_view, None);
+                let group = super::ssao::screen_group(&gpu.device, screen_layout, &chain.visibility);
+                (chain, group)
+            },
+        )?;
         chain.write_frame(&gpu.queue, &UrpSsaoFrame::new(camera, targets.width, targets.height, feature));
         Ok(())
-    }
-
-    /// Whether the prepass and SSAO must run for a frame whose inputs hash to `key`: not where
-    /// `reuse` lets the frame keep what the chain holds from the cell before.
-    pub(in crate::render) fn needed(&mut self, key: u64, reuse: bool) -> bool {
-        let kept = reuse && self.holds == Some(key);
-        self.holds = Some(key);
-        !kept
-    }
-
-    /// The prepared chain, its pipeline and the screen group reading its visibility.
-    pub(in crate::render) fn ready(&self) -> Option<(&UrpSsaoChain, &UrpSsaoPipeline, &wgpu::BindGroup)> {
-        let (_, chain, group) = self.chain.as_ref()?;
-        Some((chain, self.pipeline.as_ref()?, group))
     }
 }
 
