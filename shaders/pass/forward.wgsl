@@ -439,9 +439,13 @@ fn direct_occlusion(visibility: f32) -> f32 {
     return mix(1.0, visibility, frame.screen.w);
 }
 
-// URP's Unlit (plan::ao::OcclusionRead::Unlit, UnlitForwardPass.hlsl): its colour times the direct
-// factor, nothing through the indirect rule
-override UNLIT_OCCLUSION: u32 = 0u;
+// How the drawn object's shader reads the screen occlusion (plan::ao::OcclusionRead): 0 it does
+// not (the frame has none, or the shader compiles none: the load is compiled out and the
+// visibility is 1), 1 the lit rule, 2 URP's Unlit (UnlitForwardPass.hlsl: its colour times the
+// direct factor, nothing through the indirect rule). Passes without a key (the G-buffer) read it.
+const OCCLUSION_NONE: u32 = 0u;
+const OCCLUSION_UNLIT: u32 = 2u;
+override SCREEN_OCCLUSION: u32 = 1u;
 
 // The lighting sum at one point: the object's per-pixel lights' direct terms plus the ambient
 // (environment SH, the object's SH lights and its vertex lights) and the environment; in a
@@ -720,9 +724,11 @@ var<private> shading_pixel: vec2<f32> = vec2<f32>(0.0);
 fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> FragmentOut {
     lod_clip(in.clip.xy, in.world_pos);
     lightmap_uv = in.uv2;
-    screen_ao = load_screen_occlusion(in.clip.xy);
+    if (SCREEN_OCCLUSION != OCCLUSION_NONE) {
+        screen_ao = load_screen_occlusion(in.clip.xy);
+    }
     let unlit_occlusion = direct_occlusion(screen_ao);
-    if (UNLIT_OCCLUSION == 1u) {
+    if (SCREEN_OCCLUSION == OCCLUSION_UNLIT) {
         screen_ao = 1.0;
     }
     let face = cross(dpdx(in.world_pos), dpdy(in.world_pos));
@@ -747,7 +753,7 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> FragmentOut {
     var lit = vec3<f32>(select(ambient_occlusion(), 0.0, FORWARD_PASS == FORWARD_ADD));
     if (!draws_occlusion()) {
         lit = shade(s, n, in.world_pos, in.vertex_gi) + emitted(glow);
-        if (UNLIT_OCCLUSION == 1u) {
+        if (SCREEN_OCCLUSION == OCCLUSION_UNLIT) {
             lit *= unlit_occlusion;
         }
     }

@@ -62,7 +62,28 @@ pub struct AoUse {
     pub urp: Option<UrpSsaoFeature>,
 }
 
+impl OcclusionRead {
+    /// The value forward.wgsl's `SCREEN_OCCLUSION` takes.
+    pub fn shader_id(self) -> u32 {
+        match self {
+            OcclusionRead::None => 0,
+            OcclusionRead::Lit => 1,
+            OcclusionRead::Unlit => 2,
+        }
+    }
+}
+
 impl AoUse {
+    /// How the fixed objects read the occlusion: they are opaque and drawn with the pipeline's lit
+    /// shader, so wherever the frame renders SSAO.
+    pub fn fixed_read(&self) -> OcclusionRead {
+        if self.ssao {
+            OcclusionRead::Lit
+        } else {
+            OcclusionRead::None
+        }
+    }
+
     /// The share of the occlusion the direct light takes: URP's DirectLightingStrength
     /// (_AmbientOcclusionParam.w); HDRP's lit shaders leave the direct light alone.
     pub fn direct_lighting_strength(&self) -> f64 {

@@ -146,8 +146,9 @@ pub(in crate::render) struct ForwardKey {
     pub(in crate::render) terms: u32,
     /// The alpha test resolves by alpha-to-coverage (`plan::draws::alpha_to_coverage`).
     pub(in crate::render) alpha_to_coverage: bool,
-    /// URP's Unlit reads SSAO as its direct factor (`plan::ao::OcclusionRead::Unlit`).
-    pub(in crate::render) unlit_occlusion: bool,
+    /// How the drawn object's shader reads the frame's SSAO (`plan::ao::OcclusionRead`): not at
+    /// all where the frame has none or the shader compiles none, so the load is compiled out.
+    pub(in crate::render) occlusion: crate::plan::ao::OcclusionRead,
 }
 
 impl ForwardKey {
@@ -164,7 +165,7 @@ impl ForwardKey {
             face,
             terms: crate::pipelines::terms::LIGHT,
             alpha_to_coverage: false,
-            unlit_occlusion: false,
+            occlusion: crate::plan::ao::OcclusionRead::None,
         }
     }
 }
@@ -192,7 +193,7 @@ impl PipelineCache {
             face,
             terms,
             alpha_to_coverage,
-            unlit_occlusion,
+            occlusion,
         } = key;
         let key = (pipeline, model.name.to_string(), key);
         if self.forward.contains_key(&key) {
@@ -212,7 +213,7 @@ impl PipelineCache {
             ("SURFACE", surface.shader_id() as f64),
             ("TERMS", terms as f64),
             ("ALPHA_TO_COVERAGE", alpha_to_coverage as u32 as f64),
-            ("UNLIT_OCCLUSION", unlit_occlusion as u32 as f64),
+            ("SCREEN_OCCLUSION", occlusion.shader_id() as f64),
         ]);
         if exact.any() {
             constants.extend(exact.constants());

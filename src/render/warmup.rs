@@ -58,7 +58,10 @@ fn model_keys(
         face: RenderFace::Front,
         terms: 0,
         alpha_to_coverage: subject && plan.alpha_to_coverage,
-        unlit_occlusion: subject && plan.ao.subject_read == crate::plan::ao::OcclusionRead::Unlit,
+        occlusion: match subject {
+            true => plan.ao.subject_read,
+            false => plan.ao.fixed_read(),
+        },
     };
     (draw, (additive && adds).then_some(ForwardKey { pass: ForwardPass::Add, ..draw }))
 }
