@@ -172,7 +172,6 @@ pub struct SsaoChain {
     frame: wgpu::Buffer,
     copy: Option<ComputeStep>,
     steps: Vec<ComputeStep>,
-    full: (u32, u32),
 }
 
 impl SsaoChain {
@@ -253,16 +252,12 @@ impl SsaoChain {
             step(HORIZONS, &level1, &level2, &packed, l1),
             step(UPSAMPLE, &packed, &depth0, &visibility, full),
         ];
-        (SsaoChain { normal, visibility, frame, copy, steps, full }, depth0)
+        (SsaoChain { normal, visibility, frame, copy, steps }, depth0)
     }
 
     /// The camera values of the next frame.
     pub fn write_frame(&self, queue: &wgpu::Queue, frame: &SsaoFrame) {
         queue.write_buffer(&self.frame, 0, bytemuck::bytes_of(frame));
-    }
-
-    pub fn size(&self) -> (u32, u32) {
-        self.full
     }
 
     /// The depth copy and the steps, one compute pass (timed as one span).
@@ -302,27 +297,11 @@ pub fn visibility_of(
 ) -> Result<Vec<f32>, Error> {
     let device = &gpu.device;
     let pipeline = SsaoPipeline::new(gpu)?;
-    let normal_texture = crate::render::resources::texture_2d(
-        device,
-        "ssao test normals",
-        (width, height),
-        wgpu::TextureFormat::Rgba32Float,
-        wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-    );
+    let normal_texture = test_normals(gpu, (width, height), encoded_normals);
     let (chain, depth0) =
         SsaoChain::new(device, &pipeline, (width, height), None, Some(normal_texture.create_view(&Default::default())));
-    let write = |texture: &wgpu::Texture, bytes: &[u8], texel: u32| {
-        gpu.queue.write_texture(
-            texture.as_image_copy(),
-            bytes,
-            wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(width * texel), rows_per_image: None },
-            wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
-        );
-    };
     let depth_texels: Vec<[f32; 2]> = depth.iter().map(|&d| [d, 0.0]).collect();
-    write(&depth0, bytemuck::cast_slice(&depth_texels), 8);
-    let normal_texels: Vec<[f32; 4]> = encoded_normals.iter().map(|n| [n[0], n[1], n[2], 1.0]).collect();
-    write(&normal_texture, bytemuck::cast_slice(&normal_texels), 16);
+    write_whole(gpu, &depth0, bytemuck::cast_slice(&depth_texels), 8);
     chain.write_frame(&gpu.queue, frame);
     let readback = crate::gpu::readback::TextureReadback::new(device, "ssao visibility", width, height, 8);
     let mut encoder = device.create_command_encoder(&Default::default());
@@ -334,6 +313,31 @@ pub fn visibility_of(
     let texels: &[[f32; 2]] = bytemuck::cast_slice(&bytes);
     gpu.check_errors("running SSAO on test input")?;
     Ok(texels.iter().map(|t| t[0]).collect())
+}
+
+/// The prepass normals a test feeds an SSAO chain: `encoded` (n·0.5 + 0.5) in a float texture.
+pub(crate) fn test_normals(gpu: &GpuContext, size: (u32, u32), encoded: &[[f32; 3]]) -> wgpu::Texture {
+    let texture = crate::render::resources::texture_2d(
+        &gpu.device,
+        "ssao test normals",
+        size,
+        wgpu::TextureFormat::Rgba32Float,
+        wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+    );
+    let texels: Vec<[f32; 4]> = encoded.iter().map(|n| [n[0], n[1], n[2], 1.0]).collect();
+    write_whole(gpu, &texture, bytemuck::cast_slice(&texels), 16);
+    texture
+}
+
+/// `bytes`, rows of `texel`-byte texels, into the whole of `texture`.
+pub(crate) fn write_whole(gpu: &GpuContext, texture: &wgpu::Texture, bytes: &[u8], texel: u32) {
+    let size = texture.size();
+    gpu.queue.write_texture(
+        texture.as_image_copy(),
+        bytes,
+        wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(size.width * texel), rows_per_image: None },
+        size,
+    );
 }
 
 /// A screen-space occlusion pass across a run's cells: its pipelines (made for the first cell that

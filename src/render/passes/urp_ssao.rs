@@ -132,7 +132,6 @@ pub struct UrpSsaoChain {
     pub visibility: wgpu::Texture,
     frame: wgpu::Buffer,
     steps: Vec<ComputeStep>,
-    size: (u32, u32),
 }
 
 impl UrpSsaoChain {
@@ -204,16 +203,12 @@ impl UrpSsaoChain {
             ComputeStep { group, size }
         })
         .collect();
-        UrpSsaoChain { normal, visibility, frame, steps, size }
+        UrpSsaoChain { normal, visibility, frame, steps }
     }
 
     /// The camera values of the next frame.
     pub fn write_frame(&self, queue: &wgpu::Queue, frame: &UrpSsaoFrame) {
         queue.write_buffer(&self.frame, 0, bytemuck::bytes_of(frame));
-    }
-
-    pub fn size(&self) -> (u32, u32) {
-        self.size
     }
 
     /// The four steps, one compute pass (timed as one span).
@@ -247,32 +242,11 @@ pub fn visibility_of(
         wgpu::TextureFormat::R32Float,
         wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
     );
-    let normal_texture = crate::render::resources::texture_2d(
-        device,
-        "urp ssao test normals",
-        (width, height),
-        wgpu::TextureFormat::Rgba32Float,
-        wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-    );
+    let normal_texture = super::ssao::test_normals(gpu, (width, height), encoded_normals);
     let depth_view = depth_texture.create_view(&Default::default());
-    let chain = UrpSsaoChain::new(
-        device,
-        &pipeline,
-        (width, height),
-        &depth_view,
-        Some(normal_texture.create_view(&Default::default())),
-    );
-    let write = |texture: &wgpu::Texture, bytes: &[u8], texel: u32| {
-        gpu.queue.write_texture(
-            texture.as_image_copy(),
-            bytes,
-            wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(width * texel), rows_per_image: None },
-            wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
-        );
-    };
-    write(&depth_texture, bytemuck::cast_slice(depth), 4);
-    let normal_texels: Vec<[f32; 4]> = encoded_normals.iter().map(|n| [n[0], n[1], n[2], 1.0]).collect();
-    write(&normal_texture, bytemuck::cast_slice(&normal_texels), 16);
+    let normal_view = normal_texture.create_view(&Default::default());
+    let chain = UrpSsaoChain::new(device, &pipeline, (width, height), &depth_view, Some(normal_view));
+    super::ssao::write_whole(gpu, &depth_texture, bytemuck::cast_slice(depth), 4);
     chain.write_frame(&gpu.queue, frame);
     let readback = crate::gpu::readback::TextureReadback::new(device, "urp ssao visibility", width, height, 4);
     let mut encoder = device.create_command_encoder(&Default::default());
