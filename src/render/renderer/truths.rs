@@ -171,7 +171,7 @@ impl Renderer {
             _ => {
                 let geometry = truth_geometry(prepared, &kept)?;
                 let environment = cpu::CpuEnvironment::new(&truth_sky(&prepared.scene));
-                let s = std::sync::Arc::new(cpu::CpuScene::new(geometry, environment));
+                let s = std::sync::Arc::new(cpu::CpuScene::new(geometry, environment)?);
                 *prepared.cpu_truth_scene.lock().unwrap_or_else(|e| e.into_inner()) = Some((kept, s.clone()));
                 s
             }

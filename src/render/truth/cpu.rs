@@ -9,8 +9,11 @@
 //!
 //! Why a CPU tracer at all: on a CPU adapter (llvmpipe) the GPU tracer runs the same arithmetic
 //! through a shader JIT at ~0.2 M paths/s; here rayon spreads the rows over the cores with no
-//! compute-shader limits (stack depth, f32). Hand-written around obvhs, whose CWBVH traversal does the
-//! ray casting over the triangles the GPU reads (`bvh::TruthGeometry`): no crate traces these models.
+//! compute-shader limits (stack depth, f32). Hand-written around Embree, which casts the rays in f32
+//! against the triangles the GPU reads (`bvh::TruthGeometry`); every hit is then recomputed in f64
+//! (`CpuScene::barycentrics`): no crate traces these models. Embree rather than a Rust BVH
+//! (obvhs's CWBVH, which this used before): 41 % of the tracer's time was traversal, and Embree
+//! traverses the same rays in well under half that (docs/performance.md).
 
 use glam::{DMat4, DVec2, DVec3, DVec4};
 use rayon::prelude::*;
@@ -33,23 +36,80 @@ const RAY_EPSILON: f64 = 1e-4;
 const NO_LIGHT_FLOOR: f64 = 4.617e-5;
 
 /// The environment as the CPU tracer samples it: the same texels and tables as the GPU's
-/// (`super::environment_tables`), unscaled.
+/// (`super::environment_tables`), unscaled, laid out so that a sample costs one or two cache
+/// lines, not the ten of a binary search over the tables plus the texel's: a guide table per
+/// distribution starts the search for a bin at it (Chen and Asau 1974, as many guide entries as
+/// bins), and each texel's record holds its radiance beside the end of its bin in the row's cdf.
+/// The bin found is the one the GPU's binary search finds.
 pub struct CpuEnvironment {
     width: usize,
     height: usize,
-    texels: Vec<DVec3>,
-    cdf: Vec<f32>,
+    /// The marginal cdf over rows (height + 1 entries).
+    rows: Vec<f32>,
+    /// Per texel, row by row.
+    texels: Vec<EnvironmentTexel>,
+    /// The marginal's guide (`height` entries), then each row's (`width` entries): entry j of n
+    /// is the bin that holds u = j/n.
+    guide: Vec<u16>,
+}
+
+/// One texel: its radiance (unscaled) and the row's conditional cdf at its end.
+#[derive(Debug, Clone, Copy)]
+#[repr(C, align(32))]
+struct EnvironmentTexel {
+    radiance: DVec3,
+    cdf_end: f32,
+}
+
+impl EnvironmentTexel {
+    fn radiance(&self) -> DVec3 {
+        self.radiance
+    }
+}
+
+/// A direction drawn from the environment: its density (solid angle) and radiance (unscaled).
+struct EnvironmentSample {
+    direction: DVec3,
+    pdf: f64,
+    radiance: DVec3,
 }
 
 impl CpuEnvironment {
     pub fn new(image: &EquirectImage) -> CpuEnvironment {
         let (_, cdf) = super::environment_tables(image);
-        CpuEnvironment { width: image.width, height: image.height, texels: image.texels.clone(), cdf }
+        let (w, h) = (image.width, image.height);
+        assert!(w <= 1 << 16 && h <= 1 << 16, "an environment of {w}×{h} outgrows the guide's u16 bins");
+        let conditional = |y: usize, x: usize| cdf[(h + 1) + y * (w + 1) + x];
+        let texels = (0..w * h)
+            .map(|i| EnvironmentTexel { radiance: image.texels[i], cdf_end: conditional(i / w, i % w + 1) })
+            .collect();
+        let search = |at: &dyn Fn(usize) -> f32, n: usize, u: f64| {
+            // The bin k with cdf[k] ≤ u < cdf[k + 1]: rays.wgsl `find_bin`, a binary search.
+            let (mut lo, mut hi) = (0, n);
+            while lo + 1 < hi {
+                let mid = (lo + hi) / 2;
+                if at(mid) as f64 <= u {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            lo as u16
+        };
+        let mut guide: Vec<u16> = (0..h).map(|j| search(&|k| cdf[k], h, j as f64 / h as f64)).collect();
+        for y in 0..h {
+            guide.extend((0..w).map(|j| search(&|k| conditional(y, k), w, j as f64 / w as f64)));
+        }
+        CpuEnvironment { width: w, height: h, rows: cdf[..=h].to_vec(), texels, guide }
     }
 
-    /// Its width, height and texels (radiance, unscaled).
-    pub fn image(&self) -> (usize, usize, &[DVec3]) {
-        (self.width, self.height, &self.texels)
+    /// Its width and height, and texel i's radiance (unscaled).
+    pub fn size(&self) -> (usize, usize) {
+        (self.width, self.height)
+    }
+
+    pub fn texel(&self, i: usize) -> DVec3 {
+        self.texels[i].radiance()
     }
 
     fn texel_index(&self, d: DVec3) -> usize {
@@ -60,43 +120,59 @@ impl CpuEnvironment {
         y * self.width + x
     }
 
-    fn radiance(&self, d: DVec3) -> DVec3 {
-        self.texels[self.texel_index(d)]
-    }
-
-    /// Solid-angle density of `sample` drawing d (rays.wgsl `env_pdf`).
-    fn pdf(&self, d: DVec3) -> f64 {
+    /// Solid-angle density of drawing d from texel i (rays.wgsl `env_pdf`).
+    fn pdf_at(&self, i: usize, d: DVec3) -> f64 {
         let (w, h) = (self.width, self.height);
-        let i = self.texel_index(d);
         let (x, y) = (i % w, i / w);
-        let row = (self.cdf[y + 1] - self.cdf[y]) as f64;
-        let base = (h + 1) + y * (w + 1);
-        let col = (self.cdf[base + x + 1] - self.cdf[base + x]) as f64;
+        let row = (self.rows[y + 1] - self.rows[y]) as f64;
+        let start = if x == 0 { 0.0 } else { self.texels[i - 1].cdf_end };
+        let col = (self.texels[i].cdf_end - start) as f64;
         let sin_theta = (1.0 - d.y * d.y).max(1e-12).sqrt();
         row * col * (w * h) as f64 / (2.0 * PI * PI * sin_theta)
     }
 
-    /// The bin `u` falls in among the `n` bins from `start` (rays.wgsl `find_bin`).
-    fn find_bin(&self, start: usize, n: usize, u: f64) -> usize {
-        let (mut lo, mut hi) = (0, n);
-        while lo + 1 < hi {
-            let mid = (lo + hi) / 2;
-            if self.cdf[start + mid] as f64 <= u {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
-        lo
+    /// The radiance along d and the density with which `sample` draws d.
+    fn lookup(&self, d: DVec3) -> (DVec3, f64) {
+        let i = self.texel_index(d);
+        (self.texels[i].radiance(), self.pdf_at(i, d))
     }
 
-    /// A direction drawn in proportion to the texels' luminance × sin θ, and its density.
-    fn sample(&self, rng: &mut Rng) -> (DVec3, f64) {
+    /// The radiance along d.
+    fn radiance(&self, d: DVec3) -> DVec3 {
+        self.texels[self.texel_index(d)].radiance()
+    }
+
+    /// The row that u falls in: from the guide's bin, forward to the one k with
+    /// rows[k] ≤ u < rows[k + 1] (unique where the cdf does not fall, so the binary search's).
+    fn find_row(&self, u: f64) -> usize {
+        let h = self.height;
+        let mut k = self.guide[((u * h as f64) as usize).min(h - 1)] as usize;
+        while k + 1 < h && self.rows[k + 1] as f64 <= u {
+            k += 1;
+        }
+        k
+    }
+
+    /// The texel of row y that u falls in, as `find_row`.
+    fn find_column(&self, y: usize, u: f64) -> usize {
+        let w = self.width;
+        let mut k = self.guide[self.height + y * w + ((u * w as f64) as usize).min(w - 1)] as usize;
+        let row = &self.texels[y * w..(y + 1) * w];
+        while k + 1 < w && row[k].cdf_end as f64 <= u {
+            k += 1;
+        }
+        k
+    }
+
+    /// A direction drawn in proportion to the texels' luminance × sin θ, its density and radiance.
+    fn sample(&self, rng: &mut Rng) -> EnvironmentSample {
         let (w, h) = (self.width, self.height);
-        let y = self.find_bin(0, h, rng.next());
-        let x = self.find_bin((h + 1) + y * (w + 1), w, rng.next());
+        let y = self.find_row(rng.next());
+        let x = self.find_column(y, rng.next());
         let d = crate::environment::uv_to_dir((x as f64 + rng.next()) / w as f64, (y as f64 + rng.next()) / h as f64);
-        (d, self.pdf(d))
+        // The texel drawn, not the one d's rounding names: the density of what was drawn.
+        let i = y * w + x;
+        EnvironmentSample { direction: d, pdf: self.pdf_at(i, d), radiance: self.texels[i].radiance() }
     }
 }
 
@@ -305,17 +381,14 @@ impl CpuTruthInputs<'_> {
     }
 }
 
-/// The scene a CPU truth traces: the triangles and vertices the GPU's reads, over obvhs's
-/// compressed 8-wide BVH (Ylitie et al. 2017, traversed four nodes at a time with SIMD), and the
-/// environment.
+/// The scene a CPU truth traces: the triangles and vertices the GPU's reads, cast against by
+/// Embree (its BVH over the same f32 positions, traversed by the kernels it picks for this CPU),
+/// and the environment.
 pub struct CpuScene {
     pub geometry: TruthGeometry,
     pub environment: CpuEnvironment,
-    bvh: obvhs::cwbvh::CwBvh,
-    /// The triangles in the BVH's primitive order, laid out for intersection.
-    rt: Vec<obvhs::rt_triangle::RtTriangle>,
-    /// Each of those as its index in `geometry.triangles`.
-    order: Vec<u32>,
+    /// None for a scene without triangles (Embree refuses an empty buffer).
+    rays: Option<embree3::Scene<'static>>,
 }
 
 struct Hit {
@@ -328,30 +401,50 @@ fn v3(a: [f32; 4]) -> DVec3 {
     DVec3::new(a[0] as f64, a[1] as f64, a[2] as f64)
 }
 
-fn a3(v: DVec3) -> glam_obvhs::Vec3A {
-    glam_obvhs::Vec3A::new(v.x as f32, v.y as f32, v.z as f32)
+fn f3(v: DVec3) -> [f32; 3] {
+    [v.x as f32, v.y as f32, v.z as f32]
+}
+
+/// One Embree device for the process: its build threads are started once, not per truth.
+fn embree_device() -> Result<&'static embree3::Device, Error> {
+    static DEVICE: std::sync::OnceLock<Result<embree3::Device, String>> = std::sync::OnceLock::new();
+    DEVICE
+        .get_or_init(|| embree3::Device::new().map_err(|e| format!("{e:?}")))
+        .as_ref()
+        .map_err(|e| Error::Device(format!("Embree (the CPU truth's ray casting): {e}")))
 }
 
 impl CpuScene {
-    pub fn new(geometry: TruthGeometry, environment: CpuEnvironment) -> CpuScene {
-        let position = |i: u32| {
-            let q = geometry.vertices[i as usize].position;
-            glam_obvhs::Vec3A::new(q[0], q[1], q[2])
+    pub fn new(geometry: TruthGeometry, environment: CpuEnvironment) -> Result<CpuScene, Error> {
+        let rays = if geometry.triangles.is_empty() { None } else { Some(Self::embree_scene(&geometry)?) };
+        Ok(CpuScene { geometry, environment, rays })
+    }
+
+    /// The triangles as one Embree geometry; a hit's primitive id is its index in
+    /// `geometry.triangles`.
+    fn embree_scene(geometry: &TruthGeometry) -> Result<embree3::Scene<'static>, Error> {
+        use embree3::{BufferUsage, Format, GeometryKind};
+        let failed = |what: &str, e: embree3::Error| {
+            Error::Device(format!("Embree (the CPU truth's ray casting): {what}: {e:?}"))
         };
-        let triangles: Vec<obvhs::triangle::Triangle> = geometry
-            .triangles
-            .iter()
-            .map(|t| obvhs::triangle::Triangle { v0: position(t[0]), v1: position(t[1]), v2: position(t[2]) })
-            .collect();
-        let mut build_time = std::time::Duration::ZERO;
-        let bvh = obvhs::cwbvh::builder::build_cwbvh_from_tris(
-            &triangles,
-            obvhs::BvhBuildParams::medium_build(),
-            &mut build_time,
-        );
-        let rt = bvh.primitive_indices.iter().map(|&i| (&triangles[i as usize]).into()).collect();
-        let order = bvh.primitive_indices.clone();
-        CpuScene { geometry, environment, bvh, rt, order }
+        let device = embree_device()?;
+        let mut mesh = device.create_geometry(GeometryKind::TRIANGLE).map_err(|e| failed("geometry", e))?;
+        let vertices = &geometry.vertices;
+        mesh.set_new_buffer::<[f32; 4]>(BufferUsage::VERTEX, 0, Format::FLOAT3, 16, vertices.len())
+            .map_err(|e| failed("vertex buffer", e))?
+            .iter_mut()
+            .zip(vertices)
+            .for_each(|(dst, v)| *dst = v.position);
+        let triangles = &geometry.triangles;
+        mesh.set_new_buffer::<[u32; 4]>(BufferUsage::INDEX, 0, Format::UINT3, 16, triangles.len())
+            .map_err(|e| failed("index buffer", e))?
+            .copy_from_slice(triangles);
+        let mesh = mesh.commit();
+        let mut scene = device.create_scene().map_err(|e| failed("scene", e))?;
+        scene.set_build_quality(embree3::BuildQuality::HIGH);
+        scene.attach_geometry(&mesh);
+        scene.commit();
+        Ok(scene)
     }
 
     /// Barycentrics of the hit on triangle `k` (Möller–Trumbore in f64, rays.wgsl
@@ -374,28 +467,35 @@ impl CpuScene {
         (b1 - over, b2 - over)
     }
 
+    /// The position of a hit, interpolated from its triangle's vertices.
+    fn point_of(&self, hit: &Hit) -> DVec3 {
+        let g = &self.geometry;
+        let tri = g.triangles[hit.triangle];
+        let [a, b, c] = [0, 1, 2].map(|k| v3(g.vertices[tri[k] as usize].position));
+        a * (1.0 - hit.b1 - hit.b2) + b * hit.b1 + c * hit.b2
+    }
+
+    fn ray(o: DVec3, d: DVec3, t_max: f64) -> embree3::Ray {
+        embree3::Ray::segment(f3(o), f3(d), RAY_EPSILON as f32, t_max.min(f32::MAX as f64) as f32)
+    }
+
     /// The nearest hit along o + t·d for t in (ε, t_max).
     fn trace(&self, o: DVec3, d: DVec3, t_max: f64) -> Option<Hit> {
-        if self.rt.is_empty() {
+        let scene = self.rays.as_ref()?;
+        let mut ray = embree3::RayHit::from(Self::ray(o, d, t_max));
+        scene.intersect(&mut embree3::IntersectContext::incoherent(), &mut ray);
+        if !ray.hit.is_valid() {
             return None;
         }
-        let ray = obvhs::ray::Ray::new(a3(o), a3(d), RAY_EPSILON as f32, t_max.min(f32::MAX as f64) as f32);
-        let mut hit = obvhs::ray::RayHit::none();
-        if !self.bvh.ray_traverse(ray, &mut hit, |ray, id| self.rt[id].intersect(ray)) {
-            return None;
-        }
-        let triangle = self.order[hit.primitive_id as usize] as usize;
+        let triangle = ray.hit.primID as usize;
         let (b1, b2) = self.barycentrics(o, d, triangle);
         Some(Hit { triangle, b1, b2 })
     }
 
     /// Whether anything lies along o + t·d for t in (ε, t_max): a shadow ray.
     fn occluded(&self, o: DVec3, d: DVec3, t_max: f64) -> bool {
-        if self.rt.is_empty() {
-            return false;
-        }
-        let ray = obvhs::ray::Ray::new(a3(o), a3(d), RAY_EPSILON as f32, t_max.min(f32::MAX as f64) as f32);
-        !self.bvh.ray_traverse_miss(ray, |ray, id| self.rt[id].intersect(ray))
+        let Some(scene) = self.rays.as_ref() else { return false };
+        scene.occluded(&mut embree3::IntersectContext::incoherent(), &mut Self::ray(o, d, t_max))
     }
 }
 
@@ -407,6 +507,8 @@ struct SurfacePoint {
     object: usize,
     s: Surface,
     emission: DVec3,
+    /// A physical truth's model there, seen along the ray that found the point.
+    lobe: Option<physical::PhysicalLobe>,
 }
 
 /// A fixed material's maps at uv (albedo, tangent-space normal, mask, emission): scene.wgsl
@@ -606,7 +708,7 @@ impl<'a> Tracer<'a> {
             if !self.passes(&hit, rng) {
                 return Some(hit);
             }
-            o = self.surface_at(&hit, d).p + d * RAY_EPSILON;
+            o = self.point_at(&hit) + d * RAY_EPSILON;
         }
     }
 
@@ -621,10 +723,15 @@ impl<'a> Tracer<'a> {
             if !self.passes(&hit, rng) {
                 return true;
             }
-            let p = self.surface_at(&hit, d).p;
+            let p = self.point_at(&hit);
             left -= (p - o).length();
             o = p + d * RAY_EPSILON;
         }
+    }
+
+    /// The position of a hit (as `surface_at` interpolates it).
+    fn point_at(&self, hit: &Hit) -> DVec3 {
+        self.scene.point_of(hit)
     }
 
     fn surface_at(&self, hit: &Hit, d: DVec3) -> SurfacePoint {
@@ -683,7 +790,8 @@ impl<'a> Tracer<'a> {
             let w = a.tangent[3] as f64 * b0 + b.tangent[3] as f64 * hit.b1 + c.tangent[3] as f64 * hit.b2;
             n = tangent_to_world(n, t, w, DVec3::new(normal[0], normal[1], normal[2]));
         }
-        SurfacePoint { p, n, ng, object, s, emission }
+        let lobe = (self.inputs.kind == TruthKind::Physical).then(|| physical::PhysicalLobe::new(&s, n, -d));
+        SurfacePoint { p, n, ng, object, s, emission, lobe }
     }
 
     /// The GGX share of this point's continuations: none for a diffuse-only model (a same-brdf
@@ -696,15 +804,16 @@ impl<'a> Tracer<'a> {
         }
     }
 
-    /// f·NL at a point: the subject's or the fixed objects' model without the pipeline's
-    /// irradiance per intensity, or the physical model (truth.wgsl `response`).
+    /// f·NL at a point seen from v (the ray that found it): the subject's or the fixed objects'
+    /// model without the pipeline's irradiance per intensity, or the physical model (truth.wgsl
+    /// `response`).
     fn response(&self, sp: &SurfacePoint, v: DVec3, l: DVec3, min_roughness: f64) -> DVec3 {
         if sp.ng.dot(l) <= 0.0 {
             return DVec3::ZERO;
         }
         let p = self.inputs.pipeline;
-        if self.inputs.kind == TruthKind::Physical {
-            return physical::physical_response(&sp.s, sp.n, v, l);
+        if let Some(lobe) = &sp.lobe {
+            return lobe.response(l);
         }
         let twin = if self.inputs.materials[sp.object].1 { self.inputs.subject_twin } else { self.inputs.fixed_twin };
         // Present for a same-brdf truth (`Renderer::with_cpu_truth` refuses one without).
@@ -741,10 +850,10 @@ impl<'a> Tracer<'a> {
             }
         }
         if self.env_scale > 0.0 {
-            let (l, pdf) = self.scene.environment.sample(rng);
+            let EnvironmentSample { direction: l, pdf, radiance } = self.scene.environment.sample(rng);
             let f = self.response(sp, v, l, NO_LIGHT_FLOOR);
             if pdf > 0.0 && f.max_element() > 0.0 && !self.blocked(origin, l, f64::INFINITY, rng) {
-                let radiance = self.scene.environment.radiance(l) * self.env_scale;
+                let radiance = radiance * self.env_scale;
                 c += f * radiance / pdf * power_heuristic(pdf, surface_pdf(&sp.s, self.lobe_share(sp), sp.n, v, l));
             }
         }
@@ -787,7 +896,8 @@ impl<'a> Tracer<'a> {
                     None if first > 0 || self.inputs.background => c += throughput * env.radiance(d) * self.env_scale,
                     None => {}
                     Some(pdf) if self.env_scale > 0.0 => {
-                        c += throughput * env.radiance(d) * self.env_scale * power_heuristic(pdf, env.pdf(d))
+                        let (radiance, env_pdf) = env.lookup(d);
+                        c += throughput * radiance * self.env_scale * power_heuristic(pdf, env_pdf)
                     }
                     Some(_) => {}
                 }
@@ -888,6 +998,90 @@ pub fn trace(scene: &CpuScene, inputs: &CpuTruthInputs, settings: &TruthSettings
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_guided_search_finds_the_binary_searchs_bin() {
+        // A sky with black rows and texels (zero-weight bins the cdf stays flat over), a bright
+        // spot, and a smooth rest: the guide's walk must end on the GPU's bin for every u.
+        let (w, h) = (64, 32);
+        let texels = (0..w * h)
+            .map(|i| {
+                let (x, y) = (i % w, i / w);
+                match (x, y) {
+                    (_, 0..=5) | (20..=39, _) => DVec3::ZERO,
+                    (50, 12) => DVec3::splat(5000.0),
+                    _ => DVec3::splat(1.0 + (x * y) as f64 * 0.01),
+                }
+            })
+            .collect();
+        let image = EquirectImage { width: w, height: h, texels };
+        let env = CpuEnvironment::new(&image);
+        let (_, cdf) = super::super::environment_tables(&image);
+        let binary = |start: usize, n: usize, u: f64| {
+            let (mut lo, mut hi) = (0, n);
+            while lo + 1 < hi {
+                let mid = (lo + hi) / 2;
+                if cdf[start + mid] as f64 <= u {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            lo
+        };
+        let mut rng = Rng::new(3, 9);
+        let mut us: Vec<f64> = (0..20_000).map(|_| rng.next()).collect();
+        us.extend(cdf.iter().map(|&c| c as f64).filter(|&c| c < 1.0));
+        for &u in &us {
+            let y = env.find_row(u);
+            assert_eq!(y, binary(0, h, u), "row for u = {u}");
+            for row in [y, 0, 12, h - 1] {
+                assert_eq!(env.find_column(row, u), binary((h + 1) + row * (w + 1), w, u), "row {row}, u = {u}");
+            }
+        }
+    }
+
+    #[test]
+    fn embree_finds_the_nearest_triangle_brute_force_finds() {
+        // Random rays through two overlapping spheres: the hit Embree reports is at the distance
+        // of the nearest triangle any ray-triangle test over all of them finds.
+        let sphere = crate::geometry::procedural::uv_sphere(1.0, 12, 24);
+        let shifted = DMat4::from_translation(DVec3::new(0.8, 0.3, 0.0));
+        let geometry = TruthGeometry::build([(0, &sphere, DMat4::IDENTITY), (1, &sphere, shifted)]);
+        let image = EquirectImage { width: 4, height: 2, texels: vec![DVec3::ONE; 8] };
+        let scene = CpuScene::new(geometry, CpuEnvironment::new(&image)).expect("an Embree scene");
+        let g = &scene.geometry;
+        let distance = |o: DVec3, d: DVec3, k: usize| {
+            let [p0, p1, p2] = [0, 1, 2].map(|i| v3(g.vertices[g.triangles[k][i] as usize].position));
+            let (e1, e2) = (p1 - p0, p2 - p0);
+            let pv = d.cross(e2);
+            let det = e1.dot(pv);
+            let tv = o - p0;
+            let qv = tv.cross(e1);
+            let (b1, b2, t) = (tv.dot(pv) / det, d.dot(qv) / det, e2.dot(qv) / det);
+            (b1 >= 0.0 && b2 >= 0.0 && b1 + b2 <= 1.0 && t > RAY_EPSILON).then_some(t)
+        };
+        let mut rng = Rng::new(11, 2);
+        let (mut hits, mut misses) = (0, 0);
+        for _ in 0..2000 {
+            let o = DVec3::new(rng.next() * 6.0 - 3.0, rng.next() * 6.0 - 3.0, rng.next() * 6.0 - 3.0);
+            let target = DVec3::new(rng.next() * 4.0 - 2.0, rng.next() * 4.0 - 2.0, rng.next() * 4.0 - 2.0);
+            let d = (target - o).normalize();
+            let nearest = (0..g.triangles.len()).filter_map(|k| distance(o, d, k)).min_by(f64::total_cmp);
+            match (scene.trace(o, d, f64::INFINITY), nearest) {
+                (Some(hit), Some(t)) => {
+                    let found = distance(o, d, hit.triangle).unwrap_or_else(|| (scene.point_of(&hit) - o).length());
+                    assert!((found - t).abs() < 1e-4 * t.max(1.0), "hit at {found}, nearest at {t}");
+                    assert!(scene.occluded(o, d, t * 1.01) && !scene.occluded(o, d, t * 0.99));
+                    hits += 1;
+                }
+                (None, None) => misses += 1,
+                // A ray grazing an edge: f32 and f64 may disagree there, nowhere else.
+                (a, b) => panic!("Embree {:?}, brute force {b:?}", a.map(|h| h.triangle)),
+            }
+        }
+        assert!(hits > 500 && misses > 100, "{hits} hits, {misses} misses");
+    }
 
     #[test]
     fn surface_sampling_density_integrates_to_one() {

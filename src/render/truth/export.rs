@@ -235,9 +235,9 @@ pub fn export(
     let env_scale = f.env[1] as f64;
     let sky = (env_scale > 0.0).then(|| {
         let e = &scene.environment;
-        let (w, h, texels) = e.image();
-        let px = texels
-            .iter()
+        let (w, h) = e.size();
+        let px = (0..w * h)
+            .map(|i| e.texel(i))
             .flat_map(|c| [(c.x * env_scale) as f32, (c.y * env_scale) as f32, (c.z * env_scale) as f32, 1.0]);
         images.push(("sky.exr".to_string(), w as u32, h as u32, px.collect()));
         "sky.exr".to_string()

@@ -25,19 +25,48 @@ pub fn physical_energy_compensation(f0: DVec3, nv: f64, pr: f64) -> DVec3 {
 
 /// f·NL of the physical model.
 pub fn physical_response(s: &Surface, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
-    let (nl, nv) = (n.dot(l), n.dot(v));
-    if nl <= 0.0 || nv <= 0.0 {
-        return DVec3::ZERO;
+    PhysicalLobe::new(s, n, v).response(l)
+}
+
+/// The physical model at one surface point seen from v: what `physical_response` computes from
+/// the point and the view alone (F0, α, the energy compensation's table lookup), computed once
+/// for every light direction the tracer asks about there, in the same order of operations.
+#[derive(Debug, Clone, Copy)]
+pub struct PhysicalLobe {
+    n: DVec3,
+    v: DVec3,
+    nv: f64,
+    a: f64,
+    f0: DVec3,
+    diffuse: DVec3,
+    compensation: DVec3,
+}
+
+impl PhysicalLobe {
+    pub fn new(s: &Surface, n: DVec3, v: DVec3) -> PhysicalLobe {
+        let nv = n.dot(v);
+        let pr = 1.0 - s.smoothness;
+        let a = (pr * pr).max(1e-4);
+        let f0 = DVec3::splat(0.04).lerp(s.base_color, s.metallic);
+        // Seen from below the surface it reflects nothing: no table lookup for it.
+        let compensation = if nv > 0.0 { physical_energy_compensation(f0, nv, pr) } else { DVec3::ZERO };
+        PhysicalLobe { n, v, nv, a, f0, diffuse: s.base_color * (1.0 - s.metallic) / PI, compensation }
     }
-    let h = (v + l).normalize();
-    let pr = 1.0 - s.smoothness;
-    let a = (pr * pr).max(1e-4);
-    let f0 = DVec3::splat(0.04).lerp(s.base_color, s.metallic);
-    let spec = f_schlick(f0, sat(v.dot(h)))
-        * d_ggx(sat(n.dot(h)), a)
-        * physical_v_smith_correlated(nv, nl, a)
-        * physical_energy_compensation(f0, nv, pr);
-    (s.base_color * (1.0 - s.metallic) / PI + spec) * nl
+
+    /// f·NL towards l.
+    pub fn response(&self, l: DVec3) -> DVec3 {
+        let (n, v) = (self.n, self.v);
+        let (nl, nv) = (n.dot(l), self.nv);
+        if nl <= 0.0 || nv <= 0.0 {
+            return DVec3::ZERO;
+        }
+        let h = (v + l).normalize();
+        let spec = f_schlick(self.f0, sat(v.dot(h)))
+            * d_ggx(sat(n.dot(h)), self.a)
+            * physical_v_smith_correlated(nv, nl, self.a)
+            * self.compensation;
+        (self.diffuse + spec) * nl
+    }
 }
 
 /// The model's directional albedo seen from NV (quadrature over the hemisphere): what a white

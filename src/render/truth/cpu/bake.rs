@@ -8,7 +8,8 @@ use rayon::prelude::*;
 use std::f64::consts::PI;
 
 use super::{
-    power_heuristic, sample_surface, surface_pdf, CpuScene, CpuTruthInputs, Rng, Surface, Tracer, RAY_EPSILON,
+    power_heuristic, sample_surface, surface_pdf, CpuScene, CpuTruthInputs, EnvironmentSample, Rng, Surface, Tracer,
+    RAY_EPSILON,
 };
 use crate::error::Error;
 use crate::render::truth::bake::{BakeLight, BakePoint, BakeSums, BAKE_STRIDE};
@@ -99,10 +100,10 @@ fn texel_sample(
     }
     let white = Surface::basic(DVec3::ONE, 0.0, 0.0);
     if tracer.env_scale > 0.0 {
-        let (l, pdf) = tracer.scene.environment.sample(rng);
+        let EnvironmentSample { direction: l, pdf, radiance } = tracer.scene.environment.sample(rng);
         let f = n.dot(l).max(0.0) / PI;
         if pdf > 0.0 && f > 0.0 && !tracer.blocked(origin, l, f64::INFINITY, rng) {
-            let e = f * tracer.scene.environment.radiance(l) * tracer.env_scale / pdf * power_heuristic(pdf, f);
+            let e = f * radiance * tracer.env_scale / pdf * power_heuristic(pdf, f);
             c += e;
             dominant += l * lum(e);
             dominant_w += lum(e);
