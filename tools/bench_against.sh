@@ -1,16 +1,18 @@
 #!/usr/bin/env bash
 # This tree's speed against another commit's, side by side on this machine, in one command: run it
-# before stopping. Builds REV in a worktree (its own target folder, kept between calls so a second
-# call rebuilds little), builds this tree, then runs `shadematrix bench MATRIX` with each binary in
-# turn, A (REV) B (this tree) A B …, PAIRS times, printing each run's wall time and cells/s and each
-# pair's ratio. Exit 1 when the median ratio (this tree's cells/s over REV's) is under
-# 1 − BUDGET: a slowdown beyond the budget needs its reason stated (docs/performance.md).
+# before stopping. Builds REV in a worktree under target/against/ (worktree and build kept between
+# calls, so a second call against the same REV builds nothing), builds this tree, then runs
+# `shadematrix bench MATRIX` with each binary in turn, A (REV) B (this tree) A B …, PAIRS times,
+# printing each run's wall time and cells/s and each pair's ratio. Exit 1 when the median ratio
+# (this tree's cells/s over REV's) is under 1 − BUDGET: a slowdown beyond the budget needs its
+# reason stated (docs/performance.md).
 #
 #   tools/bench_against.sh REV [--matrix M] [--pairs N] [--budget B]
 #
 # Defaults: matrices/bench.toml, 2 pairs, a budget of 0.03 (3 %: two pairs on a quiet 2-core
-# machine vary by about that much). Nothing else should run meanwhile: a build or a test run beside
-# the bench moves its figures more than any change does.
+# machine vary by about that much). AGAINST_TARGET_DIR: where REV is built (default
+# target/against/target), e.g. a folder that already holds its build. Nothing else should run
+# meanwhile: a build or a test run beside the bench moves its figures more than any change does.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -32,16 +34,20 @@ commit=$(git rev-parse --verify --quiet "$rev^{commit}") || { echo "$0: $rev nam
 root=$(pwd)
 work="$root/target/against"
 tree="$work/tree"
-mkdir -p "$work"
-git worktree remove --force "$tree" >/dev/null 2>&1 || rm -rf "$tree"
-git worktree prune
-git worktree add --detach --force "$tree" "$commit" >/dev/null
-trap 'git -C "$root" worktree remove --force "$tree" >/dev/null 2>&1 || true' EXIT
+mkdir -p "$work/runs"
+# The worktree stays between calls: checked out anew, its files would be newer than REV's build
+# and cargo would compile it again.
+if [ "$(git -C "$tree" rev-parse HEAD 2>/dev/null)" != "$commit" ]; then
+  git worktree remove --force "$tree" >/dev/null 2>&1 || rm -rf "$tree"
+  git worktree prune
+  git worktree add --detach --force "$tree" "$commit" >/dev/null
+fi
 
 echo "building $rev ($commit) and this tree (release)…"
-(cd "$tree" && CARGO_TARGET_DIR="$work/target" cargo build --release --quiet)
+built="${AGAINST_TARGET_DIR:-$work/target}"
+(cd "$tree" && CARGO_TARGET_DIR="$built" cargo build --release --quiet)
 cargo build --release --quiet
-old="$work/target/release/shadematrix"
+old="$built/release/shadematrix"
 new="$root/target/release/shadematrix"
 
 export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-$(mktemp -d)}"
