@@ -474,7 +474,7 @@ fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>, vertex_gi: vec3<f32>) -> vec3<f
             continue;
         }
         let light = lights[i];
-        if (u32(light.position.w) >= LIGHT_RECT) {
+        if (AREA_LIGHTS == 1u && u32(light.position.w) >= LIGHT_RECT) {
             c += rect_light(light, s, n, v, p) * direct_ao;
             continue;
         }
@@ -575,6 +575,10 @@ fn baked_occlusions() -> vec4<f32> {
 
 // The fragment's (or vertex's) lightmap uv, set by the entry points before shading
 var<private> lightmap_uv: vec2<f32> = vec2<f32>(0.0);
+
+// 1 where the scene has an area light (plan::lights::needs_area_path); 0 compiles the rect-light
+// path and the model's LTC integrals out of the light loops
+override AREA_LIGHTS: u32 = 1u;
 
 // A rect light's direct term at p (the model's `model_rect`); 0 where the frame leaves it out
 fn rect_light(light: Light, s: Surface, n: vec3<f32>, v: vec3<f32>, p: vec3<f32>) -> vec3<f32> {
@@ -1074,7 +1078,7 @@ fn deferred_light(light: Light, s: Surface, p: vec3<f32>, n: vec3<f32>, v: vec3<
     if (light.color.w > 5.5 && baked.lightmapped && PIPELINE == PIPELINE_URP) {
         return vec3<f32>(0.0);
     }
-    if (u32(light.position.w) >= LIGHT_RECT) {
+    if (AREA_LIGHTS == 1u && u32(light.position.w) >= LIGHT_RECT) {
         return rect_light(light, s, n, v, p);
     }
     let inc = light_incidence(light, p);

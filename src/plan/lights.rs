@@ -202,6 +202,14 @@ pub fn area_left_out(pipeline: Pipeline, light: &Light, model_has_area: bool) ->
     }
 }
 
+/// Whether the frame's shaders need their area-light path: where the scene has a rect or disc
+/// light at all (drawn or left out, the shader tells them from punctual lights by it). A frame
+/// without one compiles the path out (forward.wgsl `AREA_LIGHTS`): the LTC and polygon integrals
+/// are the largest code of a lit shader, and the driver compiles and runs less without them.
+pub fn needs_area_path(lights: &[Light]) -> bool {
+    lights.iter().any(|l| matches!(l.kind, LightKind::Rect | LightKind::Disc))
+}
+
 /// The path whose budget lights an object: on a deferred path, what the G-buffer cannot carry is
 /// drawn in a forward pass after the deferred lighting and lit as forward lights it — built-in
 /// deferred falls back to ForwardBase/ForwardAdd with the pixel light count, URP deferred draws
@@ -398,6 +406,17 @@ pub fn sh_of_light(direction_to_light: DVec3, color: DVec3) -> [DVec3; 9] {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn only_a_scene_with_an_area_light_keeps_the_shaders_area_path() {
+        let scene = Scene::load("default", None, "t", "k").unwrap();
+        assert!(!needs_area_path(&scene.lights), "the default room has punctual lights only");
+        for kind in [LightKind::Rect, LightKind::Disc] {
+            let mut lights = scene.lights.clone();
+            lights[0].kind = kind;
+            assert!(needs_area_path(&lights), "{kind:?}");
+        }
+    }
 
     fn scene_with(n_points: usize) -> Vec<Light> {
         let mut scene = Scene::load("default", None, "t", "k").unwrap();

@@ -53,9 +53,9 @@ pub(in crate::render) struct PipelineCache {
     pub(in crate::render) forward: HashMap<(Pipeline, String, ForwardKey), wgpu::RenderPipeline>,
     /// By (pipeline, model, textured subject, faces drawn, terms).
     pub(in crate::render) gbuffer: HashMap<(Pipeline, String, bool, RenderFace, u32), wgpu::RenderPipeline>,
-    /// By (pipeline, model, role, terms).
-    /// Keyed by pipeline, model, role, terms and the legacy lighting whose data it lights (0: none).
-    pub(in crate::render) lighting: HashMap<(Pipeline, String, u32, u32, u32), wgpu::RenderPipeline>,
+    /// Keyed by pipeline, model, role, terms, the legacy lighting whose data it lights (0: none) and
+    /// whether the light loop has its area-light path.
+    pub(in crate::render) lighting: HashMap<(Pipeline, String, u32, u32, u32, bool), wgpu::RenderPipeline>,
     /// The depth-normal prepass pipelines, by (pipeline, textured subject, faces drawn).
     pub(in crate::render) depth_normals: HashMap<(Pipeline, bool, RenderFace), wgpu::RenderPipeline>,
     /// By (sample count, terms).
@@ -149,6 +149,8 @@ pub(in crate::render) struct ForwardKey {
     /// How the drawn object's shader reads the frame's SSAO (`plan::ao::OcclusionRead`): not at
     /// all where the frame has none or the shader compiles none, so the load is compiled out.
     pub(in crate::render) occlusion: crate::plan::ao::OcclusionRead,
+    /// The light loop has its area-light path (`plan::lights::needs_area_path`).
+    pub(in crate::render) area_lights: bool,
 }
 
 impl ForwardKey {
@@ -166,6 +168,7 @@ impl ForwardKey {
             terms: crate::pipelines::terms::LIGHT,
             alpha_to_coverage: false,
             occlusion: crate::plan::ao::OcclusionRead::None,
+            area_lights: true,
         }
     }
 }
@@ -194,6 +197,7 @@ impl PipelineCache {
             terms,
             alpha_to_coverage,
             occlusion,
+            area_lights,
         } = key;
         let key = (pipeline, model.name.to_string(), key);
         if self.forward.contains_key(&key) {
@@ -214,6 +218,7 @@ impl PipelineCache {
             ("TERMS", terms as f64),
             ("ALPHA_TO_COVERAGE", alpha_to_coverage as u32 as f64),
             ("SCREEN_OCCLUSION", occlusion.shader_id() as f64),
+            ("AREA_LIGHTS", area_lights as u32 as f64),
         ]);
         if exact.any() {
             constants.extend(exact.constants());
@@ -398,10 +403,10 @@ impl PipelineCache {
         gpu: &GpuContext,
         pipeline: Pipeline,
         model: &ShaderModel,
-        (role, legacy): (u8, Option<crate::shading::registry::LegacyLighting>),
+        (role, legacy, area_lights): (u8, Option<crate::shading::registry::LegacyLighting>, bool),
     ) -> Result<(), Error> {
         let legacy = legacy.map_or(0, |l| l.shader_value());
-        let key = (pipeline, model.name.to_string(), role as u32, self.terms, legacy);
+        let key = (pipeline, model.name.to_string(), role as u32, self.terms, legacy, area_lights);
         if self.lighting.contains_key(&key) {
             return Ok(());
         }
@@ -413,6 +418,7 @@ impl PipelineCache {
             ("TILED_LIGHTS", pipeline.tiled_light_loop() as u32 as f64),
             ("TERMS", self.terms as f64),
             ("LEGACY_DEFERRED", legacy as f64),
+            ("AREA_LIGHTS", area_lights as u32 as f64),
         ];
         let options = wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() };
         let p = gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {

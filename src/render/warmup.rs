@@ -62,6 +62,7 @@ fn model_keys(
             true => plan.ao.subject_read,
             false => plan.ao.fixed_read(),
         },
+        area_lights: crate::plan::lights::needs_area_path(&plan.lights),
     };
     (draw, (additive && adds).then_some(ForwardKey { pass: ForwardPass::Add, ..draw }))
 }
@@ -109,7 +110,8 @@ pub(in crate::render) fn warm_up(
             }
         }
         for (model, role, legacy) in lighting_draws((cell.model, fixed_model), plan.gbuffer) {
-            pipelines.lighting_pipeline(gpu, cell.pipeline, model, (role, legacy))?;
+            let area = crate::plan::lights::needs_area_path(&plan.lights);
+            pipelines.lighting_pipeline(gpu, cell.pipeline, model, (role, legacy, area))?;
         }
     }
     if prepared.plan.background {

@@ -3,47 +3,123 @@
 //! Indexed Job or a Slurm job array). `shadematrix merge` joins the shards' folders into one run.
 //!
 //! A cell is compared with its reference cell and a twin copies its original, so a share must
-//! hold them too. Cells are dealt out by group — the reference cell of the cell's original (a
-//! twin's original, else the cell itself), or that original when there is no reference cell — so
-//! a reference lands in the shard of the cells compared with it. What a share still lacks (the
-//! original of a twin of another group, and what that one needs) it renders as *support*: full
-//! cells, the same bytes the owning shard writes, recorded in `run.json` so `merge` keeps the
-//! owner's copy.
+//! hold them too. The cells that need each other that way form connected sets; each set goes to
+//! one shard whole, so N shards render every original once between them. The sets are dealt out
+//! by estimated cost, the largest first, each to the shard with the least so far (Graham's LPT
+//! rule), so each shard gets about 1/N of the work; every shard computes the same deal. A set
+//! costlier than a shard's share is split into its groups (the cells compared with one reference
+//! cell, a twin with its original's), and what a shard then lacks (the original of a twin in
+//! another group, or a reference cell) it renders as *support*: full cells, the same bytes the
+//! owning shard writes, recorded in `run.json` so `merge` keeps the owner's copy.
 
 use std::collections::{HashMap, HashSet};
-
-use sha2::{Digest, Sha256};
 
 use crate::cells::{reference_cell_id, Cell, CellId, Expansion};
 use crate::declarations::matrix::{Matrix, ReferenceSpec};
 use crate::error::{Error, InputError};
 
-/// Which shard of `n` (1-based) owns `cell`.
-pub fn owner(matrix: &Matrix, cells: &HashMap<&CellId, &Cell>, cell: &Cell, n: u32) -> u32 {
-    let original = cell.twin_of.as_ref().and_then(|o| cells.get(o).copied()).unwrap_or(cell);
-    let group = match &matrix.reference {
-        Some(ReferenceSpec::Cell(terms)) => {
-            reference_cell_id(original, matrix, terms).filter(|r| cells.contains_key(r)).unwrap_or(original.id.clone())
-        }
-        _ => original.id.clone(),
+/// A cell's estimated cost: its pixels where it is rendered, a 64th of that where it is a twin
+/// (a copy of its original's files and its own metrics).
+fn cost(cell: &Cell) -> f64 {
+    let pixels = cell.width as f64 * cell.height as f64;
+    if cell.twin_of.is_some() {
+        pixels / 64.0
+    } else {
+        pixels
+    }
+}
+
+/// The cells a cell cannot be rendered without: its original (a twin) and its reference cell.
+fn needs(matrix: &Matrix, cell: &Cell) -> impl Iterator<Item = CellId> {
+    let reference = match &matrix.reference {
+        Some(ReferenceSpec::Cell(terms)) => reference_cell_id(cell, matrix, terms),
+        _ => None,
     };
-    let h = Sha256::digest(group.0.as_bytes());
-    (u32::from_le_bytes([h[0], h[1], h[2], h[3]]) % n) + 1
+    cell.twin_of.clone().into_iter().chain(reference)
+}
+
+/// The root of i's set, halving the path on the way.
+fn root(parent: &mut [usize], mut i: usize) -> usize {
+    while parent[i] != i {
+        parent[i] = parent[parent[i]];
+        i = parent[i];
+    }
+    i
+}
+
+/// Which shard of `n` (1-based) owns each cell, by index in `cells`.
+pub fn owners(matrix: &Matrix, cells: &[Cell], n: u32) -> Vec<u32> {
+    let index: HashMap<&CellId, usize> = cells.iter().enumerate().map(|(i, c)| (&c.id, i)).collect();
+    let needed =
+        |i: usize| -> Vec<usize> { needs(matrix, &cells[i]).filter_map(|id| index.get(&id).copied()).collect() };
+    // A cell's group: its original's reference cell where the matrix has it, else its original.
+    let group: Vec<usize> = (0..cells.len())
+        .map(|i| {
+            let original = cells[i].twin_of.as_ref().and_then(|o| index.get(o).copied()).unwrap_or(i);
+            match &matrix.reference {
+                Some(ReferenceSpec::Cell(terms)) => reference_cell_id(&cells[original], matrix, terms)
+                    .and_then(|r| index.get(&r).copied())
+                    .unwrap_or(original),
+                _ => original,
+            }
+        })
+        .collect();
+    // The connected sets of "needs" and of groups.
+    let mut parent: Vec<usize> = (0..cells.len()).collect();
+    for (i, &g) in group.iter().enumerate() {
+        for j in needed(i).into_iter().chain([g]) {
+            let (a, b) = (root(&mut parent, i), root(&mut parent, j));
+            parent[a.max(b)] = a.min(b);
+        }
+    }
+    let total: f64 = cells.iter().map(cost).sum();
+    let share = total / n as f64;
+    // Units of the deal: a set whole, or its groups where it outweighs a share.
+    let mut sets: HashMap<usize, Vec<usize>> = HashMap::new();
+    for i in 0..cells.len() {
+        let r = root(&mut parent, i);
+        sets.entry(r).or_default().push(i);
+    }
+    let mut units: Vec<(f64, Vec<usize>)> = Vec::new();
+    for (_, members) in sets {
+        let weight: f64 = members.iter().map(|&i| cost(&cells[i])).sum();
+        if weight > share && n > 1 {
+            let mut groups: HashMap<usize, Vec<usize>> = HashMap::new();
+            for i in members {
+                groups.entry(group[i]).or_default().push(i);
+            }
+            units.extend(groups.into_values().map(|g| (g.iter().map(|&i| cost(&cells[i])).sum(), g)));
+        } else {
+            units.push((weight, members));
+        }
+    }
+    // Largest first; ties by the first cell's id, so every shard deals the same.
+    for (_, members) in &mut units {
+        members.sort_unstable();
+    }
+    units.sort_by(|(wa, a), (wb, b)| wb.total_cmp(wa).then_with(|| cells[a[0]].id.0.cmp(&cells[b[0]].id.0)));
+    let mut load = vec![0.0f64; n as usize];
+    let mut owner = vec![0u32; cells.len()];
+    for (weight, members) in units {
+        let k = (0..n as usize).min_by(|&a, &b| load[a].total_cmp(&load[b]).then(a.cmp(&b))).unwrap_or(0);
+        load[k] += weight;
+        for i in members {
+            owner[i] = k as u32 + 1;
+        }
+    }
+    owner
 }
 
 /// Keep shard `k` of `n` of `exp`, with the support cells it needs.
 pub fn select(matrix: &Matrix, exp: &mut Expansion, (k, n): (u32, u32)) {
     let by_id: HashMap<&CellId, &Cell> = exp.cells.iter().map(|c| (&c.id, c)).collect();
+    let owner = owners(matrix, &exp.cells, n);
     let own: HashSet<CellId> =
-        exp.cells.iter().filter(|c| owner(matrix, &by_id, c, n) == k).map(|c| c.id.clone()).collect();
+        exp.cells.iter().zip(&owner).filter(|(_, &o)| o == k).map(|(c, _)| c.id.clone()).collect();
     let mut needed: HashSet<CellId> = own.clone();
     let mut queue: Vec<&Cell> = exp.cells.iter().filter(|c| own.contains(&c.id)).collect();
     while let Some(c) = queue.pop() {
-        let reference = match &matrix.reference {
-            Some(ReferenceSpec::Cell(terms)) => reference_cell_id(c, matrix, terms),
-            _ => None,
-        };
-        for id in c.twin_of.iter().cloned().chain(reference) {
+        for id in needs(matrix, c) {
             if let Some(d) = by_id.get(&id) {
                 if needed.insert(id) {
                     queue.push(d);
@@ -118,6 +194,67 @@ mod tests {
 
     fn env<'a>(vars: &'a [(&'a str, &'a str)]) -> impl Fn(&str) -> Option<String> + 'a {
         move |k| vars.iter().find(|(n, _)| *n == k).map(|(_, v)| v.to_string())
+    }
+
+    fn shipped(name: &str) -> Matrix {
+        let path = format!("{}/matrices/{name}", env!("CARGO_MANIFEST_DIR"));
+        let text = std::fs::read_to_string(&path).unwrap();
+        Matrix::from_text(&path, &text, None, std::sync::Arc::new(crate::shading::Registry::builtin())).unwrap()
+    }
+
+    /// Per shard of n: (cells it owns, originals it renders, support cells), and the sum of
+    /// owned cells' costs.
+    fn deal(m: &Matrix, n: u32) -> Vec<(usize, usize, usize, f64)> {
+        (1..=n)
+            .map(|k| {
+                let mut e = crate::cells::expand(m);
+                let costs: HashMap<CellId, f64> = e.cells.iter().map(|c| (c.id.clone(), cost(c))).collect();
+                select(m, &mut e, (k, n));
+                let support: HashSet<&CellId> = e.support.iter().collect();
+                let owned: Vec<&Cell> = e.cells.iter().filter(|c| !support.contains(&c.id)).collect();
+                let weight = owned.iter().map(|c| costs[&c.id]).sum();
+                (owned.len(), e.rendered().count(), e.support.len(), weight)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn shards_render_each_original_once_and_share_the_work() {
+        // bench.toml: 432 cells in sets of one composition and preset (Lambert's smoothness twins
+        // join the three reference groups of their original). Four shards deal them whole.
+        let m = shipped("bench.toml");
+        let all = crate::cells::expand(&m);
+        let total: f64 = all.cells.iter().map(cost).sum();
+        for n in [2, 3, 4] {
+            let shards = deal(&m, n);
+            assert_eq!(shards.iter().map(|s| s.0).sum::<usize>(), all.cells.len(), "every cell owned once, n = {n}");
+            assert_eq!(shards.iter().map(|s| s.2).sum::<usize>(), 0, "no support cell, n = {n}: {shards:?}");
+            assert_eq!(
+                shards.iter().map(|s| s.1).sum::<usize>(),
+                all.rendered().count(),
+                "each original rendered once, n = {n}"
+            );
+            // 16 equal sets: an even deal for 2 and 4, at most one set over the share for 3.
+            let worst = shards.iter().map(|s| s.3).fold(0.0, f64::max);
+            assert!(worst <= total / n as f64 + total / 16.0 + 1e-6, "n = {n}: {shards:?}");
+        }
+    }
+
+    #[test]
+    fn a_set_larger_than_a_share_is_split_into_groups_with_support() {
+        // Everything compared with one reference cell would be one set: split by reference group
+        // it still gives every shard a share, the cells it needs rendered as support.
+        let text = "name = \"one\"\ncompositions = [\"medusa\"]\npipelines = [\"urp\", \"hdrp\"]\nshaders = [\"lambert\", \"lit\"]\npresets = [\"gold\", \"plastic\"]\nreference = { pipeline = \"hdrp\", shader = \"lit\" }\n[sweep]\nsmoothness = [0.3, 0.8]\n[image]\nwidth = 32\nheight = 32\n";
+        let m = Matrix::from_text("one.toml", text, None, std::sync::Arc::new(crate::shading::Registry::builtin()))
+            .unwrap();
+        // Two sets (one a preset) of 8 cells: two shards take one each, whole.
+        let two = deal(&m, 2);
+        assert!(two.iter().all(|s| s.0 == 8 && s.2 == 0), "{two:?}");
+        // Three shards: the sets outweigh a third, so their groups are dealt; none is left empty.
+        let three = deal(&m, 3);
+        assert!(three.iter().all(|s| s.0 > 0), "{three:?}");
+        assert!(three.iter().map(|s| s.2).sum::<usize>() > 0, "{three:?}");
+        assert_eq!(three.iter().map(|s| s.0).sum::<usize>(), 16);
     }
 
     #[test]
