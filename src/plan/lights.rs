@@ -207,7 +207,14 @@ pub fn area_left_out(pipeline: Pipeline, light: &Light, model_has_area: bool) ->
 /// without one compiles the path out (forward.wgsl `AREA_LIGHTS`): the LTC and polygon integrals
 /// are the largest code of a lit shader, and the driver compiles and runs less without them.
 pub fn needs_area_path(lights: &[Light]) -> bool {
-    lights.iter().any(|l| matches!(l.kind, LightKind::Rect | LightKind::Disc))
+    lights.iter().any(Light::is_area)
+}
+
+/// Whether the frame draws an area light in real time: HDRP's rectangles alone (Unity manual,
+/// "Area Lights": built-in and URP bake area lights; HDAdditionalLightData: a disc is Baked-only).
+/// A rect the object's model cannot evaluate is then left out by `area_left_out`.
+pub fn draws_area(pipeline: Pipeline, light: &Light) -> bool {
+    pipeline == Pipeline::Hdrp && light.kind == LightKind::Rect
 }
 
 /// The path whose budget lights an object: on a deferred path, what the G-buffer cannot carry is

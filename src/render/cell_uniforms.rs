@@ -79,7 +79,7 @@ fn gpu_lights(cell: &CellParams, plan: &CellPlan) -> (Vec<GpuLight>, Vec<DVec3>)
                 _ => unreachable!("an area light's emitter"),
             };
             params = [l.range as f32, half_w as f32, half_h as f32, 0.0];
-            let drawn = p == crate::pipelines::Pipeline::Hdrp && l.kind == crate::declarations::scene::LightKind::Rect;
+            let drawn = crate::plan::lights::draws_area(p, l);
             shape = vec4(l.area_frame().1, if drawn { 1.0 } else { 0.0 });
         }
         let slot = gpu_lights.len();
