@@ -361,3 +361,47 @@ pub fn chromium_flags(profile: &Path) -> Vec<String> {
     .chain([format!("--user-data-dir={}", profile.display())])
     .collect()
 }
+
+/// One end-to-end test's wall time, recorded when the test ends (passed or failed): libtest on
+/// stable Rust reports no per-test times. Every ended test of this process rewrites
+/// `target/tmp/test-times.tsv` (seconds, outcome, name; slowest first), so after a run it holds
+/// them all.
+pub struct TestTimer {
+    name: &'static str,
+    start: std::time::Instant,
+}
+
+impl TestTimer {
+    pub fn start(function: &'static str) -> TestTimer {
+        let name = function.strip_suffix("::here").unwrap_or(function);
+        TestTimer { name: name.strip_prefix("main::").unwrap_or(name), start: std::time::Instant::now() }
+    }
+}
+
+impl Drop for TestTimer {
+    fn drop(&mut self) {
+        static ENDED: std::sync::Mutex<Vec<(f64, bool, &'static str)>> = std::sync::Mutex::new(Vec::new());
+        let mut ended = ENDED.lock().unwrap_or_else(|e| e.into_inner());
+        ended.push((self.start.elapsed().as_secs_f64(), !std::thread::panicking(), self.name));
+        ended.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.2.cmp(b.2)));
+        let mut table = String::from("seconds\toutcome\ttest\n");
+        for (seconds, passed, name) in ended.iter() {
+            table.push_str(&format!("{seconds:.3}\t{}\t{name}\n", if *passed { "ok" } else { "FAILED" }));
+        }
+        let path = Path::new(env!("CARGO_TARGET_TMPDIR")).join("test-times.tsv");
+        let partial = path.with_extension("tsv.partial");
+        // Written whole and renamed: a reader never sees half a table.
+        if std::fs::write(&partial, table).is_ok() {
+            let _ = std::fs::rename(&partial, &path);
+        }
+    }
+}
+
+/// A `TestTimer` named after the test function it starts in.
+macro_rules! timed {
+    () => {{
+        fn here() {}
+        crate::common::TestTimer::start(std::any::type_name_of_val(&here))
+    }};
+}
+pub(crate) use timed;

@@ -39,33 +39,53 @@ pub fn fd_disney_renormalized_no_pi(nl: f64, nv: f64, lv: f64, pr: f64) -> f64 {
 
 /// (x, y, z) for one (NV, pr).
 pub fn integrate(nv: f64, pr: f64, samples: u32) -> [f64; 3] {
-    let nv = nv.max(5.960_464_478e-8);
-    let a = pr * pr;
-    let v = DVec3::new((1.0 - nv * nv).max(0.0).sqrt(), 0.0, nv);
-    let (mut x, mut y, mut z) = (0.0, 0.0, 0.0);
-    for i in 0..samples {
-        let (u1, u2) = hammersley(i, samples);
-        // GGX half-vector around N = +Z
-        let cos_h = ((1.0 - u1) / (1.0 + (a * a - 1.0) * u1)).sqrt();
-        let sin_h = (1.0 - cos_h * cos_h).max(0.0).sqrt();
-        let phi = TAU * u2;
-        let h = DVec3::new(sin_h * phi.cos(), sin_h * phi.sin(), cos_h);
-        let vh = v.dot(h);
-        let l = 2.0 * vh * h - v;
-        let (nl, nh) = (l.z, h.z);
-        if nl > 0.0 && vh > 0.0 {
-            let w = 4.0 * v_smith_joint_ggx(nl, nv, a) * nl * vh / nh;
-            x += w * (1.0 - vh).powi(5);
-            y += w;
-        }
-        // Cosine-distributed L for the diffuse term
-        let cos_l = (1.0 - u1).sqrt();
-        let sin_l = u1.sqrt();
-        let ld = DVec3::new(sin_l * phi.cos(), sin_l * phi.sin(), cos_l);
-        z += fd_disney_renormalized_no_pi(cos_l, nv, ld.dot(v), pr);
+    FgdSamples::new(samples).integrate(nv, pr)
+}
+
+/// What of each Hammersley sample does not depend on (NV, pr), computed once for a whole table:
+/// u₁, the azimuth's cosine and sine, and the cosine-distributed L's polar cosine and sine.
+pub struct FgdSamples {
+    samples: Vec<[f64; 5]>,
+}
+
+impl FgdSamples {
+    pub fn new(samples: u32) -> FgdSamples {
+        let samples = (0..samples)
+            .map(|i| {
+                let (u1, u2) = hammersley(i, samples);
+                let phi = TAU * u2;
+                [u1, phi.cos(), phi.sin(), (1.0 - u1).sqrt(), u1.sqrt()]
+            })
+            .collect();
+        FgdSamples { samples }
     }
-    let n = samples as f64;
-    [x / n, y / n, z / n - 0.5]
+
+    /// (x, y, z) for one (NV, pr).
+    pub fn integrate(&self, nv: f64, pr: f64) -> [f64; 3] {
+        let nv = nv.max(5.960_464_478e-8);
+        let a = pr * pr;
+        let v = DVec3::new((1.0 - nv * nv).max(0.0).sqrt(), 0.0, nv);
+        let (mut x, mut y, mut z) = (0.0, 0.0, 0.0);
+        for &[u1, cos_phi, sin_phi, cos_l, sin_l] in &self.samples {
+            // GGX half-vector around N = +Z
+            let cos_h = ((1.0 - u1) / (1.0 + (a * a - 1.0) * u1)).sqrt();
+            let sin_h = (1.0 - cos_h * cos_h).max(0.0).sqrt();
+            let h = DVec3::new(sin_h * cos_phi, sin_h * sin_phi, cos_h);
+            let vh = v.dot(h);
+            let l = 2.0 * vh * h - v;
+            let (nl, nh) = (l.z, h.z);
+            if nl > 0.0 && vh > 0.0 {
+                let w = 4.0 * v_smith_joint_ggx(nl, nv, a) * nl * vh / nh;
+                x += w * (1.0 - vh).powi(5);
+                y += w;
+            }
+            // Cosine-distributed L for the diffuse term
+            let ld = DVec3::new(sin_l * cos_phi, sin_l * sin_phi, cos_l);
+            z += fd_disney_renormalized_no_pi(cos_l, nv, ld.dot(v), pr);
+        }
+        let n = self.samples.len() as f64;
+        [x / n, y / n, z / n - 0.5]
+    }
 }
 
 impl FgdTable {
@@ -77,13 +97,14 @@ impl FgdTable {
 
     pub fn build(size: usize, samples: u32) -> FgdTable {
         use rayon::prelude::*;
+        let shared = FgdSamples::new(samples);
         let texels = (0..size * size)
             .into_par_iter()
             .map(|k| {
                 let (i, j) = (k % size, k / size);
                 let sqrt_nv = i as f64 / (size - 1) as f64;
                 let pr = j as f64 / (size - 1) as f64;
-                let [x, y, z] = integrate(sqrt_nv * sqrt_nv, pr, samples);
+                let [x, y, z] = shared.integrate(sqrt_nv * sqrt_nv, pr);
                 [x as f32, y as f32, z as f32, 0.0]
             })
             .collect();

@@ -10,6 +10,7 @@ use shadematrix::render::renderer::Renderer;
 
 #[test]
 fn the_frame_is_linear_in_the_ambient_axis() {
+    let _timer = crate::common::timed!();
     let mut scene = Scene::load("default", None, "test", "composition").unwrap();
     scene.environment.reflections = Reflections::Sky;
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
@@ -43,6 +44,7 @@ fn the_frame_is_linear_in_the_ambient_axis() {
 
 #[test]
 fn a_matrix_sweeps_the_ambient_into_its_own_cells() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let text = "name = \"amb\"\ncompositions = [\"default\"]\npipelines = [\"urp\"]\nshaders = [\"lit\"]\n\
                 presets = [\"plastic\"]\n[sweep]\nambient_intensity = [0.5, 2.0]\n";

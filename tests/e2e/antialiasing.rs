@@ -10,6 +10,7 @@ use shadematrix::shading::registry::Sliders;
 
 #[test]
 fn msaa_brings_edges_closer_to_a_supersampled_render() {
+    let _timer = crate::common::timed!();
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     for comp in ["default", "mitsuba", "medusa", "spikes"] {
         let scene = Scene::load(comp, None, "test", "composition").unwrap();
@@ -66,6 +67,7 @@ fn edge_error(small: &[f32], big: &[f32], big_roles: &[u8], size: usize, k: usiz
 
 #[test]
 fn deferred_paths_render_one_sample_and_say_why() {
+    let _timer = crate::common::timed!();
     let scene = Scene::load("default", None, "test", "composition").unwrap();
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     let prepared = renderer.prepare_scene(&scene).unwrap();

@@ -48,6 +48,7 @@ fn render(
 
 #[test]
 fn hdrp_rect_lights_match_the_twin_forward_and_deferred() {
+    let _timer = crate::common::timed!();
     // The image centre is the plane's origin (N = +Y, V towards the camera): the GPU's LTC
     // evaluation against the f64 twin's, × the light's luminance and HDRP's box attenuation.
     let scene = scene();
@@ -81,6 +82,7 @@ fn hdrp_rect_lights_match_the_twin_forward_and_deferred() {
 
 #[test]
 fn a_lambert_plane_under_a_rect_is_the_numerical_integral_of_it() {
+    let _timer = crate::common::timed!();
     // ρ/π·E with E = L·∫cos θ·cos θ'/d² dA over the rectangle, by a 400² midpoint rule: the
     // frame's value within 1e-3.
     let scene = scene();
@@ -102,6 +104,7 @@ fn a_lambert_plane_under_a_rect_is_the_numerical_integral_of_it() {
 
 #[test]
 fn area_lights_the_engines_only_bake_are_left_out_with_the_reason() {
+    let _timer = crate::common::timed!();
     let mut scene = scene();
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     let sliders = Sliders { base_color_linear: [0.7, 0.6, 0.5], metallic: 0.0, smoothness: 0.5 };
@@ -122,6 +125,7 @@ fn area_lights_the_engines_only_bake_are_left_out_with_the_reason() {
 
 #[test]
 fn a_model_draws_rect_lights_exactly_when_its_twin_has_them() {
+    let _timer = crate::common::timed!();
     let n = DVec3::Y;
     let v = DVec3::new(0.0, 0.6, 0.8);
     let corners = rect_of(&scene()).vertices(DVec3::ZERO);
@@ -136,6 +140,7 @@ fn a_model_draws_rect_lights_exactly_when_its_twin_has_them() {
 
 #[test]
 fn the_truth_samples_a_rect_light_and_agrees_with_the_exact_lambert_frame() {
+    let _timer = crate::common::timed!();
     // A same-BRDF truth draws points on the rectangle (cos θ'·A/d² each, HDRP's box window at the
     // shaded point); the Lambert frame integrates it exactly: their subject means agree within the
     // truth's noise, on the CPU and on the GPU.

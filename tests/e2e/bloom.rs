@@ -11,6 +11,7 @@ use shadematrix::render::renderer::Renderer;
 
 #[test]
 fn gpu_bloom_matches_its_twin_and_the_switch_turns_it_off() {
+    let _timer = crate::common::timed!();
     let with = Scene::load("mitsuba", None, "test", "composition").unwrap();
     assert!(with.hdrp.bloom, "on by default, as HDRP's default volume");
     let mut without = with.clone();
@@ -61,6 +62,7 @@ fn gpu_bloom_matches_its_twin_and_the_switch_turns_it_off() {
 /// prefilter, ⌊log2 − 2⌋ levels, bilinear below 800×450 and bicubic at 800×450.
 #[test]
 fn a_one_pixel_highlight_blooms_as_hdrps_formulas_say() {
+    let _timer = crate::common::timed!();
     use shadematrix::render::passes::bloom::{BloomChain, BloomPipeline, BloomSettings};
     let gpu = GpuContext::new().unwrap();
     let pipeline = BloomPipeline::new(&gpu).unwrap();

@@ -17,6 +17,7 @@ fn run(dir: &Path, out: &str) -> std::path::PathBuf {
 
 #[test]
 fn editing_one_user_shader_re_renders_exactly_its_cells() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let brdf = tmp.path().join("shaders/brdf");
     std::fs::create_dir_all(&brdf).unwrap();
@@ -71,6 +72,7 @@ fn editing_one_user_shader_re_renders_exactly_its_cells() {
 /// `--retime`: cells from the cache keep their images and metrics and get newly measured timings.
 #[test]
 fn retime_measures_cached_cells_again_without_changing_their_images() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     crate::common::write_matrix(
         tmp.path(),

@@ -18,6 +18,7 @@ fn copy_dir(from: &Path, to: &Path) {
 
 #[test]
 fn check_passes_against_itself_and_names_exactly_the_altered_cells() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let m = crate::common::write_matrix(
         tmp.path(),

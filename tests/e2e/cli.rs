@@ -32,6 +32,7 @@ fn expect_bad(body: &str, code: i32, needles: &[&str]) {
 
 #[test]
 fn good_matrix_runs() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let m = write_matrix(tmp.path(), "m.toml", GOOD);
     let (rc, stdout, stderr) = shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", "o"], &[]);
@@ -42,11 +43,13 @@ fn good_matrix_runs() {
 
 #[test]
 fn toml_syntax_error_names_file_line_and_column() {
+    let _timer = crate::common::timed!();
     expect_bad(&GOOD.replace("presets = [\"gold\"]", "presets = [\"gold\""), 2, &["m.toml:7:", "bad input"]);
 }
 
 #[test]
 fn unknown_names_suggest_the_nearest() {
+    let _timer = crate::common::timed!();
     expect_bad(
         &GOOD.replace("\"lambert\"", "\"lambret\""),
         2,
@@ -73,6 +76,7 @@ fn unknown_names_suggest_the_nearest() {
 
 #[test]
 fn out_of_range_values_name_key_value_and_range() {
+    let _timer = crate::common::timed!();
     expect_bad(&format!("{GOOD}[sweep]\nmetallic = [0.5, 1.5]\n"), 2, &["sweep.metallic[1]", "1.5", "0..=1"]);
     expect_bad(&format!("{GOOD}[sweep]\nsmoothness = [-0.1]\n"), 2, &["sweep.smoothness[0]", "-0.1"]);
     expect_bad(&format!("{GOOD}[sweep]\ncolor = [[0.2, 1.2, 0.0]]\n"), 2, &["sweep.color[0]", "0..=1"]);
@@ -90,6 +94,7 @@ fn gltf_matrix(dir: &Path, mesh_path: &str) -> String {
 
 #[test]
 fn missing_or_empty_gltf_names_the_resolved_path() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let body = gltf_matrix(tmp.path(), "meshes/nope.glb");
     let m = write_matrix(tmp.path(), "m.toml", &body);
@@ -109,6 +114,7 @@ fn missing_or_empty_gltf_names_the_resolved_path() {
 
 #[test]
 fn no_usable_adapter_exits_3_with_install_help() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let m = write_matrix(tmp.path(), "m.toml", GOOD);
     let (rc, _, stderr) = shadematrix(
@@ -123,6 +129,7 @@ fn no_usable_adapter_exits_3_with_install_help() {
 
 #[test]
 fn missing_matrix_file_is_bad_input() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let (rc, _, stderr) = shadematrix(tmp.path(), &["run", "nope.toml"], &[]);
     assert_eq!(rc, 2, "{stderr}");
@@ -131,6 +138,7 @@ fn missing_matrix_file_is_bad_input() {
 
 #[test]
 fn a_new_run_refuses_a_folder_that_holds_a_run() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let m = write_matrix(tmp.path(), "m.toml", GOOD);
     let args = ["run", m.to_str().unwrap(), "--out", "o"];
@@ -145,6 +153,7 @@ fn a_new_run_refuses_a_folder_that_holds_a_run() {
 
 #[test]
 fn scene_file_errors_name_the_scene_file() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let scene = std::fs::read_to_string(fixture("black_room.toml")).unwrap().replace("\"uv_sphere\"", "\"uv_sphre\"");
     std::fs::write(tmp.path().join("s.toml"), scene).unwrap();
@@ -167,6 +176,7 @@ fn scene_file_errors_name_the_scene_file() {
 
 #[test]
 fn tonemap_parameter_and_colour_errors_name_key_value_and_what_is_allowed() {
+    let _timer = crate::common::timed!();
     expect_bad(
         &GOOD.replace("[image]", "tonemap = \"acse\"\n[image]"),
         2,
@@ -201,6 +211,7 @@ fn tonemap_parameter_and_colour_errors_name_key_value_and_what_is_allowed() {
 
 #[test]
 fn light_shape_keys_belong_to_their_kind() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let scene = std::fs::read_to_string(fixture("black_room.toml"))
         .unwrap()
@@ -217,6 +228,7 @@ fn light_shape_keys_belong_to_their_kind() {
 /// of some compositions and keep the scene's camera in the others.
 #[test]
 fn sweep_lists_can_name_the_scenes_and_the_presets_own_value() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let text = "name = \"own\"\ncompositions = [\"default\", \"medusa\"]\npipelines = [\"urp\"]\nshaders = [\"lit\"]\n\
                 presets = [\"gold\"]\n[sweep]\ncamera_distance = [\"scene\", 0.3, 0.8]\ncolor = [\"preset\", [1.0, 1.0, 1.0]]\n\
@@ -247,6 +259,7 @@ fn sweep_lists_can_name_the_scenes_and_the_presets_own_value() {
 /// `thesis.toml` is the largest (172800 cells): listed too, its count checked.
 #[test]
 fn every_shipped_matrix_lists() {
+    let _timer = crate::common::timed!();
     let repo = crate::common::repo();
     let mut names: Vec<_> = std::fs::read_dir(repo.join("matrices"))
         .unwrap()

@@ -13,6 +13,7 @@ fn expected() -> serde_json::Value {
 
 #[test]
 fn ldr_flip_and_ssim_match_the_reference_implementations() {
+    let _timer = crate::common::timed!();
     let want = expected();
     for pair in ["render", "synthetic"] {
         let a = LoadedImage::load(&fixture(&format!("{pair}_a.png"))).unwrap();
@@ -31,6 +32,7 @@ fn ldr_flip_and_ssim_match_the_reference_implementations() {
 
 #[test]
 fn hdr_flip_matches_the_reference_implementation() {
+    let _timer = crate::common::timed!();
     let want = expected()["hdr"]["flip_mean"].as_f64().unwrap();
     let c = compare(
         &LoadedImage::load(&fixture("hdr_a.exr")).unwrap(),
@@ -47,6 +49,7 @@ fn hdr_flip_matches_the_reference_implementation() {
 
 #[test]
 fn identical_images_have_zero_error() {
+    let _timer = crate::common::timed!();
     let a = LoadedImage::load(&fixture("synthetic_a.png")).unwrap();
     let c = compare(&a, &a, "same").unwrap();
     assert_eq!(c.flip.value.mean(), Some(0.0));
@@ -56,6 +59,7 @@ fn identical_images_have_zero_error() {
 
 #[test]
 fn diff_command_prints_json_and_writes_maps() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let (a, b) = (fixture("render_a.png"), fixture("render_b.png"));
     let out = tmp.path().join("maps");
@@ -99,6 +103,7 @@ fn diff_command_prints_json_and_writes_maps() {
 /// times its own display exposure), never raw EXRs of different units.
 #[test]
 fn hdr_metrics_across_pipelines_compare_exposed_images() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let body = "name = \"x\"\ncompositions = [\"mitsuba\"]\npipelines = [\"urp\", \"hdrp\"]\nshaders = [\"lit\"]\npresets = [\"plastic\"]\nreference = { pipeline = \"hdrp\" }\n[image]\nwidth = 48\nheight = 48\n";
     let m = crate::common::write_matrix(tmp.path(), "m.toml", body);

@@ -15,6 +15,7 @@ fn run(dir: &std::path::Path, out: &str, space: &str) -> (std::path::PathBuf, sh
 
 #[test]
 fn storage_and_uniform_constants_render_the_same_bytes() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let (storage, s) = run(tmp.path(), "storage", "storage");
     let (uniform, u) = run(tmp.path(), "uniform", "uniform");
@@ -37,6 +38,7 @@ fn storage_and_uniform_constants_render_the_same_bytes() {
 
 #[test]
 fn an_unknown_constant_space_is_refused_with_the_nearest_name() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let m = crate::common::write_matrix(tmp.path(), "k.toml", MATRIX);
     let out = tmp.path().join("out");

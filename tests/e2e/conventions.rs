@@ -46,6 +46,7 @@ fn center_weighted_ev(rgba: &[f32], w: u32, h: u32) -> f64 {
 
 #[test]
 fn hdrp_png_is_unity_aces_of_the_exposed_exr_and_metallic_follows_each_pipeline() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let run = run(
         tmp.path(),
@@ -89,6 +90,7 @@ fn hdrp_png_is_unity_aces_of_the_exposed_exr_and_metallic_follows_each_pipeline(
 
 #[test]
 fn builtin_white_light_of_intensity_two_delivers_two_to_the_2_2() {
+    let _timer = crate::common::timed!();
     // GammaToLinearSpaceExact: (1·2)^2.2 = 4.595, not the sRGB curve's 4.95, on a Lambert plane.
     let mut scene = Scene::load_file(&fixture("plane_probe.toml")).unwrap();
     scene.lights[0].color = [1.0; 3];
@@ -109,6 +111,7 @@ fn builtin_white_light_of_intensity_two_delivers_two_to_the_2_2() {
 
 #[test]
 fn sweeps_over_model_parameters_colour_and_view_render_and_sheet_every_cell() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let run = run(
         tmp.path(),
@@ -146,6 +149,7 @@ fn sweeps_over_model_parameters_colour_and_view_render_and_sheet_every_cell() {
 
 #[test]
 fn the_sky_lit_knob_meters_inside_its_scene_limits_in_hdrp() {
+    let _timer = crate::common::timed!();
     // Under the default volume's limit of 10 EV100 the knob (metering ≈ 13) would be over-exposed
     // by three stops; the scene's own volume contains it, so the EV used is the metered one.
     let tmp = tempfile::tempdir().unwrap();
@@ -161,6 +165,7 @@ fn the_sky_lit_knob_meters_inside_its_scene_limits_in_hdrp() {
 
 #[test]
 fn the_custom_shader_as_written_sees_the_sun_alone_and_scales_ambient_by_it() {
+    let _timer = crate::common::timed!();
     let scene = Scene::load_file(&fixture("sun_and_point.toml")).unwrap();
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     let prepared = renderer.prepare_scene(&scene).unwrap();

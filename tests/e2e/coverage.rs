@@ -73,10 +73,12 @@ fn assert_spread(name: &str) {
 
 #[test]
 fn medusa_covers_half_vector_angles() {
+    let _timer = crate::common::timed!();
     assert_spread("medusa");
 }
 
 #[test]
 fn spikes_covers_half_vector_angles() {
+    let _timer = crate::common::timed!();
     assert_spread("spikes");
 }

@@ -33,6 +33,7 @@ fn subject_mean(roles: &[u8], values: impl Fn(usize) -> f64, n: usize) -> f64 {
 
 #[test]
 fn secondary_maps_blend_in_under_the_mask_and_both_tracers_follow_them() {
+    let _timer = crate::common::timed!();
     let plane = Scene::load_file(&fixture("textured_plane.toml")).unwrap();
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     let prepared = renderer.prepare_scene(&plane).unwrap();
@@ -78,6 +79,7 @@ fn secondary_maps_blend_in_under_the_mask_and_both_tracers_follow_them() {
 
 #[test]
 fn the_detail_blends_match_their_twins() {
+    let _timer = crate::common::timed!();
     use shadematrix::materials::detail::{blend_normals, detail_albedo_mulx2};
     let source = crate::common::pair_kernel("vec4<f32>(blend_normals(a.xyz, b.xyz), detail_albedo_mulx2(a.w, b.w))");
     let normals = [[0.0, 0.0, 1.0], [0.3, -0.2, 0.93], [-0.6, 0.1, 0.79], [0.05, 0.7, 0.71]];
@@ -117,6 +119,7 @@ fn the_detail_blends_match_their_twins() {
 /// textured one changes its own pixels only; URP and HDRP Lit have no such parameter.
 #[test]
 fn secondary_maps_change_only_a_textured_subject() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let body = r#"
 name = "detail"

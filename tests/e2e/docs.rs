@@ -42,6 +42,7 @@ fn anchors(text: &str) -> Vec<String> {
 
 #[test]
 fn every_cited_model_anchor_exists() {
+    let _timer = crate::common::timed!();
     let models = std::fs::read_to_string(repo().join("docs/models.md")).unwrap();
     assert!(!models.contains("{#"), "`{{#id}}` anchors do not render on GitHub: use <a id=\"…\"></a>");
     let offered = anchors(&models);
@@ -67,6 +68,7 @@ fn every_cited_model_anchor_exists() {
 
 #[test]
 fn the_readme_is_a_front_door_and_every_link_resolves() {
+    let _timer = crate::common::timed!();
     let readme = std::fs::read_to_string(repo().join("README.md")).unwrap();
     assert!(
         readme.len() <= 12 * 1024,
@@ -92,6 +94,7 @@ fn the_readme_is_a_front_door_and_every_link_resolves() {
 
 #[test]
 fn user_docs_describe_the_tool_as_it_is() {
+    let _timer = crate::common::timed!();
     for f in docs() {
         let text = std::fs::read_to_string(&f).unwrap();
         for (i, line) in text.lines().enumerate() {
@@ -110,6 +113,7 @@ fn user_docs_describe_the_tool_as_it_is() {
 /// can show what the code no longer draws without a line that would redraw it.
 #[test]
 fn every_docs_picture_has_a_recipe_in_the_rebuild_script() {
+    let _timer = crate::common::timed!();
     let script = std::fs::read_to_string(repo().join("tools/docs_pictures.sh")).unwrap();
     let mut pictures = Vec::new();
     files(&repo().join("docs"), &["png"], &mut pictures);

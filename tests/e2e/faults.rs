@@ -120,6 +120,7 @@ fn make_writable(p: &Path) {
 
 #[test]
 fn ids_are_exact_so_near_values_stay_distinct_cells() {
+    let _timer = crate::common::timed!();
     let text =
         "name = \"t\"\ncompositions = [\"medusa\"]\npipelines = [\"urp\"]\nshaders = [\"lit\"]\npresets = [\"gold\"]\n\
                 [sweep]\nsmoothness = [0.999, 1.0]\nmetallic = [0.0, 0.001]\nlight_intensity = [1.0, 1.00001]\n";
@@ -150,6 +151,7 @@ fn ids_are_exact_so_near_values_stay_distinct_cells() {
 
 #[test]
 fn the_stability_matrix_lists_and_renders_its_stiff_smoothness_values() {
+    let _timer = crate::common::timed!();
     let (rc, out, err) = shadematrix(&repo(), &["list", "matrices/stability.toml"], &[]);
     assert_eq!(rc, 0, "{err}");
     let ids: Vec<&str> =
@@ -176,6 +178,7 @@ fn the_stability_matrix_lists_and_renders_its_stiff_smoothness_values() {
 
 #[test]
 fn the_cache_holds_copies_and_drops_an_entry_that_changed() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let d = tmp.path();
     small_matrix(d, "m", "");
@@ -226,6 +229,7 @@ fn the_cache_holds_copies_and_drops_an_entry_that_changed() {
 
 #[test]
 fn editing_any_input_the_render_reads_renders_again() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let d = tmp.path();
     // A glTF subject whose buffer and image have percent-encoded names, as exporters write them.
@@ -310,6 +314,7 @@ fn editing_any_input_the_render_reads_renders_again() {
 
 #[test]
 fn resume_removes_only_its_own_temp_files_and_follows_no_link() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let d = tmp.path();
     small_matrix(d, "m", "");
@@ -355,6 +360,7 @@ fn resume_removes_only_its_own_temp_files_and_follows_no_link() {
 
 #[test]
 fn warmup_is_range_checked() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     small_matrix(tmp.path(), "m", "[timing]\nframes = 1\nwarmup = 4294967295\n");
     refused(tmp.path(), &["list", "m.toml"], &["timing.warmup", "4294967295", "0..=10000"]);
@@ -366,6 +372,7 @@ fn warmup_is_range_checked() {
 
 #[test]
 fn a_second_writer_of_a_run_folder_is_refused() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let d = tmp.path();
     small_matrix(d, "m", "");
@@ -389,6 +396,7 @@ fn a_second_writer_of_a_run_folder_is_refused() {
 
 #[test]
 fn a_non_empty_folder_that_holds_no_run_is_refused() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let d = tmp.path();
     small_matrix(d, "m", "");
@@ -407,6 +415,7 @@ fn a_non_empty_folder_that_holds_no_run_is_refused() {
 
 #[test]
 fn resume_refuses_another_matrix_and_sets_aside_cells_outside_the_expansion() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let d = tmp.path();
     let m = small_matrix(d, "m", "");
@@ -432,6 +441,7 @@ fn resume_refuses_another_matrix_and_sets_aside_cells_outside_the_expansion() {
 
 #[test]
 fn merge_refuses_a_shard_missing_a_cell_or_with_a_tampered_label() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let d = tmp.path();
     small_matrix(d, "m", "[sweep]\nsmoothness = [0.2, 0.4, 0.6, 0.8]\n");
@@ -454,6 +464,7 @@ fn merge_refuses_a_shard_missing_a_cell_or_with_a_tampered_label() {
 
 #[test]
 fn an_interrupted_merge_can_be_run_again() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let d = tmp.path();
     small_matrix(d, "m", "[sweep]\nsmoothness = [0.2, 0.8]\n");
@@ -478,6 +489,7 @@ fn an_interrupted_merge_can_be_run_again() {
 
 #[test]
 fn a_matrix_of_a_billion_cells_is_refused_before_expanding() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let values: Vec<String> = (0..1000).map(|i| format!("{}", i as f64 / 1000.0)).collect();
     let list = values.join(", ");
@@ -503,6 +515,7 @@ fn a_matrix_of_a_billion_cells_is_refused_before_expanding() {
 
 #[test]
 fn a_gltf_buffer_that_is_a_device_is_refused_unread() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let d = tmp.path();
     crate::common::write_textured_gltf(d);
@@ -523,6 +536,7 @@ fn a_gltf_buffer_that_is_a_device_is_refused_unread() {
 
 #[test]
 fn non_finite_scene_values_are_refused_and_a_frame_without_its_subject_fails_fail_on() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let d = tmp.path();
     let scene = std::fs::read_to_string(crate::common::fixture("textured_plane.toml")).unwrap();
@@ -559,6 +573,7 @@ fn non_finite_scene_values_are_refused_and_a_frame_without_its_subject_fails_fai
 
 #[test]
 fn check_refuses_non_finite_thresholds() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let d = tmp.path();
     small_matrix(d, "m", "");
@@ -573,6 +588,7 @@ fn check_refuses_non_finite_thresholds() {
 
 #[test]
 fn a_user_model_with_two_params_in_one_slot_or_one_name_twice_is_refused() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let brdf = tmp.path().join("models");
     std::fs::create_dir_all(&brdf).unwrap();
@@ -602,6 +618,7 @@ fn a_user_model_with_two_params_in_one_slot_or_one_name_twice_is_refused() {
 
 #[test]
 fn records_are_byte_stable_through_a_read_and_a_write() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     small_matrix(tmp.path(), "m", "[sweep]\nsmoothness = [0.1, 0.3, 0.7]\nlight_intensity = [0.3]\n");
     run_ok(tmp.path(), &["run", "m.toml", "--out", "r", "--no-cache"]);
@@ -614,6 +631,7 @@ fn records_are_byte_stable_through_a_read_and_a_write() {
 
 #[test]
 fn bad_paths_and_filters_are_refused_up_front() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let d = tmp.path();
     small_matrix(d, "m", "");
@@ -644,6 +662,7 @@ fn bad_paths_and_filters_are_refused_up_front() {
 
 #[test]
 fn a_closed_stdout_ends_quietly() {
+    let _timer = crate::common::timed!();
     // `| head` that has read enough: the reader is gone before the tool writes its first line.
     let compare = crate::common::fixture("compare");
     let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_shadematrix"))
@@ -675,6 +694,7 @@ fn a_closed_stdout_ends_quietly() {
 
 #[test]
 fn reports_say_complete_only_once_written_and_report_clears_a_killed_reports_temp_files() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let d = tmp.path();
     small_matrix(d, "m", "");
@@ -739,6 +759,7 @@ fn edit_run_json(run: &Path, edit: impl Fn(&str) -> String) {
 
 #[test]
 fn merge_takes_no_path_and_no_cell_outside_the_expansion_from_a_shard() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let d = tmp.path();
     small_matrix(d, "m", "[sweep]\nsmoothness = [0.2, 0.8]\n");
@@ -762,6 +783,7 @@ fn merge_takes_no_path_and_no_cell_outside_the_expansion_from_a_shard() {
 
 #[test]
 fn merge_refuses_shards_rendered_from_other_inputs_naming_the_input() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let d = tmp.path();
     small_matrix(d, "m", "[sweep]\nsmoothness = [0.2, 0.8]\n");
@@ -783,6 +805,7 @@ fn merge_refuses_shards_rendered_from_other_inputs_naming_the_input() {
 
 #[test]
 fn inputs_that_are_fifos_or_devices_are_refused_without_blocking() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let d = tmp.path();
     // The matrix itself.
@@ -827,6 +850,7 @@ fn inputs_that_are_fifos_or_devices_are_refused_without_blocking() {
 
 #[test]
 fn every_file_read_of_the_crate_goes_through_the_bounded_reader() {
+    let _timer = crate::common::timed!();
     // What opens a file for reading. The reader (`input::read`) is the one place allowed to.
     let patterns = [
         "fs::read(",
@@ -883,6 +907,7 @@ fn shadematrix_with_small_disk(dir: &Path, args: &[&str], max_bytes: u64) -> (i3
 
 #[test]
 fn a_write_error_while_restoring_keeps_every_valid_cache_entry() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let d = tmp.path();
     small_matrix(d, "m", "[sweep]\nsmoothness = [0.2, 0.4, 0.6, 0.8]\n");
@@ -900,6 +925,7 @@ fn a_write_error_while_restoring_keeps_every_valid_cache_entry() {
 
 #[test]
 fn a_cache_folder_that_cannot_be_written_warns_once_and_the_run_goes_on() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let d = tmp.path();
     small_matrix(d, "m", "[sweep]\nsmoothness = [0.2, 0.8]\n");
@@ -935,6 +961,7 @@ fn flip_mean(cell: &Path) -> f64 {
 
 #[test]
 fn a_tampered_truth_is_dropped_and_traced_again_and_cells_follow_their_truth() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let d = tmp.path();
     truth_matrix(d);
@@ -967,6 +994,7 @@ fn a_tampered_truth_is_dropped_and_traced_again_and_cells_follow_their_truth() {
 
 #[test]
 fn a_scaled_bake_is_dropped_not_served() {
+    let _timer = crate::common::timed!();
     use shadematrix::render::gi::cache::{BakeCache, BakeCacheRecord, BAKE_CACHE_SCHEMA};
     use shadematrix::render::truth::bake::BAKE_STRIDE;
     let tmp = tempfile::tempdir().unwrap();
@@ -1004,6 +1032,7 @@ fn a_scaled_bake_is_dropped_not_served() {
 
 #[test]
 fn ids_leave_room_for_their_temporary_names() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let d = tmp.path();
     // An id of 245 bytes: a file name, but `.ID.cachedPID` beside it would not be.
@@ -1040,6 +1069,7 @@ fn ids_leave_room_for_their_temporary_names() {
 
 #[test]
 fn check_fails_a_run_that_did_not_finish() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let d = tmp.path();
     small_matrix(d, "m", "[sweep]\nsmoothness = [0.2, 0.8]\n");
@@ -1056,6 +1086,7 @@ fn check_fails_a_run_that_did_not_finish() {
 
 #[test]
 fn declared_sizes_are_not_trusted_before_reading() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let d = tmp.path();
     crate::common::write_textured_gltf(d);
@@ -1081,6 +1112,7 @@ fn declared_sizes_are_not_trusted_before_reading() {
 
 #[test]
 fn non_finite_negative_or_unbounded_material_and_light_values_are_refused() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let d = tmp.path();
     let base = std::fs::read_to_string(crate::common::fixture("textured_plane.toml")).unwrap();
@@ -1138,6 +1170,7 @@ fn non_finite_negative_or_unbounded_material_and_light_values_are_refused() {
 
 #[test]
 fn twins_under_a_truth_get_the_comparison_their_truth_allows() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let d = tmp.path();
     std::fs::copy(crate::common::fixture("textured_plane.toml"), d.join("plane.toml")).unwrap();
@@ -1176,6 +1209,7 @@ fn twins_under_a_truth_get_the_comparison_their_truth_allows() {
 
 #[test]
 fn report_and_resume_write_through_no_link_and_a_refused_out_is_left_as_found() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let d = tmp.path();
     small_matrix(d, "m", "");
@@ -1205,6 +1239,7 @@ fn report_and_resume_write_through_no_link_and_a_refused_out_is_left_as_found() 
 
 #[test]
 fn gltf_node_graphs_must_be_forests_and_gltf_lights_are_named_as_theirs() {
+    let _timer = crate::common::timed!();
     use crate::e2e::gltf_scene::{room_gltf, scene_text, TILE};
     let tmp = tempfile::tempdir().unwrap();
     let d = tmp.path();
@@ -1256,6 +1291,7 @@ fn gltf_node_graphs_must_be_forests_and_gltf_lights_are_named_as_theirs() {
 
 #[test]
 fn bad_input_found_at_render_time_before_is_refused_up_front() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let d = tmp.path();
     // A bake past what the adapter binds: exit 2 before any folder is made (a device error failed
@@ -1288,6 +1324,7 @@ fn bad_input_found_at_render_time_before_is_refused_up_front() {
 
 #[test]
 fn report_says_what_it_draws_without_and_a_reference_run_of_another_matrix_is_named() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let d = tmp.path();
     small_matrix(d, "m", "[sweep]\nsmoothness = [0.2, 0.8]\n");

@@ -140,6 +140,7 @@ fn violations(src: &Path) -> Vec<String> {
 
 #[test]
 fn no_import_points_back_up_the_flow() {
+    let _timer = crate::common::timed!();
     let src = crate::common::repo().join("src");
     let bad = violations(&src);
     assert!(bad.is_empty(), "imports against the data flow:\n{}", bad.join("\n"));
@@ -152,6 +153,7 @@ fn no_import_points_back_up_the_flow() {
 
 #[test]
 fn a_back_arrow_is_caught() {
+    let _timer = crate::common::timed!();
     // A copy of two modules, one of which reaches forward: the check must name it.
     let tmp = tempfile::tempdir().unwrap();
     let src = tmp.path().join("src");
@@ -173,6 +175,7 @@ fn a_back_arrow_is_caught() {
 
 #[test]
 fn grouped_imports_are_read() {
+    let _timer = crate::common::timed!();
     let text = "use crate::{error::Error, gpu::{GpuContext, readback}, record};\nlet x = crate::cells::expand(m);\n";
     let names: Vec<String> = crate_imports(text).into_iter().map(|(_, m)| m).collect();
     assert_eq!(names, vec!["error", "gpu", "record", "cells"]);
@@ -225,6 +228,7 @@ fn record_gpu_imports(src: &Path) -> Vec<String> {
 
 #[test]
 fn records_import_no_gpu_stage() {
+    let _timer = crate::common::timed!();
     let src = crate::common::repo().join("src");
     let bad = record_gpu_imports(&src);
     assert!(bad.is_empty(), "record/ reaches the device:\n{}", bad.join("\n"));
@@ -322,6 +326,7 @@ fn file_circles(src: &Path) -> Vec<Vec<String>> {
 
 #[test]
 fn no_file_level_circles_inside_a_module() {
+    let _timer = crate::common::timed!();
     let circles = file_circles(&crate::common::repo().join("src"));
     assert!(circles.is_empty(), "files that import each other (through any path): {circles:?}");
     // The check can fail: two files of one module that import each other.

@@ -294,6 +294,7 @@ fn files_in(dir: &Path, ext: &str) -> Vec<PathBuf> {
 
 #[test]
 fn fuzz_matrix_files() {
+    let _timer = crate::common::timed!();
     let seeds = read_all(&files_in(&repo().join("matrices"), "toml"));
     let registry = Arc::new(shadematrix::shading::Registry::builtin());
     let base = repo().join("matrices");
@@ -312,6 +313,7 @@ fn fuzz_matrix_files() {
 
 #[test]
 fn fuzz_scene_files() {
+    let _timer = crate::common::timed!();
     let mut paths = files_in(&repo().join("scenes"), "toml");
     paths.extend(files_in(&repo().join("scenes/stability"), "toml"));
     paths.extend(files_in(&repo().join("scenes/invariants"), "toml"));
@@ -332,6 +334,7 @@ fn fuzz_scene_files() {
 
 #[test]
 fn fuzz_gltf_import() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     // Seeds: the repository's glTF files and a GLB the tool exports (binary chunk, accessors, nodes).
     let glb = tmp.path().join("spikes.glb");
@@ -354,6 +357,7 @@ fn fuzz_gltf_import() {
 
 #[test]
 fn fuzz_user_models() {
+    let _timer = crate::common::timed!();
     let seeds_dir = [repo().join("examples/user_models"), repo().join("tests/fixtures/unstable_models")];
     let mut wgsl = Vec::new();
     let mut decl = Vec::new();

@@ -32,6 +32,7 @@ fn page_status(browser: &str, page: &Path, profile: &Path) -> (i64, i64, i64) {
 
 #[test]
 fn gallery_loads_cleanly_in_headless_chromium() {
+    let _timer = crate::common::timed!();
     let Some(browser) = crate::common::chromium() else { return };
     let tmp = tempfile::tempdir().unwrap();
     // The matrix file's name reaches the page (as the run's origin): it must arrive escaped.

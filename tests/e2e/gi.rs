@@ -8,7 +8,7 @@ use shadematrix::declarations::scene::{Role, Scene};
 use shadematrix::gpu::GpuContext;
 use shadematrix::pipelines::{Pipeline, RenderPath};
 use shadematrix::render::gi::BakedLighting;
-use shadematrix::render::Renderer;
+use shadematrix::render::{CellRender, Renderer};
 use shadematrix::shading::registry::Sliders;
 
 fn sliders() -> Sliders {
@@ -37,6 +37,7 @@ fn bakes(scene: &Scene) -> (std::sync::Arc<BakedLighting>, BakedLighting, Render
 
 #[test]
 fn a_lightmapped_room_matches_its_traced_light_at_every_wall() {
+    let _timer = crate::common::timed!();
     let scene = cornell();
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     let prepared = renderer.prepare_scene(&scene).unwrap();
@@ -81,6 +82,7 @@ fn a_lightmapped_room_matches_its_traced_light_at_every_wall() {
 
 #[test]
 fn probes_match_an_f64_projection_of_the_traced_radiance() {
+    let _timer = crate::common::timed!();
     // Many samples per probe, few texels, one bounce: a second bounce off the ceiling right under
     // the light is heavy-tailed (measured: 10–35 % apart at 4096 samples between two estimates
     // of it), the first is not. The lightmap test checks two bounces, averaged over walls.
@@ -108,14 +110,19 @@ fn probes_match_an_f64_projection_of_the_traced_radiance() {
 
 /// The HDRP Lit frame of `scene` (linear RGBA).
 fn frame(renderer: &mut Renderer, scene: &Scene, pipeline: Pipeline, shader: &str) -> Vec<f32> {
+    rendered(renderer, scene, pipeline, shader).hdr
+}
+
+fn rendered(renderer: &mut Renderer, scene: &Scene, pipeline: Pipeline, shader: &str) -> CellRender {
     let prepared = renderer.prepare_scene(scene).unwrap();
     let key = scene.lights[scene.key_light().unwrap()].intensity;
     let cell = cell_params(pipeline, shader, sliders(), (key, 6.0), 64, RenderPath::Forward);
-    renderer.render(&prepared, &cell, 1, 0).unwrap().hdr
+    renderer.render(&prepared, &cell, 1, 0).unwrap()
 }
 
 #[test]
 fn an_indirect_multiplier_of_zero_equals_the_realtime_cell() {
+    let _timer = crate::common::timed!();
     // A mixed light under Baked Indirect, black sky: with no bounced light the bake holds nothing,
     // and the frame is the real-time one to the bit; with bounces it is not.
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
@@ -165,6 +172,7 @@ fn static_box(scene: &Scene, name: &str, size: [f64; 3], at: [f64; 3]) -> shadem
 
 #[test]
 fn subtractive_and_shadowmask_differ_where_dynamic_shadows_fall_on_static_objects() {
+    let _timer = crate::common::timed!();
     // The default room under a mixed directional light: Subtractive bakes the light into the
     // static objects' lightmaps and darkens them towards the Realtime Shadow Color where a dynamic
     // object's real-time shadow falls; Shadowmask draws it in real time with baked static
@@ -181,12 +189,13 @@ fn subtractive_and_shadowmask_differ_where_dynamic_shadows_fall_on_static_object
         s
     };
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    // The unshadowed frame's bake is the shadowmask one's (the subjects are dynamic): read back.
+    let cache = tempfile::tempdir().unwrap();
+    renderer.bake_cache = Some(shadematrix::render::gi::cache::BakeCache::new(cache.path().into()));
     let (p, shader) = (Pipeline::Urp, "lit");
-    let prepared = renderer.prepare_scene(&base).unwrap();
-    let cell = cell_params(p, shader, sliders(), (1.0, 10.0), 64, RenderPath::Forward);
-    let roles = renderer.render(&prepared, &cell, 1, 0).unwrap().roles;
     let sub = frame(&mut renderer, &with(MixedLighting::Subtractive, true), p, shader);
-    let mask = frame(&mut renderer, &with(MixedLighting::Shadowmask, true), p, shader);
+    let shadowmask = rendered(&mut renderer, &with(MixedLighting::Shadowmask, true), p, shader);
+    let (mask, roles) = (shadowmask.hdr, shadowmask.roles);
     let unshadowed = frame(&mut renderer, &with(MixedLighting::Shadowmask, false), p, shader);
     let lum = |img: &[f32], i: usize| {
         0.2126 * img[4 * i] as f64 + 0.7152 * img[4 * i + 1] as f64 + 0.0722 * img[4 * i + 2] as f64
@@ -217,6 +226,7 @@ fn subtractive_and_shadowmask_differ_where_dynamic_shadows_fall_on_static_object
 
 #[test]
 fn cells_share_a_bake_within_a_run_and_across_runs_and_list_counts_them() {
+    let _timer = crate::common::timed!();
     // Two presets in one run share the room's bake (the subject is dynamic, so its material
     // cannot change the lightmaps): the first cell makes it, the second reads it. A later run's
     // new cell reads it from the cache beside the runs.
@@ -252,6 +262,7 @@ fn cells_share_a_bake_within_a_run_and_across_runs_and_list_counts_them() {
 
 #[test]
 fn the_baked_falloffs_match_their_twins() {
+    let _timer = crate::common::timed!();
     use shadematrix::pipelines::BakedFalloff;
     let source =
         crate::common::pair_kernel("vec4<f32>(baked_distance_attenuation(a.x > 0.5, a.y, a.z), 0.0, 0.0, 0.0)");
@@ -280,6 +291,7 @@ fn the_baked_falloffs_match_their_twins() {
 
 #[test]
 fn deferred_paths_read_the_shadow_mask_and_leave_subtractives_main_light_to_the_lightmap() {
+    let _timer = crate::common::timed!();
     // The default room under a mixed directional light, with a static pillar whose shadow on the
     // floor is baked (the light's shadow map holds the dynamic objects alone). URP's deferred path
     // reads the baked occlusion from its shadow-mask G-buffer and, under Subtractive, leaves the
@@ -288,7 +300,8 @@ fn deferred_paths_read_the_shadow_mask_and_leave_subtractives_main_light_to_the_
     let mut scene = mixed_sun_room();
     let pillar = static_box(&scene, "pillar", [0.5, 2.4, 0.5], [0.2, 1.2, -1.6]);
     scene.objects.push(pillar);
-    scene.gi = Some(toml::from_str("texels_per_unit = 8\nsamples = 64\nnoise = 0\nbounces = 1").unwrap());
+    // Both paths of a mode read one bake, so its noise is common to the frames compared.
+    scene.gi = Some(toml::from_str("texels_per_unit = 8\nsamples = 32\nnoise = 0\nbounces = 1").unwrap());
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     let lum = |img: &[f32], i: usize| {
         0.2126 * img[4 * i] as f64 + 0.7152 * img[4 * i + 1] as f64 + 0.0722 * img[4 * i + 2] as f64
@@ -333,6 +346,7 @@ fn deferred_paths_read_the_shadow_mask_and_leave_subtractives_main_light_to_the_
 
 #[test]
 fn a_dynamic_objects_further_lod_levels_read_its_probe() {
+    let _timer = crate::common::timed!();
     // The Cornell room's light is baked and it opens on a grey sky: the dynamic ball's ambient is
     // the probes', which hold the sky's light. Drawn at its second LOD level it reads the same
     // (before: the probe plus the sky's SH again).
@@ -375,6 +389,7 @@ fn a_dynamic_objects_further_lod_levels_read_its_probe() {
 
 #[test]
 fn lightmap_encodings_decode_to_the_same_light() {
+    let _timer = crate::common::timed!();
     // The Cornell room's URP frame with its lightmap stored at each Lightmap Encoding quality:
     // double LDR, RGBM and half floats decode to the same light within their 8-bit steps, where
     // the light stays inside double LDR's range (the ceiling over the lamp clips at 4.59, as
@@ -431,6 +446,7 @@ fn lightmap_encodings_decode_to_the_same_light() {
 
 #[test]
 fn under_subtractive_static_objects_shadow_dynamic_ones_through_the_probes() {
+    let _timer = crate::common::timed!();
     // A static roof over the sun-lit room: the main light's shadow map holds the dynamic objects
     // alone (Subtractive, Shadowmask), so the subjects under the roof are shadowed by the probes'
     // occlusion of the sun or not at all. Subtractive (the engine scales the light by it) and
@@ -494,6 +510,7 @@ fn under_subtractive_static_objects_shadow_dynamic_ones_through_the_probes() {
 /// real-time shadow's, the shadow adds nothing.
 #[test]
 fn builtins_forward_multiplies_a_dynamic_objects_shadow_by_its_probe_occlusion() {
+    let _timer = crate::common::timed!();
     let scene = |sphere_casts: bool| {
         let text = format!(
             r#"
@@ -601,6 +618,7 @@ probes = {{ min = [0.0, 0.3, -3.0], max = [3.0, 3.0, 3.0], counts = [2, 2, 2] }}
 /// (indirect multiplier 0, black sky) must still bake the shadow mask, or the static shadows vanish.
 #[test]
 fn a_shadow_mask_is_baked_when_nothing_else_is() {
+    let _timer = crate::common::timed!();
     let text = |multiplier: f64| {
         format!(
             r#"

@@ -5,6 +5,7 @@ use shadematrix::geometry::{gltf_io, procedural, Mesh};
 
 #[test]
 fn exported_composition_loads_back_identically() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("mitsuba.glb");
     let (rc, stdout, stderr) =
@@ -33,6 +34,7 @@ fn exported_composition_loads_back_identically() {
 
 #[test]
 fn gltf_meshes_render_in_a_scene() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let (rc, _, stderr) = crate::common::shadematrix(tmp.path(), &["export-mesh", "default", "room.glb"], &[]);
     assert_eq!(rc, 0, "{stderr}");
@@ -54,6 +56,7 @@ fn gltf_meshes_render_in_a_scene() {
 /// roughness the preset's.
 #[test]
 fn a_textured_preset_exports_as_gltf_textures() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("mitsuba.glb");
     let args = ["export-mesh", "mitsuba", out.to_str().unwrap(), "--preset", "brick", "--textured"];
@@ -95,6 +98,7 @@ fn a_textured_preset_exports_as_gltf_textures() {
 /// the re-read material has its factors, its base colour texture and its emission.
 #[test]
 fn a_gltf_subjects_own_material_exports_with_its_textures() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
     crate::common::write_textured_gltf(dir);

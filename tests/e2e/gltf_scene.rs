@@ -81,6 +81,7 @@ pub(crate) fn scene_text(subject: &str) -> String {
 
 #[test]
 fn a_gltf_scene_brings_its_objects_materials_lights_and_camera() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     std::fs::write(tmp.path().join("room.gltf"), room_gltf(TILE, "")).unwrap();
     std::fs::write(tmp.path().join("room.toml"), scene_text("Vase")).unwrap();
@@ -136,6 +137,7 @@ fn a_gltf_scene_brings_its_objects_materials_lights_and_camera() {
 
 #[test]
 fn what_a_gltf_scene_cannot_draw_is_refused_by_name() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     std::fs::write(tmp.path().join("room.gltf"), room_gltf(TILE, "")).unwrap();
     std::fs::write(tmp.path().join("typo.toml"), scene_text("Vace")).unwrap();
@@ -197,6 +199,7 @@ fn textures_json() -> String {
 /// its radiance to both.
 #[test]
 fn a_fixed_objects_gltf_maps_and_emission_are_drawn_and_traced() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     std::fs::write(tmp.path().join("room.toml"), scene_text("Vase")).unwrap();
     let mut renderer = Renderer::new(GpuContext::new().unwrap());

@@ -22,6 +22,7 @@ fn assert_parity(gpu: &GpuMetrics, a: &LoadedImage, b: &LoadedImage, what: &str)
 
 #[test]
 fn gpu_flip_and_ssim_equal_the_cpu_references() {
+    let _timer = crate::common::timed!();
     let ctx = GpuContext::new().unwrap();
     let gpu = GpuMetrics::new(&ctx.device, &ctx.queue, ctx.constants);
     let dir = crate::common::fixture("compare");
@@ -30,6 +31,26 @@ fn gpu_flip_and_ssim_equal_the_cpu_references() {
         let (ia, ib) = (LoadedImage::load(&dir.join(a)).unwrap(), LoadedImage::load(&dir.join(b)).unwrap());
         assert_parity(&gpu, &ia, &ib, a);
     }
+    // The metric workers share one GpuMetrics: calls at once each borrow a buffer set of their
+    // own and give the means one call at a time gives, to the bit.
+    let pairs: Vec<_> = ["synthetic", "render", "hdr", "synthetic", "render", "hdr"]
+        .iter()
+        .map(|stem| {
+            let ext = if *stem == "hdr" { "exr" } else { "png" };
+            let load = |s: &str| LoadedImage::load(&dir.join(format!("{stem}_{s}.{ext}"))).unwrap();
+            (load("a"), load("b"))
+        })
+        .collect();
+    let means = |(a, b): &(LoadedImage, LoadedImage)| {
+        let m = compare_on(a, b, "pair", false, MetricsBackend::Gpu(&gpu)).unwrap();
+        (m.flip.value.mean().unwrap().to_bits(), m.ssim.mean().map(f64::to_bits))
+    };
+    let one_at_a_time: Vec<_> = pairs.iter().map(means).collect();
+    let at_once: Vec<_> = std::thread::scope(|s| {
+        let running: Vec<_> = pairs.iter().map(|pair| s.spawn(move || means(pair))).collect();
+        running.into_iter().map(|r| r.join().unwrap()).collect()
+    });
+    assert_eq!(one_at_a_time, at_once);
     // Rendered cells: URP against HDRP Lit, sizes that are not multiples of the workgroup.
     let tmp = tempfile::tempdir().unwrap();
     let run = crate::common::run_matrix_with(
@@ -58,6 +79,7 @@ fn gpu_flip_and_ssim_equal_the_cpu_references() {
 /// every compared cell (LDR-FLIP, SSIM, HDR-FLIP of the exposed EXRs).
 #[test]
 fn a_gpu_metrics_run_records_the_cpu_runs_means() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let body = "compositions = [\"default\", \"medusa\"]\npipelines = [\"builtin\", \"hdrp\"]\nshaders = [\"lambert\", \"lit\", \"standard\"]\npresets = [\"plastic\"]\nreference = { pipeline = \"hdrp\", shader = \"lit\" }\n[image]\nwidth = 48\nheight = 40\n";
     let gpu = crate::common::run_matrix_with(

@@ -15,6 +15,7 @@ fn matrix_with(dir: &std::path::Path, asserts: &str) -> std::path::PathBuf {
 
 #[test]
 fn the_invariants_matrix_holds_and_check_reports_it_in_junit() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let m = repo().join("matrices/invariants.toml");
     let (rc, out, err) = shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", "r"], &[]);
@@ -42,6 +43,7 @@ fn the_invariants_matrix_holds_and_check_reports_it_in_junit() {
 
 #[test]
 fn false_invariants_fail_with_the_group_that_breaks_them() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let asserts = r#"
 [[assert]]
@@ -99,6 +101,7 @@ max = 1.0
 
 #[test]
 fn a_typo_in_an_assert_names_the_key_and_the_nearest_kind() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let m = matrix_with(tmp.path(), "[[assert]]\nkind = \"monotonic\"\nalong = \"smoothness\"\n");
     let (rc, out, err) = shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", "r"], &[]);

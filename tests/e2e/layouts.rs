@@ -14,6 +14,7 @@ fn lambert() -> &'static shadematrix::shading::ShaderModel {
 
 #[test]
 fn uniform_mirrors_match_their_wgsl_structs() {
+    let _timer = crate::common::timed!();
     let forward = compose(PassKind::Forward, Some(lambert()));
     let exact = compose(PassKind::ForwardExact, Some(lambert()));
     let probe = compose(PassKind::BrdfProbe, Some(lambert()));
@@ -104,6 +105,7 @@ fn terms_without_twin(composed: &str, own: &[&str], twins: &str) -> Result<(Vec<
 
 #[test]
 fn every_wgsl_term_has_its_f64_twin_of_the_same_name() {
+    let _timer = crate::common::timed!();
     let repo = crate::common::repo();
     let mut twins = String::new();
     for dir in ["src/shading/twin", "src/shading"] {

@@ -47,6 +47,7 @@ fn centre(r: &CellRender) -> DVec3 {
 
 #[test]
 fn list_shows_which_of_twelve_lights_are_per_pixel_per_vertex_and_sh() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let scene = fixture("twelve_points.toml");
     let body = format!(
@@ -81,6 +82,7 @@ fn list_shows_which_of_twelve_lights_are_per_pixel_per_vertex_and_sh() {
 
 #[test]
 fn all_twelve_lights_add_up_where_every_light_is_per_pixel() {
+    let _timer = crate::common::timed!();
     // HDRP renders every light per pixel: the image of all twelve is the sum of the twelve images
     // of one light each (no ambient), within f32 rounding.
     let base = Scene::load_file(&fixture("twelve_points.toml")).unwrap();
@@ -95,6 +97,7 @@ fn all_twelve_lights_add_up_where_every_light_is_per_pixel() {
 
 #[test]
 fn a_vertex_light_is_shade4pointlights_and_an_sh_light_is_its_clamped_cosine() {
+    let _timer = crate::common::timed!();
     let base = Scene::load_file(&fixture("twelve_points.toml")).unwrap();
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     let albedo = DVec3::new(0.7, 0.6, 0.5);
@@ -145,6 +148,7 @@ fn a_vertex_light_is_shade4pointlights_and_an_sh_light_is_its_clamped_cosine() {
 
 #[test]
 fn each_pipeline_falls_off_as_its_source_says() {
+    let _timer = crate::common::timed!();
     // A point light straight above the plane's centre at height d (N·L = 1), range 8: the centre
     // pixel over its value at d = 1 is the pipeline's falloff ratio, written here from the sources.
     let range: f64 = 8.0;
@@ -190,6 +194,7 @@ fn each_pipeline_falls_off_as_its_source_says() {
 
 #[test]
 fn the_vertex_lit_path_lights_eight_lights_at_the_vertices_and_drops_the_rest() {
+    let _timer = crate::common::timed!();
     let base = Scene::load_file(&fixture("twelve_points.toml")).unwrap();
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     let model = find_model(Pipeline::Builtin, "lambert").unwrap();

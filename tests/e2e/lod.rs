@@ -22,6 +22,7 @@ fn render(renderer: &mut Renderer, scene: &Scene, distance: f64, shader: &str) -
 
 #[test]
 fn a_cross_fade_band_dithers_the_two_levels_into_complementary_pixels() {
+    let _timer = crate::common::timed!();
     let mut scene = Scene::load_file(&repo().join("scenes/default_lod.toml")).unwrap();
     // The sky's reflections: a probe would be captured anew for every render here.
     scene.environment.reflections = shadematrix::declarations::scene::Reflections::Sky;
@@ -61,6 +62,7 @@ fn a_cross_fade_band_dithers_the_two_levels_into_complementary_pixels() {
 
 #[test]
 fn list_shows_the_levels_each_distance_draws() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let m = repo().join("matrices/lod.toml");
     let (rc, out, err) = crate::common::shadematrix(tmp.path(), &["list", m.to_str().unwrap()], &[]);

@@ -29,6 +29,7 @@ fn centre(rgba: &[f32], w: u32, frac: f64) -> (Vec<f64>, usize) {
 
 #[test]
 fn textured_presets_differ_from_flat_and_keep_its_mean() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let furnace = repo().join("scenes/invariants/furnace.toml");
     let m = write_matrix(
@@ -73,6 +74,7 @@ fn textured_presets_differ_from_flat_and_keep_its_mean() {
 
 #[test]
 fn a_normal_map_shapes_grazing_light() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let m = write_matrix(
         tmp.path(),
@@ -106,6 +108,7 @@ fn a_normal_map_shapes_grazing_light() {
 
 #[test]
 fn emission_adds_the_subjects_colour_in_models_that_have_it() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     // The emitted colour at the subject's centre: HDRP's bloom, which mixes the dark background
     // into the edge, is turned off in a copy of the scene.
@@ -166,6 +169,7 @@ fn mean_rgb(rgba: &[f32], w: usize, keep: impl Fn(usize, usize) -> bool) -> [f64
 
 #[test]
 fn a_gltf_subject_renders_with_its_own_textured_material() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     crate::common::write_textured_gltf(tmp.path());
     let scene = std::fs::read_to_string(crate::common::fixture("textured_plane.toml"))

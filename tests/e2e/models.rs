@@ -12,6 +12,7 @@ use shadematrix::shading::twin::Surface;
 
 #[test]
 fn audit_of_every_builtin_model_has_no_failure() {
+    let _timer = crate::common::timed!();
     let gpu = GpuContext::new().unwrap();
     let audits = audit_all(&gpu, crate::common::models(), None).unwrap();
     assert!(audits.len() >= 40, "every (pipeline, model): {}", audits.len());
@@ -39,6 +40,7 @@ fn audit_of_every_builtin_model_has_no_failure() {
 
 #[test]
 fn lambert_directional_albedo_is_its_albedo_in_every_pipeline() {
+    let _timer = crate::common::timed!();
     let gpu = GpuContext::new().unwrap();
     let mut probe = BrdfProbe::new(&gpu);
     for p in Pipeline::ALL {
@@ -57,6 +59,7 @@ fn lambert_directional_albedo_is_its_albedo_in_every_pipeline() {
 
 #[test]
 fn hdrp_energy_compensation_brings_a_rough_white_metal_closer_to_one() {
+    let _timer = crate::common::timed!();
     let gpu = GpuContext::new().unwrap();
     let model = find_model(Pipeline::Hdrp, "lit").unwrap();
     let sliders = Sliders { base_color_linear: [1.0; 3], metallic: 1.0, smoothness: 0.0 };
@@ -91,6 +94,7 @@ fn diffuse(gpu: &GpuContext, p: Pipeline, shader: &str, albedo: f64, smoothness:
 
 #[test]
 fn standard_lit_and_hdrp_lit_differ_where_the_spec_says() {
+    let _timer = crate::common::timed!();
     let gpu = GpuContext::new().unwrap();
     let up = DVec3::Y;
     // At normal incidence every diffuse shaping term is 1: what is left is the convention.
@@ -145,6 +149,7 @@ fn standard_lit_and_hdrp_lit_differ_where_the_spec_says() {
 
 #[test]
 fn brdf_command_reports_cpu_and_gpu() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let args = [
         "brdf",

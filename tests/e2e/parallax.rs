@@ -8,6 +8,7 @@ use shadematrix::pipelines::Pipeline;
 
 #[test]
 fn parallax_offset_matches_its_twin() {
+    let _timer = crate::common::timed!();
     let source = crate::common::pair_kernel("vec4<f32>(parallax_offset(a.x, a.y, b.xyz), 0.0, 0.0)");
     let mut cases = Vec::new();
     for h in [0.0, 0.25, 0.5, 0.9, 1.0] {
@@ -44,6 +45,7 @@ fn parallax_offset_matches_its_twin() {
 /// HDRP Lit, whose pixel displacement is a different technique, does not take the parameter.
 #[test]
 fn height_maps_move_the_subjects_maps_only() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let body = r#"
 name = "parallax"

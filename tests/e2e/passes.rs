@@ -31,6 +31,7 @@ fn worst_relative(a: &[f32], b: &[f32]) -> f64 {
 
 #[test]
 fn builtin_forward_adds_one_pass_per_extra_pixel_light_and_they_sum_to_one_pass() {
+    let _timer = crate::common::timed!();
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     let prepared = renderer.prepare_scene(&scene()).unwrap();
     for shader in ["standard", "lambert"] {
@@ -54,6 +55,7 @@ fn builtin_forward_adds_one_pass_per_extra_pixel_light_and_they_sum_to_one_pass(
 
 #[test]
 fn only_fullforwardshadows_shaders_are_shadowed_by_forward_add_lights() {
+    let _timer = crate::common::timed!();
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     let lit = scene();
     let mut unshadowed = lit.clone();
@@ -71,6 +73,7 @@ fn only_fullforwardshadows_shaders_are_shadowed_by_forward_add_lights() {
 
 #[test]
 fn urp_default_asset_draws_no_additional_light_shadows() {
+    let _timer = crate::common::timed!();
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     let lit = scene();
     let mut unshadowed = lit.clone();
@@ -95,6 +98,7 @@ fn urp_default_asset_draws_no_additional_light_shadows() {
 
 #[test]
 fn a_model_without_a_gbuffer_pass_is_drawn_forward_on_deferred_paths() {
+    let _timer = crate::common::timed!();
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     let prepared = renderer.prepare_scene(&scene()).unwrap();
     for (pipeline, shader) in
@@ -137,6 +141,7 @@ fn a_model_without_a_gbuffer_pass_is_drawn_forward_on_deferred_paths() {
 /// of sky to key light in the default room; read as the app's ×10⁴ lumen it is about 4π² off.
 #[test]
 fn hdrp_light_unit_unity_keeps_urps_sky_to_key_balance() {
+    let _timer = crate::common::timed!();
     use shadematrix::pipelines::settings::HdrpLightUnit;
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     let prepared = renderer.prepare_scene(&Scene::load("default", None, "test", "composition").unwrap()).unwrap();
@@ -170,6 +175,7 @@ fn hdrp_light_unit_unity_keeps_urps_sky_to_key_balance() {
 /// directional light, with no reflection.
 #[test]
 fn standard_on_the_vertex_lit_path_falls_back_to_fixed_function_vertexlit() {
+    let _timer = crate::common::timed!();
     use shadematrix::shading::twin::vertex_lit::{vertex_lit_ffp, vertex_lit_pixel, FfpLight};
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     let scene = Scene::load_file(&fixture("sun_and_point.toml")).unwrap();
@@ -217,6 +223,7 @@ pub fn timed_passes_match_the_record(record: &shadematrix::record::CellRecord) -
 
 #[test]
 fn every_cell_json_names_the_passes_its_frame_timed_on_every_path_and_surface() {
+    let _timer = crate::common::timed!();
     // surfaces.toml on every path (its surfaces, two alphas, the default room's probes and
     // shadows; the vertex-lit path in built-in), smaller: the passes do not depend on the size.
     let text = std::fs::read_to_string(crate::common::repo().join("matrices/surfaces.toml")).unwrap();
@@ -251,6 +258,7 @@ fn every_cell_json_names_the_passes_its_frame_timed_on_every_path_and_surface() 
 
 #[test]
 fn a_pass_is_named_in_plan_pass_alone() {
+    let _timer = crate::common::timed!();
     // Every pass name is `Pass::name`'s; a string literal with one elsewhere is a second list that
     // can drift from the plan. A path (`forward`) and a surface type (`transparent`) share words
     // with passes and are named where they are declared.

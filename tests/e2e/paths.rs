@@ -13,6 +13,7 @@ use shadematrix::shading::registry::Sliders;
 /// the difference (worst FLIP 0.0199 instead of 0.0094, measured).
 #[test]
 fn deferred_renders_like_forward_within_the_gbuffer_quantisation() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let m = write_matrix(
         tmp.path(),
@@ -54,6 +55,7 @@ fn deferred_renders_like_forward_within_the_gbuffer_quantisation() {
 
 #[test]
 fn twelve_lights_add_up_on_the_deferred_path() {
+    let _timer = crate::common::timed!();
     let base = Scene::load_file(&fixture("twelve_points.toml")).unwrap();
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     // Each pipeline's own G-buffer shader: a model without a G-buffer pass is drawn forward.
@@ -76,6 +78,7 @@ fn twelve_lights_add_up_on_the_deferred_path() {
 
 #[test]
 fn list_shows_each_paths_passes() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let m = write_matrix(
         tmp.path(),
@@ -105,6 +108,7 @@ fn list_shows_each_paths_passes() {
 
 #[test]
 fn forward_time_grows_faster_with_the_light_count_than_deferred() {
+    let _timer = crate::common::timed!();
     // Six spheres drawn back to front: forward evaluates every light for every overdrawn fragment,
     // deferred once per pixel. Ordering only: the slope of time against lights.
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
@@ -127,6 +131,7 @@ fn forward_time_grows_faster_with_the_light_count_than_deferred() {
 
 #[test]
 fn hdrp_tiled_light_loop_keeps_every_light_where_it_reaches() {
+    let _timer = crate::common::timed!();
     // Short ranges make most lights miss most tiles: the tiled deferred image must still match
     // forward (every light per pixel) everywhere, within the G-buffer's 8-bit quantisation.
     let mut scene = Scene::load_file(&fixture("twelve_points.toml")).unwrap();
@@ -169,6 +174,7 @@ fn hdrp_tiled_light_loop_keeps_every_light_where_it_reaches() {
 /// roughness 1, no specular — not the forward Lambert.
 #[test]
 fn builtins_deferred_lambert_is_lit_as_standard_data_by_brdf1() {
+    let _timer = crate::common::timed!();
     let scene = Scene::load("default", None, "test", "composition").unwrap();
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     let prepared = renderer.prepare_scene(&scene).unwrap();
@@ -217,6 +223,7 @@ fn builtins_deferred_lambert_is_lit_as_standard_data_by_brdf1() {
 /// carries the 1 − max(specular) the setup takes off (the legacy pass stores Albedo as is).
 #[test]
 fn builtins_deferred_blinn_phong_is_lit_as_its_standard_data_by_brdf1() {
+    let _timer = crate::common::timed!();
     let scene = Scene::load("default", None, "test", "composition").unwrap();
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     let prepared = renderer.prepare_scene(&scene).unwrap();

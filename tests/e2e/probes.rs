@@ -12,6 +12,7 @@ use shadematrix::render::reflection_probes::Prefilter;
 
 #[test]
 fn gpu_prefilter_matches_its_cpu_twin() {
+    let _timer = crate::common::timed!();
     // A sky with structure at every scale: a gradient, a bright disc and a sharp edge.
     let sun = DVec3::new(0.3, 0.6, -0.5).normalize();
     let radiance = |d: DVec3| {
@@ -45,6 +46,7 @@ fn gpu_prefilter_matches_its_cpu_twin() {
 
 #[test]
 fn a_probe_puts_the_room_into_a_metal_sphere() {
+    let _timer = crate::common::timed!();
     use shadematrix::declarations::scene::{Reflections, Scene};
     use shadematrix::pipelines::{Pipeline, RenderPath};
     use shadematrix::render::renderer::Renderer;
@@ -92,6 +94,7 @@ fn a_probe_puts_the_room_into_a_metal_sphere() {
 
 #[test]
 fn a_reused_capture_renders_the_same_image() {
+    let _timer = crate::common::timed!();
     use shadematrix::declarations::scene::Scene;
     use shadematrix::pipelines::{Pipeline, RenderPath};
     use shadematrix::render::renderer::Renderer;
@@ -124,6 +127,7 @@ fn a_reused_capture_renders_the_same_image() {
 
 #[test]
 fn urps_default_asset_reads_a_box_projected_probe_along_the_ray() {
+    let _timer = crate::common::timed!();
     // URP's default asset has reflectionProbeBoxProjection off: its frame is the one the probe
     // would give without box projection; High Fidelity's asset box-projects it (plan::probes).
     use shadematrix::declarations::scene::Scene;
@@ -153,6 +157,7 @@ fn urps_default_asset_reads_a_box_projected_probe_along_the_ray() {
 
 #[test]
 fn urps_default_asset_takes_the_renderers_probe_at_full_weight() {
+    let _timer = crate::common::timed!();
     // Without reflectionProbeBlending each renderer samples its unity_SpecCube0 at full weight:
     // the frame does not depend on the probe's blend distance (a per-pixel fade would darken the
     // subject where it stands within a metre of the box's floor). High Fidelity blends: it does.

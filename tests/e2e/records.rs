@@ -15,6 +15,7 @@ fn set_schema(path: &std::path::Path, schema: u32) {
 
 #[test]
 fn other_schema_versions_are_refused_or_rerendered() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let m = crate::common::write_matrix(tmp.path(), "m.toml", MATRIX);
     let matrix = crate::common::load_matrix(&m);
@@ -71,6 +72,7 @@ fn other_schema_versions_are_refused_or_rerendered() {
 
 #[test]
 fn twins_of_a_resumed_original_are_copied_from_its_files() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let m = crate::common::write_matrix(tmp.path(), "m.toml", MATRIX);
     let matrix = crate::common::load_matrix(&m);

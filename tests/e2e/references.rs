@@ -9,6 +9,7 @@ const ID: &str = "default__urp-forward__lit__plastic__m0.00_s0.75_i2_r10";
 
 #[test]
 fn supersampled_and_earlier_run_references() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let m = crate::common::write_matrix(tmp.path(), "m.toml", &format!("reference = {{ supersampled = 3 }}\n{BASE}"));
     let (rc, _, stderr) = crate::common::shadematrix(tmp.path(), &["run", m.to_str().unwrap(), "--out", "ss"], &[]);

@@ -8,6 +8,7 @@ use std::collections::BTreeSet;
 
 #[test]
 fn ci_matrix_renders_every_cell_at_the_requested_size() {
+    let _timer = crate::common::timed!();
     let matrix = crate::common::load_matrix(&crate::common::repo().join("matrices/ci.toml"));
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("run");

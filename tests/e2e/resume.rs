@@ -4,6 +4,7 @@ use shadematrix::run::runner::{run, RunOptions};
 
 #[test]
 fn resume_renders_only_unfinished_cells() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let m = crate::common::write_matrix(
         tmp.path(),
@@ -38,6 +39,7 @@ fn resume_renders_only_unfinished_cells() {
 /// blocks).
 #[test]
 fn two_runs_of_one_matrix_write_the_same_image_bytes() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let body = "name = \"twice\"\ncompositions = [\"default\", \"mitsuba\"]\npipelines = [\"builtin\", \"hdrp\"]\nshaders = [\"lambert\", \"standard\", \"lit\"]\npresets = [\"gold\"]\n[image]\nwidth = 144\nheight = 144\n";
     // Rendered twice: the cell cache would otherwise hand the second run the first one's files.

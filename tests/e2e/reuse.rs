@@ -35,6 +35,7 @@ fn image_files(run: &std::path::Path) -> Vec<(String, Vec<u8>)> {
 
 #[test]
 fn reusing_passes_across_cells_gives_the_same_bytes_as_drawing_every_pass() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let reused = crate::common::run_matrix_with(tmp.path(), MATRIX, "reused", &["--no-cache"]);
     let drawn = crate::common::run_matrix_with(tmp.path(), MATRIX, "drawn", &["--no-cache", "--no-reuse"]);
@@ -51,6 +52,7 @@ fn reusing_passes_across_cells_gives_the_same_bytes_as_drawing_every_pass() {
 /// meshes cast. (Both cells are timed, each its own class; only the capture could be reused.)
 #[test]
 fn a_probe_capture_is_reused_only_when_the_same_meshes_cast_into_it() {
+    let _timer = crate::common::timed!();
     let scene = crate::common::repo().join("scenes/default_lod.toml");
     let matrix = format!(
         "name = \"lod_capture\"\ncompositions = [{scene:?}]\npipelines = [\"hdrp\"]\nshaders = [\"lit\"]\n\

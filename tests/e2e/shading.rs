@@ -64,6 +64,7 @@ fn hemisphere(i: usize, n: usize, salt: f64) -> DVec3 {
 /// domain (N·L and N·V ≥ 0.1, smoothness ≤ 0.95 — grazing and mirror-like cases belong to the audit).
 #[test]
 fn gpu_models_match_their_f64_twins() {
+    let _timer = crate::common::timed!();
     let gpu = GpuContext::new().unwrap();
     let n = 512;
     let mut report = Vec::new();
@@ -135,6 +136,7 @@ fn centre(r: &CellRender) -> DVec3 {
 /// against the f64 twin of each stage.
 #[test]
 fn rendered_pixel_matches_cpu_evaluation_in_every_pipeline() {
+    let _timer = crate::common::timed!();
     let mut renderer = renderer();
     let sc = scene("plane_probe.toml");
     let prepared = renderer.prepare_scene(&sc).unwrap();
@@ -194,6 +196,7 @@ fn subject_stats(r: &CellRender) -> (usize, DVec3, DVec3, f64) {
 
 #[test]
 fn subject_is_lit_and_visible_in_every_composition() {
+    let _timer = crate::common::timed!();
     let mut renderer = renderer();
     for name in ["default", "mitsuba", "medusa", "spikes"] {
         let prepared = renderer.prepare_scene(&scene(name)).unwrap();
@@ -209,6 +212,7 @@ fn subject_is_lit_and_visible_in_every_composition() {
 
 #[test]
 fn raising_smoothness_sharpens_the_standard_highlight() {
+    let _timer = crate::common::timed!();
     let mut renderer = renderer();
     let prepared = renderer.prepare_scene(&scene("default")).unwrap();
     let rough =
@@ -227,6 +231,7 @@ fn raising_smoothness_sharpens_the_standard_highlight() {
 
 #[test]
 fn black_metal_under_a_point_light_and_black_environment_is_black() {
+    let _timer = crate::common::timed!();
     let mut renderer = renderer();
     let prepared = renderer.prepare_scene(&scene("black_room.toml")).unwrap();
     let r = renderer.render(&prepared, &params(Pipeline::Builtin, "standard", [0.0; 3], 1.0, 0.8, 96), 1, 0).unwrap();
@@ -241,6 +246,7 @@ fn black_metal_under_a_point_light_and_black_environment_is_black() {
 
 #[test]
 fn gpu_resources_are_reused_across_cells() {
+    let _timer = crate::common::timed!();
     let mut renderer = renderer();
     let prepared = renderer.prepare_scene(&scene("medusa")).unwrap();
     let mut compiled = Vec::new();
@@ -265,6 +271,7 @@ fn gpu_resources_are_reused_across_cells() {
 /// type (Energy Conserving Specular Color).
 #[test]
 fn the_specular_workflow_matches_the_metallic_one_where_the_sources_say_it_must() {
+    let _timer = crate::common::timed!();
     let mut renderer = renderer();
     let prepared = renderer.prepare_scene(&scene("default")).unwrap();
     let colour = [0.8, 0.5, 0.2];
@@ -315,6 +322,7 @@ fn the_specular_workflow_matches_the_metallic_one_where_the_sources_say_it_must(
 /// material's keywords.
 #[test]
 fn the_specular_highlights_toggle_reaches_the_passes_the_engines_read_it_in() {
+    let _timer = crate::common::timed!();
     use shadematrix::pipelines::RenderPath;
     let mut renderer = renderer();
     let prepared = renderer.prepare_scene(&scene("default")).unwrap();
@@ -346,6 +354,7 @@ fn the_specular_highlights_toggle_reaches_the_passes_the_engines_read_it_in() {
 /// probe holds the walls and floor, the smooth metal sphere's reflections do.
 #[test]
 fn urp_environment_reflections_off_reflect_the_mean_of_the_environment() {
+    let _timer = crate::common::timed!();
     let mut renderer = renderer();
     let mut constant = scene("default");
     constant.environment.sky = shadematrix::declarations::scene::Sky::Constant { color: [0.4, 0.5, 0.6] };

@@ -30,6 +30,7 @@ fn centre_and_open_floor(renderer: &mut Renderer, scene: &Scene, pipeline: Pipel
 
 #[test]
 fn a_caster_darkens_the_receiver_under_it_only_with_shadows_on() {
+    let _timer = crate::common::timed!();
     let mut base = Scene::load_file(&fixture("shadow_box.toml")).unwrap();
     // Shadowed and lit pixels side by side: HDRP's bloom would blur the edge between them.
     base.hdrp.bloom = false;
@@ -64,6 +65,7 @@ fn a_caster_darkens_the_receiver_under_it_only_with_shadows_on() {
 
 #[test]
 fn no_shadow_pass_without_a_caster_a_receiver_or_a_shadowed_light() {
+    let _timer = crate::common::timed!();
     let base = Scene::load_file(&fixture("shadow_box.toml")).unwrap();
     assert!(FramePlan::for_scene(&base).passes.contains(&shadematrix::plan::Pass::Shadow));
     let reason = |scene: &Scene| {

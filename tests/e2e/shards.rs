@@ -59,6 +59,7 @@ fn assert_same_cells(a: &Path, b: &Path) {
 
 #[test]
 fn three_shards_merged_equal_one_unsharded_run() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let whole = crate::common::run_matrix_with(tmp.path(), MATRIX, "whole", &["--no-cache"]);
     let mut support = 0;
@@ -104,6 +105,7 @@ fn three_shards_merged_equal_one_unsharded_run() {
 
 #[test]
 fn a_run_killed_at_a_random_point_and_resumed_equals_an_uninterrupted_one() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let whole = crate::common::run_matrix_with(tmp.path(), MATRIX, "whole", &["--no-cache"]);
     let wall: f64 = serde_json::from_slice::<serde_json::Value>(&std::fs::read(whole.join("run.json")).unwrap())

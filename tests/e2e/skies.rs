@@ -25,6 +25,7 @@ fn default_with_sky(dir: &std::path::Path, name: &str, sky: &str) -> Scene {
 
 #[test]
 fn the_shipped_stylized_sky_is_its_bake() {
+    let _timer = crate::common::timed!();
     let bytes = std::fs::read(crate::common::repo().join("scenes/skies/stylized.exr")).unwrap();
     let shipped = shadematrix::input::sky_image::read_bytes(&bytes, "exr").unwrap();
     let baked = stylized_sky::bake(stylized_sky::WIDTH, stylized_sky::HEIGHT);
@@ -41,6 +42,7 @@ fn the_shipped_stylized_sky_is_its_bake() {
 /// SOURCE_WIDTH, then projected) against a projection of the image's own texels in f64.
 #[test]
 fn an_image_skys_sh_is_the_projection_of_its_texels() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let sky = crate::common::repo().join("scenes/skies/stylized.exr");
     let scene = default_with_sky(
@@ -73,6 +75,7 @@ fn an_image_skys_sh_is_the_projection_of_its_texels() {
 /// physical truth (importance-sampled sky) agree with the constant sky's.
 #[test]
 fn a_constant_image_sky_lights_like_the_constant_sky() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let srgb = [0.4, 0.5, 0.7];
     let linear: Vec<f32> = srgb.iter().map(|&c| shadematrix::color::srgb_to_linear(c) as f32).collect();
@@ -116,6 +119,7 @@ fn a_constant_image_sky_lights_like_the_constant_sky() {
 /// sky of L does, and HDRP's ambient from it equals its texels.
 #[test]
 fn a_sky_in_nits_is_read_as_physical_radiance() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let write = |name: &str, v: f32| {
         let px: Vec<f32> = (0..32 * 16).flat_map(|_| [v, 0.8 * v, 0.6 * v, 1.0]).collect();
@@ -150,6 +154,7 @@ fn a_sky_in_nits_is_read_as_physical_radiance() {
 /// Bad input: a sky image that is missing or not 2:1 is refused naming the key and the file.
 #[test]
 fn a_missing_or_misshapen_sky_image_is_refused_by_name() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let text = std::fs::read_to_string(crate::common::repo().join("scenes/default.toml")).unwrap();
     let missing = tmp.path().join("missing.toml");
@@ -194,6 +199,7 @@ fn cube_sky(
 /// equirect sky, it gives that sky's ambient.
 #[test]
 fn a_cubemap_sky_reads_its_faces_as_a_sampler_cube_does() {
+    let _timer = crate::common::timed!();
     use shadematrix::environment::sky::radiance;
     let tmp = tempfile::tempdir().unwrap();
     // Face k: grey 0.1·(k + 1), with its top row (t < 1/8) and left column (s < 1/8) marked.
@@ -253,6 +259,7 @@ fn a_cubemap_sky_reads_its_faces_as_a_sampler_cube_does() {
 /// every pipeline draws it with the vase (the subject) in view and finite values.
 #[test]
 fn the_composite_room_loads_and_renders_in_every_pipeline() {
+    let _timer = crate::common::timed!();
     use shadematrix::declarations::scene::{LightKind, Role, Sky};
     let scene = Scene::load("composite", None, "test", "composition").unwrap();
     let triangles: usize =

@@ -85,6 +85,7 @@ pub(super) fn synthetic_frame(camera: &Camera, (w, h): (u32, u32)) -> (Vec<f64>,
 
 #[test]
 fn gpu_ssao_matches_its_twin_and_occludes_where_surfaces_meet() {
+    let _timer = crate::common::timed!();
     let camera = Camera { position: [0.5, 2.2, 3.2], target: [0.0, 0.3, 0.0], fov_y_deg: 45.0, near: 0.1, far: 50.0 };
     let size = (128, 96);
     let (depth, normals) = synthetic_frame(&camera, size);
@@ -147,6 +148,7 @@ fn render_room(
 
 #[test]
 fn ssao_darkens_the_indirect_light_where_surfaces_meet_and_the_switch_turns_it_off() {
+    let _timer = crate::common::timed!();
     use shadematrix::pipelines::RenderPath;
     for path in [RenderPath::Forward, RenderPath::Deferred] {
         let Room { rgb: on, roles, timed, plan } = render_room(|_| {}, path);
@@ -189,6 +191,7 @@ fn ssao_darkens_the_indirect_light_where_surfaces_meet_and_the_switch_turns_it_o
 /// twins (shading::twin::hdrp), on a grid of visibilities, albedos, angles and roughnesses.
 #[test]
 fn gpu_occlusion_terms_match_their_twins() {
+    let _timer = crate::common::timed!();
     use shadematrix::shading::twin::{gtao_multi_bounce, specular_occlusion_from_ao};
     let kernel = r#"
 @group(0) @binding(0) var<storage, read> inputs: array<vec4<f32>>;
@@ -231,6 +234,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 /// measured here and stated in docs/deviations.md.
 #[test]
 fn the_temporal_path_converges_darker_than_the_single_frame_one() {
+    let _timer = crate::common::timed!();
     let camera = Camera { position: [0.5, 2.2, 3.2], target: [0.0, 0.3, 0.0], fov_y_deg: 45.0, near: 0.1, far: 50.0 };
     let size = (128, 96);
     let (depth, normals) = synthetic_frame(&camera, size);
@@ -260,6 +264,7 @@ fn the_temporal_path_converges_darker_than_the_single_frame_one() {
 /// floor on the deferred path and stays whole on the forward one.
 #[test]
 fn hdrps_deferred_ssao_darkens_the_emission_it_bakes_with_and_forward_does_not() {
+    let _timer = crate::common::timed!();
     use shadematrix::pipelines::{Pipeline, RenderPath};
     let frame = |path: RenderPath, ssao: bool| {
         let mut scene = shadematrix::declarations::scene::Scene::load("default", None, "test", "composition").unwrap();

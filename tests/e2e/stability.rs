@@ -10,6 +10,7 @@ use shadematrix::record::cell::CellRecord;
 
 #[test]
 fn the_stability_matrix_extremes_leave_no_nan_inf_or_negative_value() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let matrix = repo().join("matrices/stability.toml");
     let out = tmp.path().join("run");
@@ -56,6 +57,7 @@ fn the_stability_matrix_extremes_leave_no_nan_inf_or_negative_value() {
 
 #[test]
 fn conditioning_finds_where_f32_loses_the_twin() {
+    let _timer = crate::common::timed!();
     let gpu = GpuContext::new().unwrap();
     let registry = shadematrix::shading::Registry::builtin();
     let mut probe = shadematrix::render::probe::BrdfProbe::new(&gpu);
@@ -75,6 +77,7 @@ fn conditioning_finds_where_f32_loses_the_twin() {
 
 #[test]
 fn convergence_errors_fall_with_samples_and_the_report_places_each_default() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let (rc, stdout, stderr) = shadematrix(tmp.path(), &["convergence", "--quick", "--out", "c"], &[]);
     assert_eq!(rc, 0, "{stdout}\n{stderr}");

@@ -17,6 +17,7 @@ fn wgsl_function(source: &str, name: &str) -> String {
 /// exact.wgsl's `irradiance_lookup` against its f64 twin (`IrradianceMap::lookup`) on the same map.
 #[test]
 fn gpu_exact_ambient_lookup_matches_its_twin() {
+    let _timer = crate::common::timed!();
     let sky = |d: DVec3| {
         let sun = DVec3::new(-0.5, 0.6, 0.62).normalize();
         DVec3::new(2.0, 1.6, 1.0) * d.dot(sun).max(0.0).powi(16) * 20.0
@@ -89,6 +90,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 /// table says what each change costs and buys. The study needs a truth and known names.
 #[test]
 fn the_study_measures_each_approximation_against_the_truth() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let head = "name = \"s\"\ncompositions = [\"default\"]\npipelines = [\"urp\", \"hdrp\"]\npaths = [\"forward\", \"deferred\"]\nshaders = [\"lit\"]\npresets = [\"plastic\"]\n";
     let body = format!(

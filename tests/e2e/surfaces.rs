@@ -27,6 +27,7 @@ fn plane_point(inverse: DMat4, camera: DVec3, x: u32, y: u32) -> Option<DVec3> {
 
 #[test]
 fn premultiplied_surfaces_keep_the_reflection_and_fade_fades_it() {
+    let _timer = crate::common::timed!();
     let scene = Scene::load_file(&fixture("glass_plane.toml")).unwrap();
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     let prepared = renderer.prepare_scene(&scene).unwrap();
@@ -160,6 +161,7 @@ fn coverage(roles: &[u8]) -> f64 {
 
 #[test]
 fn a_cutout_quad_covers_what_its_alpha_leaves_above_the_cutoff() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     write_alpha_ramp_gltf(tmp.path(), 0.3);
     let scene = Scene::load_file(&tmp.path().join("ramp.toml")).unwrap();
@@ -200,6 +202,7 @@ fn a_cutout_quad_covers_what_its_alpha_leaves_above_the_cutoff() {
 
 #[test]
 fn render_faces_cull_as_the_engines_and_hdrp_alone_flips_a_back_faces_normal() {
+    let _timer = crate::common::timed!();
     // The textured-plane fixture seen from below, lit from above, with nothing else in the frame.
     let tmp = tempfile::tempdir().unwrap();
     let base = std::fs::read_to_string(fixture("textured_plane.toml"))
@@ -232,6 +235,7 @@ fn render_faces_cull_as_the_engines_and_hdrp_alone_flips_a_back_faces_normal() {
 
 #[test]
 fn the_truth_traces_fade_as_coverage_and_a_clipped_cutout_as_absent() {
+    let _timer = crate::common::timed!();
     use shadematrix::render::truth::TruthSettings;
     let scene = Scene::load_file(&fixture("glass_plane.toml")).unwrap();
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
@@ -260,6 +264,7 @@ fn the_truth_traces_fade_as_coverage_and_a_clipped_cutout_as_absent() {
 
 #[test]
 fn khr_materials_specular_draws_the_specular_workflow_with_its_dielectric_f0() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     crate::common::write_quad_gltf(
         tmp.path(),
@@ -303,6 +308,7 @@ fn khr_materials_specular_draws_the_specular_workflow_with_its_dielectric_f0() {
 
 #[test]
 fn a_flat_cutout_below_its_cutoff_is_left_out_shadow_and_all() {
+    let _timer = crate::common::timed!();
     let text = std::fs::read_to_string(crate::common::repo().join("scenes/invariants/key_only.toml")).unwrap();
     let tmp = tempfile::tempdir().unwrap();
     let write = |name: &str, text: &str| {
@@ -340,6 +346,7 @@ fn a_flat_cutout_below_its_cutoff_is_left_out_shadow_and_all() {
 
 #[test]
 fn a_deferred_path_draws_its_transparent_subject_in_a_pass_of_its_own() {
+    let _timer = crate::common::timed!();
     let scene = Scene::load_file(&crate::common::repo().join("scenes/invariants/key_only.toml")).unwrap();
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     let prepared = renderer.prepare_scene(&scene).unwrap();
@@ -367,6 +374,7 @@ fn a_deferred_path_draws_its_transparent_subject_in_a_pass_of_its_own() {
 /// with alpha clipping), so the ramp quad's shadow on the floor shrinks as its cutoff rises.
 #[test]
 fn a_textured_cutout_casts_the_shadow_of_what_its_alpha_keeps() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     write_alpha_ramp_gltf(tmp.path(), 0.5);
     // The ramp quad 1 m above a floor, a sun at 63° throwing its shadow 2 m aside, seen from above.
@@ -433,6 +441,7 @@ background = false
 /// a textured opaque subject's truth agrees with the GPU tracer's within noise.
 #[test]
 fn the_cpu_truth_reads_the_subjects_maps_and_their_alpha() {
+    let _timer = crate::common::timed!();
     use shadematrix::declarations::matrix::TruthBackend;
     use shadematrix::render::truth::{TruthKind, TruthSettings};
     let tmp = tempfile::tempdir().unwrap();
@@ -506,6 +515,7 @@ fn the_cpu_truth_reads_the_subjects_maps_and_their_alpha() {
 /// about 1 − 5/16 of its light. URP's and HDRP's transparent Lit cast opaque shadows.
 #[test]
 fn builtins_fade_and_transparent_cast_a_shadow_that_lets_their_alpha_through() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let scene = r#"
 name = "fade_shadow"
@@ -590,6 +600,7 @@ background = false
 /// URP, as its silhouette is; built-in Standard's alpha test leaves it hard (no AlphaToMask).
 #[test]
 fn urps_alpha_clipped_lit_is_antialiased_by_alpha_to_coverage_under_msaa() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     write_alpha_ramp_gltf(tmp.path(), 0.45);
     let scene = Scene::load_file(&tmp.path().join("ramp.toml")).unwrap();

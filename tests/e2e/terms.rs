@@ -38,6 +38,7 @@ fn sum_error(cell: &std::path::Path) -> (f64, CellRecord) {
 
 #[test]
 fn terms_sum_to_the_image_on_every_pipeline_and_path() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     // 32-bit channels: the sum is checked against float error, not the half EXR's rounding.
     let body = r#"
@@ -99,6 +100,7 @@ height = 48
 /// unlit cell is all emission; HDRP's occlusion layer holds its SSAO (below 1 in the corners).
 #[test]
 fn each_layer_holds_its_term() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let body = r#"
 name = "terms_split"
@@ -152,6 +154,7 @@ height = 48
 /// record; the layers' reader says which layer is missing.
 #[test]
 fn terms_are_drawn_only_when_asked() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let body = r#"
 name = "no_terms"
@@ -177,6 +180,7 @@ height = 32
 /// before anything renders: exit 2, the key, the value and what is allowed.
 #[test]
 fn term_sheets_are_checked_against_the_outputs() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let matrix = |name: &str, extra: &str| {
         let body = format!(
@@ -207,6 +211,7 @@ fn term_sheets_are_checked_against_the_outputs() {
 /// whose twins keep it: the specular masks give the twin at weight 0.
 #[test]
 fn lobe_masks_split_every_model_as_its_twin_does() {
+    let _timer = crate::common::timed!();
     use glam::DVec3;
     use shadematrix::pipelines::terms::{
         DIRECT_DIFFUSE, DIRECT_SPECULAR, EMISSION, INDIRECT_DIFFUSE, INDIRECT_SPECULAR,

@@ -18,6 +18,7 @@ fn records(run: &std::path::Path) -> BTreeMap<String, shadematrix::record::CellR
 
 #[test]
 fn one_cell_per_timing_class_is_timed_and_images_do_not_change() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let classes = crate::common::run_matrix_with(tmp.path(), MATRIX, "classes", &["--no-cache"]);
     let every = crate::common::run_matrix_with(

@@ -59,6 +59,7 @@ fn subject_mean(t: &Truth) -> (f64, f64, usize) {
 
 #[test]
 fn white_furnace_truth_equals_the_environment_and_the_lambert_cell_matches_it() {
+    let _timer = crate::common::timed!();
     let scene = Scene::load("scenes/invariants/furnace.toml", None, "test", "composition").unwrap();
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     let prepared = renderer.prepare_scene(&scene).unwrap();
@@ -89,6 +90,7 @@ fn white_furnace_truth_equals_the_environment_and_the_lambert_cell_matches_it() 
 
 #[test]
 fn a_directional_light_on_a_convex_subject_agrees_with_the_real_time_cell() {
+    let _timer = crate::common::timed!();
     let scene = scene_from(DIRECTIONAL);
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     let prepared = renderer.prepare_scene(&scene).unwrap();
@@ -133,6 +135,7 @@ fn a_directional_light_on_a_convex_subject_agrees_with_the_real_time_cell() {
 
 #[test]
 fn doubling_the_samples_lowers_the_standard_error_by_root_two() {
+    let _timer = crate::common::timed!();
     let scene = Scene::load("scenes/invariants/key_only.toml", None, "test", "composition").unwrap();
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     let prepared = renderer.prepare_scene(&scene).unwrap();
@@ -153,6 +156,7 @@ fn doubling_the_samples_lowers_the_standard_error_by_root_two() {
 /// noise map), its record says what the truth reached, and the metrics compare against it.
 #[test]
 fn a_run_compares_each_cell_with_its_truth() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let furnace = crate::common::repo().join("scenes/invariants/furnace.toml");
     let body = format!(
@@ -209,6 +213,7 @@ fn a_run_compares_each_cell_with_its_truth() {
 /// The physical truth's WGSL model against its f64 twin (`render::truth::physical`).
 #[test]
 fn gpu_physical_model_matches_its_twin() {
+    let _timer = crate::common::timed!();
     use glam::DVec3;
     use shadematrix::render::truth::physical::physical_response;
     let kernel = r#"
@@ -276,6 +281,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 /// albedo (its f64 twin's quadrature) for the material the cell's shader received.
 #[test]
 fn a_physical_truth_in_the_furnace_reflects_the_models_albedo() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let furnace = crate::common::repo().join("scenes/invariants/furnace.toml");
     let body = format!(
@@ -316,6 +322,7 @@ fn a_physical_truth_in_the_furnace_reflects_the_models_albedo() {
 /// pixels' differences are as large as the pixels' noise says (a two-sample Z-test).
 #[test]
 fn the_cpu_and_gpu_truths_agree_within_noise_on_every_composition() {
+    let _timer = crate::common::timed!();
     use shadematrix::declarations::matrix::TruthBackend;
     use shadematrix::render::truth::TruthKind;
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
@@ -391,6 +398,7 @@ fn cell_truths(out: &std::path::Path) -> Vec<(String, shadematrix::record::cell:
 /// a value the truth reads (the light's intensity) makes another truth.
 #[test]
 fn cells_whose_truths_read_the_same_share_one() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let head = "name = \"share\"\ncompositions = [\"default\"]\npipelines = [\"urp\"]\nshaders = [\"lambert\", \"lit\", \"simple_lit\"]\npresets = [\"plastic\"]\n";
     let image = "[image]\nwidth = 24\nheight = 24\n";
@@ -413,6 +421,7 @@ fn cells_whose_truths_read_the_same_share_one() {
 /// (what tools/mitsuba_check.py renders); only with a physical truth.
 #[test]
 fn a_physical_truth_exports_its_scene() {
+    let _timer = crate::common::timed!();
     use shadematrix::render::truth::export::{ExportedLight, TruthSceneRecord};
     let tmp = tempfile::tempdir().unwrap();
     let head = "name = \"export\"\ncompositions = [\"mitsuba\"]\npipelines = [\"hdrp\"]\nshaders = [\"lit\"]\npresets = [\"gold\"]\n[image]\nwidth = 16\nheight = 12\n[outputs]\ntruth_scene = true\n";
@@ -458,6 +467,7 @@ fn default_room() -> (Renderer, shadematrix::render::prepared::PreparedScene) {
 /// (it had 3× the variance at 0.75 when continuations followed a GGX lobe chosen from smoothness).
 #[test]
 fn a_lambert_truths_noise_does_not_depend_on_smoothness() {
+    let _timer = crate::common::timed!();
     use shadematrix::declarations::matrix::TruthBackend;
     let (mut renderer, prepared) = default_room();
     for (backend, size, spp) in [(TruthBackend::Cpu, 48, 64), (TruthBackend::Gpu, 24, 32)] {
@@ -481,6 +491,7 @@ fn a_lambert_truths_noise_does_not_depend_on_smoothness() {
 /// overstates that error (the noise it reports is conservative).
 #[test]
 fn sobol_samples_reach_a_lower_error_than_independent_ones() {
+    let _timer = crate::common::timed!();
     use shadematrix::declarations::matrix::{TruthBackend, TruthKind, TruthSampler};
     let (mut renderer, prepared) = default_room();
     let sliders = Sliders { base_color_linear: [0.284, 0.284, 0.284], metallic: 0.0, smoothness: 0.75 };
@@ -518,6 +529,7 @@ fn sobol_samples_reach_a_lower_error_than_independent_ones() {
 /// the noise at these albedos) and differs from a budget of one, on both backends.
 #[test]
 fn russian_roulette_past_the_budget_counts_every_bounce() {
+    let _timer = crate::common::timed!();
     use shadematrix::declarations::matrix::{TruthBackend, TruthKind};
     let (mut renderer, prepared) = default_room();
     let sliders = Sliders { base_color_linear: [0.8, 0.8, 0.8], metallic: 0.0, smoothness: 0.3 };
@@ -560,6 +572,7 @@ fn russian_roulette_past_the_budget_counts_every_bounce() {
 /// run whose truths read the same still share one.
 #[test]
 fn no_cache_retraces_truths_and_still_shares_them_within_the_run() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let body = "name = \"nocache\"\ncompositions = [\"default\"]\npipelines = [\"urp\"]\nshaders = [\"lambert\", \"lit\"]\npresets = [\"plastic\"]\nreference = { truth = \"physical\", spp = 4, noise = 0.0, bounces = 1 }\n[image]\nwidth = 16\nheight = 16\n";
     let traced = |out: &str, extra: &[&str]| {

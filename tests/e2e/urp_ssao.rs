@@ -13,6 +13,7 @@ use shadematrix::render::passes::urp_ssao::{visibility_of, UrpSsaoFrame};
 
 #[test]
 fn gpu_urp_ssao_matches_its_twin_and_occludes_where_surfaces_meet() {
+    let _timer = crate::common::timed!();
     let camera = Camera { position: [0.5, 2.2, 3.2], target: [0.0, 0.3, 0.0], fov_y_deg: 45.0, near: 0.1, far: 50.0 };
     let size = (128, 96);
     let (depth, normals) = super::ssao::synthetic_frame(&camera, size);
@@ -77,6 +78,7 @@ fn lum(c: &[f64; 3]) -> f64 {
 
 #[test]
 fn urp_ssao_takes_the_indirect_light_whole_and_a_quarter_of_the_direct() {
+    let _timer = crate::common::timed!();
     let high = UrpAssetPreset::HighFidelity.asset();
     let without = shadematrix::pipelines::settings::UrpAsset { ssao: None, ..high };
     let no_ambient = |s: &mut Scene| {
@@ -117,6 +119,7 @@ fn urp_ssao_takes_the_indirect_light_whole_and_a_quarter_of_the_direct() {
 
 #[test]
 fn the_default_renderer_draws_none_and_custom_shaders_read_none() {
+    let _timer = crate::common::timed!();
     let high = UrpAssetPreset::HighFidelity.asset();
     let without = shadematrix::pipelines::settings::UrpAsset { ssao: None, ..high };
     let (_, _, default_passes) = render_room(|_| {}, UrpAssetPreset::Default.asset(), "lit", 2.0, RenderPath::Forward);

@@ -15,6 +15,7 @@ const MATRIX: &str = "name = \"u\"\ncompositions = [\"default\"]\npipelines = [\
 
 #[test]
 fn user_model_renders_in_a_matrix_and_is_audited() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     install_example(tmp.path());
     let m = crate::common::write_matrix(tmp.path(), "m.toml", MATRIX);
@@ -44,6 +45,7 @@ fn user_model_renders_in_a_matrix_and_is_audited() {
 
 #[test]
 fn broken_user_model_names_file_line_and_column() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     install_example(tmp.path());
     let wgsl = tmp.path().join("shaders/brdf/wrap_diffuse.wgsl");
@@ -81,6 +83,7 @@ fn broken_user_model_names_file_line_and_column() {
 
 #[test]
 fn models_come_from_the_folder_the_user_names() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let mine = tmp.path().join("my_models");
     std::fs::create_dir_all(&mine).unwrap();
@@ -110,6 +113,7 @@ fn models_come_from_the_folder_the_user_names() {
 
 #[test]
 fn an_unstable_user_model_is_reported_with_its_pixel_and_fails_the_run_on_request() {
+    let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     let models = crate::common::fixture("unstable_models");
     let m = crate::common::write_matrix(

@@ -145,6 +145,7 @@ const MATRIX: &str = "name = \"viewer\"\ncompositions = [\"default\", \"my_room.
 
 #[test]
 fn the_viewer_follows_sliders_pickers_wipe_overlay_and_reads_pixels() {
+    let _timer = crate::common::timed!();
     let Some(binary) = crate::common::chromium() else { return };
     let tmp = tempfile::tempdir().unwrap();
     // A user scene beside the built-in one: the viewer offers every composition of the run.
@@ -302,6 +303,7 @@ fn the_viewer_follows_sliders_pickers_wipe_overlay_and_reads_pixels() {
 
 #[test]
 fn a_ten_thousand_cell_run_opens_in_under_two_seconds() {
+    let _timer = crate::common::timed!();
     let Some(binary) = crate::common::chromium() else { return };
     use shadematrix::report::viewer::{
         data_script, page, ViewerAxis, ViewerCell, ViewerData, ViewerRun, ViewerTiming, DATA_FILE,
@@ -386,6 +388,7 @@ fn a_ten_thousand_cell_run_opens_in_under_two_seconds() {
 /// each cell's layer PNG in its stage, and the choice travels in the URL fragment.
 #[test]
 fn the_viewer_shows_a_cells_term_layers() {
+    let _timer = crate::common::timed!();
     let Some(binary) = crate::common::chromium() else { return };
     let tmp = tempfile::tempdir().unwrap();
     let body = "name = \"viewer_terms\"\ncompositions = [\"default\"]\npipelines = [\"urp\", \"hdrp\"]\nshaders = [\"lit\"]\npresets = [\"plastic\"]\n[outputs]\nterms = true\n[image]\nwidth = 32\nheight = 32\n";
