@@ -98,6 +98,19 @@ fn gpu_pass_rows(dir: &std::path::Path) -> Result<Maybe<Vec<GpuPassRow>>, Error>
     ))
 }
 
+/// How much of the wall each stage's threads were busy, per thread: the render thread (prepare,
+/// render, readback), an encode worker and a metric worker. The busiest bounds the run: speeding
+/// up another stage cannot shorten it.
+pub fn stage_busy(b: &BenchRecord) -> [(&'static str, f64); 3] {
+    let s = &b.stages;
+    let wall_ms = (b.wall_seconds * 1e3).max(1e-9);
+    [
+        ("render thread", (s.prepare_ms + s.render_ms + s.readback_ms) / wall_ms),
+        ("encode workers", s.encode_ms / s.encode_workers.max(1) as f64 / wall_ms),
+        ("metric workers", s.metrics_ms / s.metrics_workers.max(1) as f64 / wall_ms),
+    ]
+}
+
 pub fn markdown(b: &BenchRecord) -> String {
     let s = &b.stages;
     let mut out = String::new();
@@ -129,6 +142,11 @@ pub fn markdown(b: &BenchRecord) -> String {
         s.metrics_workers,
         s.queue_depth
     );
+    let busy = stage_busy(b);
+    let bound = busy.iter().max_by(|a, b| a.1.total_cmp(&b.1)).expect("three stages");
+    let shares: Vec<String> = busy.iter().map(|(name, f)| format!("{name} {:.1} %", 100.0 * f)).collect();
+    let _ =
+        writeln!(out, "- bounding stage: **{}** (busy share of the wall, per thread: {})", bound.0, shares.join(", "));
     let _ = writeln!(
         out,
         "- wall ÷ (stage sum ÷ cores) = **{:.3}** (1: the stages overlap perfectly on every core)",

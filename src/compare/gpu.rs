@@ -4,9 +4,11 @@
 //! reference's own code (`flip_rs::ErrorMap::statistics`, `ssim::window_mean`), so a GPU mean
 //! differs from the CPU's only by the per-pixel arithmetic. Written by hand: no crate runs FLIP or
 //! SSIM in wgpu. The filter weights and HDR exposures are computed here exactly as flip-rs does
-//! (its own are private). Buffers and bind groups are kept for the last image size and reused.
+//! (its own are private). Each caller borrows a set of buffers and bind groups of its image size
+//! from a pool, so metric workers submit side by side instead of taking turns; sets are kept and
+//! reused, one per worker that ran at once.
 
-use std::sync::Mutex;
+use std::sync::{Mutex, RwLock, RwLockWriteGuard};
 
 use wgpu::util::DeviceExt;
 
@@ -52,7 +54,10 @@ pub struct GpuMetrics {
     window: wgpu::Buffer,
     radii: (u32, u32),
     cmax: f32,
-    sized: Mutex<Option<MetricBuffers>>,
+    /// Idle buffer sets, all of the last image size compared.
+    idle: Mutex<Vec<MetricBuffers>>,
+    /// Read by every metric while it runs, written by `hold`.
+    turn: RwLock<()>,
     space: ConstantSpace,
 }
 
@@ -137,7 +142,8 @@ impl GpuMetrics {
             ssim_layout,
             flip,
             ssim,
-            sized: Mutex::new(None),
+            idle: Mutex::new(Vec::new()),
+            turn: RwLock::new(()),
             space,
         }
     }
@@ -145,8 +151,9 @@ impl GpuMetrics {
     /// LDR-FLIP and SSIM maps of two sRGB RGBA8 images (alpha ignored).
     pub fn ldr(&self, reference: &[u8], test: &[u8], w: usize, h: usize) -> Result<(Vec<f32>, Vec<f32>), Error> {
         let px: Vec<f32> = reference.iter().chain(test).map(|v| f32::from(*v) / 255.0).collect();
-        let mut sized = self.sized.lock().unwrap_or_else(|e| e.into_inner());
-        let b = self.buffers(&mut sized, w * h);
+        let _turn = self.turn.read().unwrap_or_else(|e| e.into_inner());
+        let lent = self.lend(w * h);
+        let b = lent.set();
         self.queue.write_buffer(&b.images, 0, bytemuck::cast_slice(&px));
         self.run_flip(b, w, h, 0, 1.0, true);
         self.run_ssim(b, w, h);
@@ -159,8 +166,9 @@ impl GpuMetrics {
     /// exposures (ACES, from the reference's luminance).
     pub fn hdr_flip(&self, reference: &[f32], test: &[f32], w: usize, h: usize) -> Result<Vec<f32>, String> {
         let (start, stop, count) = exposures(reference)?;
-        let mut sized = self.sized.lock().unwrap_or_else(|e| e.into_inner());
-        let b = self.buffers(&mut sized, w * h);
+        let _turn = self.turn.read().unwrap_or_else(|e| e.into_inner());
+        let lent = self.lend(w * h);
+        let b = lent.set();
         let px: Vec<f32> = reference.iter().chain(test).copied().collect();
         self.queue.write_buffer(&b.images, 0, bytemuck::cast_slice(&px));
         let step = (stop - start) / (count - 1) as f32;
@@ -174,73 +182,80 @@ impl GpuMetrics {
 
     /// Hold the metric passes off the device while the caller times frames on it: a metric
     /// submitted meanwhile would land in the frame's submit-to-idle wall time.
-    pub fn hold(&self) -> std::sync::MutexGuard<'_, Option<MetricBuffers>> {
-        self.sized.lock().unwrap_or_else(|e| e.into_inner())
+    pub fn hold(&self) -> RwLockWriteGuard<'_, ()> {
+        self.turn.write().unwrap_or_else(|e| e.into_inner())
     }
 
-    fn buffers<'a>(&self, sized: &'a mut Option<MetricBuffers>, n: usize) -> &'a MetricBuffers {
-        if sized.as_ref().is_none_or(|s| s.n != n) {
-            let f = 4 * n as u64;
-            let d = &self.device;
-            let images = storage(d, "metric images", 2 * 4 * f, wgpu::BufferUsages::COPY_DST);
-            let opponent = storage(d, "flip opponent", 6 * f, wgpu::BufferUsages::empty());
-            let inter = storage(d, "metric filters", 8 * f, wgpu::BufferUsages::empty());
-            let color_error = storage(d, "flip colour error", f, wgpu::BufferUsages::empty());
-            let flip_map = storage(d, "flip map", f, wgpu::BufferUsages::COPY_SRC);
-            let ssim_map = storage(d, "ssim map", f, wgpu::BufferUsages::COPY_SRC);
-            let uniform = |label: &str, size: usize| {
-                d.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some(label),
-                    size: size as u64,
-                    usage: self.space.usage() | wgpu::BufferUsages::COPY_DST,
-                    mapped_at_creation: false,
-                })
-            };
-            let flip_params = uniform("flip params", std::mem::size_of::<FlipParams>());
-            let ssim_params = uniform("ssim params", std::mem::size_of::<SsimParams>());
-            let flip_group = d.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("flip"),
-                layout: &self.flip_layout,
-                entries: &[
-                    entry(0, &flip_params),
-                    entry(1, &images),
-                    entry(2, &opponent),
-                    entry(3, &inter),
-                    entry(4, &color_error),
-                    entry(5, &flip_map),
-                    entry(6, &self.spatial),
-                    entry(7, &self.feature),
-                ],
-            });
-            let ssim_group = d.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("ssim"),
-                layout: &self.ssim_layout,
-                entries: &[
-                    entry(0, &ssim_params),
-                    entry(1, &images),
-                    entry(2, &inter),
-                    entry(3, &ssim_map),
-                    entry(4, &self.window),
-                ],
-            });
-            *sized = Some(MetricBuffers {
-                n,
-                readback: d.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("metric readback"),
-                    size: f.max(16),
-                    usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-                    mapped_at_creation: false,
-                }),
-                images,
-                flip_map,
-                ssim_map,
-                flip_params,
-                ssim_params,
-                flip_group,
-                ssim_group,
-            });
+    /// An idle set of buffers for n pixels, or a new one; it goes back to the pool when dropped.
+    fn lend(&self, n: usize) -> LentBuffers<'_> {
+        let idle = {
+            let mut idle = self.idle.lock().unwrap_or_else(|e| e.into_inner());
+            idle.retain(|s| s.n == n);
+            idle.pop()
+        };
+        LentBuffers { pool: &self.idle, set: Some(idle.unwrap_or_else(|| self.buffers(n))) }
+    }
+
+    fn buffers(&self, n: usize) -> MetricBuffers {
+        let f = 4 * n as u64;
+        let d = &self.device;
+        let images = storage(d, "metric images", 2 * 4 * f, wgpu::BufferUsages::COPY_DST);
+        let opponent = storage(d, "flip opponent", 6 * f, wgpu::BufferUsages::empty());
+        let inter = storage(d, "metric filters", 8 * f, wgpu::BufferUsages::empty());
+        let color_error = storage(d, "flip colour error", f, wgpu::BufferUsages::empty());
+        let flip_map = storage(d, "flip map", f, wgpu::BufferUsages::COPY_SRC);
+        let ssim_map = storage(d, "ssim map", f, wgpu::BufferUsages::COPY_SRC);
+        let uniform = |label: &str, size: usize| {
+            d.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: size as u64,
+                usage: self.space.usage() | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        };
+        let flip_params = uniform("flip params", std::mem::size_of::<FlipParams>());
+        let ssim_params = uniform("ssim params", std::mem::size_of::<SsimParams>());
+        let flip_group = d.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("flip"),
+            layout: &self.flip_layout,
+            entries: &[
+                entry(0, &flip_params),
+                entry(1, &images),
+                entry(2, &opponent),
+                entry(3, &inter),
+                entry(4, &color_error),
+                entry(5, &flip_map),
+                entry(6, &self.spatial),
+                entry(7, &self.feature),
+            ],
+        });
+        let ssim_group = d.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("ssim"),
+            layout: &self.ssim_layout,
+            entries: &[
+                entry(0, &ssim_params),
+                entry(1, &images),
+                entry(2, &inter),
+                entry(3, &ssim_map),
+                entry(4, &self.window),
+            ],
+        });
+        MetricBuffers {
+            n,
+            readback: d.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("metric readback"),
+                size: f.max(16),
+                usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+                mapped_at_creation: false,
+            }),
+            images,
+            flip_map,
+            ssim_map,
+            flip_params,
+            ssim_params,
+            flip_group,
+            ssim_group,
         }
-        sized.as_ref().expect("sized above")
     }
 
     fn run_flip(&self, b: &MetricBuffers, w: usize, h: usize, mode: u32, multiplier: f32, first: bool) {
@@ -288,6 +303,26 @@ impl GpuMetrics {
         self.queue.submit([encoder.finish()]);
         let bytes = crate::gpu::readback::map_read(&self.device, &b.readback)?;
         Ok(bytemuck::cast_slice::<u8, f32>(&bytes[..4 * b.n]).to_vec())
+    }
+}
+
+/// A buffer set borrowed from the pool, given back when dropped (an error's path too).
+struct LentBuffers<'a> {
+    pool: &'a Mutex<Vec<MetricBuffers>>,
+    set: Option<MetricBuffers>,
+}
+
+impl LentBuffers<'_> {
+    fn set(&self) -> &MetricBuffers {
+        self.set.as_ref().expect("lent until dropped")
+    }
+}
+
+impl Drop for LentBuffers<'_> {
+    fn drop(&mut self) {
+        if let Some(set) = self.set.take() {
+            self.pool.lock().unwrap_or_else(|e| e.into_inner()).push(set);
+        }
     }
 }
 

@@ -70,14 +70,15 @@ pub struct Workers {
 }
 
 impl Workers {
-    /// Metric workers on every core, encoders on half of them: on a GPU adapter the metrics run on
-    /// the device and encoding is the larger CPU share (a 4090-cell shard of thesis.toml on an
-    /// H200 spent 49.6 s of CPU encoding against 92.5 s for metrics, and with a quarter of the
-    /// cores encoding its render thread waited 12.6 s on a full encode queue while cores idled).
-    /// Each queue holds two jobs per consumer: enough to keep them busy, little enough memory.
+    /// Metric and encode workers on every core: a worker with nothing queued sleeps, so the two
+    /// pools cost nothing while the other stage is the busy one, and whichever stage is behind
+    /// gets every core. (A 4090-cell shard of thesis.toml on an H200 spent 49.6 s of CPU encoding
+    /// against 92.5 s for metrics; with a quarter of the cores encoding, its render thread waited
+    /// 12.6 s on a full encode queue while cores idled.) Each queue holds two jobs per consumer:
+    /// enough to keep them busy, little enough memory.
     pub fn for_cores(cores: usize) -> Workers {
         let metrics = cores.max(1);
-        let encode = (cores / 2).max(1);
+        let encode = cores.max(1);
         Workers { encode, metrics, queue_depth: 2 * metrics.max(encode) }
     }
 }
