@@ -29,6 +29,7 @@ use crate::shading::twin::{irradiance_per_intensity, Surface, SurfaceTwin};
 
 pub mod bake;
 mod environment;
+mod lanes;
 
 pub use environment::CpuEnvironment;
 use environment::{EnvironmentSample, PendingEnvironmentSample};
@@ -683,6 +684,46 @@ impl<'a> Tracer<'a> {
             / irradiance_per_intensity(p)
     }
 
+    /// Light `light` at sp seen from v, before its shadow ray: the direction to it, how far the
+    /// shadow ray goes, and what it adds unshadowed (f·NL × its colour × attenuation, in the
+    /// pipeline's units: the model's own factor taken back out); None where it adds nothing.
+    fn light_sample(&self, light: &TracedLight, sp: &SurfacePoint, v: DVec3, rng: &mut Rng) -> Option<LightSample> {
+        let (l, atten, distance) = if light.kind >= LIGHT_RECT {
+            let (l, atten, d) = light.area_incidence(sp.p, self.inputs.kind, rng);
+            (l, atten, d * (1.0 - 1e-4))
+        } else {
+            let (l, atten) = light.incidence(sp.p, self.falloff());
+            let d = if light.kind != 0 { (light.position - sp.p).length() * (1.0 - 1e-4) } else { f64::INFINITY };
+            (l, atten, d)
+        };
+        if atten <= 0.0 {
+            return None;
+        }
+        let f = self.response(sp, v, l, light.min_roughness);
+        (f.max_element() > 0.0).then(|| LightSample {
+            l,
+            distance,
+            radiance: f * irradiance_per_intensity(self.inputs.pipeline) * light.color * atten,
+        })
+    }
+
+    /// The environment's sample at sp seen from v (begun before the point was built), before its
+    /// shadow ray: its radiance × f·NL over its density, weighed against the surface's sampling.
+    fn environment_sample(
+        &self,
+        sp: &SurfacePoint,
+        v: DVec3,
+        pending: &PendingEnvironmentSample,
+    ) -> Option<LightSample> {
+        let EnvironmentSample { direction: l, pdf, radiance } = self.scene.environment.finish_sample(pending);
+        let f = self.response(sp, v, l, NO_LIGHT_FLOOR);
+        (pdf > 0.0 && f.max_element() > 0.0).then(|| {
+            let radiance = radiance * self.env_scale;
+            let weight = power_heuristic(pdf, surface_pdf(&sp.s, self.lobe_share(sp), sp.n, v, l));
+            LightSample { l, distance: f64::INFINITY, radiance: f * radiance / pdf * weight }
+        })
+    }
+
     /// Every light exactly (light i scaled by `weight(i)`: 1 in the truth, the bake's share in a
     /// bake) and the environment sampled once (truth.wgsl `direct_light`).
     /// `environment`: the environment's sample for this point, begun before the point was built
@@ -697,35 +738,20 @@ impl<'a> Tracer<'a> {
     ) -> DVec3 {
         let mut c = DVec3::ZERO;
         let origin = sp.p + sp.ng * RAY_EPSILON;
-        let p = self.inputs.pipeline;
         for (i, light) in self.lights.iter().enumerate() {
             let w = weight(i);
             if w <= 0.0 {
                 continue;
             }
-            let (l, atten, distance) = if light.kind >= LIGHT_RECT {
-                let (l, atten, d) = light.area_incidence(sp.p, self.inputs.kind, rng);
-                (l, atten, d * (1.0 - 1e-4))
-            } else {
-                let (l, atten) = light.incidence(sp.p, self.falloff());
-                let d = if light.kind != 0 { (light.position - sp.p).length() * (1.0 - 1e-4) } else { f64::INFINITY };
-                (l, atten, d)
-            };
-            if atten <= 0.0 {
-                continue;
-            }
-            let f = self.response(sp, v, l, light.min_roughness);
-            if f.max_element() > 0.0 && !self.blocked(origin, l, distance, rng) {
-                // Lights are in the pipeline's units: the model's own factor is taken back out.
-                c += f * irradiance_per_intensity(p) * light.color * atten * w;
+            if let Some(sample) = self.light_sample(light, sp, v, rng) {
+                if !self.blocked(origin, sample.l, sample.distance, rng) {
+                    c += sample.radiance * w;
+                }
             }
         }
-        if let Some(pending) = environment {
-            let EnvironmentSample { direction: l, pdf, radiance } = self.scene.environment.finish_sample(&pending);
-            let f = self.response(sp, v, l, NO_LIGHT_FLOOR);
-            if pdf > 0.0 && f.max_element() > 0.0 && !self.blocked(origin, l, f64::INFINITY, rng) {
-                let radiance = radiance * self.env_scale;
-                c += f * radiance / pdf * power_heuristic(pdf, surface_pdf(&sp.s, self.lobe_share(sp), sp.n, v, l));
+        if let Some(sample) = environment.and_then(|pending| self.environment_sample(sp, v, &pending)) {
+            if !self.blocked(origin, sample.l, f64::INFINITY, rng) {
+                c += sample.radiance;
             }
         }
         c
@@ -733,13 +759,26 @@ impl<'a> Tracer<'a> {
 
     /// One path through pixel (x, y) (truth.wgsl `path`); also the object of the first hit.
     fn path(&self, x: u32, y: u32, rng: &mut Rng) -> (DVec3, Option<usize>) {
+        let d = self.camera_ray(x, y, rng);
+        self.incoming(self.camera, d, (0, None), rng, &|_, _| 1.0)
+    }
+
+    /// The direction of a camera ray through pixel (x, y), jittered over the pixel.
+    fn camera_ray(&self, x: u32, y: u32, rng: &mut Rng) -> DVec3 {
         let (w, h) = self.inputs.size;
         let (jx, jy) = (rng.next(), rng.next());
         let ndc = DVec2::new((x as f64 + jx) / w as f64 * 2.0 - 1.0, 1.0 - (y as f64 + jy) / h as f64 * 2.0);
         let far = self.inv_view_proj * DVec4::new(ndc.x, ndc.y, 1.0, 1.0);
-        let o = self.camera;
-        let d = (far.truncate() / far.w - o).normalize();
-        self.incoming(o, d, (0, None), rng, &|_, _| 1.0)
+        (far.truncate() / far.w - self.camera).normalize()
+    }
+
+    /// The index of a path's last surface vertex.
+    fn last_bounce(&self) -> u32 {
+        if self.roulette {
+            crate::declarations::matrix::MAX_ROULETTE_BOUNCES
+        } else {
+            self.bounces + 1
+        }
     }
 
     /// The light arriving at o from −d along one path (truth.wgsl `incoming`), and the object of
@@ -749,81 +788,131 @@ impl<'a> Tracer<'a> {
     /// does); `weight(vertex, light)`: each light's share at each vertex.
     pub(super) fn incoming(
         &self,
-        mut o: DVec3,
-        mut d: DVec3,
+        o: DVec3,
+        d: DVec3,
         (first, mis_pdf): (u32, Option<f64>),
         rng: &mut Rng,
         weight: &dyn Fn(u32, usize) -> f64,
     ) -> (DVec3, Option<usize>) {
-        let mut throughput = DVec3::ONE;
-        let mut c = DVec3::ZERO;
-        let mut last_pdf = mis_pdf;
-        let mut first_object = None;
+        let mut path = PathState::new(o, d, mis_pdf);
         let env = &self.scene.environment;
-        let last = if self.roulette { crate::declarations::matrix::MAX_ROULETTE_BOUNCES } else { self.bounces + 1 };
+        let last = self.last_bounce();
         for bounce in first..=last {
-            let Some(hit) = self.nearest(o, d, rng) else {
-                match last_pdf {
-                    None if first > 0 || self.inputs.background => c += throughput * env.radiance(d) * self.env_scale,
-                    None => {}
-                    Some(pdf) if self.env_scale > 0.0 => {
-                        let (radiance, env_pdf) = env.lookup(d);
-                        c += throughput * radiance * self.env_scale * power_heuristic(pdf, env_pdf)
-                    }
-                    Some(_) => {}
-                }
+            let Some(hit) = self.nearest(path.o, path.d, rng) else {
+                path.c += self.missed(&path, first > 0 || self.inputs.background);
                 break;
             };
             // The environment's sample at this point is drawn first, so that its table reads
             // overlap building the point and tracing to the lights.
             let environment = (bounce != last && self.env_scale > 0.0).then(|| env.begin_sample(rng));
-            let sp = self.surface_at(&hit, d);
+            let sp = self.surface_at(&hit, path.d);
             if let Some(pending) = &environment {
                 env.prefetch_texel(pending);
             }
             if bounce == first {
-                first_object = Some(sp.object);
+                path.first_object = Some(sp.object);
             }
-            c += throughput * sp.emission;
+            path.c += path.throughput * sp.emission;
             // The last vertex only receives the environment along the continued ray (its weight).
             if bounce == last {
                 break;
             }
-            let v = -d;
-            c += throughput * self.direct_light(&sp, v, rng, &|i| weight(bounce, i), environment);
-            let k = self.lobe_share(&sp);
-            let l = sample_surface(&sp.s, k, sp.n, v, rng);
-            if self.env_scale > 0.0 {
-                env.prefetch_direction(l);
-            }
-            let pdf = surface_pdf(&sp.s, k, sp.n, v, l);
-            if pdf <= 0.0 {
+            path.c += path.throughput * self.direct_light(&sp, -path.d, rng, &|i| weight(bounce, i), environment);
+            if !self.continue_path(&mut path, &sp, bounce, rng) {
                 break;
             }
-            throughput *= self.response(&sp, v, l, NO_LIGHT_FLOOR) / pdf;
-            if throughput.max_element() <= 0.0 {
-                break;
-            }
-            // Past the budget, the continuation survives Russian roulette or the path ends.
-            if self.roulette && bounce >= self.bounces {
-                let q = throughput.max_element().min(0.95);
-                if rng.next() >= q {
-                    break;
-                }
-                throughput /= q;
-            }
-            last_pdf = Some(pdf);
-            o = sp.p + sp.ng * RAY_EPSILON;
-            d = l;
         }
-        (c, first_object)
+        (path.c, path.first_object)
+    }
+
+    /// What a path whose ray leaves the scene adds: the environment along it, weighed against
+    /// the environment's sampling where the ray was drawn from a surface (`last_pdf`); a camera
+    /// ray's where the background shows the sky (`sees_sky`).
+    fn missed(&self, path: &PathState, sees_sky: bool) -> DVec3 {
+        let env = &self.scene.environment;
+        match path.last_pdf {
+            None if sees_sky => path.throughput * env.radiance(path.d) * self.env_scale,
+            None => DVec3::ZERO,
+            Some(pdf) if self.env_scale > 0.0 => {
+                let (radiance, env_pdf) = env.lookup(path.d);
+                path.throughput * radiance * self.env_scale * power_heuristic(pdf, env_pdf)
+            }
+            Some(_) => DVec3::ZERO,
+        }
+    }
+
+    /// The continuation from sp: draws the next direction from the surface and carries the
+    /// throughput along it; false where the path ends there.
+    fn continue_path(&self, path: &mut PathState, sp: &SurfacePoint, bounce: u32, rng: &mut Rng) -> bool {
+        let v = -path.d;
+        let k = self.lobe_share(sp);
+        let l = sample_surface(&sp.s, k, sp.n, v, rng);
+        if self.env_scale > 0.0 {
+            self.scene.environment.prefetch_direction(l);
+        }
+        let pdf = surface_pdf(&sp.s, k, sp.n, v, l);
+        if pdf <= 0.0 {
+            return false;
+        }
+        path.throughput *= self.response(sp, v, l, NO_LIGHT_FLOOR) / pdf;
+        if path.throughput.max_element() <= 0.0 {
+            return false;
+        }
+        // Past the budget, the continuation survives Russian roulette or the path ends.
+        if self.roulette && bounce >= self.bounces {
+            let q = path.throughput.max_element().min(0.95);
+            if rng.next() >= q {
+                return false;
+            }
+            path.throughput /= q;
+        }
+        path.last_pdf = Some(pdf);
+        path.o = sp.p + sp.ng * RAY_EPSILON;
+        path.d = l;
+        true
     }
 }
 
-/// Trace batches until converged (render::truth's module comment), on every core.
+/// What a light or the environment adds at a point unless its shadow ray is blocked.
+struct LightSample {
+    l: DVec3,
+    distance: f64,
+    radiance: DVec3,
+}
+
+/// One path between bounces: its ray, its throughput and sum so far, the density its ray was
+/// drawn with (None: a camera's or probe's), and the object of its first hit.
+struct PathState {
+    o: DVec3,
+    d: DVec3,
+    throughput: DVec3,
+    c: DVec3,
+    last_pdf: Option<f64>,
+    first_object: Option<usize>,
+}
+
+impl PathState {
+    fn new(o: DVec3, d: DVec3, last_pdf: Option<f64>) -> PathState {
+        PathState { o, d, throughput: DVec3::ONE, c: DVec3::ZERO, last_pdf, first_object: None }
+    }
+}
+
+/// Trace batches until converged (render::truth's module comment), on every core: the samples
+/// of a pixel eight at a time in lockstep where the scene allows (`lanes`), else one by one.
 pub fn trace(scene: &CpuScene, inputs: &CpuTruthInputs, settings: &TruthSettings) -> Result<Truth, Error> {
+    trace_paths(scene, inputs, settings, true)
+}
+
+/// `trace`, with the lockstep tracer allowed or not (the tests compare the two).
+fn trace_paths(
+    scene: &CpuScene,
+    inputs: &CpuTruthInputs,
+    settings: &TruthSettings,
+    allow_lockstep: bool,
+) -> Result<Truth, Error> {
     let start = std::time::Instant::now();
     let tracer = Tracer::new(scene, inputs, settings.bounces, settings.roulette);
+    let lockstep = allow_lockstep && tracer.lockstep();
     let (width, height) = inputs.size;
     let pixels = (width * height) as usize;
     // Per pixel: the sum (rgb) and count (w), then the sum of squares, as the GPU accumulates.
@@ -843,12 +932,11 @@ pub fn trace(scene: &CpuScene, inputs: &CpuTruthInputs, settings: &TruthSettings
             |(y, (row, row_roles))| {
                 for x in 0..width as usize {
                     let index = (y * width as usize + x) as u32;
-                    for k in 0..count {
-                        let mut rng = match settings.sampler {
-                            TruthSampler::Independent => Rng::new(index, done + k),
-                            TruthSampler::Sobol => Rng::sobol(index, done + k),
-                        };
-                        let (mut c, first) = tracer.path(x as u32, y as u32, &mut rng);
+                    let rng = |k: u32| match settings.sampler {
+                        TruthSampler::Independent => Rng::new(index, done + k),
+                        TruthSampler::Sobol => Rng::sobol(index, done + k),
+                    };
+                    let mut add = |(mut c, first): (DVec3, Option<usize>)| {
                         row_roles[x] = role_of(first);
                         // A NaN or infinite sample (a model's singularity) counts as 0, as on the GPU.
                         if !c.is_finite() || c.abs().max_element() > 1e30 {
@@ -858,6 +946,15 @@ pub fn trace(scene: &CpuScene, inputs: &CpuTruthInputs, settings: &TruthSettings
                         *s = [s[0] + c.x, s[1] + c.y, s[2] + c.z, s[3] + 1.0];
                         let sq = &mut row[2 * x + 1];
                         *sq = [sq[0] + q.x, sq[1] + q.y, sq[2] + q.z, 0.0];
+                    };
+                    if !lockstep {
+                        (0..count).for_each(|k| add(tracer.path(x as u32, y as u32, &mut rng(k))));
+                        continue;
+                    }
+                    for first in (0..count).step_by(lanes::LANES) {
+                        let n = (count - first).min(lanes::LANES as u32) as usize;
+                        let mut rngs: [Rng; lanes::LANES] = std::array::from_fn(|i| rng(first + i as u32));
+                        tracer.paths(x as u32, y as u32, &mut rngs[..n]).into_iter().take(n).for_each(&mut add);
                     }
                 }
             },
