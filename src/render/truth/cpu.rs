@@ -5,7 +5,9 @@
 //! exactly (shadow ray, the pipeline's attenuation or the physical inverse square), the
 //! environment importance-sampled from the same tables as the GPU's and weighed against the
 //! surface's sampling by the power heuristic, and a continuation drawn from the surface, up to
-//! `bounces` times. Same inputs as the GPU's: the frame and object uniforms the cell wrote.
+//! `bounces` times. Same inputs as the GPU's: the frame and object uniforms the cell wrote. Where
+//! no ray can pass a surface, a pixel's samples are traced eight at a time in lockstep (`lanes`),
+//! each the path the one-at-a-time tracer draws, to the bit.
 //!
 //! Why a CPU tracer at all: on a CPU adapter (llvmpipe) the GPU tracer runs the same arithmetic
 //! through a shader JIT at ~0.2 M paths/s; here rayon spreads the rows over the cores with no
