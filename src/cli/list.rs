@@ -147,7 +147,7 @@ fn lod_plan(m: &Matrix, scene: &crate::declarations::scene::Scene, meshes: &[cra
 /// cell's).
 fn light_plan(m: &Matrix, scene: &crate::declarations::scene::Scene) -> String {
     let mut out = String::new();
-    let meshes = match crate::geometry::procedural::build_scene(scene) {
+    let meshes = match crate::geometry::procedural::build_scene_shapes(scene) {
         Ok(meshes) => meshes,
         Err(e) => {
             let _ = writeln!(out, "  lights: cannot place the objects ({e})");

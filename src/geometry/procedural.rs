@@ -73,6 +73,18 @@ pub fn build(spec: &MeshSpec, base_dir: Option<&Path>, origin: &str, key: &str) 
 
 /// Every object's mesh of a scene in object space, in object order (generated in parallel).
 pub fn build_scene(scene: &crate::declarations::scene::Scene) -> Result<Vec<Mesh>, Error> {
+    build_scene_meshes(scene, true)
+}
+
+/// Every object's shape (positions and normals as `build_scene` gives them) for what reads only
+/// where the objects are, their bounds and centres (`shadematrix list`): without the tangent
+/// frames and texture coordinates their materials ask for, which on a dense mesh cost more than
+/// the mesh itself.
+pub fn build_scene_shapes(scene: &crate::declarations::scene::Scene) -> Result<Vec<Mesh>, Error> {
+    build_scene_meshes(scene, false)
+}
+
+fn build_scene_meshes(scene: &crate::declarations::scene::Scene, materials: bool) -> Result<Vec<Mesh>, Error> {
     use rayon::prelude::*;
     // A glTF scene's primitives: each file read once, not once per object.
     let mut files: std::collections::HashMap<&str, std::collections::HashMap<(usize, usize), Mesh>> =
@@ -100,7 +112,9 @@ pub fn build_scene(scene: &crate::declarations::scene::Scene) -> Result<Vec<Mesh
                 Some(m) => m,
                 None => build(&o.mesh, scene.base_dir.as_deref(), &scene.origin, &key)?,
             };
-            with_material_uvs(o, &mut mesh);
+            if materials {
+                with_material_uvs(o, &mut mesh);
+            }
             Ok(mesh)
         })
         .collect()
@@ -377,6 +391,29 @@ impl MedusaField {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn shapes_are_the_scene_meshes_where_they_stand() {
+        // What `list` places lights and LOD groups by: the same positions, normals and triangles
+        // as the meshes the renderer draws, on compositions whose materials ask for tangents and
+        // tiled maps (the subject's, and composite's mapped fixed objects).
+        for name in ["default", "mitsuba", "composite"] {
+            let scene = crate::declarations::scene::Scene::load(name, None, "t", "k").unwrap();
+            let (shapes, meshes) = (build_scene_shapes(&scene).unwrap(), build_scene(&scene).unwrap());
+            assert_eq!(shapes.len(), meshes.len());
+            let mut dressed = 0;
+            for (shape, mesh) in shapes.iter().zip(&meshes) {
+                assert_eq!(shape.indices, mesh.indices, "{name}");
+                let at = |m: &Mesh| m.vertices.iter().map(|v| (v.position, v.normal)).collect::<Vec<_>>();
+                assert_eq!(at(shape), at(mesh), "{name}");
+                assert_eq!(shape.bounds(), mesh.bounds());
+                dressed +=
+                    shape.vertices.iter().zip(&mesh.vertices).any(|(a, b)| a.tangent != b.tangent || a.uv != b.uv)
+                        as usize;
+            }
+            assert!(dressed > 0, "{name}: no mesh the materials change");
+        }
+    }
 
     fn check_gradient(f: impl Fn(f64, f64) -> (f64, f64, f64), points: &[(f64, f64)]) {
         let e = 1e-7;
