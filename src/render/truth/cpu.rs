@@ -349,12 +349,13 @@ impl CpuScene {
         let scene = self.rays.as_ref()?;
         let mut ray = embree3::RayHit::from(Self::ray(o, d, t_max));
         scene.intersect(&mut embree3::IntersectContext::incoherent(), &mut ray);
-        if !ray.hit.is_valid() {
-            return None;
-        }
-        let triangle = ray.hit.primID as usize;
+        ray.hit.is_valid().then(|| self.hit(o, d, ray.hit.primID as usize))
+    }
+
+    /// The hit of o + t·d on the triangle Embree reports, placed in f64.
+    fn hit(&self, o: DVec3, d: DVec3, triangle: usize) -> Hit {
         let (b1, b2) = self.barycentrics(o, d, triangle);
-        Some(Hit { triangle, b1, b2 })
+        Hit { triangle, b1, b2 }
     }
 
     /// Whether anything lies along o + t·d for t in (ε, t_max): a shadow ray.

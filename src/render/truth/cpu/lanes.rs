@@ -28,15 +28,14 @@ impl Mask {
     }
 }
 
-/// A packet of rays from (o, d) over (ε, t_max), as `CpuScene::ray` builds one.
+/// A packet of the rays `CpuScene::ray` builds from each lane's (o, d, t_max).
 fn packet(o: &[DVec3; LANES], d: &[DVec3; LANES], t_max: &[f64; LANES]) -> embree3::Ray8 {
     let mut r = embree3::Ray8::empty();
     for i in 0..LANES {
-        let ([ox, oy, oz], [dx, dy, dz]) = (super::f3(o[i]), super::f3(d[i]));
-        (r.org_x[i], r.org_y[i], r.org_z[i]) = (ox, oy, oz);
-        (r.dir_x[i], r.dir_y[i], r.dir_z[i]) = (dx, dy, dz);
-        r.tnear[i] = RAY_EPSILON as f32;
-        r.tfar[i] = t_max[i].min(f32::MAX as f64) as f32;
+        let one = CpuScene::ray(o[i], d[i], t_max[i]);
+        (r.org_x[i], r.org_y[i], r.org_z[i]) = (one.org_x, one.org_y, one.org_z);
+        (r.dir_x[i], r.dir_y[i], r.dir_z[i]) = (one.dir_x, one.dir_y, one.dir_z);
+        (r.tnear[i], r.tfar[i]) = (one.tnear, one.tfar);
     }
     r
 }
@@ -57,11 +56,8 @@ impl CpuScene {
             if coherent { embree3::IntersectContext::coherent() } else { embree3::IntersectContext::incoherent() };
         scene.intersect8(&mut context, &mut rays, &Mask::of(live).0);
         std::array::from_fn(|i| {
-            (live[i] && rays.hit.geomID[i] != embree3::INVALID_ID).then(|| {
-                let triangle = rays.hit.primID[i] as usize;
-                let (b1, b2) = self.barycentrics(o[i], d[i], triangle);
-                Hit { triangle, b1, b2 }
-            })
+            (live[i] && rays.hit.geomID[i] != embree3::INVALID_ID)
+                .then(|| self.hit(o[i], d[i], rays.hit.primID[i] as usize))
         })
     }
 
