@@ -25,11 +25,13 @@ pub struct CpuEnvironment {
     guide: Vec<u16>,
 }
 
-/// One texel: its radiance (unscaled) and the row's conditional cdf at its end.
+/// One texel: its radiance (unscaled) and the row's conditional cdf at its start and end — the
+/// start a copy of the texel before's end, so that a density reads one record, not two.
 #[derive(Debug, Clone, Copy)]
 #[repr(C, align(32))]
 struct EnvironmentTexel {
     radiance: DVec3,
+    cdf_start: f32,
     cdf_end: f32,
 }
 
@@ -53,7 +55,11 @@ impl CpuEnvironment {
         assert!(w <= 1 << 16 && h <= 1 << 16, "an environment of {w}×{h} outgrows the guide's u16 bins");
         let conditional = |y: usize, x: usize| cdf[(h + 1) + y * (w + 1) + x];
         let texels = (0..w * h)
-            .map(|i| EnvironmentTexel { radiance: image.texels[i], cdf_end: conditional(i / w, i % w + 1) })
+            .map(|i| EnvironmentTexel {
+                radiance: image.texels[i],
+                cdf_start: conditional(i / w, i % w),
+                cdf_end: conditional(i / w, i % w + 1),
+            })
             .collect();
         let search = |at: &dyn Fn(usize) -> f32, n: usize, u: f64| {
             // The bin k with cdf[k] ≤ u < cdf[k + 1]: rays.wgsl `find_bin`, a binary search.
@@ -95,10 +101,10 @@ impl CpuEnvironment {
     /// Solid-angle density of drawing d from texel i (rays.wgsl `env_pdf`).
     fn pdf_at(&self, i: usize, d: DVec3) -> f64 {
         let (w, h) = (self.width, self.height);
-        let (x, y) = (i % w, i / w);
+        let y = i / w;
         let row = (self.rows[y + 1] - self.rows[y]) as f64;
-        let start = if x == 0 { 0.0 } else { self.texels[i - 1].cdf_end };
-        let col = (self.texels[i].cdf_end - start) as f64;
+        let texel = &self.texels[i];
+        let col = (texel.cdf_end - texel.cdf_start) as f64;
         let sin_theta = (1.0 - d.y * d.y).max(1e-12).sqrt();
         row * col * (w * h) as f64 / (2.0 * PI * PI * sin_theta)
     }

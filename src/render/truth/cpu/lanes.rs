@@ -103,6 +103,12 @@ impl Tracer<'_> {
                 break;
             }
             let hits = self.scene.trace8(&paths.each(|p| p.o), &paths.each(|p| p.d), &live, bounce == 0);
+            // Every lane's environment sample is begun before any point is built, so that the
+            // guide entries its prefetches ask for arrive while the eight points are built.
+            let mut environments: [Option<PendingEnvironmentSample>; LANES] = std::array::from_fn(|i| {
+                let drawn = live[i] && hits[i].is_some() && bounce != last && self.env_scale > 0.0;
+                drawn.then(|| env.begin_sample(&mut rngs[i]))
+            });
             for (i, (path, hit)) in paths.iter_mut().zip(hits).enumerate() {
                 points[i] = None;
                 if !live[i] {
@@ -113,7 +119,7 @@ impl Tracer<'_> {
                     live[i] = false;
                     continue;
                 };
-                let environment = (bounce != last && self.env_scale > 0.0).then(|| env.begin_sample(&mut rngs[i]));
+                let environment = environments[i].take();
                 let sp = self.surface_at(&hit, path.d);
                 if let Some(pending) = &environment {
                     env.prefetch_texel(pending);
