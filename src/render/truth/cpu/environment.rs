@@ -11,7 +11,7 @@ use crate::environment::prefilter::EquirectImage;
 /// (`super::environment_tables`), unscaled, laid out so that a sample costs one or two cache
 /// lines, not the ten of a binary search over the tables plus the texel's: a guide table per
 /// distribution starts the search for a bin at it (Chen and Asau 1974, as many guide entries as
-/// bins), and each texel's record holds its radiance beside the end of its bin in the row's cdf.
+/// bins), and each texel's record holds its radiance beside its bin's start and end in the row's cdf.
 /// The bin found is the one the GPU's binary search finds.
 pub struct CpuEnvironment {
     width: usize,
