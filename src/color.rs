@@ -3,6 +3,13 @@
 /// Smallest normal half-precision value, 2⁻¹⁴ (URP's HALF_MIN).
 pub const HALF_MIN: f64 = 6.103_515_625e-5;
 
+/// CIE XYZ to linear Rec. 709 (sRGB) primaries, D65, by rows (core Color.hlsl XYZ_2_REC709_MAT).
+pub const XYZ_TO_REC709: [[f64; 3]; 3] = [
+    [3.2409699419, -1.5373831776, -0.4986107603],
+    [-0.9692436363, 1.8759675015, 0.0415550574],
+    [0.0556300797, -0.2039769589, 1.0569715142],
+];
+
 /// sRGB decode (IEC 61966-2-1), extended above 1 with the same power law.
 pub fn srgb_to_linear(c: f64) -> f64 {
     if c <= 0.04045 {

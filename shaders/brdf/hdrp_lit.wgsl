@@ -1,7 +1,9 @@
 // HDRP Lit (models.md#hdrp-lit): renormalised Disney diffuse, height-correlated Smith GGX (DV_SmithJointGGX),
 // F_Schlick with F90 = 1, GGX energy compensation from the pre-integrated FGD table (fgd_lookup,
 // computed by the tool). params0.x: energy compensation on (1, default) or off (0); params0.y: the
-// Specular Color material type (1) or Standard (0, default).
+// Specular Color material type (1) or Standard (0, default); params0.z: the coat mask (clear coat
+// on above 0); params0.w: the iridescence mask (the Iridescence material type above 0); params1.x:
+// the iridescence thickness (HDRP's _IridescenceThickness, 0–1, default 1).
 // Physical units: E in lux, radiance = f·E·NL.
 
 const HDRP_FLT_EPS: f32 = 5.960464478e-8;
@@ -59,13 +61,145 @@ fn hdrp_diffuse_color(s: Surface) -> vec3<f32> {
     return s.base_color * (1.0 - s.metallic) * diffuse_weight;
 }
 
-// Specular multiplier 1 + F0·(1/y − 1), y = reflectivity from the FGD table (models.md#hdrp-lit)
-fn hdrp_energy_compensation(s: Surface, clamped_nv: f32) -> vec3<f32> {
+// Specular multiplier 1 + F0·(1/y − 1), y = reflectivity from the FGD table at the material's perceptual
+// roughness, F0 the fresnel0 its features left (models.md#hdrp-lit; PostEvaluateBSDF)
+fn hdrp_energy_compensation(s: Surface, b: HdrpBsdfData, clamped_nv: f32) -> vec3<f32> {
     if (s.params0.x < 0.5) {
         return vec3<f32>(1.0);
     }
-    let y = fgd_lookup(clamped_nv, 1.0 - s.smoothness).y;
-    return vec3<f32>(1.0) + hdrp_f0(s) * (1.0 / y - 1.0);
+    let y = fgd_lookup(clamped_nv, b.perceptual_roughness).y;
+    return vec3<f32>(1.0) + b.fresnel0 * (1.0 / y - 1.0);
+}
+
+// The clear coat (core CommonMaterial.hlsl): IOR 1.5, F0 = IorToFresnel0(1.5), GGX roughness 0.01
+const CLEAR_COAT_IOR: f32 = 1.5;
+const CLEAR_COAT_F0: f32 = 0.04;
+const CLEAR_COAT_ROUGHNESS: f32 = 0.01;
+
+// (1 − F0)·x⁵ + F0, x = 1 − u: F_Schlick for a scalar F0, F90 = 1 (core BSDF.hlsl)
+fn f_schlick_scalar(f0: f32, u: f32) -> f32 {
+    return (1.0 - f0) * pow5(1.0 - u) + f0;
+}
+
+// RoughnessToVariance: 2/α² − 2 (CommonMaterial.hlsl)
+fn roughness_to_variance(a: f32) -> f32 {
+    return 2.0 / (a * a) - 2.0;
+}
+
+// VarianceToRoughness: √(2/(σ + 2)) (CommonMaterial.hlsl)
+fn variance_to_roughness(variance: f32) -> f32 {
+    return sqrt(2.0 / (variance + 2.0));
+}
+
+// FillMaterialClearCoatData: √VarianceToRoughness(RoughnessToVariance(pr²)·ieta²), ieta = lerp(1, 1/1.5, mask)
+fn clear_coat_perceptual_roughness(pr: f32, coat_mask: f32) -> f32 {
+    let ieta = 1.0 + (1.0 / CLEAR_COAT_IOR - 1.0) * coat_mask;
+    return sqrt(variance_to_roughness(roughness_to_variance(pr * pr) * ieta * ieta));
+}
+
+// ConvertF0ForAirInterfaceToF0ForClearCoat15: sat(−0.0256868 + F0·(0.326846 + (0.978946 − 0.283835·F0)·F0)) (core BSDF.hlsl)
+fn convert_f0_for_air_interface_to_f0_for_clear_coat15(f0: vec3<f32>) -> vec3<f32> {
+    return sat3(vec3<f32>(-0.0256868) + f0 * (vec3<f32>(0.326846) + (vec3<f32>(0.978946) - 0.283835 * f0) * f0));
+}
+
+// EvalSensitivity (Belcour & Barla 2017, core BSDF.hlsl): XYZ matching Gaussians in Fourier space at OPD (µm), in linear Rec. 709
+fn eval_sensitivity(opd: f32, shift: f32) -> vec3<f32> {
+    let phase = 2.0 * PI * opd * 1e-6;
+    let val = vec3<f32>(5.4856e-13, 4.4201e-13, 5.2481e-13);
+    let pos = vec3<f32>(1.6810e+06, 1.7953e+06, 2.2084e+06);
+    let var_ = vec3<f32>(4.3278e+09, 9.3046e+09, 6.6121e+09);
+    var xyz = val * sqrt(2.0 * PI * var_) * cos(pos * phase + vec3<f32>(shift)) * exp(-var_ * phase * phase);
+    xyz.x += 9.7470e-14 * sqrt(2.0 * PI * 4.5282e+09) * cos(2.2399e+06 * phase + shift) * exp(-4.5282e+09 * phase * phase);
+    xyz /= 1.0685e-7;
+    // XYZ_2_REC709_MAT (core Color.hlsl), by rows
+    return vec3<f32>(
+        dot(vec3<f32>(3.2409699419, -1.5373831776, -0.4986107603), xyz),
+        dot(vec3<f32>(-0.9692436363, 1.8759675015, 0.0415550574), xyz),
+        dot(vec3<f32>(0.0556300797, -0.2039769589, 1.0569715142), xyz),
+    );
+}
+
+// EvalIridescence (core BSDF.hlsl): a film of optical thickness 3·t µm and IOR lerp(2, 1, t) under IOR eta_1,
+// over F0; Schlick at both interfaces, the Airy sum to m = 2, clamped at 0; 1 under total internal reflection
+fn eval_iridescence(eta_1: f32, cos_theta1: f32, thickness: f32, f0: vec3<f32>) -> vec3<f32> {
+    let d_inc = 3.0 * thickness;
+    let eta_2 = 2.0 + (1.0 - 2.0) * thickness;
+    let ratio = eta_1 / eta_2;
+    let sin_theta2_sq = ratio * ratio * (1.0 - cos_theta1 * cos_theta1);
+    let cos_theta2_sq = 1.0 - sin_theta2_sq;
+    if (cos_theta2_sq < 0.0) {
+        return vec3<f32>(1.0);
+    }
+    let cos_theta2 = sqrt(cos_theta2_sq);
+    let r0_ratio = (eta_2 - eta_1) / (eta_2 + eta_1);
+    let r12 = f_schlick_scalar(r0_ratio * r0_ratio, cos_theta1);
+    let t121 = 1.0 - r12;
+    let phi = PI;
+    let x5 = pow5(1.0 - cos_theta2);
+    let r23 = f0 * (1.0 - x5) + vec3<f32>(x5);
+    let opd = d_inc * cos_theta2;
+    let r123 = clamp(r12 * r23, vec3<f32>(1e-5), vec3<f32>(0.9999));
+    let r123_sqrt = sqrt(r123);
+    let rs = t121 * t121 * r23 / (vec3<f32>(1.0) - r123);
+    var i = vec3<f32>(r12) + rs;
+    var cm = rs - vec3<f32>(t121);
+    for (var m = 1; m <= 2; m++) {
+        cm *= r123_sqrt;
+        let sm = 2.0 * eval_sensitivity(f32(m) * opd, f32(m) * phi);
+        i += cm * sm;
+    }
+    return max(i, vec3<f32>(0.0));
+}
+
+// BSDFData after the material features, with the PreLightData terms they set (Lit.hlsl
+// ConvertSurfaceDataToBSDFData, FillMaterialClearCoatData, GetPreLightData)
+struct HdrpBsdfData {
+    // fresnel0 after iridescence, then the coat, changed it
+    fresnel0: vec3<f32>,
+    // perceptualRoughness after the coat's: the IBL, FGD, LTC and diffuse read it
+    perceptual_roughness: f32,
+    coat_mask: f32,
+    // coatIblF = F_Schlick(CLEAR_COAT_F0, clampedNdotV)·coatMask
+    coat_ibl_f: f32,
+    iridescence_mask: f32,
+};
+
+// A feature is on where its mask is above 0 (the inspector compiles _MATERIAL_FEATURE_CLEAR_COAT so);
+// at mask 0 the surface is left as it is
+fn hdrp_bsdf_data(s: Surface, nv: f32) -> HdrpBsdfData {
+    let clamped_nv = clamp_n_dot_v(nv);
+    let coat_mask = s.params0.z;
+    let iridescence_mask = s.params0.w;
+    var b: HdrpBsdfData;
+    b.fresnel0 = hdrp_f0(s);
+    b.perceptual_roughness = 1.0 - s.smoothness;
+    b.coat_mask = coat_mask;
+    b.coat_ibl_f = 0.0;
+    b.iridescence_mask = iridescence_mask;
+    if (coat_mask > 0.0) {
+        b.perceptual_roughness = clear_coat_perceptual_roughness(b.perceptual_roughness, coat_mask);
+    }
+    if (iridescence_mask > 0.0) {
+        // Under the coat the film sees the view direction refracted into IOR lerp(1, 1.5, mask)
+        var top_ior = 1.0;
+        var view_angle = clamped_nv;
+        if (coat_mask > 0.0) {
+            top_ior = 1.0 + (CLEAR_COAT_IOR - 1.0) * coat_mask;
+            view_angle = sqrt(1.0 + (1.0 / top_ior) * (1.0 / top_ior) * (nv * nv - 1.0));
+        }
+        let film = eval_iridescence(top_ior, view_angle, s.params1.x, b.fresnel0);
+        b.fresnel0 = mix(b.fresnel0, film, iridescence_mask);
+    }
+    if (coat_mask > 0.0) {
+        b.fresnel0 = mix(b.fresnel0, convert_f0_for_air_interface_to_f0_for_clear_coat15(b.fresnel0), coat_mask);
+        b.coat_ibl_f = f_schlick_scalar(CLEAR_COAT_F0, clamped_nv) * coat_mask;
+    }
+    return b;
+}
+
+// F_Schlick(CLEAR_COAT_F0, LH)·coatMask: the coat's Fresnel per light (EvaluateBSDF)
+fn coat_fresnel(lh: f32, coat_mask: f32) -> f32 {
+    return f_schlick_scalar(CLEAR_COAT_F0, lh) * coat_mask;
 }
 
 // GetSpecularDominantDir (Frostbite, p. 69): a = 1 − pr², lerp(N, R, (√a + pr²)·sat(a² + lerp(0, a, NV²)))
@@ -96,28 +230,53 @@ fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f3
     let inv_len = inverseSqrt(max(2.0 * lv + 2.0, HDRP_FLT_EPS));
     let nh = sat((nl + nv) * inv_len);
     let lh = sat(inv_len * lv + inv_len);
-    let pr = 1.0 - s.smoothness;
+    let b = hdrp_bsdf_data(s, nv);
+    let pr = b.perceptual_roughness;
     let a_material = pr * pr;
     let a = max(a_material, light_min_roughness);
-    let f0 = hdrp_f0(s);
+    var f = f_schlick_f90(b.fresnel0, 1.0, lh);
+    if (b.iridescence_mask > 0.0) {
+        // The film's Fresnel is taken at NV once (GetPreLightData), not per light at LH
+        f = mix(f, b.fresnel0, b.iridescence_mask);
+    }
     let part_lambda_v = smith_joint_ggx_part_lambda_v(clamped_nv, a_material);
-    let dv = dv_smith_joint_ggx(nh, abs(nl), clamped_nv, a, part_lambda_v);
-    let spec = f_schlick_f90(f0, 1.0, lh) * dv * hdrp_energy_compensation(s, clamped_nv);
-    let diffuse = hdrp_diffuse_color(s) * INV_PI * fd_disney_renormalized_no_pi(abs(nl), clamped_nv, lv, pr);
+    var spec = f * dv_smith_joint_ggx(nh, abs(nl), clamped_nv, a, part_lambda_v);
+    var diffuse = hdrp_diffuse_color(s) * INV_PI * fd_disney_renormalized_no_pi(abs(nl), clamped_nv, lv, pr);
+    if (b.coat_mask > 0.0) {
+        let coat_f = coat_fresnel(lh, b.coat_mask);
+        let coat_a = max(CLEAR_COAT_ROUGHNESS, light_min_roughness);
+        let coat_part_lambda_v = smith_joint_ggx_part_lambda_v(clamped_nv, CLEAR_COAT_ROUGHNESS);
+        spec = spec * ((1.0 - coat_f) * (1.0 - coat_f))
+            + vec3<f32>(coat_f * dv_smith_joint_ggx(nh, abs(nl), clamped_nv, coat_a, coat_part_lambda_v));
+        diffuse *= 1.0 - coat_f * b.coat_mask;
+    }
+    spec *= hdrp_energy_compensation(s, b, clamped_nv);
     return direct_diffuse(diffuse * sat(nl)) + direct_specular(spec * sat(nl));
 }
 
 fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>) -> vec3<f32> {
-    let clamped_nv = clamp_n_dot_v(dot(n, v));
-    let pr = 1.0 - s.smoothness;
+    let nv = dot(n, v);
+    let clamped_nv = clamp_n_dot_v(nv);
+    let b = hdrp_bsdf_data(s, nv);
+    let pr = b.perceptual_roughness;
     let fgd = fgd_lookup(clamped_nv, pr);
-    let f0 = hdrp_f0(s);
+    let f0 = b.fresnel0;
     // specularFGD = (F90 − F0)·x + F0·y; diffuseFGD = z + 0.5 (the table stores z − 0.5)
     let specular_fgd = (vec3<f32>(1.0) - f0) * fgd.x + f0 * fgd.y;
     let diffuse_fgd = fgd.z + 0.5;
-    let env = env_specular(hdrp_ibl_direction(n, v, pr, clamped_nv), pr);
+    var coat = vec3<f32>(0.0);
+    if (b.coat_mask > 0.0) {
+        // EvaluateBSDF_Env: the coat's mirror fetch along reflect(−V, N) at mip 0, fetched before the
+        // base's so that the probe pass records the base's direction
+        coat = b.coat_ibl_f * env_specular(reflect(-v, n), 0.0);
+    }
+    var spec = specular_fgd * env_specular(hdrp_ibl_direction(n, v, pr, clamped_nv), pr);
+    if (b.coat_mask > 0.0) {
+        // The base through the coat twice; the baked diffuse is not attenuated
+        spec = spec * ((1.0 - b.coat_ibl_f) * (1.0 - b.coat_ibl_f)) + coat;
+    }
     return indirect_diffuse(hdrp_diffuse_color(s) * gi_diffuse * diffuse_fgd)
-        + indirect_specular(specular_fgd * env * hdrp_energy_compensation(s, clamped_nv));
+        + indirect_specular(spec * hdrp_energy_compensation(s, b, clamped_nv));
 }
 
 // The LTC tables below the FGD table (`fgd_lut`, declared by the pass)
@@ -131,14 +290,23 @@ fn ltc_lookup(row: i32, clamped_nv: f32, pr: f32) -> mat3x3<f32> {
 fn model_rect(s: Surface, n: vec3<f32>, v: vec3<f32>, corners: array<vec3<f32>, 4>) -> vec3<f32> {
     let nv = dot(n, v);
     let clamped_nv = clamp_n_dot_v(nv);
-    let pr = 1.0 - s.smoothness;
+    let b = hdrp_bsdf_data(s, nv);
+    let pr = b.perceptual_roughness;
     let basis = ortho_basis_view_normal(v, n, nv);
     let ltc_diffuse = polygon_irradiance(polygon_form_factor(ltc_transform(corners, ltc_lookup(LTC_DISNEY_ROW, clamped_nv, pr) * basis)));
     let ltc_specular = polygon_irradiance(polygon_form_factor(ltc_transform(corners, ltc_lookup(LTC_GGX_ROW, clamped_nv, pr) * basis)));
     let fgd = fgd_lookup(clamped_nv, pr);
-    let f0 = hdrp_f0(s);
+    let f0 = b.fresnel0;
     let specular_fgd = (vec3<f32>(1.0) - f0) * fgd.x + f0 * fgd.y;
     let diffuse_fgd = fgd.z + 0.5;
-    return direct_diffuse(hdrp_diffuse_color(s) * diffuse_fgd * ltc_diffuse)
-        + direct_specular(specular_fgd * ltc_specular * hdrp_energy_compensation(s, clamped_nv));
+    var diffuse = hdrp_diffuse_color(s) * diffuse_fgd * ltc_diffuse;
+    var spec = specular_fgd * ltc_specular;
+    if (b.coat_mask > 0.0) {
+        // EvaluateBSDF_Rect: both lobes × (1 − coatIblF), the coat's GGX LTC at its own roughness
+        let coat_pr = sqrt(CLEAR_COAT_ROUGHNESS);
+        let ltc_coat = polygon_irradiance(polygon_form_factor(ltc_transform(corners, ltc_lookup(LTC_GGX_ROW, clamped_nv, coat_pr) * basis)));
+        diffuse *= 1.0 - b.coat_ibl_f;
+        spec = spec * (1.0 - b.coat_ibl_f) + vec3<f32>(b.coat_ibl_f * ltc_coat);
+    }
+    return direct_diffuse(diffuse) + direct_specular(spec * hdrp_energy_compensation(s, b, clamped_nv));
 }

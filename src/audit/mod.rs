@@ -285,10 +285,16 @@ pub fn twin_albedo(
 }
 
 pub fn mis_directions(v: DVec3, alpha: f64, n: u32) -> (Vec<DVec3>, Vec<f64>) {
-    let half = n / 2;
-    let a2 = alpha * alpha;
+    mis_directions_lobes(v, &[alpha], n)
+}
+
+/// `mis_directions` with one GGX strategy per α in `alphas` beside the cosine lobe, sample i from
+/// strategy i mod (1 + len): a layered model's sharp lobe (a clear coat) is found too.
+pub fn mis_directions_lobes(v: DVec3, alphas: &[f64], n: u32) -> (Vec<DVec3>, Vec<f64>) {
+    let strategies = 1 + alphas.len() as u32;
+    let per_strategy = n / strategies;
     let pdf_cos = |l: DVec3| l.y.max(0.0) / std::f64::consts::PI;
-    let pdf_ggx = |l: DVec3| {
+    let pdf_ggx = |l: DVec3, a2: f64| {
         let h = (l + v).normalize_or_zero();
         let (nh, vh) = (h.y.max(0.0), v.dot(h));
         if vh <= 0.0 {
@@ -299,15 +305,17 @@ pub fn mis_directions(v: DVec3, alpha: f64, n: u32) -> (Vec<DVec3>, Vec<f64>) {
     };
     let (mut dirs, mut weights) = (Vec::with_capacity(n as usize), Vec::with_capacity(n as usize));
     for i in 0..n {
-        let (u1, u2) = hammersley(i / 2, half);
-        let l = if i % 2 == 0 {
+        let (u1, u2) = hammersley(i / strategies, per_strategy);
+        let strategy = (i % strategies) as usize;
+        let l = if strategy == 0 {
             around_y((1.0 - u1).sqrt(), TAU * u2)
         } else {
+            let a2 = alphas[strategy - 1] * alphas[strategy - 1];
             let cos_h = ((1.0 - u1) / (1.0 + (a2 - 1.0) * u1)).sqrt();
             let h = around_y(cos_h, TAU * u2);
             2.0 * v.dot(h) * h - v
         };
-        let p = 0.5 * pdf_cos(l) + 0.5 * pdf_ggx(l);
+        let p = (pdf_cos(l) + alphas.iter().map(|a| pdf_ggx(l, a * a)).sum::<f64>()) / strategies as f64;
         if l.y > 0.0 && p > 0.0 {
             dirs.push(l);
             weights.push(1.0 / p);

@@ -402,6 +402,45 @@ const SPECULAR_HIGHLIGHTS_TOGGLE: ParamSpec = ParamSpec {
 /// HDRP Lit's: slot 0 is its energy compensation.
 const SPECULAR_SETUP_HDRP: ParamSpec = specular_setup(1);
 
+/// HDRP Lit's Coat Mask (`_CoatMask`, 0 in a new material; above 0 the inspector compiles
+/// `_MATERIAL_FEATURE_CLEAR_COAT`): an IOR 1.5, roughness 0.01 layer over the base (Lit.hlsl).
+const COAT_MASK: ParamSpec = ParamSpec {
+    name: Cow::Borrowed("coat_mask"),
+    slot: twin::COAT_MASK_SLOT,
+    default: 0.0,
+    min: 0.0,
+    max: 1.0,
+    doc: Cow::Borrowed(
+        "HDRP's clear coat over the base: F0 0.04, α 0.01, the base rougher and its F0 seen from IOR 1.5, as Lit.hlsl splits the energy; 0 (default): no coat",
+    ),
+};
+
+/// HDRP Lit's Iridescence material type, by its mask (`_IridescenceMask`, 1 when the type is
+/// chosen): 0 is the Standard type, above 0 the thin film's F0 blended in by the mask.
+const IRIDESCENCE_MASK: ParamSpec = ParamSpec {
+    name: Cow::Borrowed("iridescence_mask"),
+    slot: twin::IRIDESCENCE_MASK_SLOT,
+    default: 0.0,
+    min: 0.0,
+    max: 1.0,
+    doc: Cow::Borrowed(
+        "the Iridescence material type: F0 → lerp(F0, EvalIridescence(…), mask), the film's Fresnel at NV for every light; 0 (default): the Standard type",
+    ),
+};
+
+/// HDRP Lit's `_IridescenceThickness` (0–1, default 1): a film of 3·t µm optical thickness and
+/// IOR lerp(2, 1, t) (core BSDF.hlsl EvalIridescence).
+const IRIDESCENCE_THICKNESS: ParamSpec = ParamSpec {
+    name: Cow::Borrowed("iridescence_thickness"),
+    slot: twin::IRIDESCENCE_THICKNESS_SLOT,
+    default: 1.0,
+    min: 0.0,
+    max: 1.0,
+    doc: Cow::Borrowed(
+        "the thin film's thickness t: optical path 3·t µm, IOR lerp(2, 1, t); read only with iridescence_mask above 0",
+    ),
+};
+
 /// The name of the height map's scale parameter: it moves the material's maps, so a cell without
 /// maps draws the same image whatever its value (cells::render_key).
 pub const PARALLAX_PARAM: &str = "parallax";
@@ -881,7 +920,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         reads: ALL_AXES,
         expected: HDRP_LIT,
         twin: &twin::HdrpLit,
-        params: &[ENERGY_COMPENSATION, SPECULAR_SETUP_HDRP],
+        params: &[ENERGY_COMPENSATION, SPECULAR_SETUP_HDRP, COAT_MASK, IRIDESCENCE_MASK, IRIDESCENCE_THICKNESS],
         mapping: METALLIC_WORKFLOW,
         from_sliders: metallic_workflow,
         summary: "HDRP Lit: renormalised Disney diffuse, height-correlated Smith GGX, F_Schlick(f90), FGD energy compensation (models.md#hdrp-lit)",

@@ -21,6 +21,7 @@ mod gi;
 mod gltf_roundtrip;
 mod gltf_scene;
 mod gpu_metrics;
+mod hdrp_features;
 mod invariants;
 mod layouts;
 mod lights;

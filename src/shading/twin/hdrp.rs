@@ -80,13 +80,166 @@ pub fn hdrp_diffuse_color(s: &Surface) -> DVec3 {
     s.base_color * (1.0 - s.metallic) * s.diffuse_weight
 }
 
-/// Specular multiplier 1 + F0·(1/y − 1), y = reflectivity from the FGD table (models.md#hdrp-lit).
-pub fn hdrp_energy_compensation(s: &Surface, clamped_nv: f64) -> DVec3 {
+/// Specular multiplier 1 + F0·(1/y − 1), y = reflectivity from the FGD table at the material's
+/// perceptual roughness, F0 the fresnel0 its features left (models.md#hdrp-lit; PostEvaluateBSDF).
+pub fn hdrp_energy_compensation(s: &Surface, b: &HdrpBsdfData, clamped_nv: f64) -> DVec3 {
     if s.params[0] < 0.5 {
         return DVec3::ONE;
     }
-    let y = FgdTable::get().lookup(clamped_nv, 1.0 - s.smoothness).y;
-    DVec3::ONE + hdrp_f0(s) * (1.0 / y - 1.0)
+    let y = FgdTable::get().lookup(clamped_nv, b.perceptual_roughness).y;
+    DVec3::ONE + b.fresnel0 * (1.0 / y - 1.0)
+}
+
+/// The clear coat's constants (core CommonMaterial.hlsl): IOR 1.5, F0 = IorToFresnel0(1.5) = 0.04,
+/// GGX roughness 0.01.
+pub const CLEAR_COAT_IOR: f64 = 1.5;
+pub const CLEAR_COAT_F0: f64 = 0.04;
+pub const CLEAR_COAT_ROUGHNESS: f64 = 0.01;
+
+/// HDRP Lit's feature parameters by slot (registry: `coat_mask`, `iridescence_mask`,
+/// `iridescence_thickness`).
+pub const COAT_MASK_SLOT: usize = 2;
+pub const IRIDESCENCE_MASK_SLOT: usize = 3;
+pub const IRIDESCENCE_THICKNESS_SLOT: usize = 4;
+
+/// F_Schlick for a scalar F0 and F90 = 1: (1 − F0)·x⁵ + F0, x = 1 − u (core BSDF.hlsl).
+pub fn f_schlick_scalar(f0: f64, u: f64) -> f64 {
+    (1.0 - f0) * pow5(1.0 - u) + f0
+}
+
+/// RoughnessToVariance: 2/α² − 2, Blinn-Phong's power as a Beckmann variance (CommonMaterial.hlsl).
+pub fn roughness_to_variance(a: f64) -> f64 {
+    2.0 / (a * a) - 2.0
+}
+
+/// VarianceToRoughness: √(2/(σ + 2)) (CommonMaterial.hlsl).
+pub fn variance_to_roughness(variance: f64) -> f64 {
+    (2.0 / (variance + 2.0)).sqrt()
+}
+
+/// FillMaterialClearCoatData: the base layer seen through the coat looks rougher; its perceptual
+/// roughness √VarianceToRoughness(RoughnessToVariance(pr²)·ieta²), ieta = lerp(1, 1/1.5, mask).
+pub fn clear_coat_perceptual_roughness(pr: f64, coat_mask: f64) -> f64 {
+    let ieta = 1.0 + (1.0 / CLEAR_COAT_IOR - 1.0) * coat_mask;
+    variance_to_roughness(roughness_to_variance(pr * pr) * ieta * ieta).sqrt()
+}
+
+/// ConvertF0ForAirInterfaceToF0ForClearCoat15: sat(−0.0256868 + F0·(0.326846 + (0.978946 −
+/// 0.283835·F0)·F0)), core BSDF.hlsl's fit of IorToFresnel0(Fresnel0ToIor(F0), 1.5).
+pub fn convert_f0_for_air_interface_to_f0_for_clear_coat15(f0: DVec3) -> DVec3 {
+    let fit = |x: f64| sat(-0.0256868 + x * (0.326846 + (0.978946 - 0.283835 * x) * x));
+    DVec3::new(fit(f0.x), fit(f0.y), fit(f0.z))
+}
+
+/// EvalSensitivity (Belcour & Barla 2017, core BSDF.hlsl): the CIE XYZ matching functions as
+/// Gaussians in Fourier space at optical path difference `opd` (µm) and phase `shift`, in linear
+/// Rec. 709.
+pub fn eval_sensitivity(opd: f64, shift: f64) -> DVec3 {
+    let phase = 2.0 * std::f64::consts::PI * opd * 1e-6;
+    let val = DVec3::new(5.4856e-13, 4.4201e-13, 5.2481e-13);
+    let pos = DVec3::new(1.6810e+06, 1.7953e+06, 2.2084e+06);
+    let var = DVec3::new(4.3278e+09, 9.3046e+09, 6.6121e+09);
+    let gaussian = |val: f64, pos: f64, var: f64| {
+        val * (2.0 * std::f64::consts::PI * var).sqrt() * (pos * phase + shift).cos() * (-var * phase * phase).exp()
+    };
+    let mut xyz =
+        DVec3::new(gaussian(val.x, pos.x, var.x), gaussian(val.y, pos.y, var.y), gaussian(val.z, pos.z, var.z));
+    xyz.x += gaussian(9.7470e-14, 2.2399e+06, 4.5282e+09);
+    xyz /= 1.0685e-7;
+    let m = crate::color::XYZ_TO_REC709;
+    DVec3::new(
+        m[0][0] * xyz.x + m[0][1] * xyz.y + m[0][2] * xyz.z,
+        m[1][0] * xyz.x + m[1][1] * xyz.y + m[1][2] * xyz.z,
+        m[2][0] * xyz.x + m[2][1] * xyz.y + m[2][2] * xyz.z,
+    )
+}
+
+/// EvalIridescence (core BSDF.hlsl, after Belcour & Barla 2017 with Schlick's Fresnel): a thin
+/// film of optical thickness 3·`thickness` µm and IOR lerp(2, 1, thickness) under a medium of IOR
+/// `eta_1`, over a base of F0 `f0`; the Airy sum to m = 2, clamped at 0; 1 under total internal
+/// reflection.
+pub fn eval_iridescence(eta_1: f64, cos_theta1: f64, thickness: f64, f0: DVec3) -> DVec3 {
+    let d_inc = 3.0 * thickness;
+    let eta_2 = 2.0 + (1.0 - 2.0) * thickness;
+    let sin_theta2_sq = (eta_1 / eta_2).powi(2) * (1.0 - cos_theta1 * cos_theta1);
+    let cos_theta2_sq = 1.0 - sin_theta2_sq;
+    if cos_theta2_sq < 0.0 {
+        return DVec3::ONE;
+    }
+    let cos_theta2 = cos_theta2_sq.sqrt();
+    // First interface: IorToFresnel0(eta_2, eta_1), Schlick at θ1; no phase shift on reflection.
+    let r0 = ((eta_2 - eta_1) / (eta_2 + eta_1)).powi(2);
+    let r12 = f_schlick_scalar(r0, cos_theta1);
+    let t121 = 1.0 - r12;
+    let phi21 = std::f64::consts::PI;
+    // Second interface: the base's own F0 at θ2.
+    let r23 = f0 * (1.0 - pow5(1.0 - cos_theta2)) + DVec3::splat(pow5(1.0 - cos_theta2));
+    let opd = d_inc * cos_theta2;
+    let phi = phi21;
+    let r123 = (r12 * r23).clamp(DVec3::splat(1e-5), DVec3::splat(0.9999));
+    let r123_sqrt = DVec3::new(r123.x.sqrt(), r123.y.sqrt(), r123.z.sqrt());
+    let rs = t121 * t121 * r23 / (DVec3::ONE - r123);
+    let mut i = DVec3::splat(r12) + rs;
+    let mut cm = rs - DVec3::splat(t121);
+    for m in 1..=2 {
+        cm *= r123_sqrt;
+        let sm = 2.0 * eval_sensitivity(m as f64 * opd, m as f64 * phi);
+        i += cm * sm;
+    }
+    i.max(DVec3::ZERO)
+}
+
+/// HDRP Lit's BSDFData after its material features, with the PreLightData terms they set
+/// (Lit.hlsl ConvertSurfaceDataToBSDFData, FillMaterialClearCoatData, GetPreLightData).
+#[derive(Debug, Clone, Copy)]
+pub struct HdrpBsdfData {
+    /// fresnel0 after iridescence, then the coat, changed it.
+    pub fresnel0: DVec3,
+    /// perceptualRoughness after the coat's (the IBL, FGD, LTC and diffuse read it).
+    pub perceptual_roughness: f64,
+    pub coat_mask: f64,
+    /// coatIblF = F_Schlick(CLEAR_COAT_F0, clampedNdotV)·coatMask.
+    pub coat_ibl_f: f64,
+    pub iridescence_mask: f64,
+}
+
+/// The material features are on where their masks are above 0, as the inspector compiles
+/// `_MATERIAL_FEATURE_CLEAR_COAT` for a coat mask above 0; at mask 0 they leave the surface as it is.
+pub fn hdrp_bsdf_data(s: &Surface, nv: f64) -> HdrpBsdfData {
+    let clamped_nv = clamp_n_dot_v(nv);
+    let coat_mask = s.params[COAT_MASK_SLOT];
+    let iridescence_mask = s.params[IRIDESCENCE_MASK_SLOT];
+    let mut b = HdrpBsdfData {
+        fresnel0: hdrp_f0(s),
+        perceptual_roughness: 1.0 - s.smoothness,
+        coat_mask,
+        coat_ibl_f: 0.0,
+        iridescence_mask,
+    };
+    if coat_mask > 0.0 {
+        b.perceptual_roughness = clear_coat_perceptual_roughness(b.perceptual_roughness, coat_mask);
+    }
+    if iridescence_mask > 0.0 {
+        // Under the coat the film sees the view direction refracted into IOR lerp(1, 1.5, mask).
+        let (top_ior, view_angle) = if coat_mask > 0.0 {
+            let top = 1.0 + (CLEAR_COAT_IOR - 1.0) * coat_mask;
+            (top, (1.0 + (1.0 / top).powi(2) * (nv * nv - 1.0)).sqrt())
+        } else {
+            (1.0, clamped_nv)
+        };
+        let film = eval_iridescence(top_ior, view_angle, s.params[IRIDESCENCE_THICKNESS_SLOT], b.fresnel0);
+        b.fresnel0 = b.fresnel0.lerp(film, iridescence_mask);
+    }
+    if coat_mask > 0.0 {
+        b.fresnel0 = b.fresnel0.lerp(convert_f0_for_air_interface_to_f0_for_clear_coat15(b.fresnel0), coat_mask);
+        b.coat_ibl_f = f_schlick_scalar(CLEAR_COAT_F0, clamped_nv) * coat_mask;
+    }
+    b
+}
+
+/// The coat's Fresnel per light: F_Schlick(CLEAR_COAT_F0, LH)·coatMask (EvaluateBSDF).
+pub fn coat_fresnel(lh: f64, coat_mask: f64) -> f64 {
+    f_schlick_scalar(CLEAR_COAT_F0, lh) * coat_mask
 }
 
 pub struct HdrpLit;
@@ -115,46 +268,74 @@ impl SurfaceTwin for HdrpLit {
         let inv_len = 1.0 / (2.0 * lv + 2.0).max(FLT_EPS).sqrt();
         let nh = sat((nl + nv) * inv_len);
         let lh = sat(inv_len * lv + inv_len);
-        let pr = 1.0 - s.smoothness;
+        let b = hdrp_bsdf_data(s, nv);
+        let pr = b.perceptual_roughness;
         let a_material = pr * pr;
         let a = a_material.max(min_roughness);
-        let f = f_schlick_f90(hdrp_f0(s), 1.0, lh);
+        let mut f = f_schlick_f90(b.fresnel0, 1.0, lh);
+        if b.iridescence_mask > 0.0 {
+            // The film's Fresnel is taken at NV once (GetPreLightData), not per light at LH.
+            f = f.lerp(b.fresnel0, b.iridescence_mask);
+        }
         let dv = dv_smith_joint_ggx(nh, nl.abs(), clamped_nv, a, smith_joint_ggx_part_lambda_v(clamped_nv, a_material));
-        let spec = f * dv * hdrp_energy_compensation(s, clamped_nv);
-        let diffuse = hdrp_diffuse_color(s) * FRAC_1_PI * fd_disney_renormalized_no_pi(nl.abs(), clamped_nv, lv, pr);
+        let mut spec = f * dv;
+        let mut diffuse =
+            hdrp_diffuse_color(s) * FRAC_1_PI * fd_disney_renormalized_no_pi(nl.abs(), clamped_nv, lv, pr);
+        if b.coat_mask > 0.0 {
+            let coat_f = coat_fresnel(lh, b.coat_mask);
+            let coat_a = CLEAR_COAT_ROUGHNESS.max(min_roughness);
+            let coat_part_lambda_v = smith_joint_ggx_part_lambda_v(clamped_nv, CLEAR_COAT_ROUGHNESS);
+            spec = spec * (1.0 - coat_f).powi(2)
+                + DVec3::splat(coat_f * dv_smith_joint_ggx(nh, nl.abs(), clamped_nv, coat_a, coat_part_lambda_v));
+            diffuse *= 1.0 - coat_f * b.coat_mask;
+        }
+        spec *= hdrp_energy_compensation(s, &b, clamped_nv);
         Lobes::split(diffuse * sat(nl), spec * sat(nl))
     }
 
     fn indirect_lobes(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, gi_d: DVec3, gi_s: DVec3) -> Lobes {
-        let clamped_nv = clamp_n_dot_v(n.dot(v));
-        let fgd = FgdTable::get().lookup(clamped_nv, 1.0 - s.smoothness);
-        let f0 = hdrp_f0(s);
+        let nv = n.dot(v);
+        let clamped_nv = clamp_n_dot_v(nv);
+        let b = hdrp_bsdf_data(s, nv);
+        let fgd = FgdTable::get().lookup(clamped_nv, b.perceptual_roughness);
+        let f0 = b.fresnel0;
         let specular_fgd = (DVec3::ONE - f0) * fgd.x + f0 * fgd.y;
-        Lobes::split(
-            hdrp_diffuse_color(s) * gi_d * (fgd.z + 0.5),
-            specular_fgd * gi_s * hdrp_energy_compensation(s, clamped_nv),
-        )
+        let mut spec = specular_fgd * gi_s;
+        if b.coat_mask > 0.0 {
+            // EvaluateBSDF_Env: the base through the coat twice, the coat's mirror fetch (mip 0)
+            // on top; the baked diffuse is not attenuated.
+            spec = spec * (1.0 - b.coat_ibl_f).powi(2) + b.coat_ibl_f * gi_s;
+        }
+        Lobes::split(hdrp_diffuse_color(s) * gi_d * (fgd.z + 0.5), spec * hdrp_energy_compensation(s, &b, clamped_nv))
     }
 
     fn rect_lobes(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, corners: &[DVec3; 4]) -> Option<Lobes> {
         use crate::shading::ltc::{ltc_evaluate, ltc_lookup, ortho_basis_view_normal, LtcLobe};
         let nv = n.dot(v);
         let clamped_nv = clamp_n_dot_v(nv);
-        let pr = 1.0 - s.smoothness;
+        let b = hdrp_bsdf_data(s, nv);
+        let pr = b.perceptual_roughness;
         let basis = ortho_basis_view_normal(v, n, nv);
         let ltc_diffuse = ltc_evaluate(corners, &basis, &ltc_lookup(LtcLobe::DisneyDiffuse, clamped_nv, pr));
         let ltc_specular = ltc_evaluate(corners, &basis, &ltc_lookup(LtcLobe::Ggx, clamped_nv, pr));
         let fgd = FgdTable::get().lookup(clamped_nv, pr);
-        let f0 = hdrp_f0(s);
+        let f0 = b.fresnel0;
         let specular_fgd = (DVec3::ONE - f0) * fgd.x + f0 * fgd.y;
-        Some(Lobes::split(
-            hdrp_diffuse_color(s) * (fgd.z + 0.5) * ltc_diffuse,
-            specular_fgd * ltc_specular * hdrp_energy_compensation(s, clamped_nv),
-        ))
+        let mut diffuse = hdrp_diffuse_color(s) * (fgd.z + 0.5) * ltc_diffuse;
+        let mut spec = specular_fgd * ltc_specular;
+        if b.coat_mask > 0.0 {
+            // EvaluateBSDF_Rect: both lobes × (1 − coatIblF), the coat's GGX LTC at its roughness.
+            let coat_pr = CLEAR_COAT_ROUGHNESS.sqrt();
+            let ltc_coat = ltc_evaluate(corners, &basis, &ltc_lookup(LtcLobe::Ggx, clamped_nv, coat_pr));
+            diffuse *= 1.0 - b.coat_ibl_f;
+            spec = spec * (1.0 - b.coat_ibl_f) + DVec3::splat(b.coat_ibl_f * ltc_coat);
+        }
+        Some(Lobes::split(diffuse, spec * hdrp_energy_compensation(s, &b, clamped_nv)))
     }
 
     fn env_direction(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3) -> Option<DVec3> {
-        Some(hdrp_ibl_direction(n, v, 1.0 - s.smoothness, clamp_n_dot_v(n.dot(v))))
+        let b = hdrp_bsdf_data(s, n.dot(v));
+        Some(hdrp_ibl_direction(n, v, b.perceptual_roughness, clamp_n_dot_v(n.dot(v))))
     }
 }
 
@@ -224,6 +405,56 @@ mod tests {
         // A mirror fetches along iblR itself.
         let mirror = hdrp_ibl_direction(n, v, 0.0, nv);
         assert!((mirror - ibl_r).length() < 1e-12);
+    }
+
+    #[test]
+    fn the_coat_f0_fit_follows_the_ior_relation_it_fits() {
+        // IorToFresnel0(Fresnel0ToIor(F0), 1.5) = ((1 − 5√F0)/(5 − √F0))², exactly.
+        let exact = |f0: f64| ((1.0 - 5.0 * f0.sqrt()) / (5.0 - f0.sqrt())).powi(2);
+        let mut worst: f64 = 0.0;
+        for i in 0..=96 {
+            let f0 = 0.04 + 0.96 * i as f64 / 96.0;
+            worst =
+                worst.max((convert_f0_for_air_interface_to_f0_for_clear_coat15(DVec3::splat(f0)).x - exact(f0)).abs());
+        }
+        // The fit's stated range: 0.04 (IOR 1.5 under IOR 1.5: nothing left) to 1.
+        assert!(worst < 0.03, "{worst}");
+        assert!(convert_f0_for_air_interface_to_f0_for_clear_coat15(DVec3::splat(0.04)).x < 0.002);
+    }
+
+    #[test]
+    fn a_coat_roughens_the_base_and_mask_zero_leaves_the_surface() {
+        for pr in [0.05, 0.3, 0.6, 0.95] {
+            assert!((clear_coat_perceptual_roughness(pr, 0.0) - pr).abs() < 1e-12, "{pr}");
+            let coated = clear_coat_perceptual_roughness(pr, 1.0);
+            assert!(coated > pr && coated <= 1.0, "{pr} → {coated}");
+        }
+        // A fully rough base stays fully rough: variance 0 scales to 0.
+        assert!((clear_coat_perceptual_roughness(1.0, 1.0) - 1.0).abs() < 1e-12);
+        let mut s = Surface::basic(DVec3::new(0.9, 0.5, 0.2), 0.5, 0.6);
+        s.params[0] = 1.0;
+        let plain = hdrp_bsdf_data(&s, 0.7);
+        s.params[IRIDESCENCE_THICKNESS_SLOT] = 0.3;
+        let masked = hdrp_bsdf_data(&s, 0.7);
+        assert_eq!((plain.fresnel0, plain.perceptual_roughness), (masked.fresnel0, masked.perceptual_roughness));
+        assert_eq!(plain.coat_ibl_f, 0.0);
+    }
+
+    #[test]
+    fn an_index_matched_film_leaves_the_base_and_total_reflection_gives_one() {
+        // Thickness 1: the film's IOR is lerp(2, 1, 1) = 1, the air's; head-on Schlick gives R12 = 0
+        // and only the two Airy terms are left, each |Cm|·√R123·|Sm| with R123 clamped to 1e-5 from
+        // below: F0 within 2·√1e-5·max|Sm| < 0.01.
+        let f0 = DVec3::new(0.04, 0.5, 0.9);
+        let i = eval_iridescence(1.0, 1.0, 1.0, f0);
+        assert!((i - f0).abs().max_element() < 0.01, "{i} vs {f0}");
+        // From IOR 1.5 above into a film of IOR 1.2 at grazing incidence: total internal reflection.
+        assert_eq!(eval_iridescence(1.5, 0.1, 0.8, f0), DVec3::ONE);
+        // At zero path difference the sensitivity is the matching functions' integrals, normalised
+        // so that Y is 1: illuminant E's white, luminance 1 in Rec. 709.
+        let white = eval_sensitivity(0.0, 0.0);
+        let y = crate::color::luminance([white.x, white.y, white.z]);
+        assert!((y - 1.0).abs() < 1e-3, "{white}: luminance {y}");
     }
 
     #[test]

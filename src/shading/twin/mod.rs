@@ -14,6 +14,7 @@ pub use classic::{BlinnPhong, CookTorrance, CookTorrance1982, HalfLambert, OrenN
 pub use custom::{d_ggx, FresnelView, TorranceSparrow};
 pub use hdrp::{
     default_light_min_roughness, gtao_multi_bounce, indirect_occlusion, specular_occlusion_from_ao, HdrpLit,
+    COAT_MASK_SLOT, IRIDESCENCE_MASK_SLOT, IRIDESCENCE_THICKNESS_SLOT,
 };
 pub use lambert::Lambert;
 pub use standard::Standard;
