@@ -60,6 +60,9 @@ pub struct CellCoords {
     /// The subject's sRGB specular colour, when swept (None: the model's own).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub specular: Option<[f64; 3]>,
+    /// HDRP Lit's material type, when swept (None: the model's own parameters).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material_type: Option<crate::shading::material_type::MaterialType>,
 }
 
 /// What names a cell before its sweep sets any axis: composition, pipeline, path, shader and preset.
@@ -103,6 +106,7 @@ impl CellCoords {
             surface: None,
             alpha: None,
             specular: None,
+            material_type: None,
         }
     }
 
@@ -130,6 +134,7 @@ impl CellCoords {
             Axis::Surface => self.surface.map_or(AxisValue::Own, |s| name(s.name())),
             Axis::Alpha => own(self.alpha),
             Axis::Specular => AxisValue::Colour(self.specular),
+            Axis::MaterialType => self.material_type.map_or(AxisValue::Own, |t| name(t.name())),
         }
     }
 
@@ -162,6 +167,13 @@ impl CellCoords {
                 None => return false,
             },
             (Axis::Surface, AxisValue::Own) => self.surface = None,
+            (Axis::MaterialType, AxisValue::Name(n)) => {
+                match crate::shading::material_type::MaterialType::from_name(n) {
+                    Some(t) => self.material_type = Some(t),
+                    None => return false,
+                }
+            }
+            (Axis::MaterialType, AxisValue::Own) => self.material_type = None,
             (Axis::Color, AxisValue::Colour(c)) => self.color = *c,
             (Axis::Specular, AxisValue::Colour(c)) => self.specular = *c,
             (Axis::Params, AxisValue::Params(p)) => self.params = p.clone(),

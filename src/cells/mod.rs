@@ -168,10 +168,15 @@ impl Cell {
         let mut s = self.model().surface(self.pipeline, &self.sliders());
         // A glTF's KHR_materials_specular is the specular workflow with its dielectric F0, unless
         // the matrix sweeps the workflow itself.
-        let dielectric = self.material.specular_f0.filter(|_| !self.params.contains_key("specular_setup"));
+        let material_type = self.coords.material_type;
+        let dielectric = self
+            .material
+            .specular_f0
+            .filter(|_| !self.params.contains_key("specular_setup") && material_type.is_none());
+        let typed = |name: &str| material_type?.params().iter().find(|(n, _)| *n == name).map(|(_, v)| *v);
         for spec in &self.model().params {
-            if let Some(v) = self.params.get(spec.name.as_ref()) {
-                s.params[spec.slot] = *v;
+            if let Some(v) = self.params.get(spec.name.as_ref()).copied().or_else(|| typed(&spec.name)) {
+                s.params[spec.slot] = v;
             } else if spec.name == "specular_setup" && dielectric.is_some() {
                 s.params[spec.slot] = 1.0;
             }
@@ -311,9 +316,11 @@ fn swept_axes(m: &Matrix) -> Vec<(Axis, Vec<AxisValue>)> {
                 AxisKind::Bool => m.sweep.textured.iter().map(|b| AxisValue::Bool(*b)).collect(),
                 AxisKind::Choice => {
                     let own = m.sweep.sweeps_own(row.axis).then_some(AxisValue::Own);
-                    own.into_iter()
-                        .chain(m.sweep.surface.iter().map(|s| AxisValue::Name(s.name().to_string())))
-                        .collect()
+                    let names: Vec<&str> = match row.axis {
+                        Axis::MaterialType => m.sweep.material_type.iter().map(|t| t.name()).collect(),
+                        _ => m.sweep.surface.iter().map(|s| s.name()).collect(),
+                    };
+                    own.into_iter().chain(names.into_iter().map(|n| AxisValue::Name(n.to_string()))).collect()
                 }
                 AxisKind::Name | AxisKind::Params => return None,
             };
@@ -441,6 +448,18 @@ pub fn expand(m: &Matrix) -> Expansion {
                                     twin_of: None,
                                     model: model.clone(),
                                 };
+                                if let Some(reason) = cell.coords.material_type.and_then(|t| t.missing_in(cell.model()))
+                                {
+                                    // One entry per composition, pipeline, shader and type.
+                                    let name = cell.coords.material_type.map_or("", |t| t.name());
+                                    let description =
+                                        format!("{} × {} × {shader} × {name}", scene.name, pipeline.name());
+                                    if !pruned.iter().any(|p| p.description == description) {
+                                        let axes = pruned_axes(&scene.name, pipeline, "material_type", name);
+                                        pruned.push(PrunedCell { description, axes, reason });
+                                    }
+                                    continue;
+                                }
                                 if let Some(reason) = surface_missing(&cell) {
                                     // One entry per composition, pipeline, shader and surface.
                                     let surface = cell.material.surface.name();
@@ -645,6 +664,12 @@ fn render_key(c: &Cell, keyless: bool, material_read: bool) -> String {
             p.remove(crate::shading::registry::PARALLAX_PARAM);
             p.remove(crate::shading::registry::DETAIL_PARAM);
         }
+        // A film's thickness without the film.
+        if let AxisValue::Params(p) = &mut value {
+            for name in c.model().unread_params(&c.surface().params) {
+                p.remove(name);
+            }
+        }
         key.push_str(&format!("|{}={:?}", row.name, value));
     }
     if material_read {
@@ -753,6 +778,7 @@ mod tests {
                 Axis::Color => crate::declarations::filter::color_code(c.material.slider_color_srgb),
                 Axis::Textured => String::new(),
                 Axis::Surface => c.material.surface.name().to_string(),
+                Axis::MaterialType => continue,
                 Axis::Alpha => id_number(c.material.alpha, 2, false),
                 Axis::Specular => crate::declarations::filter::colour_label(Axis::Specular, c.specular),
                 Axis::Params => continue,
@@ -787,6 +813,54 @@ mod tests {
         let typo = text.replace("\"fade\"", "\"faed\"");
         let err = Matrix::from_text("t.toml", &typo, None, Arc::new(crate::shading::Registry::builtin())).unwrap_err();
         assert!(err.to_string().contains("did you mean `fade`?"), "{err}");
+    }
+
+    #[test]
+    fn material_types_set_hdrp_lits_parameters_and_prune_elsewhere() {
+        use crate::shading::material_type::MaterialType;
+        let text = "name = \"t\"\ncompositions = [\"default\"]\npipelines = [\"urp\", \"hdrp\"]\n\
+                    shaders = [\"lit\", \"lambert\"]\npresets = [\"plastic\"]\n\
+                    [sweep]\nmaterial_type = [\"standard\", \"specular_color\", \"iridescence\"]\n\
+                    [sweep.params]\niridescence_thickness = [0.3, 0.7]\n";
+        let m = Matrix::from_text("t.toml", text, None, Arc::new(crate::shading::Registry::builtin())).unwrap();
+        let e = expand(&m);
+        let cells = |p: &str, shader: &str, t: MaterialType| -> Vec<&Cell> {
+            e.cells
+                .iter()
+                .filter(|c| c.pipeline.name() == p && c.shader == shader && c.coords.material_type == Some(t))
+                .collect()
+        };
+        // HDRP Lit has all three, URP Lit the specular setup too, Lambert only the standard type.
+        assert_eq!(cells("hdrp", "lit", MaterialType::Iridescence).len(), 2);
+        assert_eq!(cells("urp", "lit", MaterialType::SpecularColor).len(), 1);
+        assert!(cells("urp", "lit", MaterialType::Iridescence).is_empty());
+        assert!(cells("urp", "lambert", MaterialType::SpecularColor).is_empty());
+        assert_eq!(cells("urp", "lambert", MaterialType::Standard).len(), 1);
+        assert!(
+            e.pruned
+                .iter()
+                .any(|p| p.description.contains("urp × lit × iridescence") && p.reason.contains("iridescence_mask")),
+            "{:?}",
+            e.pruned
+        );
+        // The type's parameters reach the surface; the ids spell it.
+        let film = cells("hdrp", "lit", MaterialType::Iridescence)[0];
+        let s = film.surface();
+        assert_eq!((s.params[1], s.params[crate::shading::twin::IRIDESCENCE_MASK_SLOT]), (0.0, 1.0));
+        assert!(film.id.0.contains("_iridescence"), "{}", film.id);
+        let spec = cells("hdrp", "lit", MaterialType::SpecularColor)[0];
+        assert_eq!(spec.surface().params[1], 1.0);
+        // Without the film its thickness changes nothing: the second thickness is a twin.
+        let standard = cells("hdrp", "lit", MaterialType::Standard);
+        assert_eq!(standard.iter().filter(|c| c.twin_of.is_some()).count(), 1, "{standard:?}");
+        assert!(cells("hdrp", "lit", MaterialType::Iridescence).iter().all(|c| c.twin_of.is_none()));
+        // A type and a parameter it sets may not both be swept; a typo is named.
+        let both = text.replace("iridescence_thickness", "specular_setup").replace("0.3, 0.7", "0, 1");
+        let err = Matrix::from_text("t.toml", &both, None, Arc::new(crate::shading::Registry::builtin())).unwrap_err();
+        assert!(err.to_string().contains("sweep.params.specular_setup"), "{err}");
+        let typo = text.replace("\"iridescence\"]", "\"iridesence\"]");
+        let err = Matrix::from_text("t.toml", &typo, None, Arc::new(crate::shading::Registry::builtin())).unwrap_err();
+        assert!(err.to_string().contains("did you mean `iridescence`?"), "{err}");
     }
 
     #[test]

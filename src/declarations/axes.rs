@@ -32,6 +32,8 @@ pub enum Axis {
     Alpha,
     /// The subject's specular colour (`Surface::specular`), for the models that read one.
     Specular,
+    /// HDRP Lit's Material Type (`shading::material_type`).
+    MaterialType,
 }
 
 impl Axis {
@@ -55,7 +57,7 @@ pub enum AxisKind {
     /// An sRGB colour, named by its 8-bit hex code (its own value by the row's `own`).
     Colour,
     Bool,
-    /// A name from a fixed list, swept in `[sweep]` (the surface types).
+    /// A name from a fixed list, swept in `[sweep]` (the surface types, the material types).
     Choice,
     /// The swept model parameters, each its own list (`[sweep.params]`).
     Params,
@@ -109,7 +111,7 @@ const fn slider(name: &'static str, axis: Axis, id_prefix: &'static str) -> Axis
 }
 
 /// Every axis, in the order sheets, the viewer, filters and cell ids list them.
-pub const AXES: [AxisRow; 19] = [
+pub const AXES: [AxisRow; 20] = [
     AxisRow { reference: true, timing: true, ..row("composition", Axis::Composition, AxisKind::Name) },
     AxisRow { reference: true, timing: true, ..row("pipeline", Axis::Pipeline, AxisKind::Name) },
     AxisRow { reference: true, timing: true, ..row("path", Axis::Path, AxisKind::Name) },
@@ -144,6 +146,13 @@ pub const AXES: [AxisRow; 19] = [
     },
     AxisRow { own: "material", ..slider("alpha", Axis::Alpha, "_al") },
     AxisRow { id_prefix: Some("_sp"), own: "model", ..row("specular", Axis::Specular, AxisKind::Colour) },
+    AxisRow {
+        reference: true,
+        timing: true,
+        own: "model",
+        id_prefix: Some("_"),
+        ..row("material_type", Axis::MaterialType, AxisKind::Choice)
+    },
 ];
 
 /// The row of the axis named `name`.
@@ -207,6 +216,7 @@ mod tests {
             Axis::Surface => "surface",
             Axis::Alpha => "alpha",
             Axis::Specular => "specular",
+            Axis::MaterialType => "material_type",
         };
         for r in &AXES {
             assert_eq!(r.name, named(r.axis));

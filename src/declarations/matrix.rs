@@ -143,6 +143,9 @@ pub struct Sweep {
     /// The surface types (`pipelines::surface`), and "material" for the material's own.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub surface: Vec<crate::pipelines::surface::SurfaceType>,
+    /// HDRP Lit's material types (`shading::material_type`), and "model" for the model's own.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub material_type: Vec<crate::shading::material_type::MaterialType>,
     #[serde(skip_serializing_if = "BTreeMap::is_empty")]
     pub params: BTreeMap<String, Vec<f64>>,
     /// Axes whose list also names their own value: the scene's on numeric axes whose table row
@@ -214,21 +217,31 @@ impl<'de> Deserialize<'de> for Sweep {
                 Some(AxisKind::Bool) => sweep.textured = value.clone().try_into().map_err(typed)?,
                 Some(AxisKind::Choice) => {
                     use crate::pipelines::surface::SurfaceType;
+                    use crate::shading::material_type::MaterialType;
+                    let row = super::axes::find(&key).expect("a row");
                     let items: Vec<String> = value.clone().try_into().map_err(typed)?;
+                    let (what, mut allowed) = match row.axis {
+                        Axis::MaterialType => ("a material type", MaterialType::names()),
+                        _ => ("a surface type", SurfaceType::names()),
+                    };
+                    allowed.push(row.own);
                     for (i, item) in items.iter().enumerate() {
-                        match SurfaceType::from_name(item) {
-                            Some(s) => sweep.surface.push(s),
-                            None if item == "material" => {
+                        match row.axis {
+                            _ if item == row.own => {
                                 sweep.own.insert(key.clone());
                             }
-                            None => {
-                                let mut allowed = SurfaceType::names();
-                                allowed.push("material");
+                            Axis::MaterialType if MaterialType::from_name(item).is_some() => {
+                                sweep.material_type.extend(MaterialType::from_name(item));
+                            }
+                            Axis::Surface if SurfaceType::from_name(item).is_some() => {
+                                sweep.surface.extend(SurfaceType::from_name(item));
+                            }
+                            _ => {
                                 let near = crate::input::names::nearest(item, &allowed)
                                     .map(|n| format!(" (did you mean `{n}`?)"))
                                     .unwrap_or_default();
                                 return Err(D::Error::custom(format!(
-                                    "sweep.{key}[{i}]: `{item}` is not a surface type{near}; allowed: {}",
+                                    "sweep.{key}[{i}]: `{item}` is not {what}{near}; allowed: {}",
                                     allowed.join(", ")
                                 )));
                             }
@@ -768,6 +781,22 @@ impl Matrix {
             }
         }
         check_params(&c, origin, &s.params, &file.shaders, &pipelines, &registry)?;
+        // A material type is a setting of parameters: the two may not both set one.
+        if !s.material_type.is_empty() {
+            let types = crate::shading::material_type::MaterialType::param_names();
+            if let Some(name) = s.params.keys().find(|k| types.contains(&k.as_str())) {
+                return Err(c
+                    .err(
+                        &format!("sweep.params.{name}"),
+                        format!(
+                        "sweep.material_type sets `{name}` for every cell; sweep one or the other (a material type \
+                         sets {})",
+                        types.join(" and ")
+                    ),
+                    )
+                    .into());
+            }
+        }
         let pipeline_settings = file.pipeline_settings.resolve().map_err(|(key, message)| {
             let key = format!("pipeline_settings.{key}");
             match (key.as_str(), &file.pipeline_settings.urp) {
@@ -867,6 +896,12 @@ impl Matrix {
                 Axis::Surface => {
                     let mut v: Vec<String> = SurfaceType::names().iter().map(|s| s.to_string()).collect();
                     v.push("material".into());
+                    v
+                }
+                Axis::MaterialType => {
+                    let mut v: Vec<String> =
+                        crate::shading::material_type::MaterialType::names().iter().map(|s| s.to_string()).collect();
+                    v.push("model".into());
                     v
                 }
                 Axis::Color | Axis::Specular => {

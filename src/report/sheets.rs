@@ -154,6 +154,10 @@ fn sort_values(axis: &str, values: BTreeSet<String>) -> Vec<String> {
         let rank = |n: &str| crate::pipelines::surface::SurfaceType::from_name(n).map_or(0, |s| 1 + s.shader_id());
         v.sort_by_key(|n| rank(n));
     }
+    if axis == crate::declarations::axes::of(crate::declarations::axes::Axis::MaterialType).name {
+        let rank = |n: &str| crate::shading::material_type::MaterialType::from_name(n).map_or(0, |t| 1 + t as u32);
+        v.sort_by_key(|n| rank(n));
+    }
     v
 }
 

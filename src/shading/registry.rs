@@ -123,6 +123,18 @@ impl ShaderModel {
         self.wgsl.contains("fn model_rect")
     }
 
+    /// The parameters the model does not read at these values: a parameter whose gate (the
+    /// parameter that turns its feature on, `PARAM_GATES`) is 0. Cells that differ only in them
+    /// draw the same image (cells::render_key).
+    pub fn unread_params(&self, params: &[f64; 8]) -> Vec<&str> {
+        let slot = |name: &str| self.params.iter().find(|p| p.name == name).map(|p| p.slot);
+        PARAM_GATES
+            .iter()
+            .filter(|(_, gate)| slot(gate).is_some_and(|s| params[s] <= 0.0))
+            .map(|(param, _)| *param)
+            .collect()
+    }
+
     /// The model's inputs for a cell: the mapping applied to the sliders.
     pub fn surface(&self, pipeline: Pipeline, sliders: &Sliders) -> Surface {
         (self.from_sliders)(self, pipeline, sliders)
@@ -427,6 +439,9 @@ const IRIDESCENCE_MASK: ParamSpec = ParamSpec {
         "the Iridescence material type: F0 → lerp(F0, EvalIridescence(…), mask), the film's Fresnel at NV for every light; 0 (default): the Standard type",
     ),
 };
+
+/// Parameters read only while another is above 0: (parameter, its gate).
+const PARAM_GATES: &[(&str, &str)] = &[("iridescence_thickness", "iridescence_mask")];
 
 /// HDRP Lit's `_IridescenceThickness` (0–1, default 1): a film of 3·t µm optical thickness and
 /// IOR lerp(2, 1, t) (core BSDF.hlsl EvalIridescence).

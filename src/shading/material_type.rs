@@ -1,0 +1,108 @@
+//! HDRP Lit's Material Type (Lit.shader `_MaterialID`) as a sweep axis: each type is a setting of
+//! the model's parameters, so a sweep shows Standard beside each type. A model that lacks the
+//! parameters a type sets has no such type, and its cells are pruned with the reason.
+
+use serde::{Deserialize, Serialize};
+
+use super::registry::ShaderModel;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MaterialType {
+    /// HDRP's Standard: the metallic workflow, no film.
+    Standard,
+    /// HDRP's Specular Color; the specular setup of Standard and URP Lit too (`specular_setup`).
+    SpecularColor,
+    /// HDRP's Iridescence: a thin film over the base (`iridescence_mask` 1, its default mask).
+    Iridescence,
+}
+
+impl MaterialType {
+    /// In the order HDRP's inspector lists the types it has here.
+    pub const ALL: [MaterialType; 3] = [MaterialType::Standard, MaterialType::SpecularColor, MaterialType::Iridescence];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            MaterialType::Standard => "standard",
+            MaterialType::SpecularColor => "specular_color",
+            MaterialType::Iridescence => "iridescence",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<MaterialType> {
+        Self::ALL.into_iter().find(|t| t.name() == name)
+    }
+
+    pub fn names() -> Vec<&'static str> {
+        Self::ALL.iter().map(|t| t.name()).collect()
+    }
+
+    /// The parameter values that select the type. Standard sets the others' parameters back to 0
+    /// where the model has them, and needs none.
+    pub fn params(self) -> &'static [(&'static str, f64)] {
+        match self {
+            MaterialType::Standard => &[("specular_setup", 0.0), ("iridescence_mask", 0.0)],
+            MaterialType::SpecularColor => &[("specular_setup", 1.0), ("iridescence_mask", 0.0)],
+            MaterialType::Iridescence => &[("specular_setup", 0.0), ("iridescence_mask", 1.0)],
+        }
+    }
+
+    /// The parameter that makes the type what it is (none for Standard).
+    fn defining_param(self) -> Option<&'static str> {
+        match self {
+            MaterialType::Standard => None,
+            MaterialType::SpecularColor => Some("specular_setup"),
+            MaterialType::Iridescence => Some("iridescence_mask"),
+        }
+    }
+
+    /// Why `model` has no such type, or None when it has.
+    pub fn missing_in(self, model: &ShaderModel) -> Option<String> {
+        let param = self.defining_param()?;
+        if model.params.iter().any(|p| p.name == param) {
+            return None;
+        }
+        let with: Vec<&str> = match self {
+            MaterialType::SpecularColor => vec!["builtin/standard", "urp/lit", "hdrp/lit"],
+            _ => vec!["hdrp/lit"],
+        };
+        Some(format!(
+            "the `{}` material type sets `{param}`, a parameter `{}` does not have (the models with it: {})",
+            self.name(),
+            model.name,
+            with.join(", ")
+        ))
+    }
+
+    /// The parameters the type sets that a `[sweep.params]` list must not sweep as well.
+    pub fn param_names() -> Vec<&'static str> {
+        let mut names: Vec<&str> = Self::ALL.iter().flat_map(|t| t.params().iter().map(|(n, _)| *n)).collect();
+        names.sort_unstable();
+        names.dedup();
+        names
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::pipelines::Pipeline;
+    use crate::shading::Registry;
+
+    #[test]
+    fn types_are_pruned_where_the_model_lacks_their_parameter() {
+        let r = Registry::builtin();
+        let hdrp = r.find(Pipeline::Hdrp, "lit").unwrap();
+        let urp = r.find(Pipeline::Urp, "lit").unwrap();
+        let lambert = r.find(Pipeline::Urp, "lambert").unwrap();
+        for t in MaterialType::ALL {
+            assert_eq!(t.missing_in(hdrp), None, "{}", t.name());
+            assert_eq!(MaterialType::from_name(t.name()), Some(t));
+        }
+        assert_eq!(MaterialType::SpecularColor.missing_in(urp), None);
+        assert!(MaterialType::Iridescence.missing_in(urp).unwrap().contains("iridescence_mask"));
+        assert_eq!(MaterialType::Standard.missing_in(lambert), None);
+        assert!(MaterialType::SpecularColor.missing_in(lambert).is_some());
+        assert_eq!(MaterialType::param_names(), vec!["iridescence_mask", "specular_setup"]);
+    }
+}
