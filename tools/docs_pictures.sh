@@ -48,6 +48,8 @@ cp "$work/fig3_5/sheets/pipeline_x_term__gold_1.00_0.90.png" docs/fig3_5.png
 run fig3_2 matrices/fig3_2.toml
 cp "$work/fig3_2/sheets/pipeline_x_preset__area_rect.png" docs/fig3_2.png
 cp "$work/fig3_2/sheets/pipeline_x_preset__area_disc.png" docs/fig3_3.png
+run hdrp_materials matrices/hdrp_materials.toml
+cp "$work/hdrp_materials/sheets/material_type_x_smoothness__gold_1.00_coat_mask_1.png" docs/hdrp_materials.png
 
 # Fig 3.10: gold, a metallic-workflow then a specular-workflow row per pipeline, metallic 0 → 1.
 run fig3_10 matrices/fig3_10.toml
