@@ -48,8 +48,15 @@ cp "$work/fig3_5/sheets/pipeline_x_term__gold_1.00_0.90.png" docs/fig3_5.png
 run fig3_2 matrices/fig3_2.toml
 cp "$work/fig3_2/sheets/pipeline_x_preset__area_rect.png" docs/fig3_2.png
 cp "$work/fig3_2/sheets/pipeline_x_preset__area_disc.png" docs/fig3_3.png
+# HDRP Lit's material types on gold with the clear coat: a row per type, smoothness 0.25 → 0.9.
 run hdrp_materials matrices/hdrp_materials.toml
-cp "$work/hdrp_materials/sheets/material_type_x_smoothness__gold_1.00_coat_mask_1.png" docs/hdrp_materials.png
+rows=()
+for t in standard specular_color iridescence anisotropy; do
+  row=""
+  for s in 0.25 0.50 0.75 0.90; do row+="${row:+,}default__hdrp-forward__lit__gold__m1.00_s${s}_*coat_mask1_${t}"; done
+  rows+=("$row")
+done
+"$montage" "$work/hdrp_materials" docs/hdrp_materials.png 144 "${rows[@]}"
 
 # Fig 3.10: gold, a metallic-workflow then a specular-workflow row per pipeline, metallic 0 → 1.
 run fig3_10 matrices/fig3_10.toml

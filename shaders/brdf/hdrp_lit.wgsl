@@ -3,7 +3,8 @@
 // computed by the tool). params0.x: energy compensation on (1, default) or off (0); params0.y: the
 // Specular Color material type (1) or Standard (0, default); params0.z: the coat mask (clear coat
 // on above 0); params0.w: the iridescence mask (the Iridescence material type above 0); params1.x:
-// the iridescence thickness (HDRP's _IridescenceThickness, 0–1, default 1).
+// the iridescence thickness (HDRP's _IridescenceThickness, 0–1, default 1); params1.y: the anisotropy
+// (the Anisotropy material type where it is not 0; −1..1 along the tangent).
 // Physical units: E in lux, radiance = f·E·NL.
 
 const HDRP_FLT_EPS: f32 = 5.960464478e-8;
@@ -156,17 +157,31 @@ fn eval_iridescence(eta_1: f32, cos_theta1: f32, thickness: f32, f0: vec3<f32>) 
 struct HdrpBsdfData {
     // fresnel0 after iridescence, then the coat, changed it
     fresnel0: vec3<f32>,
-    // perceptualRoughness after the coat's: the IBL, FGD, LTC and diffuse read it
+    // perceptualRoughness after the coat's: the FGD, LTC and diffuse read it
     perceptual_roughness: f32,
     coat_mask: f32,
     // coatIblF = F_Schlick(CLEAR_COAT_F0, clampedNdotV)·coatMask
     coat_ibl_f: f32,
     iridescence_mask: f32,
+    anisotropy: f32,
+    // The tangent frame: the surface's tangent made orthonormal to N (GetLocalFrame's where there is
+    // none), bitangent = N × T (FillMaterialAnisotropy)
+    tangent: vec3<f32>,
+    bitangent: vec3<f32>,
 };
+
+// Orthonormalize(T, N), or GetLocalFrame(N)'s x where the mesh has no tangent
+fn hdrp_tangent(t: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
+    let t_raw = t - n * dot(n, t);
+    if (dot(t_raw, t_raw) < 1e-12) {
+        return get_local_frame(n)[0];
+    }
+    return normalize(t_raw);
+}
 
 // A feature is on where its mask is above 0 (the inspector compiles _MATERIAL_FEATURE_CLEAR_COAT so);
 // at mask 0 the surface is left as it is
-fn hdrp_bsdf_data(s: Surface, nv: f32) -> HdrpBsdfData {
+fn hdrp_bsdf_data(s: Surface, n: vec3<f32>, nv: f32) -> HdrpBsdfData {
     let clamped_nv = clamp_n_dot_v(nv);
     let coat_mask = s.params0.z;
     let iridescence_mask = s.params0.w;
@@ -176,6 +191,11 @@ fn hdrp_bsdf_data(s: Surface, nv: f32) -> HdrpBsdfData {
     b.coat_mask = coat_mask;
     b.coat_ibl_f = 0.0;
     b.iridescence_mask = iridescence_mask;
+    b.anisotropy = s.params1.y;
+    if (b.anisotropy != 0.0) {
+        b.tangent = hdrp_tangent(s.tangent, n);
+        b.bitangent = cross(n, b.tangent);
+    }
     if (coat_mask > 0.0) {
         b.perceptual_roughness = clear_coat_perceptual_roughness(b.perceptual_roughness, coat_mask);
     }
@@ -197,6 +217,38 @@ fn hdrp_bsdf_data(s: Surface, nv: f32) -> HdrpBsdfData {
     return b;
 }
 
+// ConvertAnisotropyToRoughness: αT = α(1 + anisotropy), αB = α(1 − anisotropy) (Imageworks' parametrisation)
+fn anisotropic_roughness(a: f32, anisotropy: f32) -> vec2<f32> {
+    return vec2<f32>(a * (1.0 + anisotropy), a * (1.0 - anisotropy));
+}
+
+// GetSmithJointGGXAnisoPartLambdaV: |(αT·TV, αB·BV, NV)|
+fn smith_joint_ggx_aniso_part_lambda_v(tv: f32, bv: f32, nv: f32, rt: f32, rb: f32) -> f32 {
+    return length(vec3<f32>(rt * tv, rb * bv, nv));
+}
+
+// DV_SmithJointGGXAniso: (1/π)·0.5·a2³/max(s²(λV + λL), REAL_MIN), a2 = αT·αB, s = |(αB·TH, αT·BH, a2·NH)|²,
+// λV = NL·partLambdaV, λL = NV·|(αT·TL, αB·BL, NL)| (core BSDF.hlsl)
+fn dv_smith_joint_ggx_aniso(th: f32, bh: f32, nh: f32, nv: f32, tl: f32, bl: f32, nl: f32, rt: f32, rb: f32, part_lambda_v: f32) -> f32 {
+    let a2 = rt * rb;
+    let w = vec3<f32>(rb * th, rt * bh, a2 * nh);
+    let s = dot(w, w);
+    let lambda_v = nl * part_lambda_v;
+    let lambda_l = nv * length(vec3<f32>(rt * tl, rb * bl, nl));
+    return INV_PI * 0.5 * (a2 * a2 * a2) / max(s * s * (lambda_v + lambda_l), HDRP_REAL_MIN);
+}
+
+// GetGGXAnisotropicModifiedNormalAndRoughness (core ImageBasedLighting.hlsl): the normal bent towards
+// the grain's view-facing normal normalize(V − (V·g)g) by |anisotropy|·sat(1.5√pr), g the bitangent
+// for anisotropy ≥ 0 (the tangent else); returns iblR = reflect(−V, iblN)
+fn anisotropic_ibl_reflection(b: HdrpBsdfData, n: vec3<f32>, v: vec3<f32>, pr: f32) -> vec3<f32> {
+    let grain = select(b.tangent, b.bitangent, b.anisotropy >= 0.0);
+    let stretch = abs(b.anisotropy) * sat(1.5 * sqrt(pr));
+    let grain_normal = normalize(v - dot(v, grain) * grain);
+    let ibl_n = normalize(mix(n, grain_normal, stretch));
+    return reflect(-v, ibl_n);
+}
+
 // F_Schlick(CLEAR_COAT_F0, LH)·coatMask: the coat's Fresnel per light (EvaluateBSDF)
 fn coat_fresnel(lh: f32, coat_mask: f32) -> f32 {
     return f_schlick_scalar(CLEAR_COAT_F0, lh) * coat_mask;
@@ -211,8 +263,7 @@ fn get_specular_dominant_dir(n: vec3<f32>, r: vec3<f32>, pr: f32, clamped_nv: f3
 
 // EvaluateBSDF_Env's fetch direction: the dominant direction, lerped back to iblR by sat(smoothstep(0, 1, α²));
 // normalised here because the probe is an equirectangular map (a cubemap fetch ignores the length)
-fn hdrp_ibl_direction(n: vec3<f32>, v: vec3<f32>, pr: f32, clamped_nv: f32) -> vec3<f32> {
-    let ibl_r = reflect(-v, n);
+fn hdrp_ibl_direction(n: vec3<f32>, ibl_r: vec3<f32>, pr: f32, clamped_nv: f32) -> vec3<f32> {
     let a = pr * pr;
     let r = mix(get_specular_dominant_dir(n, ibl_r, pr, clamped_nv), ibl_r, sat(smoothstep(0.0, 1.0, a * a)));
     return r * inverseSqrt(max(dot(r, r), HDRP_FLT_EPS));
@@ -230,7 +281,7 @@ fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f3
     let inv_len = inverseSqrt(max(2.0 * lv + 2.0, HDRP_FLT_EPS));
     let nh = sat((nl + nv) * inv_len);
     let lh = sat(inv_len * lv + inv_len);
-    let b = hdrp_bsdf_data(s, nv);
+    let b = hdrp_bsdf_data(s, n, nv);
     let pr = b.perceptual_roughness;
     let a_material = pr * pr;
     let a = max(a_material, light_min_roughness);
@@ -239,8 +290,18 @@ fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f3
         // The film's Fresnel is taken at NV once (GetPreLightData), not per light at LH
         f = mix(f, b.fresnel0, b.iridescence_mask);
     }
-    let part_lambda_v = smith_joint_ggx_part_lambda_v(clamped_nv, a_material);
-    var spec = f * dv_smith_joint_ggx(nh, abs(nl), clamped_nv, a, part_lambda_v);
+    var dv: f32;
+    if (b.anisotropy != 0.0) {
+        // For anisotropy the angles to T and B are not saturated (EvaluateBSDF)
+        let h = (l + v) * inv_len;
+        let r = anisotropic_roughness(a_material, b.anisotropy);
+        let part_lambda_v = smith_joint_ggx_aniso_part_lambda_v(dot(b.tangent, v), dot(b.bitangent, v), clamped_nv, r.x, r.y);
+        let rl = max(r, vec2<f32>(light_min_roughness));
+        dv = dv_smith_joint_ggx_aniso(dot(b.tangent, h), dot(b.bitangent, h), nh, clamped_nv, dot(b.tangent, l), dot(b.bitangent, l), abs(nl), rl.x, rl.y, part_lambda_v);
+    } else {
+        dv = dv_smith_joint_ggx(nh, abs(nl), clamped_nv, a, smith_joint_ggx_part_lambda_v(clamped_nv, a_material));
+    }
+    var spec = f * dv;
     var diffuse = hdrp_diffuse_color(s) * INV_PI * fd_disney_renormalized_no_pi(abs(nl), clamped_nv, lv, pr);
     if (b.coat_mask > 0.0) {
         let coat_f = coat_fresnel(lh, b.coat_mask);
@@ -257,7 +318,7 @@ fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f3
 fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>) -> vec3<f32> {
     let nv = dot(n, v);
     let clamped_nv = clamp_n_dot_v(nv);
-    let b = hdrp_bsdf_data(s, nv);
+    let b = hdrp_bsdf_data(s, n, nv);
     let pr = b.perceptual_roughness;
     let fgd = fgd_lookup(clamped_nv, pr);
     let f0 = b.fresnel0;
@@ -270,7 +331,14 @@ fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>)
         // base's so that the probe pass records the base's direction
         coat = b.coat_ibl_f * env_specular(reflect(-v, n), 0.0);
     }
-    var spec = specular_fgd * env_specular(hdrp_ibl_direction(n, v, pr, clamped_nv), pr);
+    // The FGD takes the roughness before anisotropy narrows it; the fetch after (GetPreLightData)
+    var ibl_r = reflect(-v, n);
+    var ibl_pr = pr;
+    if (b.anisotropy != 0.0) {
+        ibl_r = anisotropic_ibl_reflection(b, n, v, pr);
+        ibl_pr = pr * sat(1.2 - abs(b.anisotropy));
+    }
+    var spec = specular_fgd * env_specular(hdrp_ibl_direction(n, ibl_r, ibl_pr, clamped_nv), ibl_pr);
     if (b.coat_mask > 0.0) {
         // The base through the coat twice; the baked diffuse is not attenuated
         spec = spec * ((1.0 - b.coat_ibl_f) * (1.0 - b.coat_ibl_f)) + coat;
@@ -290,7 +358,7 @@ fn ltc_lookup(row: i32, clamped_nv: f32, pr: f32) -> mat3x3<f32> {
 fn model_rect(s: Surface, n: vec3<f32>, v: vec3<f32>, corners: array<vec3<f32>, 4>) -> vec3<f32> {
     let nv = dot(n, v);
     let clamped_nv = clamp_n_dot_v(nv);
-    let b = hdrp_bsdf_data(s, nv);
+    let b = hdrp_bsdf_data(s, n, nv);
     let pr = b.perceptual_roughness;
     let basis = ortho_basis_view_normal(v, n, nv);
     let ltc_diffuse = polygon_irradiance(polygon_form_factor(ltc_transform(corners, ltc_lookup(LTC_DISNEY_ROW, clamped_nv, pr) * basis)));

@@ -52,7 +52,8 @@ fn emitted(c: vec3<f32>) -> vec3<f32> {
 
 // Material as the model receives it: metallic already converted by the pipeline (presets.md).
 // specular: the models that take a specular colour; params0/params1: the model's own parameters
-// by slot (registry ParamSpec). Twin: shading::twin::Surface.
+// by slot (registry ParamSpec); tangent: the mesh's world tangent at the point, not yet orthogonal
+// to the normal (zero: none), which HDRP Lit's anisotropy reads. Twin: shading::twin::Surface.
 struct Surface {
     base_color: vec3<f32>,
     metallic: f32,
@@ -60,6 +61,7 @@ struct Surface {
     specular: vec3<f32>,
     params0: vec4<f32>,
     params1: vec4<f32>,
+    tangent: vec3<f32>,
 };
 
 // Irradiance delivered per unit of light "intensity": built-in and URP intensities carry π (models.md#builtin "The π convention")

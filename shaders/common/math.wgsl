@@ -13,6 +13,17 @@ fn sat3(x: vec3<f32>) -> vec3<f32> {
     return clamp(x, vec3<f32>(0.0), vec3<f32>(1.0));
 }
 
+// GetLocalFrame (core CommonLighting.hlsl, 'ortho_basis_pixar_r2'): an orthonormal frame around a
+// unit z, columns x, y, z; twin: shading::twin::get_local_frame
+fn get_local_frame(z: vec3<f32>) -> mat3x3<f32> {
+    let sz = select(-1.0, 1.0, z.z >= 0.0);
+    let a = 1.0 / (sz + z.z);
+    let ya = z.y * a;
+    let b = z.x * ya;
+    let c = z.x * sz;
+    return mat3x3<f32>(vec3<f32>(c * z.x * a - 1.0, sz * b, c), vec3<f32>(b, z.y * ya - sz, z.y), z);
+}
+
 // x⁵ by multiplies: pow() is undefined for x = 0 in WGSL (models.md#stability)
 fn pow5(x: f32) -> f32 {
     let x2 = x * x;

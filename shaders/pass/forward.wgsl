@@ -741,7 +741,8 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> FragmentOut {
     let uv = parallax_uv(in.uv, in.view_ts);
     let n = mapped_normal(shading_normal(in.normal, face, in.world_pos, front), in.tangent, uv);
     var out: FragmentOut;
-    let s = material_at(uv);
+    var s = material_at(uv);
+    s.tangent = in.tangent.xyz;
     var glow = vec3<f32>(0.0);
     if (FORWARD_PASS != FORWARD_ADD) {
         glow = emission(uv);
@@ -901,13 +902,29 @@ struct GBufferOut {
     @location(5) shadow_mask: vec4<f32>,
 };
 
+// The tangent as the G-buffer keeps it: its angle γ ∈ [0, π) about N from GetLocalFrame(N)'s x, as
+// γ/π in 8 bits (0.7° steps). HDRP's EncodeIntoGBuffer stores the same rotation as an 8-bit sine or
+// cosine with a flag; anisotropic GGX is the same for T and −T, so half a turn is enough.
+fn encode_tangent_angle(n: vec3<f32>, t: vec3<f32>) -> f32 {
+    let frame = get_local_frame(n);
+    let gamma = atan2(dot(t, frame[1]), dot(t, frame[0]));
+    return select(gamma, gamma + PI, gamma < 0.0) / PI;
+}
+
+fn decode_tangent_angle(n: vec3<f32>, stored: f32) -> vec3<f32> {
+    let frame = get_local_frame(n);
+    let gamma = stored * PI;
+    return cos(gamma) * frame[0] + sin(gamma) * frame[1];
+}
+
 @fragment
 fn fs_gbuffer(in: VertexOut, @builtin(front_facing) front: bool) -> GBufferOut {
     lod_clip(in.clip.xy, in.world_pos);
     lightmap_uv = in.uv2;
     let uv = parallax_uv(in.uv, in.view_ts);
     let n = mapped_normal(shading_normal(in.normal, cross(dpdx(in.world_pos), dpdy(in.world_pos)), in.world_pos, front), in.tangent, uv);
-    let s = material_at(uv);
+    var s = material_at(uv);
+    s.tangent = in.tangent.xyz;
     let v = normalize(frame.camera_pos.xyz - in.world_pos);
     shading_position = in.world_pos;
     renderer_probe = i32(object.reflection_probe.x) - 1;
@@ -919,7 +936,8 @@ fn fs_gbuffer(in: VertexOut, @builtin(front_facing) front: bool) -> GBufferOut {
     subtracts_main_light = PIPELINE != PIPELINE_BUILTIN;
     let gi = object_ambient(n) + max(sh_eval(object.light_sh, n), vec3<f32>(0.0));
     var out: GBufferOut;
-    out.albedo = vec4<f32>(s.base_color, 1.0);
+    // a: the tangent's angle about N, for HDRP Lit's anisotropy (HDRP's GBuffer2 keeps it so)
+    out.albedo = vec4<f32>(s.base_color, encode_tangent_angle(n, s.tangent));
     // w: lightmapped (URP's kMaterialFlagSubtractiveMixedLighting where the scene is Subtractive)
     // z: the pixel's SSAO visibility, for URP's lighting passes' direct factor (the R8 value
     // StencilDeferred samples, at the same 8 bits)
@@ -1027,6 +1045,7 @@ fn fs_deferred(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     }
     let nb = textureLoad(gb_normal, px, 0);
     let n = normalize(nb.xyz * 2.0 - 1.0);
+    s.tangent = decode_tangent_angle(n, textureLoad(gb_albedo, px, 0).a);
     let v = normalize(frame.camera_pos.xyz - p);
     var c = textureLoad(gb_lighting, px, 0).rgb;
     // A legacy pass's RT3 holds the emission and Albedo·indirect diffuse alone

@@ -131,6 +131,7 @@ fn surface_at(hit: Hit, d: vec3<f32>) -> SurfacePoint {
     }
     sp.n = n;
     sp.s = surface_from(m, sp.uv, albedo, mask, textured);
+    sp.s.tangent = (a.tangent * b0 + b.tangent * hit.b1 + c.tangent * hit.b2).xyz;
     // The subject's emission where its model emits; a fixed object's own (zero for most).
     sp.emission = m.emission.rgb * glow;
     return sp;

@@ -434,6 +434,13 @@ pub fn expand(m: &Matrix) -> Expansion {
                                     coords.set(*axis, v);
                                 }
                                 coords.params = params.clone();
+                                // A type sets its flags, and takes a swept slider it has not (a
+                                // Standard cell has no anisotropy): the id says what is drawn.
+                                if let Some(t) = coords.material_type {
+                                    for (name, _) in t.params() {
+                                        coords.params.remove(*name);
+                                    }
+                                }
                                 let cell = Cell {
                                     id: CellId(String::new()),
                                     composition_index: ci,
@@ -854,6 +861,25 @@ mod tests {
         let standard = cells("hdrp", "lit", MaterialType::Standard);
         assert_eq!(standard.iter().filter(|c| c.twin_of.is_some()).count(), 1, "{standard:?}");
         assert!(cells("hdrp", "lit", MaterialType::Iridescence).iter().all(|c| c.twin_of.is_none()));
+        // The Anisotropy type takes the swept slider; the other types have none, and say so in their ids.
+        let aniso = text
+            .replace("\"iridescence\"]", "\"iridescence\", \"anisotropy\"]")
+            .replace("iridescence_thickness = [0.3, 0.7]", "anisotropy = [0.5, -0.25]");
+        let m = Matrix::from_text("t.toml", &aniso, None, Arc::new(crate::shading::Registry::builtin())).unwrap();
+        let e = expand(&m);
+        let of = |t: MaterialType| {
+            e.cells
+                .iter()
+                .filter(move |c| c.pipeline == Pipeline::Hdrp && c.shader == "lit" && c.coords.material_type == Some(t))
+        };
+        let slot = crate::shading::twin::ANISOTROPY_SLOT;
+        let mut values: Vec<f64> = of(MaterialType::Anisotropy).map(|c| c.surface().params[slot]).collect();
+        values.sort_by(f64::total_cmp);
+        assert_eq!(values, vec![-0.25, 0.5]);
+        assert!(of(MaterialType::Anisotropy).all(|c| c.id.0.contains("_anisotropy")));
+        assert_eq!(of(MaterialType::Standard).count(), 1, "one Standard cell, not one per anisotropy");
+        assert!(of(MaterialType::Standard).all(|c| c.surface().params[slot] == 0.0 && !c.id.0.contains("_anisotropy0")));
+        assert!(e.pruned.iter().any(|p| p.description.contains("urp × lit × anisotropy")), "{:?}", e.pruned);
         // A type and a parameter it sets may not both be swept; a typo is named.
         let both = text.replace("iridescence_thickness", "specular_setup").replace("0.3, 0.7", "0, 1");
         let err = Matrix::from_text("t.toml", &both, None, Arc::new(crate::shading::Registry::builtin())).unwrap_err();

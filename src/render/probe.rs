@@ -24,6 +24,8 @@ pub struct ProbeInput {
     pub specular: [f32; 4],
     pub model0: [f32; 4],
     pub model1: [f32; 4],
+    /// The surface's tangent (`Surface::tangent`).
+    pub tangent: [f32; 4],
 }
 
 impl ProbeInput {
@@ -42,6 +44,7 @@ impl ProbeInput {
             specular: v4(s.specular),
             model0: [p[0], p[1], p[2], p[3]],
             model1: [p[4], p[5], p[6], p[7]],
+            tangent: v4(s.tangent),
         }
     }
 }

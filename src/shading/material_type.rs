@@ -15,17 +15,22 @@ pub enum MaterialType {
     SpecularColor,
     /// HDRP's Iridescence: a thin film over the base (`iridescence_mask` 1, its default mask).
     Iridescence,
+    /// HDRP's Anisotropy: anisotropic GGX along the tangent, by the `anisotropy` parameter (0 in a
+    /// new material, where it draws as Standard); the other types have none.
+    Anisotropy,
 }
 
 impl MaterialType {
     /// In the order HDRP's inspector lists the types it has here.
-    pub const ALL: [MaterialType; 3] = [MaterialType::Standard, MaterialType::SpecularColor, MaterialType::Iridescence];
+    pub const ALL: [MaterialType; 4] =
+        [MaterialType::Standard, MaterialType::SpecularColor, MaterialType::Iridescence, MaterialType::Anisotropy];
 
     pub fn name(self) -> &'static str {
         match self {
             MaterialType::Standard => "standard",
             MaterialType::SpecularColor => "specular_color",
             MaterialType::Iridescence => "iridescence",
+            MaterialType::Anisotropy => "anisotropy",
         }
     }
 
@@ -37,13 +42,15 @@ impl MaterialType {
         Self::ALL.iter().map(|t| t.name()).collect()
     }
 
-    /// The parameter values that select the type. Standard sets the others' parameters back to 0
-    /// where the model has them, and needs none.
+    /// The parameter values that select the type, where the model has them: the others' set back
+    /// to 0. The Anisotropy type leaves `anisotropy` to the sweep (its slider); the other types
+    /// have no anisotropy, so a swept value does not reach them.
     pub fn params(self) -> &'static [(&'static str, f64)] {
         match self {
-            MaterialType::Standard => &[("specular_setup", 0.0), ("iridescence_mask", 0.0)],
-            MaterialType::SpecularColor => &[("specular_setup", 1.0), ("iridescence_mask", 0.0)],
-            MaterialType::Iridescence => &[("specular_setup", 0.0), ("iridescence_mask", 1.0)],
+            MaterialType::Standard => &[("specular_setup", 0.0), ("iridescence_mask", 0.0), ("anisotropy", 0.0)],
+            MaterialType::SpecularColor => &[("specular_setup", 1.0), ("iridescence_mask", 0.0), ("anisotropy", 0.0)],
+            MaterialType::Iridescence => &[("specular_setup", 0.0), ("iridescence_mask", 1.0), ("anisotropy", 0.0)],
+            MaterialType::Anisotropy => &[("specular_setup", 0.0), ("iridescence_mask", 0.0)],
         }
     }
 
@@ -53,6 +60,7 @@ impl MaterialType {
             MaterialType::Standard => None,
             MaterialType::SpecularColor => Some("specular_setup"),
             MaterialType::Iridescence => Some("iridescence_mask"),
+            MaterialType::Anisotropy => Some("anisotropy"),
         }
     }
 
@@ -74,11 +82,16 @@ impl MaterialType {
         ))
     }
 
-    /// The parameters the type sets that a `[sweep.params]` list must not sweep as well.
+    /// The parameters every type sets, which a `[sweep.params]` list must not sweep as well (the
+    /// types' flags, not a type's own slider).
     pub fn param_names() -> Vec<&'static str> {
-        let mut names: Vec<&str> = Self::ALL.iter().flat_map(|t| t.params().iter().map(|(n, _)| *n)).collect();
+        let mut names: Vec<&str> = Self::ALL[0]
+            .params()
+            .iter()
+            .map(|(n, _)| *n)
+            .filter(|n| Self::ALL.iter().all(|t| t.params().iter().any(|(m, _)| m == n)))
+            .collect();
         names.sort_unstable();
-        names.dedup();
         names
     }
 }

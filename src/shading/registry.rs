@@ -179,6 +179,7 @@ pub fn metallic_workflow(model: &ShaderModel, pipeline: Pipeline, s: &Sliders) -
         specular: DVec3::ZERO,
         params: model.default_params(),
         diffuse_weight: 1.0,
+        tangent: DVec3::ZERO,
     }
 }
 
@@ -440,6 +441,19 @@ const IRIDESCENCE_MASK: ParamSpec = ParamSpec {
     ),
 };
 
+/// HDRP Lit's `_Anisotropy` of the Anisotropy material type (−1..1, 0 in a new material):
+/// αT = α(1 + a), αB = α(1 − a) along the mesh's tangent; at 0 the type draws as Standard.
+const ANISOTROPY: ParamSpec = ParamSpec {
+    name: Cow::Borrowed("anisotropy"),
+    slot: twin::ANISOTROPY_SLOT,
+    default: 0.0,
+    min: -1.0,
+    max: 1.0,
+    doc: Cow::Borrowed(
+        "the Anisotropy material type: anisotropic GGX with αT = α(1 + a), αB = α(1 − a) along the mesh's tangent, the reflections fetched about GetAnisotropicModifiedNormal; 0 (default): isotropic",
+    ),
+};
+
 /// Parameters read only while another is above 0: (parameter, its gate).
 const PARAM_GATES: &[(&str, &str)] = &[("iridescence_thickness", "iridescence_mask")];
 
@@ -525,6 +539,7 @@ fn classic_specular(model: &ShaderModel, _: Pipeline, s: &Sliders) -> Surface {
         specular: DVec3::splat(0.5).lerp(c, s.metallic),
         params: model.default_params(),
         diffuse_weight: 1.0,
+        tangent: DVec3::ZERO,
     }
 }
 
@@ -542,6 +557,7 @@ fn oren_nayar_sliders(model: &ShaderModel, _: Pipeline, s: &Sliders) -> Surface 
         specular: DVec3::ZERO,
         params,
         diffuse_weight: 1.0,
+        tangent: DVec3::ZERO,
     }
 }
 
@@ -554,6 +570,7 @@ fn custom_shader_sliders(model: &ShaderModel, _: Pipeline, s: &Sliders) -> Surfa
         specular: DVec3::ONE,
         params: model.default_params(),
         diffuse_weight: 1.0,
+        tangent: DVec3::ZERO,
     }
 }
 
@@ -566,6 +583,7 @@ fn simple_lit_sliders(model: &ShaderModel, _: Pipeline, s: &Sliders) -> Surface 
         specular: DVec3::splat(crate::color::srgb_to_linear(0.5)),
         params: model.default_params(),
         diffuse_weight: 1.0,
+        tangent: DVec3::ZERO,
     }
 }
 
@@ -935,7 +953,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         reads: ALL_AXES,
         expected: HDRP_LIT,
         twin: &twin::HdrpLit,
-        params: &[ENERGY_COMPENSATION, SPECULAR_SETUP_HDRP, COAT_MASK, IRIDESCENCE_MASK, IRIDESCENCE_THICKNESS],
+        params: &[ENERGY_COMPENSATION, SPECULAR_SETUP_HDRP, COAT_MASK, IRIDESCENCE_MASK, IRIDESCENCE_THICKNESS, ANISOTROPY],
         mapping: METALLIC_WORKFLOW,
         from_sliders: metallic_workflow,
         summary: "HDRP Lit: renormalised Disney diffuse, height-correlated Smith GGX, F_Schlick(f90), FGD energy compensation (models.md#hdrp-lit)",
@@ -977,6 +995,7 @@ fn metallic_as_is(model: &ShaderModel, _: Pipeline, s: &Sliders) -> Surface {
         specular: DVec3::ZERO,
         params: model.default_params(),
         diffuse_weight: 1.0,
+        tangent: DVec3::ZERO,
     }
 }
 

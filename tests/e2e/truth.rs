@@ -266,6 +266,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             specular: DVec3::ZERO,
             params: [0.0; 8],
             diffuse_weight: 1.0,
+            tangent: glam::DVec3::ZERO,
         };
         let twin = physical_response(&s, n, *v, *l);
         for c in 0..3 {
@@ -301,6 +302,7 @@ fn a_physical_truth_in_the_furnace_reflects_the_models_albedo() {
         specular: glam::DVec3::ZERO,
         params: [0.0; 8],
         diffuse_weight: 1.0,
+        tangent: glam::DVec3::ZERO,
     };
     let albedo = shadematrix::render::truth::physical::directional_albedo(&i, 1.0);
     // Mean over the 4×4 pixels at the centre (NV ≈ 1), against 4 standard errors of that mean.

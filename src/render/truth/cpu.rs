@@ -413,6 +413,7 @@ fn surface_from(m: &GpuMaterial, uv: DVec2) -> Surface {
         specular: v3(m.specular),
         params: std::array::from_fn(|i| if i < 4 { m.model0[i] as f64 } else { m.model1[i - 4] as f64 }),
         diffuse_weight: 1.0,
+        tangent: DVec3::ZERO,
     };
     let scale = m.params[2] as f64;
     if scale > 0.0 {
@@ -655,6 +656,10 @@ impl<'a> Tracer<'a> {
             let t = lerp(a.tangent, b.tangent, c.tangent);
             let w = a.tangent[3] as f64 * b0 + b.tangent[3] as f64 * hit.b1 + c.tangent[3] as f64 * hit.b2;
             n = tangent_to_world(n, t, w, DVec3::new(normal[0], normal[1], normal[2]));
+        }
+        if self.inputs.kind == TruthKind::SameBrdf {
+            // HDRP Lit's anisotropy reads the tangent (truth.wgsl `surface_at`); the physical model none.
+            s.tangent = lerp(a.tangent, b.tangent, c.tangent);
         }
         let lobe = (self.inputs.kind == TruthKind::Physical).then(|| physical::PhysicalLobe::new(&s, n, -d));
         SurfacePoint { p, n, ng, object, s, emission, lobe }

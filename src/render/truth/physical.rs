@@ -102,6 +102,7 @@ mod tests {
             specular: DVec3::ZERO,
             params: [0.0; 8],
             diffuse_weight: 1.0,
+            tangent: DVec3::ZERO,
         };
         let a = directional_albedo(&metal, 0.7).x;
         assert!((a - 1.0).abs() < 0.03, "white rough metal albedo {a}");

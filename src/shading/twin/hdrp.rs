@@ -47,9 +47,8 @@ fn smoothstep01(x: f64) -> f64 {
 }
 
 /// EvaluateBSDF_Env's fetch direction, normalised: the dominant direction lerped back to
-/// iblR = reflect(−V, N) by sat(smoothstep(0, 1, α²)).
-pub fn hdrp_ibl_direction(n: DVec3, v: DVec3, pr: f64, clamped_nv: f64) -> DVec3 {
-    let ibl_r = 2.0 * n.dot(v) * n - v;
+/// iblR (reflect(−V, N), or about the anisotropic normal) by sat(smoothstep(0, 1, α²)).
+pub fn hdrp_ibl_direction(n: DVec3, ibl_r: DVec3, pr: f64, clamped_nv: f64) -> DVec3 {
     let a = pr * pr;
     let r = get_specular_dominant_dir(n, ibl_r, pr, clamped_nv).lerp(ibl_r, smoothstep01(a * a));
     r / r.length_squared().max(FLT_EPS).sqrt()
@@ -101,6 +100,7 @@ pub const CLEAR_COAT_ROUGHNESS: f64 = 0.01;
 pub const COAT_MASK_SLOT: usize = 2;
 pub const IRIDESCENCE_MASK_SLOT: usize = 3;
 pub const IRIDESCENCE_THICKNESS_SLOT: usize = 4;
+pub const ANISOTROPY_SLOT: usize = 5;
 
 /// F_Schlick for a scalar F0 and F90 = 1: (1 − F0)·x⁵ + F0, x = 1 − u (core BSDF.hlsl).
 pub fn f_schlick_scalar(f0: f64, u: f64) -> f64 {
@@ -201,11 +201,78 @@ pub struct HdrpBsdfData {
     /// coatIblF = F_Schlick(CLEAR_COAT_F0, clampedNdotV)·coatMask.
     pub coat_ibl_f: f64,
     pub iridescence_mask: f64,
+    pub anisotropy: f64,
+    /// The tangent frame: the surface's tangent made orthonormal to N (GetLocalFrame's where
+    /// there is none) and N × T (FillMaterialAnisotropy); zero without anisotropy.
+    pub tangent: DVec3,
+    pub bitangent: DVec3,
+}
+
+/// Orthonormalize(T, N), or GetLocalFrame(N)'s x where the mesh has no tangent.
+pub fn hdrp_tangent(t: DVec3, n: DVec3) -> DVec3 {
+    let t_raw = t - n * n.dot(t);
+    if t_raw.length_squared() < 1e-12 {
+        return super::get_local_frame(n).0;
+    }
+    t_raw.normalize()
+}
+
+/// ConvertAnisotropyToRoughness: αT = α(1 + anisotropy), αB = α(1 − anisotropy).
+pub fn anisotropic_roughness(a: f64, anisotropy: f64) -> (f64, f64) {
+    (a * (1.0 + anisotropy), a * (1.0 - anisotropy))
+}
+
+/// GetSmithJointGGXAnisoPartLambdaV: |(αT·TV, αB·BV, NV)|.
+pub fn smith_joint_ggx_aniso_part_lambda_v(tv: f64, bv: f64, nv: f64, rt: f64, rb: f64) -> f64 {
+    DVec3::new(rt * tv, rb * bv, nv).length()
+}
+
+/// DV_SmithJointGGXAniso: (1/π)·0.5·a2³/max(s²(λV + λL), REAL_MIN), a2 = αT·αB,
+/// s = |(αB·TH, αT·BH, a2·NH)|², λV = NL·partLambdaV, λL = NV·|(αT·TL, αB·BL, NL)|.
+#[allow(clippy::too_many_arguments)]
+pub fn dv_smith_joint_ggx_aniso(
+    th: f64,
+    bh: f64,
+    nh: f64,
+    nv: f64,
+    tl: f64,
+    bl: f64,
+    nl: f64,
+    rt: f64,
+    rb: f64,
+    part_lambda_v: f64,
+) -> f64 {
+    let a2 = rt * rb;
+    let s = DVec3::new(rb * th, rt * bh, a2 * nh).length_squared();
+    let lambda_v = nl * part_lambda_v;
+    let lambda_l = nv * DVec3::new(rt * tl, rb * bl, nl).length();
+    FRAC_1_PI * 0.5 * (a2 * a2 * a2) / (s * s * (lambda_v + lambda_l)).max(f32::MIN_POSITIVE as f64)
+}
+
+/// GetGGXAnisotropicModifiedNormalAndRoughness (core ImageBasedLighting.hlsl): N bent towards
+/// the grain's view-facing normal normalize(V − (V·g)g) by |anisotropy|·sat(1.5√pr), g the
+/// bitangent for anisotropy ≥ 0 (the tangent else); returns iblR = reflect(−V, iblN) and the
+/// fetch's perceptual roughness pr·sat(1.2 − |anisotropy|).
+pub fn anisotropic_ibl(b: &HdrpBsdfData, n: DVec3, v: DVec3, pr: f64) -> (DVec3, f64) {
+    let grain = if b.anisotropy >= 0.0 { b.bitangent } else { b.tangent };
+    let stretch = b.anisotropy.abs() * sat(1.5 * pr.sqrt());
+    let grain_normal = (v - v.dot(grain) * grain).normalize();
+    let ibl_n = n.lerp(grain_normal, stretch).normalize();
+    (2.0 * ibl_n.dot(v) * ibl_n - v, pr * sat(1.2 - b.anisotropy.abs()))
+}
+
+/// The environment's fetch: iblR and the perceptual roughness of the mip, about the anisotropic
+/// normal where there is anisotropy (GetPreLightData).
+fn ibl_fetch(b: &HdrpBsdfData, n: DVec3, v: DVec3) -> (DVec3, f64) {
+    if b.anisotropy != 0.0 {
+        return anisotropic_ibl(b, n, v, b.perceptual_roughness);
+    }
+    (2.0 * n.dot(v) * n - v, b.perceptual_roughness)
 }
 
 /// The material features are on where their masks are above 0, as the inspector compiles
 /// `_MATERIAL_FEATURE_CLEAR_COAT` for a coat mask above 0; at mask 0 they leave the surface as it is.
-pub fn hdrp_bsdf_data(s: &Surface, nv: f64) -> HdrpBsdfData {
+pub fn hdrp_bsdf_data(s: &Surface, n: DVec3, nv: f64) -> HdrpBsdfData {
     let clamped_nv = clamp_n_dot_v(nv);
     let coat_mask = s.params[COAT_MASK_SLOT];
     let iridescence_mask = s.params[IRIDESCENCE_MASK_SLOT];
@@ -215,7 +282,14 @@ pub fn hdrp_bsdf_data(s: &Surface, nv: f64) -> HdrpBsdfData {
         coat_mask,
         coat_ibl_f: 0.0,
         iridescence_mask,
+        anisotropy: s.params[ANISOTROPY_SLOT],
+        tangent: DVec3::ZERO,
+        bitangent: DVec3::ZERO,
     };
+    if b.anisotropy != 0.0 {
+        b.tangent = hdrp_tangent(s.tangent, n);
+        b.bitangent = n.cross(b.tangent);
+    }
     if coat_mask > 0.0 {
         b.perceptual_roughness = clear_coat_perceptual_roughness(b.perceptual_roughness, coat_mask);
     }
@@ -268,7 +342,7 @@ impl SurfaceTwin for HdrpLit {
         let inv_len = 1.0 / (2.0 * lv + 2.0).max(FLT_EPS).sqrt();
         let nh = sat((nl + nv) * inv_len);
         let lh = sat(inv_len * lv + inv_len);
-        let b = hdrp_bsdf_data(s, nv);
+        let b = hdrp_bsdf_data(s, n, nv);
         let pr = b.perceptual_roughness;
         let a_material = pr * pr;
         let a = a_material.max(min_roughness);
@@ -277,7 +351,28 @@ impl SurfaceTwin for HdrpLit {
             // The film's Fresnel is taken at NV once (GetPreLightData), not per light at LH.
             f = f.lerp(b.fresnel0, b.iridescence_mask);
         }
-        let dv = dv_smith_joint_ggx(nh, nl.abs(), clamped_nv, a, smith_joint_ggx_part_lambda_v(clamped_nv, a_material));
+        let dv = if b.anisotropy != 0.0 {
+            // For anisotropy the angles to T and B are not saturated (EvaluateBSDF).
+            let h = (l + v) * inv_len;
+            let (t, bt) = (b.tangent, b.bitangent);
+            let (rt, rb) = anisotropic_roughness(a_material, b.anisotropy);
+            let part_lambda_v = smith_joint_ggx_aniso_part_lambda_v(t.dot(v), bt.dot(v), clamped_nv, rt, rb);
+            let (rt, rb) = (rt.max(min_roughness), rb.max(min_roughness));
+            dv_smith_joint_ggx_aniso(
+                t.dot(h),
+                bt.dot(h),
+                nh,
+                clamped_nv,
+                t.dot(l),
+                bt.dot(l),
+                nl.abs(),
+                rt,
+                rb,
+                part_lambda_v,
+            )
+        } else {
+            dv_smith_joint_ggx(nh, nl.abs(), clamped_nv, a, smith_joint_ggx_part_lambda_v(clamped_nv, a_material))
+        };
         let mut spec = f * dv;
         let mut diffuse =
             hdrp_diffuse_color(s) * FRAC_1_PI * fd_disney_renormalized_no_pi(nl.abs(), clamped_nv, lv, pr);
@@ -296,7 +391,7 @@ impl SurfaceTwin for HdrpLit {
     fn indirect_lobes(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, gi_d: DVec3, gi_s: DVec3) -> Lobes {
         let nv = n.dot(v);
         let clamped_nv = clamp_n_dot_v(nv);
-        let b = hdrp_bsdf_data(s, nv);
+        let b = hdrp_bsdf_data(s, n, nv);
         let fgd = FgdTable::get().lookup(clamped_nv, b.perceptual_roughness);
         let f0 = b.fresnel0;
         let specular_fgd = (DVec3::ONE - f0) * fgd.x + f0 * fgd.y;
@@ -313,7 +408,7 @@ impl SurfaceTwin for HdrpLit {
         use crate::shading::ltc::{ltc_evaluate, ltc_lookup, ortho_basis_view_normal, LtcLobe};
         let nv = n.dot(v);
         let clamped_nv = clamp_n_dot_v(nv);
-        let b = hdrp_bsdf_data(s, nv);
+        let b = hdrp_bsdf_data(s, n, nv);
         let pr = b.perceptual_roughness;
         let basis = ortho_basis_view_normal(v, n, nv);
         let ltc_diffuse = ltc_evaluate(corners, &basis, &ltc_lookup(LtcLobe::DisneyDiffuse, clamped_nv, pr));
@@ -334,8 +429,9 @@ impl SurfaceTwin for HdrpLit {
     }
 
     fn env_direction(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3) -> Option<DVec3> {
-        let b = hdrp_bsdf_data(s, n.dot(v));
-        Some(hdrp_ibl_direction(n, v, b.perceptual_roughness, clamp_n_dot_v(n.dot(v))))
+        let b = hdrp_bsdf_data(s, n, n.dot(v));
+        let (ibl_r, ibl_pr) = ibl_fetch(&b, n, v);
+        Some(hdrp_ibl_direction(n, ibl_r, ibl_pr, clamp_n_dot_v(n.dot(v))))
     }
 }
 
@@ -399,11 +495,11 @@ mod tests {
         assert!((factor - 0.27).abs() < 0.01, "{factor}");
         let n = DVec3::Y;
         let v = DVec3::new((1.0 - nv * nv).sqrt(), nv, 0.0);
-        let r = hdrp_ibl_direction(n, v, pr, nv);
         let ibl_r = 2.0 * nv * n - v;
+        let r = hdrp_ibl_direction(n, ibl_r, pr, nv);
         assert!(r.dot(n) > ibl_r.dot(n), "towards N: {r} vs iblR {ibl_r}");
         // A mirror fetches along iblR itself.
-        let mirror = hdrp_ibl_direction(n, v, 0.0, nv);
+        let mirror = hdrp_ibl_direction(n, ibl_r, 0.0, nv);
         assert!((mirror - ibl_r).length() < 1e-12);
     }
 
@@ -433,9 +529,9 @@ mod tests {
         assert!((clear_coat_perceptual_roughness(1.0, 1.0) - 1.0).abs() < 1e-12);
         let mut s = Surface::basic(DVec3::new(0.9, 0.5, 0.2), 0.5, 0.6);
         s.params[0] = 1.0;
-        let plain = hdrp_bsdf_data(&s, 0.7);
+        let plain = hdrp_bsdf_data(&s, DVec3::Y, 0.7);
         s.params[IRIDESCENCE_THICKNESS_SLOT] = 0.3;
-        let masked = hdrp_bsdf_data(&s, 0.7);
+        let masked = hdrp_bsdf_data(&s, DVec3::Y, 0.7);
         assert_eq!((plain.fresnel0, plain.perceptual_roughness), (masked.fresnel0, masked.perceptual_roughness));
         assert_eq!(plain.coat_ibl_f, 0.0);
     }

@@ -14,7 +14,7 @@ pub use classic::{BlinnPhong, CookTorrance, CookTorrance1982, HalfLambert, OrenN
 pub use custom::{d_ggx, FresnelView, TorranceSparrow};
 pub use hdrp::{
     default_light_min_roughness, gtao_multi_bounce, indirect_occlusion, specular_occlusion_from_ao, HdrpLit,
-    COAT_MASK_SLOT, IRIDESCENCE_MASK_SLOT, IRIDESCENCE_THICKNESS_SLOT,
+    ANISOTROPY_SLOT, COAT_MASK_SLOT, IRIDESCENCE_MASK_SLOT, IRIDESCENCE_THICKNESS_SLOT,
 };
 pub use lambert::Lambert;
 pub use standard::Standard;
@@ -39,12 +39,23 @@ pub struct Surface {
     /// (`SurfaceType::premultiplies_diffuse`), 1 else; read by the models that keep their diffuse
     /// lobe apart (WGSL: the pass's private `diffuse_weight`).
     pub diffuse_weight: f64,
+    /// The shading point's world tangent (the mesh's, not yet orthogonal to the normal; zero
+    /// where there is none): HDRP Lit's anisotropy reads it (`SurfaceData::tangentWS`).
+    pub tangent: DVec3,
 }
 
 impl Surface {
     /// Base colour, metallic and smoothness only; no specular colour, parameters zero.
     pub fn basic(base_color: DVec3, metallic: f64, smoothness: f64) -> Surface {
-        Surface { base_color, metallic, smoothness, specular: DVec3::ZERO, params: [0.0; 8], diffuse_weight: 1.0 }
+        Surface {
+            base_color,
+            metallic,
+            smoothness,
+            specular: DVec3::ZERO,
+            params: [0.0; 8],
+            diffuse_weight: 1.0,
+            tangent: DVec3::ZERO,
+        }
     }
 
     /// Every value rounded to f32, as the GPU receives it: the twin's input for parity checks.
@@ -57,6 +68,7 @@ impl Surface {
             specular: r(self.specular),
             params: self.params.map(|p| p as f32 as f64),
             diffuse_weight: self.diffuse_weight as f32 as f64,
+            tangent: r(self.tangent),
         }
     }
 }
@@ -164,6 +176,17 @@ pub fn sat(x: f64) -> f64 {
 pub fn pow5(x: f64) -> f64 {
     let x2 = x * x;
     x2 * x2 * x
+}
+
+/// GetLocalFrame (core CommonLighting.hlsl, 'ortho_basis_pixar_r2'): an orthonormal frame (x, y)
+/// around a unit z; WGSL `get_local_frame`.
+pub fn get_local_frame(z: DVec3) -> (DVec3, DVec3) {
+    let sz = if z.z >= 0.0 { 1.0 } else { -1.0 };
+    let a = 1.0 / (sz + z.z);
+    let ya = z.y * a;
+    let b = z.x * ya;
+    let c = z.x * sz;
+    (DVec3::new(c * z.x * a - 1.0, sz * b, c), DVec3::new(b, z.y * ya - sz, z.y))
 }
 
 pub fn safe_normalize(v: DVec3, eps: f64) -> DVec3 {
