@@ -47,7 +47,7 @@ run fig3_5 matrices/fig3_5.toml
 cp "$work/fig3_5/sheets/pipeline_x_term__gold_1.00_0.90.png" docs/fig3_5.png
 run fig3_2 matrices/fig3_2.toml
 cp "$work/fig3_2/sheets/pipeline_x_preset__area_rect.png" docs/fig3_2.png
-cp "$work/fig3_2/sheets/pipeline_x_preset__area_disc.png" docs/fig3_3.png
+cp "$work/fig3_2/sheets/pipeline_x_preset__area_three.png" docs/fig3_3.png
 # HDRP Lit's material types on gold with the clear coat: a row per type, smoothness 0.25 → 0.9.
 run hdrp_materials matrices/hdrp_materials.toml
 rows=()

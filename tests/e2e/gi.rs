@@ -689,3 +689,27 @@ noise = 0
         assert!(under < 0.2 * open, "multiplier {multiplier}: the roof's baked shadow ({under} against {open})");
     }
 }
+
+/// Built-in and URP bake area lights only (Unity's Area Light is Baked): in a scene with baked
+/// lighting the rectangle reaches their frames through the lightmaps and probes, where without a
+/// bake the frame leaves it out (Figs 3.2/3.3). HDRP draws it in real time either way.
+#[test]
+fn a_baked_area_light_reaches_built_in_and_urp_frames() {
+    let _timer = crate::common::timed!();
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let mut baked = cornell();
+    let light = &mut baked.lights[0];
+    light.kind = shadematrix::declarations::scene::LightKind::Rect;
+    light.mode = LightBakeMode::Realtime;
+    light.direction = [0.0, -1.0, 0.0];
+    light.size = Some([0.6, 0.6]);
+    let mut unbaked = baked.clone();
+    unbaked.gi = None;
+    for (p, shader) in [(Pipeline::Builtin, "standard"), (Pipeline::Urp, "lit")] {
+        let sum = |f: Vec<f32>| f.chunks(4).map(|px| px[..3].iter().map(|&v| v as f64).sum::<f64>()).sum::<f64>();
+        let (with, without) =
+            (sum(frame(&mut renderer, &baked, p, shader)), sum(frame(&mut renderer, &unbaked, p, shader)));
+        eprintln!("{}: frame sum {with:.1} with the bake, {without:.1} without (black sky)", p.name());
+        assert!(with > 20.0 * without.max(1e-3), "{}: the baked rectangle does not reach the frame", p.name());
+    }
+}
