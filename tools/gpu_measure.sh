@@ -8,7 +8,7 @@
 #
 # SHADEMATRIX=path runs a binary built elsewhere (the GPU machine may have no Rust toolchain);
 # otherwise it is built here. Only a run on a GPU adapter counts: on a CPU adapter (lavapipe) the
-# script stops with exit 2 unless ALLOW_CPU=1. THESIS=0 leaves thesis.toml out (58 656 rendered
+# script stops with exit 2 unless ALLOW_CPU=1. THESIS=0 leaves thesis.toml out (65 988 rendered
 # cells: minutes on a GPU, hours on a CPU).
 set -euo pipefail
 cd "$(dirname "$0")/.."

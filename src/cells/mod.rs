@@ -260,7 +260,7 @@ fn surface_missing(c: &Cell) -> Option<String> {
     })
 }
 
-/// The most cells a run expands unless `--max-cells` says otherwise: the thesis is 172 800; a
+/// The most cells a run expands unless `--max-cells` says otherwise: the thesis is 194 400; a
 /// million 256² cells is some 200 GB of results.
 pub const DEFAULT_MAX_CELLS: u64 = 1_000_000;
 
