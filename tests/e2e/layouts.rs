@@ -57,7 +57,7 @@ fn uniform_mirrors_match_their_wgsl_structs() {
             "ProbeInput",
             mirror_layout!(
                 ProbeInput,
-                [n, v, l, base_color, params, gi_diffuse, gi_specular, specular, model0, model1]
+                [n, v, l, base_color, params, gi_diffuse, gi_specular, specular, model0, model1, tangent]
             ),
         ),
         (

@@ -251,21 +251,22 @@ pub fn dv_smith_joint_ggx_aniso(
 
 /// GetGGXAnisotropicModifiedNormalAndRoughness (core ImageBasedLighting.hlsl): N bent towards
 /// the grain's view-facing normal normalize(V − (V·g)g) by |anisotropy|·sat(1.5√pr), g the
-/// bitangent for anisotropy ≥ 0 (the tangent else); returns iblR = reflect(−V, iblN) and the
-/// fetch's perceptual roughness pr·sat(1.2 − |anisotropy|).
-pub fn anisotropic_ibl(b: &HdrpBsdfData, n: DVec3, v: DVec3, pr: f64) -> (DVec3, f64) {
+/// bitangent for anisotropy ≥ 0 (the tangent else); returns iblR = reflect(−V, iblN).
+pub fn anisotropic_ibl_reflection(b: &HdrpBsdfData, n: DVec3, v: DVec3, pr: f64) -> DVec3 {
     let grain = if b.anisotropy >= 0.0 { b.bitangent } else { b.tangent };
     let stretch = b.anisotropy.abs() * sat(1.5 * pr.sqrt());
     let grain_normal = (v - v.dot(grain) * grain).normalize();
     let ibl_n = n.lerp(grain_normal, stretch).normalize();
-    (2.0 * ibl_n.dot(v) * ibl_n - v, pr * sat(1.2 - b.anisotropy.abs()))
+    2.0 * ibl_n.dot(v) * ibl_n - v
 }
 
 /// The environment's fetch: iblR and the perceptual roughness of the mip, about the anisotropic
 /// normal where there is anisotropy (GetPreLightData).
 fn ibl_fetch(b: &HdrpBsdfData, n: DVec3, v: DVec3) -> (DVec3, f64) {
     if b.anisotropy != 0.0 {
-        return anisotropic_ibl(b, n, v, b.perceptual_roughness);
+        // The fetch's mip narrows with anisotropy: pr·sat(1.2 − |anisotropy|).
+        let pr = b.perceptual_roughness;
+        return (anisotropic_ibl_reflection(b, n, v, pr), pr * sat(1.2 - b.anisotropy.abs()));
     }
     (2.0 * n.dot(v) * n - v, b.perceptual_roughness)
 }
