@@ -174,7 +174,7 @@ struct HdrpBsdfData {
 fn hdrp_tangent(t: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
     let t_raw = t - n * dot(n, t);
     if (dot(t_raw, t_raw) < 1e-12) {
-        return get_local_frame(n)[0];
+        return local_frame(n)[0];
     }
     return normalize(t_raw);
 }

@@ -906,13 +906,13 @@ struct GBufferOut {
 // γ/π in 8 bits (0.7° steps). HDRP's EncodeIntoGBuffer stores the same rotation as an 8-bit sine or
 // cosine with a flag; anisotropic GGX is the same for T and −T, so half a turn is enough.
 fn encode_tangent_angle(n: vec3<f32>, t: vec3<f32>) -> f32 {
-    let frame = get_local_frame(n);
+    let frame = local_frame(n);
     let gamma = atan2(dot(t, frame[1]), dot(t, frame[0]));
     return select(gamma, gamma + PI, gamma < 0.0) / PI;
 }
 
 fn decode_tangent_angle(n: vec3<f32>, stored: f32) -> vec3<f32> {
-    let frame = get_local_frame(n);
+    let frame = local_frame(n);
     let gamma = stored * PI;
     return cos(gamma) * frame[0] + sin(gamma) * frame[1];
 }

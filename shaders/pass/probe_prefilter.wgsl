@@ -108,16 +108,6 @@ fn fibonacci2d(i: u32, n: u32) -> vec2<f32> {
     return vec2<f32>((f32(i) + 0.5) / f32(n), fract(f32(i) * f32(a) / f32(n)));
 }
 
-// GetLocalFrame (CommonLighting.hlsl): an orthonormal frame around z (Duff et al. 2017)
-fn local_frame(z: vec3<f32>) -> mat3x3<f32> {
-    let sz = select(-1.0, 1.0, z.z >= 0.0);
-    let a = 1.0 / (sz + z.z);
-    let ya = z.y * a;
-    let b = z.x * ya;
-    let c = z.x * sz;
-    return mat3x3<f32>(vec3<f32>(c * z.x * a - 1.0, sz * b, c), vec3<f32>(b, z.y * ya - sz, z.y), z);
-}
-
 // The mip a sample reads: ½·log2(Ω_s/Ω_p) + α, Ω_s = 1/(n·D/4), Ω_p the finest texel's solid angle
 // at l (IntegrateLD, its mipBias = α); twin: filtered::sample_mip
 fn sample_mip(alpha: f32, nh: f32, n: u32, l: vec3<f32>) -> f32 {
