@@ -14,7 +14,7 @@ fn sat3(x: vec3<f32>) -> vec3<f32> {
 }
 
 // GetLocalFrame (core CommonLighting.hlsl, 'ortho_basis_pixar_r2', Duff et al. 2017): an
-// orthonormal frame around a unit z, columns x, y, z; twin: environment::filtered::local_frame
+// orthonormal frame around a unit z, columns x, y, z; twin: shading::twin::local_frame
 fn local_frame(z: vec3<f32>) -> mat3x3<f32> {
     let sz = select(-1.0, 1.0, z.z >= 0.0);
     let a = 1.0 / (sz + z.z);

@@ -96,16 +96,6 @@ pub fn fibonacci2d(i: u32, n: u32) -> [f64; 2] {
     [(i as f64 + 0.5) / n, y - y.floor()]
 }
 
-/// GetLocalFrame (CommonLighting.hlsl): an orthonormal tangent frame around `z` (Duff et al. 2017).
-pub fn local_frame(z: DVec3) -> [DVec3; 3] {
-    let sz = if z.z >= 0.0 { 1.0 } else { -1.0 };
-    let a = 1.0 / (sz + z.z);
-    let ya = z.y * a;
-    let b = z.x * ya;
-    let c = z.x * sz;
-    [DVec3::new(c * z.x * a - 1.0, sz * b, c), DVec3::new(b, z.y * ya - sz, z.y), z]
-}
-
 /// The coarsest mip of the chain. An equirectangular texel of a coarser one spans a quarter of the
 /// sphere or more and no longer stands for the lobe's footprint: stopping at 16×8 halves the error
 /// of the roughest level against the exact lobe (8.99e-2 → 5.29e-2 RMS on the test's sun-lit sky).
@@ -147,7 +137,7 @@ pub fn sample_mip(alpha: f64, nh: f64, n: u32, l: DVec3, (width, height): (usize
 
 /// One prefiltered texel: the lobe of GGX α around `r` from `n` samples of the chain.
 pub fn integrate(chain: &[EquirectImage], r: DVec3, alpha: f64, n: u32, weight: LobeWeight) -> DVec3 {
-    let frame = local_frame(r);
+    let frame = crate::shading::twin::local_frame(r);
     let size = (chain[0].width, chain[0].height);
     let mut light = DVec3::ZERO;
     let mut total = 0.0;
@@ -198,7 +188,7 @@ mod tests {
     #[test]
     fn the_local_frame_is_orthonormal() {
         for z in [DVec3::Z, DVec3::NEG_Z, DVec3::new(0.3, -0.8, 0.2).normalize(), DVec3::X] {
-            let [x, y, zz] = local_frame(z);
+            let [x, y, zz] = crate::shading::twin::local_frame(z);
             for (a, b) in [(x, y), (y, zz), (x, zz)] {
                 assert!(a.dot(b).abs() < 1e-12);
             }

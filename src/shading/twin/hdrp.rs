@@ -212,7 +212,7 @@ pub struct HdrpBsdfData {
 pub fn hdrp_tangent(t: DVec3, n: DVec3) -> DVec3 {
     let t_raw = t - n * n.dot(t);
     if t_raw.length_squared() < 1e-12 {
-        return crate::environment::filtered::local_frame(n)[0];
+        return super::local_frame(n)[0];
     }
     t_raw.normalize()
 }

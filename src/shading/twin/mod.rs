@@ -178,6 +178,17 @@ pub fn pow5(x: f64) -> f64 {
     x2 * x2 * x
 }
 
+/// GetLocalFrame (core CommonLighting.hlsl, Duff et al. 2017): an orthonormal tangent frame
+/// around `z`; WGSL `local_frame` (shaders/common/math.wgsl).
+pub fn local_frame(z: DVec3) -> [DVec3; 3] {
+    let sz = if z.z >= 0.0 { 1.0 } else { -1.0 };
+    let a = 1.0 / (sz + z.z);
+    let ya = z.y * a;
+    let b = z.x * ya;
+    let c = z.x * sz;
+    [DVec3::new(c * z.x * a - 1.0, sz * b, c), DVec3::new(b, z.y * ya - sz, z.y), z]
+}
+
 pub fn safe_normalize(v: DVec3, eps: f64) -> DVec3 {
     v / v.length_squared().max(eps).sqrt()
 }
