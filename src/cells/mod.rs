@@ -455,25 +455,20 @@ pub fn expand(m: &Matrix) -> Expansion {
                                     twin_of: None,
                                     model: model.clone(),
                                 };
-                                if let Some(reason) = cell.coords.material_type.and_then(|t| t.missing_in(cell.model()))
-                                {
-                                    // One entry per composition, pipeline, shader and type.
-                                    let name = cell.coords.material_type.map_or("", |t| t.name());
+                                // A cell whose model lacks its material type or surface: one
+                                // entry per composition, pipeline, shader and value.
+                                let missing = cell
+                                    .coords
+                                    .material_type
+                                    .and_then(|t| Some(("material_type", t.name(), t.missing_in(cell.model())?)))
+                                    .or_else(|| {
+                                        surface_missing(&cell).map(|r| ("surface", cell.material.surface.name(), r))
+                                    });
+                                if let Some((axis, value, reason)) = missing {
                                     let description =
-                                        format!("{} × {} × {shader} × {name}", scene.name, pipeline.name());
+                                        format!("{} × {} × {shader} × {value}", scene.name, pipeline.name());
                                     if !pruned.iter().any(|p| p.description == description) {
-                                        let axes = pruned_axes(&scene.name, pipeline, "material_type", name);
-                                        pruned.push(PrunedCell { description, axes, reason });
-                                    }
-                                    continue;
-                                }
-                                if let Some(reason) = surface_missing(&cell) {
-                                    // One entry per composition, pipeline, shader and surface.
-                                    let surface = cell.material.surface.name();
-                                    let description =
-                                        format!("{} × {} × {shader} × {surface}", scene.name, pipeline.name());
-                                    if !pruned.iter().any(|p| p.description == description) {
-                                        let axes = pruned_axes(&scene.name, pipeline, "surface", surface);
+                                        let axes = pruned_axes(&scene.name, pipeline, axis, value);
                                         pruned.push(PrunedCell { description, axes, reason });
                                     }
                                     continue;
