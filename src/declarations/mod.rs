@@ -12,3 +12,4 @@ pub mod scene;
 mod scene_files;
 pub mod sheets;
 pub mod study;
+pub mod sweep;
