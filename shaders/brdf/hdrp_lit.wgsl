@@ -136,8 +136,7 @@ fn eval_iridescence(eta_1: f32, cos_theta1: f32, thickness: f32, f0: vec3<f32>) 
     let r12 = f_schlick_scalar(r0_ratio * r0_ratio, cos_theta1);
     let t121 = 1.0 - r12;
     let phi = PI;
-    let x5 = pow5(1.0 - cos_theta2);
-    let r23 = f0 * (1.0 - x5) + vec3<f32>(x5);
+    let r23 = f_schlick_f90(f0, 1.0, cos_theta2);
     let opd = d_inc * cos_theta2;
     let r123 = clamp(r12 * r23, vec3<f32>(1e-5), vec3<f32>(0.9999));
     let r123_sqrt = sqrt(r123);

@@ -173,7 +173,7 @@ pub fn eval_iridescence(eta_1: f64, cos_theta1: f64, thickness: f64, f0: DVec3) 
     let t121 = 1.0 - r12;
     let phi21 = std::f64::consts::PI;
     // Second interface: the base's own F0 at θ2.
-    let r23 = f0 * (1.0 - pow5(1.0 - cos_theta2)) + DVec3::splat(pow5(1.0 - cos_theta2));
+    let r23 = f_schlick_f90(f0, 1.0, cos_theta2);
     let opd = d_inc * cos_theta2;
     let phi = phi21;
     let r123 = (r12 * r23).clamp(DVec3::splat(1e-5), DVec3::splat(0.9999));
