@@ -30,12 +30,17 @@ fn term_kept(bits: u32) -> bool {
 // A model's lobes, each kept where its term is drawn: models wrap their diffuse and specular
 // parts in these (ShaderModel::splits_lobes); twin: Surface::lobes.
 fn direct_diffuse(c: vec3<f32>) -> vec3<f32> {
-    return select(vec3<f32>(0.0), c, term_kept(TERM_DIRECT_DIFFUSE));
+    return select(vec3<f32>(0.0), c, term_kept(TERM_DIRECT_DIFFUSE)) * light_diffuse_dimmer;
 }
 
 fn direct_specular(c: vec3<f32>) -> vec3<f32> {
-    return select(vec3<f32>(0.0), c, term_kept(TERM_DIRECT_SPECULAR));
+    return select(vec3<f32>(0.0), c, term_kept(TERM_DIRECT_SPECULAR)) * light_specular_dimmer;
 }
+
+// The lobes the light being evaluated reaches: HDRP's diffuseDimmer and specularDimmer without
+// the lightDimmer (folded into the light's colour); 1 outside a light loop (the truth, probes)
+var<private> light_diffuse_dimmer: f32 = 1.0;
+var<private> light_specular_dimmer: f32 = 1.0;
 
 fn indirect_diffuse(c: vec3<f32>) -> vec3<f32> {
     return select(vec3<f32>(0.0), c, term_kept(TERM_INDIRECT_DIFFUSE));

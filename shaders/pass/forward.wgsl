@@ -474,6 +474,7 @@ fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>, vertex_gi: vec3<f32>) -> vec3<f
             continue;
         }
         let light = lights[i];
+        set_light_lobes(light);
         if (AREA_LIGHTS == 1u && u32(light.position.w) >= LIGHT_RECT) {
             c += rect_light(light, s, n, v, p) * direct_ao;
             continue;
@@ -481,13 +482,19 @@ fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>, vertex_gi: vec3<f32>) -> vec3<f
         let inc = light_incidence(light, p);
         if (inc.w > 0.0) {
             let receives = object.flags.w != 0u && VERTEX_LIT == 0u && (ADDITIONAL_SHADOWS == 1u || main);
-            let visible = with_baked_occlusion(light, light_visibility(light, i, p, n, inc.xyz, receives));
-            if (visible > 0.0) {
+            let shadow = with_baked_occlusion(light, light_visibility(light, i, p, n, inc.xyz, receives));
+            // A tinted shadow scales the colour by ComputeShadowColor; an untinted one is the shadow
+            let tinted = u32(light.features.z) != 0u;
+            let visible = select(shadow, 1.0, tinted);
+            let tint = select(vec3<f32>(1.0), compute_shadow_color(light, shadow), tinted);
+            if (visible > 0.0 && any(tint > vec3<f32>(0.0))) {
                 light_min_roughness = light.params.w;
-                c += model_direct(s, n, v, inc.xyz) * light.color.rgb * (inc.w * visible * direct_ao);
+                c += model_direct(s, n, v, inc.xyz) * light.color.rgb * tint * (inc.w * visible * direct_ao);
             }
         }
     }
+    light_diffuse_dimmer = 1.0;
+    light_specular_dimmer = 1.0;
     if (FORWARD_PASS == FORWARD_ADD || !draws_indirect()) {
         return c;
     }
@@ -1097,6 +1104,7 @@ fn deferred_light(light: Light, s: Surface, p: vec3<f32>, n: vec3<f32>, v: vec3<
     if (light.color.w > 5.5 && baked.lightmapped && PIPELINE == PIPELINE_URP) {
         return vec3<f32>(0.0);
     }
+    set_light_lobes(light);
     if (AREA_LIGHTS == 1u && u32(light.position.w) >= LIGHT_RECT) {
         return rect_light(light, s, n, v, p);
     }
@@ -1113,11 +1121,14 @@ fn deferred_light(light: Light, s: Surface, p: vec3<f32>, n: vec3<f32>, v: vec3<
     if (channel >= 0) {
         visible = min(visible, baked.shadow_mask[channel]);
     }
-    if (visible <= 0.0) {
+    let tinted = u32(light.features.z) != 0u;
+    let tint = select(vec3<f32>(1.0), compute_shadow_color(light, visible), tinted);
+    visible = select(visible, 1.0, tinted);
+    if (visible <= 0.0 || all(tint <= vec3<f32>(0.0))) {
         return vec3<f32>(0.0);
     }
     light_min_roughness = light.params.w;
-    return model_direct(s, n, v, inc.xyz) * light.color.rgb * (inc.w * visible);
+    return model_direct(s, n, v, inc.xyz) * light.color.rgb * tint * (inc.w * visible);
 }
 
 // ---- HDRP's tiled light loop: a compute pass bins every light into the 16×16 screen tiles its

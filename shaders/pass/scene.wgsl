@@ -7,8 +7,14 @@ struct Light {
     params: vec4<f32>,     // range, cos outer, cos inner, HDRP minRoughness of the light's shape; area: range, half width, half height
     shadow: vec4<f32>,     // first shadow layer (−1: none), layer count, strength, soft
     shadow_bias: vec4<f32>, // bias, normal bias (shadow-map texels); z 1: a dynamic object's probe occlusion scales the light (plan::gi::ProbeOcclusion)
-    shape: vec4<f32>,      // area lights: right axis; w = 1 where the frame draws it (an HDRP rect)
+    shape: vec4<f32>,      // area lights, pyramid and box spots: right axis; w = 1 where the frame draws it (an HDRP rect)
+    features: vec4<f32>,   // HDRP (plan::light_terms): affect diffuse, affect specular (0/1), shadow tint mode (0 none, 1 tint, 2 penumbra), flags (LIGHT_RANGE_STEP, LIGHT_PYRAMID, LIGHT_BOX)
+    shadow_tint: vec4<f32>, // rgb: the shadow tint (linear)
 };
+
+const LIGHT_RANGE_STEP: u32 = 1u;
+const LIGHT_PYRAMID: u32 = 2u;
+const LIGHT_BOX: u32 = 4u;
 
 // One shadow-map layer (plan::shadows): view-projection; params.x texel size (world units, or
 // per unit of view depth when params.y = 1, perspective), params.z the map's resolution, params.w
@@ -309,6 +315,9 @@ fn light_incidence(light: Light, p: vec3<f32>) -> vec4<f32> {
     if (kind == 0u) {
         return vec4<f32>(-normalize(light.direction.xyz), 1.0);
     }
+    if ((u32(light.features.w) & (LIGHT_RANGE_STEP | LIGHT_PYRAMID | LIGHT_BOX)) != 0u) {
+        return hdrp_light_incidence(light, p);
+    }
     let to_light = light.position.xyz - p;
     let d = length(to_light);
     let l = to_light / max(d, 1e-6);
@@ -317,6 +326,93 @@ fn light_incidence(light: Light, p: vec3<f32>) -> vec4<f32> {
         atten *= angle_attenuation(dot(normalize(light.direction.xyz), -l), light.params.y, light.params.z);
     }
     return vec4<f32>(l, atten);
+}
+
+// HDRP's punctual light with its own settings (LightEvaluation.hlsl EvaluateLight_Punctual,
+// PunctualLightCommon.hlsl GetPunctualLightVectors; twin: pipelines::hdrp_light): a box shines
+// along its axis with no 1/d, a pyramid or box clips to its projector window, and with Range
+// Attenuation off the window is a step at the range
+fn hdrp_light_incidence(light: Light, p: vec3<f32>) -> vec4<f32> {
+    let flags = u32(light.features.w);
+    let forward = normalize(light.direction.xyz);
+    let to_sample = p - light.position.xyz;
+    let box_light = (flags & LIGHT_BOX) != 0u;
+    var l = -forward;
+    var d = dot(to_sample, forward);
+    var inv_d = 1.0;
+    if (!box_light) {
+        d = length(to_sample);
+        l = -to_sample / max(d, 1e-6);
+        inv_d = min(1.0 / d, 100.0);
+    }
+    var scale = 1.0 / (light.params.x * light.params.x);
+    var bias = 1.0;
+    if ((flags & LIGHT_RANGE_STEP) != 0u) {
+        scale = 4096.0 / (light.params.x * light.params.x);
+        bias = 16777216.0;
+    }
+    var atten = inv_d * distance_windowing(d * d, scale, bias);
+    atten *= atten;
+    if ((flags & (LIGHT_PYRAMID | LIGHT_BOX)) != 0u) {
+        atten *= light_projector_window(light, p);
+    } else if (u32(light.position.w) == 2u) {
+        atten *= angle_attenuation(dot(forward, -l), light.params.y, light.params.z);
+    }
+    return vec4<f32>(l, atten);
+}
+
+// How far a shadow ray from p travels to the light: to its position, or for HDRP's box to its
+// plane along the beam
+fn light_distance(light: Light, p: vec3<f32>) -> f32 {
+    if ((u32(light.features.w) & LIGHT_BOX) != 0u) {
+        return dot(p - light.position.xyz, normalize(light.direction.xyz));
+    }
+    return length(light.position.xyz - p);
+}
+
+// A pyramid's or box's window at p in its light space (right = shape.xyz, up = forward × right)
+fn light_projector_window(light: Light, p: vec3<f32>) -> f32 {
+    let forward = normalize(light.direction.xyz);
+    let right = light.shape.xyz;
+    let to_sample = p - light.position.xyz;
+    let local = vec3<f32>(dot(to_sample, right), dot(to_sample, cross(forward, right)), dot(to_sample, forward));
+    return projector_window(local, light.params.yz, light.params.x, (u32(light.features.w) & LIGHT_BOX) != 0u);
+}
+
+// DistanceWindowing (core CommonLighting.hlsl): sat(bias − (d²·scale)²)
+fn distance_windowing(dist_sq: f32, scale: f32, bias: f32) -> f32 {
+    let x = dist_sq * scale;
+    return sat(bias - x * x);
+}
+
+// EvaluateCookie_Punctual's clip: 1 where |x_cs|, |y_cs| ≤ 1 (x_cs = x/(z·half) for a pyramid,
+// x/half for a box) and 0 ≤ z ≤ range, else 0
+fn projector_window(local: vec3<f32>, half: vec2<f32>, range: f32, box_light: bool) -> f32 {
+    let perspective_z = select(local.z, 1.0, box_light);
+    let cs = local.xy / (perspective_z * half);
+    let depth = abs(local.z - 0.5 * range) - 0.5 * range + 1.0;
+    return select(1.0, 0.0, max(max(abs(cs.x), abs(cs.y)), depth) > 1.0);
+}
+
+// ComputeShadowColor (core CommonLighting.hlsl): the light's colour factor at shadow value s,
+// lerp(1 − (1 − s)(1 − tint), s³(1 − tint) + s·tint, penumbra); s itself without a tint
+fn compute_shadow_color(light: Light, shadow: f32) -> vec3<f32> {
+    let mode = u32(light.features.z);
+    if (mode == 0u) {
+        return vec3<f32>(shadow);
+    }
+    let inv_tint = vec3<f32>(1.0) - light.shadow_tint.rgb;
+    if (mode == 2u) {
+        return shadow * shadow * shadow * inv_tint + shadow * light.shadow_tint.rgb;
+    }
+    return vec3<f32>(1.0) - (1.0 - shadow) * inv_tint;
+}
+
+// The lobes light `light` reaches (HDRP's Affect Diffuse and Affect Specular), for the model's
+// direct_diffuse and direct_specular to weigh
+fn set_light_lobes(light: Light) {
+    light_diffuse_dimmer = light.features.x;
+    light_specular_dimmer = light.features.y;
 }
 
 // The Surface a model receives from a material at uv (its checkerboard applied), modulated by the

@@ -41,7 +41,7 @@ fn cs_traced_shadows(@builtin(global_invocation_id) id: vec3<u32>) {
             }
             var distance = 3.4e38;
             if (u32(light.position.w) != 0u) {
-                distance = length(light.position.xyz - origin) * (1.0 - 1e-4);
+                distance = light_distance(light, origin) * (1.0 - 1e-4);
             }
             if (occluded(origin, inc.xyz, distance)) {
                 mask |= 1u << i;

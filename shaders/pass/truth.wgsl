@@ -211,8 +211,15 @@ fn physical_attenuation(light: Light, p: vec3<f32>, l: vec3<f32>) -> f32 {
         return 1.0;
     }
     let to_light = light.position.xyz - p;
+    let flags = u32(light.features.w);
+    // HDRP's box is a collimated beam through its window: no falloff with distance
+    if ((flags & LIGHT_BOX) != 0u) {
+        return light_projector_window(light, p);
+    }
     var atten = 1.0 / max(dot(to_light, to_light), 1e-4);
-    if (kind == 2u) {
+    if ((flags & LIGHT_PYRAMID) != 0u) {
+        atten *= light_projector_window(light, p);
+    } else if (kind == 2u) {
         atten *= angle_attenuation(dot(normalize(light.direction.xyz), -l), light.params.y, light.params.z);
     }
     return atten;
@@ -257,7 +264,7 @@ fn direct_light(sp: SurfacePoint, v: vec3<f32>) -> vec3<f32> {
                 inc.w = baked_attenuation(light, sp.p, inc.xyz);
             }
             if (u32(light.position.w) != 0u) {
-                distance = length(light.position.xyz - sp.p) * (1.0 - 1e-4);
+                distance = light_distance(light, sp.p) * (1.0 - 1e-4);
             }
         }
         if (inc.w <= 0.0) {
@@ -514,7 +521,7 @@ fn light_visible(i: u32, p: vec3<f32>, n: vec3<f32>) -> f32 {
     let inc = light_incidence(light, p);
     var distance = 3.4e38;
     if (u32(light.position.w) != 0u) {
-        distance = length(light.position.xyz - p) * (1.0 - 1e-4);
+        distance = light_distance(light, p) * (1.0 - 1e-4);
     }
     return select(1.0, 0.0, occluded(p + n * RAY_EPSILON, soft_shadow_direction(i, light, p, inc.xyz), distance));
 }

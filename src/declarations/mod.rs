@@ -5,6 +5,8 @@ pub mod asserts;
 pub mod axes;
 pub mod filter;
 pub mod gi;
+pub mod hdrp_light;
+pub mod light;
 pub mod matrix;
 pub mod outputs;
 pub mod presets;

@@ -4,6 +4,7 @@
 
 use serde::{Deserialize, Serialize};
 
+pub mod hdrp_light;
 pub mod settings;
 pub mod surface;
 pub mod terms;
@@ -94,7 +95,11 @@ impl Pipeline {
     ) -> [f64; 3] {
         use settings::HdrpLightUnit;
         let per_unit = match (self, engine.hdrp.light_unit, emitter) {
-            (Pipeline::Hdrp, HdrpLightUnit::Candela, Emitter::Point { .. } | Emitter::Spot { .. }) => 1.0,
+            (Pipeline::Hdrp, HdrpLightUnit::Candela, Emitter::Point { .. } | Emitter::Spot { .. })
+                if !emitter.is_box() =>
+            {
+                1.0
+            }
             (Pipeline::Hdrp, HdrpLightUnit::Unity, _) => std::f64::consts::PI,
             _ => return self.light_radiance(srgb_color, intensity, emitter),
         };
@@ -106,7 +111,9 @@ impl Pipeline {
     pub fn intensity_unit_with(self, emitter: Emitter, engine: &settings::PipelineSettings) -> &'static str {
         use settings::HdrpLightUnit;
         match (self, engine.hdrp.light_unit, emitter) {
-            (Pipeline::Hdrp, HdrpLightUnit::Candela, Emitter::Point { .. } | Emitter::Spot { .. }) => {
+            (Pipeline::Hdrp, HdrpLightUnit::Candela, Emitter::Point { .. } | Emitter::Spot { .. })
+                if !emitter.is_box() =>
+            {
                 "candela (axis × 10000)"
             }
             (Pipeline::Hdrp, HdrpLightUnit::Unity, Emitter::Directional { .. }) => {
@@ -524,6 +531,9 @@ pub enum Emitter {
         /// HDRP "Reflector": the lumen go into the cone instead of the sphere (HDAdditionalLightData
         /// `m_EnableSpotReflector = true` by default).
         reflector: bool,
+        /// HDRP's spot shape (cone, pyramid, box); the other engines' spots are cones.
+        #[serde(default, skip_serializing_if = "hdrp_light::SpotShape::is_cone")]
+        shape: hdrp_light::SpotShape,
     },
     /// A rectangle light, metres.
     Rect { width: f64, height: f64 },
@@ -554,6 +564,14 @@ impl Emitter {
         match self {
             Emitter::Directional { .. } => 1.0,
             Emitter::Point { .. } => 1.0 / (4.0 * PI),
+            // A box light's intensity is lux, as a directional light's (HDRP's box unit).
+            Emitter::Spot { shape: hdrp_light::SpotShape::Box { .. }, .. } => 1.0,
+            Emitter::Spot {
+                angle_deg,
+                reflector: true,
+                shape: hdrp_light::SpotShape::Pyramid { aspect_ratio },
+                ..
+            } => 1.0 / hdrp_light::pyramid_solid_angle(angle_deg, aspect_ratio),
             Emitter::Spot { angle_deg, reflector: true, .. } => {
                 1.0 / (2.0 * PI * (1.0 - (0.5 * angle_deg).to_radians().cos()))
             }
@@ -578,6 +596,11 @@ impl Emitter {
             Emitter::Rect { .. } | Emitter::Disc { .. } => 1.0,
         };
         (1.0 - max_smoothness.clamp(0.0, 1.0)).powi(2)
+    }
+
+    /// HDRP's box spot: an orthographic projector, whose intensity is lux.
+    pub fn is_box(self) -> bool {
+        matches!(self, Emitter::Spot { shape: hdrp_light::SpotShape::Box { .. }, .. })
     }
 
     /// Shader light kind: 0 directional, 1 point, 2 spot, 3 rect, 4 disc (shaders/pass/scene.wgsl `Light`).
@@ -663,7 +686,7 @@ mod tests {
         let lm = |e| Pipeline::Hdrp.light_radiance([1.0; 3], 0.06, e)[0];
         // 600 lm (HDRP's default punctual intensity) is ≈ 47.7 cd.
         assert!((lm(Emitter::Point { radius: 0.025 }) - 600.0 / (4.0 * PI)).abs() < 1e-9);
-        let spot = Emitter::Spot { radius: 0.025, angle_deg: 60.0, reflector: true };
+        let spot = Emitter::Spot { radius: 0.025, angle_deg: 60.0, reflector: true, shape: Default::default() };
         assert!((lm(spot) - 600.0 / (2.0 * PI * (1.0 - 30f64.to_radians().cos()))).abs() < 1e-9);
         assert_eq!(lm(Emitter::Directional { angular_diameter_deg: 0.5 }), 600.0, "directional: lux as is");
     }

@@ -257,8 +257,9 @@ pub struct CellPlan {
     pub used_layers: Vec<(usize, u32)>,
     /// Each shadowed light's map resolution, and why it differs from the pipeline's default.
     pub shadow_maps: Vec<ShadowMapUse>,
-    /// (what, why) for each shadow the scene asks for that the pipeline's settings do not draw.
-    pub shadows_left_out: Vec<(String, String)>,
+    /// (what, why) for each shadow the scene asks for that the pipeline's settings do not draw, and
+    /// each light setting the pipeline has not (plan::light_terms).
+    pub left_out: Vec<(String, String)>,
     /// Each LOD group's screen height and the levels drawn.
     pub lod: Vec<LodUse>,
     /// Each mesh's LOD fade (None: not drawn; 1 for meshes without LOD).
@@ -291,9 +292,24 @@ pub struct CellPlan {
     /// Shadow layers that draw the dynamic objects alone: a mixed light's under Shadowmask and
     /// Subtractive, whose static objects' shadows are baked.
     pub dynamic_casters_only: Vec<usize>,
+    /// Each light's lobes, shape window, attenuation, dimmers and shadow tint (plan::light_terms).
+    pub light_terms: Vec<super::light_terms::LightTerms>,
 }
 
 impl CellPlan {
+    /// Why the truth cannot represent this cell's lights (`LightTerms::unphysical`), if it cannot:
+    /// its column is then left empty rather than wrong.
+    pub fn truth_unreachable(&self) -> Option<String> {
+        self.light_terms.iter().zip(&self.light_shadows).find_map(|(t, s)| t.unphysical(s.style.is_some()))
+    }
+
+    /// The lights whose terms differ from the common light's (HDRP's settings at work), for the record.
+    pub fn distinct_light_terms(&self) -> Vec<super::light_terms::LightTerms> {
+        let common =
+            |t: &super::light_terms::LightTerms| super::light_terms::LightTerms::common(t.light, &self.lights[t.light]);
+        self.light_terms.iter().filter(|t| **t != common(t)).cloned().collect()
+    }
+
     /// The plan of `cell` in a composition laid out as `layout`, whose fixed objects the pipeline
     /// draws with `fixed_model`, on an adapter that multisamples as `msaa` says.
     pub fn new(
@@ -337,7 +353,8 @@ impl CellPlan {
         let main = main_light(p, &lights);
         // A textured cutout's shadow is clipped by its alpha map (passes::shadow); a flat cutout is
         // all there or, below its cutoff, left out entirely (below).
-        let mut shadows_left_out = Vec::new();
+        let (light_terms, mut left_out) =
+            super::light_terms::light_terms(p, &lights, glam::DVec3::from(camera.position));
         let mut dynamic_casters_only = Vec::new();
         let surface = cell.settings.surface;
         for (slot, l) in lights.iter().enumerate() {
@@ -347,7 +364,7 @@ impl CellPlan {
             };
             if let Some(b) = gi.as_ref().map(|g| &g.lights[slot]).filter(|b| !b.drawn_on_static && !b.drawn_on_dynamic)
             {
-                shadows_left_out.push((
+                left_out.push((
                     format!("shadow of light {slot} ({:?})", l.kind),
                     format!("not drawn in real time ({}); its shadows are in the bake", b.note),
                 ));
@@ -357,7 +374,7 @@ impl CellPlan {
             let style = match shadow_style(p, engine, l, main == Some(slot)) {
                 Ok(style) => style,
                 Err(why) => {
-                    shadows_left_out.push((format!("shadow of light {slot} ({:?})", l.kind), why));
+                    left_out.push((format!("shadow of light {slot} ({:?})", l.kind), why));
                     light_shadows.push(LightShadow::default());
                     continue;
                 }
@@ -365,7 +382,7 @@ impl CellPlan {
             let view = CascadeView { camera: &camera, aspect, cascades: &cascades };
             let (resolution, note) = cell_resolution(p, engine, l, &camera, (cell.width, cell.height), sh.side);
             shadow_maps.push(ShadowMapUse { light: slot, resolution, note });
-            let layers = light_layers(l, (resolution, sh.side), layout.scene_bounds, &view);
+            let layers = light_layers(l, light_terms[slot].shape, (resolution, sh.side), layout.scene_bounds, &view);
             used_layers.extend((first..first + layers.len()).map(|layer| (layer, resolution)));
             light_shadows.push(LightShadow { first_layer: Some(first), layers: layers.len(), style: Some(style) });
             if gi.as_ref().is_some_and(|g| g.static_shadows_baked(slot)) {
@@ -403,7 +420,7 @@ impl CellPlan {
                     *fade = None;
                 }
             }
-            shadows_left_out.push((
+            left_out.push((
                 "the subject".to_string(),
                 format!(
                     "a cutout whose alpha {} is below its cutoff {} clips all of it: neither drawn nor casting a shadow",
@@ -458,9 +475,16 @@ impl CellPlan {
                 per_renderer.then(|| super::probes::renderer_probe(&scene.probes, centre)).flatten()
             })
             .collect();
+        // HDRP's shadow reads its Shadow Dimmer, faded with distance, where the others read Strength.
+        for (shadow, t) in light_shadows.iter_mut().zip(&light_terms) {
+            if let Some(style) = shadow.style.as_mut() {
+                style.strength = t.shadow_dimmer;
+            }
+        }
         let multisampling = msaa.for_settings(&cell.settings);
         let alpha_to_coverage = super::draws::alpha_to_coverage(p, surface.kind, multisampling.samples);
         CellPlan {
+            light_terms,
             probes,
             alpha_to_coverage,
             renderer_probes,
@@ -470,7 +494,7 @@ impl CellPlan {
             gbuffer,
             draws,
             main_light: main,
-            shadows_left_out,
+            left_out,
             camera,
             aspect,
             lights,
@@ -597,11 +621,7 @@ mod tests {
                 assert!(!plan.has(Pass::Shadow), "{:?}", plan.passes);
                 // The code-default URP asset draws no additional-light shadows.
                 assert_eq!(plan.light_shadows[0].first_layer, None);
-                assert!(
-                    plan.shadows_left_out[0].1.contains("additional-light shadows off"),
-                    "{:?}",
-                    plan.shadows_left_out
-                );
+                assert!(plan.left_out[0].1.contains("additional-light shadows off"), "{:?}", plan.left_out);
                 continue;
             }
             assert!(plan.has(Pass::Shadow), "{p:?}: {:?}", plan.passes);

@@ -9,6 +9,7 @@ pub mod cell;
 pub mod draws;
 pub mod exact;
 pub mod gi;
+pub mod light_terms;
 pub mod lights;
 pub mod lod;
 pub mod pass;

@@ -148,6 +148,7 @@ pub struct CascadeView<'a> {
 /// The layers of one light: view-projection matrices and the texel size they imply.
 pub fn light_layers(
     light: &Light,
+    shape: crate::pipelines::hdrp_light::SpotShape,
     (resolution, array_side): (u32, u32),
     scene_bounds: (DVec3, DVec3),
     view: &CascadeView,
@@ -200,10 +201,27 @@ pub fn light_layers(
                 .collect()
         }
         LightKind::Spot => {
+            use crate::pipelines::hdrp_light::{frustum_size, SpotShape};
             let dir = DVec3::from(light.direction).normalize();
+            let eye = DVec3::from(light.position);
+            // The angle the map spans: the cone's, or the wider side of HDRP's pyramid.
+            let angle = match shape {
+                SpotShape::Pyramid { aspect_ratio } => {
+                    let (w, h) = frustum_size(light.spot_angle_deg, aspect_ratio);
+                    2.0 * (w.max(h) * 0.5).atan()
+                }
+                _ => light.spot_angle_deg.to_radians(),
+            };
+            if let SpotShape::Box { width, height } = shape {
+                // HDRP's box casts an orthographic map over its width and height (a texel of margin).
+                let half = width.max(height) * 0.5 * (1.0 + 2.0 / res);
+                let view_m = DMat4::look_at_rh(eye, eye + dir, up_for(dir));
+                let proj = DMat4::orthographic_rh(-half, half, -half, half, 0.0, light.range);
+                return vec![layer(proj * view_m, [(2.0 * half / res) as f32, 0.0, 0.0, 0.0], resolution, array_side)];
+            }
             // A texel of margin around the cone.
-            let fov = (light.spot_angle_deg.to_radians() * (1.0 + 2.0 / res)).min(std::f64::consts::PI * 0.99);
-            vec![perspective(DVec3::from(light.position), dir, fov, up_for(dir), light.range)]
+            let fov = (angle * (1.0 + 2.0 / res)).min(std::f64::consts::PI * 0.99);
+            vec![perspective(eye, dir, fov, up_for(dir), light.range)]
         }
         LightKind::Point => {
             let eye = DVec3::from(light.position);
@@ -247,7 +265,8 @@ mod tests {
         for p in crate::pipelines::Pipeline::ALL {
             let cascades = p.shadow_cascades();
             let view = CascadeView { camera: &scene.camera, aspect: 1.0, cascades: &cascades };
-            let layers = light_layers(&sun, (1024, 1024), (DVec3::splat(-5.0), DVec3::splat(5.0)), &view);
+            let layers =
+                light_layers(&sun, Default::default(), (1024, 1024), (DVec3::splat(-5.0), DVec3::splat(5.0)), &view);
             assert_eq!(layers.len(), cascades.splits.len());
             // Each sphere holds the point on the view axis at its slice's far edge, and they grow.
             let eye = DVec3::from(scene.camera.position);
@@ -267,7 +286,8 @@ mod tests {
         let light = &scene.lights[scene.key_light().unwrap()];
         let cascades = crate::pipelines::Pipeline::Hdrp.shadow_cascades();
         let view = CascadeView { camera: &scene.camera, aspect: 1.0, cascades: &cascades };
-        let layers = light_layers(light, (512, 512), (DVec3::splat(-5.0), DVec3::splat(5.0)), &view);
+        let layers =
+            light_layers(light, Default::default(), (512, 512), (DVec3::splat(-5.0), DVec3::splat(5.0)), &view);
         assert_eq!(layers.len(), 6);
         let eye = DVec3::from(light.position);
         for (face, dir) in [DVec3::X, -DVec3::X, DVec3::Y, -DVec3::Y, DVec3::Z, -DVec3::Z].iter().enumerate() {

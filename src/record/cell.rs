@@ -268,6 +268,9 @@ pub struct EngineRules {
     /// The subject's alpha test resolved by alpha-to-coverage (URP's clipped Lit under MSAA).
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub alpha_to_coverage: bool,
+    /// The lights HDRP's own settings changed: their lobes, shape, attenuation, dimmers and tint.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub light_terms: Vec<crate::plan::light_terms::LightTerms>,
 }
 
 impl CellRecord {

@@ -57,14 +57,14 @@ fn gpu_lights(cell: &CellParams, plan: &CellPlan) -> (Vec<GpuLight>, Vec<DVec3>)
     let lights = &plan.lights;
     let mut gpu_lights = Vec::with_capacity(lights.len());
     let mut colors = Vec::with_capacity(lights.len());
-    for (l, shadow) in lights.iter().zip(&plan.light_shadows) {
+    for ((l, shadow), terms) in lights.iter().zip(&plan.light_shadows).zip(&plan.light_terms) {
         let emitter = l.emitter();
         let outer = (l.spot_angle_deg * 0.5).to_radians();
         let inner = l
             .inner_spot_angle_deg
             .map(|a| (a * 0.5).to_radians())
             .unwrap_or_else(|| p.default_inner_spot_half_angle(outer));
-        let color = DVec3::from(l.radiance(p, l.intensity, &cell.settings.engine));
+        let color = DVec3::from(l.radiance(p, l.intensity, &cell.settings.engine)) * terms.dimmer;
         colors.push(color);
         let (shadow, mut shadow_bias) = shadow_slot(shadow);
         // shadow_bias.z: how a dynamic object's probe occlusion meets its real-time shadow.
@@ -82,6 +82,12 @@ fn gpu_lights(cell: &CellParams, plan: &CellPlan) -> (Vec<GpuLight>, Vec<DVec3>)
             let drawn = crate::plan::lights::draws_area(p, l);
             shape = vec4(l.area_frame().1, if drawn { 1.0 } else { 0.0 });
         }
+        let (features, projector) = light_features(terms, l.spot_angle_deg);
+        if let Some((half_w, half_h)) = projector {
+            params[1] = half_w as f32;
+            params[2] = half_h as f32;
+            shape = vec4(crate::declarations::area_light::area_frame(l.direction).1, 0.0);
+        }
         let slot = gpu_lights.len();
         // color.w: how the light reaches the frame under the bake (plan::gi::RealtimeOnBake).
         let bake_flag = plan.gi.as_ref().map_or(0.0, |g| g.realtime_on_bake(slot).shader_value());
@@ -93,9 +99,30 @@ fn gpu_lights(cell: &CellParams, plan: &CellPlan) -> (Vec<GpuLight>, Vec<DVec3>)
             shadow,
             shadow_bias,
             shape,
+            features,
+            shadow_tint: vec4(DVec3::from(terms.shadow_tint), 0.0),
         });
     }
     (gpu_lights, colors)
+}
+
+/// A light's `features` (uniforms::GpuLight) and its projector's half-size (a pyramid's at unit
+/// distance, a box's in metres).
+fn light_features(t: &crate::plan::light_terms::LightTerms, spot_angle_deg: f64) -> ([f32; 4], Option<(f64, f64)>) {
+    use crate::pipelines::hdrp_light::{projector_extents, SpotShape};
+    let tint_mode = match (t.tints_shadow(), t.penumbra_tint) {
+        (false, _) => 0.0,
+        (true, false) => 1.0,
+        (true, true) => 2.0,
+    };
+    let shape_flag = match t.shape {
+        SpotShape::Cone => 0,
+        SpotShape::Pyramid { .. } => 2,
+        SpotShape::Box { .. } => 4,
+    };
+    let flags = shape_flag | if t.range_attenuation { 0 } else { 1 };
+    let on = |b: bool| if b { 1.0 } else { 0.0 };
+    ([on(t.affect_diffuse), on(t.affect_specular), tint_mode, flags as f32], projector_extents(t.shape, spot_angle_deg))
 }
 
 /// Each object's ambient light: the lights folded into its SH, where its indirect light comes

@@ -20,6 +20,12 @@ pub struct GpuLight {
     /// Area lights: their right axis, and w = 1 where the frame's passes draw the light (an HDRP
     /// rect), 0 where only the truth sees it (plan::lights::area_left_out).
     pub shape: [f32; 4],
+    /// HDRP's light terms (plan::light_terms): affect diffuse and specular (0 or 1), the shadow's
+    /// tint mode (0 none, 1 tint, 2 penumbra tint), and flags: 1 range attenuation off, 2 pyramid,
+    /// 4 box (params.yz then hold the projector's half-size, shape.xyz its right axis).
+    pub features: [f32; 4],
+    /// The shadow tint (linear).
+    pub shadow_tint: [f32; 4],
 }
 
 /// One shadow-map layer: its view-projection and (texel size: world units for orthographic, per
@@ -173,7 +179,7 @@ mod tests {
 
     #[test]
     fn sizes_match_wgsl_layout() {
-        assert_eq!(std::mem::size_of::<GpuLight>(), 112);
+        assert_eq!(std::mem::size_of::<GpuLight>(), 144);
         assert_eq!(std::mem::size_of::<ShadowLayer>(), 96);
         assert_eq!(std::mem::size_of::<GpuMaterial>(), 112);
         assert_eq!(std::mem::size_of::<GpuReflectionProbe>(), 48);

@@ -183,6 +183,7 @@ pub fn encode_cell(
             ambient_occlusion: cell_plan.ao,
             probe_occlusion: cell_plan.gi.is_some().then_some(cell_plan.probe_occlusion),
             alpha_to_coverage: cell_plan.alpha_to_coverage,
+            light_terms: cell_plan.distinct_light_terms(),
         },
         lights: cell_plan.assignment,
         antialiasing: AntialiasingRecord {
@@ -196,7 +197,7 @@ pub fn encode_cell(
         truth,
         terms,
         draws: cell_plan.draws.counts,
-        left_out: cell_plan.shadows_left_out,
+        left_out: cell_plan.left_out,
         exr_format: format!("{}, {}", if half { "half" } else { "float" }, matrix.outputs.exr_compression.name()),
     };
     let mut record = cell_record(matrix, cell, (adapter, key), plan, measured);

@@ -785,6 +785,10 @@ impl<'a> Stream<'a> {
                             Ok(RenderedReference::Supersampled(k, big.hdr))
                         })
                     }
+                    Some(ReferenceSpec::Truth(_)) if plan.truth_unreachable().is_some() => {
+                        let why = plan.truth_unreachable().unwrap_or_default();
+                        Some(Err(format!("no truth: {why}, which no light transport does; the column is left empty")))
+                    }
                     Some(ReferenceSpec::Truth(t)) => {
                         let reads = renderer.truth_reads(&prepared, &params, &t.settings)?;
                         let key = super::truth_cache::TruthCache::key(self.matrix, cell, &reads, &self.adapter);

@@ -26,7 +26,14 @@ fn uniform_mirrors_match_their_wgsl_structs() {
     use shadematrix::render::truth::bvh::{GpuBvhNode, TruthVertex};
     type Mirror<'a> = (&'a str, &'a str, (usize, Vec<(&'a str, usize)>));
     let mirrors: Vec<Mirror> = vec![
-        (&forward, "Light", mirror_layout!(GpuLight, [position, direction, color, params, shadow, shadow_bias, shape])),
+        (
+            &forward,
+            "Light",
+            mirror_layout!(
+                GpuLight,
+                [position, direction, color, params, shadow, shadow_bias, shape, features, shadow_tint]
+            ),
+        ),
         (&forward, "ShadowLayer", mirror_layout!(ShadowLayer, [view_proj, params, sphere])),
         (
             &forward,

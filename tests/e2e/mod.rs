@@ -22,6 +22,7 @@ mod gltf_roundtrip;
 mod gltf_scene;
 mod gpu_metrics;
 mod hdrp_features;
+mod hdrp_lights;
 mod invariants;
 mod layouts;
 mod lights;

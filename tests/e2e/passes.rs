@@ -81,11 +81,7 @@ fn urp_default_asset_draws_no_additional_light_shadows() {
     let (a, b) = (renderer.prepare_scene(&lit).unwrap(), renderer.prepare_scene(&unshadowed).unwrap());
     let mut cell = cell_params(Pipeline::Urp, "lit", PLASTIC, (1.5, 8.0), 96, RenderPath::Forward);
     let plan = renderer.plan(&a, &cell).unwrap();
-    assert!(
-        plan.shadows_left_out.iter().any(|(_, why)| why.contains("additional-light shadows off")),
-        "{:?}",
-        plan.shadows_left_out
-    );
+    assert!(plan.left_out.iter().any(|(_, why)| why.contains("additional-light shadows off")), "{:?}", plan.left_out);
     let with = renderer.render(&a, &cell, 1, 0).unwrap().hdr;
     let without = renderer.render(&b, &cell, 1, 0).unwrap().hdr;
     assert_eq!(with, without, "the code-default URP asset casts no point-light shadow");

@@ -97,6 +97,9 @@ struct TracedLight {
     /// Area lights: the right axis and the half width and height (a disc: its radius twice).
     right: DVec3,
     half_size: DVec2,
+    /// HDRP's light terms (uniforms::GpuLight `features`): its shape and range attenuation.
+    shape: crate::pipelines::hdrp_light::SpotShape,
+    range_attenuation: bool,
 }
 
 /// scene.wgsl's area-light kinds (pipelines::Emitter::shader_kind).
@@ -117,6 +120,13 @@ impl From<&GpuLight> for TracedLight {
             min_roughness: l.params[3] as f64,
             right: v3(l.shape),
             half_size: DVec2::new(l.params[1] as f64, l.params[2] as f64),
+            shape: match l.features[3] as u32 & 6 {
+                // The window reads its half-size from params.yz; the sizes themselves are not needed.
+                2 => crate::pipelines::hdrp_light::SpotShape::Pyramid { aspect_ratio: 1.0 },
+                4 => crate::pipelines::hdrp_light::SpotShape::Box { width: 1.0, height: 1.0 },
+                _ => crate::pipelines::hdrp_light::SpotShape::Cone,
+            },
+            range_attenuation: l.features[3] as u32 & 1 == 0,
         }
     }
 }
@@ -174,6 +184,9 @@ impl TracedLight {
         if self.kind == 0 {
             return (-self.direction.normalize(), 1.0);
         }
+        if !self.shape.is_cone() || !self.range_attenuation {
+            return self.hdrp_incidence(p, falloff);
+        }
         let to_light = self.position - p;
         let d = to_light.length();
         let l = to_light / d.max(1e-6);
@@ -186,6 +199,49 @@ impl TracedLight {
             atten *= angle_attenuation(self.direction.normalize().dot(-l), self.cos_outer, self.cos_inner);
         }
         (l, atten)
+    }
+}
+
+impl TracedLight {
+    /// scene.wgsl `hdrp_light_incidence` (and truth.wgsl `physical_attenuation` for a physical
+    /// truth: a box's collimated beam, a pyramid's inverse square), windowed by the projector.
+    fn hdrp_incidence(&self, p: DVec3, falloff: Falloff) -> (DVec3, f64) {
+        use crate::pipelines::hdrp_light::{projector_window, punctual_attenuation, SpotShape};
+        let forward = self.direction.normalize();
+        let to_sample = p - self.position;
+        let box_light = matches!(self.shape, SpotShape::Box { .. });
+        let (l, d) = if box_light {
+            (-forward, to_sample.dot(forward))
+        } else {
+            let d = to_sample.length();
+            (-to_sample / d.max(1e-6), d)
+        };
+        let mut atten = match (falloff, box_light) {
+            (Falloff::RealTime(_), _) => punctual_attenuation(d, self.range, self.range_attenuation, box_light),
+            (_, true) => 1.0,
+            _ => 1.0 / to_sample.length_squared().max(1e-4),
+        };
+        if self.shape.is_cone() {
+            if self.kind == 2 {
+                atten *= angle_attenuation(forward.dot(-l), self.cos_outer, self.cos_inner);
+            }
+        } else {
+            let local =
+                DVec3::new(to_sample.dot(self.right), to_sample.dot(forward.cross(self.right)), to_sample.dot(forward));
+            atten *= projector_window(self.shape, local, (self.half_size.x, self.half_size.y), self.range);
+        }
+        (l, atten)
+    }
+
+    /// How far a shadow ray from p travels to the light: scene.wgsl `light_distance`.
+    fn shadow_distance(&self, p: DVec3) -> f64 {
+        match (self.kind, self.shape) {
+            (0, _) => f64::INFINITY,
+            (_, crate::pipelines::hdrp_light::SpotShape::Box { .. }) => {
+                (p - self.position).dot(self.direction.normalize())
+            }
+            _ => (self.position - p).length(),
+        }
     }
 }
 
@@ -701,7 +757,7 @@ impl<'a> Tracer<'a> {
             (l, atten, d * (1.0 - 1e-4))
         } else {
             let (l, atten) = light.incidence(sp.p, self.falloff());
-            let d = if light.kind != 0 { (light.position - sp.p).length() * (1.0 - 1e-4) } else { f64::INFINITY };
+            let d = light.shadow_distance(sp.p) * (1.0 - 1e-4);
             (l, atten, d)
         };
         if atten <= 0.0 {
