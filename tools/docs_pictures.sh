@@ -58,6 +58,16 @@ for t in standard specular_color iridescence anisotropy; do
 done
 "$montage" "$work/hdrp_materials" docs/hdrp_materials.png 144 "${rows[@]}"
 
+# HDRP's light settings: a row per scene (cone, pyramid, box, range off, diffuse only, specular
+# only, shadow dimmer, shadow tint, penumbra tint), columns URP Lit plastic (the plain cone: URP has
+# none of them), HDRP Lit plastic and gold.
+run hdrp_lights matrices/hdrp_lights.toml
+rows=()
+for c in cone pyramid box range_off diffuse_only specular_only shadow_dimmer shadow_tint penumbra_tint; do
+  rows+=("hdrp_light_${c}__urp-forward__lit__plastic__*,hdrp_light_${c}__hdrp-forward__lit__plastic__*,hdrp_light_${c}__hdrp-forward__lit__gold__*")
+done
+"$montage" "$work/hdrp_lights" docs/hdrp_lights.png 112 "${rows[@]}"
+
 # Fig 3.10: gold, a metallic-workflow then a specular-workflow row per pipeline, metallic 0 → 1.
 run fig3_10 matrices/fig3_10.toml
 rows=()
