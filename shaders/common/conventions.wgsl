@@ -56,7 +56,7 @@ fn emitted(c: vec3<f32>) -> vec3<f32> {
 }
 
 // Material as the model receives it: metallic already converted by the pipeline (presets.md).
-// specular: the models that take a specular colour; params0/params1: the model's own parameters
+// specular: the models that take a specular colour; params0/params1/params2: the model's own parameters (slots 0–11)
 // by slot (registry ParamSpec); tangent: the mesh's world tangent at the point, not yet orthogonal
 // to the normal (zero: none), which HDRP Lit's anisotropy reads. Twin: shading::twin::Surface.
 struct Surface {
@@ -66,6 +66,7 @@ struct Surface {
     specular: vec3<f32>,
     params0: vec4<f32>,
     params1: vec4<f32>,
+    params2: vec4<f32>,
     tangent: vec3<f32>,
 };
 

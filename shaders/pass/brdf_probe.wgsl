@@ -12,6 +12,7 @@ struct ProbeInput {
     specular: vec4<f32>,
     model0: vec4<f32>,
     model1: vec4<f32>,
+    model2: vec4<f32>,
     tangent: vec4<f32>,
 };
 
@@ -53,6 +54,7 @@ fn probe_main(@builtin(global_invocation_id) id: vec3<u32>) {
     s.specular = p.specular.rgb;
     s.params0 = p.model0;
     s.params1 = p.model1;
+    s.params2 = p.model2;
     s.tangent = p.tangent.xyz;
     probe_gi_specular = p.gi_specular.rgb;
     probe_env_dir = vec3<f32>(0.0);

@@ -1041,6 +1041,7 @@ fn fs_deferred(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     s.specular = m.specular.rgb;
     s.params0 = m.model0;
     s.params1 = m.model1;
+    s.params2 = m.model2;
     // Built-in's Internal-DeferredShading lights the G-buffer with BRDF1 compiled without the
     // material's keywords: Standard's _SPECULARHIGHLIGHTS_OFF (params0.y) does not reach it
     // (fragDeferred writes no such flag); URP's G-buffer carries it.

@@ -32,6 +32,7 @@ struct Material {
     specular: vec4<f32>,     // the model's specular colour
     model0: vec4<f32>,       // the model's parameters, slots 0–3
     model1: vec4<f32>,       // slots 4–7
+    model2: vec4<f32>,       // slots 8–11
     emission: vec4<f32>,     // emitted radiance (the subject's, where its model emits)
 };
 
@@ -426,6 +427,7 @@ fn surface_from(m: Material, uv: vec2<f32>, albedo: vec4<f32>, mask: vec4<f32>, 
     s.specular = m.specular.rgb;
     s.params0 = m.model0;
     s.params1 = m.model1;
+    s.params2 = m.model2;
     if (m.params.z > 0.0) {
         let cell = floor(uv / m.params.z);
         if (((i32(cell.x) + i32(cell.y)) & 1) == 1) {

@@ -24,6 +24,7 @@ pub struct ProbeInput {
     pub specular: [f32; 4],
     pub model0: [f32; 4],
     pub model1: [f32; 4],
+    pub model2: [f32; 4],
     /// The surface's tangent (`Surface::tangent`).
     pub tangent: [f32; 4],
 }
@@ -44,6 +45,7 @@ impl ProbeInput {
             specular: v4(s.specular),
             model0: [p[0], p[1], p[2], p[3]],
             model1: [p[4], p[5], p[6], p[7]],
+            model2: [p[8], p[9], p[10], p[11]],
             tangent: v4(s.tangent),
         }
     }

@@ -49,6 +49,7 @@ pub struct GpuMaterial {
     pub specular: [f32; 4],
     pub model0: [f32; 4],
     pub model1: [f32; 4],
+    pub model2: [f32; 4],
     /// Emitted radiance (linear RGB, the pipeline's units), added before tonemapping.
     pub emission: [f32; 4],
 }
@@ -157,6 +158,7 @@ pub(in crate::render) fn gpu_material(s: &Surface, pattern: GpuMaterial) -> GpuM
         specular: v(s.specular),
         model0: [q[0], q[1], q[2], q[3]],
         model1: [q[4], q[5], q[6], q[7]],
+        model2: [q[8], q[9], q[10], q[11]],
         emission: pattern.emission,
     }
 }
@@ -181,7 +183,7 @@ mod tests {
     fn sizes_match_wgsl_layout() {
         assert_eq!(std::mem::size_of::<GpuLight>(), 144);
         assert_eq!(std::mem::size_of::<ShadowLayer>(), 96);
-        assert_eq!(std::mem::size_of::<GpuMaterial>(), 112);
+        assert_eq!(std::mem::size_of::<GpuMaterial>(), 128);
         assert_eq!(std::mem::size_of::<GpuReflectionProbe>(), 48);
         assert_eq!(std::mem::size_of::<FrameUniforms>(), 64 + 64 + 16 + 16 + 144 + 16 + 112 + 112 + 16 + 4 * 48 + 16);
         assert_eq!(std::mem::size_of::<ObjectUniforms>(), 64 + 64 + 112 + 16 + 144 + 16 + 4 * 16);

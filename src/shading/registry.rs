@@ -126,7 +126,7 @@ impl ShaderModel {
     /// The parameters the model does not read at these values: a parameter whose gate (the
     /// parameter that turns its feature on, `PARAM_GATES`) is 0. Cells that differ only in them
     /// draw the same image (cells::render_key).
-    pub fn unread_params(&self, params: &[f64; 8]) -> Vec<&str> {
+    pub fn unread_params(&self, params: &[f64; twin::PARAM_SLOTS]) -> Vec<&str> {
         let slot = |name: &str| self.params.iter().find(|p| p.name == name).map(|p| p.slot);
         PARAM_GATES
             .iter()
@@ -142,7 +142,7 @@ impl ShaderModel {
 
     /// The axes a cell with these parameter values reads: `reads`, less smoothness when the
     /// model's smoothness gate is off (Simple Lit without highlights is Lambert).
-    pub fn reads_for(&self, params: &[f64; 8]) -> Reads {
+    pub fn reads_for(&self, params: &[f64; twin::PARAM_SLOTS]) -> Reads {
         let mut r = self.reads;
         if self.smoothness_gate.is_some_and(|slot| params[slot] < 0.5) {
             r.smoothness = false;
@@ -153,7 +153,7 @@ impl ShaderModel {
     /// Whether a cell with these parameter values reads `Surface::specular` (the `specular` axis):
     /// the lit shaders in their specular workflow (`specular_setup` on), Simple Lit with its
     /// highlights on, and the models that always take one (Phong, Blinn-Phong, the custom shader).
-    pub fn reads_specular(&self, params: &[f64; 8]) -> bool {
+    pub fn reads_specular(&self, params: &[f64; twin::PARAM_SLOTS]) -> bool {
         let gate = |name: &str| self.params.iter().find(|p| p.name == name).map(|p| params[p.slot] >= 0.5);
         gate("specular_setup")
             .or_else(|| gate("specular_highlights"))
@@ -161,8 +161,8 @@ impl ShaderModel {
     }
 
     /// Parameters at their defaults, by slot.
-    pub fn default_params(&self) -> [f64; 8] {
-        let mut p = [0.0; 8];
+    pub fn default_params(&self) -> [f64; twin::PARAM_SLOTS] {
+        let mut p = [0.0; twin::PARAM_SLOTS];
         for spec in &self.params {
             p[spec.slot] = spec.default;
         }

@@ -154,9 +154,10 @@ fn load_model(
     for (i, p) in decl.params.iter().enumerate() {
         let c = crate::input::validate::Checker::new(&decl_shown);
         c.name(&format!("params[{i}].name"), &p.name)?;
-        if p.slot > 7 {
+        if p.slot >= crate::shading::twin::PARAM_SLOTS {
+            let last = crate::shading::twin::PARAM_SLOTS - 1;
             return Err(c
-                .err(&format!("params[{i}].slot"), format!("slot {} is out of range; allowed 0..=7", p.slot))
+                .err(&format!("params[{i}].slot"), format!("slot {} is out of range; allowed 0..={last}", p.slot))
                 .into());
         }
         // One slot read as two parameters, or one name for two slots, would label a sweep with

@@ -38,7 +38,10 @@ fn uniform_mirrors_match_their_wgsl_structs() {
         (
             &forward,
             "Material",
-            mirror_layout!(GpuMaterial, [base_color, params, checker_color, specular, model0, model1, emission]),
+            mirror_layout!(
+                GpuMaterial,
+                [base_color, params, checker_color, specular, model0, model1, model2, emission]
+            ),
         ),
         (&forward, "ReflectionProbe", mirror_layout!(GpuReflectionProbe, [position, box_min, box_max])),
         (
@@ -64,7 +67,7 @@ fn uniform_mirrors_match_their_wgsl_structs() {
             "ProbeInput",
             mirror_layout!(
                 ProbeInput,
-                [n, v, l, base_color, params, gi_diffuse, gi_specular, specular, model0, model1, tangent]
+                [n, v, l, base_color, params, gi_diffuse, gi_specular, specular, model0, model1, model2, tangent]
             ),
         ),
         (

@@ -264,7 +264,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             metallic: *metallic,
             smoothness: *smoothness,
             specular: DVec3::ZERO,
-            params: [0.0; 8],
+            params: [0.0; shadematrix::shading::twin::PARAM_SLOTS],
             diffuse_weight: 1.0,
             tangent: glam::DVec3::ZERO,
         };
@@ -300,7 +300,7 @@ fn a_physical_truth_in_the_furnace_reflects_the_models_albedo() {
         metallic: record.shader_inputs.metallic,
         smoothness: record.shader_inputs.smoothness,
         specular: glam::DVec3::ZERO,
-        params: [0.0; 8],
+        params: [0.0; shadematrix::shading::twin::PARAM_SLOTS],
         diffuse_weight: 1.0,
         tangent: glam::DVec3::ZERO,
     };

@@ -467,7 +467,7 @@ fn surface_from(m: &GpuMaterial, uv: DVec2) -> Surface {
         metallic: m.params[0] as f64,
         smoothness: m.params[1] as f64,
         specular: v3(m.specular),
-        params: std::array::from_fn(|i| if i < 4 { m.model0[i] as f64 } else { m.model1[i - 4] as f64 }),
+        params: std::array::from_fn(|i| [m.model0, m.model1, m.model2][i / 4][i % 4] as f64),
         diffuse_weight: 1.0,
         tangent: DVec3::ZERO,
     };

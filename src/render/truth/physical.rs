@@ -100,7 +100,7 @@ mod tests {
             metallic: 1.0,
             smoothness: 0.3,
             specular: DVec3::ZERO,
-            params: [0.0; 8],
+            params: [0.0; crate::shading::twin::PARAM_SLOTS],
             diffuse_weight: 1.0,
             tangent: DVec3::ZERO,
         };

@@ -24,6 +24,10 @@ use glam::DVec3;
 
 use crate::pipelines::Pipeline;
 
+/// How many parameters a model may have: slots 0–11, as the GPU's three vec4s carry them
+/// (`Material.model0`–`model2`, the Surface's `params0`–`params2`).
+pub const PARAM_SLOTS: usize = 12;
+
 /// Material as the model receives it (metallic already converted by the pipeline). The WGSL
 /// `Surface` in shaders/common/conventions.wgsl has the same fields.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -34,7 +38,7 @@ pub struct Surface {
     /// Specular colour, for the models that take one (Phong, Blinn-Phong, Simple Lit, ...).
     pub specular: DVec3,
     /// The model's own parameters by slot (`registry::ParamSpec::slot`).
-    pub params: [f64; 8],
+    pub params: [f64; PARAM_SLOTS],
     /// The share of the diffuse lobe kept: alpha under a premultiplied surface type
     /// (`SurfaceType::premultiplies_diffuse`), 1 else; read by the models that keep their diffuse
     /// lobe apart (WGSL: the pass's private `diffuse_weight`).
@@ -52,7 +56,7 @@ impl Surface {
             metallic,
             smoothness,
             specular: DVec3::ZERO,
-            params: [0.0; 8],
+            params: [0.0; PARAM_SLOTS],
             diffuse_weight: 1.0,
             tangent: DVec3::ZERO,
         }
