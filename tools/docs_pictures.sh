@@ -51,7 +51,7 @@ cp "$work/fig3_2/sheets/pipeline_x_preset__area_three.png" docs/fig3_3.png
 # HDRP Lit's material types on gold with the clear coat: a row per type, smoothness 0.25 → 0.9.
 run hdrp_materials matrices/hdrp_materials.toml
 rows=()
-for t in standard specular_color iridescence anisotropy; do
+for t in standard specular_color iridescence anisotropy translucent; do
   row=""
   for s in 0.25 0.50 0.75 0.90; do row+="${row:+,}default__hdrp-forward__lit__gold__m1.00_s${s}_*coat_mask1_${t}"; done
   rows+=("$row")

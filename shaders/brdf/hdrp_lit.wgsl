@@ -4,7 +4,8 @@
 // Specular Color material type (1) or Standard (0, default); params0.z: the coat mask (clear coat
 // on above 0); params0.w: the iridescence mask (the Iridescence material type above 0); params1.x:
 // the iridescence thickness (HDRP's _IridescenceThickness, 0–1, default 1); params1.y: the anisotropy
-// (the Anisotropy material type where it is not 0; −1..1 along the tangent).
+// (the Anisotropy material type where it is not 0; −1..1 along the tangent); params2.x: the
+// Translucent material type (transmission, 1) or not (0); params2.y: its thickness (_Thickness, 0–1).
 // Physical units: E in lux, radiance = f·E·NL.
 
 const HDRP_FLT_EPS: f32 = 5.960464478e-8;
@@ -45,6 +46,10 @@ fn clamp_n_dot_v(nv: f32) -> f32 {
 // fresnel0: ComputeFresnel0(baseColor, metallic, 0.04), or the specular colour for the Specular
 // Color material type (params0.y = 1; Lit.hlsl ConvertSurfaceDataToBSDFData)
 fn hdrp_f0(s: Surface) -> vec3<f32> {
+    if (s.params2.x > 0.5) {
+        // FillMaterialTransmission: the diffusion profile's F0
+        return vec3<f32>(DIFFUSION_PROFILE_FRESNEL0);
+    }
     if (s.params0.y > 0.5) {
         return s.specular;
     }
@@ -56,6 +61,10 @@ fn hdrp_f0(s: Surface) -> vec3<f32> {
 // × diffuse_weight: a transparent surface's ApplyBlendMode multiplies the diffuse lighting by
 // opacity and keeps the specular (_EnableBlendModePreserveSpecularLighting, Material.hlsl).
 fn hdrp_diffuse_color(s: Surface) -> vec3<f32> {
+    if (s.params2.x > 0.5) {
+        // There is no metallic with transmission (ConvertSurfaceDataToBSDFData)
+        return s.base_color * diffuse_weight;
+    }
     if (s.params0.y > 0.5) {
         return s.base_color * (1.0 - max(max(s.specular.r, s.specular.g), s.specular.b)) * diffuse_weight;
     }
@@ -70,6 +79,34 @@ fn hdrp_energy_compensation(s: Surface, b: HdrpBsdfData, clamped_nv: f32) -> vec
     }
     let y = fgd_lookup(clamped_nv, b.perceptual_roughness).y;
     return vec3<f32>(1.0) + b.fresnel0 * (1.0 / y - 1.0);
+}
+
+// HDRP's default diffusion profile (DiffusionProfileSettings.cs ResetToDefault): scattering distance
+// 0.5 (grey) × 1, so shape parameter S = 1/0.5 per mm; transmission tint white, premultiplied by
+// 1/4; thickness remap 0–5 mm; IOR 1.4, F0 = ((1.4 − 1)/(1.4 + 1))²; Thin Object transmission
+const DIFFUSION_PROFILE_SHAPE: f32 = 2.0;
+const DIFFUSION_PROFILE_TINT: f32 = 0.25;
+const DIFFUSION_PROFILE_THICKNESS_MM: f32 = 5.0;
+const DIFFUSION_PROFILE_FRESNEL0: f32 = 0.027777778;
+// TRANSMISSION_WRAP_LIGHT: cos(π/2 − π/12) (SubsurfaceScattering.hlsl)
+const TRANSMISSION_WRAP_LIGHT: f32 = 0.25881904;
+
+// ComputeWrappedDiffuseLighting (core CommonLighting.hlsl): sat((NL + w)/(1 + w)²)
+fn compute_wrapped_diffuse_lighting(nl: f32, w: f32) -> f32 {
+    return sat((nl + w) / ((1.0 + w) * (1.0 + w)));
+}
+
+// ComputeTransmittanceDisney (DiffusionProfile.hlsl): A·e^(−S·t/3)·(e^(−2S·t/3) + 3), A the tint
+// premultiplied by 1/4: the transmittance of a slab t mm thick under the Burley profile
+fn compute_transmittance_disney(shape: vec3<f32>, volume_albedo: vec3<f32>, thickness: f32) -> vec3<f32> {
+    let exp_13 = exp2(((LOG2_E * (-1.0 / 3.0)) * thickness) * shape);
+    return volume_albedo * (exp_13 * (exp_13 * exp_13 + 3.0));
+}
+
+// FillMaterialTransmission with the default profile: thickness remap.x + remap.y·_Thickness (mm)
+fn hdrp_transmittance(s: Surface) -> vec3<f32> {
+    let thickness = DIFFUSION_PROFILE_THICKNESS_MM * s.params2.y;
+    return compute_transmittance_disney(vec3<f32>(DIFFUSION_PROFILE_SHAPE), vec3<f32>(DIFFUSION_PROFILE_TINT), thickness);
 }
 
 // The clear coat (core CommonMaterial.hlsl): IOR 1.5, F0 = IorToFresnel0(1.5), GGX roughness 0.01
@@ -270,7 +307,9 @@ fn hdrp_ibl_direction(n: vec3<f32>, ibl_r: vec3<f32>, pr: f32, clamped_nv: f32) 
 
 fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
     let nl = dot(n, l);
-    if (nl <= 0.0) {
+    // With transmission every light is evaluated (IsNonZeroBSDF); its diffuse reaches through
+    let transmits = s.params2.x > 0.5;
+    if (nl <= 0.0 && !transmits) {
         return vec3<f32>(0.0);
     }
     // GetBSDFAngle takes the unclamped NV; V, FGD and the diffuse take ClampNdotV
@@ -311,7 +350,13 @@ fn model_direct(s: Surface, n: vec3<f32>, v: vec3<f32>, l: vec3<f32>) -> vec3<f3
         diffuse *= 1.0 - coat_f * b.coat_mask;
     }
     spec *= hdrp_energy_compensation(s, b, clamped_nv);
-    return direct_diffuse(diffuse * sat(nl)) + direct_specular(spec * sat(nl));
+    // diffR·NL + diffT·transmittance, diffT the diffuse term at the wrapped −NL (EvaluateBSDF,
+    // ShadeSurface_Infinitesimal)
+    var diffuse_nl = vec3<f32>(sat(nl));
+    if (transmits) {
+        diffuse_nl += compute_wrapped_diffuse_lighting(-nl, TRANSMISSION_WRAP_LIGHT) * hdrp_transmittance(s);
+    }
+    return direct_diffuse(diffuse * diffuse_nl) + direct_specular(spec * sat(nl));
 }
 
 fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>) -> vec3<f32> {
@@ -342,7 +387,12 @@ fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>)
         // The base through the coat twice; the baked diffuse is not attenuated
         spec = spec * ((1.0 - b.coat_ibl_f) * (1.0 - b.coat_ibl_f)) + coat;
     }
-    return indirect_diffuse(hdrp_diffuse_color(s) * gi_diffuse * diffuse_fgd)
+    // ModifyBakedDiffuseLighting: the light baked at −N through the transmittance joins the baked diffuse
+    var baked = gi_diffuse;
+    if (s.params2.x > 0.5) {
+        baked += gi_back_diffuse * hdrp_transmittance(s);
+    }
+    return indirect_diffuse(hdrp_diffuse_color(s) * baked * diffuse_fgd)
         + indirect_specular(spec * hdrp_energy_compensation(s, b, clamped_nv));
 }
 
@@ -366,7 +416,15 @@ fn model_rect(s: Surface, n: vec3<f32>, v: vec3<f32>, corners: array<vec3<f32>, 
     let f0 = b.fresnel0;
     let specular_fgd = (vec3<f32>(1.0) - f0) * fgd.x + f0 * fgd.y;
     let diffuse_fgd = fgd.z + 0.5;
-    var diffuse = hdrp_diffuse_color(s) * diffuse_fgd * ltc_diffuse;
+    var diffuse_ltc = vec3<f32>(diffuse_fgd * ltc_diffuse);
+    if (s.params2.x > 0.5) {
+        // Transmission: the polygon seen from −N (the frame flipped about its bitangent), Lambertian,
+        // through the transmittance, without the diffuse FGD (EvaluateBSDF_Rect)
+        let flip = mat3x3<f32>(vec3<f32>(-1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(0.0, 0.0, -1.0));
+        let ltc_back = polygon_irradiance(polygon_form_factor(ltc_transform(corners, flip * basis)));
+        diffuse_ltc = diffuse_ltc + hdrp_transmittance(s) * ltc_back;
+    }
+    var diffuse = hdrp_diffuse_color(s) * diffuse_ltc;
     var spec = specular_fgd * ltc_specular;
     if (b.coat_mask > 0.0) {
         // EvaluateBSDF_Rect: both lobes × (1 − coatIblF), the coat's GGX LTC at its own roughness

@@ -75,3 +75,9 @@ fn model_indirect(s: Surface, n: vec3<f32>, v: vec3<f32>, gi_diffuse: vec3<f32>)
 fn model_height_scale(params0: vec4<f32>, params1: vec4<f32>) -> f32 {
     return params0.w;
 }
+
+// Secondary maps on (the `detail` parameter, slot 4): the passes blend them in as URP Lit's
+// ApplyDetailAlbedo and ApplyDetailNormal do (materials::detail)
+fn model_detail(params0: vec4<f32>, params1: vec4<f32>) -> f32 {
+    return params1.x;
+}

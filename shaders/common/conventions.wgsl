@@ -37,6 +37,10 @@ fn direct_specular(c: vec3<f32>) -> vec3<f32> {
     return select(vec3<f32>(0.0), c, term_kept(TERM_DIRECT_SPECULAR)) * light_specular_dimmer;
 }
 
+// The ambient light at −N, as the pass evaluates it at N (HDRP's backBakeDiffuseLighting): what a
+// transmitting model lets through; 0 where the pass gives none (the truth, the probes)
+var<private> gi_back_diffuse: vec3<f32> = vec3<f32>(0.0);
+
 // The lobes the light being evaluated reaches: HDRP's diffuseDimmer and specularDimmer without
 // the lightDimmer (folded into the light's colour); 1 outside a light loop (the truth, probes)
 var<private> light_diffuse_dimmer: f32 = 1.0;
@@ -142,6 +146,38 @@ const DETAIL_TILING: f32 = 4.0;
 // LerpWhiteTo(detailAlbedo·unity_ColorSpaceDouble, mask), 2^2.2 in linear space (UnityStandardInput.cginc Albedo, _DETAIL_MULX2)
 fn detail_albedo_mulx2(detail_albedo: f32, mask: f32) -> f32 {
     return 1.0 + (detail_albedo * 4.59479380 - 1.0) * mask;
+}
+
+// URP Lit's LerpWhiteTo(2·detailAlbedo, mask) (LitInput.hlsl ApplyDetailAlbedo): its detail albedo is
+// linear data, 0.5 neutral, so the grain's texels are read as encoded (linear_to_srgb of the stored
+// linear value); twin: materials::detail_albedo_x2_urp
+fn detail_albedo_x2_urp(detail_albedo: f32, mask: f32) -> f32 {
+    return 1.0 + (2.0 * linear_to_srgb(detail_albedo) - 1.0) * mask;
+}
+
+// BlendNormalRNM (core CommonMaterial.hlsl): t = n₁ + (0, 0, 1), u = n₂·(−1, −1, 1), (t/t.z)·(t·u) − u
+fn blend_normal_rnm(n1: vec3<f32>, n2: vec3<f32>) -> vec3<f32> {
+    let t = n1 + vec3<f32>(0.0, 0.0, 1.0);
+    let u = n2 * vec3<f32>(-1.0, -1.0, 1.0);
+    return (t / t.z) * dot(t, u) - u;
+}
+
+// The pipeline's secondary-map albedo factor: Standard's ×unity_ColorSpaceDouble, URP's ×2 (twin:
+// materials::detail_blend)
+fn detail_albedo_factor(detail_albedo: f32, mask: f32) -> f32 {
+    if (PIPELINE == PIPELINE_URP) {
+        return detail_albedo_x2_urp(detail_albedo, mask);
+    }
+    return detail_albedo_mulx2(detail_albedo, mask);
+}
+
+// The pipeline's secondary-map normal: Standard's lerp(n, BlendNormals(n, d), mask), URP's
+// lerp(n, BlendNormalRNM(n, normalize(d)), mask)
+fn detail_blended_normal(ts: vec3<f32>, detail: vec3<f32>, mask: f32) -> vec3<f32> {
+    if (PIPELINE == PIPELINE_URP) {
+        return mix(ts, blend_normal_rnm(ts, normalize(detail)), mask);
+    }
+    return mix(ts, blend_normals(ts, detail), mask);
 }
 
 // normalize(n₁.xy + n₂.xy, n₁.z·n₂.z) (UnityStandardUtils.cginc BlendNormals)

@@ -1,6 +1,7 @@
 // Shared math and constants (spec/shading.md notation). Prepended to every model and pass.
 const PI: f32 = 3.14159265358979;
 const INV_PI: f32 = 0.318309886183791;
+const LOG2_E: f32 = 1.442695041;
 const HALF_PI: f32 = 1.57079632679490;
 
 // sat(x) = clamp(x, 0, 1) (spec notation)
@@ -46,4 +47,12 @@ fn cube_face(d: vec3<f32>) -> u32 {
         return 2u + select(1u, 0u, d.y > 0.0);
     }
     return 4u + select(1u, 0u, d.z > 0.0);
+}
+
+// The sRGB encode: 12.92·c below 0.0031308, else 1.055·c^(1/2.4) − 0.055 (twin: color::linear_to_srgb)
+fn linear_to_srgb(c: f32) -> f32 {
+    if (c <= 0.0031308) {
+        return 12.92 * c;
+    }
+    return 1.055 * pow(c, 1.0 / 2.4) - 0.055;
 }

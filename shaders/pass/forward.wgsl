@@ -213,13 +213,13 @@ fn material_at(uv: vec2<f32>) -> Surface {
         mask = map_texel(2, uv);
         if (draws_detail()) {
             let d = textureSample(material_detail, material_sampler, uv * DETAIL_TILING);
-            albedo = vec4<f32>(albedo.rgb * detail_albedo_mulx2(d.w, mask.b), albedo.a);
+            albedo = vec4<f32>(albedo.rgb * detail_albedo_factor(d.w, mask.b), albedo.a);
         }
     }
     return material_from(uv, albedo, mask);
 }
 
-// Whether the drawn object blends Standard's secondary maps in: the subject, textured, its model's
+// Whether the drawn object blends its model's secondary maps in (Standard's, URP Lit's): the subject, textured, its model's
 // `detail` on (uniform, so the samples stay in uniform control flow)
 fn draws_detail() -> bool {
     return object.flags.x == 1u && is_textured() && model_detail(frame.subject.model0, frame.subject.model1) > 0.5;
@@ -314,9 +314,9 @@ fn mapped_normal(n: vec3<f32>, tangent: vec4<f32>, uv: vec2<f32>) -> vec3<f32> {
     }
     var ts = map_texel(1, uv).xyz;
     if (draws_detail()) {
-        // lerp(n, BlendNormals(n, detail), mask) (UnityStandardInput.cginc NormalInTangentSpace)
+        // Standard's NormalInTangentSpace or URP's ApplyDetailNormal (detail_blended_normal)
         let d = textureSample(material_detail, material_sampler, uv * DETAIL_TILING).xyz;
-        ts = mix(ts, blend_normals(ts, d), map_texel(2, uv).b);
+        ts = detail_blended_normal(ts, d, map_texel(2, uv).b);
     }
     return tangent_to_world(n, tangent, ts);
 }
@@ -637,8 +637,10 @@ fn indirect_light(s: Surface, n: vec3<f32>, v: vec3<f32>, gi: vec3<f32>) -> vec3
     if (occlusion_in_bake()) {
         diffuse_occlusion = material_occlusion * bake_occlusion(s);
     }
+    gi_back_diffuse = (object_ambient(-n) + max(sh_eval(object.light_sh, -n), vec3<f32>(0.0))) * diffuse_occlusion;
     let lit = model_indirect(s, n, v, gi * diffuse_occlusion);
     indirect_specular_occlusion = vec3<f32>(1.0);
+    gi_back_diffuse = vec3<f32>(0.0);
     return lit + exact * ao;
 }
 

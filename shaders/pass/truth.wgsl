@@ -114,10 +114,10 @@ fn surface_at(hit: Hit, d: vec3<f32>) -> SurfacePoint {
         glow = textureSampleLevel(material_emission, material_sampler, sp.uv, 0.0).rgb;
         ts = textureSampleLevel(material_normal, material_sampler, sp.uv, 0.0).xyz;
         if (model_detail(m.model0, m.model1) > 0.5) {
-            // Standard's secondary maps, as forward.wgsl `material_at` and `mapped_normal` blend them
+            // The secondary maps, as forward.wgsl `material_at` and `mapped_normal` blend them
             let d = textureSampleLevel(material_detail, material_sampler, sp.uv * DETAIL_TILING, 0.0);
-            albedo = vec4<f32>(albedo.rgb * detail_albedo_mulx2(d.w, mask.b), albedo.a);
-            ts = mix(ts, blend_normals(ts, d.xyz), mask.b);
+            albedo = vec4<f32>(albedo.rgb * detail_albedo_factor(d.w, mask.b), albedo.a);
+            ts = detail_blended_normal(ts, d.xyz, mask.b);
         }
     } else if (fixed_maps) {
         albedo = fixed_map_level0(m, 0, sp.uv);

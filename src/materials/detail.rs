@@ -1,4 +1,4 @@
-//! Standard's secondary maps (UnityStandardInput.cginc, `_DETAIL_MULX2`, what the Standard shader
+//! Standard's and URP Lit's secondary maps. Standard's (UnityStandardInput.cginc, `_DETAIL_MULX2`, what the Standard shader
 //! compiles once a Detail Albedo ×2 or Detail Normal map is assigned): a fine grain tiled
 //! `DETAIL_TILING` times over the main maps (`_DetailAlbedoMap_ST`), its albedo multiplied in ×2
 //! (`unity_ColorSpaceDouble`) and its normal blended in (BlendNormals), both where the detail mask
@@ -98,6 +98,44 @@ pub fn blend_normals(n1: [f64; 3], n2: [f64; 3]) -> [f64; 3] {
 pub fn detail_normal(n: [f64; 3], detail: [f64; 3], mask: f64) -> [f64; 3] {
     let b = blend_normals(n, detail);
     [0, 1, 2].map(|i| n[i] + (b[i] - n[i]) * mask)
+}
+
+/// URP Lit's LerpWhiteTo(2·detailAlbedo, mask) (LitInput.hlsl ApplyDetailAlbedo, unscaled): its
+/// detail albedo map is read as linear data, 0.5 neutral, so the grain's texels are taken as
+/// encoded, linear_to_srgb of the linear value the tool stores.
+pub fn detail_albedo_x2_urp(detail_albedo: f64, mask: f64) -> f64 {
+    1.0 + (2.0 * crate::color::linear_to_srgb(detail_albedo) - 1.0) * mask
+}
+
+/// BlendNormalRNM (core CommonMaterial.hlsl, reoriented normal mapping): t = n₁ + (0, 0, 1),
+/// u = n₂·(−1, −1, 1), (t/t.z)·(t·u) − u.
+pub fn blend_normal_rnm(n1: [f64; 3], n2: [f64; 3]) -> [f64; 3] {
+    let t = [n1[0], n1[1], n1[2] + 1.0];
+    let u = [-n2[0], -n2[1], n2[2]];
+    let d = t[0] * u[0] + t[1] * u[1] + t[2] * u[2];
+    [0, 1, 2].map(|i| t[i] / t[2] * d - u[i])
+}
+
+/// URP Lit's lerp(n, BlendNormalRNM(n, normalize(detail)), mask) (LitInput.hlsl ApplyDetailNormal).
+pub fn detail_normal_urp(n: [f64; 3], detail: [f64; 3], mask: f64) -> [f64; 3] {
+    let l = (detail[0] * detail[0] + detail[1] * detail[1] + detail[2] * detail[2]).sqrt();
+    let b = blend_normal_rnm(n, detail.map(|c| c / l));
+    [0, 1, 2].map(|i| n[i] + (b[i] - n[i]) * mask)
+}
+
+/// The secondary maps' blend of `pipeline` at one texel: the albedo factor and the blended
+/// tangent-space normal (conventions.wgsl `detail_albedo_factor`, `detail_blended_normal`).
+pub fn detail_blend(
+    pipeline: crate::pipelines::Pipeline,
+    albedo: f64,
+    n: [f64; 3],
+    detail: [f64; 3],
+    mask: f64,
+) -> (f64, [f64; 3]) {
+    match pipeline {
+        crate::pipelines::Pipeline::Urp => (detail_albedo_x2_urp(albedo, mask), detail_normal_urp(n, detail, mask)),
+        _ => (detail_albedo_mulx2(albedo, mask), detail_normal(n, detail, mask)),
+    }
 }
 
 #[cfg(test)]

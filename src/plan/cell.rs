@@ -294,6 +294,8 @@ pub struct CellPlan {
     pub dynamic_casters_only: Vec<usize>,
     /// Each light's lobes, shape window, attenuation, dimmers and shadow tint (plan::light_terms).
     pub light_terms: Vec<super::light_terms::LightTerms>,
+    /// Why a same-BRDF truth cannot trace the subject's surface (`ShaderModel::untraceable`).
+    pub subject_untraceable: Option<String>,
 }
 
 impl CellPlan {
@@ -301,6 +303,11 @@ impl CellPlan {
     /// its column is then left empty rather than wrong.
     pub fn truth_unreachable(&self) -> Option<String> {
         self.light_terms.iter().zip(&self.light_shadows).find_map(|(t, s)| t.unphysical(s.style.is_some()))
+    }
+
+    /// Why a same-BRDF truth cannot trace this cell's subject (`ShaderModel::untraceable`), if it cannot.
+    pub fn same_brdf_truth_unreachable(&self) -> Option<String> {
+        self.subject_untraceable.clone().or_else(|| self.truth_unreachable())
     }
 
     /// The lights whose terms differ from the common light's (HDRP's settings at work), for the record.
@@ -485,6 +492,7 @@ impl CellPlan {
         let alpha_to_coverage = super::draws::alpha_to_coverage(p, surface.kind, multisampling.samples);
         CellPlan {
             light_terms,
+            subject_untraceable: cell.model.untraceable(&cell.surface.params),
             probes,
             alpha_to_coverage,
             renderer_probes,

@@ -185,7 +185,7 @@ mod tests {
         assert_eq!(std::mem::size_of::<ShadowLayer>(), 96);
         assert_eq!(std::mem::size_of::<GpuMaterial>(), 128);
         assert_eq!(std::mem::size_of::<GpuReflectionProbe>(), 48);
-        assert_eq!(std::mem::size_of::<FrameUniforms>(), 64 + 64 + 16 + 16 + 144 + 16 + 112 + 112 + 16 + 4 * 48 + 16);
-        assert_eq!(std::mem::size_of::<ObjectUniforms>(), 64 + 64 + 112 + 16 + 144 + 16 + 4 * 16);
+        assert_eq!(std::mem::size_of::<FrameUniforms>(), 64 + 64 + 16 + 16 + 144 + 16 + 128 + 128 + 16 + 4 * 48 + 16);
+        assert_eq!(std::mem::size_of::<ObjectUniforms>(), 64 + 64 + 128 + 16 + 144 + 16 + 4 * 16);
     }
 }

@@ -789,6 +789,13 @@ impl<'a> Stream<'a> {
                         let why = plan.truth_unreachable().unwrap_or_default();
                         Some(Err(format!("no truth: {why}, which no light transport does; the column is left empty")))
                     }
+                    Some(ReferenceSpec::Truth(t))
+                        if t.settings.kind == crate::render::truth::TruthKind::SameBrdf
+                            && plan.same_brdf_truth_unreachable().is_some() =>
+                    {
+                        let why = plan.same_brdf_truth_unreachable().unwrap_or_default();
+                        Some(Err(format!("no same-BRDF truth: {why}; the column is left empty")))
+                    }
                     Some(ReferenceSpec::Truth(t)) => {
                         let reads = renderer.truth_reads(&prepared, &params, &t.settings)?;
                         let key = super::truth_cache::TruthCache::key(self.matrix, cell, &reads, &self.adapter);

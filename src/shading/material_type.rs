@@ -18,12 +18,20 @@ pub enum MaterialType {
     /// HDRP's Anisotropy: anisotropic GGX along the tangent, by the `anisotropy` parameter (0 in a
     /// new material, where it draws as Standard); the other types have none.
     Anisotropy,
+    /// HDRP's Translucent: thin-object transmission through the default diffusion profile
+    /// (`transmission` 1), its slab `thickness` a parameter.
+    Translucent,
 }
 
 impl MaterialType {
     /// In the order HDRP's inspector lists the types it has here.
-    pub const ALL: [MaterialType; 4] =
-        [MaterialType::Standard, MaterialType::SpecularColor, MaterialType::Iridescence, MaterialType::Anisotropy];
+    pub const ALL: [MaterialType; 5] = [
+        MaterialType::Standard,
+        MaterialType::SpecularColor,
+        MaterialType::Iridescence,
+        MaterialType::Anisotropy,
+        MaterialType::Translucent,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {
@@ -31,6 +39,7 @@ impl MaterialType {
             MaterialType::SpecularColor => "specular_color",
             MaterialType::Iridescence => "iridescence",
             MaterialType::Anisotropy => "anisotropy",
+            MaterialType::Translucent => "translucent",
         }
     }
 
@@ -47,10 +56,19 @@ impl MaterialType {
     /// have no anisotropy, so a swept value does not reach them.
     pub fn params(self) -> &'static [(&'static str, f64)] {
         match self {
-            MaterialType::Standard => &[("specular_setup", 0.0), ("iridescence_mask", 0.0), ("anisotropy", 0.0)],
-            MaterialType::SpecularColor => &[("specular_setup", 1.0), ("iridescence_mask", 0.0), ("anisotropy", 0.0)],
-            MaterialType::Iridescence => &[("specular_setup", 0.0), ("iridescence_mask", 1.0), ("anisotropy", 0.0)],
-            MaterialType::Anisotropy => &[("specular_setup", 0.0), ("iridescence_mask", 0.0)],
+            MaterialType::Standard => {
+                &[("specular_setup", 0.0), ("iridescence_mask", 0.0), ("anisotropy", 0.0), ("transmission", 0.0)]
+            }
+            MaterialType::SpecularColor => {
+                &[("specular_setup", 1.0), ("iridescence_mask", 0.0), ("anisotropy", 0.0), ("transmission", 0.0)]
+            }
+            MaterialType::Iridescence => {
+                &[("specular_setup", 0.0), ("iridescence_mask", 1.0), ("anisotropy", 0.0), ("transmission", 0.0)]
+            }
+            MaterialType::Anisotropy => &[("specular_setup", 0.0), ("iridescence_mask", 0.0), ("transmission", 0.0)],
+            MaterialType::Translucent => {
+                &[("specular_setup", 0.0), ("iridescence_mask", 0.0), ("anisotropy", 0.0), ("transmission", 1.0)]
+            }
         }
     }
 
@@ -61,6 +79,7 @@ impl MaterialType {
             MaterialType::SpecularColor => Some("specular_setup"),
             MaterialType::Iridescence => Some("iridescence_mask"),
             MaterialType::Anisotropy => Some("anisotropy"),
+            MaterialType::Translucent => Some("transmission"),
         }
     }
 
@@ -116,6 +135,6 @@ mod tests {
         assert!(MaterialType::Iridescence.missing_in(urp).unwrap().contains("iridescence_mask"));
         assert_eq!(MaterialType::Standard.missing_in(lambert), None);
         assert!(MaterialType::SpecularColor.missing_in(lambert).is_some());
-        assert_eq!(MaterialType::param_names(), vec!["iridescence_mask", "specular_setup"]);
+        assert_eq!(MaterialType::param_names(), vec!["iridescence_mask", "specular_setup", "transmission"]);
     }
 }

@@ -123,6 +123,18 @@ impl ShaderModel {
         self.wgsl.contains("fn model_rect")
     }
 
+    /// Why a same-BRDF truth cannot trace a surface of this model with these parameters: HDRP Lit's
+    /// transmission lights the diffuse lobe from behind through the diffusion profile, light the
+    /// tracer's reflection-only surfaces do not pass.
+    pub fn untraceable(&self, params: &[f64; twin::PARAM_SLOTS]) -> Option<String> {
+        let on = |name: &str| self.params.iter().any(|p| p.name == name && params[p.slot] > 0.5);
+        on("transmission").then(|| {
+            "the subject transmits (HDRP's Translucent type: its diffuse lobe lit from behind through the \
+             diffusion profile), and the truth traces reflection alone"
+                .to_string()
+        })
+    }
+
     /// The parameters the model does not read at these values: a parameter whose gate (the
     /// parameter that turns its feature on, `PARAM_GATES`) is 0. Cells that differ only in them
     /// draw the same image (cells::render_key).
@@ -455,7 +467,33 @@ const ANISOTROPY: ParamSpec = ParamSpec {
 };
 
 /// Parameters read only while another is above 0: (parameter, its gate).
-const PARAM_GATES: &[(&str, &str)] = &[("iridescence_thickness", "iridescence_mask")];
+const PARAM_GATES: &[(&str, &str)] = &[("iridescence_thickness", "iridescence_mask"), ("thickness", "transmission")];
+
+/// HDRP Lit's Translucent material type (`_MaterialID` 5, MATERIALFEATUREFLAGS_LIT_TRANSMISSION)
+/// with HDRP's default diffusion profile: the diffuse lobe also lit from behind through the
+/// profile's transmittance, metallic 0, F0 the profile's.
+const TRANSMISSION: ParamSpec = ParamSpec {
+    name: Cow::Borrowed("transmission"),
+    slot: twin::TRANSMISSION_SLOT,
+    default: 0.0,
+    min: 0.0,
+    max: 1.0,
+    doc: Cow::Borrowed(
+        "1: the Translucent material type, thin-object transmission through the default diffusion profile (wrapped −NL × ComputeTransmittanceDisney), metallic 0, F0 0.0278; 0 (default): opaque",
+    ),
+};
+
+/// HDRP Lit's `_Thickness` (0–1, default 1): remapped to 0–5 mm by the default profile.
+const THICKNESS: ParamSpec = ParamSpec {
+    name: Cow::Borrowed("thickness"),
+    slot: twin::THICKNESS_SLOT,
+    default: 1.0,
+    min: 0.0,
+    max: 1.0,
+    doc: Cow::Borrowed(
+        "the translucent slab's thickness, × 5 mm (the profile's remap); read only with transmission on",
+    ),
+};
 
 /// HDRP Lit's `_IridescenceThickness` (0–1, default 1): a film of 3·t µm optical thickness and
 /// IOR lerp(2, 1, t) (core BSDF.hlsl EvalIridescence).
@@ -493,9 +531,10 @@ const PARALLAX: ParamSpec = ParamSpec {
 /// carry, so a cell without maps draws the same image whatever its value (cells::render_key).
 pub const DETAIL_PARAM: &str = "detail";
 
-/// Standard's secondary maps assigned (`_DetailAlbedoMap` and `_DetailNormalMap`, compiling
-/// `_DETAIL_MULX2`): the tool's detail grain (materials::detail) tiled 4× over the main maps,
-/// where the main mask's detail mask lets it. 0 is a new material's: no secondary maps.
+/// Standard's and URP Lit's secondary maps assigned (`_DetailAlbedoMap` and `_DetailNormalMap`,
+/// compiling Standard's `_DETAIL_MULX2`, URP's `_DETAIL`): the tool's detail grain
+/// (materials::detail) tiled 4× over the main maps, where the main mask's detail mask lets it, each
+/// engine blending it its own way. 0 is a new material's: no secondary maps.
 const DETAIL: ParamSpec = ParamSpec {
     name: Cow::Borrowed(DETAIL_PARAM),
     slot: 4,
@@ -503,7 +542,7 @@ const DETAIL: ParamSpec = ParamSpec {
     min: 0.0,
     max: 1.0,
     doc: Cow::Borrowed(
-        "1: the secondary maps (Detail Albedo ×2 and Detail Normal, _DETAIL_MULX2) under the detail mask; 0 (default): none. Needs the textured preset (`materials`)",
+        "1: the secondary maps under the detail mask (Standard: albedo × unity_ColorSpaceDouble, BlendNormals; URP Lit: albedo × 2 as linear data, BlendNormalRNM); 0 (default): none. Needs the textured preset (`materials`)",
     ),
 };
 
@@ -877,7 +916,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         reads: ALL_AXES,
         expected: RECIPROCAL_ONLY,
         twin: &twin::UrpLit,
-        params: &[SPECULAR_SETUP, SPECULAR_HIGHLIGHTS_TOGGLE, ENVIRONMENT_REFLECTIONS_OFF, PARALLAX],
+        params: &[SPECULAR_SETUP, SPECULAR_HIGHLIGHTS_TOGGLE, ENVIRONMENT_REFLECTIONS_OFF, PARALLAX, DETAIL],
         mapping: METALLIC_WORKFLOW,
         from_sliders: metallic_workflow,
         summary: "URP Lit: minimal Cook-Torrance specular, Lambert without 1/π, EnvironmentBRDF (models.md#urp-lit)",
@@ -953,7 +992,16 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         reads: ALL_AXES,
         expected: HDRP_LIT,
         twin: &twin::HdrpLit,
-        params: &[ENERGY_COMPENSATION, SPECULAR_SETUP_HDRP, COAT_MASK, IRIDESCENCE_MASK, IRIDESCENCE_THICKNESS, ANISOTROPY],
+        params: &[
+            ENERGY_COMPENSATION,
+            SPECULAR_SETUP_HDRP,
+            COAT_MASK,
+            IRIDESCENCE_MASK,
+            IRIDESCENCE_THICKNESS,
+            ANISOTROPY,
+            TRANSMISSION,
+            THICKNESS,
+        ],
         mapping: METALLIC_WORKFLOW,
         from_sliders: metallic_workflow,
         summary: "HDRP Lit: renormalised Disney diffuse, height-correlated Smith GGX, F_Schlick(f90), FGD energy compensation (models.md#hdrp-lit)",

@@ -57,10 +57,18 @@ fn hdrp_rect_lights_match_the_twin_forward_and_deferred() {
     let v = DVec3::new(0.0, 3.0, 3.0).normalize();
     let l = &scene.lights[0];
     let color = DVec3::from(l.radiance(Pipeline::Hdrp, 1.0, &Default::default()));
-    for (shader, smoothness, metallic) in [("lit", 0.3, 0.0), ("lit", 0.9, 1.0), ("lambert", 0.5, 0.0)] {
+    // The translucent case: the light behind the surface's horizon at the edge of the rect reaches
+    // through as HDRP's flipped polygon.
+    let cases =
+        [("lit", 0.3, 0.0, false), ("lit", 0.9, 1.0, false), ("lambert", 0.5, 0.0, false), ("lit", 0.3, 0.0, true)];
+    for (shader, smoothness, metallic, translucent) in cases {
         let model = find_model(Pipeline::Hdrp, shader).unwrap();
         let sliders = Sliders { base_color_linear: [0.7, 0.6, 0.5], metallic, smoothness };
-        let s = model.surface(Pipeline::Hdrp, &sliders);
+        let mut s = model.surface(Pipeline::Hdrp, &sliders);
+        if translucent {
+            s.params[shadematrix::shading::twin::TRANSMISSION_SLOT] = 1.0;
+            s.params[shadematrix::shading::twin::THICKNESS_SLOT] = 0.2;
+        }
         let lobes =
             model.twin.unwrap().rect_lobes(Pipeline::Hdrp, &s, DVec3::Y, v, &rect.vertices(DVec3::ZERO)).unwrap();
         let want = lobes.sum() * color * rect.attenuation(DVec3::ZERO);
@@ -69,7 +77,10 @@ fn hdrp_rect_lights_match_the_twin_forward_and_deferred() {
         let paths: &[RenderPath] =
             if smoothness < 0.8 { &[RenderPath::Forward, RenderPath::Deferred] } else { &[RenderPath::Forward] };
         for &path in paths {
-            let (plan, r) = render(&mut renderer, &scene, Pipeline::Hdrp, shader, sliders, path);
+            let prepared = renderer.prepare_scene(&scene).unwrap();
+            let mut cell = cell_params(Pipeline::Hdrp, shader, sliders, (1.0, 8.0), SIZE, path);
+            cell.surface.params = s.params;
+            let (plan, r) = renderer.render_planned(&prepared, &cell, 1, 0).unwrap();
             assert_eq!(plan.assignment[0].lights[0].mode, LightMode::PerPixel, "{:?}", plan.assignment);
             let got = centre(&r);
             let rel = ((got - want).abs() / want.max(DVec3::splat(1e-9))).max_element();

@@ -1,5 +1,6 @@
-//! Standard's secondary maps (registry DETAIL, materials::detail): blended in where the detail
-//! mask lets them, in the frame and in both tracers (truth.wgsl against the CPU's f64 twin).
+//! Standard's and URP Lit's secondary maps (registry DETAIL, materials::detail): blended in where
+//! the detail mask lets them, each as its engine does, in the frame and in both tracers
+//! (truth.wgsl against the CPU's f64 twin).
 
 use crate::common::{cell_params, fixture};
 use shadematrix::declarations::matrix::TruthBackend;
@@ -37,24 +38,28 @@ fn secondary_maps_blend_in_under_the_mask_and_both_tracers_follow_them() {
     let plane = Scene::load_file(&fixture("textured_plane.toml")).unwrap();
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     let prepared = renderer.prepare_scene(&plane).unwrap();
+    for (pipeline, shader) in [(Pipeline::Builtin, "standard"), (Pipeline::Urp, "lit")] {
+        secondary_maps_in(&mut renderer, &prepared, pipeline, shader);
+    }
+}
+
+fn secondary_maps_in(renderer: &mut Renderer, prepared: &PreparedScene, pipeline: Pipeline, shader: &str) {
     let sliders = Sliders { base_color_linear: [0.83, 0.79, 0.75], metallic: 0.0, smoothness: 0.5 };
-    let mut cell = cell_params(Pipeline::Builtin, "standard", sliders, (1.0, 10.0), 48, RenderPath::Forward);
+    let mut cell = cell_params(pipeline, shader, sliders, (1.0, 10.0), 48, RenderPath::Forward);
     cell.settings.material_maps = Some("marble");
-    let without = renderer.render(&prepared, &cell, 1, 0).unwrap();
-    let truth_without = truth(&mut renderer, &prepared, &cell, TruthBackend::Cpu);
+    let without = renderer.render(prepared, &cell, 1, 0).unwrap();
+    let truth_without = truth(renderer, prepared, &cell, TruthBackend::Cpu);
     cell.surface.params[4] = 1.0;
-    let with = renderer.render(&prepared, &cell, 1, 0).unwrap();
+    let with = renderer.render(prepared, &cell, 1, 0).unwrap();
     // The frame: detail where the mask lets it (part of the tile), the rest as it was.
     let n = with.roles.len();
     let changed = (0..n).filter(|&i| (with.hdr[4 * i] - without.hdr[4 * i]).abs() > 0.01 * without.hdr[4 * i]).count();
     let same = (0..n).filter(|&i| (with.hdr[4 * i] - without.hdr[4 * i]).abs() <= 0.002 * without.hdr[4 * i]).count();
-    eprintln!("secondary maps: {changed} of {n} pixels change by over 1%, {same} by at most 0.2%");
+    eprintln!("{shader} secondary maps: {changed} of {n} pixels change by over 1%, {same} by at most 0.2%");
     assert!(changed * 10 > n && same * 10 > n, "{changed} changed, {same} the same of {n}");
     // Both tracers blend them as the frame does: their subjects agree within noise…
-    let (cpu, gpu) = (
-        truth(&mut renderer, &prepared, &cell, TruthBackend::Cpu),
-        truth(&mut renderer, &prepared, &cell, TruthBackend::Gpu),
-    );
+    let (cpu, gpu) =
+        (truth(renderer, prepared, &cell, TruthBackend::Cpu), truth(renderer, prepared, &cell, TruthBackend::Gpu));
     let (mut diff, mut var) = (0.0f64, 0.0f64);
     for i in 0..n {
         if cpu.roles[i] == ROLE_SUBJECT && gpu.roles[i] == ROLE_SUBJECT {
@@ -68,8 +73,15 @@ fn secondary_maps_blend_in_under_the_mask_and_both_tracers_follow_them() {
         / subject_mean(&without.roles, |i| without.hdr[4 * i] as f64, n);
     let truth_ratio = subject_mean(&cpu.roles, |i| cpu.mean[i][0] as f64, n)
         / subject_mean(&truth_without.roles, |i| truth_without.mean[i][0] as f64, n);
-    eprintln!("CPU − GPU truth Z {z:.2}; subject mean with/without: frame {frame_ratio:.4}, truth {truth_ratio:.4}");
+    eprintln!(
+        "{shader}: CPU − GPU truth Z {z:.2}; subject mean with/without: frame {frame_ratio:.4}, truth {truth_ratio:.4}"
+    );
     assert!(z.abs() < 4.0, "the tracers' subjects differ by {z:.2} standard errors");
+    assert!((frame_ratio - truth_ratio).abs() < 0.04, "frame {frame_ratio} vs truth {truth_ratio}");
+    if pipeline != Pipeline::Builtin {
+        // URP's ×2 of the grain read as linear data is 1 at its neutral sRGB 0.5.
+        return;
+    }
     // Both darken: the ×2 albedo of a grain around sRGB 0.5 is 0.98 on average. The truth reads
     // the finest level, where the grain's normals tilt NL away; the frame's mips average them
     // flat (as Unity's do), so the truth darkens more (measured 0.9605 against 0.9887).
@@ -80,7 +92,9 @@ fn secondary_maps_blend_in_under_the_mask_and_both_tracers_follow_them() {
 #[test]
 fn the_detail_blends_match_their_twins() {
     let _timer = crate::common::timed!();
-    use shadematrix::materials::detail::{blend_normals, detail_albedo_mulx2};
+    use shadematrix::materials::detail::{blend_normal_rnm, blend_normals, detail_albedo_mulx2, detail_albedo_x2_urp};
+    let gpu = GpuContext::new().unwrap();
+    let urp = crate::common::pair_kernel("vec4<f32>(blend_normal_rnm(a.xyz, b.xyz), detail_albedo_x2_urp(a.w, b.w))");
     let source = crate::common::pair_kernel("vec4<f32>(blend_normals(a.xyz, b.xyz), detail_albedo_mulx2(a.w, b.w))");
     let normals = [[0.0, 0.0, 1.0], [0.3, -0.2, 0.93], [-0.6, 0.1, 0.79], [0.05, 0.7, 0.71]];
     let mut cases = Vec::new();
@@ -100,23 +114,25 @@ fn the_detail_blends_match_their_twins() {
             ]
         })
         .collect();
-    let gpu = GpuContext::new().unwrap();
     let got = crate::common::run_kernel(&gpu, &source, &inputs, cases.len(), &[]);
+    let got_urp = crate::common::run_kernel(&gpu, &urp, &inputs, cases.len(), &[]);
     let mut worst = 0.0f64;
-    for ((a, b, albedo, mask), g) in cases.iter().zip(&got) {
+    for (((a, b, albedo, mask), g), u) in cases.iter().zip(&got).zip(&got_urp) {
         let n = blend_normals(*a, *b);
         let f = detail_albedo_mulx2(*albedo, *mask);
+        let rnm = blend_normal_rnm(*a, *b);
+        let f_urp = detail_albedo_x2_urp(*albedo, *mask);
         for k in 0..3 {
-            worst = worst.max((g[k] as f64 - n[k]).abs());
+            worst = worst.max((g[k] as f64 - n[k]).abs()).max((u[k] as f64 - rnm[k]).abs());
         }
-        worst = worst.max((g[3] as f64 - f).abs());
+        worst = worst.max((g[3] as f64 - f).abs()).max((u[3] as f64 - f_urp).abs());
     }
     eprintln!("detail blends GPU vs twin: worst |Δ| {worst:.2e} over {} inputs", cases.len());
     assert!(worst < 1e-5, "{worst:e}");
 }
 
 /// In a run: a flat subject has no maps to blend into, so its cells along `detail` are twins; a
-/// textured one changes its own pixels only; URP and HDRP Lit have no such parameter.
+/// textured one changes its own pixels only; HDRP Lit has no such parameter.
 #[test]
 fn secondary_maps_change_only_a_textured_subject() {
     let _timer = crate::common::timed!();
@@ -124,7 +140,7 @@ fn secondary_maps_change_only_a_textured_subject() {
     let body = r#"
 name = "detail"
 compositions = ["default"]
-pipelines = ["builtin", "urp"]
+pipelines = ["builtin", "urp", "hdrp"]
 shaders = ["standard", "lit"]
 presets = ["brick"]
 [sweep]
@@ -137,7 +153,7 @@ height = 64
 "#;
     let out = crate::common::run_matrix(tmp.path(), body, "run");
     let run = shadematrix::report::run_data::RunData::load(&out).unwrap();
-    // Built-in Standard's textured cell compared; its flat one a twin.
-    let checked = crate::common::check_map_parameter(&run, "detail", (1.0, 0.0), Pipeline::Urp);
-    assert_eq!(checked, 1, "built-in Standard");
+    // Built-in Standard's and URP Lit's textured cells compared; their flat ones twins.
+    let checked = crate::common::check_map_parameter(&run, "detail", (1.0, 0.0), Pipeline::Hdrp);
+    assert_eq!(checked, 2, "built-in Standard and URP Lit");
 }

@@ -48,6 +48,7 @@ mod study;
 mod surfaces;
 mod terms;
 mod timing;
+mod translucent;
 mod truth;
 mod urp_ssao;
 mod user_models;

@@ -695,14 +695,14 @@ impl<'a> Tracer<'a> {
         if let Some([mut albedo, mut normal, mask, glow]) = maps {
             if is_subject && self.inputs.subject_detail {
                 // Standard's secondary maps (materials::detail, truth.wgsl)
-                use crate::materials::detail::{detail_albedo_mulx2, detail_levels, detail_normal, DETAIL_TILING};
+                use crate::materials::detail::{detail_blend, detail_levels, DETAIL_TILING};
                 let l = &detail_levels()[0];
                 let d =
                     crate::materials::bilinear(&l.texels, l.size, l.size, uv.x * DETAIL_TILING, uv.y * DETAIL_TILING);
-                let f = detail_albedo_mulx2(d[3] as f64, mask[2]);
-                albedo = [albedo[0] * f, albedo[1] * f, albedo[2] * f, albedo[3]];
                 let dn = [d[0] as f64, d[1] as f64, d[2] as f64];
-                let blended = detail_normal([normal[0], normal[1], normal[2]], dn, mask[2]);
+                let n0 = [normal[0], normal[1], normal[2]];
+                let (f, blended) = detail_blend(self.inputs.pipeline, d[3] as f64, n0, dn, mask[2]);
+                albedo = [albedo[0] * f, albedo[1] * f, albedo[2] * f, albedo[3]];
                 normal = [blended[0], blended[1], blended[2], normal[3]];
             }
             s.base_color *= DVec3::new(albedo[0], albedo[1], albedo[2]);

@@ -63,6 +63,10 @@ pub fn f_schlick_f90(f0: DVec3, f90: f64, lh: f64) -> DVec3 {
 /// F0 = lerp(0.04, albedo, metallic), or the specular colour for the Specular Color material
 /// type (params[1] = 1).
 pub fn hdrp_f0(s: &Surface) -> DVec3 {
+    if s.params[TRANSMISSION_SLOT] > 0.5 {
+        // FillMaterialTransmission: the diffusion profile's F0.
+        return DVec3::splat(DIFFUSION_PROFILE_FRESNEL0);
+    }
     if s.params[1] > 0.5 {
         return s.specular;
     }
@@ -73,6 +77,10 @@ pub fn hdrp_f0(s: &Surface) -> DVec3 {
 /// Specular Color (its default), albedo·(1 − max(specular)); × the diffuse weight a transparent
 /// surface's ApplyBlendMode gives the diffuse lighting.
 pub fn hdrp_diffuse_color(s: &Surface) -> DVec3 {
+    if s.params[TRANSMISSION_SLOT] > 0.5 {
+        // There is no metallic with transmission (ConvertSurfaceDataToBSDFData).
+        return s.base_color * s.diffuse_weight;
+    }
     if s.params[1] > 0.5 {
         return s.base_color * (1.0 - s.specular.max_element()) * s.diffuse_weight;
     }
@@ -101,6 +109,37 @@ pub const COAT_MASK_SLOT: usize = 2;
 pub const IRIDESCENCE_MASK_SLOT: usize = 3;
 pub const IRIDESCENCE_THICKNESS_SLOT: usize = 4;
 pub const ANISOTROPY_SLOT: usize = 5;
+/// The Translucent material type's transmission switch and its `_Thickness`.
+pub const TRANSMISSION_SLOT: usize = 8;
+pub const THICKNESS_SLOT: usize = 9;
+
+/// HDRP's default diffusion profile (DiffusionProfileSettings.cs ResetToDefault): scattering
+/// distance 0.5 (grey) × 1, so the shape parameter S = 1/0.5 per mm; a white transmission tint,
+/// premultiplied by 1/4; thickness remap 0–5 mm; IOR 1.4, F0 = ((1.4 − 1)/(1.4 + 1))²; Thin Object.
+pub const DIFFUSION_PROFILE_SHAPE: f64 = 2.0;
+pub const DIFFUSION_PROFILE_TINT: f64 = 0.25;
+pub const DIFFUSION_PROFILE_THICKNESS_MM: f64 = 5.0;
+pub const DIFFUSION_PROFILE_FRESNEL0: f64 = (0.4 / 2.4) * (0.4 / 2.4);
+/// TRANSMISSION_WRAP_LIGHT: cos(π/2 − π/12) (SubsurfaceScattering.hlsl).
+pub const TRANSMISSION_WRAP_LIGHT: f64 = 0.258_819_045_102_520_74;
+
+/// ComputeWrappedDiffuseLighting (core CommonLighting.hlsl): sat((NL + w)/(1 + w)²).
+pub fn compute_wrapped_diffuse_lighting(nl: f64, w: f64) -> f64 {
+    sat((nl + w) / ((1.0 + w) * (1.0 + w)))
+}
+
+/// ComputeTransmittanceDisney (DiffusionProfile.hlsl): A·e^(−S·t/3)·(e^(−2S·t/3) + 3), A the tint
+/// premultiplied by 1/4: the transmittance of a slab t mm thick under the Burley profile.
+pub fn compute_transmittance_disney(shape: DVec3, volume_albedo: DVec3, thickness: f64) -> DVec3 {
+    let exp_13 = (shape * (-thickness / 3.0)).exp();
+    volume_albedo * (exp_13 * (exp_13 * exp_13 + 3.0))
+}
+
+/// FillMaterialTransmission with the default profile: thickness remap.x + remap.y·_Thickness (mm).
+pub fn hdrp_transmittance(s: &Surface) -> DVec3 {
+    let thickness = DIFFUSION_PROFILE_THICKNESS_MM * s.params[THICKNESS_SLOT];
+    compute_transmittance_disney(DVec3::splat(DIFFUSION_PROFILE_SHAPE), DVec3::splat(DIFFUSION_PROFILE_TINT), thickness)
+}
 
 /// F_Schlick for a scalar F0 and F90 = 1: (1 − F0)·x⁵ + F0, x = 1 − u (core BSDF.hlsl).
 pub fn f_schlick_scalar(f0: f64, u: f64) -> f64 {
@@ -334,7 +373,9 @@ impl SurfaceTwin for HdrpLit {
         min_roughness: f64,
     ) -> Lobes {
         let nl = n.dot(l);
-        if nl <= 0.0 {
+        // With transmission every light is evaluated (IsNonZeroBSDF); its diffuse reaches through.
+        let transmits = s.params[TRANSMISSION_SLOT] > 0.5;
+        if nl <= 0.0 && !transmits {
             return Lobes::ZERO;
         }
         let nv = n.dot(v);
@@ -386,7 +427,12 @@ impl SurfaceTwin for HdrpLit {
             diffuse *= 1.0 - coat_f * b.coat_mask;
         }
         spec *= hdrp_energy_compensation(s, &b, clamped_nv);
-        Lobes::split(diffuse * sat(nl), spec * sat(nl))
+        // diffR·NL + diffT·transmittance, diffT at the wrapped −NL (EvaluateBSDF, ShadeSurface_Infinitesimal).
+        let mut diffuse_nl = DVec3::splat(sat(nl));
+        if transmits {
+            diffuse_nl += compute_wrapped_diffuse_lighting(-nl, TRANSMISSION_WRAP_LIGHT) * hdrp_transmittance(s);
+        }
+        Lobes::split(diffuse * diffuse_nl, spec * sat(nl))
     }
 
     fn indirect_lobes(&self, _: Pipeline, s: &Surface, n: DVec3, v: DVec3, gi_d: DVec3, gi_s: DVec3) -> Lobes {
@@ -417,7 +463,14 @@ impl SurfaceTwin for HdrpLit {
         let fgd = FgdTable::get().lookup(clamped_nv, pr);
         let f0 = b.fresnel0;
         let specular_fgd = (DVec3::ONE - f0) * fgd.x + f0 * fgd.y;
-        let mut diffuse = hdrp_diffuse_color(s) * (fgd.z + 0.5) * ltc_diffuse;
+        let mut diffuse_ltc = DVec3::splat((fgd.z + 0.5) * ltc_diffuse);
+        if s.params[TRANSMISSION_SLOT] > 0.5 {
+            // Transmission: the polygon seen from −N (the frame flipped about its bitangent),
+            // Lambertian, through the transmittance, without the diffuse FGD (EvaluateBSDF_Rect).
+            let flip = glam::DMat3::from_diagonal(DVec3::new(-1.0, 1.0, -1.0));
+            diffuse_ltc += hdrp_transmittance(s) * ltc_evaluate(corners, &basis, &flip);
+        }
+        let mut diffuse = hdrp_diffuse_color(s) * diffuse_ltc;
         let mut spec = specular_fgd * ltc_specular;
         if b.coat_mask > 0.0 {
             // EvaluateBSDF_Rect: both lobes × (1 − coatIblF), the coat's GGX LTC at its roughness.

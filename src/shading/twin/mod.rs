@@ -13,8 +13,12 @@ pub use builtin::{StandardBrdf2, StandardBrdf3};
 pub use classic::{BlinnPhong, CookTorrance, CookTorrance1982, HalfLambert, OrenNayar, Phong};
 pub use custom::{d_ggx, FresnelView, TorranceSparrow};
 pub use hdrp::{
+    compute_transmittance_disney, compute_wrapped_diffuse_lighting, hdrp_transmittance, TRANSMISSION_WRAP_LIGHT,
+};
+pub use hdrp::{
     default_light_min_roughness, gtao_multi_bounce, indirect_occlusion, specular_occlusion_from_ao, HdrpLit,
-    ANISOTROPY_SLOT, COAT_MASK_SLOT, IRIDESCENCE_MASK_SLOT, IRIDESCENCE_THICKNESS_SLOT,
+    ANISOTROPY_SLOT, COAT_MASK_SLOT, IRIDESCENCE_MASK_SLOT, IRIDESCENCE_THICKNESS_SLOT, THICKNESS_SLOT,
+    TRANSMISSION_SLOT,
 };
 pub use lambert::Lambert;
 pub use standard::Standard;
