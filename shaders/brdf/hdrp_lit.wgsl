@@ -435,3 +435,9 @@ fn model_rect(s: Surface, n: vec3<f32>, v: vec3<f32>, corners: array<vec3<f32>, 
     }
     return direct_diffuse(diffuse) + direct_specular(spec * hdrp_energy_compensation(s, b, clamped_nv));
 }
+
+// The detail map on (the `detail` parameter, slot 10): the passes overlay it on the base colour and
+// blend its normal as LitDataIndividualLayer.hlsl does (materials::detail)
+fn model_detail(params0: vec4<f32>, params1: vec4<f32>, params2: vec4<f32>) -> f32 {
+    return params2.z;
+}

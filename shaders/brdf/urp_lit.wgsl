@@ -78,6 +78,6 @@ fn model_height_scale(params0: vec4<f32>, params1: vec4<f32>) -> f32 {
 
 // Secondary maps on (the `detail` parameter, slot 4): the passes blend them in as URP Lit's
 // ApplyDetailAlbedo and ApplyDetailNormal do (materials::detail)
-fn model_detail(params0: vec4<f32>, params1: vec4<f32>) -> f32 {
+fn model_detail(params0: vec4<f32>, params1: vec4<f32>, params2: vec4<f32>) -> f32 {
     return params1.x;
 }

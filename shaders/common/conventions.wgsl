@@ -162,19 +162,34 @@ fn blend_normal_rnm(n1: vec3<f32>, n2: vec3<f32>) -> vec3<f32> {
     return (t / t.z) * dot(t, u) - u;
 }
 
-// The pipeline's secondary-map albedo factor: Standard's ×unity_ColorSpaceDouble, URP's ×2 (twin:
+// The pipeline's secondary-map albedo factor: Standard's ×unity_ColorSpaceDouble, URP's ×2; HDRP's
+// overlay acts on the base colour instead (hdrp_detail_albedo), so its factor is 1 (twin:
 // materials::detail_blend)
 fn detail_albedo_factor(detail_albedo: f32, mask: f32) -> f32 {
     if (PIPELINE == PIPELINE_URP) {
         return detail_albedo_x2_urp(detail_albedo, mask);
     }
+    if (PIPELINE == PIPELINE_HDRP) {
+        return 1.0;
+    }
     return detail_albedo_mulx2(detail_albedo, mask);
 }
 
-// The pipeline's secondary-map normal: Standard's lerp(n, BlendNormals(n, d), mask), URP's
-// lerp(n, BlendNormalRNM(n, normalize(d)), mask)
+// HDRP Lit's detail albedo overlay (LitDataIndividualLayer.hlsl): d = 2·r − 1 of the detail map's r
+// (linear data: the grain's texel as encoded), s = sat(|d|), the colour lerped in √ space towards
+// black or white by s², squared back, then lerp(base, sat(overlay), mask)
+fn hdrp_detail_albedo(base: vec3<f32>, detail_albedo: f32, mask: f32) -> vec3<f32> {
+    let d = linear_to_srgb(detail_albedo) * 2.0 - 1.0;
+    let speed = sat(abs(d));
+    var overlay = mix(sqrt(base), select(vec3<f32>(1.0), vec3<f32>(0.0), d < 0.0), speed * speed);
+    overlay *= overlay;
+    return mix(base, sat3(overlay), mask);
+}
+
+// The pipeline's secondary-map normal: Standard's lerp(n, BlendNormals(n, d), mask), URP's and
+// HDRP's lerp(n, BlendNormalRNM(n, normalize(d)), mask)
 fn detail_blended_normal(ts: vec3<f32>, detail: vec3<f32>, mask: f32) -> vec3<f32> {
-    if (PIPELINE == PIPELINE_URP) {
+    if (PIPELINE != PIPELINE_BUILTIN) {
         return mix(ts, blend_normal_rnm(ts, normalize(detail)), mask);
     }
     return mix(ts, blend_normals(ts, detail), mask);

@@ -208,21 +208,26 @@ fn material_at(uv: vec2<f32>) -> Surface {
     // flow): on a CPU rasteriser three samples per fragment of every object cost a third of the frame.
     var albedo = vec4<f32>(1.0);
     var mask = vec4<f32>(1.0, 1.0, 1.0, 0.5);
+    var detail = vec4<f32>(0.0);
     if (is_textured()) {
         albedo = map_texel(0, uv);
         mask = map_texel(2, uv);
         if (draws_detail()) {
-            let d = textureSample(material_detail, material_sampler, uv * DETAIL_TILING);
-            albedo = vec4<f32>(albedo.rgb * detail_albedo_factor(d.w, mask.b), albedo.a);
+            detail = textureSample(material_detail, material_sampler, uv * DETAIL_TILING);
+            albedo = vec4<f32>(albedo.rgb * detail_albedo_factor(detail.w, mask.b), albedo.a);
         }
     }
-    return material_from(uv, albedo, mask);
+    var s = material_from(uv, albedo, mask);
+    if (PIPELINE == PIPELINE_HDRP && draws_detail()) {
+        s.base_color = hdrp_detail_albedo(s.base_color, detail.w, mask.b);
+    }
+    return s;
 }
 
 // Whether the drawn object blends its model's secondary maps in (Standard's, URP Lit's): the subject, textured, its model's
 // `detail` on (uniform, so the samples stay in uniform control flow)
 fn draws_detail() -> bool {
-    return object.flags.x == 1u && is_textured() && model_detail(frame.subject.model0, frame.subject.model1) > 0.5;
+    return object.flags.x == 1u && is_textured() && model_detail(frame.subject.model0, frame.subject.model1, frame.subject.model2) > 0.5;
 }
 
 // The same at a vertex (the vertex-lit path): the finest level, as a vertex stage has no derivatives.

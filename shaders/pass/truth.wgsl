@@ -113,7 +113,7 @@ fn surface_at(hit: Hit, d: vec3<f32>) -> SurfacePoint {
         mask = textureSampleLevel(material_mask, material_sampler, sp.uv, 0.0);
         glow = textureSampleLevel(material_emission, material_sampler, sp.uv, 0.0).rgb;
         ts = textureSampleLevel(material_normal, material_sampler, sp.uv, 0.0).xyz;
-        if (model_detail(m.model0, m.model1) > 0.5) {
+        if (model_detail(m.model0, m.model1, m.model2) > 0.5) {
             // The secondary maps, as forward.wgsl `material_at` and `mapped_normal` blend them
             let d = textureSampleLevel(material_detail, material_sampler, sp.uv * DETAIL_TILING, 0.0);
             albedo = vec4<f32>(albedo.rgb * detail_albedo_factor(d.w, mask.b), albedo.a);
@@ -131,6 +131,10 @@ fn surface_at(hit: Hit, d: vec3<f32>) -> SurfacePoint {
     }
     sp.n = n;
     sp.s = surface_from(m, sp.uv, albedo, mask, textured);
+    if (PIPELINE == PIPELINE_HDRP && subject_maps && model_detail(m.model0, m.model1, m.model2) > 0.5) {
+        let d = textureSampleLevel(material_detail, material_sampler, sp.uv * DETAIL_TILING, 0.0);
+        sp.s.base_color = hdrp_detail_albedo(sp.s.base_color, d.w, mask.b);
+    }
     sp.s.tangent = (a.tangent * b0 + b.tangent * hit.b1 + c.tangent * hit.b2).xyz;
     // The subject's emission where its model emits; a fixed object's own (zero for most).
     sp.emission = m.emission.rgb * glow;

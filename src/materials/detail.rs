@@ -123,8 +123,22 @@ pub fn detail_normal_urp(n: [f64; 3], detail: [f64; 3], mask: f64) -> [f64; 3] {
     [0, 1, 2].map(|i| n[i] + (b[i] - n[i]) * mask)
 }
 
-/// The secondary maps' blend of `pipeline` at one texel: the albedo factor and the blended
-/// tangent-space normal (conventions.wgsl `detail_albedo_factor`, `detail_blended_normal`).
+/// HDRP Lit's detail albedo overlay (LitDataIndividualLayer.hlsl): d = 2·r − 1 of the detail map's
+/// r (linear data: the grain's texel as encoded), s = sat(|d|), the colour lerped in √ space towards
+/// black or white by s², squared back, then lerp(base, sat(overlay), mask).
+pub fn hdrp_detail_albedo(base: [f64; 3], detail_albedo: f64, mask: f64) -> [f64; 3] {
+    let d = crate::color::linear_to_srgb(detail_albedo) * 2.0 - 1.0;
+    let speed = d.abs().clamp(0.0, 1.0);
+    let target = if d < 0.0 { 0.0 } else { 1.0 };
+    base.map(|b| {
+        let o = b.sqrt() + (target - b.sqrt()) * speed * speed;
+        b + ((o * o).clamp(0.0, 1.0) - b) * mask
+    })
+}
+
+/// The secondary maps' blend of `pipeline` at one texel: the albedo factor (1 for HDRP, whose
+/// overlay acts on the base colour: `hdrp_detail_albedo`) and the blended tangent-space normal
+/// (conventions.wgsl `detail_albedo_factor`, `detail_blended_normal`).
 pub fn detail_blend(
     pipeline: crate::pipelines::Pipeline,
     albedo: f64,
@@ -134,6 +148,7 @@ pub fn detail_blend(
 ) -> (f64, [f64; 3]) {
     match pipeline {
         crate::pipelines::Pipeline::Urp => (detail_albedo_x2_urp(albedo, mask), detail_normal_urp(n, detail, mask)),
+        crate::pipelines::Pipeline::Hdrp => (1.0, detail_normal_urp(n, detail, mask)),
         _ => (detail_albedo_mulx2(albedo, mask), detail_normal(n, detail, mask)),
     }
 }

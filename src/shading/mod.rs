@@ -5,6 +5,7 @@ pub mod fgd;
 pub mod ltc;
 pub mod ltc_fit;
 pub mod material_type;
+pub mod params;
 pub mod registry;
 pub mod twin;
 pub mod user;

@@ -34,7 +34,7 @@ const DEFAULT_HEIGHT_HOOK: &str =
 
 /// Secondary maps for a model without them (Standard has them, registry::DETAIL).
 const DEFAULT_DETAIL_HOOK: &str =
-    "fn model_detail(params0: vec4<f32>, params1: vec4<f32>) -> f32 {\n    return 0.0;\n}\n";
+    "fn model_detail(params0: vec4<f32>, params1: vec4<f32>, params2: vec4<f32>) -> f32 {\n    return 0.0;\n}\n";
 
 /// Rect lights for a model without a BSDF for them: nothing (the plan leaves them out,
 /// plan::lights::area_left_out).

@@ -38,7 +38,7 @@ fn secondary_maps_blend_in_under_the_mask_and_both_tracers_follow_them() {
     let plane = Scene::load_file(&fixture("textured_plane.toml")).unwrap();
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     let prepared = renderer.prepare_scene(&plane).unwrap();
-    for (pipeline, shader) in [(Pipeline::Builtin, "standard"), (Pipeline::Urp, "lit")] {
+    for (pipeline, shader) in [(Pipeline::Builtin, "standard"), (Pipeline::Urp, "lit"), (Pipeline::Hdrp, "lit")] {
         secondary_maps_in(&mut renderer, &prepared, pipeline, shader);
     }
 }
@@ -49,7 +49,8 @@ fn secondary_maps_in(renderer: &mut Renderer, prepared: &PreparedScene, pipeline
     cell.settings.material_maps = Some("marble");
     let without = renderer.render(prepared, &cell, 1, 0).unwrap();
     let truth_without = truth(renderer, prepared, &cell, TruthBackend::Cpu);
-    cell.surface.params[4] = 1.0;
+    let slot = cell.model.params.iter().find(|p| p.name == "detail").unwrap().slot;
+    cell.surface.params[slot] = 1.0;
     let with = renderer.render(prepared, &cell, 1, 0).unwrap();
     // The frame: detail where the mask lets it (part of the tile), the rest as it was.
     let n = with.roles.len();
@@ -79,7 +80,7 @@ fn secondary_maps_in(renderer: &mut Renderer, prepared: &PreparedScene, pipeline
     assert!(z.abs() < 4.0, "the tracers' subjects differ by {z:.2} standard errors");
     assert!((frame_ratio - truth_ratio).abs() < 0.04, "frame {frame_ratio} vs truth {truth_ratio}");
     if pipeline != Pipeline::Builtin {
-        // URP's ×2 of the grain read as linear data is 1 at its neutral sRGB 0.5.
+        // URP's ×2 and HDRP's overlay of the grain read as linear data are neutral at its sRGB 0.5.
         return;
     }
     // Both darken: the ×2 albedo of a grain around sRGB 0.5 is 0.98 on average. The truth reads
@@ -92,9 +93,13 @@ fn secondary_maps_in(renderer: &mut Renderer, prepared: &PreparedScene, pipeline
 #[test]
 fn the_detail_blends_match_their_twins() {
     let _timer = crate::common::timed!();
-    use shadematrix::materials::detail::{blend_normal_rnm, blend_normals, detail_albedo_mulx2, detail_albedo_x2_urp};
+    use shadematrix::materials::detail::{
+        blend_normal_rnm, blend_normals, detail_albedo_mulx2, detail_albedo_x2_urp, hdrp_detail_albedo,
+    };
     let gpu = GpuContext::new().unwrap();
     let urp = crate::common::pair_kernel("vec4<f32>(blend_normal_rnm(a.xyz, b.xyz), detail_albedo_x2_urp(a.w, b.w))");
+    // HDRP's overlay of a base colour (the first normal's components, made positive) by the albedo.
+    let hdrp = crate::common::pair_kernel("vec4<f32>(hdrp_detail_albedo(abs(a.xyz), a.w, b.w), 0.0)");
     let source = crate::common::pair_kernel("vec4<f32>(blend_normals(a.xyz, b.xyz), detail_albedo_mulx2(a.w, b.w))");
     let normals = [[0.0, 0.0, 1.0], [0.3, -0.2, 0.93], [-0.6, 0.1, 0.79], [0.05, 0.7, 0.71]];
     let mut cases = Vec::new();
@@ -116,8 +121,14 @@ fn the_detail_blends_match_their_twins() {
         .collect();
     let got = crate::common::run_kernel(&gpu, &source, &inputs, cases.len(), &[]);
     let got_urp = crate::common::run_kernel(&gpu, &urp, &inputs, cases.len(), &[]);
+    let got_hdrp = crate::common::run_kernel(&gpu, &hdrp, &inputs, cases.len(), &[]);
     let mut worst = 0.0f64;
-    for (((a, b, albedo, mask), g), u) in cases.iter().zip(&got).zip(&got_urp) {
+    for ((((a, b, albedo, mask), g), u), h) in cases.iter().zip(&got).zip(&got_urp).zip(&got_hdrp) {
+        let base = a.map(|c| (c as f32).abs() as f64);
+        let overlay = hdrp_detail_albedo(base, *albedo, *mask);
+        for k in 0..3 {
+            worst = worst.max((h[k] as f64 - overlay[k]).abs());
+        }
         let n = blend_normals(*a, *b);
         let f = detail_albedo_mulx2(*albedo, *mask);
         let rnm = blend_normal_rnm(*a, *b);
@@ -132,7 +143,7 @@ fn the_detail_blends_match_their_twins() {
 }
 
 /// In a run: a flat subject has no maps to blend into, so its cells along `detail` are twins; a
-/// textured one changes its own pixels only; HDRP Lit has no such parameter.
+/// textured one changes its own pixels only, in each pipeline's lit shader.
 #[test]
 fn secondary_maps_change_only_a_textured_subject() {
     let _timer = crate::common::timed!();
@@ -153,7 +164,7 @@ height = 64
 "#;
     let out = crate::common::run_matrix(tmp.path(), body, "run");
     let run = shadematrix::report::run_data::RunData::load(&out).unwrap();
-    // Built-in Standard's and URP Lit's textured cells compared; their flat ones twins.
-    let checked = crate::common::check_map_parameter(&run, "detail", (1.0, 0.0), Pipeline::Hdrp);
-    assert_eq!(checked, 2, "built-in Standard and URP Lit");
+    // Each pipeline's textured cell compared; their flat ones twins.
+    let checked = crate::common::check_map_parameter(&run, "detail", (1.0, 0.0), None);
+    assert_eq!(checked, 3, "built-in Standard, URP Lit and HDRP Lit");
 }

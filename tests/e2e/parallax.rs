@@ -63,6 +63,6 @@ height = 64
 "#;
     let out = crate::common::run_matrix(tmp.path(), body, "run");
     let run = shadematrix::report::run_data::RunData::load(&out).unwrap();
-    let checked = crate::common::check_map_parameter(&run, "parallax", (0.08, 0.0), Pipeline::Hdrp);
+    let checked = crate::common::check_map_parameter(&run, "parallax", (0.08, 0.0), Some(Pipeline::Hdrp));
     assert_eq!(checked, 2, "built-in Standard and URP Lit");
 }

@@ -693,6 +693,7 @@ impl<'a> Tracer<'a> {
             (false, _) => fixed_maps_at(self.inputs.fixed_maps, &m, uv),
         };
         if let Some([mut albedo, mut normal, mask, glow]) = maps {
+            let mut hdrp_detail = None;
             if is_subject && self.inputs.subject_detail {
                 // Standard's secondary maps (materials::detail, truth.wgsl)
                 use crate::materials::detail::{detail_blend, detail_levels, DETAIL_TILING};
@@ -702,10 +703,18 @@ impl<'a> Tracer<'a> {
                 let dn = [d[0] as f64, d[1] as f64, d[2] as f64];
                 let n0 = [normal[0], normal[1], normal[2]];
                 let (f, blended) = detail_blend(self.inputs.pipeline, d[3] as f64, n0, dn, mask[2]);
+                if self.inputs.pipeline == Pipeline::Hdrp {
+                    hdrp_detail = Some((d[3] as f64, mask[2]));
+                }
                 albedo = [albedo[0] * f, albedo[1] * f, albedo[2] * f, albedo[3]];
                 normal = [blended[0], blended[1], blended[2], normal[3]];
             }
             s.base_color *= DVec3::new(albedo[0], albedo[1], albedo[2]);
+            if let Some((d, m)) = hdrp_detail {
+                // HDRP's overlay acts on the base colour (truth.wgsl `surface_at`).
+                let b = crate::materials::detail::hdrp_detail_albedo(s.base_color.to_array(), d, m);
+                s.base_color = DVec3::from(b);
+            }
             s.metallic *= mask[0];
             s.smoothness = (s.smoothness + mask[3] - 0.5).clamp(0.0, 1.0);
             emission *= DVec3::new(glow[0], glow[1], glow[2]);
