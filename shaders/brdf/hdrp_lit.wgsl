@@ -103,6 +103,11 @@ fn compute_transmittance_disney(shape: vec3<f32>, volume_albedo: vec3<f32>, thic
     return volume_albedo * (exp_13 * (exp_13 * exp_13 + 3.0));
 }
 
+// The Translucent type reads the ambient at −N (the pass evaluates it only where a model asks)
+fn model_back_ambient(s: Surface) -> bool {
+    return s.params2.x > 0.5;
+}
+
 // FillMaterialTransmission with the default profile: thickness remap.x + remap.y·_Thickness (mm)
 fn hdrp_transmittance(s: Surface) -> vec3<f32> {
     let thickness = DIFFUSION_PROFILE_THICKNESS_MM * s.params2.y;

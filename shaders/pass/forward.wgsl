@@ -642,7 +642,9 @@ fn indirect_light(s: Surface, n: vec3<f32>, v: vec3<f32>, gi: vec3<f32>) -> vec3
     if (occlusion_in_bake()) {
         diffuse_occlusion = material_occlusion * bake_occlusion(s);
     }
-    gi_back_diffuse = (object_ambient(-n) + max(sh_eval(object.light_sh, -n), vec3<f32>(0.0))) * diffuse_occlusion;
+    if (model_back_ambient(s)) {
+        gi_back_diffuse = (object_ambient(-n) + max(sh_eval(object.light_sh, -n), vec3<f32>(0.0))) * diffuse_occlusion;
+    }
     let lit = model_indirect(s, n, v, gi * diffuse_occlusion);
     indirect_specular_occlusion = vec3<f32>(1.0);
     gi_back_diffuse = vec3<f32>(0.0);

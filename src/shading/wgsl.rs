@@ -36,6 +36,10 @@ const DEFAULT_HEIGHT_HOOK: &str =
 const DEFAULT_DETAIL_HOOK: &str =
     "fn model_detail(params0: vec4<f32>, params1: vec4<f32>, params2: vec4<f32>) -> f32 {\n    return 0.0;\n}\n";
 
+/// Whether a model reads the ambient at −N (HDRP Lit's transmission does): none without the hook,
+/// so the pass evaluates it only where a model asks.
+const DEFAULT_BACK_AMBIENT_HOOK: &str = "fn model_back_ambient(s: Surface) -> bool {\n    return false;\n}\n";
+
 /// Rect lights for a model without a BSDF for them: nothing (the plan leaves them out,
 /// plan::lights::area_left_out).
 const DEFAULT_AREA_HOOK: &str = "fn model_rect(s: Surface, n: vec3<f32>, v: vec3<f32>, q: array<vec3<f32>, 4>) -> vec3<f32> {\n    return vec3<f32>(0.0);\n}\n";
@@ -199,6 +203,9 @@ pub fn compose_mapped(pass: PassKind, model: Option<&ShaderModel>) -> (String, L
         }
         if !m.wgsl.contains("fn model_detail") {
             parts.push(("<default model hooks>", DEFAULT_DETAIL_HOOK));
+        }
+        if !m.wgsl.contains("fn model_back_ambient") {
+            parts.push(("<default model hooks>", DEFAULT_BACK_AMBIENT_HOOK));
         }
         parts.push(("<generated from the model: lobes>", &splits));
     }
