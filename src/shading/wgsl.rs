@@ -57,6 +57,8 @@ const BRDF_TERMS: &str = include_str!("../../shaders/common/brdf.wgsl");
 const AREA: &str = include_str!("../../shaders/common/area.wgsl");
 const SCENE: &str = include_str!("../../shaders/pass/scene.wgsl");
 const FORWARD: &str = include_str!("../../shaders/pass/forward.wgsl");
+/// HDRP's tiled light binning and the deferred pass's reading of it, joined after forward.wgsl.
+const LIGHT_TILES: &str = include_str!("../../shaders/pass/light_tiles.wgsl");
 /// The real-time approximations forward.wgsl calls, and their exact alternatives (plan::exact).
 const APPROXIMATIONS: &str = include_str!("../../shaders/pass/approximations.wgsl");
 const EXACT: &str = include_str!("../../shaders/pass/exact.wgsl");
@@ -217,11 +219,14 @@ pub fn compose_mapped(pass: PassKind, model: Option<&ShaderModel>) -> (String, L
         }
         PassKind::Background | PassKind::BrdfProbe => {}
     }
-    parts.push(match pass {
-        PassKind::Forward | PassKind::ForwardExact => ("shaders/pass/forward.wgsl", FORWARD),
-        PassKind::Background => ("shaders/pass/background.wgsl", BACKGROUND),
-        PassKind::BrdfProbe => ("shaders/pass/brdf_probe.wgsl", PROBE),
-    });
+    match pass {
+        PassKind::Forward | PassKind::ForwardExact => {
+            parts.push(("shaders/pass/forward.wgsl", FORWARD));
+            parts.push(("shaders/pass/light_tiles.wgsl", LIGHT_TILES));
+        }
+        PassKind::Background => parts.push(("shaders/pass/background.wgsl", BACKGROUND)),
+        PassKind::BrdfProbe => parts.push(("shaders/pass/brdf_probe.wgsl", PROBE)),
+    }
     let mut out = String::new();
     let mut map = Vec::new();
     for (path, text) in parts {
