@@ -772,8 +772,13 @@ impl<'a> Stream<'a> {
                     self.retime_cell(cell, &render)?;
                     continue;
                 }
-                let reference = match &self.matrix.reference {
-                    Some(ReferenceSpec::Supersampled(k)) => {
+                let truth_gap = match &self.matrix.reference {
+                    Some(ReferenceSpec::Truth(t)) => plan.truth_gap(t.settings.kind),
+                    _ => None,
+                };
+                let reference = match (&self.matrix.reference, truth_gap) {
+                    (Some(ReferenceSpec::Truth(_)), Some(why)) => Some(Err(why)),
+                    (Some(ReferenceSpec::Supersampled(k)), _) => {
                         let k = *k;
                         let max = renderer.gpu.device.limits().max_texture_dimension_2d;
                         let (w, h) = (params.width * k, params.height * k);
@@ -785,18 +790,7 @@ impl<'a> Stream<'a> {
                             Ok(RenderedReference::Supersampled(k, big.hdr))
                         })
                     }
-                    Some(ReferenceSpec::Truth(_)) if plan.truth_unreachable().is_some() => {
-                        let why = plan.truth_unreachable().unwrap_or_default();
-                        Some(Err(format!("no truth: {why}, which no light transport does; the column is left empty")))
-                    }
-                    Some(ReferenceSpec::Truth(t))
-                        if t.settings.kind == crate::render::truth::TruthKind::SameBrdf
-                            && plan.same_brdf_truth_unreachable().is_some() =>
-                    {
-                        let why = plan.same_brdf_truth_unreachable().unwrap_or_default();
-                        Some(Err(format!("no same-BRDF truth: {why}; the column is left empty")))
-                    }
-                    Some(ReferenceSpec::Truth(t)) => {
+                    (Some(ReferenceSpec::Truth(t)), None) => {
                         let reads = renderer.truth_reads(&prepared, &params, &t.settings)?;
                         let key = super::truth_cache::TruthCache::key(self.matrix, cell, &reads, &self.adapter);
                         let cached = self.truth_cache.as_ref().and_then(|c| c.load(&key, t.settings.kind));
