@@ -305,13 +305,12 @@ impl CellPlan {
         self.light_terms.iter().zip(&self.light_shadows).find_map(|(t, s)| t.unphysical(s.style.is_some()))
     }
 
-    /// Why this cell has no truth of `kind`, as its record says it: a light doing what no light
-    /// transport does (any kind), or a subject a same-BRDF truth cannot trace (`ShaderModel::untraceable`).
-    pub fn truth_gap(&self, kind: crate::render::truth::TruthKind) -> Option<String> {
+    /// Why this cell has no truth, as its record says it: a light doing what no light transport
+    /// does (any truth), or a subject a same-BRDF truth cannot trace (`ShaderModel::untraceable`).
+    pub fn truth_gap(&self, same_brdf: bool) -> Option<String> {
         if let Some(why) = self.truth_unreachable() {
             return Some(format!("no truth: {why}, which no light transport does; the column is left empty"));
         }
-        let same_brdf = kind == crate::render::truth::TruthKind::SameBrdf;
         let why = self.subject_untraceable.as_ref().filter(|_| same_brdf)?;
         Some(format!("no same-BRDF truth: {why}; the column is left empty"))
     }

@@ -773,7 +773,9 @@ impl<'a> Stream<'a> {
                     continue;
                 }
                 let truth_gap = match &self.matrix.reference {
-                    Some(ReferenceSpec::Truth(t)) => plan.truth_gap(t.settings.kind),
+                    Some(ReferenceSpec::Truth(t)) => {
+                        plan.truth_gap(t.settings.kind == crate::render::truth::TruthKind::SameBrdf)
+                    }
                     _ => None,
                 };
                 let reference = match (&self.matrix.reference, truth_gap) {
