@@ -489,7 +489,7 @@ fn shade(s: Surface, n: vec3<f32>, p: vec3<f32>, vertex_gi: vec3<f32>) -> vec3<f
             let receives = object.flags.w != 0u && VERTEX_LIT == 0u && (ADDITIONAL_SHADOWS == 1u || main);
             let shadow = with_baked_occlusion(light, light_visibility(light, i, p, n, inc.xyz, receives));
             // A tinted shadow scales the colour by ComputeShadowColor; an untinted one is the shadow
-            let tinted = u32(light.features.z) != 0u;
+            let tinted = HDRP_LIGHT_TERMS == 1u && u32(light.features.z) != 0u;
             let visible = select(shadow, 1.0, tinted);
             let tint = select(vec3<f32>(1.0), compute_shadow_color(light, shadow), tinted);
             if (visible > 0.0 && any(tint > vec3<f32>(0.0))) {
@@ -1131,7 +1131,7 @@ fn deferred_light(light: Light, s: Surface, p: vec3<f32>, n: vec3<f32>, v: vec3<
     if (channel >= 0) {
         visible = min(visible, baked.shadow_mask[channel]);
     }
-    let tinted = u32(light.features.z) != 0u;
+    let tinted = HDRP_LIGHT_TERMS == 1u && u32(light.features.z) != 0u;
     let tint = select(vec3<f32>(1.0), compute_shadow_color(light, visible), tinted);
     visible = select(visible, 1.0, tinted);
     if (visible <= 0.0 || all(tint <= vec3<f32>(0.0))) {

@@ -310,13 +310,17 @@ fn environment_reflection(r: vec3<f32>, perceptual_roughness: f32) -> vec3<f32> 
     return c;
 }
 
+// 0 where no light of the frame has HDRP's terms beyond its colour (plan::lights::LightPaths):
+// the lobe weights, projector windows, range step and shadow tint are compiled out of the loops
+override HDRP_LIGHT_TERMS: u32 = 1u;
+
 // Direction to the light and its attenuation at p (distance and cone; directional: 1)
 fn light_incidence(light: Light, p: vec3<f32>) -> vec4<f32> {
     let kind = u32(light.position.w);
     if (kind == 0u) {
         return vec4<f32>(-normalize(light.direction.xyz), 1.0);
     }
-    if ((u32(light.features.w) & (LIGHT_RANGE_STEP | LIGHT_PYRAMID | LIGHT_BOX)) != 0u) {
+    if (HDRP_LIGHT_TERMS == 1u && (u32(light.features.w) & (LIGHT_RANGE_STEP | LIGHT_PYRAMID | LIGHT_BOX)) != 0u) {
         return hdrp_light_incidence(light, p);
     }
     let to_light = light.position.xyz - p;
@@ -365,7 +369,7 @@ fn hdrp_light_incidence(light: Light, p: vec3<f32>) -> vec4<f32> {
 // How far a shadow ray from p travels to the light: to its position, or for HDRP's box to its
 // plane along the beam
 fn light_distance(light: Light, p: vec3<f32>) -> f32 {
-    if ((u32(light.features.w) & LIGHT_BOX) != 0u) {
+    if (HDRP_LIGHT_TERMS == 1u && (u32(light.features.w) & LIGHT_BOX) != 0u) {
         return dot(p - light.position.xyz, normalize(light.direction.xyz));
     }
     return length(light.position.xyz - p);
@@ -412,6 +416,9 @@ fn compute_shadow_color(light: Light, shadow: f32) -> vec3<f32> {
 // The lobes light `light` reaches (HDRP's Affect Diffuse and Affect Specular), for the model's
 // direct_diffuse and direct_specular to weigh
 fn set_light_lobes(light: Light) {
+    if (HDRP_LIGHT_TERMS == 0u) {
+        return;
+    }
     light_diffuse_dimmer = light.features.x;
     light_specular_dimmer = light.features.y;
 }

@@ -315,6 +315,14 @@ impl CellPlan {
         Some(format!("no same-BRDF truth: {why}; the column is left empty"))
     }
 
+    /// The optional light-loop paths this cell's frame needs compiled in.
+    pub fn light_paths(&self) -> super::lights::LightPaths {
+        super::lights::LightPaths {
+            area: super::lights::needs_area_path(&self.lights),
+            hdrp_terms: self.light_terms.iter().any(super::light_terms::LightTerms::needs_shader_path),
+        }
+    }
+
     /// The lights whose terms differ from the common light's (HDRP's settings at work), for the record.
     pub fn distinct_light_terms(&self) -> Vec<super::light_terms::LightTerms> {
         let common =

@@ -52,6 +52,17 @@ impl LightTerms {
         self.shadow_tint != [0.0; 3] || self.penumbra_tint
     }
 
+    /// Whether the shaders' light loop must read these terms (`plan::lights::LightPaths`): the
+    /// common light's lobes, cone and attenuation with an untinted shadow need nothing beyond
+    /// its colour and shadow strength, where the dimmers are folded in.
+    pub fn needs_shader_path(&self) -> bool {
+        self.shape != SpotShape::Cone
+            || !self.affect_diffuse
+            || !self.affect_specular
+            || !self.range_attenuation
+            || self.tints_shadow()
+    }
+
     /// What these terms change that no light transport does: the truth cannot follow them.
     pub fn unphysical(&self, casts_shadow: bool) -> Option<String> {
         let what = match (self.affect_diffuse, self.affect_specular) {

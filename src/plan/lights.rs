@@ -210,6 +210,23 @@ pub fn needs_area_path(lights: &[Light]) -> bool {
     lights.iter().any(Light::is_area)
 }
 
+/// The optional paths of a frame's light loops, each compiled in only where a light of the cell
+/// takes it: the driver then compiles and runs the common light's loop alone.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct LightPaths {
+    /// Rect and disc lights (`needs_area_path`; forward.wgsl `AREA_LIGHTS`).
+    pub area: bool,
+    /// HDRP's per-light terms beyond its colour (`LightTerms::needs_shader_path`: a lobe left
+    /// unlit, a pyramid or box window, Range Attenuation off, a tinted shadow; scene.wgsl
+    /// `HDRP_LIGHT_TERMS`). Dimmers fold into the colour and need none.
+    pub hdrp_terms: bool,
+}
+
+impl LightPaths {
+    /// Every path (a probe capture's pipelines, drawn for any frame).
+    pub const ALL: LightPaths = LightPaths { area: true, hdrp_terms: true };
+}
+
 /// Whether the frame draws an area light in real time: HDRP's rectangles alone (Unity manual,
 /// "Area Lights": built-in and URP bake area lights; HDAdditionalLightData: a disc is Baked-only).
 /// A rect the object's model cannot evaluate is then left out by `area_left_out`.

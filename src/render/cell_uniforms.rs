@@ -458,3 +458,43 @@ pub(in crate::render) struct WrittenFrame {
     /// Everything the depth prepass's depth and normals read of the uniforms.
     pub(in crate::render) prepass_key: u64,
 }
+
+#[cfg(test)]
+mod tests {
+    use super::light_features;
+    use crate::pipelines::hdrp_light::SpotShape;
+    use crate::plan::light_terms::LightTerms;
+
+    /// A frame compiled without HDRP's light terms (`LightPaths::hdrp_terms` false) reads none of
+    /// `features`: that is right only where every light's features are the common light's.
+    #[test]
+    fn lights_without_the_hdrp_path_have_the_common_features() {
+        let common = LightTerms {
+            light: 0,
+            shape: SpotShape::Cone,
+            affect_diffuse: true,
+            affect_specular: true,
+            range_attenuation: true,
+            dimmer: 1.0,
+            shadow_dimmer: 1.0,
+            shadow_tint: [0.0; 3],
+            penumbra_tint: false,
+        };
+        let variants = [
+            LightTerms { dimmer: 0.25, shadow_dimmer: 0.5, ..common.clone() },
+            LightTerms { affect_diffuse: false, ..common.clone() },
+            LightTerms { affect_specular: false, ..common.clone() },
+            LightTerms { range_attenuation: false, ..common.clone() },
+            LightTerms { shape: SpotShape::Pyramid { aspect_ratio: 2.0 }, ..common.clone() },
+            LightTerms { shape: SpotShape::Box { width: 1.0, height: 0.5 }, ..common.clone() },
+            LightTerms { shadow_tint: [0.2, 0.0, 0.0], ..common.clone() },
+            LightTerms { penumbra_tint: true, ..common.clone() },
+        ];
+        let neutral = light_features(&common, 30.0).0;
+        assert_eq!(neutral, [1.0, 1.0, 0.0, 0.0]);
+        for t in std::iter::once(&common).chain(&variants) {
+            let (features, _) = light_features(t, 30.0);
+            assert_eq!(!t.needs_shader_path(), features == neutral, "{t:?}: {features:?}");
+        }
+    }
+}

@@ -344,7 +344,7 @@ impl Renderer {
             forward,
             forward_add: &plan.draws.forward_add,
             gbuffer: plan.gbuffer,
-            area_lights: crate::plan::lights::needs_area_path(&plan.lights),
+            lights: plan.light_paths(),
         };
         // The prepass's normals: SSAO's, or the traced mask's where the frame has no SSAO.
         let normal = || {

@@ -54,8 +54,9 @@ pub(in crate::render) struct PipelineCache {
     /// By (pipeline, model, textured subject, faces drawn, terms).
     pub(in crate::render) gbuffer: HashMap<(Pipeline, String, bool, RenderFace, u32), wgpu::RenderPipeline>,
     /// Keyed by pipeline, model, role, terms, the legacy lighting whose data it lights (0: none) and
-    /// whether the light loop has its area-light path.
-    pub(in crate::render) lighting: HashMap<(Pipeline, String, u32, u32, u32, bool), wgpu::RenderPipeline>,
+    /// the light loop's optional paths.
+    pub(in crate::render) lighting:
+        HashMap<(Pipeline, String, u32, u32, u32, crate::plan::lights::LightPaths), wgpu::RenderPipeline>,
     /// The depth-normal prepass pipelines, by (pipeline, textured subject, faces drawn).
     pub(in crate::render) depth_normals: HashMap<(Pipeline, bool, RenderFace), wgpu::RenderPipeline>,
     /// By (sample count, terms).
@@ -149,8 +150,8 @@ pub(in crate::render) struct ForwardKey {
     /// How the drawn object's shader reads the frame's SSAO (`plan::ao::OcclusionRead`): not at
     /// all where the frame has none or the shader compiles none, so the load is compiled out.
     pub(in crate::render) occlusion: crate::plan::ao::OcclusionRead,
-    /// The light loop has its area-light path (`plan::lights::needs_area_path`).
-    pub(in crate::render) area_lights: bool,
+    /// The light loop's optional paths compiled in (`CellPlan::light_paths`).
+    pub(in crate::render) lights: crate::plan::lights::LightPaths,
 }
 
 impl ForwardKey {
@@ -168,7 +169,7 @@ impl ForwardKey {
             terms: crate::pipelines::terms::LIGHT,
             alpha_to_coverage: false,
             occlusion: crate::plan::ao::OcclusionRead::None,
-            area_lights: true,
+            lights: crate::plan::lights::LightPaths::ALL,
         }
     }
 }
@@ -197,7 +198,7 @@ impl PipelineCache {
             terms,
             alpha_to_coverage,
             occlusion,
-            area_lights,
+            lights,
         } = key;
         let key = (pipeline, model.name.to_string(), key);
         if self.forward.contains_key(&key) {
@@ -218,7 +219,8 @@ impl PipelineCache {
             ("TERMS", terms as f64),
             ("ALPHA_TO_COVERAGE", alpha_to_coverage as u32 as f64),
             ("SCREEN_OCCLUSION", occlusion.shader_id() as f64),
-            ("AREA_LIGHTS", area_lights as u32 as f64),
+            ("AREA_LIGHTS", lights.area as u32 as f64),
+            ("HDRP_LIGHT_TERMS", lights.hdrp_terms as u32 as f64),
         ]);
         if exact.any() {
             constants.extend(exact.constants());
@@ -403,10 +405,10 @@ impl PipelineCache {
         gpu: &GpuContext,
         pipeline: Pipeline,
         model: &ShaderModel,
-        (role, legacy, area_lights): (u8, Option<crate::shading::registry::LegacyLighting>, bool),
+        (role, legacy, lights): (u8, Option<crate::shading::registry::LegacyLighting>, crate::plan::lights::LightPaths),
     ) -> Result<(), Error> {
         let legacy = legacy.map_or(0, |l| l.shader_value());
-        let key = (pipeline, model.name.to_string(), role as u32, self.terms, legacy, area_lights);
+        let key = (pipeline, model.name.to_string(), role as u32, self.terms, legacy, lights);
         if self.lighting.contains_key(&key) {
             return Ok(());
         }
@@ -418,7 +420,8 @@ impl PipelineCache {
             ("TILED_LIGHTS", pipeline.tiled_light_loop() as u32 as f64),
             ("TERMS", self.terms as f64),
             ("LEGACY_DEFERRED", legacy as f64),
-            ("AREA_LIGHTS", area_lights as u32 as f64),
+            ("AREA_LIGHTS", lights.area as u32 as f64),
+            ("HDRP_LIGHT_TERMS", lights.hdrp_terms as u32 as f64),
         ];
         let options = wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() };
         let p = gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {

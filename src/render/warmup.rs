@@ -62,7 +62,7 @@ fn model_keys(
             true => plan.ao.subject_read,
             false => plan.ao.fixed_read(),
         },
-        area_lights: crate::plan::lights::needs_area_path(&plan.lights),
+        lights: plan.light_paths(),
     };
     (draw, (additive && adds).then_some(ForwardKey { pass: ForwardPass::Add, ..draw }))
 }
@@ -110,8 +110,7 @@ pub(in crate::render) fn warm_up(
             }
         }
         for (model, role, legacy) in lighting_draws((cell.model, fixed_model), plan.gbuffer) {
-            let area = crate::plan::lights::needs_area_path(&plan.lights);
-            pipelines.lighting_pipeline(gpu, cell.pipeline, model, (role, legacy, area))?;
+            pipelines.lighting_pipeline(gpu, cell.pipeline, model, (role, legacy, plan.light_paths()))?;
         }
     }
     if prepared.plan.background {

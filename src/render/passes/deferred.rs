@@ -36,8 +36,8 @@ pub(in crate::render) struct DeferredFrame<'a> {
     pub(in crate::render) forward_add: &'a [Vec<usize>],
     /// Which models go into the G-buffer (the plan's).
     pub(in crate::render) gbuffer: crate::plan::draws::GBufferModels,
-    /// The lighting pipelines have their area-light path (`plan::lights::needs_area_path`).
-    pub(in crate::render) area_lights: bool,
+    /// The lighting pipelines' optional light-loop paths (`CellPlan::light_paths`).
+    pub(in crate::render) lights: crate::plan::lights::LightPaths,
 }
 
 impl DeferredFrame<'_> {
@@ -142,7 +142,7 @@ pub(in crate::render) fn encode_lighting(
     pass.set_bind_group(3, tiles, &[]);
     for (model, role, legacy) in lighting_draws((f.cell.model, f.fixed_model), f.gbuffer) {
         let legacy = legacy.map_or(0, LegacyLighting::shader_value);
-        let key = (p, model.name.to_string(), role as u32, f.pipelines.terms, legacy, f.area_lights);
+        let key = (p, model.name.to_string(), role as u32, f.pipelines.terms, legacy, f.lights);
         if let Some(pipeline) = f.pipelines.lighting.get(&key) {
             pass.set_pipeline(pipeline);
             pass.draw(0..3, 0..1);
