@@ -1,12 +1,14 @@
-//! Matrix expansion: the cartesian product of the axes, filtered by `only`/`exclude`, with the
-//! cells that cannot exist (a shader a pipeline lacks) pruned and the cells whose shader ignores
-//! the axes they differ in marked as twins of the cell that is rendered.
+//! Matrix expansion: the cartesian product of the axes (or one axis at a time, `SweepDesign`),
+//! filtered by `only`/`exclude`, with the cells that cannot exist (a shader a pipeline lacks)
+//! pruned and the cells whose shader ignores the axes they differ in marked as twins of the cell
+//! that is rendered.
 
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, HashMap};
 
 use crate::declarations::matrix::{Axis, Filter, FilterValue, Matrix};
 use crate::declarations::presets::Preset;
+use crate::declarations::sweep::SweepDesign;
 use crate::geometry::gltf_io::GltfMaterial;
 use crate::pipelines::surface::SurfaceType;
 use crate::pipelines::{DisplayTransform, Pipeline};
@@ -277,9 +279,21 @@ pub fn check_size(m: &Matrix, limit: u64) -> Result<u128, crate::error::InputErr
         ("shaders".into(), n(m.shaders.len())),
         ("presets".into(), n(m.presets.len())),
     ];
-    // Every swept axis of the table (numbers, the colour, `textured`).
-    axes.extend(swept_axes(m).into_iter().map(|(axis, values)| (format!("sweep.{}", axis.name()), n(values.len()))));
-    axes.extend(s.params.iter().map(|(k, v)| (format!("sweep.params.{k}"), n(v.len()))));
+    // Every swept axis of the table (numbers, the colour, `textured`), and the parameters.
+    let lists = swept_axes(m).into_iter().map(|(axis, values)| {
+        let off_own = values.iter().filter(|v| **v != AxisValue::Own).count();
+        (format!("sweep.{}", axis.name()), values.len(), off_own)
+    });
+    let lists: Vec<(String, usize, usize)> =
+        lists.chain(s.params.iter().map(|(k, v)| (format!("sweep.params.{k}"), v.len(), v.len()))).collect();
+    match s.design {
+        SweepDesign::Grid => axes.extend(lists.into_iter().map(|(name, len, _)| (name, n(len)))),
+        // The cell at every own value, and one per value off it.
+        SweepDesign::OneAtATime => {
+            let moved: usize = lists.iter().map(|(_, _, off)| off).sum();
+            axes.push(("one-at-a-time values (1 + each list's)".into(), 1 + moved as u128));
+        }
+    }
     let product = axes.iter().fold(1u128, |p, (_, c)| p.saturating_mul(*c));
     if product > limit as u128 {
         let counts: Vec<String> = axes.iter().filter(|(_, c)| *c > 1).map(|(a, c)| format!("{a} {c}")).collect();
@@ -356,7 +370,6 @@ fn odometer(axes: &[(Axis, Vec<AxisValue>)]) -> Vec<Vec<(Axis, &AxisValue)>> {
 
 pub fn expand(m: &Matrix) -> Expansion {
     let swept = swept_axes(m);
-    let combinations = odometer(&swept);
     let mut cells = Vec::new();
     let mut pruned = Vec::new();
     let mut filtered_out = 0;
@@ -391,7 +404,7 @@ pub fn expand(m: &Matrix) -> Expansion {
                         continue;
                     };
                     let display = DisplayTransform::new(pipeline, m.tonemap_for(pipeline), &scene.hdrp);
-                    let param_sets = param_product(&model.params, &m.sweep.params);
+                    let variations = variations(m.sweep.design, &swept, &model.params, &m.sweep.params);
                     for preset in &m.presets {
                         let own_factors = if preset.name == crate::declarations::presets::OWN.name {
                             match &own {
@@ -427,57 +440,54 @@ pub fn expand(m: &Matrix) -> Expansion {
                             (key.map_or(0.0, |l| l.intensity), key.map_or(0.0, |l| l.range)),
                             own_factors.is_some_and(|f| f.has_textures()),
                         );
-                        for values in &combinations {
-                            for params in &param_sets {
-                                let mut coords = unswept.clone();
-                                for (axis, v) in values.iter().filter(|(_, v)| **v != AxisValue::Own) {
-                                    coords.set(*axis, v);
+                        for (values, params) in &variations {
+                            let mut coords = unswept.clone();
+                            for (axis, v) in values.iter().filter(|(_, v)| **v != AxisValue::Own) {
+                                coords.set(*axis, v);
+                            }
+                            coords.params = params.clone();
+                            // A type sets its flags, and takes a swept slider it has not (a
+                            // Standard cell has no anisotropy): the id says what is drawn.
+                            if let Some(t) = coords.material_type {
+                                for (name, _) in t.params() {
+                                    coords.params.remove(*name);
                                 }
-                                coords.params = params.clone();
-                                // A type sets its flags, and takes a swept slider it has not (a
-                                // Standard cell has no anisotropy): the id says what is drawn.
-                                if let Some(t) = coords.material_type {
-                                    for (name, _) in t.params() {
-                                        coords.params.remove(*name);
-                                    }
+                            }
+                            let cell = Cell {
+                                id: CellId(String::new()),
+                                composition_index: ci,
+                                material: material(preset, own_factors, &coords),
+                                coords,
+                                width: m.image.width,
+                                height: m.image.height,
+                                display,
+                                light_budget: m.light_budget,
+                                antialiasing: m.antialiasing_for(pipeline),
+                                pipeline_settings: m.pipeline_settings,
+                                twin_of: None,
+                                model: model.clone(),
+                            };
+                            // A cell whose model lacks its material type or surface: one
+                            // entry per composition, pipeline, shader and value.
+                            let missing = cell
+                                .coords
+                                .material_type
+                                .and_then(|t| Some(("material_type", t.name(), t.missing_in(cell.model())?)))
+                                .or_else(|| {
+                                    surface_missing(&cell).map(|r| ("surface", cell.material.surface.name(), r))
+                                });
+                            if let Some((axis, value, reason)) = missing {
+                                let description = format!("{} × {} × {shader} × {value}", scene.name, pipeline.name());
+                                if !pruned.iter().any(|p| p.description == description) {
+                                    let axes = pruned_axes(&scene.name, pipeline, axis, value);
+                                    pruned.push(PrunedCell { description, axes, reason });
                                 }
-                                let cell = Cell {
-                                    id: CellId(String::new()),
-                                    composition_index: ci,
-                                    material: material(preset, own_factors, &coords),
-                                    coords,
-                                    width: m.image.width,
-                                    height: m.image.height,
-                                    display,
-                                    light_budget: m.light_budget,
-                                    antialiasing: m.antialiasing_for(pipeline),
-                                    pipeline_settings: m.pipeline_settings,
-                                    twin_of: None,
-                                    model: model.clone(),
-                                };
-                                // A cell whose model lacks its material type or surface: one
-                                // entry per composition, pipeline, shader and value.
-                                let missing = cell
-                                    .coords
-                                    .material_type
-                                    .and_then(|t| Some(("material_type", t.name(), t.missing_in(cell.model())?)))
-                                    .or_else(|| {
-                                        surface_missing(&cell).map(|r| ("surface", cell.material.surface.name(), r))
-                                    });
-                                if let Some((axis, value, reason)) = missing {
-                                    let description =
-                                        format!("{} × {} × {shader} × {value}", scene.name, pipeline.name());
-                                    if !pruned.iter().any(|p| p.description == description) {
-                                        let axes = pruned_axes(&scene.name, pipeline, axis, value);
-                                        pruned.push(PrunedCell { description, axes, reason });
-                                    }
-                                    continue;
-                                }
-                                if passes_filters(&cell, &m.only, &m.exclude) {
-                                    cells.push(cell);
-                                } else {
-                                    filtered_out += 1;
-                                }
+                                continue;
+                            }
+                            if passes_filters(&cell, &m.only, &m.exclude) {
+                                cells.push(cell);
+                            } else {
+                                filtered_out += 1;
                             }
                         }
                     }
@@ -493,6 +503,35 @@ pub fn expand(m: &Matrix) -> Expansion {
     cells.retain(|c| seen.insert(c.id.clone()));
     mark_twins(&mut cells, &m.invariant_filters(), &keyless(m), reads_material(m));
     Expansion { cells, pruned, filtered_out, support: Vec::new() }
+}
+
+/// The swept values of a cell of a model with `model_params` under the sweep's design: every
+/// combination of one value per axis and parameter (a grid), or the cell at every own value and
+/// one more per value of one axis or parameter at a time (`SweepDesign::OneAtATime`).
+fn variations<'a>(
+    design: SweepDesign,
+    swept: &'a [(Axis, Vec<AxisValue>)],
+    model_params: &[crate::shading::registry::ParamSpec],
+    params: &BTreeMap<String, Vec<f64>>,
+) -> Vec<(Vec<(Axis, &'a AxisValue)>, BTreeMap<String, f64>)> {
+    match design {
+        SweepDesign::Grid => {
+            let sets = param_product(model_params, params);
+            odometer(swept).into_iter().flat_map(|v| sets.iter().map(move |p| (v.clone(), p.clone()))).collect()
+        }
+        SweepDesign::OneAtATime => {
+            let mut out = vec![(Vec::new(), BTreeMap::new())];
+            for (axis, values) in swept {
+                out.extend(
+                    values.iter().filter(|v| **v != AxisValue::Own).map(|v| (vec![(*axis, v)], BTreeMap::new())),
+                );
+            }
+            for (name, values) in params.iter().filter(|(n, _)| model_params.iter().any(|p| p.name == n.as_str())) {
+                out.extend(values.iter().map(|v| (Vec::new(), BTreeMap::from([(name.clone(), *v)]))));
+            }
+            out
+        }
+    }
 }
 
 /// Every combination of the swept values of the parameters `model_params` has; one empty set
@@ -740,6 +779,54 @@ mod tests {
         assert_eq!(ids.len(), e.cells.len(), "ids are unique");
         assert!(ids.contains(&CellId("medusa__builtin-forward__standard__gold__m1.00_s0.20_i1_r10".into())));
         assert!(e.cells.iter().all(|c| c.id.0.chars().all(|ch| ch.is_ascii_alphanumeric() || "_-.".contains(ch))));
+    }
+
+    /// One slider at a time: per pipeline × shader × preset, the cell at its own values and one
+    /// per listed value off them, each differing from that cell in its one axis alone, and the
+    /// size check counting the same.
+    #[test]
+    fn one_at_a_time_moves_one_axis_from_the_own_values() {
+        let lists = "smoothness = [0.2, 0.8]\nlight_intensity = [0.5, 1.0, 4.0]\ncolor = [[1.0, 0.5, 0.0]]\n";
+        let grid_matrix_of = |lists: &str| matrix(&format!("[sweep]\n{lists}"));
+        let grid = expand(&grid_matrix_of(lists));
+        let m = matrix(&format!("[sweep]\ndesign = \"one_at_a_time\"\n{lists}"));
+        let e = expand(&m);
+        // medusa's key light has intensity 1: that value is its own cell, not one more.
+        let per_combo = 1 + 2 + 2 + 1;
+        assert_eq!(e.cells.len(), 2 * 3 * 2 * per_combo, "{:?}", e.cells.iter().map(|c| &c.id).collect::<Vec<_>>());
+        assert_eq!(grid.cells.len(), 2 * 3 * 2 * 2 * 3 * 1);
+        // 2 compositions × 2 pipelines × 2 shaders × 2 presets × (1 + 2 + 3 + 1), an upper bound.
+        assert_eq!(check_size(&m, 1_000_000).unwrap(), 2 * 2 * 2 * 2 * 7);
+        assert!(check_size(&grid_matrix_of(lists), 1_000_000).unwrap() == 2 * 2 * 2 * 2 * 6);
+        // Within a pipeline × shader × preset, an axis's own value is the one most cells share.
+        let axes = [Axis::Smoothness, Axis::LightIntensity, Axis::Color];
+        let group = |c: &Cell| (c.composition.clone(), c.pipeline, c.shader.clone(), c.preset.clone());
+        let mut groups: BTreeMap<_, Vec<&Cell>> = BTreeMap::new();
+        for c in &e.cells {
+            groups.entry(group(c)).or_default().push(c);
+        }
+        for cells in groups.values() {
+            let own: Vec<AxisValue> = axes
+                .iter()
+                .map(|a| {
+                    let values: Vec<AxisValue> = cells.iter().map(|c| c.get(*a)).collect();
+                    let count = |v: &AxisValue| values.iter().filter(|w| *w == v).count();
+                    values.iter().max_by_key(|v| count(v)).unwrap().clone()
+                })
+                .collect();
+            let moved = |c: &Cell| axes.iter().zip(&own).filter(|(a, v)| c.get(**a) != **v).count();
+            assert_eq!(cells.iter().filter(|c| moved(c) == 0).count(), 1, "one cell at the own values");
+            assert!(cells.iter().all(|c| moved(c) <= 1), "a cell moves one axis at most");
+        }
+        let bad = Matrix::from_text(
+            "t.toml",
+            "name = \"t\"\ncompositions = [\"medusa\"]\npipelines = [\"urp\"]\nshaders = [\"lit\"]\npresets = [\"gold\"]\n\
+             [sweep]\ndesign = \"one_at_time\"\n",
+            None,
+            Arc::new(crate::shading::Registry::builtin()),
+        );
+        let message = bad.unwrap_err().to_string();
+        assert!(message.contains("one_at_time") && message.contains("did you mean `one_at_a_time`"), "{message}");
     }
 
     #[test]

@@ -36,6 +36,39 @@ pub struct Sweep {
     /// (`color = ["preset", [1, 1, 1]]`).
     #[serde(skip_serializing_if = "std::collections::BTreeSet::is_empty")]
     pub own: std::collections::BTreeSet<String>,
+    /// How the lists combine (`design = "one_at_a_time"`): a grid by default.
+    #[serde(skip_serializing_if = "SweepDesign::is_grid")]
+    pub design: SweepDesign,
+}
+
+/// How a sweep's value lists combine into cells.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SweepDesign {
+    /// Every combination of one value per list (their product).
+    #[default]
+    Grid,
+    /// One slider moved at a time, as a person moves them in the comparison app: the cell at every
+    /// axis's own value (the preset's material, the scene's light and view, the model's parameters)
+    /// and, for each list, one cell per value with every other axis at its own. A pipeline ×
+    /// shader × preset then has 1 + Σ (values per list) cells, not their product.
+    OneAtATime,
+}
+
+impl SweepDesign {
+    pub const NAMES: [&'static str; 2] = ["grid", "one_at_a_time"];
+
+    fn is_grid(&self) -> bool {
+        *self == SweepDesign::Grid
+    }
+
+    pub fn from_name(name: &str) -> Option<SweepDesign> {
+        match name {
+            "grid" => Some(SweepDesign::Grid),
+            "one_at_a_time" => Some(SweepDesign::OneAtATime),
+            _ => None,
+        }
+    }
 }
 
 impl<'de> Deserialize<'de> for Sweep {
@@ -46,6 +79,19 @@ impl<'de> Deserialize<'de> for Sweep {
         let mut sweep = Sweep::default();
         for (key, value) in table {
             let typed = |e: toml::de::Error| D::Error::custom(format!("sweep.{key}: {}", e.message()));
+            if key == "design" {
+                let name: String = value.try_into().map_err(typed)?;
+                sweep.design = SweepDesign::from_name(&name).ok_or_else(|| {
+                    let near = crate::input::names::nearest(&name, &SweepDesign::NAMES)
+                        .map(|n| format!(" (did you mean `{n}`?)"))
+                        .unwrap_or_default();
+                    D::Error::custom(format!(
+                        "sweep.design: `{name}` is not a sweep design{near}; allowed: {}",
+                        SweepDesign::NAMES.join(", ")
+                    ))
+                })?;
+                continue;
+            }
             match super::axes::find(&key).map(|r| r.kind) {
                 Some(AxisKind::Number) => {
                     let row = super::axes::find(&key).expect("a row");
@@ -138,6 +184,7 @@ impl<'de> Deserialize<'de> for Sweep {
                         .iter()
                         .filter(|r| r.kind != AxisKind::Name)
                         .map(|r| format!("`{}`", r.name))
+                        .chain(std::iter::once("`design`".to_string()))
                         .collect();
                     return Err(D::Error::custom(format!(
                         "unknown field `{key}`, expected one of {}",

@@ -278,6 +278,19 @@ fn every_shipped_matrix_lists() {
         if m.ends_with("thesis.toml") {
             assert!(out.contains("\n  composite__hdrp-forward__lit__"), "the furnished room's cells");
         }
+        if m.ends_with("sliders.toml") {
+            // One slider at a time stays affordable where the grid of its lists (267 300 per
+            // pipeline × shader × preset) would not.
+            let total: usize = out
+                .lines()
+                .find_map(|l| l.split_once(" cells before twins").and_then(|(n, _)| n.trim().parse().ok()))
+                .expect("a count");
+            assert!((10_000..40_000).contains(&total), "{total} cells");
+            assert!(
+                out.contains("\n  medusa__hdrp-forward__lit__gold__") && out.contains("_d0.425"),
+                "distance slides: {out}"
+            );
+        }
         if m.ends_with("hdrp_materials.toml") {
             assert!(out.contains("_iridescence") && out.contains("_anisotropy"), "the material types: {out}");
         }
