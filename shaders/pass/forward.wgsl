@@ -305,7 +305,7 @@ fn material_from(uv: vec2<f32>, albedo: vec4<f32>, mask: vec4<f32>) -> Surface {
         m = frame.subject;
     }
     material_occlusion = select(1.0, mask.g, is_textured());
-    material_alpha = m.base_color.w * select(1.0, albedo.a, is_textured());
+    material_alpha = alpha_from_maps(m, albedo.a, is_textured());
     material_cutoff = m.specular.w;
     return surface_from(m, uv, albedo, mask, is_textured());
 }

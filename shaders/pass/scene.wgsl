@@ -33,7 +33,7 @@ struct Material {
     model0: vec4<f32>,       // the model's parameters, slots 0–3
     model1: vec4<f32>,       // slots 4–7
     model2: vec4<f32>,       // slots 8–11
-    emission: vec4<f32>,     // emitted radiance (the subject's, where its model emits)
+    emission: vec4<f32>,     // emitted radiance (the subject's, where its model emits); w: 1 smoothness from the albedo map's alpha
 };
 
 // A reflection probe (render::passes::probes): its levels are layers box_max.w … + 6 of env_probe.
@@ -444,9 +444,26 @@ fn surface_from(m: Material, uv: vec2<f32>, albedo: vec4<f32>, mask: vec4<f32>, 
     if (textured) {
         s.base_color *= albedo.rgb;
         s.metallic *= mask.r;
-        s.smoothness = sat(s.smoothness + mask.a - 0.5);
+        s.smoothness = smoothness_from_maps(m, s.smoothness, albedo.a, mask.a);
     }
     return s;
+}
+
+// The smoothness with maps: the mask's offset added to the slider's, or where the material reads
+// it from the albedo's alpha (Source = Albedo Alpha) that alpha × the slider (URP LitInput.hlsl
+// SampleMetallicSpecGloss, UnityStandardInput.cginc MetallicGloss: albedoAlpha * _Smoothness)
+fn smoothness_from_maps(m: Material, slider: f32, albedo_alpha: f32, mask_smoothness: f32) -> f32 {
+    if (m.emission.w > 0.5) {
+        return sat(albedo_alpha * slider);
+    }
+    return sat(slider + mask_smoothness - 0.5);
+}
+
+// The surface's alpha: the material's, times the albedo map's unless that alpha holds the
+// smoothness (Standard's Alpha() returns _Color.a, URP's Alpha() color.a, under
+// _SMOOTHNESS_TEXTURE_ALBEDO_CHANNEL_A)
+fn alpha_from_maps(m: Material, albedo_alpha: f32, textured: bool) -> f32 {
+    return m.base_color.w * select(1.0, albedo_alpha, textured && m.emission.w < 0.5);
 }
 
 // A tangent-space normal carried to world space by the tangent frame (MikkTSpace, bitangent =

@@ -505,6 +505,9 @@ pub fn expand(m: &Matrix) -> Expansion {
     Expansion { cells, pruned, filtered_out, support: Vec::new() }
 }
 
+/// One cell's swept values: the axes it sets off their own values, and its model parameters.
+type Variation<'a> = (Vec<(Axis, &'a AxisValue)>, BTreeMap<String, f64>);
+
 /// The swept values of a cell of a model with `model_params` under the sweep's design: every
 /// combination of one value per axis and parameter (a grid), or the cell at every own value and
 /// one more per value of one axis or parameter at a time (`SweepDesign::OneAtATime`).
@@ -513,7 +516,7 @@ fn variations<'a>(
     swept: &'a [(Axis, Vec<AxisValue>)],
     model_params: &[crate::shading::registry::ParamSpec],
     params: &BTreeMap<String, Vec<f64>>,
-) -> Vec<(Vec<(Axis, &'a AxisValue)>, BTreeMap<String, f64>)> {
+) -> Vec<Variation<'a>> {
     match design {
         SweepDesign::Grid => {
             let sets = param_product(model_params, params);
@@ -700,10 +703,12 @@ fn render_key(c: &Cell, keyless: bool, material_read: bool) -> String {
     let mut key = format!("{}", c.composition_index);
     for row in crate::declarations::axes::AXES.iter().filter(|row| !ignored(row.axis)) {
         let mut value = c.coords.get(row.axis);
-        // A height map's scale and the secondary maps move the maps: a flat subject has none.
+        // A height map's scale, the secondary maps and the smoothness's source move the maps: a
+        // flat subject has none (Unity's default white map has alpha 1: the slider's smoothness).
         if let (AxisValue::Params(p), false) = (&mut value, c.coords.textured) {
             p.remove(crate::shading::registry::PARALLAX_PARAM);
             p.remove(crate::shading::registry::DETAIL_PARAM);
+            p.remove(crate::shading::registry::SMOOTHNESS_SOURCE_PARAM);
         }
         // A film's thickness without the film.
         if let AxisValue::Params(p) = &mut value {
@@ -794,7 +799,8 @@ mod tests {
         // medusa's key light has intensity 1: that value is its own cell, not one more.
         let per_combo = 1 + 2 + 2 + 1;
         assert_eq!(e.cells.len(), 2 * 3 * 2 * per_combo, "{:?}", e.cells.iter().map(|c| &c.id).collect::<Vec<_>>());
-        assert_eq!(grid.cells.len(), 2 * 3 * 2 * 2 * 3 * 1);
+        // The grid: 2 compositions × 3 pipeline-shaders × 2 presets × 2 smoothness × 3 intensities.
+        assert_eq!(grid.cells.len(), 2 * 3 * 2 * 2 * 3);
         // 2 compositions × 2 pipelines × 2 shaders × 2 presets × (1 + 2 + 3 + 1), an upper bound.
         assert_eq!(check_size(&m, 1_000_000).unwrap(), 2 * 2 * 2 * 2 * 7);
         assert!(check_size(&grid_matrix_of(lists), 1_000_000).unwrap() == 2 * 2 * 2 * 2 * 6);

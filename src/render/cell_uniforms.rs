@@ -279,6 +279,9 @@ fn frame_uniforms(
         let e = colour * cell.settings.emission * p.intensity_scale();
         frame.subject.emission = [e.x as f32, e.y as f32, e.z as f32, 0.0];
     }
+    // emission.w: Source = Albedo Alpha (scene.wgsl `Material`), where the subject has maps to read.
+    let from_albedo = cell.settings.material_maps.is_some() && cell.model.smoothness_from_albedo_alpha(&cell.surface);
+    frame.subject.emission[3] = if from_albedo { 1.0 } else { 0.0 };
     let any = Sliders { base_color_linear: [1.0; 3], metallic: 0.0, smoothness: 0.5 };
     frame.fixed = gpu_material(&fixed_model.surface(p, &any), GpuMaterial::zeroed());
     // The probes' capture slot is chosen after the capture key (`capture_probes`), which
@@ -309,7 +312,8 @@ fn object_uniforms(
             Some((sliders, pattern)) => {
                 let mut m = gpu_material(&fixed_model.surface(p, sliders), *pattern);
                 // Emission in the pipeline's light units, as the subject's.
-                m.emission = m.emission.map(|e| e * p.intensity_scale() as f32);
+                let scale = p.intensity_scale() as f32;
+                m.emission = [m.emission[0] * scale, m.emission[1] * scale, m.emission[2] * scale, 0.0];
                 m
             }
             None => GpuMaterial::zeroed(),

@@ -132,7 +132,9 @@ impl PreparedScene {
                 // scene.wgsl `Material.params.w`: 1 + the material's slot in the fixed maps' array.
                 pattern.params[3] = slot.map_or(0.0, |s| s as f32 + 1.0);
                 // In the scene's units; the pipeline's light units are applied per cell.
-                pattern.emission = rgba(m.emission_linear);
+                // w 0: a fixed object reads its smoothness from its mask (scene.wgsl `Material`).
+                let e = m.emission_linear;
+                pattern.emission = [e[0] as f32, e[1] as f32, e[2] as f32, 0.0];
                 (sliders, pattern)
             });
             objects.push(GpuObject {

@@ -50,7 +50,8 @@ pub struct GpuMaterial {
     pub model0: [f32; 4],
     pub model1: [f32; 4],
     pub model2: [f32; 4],
-    /// Emitted radiance (linear RGB, the pipeline's units), added before tonemapping.
+    /// Emitted radiance (linear RGB, the pipeline's units), added before tonemapping; w: 1 where
+    /// the smoothness is the albedo map's alpha × the slider (Source = Albedo Alpha).
     pub emission: [f32; 4],
 }
 

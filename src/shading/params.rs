@@ -259,6 +259,29 @@ pub(super) const DETAIL: ParamSpec = ParamSpec {
     ),
 };
 
+/// The name of Standard's and URP Lit's Source = Albedo Alpha: like the detail switch, it moves
+/// only what the maps carry, so a cell without maps draws the same image whatever its value.
+pub const SMOOTHNESS_SOURCE_PARAM: &str = "smoothness_from_albedo_alpha";
+
+/// Standard's and URP Lit's smoothness Source (`_SmoothnessTextureChannel` 1, compiling
+/// `_SMOOTHNESS_TEXTURE_ALBEDO_CHANNEL_A`; the default 0 reads the metallic or specular map's
+/// alpha): smoothness = the albedo map's alpha × the Smoothness slider (UnityStandardInput.cginc
+/// MetallicGloss and SpecularGloss; URP LitInput.hlsl SampleMetallicSpecGloss), and the surface's
+/// alpha no longer takes the map's alpha (Standard's Alpha() returns _Color.a; URP's Alpha(),
+/// SurfaceInput.hlsl, color.a). The presets' albedo maps are opaque (alpha 1), so their
+/// smoothness is the slider's, without the map's variation; a glTF subject's base colour alpha
+/// becomes its smoothness. Named for the keyword, so that zero is the engines' default.
+pub(super) const SMOOTHNESS_FROM_ALBEDO_ALPHA: ParamSpec = ParamSpec {
+    name: Cow::Borrowed(SMOOTHNESS_SOURCE_PARAM),
+    slot: 5,
+    default: 0.0,
+    min: 0.0,
+    max: 1.0,
+    doc: Cow::Borrowed(
+        "1: Source = Albedo Alpha (_SMOOTHNESS_TEXTURE_ALBEDO_CHANNEL_A: smoothness = the albedo map's alpha × the slider, the map's alpha no longer the surface's); 0 (default): the metallic/specular map's alpha. Needs the textured preset (`materials`)",
+    ),
+};
+
 /// HDRP Lit's detail map assigned (`_DetailMap`, compiling `_DETAIL_MAP`): the same grain, overlaid
 /// on the base colour and its normal blended by reoriented normal mapping (LitDataIndividualLayer.hlsl).
 pub(super) const DETAIL_HDRP: ParamSpec = ParamSpec {

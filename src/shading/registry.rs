@@ -11,7 +11,7 @@ use std::sync::Arc;
 use glam::DVec3;
 
 use super::params::*;
-pub use super::params::{ParamSpec, DETAIL_PARAM, PARALLAX_PARAM};
+pub use super::params::{ParamSpec, DETAIL_PARAM, PARALLAX_PARAM, SMOOTHNESS_SOURCE_PARAM};
 use super::twin::{self, Surface, SurfaceTwin};
 use crate::pipelines::Pipeline;
 
@@ -106,6 +106,12 @@ impl ShaderModel {
     /// parameter on; WGSL `model_detail`).
     pub fn draws_detail(&self, s: &Surface) -> bool {
         self.params.iter().any(|p| p.name == DETAIL_PARAM && s.params[p.slot] > 0.5)
+    }
+
+    /// Whether a cell of this model with surface `s` reads its smoothness from the albedo map's
+    /// alpha (its `smoothness_from_albedo_alpha` parameter on).
+    pub fn smoothness_from_albedo_alpha(&self, s: &Surface) -> bool {
+        self.params.iter().any(|p| p.name == SMOOTHNESS_SOURCE_PARAM && s.params[p.slot] > 0.5)
     }
 
     /// Whether the model evaluates rect lights (`model_rect`, shaders/common/area.wgsl): HDRP's Lit
@@ -609,7 +615,7 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         reads: ALL_AXES,
         expected: RECIPROCAL_ONLY,
         twin: &twin::Standard,
-        params: &[SPECULAR_SETUP, SPECULAR_HIGHLIGHTS_TOGGLE, PARALLAX, DETAIL],
+        params: &[SPECULAR_SETUP, SPECULAR_HIGHLIGHTS_TOGGLE, PARALLAX, DETAIL, SMOOTHNESS_FROM_ALBEDO_ALPHA],
         mapping: METALLIC_WORKFLOW,
         from_sliders: metallic_workflow,
         summary: "built-in Standard, BRDF1: Disney diffuse, approx. joint Smith, GGX, clamps (models.md#standard)",
@@ -666,7 +672,14 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
         reads: ALL_AXES,
         expected: RECIPROCAL_ONLY,
         twin: &twin::UrpLit,
-        params: &[SPECULAR_SETUP, SPECULAR_HIGHLIGHTS_TOGGLE, ENVIRONMENT_REFLECTIONS_OFF, PARALLAX, DETAIL],
+        params: &[
+            SPECULAR_SETUP,
+            SPECULAR_HIGHLIGHTS_TOGGLE,
+            ENVIRONMENT_REFLECTIONS_OFF,
+            PARALLAX,
+            DETAIL,
+            SMOOTHNESS_FROM_ALBEDO_ALPHA,
+        ],
         mapping: METALLIC_WORKFLOW,
         from_sliders: metallic_workflow,
         summary: "URP Lit: minimal Cook-Torrance specular, Lambert without 1/π, EnvironmentBRDF (models.md#urp-lit)",

@@ -42,6 +42,7 @@ mod shading;
 mod shadows;
 mod shards;
 mod skies;
+mod smoothness_source;
 mod ssao;
 mod stability;
 mod study;

@@ -293,7 +293,12 @@ impl CpuTruthInputs<'_> {
         let Some(maps) = self.subject_maps else { return self.subject_coverage };
         let level = &maps.levels[0];
         let s = &self.subject_surface;
-        let alpha = s.alpha * crate::materials::bilinear(&level.albedo, level.size, level.size, uv.x, uv.y)[3] as f64;
+        // Unless the albedo's alpha holds the smoothness (scene.wgsl `alpha_from_maps`).
+        let map_alpha = match self.frame.subject.emission[3] > 0.5 {
+            true => 1.0,
+            false => crate::materials::bilinear(&level.albedo, level.size, level.size, uv.x, uv.y)[3] as f64,
+        };
+        let alpha = s.alpha * map_alpha;
         match s.kind {
             SurfaceType::Fade => alpha.clamp(0.0, 1.0),
             SurfaceType::Cutout => (alpha >= s.cutoff) as u32 as f64,
@@ -716,7 +721,12 @@ impl<'a> Tracer<'a> {
                 s.base_color = DVec3::from(b);
             }
             s.metallic *= mask[0];
-            s.smoothness = (s.smoothness + mask[3] - 0.5).clamp(0.0, 1.0);
+            // scene.wgsl `smoothness_from_maps`: the albedo's alpha × the slider under Source =
+            // Albedo Alpha, else the mask's offset.
+            s.smoothness = match m.emission[3] > 0.5 {
+                true => (albedo[3] * s.smoothness).clamp(0.0, 1.0),
+                false => (s.smoothness + mask[3] - 0.5).clamp(0.0, 1.0),
+            };
             emission *= DVec3::new(glow[0], glow[1], glow[2]);
             let t = lerp(a.tangent, b.tangent, c.tangent);
             let w = a.tangent[3] as f64 * b0 + b.tangent[3] as f64 * hit.b1 + c.tangent[3] as f64 * hit.b2;
