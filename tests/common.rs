@@ -98,6 +98,45 @@ pub fn cell_params(
     }
 }
 
+/// A same-BRDF truth of `cell` with direct light alone (no bounces), 64 samples per pixel, no
+/// noise target: what the map tests compare a tracer's reading of the maps with.
+pub fn same_brdf_truth(
+    renderer: &mut shadematrix::render::Renderer,
+    prepared: &shadematrix::render::PreparedScene,
+    cell: &shadematrix::render::CellParams,
+    backend: shadematrix::declarations::matrix::TruthBackend,
+) -> shadematrix::render::truth::Truth {
+    let settings = shadematrix::render::truth::TruthSettings {
+        kind: shadematrix::render::truth::TruthKind::SameBrdf,
+        spp: 64,
+        noise: 0.0,
+        bounces: 0,
+        batch: 32,
+        backend,
+        ..Default::default()
+    };
+    renderer.render_truth(prepared, cell, &settings).unwrap()
+}
+
+/// How many standard errors apart two truths' sums of red over the pixels where both see the
+/// subject are (the CPU tracer against the GPU one).
+pub fn subject_z(a: &shadematrix::render::truth::Truth, b: &shadematrix::render::truth::Truth) -> f64 {
+    let subject = shadematrix::render::uniforms::ROLE_SUBJECT;
+    let (mut diff, mut var) = (0.0f64, 0.0f64);
+    for i in (0..a.roles.len()).filter(|&i| a.roles[i] == subject && b.roles[i] == subject) {
+        diff += a.mean[i][0] as f64 - b.mean[i][0] as f64;
+        var += (a.std_error[i] as f64).powi(2) + (b.std_error[i] as f64).powi(2);
+    }
+    diff / var.sqrt()
+}
+
+/// The mean of `values` over the subject's pixels (`roles`).
+pub fn subject_mean(roles: &[u8], values: impl Fn(usize) -> f64) -> f64 {
+    let subject = (0..roles.len()).filter(|&i| roles[i] == shadematrix::render::uniforms::ROLE_SUBJECT);
+    let (sum, count) = subject.fold((0.0, 0usize), |(s, c), i| (s + values(i), c + 1));
+    sum / count as f64
+}
+
 /// The worst relative difference, over lit colour channels, between the image of all of `base`'s
 /// lights and the sum of the images of one light each (the others at intensity 0); `render(scene,
 /// key intensity)` returns a scene's linear RGBA.

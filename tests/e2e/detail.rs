@@ -2,35 +2,13 @@
 //! the detail mask lets them, each as its engine does, in the frame and in both tracers
 //! (truth.wgsl against the CPU's f64 twin).
 
-use crate::common::{cell_params, fixture};
+use crate::common::{cell_params, fixture, same_brdf_truth as truth, subject_mean};
 use shadematrix::declarations::matrix::TruthBackend;
 use shadematrix::declarations::scene::Scene;
 use shadematrix::gpu::GpuContext;
 use shadematrix::pipelines::{Pipeline, RenderPath};
-use shadematrix::render::truth::{Truth, TruthKind, TruthSettings};
-use shadematrix::render::uniforms::ROLE_SUBJECT;
-use shadematrix::render::{CellParams, PreparedScene, Renderer};
+use shadematrix::render::{PreparedScene, Renderer};
 use shadematrix::shading::registry::Sliders;
-
-fn truth(renderer: &mut Renderer, prepared: &PreparedScene, cell: &CellParams, backend: TruthBackend) -> Truth {
-    let settings = TruthSettings {
-        kind: TruthKind::SameBrdf,
-        spp: 64,
-        noise: 0.0,
-        bounces: 0,
-        batch: 32,
-        backend,
-        ..Default::default()
-    };
-    renderer.render_truth(prepared, cell, &settings).unwrap()
-}
-
-/// The subject's mean red over pixels both images see it in.
-fn subject_mean(roles: &[u8], values: impl Fn(usize) -> f64, n: usize) -> f64 {
-    let (sum, count) =
-        (0..n).filter(|&i| roles[i] == ROLE_SUBJECT).fold((0.0, 0usize), |(s, c), i| (s + values(i), c + 1));
-    sum / count as f64
-}
 
 #[test]
 fn secondary_maps_blend_in_under_the_mask_and_both_tracers_follow_them() {
@@ -61,19 +39,12 @@ fn secondary_maps_in(renderer: &mut Renderer, prepared: &PreparedScene, pipeline
     // Both tracers blend them as the frame does: their subjects agree within noise…
     let (cpu, gpu) =
         (truth(renderer, prepared, &cell, TruthBackend::Cpu), truth(renderer, prepared, &cell, TruthBackend::Gpu));
-    let (mut diff, mut var) = (0.0f64, 0.0f64);
-    for i in 0..n {
-        if cpu.roles[i] == ROLE_SUBJECT && gpu.roles[i] == ROLE_SUBJECT {
-            diff += cpu.mean[i][0] as f64 - gpu.mean[i][0] as f64;
-            var += (cpu.std_error[i] as f64).powi(2) + (gpu.std_error[i] as f64).powi(2);
-        }
-    }
-    let z = diff / var.sqrt();
+    let z = crate::common::subject_z(&cpu, &gpu);
     // …and the frame's change of the subject's mean is the truth's (mip-mapped against level 0).
-    let frame_ratio = subject_mean(&with.roles, |i| with.hdr[4 * i] as f64, n)
-        / subject_mean(&without.roles, |i| without.hdr[4 * i] as f64, n);
-    let truth_ratio = subject_mean(&cpu.roles, |i| cpu.mean[i][0] as f64, n)
-        / subject_mean(&truth_without.roles, |i| truth_without.mean[i][0] as f64, n);
+    let frame_ratio = subject_mean(&with.roles, |i| with.hdr[4 * i] as f64)
+        / subject_mean(&without.roles, |i| without.hdr[4 * i] as f64);
+    let truth_ratio = subject_mean(&cpu.roles, |i| cpu.mean[i][0] as f64)
+        / subject_mean(&truth_without.roles, |i| truth_without.mean[i][0] as f64);
     eprintln!(
         "{shader}: CPU − GPU truth Z {z:.2}; subject mean with/without: frame {frame_ratio:.4}, truth {truth_ratio:.4}"
     );

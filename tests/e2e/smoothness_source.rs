@@ -1,35 +1,14 @@
 //! Standard's and URP Lit's smoothness Source = Albedo Alpha (registry SMOOTHNESS_FROM_ALBEDO_ALPHA):
 //! the smoothness is the albedo map's alpha × the slider, in the frame and in both tracers.
 
-use crate::common::{cell_params, fixture};
+use crate::common::{cell_params, fixture, same_brdf_truth as truth, subject_mean};
 use shadematrix::declarations::matrix::TruthBackend;
 use shadematrix::declarations::scene::Scene;
 use shadematrix::gpu::GpuContext;
 use shadematrix::pipelines::{Pipeline, RenderPath};
-use shadematrix::render::truth::{Truth, TruthKind, TruthSettings};
 use shadematrix::render::uniforms::ROLE_SUBJECT;
-use shadematrix::render::{CellParams, PreparedScene, Renderer};
+use shadematrix::render::Renderer;
 use shadematrix::shading::registry::Sliders;
-
-fn truth(renderer: &mut Renderer, prepared: &PreparedScene, cell: &CellParams, backend: TruthBackend) -> Truth {
-    let settings = TruthSettings {
-        kind: TruthKind::SameBrdf,
-        spp: 64,
-        noise: 0.0,
-        bounces: 0,
-        batch: 32,
-        backend,
-        ..Default::default()
-    };
-    renderer.render_truth(prepared, cell, &settings).unwrap()
-}
-
-/// The subject's mean red.
-fn subject_mean(roles: &[u8], values: impl Fn(usize) -> f64) -> f64 {
-    let (sum, count) =
-        (0..roles.len()).filter(|&i| roles[i] == ROLE_SUBJECT).fold((0.0, 0usize), |(s, c), i| (s + values(i), c + 1));
-    sum / count as f64
-}
 
 /// Wood's maps vary its smoothness (its rings' offset in the mask) over an opaque albedo (alpha 1): read
 /// from the albedo's alpha, the smoothness is the slider's everywhere. The frame changes where the
@@ -60,12 +39,7 @@ fn smoothness_from_the_albedo_alpha_is_the_sliders_under_opaque_maps() {
             truth(&mut renderer, &prepared, &cell, TruthBackend::Cpu),
             truth(&mut renderer, &prepared, &cell, TruthBackend::Gpu),
         );
-        let (mut diff, mut var) = (0.0f64, 0.0f64);
-        for i in (0..n).filter(|&i| cpu.roles[i] == ROLE_SUBJECT && gpu.roles[i] == ROLE_SUBJECT) {
-            diff += cpu.mean[i][0] as f64 - gpu.mean[i][0] as f64;
-            var += (cpu.std_error[i] as f64).powi(2) + (gpu.std_error[i] as f64).powi(2);
-        }
-        let z = diff / var.sqrt();
+        let z = crate::common::subject_z(&cpu, &gpu);
         let frame_ratio = subject_mean(&after.roles, |i| after.hdr[4 * i] as f64)
             / subject_mean(&before.roles, |i| before.hdr[4 * i] as f64);
         let truth_ratio = subject_mean(&cpu.roles, |i| cpu.mean[i][0] as f64)

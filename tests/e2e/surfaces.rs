@@ -443,7 +443,7 @@ background = false
 fn the_cpu_truth_reads_the_subjects_maps_and_their_alpha() {
     let _timer = crate::common::timed!();
     use shadematrix::declarations::matrix::TruthBackend;
-    use shadematrix::render::truth::{TruthKind, TruthSettings};
+    use shadematrix::render::truth::TruthSettings;
     let tmp = tempfile::tempdir().unwrap();
     write_alpha_ramp_gltf(tmp.path(), 0.5);
     let ramp = Scene::load_file(&tmp.path().join("ramp.toml")).unwrap();
@@ -468,16 +468,7 @@ fn the_cpu_truth_reads_the_subjects_maps_and_their_alpha() {
     let mut cell = cell_params(Pipeline::Urp, "lit", sliders, (1.0, 10.0), 32, RenderPath::Forward);
     cell.settings.material_maps = Some("brick");
     let at = |backend, cell: &shadematrix::render::CellParams, renderer: &mut Renderer| {
-        let settings = TruthSettings {
-            kind: TruthKind::SameBrdf,
-            spp: 64,
-            noise: 0.0,
-            bounces: 0,
-            batch: 32,
-            backend,
-            ..Default::default()
-        };
-        renderer.render_truth(&prepared, cell, &settings).unwrap()
+        crate::common::same_brdf_truth(renderer, &prepared, cell, backend)
     };
     let (cpu, gpu) = (at(TruthBackend::Cpu, &cell, &mut renderer), at(TruthBackend::Gpu, &cell, &mut renderer));
     // A pixel's samples spread over the texture beneath it: its standard error holds the map's
