@@ -7,6 +7,7 @@ pub mod exposure;
 pub mod pixels;
 pub mod ssao;
 pub mod stats;
+pub mod subsurface;
 pub mod target;
 pub mod tonemap;
 pub mod urp_ssao;
