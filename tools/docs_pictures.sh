@@ -51,12 +51,16 @@ cp "$work/fig3_2/sheets/pipeline_x_preset__area_three.png" docs/fig3_3.png
 # HDRP Lit's material types on gold with the clear coat: a row per type, smoothness 0.25 → 0.9.
 run hdrp_materials matrices/hdrp_materials.toml
 rows=()
-for t in standard specular_color iridescence anisotropy translucent; do
+for t in standard specular_color iridescence anisotropy translucent subsurface_scattering; do
   row=""
   for s in 0.25 0.50 0.75 0.90; do row+="${row:+,}default__hdrp-forward__lit__gold__m1.00_s${s}_*coat_mask1_${t}"; done
   rows+=("$row")
 done
 "$montage" "$work/hdrp_materials" docs/hdrp_materials.png 144 "${rows[@]}"
+# HDRP's subsurface scattering on a 2 cm brick-coloured bead: Translucent above, Subsurface
+# Scattering below, subsurface mask 0 → 1 across.
+run hdrp_subsurface matrices/hdrp_subsurface.toml
+cp "$work/hdrp_subsurface/sheets/material_type_x_params__brick_0.10.png" docs/hdrp_subsurface.png
 
 # HDRP's light settings: a row per scene (cone, pyramid, box, range off, diffuse only, specular
 # only, shadow dimmer, shadow tint, penumbra tint), columns URP Lit plastic (the plain cone: URP has

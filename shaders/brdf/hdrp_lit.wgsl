@@ -5,7 +5,9 @@
 // on above 0); params0.w: the iridescence mask (the Iridescence material type above 0); params1.x:
 // the iridescence thickness (HDRP's _IridescenceThickness, 0–1, default 1); params1.y: the anisotropy
 // (the Anisotropy material type where it is not 0; −1..1 along the tangent); params2.x: the
-// Translucent material type (transmission, 1) or not (0); params2.y: its thickness (_Thickness, 0–1).
+// Translucent material type (transmission, 1) or not (0); params2.y: its thickness (_Thickness, 0–1);
+// params1.z: the Subsurface Scattering material type (1) or not (0); params1.w: its _SubsurfaceMask
+// (read by the filter, plan::subsurface).
 // Physical units: E in lux, radiance = f·E·NL.
 
 const HDRP_FLT_EPS: f32 = 5.960464478e-8;
@@ -46,8 +48,8 @@ fn clamp_n_dot_v(nv: f32) -> f32 {
 // fresnel0: ComputeFresnel0(baseColor, metallic, 0.04), or the specular colour for the Specular
 // Color material type (params0.y = 1; Lit.hlsl ConvertSurfaceDataToBSDFData)
 fn hdrp_f0(s: Surface) -> vec3<f32> {
-    if (s.params2.x > 0.5) {
-        // FillMaterialTransmission: the diffusion profile's F0
+    if (s.params2.x > 0.5 || s.params1.z > 0.5) {
+        // FillMaterialTransmission, FillMaterialSSS: the diffusion profile's F0
         return vec3<f32>(DIFFUSION_PROFILE_FRESNEL0);
     }
     if (s.params0.y > 0.5) {
@@ -61,8 +63,12 @@ fn hdrp_f0(s: Surface) -> vec3<f32> {
 // × diffuse_weight: a transparent surface's ApplyBlendMode multiplies the diffuse lighting by
 // opacity and keeps the specular (_EnableBlendModePreserveSpecularLighting, Material.hlsl).
 fn hdrp_diffuse_color(s: Surface) -> vec3<f32> {
-    if (s.params2.x > 0.5) {
-        // There is no metallic with transmission (ConvertSurfaceDataToBSDFData)
+    if (s.params1.z > 0.5 && subsurface_pre_scatter) {
+        // GetModifiedDiffuseColorForSSS: PreAndPostScatter's √albedo where the lighting is split
+        return sqrt(s.base_color) * diffuse_weight;
+    }
+    if (s.params2.x > 0.5 || s.params1.z > 0.5) {
+        // There is no metallic with SSS or transmission (ConvertSurfaceDataToBSDFData)
         return s.base_color * diffuse_weight;
     }
     if (s.params0.y > 0.5) {

@@ -742,6 +742,33 @@ var<private> shading_pixel: vec2<f32> = vec2<f32>(0.0);
 
 @fragment
 fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> FragmentOut {
+    return forward_fragment(in, front);
+}
+
+// HDRP's split lighting for the Subsurface Scattering type (ShaderPassForward.hlsl
+// OUTPUT_SPLIT_LIGHTING), drawn over the subject's own depth after the forward pass drew its
+// specular (plan::subsurface): the diffuse lighting and the emission (the pipeline's TERMS) with
+// the pre-scatter √albedo, blue kept above 0 (TagLightingForSSS: HALF_MIN), and the SSS buffer's
+// albedo (EncodeIntoSSSBuffer's baseColor) for the filter.
+struct SubsurfaceOut {
+    @location(0) diffuse: vec4<f32>,
+    @location(1) albedo: vec4<f32>,
+};
+
+@fragment
+fn fs_subsurface(in: VertexOut, @builtin(front_facing) front: bool) -> SubsurfaceOut {
+    subsurface_pre_scatter = true;
+    let lit = forward_fragment(in, front).color.rgb;
+    var out: SubsurfaceOut;
+    out.diffuse = vec4<f32>(lit.rg, max(lit.b, 6.103515625e-5), 1.0);
+    out.albedo = vec4<f32>(shaded_albedo, 1.0);
+    return out;
+}
+
+// The drawn surface's base colour (after its maps): what the SSS buffer holds
+var<private> shaded_albedo: vec3<f32> = vec3<f32>(0.0);
+
+fn forward_fragment(in: VertexOut, front: bool) -> FragmentOut {
     lod_clip(in.clip.xy, in.world_pos);
     lightmap_uv = in.uv2;
     if (SCREEN_OCCLUSION != OCCLUSION_NONE) {
@@ -759,6 +786,7 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> FragmentOut {
     var out: FragmentOut;
     var s = material_at(uv);
     s.tangent = in.tangent.xyz;
+    shaded_albedo = s.base_color;
     var glow = vec3<f32>(0.0);
     if (FORWARD_PASS != FORWARD_ADD) {
         glow = emission(uv);

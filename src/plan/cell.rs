@@ -42,7 +42,14 @@ impl<'a> CellParams<'a> {
     /// Whether a deferred path draws the subject into its G-buffer: its model has a G-buffer pass
     /// and its surface is not transparent (the engines draw the Transparent queue forward).
     pub fn subject_deferrable(&self) -> bool {
-        super::draws::gbuffer_pass(self.pipeline, self.model) && !self.settings.surface.kind.is_transparent()
+        super::draws::gbuffer_pass(self.pipeline, self.model)
+            && !self.settings.surface.kind.is_transparent()
+            && self.subsurface().is_none()
+    }
+
+    /// The subject's subsurface scattering, where its frame filters it (`subsurface::subsurface`).
+    pub fn subsurface(&self) -> Option<super::subsurface::SubsurfacePlan> {
+        super::subsurface::subsurface(self.pipeline, self.model, &self.surface.params, self.settings.surface.kind)
     }
 
     /// What a matrix cell asks: its coordinates resolved (material, emission, maps) into what the
@@ -296,6 +303,9 @@ pub struct CellPlan {
     pub light_terms: Vec<super::light_terms::LightTerms>,
     /// Why a same-BRDF truth cannot trace the subject's surface (`ShaderModel::untraceable`).
     pub subject_untraceable: Option<String>,
+    /// The subject's screen-space subsurface scattering (`subsurface::subsurface`), where the
+    /// frame splits its lighting and filters it.
+    pub subsurface: Option<super::subsurface::SubsurfacePlan>,
 }
 
 impl CellPlan {
@@ -448,7 +458,7 @@ impl CellPlan {
                 ),
             ));
         }
-        let meshes: Vec<(usize, bool, &ShaderModel, bool)> = layout
+        let meshes: Vec<(usize, bool, &ShaderModel, bool, bool)> = layout
             .meshes
             .iter()
             .zip(&fades)
@@ -456,10 +466,12 @@ impl CellPlan {
                 let subject = m.role == Role::Subject;
                 let model = if subject { cell.model } else { fixed_model };
                 let deferrable = if subject { gbuffer.subject } else { gbuffer.fixed };
-                (m.scene_index, fade.is_some(), model, deferrable)
+                let transparent = subject && surface.kind.is_transparent();
+                (m.scene_index, fade.is_some(), model, deferrable, transparent)
             })
             .collect();
         let draws = plan_draws(p, cell.settings.path, engine, &meshes, &assignment, main);
+        let subsurface = cell.subsurface();
         let ao = super::ao::ambient_occlusion(
             p,
             cell.settings.path,
@@ -476,6 +488,7 @@ impl CellPlan {
             transparent_subject: surface.kind.is_transparent(),
             traced_visibility: cell.settings.exact.visibility,
             bloom: frame.hdrp_bloom,
+            subsurface: subsurface.is_some(),
         });
         let probes = match frame.probes() {
             true => scene
@@ -501,9 +514,20 @@ impl CellPlan {
                 style.strength = t.shadow_dimmer;
             }
         }
-        let multisampling = msaa.for_settings(&cell.settings);
+        let mut multisampling = msaa.for_settings(&cell.settings);
+        if subsurface.is_some() && multisampling.samples > 1 {
+            multisampling = Multisampling {
+                samples: 1,
+                note: Some(format!(
+                    "{}× MSAA asked; the subsurface scattering filter here reads single-sample buffers \
+                     (HDRP's MSAA variant resolves them first): rendered 1×",
+                    multisampling.samples
+                )),
+            };
+        }
         let alpha_to_coverage = super::draws::alpha_to_coverage(p, surface.kind, multisampling.samples);
         CellPlan {
+            subsurface,
             light_terms,
             subject_untraceable: cell.model.untraceable(&cell.surface.params),
             probes,

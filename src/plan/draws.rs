@@ -135,15 +135,15 @@ pub fn shadowed_by_additional_lights(pipeline: Pipeline, model: &ShaderModel) ->
     pipeline != Pipeline::Builtin || model.passes.full_forward_shadows
 }
 
-/// The draws of a frame. `meshes`: per mesh, its scene object, whether it is drawn, its model and
-/// whether a deferred path draws it into the G-buffer (a transparent surface is drawn forward,
-/// counted under `transparent` as well);
+/// The draws of a frame. `meshes`: per mesh, its scene object, whether it is drawn, its model,
+/// whether a deferred path draws it into the G-buffer, and whether it is in the Transparent queue
+/// (drawn forward on a deferred path, counted under `transparent` as well);
 /// `main_light`: the pipeline's main light (ForwardBase's).
 pub fn plan_draws(
     pipeline: Pipeline,
     path: RenderPath,
     engine: &PipelineSettings,
-    meshes: &[(usize, bool, &ShaderModel, bool)],
+    meshes: &[(usize, bool, &ShaderModel, bool, bool)],
     assignment: &[ObjectLights],
     main_light: Option<usize>,
 ) -> DrawPlan {
@@ -151,11 +151,11 @@ pub fn plan_draws(
     let mut add = |kind: DrawKind, n: u32| *counts.entry(kind.name().to_string()).or_default() += n;
     let mut forward_add = vec![Vec::new(); meshes.len()];
     let mut lighting_models: Vec<&str> = Vec::new();
-    for (m, &(object, drawn, model, deferrable)) in meshes.iter().enumerate() {
+    for (m, &(object, drawn, model, deferrable, transparent)) in meshes.iter().enumerate() {
         if !drawn {
             continue;
         }
-        if path == RenderPath::Deferred && gbuffer_pass(pipeline, model) && !deferrable {
+        if path == RenderPath::Deferred && transparent {
             add(DrawKind::Transparent, 1);
         }
         if path == RenderPath::VertexLit {

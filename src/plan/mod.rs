@@ -16,6 +16,7 @@ pub mod pass;
 pub mod probes;
 pub mod roles;
 pub mod shadows;
+pub mod subsurface;
 pub mod timing;
 
 pub use pass::Pass;
@@ -68,6 +69,7 @@ impl FramePlan {
             transparent_subject,
             traced_visibility: false,
             bloom: self.hdrp_bloom,
+            subsurface: false,
         })
     }
 

@@ -37,6 +37,11 @@ pub enum Pass {
     /// The deferred path's forward pass for the models the G-buffer cannot carry, with the
     /// background where the plan draws one.
     ForwardOnly,
+    /// HDRP's split lighting of a Subsurface Scattering subject: its diffuse lighting drawn over
+    /// its depth into the SSS lighting buffer, with the SSS buffer's albedo (plan::subsurface).
+    SubsurfaceLighting,
+    /// HDRP's screen-space subsurface scattering filter, added to the frame's colour.
+    SubsurfaceScattering,
     /// A deferred path's Transparent queue, drawn forward after everything else
     /// (pipelines::surface).
     Transparent,
@@ -45,7 +50,7 @@ pub enum Pass {
 }
 
 impl Pass {
-    pub const ALL: [Pass; 15] = [
+    pub const ALL: [Pass; 17] = [
         Pass::ProbeCapture,
         Pass::ProbePrefilter,
         Pass::Shadow,
@@ -59,6 +64,8 @@ impl Pass {
         Pass::LightTiles,
         Pass::DeferredLighting,
         Pass::ForwardOnly,
+        Pass::SubsurfaceLighting,
+        Pass::SubsurfaceScattering,
         Pass::Transparent,
         Pass::Bloom,
     ];
@@ -79,6 +86,8 @@ impl Pass {
             Pass::LightTiles => "light tiles",
             Pass::DeferredLighting => "deferred lighting",
             Pass::ForwardOnly => "forward-only",
+            Pass::SubsurfaceLighting => "sss lighting",
+            Pass::SubsurfaceScattering => "subsurface scattering",
             Pass::Transparent => "transparent",
             Pass::Bloom => "bloom",
         }
@@ -95,9 +104,10 @@ impl Pass {
         matches!(self, Pass::ProbeCapture | Pass::ProbePrefilter)
     }
 
-    /// Whether the pass post-processes the finished image (left out of term layers).
+    /// Whether the pass works on the finished image (left out of term layers, whose subject then
+    /// draws its lighting whole: the layers hold each lobe before any screen-space filter).
     pub fn post(self) -> bool {
-        self == Pass::Bloom
+        matches!(self, Pass::Bloom | Pass::SubsurfaceLighting | Pass::SubsurfaceScattering)
     }
 }
 
@@ -131,13 +141,17 @@ pub struct PassInputs {
     pub traced_visibility: bool,
     /// HDRP's bloom volume is on.
     pub bloom: bool,
+    /// The subject's lighting is split and filtered (`subsurface::subsurface`).
+    pub subsurface: bool,
 }
 
 /// The passes of a cell's frame, in the order they run. The probe captures come first (once per
 /// set of inputs); the vertex-lit path has no shadow pass (Unity's legacy vertex-lit renders
 /// none); traced visibility replaces the shadow maps and reads the prepass's depth; a deferred
 /// path fills the G-buffer, lights it (HDRP through its tiled light list), then draws forward
-/// what the G-buffer cannot carry, and the Transparent queue after that; bloom last.
+/// what the G-buffer cannot carry; HDRP's subsurface scattering follows the opaque lighting
+/// (RenderSubsurfaceScattering before the Transparent queue), the Transparent queue after that;
+/// bloom last.
 pub fn frame_passes(i: PassInputs) -> Vec<Pass> {
     let mut passes = Vec::new();
     if i.probes {
@@ -168,11 +182,14 @@ pub fn frame_passes(i: PassInputs) -> Vec<Pass> {
                 passes.push(Pass::LightTiles);
             }
             passes.extend([Pass::DeferredLighting, Pass::ForwardOnly]);
-            // The engines cannot put a transparent surface in a G-buffer.
-            if i.transparent_subject {
-                passes.push(Pass::Transparent);
-            }
         }
+    }
+    if i.subsurface && i.pipeline == Pipeline::Hdrp && i.path != RenderPath::VertexLit {
+        passes.extend([Pass::SubsurfaceLighting, Pass::SubsurfaceScattering]);
+    }
+    // The engines cannot put a transparent surface in a G-buffer.
+    if i.path == RenderPath::Deferred && i.transparent_subject {
+        passes.push(Pass::Transparent);
     }
     if i.bloom && i.pipeline == Pipeline::Hdrp {
         passes.push(Pass::Bloom);
@@ -194,6 +211,7 @@ mod tests {
             transparent_subject: false,
             traced_visibility: false,
             bloom: false,
+            subsurface: false,
         }
     }
 
@@ -248,5 +266,21 @@ mod tests {
             ..inputs(Pipeline::Hdrp, RenderPath::Forward)
         });
         assert_eq!(h, [Pass::DepthPrepass, Pass::Ssao, Pass::TracedShadows, Pass::Forward], "one prepass");
+    }
+
+    #[test]
+    fn hdrps_subsurface_scattering_follows_the_opaque_lighting_and_is_hdrps_alone() {
+        let sss = |pipeline, path| frame_passes(PassInputs { subsurface: true, bloom: true, ..inputs(pipeline, path) });
+        assert_eq!(
+            sss(Pipeline::Hdrp, RenderPath::Forward),
+            [Pass::Shadow, Pass::Forward, Pass::SubsurfaceLighting, Pass::SubsurfaceScattering, Pass::Bloom]
+        );
+        let deferred = sss(Pipeline::Hdrp, RenderPath::Deferred);
+        assert_eq!(
+            deferred[deferred.len() - 4..],
+            [Pass::ForwardOnly, Pass::SubsurfaceLighting, Pass::SubsurfaceScattering, Pass::Bloom]
+        );
+        assert!(!sss(Pipeline::Urp, RenderPath::Forward).contains(&Pass::SubsurfaceScattering));
+        assert!(Pass::SubsurfaceLighting.post() && Pass::SubsurfaceScattering.post(), "term layers skip them");
     }
 }

@@ -13,6 +13,7 @@ use super::passes::forward::{encode_forward_pass, ForwardPipelines, ModelPipelin
 use super::passes::prepass::encode_depth_prepass;
 use super::passes::probe_capture::CaptureScene;
 use super::passes::shadow::encode_shadow_passes;
+use super::passes::subsurface::{encode_lighting as encode_subsurface_lighting, SubsurfaceFrame};
 use super::passes::FrameDraw;
 use super::pipeline_cache::ByFace;
 use super::prepared::PreparedScene;
@@ -91,7 +92,10 @@ impl Renderer {
         self.pipelines.terms = mode.terms;
         let fixed_model = self.fixed_model(cell.pipeline)?;
         check_exact(cell, &fixed_model)?;
-        let keys = warm_up(&mut self.pipelines, &self.gpu, (prepared, cell, plan), &fixed_model, mode.terms)?;
+        // The subject's lighting splits where its subsurface scattering runs: in the image, not in
+        // a term layer (Pass::post).
+        let split = plan.has(Pass::SubsurfaceScattering) && mode.post;
+        let keys = warm_up(&mut self.pipelines, &self.gpu, (prepared, cell, plan), &fixed_model, (mode.terms, split))?;
         let bakes_before = prepared.bakes.lock().unwrap_or_else(|e| e.into_inner()).len();
         let baked = self.baked_lighting(prepared, cell, plan, &fixed_model)?;
         let made_bake = prepared.bakes.lock().unwrap_or_else(|e| e.into_inner()).len() > bakes_before;
@@ -219,6 +223,10 @@ impl Renderer {
         let blooms = plan.has(Pass::Bloom) && mode.post;
         if blooms {
             self.bloom.prepare(&self.gpu, t)?;
+        }
+        if let Some(sss) = plan.subsurface.as_ref().filter(|_| mode.post && plan.has(Pass::SubsurfaceScattering)) {
+            let frame = SubsurfaceFrame::new(&plan.camera, (cell.width, cell.height), sss);
+            self.subsurface.prepare(&self.gpu, t, &frame)?;
         }
         // The prepass and SSAO read the camera, the meshes drawn and their transforms, and the
         // subject's normal map; traced visibility reads the prepass depth itself.
@@ -385,7 +393,7 @@ impl Renderer {
                 traced.encode(&self.gpu.device, pipeline, encoder, f.frame_group, rays, targets, writes);
             }
             Pass::Forward | Pass::VertexLit => {
-                let samples = plan.multisampling.samples;
+                let samples = (plan.multisampling.samples, f.keys.subsurface.is_some());
                 let draws = (&forward, &plan.draws.forward_add[..]);
                 encode_forward_pass(encoder, prepared, &draw, draws, t, samples, f.layer, timed);
             }
@@ -396,8 +404,26 @@ impl Renderer {
             }
             Pass::DeferredLighting => deferred::encode_lighting(&deferred(&forward), &self.tiles.read, encoder, timed),
             Pass::ForwardOnly => {
-                let keep_depth = plan.has(Pass::Transparent);
+                let keep_depth = plan.has(Pass::Transparent) || f.keys.subsurface.is_some();
                 deferred::encode_forward_only(&deferred(&forward), keep_depth, encoder, timed);
+            }
+            Pass::SubsurfaceLighting => {
+                let (buffers, _) = self.subsurface.ready().expect("prepared with the frame");
+                let key = f.keys.subsurface.expect("a split subject's key");
+                let by_face =
+                    self.pipelines.forward_by_face(cell.pipeline, &cell.model.name, key, &f.keys.subject_faces);
+                let pipelines = ForwardPipelines {
+                    subject: ModelPipelines { draw: by_face, add: None },
+                    ..self.forward_pipelines(f)
+                };
+                let draw = FrameDraw { screen: draw.subject_screen, ..draw };
+                let targets = (buffers, &t.depth_view);
+                encode_subsurface_lighting(encoder, (prepared, &draw), &pipelines, targets, timed);
+            }
+            Pass::SubsurfaceScattering => {
+                let (buffers, pipeline) = self.subsurface.ready().expect("prepared with the frame");
+                let writes = timed.map(|(t, pair)| t.compute_writes(pair));
+                buffers.encode_scattering(pipeline, encoder, Some(&t.color), writes);
             }
             Pass::Transparent => deferred::encode_transparent(&deferred(&forward), encoder, timed),
             Pass::Bloom => {

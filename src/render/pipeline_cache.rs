@@ -152,6 +152,9 @@ pub(in crate::render) struct ForwardKey {
     pub(in crate::render) occlusion: crate::plan::ao::OcclusionRead,
     /// The light loop's optional paths compiled in (`CellPlan::light_paths`).
     pub(in crate::render) lights: crate::plan::lights::LightPaths,
+    /// HDRP's split diffuse lighting of a Subsurface Scattering subject (forward.wgsl
+    /// `fs_subsurface`, passes::subsurface): the SSS buffers as targets, over the subject's depth.
+    pub(in crate::render) subsurface: bool,
 }
 
 impl ForwardKey {
@@ -170,6 +173,7 @@ impl ForwardKey {
             alpha_to_coverage: false,
             occlusion: crate::plan::ao::OcclusionRead::None,
             lights: crate::plan::lights::LightPaths::ALL,
+            subsurface: false,
         }
     }
 }
@@ -199,6 +203,7 @@ impl PipelineCache {
             alpha_to_coverage,
             occlusion,
             lights,
+            subsurface,
         } = key;
         let key = (pipeline, model.name.to_string(), key);
         if self.forward.contains_key(&key) {
@@ -225,7 +230,11 @@ impl PipelineCache {
         if exact.any() {
             constants.extend(exact.constants());
         }
-        let entries = if per_vertex { ("vs_gouraud", "fs_gouraud") } else { ("vs_main", "fs_main") };
+        let entries = match (per_vertex, subsurface) {
+            (true, _) => ("vs_gouraud", "fs_gouraud"),
+            (false, true) => ("vs_main", "fs_subsurface"),
+            (false, false) => ("vs_main", "fs_main"),
+        };
         let label = format!("forward {}/{}", pipeline.name(), model.name);
         let additive = forward_pass == ForwardPass::Add;
         // ForwardAdd blends `[_SrcBlend] One` onto the base pass's colour and keeps its role; a
@@ -243,9 +252,14 @@ impl PipelineCache {
                 write_mask: if additive { wgpu::ColorWrites::empty() } else { wgpu::ColorWrites::ALL },
             }),
         ];
+        // The SSS lighting buffer and the SSS buffer, written whole.
+        let sss_targets = [HDR_FORMAT, HDR_FORMAT]
+            .map(|format| Some(wgpu::ColorTargetState { format, blend: None, write_mask: wgpu::ColorWrites::ALL }));
+        let targets = if subsurface { &sss_targets[..] } else { &targets[..] };
         let layout = if exact.any() { &self.exact_layout } else { &self.pipeline_layout };
-        // Additive passes and the Transparent queue test LEqual without writing depth (ZWrite Off).
-        let depth = if additive || surface.is_transparent() {
+        // Additive passes, the Transparent queue and the split lighting over the subject's own
+        // depth test LEqual without writing depth (ZWrite Off).
+        let depth = if additive || surface.is_transparent() || subsurface {
             (false, wgpu::CompareFunction::LessEqual)
         } else {
             DEPTH_WRITE_LESS
@@ -256,16 +270,8 @@ impl PipelineCache {
             alpha_to_coverage_enabled: alpha_to_coverage,
             ..Default::default()
         };
-        let p = Self::mesh_pipeline(
-            gpu,
-            &label,
-            layout,
-            &module,
-            entries,
-            &constants,
-            &targets,
-            (multisample, depth, cull),
-        );
+        let p =
+            Self::mesh_pipeline(gpu, &label, layout, &module, entries, &constants, targets, (multisample, depth, cull));
         gpu.check_errors("creating a forward pipeline")?;
         self.forward.insert(key, p);
         Ok(())

@@ -100,6 +100,7 @@ pub struct Renderer {
     pub(in crate::render) tiles: crate::render::passes::light_tiles::LightTiles,
     pub(in crate::render) traced: crate::render::passes::traced_shadows::TracedShadowsPass,
     pub(in crate::render) bloom: crate::render::passes::bloom::BloomPass,
+    pub(in crate::render) subsurface: crate::render::passes::subsurface::SubsurfacePass,
     /// The truth's tracers, by (pipeline, subject model, fixed model).
     truth_pipelines:
         HashMap<(Pipeline, String, String, crate::render::truth::TruthKind), crate::render::truth::TruthPipeline>,
@@ -183,6 +184,7 @@ impl Renderer {
             tiles,
             traced: Default::default(),
             bloom: Default::default(),
+            subsurface: Default::default(),
             truth_pipelines: HashMap::new(),
             ray_layout,
             reuse: true,

@@ -29,6 +29,8 @@ pub(in crate::render) struct FrameKeys {
     pub(in crate::render) prepass_faces: Vec<RenderFace>,
     /// The depth-normal prepass samples normal maps (the subject's or the fixed objects').
     pub(in crate::render) prepass_textured: bool,
+    /// The subject's split diffuse lighting (passes::subsurface), where the frame splits it.
+    pub(in crate::render) subsurface: Option<ForwardKey>,
 }
 
 /// The forward keys of a role's model: each model's one draw or ForwardBase, and its ForwardAdd
@@ -63,35 +65,53 @@ fn model_keys(
             false => plan.ao.fixed_read(),
         },
         lights: plan.light_paths(),
+        subsurface: false,
     };
     (draw, (additive && adds).then_some(ForwardKey { pass: ForwardPass::Add, ..draw }))
 }
 
-/// Compile every pipeline the cell's passes draw with (`terms`: the term layers drawn) and return
-/// the keys they are found by.
+/// Compile every pipeline the cell's passes draw with (`terms`: the term layers drawn; `split`:
+/// the frame splits the subject's lighting for its subsurface scattering) and return the keys
+/// they are found by.
 pub(in crate::render) fn warm_up(
     pipelines: &mut PipelineCache,
     gpu: &GpuContext,
     (prepared, cell, plan): (&PreparedScene, &CellParams, &CellPlan),
     fixed_model: &ShaderModel,
-    terms: u32,
+    (terms, split): (u32, bool),
 ) -> Result<FrameKeys, Error> {
+    use crate::pipelines::terms::{DIRECT_SPECULAR, INDIRECT_SPECULAR};
     let textured = cell.settings.material_maps.is_some();
     // Fixed objects with maps of their own (materials::fixed) draw with pipelines that sample
     // them; the depth-normal prepass draws every object with one pipeline.
     let fixed_textured = prepared.fixed_maps.any();
     let with_terms =
-        |(draw, add): ModelKeys| (ForwardKey { terms, ..draw }, add.map(|add| ForwardKey { terms, ..add }));
+        |(draw, add): ModelKeys, terms| (ForwardKey { terms, ..draw }, add.map(|add| ForwardKey { terms, ..add }));
+    // A split subject's forward draw keeps its specular (HDRP's outColor); the SSS lighting draw
+    // takes the rest.
+    let subject_terms = if split { terms & (DIRECT_SPECULAR | INDIRECT_SPECULAR) } else { terms };
+    let subject = model_keys(cell, plan, prepared, (cell.model, textured, true, cell.settings.surface.kind));
     let keys = FrameKeys {
-        subject: with_terms(model_keys(cell, plan, prepared, (cell.model, textured, true, cell.settings.surface.kind))),
-        fixed: with_terms(model_keys(cell, plan, prepared, (fixed_model, fixed_textured, false, SurfaceType::Opaque))),
+        subject: with_terms(subject, subject_terms),
+        fixed: with_terms(
+            model_keys(cell, plan, prepared, (fixed_model, fixed_textured, false, SurfaceType::Opaque)),
+            terms,
+        ),
         subject_faces: faces_of(&prepared.layout, |m| m.role == Role::Subject),
         fixed_faces: faces_of(&prepared.layout, |m| m.role == Role::Fixed),
         prepass_faces: faces_of(&prepared.layout, |_| true),
         prepass_textured: textured || fixed_textured,
+        subsurface: split.then_some(ForwardKey {
+            terms: terms & !(DIRECT_SPECULAR | INDIRECT_SPECULAR),
+            subsurface: true,
+            ..subject.0
+        }),
     };
+    let subsurface = keys.subsurface.map(|key| (cell.model, (key, None), &keys.subject_faces));
     for (model, (draw, add), faces) in
         [(cell.model, keys.subject, &keys.subject_faces), (fixed_model, keys.fixed, &keys.fixed_faces)]
+            .into_iter()
+            .chain(subsurface)
     {
         for key in std::iter::once(draw).chain(add) {
             for &face in faces {

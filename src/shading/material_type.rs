@@ -21,16 +21,20 @@ pub enum MaterialType {
     /// HDRP's Translucent: thin-object transmission through the default diffusion profile
     /// (`transmission` 1), its slab `thickness` a parameter.
     Translucent,
+    /// HDRP's Subsurface Scattering: the diffuse lighting blurred by the screen-space filter with
+    /// the default profile (`subsurface_scattering` 1), Transmission on as a new material has it.
+    SubsurfaceScattering,
 }
 
 impl MaterialType {
-    /// In the order HDRP's inspector lists the types it has here.
-    pub const ALL: [MaterialType; 5] = [
+    /// The types built here (HDRP's inspector lists Subsurface Scattering first; it came last here).
+    pub const ALL: [MaterialType; 6] = [
         MaterialType::Standard,
         MaterialType::SpecularColor,
         MaterialType::Iridescence,
         MaterialType::Anisotropy,
         MaterialType::Translucent,
+        MaterialType::SubsurfaceScattering,
     ];
 
     pub fn name(self) -> &'static str {
@@ -40,6 +44,7 @@ impl MaterialType {
             MaterialType::Iridescence => "iridescence",
             MaterialType::Anisotropy => "anisotropy",
             MaterialType::Translucent => "translucent",
+            MaterialType::SubsurfaceScattering => "subsurface_scattering",
         }
     }
 
@@ -56,19 +61,48 @@ impl MaterialType {
     /// have no anisotropy, so a swept value does not reach them.
     pub fn params(self) -> &'static [(&'static str, f64)] {
         match self {
-            MaterialType::Standard => {
-                &[("specular_setup", 0.0), ("iridescence_mask", 0.0), ("anisotropy", 0.0), ("transmission", 0.0)]
-            }
-            MaterialType::SpecularColor => {
-                &[("specular_setup", 1.0), ("iridescence_mask", 0.0), ("anisotropy", 0.0), ("transmission", 0.0)]
-            }
-            MaterialType::Iridescence => {
-                &[("specular_setup", 0.0), ("iridescence_mask", 1.0), ("anisotropy", 0.0), ("transmission", 0.0)]
-            }
-            MaterialType::Anisotropy => &[("specular_setup", 0.0), ("iridescence_mask", 0.0), ("transmission", 0.0)],
-            MaterialType::Translucent => {
-                &[("specular_setup", 0.0), ("iridescence_mask", 0.0), ("anisotropy", 0.0), ("transmission", 1.0)]
-            }
+            MaterialType::Standard => &[
+                ("specular_setup", 0.0),
+                ("iridescence_mask", 0.0),
+                ("anisotropy", 0.0),
+                ("transmission", 0.0),
+                ("subsurface_scattering", 0.0),
+            ],
+            MaterialType::SpecularColor => &[
+                ("specular_setup", 1.0),
+                ("iridescence_mask", 0.0),
+                ("anisotropy", 0.0),
+                ("transmission", 0.0),
+                ("subsurface_scattering", 0.0),
+            ],
+            MaterialType::Iridescence => &[
+                ("specular_setup", 0.0),
+                ("iridescence_mask", 1.0),
+                ("anisotropy", 0.0),
+                ("transmission", 0.0),
+                ("subsurface_scattering", 0.0),
+            ],
+            MaterialType::Anisotropy => &[
+                ("specular_setup", 0.0),
+                ("iridescence_mask", 0.0),
+                ("transmission", 0.0),
+                ("subsurface_scattering", 0.0),
+            ],
+            MaterialType::Translucent => &[
+                ("specular_setup", 0.0),
+                ("iridescence_mask", 0.0),
+                ("anisotropy", 0.0),
+                ("transmission", 1.0),
+                ("subsurface_scattering", 0.0),
+            ],
+            // BaseLitAPI: _MATERIAL_FEATURE_TRANSMISSION with LitSSS where _TransmissionEnable (1).
+            MaterialType::SubsurfaceScattering => &[
+                ("specular_setup", 0.0),
+                ("iridescence_mask", 0.0),
+                ("anisotropy", 0.0),
+                ("transmission", 1.0),
+                ("subsurface_scattering", 1.0),
+            ],
         }
     }
 
@@ -80,6 +114,7 @@ impl MaterialType {
             MaterialType::Iridescence => Some("iridescence_mask"),
             MaterialType::Anisotropy => Some("anisotropy"),
             MaterialType::Translucent => Some("transmission"),
+            MaterialType::SubsurfaceScattering => Some("subsurface_scattering"),
         }
     }
 
@@ -135,6 +170,9 @@ mod tests {
         assert!(MaterialType::Iridescence.missing_in(urp).unwrap().contains("iridescence_mask"));
         assert_eq!(MaterialType::Standard.missing_in(lambert), None);
         assert!(MaterialType::SpecularColor.missing_in(lambert).is_some());
-        assert_eq!(MaterialType::param_names(), vec!["iridescence_mask", "specular_setup", "transmission"]);
+        assert_eq!(
+            MaterialType::param_names(),
+            vec!["iridescence_mask", "specular_setup", "subsurface_scattering", "transmission"]
+        );
     }
 }

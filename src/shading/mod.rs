@@ -1,6 +1,7 @@
 //! Surface models: the registry (names, pipelines, which sweep axes each reads), WGSL composition,
 //! and the CPU f64 twin of every model.
 
+pub mod diffusion_profile;
 pub mod fgd;
 pub mod ltc;
 pub mod ltc_fit;

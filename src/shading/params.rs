@@ -179,8 +179,11 @@ pub(super) const ANISOTROPY: ParamSpec = ParamSpec {
 };
 
 /// Parameters read only while another is above 0: (parameter, its gate).
-pub(super) const PARAM_GATES: &[(&str, &str)] =
-    &[("iridescence_thickness", "iridescence_mask"), ("thickness", "transmission")];
+pub(super) const PARAM_GATES: &[(&str, &str)] = &[
+    ("iridescence_thickness", "iridescence_mask"),
+    ("thickness", "transmission"),
+    ("subsurface_mask", "subsurface_scattering"),
+];
 
 /// HDRP Lit's Translucent material type (`_MaterialID` 5, MATERIALFEATUREFLAGS_LIT_TRANSMISSION)
 /// with HDRP's default diffusion profile: the diffuse lobe also lit from behind through the
@@ -193,6 +196,34 @@ pub(super) const TRANSMISSION: ParamSpec = ParamSpec {
     max: 1.0,
     doc: Cow::Borrowed(
         "1: the Translucent material type, thin-object transmission through the default diffusion profile (wrapped −NL × ComputeTransmittanceDisney), metallic 0, F0 0.0278; 0 (default): opaque",
+    ),
+};
+
+/// HDRP Lit's Subsurface Scattering material type (`_MaterialID` 0,
+/// MATERIALFEATUREFLAGS_LIT_SUBSURFACE_SCATTERING) with the default diffusion profile: its
+/// diffuse lighting split off and blurred by the screen-space filter (plan::subsurface), metallic
+/// 0, F0 the profile's. The type keeps Transmission on, as a new material does
+/// (`_TransmissionEnable` 1).
+pub(super) const SUBSURFACE_SCATTERING: ParamSpec = ParamSpec {
+    name: Cow::Borrowed("subsurface_scattering"),
+    slot: twin::SUBSURFACE_SLOT,
+    default: 0.0,
+    min: 0.0,
+    max: 1.0,
+    doc: Cow::Borrowed(
+        "1: the Subsurface Scattering material type: the diffuse lighting (× √albedo) split off, blurred by HDRP's screen-space Burley filter (default profile, Medium budget 40) and × √albedo again; metallic 0, F0 0.0278; 0 (default): none",
+    ),
+};
+
+/// HDRP Lit's `_SubsurfaceMask` (0–1, default 1): the filter's distance scale.
+pub(super) const SUBSURFACE_MASK: ParamSpec = ParamSpec {
+    name: Cow::Borrowed("subsurface_mask"),
+    slot: twin::SUBSURFACE_MASK_SLOT,
+    default: 1.0,
+    min: 0.0,
+    max: 1.0,
+    doc: Cow::Borrowed(
+        "the subsurface mask: scales the filter's radius (0: the light stays where it fell); read only with subsurface_scattering on",
     ),
 };
 

@@ -122,9 +122,18 @@ impl ShaderModel {
 
     /// Why a same-BRDF truth cannot trace a surface of this model with these parameters: HDRP Lit's
     /// transmission lights the diffuse lobe from behind through the diffusion profile, light the
-    /// tracer's reflection-only surfaces do not pass.
+    /// tracer's reflection-only surfaces do not pass; its subsurface scattering moves the diffuse
+    /// light across the surface, which a BRDF at one point does not.
     pub fn untraceable(&self, params: &[f64; twin::PARAM_SLOTS]) -> Option<String> {
         let on = |name: &str| self.params.iter().any(|p| p.name == name && params[p.slot] > 0.5);
+        if on("subsurface_scattering") {
+            return Some(
+                "the subject scatters beneath its surface (HDRP's Subsurface Scattering type: its diffuse light \
+                 blurred across the screen by the diffusion profile, and transmitted from behind), and the truth \
+                 traces reflection at the surface alone"
+                    .to_string(),
+            );
+        }
         on("transmission").then(|| {
             "the subject transmits (HDRP's Translucent type: its diffuse lobe lit from behind through the \
              diffusion profile), and the truth traces reflection alone"
@@ -764,6 +773,8 @@ static BUILTIN_MODELS: &[BuiltinModel] = &[
             ANISOTROPY,
             TRANSMISSION,
             THICKNESS,
+            SUBSURFACE_SCATTERING,
+            SUBSURFACE_MASK,
             DETAIL_HDRP,
         ],
         mapping: METALLIC_WORKFLOW,

@@ -46,6 +46,7 @@ mod smoothness_source;
 mod ssao;
 mod stability;
 mod study;
+mod subsurface;
 mod surfaces;
 mod terms;
 mod timing;

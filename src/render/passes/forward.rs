@@ -80,6 +80,8 @@ pub(in crate::render) struct ForwardTargets<'a> {
     role: &'a wgpu::TextureView,
     depth: &'a wgpu::TextureView,
     resolve: Option<(&'a wgpu::TextureView, &'a wgpu::TextureView)>,
+    /// The depth is stored for a pass after this one (HDRP's subsurface scattering reads it).
+    keep_depth: bool,
 }
 
 impl<'a> ForwardTargets<'a> {
@@ -90,14 +92,21 @@ impl<'a> ForwardTargets<'a> {
                 role: &m.role,
                 depth: &m.depth,
                 resolve: Some((&t.color_view, &t.role_view)),
+                keep_depth: false,
             },
-            None => ForwardTargets { color: &t.color_view, role: &t.role_view, depth: &t.depth_view, resolve: None },
+            None => ForwardTargets {
+                color: &t.color_view,
+                role: &t.role_view,
+                depth: &t.depth_view,
+                resolve: None,
+                keep_depth: false,
+            },
         }
     }
 
     /// The fixed-object layer's own targets (no resolve: the samples are what is kept).
     pub(in crate::render) fn layer(t: &'a crate::render::targets::ColorRoleDepth) -> ForwardTargets<'a> {
-        ForwardTargets { color: &t.color, role: &t.role, depth: &t.depth, resolve: None }
+        ForwardTargets { color: &t.color, role: &t.role, depth: &t.depth, resolve: None, keep_depth: true }
     }
 }
 
@@ -144,7 +153,7 @@ pub(in crate::render) fn encode_forward(
             view: targets.depth,
             depth_ops: Some(wgpu::Operations {
                 load: load_depth,
-                store: if layer { wgpu::StoreOp::Store } else { wgpu::StoreOp::Discard },
+                store: if layer || targets.keep_depth { wgpu::StoreOp::Store } else { wgpu::StoreOp::Discard },
             }),
             stencil_ops: None,
         }),
@@ -172,7 +181,7 @@ pub(in crate::render) fn encode_forward(
 
 /// The forward (or vertex-lit) pass of a frame on `targets`. `layer`: Some where the frame may
 /// draw the subject alone over the fixed-object layer (Some(true): the layer is drawn first, its
-/// inputs having changed); None: the whole frame.
+/// inputs having changed); None: the whole frame. `keep_depth`: a later pass reads the depth.
 #[allow(clippy::too_many_arguments)]
 pub(in crate::render) fn encode_forward_pass(
     encoder: &mut wgpu::CommandEncoder,
@@ -180,7 +189,7 @@ pub(in crate::render) fn encode_forward_pass(
     draw: &FrameDraw,
     (pipelines, forward_add): (&ForwardPipelines, &[Vec<usize>]),
     targets: &Targets,
-    samples: u32,
+    (samples, keep_depth): (u32, bool),
     layer: Option<bool>,
     timed: Option<(&PassTimer, u32)>,
 ) {
@@ -195,6 +204,6 @@ pub(in crate::render) fn encode_forward_pass(
         }
         _ => ForwardDraw::Whole,
     };
-    let into = ForwardTargets::of(targets, samples);
+    let into = ForwardTargets { keep_depth, ..ForwardTargets::of(targets, samples) };
     encode_forward(encoder, prepared, draw, pipelines, forward_add, &into, part, timed);
 }

@@ -10,6 +10,7 @@ pub mod prepass;
 pub mod probe_capture;
 pub mod shadow;
 pub mod ssao;
+pub mod subsurface;
 pub mod traced_shadows;
 pub mod urp_ssao;
 

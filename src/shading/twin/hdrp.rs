@@ -63,8 +63,8 @@ pub fn f_schlick_f90(f0: DVec3, f90: f64, lh: f64) -> DVec3 {
 /// F0 = lerp(0.04, albedo, metallic), or the specular colour for the Specular Color material
 /// type (params[1] = 1).
 pub fn hdrp_f0(s: &Surface) -> DVec3 {
-    if s.params[TRANSMISSION_SLOT] > 0.5 {
-        // FillMaterialTransmission: the diffusion profile's F0.
+    if s.params[TRANSMISSION_SLOT] > 0.5 || s.params[SUBSURFACE_SLOT] > 0.5 {
+        // FillMaterialTransmission, FillMaterialSSS: the diffusion profile's F0.
         return DVec3::splat(DIFFUSION_PROFILE_FRESNEL0);
     }
     if s.params[1] > 0.5 {
@@ -77,8 +77,8 @@ pub fn hdrp_f0(s: &Surface) -> DVec3 {
 /// Specular Color (its default), albedo·(1 − max(specular)); × the diffuse weight a transparent
 /// surface's ApplyBlendMode gives the diffuse lighting.
 pub fn hdrp_diffuse_color(s: &Surface) -> DVec3 {
-    if s.params[TRANSMISSION_SLOT] > 0.5 {
-        // There is no metallic with transmission (ConvertSurfaceDataToBSDFData).
+    if s.params[TRANSMISSION_SLOT] > 0.5 || s.params[SUBSURFACE_SLOT] > 0.5 {
+        // There is no metallic with SSS or transmission (ConvertSurfaceDataToBSDFData).
         return s.base_color * s.diffuse_weight;
     }
     if s.params[1] > 0.5 {
@@ -112,6 +112,9 @@ pub const ANISOTROPY_SLOT: usize = 5;
 /// The Translucent material type's transmission switch and its `_Thickness`.
 pub const TRANSMISSION_SLOT: usize = 8;
 pub const THICKNESS_SLOT: usize = 9;
+/// The Subsurface Scattering material type's switch and its `_SubsurfaceMask`.
+pub const SUBSURFACE_SLOT: usize = 6;
+pub const SUBSURFACE_MASK_SLOT: usize = 7;
 
 /// HDRP's default diffusion profile (DiffusionProfileSettings.cs ResetToDefault): scattering
 /// distance 0.5 (grey) × 1, so the shape parameter S = 1/0.5 per mm; a white transmission tint,

@@ -17,8 +17,8 @@ pub use hdrp::{
 };
 pub use hdrp::{
     default_light_min_roughness, gtao_multi_bounce, indirect_occlusion, specular_occlusion_from_ao, HdrpLit,
-    ANISOTROPY_SLOT, COAT_MASK_SLOT, IRIDESCENCE_MASK_SLOT, IRIDESCENCE_THICKNESS_SLOT, THICKNESS_SLOT,
-    TRANSMISSION_SLOT,
+    ANISOTROPY_SLOT, COAT_MASK_SLOT, IRIDESCENCE_MASK_SLOT, IRIDESCENCE_THICKNESS_SLOT, SUBSURFACE_MASK_SLOT,
+    SUBSURFACE_SLOT, THICKNESS_SLOT, TRANSMISSION_SLOT,
 };
 pub use lambert::Lambert;
 pub use standard::Standard;
