@@ -8,7 +8,7 @@ use glam::DVec3;
 use shadematrix::declarations::scene::{Camera, Scene};
 use shadematrix::gpu::GpuContext;
 use shadematrix::images::subsurface::{subsurface_scattering, SubsurfaceBuffers};
-use shadematrix::pipelines::{Pipeline, RenderPath};
+use shadematrix::pipelines::{Antialiasing, Pipeline, RenderPath};
 use shadematrix::plan::subsurface::{SubsurfacePlan, SAMPLE_BUDGET_MEDIUM};
 use shadematrix::plan::Pass;
 use shadematrix::render::passes::subsurface::{scattered_of, SubsurfaceFrame};
@@ -167,4 +167,53 @@ fn the_type_splits_the_diffuse_light_and_blurs_it_across_the_terminator() {
     let kept = total(&scattered) / total(&translucent);
     eprintln!("light kept ×{kept:.4}");
     assert!((kept - 1.0).abs() < 0.03, "{kept}");
+}
+
+#[test]
+fn a_deferred_or_multisampled_cell_scatters_its_subject_drawn_forward_on_one_sample() {
+    let _timer = crate::common::timed!();
+    const SIZE: u32 = 128;
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let prepared = renderer.prepare_scene(&close_sphere()).unwrap();
+    let sliders = Sliders { base_color_linear: [0.8, 0.5, 0.35], metallic: 0.0, smoothness: 0.5 };
+    let cell = |path, sss: bool, antialiasing| {
+        let mut cell = cell_params(Pipeline::Hdrp, "lit", sliders, (3.0, 10.0), SIZE, path);
+        cell.surface.params[TRANSMISSION_SLOT] = 1.0;
+        cell.surface.params[SUBSURFACE_SLOT] = sss as u32 as f64;
+        cell.settings.antialiasing = antialiasing;
+        cell
+    };
+    // Deferred: the subject leaves the G-buffer for the forward-only pass, counted there alone.
+    let deferred = cell(RenderPath::Deferred, true, Antialiasing::None);
+    let plan = renderer.plan(&prepared, &deferred).unwrap();
+    let at = |p: Pass| plan.passes.iter().position(|q| *q == p).unwrap();
+    assert!(
+        at(Pass::ForwardOnly) < at(Pass::SubsurfaceLighting)
+            && at(Pass::SubsurfaceLighting) < at(Pass::SubsurfaceScattering)
+    );
+    assert!(!plan.gbuffer.subject);
+    assert_eq!(plan.draws.counts.get(Pass::Transparent.name()), None, "an opaque subject");
+    // Forward with 4× MSAA asked: one sample, and the note says why.
+    let msaa = cell(RenderPath::Forward, true, Antialiasing::Msaa4);
+    let plan = renderer.plan(&prepared, &msaa).unwrap();
+    assert_eq!(plan.multisampling.samples, 1);
+    assert!(
+        plan.multisampling.note.as_deref().is_some_and(|n| n.contains("subsurface")),
+        "{:?}",
+        plan.multisampling.note
+    );
+    // Either way the dark side next to the terminator gains, as on the forward path.
+    for (path, aa) in [(RenderPath::Deferred, Antialiasing::None), (RenderPath::Forward, Antialiasing::Msaa4)] {
+        let mut band = |sss: bool| {
+            let hdr = renderer.render(&prepared, &cell(path, sss, aa), 1, 0).unwrap().hdr;
+            let rows = SIZE / 2 - 8..SIZE / 2 + 8;
+            let xs = SIZE / 2 - 4..SIZE / 2;
+            let n = (rows.len() * xs.len()) as f64;
+            rows.flat_map(|y| xs.clone().map(move |x| (y * SIZE + x) as usize * 4)).map(|i| hdr[i] as f64).sum::<f64>()
+                / n
+        };
+        let gain = band(true) / band(false);
+        eprintln!("{path:?} {aa:?}: dark side next to the terminator ×{gain:.4}");
+        assert!(gain > 1.05, "{path:?}: ×{gain}");
+    }
 }
