@@ -63,7 +63,7 @@ fn hdrp_f0(s: Surface) -> vec3<f32> {
 // × diffuse_weight: a transparent surface's ApplyBlendMode multiplies the diffuse lighting by
 // opacity and keeps the specular (_EnableBlendModePreserveSpecularLighting, Material.hlsl).
 fn hdrp_diffuse_color(s: Surface) -> vec3<f32> {
-    if (s.params1.z > 0.5 && subsurface_pre_scatter) {
+    if (SUBSURFACE_PRE_SCATTER == 1u && s.params1.z > 0.5) {
         // GetModifiedDiffuseColorForSSS: PreAndPostScatter's √albedo where the lighting is split
         return sqrt(s.base_color) * diffuse_weight;
     }

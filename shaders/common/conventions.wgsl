@@ -37,11 +37,12 @@ fn direct_specular(c: vec3<f32>) -> vec3<f32> {
     return select(vec3<f32>(0.0), c, term_kept(TERM_DIRECT_SPECULAR)) * light_specular_dimmer;
 }
 
-// Whether the lighting being evaluated is the split diffuse lighting of HDRP's Subsurface
-// Scattering type (forward.wgsl fs_subsurface): its diffuse colour is then the pre-scatter √albedo
-// (GetModifiedDiffuseColorForSSS, PreAndPostScatter); false everywhere else, as where HDRP runs no
-// SSS pass (_EnableSubsurfaceScattering 0: the albedo whole)
-var<private> subsurface_pre_scatter: bool = false;
+// 1 where the pipeline draws the split diffuse lighting of HDRP's Subsurface Scattering type
+// (forward.wgsl fs_subsurface): its diffuse colour is then the pre-scatter √albedo
+// (GetModifiedDiffuseColorForSSS, PreAndPostScatter); 0 everywhere else, as where HDRP runs no
+// SSS pass (_EnableSubsurfaceScattering 0: the albedo whole). An override, so the other
+// pipelines fold the branch away.
+override SUBSURFACE_PRE_SCATTER: u32 = 0u;
 
 // The ambient light at −N, as the pass evaluates it at N (HDRP's backBakeDiffuseLighting): what a
 // transmitting model lets through; 0 where the pass gives none (the truth, the probes)

@@ -56,3 +56,14 @@ fn linear_to_srgb(c: f32) -> f32 {
     }
     return 1.055 * pow(c, 1.0 / 2.4) - 0.055;
 }
+
+// Core Random.hlsl JenkinsHash
+fn jenkins_hash(x_in: u32) -> u32 {
+    var x = x_in;
+    x += x << 10u;
+    x ^= x >> 6u;
+    x += x << 3u;
+    x ^= x >> 11u;
+    x += x << 15u;
+    return x;
+}

@@ -685,17 +685,6 @@ fn interleaved_gradient_noise(pixel: vec2<f32>) -> f32 {
 // LODDitheringTransition on the hashed view-direction seed (HDRP, URP Lit).
 override LOD_DITHER: u32 = 1u;
 
-// Core Random.hlsl JenkinsHash
-fn jenkins_hash(x_in: u32) -> u32 {
-    var x = x_in;
-    x += x << 10u;
-    x ^= x >> 6u;
-    x += x << 3u;
-    x ^= x >> 11u;
-    x += x << 15u;
-    return x;
-}
-
 // Core Random.hlsl GenerateHashedRandomFloat(uint2): ConstructFloat(JenkinsHash(v.x ^ JenkinsHash(v.y))),
 // the hash's mantissa bits as a float in [0, 1)
 fn hashed_random_float(v: vec2<u32>) -> f32 {
@@ -742,7 +731,7 @@ var<private> shading_pixel: vec2<f32> = vec2<f32>(0.0);
 
 @fragment
 fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> FragmentOut {
-    return forward_fragment(in, front);
+    return forward_fragment(in, front).out;
 }
 
 // HDRP's split lighting for the Subsurface Scattering type (ShaderPassForward.hlsl
@@ -757,18 +746,21 @@ struct SubsurfaceOut {
 
 @fragment
 fn fs_subsurface(in: VertexOut, @builtin(front_facing) front: bool) -> SubsurfaceOut {
-    subsurface_pre_scatter = true;
-    let lit = forward_fragment(in, front).color.rgb;
+    let shaded = forward_fragment(in, front);
+    let lit = shaded.out.color.rgb;
     var out: SubsurfaceOut;
     out.diffuse = vec4<f32>(lit.rg, max(lit.b, 6.103515625e-5), 1.0);
-    out.albedo = vec4<f32>(shaded_albedo, 1.0);
+    out.albedo = vec4<f32>(shaded.albedo, 1.0);
     return out;
 }
 
-// The drawn surface's base colour (after its maps): what the SSS buffer holds
-var<private> shaded_albedo: vec3<f32> = vec3<f32>(0.0);
+// A fragment's outputs, and the drawn surface's base colour after its maps (what the SSS buffer holds)
+struct ShadedFragment {
+    out: FragmentOut,
+    albedo: vec3<f32>,
+};
 
-fn forward_fragment(in: VertexOut, front: bool) -> FragmentOut {
+fn forward_fragment(in: VertexOut, front: bool) -> ShadedFragment {
     lod_clip(in.clip.xy, in.world_pos);
     lightmap_uv = in.uv2;
     if (SCREEN_OCCLUSION != OCCLUSION_NONE) {
@@ -786,7 +778,6 @@ fn forward_fragment(in: VertexOut, front: bool) -> FragmentOut {
     var out: FragmentOut;
     var s = material_at(uv);
     s.tangent = in.tangent.xyz;
-    shaded_albedo = s.base_color;
     var glow = vec3<f32>(0.0);
     if (FORWARD_PASS != FORWARD_ADD) {
         glow = emission(uv);
@@ -809,7 +800,7 @@ fn forward_fragment(in: VertexOut, front: bool) -> FragmentOut {
     out.color = surface_output(s, lit);
     out.role = object.flags.y;
     clip_alpha();
-    return out;
+    return ShadedFragment(out, s.base_color);
 }
 
 // Gouraud shading (models.md#classic): the same sum evaluated per vertex and interpolated. Highlights

@@ -5,7 +5,8 @@
 // at the radius SampleBurleyDiffusionProfile gives for (i + ½)/n, weighted by the profile at the
 // 3-D distance to the centre over its density (ComputeBilateralWeight, SSS_BILATERAL_FILTER 1,
 // SSS_CLAMP_ARTIFACT 0), renormalised, times the post-scatter albedo; the result is added to the
-// frame's colour (CombineLighting's additive blend). The image plane, not the tangent plane
+// frame's colour (CombineLighting's additive blend). Composed after shaders/common/math.wgsl
+// (PI, LOG2_E, jenkins_hash). The image plane, not the tangent plane
 // (SSS_USE_TANGENT_PLANE 0). HDRP's LDS cache only saves bandwidth: every sample is a load here.
 
 struct SubsurfaceFrame {
@@ -28,8 +29,6 @@ struct SubsurfaceFrame {
 @group(0) @binding(4) var color: texture_2d<f32>;
 @group(0) @binding(5) var destination: texture_storage_2d<rgba32float, write>;
 
-const PI: f32 = 3.14159265358979;
-const LOG2_E: f32 = 1.44269504088896;
 const GOLDEN_RATIO: f32 = 1.618033988749895;
 const SSS_PIXELS_PER_SAMPLE: f32 = 4.0;
 const MILLIMETERS_PER_METER: f32 = 1000.0;
@@ -60,17 +59,6 @@ fn sample_burley_diffusion_profile(u_in: f32, rcp_s: f32) -> vec2<f32> {
 fn compute_bilateral_weight(xy2: f32, z: f32, mm_per_unit: f32, s: vec3<f32>, rcp_pdf: f32) -> vec3<f32> {
     let r = sqrt(xy2 + (z * mm_per_unit) * (z * mm_per_unit));
     return eval_burley_diffusion_profile(r, s) * rcp_pdf;
-}
-
-// Core Random.hlsl JenkinsHash
-fn jenkins_hash(x_in: u32) -> u32 {
-    var x = x_in;
-    x += x << 10u;
-    x ^= x >> 6u;
-    x += x << 3u;
-    x ^= x >> 11u;
-    x += x << 15u;
-    return x;
 }
 
 // GenerateHashedRandomFloat(uint3): ConstructFloat(JenkinsHash(v.x ^ JenkinsHash(v.yz)))

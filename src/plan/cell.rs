@@ -471,7 +471,10 @@ impl CellPlan {
             })
             .collect();
         let draws = plan_draws(p, cell.settings.path, engine, &meshes, &assignment, main);
-        let subsurface = cell.subsurface();
+        let subsurface = cell.subsurface().filter(|sss| {
+            let why = sss.left_out_because(camera.fov_y_deg, cell.height, subject_depth(layout, &camera));
+            why.map(|why| left_out.push((Pass::SubsurfaceScattering.name().to_string(), why))).is_none()
+        });
         let ao = super::ao::ambient_occlusion(
             p,
             cell.settings.path,
@@ -572,6 +575,18 @@ impl CellPlan {
     pub fn has(&self, pass: Pass) -> bool {
         self.passes.contains(&pass)
     }
+}
+
+/// The view depth of the subject's nearest point: the nearest corner of its objects' world bounds
+/// along the view direction, at least the near plane.
+fn subject_depth(layout: &SceneLayout, camera: &crate::declarations::scene::Camera) -> f64 {
+    let eye = DVec3::from(camera.position);
+    let forward = (DVec3::from(camera.target) - eye).normalize();
+    let subjects = layout.meshes.iter().filter(|m| m.role == Role::Subject).map(|m| layout.world_bounds[m.scene_index]);
+    let corners = subjects.flat_map(|(lo, hi)| {
+        (0..8).map(move |k| DVec3::new([lo.x, hi.x][k & 1], [lo.y, hi.y][(k >> 1) & 1], [lo.z, hi.z][k >> 2]))
+    });
+    corners.map(|c| (c - eye).dot(forward)).fold(f64::INFINITY, f64::min).max(camera.near)
 }
 
 #[cfg(test)]

@@ -49,6 +49,43 @@ pub fn subsurface(
     })
 }
 
+/// HDRP's SSS_PIXELS_PER_SAMPLE: the filter takes one sample per four pixels of its disc.
+pub const PIXELS_PER_SAMPLE: f64 = 4.0;
+
+impl SubsurfacePlan {
+    /// The samples the filter takes at a pixel `depth` metres deep in a frame `height` pixels
+    /// tall through a `fov_y_deg` lens: ⌊π(filterRadius·pixelsPerMm)²/4⌋ up to the budget, with
+    /// pixelsPerMm = 1 / (max(10⁻⁴, the pixel's view-space width) · 1000 · worldScale / mask)
+    /// (SubsurfaceScattering.compute); 0 with mask 0.
+    pub fn samples_at(&self, fov_y_deg: f64, height: u32, depth: f64) -> u32 {
+        if self.mask <= 0.0 {
+            return 0;
+        }
+        let units_per_pixel = (2.0 * (fov_y_deg.to_radians() * 0.5).tan() / height as f64 * depth).max(1e-4);
+        let pixels_per_mm = 1.0 / (units_per_pixel * 1000.0 * self.profile.world_scale / self.mask);
+        let area = std::f64::consts::PI * (self.profile.filter_radius * pixels_per_mm).powi(2);
+        ((area / PIXELS_PER_SAMPLE) as u32).min(self.sample_budget)
+    }
+
+    /// Why the filter can change nothing in a frame whose subject is nowhere nearer than `depth`
+    /// metres (a pixel's width only grows with depth, so its nearest point takes the most
+    /// samples): with no sample anywhere every pixel keeps √albedo·√albedo·E, the unsplit image.
+    pub fn left_out_because(&self, fov_y_deg: f64, height: u32, depth: f64) -> Option<String> {
+        if self.mask <= 0.0 {
+            return Some("subsurface_mask 0: the filter's distance scale is 0, so every pixel keeps its light (√albedo·√albedo = albedo); drawn unsplit".to_string());
+        }
+        (self.samples_at(fov_y_deg, height, depth) == 0).then(|| {
+            let pixel_mm = (2.0 * (fov_y_deg.to_radians() * 0.5).tan() / height as f64 * depth).max(1e-4) * 1000.0;
+            format!(
+                "the filter takes no sample: at the subject's nearest point ({depth:.3} m) a pixel spans {pixel_mm:.2} mm \
+                 (× world scale / mask), so π·({:.2} mm filter radius in pixels)²/{PIXELS_PER_SAMPLE} < 1; drawn unsplit, \
+                 the same image",
+                self.profile.filter_radius
+            )
+        })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -70,5 +107,26 @@ mod tests {
         assert_eq!(subsurface(Pipeline::Hdrp, hdrp, &params, SurfaceType::Transparent), None, "no split lighting");
         let urp = r.find(Pipeline::Urp, "lit").unwrap();
         assert_eq!(subsurface(Pipeline::Urp, urp, &params, SurfaceType::Opaque), None);
+    }
+
+    #[test]
+    fn the_filter_is_left_out_where_it_takes_no_sample() {
+        let mut plan = SubsurfacePlan {
+            profile: DiffusionProfile::hdrp_default(),
+            mask: 1.0,
+            sample_budget: SAMPLE_BUDGET_MEDIUM,
+        };
+        // The default room's sphere from 5.4 m at 192 px: a pixel spans 21 mm, 8.28 mm of filter
+        // is 0.4 px, π·0.4²/4 < 1.
+        assert_eq!(plan.samples_at(42.0, 192, 5.4), 0);
+        assert!(plan.left_out_because(42.0, 192, 5.4).unwrap().contains("no sample"));
+        // A 2 cm bead from 3.5 cm at 384 px: a pixel spans 0.07 mm, the budget caps the count.
+        assert_eq!(plan.samples_at(40.0, 384, 0.035), SAMPLE_BUDGET_MEDIUM);
+        assert_eq!(plan.left_out_because(40.0, 384, 0.035), None);
+        // More pixels or a nearer subject take more samples, never fewer.
+        let counts: Vec<u32> = [4.0, 2.0, 1.0, 0.5, 0.25].iter().map(|d| plan.samples_at(40.0, 512, *d)).collect();
+        assert!(counts.windows(2).all(|w| w[0] <= w[1]), "{counts:?}");
+        plan.mask = 0.0;
+        assert!(plan.left_out_because(40.0, 384, 0.035).unwrap().contains("subsurface_mask 0"));
     }
 }

@@ -226,6 +226,7 @@ impl PipelineCache {
             ("SCREEN_OCCLUSION", occlusion.shader_id() as f64),
             ("AREA_LIGHTS", lights.area as u32 as f64),
             ("HDRP_LIGHT_TERMS", lights.hdrp_terms as u32 as f64),
+            ("SUBSURFACE_PRE_SCATTER", subsurface as u32 as f64),
         ]);
         if exact.any() {
             constants.extend(exact.constants());

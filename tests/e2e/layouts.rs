@@ -20,7 +20,7 @@ fn uniform_mirrors_match_their_wgsl_structs() {
     let probe = compose(PassKind::BrdfProbe, Some(lambert()));
     let ssao = with_math(include_str!("../../shaders/pass/ssao.wgsl"));
     let urp_ssao = with_math(include_str!("../../shaders/pass/urp_ssao.wgsl"));
-    let subsurface = include_str!("../../shaders/pass/subsurface.wgsl");
+    let subsurface = with_math(include_str!("../../shaders/pass/subsurface.wgsl"));
     use shadematrix::render::passes::ssao::SsaoFrame;
     use shadematrix::render::passes::subsurface::SubsurfaceFrame;
     use shadematrix::render::passes::urp_ssao::UrpSsaoFrame;
@@ -85,7 +85,7 @@ fn uniform_mirrors_match_their_wgsl_structs() {
                 [source_size, params, top_left, x_extent, y_extent, camera, view_proj0, view_proj1, view_z]
             ),
         ),
-        (subsurface, "SubsurfaceFrame", mirror_layout!(SubsurfaceFrame, [dims, camera, shape, kernel])),
+        (&subsurface, "SubsurfaceFrame", mirror_layout!(SubsurfaceFrame, [dims, camera, shape, kernel])),
     ];
     let bad: Vec<String> = mirrors
         .iter()

@@ -18,8 +18,8 @@ use shadematrix::shading::registry::Sliders;
 use shadematrix::shading::twin::{SUBSURFACE_MASK_SLOT, SUBSURFACE_SLOT, TRANSMISSION_SLOT};
 
 /// A 96×64 frame through a 10° lens: a plane 0.25 m away tilted across x, a step 3 cm nearer in
-/// its right third, and a gap of no SSS pixels; the light falls off across x with a hard shadow
-/// edge, the albedo varies.
+/// its right third, a gap of no SSS pixels and bottom rows far away; the light falls off across x
+/// with a hard shadow edge, the albedo varies.
 fn synthetic(frame: &SubsurfaceFrame) -> (Vec<[f32; 4]>, Vec<[f32; 4]>, Vec<f32>) {
     let (w, h) = (frame.dims[0] as usize, frame.dims[1] as usize);
     let (near, far) = (frame.camera[0] as f64, frame.camera[1] as f64);
@@ -31,6 +31,10 @@ fn synthetic(frame: &SubsurfaceFrame) -> (Vec<[f32; 4]>, Vec<[f32; 4]>, Vec<f32>
             let mut z = 0.25 + 0.04 * (u - 0.5) + 0.01 * (y as f64 / h as f64);
             if u > 0.66 {
                 z -= 0.03;
+            }
+            // The bottom rows lie 30 m away, where a pixel spans 9 cm: no sample, the light kept.
+            if y >= 60 {
+                z = 30.0;
             }
             let gap = (10..14).contains(&y);
             let lit = if u < 0.4 { 2.0 } else { 0.3 } * (1.0 + 0.3 * (y as f64 * 0.2).sin());
@@ -46,7 +50,7 @@ fn synthetic(frame: &SubsurfaceFrame) -> (Vec<[f32; 4]>, Vec<[f32; 4]>, Vec<f32>
 #[test]
 fn gpu_subsurface_filter_matches_its_twin_on_the_same_buffers() {
     let _timer = crate::common::timed!();
-    let camera = Camera { position: [0.0, 0.0, 0.0], target: [0.0, 0.0, -1.0], fov_y_deg: 10.0, near: 0.05, far: 20.0 };
+    let camera = Camera { position: [0.0, 0.0, 0.0], target: [0.0, 0.0, -1.0], fov_y_deg: 10.0, near: 0.05, far: 50.0 };
     let plan =
         SubsurfacePlan { profile: DiffusionProfile::hdrp_default(), mask: 1.0, sample_budget: SAMPLE_BUDGET_MEDIUM };
     let frame = SubsurfaceFrame::new(&camera, (96, 64), &plan);
@@ -68,6 +72,10 @@ fn gpu_subsurface_filter_matches_its_twin_on_the_same_buffers() {
     eprintln!("subsurface filter GPU vs twin: worst {worst:.2e} over {compared} pixels ({borderline} borderline)");
     assert!(worst <= 1e-4, "{worst}");
     assert!(borderline * 20 < got.len(), "{borderline} pixels with a sample on a pixel boundary");
+    // Where the filter takes no sample a pixel keeps its split light (√albedo·E) × √albedo.
+    let (d, a) = (diffuse[62 * 96 + 20][0] as f64, albedo[62 * 96 + 20][0] as f64);
+    assert!((twin[62 * 96 + 20].light.x - d * a.sqrt()).abs() < 1e-12 * d, "{:?}", twin[62 * 96 + 20]);
+    assert!((got[62 * 96 + 20][0] as f64 - d * a.sqrt()).abs() < 1e-6 * d);
     // The gap holds no split lighting: nothing is added there.
     assert!(got[12 * 96 + 40].iter().take(3).all(|v| *v == 0.0));
     // Across the shadow edge the light spreads both ways: the first dark column gains, the last
@@ -129,20 +137,26 @@ fn the_type_splits_the_diffuse_light_and_blurs_it_across_the_terminator() {
             cell.surface.params[SUBSURFACE_SLOT] = 1.0;
             cell.surface.params[SUBSURFACE_MASK_SLOT] = mask;
         }
+        // Mask 0 leaves the filter out, with the reason: no pixel's light moves.
         let plan = renderer.plan(&prepared, &cell).unwrap();
-        assert_eq!(plan.has(Pass::SubsurfaceScattering), sss.is_some());
-        assert_eq!(plan.has(Pass::SubsurfaceLighting), sss.is_some());
+        let filters = sss.is_some_and(|mask| mask > 0.0);
+        assert_eq!(plan.has(Pass::SubsurfaceScattering), filters);
+        assert_eq!(plan.has(Pass::SubsurfaceLighting), filters);
+        let why = plan.left_out.iter().find(|(what, _)| what == Pass::SubsurfaceScattering.name());
+        assert_eq!(why.is_some(), sss == Some(0.0), "{why:?}");
         let hdr = renderer.render(&prepared, &cell, 1, 0).unwrap().hdr;
         hdr.chunks(4).map(|p| DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64)).collect::<Vec<_>>()
     };
     let translucent = render(None);
     let unblurred = render(Some(0.0));
     let scattered = render(Some(1.0));
-    // Mask 0: the filter keeps each pixel's light, √albedo·√albedo = albedo, the specular apart.
+    // Mask 0: drawn unsplit, the Translucent image.
     let peak = translucent.iter().map(|p| p.max_element()).fold(0.0, f64::max);
     let worst = translucent.iter().zip(&unblurred).map(|(a, b)| (*a - *b).abs().max_element()).fold(0.0, f64::max);
     eprintln!("mask 0 against Translucent: worst |Δ| {worst:.2e} of a peak {peak:.3}");
     assert!(peak > 0.0 && worst <= 1e-5 * peak, "{worst} of {peak}");
+    // Mask 1, where the filter runs: away from the terminator the split light comes back whole
+    // (√albedo before the filter, √albedo after), so only the light the blur moves differs.
     // Mask 1: the light falls from +x, so the terminator runs down the middle column; the blur
     // carries light across it, brightening the dark side next to it (averaged over the middle
     // rows: the random rotation leaves per-pixel noise, which HDRP's TAA would average), while the

@@ -63,7 +63,8 @@ impl SubsurfacePipeline {
     pub fn new(gpu: &GpuContext) -> Result<SubsurfacePipeline, Error> {
         let device = &gpu.device;
         let name = Pass::SubsurfaceScattering.name();
-        let module = gpu.shader_module(name, include_str!("../../../shaders/pass/subsurface.wgsl"))?;
+        let source = crate::shading::wgsl::with_math(include_str!("../../../shaders/pass/subsurface.wgsl"));
+        let module = gpu.shader_module(name, &source)?;
         use crate::render::resources::compute_entry::{constants, float_2d, storage_2d};
         // The depth as an unfilterable float texture: a Depth32Float view binds there too (WebGPU's
         // depth formats are compatible with it), and a test feeds an R32Float one.
