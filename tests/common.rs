@@ -56,6 +56,15 @@ pub fn write_matrix(dir: &Path, name: &str, body: &str) -> PathBuf {
 }
 
 /// The built-in models, built once for the tests.
+/// A scene from its TOML text, loaded as a file named `name`.toml would be (from a folder that
+/// goes away once it is read).
+pub fn scene_from_text(name: &str, text: &str) -> shadematrix::declarations::scene::Scene {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join(format!("{name}.toml"));
+    std::fs::write(&path, text).unwrap();
+    shadematrix::declarations::scene::Scene::load_file(&path).unwrap()
+}
+
 pub fn models() -> &'static shadematrix::shading::Registry {
     static MODELS: std::sync::OnceLock<shadematrix::shading::Registry> = std::sync::OnceLock::new();
     MODELS.get_or_init(shadematrix::shading::Registry::builtin)

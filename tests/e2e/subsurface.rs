@@ -116,10 +116,7 @@ background = false
 bloom = false
 ssao = false
 "#;
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("close_sphere.toml");
-    std::fs::write(&path, text).unwrap();
-    Scene::load_file(&path).unwrap()
+    crate::common::scene_from_text("close_sphere", text)
 }
 
 #[test]

@@ -95,10 +95,7 @@ bloom = false
 ssao = false
 "#
     );
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("back_lit.toml");
-    std::fs::write(&path, text).unwrap();
-    Scene::load_file(&path).unwrap()
+    crate::common::scene_from_text("back_lit", &text)
 }
 
 /// The centre pixel of a translucent HDRP Lit sphere of `_Thickness` t.

@@ -15,10 +15,7 @@ fn white() -> Sliders {
 }
 
 fn scene_from(text: &str) -> Scene {
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("truth_scene.toml");
-    std::fs::write(&path, text).unwrap();
-    Scene::load_file(&path).unwrap()
+    crate::common::scene_from_text("truth_scene", text)
 }
 
 /// One directional light on a lone sphere, no environment and a black background.
