@@ -299,11 +299,16 @@ fn is_textured() -> bool {
     return object.material.params.w > 0.5;
 }
 
-fn material_from(uv: vec2<f32>, albedo: vec4<f32>, mask: vec4<f32>) -> Surface {
-    var m = object.material;
+// The drawn object's material: the swept one for the subject, the object's own else
+fn drawn_material() -> Material {
     if (object.flags.x == 1u) {
-        m = frame.subject;
+        return frame.subject;
     }
+    return object.material;
+}
+
+fn material_from(uv: vec2<f32>, albedo: vec4<f32>, mask: vec4<f32>) -> Surface {
+    let m = drawn_material();
     material_occlusion = select(1.0, mask.g, is_textured());
     material_alpha = alpha_from_maps(m, albedo.a, is_textured());
     material_cutoff = m.specular.w;
@@ -776,7 +781,7 @@ fn forward_fragment(in: VertexOut, front: bool) -> ShadedFragment {
     let uv = parallax_uv(in.uv, in.view_ts);
     let n = mapped_normal(shading_normal(in.normal, face, in.world_pos, front), in.tangent, uv);
     var out: FragmentOut;
-    var s = material_at(uv);
+    var s = carried_specular(material_at(uv), drawn_material());
     s.tangent = in.tangent.xyz;
     var glow = vec3<f32>(0.0);
     if (FORWARD_PASS != FORWARD_ADD) {
@@ -958,7 +963,10 @@ fn fs_gbuffer(in: VertexOut, @builtin(front_facing) front: bool) -> GBufferOut {
     lightmap_uv = in.uv2;
     let uv = parallax_uv(in.uv, in.view_ts);
     let n = mapped_normal(shading_normal(in.normal, cross(dpdx(in.world_pos), dpdy(in.world_pos)), in.world_pos, front), in.tangent, uv);
-    var s = material_at(uv);
+    // The G-buffer keeps the metallic workflow's colour and metallic (Unity's keep the specular
+    // colour itself; the deferred lighting carries the workflow over from them, `fs_deferred`).
+    let written = material_at(uv);
+    var s = carried_specular(written, drawn_material());
     s.tangent = in.tangent.xyz;
     let v = normalize(frame.camera_pos.xyz - in.world_pos);
     shading_position = in.world_pos;
@@ -972,11 +980,11 @@ fn fs_gbuffer(in: VertexOut, @builtin(front_facing) front: bool) -> GBufferOut {
     let gi = object_ambient(n) + max(sh_eval(object.light_sh, n), vec3<f32>(0.0));
     var out: GBufferOut;
     // a: the tangent's angle about N, for HDRP Lit's anisotropy (HDRP's GBuffer2 keeps it so)
-    out.albedo = vec4<f32>(s.base_color, encode_tangent_angle(n, s.tangent));
+    out.albedo = vec4<f32>(written.base_color, encode_tangent_angle(n, s.tangent));
     // w: lightmapped (URP's kMaterialFlagSubtractiveMixedLighting where the scene is Subtractive)
     // z: the pixel's SSAO visibility, for URP's lighting passes' direct factor (the R8 value
     // StencilDeferred samples, at the same 8 bits)
-    out.material = vec4<f32>(s.metallic, s.smoothness, screen_ao, select(0.0, 1.0, object.bake.x > 1.5));
+    out.material = vec4<f32>(written.metallic, s.smoothness, screen_ao, select(0.0, 1.0, object.bake.x > 1.5));
     // The object's baked occlusion per shadow-mask channel (built-in's RT4: UnityGetRawBakedOcclusions)
     out.shadow_mask = baked_occlusions();
     out.normal = vec4<f32>(n * 0.5 + 0.5, f32(object.flags.w));
@@ -1070,6 +1078,7 @@ fn fs_deferred(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     s.params0 = m.model0;
     s.params1 = m.model1;
     s.params2 = m.model2;
+    s = carried_specular(s, m);
     // Built-in's Internal-DeferredShading lights the G-buffer with BRDF1 compiled without the
     // material's keywords: Standard's _SPECULARHIGHLIGHTS_OFF (params0.y) does not reach it
     // (fragDeferred writes no such flag); URP's G-buffer carries it.

@@ -28,8 +28,8 @@ struct ShadowLayer {
 struct Material {
     base_color: vec4<f32>,   // linear
     params: vec4<f32>,       // metallic (as the shader receives it), smoothness, checker cell (0: none), w: maps (the subject: 1; a fixed object: 1 + its slot in fixed_maps; 0: none)
-    checker_color: vec4<f32>,
-    specular: vec4<f32>,     // the model's specular colour
+    checker_color: vec4<f32>, // w: 1 where the specular workflow is carried over per texel (`carried_specular`)
+    specular: vec4<f32>,     // the model's specular colour (the dielectric F0 where checker_color.w is 1)
     model0: vec4<f32>,       // the model's parameters, slots 0–3
     model1: vec4<f32>,       // slots 4–7
     model2: vec4<f32>,       // slots 8–11
@@ -425,7 +425,7 @@ fn set_light_lobes(light: Light) {
 
 // The Surface a model receives from a material at uv (its checkerboard applied), modulated by the
 // material maps' texels when textured: the albedo map (mean 1) multiplies the colour, the mask's r
-// the metallic, its a − 0.5 offsets the smoothness.
+// moves the metallic (`metallic_from_mask`), its a − 0.5 offsets the smoothness.
 fn surface_from(m: Material, uv: vec2<f32>, albedo: vec4<f32>, mask: vec4<f32>, textured: bool) -> Surface {
     var s: Surface;
     s.base_color = m.base_color.rgb;
@@ -443,10 +443,36 @@ fn surface_from(m: Material, uv: vec2<f32>, albedo: vec4<f32>, mask: vec4<f32>, 
     }
     if (textured) {
         s.base_color *= albedo.rgb;
-        s.metallic *= mask.r;
+        s.metallic = metallic_from_mask(s.metallic, mask.r);
         s.smoothness = smoothness_from_maps(m, s.smoothness, albedo.a, mask.a);
     }
     return s;
+}
+
+// The metallic with the mask's r (materials::metallic_from_mask): r ≤ 1 scales the slider's value
+// (a glTF's metallicFactor × texture, HDRP's remap to [0, slider]), r > 1 moves it towards 1 (bare
+// metal where a preset's paint chipped off, HDRP's remap to [slider, 1]); r = 1 keeps the slider's
+fn metallic_from_mask(metallic: f32, r: f32) -> f32 {
+    if (r <= 1.0) {
+        return metallic * r;
+    }
+    return metallic + (1.0 - metallic) * min(r - 1.0, 1.0);
+}
+
+// The specular workflow carried over texel by texel where the maps vary the metallic (the preset's
+// specular map, Standard's _SpecGlossMap, URP's _SpecGlossMap, HDRP's _SpecularColorMap): the
+// material holds the metallic workflow's colour and metallic and, in specular.rgb, the dielectric
+// F0; specular colour lerp(F0, colour, metallic), albedo colour·(1 − metallic), metallic 0, as
+// shading::registry::apply_workflow_with does per cell
+fn carried_specular(s: Surface, m: Material) -> Surface {
+    if (m.checker_color.w < 0.5) {
+        return s;
+    }
+    var c = s;
+    c.specular = mix(m.specular.rgb, s.base_color, s.metallic);
+    c.base_color = s.base_color * (1.0 - s.metallic);
+    c.metallic = 0.0;
+    return c;
 }
 
 // The smoothness with maps: the mask's offset added to the slider's, or where the material reads

@@ -135,6 +135,7 @@ fn surface_at(hit: Hit, d: vec3<f32>) -> SurfacePoint {
         let d = textureSampleLevel(material_detail, material_sampler, sp.uv * DETAIL_TILING, 0.0);
         sp.s.base_color = hdrp_detail_albedo(sp.s.base_color, d.w, mask.b);
     }
+    sp.s = carried_specular(sp.s, m);
     sp.s.tangent = (a.tangent * b0 + b.tangent * hit.b1 + c.tangent * hit.b2).xyz;
     // The subject's emission where its model emits; a fixed object's own (zero for most).
     sp.emission = m.emission.rgb * glow;

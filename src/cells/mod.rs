@@ -167,6 +167,30 @@ impl Cell {
 
     /// The subject's material as this cell's model receives it, with the swept parameters.
     pub fn surface(&self) -> Surface {
+        let (mut s, f0) = self.metallic_workflow_surface();
+        crate::shading::registry::apply_workflow_with(self.model(), &mut s, f0);
+        // The specular axis's colour where the model reads one (Unity's _SpecColor), in place of
+        // the workflow's F0 or the model's own mapping.
+        if let Some(srgb) = self.specular.filter(|_| self.model().reads_specular(&s.params)) {
+            s.specular = glam::DVec3::from(srgb.map(crate::color::srgb_to_linear));
+        }
+        s
+    }
+
+    /// What `surface` carries the specular workflow over from, where it does and no specular
+    /// axis replaces the colour it carries (so maps that vary the metallic carry it over texel by
+    /// texel, as a specular map authored from them would).
+    pub fn workflow_source(&self) -> Option<crate::shading::registry::WorkflowSource> {
+        let (s, f0) = self.metallic_workflow_surface();
+        if self.specular.is_some() && self.model().reads_specular(&s.params) {
+            return None;
+        }
+        crate::shading::registry::workflow_source(self.model(), &s, f0)
+    }
+
+    /// The subject's material with the swept parameters, before the specular workflow (if on)
+    /// carries it over, and the dielectric F0 it would carry it over with.
+    fn metallic_workflow_surface(&self) -> (Surface, glam::DVec3) {
         let mut s = self.model().surface(self.pipeline, &self.sliders());
         // A glTF's KHR_materials_specular is the specular workflow with its dielectric F0, unless
         // the matrix sweeps the workflow itself.
@@ -183,14 +207,7 @@ impl Cell {
                 s.params[spec.slot] = 1.0;
             }
         }
-        let f0 = dielectric.map_or(glam::DVec3::splat(0.04), glam::DVec3::from);
-        crate::shading::registry::apply_workflow_with(self.model(), &mut s, f0);
-        // The specular axis's colour where the model reads one (Unity's _SpecColor), in place of
-        // the workflow's F0 or the model's own mapping.
-        if let Some(srgb) = self.specular.filter(|_| self.model().reads_specular(&s.params)) {
-            s.specular = glam::DVec3::from(srgb.map(crate::color::srgb_to_linear));
-        }
-        s
+        (s, dielectric.map_or(glam::DVec3::splat(0.04), glam::DVec3::from))
     }
 
     pub fn model(&self) -> &ShaderModel {

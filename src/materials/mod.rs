@@ -6,10 +6,15 @@
 //! The maps modulate the cell's own material rather than replace it: the albedo map has a linear
 //! mean of exactly 1 per channel and the smoothness offset a mean of 0, so the flat preset is the
 //! mean of its textured form whatever the sliders set (Unity's albedo map × `_Color` tint, with
-//! the tint the flat colour). Metallic does not vary (chips expose primer, scratches stay metal),
-//! so the metallic/smoothness map of built-in and URP and HDRP's mask map (R metallic, G occlusion,
-//! B detail mask, A smoothness) carry the same values in their layouts; one RGBA mask in HDRP's
-//! layout holds them here. Written by hand: the patterns are the tool's own, on a small value
+//! the tint the flat colour). The metallic map keeps the slider's value (r = 1) except where bare
+//! metal shows (the blue paint's chips): there r = 1 + the share of metal moves it towards 1
+//! (`metallic_from_mask`, as HDRP's metallic remap [slider, 1] does; built-in's and URP's
+//! `_MetallicGlossMap` would hold the result), so that preset's textured form is more metallic
+//! than its flat one by the chips' share. The metallic/smoothness map of built-in and URP and
+//! HDRP's mask map (R metallic, G occlusion, B detail mask, A smoothness) carry the same values in
+//! their layouts; one RGBA mask in HDRP's layout holds them here. In the specular workflow the
+//! shaders carry the metallic map over texel by texel (the specular map an artist would bake from
+//! it: scene.wgsl `carried_specular`). Written by hand: the patterns are the tool's own, on a small value
 //! noise, and no crate generates material maps.
 
 pub mod detail;
@@ -39,7 +44,7 @@ pub struct MapLevel {
     /// from, what built-in's and URP's `_ParallaxMap` holds in G), `NO_HEIGHT` where the material
     /// has none.
     pub normal: Vec<[f32; 4]>,
-    /// HDRP mask layout: r metallic multiplier (1), g occlusion, b detail mask (`detail::mask_at`),
+    /// HDRP mask layout: r metallic (`metallic_from_mask`: 1 the slider's), g occlusion, b detail mask (`detail::mask_at`),
     /// a smoothness offset stored as 0.5 + offset.
     pub mask: Vec<[f32; 4]>,
     /// Emission multiplier (linear); empty where the material has no emission map.
@@ -62,6 +67,9 @@ pub struct Texel {
     pub occlusion: f64,
     /// Smoothness offset before its mean is removed.
     pub smoothness: f64,
+    /// How much bare metal shows (0..1): the metallic moves from the slider's towards 1
+    /// (`metallic_from_mask`, the mask's r = 1 + this).
+    pub bare_metal: f64,
 }
 
 impl MaterialMaps {
@@ -126,13 +134,25 @@ pub fn generate(preset: &str, size: usize) -> MaterialMaps {
         ]);
         level.normal.push([(-du / len) as f32, (-dv / len) as f32, (1.0 / len) as f32, height(t.height)]);
         level.mask.push([
-            1.0,
+            (1.0 + t.bare_metal.clamp(0.0, 1.0)) as f32,
             t.occlusion.clamp(0.0, 1.0) as f32,
             detail::mask_at((x as f64 + 0.5) / size as f64, (y as f64 + 0.5) / size as f64) as f32,
             (0.5 + t.smoothness - mean_s).clamp(0.0, 1.0) as f32,
         ]);
     }
     with_mips(level)
+}
+
+/// The metallic a map's texel gives (the f64 twin of scene.wgsl `metallic_from_mask`): the mask's
+/// r at or below 1 scales the slider's value (a glTF's metallicFactor × its texture; HDRP's remap
+/// to [0, slider]), above 1 moves it towards 1 (bare metal showing through, HDRP's remap to
+/// [slider, 1]), so r = 1 keeps the slider's value whatever it is.
+pub fn metallic_from_mask(metallic: f64, r: f64) -> f64 {
+    if r <= 1.0 {
+        metallic * r
+    } else {
+        metallic + (1.0 - metallic) * (r - 1.0).min(1.0)
+    }
 }
 
 /// ParallaxOffset1Step (built-in UnityCG.cginc, URP ParallaxMapping.hlsl): the uv shift of a
@@ -211,6 +231,17 @@ mod tests {
     use super::*;
 
     #[test]
+    fn the_metallic_map_scales_below_one_and_moves_towards_metal_above() {
+        for m in [0.0, 0.3, 1.0] {
+            assert_eq!(metallic_from_mask(m, 1.0), m, "r = 1 keeps the slider's");
+            assert_eq!(metallic_from_mask(m, 0.0), 0.0);
+            assert_eq!(metallic_from_mask(m, 2.0), 1.0, "full bare metal");
+            assert!((metallic_from_mask(m, 0.5) - 0.5 * m).abs() < 1e-15, "a glTF's factor × texture");
+            assert!((metallic_from_mask(m, 1.5) - (m + 1.0) / 2.0).abs() < 1e-15, "HDRP's remap [m, 1] at ½");
+        }
+    }
+
+    #[test]
     fn every_preset_has_maps_whose_means_are_the_flat_preset() {
         for p in crate::declarations::presets::PRESETS {
             let maps = generate(p.name, MAP_SIZE);
@@ -222,6 +253,16 @@ mod tests {
             }
             let s: f64 = l0.mask.iter().map(|t| t[3] as f64 - 0.5).sum::<f64>() / n;
             assert!(s.abs() < 2e-3, "{}: smoothness offset mean {s}", p.name);
+            // The metallic map keeps the slider's value but where bare metal shows.
+            let metal: f64 = l0.mask.iter().map(|t| t[0] as f64 - 1.0).sum::<f64>() / n;
+            assert!(l0.mask.iter().all(|t| (1.0..=2.0).contains(&t[0])), "{}", p.name);
+            match p.name {
+                "blue_paint" => {
+                    println!("blue_paint: bare metal over {:.2} % of the tile", 100.0 * metal);
+                    assert!(metal > 0.01 && metal < 0.1, "the chips: {metal}");
+                }
+                _ => assert_eq!(metal, 0.0, "{}", p.name),
+            }
             // Detail: the albedo or the normal varies.
             let spread = l0.albedo.iter().map(|t| (t[0] as f64 - 1.0).abs()).fold(0.0, f64::max)
                 + l0.normal.iter().map(|t| 1.0 - t[2] as f64).fold(0.0, f64::max);

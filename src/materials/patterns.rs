@@ -1,8 +1,8 @@
 //! The twelve presets' surface patterns on the unit tile (u, v ∈ [0, 1), tileable): wood grain,
 //! brick courses with mortar, marble veins, fabric weave, concrete noise, cracked withered wood,
 //! brushed aluminium, scratched gold and silver, plastic with fine noise, rubber with tread, painted
-//! metal with chips. Each gives an albedo multiplier, a height, occlusion and a smoothness offset;
-//! `super::generate` normalises the means.
+//! steel with chips down to the metal. Each gives an albedo multiplier, a height, occlusion, a
+//! smoothness offset and where bare metal shows; `super::generate` normalises the means.
 
 use std::f64::consts::TAU;
 
@@ -53,7 +53,7 @@ fn grey(a: f64) -> [f64; 3] {
 }
 
 fn texel(albedo: [f64; 3], height: f64, occlusion: f64, smoothness: f64) -> Texel {
-    Texel { albedo, height, occlusion, smoothness }
+    Texel { albedo, height, occlusion, smoothness, bare_metal: 0.0 }
 }
 
 fn wood(u: f64, v: f64) -> Texel {
@@ -156,13 +156,14 @@ fn rubber(u: f64, v: f64) -> Texel {
 }
 
 fn painted_chips(u: f64, v: f64) -> Texel {
-    // Chips: where the paint came off, the primer shows (grey, rougher, recessed).
-    let chip = ((fbm(u, v, 8, 121) - 0.66) / 0.03).clamp(0.0, 1.0);
+    // Chips: where the paint came off, the steel under it shows (metal, rougher, recessed).
+    let chip = ((fbm(u, v, 8, 121) - 0.70) / 0.03).clamp(0.0, 1.0);
     let orange_peel = noise(u, v, 96, 122);
-    // Primer grey against the blue paint: relatively much more red and green.
-    let primer = [6.0, 5.0, 0.9];
-    let albedo = [0, 1, 2].map(|c| (1.0 - chip) * (0.97 + 0.06 * orange_peel) + chip * primer[c]);
-    texel(albedo, -0.5 * chip + 0.03 * orange_peel, 1.0 - 0.1 * chip, -0.4 * chip)
+    // Steel's F0 (0.56, 0.57, 0.58, the metal reflectance charts' iron) against the blue paint's
+    // (0.040, 0.047, 0.305): relatively much more red and green.
+    let steel = [0.56 / 0.040, 0.57 / 0.047, 0.58 / 0.305];
+    let albedo = [0, 1, 2].map(|c| (1.0 - chip) * (0.97 + 0.06 * orange_peel) + chip * steel[c]);
+    Texel { bare_metal: chip, ..texel(albedo, -0.5 * chip + 0.03 * orange_peel, 1.0 - 0.1 * chip, -0.25 * chip) }
 }
 
 /// The pattern of a preset (the presets' names, spec presets.md); an unknown name gets plastic's.

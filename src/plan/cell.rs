@@ -76,6 +76,7 @@ impl<'a> CellParams<'a> {
                 ambient_intensity: cell.ambient_intensity,
                 exact: Default::default(),
                 surface: cell.surface_options(),
+                carried_workflow: cell.workflow_source(),
             },
         }
     }
@@ -103,6 +104,9 @@ pub struct CellSettings {
     pub exact: ExactAlternatives,
     /// The subject's surface type, alpha and cutoff.
     pub surface: crate::pipelines::surface::SurfaceOptions,
+    /// Where the subject's specular workflow is carried over from its metallic workflow (and no
+    /// specular axis sets the colour), what from: with maps, the shaders carry it over per texel.
+    pub carried_workflow: Option<crate::shading::registry::WorkflowSource>,
 }
 
 /// The samples per pixel a cell renders with, and why they differ from what it asked, if they do.

@@ -272,6 +272,16 @@ fn frame_uniforms(
     frame.subject.params[3] = if cell.settings.material_maps.is_some() { 1.0 } else { 0.0 };
     frame.subject.base_color[3] = cell.settings.surface.alpha as f32;
     frame.subject.specular[3] = cell.settings.surface.clip_threshold() as f32;
+    if let Some(w) = cell.settings.carried_workflow.filter(|_| cell.settings.material_maps.is_some()) {
+        // Maps may vary the metallic: the shaders carry the workflow over texel by texel
+        // (scene.wgsl `carried_specular`) from the metallic workflow's values and the F0.
+        let c = w.base_color.as_vec3();
+        frame.subject.base_color = [c.x, c.y, c.z, frame.subject.base_color[3]];
+        frame.subject.params[0] = w.metallic as f32;
+        let f0 = w.dielectric.as_vec3();
+        frame.subject.specular = [f0.x, f0.y, f0.z, frame.subject.specular[3]];
+        frame.subject.checker_color[3] = 1.0;
+    }
     if cell.model.emits() {
         // Emissive radiance: the subject's colour (or own emissive colour) × the axis, in the
         // pipeline's light units.

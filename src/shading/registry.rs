@@ -318,17 +318,34 @@ pub fn apply_workflow(model: &ShaderModel, s: &mut Surface) {
     apply_workflow_with(model, s, DVec3::splat(0.04));
 }
 
+/// What the specular workflow is carried over from, kept for the shader to carry it over texel by
+/// texel where maps vary the metallic (scene.wgsl `carried_specular`): the metallic workflow's
+/// colour and metallic (as the shader receives it) and the dielectric F0.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WorkflowSource {
+    pub base_color: DVec3,
+    pub metallic: f64,
+    pub dielectric: DVec3,
+}
+
+/// The surface's `WorkflowSource` where `apply_workflow_with` would carry it over (the model's
+/// `specular_setup` on), before it does.
+pub fn workflow_source(model: &ShaderModel, s: &Surface, dielectric: DVec3) -> Option<WorkflowSource> {
+    let spec = model.params.iter().find(|p| p.name == "specular_setup")?;
+    (s.params[spec.slot] >= 0.5).then_some(WorkflowSource {
+        base_color: s.base_color,
+        metallic: s.metallic,
+        dielectric,
+    })
+}
+
 /// `apply_workflow` with the dielectric F0 `dielectric` in place of 0.04 (a glTF's
 /// KHR_materials_specular: min(0.04·specularColorFactor, 1)·specularFactor; its F90 weight,
 /// specularFactor, has no counterpart in the engines, whose F90 is 1).
 pub fn apply_workflow_with(model: &ShaderModel, s: &mut Surface, dielectric: DVec3) {
-    let Some(spec) = model.params.iter().find(|p| p.name == "specular_setup") else { return };
-    if s.params[spec.slot] < 0.5 {
-        return;
-    }
-    let colour = s.base_color;
-    s.specular = dielectric.lerp(colour, s.metallic);
-    s.base_color = colour * (1.0 - s.metallic);
+    let Some(w) = workflow_source(model, s, dielectric) else { return };
+    s.specular = w.dielectric.lerp(w.base_color, w.metallic);
+    s.base_color = w.base_color * (1.0 - w.metallic);
     s.metallic = 0.0;
 }
 

@@ -28,6 +28,7 @@ mod layouts;
 mod lights;
 mod lod;
 mod materials;
+mod metallic_maps;
 mod models;
 mod parallax;
 pub mod passes;

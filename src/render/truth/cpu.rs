@@ -486,6 +486,19 @@ fn surface_from(m: &GpuMaterial, uv: DVec2) -> Surface {
     s
 }
 
+/// scene.wgsl `carried_specular`: the specular workflow carried over texel by texel where the
+/// material says so (checker_color.w), from the metallic workflow's colour and metallic and the
+/// dielectric F0 in `specular`.
+fn carried_specular(s: &mut Surface, m: &GpuMaterial) {
+    if m.checker_color[3] < 0.5 {
+        return;
+    }
+    let dielectric = v3(m.specular);
+    s.specular = dielectric.lerp(s.base_color, s.metallic);
+    s.base_color *= 1.0 - s.metallic;
+    s.metallic = 0.0;
+}
+
 // ---- Sampling the surface: rays.wgsl, cosine or GGX visible normals (Heitz 2018).
 
 fn basis(n: DVec3) -> [DVec3; 3] {
@@ -720,7 +733,7 @@ impl<'a> Tracer<'a> {
                 let b = crate::materials::detail::hdrp_detail_albedo(s.base_color.to_array(), d, m);
                 s.base_color = DVec3::from(b);
             }
-            s.metallic *= mask[0];
+            s.metallic = crate::materials::metallic_from_mask(s.metallic, mask[0]);
             // scene.wgsl `smoothness_from_maps`: the albedo's alpha × the slider under Source =
             // Albedo Alpha, else the mask's offset.
             s.smoothness = match m.emission[3] > 0.5 {
@@ -732,6 +745,7 @@ impl<'a> Tracer<'a> {
             let w = a.tangent[3] as f64 * b0 + b.tangent[3] as f64 * hit.b1 + c.tangent[3] as f64 * hit.b2;
             n = tangent_to_world(n, t, w, DVec3::new(normal[0], normal[1], normal[2]));
         }
+        carried_specular(&mut s, &m);
         if self.inputs.kind == TruthKind::SameBrdf {
             // HDRP Lit's anisotropy reads the tangent (truth.wgsl `surface_at`); the physical model none.
             s.tangent = lerp(a.tangent, b.tangent, c.tangent);
