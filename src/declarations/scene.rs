@@ -224,6 +224,15 @@ pub struct FixedMaterial {
     pub map_tiling: [f64; 2],
     #[serde(default, skip_serializing_if = "is_zero_offset")]
     pub map_offset: [f64; 2],
+    /// The surface type: `opaque` (the default) or `transparent` — Unity's Transparent queue with
+    /// Blending Mode Alpha and the specular lighting preserved (built-in Standard's Transparent,
+    /// URP Lit's and HDRP Lit's Transparent), the one every pipeline's lit shaders share without a
+    /// clip map: the window glass. Drawn after the opaque objects, back to front, writing no depth.
+    #[serde(default, skip_serializing_if = "is_opaque")]
+    pub surface: crate::pipelines::surface::SurfaceType,
+    /// The base colour's alpha (`_Color.a`, `_BaseColor.a`), which a transparent surface blends by.
+    #[serde(default = "one", skip_serializing_if = "is_one")]
+    pub alpha: f64,
     /// The base-colour map's SHA-256: serialised into keys, so that an edited image changes them.
     #[serde(default, skip_deserializing, skip_serializing_if = "String::is_empty")]
     pub map_digest: String,
@@ -246,13 +255,28 @@ impl FixedMaterial {
             map_offset: [0.0; 2],
             map_digest: String::new(),
             map_image: None,
+            surface: Default::default(),
+            alpha: 1.0,
         }
+    }
+
+    /// Whether the object is drawn in the Transparent queue.
+    pub fn is_transparent(&self) -> bool {
+        self.surface.is_transparent()
     }
 
     /// Whether the material samples maps.
     pub fn has_maps(&self) -> bool {
         self.base_color_map.is_some() || self.gltf_material.is_some()
     }
+}
+
+fn is_opaque(s: &crate::pipelines::surface::SurfaceType) -> bool {
+    *s == crate::pipelines::surface::SurfaceType::Opaque
+}
+
+fn is_one(x: &f64) -> bool {
+    *x == 1.0
 }
 
 fn is_black(c: &[f64; 3]) -> bool {
@@ -931,6 +955,26 @@ impl Scene {
                     c.color(&k("material.base_color_linear"), m.base_color_linear)?;
                     c.unit(&k("material.metallic"), m.metallic)?;
                     c.unit(&k("material.smoothness"), m.smoothness)?;
+                    c.unit(&k("material.alpha"), m.alpha)?;
+                    use crate::pipelines::surface::SurfaceType;
+                    if !matches!(m.surface, SurfaceType::Opaque | SurfaceType::Transparent) {
+                        return Err(c.err(
+                            &k("material.surface"),
+                            format!(
+                                "`{}` is not a fixed object's surface; allowed: opaque, transparent (the surface \
+                                 types every pipeline's lit shaders share without a clip map)",
+                                m.surface.name()
+                            ),
+                        ));
+                    }
+                    if m.is_transparent() && o.cast_shadows {
+                        return Err(c.err(
+                            &k("cast_shadows"),
+                            "a transparent fixed object casts no shadow here: set cast_shadows = false (as a \
+                             window's renderer has it; built-in casts a transparent surface dithered by its alpha, \
+                             URP and HDRP opaque, which this tool does not emulate)",
+                        ));
+                    }
                     if let Some(ch) = &m.checker {
                         c.color(&k("material.checker.color_linear"), ch.color_linear)?;
                         c.positive(&k("material.checker.cell"), ch.cell)?;

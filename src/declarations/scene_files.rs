@@ -30,9 +30,16 @@ impl Scene {
                 (0..).map(|k| if k == 0 { base.clone() } else { format!("{base}-{k}") }).find(|n| !used.contains(n));
             let name = name.unwrap_or(base);
             used.insert(name.clone());
+            // A BLEND material is a transparent one, casting no shadow (`Object::cast_shadows`).
+            let transparent = p.blend_alpha.is_some() && !p.subject;
             let material = (!p.subject).then(|| FixedMaterial {
                 emission_linear: p.emissive,
                 gltf_material: p.textured_material.map(|index| GltfMaterialRef { path: spec.path.clone(), index }),
+                surface: match transparent {
+                    true => crate::pipelines::surface::SurfaceType::Transparent,
+                    false => crate::pipelines::surface::SurfaceType::Opaque,
+                },
+                alpha: p.blend_alpha.unwrap_or(1.0),
                 ..FixedMaterial::flat(p.base_color, p.metallic, 1.0 - p.roughness)
             });
             self.objects.push(Object {
@@ -41,7 +48,7 @@ impl Scene {
                 mesh: MeshSpec::GltfPrimitive { path: spec.path.clone(), mesh: p.mesh, primitive: p.primitive },
                 transform: Transform { matrix: Some(p.world), ..Default::default() },
                 material,
-                cast_shadows: true,
+                cast_shadows: !transparent,
                 receive_shadows: true,
                 render_face: match p.double_sided {
                     true => crate::pipelines::surface::RenderFace::Both,

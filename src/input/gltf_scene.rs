@@ -32,6 +32,8 @@ pub struct ScenePrimitive {
     pub textured_material: Option<usize>,
     /// The material's `doubleSided`: both faces drawn.
     pub double_sided: bool,
+    /// `alphaMode` BLEND: the base colour factor's alpha, which the object is blended by.
+    pub blend_alpha: Option<f64>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -149,6 +151,7 @@ fn visit(
                 emissive: m.emissive_factor().map(|e| e as f64 * m.emissive_strength().unwrap_or(1.0) as f64),
                 textured_material: m.index().filter(|_| textured),
                 double_sided: m.double_sided(),
+                blend_alpha: (m.alpha_mode() == gltf::material::AlphaMode::Blend).then_some(c[3] as f64),
             });
         }
     }

@@ -160,6 +160,9 @@ pub struct MeshSlot {
     pub cast_shadows: bool,
     /// The faces its pipelines draw (`Object::render_face`).
     pub render_face: crate::pipelines::surface::RenderFace,
+    /// A fixed object in the Transparent queue (its material's surface; the subject's queue is
+    /// its cell's).
+    pub transparent: bool,
 }
 
 /// The composition's shadow array: per scene light its first layer when it casts shadows (a
@@ -202,6 +205,7 @@ impl SceneLayout {
                 lod_level: o.lod.as_ref().map(|_| 0),
                 cast_shadows: o.cast_shadows,
                 render_face: o.render_face,
+                transparent: o.material.as_ref().is_some_and(|m| m.is_transparent()),
             })
             .collect();
         let further: Vec<MeshSlot> =
@@ -310,6 +314,12 @@ pub struct CellPlan {
     /// The subject's screen-space subsurface scattering (`subsurface::subsurface`), where the
     /// frame splits its lighting and filters it.
     pub subsurface: Option<super::subsurface::SubsurfacePlan>,
+    /// Per mesh, whether it is in the Transparent queue, and the queue's drawn meshes in the order
+    /// it draws them (`draws::transparent_queue`).
+    pub transparent: Vec<bool>,
+    pub transparent_order: Vec<usize>,
+    /// The drawn fixed objects in the Transparent queue, by name (what the truth cannot trace).
+    pub transparent_fixed: Vec<String>,
 }
 
 impl CellPlan {
@@ -325,8 +335,21 @@ impl CellPlan {
         if let Some(why) = self.truth_unreachable() {
             return Some(format!("no truth: {why}, which no light transport does; the column is left empty"));
         }
+        if let Some(why) = self.untraceable_fixed() {
+            return Some(format!("no truth: {why}; the column is left empty"));
+        }
         let why = self.subject_untraceable.as_ref().filter(|_| same_brdf)?;
         Some(format!("no same-BRDF truth: {why}; the column is left empty"))
+    }
+
+    /// Why neither truth can trace this frame's fixed objects, if it cannot: a transparent one.
+    pub fn untraceable_fixed(&self) -> Option<String> {
+        let name = self.transparent_fixed.first()?;
+        Some(format!(
+            "the fixed object `{name}` is transparent, which the truth has no counterpart of (its reflection \
+             stays whole while its diffuse light fades, which no physical surface does; a path tracer's glass \
+             is another material)"
+        ))
     }
 
     /// The optional light-loop paths this cell's frame needs compiled in.
@@ -462,16 +485,34 @@ impl CellPlan {
                 ),
             ));
         }
+        let drawn: Vec<bool> = fades.iter().map(Option::is_some).collect();
+        let (transparent, transparent_order) = super::draws::transparent_queue(
+            layout,
+            DVec3::from(camera.position),
+            surface.kind.is_transparent(),
+            &drawn,
+        );
+        let transparent_fixed: Vec<String> = transparent_order
+            .iter()
+            .filter(|&&i| layout.meshes[i].role == Role::Fixed)
+            .map(|&i| layout.object_centres[layout.meshes[i].scene_index].0.clone())
+            .collect();
+        if frame.probes() && !transparent_fixed.is_empty() {
+            left_out.push((
+                format!("the transparent fixed objects ({}) in the reflection probes", transparent_fixed.join(", ")),
+                "the captures draw the opaque objects and the sky".to_string(),
+            ));
+        }
         let meshes: Vec<(usize, bool, &ShaderModel, bool, bool)> = layout
             .meshes
             .iter()
-            .zip(&fades)
-            .map(|(m, fade)| {
+            .enumerate()
+            .map(|(i, m)| {
                 let subject = m.role == Role::Subject;
                 let model = if subject { cell.model } else { fixed_model };
-                let deferrable = if subject { gbuffer.subject } else { gbuffer.fixed };
-                let transparent = subject && surface.kind.is_transparent();
-                (m.scene_index, fade.is_some(), model, deferrable, transparent)
+                // The engines cannot put a transparent surface in a G-buffer.
+                let deferrable = !transparent[i] && if subject { gbuffer.subject } else { gbuffer.fixed };
+                (m.scene_index, drawn[i], model, deferrable, transparent[i])
             })
             .collect();
         let draws = plan_draws(p, cell.settings.path, engine, &meshes, &assignment, main);
@@ -492,7 +533,7 @@ impl CellPlan {
             probes: frame.probes(),
             shadow_maps: frame.shadows() && !used_layers.is_empty(),
             ssao: ao.ssao.then_some(ao.method),
-            transparent_subject: surface.kind.is_transparent(),
+            transparent_queue: !transparent_order.is_empty(),
             traced_visibility: cell.settings.exact.visibility,
             bloom: frame.hdrp_bloom,
             subsurface: subsurface.is_some(),
@@ -534,6 +575,9 @@ impl CellPlan {
         }
         let alpha_to_coverage = super::draws::alpha_to_coverage(p, surface.kind, multisampling.samples);
         CellPlan {
+            transparent,
+            transparent_order,
+            transparent_fixed,
             subsurface,
             light_terms,
             subject_untraceable: cell.model.untraceable(&cell.surface.params),
@@ -650,6 +694,44 @@ mod tests {
 
     fn modes(plan: &CellPlan, mode: LightMode) -> usize {
         plan.assignment[0].lights.iter().filter(|u| u.mode == mode).count()
+    }
+
+    /// window_pane.toml with a second pane nearer the camera named before the first.
+    fn two_panes() -> Scene {
+        let text = std::fs::read_to_string(repo("tests/fixtures/window_pane.toml")).unwrap();
+        let upper = "[[objects]]\nname = \"upper\"\nrole = \"fixed\"\n\
+                     mesh = { kind = \"plane\", size = [0.4, 0.4], subdivisions = 1 }\n\
+                     transform = { translate = [0.1, 1.8, 0.0] }\n\
+                     material = { base_color_linear = [0.5, 0.5, 0.5], surface = \"transparent\", alpha = 0.5 }\n\
+                     cast_shadows = false\n\n";
+        let at = text.find("# Black and rough").unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("two_panes.toml");
+        std::fs::write(&path, format!("{}{upper}{}", &text[..at], &text[at..])).unwrap();
+        Scene::load_file(&path).unwrap()
+    }
+
+    #[test]
+    fn the_transparent_queue_is_drawn_back_to_front_and_forward() {
+        let scene = two_panes();
+        let names: Vec<&str> = scene.objects.iter().map(|o| o.name.as_str()).collect();
+        assert_eq!(names, ["plane", "upper", "pane"]);
+        for path in [RenderPath::Forward, RenderPath::Deferred] {
+            let plan = plan_of(&scene, Pipeline::Urp, path, ViewAxes::default(), 64);
+            // The lower pane is farther from the camera (1.6 m against 0.8 m): drawn first.
+            assert_eq!(plan.transparent, [false, true, true]);
+            assert_eq!(plan.transparent_order, [2, 1]);
+            assert_eq!(plan.transparent_fixed, ["pane", "upper"]);
+            assert!(plan.truth_gap(true).is_some_and(|why| why.contains("`pane` is transparent")));
+            let count = |kind: &str| plan.draws.counts.get(kind).copied().unwrap_or(0);
+            match path {
+                RenderPath::Deferred => {
+                    assert!(plan.has(Pass::Transparent));
+                    assert_eq!((count(Pass::GBuffer.name()), count(Pass::Transparent.name())), (1, 2));
+                }
+                _ => assert_eq!(count(Pass::Forward.name()), 3, "{:?}", plan.draws.counts),
+            }
+        }
     }
 
     #[test]

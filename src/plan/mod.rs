@@ -58,7 +58,7 @@ impl FramePlan {
         path: RenderPath,
         pipeline: Pipeline,
         engine: &crate::pipelines::settings::PipelineSettings,
-        transparent_subject: bool,
+        transparent_queue: bool,
     ) -> Vec<Pass> {
         frame_passes(PassInputs {
             pipeline,
@@ -66,7 +66,7 @@ impl FramePlan {
             probes: self.probes(),
             shadow_maps: self.shadows(),
             ssao: self.occludes(path, pipeline, engine),
-            transparent_subject,
+            transparent_queue,
             traced_visibility: false,
             bloom: self.hdrp_bloom,
             subsurface: false,

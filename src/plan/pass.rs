@@ -135,8 +135,8 @@ pub struct PassInputs {
     pub shadow_maps: bool,
     /// The SSAO the pipeline renders on this path, if any (`FramePlan::occludes`).
     pub ssao: Option<super::ao::SsaoMethod>,
-    /// The subject is in the Transparent queue.
-    pub transparent_subject: bool,
+    /// Some drawn mesh is in the Transparent queue (`draws::transparent_queue`).
+    pub transparent_queue: bool,
     /// The approximation study traces visibility instead of reading shadow maps.
     pub traced_visibility: bool,
     /// HDRP's bloom volume is on.
@@ -188,7 +188,7 @@ pub fn frame_passes(i: PassInputs) -> Vec<Pass> {
         passes.extend([Pass::SubsurfaceLighting, Pass::SubsurfaceScattering]);
     }
     // The engines cannot put a transparent surface in a G-buffer.
-    if i.path == RenderPath::Deferred && i.transparent_subject {
+    if i.path == RenderPath::Deferred && i.transparent_queue {
         passes.push(Pass::Transparent);
     }
     if i.bloom && i.pipeline == Pipeline::Hdrp {
@@ -208,7 +208,7 @@ mod tests {
             probes: false,
             shadow_maps: true,
             ssao: None,
-            transparent_subject: false,
+            transparent_queue: false,
             traced_visibility: false,
             bloom: false,
             subsurface: false,
@@ -235,7 +235,7 @@ mod tests {
         let d = frame_passes(PassInputs {
             ssao: Some(crate::plan::ao::SsaoMethod::HdrpGtao),
             bloom: true,
-            transparent_subject: true,
+            transparent_queue: true,
             ..inputs(Pipeline::Hdrp, RenderPath::Deferred)
         });
         assert_eq!(

@@ -321,6 +321,7 @@ fn object_uniforms(
         let material = match &o.fixed {
             Some((sliders, pattern)) => {
                 let mut m = gpu_material(&fixed_model.surface(p, sliders), *pattern);
+                m.base_color[3] = pattern.base_color[3];
                 // Emission in the pipeline's light units, as the subject's.
                 let scale = p.intensity_scale() as f32;
                 m.emission = [m.emission[0] * scale, m.emission[1] * scale, m.emission[2] * scale, 0.0];

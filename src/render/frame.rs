@@ -32,19 +32,14 @@ struct FrameMeshes {
     drawn: Vec<bool>,
     /// Casting into the shadow maps (a LOD level fading in does not).
     casting: Vec<bool>,
-    /// The depth prepass draws the opaque queues only: a transparent subject writes no depth.
+    /// The depth prepass draws the opaque queues only: the Transparent queue writes no depth.
     prepass: Vec<bool>,
 }
 
 impl FrameMeshes {
-    fn of(plan: &CellPlan, prepared: &PreparedScene, cell: &CellParams) -> FrameMeshes {
+    fn of(plan: &CellPlan) -> FrameMeshes {
         let drawn = plan.drawn();
-        let transparent = cell.settings.surface.kind.is_transparent();
-        let prepass = drawn
-            .iter()
-            .zip(&prepared.layout.meshes)
-            .map(|(d, m)| *d && !(m.role == Role::Subject && transparent))
-            .collect();
+        let prepass = drawn.iter().zip(&plan.transparent).map(|(d, t)| *d && !t).collect();
         FrameMeshes { casting: plan.casting(), drawn, prepass }
     }
 }
@@ -126,7 +121,7 @@ impl Renderer {
             reuse: self.reuse,
         };
         let probe_times = self.probes.capture(&self.gpu, (&mut self.pipelines, &mut self.bindings), scene)?;
-        let meshes = FrameMeshes::of(plan, prepared, cell);
+        let meshes = FrameMeshes::of(plan);
         let runs = self.prepare_passes((prepared, cell, plan), (&written, &keys), &meshes, (reuse, mode, total))?;
         let per_frame = runs.passes.len() as u32;
         if self.gpu.record.timestamp_queries && self.timer.as_ref().is_none_or(|t| t.capacity() < frames * per_frame) {
@@ -340,7 +335,14 @@ impl Renderer {
         let t = self.targets.as_ref().expect("targets exist");
         let (prepared, cell, plan) = (f.prepared, f.cell, f.plan);
         let subject_screen = if plan.ao.subject { f.screen } else { &self.neutral_screen };
-        let draw = FrameDraw { group: f.frame_group, drawn: &f.meshes.drawn, screen: f.screen, subject_screen };
+        let draw = FrameDraw {
+            group: f.frame_group,
+            drawn: &f.meshes.drawn,
+            screen: f.screen,
+            subject_screen,
+            transparent: &plan.transparent,
+            transparent_order: &plan.transparent_order,
+        };
         let forward = self.forward_pipelines(f);
         let deferred = |forward| DeferredFrame {
             prepared,
@@ -444,6 +446,10 @@ impl Renderer {
         ForwardPipelines {
             subject: model(f.cell.model, f.keys.subject, &f.keys.subject_faces),
             fixed: model(f.fixed_model, f.keys.fixed, &f.keys.fixed_faces),
+            fixed_transparent: f
+                .keys
+                .fixed_transparent
+                .map(|k| model(f.fixed_model, k, &f.keys.fixed_transparent_faces)),
             background: self.pipelines.background.get(&(samples, self.pipelines.terms)).filter(|_| background),
             rays: f.rays.as_ref().map(|(_, forward)| forward),
         }

@@ -125,6 +125,8 @@ impl PreparedScene {
                 let sliders =
                     Sliders { base_color_linear: m.base_color_linear, metallic: m.metallic, smoothness: m.smoothness };
                 let mut pattern = GpuMaterial::zeroed();
+                // The base colour's alpha, which a transparent surface blends by.
+                pattern.base_color[3] = m.alpha as f32;
                 if let Some(c) = &m.checker {
                     pattern.params[2] = c.cell as f32;
                     pattern.checker_color = rgba(c.color_linear);

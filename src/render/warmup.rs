@@ -23,9 +23,12 @@ pub(in crate::render) type ModelKeys = (ForwardKey, Option<ForwardKey>);
 pub(in crate::render) struct FrameKeys {
     pub(in crate::render) subject: ModelKeys,
     pub(in crate::render) fixed: ModelKeys,
+    /// The transparent fixed objects' (None: the frame draws none).
+    pub(in crate::render) fixed_transparent: Option<ModelKeys>,
     /// The render faces each role's meshes have, and every mesh's (the prepass draws them all).
     pub(in crate::render) subject_faces: Vec<RenderFace>,
     pub(in crate::render) fixed_faces: Vec<RenderFace>,
+    pub(in crate::render) fixed_transparent_faces: Vec<RenderFace>,
     pub(in crate::render) prepass_faces: Vec<RenderFace>,
     /// The depth-normal prepass samples normal maps (the subject's or the fixed objects').
     pub(in crate::render) prepass_textured: bool,
@@ -41,7 +44,8 @@ fn model_keys(
     prepared: &PreparedScene,
     (model, textured, subject, surface): (&ShaderModel, bool, bool, SurfaceType),
 ) -> ModelKeys {
-    let deferrable = if subject { plan.gbuffer.subject } else { plan.gbuffer.fixed };
+    // The Transparent queue is drawn forward on a deferred path.
+    let deferrable = !surface.is_transparent() && if subject { plan.gbuffer.subject } else { plan.gbuffer.fixed };
     let additive = additive_passes(cell.pipeline, cell.settings.path, model, deferrable, &cell.settings.engine);
     let adds = plan
         .draws
@@ -91,14 +95,20 @@ pub(in crate::render) fn warm_up(
     // takes the rest.
     let subject_terms = if split { terms & (DIRECT_SPECULAR | INDIRECT_SPECULAR) } else { terms };
     let subject = model_keys(cell, plan, prepared, (cell.model, textured, true, cell.settings.surface.kind));
+    let fixed_transparent = plan.transparent_order.iter().any(|&i| prepared.layout.meshes[i].role == Role::Fixed);
     let keys = FrameKeys {
         subject: with_terms(subject, subject_terms),
         fixed: with_terms(
             model_keys(cell, plan, prepared, (fixed_model, fixed_textured, false, SurfaceType::Opaque)),
             terms,
         ),
+        fixed_transparent: fixed_transparent.then(|| {
+            let surface = SurfaceType::Transparent;
+            with_terms(model_keys(cell, plan, prepared, (fixed_model, fixed_textured, false, surface)), terms)
+        }),
         subject_faces: faces_of(&prepared.layout, |m| m.role == Role::Subject),
-        fixed_faces: faces_of(&prepared.layout, |m| m.role == Role::Fixed),
+        fixed_faces: faces_of(&prepared.layout, |m| m.role == Role::Fixed && !m.transparent),
+        fixed_transparent_faces: faces_of(&prepared.layout, |m| m.role == Role::Fixed && m.transparent),
         prepass_faces: faces_of(&prepared.layout, |_| true),
         prepass_textured: textured || fixed_textured,
         subsurface: split.then_some(ForwardKey {
@@ -108,10 +118,12 @@ pub(in crate::render) fn warm_up(
         }),
     };
     let subsurface = keys.subsurface.map(|key| (cell.model, (key, None), &keys.subject_faces));
+    let glass = keys.fixed_transparent.map(|keys_| (fixed_model, keys_, &keys.fixed_transparent_faces));
     for (model, (draw, add), faces) in
         [(cell.model, keys.subject, &keys.subject_faces), (fixed_model, keys.fixed, &keys.fixed_faces)]
             .into_iter()
             .chain(subsurface)
+            .chain(glass)
     {
         for key in std::iter::once(draw).chain(add) {
             for &face in faces {

@@ -1127,6 +1127,10 @@ fn non_finite_negative_or_unbounded_material_and_light_values_are_refused() {
         (fixed("emission_linear = [-1.0, 0.0, 0.0]"), "material.emission_linear[0]"),
         (fixed("map_tiling = [inf, 1.0]"), "material.map_tiling[0]"),
         (fixed("map_offset = [0.0, nan]"), "material.map_offset[1]"),
+        (fixed("alpha = 1.5"), "material.alpha"),
+        (fixed("surface = \"fade\""), "material.surface"),
+        // A transparent fixed object casts no shadow here; the default casts.
+        (fixed("surface = \"transparent\", alpha = 0.3"), "objects[1].cast_shadows"),
         (base.replace("intensity = 1.0", "intensity = 1e308"), "lights[0].intensity"),
         (
             base.replace(

@@ -52,6 +52,7 @@ mod surfaces;
 mod terms;
 mod timing;
 mod translucent;
+mod transparent_fixed;
 mod truth;
 mod urp_ssao;
 mod user_models;

@@ -9,7 +9,7 @@
 //! One function per pass; the G-buffer's textures are render::gbuffer's, HDRP's light list
 //! passes::light_tiles'.
 
-use super::forward::{draw_objects, ForwardPipelines};
+use super::forward::{draw_meshes, draw_objects, ForwardPipelines};
 use super::FrameDraw;
 use crate::declarations::scene::Role;
 use crate::gpu::timing::PassTimer;
@@ -45,18 +45,15 @@ impl DeferredFrame<'_> {
         self.prepared.layout.meshes[i].role == Role::Subject
     }
 
-    /// Whether mesh `i` goes into the G-buffer: what its model's G-buffer pass can draw, less a
-    /// transparent subject.
+    /// Whether mesh `i` goes into the G-buffer: what its model's G-buffer pass can draw, less the
+    /// Transparent queue.
     fn deferred(&self, i: usize) -> bool {
-        if self.subject(i) {
-            self.gbuffer.subject
-        } else {
-            self.gbuffer.fixed
-        }
+        let model = if self.subject(i) { self.gbuffer.subject } else { self.gbuffer.fixed };
+        model && !self.transparent(i)
     }
 
     fn transparent(&self, i: usize) -> bool {
-        self.subject(i) && self.cell.settings.surface.kind.is_transparent()
+        self.draw.transparent[i]
     }
 }
 
@@ -199,15 +196,15 @@ pub(in crate::render) fn encode_forward_only(
     }
 }
 
-/// The Transparent queue (the subject alone), after everything else.
+/// The Transparent queue, after everything else, back to front (the plan's order).
 pub(in crate::render) fn encode_transparent(
     f: &DeferredFrame,
     encoder: &mut wgpu::CommandEncoder,
     timed: Option<(&PassTimer, u32)>,
 ) {
     let mut pass = forward_over(f, encoder, (Pass::Transparent, false), timed);
-    let drawn = f.draw.drawn;
-    draw_objects(&mut pass, (f.prepared, &f.draw), f.forward, f.forward_add, |i| drawn[i] && f.transparent(i));
+    let queue = f.draw.transparent_order.iter().copied();
+    draw_meshes(&mut pass, (f.prepared, &f.draw), f.forward, f.forward_add, queue);
 }
 
 /// The lighting pass's full-screen draws: (model, role shaded (0 every G-buffer pixel), the

@@ -4,10 +4,11 @@
 //! additional pixel light in ForwardAdd, blended One One (plan::draws). Built-in's vertex-lit path
 //! is this pass with the lighting evaluated at the vertices.
 //!
-//! Objects are drawn fixed ones first, then the background, then the subject, so that a frame
-//! can be split where only the subject differs from the cell before: the fixed objects and the
-//! background drawn once into a layer (`Targets::layer`), copied into each such cell's targets,
-//! and the subject drawn over it — the same draws in the same order on the same samples, so the
+//! Objects are drawn opaque fixed ones first, then the background, then the subject, then the
+//! Transparent queue back to front (the plan's order), so that a frame can be split where only
+//! the subject differs from the cell before: the opaque fixed objects and the background drawn
+//! once into a layer (`Targets::layer`), copied into each such cell's targets, and the subject
+//! and the queue drawn over it — the same draws in the same order on the same samples, so the
 //! same bytes as the whole frame (`--no-reuse` draws it whole; a test compares the two).
 
 use super::FrameDraw;
@@ -23,6 +24,8 @@ use crate::render::targets::Targets;
 pub(in crate::render) struct ForwardPipelines<'a> {
     pub(in crate::render) subject: ModelPipelines<'a>,
     pub(in crate::render) fixed: ModelPipelines<'a>,
+    /// The transparent fixed objects' (None: the frame draws none).
+    pub(in crate::render) fixed_transparent: Option<ModelPipelines<'a>>,
     pub(in crate::render) background: Option<&'a wgpu::RenderPipeline>,
     pub(in crate::render) rays: Option<&'a wgpu::BindGroup>,
 }
@@ -34,9 +37,7 @@ pub(in crate::render) struct ModelPipelines<'a> {
     pub(in crate::render) add: Option<ByFace<'a>>,
 }
 
-/// Draw the meshes `which` admits: each in its model's pipeline with its screen group (`draw`),
-/// then once per ForwardAdd light (`forward_add`, plan::draws) as one instance whose index is the
-/// light.
+/// Draw the meshes `which` admits, in the scene's order (`draw_meshes`).
 pub(in crate::render) fn draw_objects(
     pass: &mut wgpu::RenderPass,
     (prepared, draw): (&PreparedScene, &FrameDraw),
@@ -44,10 +45,29 @@ pub(in crate::render) fn draw_objects(
     forward_add: &[Vec<usize>],
     which: impl Fn(usize) -> bool,
 ) {
-    for (i, o) in prepared.objects.iter().enumerate().filter(|(i, _)| which(*i)) {
+    let meshes = (0..prepared.objects.len()).filter(|&i| which(i));
+    draw_meshes(pass, (prepared, draw), pipelines, forward_add, meshes);
+}
+
+/// Draw the meshes `order` names, in that order: each in its model's pipeline with its screen
+/// group (`draw`), then once per ForwardAdd light (`forward_add`, plan::draws) as one instance
+/// whose index is the light.
+pub(in crate::render) fn draw_meshes(
+    pass: &mut wgpu::RenderPass,
+    (prepared, draw): (&PreparedScene, &FrameDraw),
+    pipelines: &ForwardPipelines,
+    forward_add: &[Vec<usize>],
+    order: impl Iterator<Item = usize>,
+) {
+    for i in order {
+        let o = &prepared.objects[i];
         pass.set_bind_group(2, draw.screen_of(prepared, i), &[]);
         let subject = prepared.layout.meshes[i].role == Role::Subject;
-        let model = if subject { pipelines.subject } else { pipelines.fixed };
+        let model = match (subject, draw.transparent[i]) {
+            (true, _) => pipelines.subject,
+            (false, false) => pipelines.fixed,
+            (false, true) => pipelines.fixed_transparent.expect("a pipeline for the transparent fixed objects"),
+        };
         let face = prepared.layout.meshes[i].render_face as usize;
         pass.set_pipeline(model.draw[face].expect("a pipeline for every face drawn"));
         pass.set_bind_group(1, &prepared.object_bind_group, &[(i as u64 * prepared.object_stride) as u32]);
@@ -167,15 +187,18 @@ pub(in crate::render) fn encode_forward(
         pass.set_bind_group(3, group, &[]);
     }
     let subject = |i: usize| prepared.layout.meshes[i].role == Role::Subject;
+    let opaque = |i: usize| draw.drawn[i] && !draw.transparent[i];
     if part != ForwardDraw::SubjectOver {
-        draw_objects(&mut pass, (prepared, draw), pipelines, forward_add, |i| draw.drawn[i] && !subject(i));
+        draw_objects(&mut pass, (prepared, draw), pipelines, forward_add, |i| opaque(i) && !subject(i));
         // The background's layout has the object group, which it does not read: with no fixed
         // object drawn before it, one is bound.
         pass.set_bind_group(1, &prepared.object_bind_group, &[0]);
         super::background::draw_background(&mut pass, pipelines.background);
     }
     if part != ForwardDraw::FixedLayer {
-        draw_objects(&mut pass, (prepared, draw), pipelines, forward_add, |i| draw.drawn[i] && subject(i));
+        draw_objects(&mut pass, (prepared, draw), pipelines, forward_add, |i| opaque(i) && subject(i));
+        let queue = draw.transparent_order.iter().copied();
+        draw_meshes(&mut pass, (prepared, draw), pipelines, forward_add, queue);
     }
 }
 

@@ -23,6 +23,10 @@ pub(in crate::render) struct FrameDraw<'a> {
     pub(in crate::render) screen: &'a wgpu::BindGroup,
     /// The screen group of the subject (the SSAO visibility where it reads it, `plan::ao`).
     pub(in crate::render) subject_screen: &'a wgpu::BindGroup,
+    /// Per mesh, whether it is in the Transparent queue, and the queue's drawn meshes in the
+    /// order it draws them (the plan's `transparent`, `transparent_order`).
+    pub(in crate::render) transparent: &'a [bool],
+    pub(in crate::render) transparent_order: &'a [usize],
 }
 
 impl<'a> FrameDraw<'a> {

@@ -69,7 +69,7 @@ impl ProbeCapture {
             Slot::ToCapture(slot) => slot,
             Slot::Captured(slot) => return Ok(probes.capture_times(slot)),
         };
-        let faces = faces_of(&prepared.layout, |m| m.role == Role::Fixed);
+        let faces = faces_of(&prepared.layout, |m| m.role == Role::Fixed && !m.transparent);
         let key = ForwardKey::plain(prepared.fixed_maps.any(), RenderFace::Front);
         for &face in &faces {
             pipelines.forward_pipeline(gpu, cell.pipeline, s.fixed_model, ForwardKey { face, ..key })?;
@@ -196,8 +196,12 @@ fn encode_faces(
             });
             pass.set_bind_group(0, &groups[face], &[]);
             pass.set_bind_group(2, s.neutral_screen, &[]);
-            // The subject is left out: a dynamic object, which baked probes do not see.
-            let fixed = |i: usize| drawn[i] && prepared.layout.meshes[i].role == Role::Fixed;
+            // The subject is left out: a dynamic object, which baked probes do not see; so is the
+            // Transparent queue (the plan says so in its left-out list).
+            let fixed = |i: usize| {
+                let m = &prepared.layout.meshes[i];
+                drawn[i] && m.role == Role::Fixed && !m.transparent
+            };
             for (i, o) in prepared.objects.iter().enumerate().filter(|(i, _)| fixed(*i)) {
                 let face = prepared.layout.meshes[i].render_face as usize;
                 pass.set_pipeline(draws.fixed[face].expect("a pipeline for every face drawn"));

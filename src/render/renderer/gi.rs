@@ -192,10 +192,16 @@ impl Renderer {
             .collect();
         // Static objects alone, at their first LOD level whatever the camera draws ("only LOD0
         // affects the surrounding geometry", Unity manual, LOD for baked lightmaps): dynamic
-        // objects (the subjects) are not in the bake.
+        // objects (the subjects) are not in the bake, nor transparent ones (the window glass lets
+        // the light through, as the lightmapper's transparency does for a pane that casts none).
         let first_levels = prepared.scene.objects.len();
-        let kept: Vec<bool> =
-            prepared.layout.meshes.iter().enumerate().map(|(i, m)| i < first_levels && m.role == Role::Fixed).collect();
+        let kept: Vec<bool> = prepared
+            .layout
+            .meshes
+            .iter()
+            .enumerate()
+            .map(|(i, m)| i < first_levels && m.role == Role::Fixed && !m.transparent)
+            .collect();
         let mut objects = Vec::with_capacity(prepared.objects.len() * 128);
         for material in &written.materials {
             objects.extend_from_slice(bytemuck::bytes_of(material));

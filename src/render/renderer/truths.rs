@@ -24,6 +24,9 @@ impl Renderer {
         settings: &crate::render::truth::TruthSettings,
     ) -> Result<crate::render::truth::Truth, Error> {
         let fixed_model = self.fixed_model(cell.pipeline)?;
+        if let Some(why) = self.plan(prepared, cell)?.untraceable_fixed() {
+            return Err(Error::Other(format!("no truth: {why}")));
+        }
         if self.truth_on_cpu(cell, &fixed_model, settings)? {
             return self.render_truth_cpu(prepared, cell, &fixed_model, settings);
         }

@@ -1,0 +1,68 @@
+//! Fixed objects in the Transparent queue (the window glass, `surface = "transparent"`): drawn
+//! after the opaque objects, back to front, blended as each engine's Transparent surface blends,
+//! forward on a deferred path; the truth leaves such a frame's column empty.
+
+use crate::common::{cell_params, fixture, scene_from_text};
+use shadematrix::declarations::scene::Scene;
+use shadematrix::gpu::GpuContext;
+use shadematrix::pipelines::{Pipeline, RenderPath};
+use shadematrix::plan::Pass;
+use shadematrix::render::uniforms::ROLE_FIXED;
+use shadematrix::render::Renderer;
+use shadematrix::shading::registry::Sliders;
+
+/// Behind the pane a pixel is the pane's own light plus the plane's × what the pane lets through,
+/// 1 − alpha' (the blend One OneMinusSrcAlpha of a Transparent surface, specular preserved).
+/// Rendering the plane at two colours cancels the pane's own light: the change behind the pane
+/// over the change without it is the transmittance — built-in's alpha' = 1 − (1 − alpha)(1 −
+/// reflectivity) (UnityStandardUtils.cginc PreMultiplyAlpha, reflectivity 0.04 for a dielectric),
+/// URP's and HDRP's alpha (BRDF.hlsl InitializeBRDFData premultiplies the diffuse alone; Material.hlsl
+/// ApplyBlendMode). Forward and deferred paths agree, the deferred one drawing the pane in its
+/// Transparent pass; the pane writes no depth (the prepass leaves it out).
+#[test]
+fn a_transparent_pane_lets_through_what_each_engine_blends() {
+    let _timer = crate::common::timed!();
+    let text = std::fs::read_to_string(fixture("window_pane.toml")).unwrap();
+    let with_pane = Scene::load_file(&fixture("window_pane.toml")).unwrap();
+    let (start, end) = (text.find("# Black and rough").unwrap(), text.find("[environment]").unwrap());
+    let without_pane = scene_from_text("window_pane_bare", &format!("{}{}", &text[..start], &text[end..]));
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let (glass, bare) = (renderer.prepare_scene(&with_pane).unwrap(), renderer.prepare_scene(&without_pane).unwrap());
+    let alpha = 0.3;
+    for (pipeline, shader, transmittance) in [
+        (Pipeline::Builtin, "standard", (1.0 - alpha) * (1.0 - 0.04)),
+        (Pipeline::Urp, "lit", 1.0 - alpha),
+        (Pipeline::Hdrp, "lit", 1.0 - alpha),
+    ] {
+        for path in [RenderPath::Forward, RenderPath::Deferred] {
+            let at = |grey: f64| {
+                let sliders = Sliders { base_color_linear: [grey; 3], metallic: 0.0, smoothness: 0.5 };
+                cell_params(pipeline, shader, sliders, (1.0, 10.0), 64, path)
+            };
+            let plan = renderer.plan(&glass, &at(0.8)).unwrap();
+            assert_eq!(plan.has(Pass::Transparent), path == RenderPath::Deferred, "{:?}", plan.passes);
+            let mut render = |prepared, grey| renderer.render(prepared, &at(grey), 1, 0).unwrap();
+            let (g_hi, g_lo, b_hi, b_lo) =
+                (render(&glass, 0.8), render(&glass, 0.4), render(&bare, 0.8), render(&bare, 0.4));
+            let behind: Vec<usize> = (0..g_hi.roles.len()).filter(|&i| g_hi.roles[i] == ROLE_FIXED).collect();
+            let change = |a: &[f32], b: &[f32], i: usize| (a[4 * i + 1] - b[4 * i + 1]) as f64;
+            let ratios: Vec<f64> =
+                behind.iter().map(|&i| change(&g_hi.hdr, &g_lo.hdr, i) / change(&b_hi.hdr, &b_lo.hdr, i)).collect();
+            let worst = ratios.iter().map(|r| (r - transmittance).abs()).fold(0.0, f64::max);
+            let outside = (0..g_hi.roles.len())
+                .filter(|&i| g_hi.roles[i] != ROLE_FIXED)
+                .map(|i| (g_hi.hdr[4 * i + 1] - b_hi.hdr[4 * i + 1]).abs() as f64)
+                .fold(0.0, f64::max);
+            eprintln!(
+                "{} {path:?}: {} pixels behind the pane let through {:.4} (expected {transmittance:.4}, worst \
+                 |Δ| {worst:.2e}); outside it the frame moves by at most {outside:.2e}",
+                pipeline.name(),
+                behind.len(),
+                ratios.iter().sum::<f64>() / ratios.len() as f64,
+            );
+            assert!(behind.len() > 200, "the pane covers {} pixels", behind.len());
+            assert!(worst < 2e-3, "transmittance off by {worst}");
+            assert!(outside < 1e-5, "the pane changed the frame outside it by {outside}");
+        }
+    }
+}
