@@ -77,6 +77,23 @@ fn hdrp_diffuse_color(s: Surface) -> vec3<f32> {
     return s.base_color * (1.0 - s.metallic) * diffuse_weight;
 }
 
+// bsdfData.diffuseColor and fresnel0 as HDRP's ambient-occlusion multi-bounce reads them (Lit.hlsl
+// PostEvaluateBSDF, GetScreenSpaceAmbientOcclusionMultibounce): the diffuse colour before the
+// blend's opacity and the split lighting's √albedo
+fn model_occlusion_albedo(s: Surface) -> vec3<f32> {
+    if (s.params2.x > 0.5 || s.params1.z > 0.5) {
+        return s.base_color;
+    }
+    if (s.params0.y > 0.5) {
+        return s.base_color * (1.0 - max(max(s.specular.r, s.specular.g), s.specular.b));
+    }
+    return s.base_color * (1.0 - s.metallic);
+}
+
+fn model_occlusion_fresnel0(s: Surface) -> vec3<f32> {
+    return hdrp_f0(s);
+}
+
 // Specular multiplier 1 + F0·(1/y − 1), y = reflectivity from the FGD table at the material's perceptual
 // roughness, F0 the fresnel0 its features left (models.md#hdrp-lit; PostEvaluateBSDF)
 fn hdrp_energy_compensation(s: Surface, b: HdrpBsdfData, clamped_nv: f32) -> vec3<f32> {

@@ -622,7 +622,8 @@ fn load_screen_occlusion(pixel: vec2<f32>) -> f32 {
 // The indirect light with its occlusion. HDRP (Lit.hlsl PostEvaluateBSDF:
 // GetScreenSpaceAmbientOcclusionMultibounce, then LightLoop.hlsl ApplyAmbientOcclusionFactor):
 // the indirect diffuse × GTAOMultiBounce(min(material AO, SSAO), diffuse colour), the reflected
-// environment × GTAOMultiBounce(min(SO(material AO), SO(SSAO)), F0); the direct light stays
+// environment × GTAOMultiBounce(min(SO(material AO), SO(SSAO)), F0), both the model's BSDF data
+// (`model_occlusion_albedo`, `model_occlusion_fresnel0`); the direct light stays
 // unoccluded (direct lighting strength 0). Built-in and URP scale both by the material's occlusion,
 // URP by the lower of it and SSAO's visibility (AmbientOcclusion.hlsl CreateAmbientOcclusionFactor:
 // indirectAmbientOcclusion = min(SSAO, occlusion), GlobalIllumination's occlusion).
@@ -642,8 +643,8 @@ fn indirect_light(s: Surface, n: vec3<f32>, v: vec3<f32>, gi: vec3<f32>) -> vec3
     let roughness = pr * pr;
     let ao = min(material_occlusion, screen_ao);
     let so = min(specular_occlusion_from_ao(nv, material_occlusion, roughness), specular_occlusion_from_ao(nv, screen_ao, roughness));
-    indirect_specular_occlusion = gtao_multi_bounce(so, mix(vec3<f32>(0.04), s.base_color, s.metallic)) * probe;
-    var diffuse_occlusion = gtao_multi_bounce(ao, s.base_color * (1.0 - s.metallic));
+    indirect_specular_occlusion = gtao_multi_bounce(so, model_occlusion_fresnel0(s)) * probe;
+    var diffuse_occlusion = gtao_multi_bounce(ao, model_occlusion_albedo(s));
     if (occlusion_in_bake()) {
         diffuse_occlusion = material_occlusion * bake_occlusion(s);
     }
@@ -676,7 +677,7 @@ fn urp_lighting_buffer_occlusion() -> f32 {
 }
 
 fn bake_occlusion(s: Surface) -> vec3<f32> {
-    return gtao_multi_bounce(screen_ao, s.base_color * (1.0 - s.metallic));
+    return gtao_multi_bounce(screen_ao, model_occlusion_albedo(s));
 }
 
 // Interleaved gradient noise (Jimenez 2014; core Random.hlsl InterleavedGradientNoise, frame 0):

@@ -40,6 +40,11 @@ const DEFAULT_DETAIL_HOOK: &str =
 /// so the pass evaluates it only where a model asks.
 const DEFAULT_BACK_AMBIENT_HOOK: &str = "fn model_back_ambient(s: Surface) -> bool {\n    return false;\n}\n";
 
+/// The albedos HDRP's ambient-occlusion multi-bounce reads (GTAOMultiBounce of the indirect
+/// diffuse and of the specular occlusion, Lit.hlsl PostEvaluateBSDF: bsdfData.diffuseColor and
+/// fresnel0), for a model without a BSDF data of its own: the metallic workflow's.
+const DEFAULT_OCCLUSION_HOOK: &str = "fn model_occlusion_albedo(s: Surface) -> vec3<f32> {\n    return s.base_color * (1.0 - s.metallic);\n}\nfn model_occlusion_fresnel0(s: Surface) -> vec3<f32> {\n    return mix(vec3<f32>(0.04), s.base_color, s.metallic);\n}\n";
+
 /// Rect lights for a model without a BSDF for them: nothing (the plan leaves them out,
 /// plan::lights::area_left_out).
 const DEFAULT_AREA_HOOK: &str = "fn model_rect(s: Surface, n: vec3<f32>, v: vec3<f32>, q: array<vec3<f32>, 4>) -> vec3<f32> {\n    return vec3<f32>(0.0);\n}\n";
@@ -208,6 +213,9 @@ pub fn compose_mapped(pass: PassKind, model: Option<&ShaderModel>) -> (String, L
         }
         if !m.wgsl.contains("fn model_back_ambient") {
             parts.push(("<default model hooks>", DEFAULT_BACK_AMBIENT_HOOK));
+        }
+        if !m.wgsl.contains("fn model_occlusion_albedo") {
+            parts.push(("<default model hooks>", DEFAULT_OCCLUSION_HOOK));
         }
         parts.push(("<generated from the model: lobes>", &splits));
     }

@@ -87,6 +87,17 @@ pub fn hdrp_diffuse_color(s: &Surface) -> DVec3 {
     s.base_color * (1.0 - s.metallic) * s.diffuse_weight
 }
 
+/// bsdfData.diffuseColor as HDRP's ambient-occlusion multi-bounce reads it (hdrp_lit.wgsl
+/// `model_occlusion_albedo`): `hdrp_diffuse_color` before the blend's opacity.
+pub fn model_occlusion_albedo(s: &Surface) -> DVec3 {
+    hdrp_diffuse_color(&Surface { diffuse_weight: 1.0, ..*s })
+}
+
+/// fresnel0 as HDRP's ambient-occlusion multi-bounce reads it (`model_occlusion_fresnel0`).
+pub fn model_occlusion_fresnel0(s: &Surface) -> DVec3 {
+    hdrp_f0(s)
+}
+
 /// Specular multiplier 1 + F0·(1/y − 1), y = reflectivity from the FGD table at the material's
 /// perceptual roughness, F0 the fresnel0 its features left (models.md#hdrp-lit; PostEvaluateBSDF).
 pub fn hdrp_energy_compensation(s: &Surface, b: &HdrpBsdfData, clamped_nv: f64) -> DVec3 {
@@ -507,20 +518,17 @@ pub fn specular_occlusion_from_ao(nv: f64, ao: f64, roughness: f64) -> f64 {
     sat((nv + ao).max(0.0).powf((-16.0 * roughness - 1.0).exp2()) - 1.0 + ao)
 }
 
-/// HDRP's occlusion of the indirect light (forward.wgsl `indirect_light`): the factors on the
+/// HDRP Lit's occlusion of the indirect light (forward.wgsl `indirect_light`): the factors on the
 /// indirect diffuse and on the reflected environment for a material occlusion and an SSAO
-/// visibility.
+/// visibility, from its BSDF data's diffuse colour and fresnel0.
 pub fn indirect_occlusion(s: &Surface, nv: f64, material_ao: f64, screen_ao: f64) -> (DVec3, DVec3) {
     let nv = nv.max(1e-4);
     let roughness = (1.0 - s.smoothness).powi(2);
     let so = specular_occlusion_from_ao(nv, material_ao, roughness)
         .min(specular_occlusion_from_ao(nv, screen_ao, roughness));
     (
-        gtao_multi_bounce(material_ao.min(screen_ao), s.base_color * (1.0 - s.metallic)),
-        // The metallic form for every model, as the pass computes it (forward.wgsl
-        // `indirect_light`): for HDRP Lit's Specular Color type it is 0.04, not the specular
-        // colour HDRP's GTAOMultiBounce reads (docs/deviations.md).
-        gtao_multi_bounce(so, DVec3::splat(0.04).lerp(s.base_color, s.metallic)),
+        gtao_multi_bounce(material_ao.min(screen_ao), model_occlusion_albedo(s)),
+        gtao_multi_bounce(so, model_occlusion_fresnel0(s)),
     )
 }
 
