@@ -486,12 +486,14 @@ impl CellPlan {
             ));
         }
         let drawn: Vec<bool> = fades.iter().map(Option::is_some).collect();
-        let (transparent, transparent_order) = super::draws::transparent_queue(
-            layout,
-            DVec3::from(camera.position),
-            surface.kind.is_transparent(),
-            &drawn,
-        );
+        let transparent: Vec<bool> = layout
+            .meshes
+            .iter()
+            .map(|m| if m.role == Role::Subject { surface.kind.is_transparent() } else { m.transparent })
+            .collect();
+        let eye = DVec3::from(camera.position);
+        let distance = |i: usize| layout.object_centres[layout.meshes[i].scene_index].1.distance(eye);
+        let transparent_order = super::draws::transparent_queue(&transparent, &drawn, distance);
         let transparent_fixed: Vec<String> = transparent_order
             .iter()
             .filter(|&&i| layout.meshes[i].role == Role::Fixed)

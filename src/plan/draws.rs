@@ -99,27 +99,15 @@ pub fn alpha_to_coverage(pipeline: Pipeline, surface: crate::pipelines::surface:
     pipeline == Pipeline::Urp && surface.clips() && samples > 1
 }
 
-/// The Transparent queue of a frame: per mesh whether it is in it (a fixed object whose material
-/// is transparent, the subject where its cell's surface is), and the drawn ones in the order they
-/// are drawn — back to front by the distance from the camera to the object's bounds centre, as
+/// The Transparent queue of a frame: of the meshes in it (`transparent`: a fixed object whose
+/// material is transparent, the subject where its cell's surface is), the drawn ones in the order
+/// they are drawn — back to front by `distance`, from the camera to the object's bounds centre, as
 /// Unity sorts the queue for a perspective camera (TransparencySortMode.Default), the scene's
 /// order breaking ties.
-pub fn transparent_queue(
-    layout: &super::cell::SceneLayout,
-    camera: glam::DVec3,
-    subject_transparent: bool,
-    drawn: &[bool],
-) -> (Vec<bool>, Vec<usize>) {
-    use crate::declarations::scene::Role;
-    let transparent: Vec<bool> = layout
-        .meshes
-        .iter()
-        .map(|m| if m.role == Role::Subject { subject_transparent } else { m.transparent })
-        .collect();
+pub fn transparent_queue(transparent: &[bool], drawn: &[bool], distance: impl Fn(usize) -> f64) -> Vec<usize> {
     let mut order: Vec<usize> = (0..transparent.len()).filter(|&i| transparent[i] && drawn[i]).collect();
-    let distance = |i: usize| layout.object_centres[layout.meshes[i].scene_index].1.distance(camera);
     order.sort_by(|&a, &b| distance(b).total_cmp(&distance(a)));
-    (transparent, order)
+    order
 }
 
 /// Which of a cell's models its deferred path draws into the G-buffer: the subject's (where its
