@@ -386,9 +386,14 @@ pub enum MeshSpec {
         rings: u32,
         segments: u32,
     },
-    /// A glTF or GLB file, relative to the scene file.
+    /// A glTF or GLB file, relative to the scene file: every triangle primitive of its scene, or
+    /// with `material` those naming that material (with the file's first material, also those
+    /// naming none): a subject's other materials are drawn as their own fixed objects
+    /// (`Scene::split_gltf_subject`).
     Gltf {
         path: String,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        material: Option<usize>,
     },
     /// One primitive of one mesh of a glTF file, in the mesh's own space (`[gltf_scene]` makes
     /// these).
@@ -490,7 +495,7 @@ impl MeshSpec {
                 tess("rings", *rings, 8)?;
                 tess("segments", *segments, 8)
             }
-            MeshSpec::Gltf { path } | MeshSpec::GltfPrimitive { path, .. } => {
+            MeshSpec::Gltf { path, .. } | MeshSpec::GltfPrimitive { path, .. } => {
                 if path.is_empty() {
                     Err("path is empty".into())
                 } else {
@@ -728,6 +733,7 @@ impl Scene {
         scene.origin = path.display().to_string();
         scene.base_dir = Some(path.parent().map(Path::to_path_buf).unwrap_or_default());
         scene.read_gltf_scene()?;
+        scene.split_gltf_subject();
         scene.read_sky_image()?;
         scene.read_map_images()?;
         scene.validate()?;
@@ -739,7 +745,7 @@ impl Scene {
     pub fn subject_gltf(&self) -> Option<PathBuf> {
         let subject = self.objects.iter().find(|o| o.role == Role::Subject)?;
         match &subject.mesh {
-            MeshSpec::Gltf { path } => Some(self.base_dir.as_ref()?.join(path)),
+            MeshSpec::Gltf { path, .. } => Some(self.base_dir.as_ref()?.join(path)),
             _ => None,
         }
     }

@@ -15,45 +15,28 @@ impl Scene {
         let content = crate::input::gltf_scene::read(&dir.join(&spec.path), &spec.subject)
             .map_err(|m| at("gltf_scene.path", format!("`{}`: {m}", spec.path)))?;
         let mut used: std::collections::HashSet<String> = self.objects.iter().map(|o| o.name.clone()).collect();
+        // The subject node's first material is the slot the swept material fills; its primitives
+        // naming another keep theirs, as fixed objects (`split_gltf_subject`).
+        let slot = content.primitives.iter().filter(|p| p.subject).find_map(|p| p.material.index);
         for p in &content.primitives {
-            // Object names are lower-case letters, digits, `_` and `-`: `Floor#0` is `floor-0`.
-            let base: String = p
-                .name
-                .chars()
-                .map(|c| match c {
-                    '#' => '-',
-                    c if c.is_ascii_alphanumeric() || c == '_' || c == '-' => c.to_ascii_lowercase(),
-                    _ => '_',
-                })
-                .collect();
-            let name =
-                (0..).map(|k| if k == 0 { base.clone() } else { format!("{base}-{k}") }).find(|n| !used.contains(n));
-            let name = name.unwrap_or(base);
-            used.insert(name.clone());
-            // A BLEND material is a transparent one, casting no shadow (`Object::cast_shadows`).
-            let transparent = p.blend_alpha.is_some() && !p.subject;
-            let material = (!p.subject).then(|| FixedMaterial {
-                emission_linear: p.emissive,
-                gltf_material: p.textured_material.map(|index| GltfMaterialRef { path: spec.path.clone(), index }),
-                surface: match transparent {
-                    true => crate::pipelines::surface::SurfaceType::Transparent,
-                    false => crate::pipelines::surface::SurfaceType::Opaque,
-                },
-                alpha: p.blend_alpha.unwrap_or(1.0),
-                ..FixedMaterial::flat(p.base_color, p.metallic, 1.0 - p.roughness)
-            });
+            let subject = p.subject && (p.material.index.is_none() || p.material.index == slot);
+            let (material, transparent) = match subject {
+                true => (None, false),
+                false => {
+                    let m = fixed_material(&spec.path, &p.material);
+                    let transparent = m.surface == crate::pipelines::surface::SurfaceType::Transparent;
+                    (Some(m), transparent)
+                }
+            };
             self.objects.push(Object {
-                name,
-                role: if p.subject { Role::Subject } else { Role::Fixed },
+                name: unused_name(&p.name, &mut used),
+                role: if subject { Role::Subject } else { Role::Fixed },
                 mesh: MeshSpec::GltfPrimitive { path: spec.path.clone(), mesh: p.mesh, primitive: p.primitive },
                 transform: Transform { matrix: Some(p.world), ..Default::default() },
                 material,
                 cast_shadows: !transparent,
                 receive_shadows: true,
-                render_face: match p.double_sided {
-                    true => crate::pipelines::surface::RenderFace::Both,
-                    false => crate::pipelines::surface::RenderFace::Front,
-                },
+                render_face: render_face(&p.material),
                 lod: None,
             });
         }
@@ -99,6 +82,51 @@ impl Scene {
             };
         }
         Ok(())
+    }
+
+    /// A glTF subject (`MeshSpec::Gltf`, the whole file) whose primitives name more than one
+    /// material keeps them all: the swept material fills the first slot, as Unity's
+    /// `Renderer.material` is the renderer's first material (`materials[0]`), and the primitives
+    /// naming each other material become a fixed object wearing it, placed as the subject is,
+    /// casting and receiving shadows as it does (a BLEND material casts none,
+    /// `Object::cast_shadows`).
+    pub(super) fn split_gltf_subject(&mut self) {
+        let Some(dir) = self.base_dir.clone() else { return };
+        let mut used: std::collections::HashSet<String> = self.objects.iter().map(|o| o.name.clone()).collect();
+        let mut companions = Vec::new();
+        for o in self.objects.iter_mut() {
+            let (Role::Subject, MeshSpec::Gltf { path, material: material @ None }) = (o.role, &mut o.mesh) else {
+                continue;
+            };
+            // A file that cannot be read is the geometry stage's to report, with the resolved
+            // path, before anything renders (`geometry::gltf_io::load`).
+            let Ok(slots) = crate::input::gltf_scene::material_slots(&dir.join(&*path)) else { continue };
+            let [first, others @ ..] = slots.as_slice() else { continue };
+            if others.is_empty() {
+                continue;
+            }
+            *material = first.index;
+            for m in others {
+                let fixed = fixed_material(path, m);
+                let transparent = fixed.surface == crate::pipelines::surface::SurfaceType::Transparent;
+                let slot = match m.name.is_empty() {
+                    true => format!("material-{}", m.index.unwrap_or_default()),
+                    false => m.name.clone(),
+                };
+                companions.push(Object {
+                    name: unused_name(&format!("{}-{slot}", o.name), &mut used),
+                    role: Role::Fixed,
+                    mesh: MeshSpec::Gltf { path: path.clone(), material: m.index },
+                    transform: o.transform.clone(),
+                    material: Some(fixed),
+                    cast_shadows: o.cast_shadows && !transparent,
+                    receive_shadows: o.receive_shadows,
+                    render_face: render_face(m),
+                    lod: None,
+                });
+            }
+        }
+        self.objects.extend(companions);
     }
 
     /// An image sky's pixels: from the scene's folder, or for a built-in scene from the images
@@ -191,4 +219,45 @@ impl Scene {
         }
         Ok(())
     }
+}
+
+/// A glTF material's factors as a fixed object's material; a textured one keeps its maps
+/// (`FixedMaterial::gltf_material`, read when the composition is prepared), a BLEND one is
+/// transparent by its base colour's alpha.
+fn fixed_material(path: &str, m: &crate::input::gltf_scene::PrimitiveMaterial) -> FixedMaterial {
+    FixedMaterial {
+        emission_linear: m.emissive,
+        gltf_material: m.index.filter(|_| m.textured).map(|index| GltfMaterialRef { path: path.to_string(), index }),
+        surface: match m.blend_alpha {
+            Some(_) => crate::pipelines::surface::SurfaceType::Transparent,
+            None => crate::pipelines::surface::SurfaceType::Opaque,
+        },
+        alpha: m.blend_alpha.unwrap_or(1.0),
+        ..FixedMaterial::flat(m.base_color, m.metallic, 1.0 - m.roughness)
+    }
+}
+
+/// The faces a glTF material's `doubleSided` draws.
+fn render_face(m: &crate::input::gltf_scene::PrimitiveMaterial) -> crate::pipelines::surface::RenderFace {
+    match m.double_sided {
+        true => crate::pipelines::surface::RenderFace::Both,
+        false => crate::pipelines::surface::RenderFace::Front,
+    }
+}
+
+/// An object name made of `base` (lower-case letters, digits, `_` and `-`: `Floor#0` is
+/// `floor-0`), with a number after it where another object has it.
+fn unused_name(base: &str, used: &mut std::collections::HashSet<String>) -> String {
+    let base: String = base
+        .chars()
+        .map(|c| match c {
+            '#' => '-',
+            c if c.is_ascii_alphanumeric() || c == '_' || c == '-' => c.to_ascii_lowercase(),
+            _ => '_',
+        })
+        .collect();
+    let name = (0..).map(|k| if k == 0 { base.clone() } else { format!("{base}-{k}") }).find(|n| !used.contains(n));
+    let name = name.unwrap_or(base);
+    used.insert(name.clone());
+    name
 }

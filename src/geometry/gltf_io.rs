@@ -11,22 +11,20 @@ use crate::input::texture_transform::{material_uv_transform, UvTransform};
 
 /// Load every triangle primitive of the default scene (or of all nodes when there is none),
 /// with node transforms applied. Normals are generated when absent.
-pub fn load(path: &Path) -> Result<Mesh, Error> {
+/// With `material`, only the primitives naming that material (and, for the file's first, those
+/// naming none: `input::gltf_scene::material_slots`).
+pub fn load(path: &Path, material: Option<usize>) -> Result<Mesh, Error> {
     let shown = path.display().to_string();
-    crate::input::guard::without_panics(|| load_unguarded(path, &shown)).unwrap_or_else(|panic| {
-        Err(InputError::new(&shown, format!("malformed glTF: the glTF reader failed on it ({panic})")).into())
-    })
+    crate::input::guard::without_panics(|| Ok(import_unguarded(path, &shown, false, material)?.0)).unwrap_or_else(
+        |panic| Err(InputError::new(&shown, format!("malformed glTF: the glTF reader failed on it ({panic})")).into()),
+    )
 }
 
-fn load_unguarded(path: &Path, shown: &str) -> Result<Mesh, Error> {
-    Ok(import_unguarded(path, shown, false)?.0)
-}
-
-/// Load the mesh as `load` does, and the material of its first primitive that names one, with
-/// its textures decoded (None: no primitive names a material).
+/// Load the whole mesh as `load` does, and the file's first material (its first slot), with its
+/// textures decoded (None: no primitive names a material).
 pub fn load_with_material(path: &Path) -> Result<(Mesh, Option<GltfMaterial>), Error> {
     let shown = path.display().to_string();
-    crate::input::guard::without_panics(|| import_unguarded(path, &shown, true)).unwrap_or_else(|panic| {
+    crate::input::guard::without_panics(|| import_unguarded(path, &shown, true, None)).unwrap_or_else(|panic| {
         Err(InputError::new(&shown, format!("malformed glTF: the glTF reader failed on it ({panic})")).into())
     })
 }
@@ -37,14 +35,20 @@ pub fn material_factors(path: &Path) -> Result<Option<GltfMaterial>, Error> {
     let shown = path.display().to_string();
     crate::input::guard::without_panics(|| {
         let doc = super::gltf_files::open(path).map_err(|e| InputError::new(&shown, e))?;
-        Ok(first_material(&doc.document).map(|(m, others)| read_material(&m, others, None)))
+        let slots = crate::input::gltf_scene::slots_of(&doc.document).map_err(|e| InputError::new(&shown, e))?;
+        Ok(slots.first().map(|m| read_material(m, None)))
     })
     .unwrap_or_else(|panic| {
         Err(InputError::new(&shown, format!("malformed glTF: the glTF reader failed on it ({panic})")).into())
     })
 }
 
-fn import_unguarded(path: &Path, shown: &str, with_material: bool) -> Result<(Mesh, Option<GltfMaterial>), Error> {
+fn import_unguarded(
+    path: &Path,
+    shown: &str,
+    with_material: bool,
+    only: Option<usize>,
+) -> Result<(Mesh, Option<GltfMaterial>), Error> {
     let shown = shown.to_string();
     match crate::input::read::is_regular_file(path) {
         Err(crate::input::read::ReadError::NotFound) => {
@@ -67,10 +71,16 @@ fn import_unguarded(path: &Path, shown: &str, with_material: bool) -> Result<(Me
         }
         false => Vec::new(),
     };
+    let slots = crate::input::gltf_scene::slots_of(&doc).map_err(|e| InputError::new(&shown, e))?;
+    let first = slots.first().and_then(|m| m.index());
+    let kept = |named: Option<usize>| match only {
+        None => true,
+        Some(k) => named == Some(k) || (named.is_none() && first == Some(k)),
+    };
     let mut out = Mesh::default();
     for p in crate::input::gltf_file::walk(&doc).map_err(|e| InputError::new(&shown, e))? {
         if let Some(mesh) = p.node.mesh() {
-            for prim in mesh.primitives() {
+            for prim in mesh.primitives().filter(|prim| kept(prim.material().index())) {
                 if let Some(part) = read_primitive(&mesh, &prim, buffers.as_slice(), &shown)? {
                     out.append(part.transformed(p.world));
                 }
@@ -78,14 +88,14 @@ fn import_unguarded(path: &Path, shown: &str, with_material: bool) -> Result<(Me
         }
     }
     if out.indices.is_empty() {
-        return Err(InputError::new(
-            &shown,
-            "the glTF file contains no triangles (only triangle-list primitives are used)",
-        )
-        .into());
+        let what = match only {
+            None => "the glTF file contains no triangles (only triangle-list primitives are used)".to_string(),
+            Some(k) => format!("no triangle primitive of the file's scene names material {k}"),
+        };
+        return Err(InputError::new(&shown, what).into());
     }
     let material = match with_material {
-        true => first_material(&doc).map(|(m, others)| read_material(&m, others, Some(&images))),
+        true => slots.first().map(|m| read_material(m, Some(&images))),
         false => None,
     };
     Ok((out, material))
@@ -126,8 +136,6 @@ pub struct GltfMaterial {
     /// `specular_textures`.
     pub specular_f0: Option<[f64; 3]>,
     pub specular_textures: usize,
-    /// Further materials the subject's primitives name: one material per subject is rendered, the first.
-    pub others_ignored: usize,
 }
 
 impl GltfMaterial {
@@ -142,24 +150,6 @@ pub struct TextureImage {
     pub width: usize,
     pub height: usize,
     pub texels: Vec<[f32; 4]>,
-}
-
-/// The first material any triangle primitive names, in node order, and how many other distinct ones there are.
-fn first_material(doc: &gltf::Document) -> Option<(gltf::Material<'_>, usize)> {
-    let mut seen: Vec<usize> = Vec::new();
-    let mut first = None;
-    for mesh in doc.meshes() {
-        for prim in mesh.primitives() {
-            let m = prim.material();
-            if let (Some(i), gltf::mesh::Mode::Triangles) = (m.index(), prim.mode()) {
-                if !seen.contains(&i) {
-                    seen.push(i);
-                    first.get_or_insert(m);
-                }
-            }
-        }
-    }
-    first.map(|m| (m, seen.len() - 1))
 }
 
 /// Image `i` decoded; an image of more than `MAX_TEXTURE_TEXELS` texels is refused.
@@ -207,7 +197,7 @@ pub fn material_by_index(path: &Path, index: usize) -> Result<GltfMaterial, Erro
                 false => Ok(None),
             })
             .collect::<Result<Vec<_>, _>>()?;
-        Ok(read_material(&m, 0, Some(&images)))
+        Ok(read_material(&m, Some(&images)))
     })
 }
 
@@ -243,7 +233,7 @@ fn material_textures<'a>(m: &gltf::Material<'a>) -> [Option<gltf::texture::Textu
     ]
 }
 
-fn read_material(m: &gltf::Material, others: usize, images: Option<&[Option<gltf::image::Data>]>) -> GltfMaterial {
+fn read_material(m: &gltf::Material, images: Option<&[Option<gltf::image::Data>]>) -> GltfMaterial {
     let pbr = m.pbr_metallic_roughness();
     let image = |t: Option<gltf::texture::Texture>, srgb: bool| -> Option<TextureImage> {
         let data = images?.get(t?.source().index())?.as_ref()?;
@@ -287,7 +277,6 @@ fn read_material(m: &gltf::Material, others: usize, images: Option<&[Option<gltf
         specular_textures: m
             .specular()
             .map_or(0, |s| s.specular_texture().is_some() as usize + s.specular_color_texture().is_some() as usize),
-        others_ignored: others,
     }
 }
 

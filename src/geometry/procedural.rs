@@ -14,6 +14,17 @@ const GOLDEN_ANGLE: f64 = 2.399_963_229_728_653;
 
 /// Generate (or load) a mesh in object space. `base_dir` resolves glTF paths; `origin` names the scene.
 pub fn build(spec: &MeshSpec, base_dir: Option<&Path>, origin: &str, key: &str) -> Result<Mesh, Error> {
+    let resolve = |path: &str| -> Result<std::path::PathBuf, Error> {
+        match base_dir {
+            Some(d) => Ok(d.join(path)),
+            None => Err(InputError::at_key(
+                origin,
+                format!("{key}.path"),
+                format!("glTF path `{path}` cannot be resolved: the scene is embedded; load the scene from a file"),
+            )
+            .into()),
+        }
+    };
     Ok(match spec {
         MeshSpec::UvSphere { radius, rings, segments } => uv_sphere(*radius, *rings, *segments),
         MeshSpec::Box { size } => cuboid(DVec3::from(*size)),
@@ -47,26 +58,9 @@ pub fn build(spec: &MeshSpec, base_dir: Option<&Path>, origin: &str, key: &str) 
             let field = MedusaField { radius: *radius, amplitude: *amplitude, k: *k, n: *n as f64, m: *m };
             height_disc(*radius, *rings, *segments, |x, z| field.eval(x, z))
         }
-        MeshSpec::Gltf { path } | MeshSpec::GltfPrimitive { path, .. } => {
-            let resolved = match base_dir {
-                Some(d) => d.join(path),
-                None => {
-                    return Err(InputError::at_key(
-                        origin,
-                        format!("{key}.path"),
-                        format!(
-                            "glTF path `{path}` cannot be resolved: the scene is embedded; load the scene from a file"
-                        ),
-                    )
-                    .into())
-                }
-            };
-            match spec {
-                MeshSpec::GltfPrimitive { mesh, primitive, .. } => {
-                    super::gltf_io::load_primitive(&resolved, *mesh, *primitive)?
-                }
-                _ => super::gltf_io::load(&resolved)?,
-            }
+        MeshSpec::Gltf { path, material } => super::gltf_io::load(&resolve(path)?, *material)?,
+        MeshSpec::GltfPrimitive { path, mesh, primitive } => {
+            super::gltf_io::load_primitive(&resolve(path)?, *mesh, *primitive)?
         }
     })
 }

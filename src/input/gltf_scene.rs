@@ -22,18 +22,76 @@ pub struct ScenePrimitive {
     pub world: [f64; 16],
     /// In the subject node or below it.
     pub subject: bool,
-    /// The material's factors: linear base colour, metallic, roughness, linear emission
-    /// (`emissiveFactor` × `KHR_materials_emissive_strength`).
+    pub material: PrimitiveMaterial,
+}
+
+/// The material a primitive names, as its factors state it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PrimitiveMaterial {
+    /// The material's index (None: the primitive names none, glTF's default material).
+    pub index: Option<usize>,
+    pub name: String,
+    /// Linear base colour, metallic, roughness, linear emission (`emissiveFactor` ×
+    /// `KHR_materials_emissive_strength`).
     pub base_color: [f64; 3],
     pub metallic: f64,
     pub roughness: f64,
     pub emissive: [f64; 3],
-    /// The material's index where it has textures (their maps modulate the factors).
-    pub textured_material: Option<usize>,
+    /// It has textures (their maps modulate the factors).
+    pub textured: bool,
     /// The material's `doubleSided`: both faces drawn.
     pub double_sided: bool,
     /// `alphaMode` BLEND: the base colour factor's alpha, which the object is blended by.
     pub blend_alpha: Option<f64>,
+}
+
+impl PrimitiveMaterial {
+    fn of(m: &gltf::Material) -> PrimitiveMaterial {
+        let pbr = m.pbr_metallic_roughness();
+        let c = pbr.base_color_factor();
+        PrimitiveMaterial {
+            index: m.index(),
+            name: m.name().unwrap_or("").to_string(),
+            base_color: [c[0] as f64, c[1] as f64, c[2] as f64],
+            metallic: pbr.metallic_factor() as f64,
+            roughness: pbr.roughness_factor() as f64,
+            emissive: m.emissive_factor().map(|e| e as f64 * m.emissive_strength().unwrap_or(1.0) as f64),
+            textured: pbr.base_color_texture().is_some()
+                || pbr.metallic_roughness_texture().is_some()
+                || m.normal_texture().is_some()
+                || m.occlusion_texture().is_some()
+                || m.emissive_texture().is_some(),
+            double_sided: m.double_sided(),
+            blend_alpha: (m.alpha_mode() == gltf::material::AlphaMode::Blend).then_some(c[3] as f64),
+        }
+    }
+}
+
+/// The distinct materials the triangle primitives of the file's scene name, in the order the
+/// nodes are walked (`gltf_file::walk`): a glTF subject's material slots. The first is the one
+/// the swept material replaces (Unity's `Renderer.material` is the renderer's first material
+/// slot); the others keep their own. A primitive naming none has no slot of its own: it goes
+/// with the first.
+pub fn material_slots(path: &Path) -> Result<Vec<PrimitiveMaterial>, String> {
+    let gltf = super::gltf_file::open(path)?;
+    Ok(slots_of(&gltf.document)?.into_iter().map(|m| PrimitiveMaterial::of(&m)).collect())
+}
+
+/// The named materials of the walked triangle primitives, distinct, in walk order.
+pub fn slots_of(doc: &gltf::Document) -> Result<Vec<gltf::Material<'_>>, String> {
+    let mut out: Vec<gltf::Material> = Vec::new();
+    for p in super::gltf_file::walk(doc)? {
+        for prim in p.node.mesh().iter().flat_map(|m| m.primitives()) {
+            let m = prim.material();
+            if prim.mode() == gltf::mesh::Mode::Triangles
+                && m.index().is_some()
+                && !out.iter().any(|o| o.index() == m.index())
+            {
+                out.push(m);
+            }
+        }
+    }
+    Ok(out)
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -131,27 +189,14 @@ fn visit(
                 return Err(format!("{at}: mode {:?}; only triangle lists are drawn", prim.mode()));
             }
             let m = prim.material();
-            let pbr = m.pbr_metallic_roughness();
             crate::input::texture_transform::material_uv_transform(&m).map_err(|e| format!("{at}: {e}"))?;
-            let textured = pbr.base_color_texture().is_some()
-                || pbr.metallic_roughness_texture().is_some()
-                || m.normal_texture().is_some()
-                || m.occlusion_texture().is_some()
-                || m.emissive_texture().is_some();
-            let c = pbr.base_color_factor();
             out.primitives.push(ScenePrimitive {
                 name: format!("{name}#{}", prim.index()),
                 mesh: mesh.index(),
                 primitive: prim.index(),
                 world: world.to_cols_array(),
                 subject: is_subject,
-                base_color: [c[0] as f64, c[1] as f64, c[2] as f64],
-                metallic: pbr.metallic_factor() as f64,
-                roughness: pbr.roughness_factor() as f64,
-                emissive: m.emissive_factor().map(|e| e as f64 * m.emissive_strength().unwrap_or(1.0) as f64),
-                textured_material: m.index().filter(|_| textured),
-                double_sided: m.double_sided(),
-                blend_alpha: (m.alpha_mode() == gltf::material::AlphaMode::Blend).then_some(c[3] as f64),
+                material: PrimitiveMaterial::of(&m),
             });
         }
     }

@@ -182,7 +182,7 @@ pub(crate) fn mesh_digests(matrix: &Matrix, c: &Cell) -> Vec<(String, String)> {
     let materials = scene.objects.iter().filter_map(|o| o.material.as_ref()?.gltf_material.as_ref()).map(|r| &r.path);
     let files = meshes
         .filter_map(|mesh| match mesh {
-            MeshSpec::Gltf { path } | MeshSpec::GltfPrimitive { path, .. } => Some(path),
+            MeshSpec::Gltf { path, .. } | MeshSpec::GltfPrimitive { path, .. } => Some(path),
             _ => None,
         })
         .chain(materials);

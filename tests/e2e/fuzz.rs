@@ -349,7 +349,7 @@ fn fuzz_gltf_import() {
         fuzz("gltf", &seeds, TOML_TOKENS, |input| {
             let path = if input.starts_with(b"glTF") { &binary } else { &gltf };
             std::fs::write(path, input).unwrap();
-            let r = catch_unwind(AssertUnwindSafe(|| shadematrix::geometry::gltf_io::load(path).map(|_| ())));
+            let r = catch_unwind(AssertUnwindSafe(|| shadematrix::geometry::gltf_io::load(path, None).map(|_| ())));
             judge(r, &["fuzz_mesh.gl"])
         })
     }

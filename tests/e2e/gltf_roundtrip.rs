@@ -18,7 +18,7 @@ fn exported_composition_loads_back_identically() {
     for o in &scene.objects {
         expected.append(procedural::build(&o.mesh, None, "test", "mesh").unwrap().transformed(o.transform.matrix()));
     }
-    let loaded = gltf_io::load(&out).unwrap();
+    let loaded = gltf_io::load(&out, None).unwrap();
     assert_eq!(loaded.vertices.len(), expected.vertices.len());
     assert_eq!(loaded.indices.len(), expected.indices.len());
     let (a, b) = (loaded.bounds(), expected.bounds());

@@ -20,6 +20,7 @@ mod gallery;
 mod gi;
 mod gltf_roundtrip;
 mod gltf_scene;
+mod gltf_subject;
 mod gpu_metrics;
 mod hdrp_features;
 mod hdrp_lights;
