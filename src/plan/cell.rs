@@ -318,7 +318,8 @@ pub struct CellPlan {
     /// it draws them (`draws::transparent_queue`).
     pub transparent: Vec<bool>,
     pub transparent_order: Vec<usize>,
-    /// The drawn fixed objects in the Transparent queue, by name (what the truth cannot trace).
+    /// The drawn fixed objects in the Transparent queue, by name (the panes only the CPU truth
+    /// lets rays through).
     pub transparent_fixed: Vec<String>,
 }
 
@@ -335,21 +336,8 @@ impl CellPlan {
         if let Some(why) = self.truth_unreachable() {
             return Some(format!("no truth: {why}, which no light transport does; the column is left empty"));
         }
-        if let Some(why) = self.untraceable_fixed() {
-            return Some(format!("no truth: {why}; the column is left empty"));
-        }
         let why = self.subject_untraceable.as_ref().filter(|_| same_brdf)?;
         Some(format!("no same-BRDF truth: {why}; the column is left empty"))
-    }
-
-    /// Why neither truth can trace this frame's fixed objects, if it cannot: a transparent one.
-    pub fn untraceable_fixed(&self) -> Option<String> {
-        let name = self.transparent_fixed.first()?;
-        Some(format!(
-            "the fixed object `{name}` is transparent, which the truth has no counterpart of (its reflection \
-             stays whole while its diffuse light fades, which no physical surface does; a path tracer's glass \
-             is another material)"
-        ))
     }
 
     /// The optional light-loop paths this cell's frame needs compiled in.
@@ -724,7 +712,8 @@ mod tests {
             assert_eq!(plan.transparent, [false, true, true]);
             assert_eq!(plan.transparent_order, [2, 1]);
             assert_eq!(plan.transparent_fixed, ["pane", "upper"]);
-            assert!(plan.truth_gap(true).is_some_and(|why| why.contains("`pane` is transparent")));
+            // The CPU truth traces the panes (render::truth::cpu::glass).
+            assert_eq!(plan.truth_gap(true), None);
             let count = |kind: &str| plan.draws.counts.get(kind).copied().unwrap_or(0);
             match path {
                 RenderPath::Deferred => {

@@ -1,6 +1,6 @@
 //! Fixed objects in the Transparent queue (the window glass, `surface = "transparent"`): drawn
 //! after the opaque objects, back to front, blended as each engine's Transparent surface blends,
-//! forward on a deferred path; the truth leaves such a frame's column empty.
+//! forward on a deferred path; the CPU truth traces them as thin panes.
 
 use crate::common::{cell_params, fixture, scene_from_text};
 use shadematrix::declarations::scene::Scene;
@@ -65,4 +65,54 @@ fn a_transparent_pane_lets_through_what_each_engine_blends() {
             assert!(outside < 1e-5, "the pane changed the frame outside it by {outside}");
         }
     }
+}
+
+/// The truth's pane (render::truth::cpu::glass) lets through T = (1 − alpha)(1 − F(μ)) of what
+/// is behind it, F Schlick's from F0 = 0.04 at the camera ray's cosine to the pane: the change
+/// of the truth behind the pane between two plane colours over the change without the pane,
+/// on the pane's inner pixels (the light turned so that the pane's shadow falls off the plane,
+/// since the truth's pane shadows by the same T). The GPU tracer, which lets no ray through,
+/// refuses the frame by the pane's name; `auto` traces it on the CPU.
+#[test]
+fn the_truth_sees_through_a_pane_by_what_it_neither_reflects_nor_covers() {
+    use shadematrix::declarations::matrix::TruthBackend;
+    let _timer = crate::common::timed!();
+    let text = std::fs::read_to_string(fixture("window_pane.toml"))
+        .unwrap()
+        .replace("direction = [0.0, -1.0, -0.2]", "direction = [0.0, -1.0, 1.5]");
+    let with_pane = scene_from_text("window_pane_lit_aside", &text);
+    let (start, end) = (text.find("# Black and rough").unwrap(), text.find("[environment]").unwrap());
+    let without_pane = scene_from_text("window_pane_bare", &format!("{}{}", &text[..start], &text[end..]));
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let (glass, bare) = (renderer.prepare_scene(&with_pane).unwrap(), renderer.prepare_scene(&without_pane).unwrap());
+    let size = 48;
+    let at = |grey: f64| {
+        let sliders = Sliders { base_color_linear: [grey; 3], metallic: 0.0, smoothness: 0.5 };
+        cell_params(Pipeline::Urp, "lit", sliders, (1.0, 10.0), size, RenderPath::Forward)
+    };
+    let frame = renderer.render(&glass, &at(0.8), 1, 0).unwrap();
+    let fixed = |x: usize, y: usize| frame.roles[y * size as usize + x] == ROLE_FIXED;
+    let n = size as usize;
+    let inner: Vec<usize> = (1..n - 1)
+        .flat_map(|y| (1..n - 1).map(move |x| (x, y)))
+        .filter(|&(x, y)| fixed(x, y) && fixed(x - 1, y) && fixed(x + 1, y) && fixed(x, y - 1) && fixed(x, y + 1))
+        .map(|(x, y)| y * n + x)
+        .collect();
+    assert!(inner.len() > 100, "{} inner pane pixels", inner.len());
+    let mut truth =
+        |prepared, grey| crate::common::same_brdf_truth(&mut renderer, prepared, &at(grey), TruthBackend::Auto);
+    let (g_hi, g_lo, b_hi, b_lo) = (truth(&glass, 0.8), truth(&glass, 0.4), truth(&bare, 0.8), truth(&bare, 0.4));
+    let sum = |a: &shadematrix::render::truth::Truth, b: &shadematrix::render::truth::Truth| {
+        inner.iter().map(|&i| (a.mean[i][1] - b.mean[i][1]) as f64).sum::<f64>()
+    };
+    let through = sum(&g_hi, &g_lo) / sum(&b_hi, &b_lo);
+    // The camera ray's cosine to the pane over its inner pixels is above 0.97: F(μ) ≈ F0.
+    let expected = (1.0 - 0.3) * (1.0 - 0.04);
+    eprintln!("the truth's pane lets through {through:.4} over {} pixels (expected {expected:.4})", inner.len());
+    assert!((through - expected).abs() < 0.01, "the pane lets through {through}, expected {expected}");
+
+    let gpu = shadematrix::render::truth::TruthSettings { backend: TruthBackend::Gpu, ..Default::default() };
+    let Err(err) = renderer.render_truth(&glass, &at(0.8), &gpu) else { panic!("the GPU tracer traced a pane") };
+    let err = err.to_string();
+    assert!(err.contains("`pane` is transparent"), "{err}");
 }

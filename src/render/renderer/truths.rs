@@ -24,10 +24,8 @@ impl Renderer {
         settings: &crate::render::truth::TruthSettings,
     ) -> Result<crate::render::truth::Truth, Error> {
         let fixed_model = self.fixed_model(cell.pipeline)?;
-        if let Some(why) = self.plan(prepared, cell)?.untraceable_fixed() {
-            return Err(Error::Other(format!("no truth: {why}")));
-        }
-        if self.truth_on_cpu(cell, &fixed_model, settings)? {
+        let pane = self.plan(prepared, cell)?.transparent_fixed.first().cloned();
+        if self.truth_on_cpu(cell, &fixed_model, settings, pane.as_deref())? {
             return self.render_truth_cpu(prepared, cell, &fixed_model, settings);
         }
         let key = (cell.pipeline, cell.model.name.to_string(), fixed_model.name.to_string(), settings.kind);
@@ -71,13 +69,15 @@ impl Renderer {
     }
 
     /// Whether this cell's truth is traced on the CPU (`TruthBackend`): `auto` on a CPU adapter
-    /// where both models have f64 twins and the subject is untextured; `cpu` refuses a cell it
-    /// cannot trace.
+    /// where both models have f64 twins and the subject is untextured, and wherever a surface lets
+    /// rays through (a subject not all there, `pane`: a drawn fixed object in the Transparent
+    /// queue); `cpu` refuses a cell it cannot trace.
     fn truth_on_cpu(
         &self,
         cell: &CellParams,
         fixed_model: &ShaderModel,
         settings: &crate::render::truth::TruthSettings,
+        pane: Option<&str>,
     ) -> Result<bool, Error> {
         use crate::declarations::matrix::TruthBackend;
         let twins = cell.model.twin.is_some() && fixed_model.twin.is_some();
@@ -89,6 +89,19 @@ impl Renderer {
                 cell.settings.surface.kind,
                 crate::pipelines::surface::SurfaceType::Cutout | crate::pipelines::surface::SurfaceType::Fade
             );
+        if let Some(name) = pane {
+            return match settings.backend {
+                TruthBackend::Gpu => Err(Error::Other(format!(
+                    "truth backend \"gpu\" draws every surface opaque; the fixed object `{name}` is transparent \
+                     (a pane only the CPU tracer lets rays through): use backend = \"cpu\" or \"auto\""
+                ))),
+                _ if !twins && settings.kind == TruthKind::SameBrdf => Err(Error::Other(format!(
+                    "`{}` has no f64 twin, and only the CPU tracer traces the transparent fixed object `{name}`",
+                    cell.model.name
+                ))),
+                _ => Ok(true),
+            };
+        }
         if coverage < 1.0 || textured_see_through {
             return match settings.backend {
                 crate::declarations::matrix::TruthBackend::Gpu => Err(Error::Other(format!(
@@ -161,12 +174,12 @@ impl Renderer {
         use crate::render::truth::cpu;
         let plan = self.plan(prepared, cell)?;
         let written = write_uniforms(&self.gpu.queue, prepared, cell, &plan, fixed_model, None);
-        // A bake traces the static (fixed) objects alone.
+        // A bake traces the static (fixed) objects alone, without the panes (`Renderer::bake`).
         let kept: Vec<bool> = plan
             .casting()
             .iter()
             .zip(&prepared.layout.meshes)
-            .map(|(c, m)| *c && !(static_only && m.role == Role::Subject))
+            .map(|(c, m)| *c && !(static_only && (m.role == Role::Subject || m.transparent)))
             .collect();
         let cached = prepared.cpu_truth_scene.lock().unwrap_or_else(|e| e.into_inner()).clone();
         let scene = match cached {
@@ -186,6 +199,8 @@ impl Renderer {
             .zip(&written.materials)
             .map(|(slot, m)| (*m, slot.role == Role::Subject))
             .collect();
+        let glass: Vec<bool> =
+            prepared.layout.meshes.iter().map(|m| m.role == Role::Fixed && m.transparent && !static_only).collect();
         let twins = (cell.model.twin, fixed_model.twin);
         if settings.kind == TruthKind::SameBrdf && (twins.0.is_none() || twins.1.is_none()) {
             return Err(Error::Other(format!("`{}` has no f64 twin for the CPU truth", cell.model.name)));
@@ -202,6 +217,7 @@ impl Renderer {
             frame: &written.frame,
             lights: &written.lights,
             materials: &materials,
+            glass: &glass,
             background: prepared.plan.background,
             size: (cell.width, cell.height),
             subject_role: ROLE_SUBJECT,
@@ -230,6 +246,11 @@ impl Renderer {
                 "the exported truth scene holds opaque surfaces only; this cell's subject is not all there".into(),
             ));
         }
+        if let Some(name) = self.plan(prepared, cell)?.transparent_fixed.first() {
+            return Err(Error::Other(format!(
+                "the exported truth scene holds opaque surfaces only; the fixed object `{name}` is transparent"
+            )));
+        }
         let objects = &prepared.scene.objects;
         let names: Vec<String> = (0..prepared.layout.meshes.len())
             .map(|i| objects.get(i).map_or_else(|| format!("lod mesh {}", i - objects.len()), |o| o.name.clone()))
@@ -253,8 +274,9 @@ impl Renderer {
         settings: &crate::render::truth::TruthSettings,
     ) -> Result<serde_json::Value, Error> {
         let fixed_model = self.fixed_model(cell.pipeline)?;
-        let on_cpu = self.truth_on_cpu(cell, &fixed_model, settings)?;
         let plan = self.plan(prepared, cell)?;
+        let on_cpu =
+            self.truth_on_cpu(cell, &fixed_model, settings, plan.transparent_fixed.first().map(String::as_str))?;
         let written = write_uniforms(&self.gpu.queue, prepared, cell, &plan, &fixed_model, None);
         let f = &written.frame;
         let physical = settings.kind == TruthKind::Physical && on_cpu;
@@ -272,6 +294,8 @@ impl Renderer {
             .zip(&written.materials)
             .map(|(slot, m)| match slot.role {
                 Role::Subject => serde_json::json!("subject"),
+                // A pane draws its own random numbers (`cpu::glass`).
+                Role::Fixed if slot.transparent => serde_json::json!(["pane", material(m)]),
                 Role::Fixed => material(m),
             })
             .collect();

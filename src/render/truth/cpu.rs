@@ -31,6 +31,7 @@ use crate::shading::twin::{irradiance_per_intensity, Surface, SurfaceTwin};
 
 pub mod bake;
 mod environment;
+mod glass;
 mod lanes;
 
 pub use environment::CpuEnvironment;
@@ -256,6 +257,8 @@ pub struct CpuTruthInputs<'a> {
     pub lights: &'a [GpuLight],
     /// Per object: its material (the subject's is the frame's) and whether it is the subject.
     pub materials: &'a [(GpuMaterial, bool)],
+    /// Per object: whether it is a fixed object in the Transparent queue (`glass`).
+    pub glass: &'a [bool],
     pub background: bool,
     pub size: (u32, u32),
     pub subject_role: u8,
@@ -279,6 +282,9 @@ pub struct CpuTruthInputs<'a> {
 impl CpuTruthInputs<'_> {
     /// Whether every ray stops at the first surface it meets (no subject that lets light through).
     fn all_opaque(&self) -> bool {
+        if self.glass.contains(&true) {
+            return false;
+        }
         if self.subject_maps.is_some() {
             return self.subject_surface.kind == crate::pipelines::surface::SurfaceType::Opaque;
         }
@@ -436,6 +442,8 @@ struct SurfacePoint {
     emission: DVec3,
     /// A physical truth's model there, seen along the ray that found the point.
     lobe: Option<physical::PhysicalLobe>,
+    /// What the point's own light is weighed by: a pane's 1/(1 − T) (`glass`), 1 elsewhere.
+    weight: f64,
 }
 
 /// A fixed material's maps at uv (albedo, tangent-space normal, mask, emission): scene.wgsl
@@ -621,16 +629,31 @@ impl<'a> Tracer<'a> {
         }
     }
 
-    /// Whether a ray passes the surface it hit: the subject's where it is not all there, with
-    /// probability 1 − coverage (a screen door, as alpha blending a Fade surface stands for). An
-    /// opaque scene draws no number, so its paths are those of a scene without the test.
-    fn passes(&self, hit: &Hit, rng: &mut Rng) -> bool {
-        if self.inputs.all_opaque() || !self.inputs.materials[self.scene.geometry.triangles[hit.triangle][3] as usize].1
-        {
+    /// Whether a ray along d passes the surface it hit: the subject's where it is not all there,
+    /// with probability 1 − coverage (a screen door, as alpha blending a Fade surface stands for);
+    /// a pane's with probability its transmittance (`glass`). An opaque scene draws no number,
+    /// so its paths are those of a scene without the test.
+    fn passes(&self, hit: &Hit, d: DVec3, rng: &mut Rng) -> bool {
+        let object = self.scene.geometry.triangles[hit.triangle][3] as usize;
+        if self.inputs.all_opaque() {
+            return false;
+        }
+        if self.inputs.glass[object] {
+            return rng.next() < self.pane_transmittance(hit, d);
+        }
+        if !self.inputs.materials[object].1 {
             return false;
         }
         let coverage = self.inputs.coverage_at(self.uv_at(hit));
         coverage < 1.0 && rng.next() >= coverage
+    }
+
+    /// The share of light a pane lets through along d where the ray hit it (`glass`).
+    fn pane_transmittance(&self, hit: &Hit, d: DVec3) -> f64 {
+        let g = &self.scene.geometry;
+        let tri = g.triangles[hit.triangle];
+        let [a, b, c] = [0, 1, 2].map(|k| v3(g.vertices[tri[k] as usize].position));
+        glass::transmittance(&self.inputs.materials[tri[3] as usize].0, (b - a).cross(c - a), d)
     }
 
     /// The interpolated uv of a hit.
@@ -646,7 +669,7 @@ impl<'a> Tracer<'a> {
     fn nearest(&self, mut o: DVec3, d: DVec3, rng: &mut Rng) -> Option<Hit> {
         loop {
             let hit = self.scene.trace(o, d, f64::INFINITY)?;
-            if !self.passes(&hit, rng) {
+            if !self.passes(&hit, d, rng) {
                 return Some(hit);
             }
             o = self.point_at(&hit) + d * RAY_EPSILON;
@@ -661,7 +684,7 @@ impl<'a> Tracer<'a> {
         let mut left = t_max;
         loop {
             let Some(hit) = self.scene.trace(o, d, left) else { return false };
-            if !self.passes(&hit, rng) {
+            if !self.passes(&hit, d, rng) {
                 return true;
             }
             let p = self.point_at(&hit);
@@ -750,8 +773,13 @@ impl<'a> Tracer<'a> {
             // HDRP Lit's anisotropy reads the tangent (truth.wgsl `surface_at`); the physical model none.
             s.tangent = lerp(a.tangent, b.tangent, c.tangent);
         }
+        let mut weight = 1.0;
+        if self.inputs.glass[object] {
+            s.diffuse_weight = glass::alpha(&m);
+            weight = glass::stop_weight(glass::transmittance(&m, ng, d));
+        }
         let lobe = (self.inputs.kind == TruthKind::Physical).then(|| physical::PhysicalLobe::new(&s, n, -d));
-        SurfacePoint { p, n, ng, object, s, emission, lobe }
+        SurfacePoint { p, n, ng, object, s, emission: emission * weight, lobe, weight }
     }
 
     /// The GGX share of this point's continuations: none for a diffuse-only model (a same-brdf
@@ -773,11 +801,12 @@ impl<'a> Tracer<'a> {
         }
         let p = self.inputs.pipeline;
         if let Some(lobe) = &sp.lobe {
-            return lobe.response(l);
+            return lobe.response(l) * sp.weight;
         }
         let twin = if self.inputs.materials[sp.object].1 { self.inputs.subject_twin } else { self.inputs.fixed_twin };
         // Present for a same-brdf truth (`Renderer::with_cpu_truth` refuses one without).
         twin.map_or(DVec3::ZERO, |t| t.direct_for_light(p, &sp.s, sp.n, v, l, min_roughness).max(DVec3::ZERO))
+            * sp.weight
             / irradiance_per_intensity(p)
     }
 

@@ -50,7 +50,9 @@ impl PhysicalLobe {
         let f0 = DVec3::splat(0.04).lerp(s.base_color, s.metallic);
         // Seen from below the surface it reflects nothing: no table lookup for it.
         let compensation = if nv > 0.0 { physical_energy_compensation(f0, nv, pr) } else { DVec3::ZERO };
-        PhysicalLobe { n, v, nv, a, f0, diffuse: s.base_color * (1.0 - s.metallic) / PI, compensation }
+        // A premultiplied surface keeps `diffuse_weight` of its diffuse lobe (a pane: its alpha).
+        let diffuse = s.base_color * (1.0 - s.metallic) * s.diffuse_weight / PI;
+        PhysicalLobe { n, v, nv, a, f0, diffuse, compensation }
     }
 
     /// f·NL towards l.

@@ -276,6 +276,7 @@ mod tests {
                 frame: &frame,
                 lights: &lights,
                 materials: &materials,
+                glass: &[false; 3],
                 background: true,
                 size: (12, 10),
                 subject_role: 2,
