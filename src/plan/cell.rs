@@ -609,6 +609,13 @@ impl CellPlan {
         self.fades.iter().map(|f| f.is_some_and(|f| f > 0.0)).collect()
     }
 
+    /// The meshes that shadow this frame's lights: casting (`casting`) with their renderer's Cast
+    /// Shadows on. The shadow maps draw them, and the study's traced visibility, which stands for
+    /// the maps (`ExactAlternatives::visibility`), casts its rays against them alone.
+    pub fn shadow_casters(&self, layout: &SceneLayout) -> Vec<bool> {
+        self.casting().into_iter().zip(&layout.meshes).map(|(c, m)| c && m.cast_shadows).collect()
+    }
+
     /// Whether the frame draws `pass`.
     pub fn has(&self, pass: Pass) -> bool {
         self.passes.contains(&pass)

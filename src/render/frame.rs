@@ -30,17 +30,18 @@ use crate::shading::ShaderModel;
 /// Which meshes each pass draws this frame.
 struct FrameMeshes {
     drawn: Vec<bool>,
-    /// Casting into the shadow maps (a LOD level fading in does not).
+    /// Shadowing the lights (`CellPlan::shadow_casters`): drawn into the shadow maps, and what the
+    /// study's traced visibility casts against.
     casting: Vec<bool>,
     /// The depth prepass draws the opaque queues only: the Transparent queue writes no depth.
     prepass: Vec<bool>,
 }
 
 impl FrameMeshes {
-    fn of(plan: &CellPlan) -> FrameMeshes {
+    fn of(plan: &CellPlan, layout: &crate::plan::cell::SceneLayout) -> FrameMeshes {
         let drawn = plan.drawn();
         let prepass = drawn.iter().zip(&plan.transparent).map(|(d, t)| *d && !t).collect();
-        FrameMeshes { casting: plan.casting(), drawn, prepass }
+        FrameMeshes { casting: plan.shadow_casters(layout), drawn, prepass }
     }
 }
 
@@ -121,7 +122,7 @@ impl Renderer {
             reuse: self.reuse,
         };
         let probe_times = self.probes.capture(&self.gpu, (&mut self.pipelines, &mut self.bindings), scene)?;
-        let meshes = FrameMeshes::of(plan);
+        let meshes = FrameMeshes::of(plan, &prepared.layout);
         let runs = self.prepare_passes((prepared, cell, plan), (&written, &keys), &meshes, (reuse, mode, total))?;
         let per_frame = runs.passes.len() as u32;
         if self.gpu.record.timestamp_queries && self.timer.as_ref().is_none_or(|t| t.capacity() < frames * per_frame) {

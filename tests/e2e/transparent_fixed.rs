@@ -116,3 +116,31 @@ fn the_truth_sees_through_a_pane_by_what_it_neither_reflects_nor_covers() {
     let err = err.to_string();
     assert!(err.contains("`pane` is transparent"), "{err}");
 }
+
+/// The study's ray-traced visibility stands for the shadow maps, so it sees the casters they see:
+/// a pane that casts no shadow (`cast_shadows = false`) stops no shadow ray, and the plane under
+/// it is lit alike with the exact visibility and with the shadow map.
+#[test]
+fn the_exact_visibility_passes_what_casts_no_shadow() {
+    let _timer = crate::common::timed!();
+    let text = std::fs::read_to_string(fixture("window_pane.toml"))
+        .unwrap()
+        .replace("shadows = false\nkey = true", "shadows = true\nkey = true")
+        .replace("direction = [0.0, -1.0, -0.2]", "direction = [0.0, -1.0, -0.8]");
+    let scene = scene_from_text("window_pane_shadowed", &text);
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let prepared = renderer.prepare_scene(&scene).unwrap();
+    let sliders = Sliders { base_color_linear: [0.8; 3], metallic: 0.0, smoothness: 0.5 };
+    let mut cell = cell_params(Pipeline::Urp, "lit", sliders, (1.0, 10.0), 64, RenderPath::Forward);
+    let mapped = renderer.render(&prepared, &cell, 1, 0).unwrap();
+    cell.settings.exact.visibility = true;
+    let traced = renderer.render(&prepared, &cell, 1, 0).unwrap();
+    // The plane and the pane over it: the plane shows through the pane.
+    let plane: Vec<usize> = (0..mapped.roles.len()).filter(|&i| mapped.roles[i] != 0).collect();
+    assert!(plane.len() > 1000, "{} plane pixels", plane.len());
+    let worst = plane
+        .iter()
+        .map(|&i| ((traced.hdr[4 * i + 1] - mapped.hdr[4 * i + 1]) / mapped.hdr[4 * i + 1].max(1e-6)).abs())
+        .fold(0.0f32, f32::max);
+    assert!(worst < 1e-3, "the exact visibility darkens the plane by up to {worst} where the pane casts nothing");
+}

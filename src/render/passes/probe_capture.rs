@@ -101,7 +101,7 @@ impl ProbeCapture {
         // The capture is lit as the composition's frames are, whatever the cell's path: a
         // vertex-lit cell draws no shadow pass itself, but the probes it reads hold shadows.
         if prepared.plan.shadows() && !s.plan.used_layers.is_empty() {
-            let casting = s.plan.casting();
+            let casting = s.plan.shadow_casters(&prepared.layout);
             let layers = (&s.plan.used_layers[..], &casting[..], &s.plan.dynamic_casters_only[..]);
             encode_shadow_passes(&mut encoder, s.shadow.0, prepared, layers, s.shadow.1, None);
             // The probe's own layers now: a cell cannot keep what it finds there.

@@ -57,7 +57,7 @@ pub(in crate::render) fn encode_shadow_passes(
         let static_baked = dynamic_only.contains(&layer);
         let casts = |i: usize| {
             let m = &prepared.layout.meshes[i];
-            casting[i] && m.cast_shadows && !(static_baked && m.role == crate::declarations::scene::Role::Fixed)
+            casting[i] && !(static_baked && m.role == crate::declarations::scene::Role::Fixed)
         };
         for (i, o) in prepared.objects.iter().enumerate().filter(|(i, _)| casts(*i)) {
             let subject = prepared.layout.meshes[i].role == crate::declarations::scene::Role::Subject;
