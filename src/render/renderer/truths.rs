@@ -89,30 +89,21 @@ impl Renderer {
                 cell.settings.surface.kind,
                 crate::pipelines::surface::SurfaceType::Cutout | crate::pipelines::surface::SurfaceType::Fade
             );
-        if let Some(name) = pane {
+        // What lets rays through, which only the CPU tracer traces: a pane first, then the subject.
+        let see_through = match pane {
+            Some(name) => Some(format!("the transparent fixed object `{name}`")),
+            None => (coverage < 1.0 || textured_see_through)
+                .then(|| format!("this cell's `{}` subject", cell.settings.surface.kind.name())),
+        };
+        if let Some(what) = see_through {
             return match settings.backend {
                 TruthBackend::Gpu => Err(Error::Other(format!(
-                    "truth backend \"gpu\" draws every surface opaque; the fixed object `{name}` is transparent \
-                     (a pane only the CPU tracer lets rays through): use backend = \"cpu\" or \"auto\""
+                    "truth backend \"gpu\" draws every surface opaque and cannot let rays through {what}: use \
+                     backend = \"cpu\" or \"auto\""
                 ))),
                 _ if !twins && settings.kind == TruthKind::SameBrdf => Err(Error::Other(format!(
-                    "`{}` has no f64 twin, and only the CPU tracer traces the transparent fixed object `{name}`",
+                    "`{}` has no f64 twin, and only the CPU tracer traces {what}",
                     cell.model.name
-                ))),
-                _ => Ok(true),
-            };
-        }
-        if coverage < 1.0 || textured_see_through {
-            return match settings.backend {
-                crate::declarations::matrix::TruthBackend::Gpu => Err(Error::Other(format!(
-                    "truth backend \"gpu\" draws every surface opaque; this cell's subject is `{}`: use \
-                     backend = \"cpu\" or \"auto\"",
-                    cell.settings.surface.kind.name()
-                ))),
-                _ if !twins && settings.kind == TruthKind::SameBrdf => Err(Error::Other(format!(
-                    "`{}` has no f64 twin, and only the CPU tracer traces a `{}` subject",
-                    cell.model.name,
-                    cell.settings.surface.kind.name()
                 ))),
                 _ => Ok(true),
             };
