@@ -7,6 +7,7 @@ use std::collections::BTreeMap;
 
 use crate::declarations::axes::{self, Axis, AxisRow};
 use crate::declarations::filter::{colour_label, FilterValue};
+use crate::pipelines::settings_axes::SettingValue;
 use crate::pipelines::{Pipeline, RenderPath};
 
 /// A cell's value on one axis.
@@ -21,6 +22,8 @@ pub enum AxisValue {
     Bool(bool),
     /// The swept model parameters, by name.
     Params(BTreeMap<String, f64>),
+    /// The engine settings the cell sets off its matrix's (or its preset's) own, by key.
+    Settings(BTreeMap<String, SettingValue>),
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -63,6 +66,10 @@ pub struct CellCoords {
     /// HDRP Lit's material type, when swept (None: the model's own parameters).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub material_type: Option<crate::shading::material_type::MaterialType>,
+    /// The engine settings of its pipeline the sweep sets off the matrix's (`[sweep.settings]`),
+    /// where the value differs from what the cell had without it.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub settings: BTreeMap<String, SettingValue>,
 }
 
 /// What names a cell before its sweep sets any axis: composition, pipeline, path, shader and preset.
@@ -107,6 +114,7 @@ impl CellCoords {
             alpha: None,
             specular: None,
             material_type: None,
+            settings: BTreeMap::new(),
         }
     }
 
@@ -135,6 +143,7 @@ impl CellCoords {
             Axis::Alpha => own(self.alpha),
             Axis::Specular => AxisValue::Colour(self.specular),
             Axis::MaterialType => self.material_type.map_or(AxisValue::Own, |t| name(t.name())),
+            Axis::Settings => AxisValue::Settings(self.settings.clone()),
         }
     }
 
@@ -177,6 +186,7 @@ impl CellCoords {
             (Axis::Color, AxisValue::Colour(c)) => self.color = *c,
             (Axis::Specular, AxisValue::Colour(c)) => self.specular = *c,
             (Axis::Params, AxisValue::Params(p)) => self.params = p.clone(),
+            (Axis::Settings, AxisValue::Settings(p)) => self.settings = p.clone(),
             (Axis::Textured, AxisValue::Bool(b)) => self.textured = *b,
             (Axis::Metallic, v) if number(v).is_some() => self.metallic = number(v).unwrap_or_default(),
             (Axis::Smoothness, v) if number(v).is_some() => self.smoothness = number(v).unwrap_or_default(),
@@ -203,6 +213,7 @@ impl CellCoords {
             AxisValue::Colour(c) => FilterValue::Color(colour_label(axis, c)),
             AxisValue::Bool(b) => FilterValue::Name(b.to_string()),
             AxisValue::Params(p) => FilterValue::Name(params_label(&p)),
+            AxisValue::Settings(p) => FilterValue::Name(settings_label(&p)),
         }
     }
 
@@ -235,6 +246,7 @@ impl CellCoords {
             AxisValue::Colour(c) => colour_label(row.axis, c),
             AxisValue::Bool(b) => b.to_string(),
             AxisValue::Params(p) => params_label(&p),
+            AxisValue::Settings(p) => settings_label(&p),
         }
     }
 
@@ -252,6 +264,8 @@ impl CellCoords {
             AxisValue::Params(p) => {
                 p.iter().map(|(k, v)| format!("_{k}{}", crate::cells::id_number(*v, 4, true))).collect()
             }
+            // `_cascade_count.2`, `_asset.high_fidelity`: the dot keeps a key's digits apart from its value's.
+            AxisValue::Settings(p) => p.iter().map(|(k, v)| format!("_{k}.{}", v.label())).collect(),
             _ => String::new(),
         }
     }
@@ -262,6 +276,14 @@ fn params_label(p: &BTreeMap<String, f64>) -> String {
         "defaults".into()
     } else {
         p.iter().map(|(k, v)| format!("{k}={v}")).collect::<Vec<_>>().join(",")
+    }
+}
+
+fn settings_label(p: &BTreeMap<String, SettingValue>) -> String {
+    if p.is_empty() {
+        "engine".into()
+    } else {
+        p.iter().map(|(k, v)| format!("{k}={}", v.label())).collect::<Vec<_>>().join(",")
     }
 }
 

@@ -10,6 +10,7 @@ use crate::declarations::matrix::{Axis, Filter, FilterValue, Matrix};
 use crate::declarations::presets::Preset;
 use crate::declarations::sweep::SweepDesign;
 use crate::geometry::gltf_io::GltfMaterial;
+use crate::pipelines::settings_axes::{self, EngineState, SceneFacts, SettingValue};
 use crate::pipelines::surface::SurfaceType;
 use crate::pipelines::{DisplayTransform, Pipeline};
 use crate::shading::registry::{ShaderModel, Sliders};
@@ -301,8 +302,17 @@ pub fn check_size(m: &Matrix, limit: u64) -> Result<u128, crate::error::InputErr
         let off_own = values.iter().filter(|v| **v != AxisValue::Own).count();
         (format!("sweep.{}", axis.name()), values.len(), off_own)
     });
-    let lists: Vec<(String, usize, usize)> =
-        lists.chain(s.params.iter().map(|(k, v)| (format!("sweep.params.{k}"), v.len(), v.len()))).collect();
+    // The settings of one pipeline multiply its cells alone: the largest pipeline's product bounds them.
+    let settings = s.settings.iter().map(|(p, lists)| {
+        let product = lists.values().map(|v| v.len().max(1)).product::<usize>();
+        let moved: usize = lists.values().map(Vec::len).sum();
+        (format!("sweep.settings.{}", p.name()), product, moved)
+    });
+    let settings = settings.max_by_key(|(_, product, _)| *product);
+    let lists: Vec<(String, usize, usize)> = lists
+        .chain(s.params.iter().map(|(k, v)| (format!("sweep.params.{k}"), v.len(), v.len())))
+        .chain(settings)
+        .collect();
     match s.design {
         SweepDesign::Grid => axes.extend(lists.into_iter().map(|(name, len, _)| (name, n(len)))),
         // The cell at every own value, and one per value off it.
@@ -353,7 +363,7 @@ fn swept_axes(m: &Matrix) -> Vec<(Axis, Vec<AxisValue>)> {
                     };
                     own.into_iter().chain(names.into_iter().map(|n| AxisValue::Name(n.to_string()))).collect()
                 }
-                AxisKind::Name | AxisKind::Params => return None,
+                AxisKind::Name | AxisKind::Params | AxisKind::Settings => return None,
             };
             Some((row.axis, if values.is_empty() { vec![AxisValue::Own] } else { values }))
         })
@@ -407,6 +417,7 @@ pub fn expand(m: &Matrix) -> Expansion {
                     });
                     continue;
                 }
+                let engines = engine_variations(m, pipeline);
                 for shader in &m.shaders {
                     let Some(model) = m.registry.find(pipeline, shader) else {
                         pruned.push(PrunedCell {
@@ -457,8 +468,9 @@ pub fn expand(m: &Matrix) -> Expansion {
                             (key.map_or(0.0, |l| l.intensity), key.map_or(0.0, |l| l.range)),
                             own_factors.is_some_and(|f| f.has_textures()),
                         );
-                        for (values, params) in &variations {
+                        for ((values, params), (engine, named)) in combine(m.sweep.design, &variations, &engines) {
                             let mut coords = unswept.clone();
+                            coords.settings = named.clone();
                             for (axis, v) in values.iter().filter(|(_, v)| **v != AxisValue::Own) {
                                 coords.set(*axis, v);
                             }
@@ -478,9 +490,9 @@ pub fn expand(m: &Matrix) -> Expansion {
                                 width: m.image.width,
                                 height: m.image.height,
                                 display,
-                                light_budget: m.light_budget,
-                                antialiasing: m.antialiasing_for(pipeline),
-                                pipeline_settings: m.pipeline_settings,
+                                light_budget: engine.budget,
+                                antialiasing: engine.antialiasing,
+                                pipeline_settings: engine.settings,
                                 twin_of: None,
                                 model: model.clone(),
                             };
@@ -512,18 +524,84 @@ pub fn expand(m: &Matrix) -> Expansion {
             }
         }
     }
+    for p in m.sweep.settings.keys().filter(|p| !m.pipelines.contains(p)) {
+        pruned.push(PrunedCell {
+            description: format!("sweep.settings.{}", p.name()),
+            axes: vec![("pipeline".into(), p.name().into())],
+            reason: format!("the matrix renders no {} cells for its settings to change", p.name()),
+        });
+    }
     for c in &mut cells {
         c.id = cell_id(&c.coords);
     }
     // A value listed twice in a sweep gives the same cell twice: keep one.
     let mut seen = std::collections::HashSet::new();
     cells.retain(|c| seen.insert(c.id.clone()));
-    mark_twins(&mut cells, &m.invariant_filters(), &keyless(m), reads_material(m));
+    mark_twins(&mut cells, &m.invariant_filters(), &scene_facts(m), reads_material(m));
     Expansion { cells, pruned, filtered_out, support: Vec::new() }
 }
 
 /// One cell's swept values: the axes it sets off their own values, and its model parameters.
 type Variation<'a> = (Vec<(Axis, &'a AxisValue)>, BTreeMap<String, f64>);
+
+/// A cell's engine state and the settings its id names (`settings_axes::apply`).
+type EngineVariation = (EngineState, BTreeMap<String, SettingValue>);
+
+/// The engine states `pipeline`'s cells render with: the matrix's own, changed by every
+/// combination of one value per swept setting (a grid), or by one setting at a time.
+fn engine_variations(m: &Matrix, pipeline: Pipeline) -> Vec<EngineVariation> {
+    let base = EngineState {
+        settings: m.pipeline_settings,
+        antialiasing: m.antialiasing_for(pipeline),
+        budget: m.light_budget,
+    };
+    let lists: Vec<(&'static str, &Vec<SettingValue>)> = m
+        .sweep
+        .settings
+        .get(&pipeline)
+        .into_iter()
+        .flatten()
+        .filter_map(|(k, v)| Some((settings_axes::find(pipeline, k)?.key, v)))
+        .collect();
+    let mut combos: Vec<Vec<(&'static str, SettingValue)>> = vec![Vec::new()];
+    for (key, values) in &lists {
+        combos = match m.sweep.design {
+            SweepDesign::Grid => combos
+                .into_iter()
+                .flat_map(|c| {
+                    values.iter().map(move |v| {
+                        let mut next = c.clone();
+                        next.push((*key, v.clone()));
+                        next
+                    })
+                })
+                .collect(),
+            SweepDesign::OneAtATime => {
+                combos.extend(values.iter().map(|v| vec![(*key, v.clone())]));
+                combos
+            }
+        };
+    }
+    combos.iter().map(|c| settings_axes::apply(pipeline, base, c)).collect()
+}
+
+/// The (variation, engine) pairs of a pipeline × shader × preset: every pair in a grid; one
+/// axis moved at a time otherwise (every variation at the matrix's engine, and every other
+/// engine at the own variation, the first).
+fn combine<'v, 'e>(
+    design: SweepDesign,
+    variations: &'v [Variation<'v>],
+    engines: &'e [EngineVariation],
+) -> Vec<(&'v Variation<'v>, &'e EngineVariation)> {
+    match design {
+        SweepDesign::Grid => engines.iter().flat_map(|e| variations.iter().map(move |v| (v, e))).collect(),
+        SweepDesign::OneAtATime => {
+            let (own, moved) = engines.split_first().expect("the matrix's own engine");
+            let first = variations.first();
+            variations.iter().map(|v| (v, own)).chain(moved.iter().filter_map(|e| Some((first?, e)))).collect()
+        }
+    }
+}
 
 /// The swept values of a cell of a model with `model_params` under the sweep's design: every
 /// combination of one value per axis and parameter (a grid), or the cell at every own value and
@@ -695,7 +773,7 @@ fn reads_material(m: &Matrix) -> bool {
 /// `material_read`: the reference reads the whole material, `reads_material`). Every axis counts
 /// unless the cell's model cannot see it, so an axis added to the table splits twins until said
 /// otherwise here.
-fn render_key(c: &Cell, keyless: bool, material_read: bool) -> String {
+fn render_key(c: &Cell, keyless: bool, facts: &SceneFacts, material_read: bool) -> String {
     let r = c.model().reads_for(&c.surface().params);
     let m = &c.material;
     let material_axis = |axis: Axis| {
@@ -703,8 +781,9 @@ fn render_key(c: &Cell, keyless: bool, material_read: bool) -> String {
     };
     let ignored = |axis: Axis| match axis {
         _ if material_read && material_axis(axis) => false,
-        // The preset reaches the image through the material alone.
-        Axis::Preset => true,
+        // The preset reaches the image through the material alone, the settings through the
+        // engine state (below, as far as the frame shows it).
+        Axis::Preset | Axis::Settings => true,
         Axis::Color => !r.color,
         Axis::Metallic => !r.metallic,
         Axis::Smoothness => !r.smoothness,
@@ -740,9 +819,12 @@ fn render_key(c: &Cell, keyless: bool, material_read: bool) -> String {
     } else if r.color {
         key.push_str(&format!("|c{:?}", m.base_color_linear));
     }
+    // The engine settings as far as they can change this frame (`settings_axes::frame_relevant`).
+    let engine = EngineState { settings: c.pipeline_settings, antialiasing: c.antialiasing, budget: c.light_budget };
+    let engine = settings_axes::frame_relevant(c.pipeline, c.path, facts, &engine);
     key.push_str(&format!(
         "|{}x{}|{:?}|{:?}|{:?}|{:?}",
-        c.width, c.height, c.display, c.light_budget, c.antialiasing, c.pipeline_settings
+        c.width, c.height, c.display, engine.budget, engine.antialiasing, engine.settings
     ));
     key
 }
@@ -753,24 +835,42 @@ pub fn remark_twins(cells: &mut [Cell], present: &std::collections::HashSet<Cell
         for c in cells.iter_mut() {
             c.twin_of = None;
         }
-        mark_twins(cells, &m.invariant_filters(), &keyless(m), reads_material(m));
+        mark_twins(cells, &m.invariant_filters(), &scene_facts(m), reads_material(m));
     }
 }
 
-/// Per composition: it has no key light, so the light intensity and range axes change nothing.
-fn keyless(m: &Matrix) -> Vec<bool> {
-    m.compositions.iter().map(|s| s.key_light().is_none()).collect()
+/// Per composition: what its engine settings act on (`SceneFacts`); without a key light the
+/// light intensity and range axes change nothing.
+fn scene_facts(m: &Matrix) -> Vec<(bool, SceneFacts)> {
+    m.compositions
+        .iter()
+        .map(|scene| {
+            let shadowed: Vec<_> = scene.lights.iter().filter(|l| l.shadows).collect();
+            let kind = crate::declarations::scene::LightKind::Directional;
+            let facts = SceneFacts {
+                shadows: scene.shadow_pass_needed().is_ok(),
+                directional_shadows: shadowed.iter().any(|l| l.kind == kind),
+                other_shadows: shadowed.iter().any(|l| l.kind != kind),
+                soft_shadows: shadowed.iter().any(|l| l.shadow.soft),
+                engine_resolution: shadowed.iter().any(|l| l.shadow.resolution.is_none()),
+                lights: scene.lights.len() as u32,
+                probes: scene.probes.len(),
+            };
+            (scene.key_light().is_none(), facts)
+        })
+        .collect()
 }
 
 /// `asserted`: the cells an `invariant` assert covers are all rendered — the assert tests the very
 /// independence that twinning would take on trust.
-fn mark_twins(cells: &mut [Cell], asserted: &[Filter], keyless: &[bool], material_read: bool) {
+fn mark_twins(cells: &mut [Cell], asserted: &[Filter], facts: &[(bool, SceneFacts)], material_read: bool) {
     let mut first: HashMap<String, CellId> = HashMap::new();
     for c in cells.iter_mut() {
         if asserted.iter().any(|f| matches_filter(c, f)) {
             continue;
         }
-        let key = render_key(c, keyless[c.composition_index], material_read);
+        let (keyless, facts) = &facts[c.composition_index];
+        let key = render_key(c, *keyless, facts, material_read);
         match first.get(&key) {
             Some(id) => c.twin_of = Some(id.clone()),
             None => {
@@ -783,6 +883,7 @@ fn mark_twins(cells: &mut [Cell], asserted: &[Filter], keyless: &[bool], materia
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::pipelines::settings::UrpAssetPreset;
 
     fn matrix(extra: &str) -> Matrix {
         let text = format!(
@@ -893,7 +994,7 @@ mod tests {
                 Axis::MaterialType => continue,
                 Axis::Alpha => id_number(c.material.alpha, 2, false),
                 Axis::Specular => crate::declarations::filter::colour_label(Axis::Specular, c.specular),
-                Axis::Params => continue,
+                Axis::Params | Axis::Settings => continue,
                 other => panic!("{other:?} has an id prefix but no value here"),
             };
             assert!(c.id.0.contains(&format!("{prefix}{value}")), "{}: no `{prefix}{value}` in {}", row.name, c.id);
@@ -1023,6 +1124,65 @@ mod tests {
         let typo = text.replace("\"own\"", "\"onw\"");
         let err = Matrix::from_text("t.toml", &typo, None, Arc::new(crate::shading::Registry::builtin())).unwrap_err();
         assert!(err.to_string().contains("did you mean `own`?"), "{err}");
+    }
+
+    /// Engine settings multiply their own pipeline's cells; ids name what differs from the
+    /// matrix's (or the preset's) own; what a scene cannot show is a twin; a typo is named.
+    #[test]
+    fn settings_axes_multiply_their_pipeline_and_twin_what_the_scene_cannot_show() {
+        let text = "name = \"t\"\ncompositions = [\"default\", \"scenes/invariants/furnace.toml\"]\n\
+                    pipelines = [\"builtin\", \"urp\"]\nshaders = [\"lit\", \"standard\"]\npresets = [\"plastic\"]\n\
+                    [sweep.settings.urp]\nadditional_light_shadow_resolution = [512, 1024]\nasset = [\"default\", \"high_fidelity\"]\n\
+                    [sweep.settings.builtin]\nshadow_resolution = [\"high\", \"very_high\"]\n\
+                    [sweep.settings.hdrp]\nshadow_resolution = [1024]\n";
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let registry = Arc::new(crate::shading::Registry::builtin());
+        let m = Matrix::from_text("t.toml", text, Some(root), registry.clone()).unwrap();
+        let e = expand(&m);
+        let of = |comp: &str, p: Pipeline| -> Vec<&Cell> {
+            e.cells.iter().filter(|c| c.composition == comp && c.pipeline == p).collect()
+        };
+        // URP: 2 resolutions × 2 assets; built-in: 2 levels; HDRP is not in the matrix: pruned.
+        assert_eq!(of("default", Pipeline::Urp).len(), 4);
+        assert_eq!(of("default", Pipeline::Builtin).len(), 2);
+        assert!(e.pruned.iter().any(|p| p.description == "sweep.settings.hdrp"), "{:?}", e.pruned);
+        let ids: Vec<&str> = of("default", Pipeline::Urp).iter().map(|c| c.id.0.as_str()).collect();
+        assert!(ids.contains(&"default__urp-forward__lit__plastic__m0.00_s0.75_i2_r10"), "{ids:?}");
+        let named = "_additional_light_shadow_resolution.1024_asset.high_fidelity";
+        assert!(ids.iter().any(|id| id.ends_with(named)), "{ids:?}");
+        for c in of("default", Pipeline::Urp) {
+            let hf = c.settings.contains_key("asset");
+            assert_eq!(c.pipeline_settings.urp.preset == UrpAssetPreset::HighFidelity, hf, "{}", c.id);
+            assert_eq!(c.antialiasing.samples(), if hf { 4 } else { 1 }, "{}", c.id);
+            assert!(!hf || c.twin_of.is_none(), "{}", c.id);
+        }
+        // The room's point light casts a shadow in URP only with High Fidelity's additional-light
+        // shadows: under the default asset its map's resolution changes nothing.
+        let default_asset: Vec<&Cell> =
+            of("default", Pipeline::Urp).into_iter().filter(|c| !c.settings.contains_key("asset")).collect();
+        assert_eq!(default_asset.iter().filter(|c| c.twin_of.is_some()).count(), 1, "{default_asset:?}");
+        // The furnace has no shadows: a resolution changes nothing there.
+        let furnace = of("white_furnace", Pipeline::Builtin);
+        assert_eq!(furnace.iter().filter(|c| c.twin_of.is_some()).count(), 1, "{furnace:?}");
+        let value = |key: &str| {
+            let bad = text.replace("\"very_high\"]", key);
+            Matrix::from_text("t.toml", &bad, Some(root), registry.clone()).unwrap_err().to_string()
+        };
+        let err = value("\"very_hihg\"]");
+        assert!(err.contains("sweep.settings.builtin.shadow_resolution[1]") && err.contains("`very_high`"), "{err}");
+        let err = Matrix::from_text("t.toml", &text.replace("asset = ", "aset = "), Some(root), registry.clone())
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("did you mean `asset`?"), "{err}");
+        let err = Matrix::from_text(
+            "t.toml",
+            &text.replace("[sweep.settings.hdrp]", "[sweep.settings.hdrp]\nsoft_shadows = [true]"),
+            Some(root),
+            registry,
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(err.contains("not a hdrp setting") && err.contains("a setting of urp"), "{err}");
     }
 
     #[test]

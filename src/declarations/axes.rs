@@ -34,6 +34,8 @@ pub enum Axis {
     Specular,
     /// HDRP Lit's Material Type (`shading::material_type`).
     MaterialType,
+    /// The swept engine settings (`[sweep.settings.<pipeline>]`); not a filter axis.
+    Settings,
 }
 
 impl Axis {
@@ -61,6 +63,8 @@ pub enum AxisKind {
     Choice,
     /// The swept model parameters, each its own list (`[sweep.params]`).
     Params,
+    /// The swept engine settings, a list per pipeline and setting (`[sweep.settings.<pipeline>]`).
+    Settings,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -111,7 +115,7 @@ const fn slider(name: &'static str, axis: Axis, id_prefix: &'static str) -> Axis
 }
 
 /// Every axis, in the order sheets, the viewer, filters and cell ids list them.
-pub const AXES: [AxisRow; 20] = [
+pub const AXES: [AxisRow; 21] = [
     AxisRow { reference: true, timing: true, ..row("composition", Axis::Composition, AxisKind::Name) },
     AxisRow { reference: true, timing: true, ..row("pipeline", Axis::Pipeline, AxisKind::Name) },
     AxisRow { reference: true, timing: true, ..row("path", Axis::Path, AxisKind::Name) },
@@ -152,6 +156,13 @@ pub const AXES: [AxisRow; 20] = [
         own: "model",
         id_prefix: Some("_"),
         ..row("material_type", Axis::MaterialType, AxisKind::Choice)
+    },
+    AxisRow {
+        filter: false,
+        timing: true,
+        id_prefix: Some("_"),
+        own: "engine",
+        ..row("settings", Axis::Settings, AxisKind::Settings)
     },
 ];
 
@@ -217,10 +228,11 @@ mod tests {
             Axis::Alpha => "alpha",
             Axis::Specular => "specular",
             Axis::MaterialType => "material_type",
+            Axis::Settings => "settings",
         };
         for r in &AXES {
             assert_eq!(r.name, named(r.axis));
         }
-        assert_eq!(filter_axes().count(), AXES.len() - 1, "every axis but params");
+        assert_eq!(filter_axes().count(), AXES.len() - 2, "every axis but params and settings");
     }
 }

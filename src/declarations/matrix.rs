@@ -644,8 +644,10 @@ impl Matrix {
                 _ => c.err(&key, message),
             }
         })?;
+        let builtin_level = file.pipeline_settings.builtin.quality_level.unwrap_or_default().fields();
         let light_budget = LightBudget {
-            pixel_light_count: file.lights.pixel_light_count.unwrap_or(LightBudget::default().pixel_light_count),
+            // The quality level's pixelLightCount unless `[lights]` names one.
+            pixel_light_count: file.lights.pixel_light_count.unwrap_or(builtin_level.1),
             urp_per_object_limit: file
                 .lights
                 .urp_per_object_limit
@@ -678,6 +680,14 @@ impl Matrix {
         };
         if !names_urp {
             antialiasing[Pipeline::Urp.shader_id() as usize] = pipeline_settings.urp.msaa;
+        }
+        // Built-in's is its quality level's antiAliasing unless the matrix names one for built-in.
+        let names_builtin = match &file.antialiasing {
+            Some(toml::Value::Table(t)) => t.contains_key("builtin"),
+            other => other.is_some(),
+        };
+        if !names_builtin {
+            antialiasing[Pipeline::Builtin.shader_id() as usize] = builtin_level.2;
         }
         for (key, v) in [("image.width", file.image.width), ("image.height", file.image.height)] {
             if v == 0 || v > MAX_IMAGE_SIZE {

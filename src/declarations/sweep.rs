@@ -5,6 +5,8 @@ use serde::Deserialize;
 use std::collections::BTreeMap;
 
 use super::axes::Axis;
+use crate::pipelines::settings_axes::{self, SettingValue};
+use crate::pipelines::Pipeline;
 
 /// Value lists; an empty list means "the preset's (or the scene's) own value". Its keys are the
 /// axis table's (`declarations::axes`): a number list per numeric axis, `color` (sRGB slider colours,
@@ -31,6 +33,10 @@ pub struct Sweep {
     pub material_type: Vec<crate::shading::material_type::MaterialType>,
     #[serde(skip_serializing_if = "BTreeMap::is_empty")]
     pub params: BTreeMap<String, Vec<f64>>,
+    /// `[sweep.settings.<pipeline>]`: engine settings' values (`pipelines::settings_axes`), per
+    /// pipeline and setting; a cell of another pipeline is not multiplied by them.
+    #[serde(skip_serializing_if = "BTreeMap::is_empty")]
+    pub settings: BTreeMap<Pipeline, BTreeMap<String, Vec<SettingValue>>>,
     /// Axes whose list also names their own value: the scene's on numeric axes whose table row
     /// reads `own = "scene"` (`camera_distance = ["scene", 0.3, 0.8]`), the preset's colour
     /// (`color = ["preset", [1, 1, 1]]`).
@@ -178,6 +184,7 @@ impl<'de> Deserialize<'de> for Sweep {
                     }
                 }
                 Some(AxisKind::Params) => sweep.params = value.clone().try_into().map_err(typed)?,
+                Some(AxisKind::Settings) => sweep.settings = settings(value).map_err(D::Error::custom)?,
                 _ => {
                     // As serde words it, so the input layer adds the nearest key.
                     let keys: Vec<String> = super::axes::AXES
@@ -195,6 +202,70 @@ impl<'de> Deserialize<'de> for Sweep {
         }
         Ok(sweep)
     }
+}
+
+/// `[sweep.settings]`: a table per pipeline of lists of its settings' values, each checked.
+fn settings(value: toml::Value) -> Result<BTreeMap<Pipeline, BTreeMap<String, Vec<SettingValue>>>, String> {
+    let near = |name: &str, names: &[&str]| {
+        crate::input::names::nearest(name, names).map(|n| format!(" (did you mean `{n}`?)")).unwrap_or_default()
+    };
+    let toml::Value::Table(pipelines) = value else {
+        return Err("sweep.settings: a table of pipelines (`[sweep.settings.urp]`) is expected".into());
+    };
+    let mut out = BTreeMap::new();
+    for (name, table) in pipelines {
+        let pipeline = Pipeline::from_name(&name).ok_or_else(|| {
+            let names = Pipeline::names();
+            format!(
+                "sweep.settings.{name}: `{name}` is not a pipeline{}; allowed: {}",
+                near(&name, &names),
+                names.join(", ")
+            )
+        })?;
+        let toml::Value::Table(keys) = table else {
+            return Err(format!("sweep.settings.{name}: a table of settings' value lists is expected"));
+        };
+        let mut lists = BTreeMap::new();
+        for (key, list) in keys {
+            let at = format!("sweep.settings.{name}.{key}");
+            let Some(row) = settings_axes::find(pipeline, &key) else {
+                let keys = settings_axes::keys(pipeline);
+                let elsewhere: Vec<&str> = Pipeline::ALL
+                    .into_iter()
+                    .filter(|p| *p != pipeline && settings_axes::find(*p, &key).is_some())
+                    .map(|p| p.name())
+                    .collect();
+                let other = match elsewhere.is_empty() {
+                    true => String::new(),
+                    false => format!(" (it is a setting of {})", elsewhere.join(" and ")),
+                };
+                return Err(format!(
+                    "{at}: `{key}` is not a {name} setting{}{other}; allowed: {}",
+                    near(&key, &keys),
+                    keys.join(", ")
+                ));
+            };
+            let toml::Value::Array(items) = list else {
+                return Err(format!("{at}: a list of values is expected, such as `{key} = [...]`"));
+            };
+            let values = items
+                .iter()
+                .enumerate()
+                .map(|(i, v)| {
+                    row.kind.read(v).ok_or_else(|| {
+                        let hint = match (row.kind, v.as_str()) {
+                            (settings_axes::SettingKind::Choice(names), Some(s)) => near(s, &names()),
+                            _ => String::new(),
+                        };
+                        format!("{at}[{i}]: {v} is not a value of this setting{hint}; allowed: {}", row.kind.allowed())
+                    })
+                })
+                .collect::<Result<Vec<_>, _>>()?;
+            lists.insert(key, values);
+        }
+        out.insert(pipeline, lists);
+    }
+    Ok(out)
 }
 
 impl Sweep {

@@ -6,6 +6,7 @@ use serde::{Deserialize, Serialize};
 
 pub mod hdrp_light;
 pub mod settings;
+pub mod settings_axes;
 pub mod surface;
 pub mod terms;
 pub mod volume;
@@ -192,22 +193,30 @@ impl Pipeline {
     /// `AdditionalLightsDefaultShadowResolutionTierHigh` = 1024 for spots and point faces.
     /// HDRP: HDAdditionalLightData `m_ShadowResolution` override 512 for every light.
     pub fn default_shadow_resolution(self, emitter: Emitter, pixel_size: f64) -> u32 {
+        self.shadow_resolution_with(&settings::PipelineSettings::default(), emitter, pixel_size)
+    }
+
+    /// `default_shadow_resolution` with the cell's engine settings: built-in's quality level's
+    /// Shadow Resolution multiplier, URP's asset, HDRP's lights' resolution.
+    pub fn shadow_resolution_with(self, engine: &settings::PipelineSettings, emitter: Emitter, pixel_size: f64) -> u32 {
         match self {
             Pipeline::Builtin => {
+                let multiplier = engine.builtin.quality.shadow_resolution.multiplier();
                 let (factor, max) = match emitter {
                     Emitter::Directional { .. } => (3.8, 4096),
                     // Area lights cast no real-time shadows (declarations::area_light): the spot's row.
                     Emitter::Spot { .. } | Emitter::Rect { .. } | Emitter::Disc { .. } => (2.0, 2048),
                     Emitter::Point { .. } => (1.0, 1024),
                 };
-                let size = (pixel_size * 0.5 * factor).ceil().max(1.0) as u32;
+                let size = (pixel_size * multiplier * factor).ceil().max(1.0) as u32;
                 size.next_power_of_two().min(max)
             }
+            // The asset's main-light resolution, and its High tier for the others.
             Pipeline::Urp => match emitter {
-                Emitter::Directional { .. } => 2048,
-                _ => 1024,
+                Emitter::Directional { .. } => engine.urp.main_light_shadow_resolution,
+                _ => engine.urp.additional_light_shadow_resolution,
             },
-            Pipeline::Hdrp => 512,
+            Pipeline::Hdrp => engine.hdrp.shadow_resolution,
         }
     }
 
@@ -220,10 +229,14 @@ impl Pipeline {
         self.shadow_cascades_with(&settings::PipelineSettings::default())
     }
 
-    /// The cascades with the matrix's engine settings (URP's from its asset).
+    /// The cascades with the cell's engine settings (built-in's from its quality level, URP's from
+    /// its asset).
     pub fn shadow_cascades_with(self, engine: &settings::PipelineSettings) -> ShadowCascades {
         match self {
-            Pipeline::Builtin => ShadowCascades { splits: vec![0.067, 0.2, 0.467, 1.0], max_distance: 150.0 },
+            Pipeline::Builtin => {
+                let q = &engine.builtin.quality;
+                ShadowCascades { splits: q.cascade_splits(), max_distance: q.shadow_distance }
+            }
             Pipeline::Urp => {
                 ShadowCascades { splits: engine.urp.cascade_splits(), max_distance: engine.urp.shadow_distance }
             }

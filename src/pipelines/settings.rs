@@ -16,12 +16,33 @@ pub struct PipelineSettings {
     pub hdrp: HdrpSettings,
 }
 
-/// How HDRP reads the key-light axis (`[pipeline_settings.hdrp] light_unit`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+/// HDRP's settings: how it reads the key-light axis, and its lights' shadow-map resolution.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct HdrpSettings {
     #[serde(default)]
     pub light_unit: HdrpLightUnit,
+    /// The shadow-map resolution of a light whose scene entry sets none: HDAdditionalLightData's
+    /// `m_ShadowResolution` override, 512 on a new light.
+    #[serde(default = "hdrp_shadow_resolution", skip_serializing_if = "is_hdrp_shadow_resolution")]
+    pub shadow_resolution: u32,
+}
+
+/// HDAdditionalLightData's default shadow resolution override.
+pub const HDRP_SHADOW_RESOLUTION: u32 = 512;
+
+fn hdrp_shadow_resolution() -> u32 {
+    HDRP_SHADOW_RESOLUTION
+}
+
+fn is_hdrp_shadow_resolution(v: &u32) -> bool {
+    *v == HDRP_SHADOW_RESOLUTION
+}
+
+impl Default for HdrpSettings {
+    fn default() -> Self {
+        HdrpSettings { light_unit: HdrpLightUnit::default(), shadow_resolution: HDRP_SHADOW_RESOLUTION }
+    }
 }
 
 /// The HDRP reading of the light-intensity axis (0–100), always × 10⁴ as the app's slider was.
@@ -56,8 +77,9 @@ impl HdrpLightUnit {
     }
 }
 
-/// Built-in's forward pass structure.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+/// Built-in's forward pass structure and its quality level's shadow fields (the level's pixel
+/// light count and anti-aliasing are the cell's light budget and anti-aliasing).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BuiltinSettings {
     /// true (Unity): every pixel light past the main directional one is its own additive
@@ -66,11 +88,194 @@ pub struct BuiltinSettings {
     /// the cost they add.
     #[serde(default = "yes")]
     pub forward_add: bool,
+    /// The quality level's shadow fields; Ultra's unless a matrix says otherwise (a record of
+    /// Ultra's cells reads as it did before the fields existed).
+    #[serde(default, skip_serializing_if = "BuiltinQuality::is_ultra")]
+    pub quality: BuiltinQuality,
 }
 
 impl Default for BuiltinSettings {
     fn default() -> Self {
-        BuiltinSettings { forward_add: true }
+        BuiltinSettings { forward_add: true, quality: BuiltinQuality::default() }
+    }
+}
+
+/// A built-in quality level's shadow fields (QualitySettings: shadows, shadowResolution,
+/// shadowCascades, shadowDistance, the 2- and 4-cascade splits at their defaults).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BuiltinQuality {
+    /// The level the fields started from.
+    #[serde(default)]
+    pub level: QualityLevel,
+    #[serde(default = "all_shadows")]
+    pub shadows: BuiltinShadows,
+    #[serde(default = "high_resolution")]
+    pub shadow_resolution: ShadowResolutionLevel,
+    /// 1, 2 or 4 (built-in has no three-cascade setting).
+    #[serde(default = "four_cascades")]
+    pub shadow_cascades: u32,
+    /// Metres.
+    #[serde(default = "ultra_distance")]
+    pub shadow_distance: f64,
+}
+
+fn all_shadows() -> BuiltinShadows {
+    BuiltinShadows::All
+}
+fn high_resolution() -> ShadowResolutionLevel {
+    ShadowResolutionLevel::High
+}
+fn four_cascades() -> u32 {
+    4
+}
+fn ultra_distance() -> f64 {
+    150.0
+}
+
+impl Default for BuiltinQuality {
+    fn default() -> Self {
+        QualityLevel::Ultra.fields().0
+    }
+}
+
+impl BuiltinQuality {
+    fn is_ultra(&self) -> bool {
+        *self == BuiltinQuality::default()
+    }
+
+    /// The directional cascades' far edges as fractions of the shadow distance
+    /// (shadowCascade2Split 1/3, shadowCascade4Split (0.067, 0.2, 0.467)).
+    pub fn cascade_splits(&self) -> Vec<f64> {
+        match self.shadow_cascades {
+            2 => vec![1.0 / 3.0, 1.0],
+            4 => vec![0.067, 0.2, 0.467, 1.0],
+            _ => vec![1.0],
+        }
+    }
+}
+
+/// QualitySettings.shadows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BuiltinShadows {
+    /// No real-time shadows.
+    Disable,
+    /// Hard shadows only: a light asking for soft ones gets hard ones.
+    HardOnly,
+    All,
+}
+
+impl BuiltinShadows {
+    pub const ALL: [BuiltinShadows; 3] = [BuiltinShadows::Disable, BuiltinShadows::HardOnly, BuiltinShadows::All];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            BuiltinShadows::Disable => "disable",
+            BuiltinShadows::HardOnly => "hard_only",
+            BuiltinShadows::All => "all",
+        }
+    }
+}
+
+/// QualitySettings.shadowResolution: the multiplier of the built-in shadow-map size (Unity manual,
+/// "Configure shadow resolution in the Built-In Render Pipeline": Very High 1, High 0.5, Medium
+/// 0.25, Low 0.125).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ShadowResolutionLevel {
+    Low,
+    Medium,
+    High,
+    VeryHigh,
+}
+
+impl ShadowResolutionLevel {
+    pub const ALL: [ShadowResolutionLevel; 4] = [
+        ShadowResolutionLevel::Low,
+        ShadowResolutionLevel::Medium,
+        ShadowResolutionLevel::High,
+        ShadowResolutionLevel::VeryHigh,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            ShadowResolutionLevel::Low => "low",
+            ShadowResolutionLevel::Medium => "medium",
+            ShadowResolutionLevel::High => "high",
+            ShadowResolutionLevel::VeryHigh => "very_high",
+        }
+    }
+
+    pub fn multiplier(self) -> f64 {
+        match self {
+            ShadowResolutionLevel::Low => 0.125,
+            ShadowResolutionLevel::Medium => 0.25,
+            ShadowResolutionLevel::High => 0.5,
+            ShadowResolutionLevel::VeryHigh => 1.0,
+        }
+    }
+}
+
+/// The six quality levels of a new built-in project's ProjectSettings/QualitySettings.asset.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum QualityLevel {
+    VeryLow,
+    Low,
+    Medium,
+    High,
+    VeryHigh,
+    /// The level a new project renders with on desktop (m_CurrentQuality 5).
+    #[default]
+    Ultra,
+}
+
+impl QualityLevel {
+    pub const ALL: [QualityLevel; 6] = [
+        QualityLevel::VeryLow,
+        QualityLevel::Low,
+        QualityLevel::Medium,
+        QualityLevel::High,
+        QualityLevel::VeryHigh,
+        QualityLevel::Ultra,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            QualityLevel::VeryLow => "very_low",
+            QualityLevel::Low => "low",
+            QualityLevel::Medium => "medium",
+            QualityLevel::High => "high",
+            QualityLevel::VeryHigh => "very_high",
+            QualityLevel::Ultra => "ultra",
+        }
+    }
+
+    /// The level's shadow fields, pixel light count and anti-aliasing, as the default
+    /// QualitySettings.asset lists them (pixelLightCount, shadows, shadowResolution,
+    /// shadowCascades, shadowDistance, antiAliasing): Very Low 0/Disable/Low/1/15 m/off, Low
+    /// 0/Disable/Low/1/20 m/off, Medium 1/HardOnly/Low/1/20 m/off, High 2/All/Medium/2/40 m/off,
+    /// Very High 3/All/High/2/70 m/2×, Ultra 4/All/High/4/150 m/4×.
+    pub fn fields(self) -> (BuiltinQuality, u32, Antialiasing) {
+        use BuiltinShadows::*;
+        use ShadowResolutionLevel as R;
+        let (pixel, shadows, resolution, cascades, distance, aa) = match self {
+            QualityLevel::VeryLow => (0, Disable, R::Low, 1, 15.0, Antialiasing::None),
+            QualityLevel::Low => (0, Disable, R::Low, 1, 20.0, Antialiasing::None),
+            QualityLevel::Medium => (1, HardOnly, R::Low, 1, 20.0, Antialiasing::None),
+            QualityLevel::High => (2, All, R::Medium, 2, 40.0, Antialiasing::None),
+            QualityLevel::VeryHigh => (3, All, R::High, 2, 70.0, Antialiasing::Msaa2),
+            QualityLevel::Ultra => (4, All, R::High, 4, 150.0, Antialiasing::Msaa4),
+        };
+        let quality = BuiltinQuality {
+            level: self,
+            shadows,
+            shadow_resolution: resolution,
+            shadow_cascades: cascades,
+            shadow_distance: distance,
+        };
+        (quality, pixel, aa)
     }
 }
 
@@ -263,12 +468,51 @@ pub struct UrpAssetFile {
     pub ssao: Option<bool>,
 }
 
+/// `[pipeline_settings.builtin]` as written: the pass structure, a quality level and any of its
+/// shadow fields overridden (its pixel light count and anti-aliasing are `[lights]` and
+/// `[antialiasing]`).
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BuiltinSettingsFile {
+    pub forward_add: Option<bool>,
+    pub quality_level: Option<QualityLevel>,
+    pub shadows: Option<BuiltinShadows>,
+    pub shadow_resolution: Option<ShadowResolutionLevel>,
+    pub shadow_cascades: Option<u32>,
+    pub shadow_distance: Option<f64>,
+}
+
+impl BuiltinSettingsFile {
+    fn resolve(&self) -> Result<BuiltinSettings, SettingsError> {
+        let mut quality = self.quality_level.unwrap_or_default().fields().0;
+        if let Some(v) = self.shadows {
+            quality.shadows = v;
+        }
+        if let Some(v) = self.shadow_resolution {
+            quality.shadow_resolution = v;
+        }
+        if let Some(v) = self.shadow_cascades {
+            if ![1, 2, 4].contains(&v) {
+                return Err(("builtin.shadow_cascades".into(), format!("{v}: allowed 1, 2, 4")));
+            }
+            quality.shadow_cascades = v;
+        }
+        if let Some(v) = self.shadow_distance {
+            if !(v.is_finite() && (0.0..=10_000.0).contains(&v)) {
+                return Err(("builtin.shadow_distance".into(), format!("{v}: allowed 0..=10000")));
+            }
+            quality.shadow_distance = v;
+        }
+        Ok(BuiltinSettings { forward_add: self.forward_add.unwrap_or(true), quality })
+    }
+}
+
 /// `[pipeline_settings]` as written.
 #[derive(Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PipelineSettingsFile {
     #[serde(default)]
-    pub builtin: BuiltinSettings,
+    pub builtin: BuiltinSettingsFile,
     #[serde(default)]
     pub urp: UrpAssetFile,
     #[serde(default)]
@@ -280,6 +524,7 @@ pub struct PipelineSettingsFile {
 #[serde(deny_unknown_fields)]
 pub struct HdrpSettingsFile {
     pub light_unit: Option<String>,
+    pub shadow_resolution: Option<u32>,
 }
 
 /// Why a `[pipeline_settings]` value was refused: the key under `pipeline_settings` and the message.
@@ -366,7 +611,16 @@ impl PipelineSettingsFile {
                 ("hdrp.light_unit".to_string(), format!("`{name}`: allowed {}", HdrpLightUnit::names().join(", ")))
             })?,
         };
-        Ok(PipelineSettings { builtin: self.builtin, urp: a, hdrp: HdrpSettings { light_unit } })
+        if let Some(v) = self.hdrp.shadow_resolution {
+            if !(v.is_power_of_two() && (128..=8192).contains(&v)) {
+                return Err(("hdrp.shadow_resolution".into(), format!("{v}: allowed a power of two from 128 to 8192")));
+            }
+        }
+        let hdrp = HdrpSettings {
+            light_unit,
+            shadow_resolution: self.hdrp.shadow_resolution.unwrap_or(HDRP_SHADOW_RESOLUTION),
+        };
+        Ok(PipelineSettings { builtin: self.builtin.resolve()?, urp: a, hdrp })
     }
 }
 

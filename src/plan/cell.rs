@@ -230,7 +230,7 @@ impl SceneLayout {
                     // Refused by the scene's checks (declarations::area_light): no shadow maps.
                     LightKind::Rect | LightKind::Disc => 0,
                 };
-                side = side.max(array_side(l));
+                side = side.max(array_side(l, &frame.engines));
             } else {
                 first_layer.push(None);
             }
@@ -776,7 +776,7 @@ mod tests {
             let light = &scene.lights[0];
             let (wanted, _) =
                 crate::plan::shadows::cell_resolution(p, &Default::default(), light, &plan.camera, (128, 128), 1 << 20);
-            assert_eq!(res, wanted.min(array_side(light)), "{p:?}");
+            assert_eq!(res, wanted.min(array_side(light, &[])), "{p:?}");
             // Each face sees along its axis from the light.
             for (face, dir) in [DVec3::X, -DVec3::X, DVec3::Y, -DVec3::Y, DVec3::Z, -DVec3::Z].iter().enumerate() {
                 let m = glam::Mat4::from_cols_array_2d(&plan.shadow_layers[face].view_proj).as_dmat4();

@@ -38,6 +38,10 @@ pub struct FramePlan {
     pub hdrp_bloom: bool,
     /// Whether HDRP cells render screen-space ambient occlusion (`[hdrp] ssao`, on by default).
     pub hdrp_ssao: bool,
+    /// The engine settings the composition's cells render with (the shadow array is as large as
+    /// the largest map they ask for); none: the engines' defaults.
+    #[serde(skip)]
+    pub engines: Vec<crate::pipelines::settings::PipelineSettings>,
 }
 
 impl FramePlan {
@@ -143,7 +147,17 @@ impl FramePlan {
         if !hdrp_ssao {
             left_out.push(("HDRP SSAO and its depth prepass".into(), "[hdrp] ssao = false".into()));
         }
-        FramePlan { passes, background, left_out, hdrp_bloom, hdrp_ssao }
+        FramePlan { passes, background, left_out, hdrp_bloom, hdrp_ssao, engines: Vec::new() }
+    }
+
+    /// The plan for cells rendering with `engines` (each distinct setting once).
+    pub fn with_engines(mut self, engines: &[crate::pipelines::settings::PipelineSettings]) -> FramePlan {
+        for e in engines {
+            if !self.engines.contains(e) {
+                self.engines.push(*e);
+            }
+        }
+        self
     }
 }
 

@@ -14,7 +14,7 @@ use glam::{DMat4, DVec3};
 use serde::{Deserialize, Serialize};
 
 use crate::declarations::scene::{Camera, Light, LightKind};
-use crate::pipelines::settings::PipelineSettings;
+use crate::pipelines::settings::{BuiltinShadows, PipelineSettings};
 use crate::pipelines::surface::SurfaceOptions;
 use crate::pipelines::{Pipeline, ShadowCascades};
 
@@ -34,9 +34,17 @@ const SHADOW_NEAR: f64 = 0.02;
 /// The side of the array layers a light needs: its own resolution, or the largest default any
 /// pipeline gives it at images up to `ARRAY_IMAGE_SIDE` pixels (built-in's default grows with the
 /// image; past that it is clamped to the layer and the cell record says so).
-pub fn array_side(light: &Light) -> u32 {
+/// `engines`: the engine settings the composition's cells render with (each pipeline's map size
+/// follows them).
+pub fn array_side(light: &Light, engines: &[PipelineSettings]) -> u32 {
     light.shadow.resolution.unwrap_or_else(|| {
-        Pipeline::ALL.iter().map(|p| p.default_shadow_resolution(light.emitter(), ARRAY_IMAGE_SIDE)).max().unwrap_or(1)
+        let default = [PipelineSettings::default()];
+        let engines = if engines.is_empty() { &default[..] } else { engines };
+        engines
+            .iter()
+            .flat_map(|e| Pipeline::ALL.map(|p| p.shadow_resolution_with(e, light.emitter(), ARRAY_IMAGE_SIDE)))
+            .max()
+            .unwrap_or(1)
     })
 }
 
@@ -55,8 +63,9 @@ pub struct ShadowStyle {
 
 /// The style of `light`'s shadow in `pipeline`, or why it casts none there.
 /// - Built-in: the light's own settings (Light inspector: Strength, Bias 0.05, Normal Bias 0.4),
-///   except a point light's normal bias, which the engine sets to 0 (unity_LightShadowBias.z,
-///   Shadows.cpp, as URP's ShadowUtils.GetShadowBias quotes it).
+///   but a point light's normal bias, which the engine sets to 0 (unity_LightShadowBias.z,
+///   Shadows.cpp, as URP's ShadowUtils.GetShadowBias quotes it); no shadow where the quality
+///   level's shadows are Disable, a hard one where they are Hard Only.
 /// - URP: a light other than the main one casts only with the asset's additional-light shadows
 ///   (UniversalRenderPipelineAsset m_AdditionalLightShadowsSupported, off in the code defaults);
 ///   soft only with the asset's soft shadows; a light's bias "Use settings from Render Pipeline
@@ -74,8 +83,18 @@ pub fn shadow_style(
     let s = &light.shadow;
     match pipeline {
         Pipeline::Builtin => {
+            let soft = match engine.builtin.quality.shadows {
+                BuiltinShadows::Disable => {
+                    return Err(format!(
+                        "built-in quality level `{}`: shadows Disable (QualitySettings.shadows)",
+                        engine.builtin.quality.level.name()
+                    ))
+                }
+                BuiltinShadows::HardOnly => false,
+                BuiltinShadows::All => s.soft,
+            };
             let normal_bias = if light.kind == LightKind::Point { 0.0 } else { s.normal_bias };
-            Ok(ShadowStyle { strength: s.strength, soft: s.soft, bias: s.bias, normal_bias })
+            Ok(ShadowStyle { strength: s.strength, soft, bias: s.bias, normal_bias })
         }
         Pipeline::Urp => {
             let a = &engine.urp;
@@ -105,11 +124,8 @@ pub fn cell_resolution(
     (width, height): (u32, u32),
     side: u32,
 ) -> (u32, Option<String>) {
-    let wanted = light.shadow.resolution.unwrap_or_else(|| match (pipeline, light.kind) {
-        // URP: the asset's main-light resolution, and its High tier for the others.
-        (Pipeline::Urp, LightKind::Directional) => engine.urp.main_light_shadow_resolution,
-        (Pipeline::Urp, _) => engine.urp.additional_light_shadow_resolution,
-        _ => pipeline.default_shadow_resolution(light.emitter(), screen_extent(light, camera, (width, height))),
+    let wanted = light.shadow.resolution.unwrap_or_else(|| {
+        pipeline.shadow_resolution_with(engine, light.emitter(), screen_extent(light, camera, (width, height)))
     });
     if wanted <= side {
         (wanted, None)
@@ -304,7 +320,7 @@ mod tests {
         let mut sun = scene.lights[0].clone();
         sun.kind = LightKind::Directional;
         sun.shadow.resolution = None;
-        let side = array_side(&sun);
+        let side = array_side(&sun, &[]);
         assert_eq!(side, 2048, "URP's main-light map is the largest default up to 1024-pixel images");
         let at = |sun: &Light, p: Pipeline, size: u32| {
             cell_resolution(p, &Default::default(), sun, &scene.camera, (size, size), side)
@@ -316,7 +332,7 @@ mod tests {
         assert_eq!(clamped, 2048);
         assert!(note.is_some_and(|n| n.contains("4096")));
         sun.shadow.resolution = Some(300);
-        assert_eq!(array_side(&sun), 300);
+        assert_eq!(array_side(&sun, &[]), 300);
         assert_eq!(at(&sun, Pipeline::Urp, 256).0, 300, "the scene's own resolution wins");
     }
 

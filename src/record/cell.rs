@@ -312,13 +312,18 @@ impl CellRecord {
 }
 
 /// The engine settings of a cell's pipeline (`pipelines::settings`): built-in's forward pass
-/// structure, or the URP asset's fields; HDRP's come from the scene's volume (`display`).
+/// structure and quality level, the URP asset's fields, or HDRP's settings (its volume's are the
+/// scene's: `display`).
 #[derive(Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
 pub struct EngineSettingsRecord {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub builtin: Option<crate::pipelines::settings::BuiltinSettings>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub urp: Option<crate::pipelines::settings::UrpAsset>,
+    /// HDRP's, where they are not its defaults (a record of HDRP's defaults reads as it did
+    /// before they were settings).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hdrp: Option<crate::pipelines::settings::HdrpSettings>,
 }
 
 impl EngineSettingsRecord {
@@ -327,6 +332,7 @@ impl EngineSettingsRecord {
         EngineSettingsRecord {
             builtin: (pipeline == Pipeline::Builtin).then_some(s.builtin),
             urp: (pipeline == Pipeline::Urp).then_some(s.urp),
+            hdrp: (pipeline == Pipeline::Hdrp && s.hdrp != Default::default()).then_some(s.hdrp),
         }
     }
 }

@@ -479,7 +479,16 @@ impl<'a> Stream<'a> {
             truth_digests: Mutex::new(HashMap::new()),
             replacing: Mutex::new(HashSet::new()),
             truth_cache,
-            plans: matrix.compositions.iter().map(FramePlan::for_scene).collect(),
+            plans: matrix
+                .compositions
+                .iter()
+                .enumerate()
+                .map(|(ci, scene)| {
+                    let engines: Vec<_> =
+                        exp.cells.iter().filter(|c| c.composition_index == ci).map(|c| c.pipeline_settings).collect();
+                    FramePlan::for_scene(scene).with_engines(&engines)
+                })
+                .collect(),
             matrix,
             exp,
             dir,

@@ -40,6 +40,7 @@ mod references;
 mod render_ci;
 mod resume;
 mod reuse;
+mod settings_axes;
 mod shading;
 mod shadows;
 mod shards;

@@ -1,0 +1,104 @@
+//! Engine settings as sweep axes (`[sweep.settings.<pipeline>]`): in every pipeline a shadow
+//! resolution moves the shadow's edge and nothing else, a value equal to the engine's own is the
+//! cell without it, and where no shadow is drawn its values are twins of one rendered cell.
+
+use shadematrix::record::CellRecord;
+use shadematrix::run::{run, RunOptions};
+
+/// A box above a floor under a slanted sun, seen from above; `shadows`: whether the sun casts
+/// (hard) shadows.
+fn scene(name: &str, shadows: bool) -> String {
+    format!(
+        "name = \"{name}\"\n[camera]\nposition = [0.0, 4.5, 2.5]\ntarget = [0.0, 0.0, 0.0]\nfov_y_deg = 50.0\n\
+         [[lights]]\nkind = \"directional\"\ndirection = [0.35, -1.0, 0.2]\nintensity = 1.5\nshadows = {shadows}\nshadow = {{ soft = false }}\nkey = true\n\
+         [[objects]]\nname = \"floor\"\nrole = \"subject\"\nmesh = {{ kind = \"plane\", size = [8.0, 8.0], subdivisions = 4 }}\n\
+         [[objects]]\nname = \"box\"\nrole = \"fixed\"\nmesh = {{ kind = \"box\", size = [1.2, 0.2, 1.2] }}\n\
+         transform = {{ translate = [0.0, 1.0, 0.0] }}\nmaterial = {{ base_color_linear = [0.5, 0.5, 0.5] }}\nreceive_shadows = false\n\
+         [environment]\nsky = {{ kind = \"constant\", color = [0.0, 0.0, 0.0] }}\nbackground = false\n\
+         [hdrp]\nbloom = false\nssao = false\n"
+    )
+}
+
+const MATRIX: &str = "name = \"settings\"\ncompositions = [\"sun_box.toml\", \"sun_box_unshadowed.toml\"]\n\
+    pipelines = [\"builtin\", \"urp\", \"hdrp\"]\nshaders = [\"standard\", \"lit\"]\npresets = [\"plastic\"]\n\
+    [image]\nwidth = 128\nheight = 128\n\
+    [sweep.settings.builtin]\nshadow_resolution = [\"medium\", \"high\"]\n\
+    [sweep.settings.urp]\nmain_light_shadow_resolution = [1024, 2048]\n\
+    [sweep.settings.hdrp]\nshadow_resolution = [256, 512]\n";
+
+fn luminance(img: &image::RgbaImage) -> Vec<f64> {
+    img.pixels().map(|p| (p[0] as f64 + p[1] as f64 + p[2] as f64) / 3.0).collect()
+}
+
+#[test]
+fn a_shadow_resolution_moves_the_shadow_edge_only_and_its_default_is_the_plain_cell() {
+    let _timer = crate::common::timed!();
+    let tmp = tempfile::tempdir().unwrap();
+    std::fs::write(tmp.path().join("sun_box.toml"), scene("sun_box", true)).unwrap();
+    std::fs::write(tmp.path().join("sun_box_unshadowed.toml"), scene("sun_box_unshadowed", false)).unwrap();
+    let m = crate::common::write_matrix(tmp.path(), "m.toml", MATRIX);
+    let matrix = crate::common::load_matrix(&m);
+    let out = tmp.path().join("run");
+    let opts = RunOptions { results_root: tmp.path().into(), out: Some(out.clone()), ..Default::default() };
+    let summary = run(&matrix, &opts).unwrap();
+    // Two values per pipeline and composition; without shadows each pipeline's second is a twin.
+    assert_eq!((summary.counts.cells, summary.counts.twins), (12, 3));
+    let cells = out.join("cells");
+    let image = |id: &str| image::open(cells.join(id).join("image.png")).unwrap().to_rgba8();
+    let record = |id: &str| CellRecord::load(&cells.join(id).join("cell.json")).unwrap();
+    for (pipeline, shader, setting) in [
+        ("builtin", "standard", "shadow_resolution.medium"),
+        ("urp", "lit", "main_light_shadow_resolution.1024"),
+        ("hdrp", "lit", "shadow_resolution.256"),
+    ] {
+        let plain = |comp: &str| format!("{comp}__{pipeline}-forward__{shader}__plastic__m0.00_s0.75_i1.5_r10");
+        let coarse = |comp: &str| format!("{}_{setting}", plain(comp));
+        // The engine's own value names nothing: its cell is the plain one, rendered.
+        assert!(cells.join(plain("sun_box")).join("cell.json").exists(), "{}", plain("sun_box"));
+        assert!(record(&plain("sun_box")).twin_of.is_none());
+        // Without a shadow the resolution changes nothing: the later-listed value (the engine's
+        // own) is a twin of the first, drawn once.
+        let twin = record(&plain("sun_box_unshadowed"));
+        assert_eq!(twin.twin_of.as_ref().map(|t| t.0.clone()), Some(coarse("sun_box_unshadowed")), "{pipeline}");
+        // The coarse map renders, at its own resolution.
+        let (fine_maps, coarse_maps) = (record(&plain("sun_box")).shadow_maps, record(&coarse("sun_box")).shadow_maps);
+        assert!(coarse_maps[0].resolution < fine_maps[0].resolution, "{pipeline}: {coarse_maps:?} vs {fine_maps:?}");
+        let (fine, rough, unshadowed) = (
+            luminance(&image(&plain("sun_box"))),
+            luminance(&image(&coarse("sun_box"))),
+            luminance(&image(&plain("sun_box_unshadowed"))),
+        );
+        // The shadow: where either map darkens the frame; its core: shadowed with both maps and
+        // farther than a coarse texel (at most 5 px in these frames) from any pixel either leaves lit.
+        let shadowed = |img: &[f64], i: usize| unshadowed[i] - img[i] > 2.0;
+        let side = 128usize;
+        let in_either = |i: usize| shadowed(&fine, i) || shadowed(&rough, i);
+        let core = |i: usize| {
+            let (x, y) = ((i % side) as i64, (i / side) as i64);
+            (-6..=6).all(|dy| {
+                (-6..=6).all(|dx| {
+                    let (u, v) = (x + dx, y + dy);
+                    (0..side as i64).contains(&u)
+                        && (0..side as i64).contains(&v)
+                        && shadowed(&fine, (v as usize) * side + u as usize)
+                        && shadowed(&rough, (v as usize) * side + u as usize)
+                })
+            })
+        };
+        if let Ok(dir) = std::env::var("SETTINGS_AXES_KEEP") {
+            for id in [plain("sun_box"), coarse("sun_box")] {
+                image(&id).save(format!("{dir}/{id}.png")).unwrap();
+            }
+        }
+        let changed: Vec<usize> = (0..fine.len()).filter(|&i| (fine[i] - rough[i]).abs() > 2.0).collect();
+        let area = (0..fine.len()).filter(|&i| in_either(i)).count();
+        let cores = (0..fine.len()).filter(|&i| core(i)).count();
+        eprintln!("{pipeline}: {} pixels changed, shadow {area}, core {cores}", changed.len());
+        assert!(!changed.is_empty(), "{pipeline}: the coarse map changed nothing");
+        assert!(cores > 0, "{pipeline}: the shadow has no core to hold");
+        for &i in &changed {
+            assert!(in_either(i), "{pipeline}: pixel {} {} changed outside the shadow", i % side, i / side);
+            assert!(!core(i), "{pipeline}: pixel {} {} changed inside the shadow's core", i % side, i / side);
+        }
+    }
+}
