@@ -17,6 +17,9 @@ use crate::fsutil::write_atomic;
 pub struct Point {
     pub id: String,
     pub label: String,
+    /// Its pipeline and shader: the plot's colour and marker.
+    pub pipeline: String,
+    pub shader: String,
     pub time_ms: f64,
     pub flip: f64,
     /// The plotted error (`ErrorMeasure`), on which the Pareto front is.
@@ -65,71 +68,35 @@ impl ErrorMeasure {
     }
 }
 
-/// The scatter of `points` (time against error) with the Pareto front dashed in red and
-/// labelled, each point's error bar where it has one, drawn with plotters' SVG backend.
-pub fn svg(title: &str, time_label: &str, measure: ErrorMeasure, points: &[Point]) -> Result<String, Error> {
-    use plotters::prelude::*;
-    let what = format!("the plot `{title}`");
-    let fail = |e: &dyn std::fmt::Display| super::plot_style::failed(&what, e);
-    let tmax = points.iter().map(|p| p.time_ms).fold(0.0f64, f64::max).max(1e-3) * 1.1;
-    let emax = points.iter().map(|p| p.error + p.error_bar.unwrap_or(0.0)).fold(0.0f64, f64::max).max(1e-3) * 1.1;
-    let (red, blue) = (super::plot_style::PALETTE[3], super::plot_style::PALETTE[0]);
-    let mut out = String::new();
-    {
-        let root = SVGBackend::with_string(&mut out, (720, 460)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| fail(&e))?;
-        let mut chart = ChartBuilder::on(&root)
-            .caption(title, ("sans-serif", 16))
-            .margin(14)
-            .x_label_area_size(42)
-            .y_label_area_size(64)
-            .build_cartesian_2d(0f64..tmax, 0f64..emax)
-            .map_err(|e| fail(&e))?;
-        chart
-            .configure_mesh()
-            .x_desc(time_label)
-            .y_desc(measure.axis())
-            .light_line_style(WHITE)
-            .draw()
-            .map_err(|e| fail(&e))?;
-        let mut front: Vec<&Point> = points.iter().filter(|p| p.pareto).collect();
-        front.sort_by(|a, b| a.time_ms.total_cmp(&b.time_ms));
-        if front.len() > 1 {
-            chart
-                .draw_series(DashedLineSeries::new(
-                    front.iter().map(|p| (p.time_ms, p.error)),
-                    4,
-                    3,
-                    red.stroke_width(2),
-                ))
-                .map_err(|e| fail(&e))?;
-        }
-        let colour = |p: &Point| if p.pareto { red } else { blue };
-        chart
-            .draw_series(points.iter().filter_map(|p| {
-                let bar = p.error_bar?;
-                Some(ErrorBar::new_vertical(p.time_ms, (p.error - bar).max(0.0), p.error, p.error + bar, colour(p), 6))
-            }))
-            .map_err(|e| fail(&e))?;
-        chart
-            .draw_series(points.iter().map(|p| Circle::new((p.time_ms, p.error), 4, colour(p).filled())))
-            .map_err(|e| fail(&e))?;
-        // Labels on the front only: dense clusters would bury them; the table lists every point.
-        chart
-            .draw_series(front.iter().map(|p| {
-                EmptyElement::at((p.time_ms, p.error))
-                    + Text::new(
-                        p.label.clone(),
-                        (6, -12),
-                        ("sans-serif", 10).into_font().color(&RGBColor(0x33, 0x33, 0x33)),
-                    )
-            }))
-            .map_err(|e| fail(&e))?;
-        root.draw(&Text::new("red, labelled: Pareto front", (500, 30), ("sans-serif", 10).into_font().color(&red)))
-            .map_err(|e| fail(&e))?;
-        root.present().map_err(|e| fail(&e))?;
-    }
-    Ok(out)
+/// The scatter of `points` (time against error): a log error axis with the truth-noise bars, a
+/// colour per pipeline and a marker per shader, the Pareto front as a line, each point named on
+/// hover (`report::scatter`).
+pub fn svg(title: &str, time_label: &str, measure: ErrorMeasure, points: &[Point]) -> String {
+    let scatter: Vec<super::scatter::ScatterPoint> = points
+        .iter()
+        .map(|p| {
+            let bar = p.error_bar.map(|b| format!(" ± {b:.3e}")).unwrap_or_default();
+            super::scatter::ScatterPoint {
+                x: p.time_ms,
+                y: p.error,
+                bar: p.error_bar,
+                colour_key: p.pipeline.clone(),
+                marker_key: p.shader.clone(),
+                title: format!(
+                    "{}\n{}: error {:.4e}{bar}, {:.3} ms, against {}{}",
+                    p.id,
+                    p.label,
+                    p.error,
+                    p.time_ms,
+                    p.reference,
+                    if p.pareto { ", on the Pareto front" } else { "" }
+                ),
+                front: p.pareto,
+            }
+        })
+        .collect();
+    let text = super::scatter::ScatterText { caption: title, x_label: time_label, y_label: measure.axis() };
+    super::scatter::svg(&text, &scatter)
 }
 
 /// Build per-composition points, each with the composition's measure; cells without a reference
@@ -146,6 +113,8 @@ pub fn points(run: &RunData) -> (BTreeMap<String, (ErrorMeasure, Vec<Point>)>, b
             (Some(time_ms), Some(flip)) => by.entry(c.composition.clone()).or_default().push(Point {
                 id: c.id.0.clone(),
                 label: format!("{}/{}", c.pipeline.name(), c.shader),
+                pipeline: c.pipeline.name().to_string(),
+                shader: c.shader.clone(),
                 time_ms,
                 flip,
                 error: flip,
@@ -234,7 +203,7 @@ pub fn write(run: &RunData) -> Result<(), Error> {
         }
         write_atomic(
             &run.dir.join("plots").join(format!("error_vs_time_{comp}.svg")),
-            svg(&format!("{comp}: error against run time"), time_label, *measure, pts)?.as_bytes(),
+            svg(&format!("{comp}: error against run time"), time_label, *measure, pts).as_bytes(),
         )?;
     }
     write_atomic(&run.dir.join("tables/error_vs_time.md"), md.as_bytes())?;
@@ -250,6 +219,8 @@ mod tests {
         let p = |t: f64, e: f64| Point {
             id: format!("{t}-{e}"),
             label: String::new(),
+            pipeline: "urp".into(),
+            shader: "lit".into(),
             time_ms: t,
             flip: e,
             error: e,
@@ -267,7 +238,10 @@ mod tests {
         mark_pareto(&mut pts);
         let front: Vec<bool> = pts.iter().map(|q| q.pareto).collect();
         assert_eq!(front, vec![true, true, false, true, true]);
-        let plot = svg("t <&>", "ms", ErrorMeasure::TruthRelativeMse, &pts).unwrap();
-        assert!(plot.starts_with("<svg") && plot.contains("<circle") && plot.contains("t &lt;&amp;&gt;"), "{plot}");
+        let plot = svg("t <&>", "ms", ErrorMeasure::TruthRelativeMse, &pts);
+        assert!(
+            plot.starts_with("<svg") && plot.contains("<title>1-0.5") && plot.contains("t &lt;&amp;&gt;"),
+            "{plot}"
+        );
     }
 }

@@ -8,6 +8,7 @@ pub mod invariants;
 pub mod perf;
 pub mod plot_style;
 pub mod run_data;
+pub mod scatter;
 pub mod sheets;
 pub mod stability;
 pub mod viewer;
