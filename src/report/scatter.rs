@@ -88,6 +88,9 @@ impl Shape {
     }
 }
 
+/// A legend row's glyph, drawn at the row's height.
+type Glyph = Box<dyn Fn(f64) -> String>;
+
 /// `s` safe in SVG text and attributes.
 pub fn escape(s: &str) -> String {
     s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
@@ -250,7 +253,7 @@ pub fn svg(text: &ScatterText, points: &[ScatterPoint]) -> String {
     }
     // The legend: pipelines by colour, shaders by marker, the front; a row is (glyph, label, heading).
     let lx = right + 18.0;
-    let mut rows: Vec<(Box<dyn Fn(f64) -> String>, String, bool)> = Vec::new();
+    let mut rows: Vec<(Glyph, String, bool)> = Vec::new();
     rows.push((Box::new(|_| String::new()), "pipeline".into(), true));
     for c in &colours {
         let colour = colour_of(c, &colours);
