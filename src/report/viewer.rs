@@ -114,9 +114,28 @@ pub struct ViewerCell(
 pub struct ViewerTiming(pub Option<f64>, pub i64, pub Vec<(u32, f64)>);
 
 /// A cell's value on `axis` as the viewer shows it: numbers exactly (the shortest decimal that
-/// reads back to the recorded value), names as recorded.
+/// reads back to the recorded value), names as recorded; an engine setting (`settings.<key>`) as
+/// its label, `own` where the cell keeps its matrix's or its preset's.
 fn value(c: &CellRecord, axis: &str) -> String {
-    c.coords.exact(axis)
+    match axis.strip_prefix(SETTING_PREFIX) {
+        Some(key) => c.coords.settings.get(key).map_or_else(|| "own".to_string(), |v| v.label()),
+        None => c.coords.exact(axis),
+    }
+}
+
+/// The viewer's axis of one swept engine setting: `settings.shadow_resolution`.
+const SETTING_PREFIX: &str = "settings.";
+
+/// The axes the viewer offers, in the order its controls appear: every axis of the table, the
+/// swept engine settings each its own (a slider per setting, not one over their combinations).
+fn axis_names(run: &RunData) -> Vec<String> {
+    let settings: BTreeSet<&String> = run.cells.iter().flat_map(|c| c.coords.settings.keys()).collect();
+    crate::declarations::axes::names()
+        .into_iter()
+        .filter(|n| *n != crate::declarations::axes::of(crate::declarations::axes::Axis::Settings).name)
+        .map(str::to_string)
+        .chain(settings.into_iter().map(|k| format!("{SETTING_PREFIX}{k}")))
+        .collect()
 }
 
 /// The index of `value` in `table`, added at the end the first time it is seen.
@@ -132,9 +151,9 @@ fn intern<T: PartialEq + Clone>(table: &mut Vec<T>, value: &T) -> u32 {
 
 pub fn data(run: &RunData, links: Vec<(String, String)>) -> ViewerData {
     // The axes the viewer offers, in the order its controls appear: every axis of the table.
-    let names = crate::declarations::axes::names();
+    let names = axis_names(run);
     let mut axes = Vec::new();
-    for name in names.iter().copied() {
+    for name in names.iter().map(String::as_str) {
         let mut seen: BTreeSet<String> = run.cells.iter().map(|c| value(c, name)).collect();
         // A pruned value is offered too, so that picking it says why there is no such cell.
         seen.extend(

@@ -1,6 +1,7 @@
 //! Engine settings as sweep axes (`[sweep.settings.<pipeline>]`): in every pipeline a shadow
 //! resolution moves the shadow's edge and nothing else, a value equal to the engine's own is the
-//! cell without it, and where no shadow is drawn its values are twins of one rendered cell.
+//! cell without it, where no shadow is drawn its values are twins of one rendered cell, and the
+//! viewer offers each setting as a slider.
 
 use shadematrix::record::CellRecord;
 use shadematrix::run::{run, RunOptions};
@@ -43,6 +44,12 @@ fn a_shadow_resolution_moves_the_shadow_edge_only_and_its_default_is_the_plain_c
     let summary = run(&matrix, &opts).unwrap();
     // Two values per pipeline and composition; without shadows each pipeline's second is a twin.
     assert_eq!((summary.counts.cells, summary.counts.twins), (12, 3));
+    // The viewer gives each swept setting its own slider, `own` where a cell keeps its engine's.
+    let data = shadematrix::report::viewer::data(&shadematrix::report::run_data::RunData::load(&out).unwrap(), vec![]);
+    let slider = |name: &str| data.axes.iter().find(|a| a.name == name).map(|a| a.values.clone());
+    assert_eq!(slider("settings.main_light_shadow_resolution"), Some(vec!["1024".to_string(), "own".to_string()]));
+    assert_eq!(slider("settings.shadow_resolution").map(|v| v.len()), Some(3), "built-in's medium, HDRP's 256, own");
+    assert!(slider("settings").is_none(), "no slider over the combinations");
     let cells = out.join("cells");
     let image = |id: &str| image::open(cells.join(id).join("image.png")).unwrap().to_rgba8();
     let record = |id: &str| CellRecord::load(&cells.join(id).join("cell.json")).unwrap();
