@@ -736,6 +736,10 @@ pub fn id_number(v: f64, decimals: usize, trim: bool) -> String {
 /// changed. None when a named composition is not in the matrix.
 pub fn reference_cell_id(c: &Cell, m: &Matrix, terms: &[(Axis, FilterValue)]) -> Option<CellId> {
     let mut r = c.coords.clone();
+    // Another pipeline's cell has none of this one's settings: its engine's own.
+    if terms.iter().any(|(axis, v)| *axis == Axis::Pipeline && *v != FilterValue::Name(c.pipeline.name().into())) {
+        r.settings.clear();
+    }
     for (axis, v) in terms {
         if *axis == Axis::Composition && !m.compositions.iter().any(|s| FilterValue::Name(s.name.clone()) == *v) {
             return None;
