@@ -165,6 +165,41 @@ fn resolution_levels() -> Vec<&'static str> {
     ShadowResolutionLevel::ALL.iter().map(|r| r.name()).collect()
 }
 
+/// A setting held in one field of the engine state, read and written as a flag (`bool`), a whole
+/// number (`u32`) or a real one (`f64`).
+macro_rules! field {
+    ($pipeline:ident, $key:literal, $kind:expr, bool, $($path:ident).+) => {
+        SettingRow {
+            pipeline: Pipeline::$pipeline,
+            key: $key,
+            kind: $kind,
+            preset: false,
+            get: |e| SettingValue::Bool(e.$($path).+),
+            set: |e, v| e.$($path).+ = v.flag(),
+        }
+    };
+    ($pipeline:ident, $key:literal, $kind:expr, u32, $($path:ident).+) => {
+        SettingRow {
+            pipeline: Pipeline::$pipeline,
+            key: $key,
+            kind: $kind,
+            preset: false,
+            get: |e| number(e.$($path).+),
+            set: |e, v| e.$($path).+ = v.number() as u32,
+        }
+    };
+    ($pipeline:ident, $key:literal, $kind:expr, f64, $($path:ident).+) => {
+        SettingRow {
+            pipeline: Pipeline::$pipeline,
+            key: $key,
+            kind: $kind,
+            preset: false,
+            get: |e| number(e.$($path).+),
+            set: |e, v| e.$($path).+ = v.number(),
+        }
+    };
+}
+
 /// Every engine setting a sweep may list, presets first within each pipeline.
 pub const SETTINGS: &[SettingRow] = &[
     // Built-in: a quality level (QualitySettings) and its fields.
@@ -198,30 +233,9 @@ pub const SETTINGS: &[SettingRow] = &[
             e.settings.builtin.quality.shadow_resolution = found.unwrap_or(ShadowResolutionLevel::High);
         },
     },
-    SettingRow {
-        pipeline: Pipeline::Builtin,
-        key: "shadow_cascades",
-        kind: SettingKind::Among(&[1, 2, 4]),
-        preset: false,
-        get: |e| number(e.settings.builtin.quality.shadow_cascades),
-        set: |e, v| e.settings.builtin.quality.shadow_cascades = v.number() as u32,
-    },
-    SettingRow {
-        pipeline: Pipeline::Builtin,
-        key: "shadow_distance",
-        kind: SettingKind::Real(0.0, 10_000.0),
-        preset: false,
-        get: |e| number(e.settings.builtin.quality.shadow_distance),
-        set: |e, v| e.settings.builtin.quality.shadow_distance = v.number(),
-    },
-    SettingRow {
-        pipeline: Pipeline::Builtin,
-        key: "pixel_light_count",
-        kind: SettingKind::Count(0, 64),
-        preset: false,
-        get: |e| number(e.budget.pixel_light_count),
-        set: |e, v| e.budget.pixel_light_count = v.number() as u32,
-    },
+    field!(Builtin, "shadow_cascades", SettingKind::Among(&[1, 2, 4]), u32, settings.builtin.quality.shadow_cascades),
+    field!(Builtin, "shadow_distance", SettingKind::Real(0.0, 10_000.0), f64, settings.builtin.quality.shadow_distance),
+    field!(Builtin, "pixel_light_count", SettingKind::Count(0, 64), u32, budget.pixel_light_count),
     SettingRow {
         pipeline: Pipeline::Builtin,
         key: "msaa",
@@ -230,14 +244,7 @@ pub const SETTINGS: &[SettingRow] = &[
         get: |e| name(e.antialiasing.name()),
         set: |e, v| e.antialiasing = msaa(v),
     },
-    SettingRow {
-        pipeline: Pipeline::Builtin,
-        key: "forward_add",
-        kind: SettingKind::Bool,
-        preset: false,
-        get: |e| SettingValue::Bool(e.settings.builtin.forward_add),
-        set: |e, v| e.settings.builtin.forward_add = v.flag(),
-    },
+    field!(Builtin, "forward_add", SettingKind::Bool, bool, settings.builtin.forward_add),
     // URP: an asset and its fields (`settings::UrpAsset`).
     SettingRow {
         pipeline: Pipeline::Urp,
@@ -258,14 +265,13 @@ pub const SETTINGS: &[SettingRow] = &[
             e.settings.urp.msaa = msaa(v);
         },
     },
-    SettingRow {
-        pipeline: Pipeline::Urp,
-        key: "main_light_shadow_resolution",
-        kind: SettingKind::Resolution,
-        preset: false,
-        get: |e| number(e.settings.urp.main_light_shadow_resolution),
-        set: |e, v| e.settings.urp.main_light_shadow_resolution = v.number() as u32,
-    },
+    field!(
+        Urp,
+        "main_light_shadow_resolution",
+        SettingKind::Resolution,
+        u32,
+        settings.urp.main_light_shadow_resolution
+    ),
     SettingRow {
         pipeline: Pipeline::Urp,
         key: "additional_lights_per_object_limit",
@@ -277,78 +283,27 @@ pub const SETTINGS: &[SettingRow] = &[
             e.settings.urp.additional_lights_per_object_limit = v.number() as u32;
         },
     },
-    SettingRow {
-        pipeline: Pipeline::Urp,
-        key: "additional_light_shadows",
-        kind: SettingKind::Bool,
-        preset: false,
-        get: |e| SettingValue::Bool(e.settings.urp.additional_light_shadows),
-        set: |e, v| e.settings.urp.additional_light_shadows = v.flag(),
-    },
-    SettingRow {
-        pipeline: Pipeline::Urp,
-        key: "additional_light_shadow_resolution",
-        kind: SettingKind::Resolution,
-        preset: false,
-        get: |e| number(e.settings.urp.additional_light_shadow_resolution),
-        set: |e, v| e.settings.urp.additional_light_shadow_resolution = v.number() as u32,
-    },
-    SettingRow {
-        pipeline: Pipeline::Urp,
-        key: "reflection_probe_blending",
-        kind: SettingKind::Bool,
-        preset: false,
-        get: |e| SettingValue::Bool(e.settings.urp.reflection_probe_blending),
-        set: |e, v| e.settings.urp.reflection_probe_blending = v.flag(),
-    },
-    SettingRow {
-        pipeline: Pipeline::Urp,
-        key: "reflection_probe_box_projection",
-        kind: SettingKind::Bool,
-        preset: false,
-        get: |e| SettingValue::Bool(e.settings.urp.reflection_probe_box_projection),
-        set: |e, v| e.settings.urp.reflection_probe_box_projection = v.flag(),
-    },
-    SettingRow {
-        pipeline: Pipeline::Urp,
-        key: "shadow_distance",
-        kind: SettingKind::Real(0.0, 10_000.0),
-        preset: false,
-        get: |e| number(e.settings.urp.shadow_distance),
-        set: |e, v| e.settings.urp.shadow_distance = v.number(),
-    },
-    SettingRow {
-        pipeline: Pipeline::Urp,
-        key: "cascade_count",
-        kind: SettingKind::Count(1, 4),
-        preset: false,
-        get: |e| number(e.settings.urp.cascade_count),
-        set: |e, v| e.settings.urp.cascade_count = v.number() as u32,
-    },
-    SettingRow {
-        pipeline: Pipeline::Urp,
-        key: "depth_bias",
-        kind: SettingKind::Real(0.0, 10.0),
-        preset: false,
-        get: |e| number(e.settings.urp.depth_bias),
-        set: |e, v| e.settings.urp.depth_bias = v.number(),
-    },
-    SettingRow {
-        pipeline: Pipeline::Urp,
-        key: "normal_bias",
-        kind: SettingKind::Real(0.0, 10.0),
-        preset: false,
-        get: |e| number(e.settings.urp.normal_bias),
-        set: |e, v| e.settings.urp.normal_bias = v.number(),
-    },
-    SettingRow {
-        pipeline: Pipeline::Urp,
-        key: "soft_shadows",
-        kind: SettingKind::Bool,
-        preset: false,
-        get: |e| SettingValue::Bool(e.settings.urp.soft_shadows),
-        set: |e, v| e.settings.urp.soft_shadows = v.flag(),
-    },
+    field!(Urp, "additional_light_shadows", SettingKind::Bool, bool, settings.urp.additional_light_shadows),
+    field!(
+        Urp,
+        "additional_light_shadow_resolution",
+        SettingKind::Resolution,
+        u32,
+        settings.urp.additional_light_shadow_resolution
+    ),
+    field!(Urp, "reflection_probe_blending", SettingKind::Bool, bool, settings.urp.reflection_probe_blending),
+    field!(
+        Urp,
+        "reflection_probe_box_projection",
+        SettingKind::Bool,
+        bool,
+        settings.urp.reflection_probe_box_projection
+    ),
+    field!(Urp, "shadow_distance", SettingKind::Real(0.0, 10_000.0), f64, settings.urp.shadow_distance),
+    field!(Urp, "cascade_count", SettingKind::Count(1, 4), u32, settings.urp.cascade_count),
+    field!(Urp, "depth_bias", SettingKind::Real(0.0, 10.0), f64, settings.urp.depth_bias),
+    field!(Urp, "normal_bias", SettingKind::Real(0.0, 10.0), f64, settings.urp.normal_bias),
+    field!(Urp, "soft_shadows", SettingKind::Bool, bool, settings.urp.soft_shadows),
     SettingRow {
         pipeline: Pipeline::Urp,
         key: "ssao",
@@ -363,14 +318,7 @@ pub const SETTINGS: &[SettingRow] = &[
         },
     },
     // HDRP.
-    SettingRow {
-        pipeline: Pipeline::Hdrp,
-        key: "shadow_resolution",
-        kind: SettingKind::Resolution,
-        preset: false,
-        get: |e| number(e.settings.hdrp.shadow_resolution),
-        set: |e, v| e.settings.hdrp.shadow_resolution = v.number() as u32,
-    },
+    field!(Hdrp, "shadow_resolution", SettingKind::Resolution, u32, settings.hdrp.shadow_resolution),
     SettingRow {
         pipeline: Pipeline::Hdrp,
         key: "light_unit",
