@@ -859,6 +859,7 @@ fn scene_facts(m: &Matrix) -> Vec<(bool, SceneFacts)> {
                 engine_resolution: shadowed.iter().any(|l| l.shadow.resolution.is_none()),
                 lights: scene.lights.len() as u32,
                 probes: scene.probes.len(),
+                lod_groups: scene.objects.iter().any(|o| o.lod.as_ref().is_some_and(|g| g.bias.is_none())),
             };
             (scene.key_light().is_none(), facts)
         })

@@ -262,8 +262,14 @@ impl Pipeline {
     /// QualitySettings (lodBiasMode FromQualitySettings) and its template's level is not emulated:
     /// 1, APPROXIMATED.
     pub fn quality_lod_bias(self) -> f64 {
+        self.quality_lod_bias_with(&settings::PipelineSettings::default())
+    }
+
+    /// `quality_lod_bias` with the cell's engine settings: built-in's from its quality level.
+    pub fn quality_lod_bias_with(self, engine: &settings::PipelineSettings) -> f64 {
         match self {
-            Pipeline::Builtin | Pipeline::Urp => 2.0,
+            Pipeline::Builtin => engine.builtin.quality.lod_bias,
+            Pipeline::Urp => 2.0,
             Pipeline::Hdrp => 1.0,
         }
     }

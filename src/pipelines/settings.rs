@@ -118,6 +118,9 @@ pub struct BuiltinQuality {
     /// Metres.
     #[serde(default = "ultra_distance")]
     pub shadow_distance: f64,
+    /// QualitySettings.lodBias: LOD groups switch as if their screen height were this much larger.
+    #[serde(default = "ultra_lod_bias")]
+    pub lod_bias: f64,
 }
 
 fn all_shadows() -> BuiltinShadows {
@@ -131,6 +134,9 @@ fn four_cascades() -> u32 {
 }
 fn ultra_distance() -> f64 {
     150.0
+}
+fn ultra_lod_bias() -> f64 {
+    2.0
 }
 
 impl Default for BuiltinQuality {
@@ -252,21 +258,21 @@ impl QualityLevel {
         }
     }
 
-    /// The level's shadow fields, pixel light count and anti-aliasing, as the default
+    /// The level's shadow fields, LOD bias, pixel light count and anti-aliasing, as the default
     /// QualitySettings.asset lists them (pixelLightCount, shadows, shadowResolution,
-    /// shadowCascades, shadowDistance, antiAliasing): Very Low 0/Disable/Low/1/15 m/off, Low
-    /// 0/Disable/Low/1/20 m/off, Medium 1/HardOnly/Low/1/20 m/off, High 2/All/Medium/2/40 m/off,
-    /// Very High 3/All/High/2/70 m/2×, Ultra 4/All/High/4/150 m/4×.
+    /// shadowCascades, shadowDistance, lodBias, antiAliasing): Very Low 0/Disable/Low/1/15 m/0.3/off,
+    /// Low 0/Disable/Low/1/20 m/0.4/off, Medium 1/HardOnly/Low/1/20 m/0.7/off, High
+    /// 2/All/Medium/2/40 m/1/off, Very High 3/All/High/2/70 m/1.5/2×, Ultra 4/All/High/4/150 m/2/4×.
     pub fn fields(self) -> (BuiltinQuality, u32, Antialiasing) {
         use BuiltinShadows::*;
         use ShadowResolutionLevel as R;
-        let (pixel, shadows, resolution, cascades, distance, aa) = match self {
-            QualityLevel::VeryLow => (0, Disable, R::Low, 1, 15.0, Antialiasing::None),
-            QualityLevel::Low => (0, Disable, R::Low, 1, 20.0, Antialiasing::None),
-            QualityLevel::Medium => (1, HardOnly, R::Low, 1, 20.0, Antialiasing::None),
-            QualityLevel::High => (2, All, R::Medium, 2, 40.0, Antialiasing::None),
-            QualityLevel::VeryHigh => (3, All, R::High, 2, 70.0, Antialiasing::Msaa2),
-            QualityLevel::Ultra => (4, All, R::High, 4, 150.0, Antialiasing::Msaa4),
+        let (pixel, shadows, resolution, cascades, distance, lod_bias, aa) = match self {
+            QualityLevel::VeryLow => (0, Disable, R::Low, 1, 15.0, 0.3, Antialiasing::None),
+            QualityLevel::Low => (0, Disable, R::Low, 1, 20.0, 0.4, Antialiasing::None),
+            QualityLevel::Medium => (1, HardOnly, R::Low, 1, 20.0, 0.7, Antialiasing::None),
+            QualityLevel::High => (2, All, R::Medium, 2, 40.0, 1.0, Antialiasing::None),
+            QualityLevel::VeryHigh => (3, All, R::High, 2, 70.0, 1.5, Antialiasing::Msaa2),
+            QualityLevel::Ultra => (4, All, R::High, 4, 150.0, 2.0, Antialiasing::Msaa4),
         };
         let quality = BuiltinQuality {
             level: self,
@@ -274,6 +280,7 @@ impl QualityLevel {
             shadow_resolution: resolution,
             shadow_cascades: cascades,
             shadow_distance: distance,
+            lod_bias,
         };
         (quality, pixel, aa)
     }
@@ -480,6 +487,7 @@ pub struct BuiltinSettingsFile {
     pub shadow_resolution: Option<ShadowResolutionLevel>,
     pub shadow_cascades: Option<u32>,
     pub shadow_distance: Option<f64>,
+    pub lod_bias: Option<f64>,
 }
 
 impl BuiltinSettingsFile {
@@ -502,6 +510,12 @@ impl BuiltinSettingsFile {
                 return Err(("builtin.shadow_distance".into(), format!("{v}: allowed 0..=10000")));
             }
             quality.shadow_distance = v;
+        }
+        if let Some(v) = self.lod_bias {
+            if !(v.is_finite() && (0.01..=10.0).contains(&v)) {
+                return Err(("builtin.lod_bias".into(), format!("{v}: allowed 0.01..=10")));
+            }
+            quality.lod_bias = v;
         }
         Ok(BuiltinSettings { forward_add: self.forward_add.unwrap_or(true), quality })
     }

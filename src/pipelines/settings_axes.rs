@@ -7,8 +7,8 @@
 use serde::{Deserialize, Serialize};
 
 use super::settings::{
-    BuiltinShadows, HdrpLightUnit, PipelineSettings, QualityLevel, ShadowResolutionLevel, UrpAsset, UrpAssetPreset,
-    UrpSsaoFeature,
+    BuiltinQuality, BuiltinShadows, HdrpLightUnit, PipelineSettings, QualityLevel, ShadowResolutionLevel, UrpAsset,
+    UrpAssetPreset, UrpSsaoFeature,
 };
 use super::{Antialiasing, LightBudget, Pipeline, RenderPath};
 
@@ -235,6 +235,7 @@ pub const SETTINGS: &[SettingRow] = &[
     },
     field!(Builtin, "shadow_cascades", SettingKind::Among(&[1, 2, 4]), u32, settings.builtin.quality.shadow_cascades),
     field!(Builtin, "shadow_distance", SettingKind::Real(0.0, 10_000.0), f64, settings.builtin.quality.shadow_distance),
+    field!(Builtin, "lod_bias", SettingKind::Real(0.01, 10.0), f64, settings.builtin.quality.lod_bias),
     field!(Builtin, "pixel_light_count", SettingKind::Count(0, 64), u32, budget.pixel_light_count),
     SettingRow {
         pipeline: Pipeline::Builtin,
@@ -379,6 +380,9 @@ pub struct SceneFacts {
     /// Real-time lights.
     pub lights: u32,
     pub probes: usize,
+    /// An object is a LOD group whose switch the quality level's LOD bias moves (it sets no bias
+    /// of its own).
+    pub lod_groups: bool,
 }
 
 /// `state` with what cannot change a frame of `path` in `pipeline` of a composition with `facts`
@@ -397,9 +401,12 @@ pub fn frame_relevant(pipeline: Pipeline, path: RenderPath, facts: &SceneFacts, 
     let ultra = QualityLevel::Ultra.fields().0;
     let q = &mut e.settings.builtin.quality;
     q.level = ultra.level;
+    if !facts.lod_groups {
+        q.lod_bias = ultra.lod_bias;
+    }
     if !shadows || q.shadows == BuiltinShadows::Disable {
         let off = q.shadows == BuiltinShadows::Disable && shadows;
-        *q = ultra;
+        *q = BuiltinQuality { lod_bias: q.lod_bias, ..ultra };
         if off {
             q.shadows = BuiltinShadows::Disable;
         }
@@ -521,6 +528,7 @@ mod tests {
             engine_resolution: true,
             lights: 2,
             probes: 0,
+            lod_groups: false,
         };
         let with = |key: &'static str, v: SettingValue, p: Pipeline| apply(p, base(), &[(key, v)]).0;
         let relevant = |facts: &SceneFacts, e: &EngineState, p: Pipeline, path| frame_relevant(p, path, facts, e);
@@ -537,6 +545,14 @@ mod tests {
         assert_eq!(relevant(&lit, &budget, Pipeline::Builtin, fwd), relevant(&lit, &base(), Pipeline::Builtin, fwd));
         assert_eq!(relevant(&lit, &hi, Pipeline::Builtin, fwd), relevant(&lit, &base(), Pipeline::Builtin, fwd));
         // Hard Only is All where no light asks for soft shadows.
+        // A LOD bias reaches a frame through a LOD group alone.
+        let bias = with("lod_bias", SettingValue::Number(0.4), Pipeline::Builtin);
+        let grouped = SceneFacts { lod_groups: true, ..lit };
+        assert_eq!(relevant(&lit, &bias, Pipeline::Builtin, fwd), relevant(&lit, &base(), Pipeline::Builtin, fwd));
+        assert_ne!(
+            relevant(&grouped, &bias, Pipeline::Builtin, fwd),
+            relevant(&grouped, &base(), Pipeline::Builtin, fwd)
+        );
         let hard = with("shadows", SettingValue::Name("hard_only".into()), Pipeline::Builtin);
         let hard_facts = SceneFacts { soft_shadows: false, ..lit };
         assert_ne!(relevant(&lit, &hard, Pipeline::Builtin, fwd), relevant(&lit, &base(), Pipeline::Builtin, fwd));

@@ -444,7 +444,7 @@ impl CellPlan {
         };
         let mut lod = Vec::new();
         let mut fades: Vec<Option<f64>> = layout.meshes.iter().map(|m| m.lod_level.is_none().then_some(1.0)).collect();
-        for seen in groups_seen(scene, &layout.world_bounds, &camera, p.quality_lod_bias()) {
+        for seen in groups_seen(scene, &layout.world_bounds, &camera, p.quality_lod_bias_with(engine)) {
             for (m, mesh) in layout.meshes.iter().enumerate().filter(|(_, m)| m.scene_index == seen.object) {
                 fades[m] = seen.drawn.iter().find(|d| Some(d.level) == mesh.lod_level).map(|d| d.fade);
             }
@@ -664,6 +664,18 @@ mod tests {
         view: ViewAxes,
         size: u32,
     ) -> (CellPlan, SceneLayout) {
+        planned_with(scene, pipeline, path, view, size, Default::default())
+    }
+
+    /// `planned` with the cell's engine settings.
+    fn planned_with(
+        scene: &Scene,
+        pipeline: Pipeline,
+        path: RenderPath,
+        view: ViewAxes,
+        size: u32,
+        engine: crate::pipelines::settings::PipelineSettings,
+    ) -> (CellPlan, SceneLayout) {
         let models = Registry::builtin();
         let model = models.find(pipeline, pipeline.fixed_object_shader()).expect("the default lit model");
         let sliders = Sliders { base_color_linear: [0.5; 3], metallic: 0.0, smoothness: 0.5 };
@@ -676,7 +688,7 @@ mod tests {
             width: size,
             height: size,
             view,
-            settings: CellSettings { path, ..Default::default() },
+            settings: CellSettings { path, engine, ..Default::default() },
         };
         let meshes = crate::geometry::procedural::build_scene(scene).expect("the scene's meshes");
         let lod: Vec<(usize, usize)> = crate::geometry::procedural::lod_meshes(scene)
@@ -836,6 +848,24 @@ mod tests {
         assert_eq!(drawn(16.0), vec![(1, false)]);
         assert_eq!(drawn(24.0), vec![(1, true), (2, true)], "level 1 fading into level 2");
         assert_eq!(drawn(28.0), vec![(2, false)]);
+    }
+
+    /// Built-in's quality level sets QualitySettings.lodBias: Low's 0.4 switches to coarser levels
+    /// at distances where Ultra's 2 still draws the finest.
+    #[test]
+    fn a_built_in_quality_levels_lod_bias_moves_the_switch() {
+        use crate::pipelines::settings::{PipelineSettings, QualityLevel};
+        let scene = Scene::load_file(&repo("scenes/default_lod.toml")).unwrap();
+        let view = ViewAxes { camera_distance: Some(8.0), light_angle: None };
+        let first_level = |level: QualityLevel| {
+            let mut engine = PipelineSettings::default();
+            engine.builtin.quality = level.fields().0;
+            let (plan, _) = planned_with(&scene, Pipeline::Builtin, RenderPath::Forward, view, 128, engine);
+            plan.lod[0].drawn.first().map(|l| l.level)
+        };
+        assert_eq!(first_level(QualityLevel::Ultra), Some(0), "lodBias 2 at 8 m: level 0, as URP's");
+        let low = first_level(QualityLevel::Low);
+        assert!(low.is_none_or(|l| l > 0), "lodBias 0.4 at 8 m: a coarser level or culled, not {low:?}");
     }
 
     #[test]
