@@ -561,6 +561,8 @@ fn engine_variations(m: &Matrix, pipeline: Pipeline) -> Vec<EngineVariation> {
         .get(&pipeline)
         .into_iter()
         .flatten()
+        // An empty list keeps the engine's own value, as an empty axis list keeps the scene's.
+        .filter(|(_, v)| !v.is_empty())
         .filter_map(|(k, v)| Some((settings_axes::find(pipeline, k)?.key, v)))
         .collect();
     let mut combos: Vec<Vec<(&'static str, SettingValue)>> = vec![Vec::new()];
@@ -1147,6 +1149,10 @@ mod tests {
         let of = |comp: &str, p: Pipeline| -> Vec<&Cell> {
             e.cells.iter().filter(|c| c.composition == comp && c.pipeline == p).collect()
         };
+        let empty = text.replace("shadow_resolution = [\"high\", \"very_high\"]", "shadow_resolution = []");
+        let e_empty = expand(&Matrix::from_text("t.toml", &empty, Some(root), registry.clone()).unwrap());
+        let builtin = e_empty.cells.iter().filter(|c| c.pipeline == Pipeline::Builtin).count();
+        assert_eq!(builtin, 2, "an empty list keeps the engine's own: one cell per composition");
         // URP: 2 resolutions × 2 assets; built-in: 2 levels; HDRP is not in the matrix: pruned.
         assert_eq!(of("default", Pipeline::Urp).len(), 4);
         assert_eq!(of("default", Pipeline::Builtin).len(), 2);
