@@ -10,6 +10,11 @@ use crate::error::{Error, InputError};
 pub const RUN_FILE: &str = "run.json";
 pub const CELL_FILE: &str = "cell.json";
 
+/// A cell's own reference as a picture (a truth, a supersampled render), and its truth's noise
+/// as one (`run::encode`): what the viewer shows as B and over it.
+pub const REFERENCE_PNG: &str = "reference.png";
+pub const TRUTH_NOISE_PNG: &str = "truth_noise.png";
+
 /// The advisory lock of a run folder (`flock` on this file, as cargo locks its target dir).
 pub const LOCK_FILE: &str = ".shadematrix.lock";
 

@@ -10,7 +10,7 @@ pub mod run;
 mod versioned;
 
 pub use cell::{CellRecord, CELL_SCHEMA};
-pub use layout::{RunDir, RunLock, CELL_FILE, RUN_FILE};
+pub use layout::{RunDir, RunLock, CELL_FILE, REFERENCE_PNG, RUN_FILE, TRUTH_NOISE_PNG};
 pub use run::{RunRecord, RUN_SCHEMA};
 pub use versioned::{read_record, RecordError};
 

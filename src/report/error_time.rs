@@ -95,7 +95,14 @@ pub fn svg(title: &str, time_label: &str, measure: ErrorMeasure, points: &[Point
             }
         })
         .collect();
-    let text = super::scatter::ScatterText { caption: title, x_label: time_label, y_label: measure.axis() };
+    let text = super::scatter::ScatterText {
+        caption: title,
+        x_label: time_label,
+        y_label: measure.axis(),
+        colour_heading: "pipeline",
+        marker_heading: "shader",
+        levels: &[],
+    };
     super::scatter::svg(&text, &scatter)
 }
 

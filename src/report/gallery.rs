@@ -141,6 +141,7 @@ pub fn html(run: &RunData, sheets: &[String], plots: &[String]) -> Result<String
             counts => run.run.counts,
             status => run.run.status.in_reports().name(),
             approximations => run.dir.join("tables/approximations.md").is_file(),
+            quality => run.dir.join("tables/quality.md").is_file(),
             filters => filters,
             cells => cells,
             // Big runs load images as they scroll into view; small ones at once, so the page's

@@ -7,6 +7,7 @@ pub mod gallery;
 pub mod invariants;
 pub mod perf;
 pub mod plot_style;
+pub mod quality;
 pub mod run_data;
 pub mod scatter;
 pub mod sheets;
@@ -34,6 +35,7 @@ pub fn build(run_dir: &std::path::Path) -> Result<(), crate::error::Error> {
     }
     perf::write(&run)?;
     error_time::write(&run)?;
+    quality::write(&run)?;
     approximations::write(&run)?;
     stability::write(&run)?;
     invariants::write(&run)?;
@@ -45,7 +47,7 @@ pub fn build(run_dir: &std::path::Path) -> Result<(), crate::error::Error> {
     let plots = gallery::write(&run, &written)?;
     // The contact sheets are on the gallery page.
     let mut links = vec![("all cells, contact sheets and tables".to_string(), gallery::FILE.to_string())];
-    for table in ["perf.md", "error_vs_time.md", "stability.md", "approximations.md", "invariants.md"] {
+    for table in ["perf.md", "error_vs_time.md", "quality.md", "stability.md", "approximations.md", "invariants.md"] {
         if run.dir.join("tables").join(table).is_file() {
             links.push((table.to_string(), format!("tables/{table}")));
         }

@@ -27,6 +27,11 @@ pub struct ScatterText<'a> {
     pub caption: &'a str,
     pub x_label: &'a str,
     pub y_label: &'a str,
+    /// The legend's headings over the colours and the markers.
+    pub colour_heading: &'a str,
+    pub marker_heading: &'a str,
+    /// Horizontal lines at these errors, each labelled (error budgets).
+    pub levels: &'a [(f64, String)],
 }
 
 const WIDTH: f64 = 780.0;
@@ -143,8 +148,10 @@ pub fn svg(text: &ScatterText, points: &[ScatterPoint]) -> String {
         .filter_map(|p| Some(p.y - p.bar?))
         .filter(|v| *v > 0.0)
         .chain(positive.iter().copied())
+        .chain(text.levels.iter().map(|l| l.0))
         .fold(f64::INFINITY, f64::min);
-    let highest = points.iter().map(|p| p.y + p.bar.unwrap_or(0.0)).fold(0.0f64, f64::max);
+    let highest =
+        points.iter().map(|p| p.y + p.bar.unwrap_or(0.0)).chain(text.levels.iter().map(|l| l.0)).fold(0.0f64, f64::max);
     let (d_lo, d_hi) = match lowest.is_finite() && highest > 0.0 {
         true => (lowest.log10().floor(), highest.log10().ceil().max(lowest.log10().floor() + 1.0)),
         false => (-3.0, 0.0),
@@ -213,6 +220,17 @@ pub fn svg(text: &ScatterText, points: &[ScatterPoint]) -> String {
         (top + bottom) / 2.0,
         escape(text.y_label)
     );
+    for (level, label) in text.levels {
+        let y = py(*level);
+        let _ = writeln!(
+            s,
+            "<line x1=\"{left}\" x2=\"{right}\" y1=\"{y:.1}\" y2=\"{y:.1}\" stroke=\"#b03030\" stroke-width=\"1\" stroke-dasharray=\"2 3\"/>\
+             <text x=\"{:.0}\" y=\"{:.1}\" font-size=\"10\" fill=\"#b03030\" text-anchor=\"end\">{}</text>",
+            right - 4.0,
+            y - 3.0,
+            escape(label)
+        );
+    }
     // The Pareto front, fastest first.
     let mut front: Vec<&ScatterPoint> = points.iter().filter(|p| p.front).collect();
     front.sort_by(|a, b| a.x.total_cmp(&b.x));
@@ -254,7 +272,7 @@ pub fn svg(text: &ScatterText, points: &[ScatterPoint]) -> String {
     // The legend: pipelines by colour, shaders by marker, the front; a row is (glyph, label, heading).
     let lx = right + 18.0;
     let mut rows: Vec<(Glyph, String, bool)> = Vec::new();
-    rows.push((Box::new(|_| String::new()), "pipeline".into(), true));
+    rows.push((Box::new(|_| String::new()), text.colour_heading.into(), true));
     for c in &colours {
         let colour = colour_of(c, &colours);
         let glyph = move |y: f64| {
@@ -262,7 +280,7 @@ pub fn svg(text: &ScatterText, points: &[ScatterPoint]) -> String {
         };
         rows.push((Box::new(glyph), c.clone(), false));
     }
-    rows.push((Box::new(|_| String::new()), "shader".into(), true));
+    rows.push((Box::new(|_| String::new()), text.marker_heading.into(), true));
     for m in markers.iter().take(12) {
         let marker = shape(m);
         rows.push((Box::new(move |y| marker.svg((lx + 5.0, y), 4.5, "#666666", false)), m.clone(), false));
@@ -320,10 +338,18 @@ mod tests {
             point(1.5, 32.5, "builtin", "standard", false),
             point(3.0, 0.0, "urp", "lambert", false),
         ];
-        let text = ScatterText { caption: "c", x_label: "ms", y_label: "relMSE" };
+        let text = ScatterText {
+            caption: "c",
+            x_label: "ms",
+            y_label: "relMSE",
+            colour_heading: "pipeline",
+            marker_heading: "shader",
+            levels: &[(0.05, "budget".into())],
+        };
         let svg = svg(&text, &pts);
         assert_eq!(svg.matches("<title>").count(), 4);
         assert!(svg.contains("urp/lit &lt;1&gt;") && svg.contains("drawn on the axis floor"), "{svg}");
+        assert!(svg.contains(">budget</text>"), "the budget's line is labelled");
         // Log axis: 0.002 and 0.01 are most of a decade apart, not squeezed on the floor by 32.5.
         let y = |v: f64| {
             let (lo, hi) = ((0.002f64).log10().floor(), (32.5f64 * 1.1).log10().ceil());

@@ -90,7 +90,8 @@ pub struct ViewerAxis {
 
 /// One cell: id, the index of its value on every axis, the index of the cell it is a twin of and
 /// of the cell it was compared with (−1: none), its means (LDR-FLIP, SSIM, HDR-FLIP; null: not
-/// computed), GPU median ms, its plan's index, flags (1: FLIP/SSIM maps, 2: pixels.js, 4: term layers), its size,
+/// computed), GPU median ms, its plan's index, flags (1: FLIP/SSIM maps, 2: pixels.js, 4: term layers, 8: its own
+/// reference.png, 16: its truth's noise picture), its size,
 /// its reference's label when that is not a cell of the run, and its other timings.
 #[derive(Debug, Serialize)]
 pub struct ViewerCell(
@@ -196,6 +197,8 @@ pub fn data(run: &RunData, links: Vec<(String, String)>) -> ViewerData {
         let maps = c.metrics.maps.is_some() as u32;
         let pixels = (run.cell_dir(&c.id.0).join(crate::images::pixels::PIXELS_FILE).is_file() as u32) << 1;
         let layers = (c.terms.as_ref().is_some_and(|t| !t.layers.is_empty()) as u32) << 2;
+        let own = |name: &str| run.cell_dir(&c.id.0).join(name).is_file() as u32;
+        let own_reference = own(crate::record::REFERENCE_PNG) << 3 | own(crate::record::TRUTH_NOISE_PNG) << 4;
         let round = |v: Option<f64>| v.map(|x| (x * 1e6).round() / 1e6);
         let passes = c
             .timing
@@ -215,7 +218,7 @@ pub fn data(run: &RunData, links: Vec<(String, String)>) -> ViewerData {
             [round(c.metrics.ldr_flip()), round(c.metrics.ldr_ssim()), round(c.metrics.hdr_flip())],
             round(c.gpu_median_ms()),
             plan,
-            maps | pixels | layers,
+            maps | pixels | layers | own_reference,
             [c.image.width, c.image.height],
             reference_label,
             timing,

@@ -21,6 +21,7 @@ use crate::record::cell::{
     AntialiasingRecord, ApproximationRecord, CellMetrics, CellRecord, CellTiming, FrameSeries, CELL_SCHEMA,
 };
 use crate::record::Maybe;
+use crate::record::TRUTH_NOISE_PNG;
 use crate::render::uniforms::{ROLE_FIXED, ROLE_SUBJECT};
 use crate::render::CellRender;
 
@@ -361,6 +362,8 @@ fn write_truth(
     write_atomic(&dir.join("reference.png"), &encode::png_bytes(cell.width, cell.height, &srgb)?)?;
     let noise: Vec<f32> = t.std_error.iter().flat_map(|&e| [e, e, e, 1.0]).collect();
     write_atomic(&dir.join(TRUTH_NOISE_MAP), &encode::exr_bytes_with(cell.width, cell.height, &noise, compression)?)?;
+    let shown = noise_rgba8(&t.mean, &t.std_error, cell.width as usize, cell.height as usize)?;
+    write_atomic(&dir.join(TRUTH_NOISE_PNG), &encode::png_bytes(cell.width, cell.height, &shown)?)?;
     Ok(crate::record::cell::TruthRecord {
         kind: t.kind.name().into(),
         spp: t.spp,
@@ -396,6 +399,26 @@ pub fn write_truth_scene(cell_dir: &Path, export: crate::render::truth::export::
 
 /// The truth's per-pixel standard error, beside its reference images.
 pub const TRUTH_NOISE_MAP: &str = "truth_noise.exr";
+
+/// The truth's noise as a person sees it (`TRUTH_NOISE_PNG`, the viewer's overlay): each pixel's
+/// standard error relative to its luminance, magma-coloured, full colour at 20 %.
+pub const NOISE_PNG_FULL: f32 = 0.2;
+
+/// A pixel's relative noise σ/L, clamped to the picture's range (0 where the truth is black).
+pub fn relative_noise(mean: [f32; 3], std_error: f32) -> f32 {
+    let l = crate::color::luminance(mean.map(f64::from)) as f32;
+    if l > 0.0 && std_error.is_finite() {
+        (std_error / l / NOISE_PNG_FULL).clamp(0.0, 1.0)
+    } else {
+        0.0
+    }
+}
+
+fn noise_rgba8(mean: &[[f32; 3]], std_error: &[f32], w: usize, h: usize) -> Result<Vec<u8>, Error> {
+    let values = mean.iter().zip(std_error).map(|(m, &e)| relative_noise(*m, e)).collect();
+    let map = flip_rs::ErrorMap::new(w, h, values).map_err(|e| Error::Other(format!("truth noise picture: {e:?}")))?;
+    crate::compare::flip::magma_rgba8(&map).map_err(|e| Error::Other(format!("truth noise picture: {e}")))
+}
 
 /// Box-filter the k× render down to the cell's size: reference.exr and reference.png.
 fn write_supersampled(
@@ -559,7 +582,8 @@ fn read_run_file(path: &Path) -> Result<Vec<u8>, Error> {
 /// compared with where it is the cell's own (a supersampled render, a truth: the same for the twin,
 /// whose truth reads what the original's does — `cells::reads_material`).
 pub fn copy_images(from: &Path, to: &Path) -> Result<(), Error> {
-    let optional = [crate::images::pixels::PIXELS_FILE, "reference.exr", "reference.png", TRUTH_NOISE_MAP];
+    let optional =
+        [crate::images::pixels::PIXELS_FILE, "reference.exr", "reference.png", TRUTH_NOISE_MAP, TRUTH_NOISE_PNG];
     for name in ["image.exr", "image.png"].into_iter().chain(optional) {
         if optional.contains(&name) && !from.join(name).is_file() {
             continue; // `[outputs] pixels = false`, or no reference of the cell's own

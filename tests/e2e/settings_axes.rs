@@ -109,3 +109,54 @@ fn a_shadow_resolution_moves_the_shadow_edge_only_and_its_default_is_the_plain_c
         }
     }
 }
+
+#[test]
+fn the_quality_report_tiers_each_pipelines_settings_beside_unitys_presets() {
+    let _timer = crate::common::timed!();
+    let tmp = tempfile::tempdir().unwrap();
+    std::fs::write(tmp.path().join("sun_box.toml"), scene("sun_box", true)).unwrap();
+    let body = "name = \"quality\"\ncompositions = [\"sun_box.toml\"]\npipelines = [\"builtin\", \"urp\"]\n\
+        shaders = [\"standard\", \"lit\"]\npresets = [\"plastic\", \"gold\"]\n\
+        reference = { truth = \"physical\", spp = 4, noise = 0.0, bounces = 1 }\n[image]\nwidth = 48\nheight = 48\n\
+        [sweep.settings.builtin]\nquality_level = [\"low\", \"ultra\"]\n\
+        [sweep.settings.urp]\nasset = [\"default\", \"high_fidelity\"]\nmain_light_shadow_resolution = [256, 2048]\n";
+    let run = crate::common::run_matrix(tmp.path(), body, "run");
+    let md = std::fs::read_to_string(run.join("tables/quality.md")).unwrap();
+    let csv = std::fs::read_to_string(run.join("tables/quality.csv")).unwrap();
+    // Built-in: low and ultra (its own); URP: two assets × two resolutions, the default asset's
+    // 2048 being its own (`engine`); each a row of the CSV.
+    let rows: Vec<Vec<String>> = csv.lines().skip(1).map(csv_fields).collect();
+    let settings = |p: &str| -> Vec<&str> { rows.iter().filter(|r| r[0] == p).map(|r| r[1].as_str()).collect() };
+    assert_eq!(settings("builtin").len(), 2, "{csv}");
+    assert_eq!(settings("urp").len(), 4, "{csv}");
+    // Unity's presets are named, whatever the sweep lists with them.
+    for preset in ["quality level low", "quality level ultra (own)", "URP asset default (own)"] {
+        assert!(md.contains(&format!("| {preset} |")), "{preset}:\n{md}");
+    }
+    // Three budgets per pipeline in the tiers; the best combination is 0 from itself.
+    assert_eq!(md.matches("| builtin | 0.0").count() + md.matches("| builtin | 0.1 |").count(), 3, "{md}");
+    let from_best: Vec<f64> = rows.iter().filter(|r| r[0] == "urp").filter_map(|r| r[8].parse().ok()).collect();
+    assert_eq!(from_best.len(), 4, "{csv}");
+    assert!(from_best.contains(&0.0) && from_best.iter().any(|f| *f > 0.0), "{from_best:?}");
+    // A plot per pipeline: every combination named on hover, the budgets drawn.
+    for p in ["builtin", "urp"] {
+        let svg = std::fs::read_to_string(run.join(format!("plots/quality_{p}.svg"))).unwrap();
+        assert_eq!(svg.matches("<title>").count(), settings(p).len(), "{p}");
+        assert!(svg.contains(">FLIP 0.02<") && svg.contains(">FLIP 0.1<"), "{p}");
+    }
+    assert!(std::fs::read_to_string(run.join("gallery.html")).unwrap().contains("tables/quality.md"));
+}
+
+/// A CSV line's fields, quotes removed (a quoted field may hold commas).
+fn csv_fields(line: &str) -> Vec<String> {
+    let (mut fields, mut field, mut quoted) = (Vec::new(), String::new(), false);
+    for ch in line.chars() {
+        match ch {
+            '"' => quoted = !quoted,
+            ',' if !quoted => fields.push(std::mem::take(&mut field)),
+            _ => field.push(ch),
+        }
+    }
+    fields.push(field);
+    fields
+}

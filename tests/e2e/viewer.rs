@@ -411,3 +411,39 @@ fn the_viewer_shows_a_cells_term_layers() {
     assert!(hash.as_str().unwrap().contains("term=direct_specular"), "{hash}");
     assert!(b.errors.is_empty(), "{:?}", b.errors);
 }
+
+#[test]
+fn b_can_be_a_cells_own_truth_with_its_noise_for_wipe_and_flicker() {
+    let _timer = crate::common::timed!();
+    let Some(binary) = crate::common::chromium() else { return };
+    let tmp = tempfile::tempdir().unwrap();
+    let body = "name = \"viewer_truth\"\ncompositions = [\"default\"]\npipelines = [\"urp\"]\nshaders = [\"lit\"]\npresets = [\"plastic\"]\nreference = { truth = \"physical\", spp = 4, noise = 0.0, bounces = 1 }\n[image]\nwidth = 32\nheight = 32\n";
+    let run = crate::common::run_matrix(tmp.path(), body, "run");
+    let mut b = Browser::launch(&binary);
+    b.open(&file_url(&run.join("index.html")));
+    let (a, _) = shown(&mut b);
+    b.eval("(function(){var e=document.getElementById('bref'); e.checked=true; e.dispatchEvent(new Event('change')); return true;})()");
+    assert_eq!(shown(&mut b), (a.clone(), format!("reference:{a}")));
+    let srcs = img_srcs(&mut b);
+    assert!(srcs.iter().any(|s| s.ends_with(&format!("{a}/reference.png"))), "{srcs:?}");
+    for s in &srcs {
+        assert!(run.join(s).is_file(), "{s}");
+    }
+    // The wipe puts the truth over A; flicker shows it alone as B.
+    b.eval("document.getElementById('mode-wipe').click()");
+    assert!(img_srcs(&mut b).iter().any(|s| s.ends_with("/reference.png")));
+    b.eval("document.getElementById('mode-flicker').click()");
+    b.eval("document.getElementById('mode-flicker').click()");
+    let srcs = img_srcs(&mut b);
+    assert!(srcs.len() == 1 && srcs[0].ends_with("/reference.png"), "{srcs:?}");
+    // The truth's noise, over it: a picture the cell folder holds, and a link keeps the view.
+    set(&mut b, "overlay", "noise");
+    let srcs = img_srcs(&mut b);
+    assert!(srcs.iter().any(|s| s.ends_with("/truth_noise.png")), "{srcs:?}");
+    assert!(run.join("cells").join(&a).join("truth_noise.png").is_file());
+    let hash = b.eval("location.hash").as_str().unwrap().to_string();
+    assert!(hash.contains("bref=1") && hash.contains("overlay=noise"), "{hash}");
+    b.open(&format!("{}{hash}", file_url(&run.join("index.html"))));
+    assert_eq!(shown(&mut b), (a.clone(), format!("reference:{a}")));
+    assert!(b.errors.is_empty(), "{:?}", b.errors);
+}

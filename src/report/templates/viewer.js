@@ -20,10 +20,12 @@
   var state = {
     a: cells.length ? cells[0][1].slice() : axes.map(function () { return 0; }),
     b: null, link: true, mode: 'side', overlay: 'none', opacity: 0.6, zoom: 2, wipe: 0.5,
-    px: null, flickerB: false, term: 'image'
+    px: null, flickerB: false, term: 'image', bref: false
   };
-  // The picture of cell i shown: its image, or the chosen term layer where the cell has layers.
-  function picture(i) {
+  // The picture of cell i shown: its image, or the chosen term layer where the cell has layers;
+  // `ref`: the cell's own reference (its truth, or its supersampled render) instead.
+  function picture(i, ref) {
+    if (ref) return cellDir(i) + '/reference.png';
     if (state.term !== 'image' && (cells[i][7] & 4)) return cellDir(i) + '/terms/' + state.term + '.png';
     return cellDir(i) + '/image.png';
   }
@@ -119,6 +121,7 @@
   });
   if (!shown.length) tbody.innerHTML = '<tr><td colspan="3">one cell: nothing to choose</td></tr>';
 
+  $('bref').addEventListener('change', function () { state.bref = $('bref').checked; update(); });
   $('link').addEventListener('change', function () {
     state.link = $('link').checked;
     if (state.link) shown.forEach(function (k) { if (axes[k].kind !== 'choice') state.b[k] = state.a[k]; });
@@ -357,18 +360,29 @@
   }
 
   // ---- the view ----
-  var current = { a: null, b: null };
+  // bref: B shows A's own reference rather than a cell.
+  var current = { a: null, b: null, bref: false };
   function img(src, cls) {
     var im = document.createElement('img');
     im.src = src; im.alt = src; im.decoding = 'async';
     if (cls) im.className = cls;
     return im;
   }
-  function overlayFor(i, other) {
+  function overlayFor(i, other, ref) {
     if (state.overlay === 'none' || i === null) return null;
     var c = cells[i], w = c[8][0] * state.zoom, h = c[8][1] * state.zoom;
+    if (state.overlay === 'noise') {
+      // The truth's noise belongs to the reference: over A and over its reference alike.
+      if ((c[7] & 16) === 0) { $('pair').textContent = 'A\'s reference is not a truth: it has no noise map'; return null; }
+      var nz = img(cellDir(i) + '/truth_noise.png', 'over');
+      nz.style.width = w + 'px'; nz.style.height = h + 'px'; nz.style.opacity = state.opacity;
+      $('pair').textContent = 'noise of the truth: each pixel\'s standard error over its luminance, full colour at 20 %';
+      return nz;
+    }
+    // A reference has no map against itself, and its pixel values are not in the page.
+    if (ref) return null;
     if (state.overlay === 'diff' || state.overlay === 'ssim_ab' || state.overlay === 'flip_ab') {
-      if (other === null) return null;
+      if (other === null || current.bref) return null;
       var cv = document.createElement('canvas');
       cv.width = c[8][0]; cv.height = c[8][1]; cv.className = 'over';
       cv.style.width = w + 'px'; cv.style.height = h + 'px'; cv.style.opacity = state.opacity;
@@ -407,14 +421,14 @@
     o.style.width = w + 'px'; o.style.height = h + 'px'; o.style.opacity = state.opacity;
     return o;
   }
-  function stage(i, other) {
+  function stage(i, other, ref) {
     var s = document.createElement('div');
     s.className = 'stage';
     if (i === null) return s;
-    var c = cells[i], base = img(picture(i));
+    var c = cells[i], base = img(picture(i, ref));
     base.style.width = c[8][0] * state.zoom + 'px'; base.style.height = c[8][1] * state.zoom + 'px';
     s.appendChild(base);
-    var o = overlayFor(i, other);
+    var o = overlayFor(i, other, ref);
     if (o) s.appendChild(o);
     track(s, c);
     return s;
@@ -427,19 +441,20 @@
       state.px = [x, y]; writeHash(); readout();
     });
   }
-  function pane(label, i, other, why) {
+  function pane(label, i, other, why, ref) {
     var p = document.createElement('div'); p.className = 'pane';
     var h = document.createElement('h3'); h.textContent = label; p.appendChild(h);
-    p.appendChild(stage(i, other));
+    p.appendChild(stage(i, other, ref));
     var id = document.createElement('div'); id.className = 'id';
-    id.textContent = i === null ? why : cells[i][0];
+    id.textContent = i === null ? why : (ref ? referenceName(i) : cells[i][0]);
     p.appendChild(id);
     return p;
   }
+  function referenceName(i) { return cells[i][0] + ': its own reference (' + (cells[i][9] || 'reference') + ')'; }
   function wipeStage(a, b) {
     var s = stage(a, b);
     if (a === null || b === null) return s;
-    var c = cells[b], top = img(picture(b), 'b-clip');
+    var c = cells[b], top = img(picture(b, current.bref), 'b-clip');
     top.style.width = c[8][0] * state.zoom + 'px'; top.style.height = c[8][1] * state.zoom + 'px';
     top.style.clipPath = 'inset(0 0 0 ' + (state.wipe * 100).toFixed(2) + '%)';
     top.id = 'wipe-b';
@@ -465,8 +480,9 @@
     var ref = c[3] >= 0 ? cells[c[3]][0] : (c[9] || 'none');
     return 'against ' + ref + ': FLIP ' + f(m[0]) + ' · SSIM ' + f(m[1]) + ' · HDR-FLIP ' + f(m[2]);
   }
-  function recordText(label, i, why) {
+  function recordText(label, i, why, ref) {
     if (i === null) return label + ': ' + why;
+    if (ref) return label + ': ' + referenceName(i) + ' (reference.png; its linear values: reference.exr)';
     var c = cells[i], lines = [label + ': ' + c[0]];
     shown.forEach(function (k) { lines.push('  ' + axes[k].name + ' = ' + axes[k].values[c[1][k]]); });
     if (c[2] >= 0) lines.push('  twin of ' + cells[c[2]][0] + ' (the shader ignores the axes they differ in; images copied)');
@@ -481,8 +497,8 @@
 
   // One decoded image per cell for the magnifier: a mouse move redraws, it does not reload.
   var magnifiedImages = new Map();
-  function magnified(i) {
-    var src = picture(i);
+  function magnified(i, ref) {
+    var src = picture(i, ref);
     if (!magnifiedImages.has(src)) { var im = new Image(); im.src = src; magnifiedImages.set(src, im); }
     return magnifiedImages.get(src);
   }
@@ -495,19 +511,21 @@
       ctx.imageSmoothingEnabled = false;
       ctx.fillStyle = '#000'; ctx.fillRect(0, 0, cv.width, cv.height);
       if (i === null) return;
-      var im = magnified(i), draw = function () {
+      var im = magnified(i, side === 'b' && current.bref), draw = function () {
         ctx.drawImage(im, x - 5, y - 5, 11, 11, 0, 0, 165, 165);
         ctx.strokeStyle = '#ffcc33'; ctx.strokeRect(75, 75, 15, 15);
       };
       if (im.complete && im.naturalWidth) draw(); else im.addEventListener('load', draw, { once: true });
     });
     var token = (readout.token = (readout.token || 0) + 1);
-    Promise.all([current.a === null ? null : loadPixels(current.a), current.b === null ? null : loadPixels(current.b)])
+    var bPixels = current.b === null || current.bref ? null : loadPixels(current.b);
+    Promise.all([current.a === null ? null : loadPixels(current.a), bPixels])
       .then(function (pp) {
         if (token !== readout.token) return;
         var lines = ['pixel ' + x + ', ' + y];
         ['a', 'b'].forEach(function (side, n) {
           if (current[side] === null) { lines.push(side.toUpperCase() + ': no cell'); return; }
+          if (side === 'b' && current.bref) { lines.push('B: the reference (its values: reference.exr; the magnifier shows it)'); return; }
           var t = pixelText(pp[n], x, y);
           if (typeof t === 'string') { lines.push(side.toUpperCase() + ': ' + t); return; }
           out.dataset[side + 'Srgb'] = t.srgb.join(',');
@@ -526,7 +544,7 @@
       parts.push('a.' + axes[k].name + '=' + encodeURIComponent(axes[k].values[state.a[k]]));
       parts.push('b.' + axes[k].name + '=' + encodeURIComponent(axes[k].values[state.b[k]]));
     });
-    parts.push('link=' + (state.link ? 1 : 0), 'mode=' + state.mode, 'overlay=' + state.overlay,
+    parts.push('link=' + (state.link ? 1 : 0), 'bref=' + (state.bref ? 1 : 0), 'mode=' + state.mode, 'overlay=' + state.overlay,
       'term=' + encodeURIComponent(state.term), 'opacity=' + state.opacity, 'zoom=' + state.zoom, 'wipe=' + state.wipe.toFixed(3), 'flicker=' + (state.flickerB ? 'b' : 'a'));
     if (state.px) parts.push('px=' + state.px.join(','));
     return parts.join('&');
@@ -543,8 +561,9 @@
         var k = AXIS[m[2]], vi = axes[k].values.indexOf(val);
         if (vi >= 0) { state[m[1]][k] = vi; named[m[1]].push(k); }
       } else if (key === 'link') state.link = val === '1';
+      else if (key === 'bref') state.bref = val === '1';
       else if (key === 'mode' && /^(side|wipe|flicker)$/.test(val)) state.mode = val;
-      else if (key === 'overlay' && /^(none|flip|ssim|flip_ab|ssim_ab|diff)$/.test(val)) state.overlay = val;
+      else if (key === 'overlay' && /^(none|flip|ssim|flip_ab|ssim_ab|diff|noise)$/.test(val)) state.overlay = val;
       else if (key === 'term' && (val === 'image' || (D.terms || []).indexOf(val) >= 0)) state.term = val;
       else if (key === 'opacity') state.opacity = Math.min(1, Math.max(0, +val || 0));
       else if (key === 'zoom') state.zoom = Math.min(8, Math.max(1, Math.round(+val) || 2));
@@ -574,10 +593,11 @@
         var ctl = controls[side][k];
         ctl.el.value = state[side][k];
         if (ctl.out) ctl.out.textContent = axes[k].values[state[side][k]];
-        ctl.el.disabled = side === 'b' && state.link && axes[k].kind !== 'choice';
+        ctl.el.disabled = side === 'b' && (state.bref || (state.link && axes[k].kind !== 'choice'));
       });
     });
     $('link').checked = state.link;
+    $('bref').checked = state.bref;
     $('overlay').value = state.overlay;
     $('term').value = state.term;
     $('opacity').value = state.opacity; $('opacity-value').textContent = state.opacity;
@@ -586,6 +606,14 @@
     var ra = resolve(state.a), rb = resolve(state.b);
     current.a = ra.cell === undefined ? null : ra.cell;
     current.b = rb.cell === undefined ? null : rb.cell;
+    current.bref = false;
+    if (state.bref) {
+      // B: A's own reference, where A has one (a truth or a supersampled render of its own).
+      var own = current.a !== null && (cells[current.a][7] & 8) !== 0;
+      current.b = own ? current.a : null;
+      current.bref = own;
+      rb = { why: current.a === null ? 'no cell A' : 'A has no reference image of its own (it is compared with ' + (cells[current.a][3] >= 0 ? cells[cells[current.a][3]][0] : 'nothing') + ')' };
+    }
     $('why-a').textContent = current.a === null ? 'A: ' + ra.why : '';
     $('why-b').textContent = current.b === null ? 'B: ' + rb.why : '';
     var wrap = $('stage-wrap');
@@ -593,7 +621,7 @@
     $('pair').textContent = ''; delete $('pair').dataset.ssim; delete $('pair').dataset.flip;
     if (state.mode === 'side') {
       wrap.appendChild(pane('A', current.a, current.b, ra.why));
-      wrap.appendChild(pane('B', current.b, current.a, rb.why));
+      wrap.appendChild(pane(current.bref ? 'B: A\'s reference' : 'B', current.b, current.a, rb.why, current.bref));
     } else if (state.mode === 'wipe') {
       var w = pane('A | B (drag the divider)', current.a, current.b, ra.why);
       w.replaceChild(wipeStage(current.a, current.b), w.querySelector('.stage'));
@@ -601,11 +629,12 @@
     } else {
       var showB = state.flickerB;
       var i = showB ? current.b : current.a;
-      wrap.appendChild(pane((showB ? 'B' : 'A') + ' (F flips)', i, showB ? current.a : current.b, showB ? rb.why : ra.why));
+      wrap.appendChild(pane((showB ? (current.bref ? 'B: A\'s reference' : 'B') : 'A') + ' (F flips)', i,
+        showB ? current.a : current.b, showB ? rb.why : ra.why, showB && current.bref));
     }
-    $('record').textContent = recordText('A', current.a, ra.why) + '\n\n' + recordText('B', current.b, rb.why);
+    $('record').textContent = recordText('A', current.a, ra.why) + '\n\n' + recordText('B', current.b, rb.why, current.bref);
     wrap.dataset.a = current.a === null ? '' : cells[current.a][0];
-    wrap.dataset.b = current.b === null ? '' : cells[current.b][0];
+    wrap.dataset.b = current.b === null ? '' : (current.bref ? 'reference:' : '') + cells[current.b][0];
     writeHash();
     readout();
   }
