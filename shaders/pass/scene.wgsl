@@ -6,7 +6,7 @@ struct Light {
     color: vec4<f32>,      // linear colour × intensity in the pipeline's units (an area light: its luminance)
     params: vec4<f32>,     // range, cos outer, cos inner, HDRP minRoughness of the light's shape; area: range, half width, half height
     shadow: vec4<f32>,     // first shadow layer (−1: none), layer count, strength, soft
-    shadow_bias: vec4<f32>, // bias, normal bias (shadow-map texels); z 1: a dynamic object's probe occlusion scales the light (plan::gi::ProbeOcclusion)
+    shadow_bias: vec4<f32>, // bias, normal bias (shadow-map texels); z 1: a dynamic object's probe occlusion scales the light (plan::gi::ProbeOcclusion); w HDRP's tent width (plan::shadows::hdrp_tent)
     shape: vec4<f32>,      // area lights, pyramid and box spots: right axis; w = 1 where the frame draws it (an HDRP rect)
     features: vec4<f32>,   // HDRP (plan::light_terms): affect diffuse, affect specular (0/1), shadow tint mode (0 none, 1 tint, 2 penumbra), flags (LIGHT_RANGE_STEP, LIGHT_PYRAMID, LIGHT_BOX)
     shadow_tint: vec4<f32>, // rgb: the shadow tint (linear)

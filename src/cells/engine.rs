@@ -88,6 +88,8 @@ pub(super) fn scene_facts(m: &Matrix) -> Vec<(bool, SceneFacts)> {
                 lights: scene.lights.len() as u32,
                 probes: scene.probes.len(),
                 lod_groups: scene.objects.iter().any(|o| o.lod.as_ref().is_some_and(|g| g.bias.is_none())),
+                hdrp_ssao: scene.hdrp.ssao,
+                hdrp_bloom: scene.hdrp.bloom,
             };
             (scene.key_light().is_none(), facts)
         })

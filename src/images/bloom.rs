@@ -94,7 +94,7 @@ fn luminance(c: DVec3) -> f64 {
 
 /// `image` bloomed as HDRP's volume `settings` say.
 pub fn bloom(image: &Image, settings: &crate::render::passes::bloom::BloomSettings) -> Image {
-    let sizes = crate::render::passes::bloom::level_sizes(image.width as u32, image.height as u32);
+    let sizes = crate::render::passes::bloom::level_sizes(image.width as u32, image.height as u32, settings.quarter);
     let bicubic = settings.bicubic(image.width as u32, image.height as u32);
     let filter = |img: &Image, u: f64, v: f64| if bicubic { img.bicubic(u, v) } else { img.bilinear(u, v) };
     let taps = [(0.0, 0.0), (0.9, -0.4), (-0.9, 0.4), (0.4, 0.9), (-0.4, -0.9)];

@@ -16,7 +16,9 @@ pub struct PipelineSettings {
     pub hdrp: HdrpSettings,
 }
 
-/// HDRP's settings: how it reads the key-light axis, and its lights' shadow-map resolution.
+/// HDRP's settings: how it reads the key-light axis, its lights' shadow-map resolution and
+/// filtering, and its ambient occlusion and bloom (on where the scene keeps them: `[hdrp]`), each
+/// at a quality level. Every field at its default reads as records did before it existed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct HdrpSettings {
@@ -26,6 +28,56 @@ pub struct HdrpSettings {
     /// `m_ShadowResolution` override, 512 on a new light.
     #[serde(default = "hdrp_shadow_resolution", skip_serializing_if = "is_hdrp_shadow_resolution")]
     pub shadow_resolution: u32,
+    /// The HDRP asset's Filtering Quality (HDShadowInitParameters.shadowFilteringQuality, Medium in
+    /// a new asset): the PCF tent a shadow map is read with (`plan::shadows::ShadowFilter`).
+    #[serde(default, skip_serializing_if = "HdrpQuality::is_medium")]
+    pub shadow_filtering: HdrpQuality,
+    /// The volume's Ambient Occlusion (on in HDRP's default profile, at Medium quality; Low's
+    /// one direction and plain upsample are not drawn, GlobalLightingQualitySettings).
+    #[serde(default = "yes", skip_serializing_if = "is_yes")]
+    pub ssao: bool,
+    /// The volume's Bloom (on in HDRP's default profile) and its quality level.
+    #[serde(default = "yes", skip_serializing_if = "is_yes")]
+    pub bloom: bool,
+    #[serde(default, skip_serializing_if = "HdrpQuality::is_medium")]
+    pub bloom_quality: HdrpQuality,
+}
+
+fn is_yes(v: &bool) -> bool {
+    *v
+}
+
+/// A scalable setting's level (ScalableSettingLevelParameter: Low, Medium, High); a volume
+/// component's own `quality` starts at Medium (VolumeComponentWithQuality), as the HDRP asset's
+/// shadow filtering does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum HdrpQuality {
+    Low,
+    #[default]
+    Medium,
+    High,
+}
+
+impl HdrpQuality {
+    pub const ALL: [HdrpQuality; 3] = [HdrpQuality::Low, HdrpQuality::Medium, HdrpQuality::High];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            HdrpQuality::Low => "low",
+            HdrpQuality::Medium => "medium",
+            HdrpQuality::High => "high",
+        }
+    }
+
+    pub fn is_medium(&self) -> bool {
+        *self == HdrpQuality::Medium
+    }
+
+    /// The levels this tool draws of a setting whose High it does not (yet) draw: Low and Medium.
+    pub fn drawn_below_high() -> Vec<&'static str> {
+        vec![HdrpQuality::Low.name(), HdrpQuality::Medium.name()]
+    }
 }
 
 /// HDAdditionalLightData's default shadow resolution override.
@@ -41,7 +93,14 @@ fn is_hdrp_shadow_resolution(v: &u32) -> bool {
 
 impl Default for HdrpSettings {
     fn default() -> Self {
-        HdrpSettings { light_unit: HdrpLightUnit::default(), shadow_resolution: HDRP_SHADOW_RESOLUTION }
+        HdrpSettings {
+            light_unit: HdrpLightUnit::default(),
+            shadow_resolution: HDRP_SHADOW_RESOLUTION,
+            shadow_filtering: HdrpQuality::Medium,
+            ssao: true,
+            bloom: true,
+            bloom_quality: HdrpQuality::Medium,
+        }
     }
 }
 
@@ -539,6 +598,20 @@ pub struct PipelineSettingsFile {
 pub struct HdrpSettingsFile {
     pub light_unit: Option<String>,
     pub shadow_resolution: Option<u32>,
+    pub shadow_filtering: Option<String>,
+    pub ssao: Option<bool>,
+    pub bloom: Option<bool>,
+    pub bloom_quality: Option<String>,
+}
+
+/// A quality level as `[pipeline_settings.hdrp]` names it, among the levels drawn.
+fn hdrp_quality(key: &str, value: &Option<String>) -> Result<HdrpQuality, SettingsError> {
+    let Some(name) = value else { return Ok(HdrpQuality::Medium) };
+    let allowed = HdrpQuality::drawn_below_high();
+    match HdrpQuality::ALL.into_iter().find(|q| q.name() == name && allowed.contains(&q.name())) {
+        Some(q) => Ok(q),
+        None => Err((format!("hdrp.{key}"), format!("`{name}`: allowed {}", allowed.join(", ")))),
+    }
 }
 
 /// Why a `[pipeline_settings]` value was refused: the key under `pipeline_settings` and the message.
@@ -630,9 +703,14 @@ impl PipelineSettingsFile {
                 return Err(("hdrp.shadow_resolution".into(), format!("{v}: allowed a power of two from 128 to 8192")));
             }
         }
+        let h = &self.hdrp;
         let hdrp = HdrpSettings {
             light_unit,
-            shadow_resolution: self.hdrp.shadow_resolution.unwrap_or(HDRP_SHADOW_RESOLUTION),
+            shadow_resolution: h.shadow_resolution.unwrap_or(HDRP_SHADOW_RESOLUTION),
+            shadow_filtering: hdrp_quality("shadow_filtering", &h.shadow_filtering)?,
+            ssao: h.ssao.unwrap_or(true),
+            bloom: h.bloom.unwrap_or(true),
+            bloom_quality: hdrp_quality("bloom_quality", &h.bloom_quality)?,
         };
         Ok(PipelineSettings { builtin: self.builtin.resolve()?, urp: a, hdrp })
     }

@@ -7,8 +7,8 @@
 use serde::{Deserialize, Serialize};
 
 use super::settings::{
-    BuiltinQuality, BuiltinShadows, HdrpLightUnit, PipelineSettings, QualityLevel, ShadowResolutionLevel, UrpAsset,
-    UrpAssetPreset, UrpSsaoFeature,
+    BuiltinQuality, BuiltinShadows, HdrpLightUnit, HdrpQuality, PipelineSettings, QualityLevel, ShadowResolutionLevel,
+    UrpAsset, UrpAssetPreset, UrpSsaoFeature,
 };
 use super::{Antialiasing, LightBudget, Pipeline, RenderPath};
 
@@ -139,6 +139,10 @@ fn quality_level(e: &mut EngineState, v: &SettingValue) {
     e.settings.builtin.quality = quality;
     e.budget.pixel_light_count = pixel_lights;
     e.antialiasing = aa;
+}
+
+fn hdrp_quality(v: &SettingValue) -> HdrpQuality {
+    HdrpQuality::ALL.into_iter().find(|q| q.name() == v.name()).unwrap_or_default()
 }
 
 fn msaa(v: &SettingValue) -> Antialiasing {
@@ -322,6 +326,24 @@ pub const SETTINGS: &[SettingRow] = &[
     field!(Hdrp, "shadow_resolution", SettingKind::Resolution, u32, settings.hdrp.shadow_resolution),
     SettingRow {
         pipeline: Pipeline::Hdrp,
+        key: "shadow_filtering",
+        kind: SettingKind::Choice(HdrpQuality::drawn_below_high),
+        preset: false,
+        get: |e| name(e.settings.hdrp.shadow_filtering.name()),
+        set: |e, v| e.settings.hdrp.shadow_filtering = hdrp_quality(v),
+    },
+    field!(Hdrp, "ssao", SettingKind::Bool, bool, settings.hdrp.ssao),
+    field!(Hdrp, "bloom", SettingKind::Bool, bool, settings.hdrp.bloom),
+    SettingRow {
+        pipeline: Pipeline::Hdrp,
+        key: "bloom_quality",
+        kind: SettingKind::Choice(HdrpQuality::drawn_below_high),
+        preset: false,
+        get: |e| name(e.settings.hdrp.bloom_quality.name()),
+        set: |e, v| e.settings.hdrp.bloom_quality = hdrp_quality(v),
+    },
+    SettingRow {
+        pipeline: Pipeline::Hdrp,
         key: "light_unit",
         kind: SettingKind::Choice(HdrpLightUnit::names),
         preset: false,
@@ -383,6 +405,9 @@ pub struct SceneFacts {
     /// An object is a LOD group whose switch the quality level's LOD bias moves (it sets no bias
     /// of its own).
     pub lod_groups: bool,
+    /// The scene keeps HDRP's ambient occlusion and bloom on (`[hdrp] ssao`, `bloom`).
+    pub hdrp_ssao: bool,
+    pub hdrp_bloom: bool,
 }
 
 /// `state` with what cannot change a frame of `path` in `pipeline` of a composition with `facts`
@@ -458,6 +483,16 @@ pub fn frame_relevant(pipeline: Pipeline, path: RenderPath, facts: &SceneFacts, 
     if facts.lights == 0 {
         h.light_unit = HdrpLightUnit::default();
     }
+    if !shadows {
+        h.shadow_filtering = HdrpQuality::default();
+    }
+    // The scene's switch turns a volume's effect off whatever the settings say; vertex-lit draws
+    // no SSAO; an effect off draws at no quality.
+    h.ssao &= facts.hdrp_ssao && path != RenderPath::VertexLit;
+    h.bloom &= facts.hdrp_bloom;
+    if !h.bloom {
+        h.bloom_quality = HdrpQuality::default();
+    }
     // Another pipeline's settings never reach this one's frames.
     let base = PipelineSettings::default();
     match pipeline {
@@ -529,6 +564,8 @@ mod tests {
             lights: 2,
             probes: 0,
             lod_groups: false,
+            hdrp_ssao: true,
+            hdrp_bloom: false,
         };
         let with = |key: &'static str, v: SettingValue, p: Pipeline| apply(p, base(), &[(key, v)]).0;
         let relevant = |facts: &SceneFacts, e: &EngineState, p: Pipeline, path| frame_relevant(p, path, facts, e);
@@ -537,6 +574,19 @@ mod tests {
         assert_ne!(relevant(&lit, &hi, Pipeline::Urp, fwd), relevant(&lit, &base(), Pipeline::Urp, fwd));
         let unlit = SceneFacts { shadows: false, ..lit };
         assert_eq!(relevant(&unlit, &hi, Pipeline::Urp, fwd), relevant(&unlit, &base(), Pipeline::Urp, fwd));
+        // HDRP: filtering without a shadow and bloom's quality where the scene turns bloom off are
+        // twins; SSAO turned off by the settings is not, and with the scene's off it is.
+        let hdrp = |key: &'static str, v: &str| with(key, SettingValue::Name(v.into()), Pipeline::Hdrp);
+        let h = |facts: &SceneFacts, e: &EngineState| relevant(facts, e, Pipeline::Hdrp, fwd);
+        assert_ne!(h(&lit, &hdrp("shadow_filtering", "low")), h(&lit, &base()));
+        assert_eq!(h(&unlit, &hdrp("shadow_filtering", "low")), h(&unlit, &base()));
+        assert_eq!(h(&lit, &hdrp("bloom_quality", "low")), h(&lit, &base()));
+        let no_ssao = with("ssao", SettingValue::Bool(false), Pipeline::Hdrp);
+        assert_ne!(h(&lit, &no_ssao), h(&lit, &base()));
+        let scene_off = SceneFacts { hdrp_ssao: false, ..lit };
+        assert_eq!(h(&scene_off, &no_ssao), h(&scene_off, &base()));
+        let bloomed = SceneFacts { hdrp_bloom: true, ..lit };
+        assert_ne!(h(&bloomed, &hdrp("bloom_quality", "low")), h(&bloomed, &base()));
         // MSAA on a deferred path, a light budget past the lights, URP fields in a built-in frame.
         let aa = with("msaa", SettingValue::Name("msaa8".into()), Pipeline::Urp);
         let deferred = RenderPath::Deferred;

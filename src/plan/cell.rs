@@ -515,8 +515,18 @@ impl CellPlan {
             cell.settings.path,
             engine,
             (&cell.model.name, surface.kind),
-            frame.hdrp_ssao,
+            frame.hdrp_ssao && engine.hdrp.ssao,
         );
+        if p == Pipeline::Hdrp {
+            let off = [
+                (frame.hdrp_bloom && !engine.hdrp.bloom, Pass::Bloom),
+                (frame.hdrp_ssao && !engine.hdrp.ssao, Pass::Ssao),
+            ];
+            for (_, pass) in off.iter().filter(|(off, _)| *off) {
+                left_out
+                    .push((pass.name().to_string(), "the HDRP setting turns it off (the volume's override)".into()));
+            }
+        }
         let passes = frame_passes(PassInputs {
             pipeline: p,
             path: cell.settings.path,
@@ -525,7 +535,7 @@ impl CellPlan {
             ssao: ao.ssao.then_some(ao.method),
             transparent_queue: !transparent_order.is_empty(),
             traced_visibility: cell.settings.exact.visibility,
-            bloom: frame.hdrp_bloom,
+            bloom: frame.hdrp_bloom && engine.hdrp.bloom,
             subsurface: subsurface.is_some(),
         });
         let probes = match frame.probes() {

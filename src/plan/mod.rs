@@ -72,7 +72,7 @@ impl FramePlan {
             ssao: self.occludes(path, pipeline, engine),
             transparent_queue,
             traced_visibility: false,
-            bloom: self.hdrp_bloom,
+            bloom: self.hdrp_bloom && engine.hdrp.bloom,
             subsurface: false,
         })
     }
@@ -87,7 +87,7 @@ impl FramePlan {
     ) -> Option<ao::SsaoMethod> {
         let opaque = crate::pipelines::surface::SurfaceType::Opaque;
         let model = pipeline.fixed_object_shader();
-        let ao = ao::ambient_occlusion(pipeline, path, engine, (model, opaque), self.hdrp_ssao);
+        let ao = ao::ambient_occlusion(pipeline, path, engine, (model, opaque), self.hdrp_ssao && engine.hdrp.ssao);
         ao.ssao.then_some(ao.method)
     }
 

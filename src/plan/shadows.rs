@@ -51,14 +51,34 @@ pub fn array_side(light: &Light, engines: &[PipelineSettings]) -> u32 {
 /// The image side up to which default shadow resolutions fit the array unclamped.
 const ARRAY_IMAGE_SIDE: f64 = 1024.0;
 
-/// How a shadowed light's shadow is drawn in a pipeline: soft (3×3 PCF) or hard, and its receiver
-/// biases in shadow-map texels, along the light and along the normal.
+/// How a shadowed light's shadow is drawn in a pipeline: soft (3×3 PCF) or hard, or HDRP's
+/// n×n tent PCF (`tent` n, 0 for none), and its receiver biases in shadow-map texels, along the
+/// light and along the normal.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct ShadowStyle {
     pub strength: f64,
     pub soft: bool,
     pub bias: f64,
     pub normal_bias: f64,
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub tent: u32,
+}
+
+fn is_zero(v: &u32) -> bool {
+    *v == 0
+}
+
+/// HDRP's tent for a light at a shadow Filtering Quality (HDShadowAlgorithms.hlsl): Low reads a
+/// punctual light's map with SampleShadow_PCF_Tent_3x3 and a directional one's with _5x5, Medium
+/// with _5x5 and _7x7. High is PCSS, which this tool does not draw (the setting refuses it).
+pub fn hdrp_tent(quality: crate::pipelines::settings::HdrpQuality, kind: LightKind) -> u32 {
+    use crate::pipelines::settings::HdrpQuality;
+    let directional = kind == LightKind::Directional;
+    match (quality, directional) {
+        (HdrpQuality::Low, false) => 3,
+        (HdrpQuality::Low, true) | (HdrpQuality::Medium, false) | (HdrpQuality::High, false) => 5,
+        (HdrpQuality::Medium, true) | (HdrpQuality::High, true) => 7,
+    }
 }
 
 /// The style of `light`'s shadow in `pipeline`, or why it casts none there.
@@ -73,7 +93,8 @@ pub struct ShadowStyle {
 ///   ×2.5 when soft (ShadowUtils.GetShadowBias: kernelRadius 2.5), and no normal bias for a point
 ///   light.
 /// - HDRP: HDAdditionalLightData's normalBias 0.75 texel; its slopeBias 0.5 is a rasterisation
-///   slope-scaled depth bias, APPROXIMATED here as half a texel along the light at the receiver.
+///   slope-scaled depth bias, APPROXIMATED here as half a texel along the light at the receiver;
+///   every shadow filtered with the tent of the asset's Filtering Quality (`hdrp_tent`).
 pub fn shadow_style(
     pipeline: Pipeline,
     engine: &PipelineSettings,
@@ -94,7 +115,7 @@ pub fn shadow_style(
                 BuiltinShadows::All => s.soft,
             };
             let normal_bias = if light.kind == LightKind::Point { 0.0 } else { s.normal_bias };
-            Ok(ShadowStyle { strength: s.strength, soft, bias: s.bias, normal_bias })
+            Ok(ShadowStyle { strength: s.strength, soft, bias: s.bias, normal_bias, tent: 0 })
         }
         Pipeline::Urp => {
             let a = &engine.urp;
@@ -108,9 +129,16 @@ pub fn shadow_style(
             let k = if soft { 2.5 } else { 1.0 };
             // ShadowUtils.GetShadowBias: "normalBias = 0.0f" for a point light, following built-in.
             let normal_bias = if light.kind == LightKind::Point { 0.0 } else { a.normal_bias * k };
-            Ok(ShadowStyle { strength: s.strength, soft, bias: a.depth_bias * k, normal_bias })
+            Ok(ShadowStyle { strength: s.strength, soft, bias: a.depth_bias * k, normal_bias, tent: 0 })
         }
-        Pipeline::Hdrp => Ok(ShadowStyle { strength: s.strength, soft: s.soft, bias: 0.5, normal_bias: 0.75 }),
+        // HDRP filters every shadow (a light has no hard option): the asset's Filtering Quality.
+        Pipeline::Hdrp => Ok(ShadowStyle {
+            strength: s.strength,
+            soft: true,
+            bias: 0.5,
+            normal_bias: 0.75,
+            tent: hdrp_tent(engine.hdrp.shadow_filtering, light.kind),
+        }),
     }
 }
 

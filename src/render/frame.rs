@@ -218,7 +218,8 @@ impl Renderer {
         let t = self.targets.as_ref().expect("targets exist");
         let blooms = plan.has(Pass::Bloom) && mode.post;
         if blooms {
-            self.bloom.prepare(&self.gpu, t)?;
+            let quality = cell.settings.engine.hdrp.bloom_quality;
+            self.bloom.prepare(&self.gpu, t, crate::render::passes::bloom::BloomSettings::at(quality))?;
         }
         if let Some(sss) = plan.subsurface.as_ref().filter(|_| mode.post && plan.has(Pass::SubsurfaceScattering)) {
             let frame = SubsurfaceFrame::new(&plan.camera, (cell.width, cell.height), sss);

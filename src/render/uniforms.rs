@@ -15,7 +15,8 @@ pub struct GpuLight {
     pub params: [f32; 4],
     /// First shadow layer (−1: none), layer count, strength, soft (plan::shadows).
     pub shadow: [f32; 4],
-    /// Bias and normal bias in shadow-map texels.
+    /// Bias and normal bias in shadow-map texels; z how a dynamic object's probe occlusion meets
+    /// the shadow (plan::gi); w HDRP's tent width n (0: none; plan::shadows::hdrp_tent).
     pub shadow_bias: [f32; 4],
     /// Area lights: their right axis, and w = 1 where the frame's passes draw the light (an HDRP
     /// rect), 0 where only the truth sees it (plan::lights::area_left_out).

@@ -8,6 +8,7 @@ pub mod ltc_fit;
 pub mod material_type;
 pub mod params;
 pub mod registry;
+pub mod shadow_filter;
 pub mod twin;
 pub mod user;
 pub mod wgsl;

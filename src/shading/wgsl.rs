@@ -62,6 +62,7 @@ const BRDF_TERMS: &str = include_str!("../../shaders/common/brdf.wgsl");
 const AREA: &str = include_str!("../../shaders/common/area.wgsl");
 const SCENE: &str = include_str!("../../shaders/pass/scene.wgsl");
 const FORWARD: &str = include_str!("../../shaders/pass/forward.wgsl");
+const SHADOW_FILTERS: &str = include_str!("../../shaders/pass/shadow_filters.wgsl");
 /// HDRP's tiled light binning and the deferred pass's reading of it, joined after forward.wgsl.
 const LIGHT_TILES: &str = include_str!("../../shaders/pass/light_tiles.wgsl");
 /// The real-time approximations forward.wgsl calls, and their exact alternatives (plan::exact).
@@ -230,6 +231,7 @@ pub fn compose_mapped(pass: PassKind, model: Option<&ShaderModel>) -> (String, L
     match pass {
         PassKind::Forward | PassKind::ForwardExact => {
             parts.push(("shaders/pass/forward.wgsl", FORWARD));
+            parts.push(("shaders/pass/shadow_filters.wgsl", SHADOW_FILTERS));
             parts.push(("shaders/pass/light_tiles.wgsl", LIGHT_TILES));
         }
         PassKind::Background => parts.push(("shaders/pass/background.wgsl", BACKGROUND)),

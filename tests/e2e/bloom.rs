@@ -59,15 +59,22 @@ fn gpu_bloom_matches_its_twin_and_the_switch_turns_it_off() {
 
 /// A one-pixel highlight bloomed by the GPU chain against the reference computed from HDRP's
 /// formulas (`images::bloom`): weight 2^0.2 − 1, scatter lerp(0.05, 0.95, 0.7), Karis-weighted
-/// prefilter, ⌊log2 − 2⌋ levels, bilinear below 800×450 and bicubic at 800×450.
+/// prefilter, ⌊log2 − 2⌋ levels, bilinear below 800×450 and bicubic at 800×450; and at the Low
+/// quality level (Quarter resolution: a level fewer, and at 800×450 each half the size; bilinear).
 #[test]
 fn a_one_pixel_highlight_blooms_as_hdrps_formulas_say() {
     let _timer = crate::common::timed!();
     use shadematrix::render::passes::bloom::{BloomChain, BloomPipeline, BloomSettings};
     let gpu = GpuContext::new().unwrap();
     let pipeline = BloomPipeline::new(&gpu).unwrap();
-    let settings = BloomSettings::default();
-    for (width, height) in [(96u32, 64u32), (800, 450)] {
+    let low = BloomSettings::at(shadematrix::pipelines::settings::HdrpQuality::Low);
+    let mut spreads = Vec::new();
+    for (settings, (width, height)) in [
+        (BloomSettings::default(), (96u32, 64u32)),
+        (BloomSettings::default(), (800, 450)),
+        (low, (96, 64)),
+        (low, (800, 450)),
+    ] {
         let mut image = Image {
             width: width as usize,
             height: height as usize,
@@ -106,12 +113,16 @@ fn a_one_pixel_highlight_blooms_as_hdrps_formulas_say() {
         }
         let centre = reference.texels[at].x;
         eprintln!(
-            "{width}×{height}: GPU vs HDRP-formula reference worst {worst:.2e}; centre {centre:.2} of 400; \
-             {spread} pixels brightened by > 1 %"
+            "{width}×{height}{}: GPU vs HDRP-formula reference worst {worst:.2e}; centre {centre:.2} of 400; \
+             {spread} pixels brightened by > 1 %",
+            if settings.quarter { " (Low)" } else { "" }
         );
+        spreads.push(spread);
         assert!(worst < 1e-3, "{width}×{height}: {worst}");
         // The composite keeps (2 − 2^0.2) of the pixel itself, and the bloom reaches far past it.
         assert!((centre / 400.0 - (1.0 - settings.composite_weight())).abs() < 0.01, "{centre}");
         assert!(spread > 40, "{spread}");
     }
+    // A level fewer spreads the highlight otherwise (at 96×64 over more pixels, each by more).
+    assert!(spreads[2] != spreads[0] && spreads[3] != spreads[1], "{spreads:?}");
 }

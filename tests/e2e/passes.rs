@@ -264,6 +264,7 @@ fn a_pass_is_named_in_plan_pass_alone() {
         ("src/declarations/matrix.rs", "forward"),
         ("src/pipelines/surface.rs", "transparent"),
         ("src/pipelines/settings_axes.rs", "ssao"),
+        ("src/pipelines/settings_axes.rs", "bloom"),
     ];
     let names: Vec<String> = shadematrix::plan::Pass::ALL.iter().map(|p| format!("\"{}\"", p.name())).collect();
     let mut found = Vec::new();

@@ -40,15 +40,25 @@ pub struct BloomSettings {
     pub scatter: f64,
     /// Bloom.highQualityFiltering: bicubic upsampling (on in the default profile).
     pub high_quality_filtering: bool,
+    /// Bloom.resolution Quarter rather than Half.
+    pub quarter: bool,
 }
 
 impl Default for BloomSettings {
     fn default() -> Self {
-        BloomSettings { intensity: 0.2, scatter: 0.7, high_quality_filtering: true }
+        BloomSettings { intensity: 0.2, scatter: 0.7, high_quality_filtering: true, quarter: false }
     }
 }
 
 impl BloomSettings {
+    /// The default profile's Bloom at a quality level (GlobalPostProcessingQualitySettings:
+    /// BloomRes Quarter / Half / Half, BloomHighQualityFiltering off / on / on). High's
+    /// high-quality prefiltering is not drawn: `[pipeline_settings.hdrp]` refuses High.
+    pub fn at(quality: crate::pipelines::settings::HdrpQuality) -> BloomSettings {
+        let low = quality == crate::pipelines::settings::HdrpQuality::Low;
+        BloomSettings { high_quality_filtering: !low, quarter: low, ..BloomSettings::default() }
+    }
+
     /// UberPost's composite weight: 2^intensity − 1 ("makes intensity easier to control").
     pub fn composite_weight(&self) -> f64 {
         2f64.powf(self.intensity) - 1.0
@@ -66,12 +76,16 @@ impl BloomSettings {
     }
 }
 
-/// The pyramid's levels for a frame of `width`×`height` at HDRP's Half resolution: ⌊log2(max
-/// side) − 2⌋ levels (at least 1, at most 16), level i RoundToInt(side / 2^(i+1)) (C#'s
-/// round-half-to-even), at least 1.
-pub fn level_sizes(width: u32, height: u32) -> Vec<(u32, u32)> {
-    let count = ((width.max(height) as f64).log2() - 2.0).floor().clamp(1.0, 16.0) as i32;
-    let side = |s: u32, k: i32| ((s as f64 / 2f64.powi(k + 1)).round_ties_even() as u32).max(1);
+/// The pyramid's levels for a frame of `width`×`height` (DoBloom): ⌊log2(max side) − 2⌋ levels
+/// at Half resolution, one fewer at Quarter (at least 1, at most 16); level i RoundToInt(scale ·
+/// side / 2^(i+1)) (C#'s round-half-to-even), at least 1, where the scale is 1 / (resolution / 2)
+/// (Half 1, Quarter ½) but 1 below 800×450 ("less than 50 % of 900p").
+pub fn level_sizes(width: u32, height: u32, quarter: bool) -> Vec<(u32, u32)> {
+    let fewer = if quarter { 1.0 } else { 0.0 };
+    let count = ((width.max(height) as f64).log2() - 2.0 - fewer).floor().clamp(1.0, 16.0) as i32;
+    let small = width < 800 || height < 450;
+    let scale = if quarter && !small { 0.5 } else { 1.0 };
+    let side = |s: u32, k: i32| ((scale * s as f64 / 2f64.powi(k + 1)).round_ties_even() as u32).max(1);
     (0..count).map(|k| (side(width, k), side(height, k))).collect()
 }
 
@@ -129,7 +143,7 @@ impl BloomChain {
                 wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING | extra,
             )
         };
-        let sizes = level_sizes(width, height);
+        let sizes = level_sizes(width, height, settings.quarter);
         // Per level: the blurred level (m), a scratch for the first blur (s), and the level's input
         // before blurring, reused for its upsampled result (t).
         let levels: Vec<[wgpu::Texture; 3]> = sizes
@@ -227,13 +241,20 @@ mod tests {
 
     #[test]
     fn the_pyramid_starts_at_half_resolution() {
-        let s = level_sizes(384, 384);
+        let s = level_sizes(384, 384, false);
         assert_eq!(s[0], (192, 192));
         assert_eq!(s.len(), 6, "⌊log2 384 − 2⌋ = 6");
         assert_eq!(*s.last().unwrap(), (6, 6));
-        assert_eq!(level_sizes(2, 2), vec![(1, 1)]);
+        assert_eq!(level_sizes(2, 2, false), vec![(1, 1)]);
         // 100 / 8 = 12.5 rounds to 12, as Mathf.RoundToInt (half to even) does.
-        assert_eq!(level_sizes(100, 100), vec![(50, 50), (25, 25), (12, 12), (6, 6)]);
+        assert_eq!(level_sizes(100, 100, false), vec![(50, 50), (25, 25), (12, 12), (6, 6)]);
+        // Quarter (Low): one level fewer, the same sizes below 800×450, half of them above.
+        assert_eq!(level_sizes(384, 384, true), s[..5].to_vec());
+        assert_eq!(level_sizes(1600, 900, true)[0], (400, 225));
+        assert_eq!(level_sizes(1600, 900, false)[0], (800, 450));
+        let low = BloomSettings::at(crate::pipelines::settings::HdrpQuality::Low);
+        assert!(low.quarter && !low.high_quality_filtering);
+        assert_eq!(BloomSettings::at(crate::pipelines::settings::HdrpQuality::Medium), BloomSettings::default());
         let hdrp = BloomSettings::default();
         assert!((hdrp.composite_weight() - 0.148698).abs() < 1e-6);
         assert!((hdrp.upsample_scatter() - 0.68).abs() < 1e-12);
@@ -251,19 +272,23 @@ pub(in crate::render) struct BloomPass {
 }
 
 impl BloomPass {
-    /// Ready the pass for a frame on `targets`.
+    /// Ready the pass for a frame on `targets` with `settings` (the chain is remade when either
+    /// changes).
     pub(in crate::render) fn prepare(
         &mut self,
         gpu: &GpuContext,
         targets: &crate::render::targets::Targets,
+        settings: BloomSettings,
     ) -> Result<(), Error> {
         if self.pipeline.is_none() {
             self.pipeline = Some(BloomPipeline::new(gpu)?);
         }
         let pipeline = self.pipeline.as_ref().expect("just made");
-        if self.chain.as_ref().is_none_or(|(generation, _)| *generation != targets.generation) {
+        let stale =
+            |(generation, chain): &(u64, BloomChain)| *generation != targets.generation || chain.settings != settings;
+        if self.chain.as_ref().is_none_or(stale) {
             let size = (targets.width, targets.height);
-            let chain = BloomChain::new(&gpu.device, pipeline, &targets.color, size, BloomSettings::default());
+            let chain = BloomChain::new(&gpu.device, pipeline, &targets.color, size, settings);
             self.chain = Some((targets.generation, chain));
         }
         Ok(())
