@@ -375,7 +375,7 @@ fn shadow_visibility(light: Light, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, rec
     let uv = map_uv * info.params.w;
     var vis = 0.0;
     if (light.shadow_bias.w > 0.5) {
-        vis = shadow_tent(index, uv, ndc.z, light.shadow_bias.w, info.params.w);
+        vis = shadow_tent(index, uv, ndc.z, light.shadow_bias.w);
     } else if (light.shadow.w > 0.5) {
         let step = 1.0 / f32(textureDimensions(shadow_maps).x);
         for (var dy = -1; dy <= 1; dy++) {

@@ -17,26 +17,25 @@ fn tent_texel_weight(i: f32, s: f32, h: f32) -> f32 {
 }
 
 // Visibility under an n×n tent PCF (SampleShadow_PCF_Tent_3x3 / 5x5 / 7x7): each texel's depth
-// comparison (lit where depth ≤ the map's, the comparison sampler's LessEqual) weighted by the
-// tent's area over it; `extent`: the share of the layer's side the light's map fills, whose last
-// texel edge reads repeat
-fn shadow_tent(layer: u32, uv: vec2<f32>, depth: f32, n: f32, extent: f32) -> f32 {
+// comparison (lit where depth ≤ the map's: the comparison sampler's LessEqual) weighted by the
+// tent's area over it. The n + 1 texels a side are read in 2×2 gathers, each at the corner its
+// four texels share; past the layer's edge its edge texel repeats (the sampler clamps)
+fn shadow_tent(layer: u32, uv: vec2<f32>, depth: f32, n: f32) -> f32 {
     let size = vec2<f32>(textureDimensions(shadow_maps));
     let s = uv * size;
     let h = 0.5 * n;
     let first = floor(s - h);
-    let last = vec2<i32>(ceil(extent * size)) - vec2<i32>(1);
-    let count = i32(n);
+    let blocks = i32(n + 1.0) / 2;
     var vis = 0.0;
-    for (var j = 0; j <= count; j++) {
-        let y = first.y + f32(j);
-        let wy = tent_texel_weight(y, s.y, h);
-        for (var i = 0; i <= count; i++) {
-            let x = first.x + f32(i);
-            let w = tent_texel_weight(x, s.x, h) * wy;
-            let texel = clamp(vec2<i32>(i32(x), i32(y)), vec2<i32>(0), last);
-            let stored = textureLoad(shadow_maps, texel, layer, 0);
-            vis += w * select(0.0, 1.0, depth <= stored);
+    for (var by = 0; by < blocks; by++) {
+        let y0 = first.y + 2.0 * f32(by);
+        let wy = vec2<f32>(tent_texel_weight(y0, s.y, h), tent_texel_weight(y0 + 1.0, s.y, h));
+        for (var bx = 0; bx < blocks; bx++) {
+            let x0 = first.x + 2.0 * f32(bx);
+            let wx = vec2<f32>(tent_texel_weight(x0, s.x, h), tent_texel_weight(x0 + 1.0, s.x, h));
+            // x: (x0, y0 + 1), y: (x0 + 1, y0 + 1), z: (x0 + 1, y0), w: (x0, y0)
+            let lit = textureGatherCompare(shadow_maps, shadow_sampler, vec2<f32>(x0 + 1.0, y0 + 1.0) / size, layer, depth);
+            vis += dot(lit, vec4<f32>(wx.x * wy.y, wx.y * wy.y, wx.y * wy.x, wx.x * wy.x));
         }
     }
     return vis;

@@ -16,8 +16,9 @@ pub fn tent_texel_weight(i: f64, s: f64, h: f64) -> f64 {
     tent_cdf(i + 1.0 - s, h) - tent_cdf(i - s, h)
 }
 
-/// Visibility under an n×n tent PCF at texel-space position `s` of a map whose texel (x, y) is
-/// lit where `lit(x, y)` (its depth comparison), texels past `last` reading the last.
+/// Visibility under an n×n tent PCF at texel-space position `s` of a layer whose texel (x, y) is
+/// lit where `lit(x, y)` (its depth comparison), texels past the layer's edge `last` reading the
+/// edge's (the GPU reads them in 2×2 gathers; the sum is the same).
 pub fn shadow_tent(s: [f64; 2], n: u32, last: [i64; 2], lit: impl Fn(i64, i64) -> bool) -> f64 {
     let h = 0.5 * n as f64;
     let first = [(s[0] - h).floor(), (s[1] - h).floor()];
