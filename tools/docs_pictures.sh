@@ -91,4 +91,24 @@ for preset in gold plastic blue_paint; do
   rows+=("composite__builtin-forward__standard__${preset}__*,composite__urp-forward__lit__${preset}__*,composite__hdrp-forward__lit__${preset}__*")
 done
 "$montage" "$work/composite" docs/composite.png 240 "${rows[@]}"
+# Quality settings: the composite room's gold vase, a row per pipeline from its cheapest settings
+# to its own (built-in's quality levels Very Low, Medium, High, Ultra; URP's default asset, its
+# 1024 map, its soft shadows, High Fidelity; HDRP all low with SSAO off, Low filtering, SSAO off,
+# its defaults); and each pipeline's tiers plot, stacked.
+run quality matrices/quality.toml
+q=composite__builtin-forward__standard__gold__m1.00_s0.90_i1.5_r6
+u=composite__urp-forward__lit__gold__m1.00_s0.90_i1.5_r6
+h=composite__hdrp-forward__lit__gold__m1.00_s0.90_i1.5_r6
+"$montage" "$work/quality" docs/quality.png 160 \
+  "${q}_quality_level.very_low,${q}_quality_level.medium,${q}_quality_level.high,${q}" \
+  "${u},${u}_main_light_shadow_resolution.1024,${u}_soft_shadows.on,${u}_asset.high_fidelity" \
+  "${h}_bloom_quality.low_shadow_filtering.low_shadow_resolution.256_ssao.off,${h}_shadow_filtering.low,${h}_ssao.off,${h}"
+printf '<html><body style="margin:0">%s</body></html>' \
+  "$(for p in builtin urp hdrp; do printf '<img src="quality/plots/quality_%s.svg"><br>' "$p"; done)" \
+  > "$work/quality_plots.html"
+profile=$(mktemp -d)
+chromium --headless --no-sandbox --disable-gpu --disable-background-networking --disable-component-update \
+  --disable-sync --no-first-run --user-data-dir="$profile" --hide-scrollbars --window-size=780,1448 \
+  --screenshot="$PWD/docs/quality_plots.png" "file://$work/quality_plots.html" > "$work/quality_plots.log" 2>&1
+rm -rf "$profile"
 echo "docs pictures rebuilt from $(git rev-parse --short HEAD) (work in $work)"

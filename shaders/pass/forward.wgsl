@@ -374,7 +374,8 @@ fn shadow_visibility(light: Light, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, rec
     // The light's map fills the top-left params.w of the layer
     let uv = map_uv * info.params.w;
     var vis = 0.0;
-    if (light.shadow_bias.w > 0.5) {
+    // HDRP alone filters with a tent: the other pipelines' frames compile it out
+    if (PIPELINE == PIPELINE_HDRP && light.shadow_bias.w > 0.5) {
         vis = shadow_tent(index, uv, ndc.z, light.shadow_bias.w);
     } else if (light.shadow.w > 0.5) {
         let step = 1.0 / f32(textureDimensions(shadow_maps).x);
