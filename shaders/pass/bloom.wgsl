@@ -1,7 +1,8 @@
 // HDRP's bloom (render::passes::bloom; twin: images::bloom), its steps as HDRP's compute shaders run them:
 // a half-resolution prefilter (BloomPrefilter.compute LOW_QUALITY: five rotated bilinear taps
 // [Lorach07] one full-resolution texel apart, each through QuadraticThreshold and weighted by
-// 1/(1 + luminance) [Karis13]), a pyramid whose levels are each a 2×2 bilinear downsample of the
+// 1/(1 + luminance) [Karis13]; HIGH_QUALITY at the High level: 13 taps in five Karis-weighted
+// blocks [Jimenez14]), a pyramid whose levels are each a 2×2 bilinear downsample of the
 // last then a 9-tap binomial blur across and down (BloomBlur.compute), an upsample from the
 // coarsest level, lerp(level, filter(coarser), scatter) (BloomUpsample.compute KMainHighQ bicubic
 // or KMainLowQ bilinear), and the composite lerp(colour, filter(bloom), weight) (UberPost.compute).
@@ -11,7 +12,8 @@ struct BloomParams {
     // x, y: destination size; z: mode (0 prefilter, 1 downsample, 2 blur across, 3 blur down,
     // 4 upsample or composite); w: unused
     dims: vec4<u32>,
-    // x: scatter (upsample) or weight (composite); y: 1 bicubic, 0 bilinear filtering of the coarse input
+    // x: scatter (upsample) or weight (composite); y: 1 bicubic, 0 bilinear filtering of the coarse
+    // input; for the prefilter, 1 HIGH_QUALITY, 0 LOW_QUALITY
     factor: vec4<f32>,
 };
 
@@ -73,6 +75,39 @@ fn luminance(c: vec3<f32>) -> f32 {
     return dot(c, vec3<f32>(0.2126729, 0.7151522, 0.0721750));
 }
 
+// BilinearSample: the source at uv offset by `offset` full-resolution texels, through the
+// threshold; its Karis weight 1/(1 + luminance) in w
+fn prefilter_tap(uv: vec2<f32>, offset: vec2<f32>) -> vec4<f32> {
+    let c = quadratic_threshold(bilinear(source, uv + offset / vec2<f32>(textureDimensions(source))));
+    return vec4<f32>(c, 1.0 / (luminance(c) + 1.0));
+}
+
+// PartialAverage: four taps' Karis-weighted mean
+fn partial_average(a: vec4<f32>, b: vec4<f32>, c: vec4<f32>, d: vec4<f32>) -> vec3<f32> {
+    return (a.rgb * a.w + b.rgb * b.w + c.rgb * c.w + d.rgb * d.w) / (a.w + b.w + c.w + d.w);
+}
+
+// HIGH_QUALITY prefilter [Jimenez14]: the inner 2×2 block half a texel out weighs 1/2, the four
+// corner blocks one texel out 1/8 each, every block a Karis-weighted mean
+fn prefilter_high(uv: vec2<f32>) -> vec3<f32> {
+    let a = prefilter_tap(uv, vec2<f32>(-1.0, -1.0));
+    let b = prefilter_tap(uv, vec2<f32>(0.0, -1.0));
+    let c = prefilter_tap(uv, vec2<f32>(1.0, -1.0));
+    let d = prefilter_tap(uv, vec2<f32>(-0.5, -0.5));
+    let e = prefilter_tap(uv, vec2<f32>(0.5, -0.5));
+    let f = prefilter_tap(uv, vec2<f32>(-1.0, 0.0));
+    let g = prefilter_tap(uv, vec2<f32>(0.0, 0.0));
+    let h = prefilter_tap(uv, vec2<f32>(1.0, 0.0));
+    let i = prefilter_tap(uv, vec2<f32>(-0.5, 0.5));
+    let j = prefilter_tap(uv, vec2<f32>(0.5, 0.5));
+    let k = prefilter_tap(uv, vec2<f32>(-1.0, 1.0));
+    let l = prefilter_tap(uv, vec2<f32>(0.0, 1.0));
+    let m = prefilter_tap(uv, vec2<f32>(1.0, 1.0));
+    return partial_average(d, e, i, j) * 0.5
+        + (partial_average(a, b, f, g) + partial_average(b, c, g, h) + partial_average(f, g, k, l)
+            + partial_average(g, h, l, m)) * 0.125;
+}
+
 // The 9-tap binomial blur (C(8, k)/256) along `step`
 fn blur(t: texture_2d<f32>, p: vec2<i32>, step: vec2<i32>) -> vec3<f32> {
     let w = array<f32, 5>(0.2734375, 0.21875, 0.109375, 0.03125, 0.00390625);
@@ -93,6 +128,10 @@ fn cs_bloom(@builtin(global_invocation_id) id: vec3<u32>) {
     var c = vec3<f32>(0.0);
     switch params.dims.z {
         case 0u: {
+            if (params.factor.y > 0.5) {
+                textureStore(destination, id.xy, vec4<f32>(prefilter_high(uv), 1.0));
+                return;
+            }
             let taps = array<vec2<f32>, 5>(
                 vec2<f32>(0.0, 0.0), vec2<f32>(0.9, -0.4), vec2<f32>(-0.9, 0.4), vec2<f32>(0.4, 0.9), vec2<f32>(-0.4, -0.9)
             );

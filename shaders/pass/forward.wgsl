@@ -333,7 +333,8 @@ fn mapped_normal(n: vec3<f32>, tangent: vec4<f32>, uv: vec2<f32>) -> vec3<f32> {
 
 // Visibility of `light` at p (1 lit, 0 in shadow), mixed by the light's strength: the receiver
 // offset along n by the normal bias and towards the light by the bias, both in texels; HDRP's
-// n×n tent where shadow_bias.w is n, else 3×3 bilinear comparison taps when soft (plan::shadows)
+// n×n tent where shadow_bias.w is n, its PCSS where it is −1, else 3×3 bilinear comparison taps
+// when soft (plan::shadows)
 fn shadow_visibility(light: Light, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, receives: bool) -> f32 {
     if (light.shadow.x < 0.0 || !receives) {
         return 1.0;
@@ -374,9 +375,11 @@ fn shadow_visibility(light: Light, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, rec
     // The light's map fills the top-left params.w of the layer
     let uv = map_uv * info.params.w;
     var vis = 0.0;
-    // HDRP alone filters with a tent: the other pipelines' frames compile it out
+    // HDRP alone filters with a tent or PCSS: the other pipelines' frames compile them out
     if (PIPELINE == PIPELINE_HDRP && light.shadow_bias.w > 0.5) {
         vis = shadow_tent(index, uv, ndc.z, light.shadow_bias.w);
+    } else if (PIPELINE == PIPELINE_HDRP && light.shadow_bias.w < -0.5) {
+        vis = shadow_pcss(index, info, uv, ndc.z);
     } else if (light.shadow.w > 0.5) {
         let step = 1.0 / f32(textureDimensions(shadow_maps).x);
         for (var dy = -1; dy <= 1; dy++) {

@@ -23,6 +23,9 @@ struct ShadowLayer {
     view_proj: mat4x4<f32>,
     params: vec4<f32>,
     sphere: vec4<f32>,     // directional cascades: the bounding sphere of the frustum slice it covers
+    // HDRP's PCSS (plan::shadows::hdrp_pcss): softness, minimum filter radius, and (zBufferParam)
+    // a perspective map's 1/z terms, an orthographic one's range scale in z
+    pcss: vec4<f32>,
 };
 
 struct Material {

@@ -92,22 +92,51 @@ fn luminance(c: DVec3) -> f64 {
     c.dot(DVec3::new(0.2126729, 0.7151522, 0.0721750))
 }
 
+/// BilinearSample: `image` at (u, v) offset by `offset` of its texels, through the threshold, with
+/// its Karis weight 1/(1 + luminance).
+fn prefilter_tap(image: &Image, u: f64, v: f64, offset: (f64, f64)) -> (DVec3, f64) {
+    let c = quadratic_threshold(image.bilinear(u + offset.0 / image.width as f64, v + offset.1 / image.height as f64));
+    (c, 1.0 / (luminance(c) + 1.0))
+}
+
+/// PartialAverage: four taps' Karis-weighted mean.
+fn partial_average(taps: [(DVec3, f64); 4]) -> DVec3 {
+    let sum: DVec3 = taps.iter().map(|(c, w)| *c * *w).sum();
+    sum / taps.iter().map(|(_, w)| w).sum::<f64>()
+}
+
+/// BloomPrefilter.compute HIGH_QUALITY [Jimenez14]: the inner 2×2 block half a texel out weighs
+/// 1/2, the four corner blocks one texel out 1/8 each, each block a Karis-weighted mean.
+fn prefilter_high(image: &Image, u: f64, v: f64) -> DVec3 {
+    let t = |x: f64, y: f64| prefilter_tap(image, u, v, (x, y));
+    let (a, b, c) = (t(-1.0, -1.0), t(0.0, -1.0), t(1.0, -1.0));
+    let (d, e) = (t(-0.5, -0.5), t(0.5, -0.5));
+    let (f, g, h) = (t(-1.0, 0.0), t(0.0, 0.0), t(1.0, 0.0));
+    let (i, j) = (t(-0.5, 0.5), t(0.5, 0.5));
+    let (k, l, m) = (t(-1.0, 1.0), t(0.0, 1.0), t(1.0, 1.0));
+    partial_average([d, e, i, j]) * 0.5
+        + (partial_average([a, b, f, g])
+            + partial_average([b, c, g, h])
+            + partial_average([f, g, k, l])
+            + partial_average([g, h, l, m]))
+            * 0.125
+}
+
 /// `image` bloomed as HDRP's volume `settings` say.
 pub fn bloom(image: &Image, settings: &crate::render::passes::bloom::BloomSettings) -> Image {
     let sizes = crate::render::passes::bloom::level_sizes(image.width as u32, image.height as u32, settings.quarter);
     let bicubic = settings.bicubic(image.width as u32, image.height as u32);
     let filter = |img: &Image, u: f64, v: f64| if bicubic { img.bicubic(u, v) } else { img.bilinear(u, v) };
     let taps = [(0.0, 0.0), (0.9, -0.4), (-0.9, 0.4), (0.4, 0.9), (-0.4, -0.9)];
-    let (sw, sh) = (image.width as f64, image.height as f64);
     let mut levels: Vec<Image> = Vec::new();
     for (k, &(w, h)) in sizes.iter().enumerate() {
         let (w, h) = (w as usize, h as usize);
         let input = match k {
+            0 if settings.high_quality_prefiltering => Image::map(w, h, |_, _, u, v| prefilter_high(image, u, v)),
             0 => Image::map(w, h, |_, _, u, v| {
                 let (mut c, mut weights) = (DVec3::ZERO, 0.0);
                 for (tx, ty) in taps {
-                    let tap = quadratic_threshold(image.bilinear(u + tx / sw, v + ty / sh));
-                    let weight = 1.0 / (luminance(tap) + 1.0);
+                    let (tap, weight) = prefilter_tap(image, u, v, (tx, ty));
                     c += tap * weight;
                     weights += weight;
                 }
@@ -164,6 +193,26 @@ mod tests {
         }
         assert!(bicubic < 1e-12, "bicubic: {bicubic}");
         assert!(bilinear > 1e-3, "not bilinear: {bilinear}");
+    }
+
+    #[test]
+    fn the_high_quality_prefilter_weighs_its_blocks_as_jimenez14() {
+        use crate::pipelines::settings::HdrpQuality;
+        // A uniform image: every block's Karis mean is the colour, the blocks' weights sum to 1.
+        let flat = Image { width: 16, height: 16, texels: vec![DVec3::splat(2.0); 256] };
+        let c = prefilter_high(&flat, 0.5, 0.5);
+        assert!((c - DVec3::splat(2.0)).abs().max_element() < 1e-12, "{c}");
+        // A lone bright texel under the centre: the inner block (weight 1/2) and all four corner
+        // blocks see it, so High keeps more of it than the five rotated taps do.
+        let mut spot = flat.clone();
+        spot.texels.iter_mut().for_each(|t| *t = DVec3::ZERO);
+        spot.texels[8 * 16 + 8] = DVec3::splat(50.0);
+        let high = prefilter_high(&spot, 8.5 / 16.0, 8.5 / 16.0);
+        assert!(high.x > 0.0 && high.x < 50.0, "{high}");
+        let (hi, med) = (BloomSettings::at(HdrpQuality::High), BloomSettings::at(HdrpQuality::Medium));
+        assert!(hi.high_quality_prefiltering && !med.high_quality_prefiltering && !hi.quarter);
+        let (a, b) = (bloom(&spot, &hi), bloom(&spot, &med));
+        assert!(a != b, "the prefilter changes the bloom");
     }
 
     #[test]

@@ -29,13 +29,15 @@ pub struct HdrpSettings {
     #[serde(default = "hdrp_shadow_resolution", skip_serializing_if = "is_hdrp_shadow_resolution")]
     pub shadow_resolution: u32,
     /// The HDRP asset's Filtering Quality (HDShadowInitParameters.shadowFilteringQuality, Medium in
-    /// a new asset): the PCF tent a shadow map is read with (`plan::shadows::ShadowFilter`).
+    /// a new asset): the PCF tent a shadow map is read with, or at High PCSS (`plan::shadows`).
     #[serde(default, skip_serializing_if = "HdrpQuality::is_medium")]
     pub shadow_filtering: HdrpQuality,
-    /// The volume's Ambient Occlusion (on in HDRP's default profile, at Medium quality; Low's
-    /// one direction and plain upsample are not drawn, GlobalLightingQualitySettings).
+    /// The volume's Ambient Occlusion (on in HDRP's default profile) and its quality level
+    /// (GlobalLightingQualitySettings: `render::passes::ssao::SsaoSettings::at`).
     #[serde(default = "yes", skip_serializing_if = "is_yes")]
     pub ssao: bool,
+    #[serde(default, skip_serializing_if = "HdrpQuality::is_medium")]
+    pub ssao_quality: HdrpQuality,
     /// The volume's Bloom (on in HDRP's default profile) and its quality level.
     #[serde(default = "yes", skip_serializing_if = "is_yes")]
     pub bloom: bool,
@@ -74,6 +76,11 @@ impl HdrpQuality {
         *self == HdrpQuality::Medium
     }
 
+    /// Every level's name.
+    pub fn names() -> Vec<&'static str> {
+        HdrpQuality::ALL.map(HdrpQuality::name).to_vec()
+    }
+
     /// The levels this tool draws of a setting whose High it does not (yet) draw: Low and Medium.
     pub fn drawn_below_high() -> Vec<&'static str> {
         vec![HdrpQuality::Low.name(), HdrpQuality::Medium.name()]
@@ -98,6 +105,7 @@ impl Default for HdrpSettings {
             shadow_resolution: HDRP_SHADOW_RESOLUTION,
             shadow_filtering: HdrpQuality::Medium,
             ssao: true,
+            ssao_quality: HdrpQuality::Medium,
             bloom: true,
             bloom_quality: HdrpQuality::Medium,
         }
@@ -600,14 +608,19 @@ pub struct HdrpSettingsFile {
     pub shadow_resolution: Option<u32>,
     pub shadow_filtering: Option<String>,
     pub ssao: Option<bool>,
+    pub ssao_quality: Option<String>,
     pub bloom: Option<bool>,
     pub bloom_quality: Option<String>,
 }
 
 /// A quality level as `[pipeline_settings.hdrp]` names it, among the levels drawn.
-fn hdrp_quality(key: &str, value: &Option<String>) -> Result<HdrpQuality, SettingsError> {
+fn hdrp_quality(
+    key: &str,
+    value: &Option<String>,
+    drawn: fn() -> Vec<&'static str>,
+) -> Result<HdrpQuality, SettingsError> {
     let Some(name) = value else { return Ok(HdrpQuality::Medium) };
-    let allowed = HdrpQuality::drawn_below_high();
+    let allowed = drawn();
     match HdrpQuality::ALL.into_iter().find(|q| q.name() == name && allowed.contains(&q.name())) {
         Some(q) => Ok(q),
         None => Err((format!("hdrp.{key}"), format!("`{name}`: allowed {}", allowed.join(", ")))),
@@ -707,10 +720,11 @@ impl PipelineSettingsFile {
         let hdrp = HdrpSettings {
             light_unit,
             shadow_resolution: h.shadow_resolution.unwrap_or(HDRP_SHADOW_RESOLUTION),
-            shadow_filtering: hdrp_quality("shadow_filtering", &h.shadow_filtering)?,
+            shadow_filtering: hdrp_quality("shadow_filtering", &h.shadow_filtering, HdrpQuality::names)?,
             ssao: h.ssao.unwrap_or(true),
+            ssao_quality: hdrp_quality("ssao_quality", &h.ssao_quality, HdrpQuality::drawn_below_high)?,
             bloom: h.bloom.unwrap_or(true),
-            bloom_quality: hdrp_quality("bloom_quality", &h.bloom_quality)?,
+            bloom_quality: hdrp_quality("bloom_quality", &h.bloom_quality, HdrpQuality::names)?,
         };
         Ok(PipelineSettings { builtin: self.builtin.resolve()?, urp: a, hdrp })
     }
@@ -739,6 +753,22 @@ mod tests {
         assert_eq!(bad.resolve().unwrap_err().0, "urp.asset");
         let bad: PipelineSettingsFile = toml::from_str("[urp]\ncascade_count = 5\n").unwrap();
         assert_eq!(bad.resolve().unwrap_err().0, "urp.cascade_count");
+    }
+
+    #[test]
+    fn hdrps_quality_levels_are_read_and_an_undrawn_one_is_refused() {
+        let f: PipelineSettingsFile =
+            toml::from_str("[hdrp]\nshadow_filtering = \"high\"\nbloom_quality = \"high\"\nssao_quality = \"low\"\n")
+                .unwrap();
+        let h = f.resolve().unwrap().hdrp;
+        assert_eq!(
+            (h.shadow_filtering, h.bloom_quality, h.ssao_quality),
+            (HdrpQuality::High, HdrpQuality::High, HdrpQuality::Low)
+        );
+        // SSAO's High runs at full resolution with a spatial denoise, which is not drawn.
+        let bad: PipelineSettingsFile = toml::from_str("[hdrp]\nssao_quality = \"high\"\n").unwrap();
+        let (key, why) = bad.resolve().unwrap_err();
+        assert_eq!((key.as_str(), why.as_str()), ("hdrp.ssao_quality", "`high`: allowed low, medium"));
     }
 
     #[test]

@@ -327,17 +327,25 @@ pub const SETTINGS: &[SettingRow] = &[
     SettingRow {
         pipeline: Pipeline::Hdrp,
         key: "shadow_filtering",
-        kind: SettingKind::Choice(HdrpQuality::drawn_below_high),
+        kind: SettingKind::Choice(HdrpQuality::names),
         preset: false,
         get: |e| name(e.settings.hdrp.shadow_filtering.name()),
         set: |e, v| e.settings.hdrp.shadow_filtering = hdrp_quality(v),
     },
     field!(Hdrp, "ssao", SettingKind::Bool, bool, settings.hdrp.ssao),
+    SettingRow {
+        pipeline: Pipeline::Hdrp,
+        key: "ssao_quality",
+        kind: SettingKind::Choice(HdrpQuality::drawn_below_high),
+        preset: false,
+        get: |e| name(e.settings.hdrp.ssao_quality.name()),
+        set: |e, v| e.settings.hdrp.ssao_quality = hdrp_quality(v),
+    },
     field!(Hdrp, "bloom", SettingKind::Bool, bool, settings.hdrp.bloom),
     SettingRow {
         pipeline: Pipeline::Hdrp,
         key: "bloom_quality",
-        kind: SettingKind::Choice(HdrpQuality::drawn_below_high),
+        kind: SettingKind::Choice(HdrpQuality::names),
         preset: false,
         get: |e| name(e.settings.hdrp.bloom_quality.name()),
         set: |e, v| e.settings.hdrp.bloom_quality = hdrp_quality(v),
@@ -489,6 +497,9 @@ pub fn frame_relevant(pipeline: Pipeline, path: RenderPath, facts: &SceneFacts, 
     // The scene's switch turns a volume's effect off whatever the settings say; vertex-lit draws
     // no SSAO; an effect off draws at no quality.
     h.ssao &= facts.hdrp_ssao && path != RenderPath::VertexLit;
+    if !h.ssao {
+        h.ssao_quality = HdrpQuality::default();
+    }
     h.bloom &= facts.hdrp_bloom;
     if !h.bloom {
         h.bloom_quality = HdrpQuality::default();
@@ -574,8 +585,9 @@ mod tests {
         assert_ne!(relevant(&lit, &hi, Pipeline::Urp, fwd), relevant(&lit, &base(), Pipeline::Urp, fwd));
         let unlit = SceneFacts { shadows: false, ..lit };
         assert_eq!(relevant(&unlit, &hi, Pipeline::Urp, fwd), relevant(&unlit, &base(), Pipeline::Urp, fwd));
-        // HDRP: filtering without a shadow and bloom's quality where the scene turns bloom off are
-        // twins; SSAO turned off by the settings is not, and with the scene's off it is.
+        // HDRP: filtering without a shadow, bloom's quality where the scene turns bloom off and
+        // SSAO's where it turns SSAO off are twins; SSAO turned off by the settings is not, and
+        // with the scene's off it is.
         let hdrp = |key: &'static str, v: &str| with(key, SettingValue::Name(v.into()), Pipeline::Hdrp);
         let h = |facts: &SceneFacts, e: &EngineState| relevant(facts, e, Pipeline::Hdrp, fwd);
         assert_ne!(h(&lit, &hdrp("shadow_filtering", "low")), h(&lit, &base()));
@@ -585,6 +597,8 @@ mod tests {
         assert_ne!(h(&lit, &no_ssao), h(&lit, &base()));
         let scene_off = SceneFacts { hdrp_ssao: false, ..lit };
         assert_eq!(h(&scene_off, &no_ssao), h(&scene_off, &base()));
+        assert_ne!(h(&lit, &hdrp("ssao_quality", "low")), h(&lit, &base()));
+        assert_eq!(h(&scene_off, &hdrp("ssao_quality", "low")), h(&scene_off, &base()));
         let bloomed = SceneFacts { hdrp_bloom: true, ..lit };
         assert_ne!(h(&bloomed, &hdrp("bloom_quality", "low")), h(&bloomed, &base()));
         // MSAA on a deferred path, a light budget past the lights, URP fields in a built-in frame.

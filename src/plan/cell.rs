@@ -416,7 +416,7 @@ impl CellPlan {
                 light_shadows.push(LightShadow::default());
                 continue;
             }
-            let style = match shadow_style(p, engine, l, main == Some(slot)) {
+            let mut style = match shadow_style(p, engine, l, main == Some(slot)) {
                 Ok(style) => style,
                 Err(why) => {
                     left_out.push((format!("shadow of light {slot} ({:?})", l.kind), why));
@@ -426,8 +426,17 @@ impl CellPlan {
             };
             let view = CascadeView { camera: &camera, aspect, cascades: &cascades };
             let (resolution, note) = cell_resolution(p, engine, l, &camera, (cell.width, cell.height), sh.side);
-            shadow_maps.push(ShadowMapUse { light: slot, resolution, note });
-            let layers = light_layers(l, light_terms[slot].shape, (resolution, sh.side), layout.scene_bounds, &view);
+            let mut layers =
+                light_layers(l, light_terms[slot].shape, (resolution, sh.side), layout.scene_bounds, &view);
+            if style.pcss {
+                // HDRP raises its slope bias with the PCSS softness (per request; the light's
+                // largest here, one bias serving all its layers).
+                let softness = layers.iter().map(|x| x.pcss[0] as f64).fold(0.0, f64::max);
+                style.bias *= super::shadows::pcss_bias_scale(softness);
+            } else {
+                layers.iter_mut().for_each(|x| x.pcss = [0.0; 4]);
+            }
+            shadow_maps.push(ShadowMapUse { light: slot, resolution, note, style: Some(style) });
             used_layers.extend((first..first + layers.len()).map(|layer| (layer, resolution)));
             light_shadows.push(LightShadow { first_layer: Some(first), layers: layers.len(), style: Some(style) });
             if gi.as_ref().is_some_and(|g| g.static_shadows_baked(slot)) {

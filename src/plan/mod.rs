@@ -161,7 +161,8 @@ impl FramePlan {
     }
 }
 
-/// A shadowed light's map in a cell: its resolution, and why it differs from the pipeline's default.
+/// A shadowed light's map in a cell: its resolution, why it differs from the pipeline's default,
+/// and how the frame reads it (filter and biases).
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ShadowMapUse {
     /// Index into the scene's lights.
@@ -170,4 +171,6 @@ pub struct ShadowMapUse {
     pub resolution: u32,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub note: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub style: Option<shadows::ShadowStyle>,
 }

@@ -14,18 +14,29 @@ use glam::{DMat4, DVec3};
 use serde::{Deserialize, Serialize};
 
 use crate::declarations::scene::{Camera, Light, LightKind};
-use crate::pipelines::settings::{BuiltinShadows, PipelineSettings};
+use crate::pipelines::settings::{BuiltinShadows, HdrpQuality, PipelineSettings};
 use crate::pipelines::surface::SurfaceOptions;
 use crate::pipelines::{Pipeline, ShadowCascades};
 
 /// One shadow layer as planned: its view-projection, (texel size per unit depth or per metre,
-/// perspective flag, resolution, share of the layer its map covers) and, for a cascade, its
-/// bounding sphere (centre, radius). render::uniforms::ShadowLayer mirrors it on the GPU.
+/// perspective flag, resolution, share of the layer its map covers), for a cascade its bounding
+/// sphere (centre, radius), and HDRP's PCSS terms where its shadow is drawn with PCSS
+/// (`hdrp_pcss`). render::uniforms::ShadowLayer mirrors it on the GPU.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct ShadowLayerPlan {
     pub view_proj: [[f32; 4]; 4],
     pub params: [f32; 4],
     pub sphere: [f32; 4],
+    pub pcss: [f32; 4],
+}
+
+/// What HDRP's PCSS needs of a layer's projection: a perspective map's near and far planes, or
+/// an orthographic one's depth range and (directional) how far its eye sits back from the
+/// cascade's centre.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum LayerDepth {
+    Perspective { near: f64, far: f64 },
+    Orthographic { range: f64, back: f64 },
 }
 
 /// Near plane of spot and point shadow frusta, metres.
@@ -52,8 +63,8 @@ pub fn array_side(light: &Light, engines: &[PipelineSettings]) -> u32 {
 const ARRAY_IMAGE_SIDE: f64 = 1024.0;
 
 /// How a shadowed light's shadow is drawn in a pipeline: soft (3×3 PCF) or hard, or HDRP's
-/// n×n tent PCF (`tent` n, 0 for none), and its receiver biases in shadow-map texels, along the
-/// light and along the normal.
+/// n×n tent PCF (`tent` n, 0 for none) or its PCSS, and its receiver biases in shadow-map texels,
+/// along the light and along the normal.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct ShadowStyle {
     pub strength: f64,
@@ -62,17 +73,81 @@ pub struct ShadowStyle {
     pub normal_bias: f64,
     #[serde(default, skip_serializing_if = "is_zero")]
     pub tent: u32,
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub pcss: bool,
 }
 
 fn is_zero(v: &u32) -> bool {
     *v == 0
 }
 
+fn is_false(v: &bool) -> bool {
+    !*v
+}
+
+/// HDAdditionalLightData's PCSS defaults: m_MinFilterSize 0.1, which the shadow request scales
+/// by 0.001 ("to have a range [0...1] exposed to user"), and softnessScale 1.
+const HDRP_MIN_FILTER_SIZE: f64 = 0.1 * 0.001;
+const HDRP_SOFTNESS_SCALE: f64 = 1.0;
+
+/// HDRP's PCSS terms of one layer (HDAdditionalLightData.UpdateShadowRequestData, as
+/// HDShadowManager packs them into shadowFilterParams0 and zBufferParam): [softness, minimum filter
+/// radius, a, b], a, b being 1/z's terms (zBufferParam.zw) of a perspective map, or the range
+/// scale (zBufferParam.x) and 0 of an orthographic one.
+/// - A punctual light's softness is HDRP's quartic fit of its shape radius × softness scale
+///   ("fitted with quartic regression checking against raytracing reference", at 512²), / 100.
+/// - A directional light's is tan(½·Deg2Rad·angular diameter·scale / 2) · frustumExtentZ /
+///   (2 · cascade radius), frustumExtentZ being the view depth of the cascade projection's near
+///   plane. Unity's native cascade matrices are not published; APPROXIMATED here with the cascade's
+///   own geometry: its eye sits `back` from the sphere's centre (plan::shadows::light_layers).
+/// - Either × resolution / 512 ("resolution independent whereas the baseline is 512").
+/// - The range scale is |2 / m22| / 100 of the (reversed-Z) device projection: 2 · depth range / 100.
+pub fn hdrp_pcss(emitter: &crate::pipelines::Emitter, depth: LayerDepth, radius: f64, resolution: u32) -> [f32; 4] {
+    use crate::pipelines::Emitter;
+    let softness = match *emitter {
+        Emitter::Directional { angular_diameter_deg } => {
+            let back = match depth {
+                LayerDepth::Orthographic { back, .. } => back,
+                LayerDepth::Perspective { .. } => 0.0,
+            };
+            let half_angle_tan = (0.5 * (HDRP_SOFTNESS_SCALE * angular_diameter_deg).to_radians() / 2.0).tan();
+            (half_angle_tan * back / (2.0 * radius.max(1e-6))).abs()
+        }
+        Emitter::Point { radius } | Emitter::Spot { radius, .. } => {
+            pcss_softness_punctual(radius * HDRP_SOFTNESS_SCALE)
+        }
+        Emitter::Rect { .. } | Emitter::Disc { .. } => 0.0,
+    } * resolution as f64
+        / 512.0;
+    let (a, b) = match depth {
+        // GetZBufferParam(range, near): ((f − n)/n, 1, (f − n)/(n·f), 1/f); the shader takes z and w.
+        LayerDepth::Perspective { near, far } => ((far - near) / (near * far), 1.0 / far),
+        LayerDepth::Orthographic { range, .. } => (2.0 * range / 100.0, 0.0),
+    };
+    [softness as f32, HDRP_MIN_FILTER_SIZE as f32, a as f32, b as f32]
+}
+
+/// HDRP's fit of a punctual light's PCSS softness to its shape radius x (× softness scale), / 100.
+pub fn pcss_softness_punctual(x: f64) -> f64 {
+    let x2 = x * x;
+    (0.02403461 + 3.452916 * x - 1.362672 * x2 + 0.6700115 * x2 * x + 0.2159474 * x2 * x2) / 100.0
+}
+
+/// HDRP's slope-bias base under PCSS: 5, raised towards 18 as the softness grows past 0.01
+/// ("If we are PCSS, the blur radius can be quite big, hence we need to tweak up the slope bias";
+/// the lerp stops at a softness of 0.05). The share of the base 5 it is.
+pub fn pcss_bias_scale(softness: f64) -> f64 {
+    if softness > 0.01 {
+        (5.0 + (18.0 - 5.0) * (softness * 100.0 / 5.0).min(1.0)) / 5.0
+    } else {
+        1.0
+    }
+}
+
 /// HDRP's tent for a light at a shadow Filtering Quality (HDShadowAlgorithms.hlsl): Low reads a
 /// punctual light's map with SampleShadow_PCF_Tent_3x3 and a directional one's with _5x5, Medium
-/// with _5x5 and _7x7. High is PCSS, which this tool does not draw (the setting refuses it).
-pub fn hdrp_tent(quality: crate::pipelines::settings::HdrpQuality, kind: LightKind) -> u32 {
-    use crate::pipelines::settings::HdrpQuality;
+/// with _5x5 and _7x7. High is PCSS (`ShadowStyle::pcss`), no tent.
+pub fn hdrp_tent(quality: HdrpQuality, kind: LightKind) -> u32 {
     let directional = kind == LightKind::Directional;
     match (quality, directional) {
         (HdrpQuality::Low, false) => 3,
@@ -93,8 +168,9 @@ pub fn hdrp_tent(quality: crate::pipelines::settings::HdrpQuality, kind: LightKi
 ///   ×2.5 when soft (ShadowUtils.GetShadowBias: kernelRadius 2.5), and no normal bias for a point
 ///   light.
 /// - HDRP: HDAdditionalLightData's normalBias 0.75 texel; its slopeBias 0.5 is a rasterisation
-///   slope-scaled depth bias, APPROXIMATED here as half a texel along the light at the receiver;
-///   every shadow filtered with the tent of the asset's Filtering Quality (`hdrp_tent`).
+///   slope-scaled depth bias, APPROXIMATED here as half a texel along the light at the receiver
+///   (under PCSS scaled as HDRP raises its base, `pcss_bias_scale`); every shadow filtered with
+///   the asset's Filtering Quality: Low and Medium a tent (`hdrp_tent`), High PCSS.
 pub fn shadow_style(
     pipeline: Pipeline,
     engine: &PipelineSettings,
@@ -115,7 +191,7 @@ pub fn shadow_style(
                 BuiltinShadows::All => s.soft,
             };
             let normal_bias = if light.kind == LightKind::Point { 0.0 } else { s.normal_bias };
-            Ok(ShadowStyle { strength: s.strength, soft, bias: s.bias, normal_bias, tent: 0 })
+            Ok(ShadowStyle { strength: s.strength, soft, bias: s.bias, normal_bias, tent: 0, pcss: false })
         }
         Pipeline::Urp => {
             let a = &engine.urp;
@@ -129,7 +205,7 @@ pub fn shadow_style(
             let k = if soft { 2.5 } else { 1.0 };
             // ShadowUtils.GetShadowBias: "normalBias = 0.0f" for a point light, following built-in.
             let normal_bias = if light.kind == LightKind::Point { 0.0 } else { a.normal_bias * k };
-            Ok(ShadowStyle { strength: s.strength, soft, bias: a.depth_bias * k, normal_bias, tent: 0 })
+            Ok(ShadowStyle { strength: s.strength, soft, bias: a.depth_bias * k, normal_bias, tent: 0, pcss: false })
         }
         // HDRP filters every shadow (a light has no hard option): the asset's Filtering Quality.
         Pipeline::Hdrp => Ok(ShadowStyle {
@@ -137,7 +213,11 @@ pub fn shadow_style(
             soft: true,
             bias: 0.5,
             normal_bias: 0.75,
-            tent: hdrp_tent(engine.hdrp.shadow_filtering, light.kind),
+            tent: match engine.hdrp.shadow_filtering {
+                HdrpQuality::High => 0,
+                q => hdrp_tent(q, light.kind),
+            },
+            pcss: engine.hdrp.shadow_filtering == HdrpQuality::High,
         }),
     }
 }
@@ -189,7 +269,8 @@ pub struct CascadeView<'a> {
     pub cascades: &'a ShadowCascades,
 }
 
-/// The layers of one light: view-projection matrices and the texel size they imply.
+/// The layers of one light: view-projection matrices, the texel size they imply and HDRP's PCSS
+/// terms (`hdrp_pcss`; the cell's plan keeps them where its shadow is drawn with PCSS).
 pub fn light_layers(
     light: &Light,
     shape: crate::pipelines::hdrp_light::SpotShape,
@@ -199,11 +280,16 @@ pub fn light_layers(
 ) -> Vec<ShadowLayerPlan> {
     let up_for = |dir: DVec3| if dir.cross(DVec3::Y).length() < 1e-6 { DVec3::Z } else { DVec3::Y };
     let res = resolution as f64;
+    let emitter = light.emitter();
+    let pcss = |depth: LayerDepth, radius: f64| hdrp_pcss(&emitter, depth, radius, resolution);
     let perspective = |eye: DVec3, dir: DVec3, fov: f64, up: DVec3, far: f64| {
         let view = DMat4::look_at_rh(eye, eye + dir, up);
-        let proj = DMat4::perspective_rh(fov, 1.0, SHADOW_NEAR, far.max(SHADOW_NEAR * 2.0));
+        let far = far.max(SHADOW_NEAR * 2.0);
+        let proj = DMat4::perspective_rh(fov, 1.0, SHADOW_NEAR, far);
         // World size of a texel per unit of view depth: 2·tan(fov/2)/resolution.
-        layer(proj * view, [(2.0 * (fov * 0.5).tan() / res) as f32, 1.0, 0.0, 0.0], resolution, array_side)
+        let mut l = layer(proj * view, [(2.0 * (fov * 0.5).tan() / res) as f32, 1.0, 0.0, 0.0], resolution, array_side);
+        l.pcss = pcss(LayerDepth::Perspective { near: SHADOW_NEAR, far }, 0.0);
+        l
     };
     match light.kind {
         // Refused by the scene's checks (declarations::area_light): no shadow maps.
@@ -240,6 +326,7 @@ pub fn light_layers(
                     let mut l =
                         layer(proj * view_m, [(2.0 * radius / res) as f32, 0.0, 0.0, 0.0], resolution, array_side);
                     l.sphere = [centre.x as f32, centre.y as f32, centre.z as f32, radius as f32];
+                    l.pcss = pcss(LayerDepth::Orthographic { range: back + radius, back }, radius);
                     l
                 })
                 .collect()
@@ -261,7 +348,9 @@ pub fn light_layers(
                 let half = width.max(height) * 0.5 * (1.0 + 2.0 / res);
                 let view_m = DMat4::look_at_rh(eye, eye + dir, up_for(dir));
                 let proj = DMat4::orthographic_rh(-half, half, -half, half, 0.0, light.range);
-                return vec![layer(proj * view_m, [(2.0 * half / res) as f32, 0.0, 0.0, 0.0], resolution, array_side)];
+                let mut l = layer(proj * view_m, [(2.0 * half / res) as f32, 0.0, 0.0, 0.0], resolution, array_side);
+                l.pcss = pcss(LayerDepth::Orthographic { range: light.range, back: 0.0 }, half);
+                return vec![l];
             }
             // A texel of margin around the cone.
             let fov = (angle * (1.0 + 2.0 / res)).min(std::f64::consts::PI * 0.99);
@@ -293,7 +382,7 @@ pub fn light_layers(
 fn layer(view_proj: DMat4, mut params: [f32; 4], resolution: u32, array_side: u32) -> ShadowLayerPlan {
     params[2] = resolution as f32;
     params[3] = resolution as f32 / array_side as f32;
-    ShadowLayerPlan { view_proj: view_proj.as_mat4().to_cols_array_2d(), params, sphere: [0.0; 4] }
+    ShadowLayerPlan { view_proj: view_proj.as_mat4().to_cols_array_2d(), params, sphere: [0.0; 4], pcss: [0.0; 4] }
 }
 
 #[cfg(test)]

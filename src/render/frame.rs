@@ -231,6 +231,7 @@ impl Renderer {
             use std::hash::{Hash, Hasher};
             let mut h = std::hash::DefaultHasher::new();
             (written.prepass_key, cell.pipeline, cell.width, cell.height, &meshes.prepass).hash(&mut h);
+            cell.settings.engine.hdrp.ssao_quality.hash(&mut h);
             cell.settings.material_maps.hash(&mut h);
             h.finish()
         };
@@ -238,7 +239,8 @@ impl Renderer {
         let keep = reuse && !exact.any();
         let occludes_now = match (plan.has(Pass::Ssao), plan.ao.urp.filter(|_| plan.has(Pass::UrpSsao))) {
             (true, _) => {
-                self.ssao.prepare(&self.gpu, &self.screen_layout, t, &plan.camera)?;
+                let settings = crate::render::passes::ssao::SsaoSettings::at(cell.settings.engine.hdrp.ssao_quality);
+                self.ssao.prepare(&self.gpu, &self.screen_layout, t, &plan.camera, &settings)?;
                 self.ssao.needed(ssao_key, keep)
             }
             (false, Some(feature)) => {

@@ -16,7 +16,8 @@ pub struct GpuLight {
     /// First shadow layer (−1: none), layer count, strength, soft (plan::shadows).
     pub shadow: [f32; 4],
     /// Bias and normal bias in shadow-map texels; z how a dynamic object's probe occlusion meets
-    /// the shadow (plan::gi); w HDRP's tent width n (0: none; plan::shadows::hdrp_tent).
+    /// the shadow (plan::gi); w HDRP's filter: the tent's width n (0: none; plan::shadows::hdrp_tent)
+    /// or −1, PCSS.
     pub shadow_bias: [f32; 4],
     /// Area lights: their right axis, and w = 1 where the frame's passes draw the light (an HDRP
     /// rect), 0 where only the truth sees it (plan::lights::area_left_out).
@@ -39,6 +40,8 @@ pub struct ShadowLayer {
     pub params: [f32; 4],
     /// A directional cascade's bounding sphere (centre, radius): the points it shadows.
     pub sphere: [f32; 4],
+    /// HDRP's PCSS terms of the layer (`plan::shadows::hdrp_pcss`; zero where it is not drawn).
+    pub pcss: [f32; 4],
 }
 
 #[repr(C)]
@@ -144,7 +147,7 @@ pub fn first_layer(slot: usize, index: usize, count: usize) -> usize {
 
 impl From<&crate::plan::shadows::ShadowLayerPlan> for ShadowLayer {
     fn from(l: &crate::plan::shadows::ShadowLayerPlan) -> ShadowLayer {
-        ShadowLayer { view_proj: l.view_proj, params: l.params, sphere: l.sphere }
+        ShadowLayer { view_proj: l.view_proj, params: l.params, sphere: l.sphere, pcss: l.pcss }
     }
 }
 
@@ -184,7 +187,7 @@ mod tests {
     #[test]
     fn sizes_match_wgsl_layout() {
         assert_eq!(std::mem::size_of::<GpuLight>(), 144);
-        assert_eq!(std::mem::size_of::<ShadowLayer>(), 96);
+        assert_eq!(std::mem::size_of::<ShadowLayer>(), 112);
         assert_eq!(std::mem::size_of::<GpuMaterial>(), 128);
         assert_eq!(std::mem::size_of::<GpuReflectionProbe>(), 48);
         assert_eq!(std::mem::size_of::<FrameUniforms>(), 64 + 64 + 16 + 16 + 144 + 16 + 128 + 128 + 16 + 4 * 48 + 16);

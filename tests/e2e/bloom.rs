@@ -60,7 +60,8 @@ fn gpu_bloom_matches_its_twin_and_the_switch_turns_it_off() {
 /// A one-pixel highlight bloomed by the GPU chain against the reference computed from HDRP's
 /// formulas (`images::bloom`): weight 2^0.2 − 1, scatter lerp(0.05, 0.95, 0.7), Karis-weighted
 /// prefilter, ⌊log2 − 2⌋ levels, bilinear below 800×450 and bicubic at 800×450; and at the Low
-/// quality level (Quarter resolution: a level fewer, and at 800×450 each half the size; bilinear).
+/// quality level (Quarter resolution: a level fewer, and at 800×450 each half the size; bilinear)
+/// and the High one (the 13-tap prefilter).
 #[test]
 fn a_one_pixel_highlight_blooms_as_hdrps_formulas_say() {
     let _timer = crate::common::timed!();
@@ -68,12 +69,15 @@ fn a_one_pixel_highlight_blooms_as_hdrps_formulas_say() {
     let gpu = GpuContext::new().unwrap();
     let pipeline = BloomPipeline::new(&gpu).unwrap();
     let low = BloomSettings::at(shadematrix::pipelines::settings::HdrpQuality::Low);
+    let high = BloomSettings::at(shadematrix::pipelines::settings::HdrpQuality::High);
     let mut spreads = Vec::new();
     for (settings, (width, height)) in [
         (BloomSettings::default(), (96u32, 64u32)),
         (BloomSettings::default(), (800, 450)),
         (low, (96, 64)),
         (low, (800, 450)),
+        (high, (96, 64)),
+        (high, (800, 450)),
     ] {
         let mut image = Image {
             width: width as usize,
@@ -115,8 +119,20 @@ fn a_one_pixel_highlight_blooms_as_hdrps_formulas_say() {
         eprintln!(
             "{width}×{height}{}: GPU vs HDRP-formula reference worst {worst:.2e}; centre {centre:.2} of 400; \
              {spread} pixels brightened by > 1 %",
-            if settings.quarter { " (Low)" } else { "" }
+            match (settings.quarter, settings.high_quality_prefiltering) {
+                (true, _) => " (Low)",
+                (_, true) => " (High)",
+                _ => "",
+            }
         );
+        if settings.high_quality_prefiltering {
+            // High differs from Medium by its 13-tap prefilter alone.
+            let medium = bloom(&image, &BloomSettings::default());
+            let moved = reference.texels.iter().zip(&medium.texels).map(|(h, m)| (*h - *m).abs().max_element());
+            let moved = moved.fold(0.0, f64::max);
+            eprintln!("  High against Medium: largest change {moved:.3}");
+            assert!(moved > 1e-2, "{moved}");
+        }
         spreads.push(spread);
         assert!(worst < 1e-3, "{width}×{height}: {worst}");
         // The composite keeps (2 − 2^0.2) of the pixel itself, and the bloom reaches far past it.

@@ -36,7 +36,7 @@ fn uniform_mirrors_match_their_wgsl_structs() {
                 [position, direction, color, params, shadow, shadow_bias, shape, features, shadow_tint]
             ),
         ),
-        (&forward, "ShadowLayer", mirror_layout!(ShadowLayer, [view_proj, params, sphere])),
+        (&forward, "ShadowLayer", mirror_layout!(ShadowLayer, [view_proj, params, sphere, pcss])),
         (
             &forward,
             "Material",

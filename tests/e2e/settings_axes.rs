@@ -162,21 +162,22 @@ fn csv_fields(line: &str) -> Vec<String> {
 }
 
 #[test]
-fn hdrps_filtering_quality_widens_the_shadows_edge_from_low_to_medium() {
+fn hdrps_filtering_quality_widens_the_shadows_edge_from_low_to_medium_and_high_draws_pcss() {
     let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     std::fs::write(tmp.path().join("sun_box.toml"), scene("sun_box", true)).unwrap();
     std::fs::write(tmp.path().join("sun_box_unshadowed.toml"), scene("sun_box_unshadowed", false)).unwrap();
     let body = "name = \"filtering\"\ncompositions = [\"sun_box.toml\", \"sun_box_unshadowed.toml\"]\npipelines = [\"hdrp\"]\n\
         shaders = [\"lit\"]\npresets = [\"plastic\"]\n[image]\nwidth = 128\nheight = 128\n\
-        [pipeline_settings.hdrp]\nshadow_resolution = 128\n[sweep.settings.hdrp]\nshadow_filtering = [\"low\", \"medium\"]\n";
+        [pipeline_settings.hdrp]\nshadow_resolution = 128\n[sweep.settings.hdrp]\nshadow_filtering = [\"low\", \"medium\", \"high\"]\n";
     let run = crate::common::run_matrix(tmp.path(), body, "run");
     let cells = run.join("cells");
     let plain = |comp: &str| format!("{comp}__hdrp-forward__lit__plastic__m0.00_s0.75_i1.5_r10");
     let image = |id: &str| luminance(&image::open(cells.join(id).join("image.png")).unwrap().to_rgba8());
-    let (medium, low, lit) = (
+    let (medium, low, high, lit) = (
         image(&plain("sun_box")),
         image(&format!("{}_shadow_filtering.low", plain("sun_box"))),
+        image(&format!("{}_shadow_filtering.high", plain("sun_box"))),
         image(&plain("sun_box_unshadowed")),
     );
     // Without a shadow the filtering is a twin; the records name the tent each read its map with.
@@ -186,14 +187,25 @@ fn hdrps_filtering_quality_widens_the_shadows_edge_from_low_to_medium() {
     let depth = (0..lit.len()).map(|i| lit[i] - medium[i]).fold(0.0f64, f64::max);
     assert!(depth > 20.0, "the shadow is {depth} deep");
     let partial = |img: &[f64]| (0..lit.len()).filter(|&i| (0.1..0.9).contains(&((lit[i] - img[i]) / depth))).count();
-    let (p_low, p_medium) = (partial(&low), partial(&medium));
-    eprintln!("penumbra pixels: low (5×5 tent) {p_low}, medium (7×7) {p_medium}");
+    let (p_low, p_medium, p_high) = (partial(&low), partial(&medium), partial(&high));
+    let moved = (0..lit.len()).filter(|&i| (high[i] - medium[i]).abs() > 2.0).count();
+    eprintln!(
+        "penumbra pixels: low (5×5 tent) {p_low}, medium (7×7) {p_medium}, high (PCSS) {p_high}; \
+         {moved} pixels differ between high and medium"
+    );
     assert!(p_medium as f64 > 1.15 * p_low as f64, "{p_medium} vs {p_low}");
-    // Only the edge moves: a pixel the two differ in is partly shadowed in one of them.
-    for i in 0..lit.len() {
-        if (low[i] - medium[i]).abs() > 2.0 {
-            let f = |img: &[f64]| (lit[i] - img[i]) / depth;
-            assert!((0.01..0.99).contains(&f(&low)) || (0.01..0.99).contains(&f(&medium)), "pixel {i}");
+    assert!(moved > 20, "PCSS draws another edge than the tent: {moved} pixels");
+    // Only the edge moves: a pixel two levels differ in is partly shadowed in one of them.
+    for other in [&low, &high] {
+        for i in 0..lit.len() {
+            if (other[i] - medium[i]).abs() > 2.0 {
+                let f = |img: &[f64]| (lit[i] - img[i]) / depth;
+                assert!((0.01..0.99).contains(&f(other)) || (0.01..0.99).contains(&f(&medium)), "pixel {i}");
+            }
         }
     }
+    // The record says how the map was read.
+    let style = |id: &str| record(id).shadow_maps[0].style.unwrap();
+    assert!(style(&format!("{}_shadow_filtering.high", plain("sun_box"))).pcss);
+    assert_eq!(style(&plain("sun_box")).tent, 7);
 }

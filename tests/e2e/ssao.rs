@@ -89,21 +89,34 @@ fn gpu_ssao_matches_its_twin_and_occludes_where_surfaces_meet() {
     let camera = Camera { position: [0.5, 2.2, 3.2], target: [0.0, 0.3, 0.0], fov_y_deg: 45.0, near: 0.1, far: 50.0 };
     let size = (128, 96);
     let (depth, normals) = synthetic_frame(&camera, size);
-    let frame = SsaoFrame::new(&camera, size.0, size.1, &SsaoSettings::default());
-    let twin = ssao_twin::visibility(size.0, size.1, &depth, &normals, &frame);
     let gpu = GpuContext::new().unwrap();
     let depth32: Vec<f32> = depth.iter().map(|&d| d as f32).collect();
     let normals32: Vec<[f32; 3]> = normals.iter().map(|n| n.as_vec3().to_array()).collect();
-    let got = visibility_of(&gpu, size, &depth32, &normals32, &frame).unwrap();
-    let n = got.len() as f64;
-    let diffs: Vec<f64> = got.iter().zip(&twin).map(|(g, t)| (*g as f64 - t).abs()).collect();
-    let mean = diffs.iter().sum::<f64>() / n;
-    let worst = diffs.iter().cloned().fold(0.0, f64::max);
-    let off = diffs.iter().filter(|d| **d > 1.5 / 255.0).count();
-    eprintln!("ssao GPU vs twin: mean |Δ| {mean:.2e}, worst {worst:.3}, {off} of {n} pixels beyond 1.5/255");
-    // 8-bit quantisation: an f32 value on the other side of a step moves one level (1/255).
-    assert!(mean < 2e-3, "mean |Δ| {mean}");
-    assert!((off as f64) < 0.01 * n, "{off} pixels differ by more than a quantisation step");
+    use shadematrix::pipelines::settings::HdrpQuality;
+    let mut twins = Vec::new();
+    // Medium (the default profile's) and Low (4 steps, 1 direction, a 32-pixel cap).
+    for quality in [HdrpQuality::Medium, HdrpQuality::Low] {
+        let frame = SsaoFrame::new(&camera, size.0, size.1, &SsaoSettings::at(quality));
+        let twin = ssao_twin::visibility(size.0, size.1, &depth, &normals, &frame);
+        let got = visibility_of(&gpu, size, &depth32, &normals32, &frame).unwrap();
+        let n = got.len() as f64;
+        let diffs: Vec<f64> = got.iter().zip(&twin).map(|(g, t)| (*g as f64 - t).abs()).collect();
+        let mean = diffs.iter().sum::<f64>() / n;
+        let worst = diffs.iter().cloned().fold(0.0, f64::max);
+        let off = diffs.iter().filter(|d| **d > 1.5 / 255.0).count();
+        eprintln!(
+            "ssao {} GPU vs twin: mean |Δ| {mean:.2e}, worst {worst:.3}, {off} of {n} pixels beyond 1.5/255",
+            quality.name()
+        );
+        // 8-bit quantisation: an f32 value on the other side of a step moves one level (1/255).
+        assert!(mean < 2e-3, "mean |Δ| {mean}");
+        assert!((off as f64) < 0.01 * n, "{off} pixels differ by more than a quantisation step");
+        twins.push(twin);
+    }
+    let changed = twins[0].iter().zip(&twins[1]).filter(|(m, l)| (*m - *l).abs() > 1.5 / 255.0).count();
+    eprintln!("ssao Low against Medium: {changed} pixels move by more than a quantisation step");
+    assert!(changed > 100, "{changed}");
+    let twin = &twins[0];
 
     // Where the box meets the floor, occlusion; on open floor far from both, hardly any.
     let at = |x: u32, y: u32| twin[(y * size.0 + x) as usize];

@@ -42,21 +42,35 @@ pub struct BloomSettings {
     pub high_quality_filtering: bool,
     /// Bloom.resolution Quarter rather than Half.
     pub quarter: bool,
+    /// Bloom.highQualityPrefiltering: the 13-tap prefilter (BloomPrefilter.compute HIGH_QUALITY).
+    pub high_quality_prefiltering: bool,
 }
 
 impl Default for BloomSettings {
     fn default() -> Self {
-        BloomSettings { intensity: 0.2, scatter: 0.7, high_quality_filtering: true, quarter: false }
+        BloomSettings {
+            intensity: 0.2,
+            scatter: 0.7,
+            high_quality_filtering: true,
+            quarter: false,
+            high_quality_prefiltering: false,
+        }
     }
 }
 
 impl BloomSettings {
     /// The default profile's Bloom at a quality level (GlobalPostProcessingQualitySettings:
-    /// BloomRes Quarter / Half / Half, BloomHighQualityFiltering off / on / on). High's
-    /// high-quality prefiltering is not drawn: `[pipeline_settings.hdrp]` refuses High.
+    /// BloomRes Quarter / Half / Half, BloomHighQualityFiltering off / on / on,
+    /// BloomHighQualityPrefiltering off / off / on).
     pub fn at(quality: crate::pipelines::settings::HdrpQuality) -> BloomSettings {
-        let low = quality == crate::pipelines::settings::HdrpQuality::Low;
-        BloomSettings { high_quality_filtering: !low, quarter: low, ..BloomSettings::default() }
+        use crate::pipelines::settings::HdrpQuality;
+        let low = quality == HdrpQuality::Low;
+        BloomSettings {
+            high_quality_filtering: !low,
+            quarter: low,
+            high_quality_prefiltering: quality == HdrpQuality::High,
+            ..BloomSettings::default()
+        }
     }
 
     /// UberPost's composite weight: 2^intensity − 1 ("makes intensity easier to control").
@@ -186,7 +200,7 @@ impl BloomChain {
         };
         for (k, (&size, [m, s, t])) in sizes.iter().zip(&levels).enumerate() {
             match k {
-                0 => step(PREFILTER, color, color, t, size, (0.0, false)),
+                0 => step(PREFILTER, color, color, t, size, (0.0, settings.high_quality_prefiltering)),
                 _ => step(DOWNSAMPLE, &levels[k - 1][0], color, t, size, (0.0, false)),
             }
             step(BLUR_ACROSS, t, color, s, size, (0.0, false));

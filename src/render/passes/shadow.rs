@@ -1,7 +1,7 @@
 //! The shadow pass: every casting mesh's depth into each shadow layer the cell's plan uses
 //! (`plan::shadows` decides the layers, their matrices and resolutions). The forward pass samples
 //! them with a comparison sampler: one bilinear tap (hard) or 3×3 bilinear taps (soft), or HDRP's
-//! n×n tent PCF texel by texel (shaders/pass/shadow_filters.wgsl), the receiver offset along its
+//! n×n tent PCF texel by texel or its PCSS (shaders/pass/shadow_filters.wgsl), the receiver offset along its
 //! normal and towards the light by the light's biases in shadow-map texels. APPROXIMATION,
 //! stated: built-in's and URP's soft-shadow filters are stood in for by the 3×3 PCF.
 
@@ -13,12 +13,13 @@ use crate::render::formats::SHADOW_FORMAT;
 use crate::render::prepared::PreparedScene;
 
 /// The shader's GpuLight.shadow: (first layer or −1, layer count, strength, soft), and its
-/// shadow_bias: (bias, normal bias, —, HDRP's tent width; z is the probe occlusion's).
+/// shadow_bias: (bias, normal bias, —, HDRP's filter: the tent's width n, or −1 for PCSS; z is the
+/// probe occlusion's).
 pub fn shadow_slot(shadow: &LightShadow) -> ([f32; 4], [f32; 4]) {
     match (shadow.first_layer, shadow.style) {
         (Some(first), Some(s)) => (
             [first as f32, shadow.layers as f32, s.strength as f32, if s.soft { 1.0 } else { 0.0 }],
-            [s.bias as f32, s.normal_bias as f32, 0.0, s.tent as f32],
+            [s.bias as f32, s.normal_bias as f32, 0.0, if s.pcss { -1.0 } else { s.tent as f32 }],
         ),
         _ => ([-1.0, 0.0, 0.0, 0.0], [0.0; 4]),
     }

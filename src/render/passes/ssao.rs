@@ -32,7 +32,7 @@ const CLOSEST: u32 = 1;
 const HORIZONS: u32 = 2;
 const UPSAMPLE: u32 = 3;
 
-/// The AmbientOcclusion override as HDRP's default profile and Medium quality set it.
+/// The AmbientOcclusion override as HDRP's default profile sets it, at a quality level.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SsaoSettings {
     pub intensity: f64,
@@ -47,6 +47,22 @@ pub struct SsaoSettings {
 impl Default for SsaoSettings {
     fn default() -> Self {
         SsaoSettings { intensity: 0.5, radius: 1.5, step_count: 6, direction_count: 2, maximum_radius_in_pixels: 40.0 }
+    }
+}
+
+impl SsaoSettings {
+    /// The default profile's override at a quality level (GlobalLightingQualitySettings: AOStepCount
+    /// 4 / 6 / 16, AODirectionCount 1 / 2 / 4, AOMaximumRadiusPixels 32 / 40 / 80, AOFullRes off /
+    /// off / on). Low and Medium run the same half-resolution steps (AOBilateralUpsample picks an
+    /// upsample for the temporal path alone); High's full resolution, with its spatial denoise, is
+    /// not drawn: `[pipeline_settings.hdrp]` refuses it, and this falls back to Medium.
+    pub fn at(quality: crate::pipelines::settings::HdrpQuality) -> SsaoSettings {
+        match quality {
+            crate::pipelines::settings::HdrpQuality::Low => {
+                SsaoSettings { step_count: 4, direction_count: 1, maximum_radius_in_pixels: 32.0, ..Default::default() }
+            }
+            _ => SsaoSettings::default(),
+        }
     }
 }
 
@@ -404,6 +420,7 @@ impl SsaoPass {
         screen_layout: &wgpu::BindGroupLayout,
         targets: &crate::render::targets::Targets,
         camera: &Camera,
+        settings: &SsaoSettings,
     ) -> Result<(), Error> {
         let chain = self.ensure(
             targets,
@@ -415,7 +432,7 @@ impl SsaoPass {
                 (chain, group)
             },
         )?;
-        let frame = SsaoFrame::new(camera, targets.width, targets.height, &SsaoSettings::default());
+        let frame = SsaoFrame::new(camera, targets.width, targets.height, settings);
         chain.write_frame(&gpu.queue, &frame);
         Ok(())
     }
