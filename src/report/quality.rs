@@ -113,10 +113,23 @@ fn settings_text(settings: &BTreeMap<String, SettingValue>) -> String {
     }
 }
 
-/// The combinations of each pipeline, and how many were left out (a cell without a reference or a
-/// time). None where no cell's settings are swept.
+/// How many combinations the tables leave out, and why.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct LeftOut {
+    /// A cell without a reference or a time.
+    pub unmeasured: usize,
+    /// Its frames all another's: settings that cannot change those frames repeat a combination
+    /// (the one with the fewest settings is kept, and Unity's presets, so each is named).
+    pub twins: usize,
+}
+
+/// The combinations of each pipeline, and which were left out. None where no cell's settings are
+/// swept.
 #[allow(clippy::type_complexity)]
-pub fn combinations(run: &RunData, gpu: bool) -> Option<(BTreeMap<Pipeline, (ErrorMeasure, Vec<Combination>)>, usize)> {
+pub fn combinations(
+    run: &RunData,
+    gpu: bool,
+) -> Option<(BTreeMap<Pipeline, (ErrorMeasure, Vec<Combination>)>, LeftOut)> {
     if run.cells.iter().all(|c| c.coords.settings.is_empty()) {
         return None;
     }
@@ -124,13 +137,32 @@ pub fn combinations(run: &RunData, gpu: bool) -> Option<(BTreeMap<Pipeline, (Err
     for c in &run.cells {
         groups.entry((c.pipeline, settings_text(&c.coords.settings))).or_default().push(c);
     }
+    // Combinations whose frames are the same ones (each cell or the cell it twins): one is kept.
+    fn frames<'a>(cells: &[&'a CellRecord]) -> Vec<&'a str> {
+        let mut ids: Vec<&str> = cells.iter().map(|c| c.twin_of.as_ref().unwrap_or(&c.id).0.as_str()).collect();
+        ids.sort_unstable();
+        ids
+    }
+    let mut kept: BTreeMap<(Pipeline, Vec<&str>), &str> = BTreeMap::new();
+    for ((pipeline, settings), cells) in &groups {
+        let slot = kept.entry((*pipeline, frames(cells))).or_insert(settings);
+        if (settings.matches(", ").count(), settings.as_str()) < (slot.matches(", ").count(), *slot) {
+            *slot = settings;
+        }
+    }
+    let kept: Vec<(Pipeline, String)> = kept.into_iter().map(|((p, _), s)| (p, s.to_string())).collect();
     let time = |c: &CellRecord| if gpu { c.gpu_median_ms() } else { c.timing.cpu_wall.median_ms };
     let mut by: BTreeMap<Pipeline, Vec<Combination>> = BTreeMap::new();
-    let mut left_out = 0;
+    let mut left_out = LeftOut::default();
     for ((pipeline, settings), cells) in groups {
         // A mean over fewer cells than the others' would not compare: all its cells or none.
         if cells.iter().any(|c| time(c).is_none() || c.metrics.ldr_flip().is_none()) {
-            left_out += 1;
+            left_out.unmeasured += 1;
+            continue;
+        }
+        let preset = preset_of(pipeline, &cells[0].coords.settings, cells[0]);
+        if preset.is_none() && !kept.contains(&(pipeline, settings.clone())) {
+            left_out.twins += 1;
             continue;
         }
         let mut passes: BTreeMap<String, Vec<f64>> = BTreeMap::new();
@@ -146,7 +178,7 @@ pub fn combinations(run: &RunData, gpu: bool) -> Option<(BTreeMap<Pipeline, (Err
             |c: &&CellRecord| c.metrics.ztest.as_ref().and_then(|z| z.value()).and_then(|z| z.noise_relative_mse);
         by.entry(pipeline).or_default().push(Combination {
             pipeline,
-            preset: preset_of(pipeline, &cells[0].coords.settings, cells[0]),
+            preset,
             settings,
             cells: cells.len(),
             time_ms: mean(cells.iter().filter_map(|c| time(c))).unwrap_or(0.0),
@@ -348,8 +380,10 @@ pub fn write(run: &RunData) -> Result<(), Error> {
     };
     let budgets = BUDGETS.map(|b| b.to_string()).join(" / ");
     let mut md = format!(
-        "# Quality settings: what each costs and buys\n\nAdapter: **{}** (timings compare only within one adapter). Time: {time_label}, the mean over a combination's cells; each pass's time beside it. Error: the mean LDR-FLIP against each cell's reference and, against a path-traced truth, the linear relMSE with what the truth's noise adds to it in expectation; and the mean LDR-FLIP from the same cells at the pipeline's best combination (the least error against the references), which is what the settings cost the image apart from what the pipeline's own models cost it. {left_out} combinations are left out (a cell without a reference or a time).\n\n## Tiers\n\nFor each error budget (mean FLIP {budgets}), the cheapest settings that stay within it (settings, time, FLIP): against the references, and from the pipeline's best combination.\n\n| pipeline | mean FLIP ≤ | against the references | from the best combination |\n|---|---|---|---|\n",
-        run.adapter()
+        "# Quality settings: what each costs and buys\n\nAdapter: **{}** (timings compare only within one adapter). Time: {time_label}, the mean over a combination's cells; each pass's time beside it. Error: the mean LDR-FLIP against each cell's reference and, against a path-traced truth, the linear relMSE with what the truth's noise adds to it in expectation; and the mean LDR-FLIP from the same cells at the pipeline's best combination (the least error against the references), which is what the settings cost the image apart from what the pipeline's own models cost it. {} combinations are left out (a cell without a reference or a time), {} whose frames are another's (settings that cannot change those frames; the one with the fewest settings is kept, and Unity's presets).\n\n## Tiers\n\nFor each error budget (mean FLIP {budgets}), the cheapest settings that stay within it (settings, time, FLIP): against the references, and from the pipeline's best combination.\n\n| pipeline | mean FLIP ≤ | against the references | from the best combination |\n|---|---|---|---|\n",
+        run.adapter(),
+        left_out.unmeasured,
+        left_out.twins
     );
     let opt = |v: Option<f64>| v.map_or("—".to_string(), |v| format!("{v:.4e}"));
     let flip = |v: Option<f64>| v.map_or("—".to_string(), |v| format!("{v:.4}"));

@@ -115,11 +115,12 @@ fn the_quality_report_tiers_each_pipelines_settings_beside_unitys_presets() {
     let _timer = crate::common::timed!();
     let tmp = tempfile::tempdir().unwrap();
     std::fs::write(tmp.path().join("sun_box.toml"), scene("sun_box", true)).unwrap();
-    let body = "name = \"quality\"\ncompositions = [\"sun_box.toml\"]\npipelines = [\"builtin\", \"urp\"]\n\
+    let body = "name = \"quality\"\ncompositions = [\"sun_box.toml\"]\npipelines = [\"builtin\", \"urp\", \"hdrp\"]\n\
         shaders = [\"standard\", \"lit\"]\npresets = [\"plastic\", \"gold\"]\n\
         reference = { truth = \"physical\", spp = 4, noise = 0.0, bounces = 1 }\n[image]\nwidth = 48\nheight = 48\n\
         [sweep.settings.builtin]\nquality_level = [\"low\", \"ultra\"]\n\
-        [sweep.settings.urp]\nasset = [\"default\", \"high_fidelity\"]\nmain_light_shadow_resolution = [256, 2048]\n";
+        [sweep.settings.urp]\nasset = [\"default\", \"high_fidelity\"]\nmain_light_shadow_resolution = [256, 2048]\n\
+        [sweep.settings.hdrp]\nssao = [false, true]\nssao_quality = [\"low\", \"medium\"]\n";
     let run = crate::common::run_matrix(tmp.path(), body, "run");
     let md = std::fs::read_to_string(run.join("tables/quality.md")).unwrap();
     let csv = std::fs::read_to_string(run.join("tables/quality.csv")).unwrap();
@@ -129,6 +130,10 @@ fn the_quality_report_tiers_each_pipelines_settings_beside_unitys_presets() {
     let settings = |p: &str| -> Vec<&str> { rows.iter().filter(|r| r[0] == p).map(|r| r[1].as_str()).collect() };
     assert_eq!(settings("builtin").len(), 2, "{csv}");
     assert_eq!(settings("urp").len(), 4, "{csv}");
+    // HDRP: the scene turns SSAO off, so its settings make twins of the engine's own frames: one
+    // combination, the three others left out as repeats.
+    assert_eq!(settings("hdrp"), vec!["engine"], "{csv}");
+    assert!(md.contains("3 whose frames are another's"), "{md}");
     // Unity's presets are named, whatever the sweep lists with them.
     for preset in ["quality level low", "quality level ultra (own)", "URP asset default (own)"] {
         assert!(md.contains(&format!("| {preset} |")), "{preset}:\n{md}");
@@ -139,7 +144,7 @@ fn the_quality_report_tiers_each_pipelines_settings_beside_unitys_presets() {
     assert_eq!(from_best.len(), 4, "{csv}");
     assert!(from_best.contains(&0.0) && from_best.iter().any(|f| *f > 0.0), "{from_best:?}");
     // A plot per pipeline: every combination named on hover, the budgets drawn.
-    for p in ["builtin", "urp"] {
+    for p in ["builtin", "urp", "hdrp"] {
         let svg = std::fs::read_to_string(run.join(format!("plots/quality_{p}.svg"))).unwrap();
         assert_eq!(svg.matches("<title>").count(), settings(p).len(), "{p}");
         assert!(svg.contains(">FLIP 0.02<") && svg.contains(">FLIP 0.1<"), "{p}");
