@@ -182,6 +182,16 @@ macro_rules! field {
             set: |e, v| e.$($path).+ = v.flag(),
         }
     };
+    ($pipeline:ident, $key:literal, $kind:expr, HdrpQuality, $($path:ident).+) => {
+        SettingRow {
+            pipeline: Pipeline::$pipeline,
+            key: $key,
+            kind: $kind,
+            preset: false,
+            get: |e| name(e.$($path).+.name()),
+            set: |e, v| e.$($path).+ = hdrp_quality(v),
+        }
+    };
     ($pipeline:ident, $key:literal, $kind:expr, u32, $($path:ident).+) => {
         SettingRow {
             pipeline: Pipeline::$pipeline,
@@ -324,32 +334,23 @@ pub const SETTINGS: &[SettingRow] = &[
     },
     // HDRP.
     field!(Hdrp, "shadow_resolution", SettingKind::Resolution, u32, settings.hdrp.shadow_resolution),
-    SettingRow {
-        pipeline: Pipeline::Hdrp,
-        key: "shadow_filtering",
-        kind: SettingKind::Choice(HdrpQuality::names),
-        preset: false,
-        get: |e| name(e.settings.hdrp.shadow_filtering.name()),
-        set: |e, v| e.settings.hdrp.shadow_filtering = hdrp_quality(v),
-    },
+    field!(
+        Hdrp,
+        "shadow_filtering",
+        SettingKind::Choice(HdrpQuality::names),
+        HdrpQuality,
+        settings.hdrp.shadow_filtering
+    ),
     field!(Hdrp, "ssao", SettingKind::Bool, bool, settings.hdrp.ssao),
-    SettingRow {
-        pipeline: Pipeline::Hdrp,
-        key: "ssao_quality",
-        kind: SettingKind::Choice(HdrpQuality::drawn_below_high),
-        preset: false,
-        get: |e| name(e.settings.hdrp.ssao_quality.name()),
-        set: |e, v| e.settings.hdrp.ssao_quality = hdrp_quality(v),
-    },
+    field!(
+        Hdrp,
+        "ssao_quality",
+        SettingKind::Choice(HdrpQuality::drawn_below_high),
+        HdrpQuality,
+        settings.hdrp.ssao_quality
+    ),
     field!(Hdrp, "bloom", SettingKind::Bool, bool, settings.hdrp.bloom),
-    SettingRow {
-        pipeline: Pipeline::Hdrp,
-        key: "bloom_quality",
-        kind: SettingKind::Choice(HdrpQuality::names),
-        preset: false,
-        get: |e| name(e.settings.hdrp.bloom_quality.name()),
-        set: |e, v| e.settings.hdrp.bloom_quality = hdrp_quality(v),
-    },
+    field!(Hdrp, "bloom_quality", SettingKind::Choice(HdrpQuality::names), HdrpQuality, settings.hdrp.bloom_quality),
     SettingRow {
         pipeline: Pipeline::Hdrp,
         key: "light_unit",

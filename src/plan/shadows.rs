@@ -114,7 +114,7 @@ pub fn hdrp_pcss(emitter: &crate::pipelines::Emitter, depth: LayerDepth, radius:
             (half_angle_tan * back / (2.0 * radius.max(1e-6))).abs()
         }
         Emitter::Point { radius } | Emitter::Spot { radius, .. } => {
-            pcss_softness_punctual(radius * HDRP_SOFTNESS_SCALE)
+            crate::shading::shadow_filter::pcss_softness_punctual(radius * HDRP_SOFTNESS_SCALE)
         }
         Emitter::Rect { .. } | Emitter::Disc { .. } => 0.0,
     } * resolution as f64
@@ -125,12 +125,6 @@ pub fn hdrp_pcss(emitter: &crate::pipelines::Emitter, depth: LayerDepth, radius:
         LayerDepth::Orthographic { range, .. } => (2.0 * range / 100.0, 0.0),
     };
     [softness as f32, HDRP_MIN_FILTER_SIZE as f32, a as f32, b as f32]
-}
-
-/// HDRP's fit of a punctual light's PCSS softness to its shape radius x (× softness scale), / 100.
-pub fn pcss_softness_punctual(x: f64) -> f64 {
-    let x2 = x * x;
-    (0.02403461 + 3.452916 * x - 1.362672 * x2 + 0.6700115 * x2 * x + 0.2159474 * x2 * x2) / 100.0
 }
 
 /// HDRP's slope-bias base under PCSS: 5, raised towards 18 as the softness grows past 0.01

@@ -93,6 +93,14 @@ pub fn penumbra_size_directional(receiver: f64, blocker: f64, range_scale: f64) 
     (receiver - blocker).abs() * range_scale
 }
 
+/// HDRP's fit of a punctual light's PCSS softness to its shape radius x (× softness scale), / 100
+/// (HDAdditionalLightData: "fitted with quartic regression checking against raytracing reference
+/// and with a resolution of 512").
+pub fn pcss_softness_punctual(x: f64) -> f64 {
+    let x2 = x * x;
+    (0.02403461 + 3.452916 * x - 1.362672 * x2 + 0.6700115 * x2 * x + 0.2159474 * x2 * x2) / 100.0
+}
+
 /// SampleShadow_PCSS's fitted softness scale for a punctual blocker at distance d (≤ 7.5).
 pub fn pcss_distance_scale(d: f64) -> f64 {
     let d2 = d * d;
@@ -211,7 +219,7 @@ mod tests {
         // The fitted terms at known points: the distance scale's constant, the punctual softness
         // of HDRP's default 0.025 m shape radius.
         assert!((pcss_distance_scale(0.0) - 3.298300241).abs() < 1e-12);
-        let soft = crate::plan::shadows::pcss_softness_punctual(0.025);
+        let soft = pcss_softness_punctual(0.025);
         assert!((soft - 0.0010949).abs() < 1e-6, "{soft}");
     }
 
