@@ -378,7 +378,7 @@ fn shadow_visibility(light: Light, p: vec3<f32>, n: vec3<f32>, l: vec3<f32>, rec
     // HDRP alone filters with a tent or PCSS: the other pipelines' frames compile them out
     if (PIPELINE == PIPELINE_HDRP && light.shadow_bias.w > 0.5) {
         vis = shadow_tent(index, uv, ndc.z, light.shadow_bias.w);
-    } else if (PIPELINE == PIPELINE_HDRP && light.shadow_bias.w < -0.5) {
+    } else if (PIPELINE == PIPELINE_HDRP && HDRP_PCSS == 1u && light.shadow_bias.w < -0.5) {
         vis = shadow_pcss(index, info, uv, ndc.z);
     } else if (light.shadow.w > 0.5) {
         let step = 1.0 / f32(textureDimensions(shadow_maps).x);
@@ -602,6 +602,10 @@ var<private> lightmap_uv: vec2<f32> = vec2<f32>(0.0);
 // 1 where the scene has an area light (plan::lights::needs_area_path); 0 compiles the rect-light
 // path and the model's LTC integrals out of the light loops
 override AREA_LIGHTS: u32 = 1u;
+
+// 1 where a light's shadow is read with HDRP's PCSS (plan::lights::LightPaths::pcss); 0 compiles
+// its loops out
+override HDRP_PCSS: u32 = 1u;
 
 // A rect light's direct term at p (the model's `model_rect`); 0 where the frame leaves it out
 fn rect_light(light: Light, s: Surface, n: vec3<f32>, v: vec3<f32>, p: vec3<f32>) -> vec3<f32> {

@@ -345,6 +345,7 @@ impl CellPlan {
         super::lights::LightPaths {
             area: super::lights::needs_area_path(&self.lights),
             hdrp_terms: self.light_terms.iter().any(super::light_terms::LightTerms::needs_shader_path),
+            pcss: self.light_shadows.iter().any(|s| s.style.is_some_and(|style| style.pcss)),
         }
     }
 

@@ -220,11 +220,15 @@ pub struct LightPaths {
     /// unlit, a pyramid or box window, Range Attenuation off, a tinted shadow; scene.wgsl
     /// `HDRP_LIGHT_TERMS`). Dimmers fold into the colour and need none.
     pub hdrp_terms: bool,
+    /// HDRP's PCSS shadow filter (a light's shadow at Filtering Quality High; forward.wgsl
+    /// `HDRP_PCSS`): its blocker search and filter loops are compiled only into the frames that
+    /// read a map with it.
+    pub pcss: bool,
 }
 
 impl LightPaths {
     /// Every path (a probe capture's pipelines, drawn for any frame).
-    pub const ALL: LightPaths = LightPaths { area: true, hdrp_terms: true };
+    pub const ALL: LightPaths = LightPaths { area: true, hdrp_terms: true, pcss: true };
 }
 
 /// Whether the frame draws an area light in real time: HDRP's rectangles alone (Unity manual,

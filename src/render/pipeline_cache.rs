@@ -226,6 +226,7 @@ impl PipelineCache {
             ("SCREEN_OCCLUSION", occlusion.shader_id() as f64),
             ("AREA_LIGHTS", lights.area as u32 as f64),
             ("HDRP_LIGHT_TERMS", lights.hdrp_terms as u32 as f64),
+            ("HDRP_PCSS", lights.pcss as u32 as f64),
             ("SUBSURFACE_PRE_SCATTER", subsurface as u32 as f64),
         ]);
         if exact.any() {
@@ -429,6 +430,7 @@ impl PipelineCache {
             ("LEGACY_DEFERRED", legacy as f64),
             ("AREA_LIGHTS", lights.area as u32 as f64),
             ("HDRP_LIGHT_TERMS", lights.hdrp_terms as u32 as f64),
+            ("HDRP_PCSS", lights.pcss as u32 as f64),
         ];
         let options = wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() };
         let p = gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
