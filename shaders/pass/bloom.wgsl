@@ -12,8 +12,7 @@ struct BloomParams {
     // x, y: destination size; z: mode (0 prefilter, 1 downsample, 2 blur across, 3 blur down,
     // 4 upsample or composite); w: unused
     dims: vec4<u32>,
-    // x: scatter (upsample) or weight (composite); y: 1 bicubic, 0 bilinear filtering of the coarse
-    // input; for the prefilter, 1 HIGH_QUALITY, 0 LOW_QUALITY
+    // x: scatter (upsample) or weight (composite); y: 1 bicubic, 0 bilinear filtering of the coarse input
     factor: vec4<f32>,
 };
 
@@ -128,10 +127,6 @@ fn cs_bloom(@builtin(global_invocation_id) id: vec3<u32>) {
     var c = vec3<f32>(0.0);
     switch params.dims.z {
         case 0u: {
-            if (params.factor.y > 0.5) {
-                textureStore(destination, id.xy, vec4<f32>(prefilter_high(uv), 1.0));
-                return;
-            }
             let taps = array<vec2<f32>, 5>(
                 vec2<f32>(0.0, 0.0), vec2<f32>(0.9, -0.4), vec2<f32>(-0.9, 0.4), vec2<f32>(0.4, 0.9), vec2<f32>(-0.4, -0.9)
             );
@@ -165,4 +160,16 @@ fn cs_bloom(@builtin(global_invocation_id) id: vec3<u32>) {
         }
     }
     textureStore(destination, id.xy, vec4<f32>(c, 1.0));
+}
+
+// BloomPrefilter.compute HIGH_QUALITY as its own entry point, so its 13 taps stay out of the
+// kernel every other step runs
+@compute @workgroup_size(8, 8)
+fn cs_bloom_prefilter_high(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = params.dims.xy;
+    if (id.x >= size.x || id.y >= size.y) {
+        return;
+    }
+    let uv = (vec2<f32>(id.xy) + 0.5) / vec2<f32>(size);
+    textureStore(destination, id.xy, vec4<f32>(prefilter_high(uv), 1.0));
 }

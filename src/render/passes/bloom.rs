@@ -106,6 +106,8 @@ pub fn level_sizes(width: u32, height: u32, quarter: bool) -> Vec<(u32, u32)> {
 /// The compute pipeline, made once per renderer.
 pub struct BloomPipeline {
     pipeline: wgpu::ComputePipeline,
+    /// The High level's prefilter (`cs_bloom_prefilter_high`), its own kernel.
+    prefilter_high: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
     space: crate::gpu::ConstantSpace,
 }
@@ -127,7 +129,14 @@ impl BloomPipeline {
             &module,
             "cs_bloom",
         );
-        Ok(BloomPipeline { pipeline, layout, space: gpu.constants })
+        let prefilter_high = crate::render::resources::compute_pipeline(
+            device,
+            crate::plan::Pass::Bloom.name(),
+            &layout,
+            &module,
+            "cs_bloom_prefilter_high",
+        );
+        Ok(BloomPipeline { pipeline, prefilter_high, layout, space: gpu.constants })
     }
 }
 
@@ -200,7 +209,7 @@ impl BloomChain {
         };
         for (k, (&size, [m, s, t])) in sizes.iter().zip(&levels).enumerate() {
             match k {
-                0 => step(PREFILTER, color, color, t, size, (0.0, settings.high_quality_prefiltering)),
+                0 => step(PREFILTER, color, color, t, size, (0.0, false)),
                 _ => step(DOWNSAMPLE, &levels[k - 1][0], color, t, size, (0.0, false)),
             }
             step(BLUR_ACROSS, t, color, s, size, (0.0, false));
@@ -229,8 +238,13 @@ impl BloomChain {
             label: Some(crate::plan::Pass::Bloom.name()),
             timestamp_writes: timestamps,
         });
-        pass.set_pipeline(&pipeline.pipeline);
-        for s in &self.steps {
+        // The first step is the prefilter: the High level's kernel where it is asked for.
+        for (i, s) in self.steps.iter().enumerate() {
+            match i {
+                0 if self.settings.high_quality_prefiltering => pass.set_pipeline(&pipeline.prefilter_high),
+                0 | 1 => pass.set_pipeline(&pipeline.pipeline),
+                _ => {}
+            }
             pass.set_bind_group(0, &s.group, &[]);
             pass.dispatch_workgroups(s.size.0.div_ceil(8), s.size.1.div_ceil(8), 1);
         }
