@@ -1,9 +1,9 @@
-// HDRP's screen-space ambient occlusion at its default volume's Medium quality (render::passes::ssao; twin:
-// images::gtao), its steps as HDRP's compute shaders run them without temporal history:
-// the depth pyramid's closest-depth downsample (DepthPyramid.compute), the half-resolution horizon
-// search and cosine-weighted arc integral over two directions (GTAO.compute, GTAOCommon.hlsl),
-// and the 9-3-3-1 bilateral upsample to full resolution with the intensity power
-// (GTAOBlurAndUpsample.compute BilateralUpsampling, OutputFinalAO).
+// HDRP's screen-space ambient occlusion (render::passes::ssao; twin: images::ssao), its steps as
+// HDRP's compute shaders run them without temporal history: the depth pyramid's closest-depth
+// downsample (DepthPyramid.compute), the horizon search and cosine-weighted arc integral
+// (GTAO.compute, GTAOCommon.hlsl), then at half resolution (Low, Medium) the 9-3-3-1 bilateral
+// upsample (GTAOBlurAndUpsample.compute BilateralUpsampling) or at full resolution (High) the 4×4
+// depth-weighted blur (GTAOSpatialDenoise.compute), each with the intensity power (OutputFinalAO).
 //
 // HDRP's render targets store rows bottom-up (Unity flips the projection when rendering into
 // them); these textures store them top-down. GTAO mixes screen directions with view-space vectors,
@@ -16,7 +16,7 @@ struct SsaoStep {
 };
 
 struct SsaoFrame {
-    // _AOBufferSize: running-resolution width and height (half the frame's)
+    // _AOBufferSize: running-resolution width and height (the frame's or half of it)
     buffer_size: vec4<f32>,
     // x: _AOFOVCorrection, y: _AORadius, z: _AOStepCount, w: _AOInvStepCountPlusOne
     params0: vec4<f32>,
@@ -24,7 +24,7 @@ struct SsaoFrame {
     params1: vec4<f32>,
     // _AODepthToViewParams
     depth_to_view: vec4<f32>,
-    // x: near, y: far (LinearEyeDepth)
+    // x: near, y: far (LinearEyeDepth), z: _AOSpatialBilateralAggressiveness (× 15)
     z_buffer: vec4<f32>,
     // Rows of the world-to-view rotation (right-handed, looking down −z)
     view_x: vec4<f32>,
@@ -33,9 +33,10 @@ struct SsaoFrame {
 };
 
 @group(0) @binding(0) var<uniform> ssao_step: SsaoStep;
-// Downsample: the finer level; horizons: pyramid level 1; upsample: the packed AO and depth
+// Downsample: the finer level; horizons: pyramid level 1 (full resolution: level 0); upsample and
+// denoise: the packed AO and depth
 @group(0) @binding(1) var source: texture_2d<f32>;
-// Horizons: pyramid level 2; upsample: the full-resolution depth
+// Horizons: pyramid level 2 (full resolution: level 1); upsample: the full-resolution depth
 @group(0) @binding(2) var coarse: texture_2d<f32>;
 // Horizons: the full-resolution normal buffer (n·0.5 + 0.5, world space)
 @group(0) @binding(3) var normals: texture_2d<f32>;
@@ -48,6 +49,9 @@ struct SsaoFrame {
 
 const SSAO_CLOSEST: u32 = 1u;
 const SSAO_HORIZONS: u32 = 2u;
+const SSAO_UPSAMPLE: u32 = 3u;
+const SSAO_HORIZONS_FULL: u32 = 4u;
+const SSAO_SPATIAL_DENOISE: u32 = 5u;
 
 @compute @workgroup_size(8, 8)
 fn cs_depth_copy(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -135,7 +139,8 @@ fn depth_for_central(p: vec2<i32>) -> f32 {
     return max(max(a, b), max(c, d));
 }
 
-// GetDepthSample at half resolution: level 1, or level 2 for the later steps (LOWER_RES_SAMPLE)
+// GetDepthSample: at half resolution level 1, or level 2 for the later steps (LOWER_RES_SAMPLE); at
+// full resolution always level 1 at half the position (HALF_RES_DEPTH_WHEN_FULL_RES): `coarse`
 fn depth_sample(position_ss: vec2<f32>, lower_res: bool) -> f32 {
     let p = vec2<u32>(position_ss);
     if (lower_res) {
@@ -157,14 +162,14 @@ fn hdrp_load_rgb(t: texture_2d<f32>, p: vec2<i32>) -> vec3<f32> {
     return textureLoad(t, vec2<i32>(c.x, size.y - 1 - c.y), 0).rgb;
 }
 
-fn horizon_loop(position_vs: vec3<f32>, v: vec3<f32>, ray_start: vec2<f32>, ray_dir: vec2<f32>, ray_offset: f32, ray_step: f32) -> f32 {
+fn horizon_loop(position_vs: vec3<f32>, v: vec3<f32>, ray_start: vec2<f32>, ray_dir: vec2<f32>, ray_offset: f32, ray_step: f32, full: bool) -> f32 {
     var max_horizon = -1.0;
     var t = ray_offset * ray_step + ray_step;
     let step_count = u32(frame.params0.z);
     let start_with_lower_res = u32(min(max(0, i32(step_count / 2u) - 2), 3));
     for (var i = 0u; i < step_count; i++) {
         let sample_pos = max(vec2<f32>(2.0), min(ray_start + t * ray_dir, frame.buffer_size.xy - 2.0));
-        let sample_depth = depth_sample(sample_pos, i > start_with_lower_res);
+        let sample_depth = depth_sample(sample_pos, full || i > start_with_lower_res);
         let sample_vs = get_position_vs(sample_pos, sample_depth);
         let delta = sample_vs - position_vs;
         let delta_len_sq = dot(delta, delta);
@@ -179,12 +184,14 @@ fn is_nan(x: f32) -> bool {
     return (bitcast<u32>(x) & 0x7fffffffu) > 0x7f800000u;
 }
 
-// GTAOMain (HALF_RES, no TEMPORAL): the integral's mean over the directions, packed with the depth
-fn gtao(id: vec2<u32>) -> vec2<f32> {
+// GTAOMain (HALF_RES or FULL_RES, no TEMPORAL): the integral's mean over the directions, packed
+// with the depth (PackAOOutput)
+fn gtao(id: vec2<u32>, full: bool) -> vec2<f32> {
     let size = textureDimensions(destination);
     // HDRP's dispatch id: rows from the bottom
     let p = vec2<u32>(id.x, size.y - 1u - id.y);
-    let curr_depth = depth_for_central(vec2<i32>(p));
+    // Full resolution: level 0 at the pixel (HALF_RES_DEPTH_WHEN_FULL_RES_FOR_CENTRAL 0)
+    let curr_depth = select(depth_for_central(vec2<i32>(p)), hdrp_load(source, vec2<i32>(p)).r, full);
     let position_vs = get_position_vs(vec2<f32>(p), curr_depth);
     let offset = gtao_offset(p);
     let ray_start = vec2<f32>(p);
@@ -193,14 +200,14 @@ fn gtao(id: vec2<u32>) -> vec2<f32> {
     let radius_ss = clamp(frame.params0.y * frame.params0.x / position_vs.z, step_count, frame.params1.w);
     let ray_step = max(1.0, radius_ss * frame.params0.w);
     let dir_count = u32(frame.params1.z);
-    let n_vs = normal_vs(vec2<i32>(p * 2u));
+    let n_vs = normal_vs(vec2<i32>(select(p * 2u, p, full)));
     var integral = 0.0;
     for (var i = 0u; i < dir_count; i++) {
         let dir = gtao_direction(p, i);
         let neg_dir = -dir + 1e-30;
         var horizons = vec2<f32>(
-            horizon_loop(position_vs, v, ray_start, dir, offset, ray_step),
-            horizon_loop(position_vs, v, ray_start, neg_dir, offset, ray_step),
+            horizon_loop(position_vs, v, ray_start, dir, offset, ray_step, full),
+            horizon_loop(position_vs, v, ray_start, neg_dir, offset, ray_step, full),
         );
         let slice_n = normalize(cross(vec3<f32>(dir, 0.0), v));
         let proj_n = n_vs - slice_n * dot(n_vs, slice_n);
@@ -222,7 +229,9 @@ fn gtao(id: vec2<u32>) -> vec2<f32> {
     if (curr_depth >= 1.0 || integral < -1e-2) {
         integral = 1.0;
     }
-    return vec2<f32>(quantise(integral, 255.0), quantise(curr_depth, 16777215.0));
+    // Full resolution packs as today's GTAOCommon.hlsl does (depth in 23 bits); the
+    // half-resolution path keeps the 24 bits of the HDRP release its central depth follows.
+    return vec2<f32>(quantise(integral, 255.0), quantise(curr_depth, select(16777215.0, 8388607.0, full)));
 }
 
 // BilateralUpsample: weights (9, 3, 3, 1)/(|hi − lo| + 1e-7) over the four half-resolution texels
@@ -245,6 +254,35 @@ fn upsample(id: vec2<u32>) -> f32 {
     return 1.0 - quantise(1.0 - visibility, 255.0);
 }
 
+// BilateralWeight: sat(1 − (aggressiveness·|LinearEyeDepth(d) − central| + 0.01)) (GTAOSpatialDenoise)
+fn bilateral_weight(sample_depth: f32, linear_central_depth: f32) -> f32 {
+    let delta = abs(linear_eye_depth(sample_depth) - linear_central_depth);
+    return sat(1.0 - (frame.z_buffer.z * delta + 0.01));
+}
+
+// SpatialDenoise (no TO_TEMPORAL): the packed AO over the 4×4 texels HDRP's four point gathers at
+// the pixel + (0, 0), (2, 0), (0, 2), (2, 2) cover (offsets −1 .. 2, edges clamped), the pixel's own
+// weighted 1 and the others by their depth; then OutputFinalAO into HDRP's 8-bit texture. The
+// result is the visibility the lighting reads, as `upsample`'s.
+fn spatial_denoise(id: vec2<u32>) -> f32 {
+    let size = textureDimensions(source);
+    let p = vec2<i32>(i32(id.x), i32(size.y) - 1 - i32(id.y));
+    let central = hdrp_load(source, p);
+    let linear_central_depth = linear_eye_depth(central.g);
+    var total = 0.0;
+    var total_weight = 0.0;
+    for (var dy = -1; dy <= 2; dy++) {
+        for (var dx = -1; dx <= 2; dx++) {
+            let t = hdrp_load(source, p + vec2<i32>(dx, dy));
+            let w = select(bilateral_weight(t.g, linear_central_depth), 1.0, dx == 0 && dy == 0);
+            total += w * t.r;
+            total_weight += w;
+        }
+    }
+    let visibility = pow(max(abs(total / total_weight), 1.192092896e-7), frame.params1.x);
+    return 1.0 - quantise(1.0 - visibility, 255.0);
+}
+
 @compute @workgroup_size(8, 8)
 fn cs_ssao(@builtin(global_invocation_id) id: vec3<u32>) {
     if (id.x >= ssao_step.dims.x || id.y >= ssao_step.dims.y) {
@@ -261,11 +299,14 @@ fn cs_ssao(@builtin(global_invocation_id) id: vec3<u32>) {
             let d = load_clamped(source, p + vec2<i32>(1, 1)).r;
             out = vec2<f32>(min(min(a, b), min(c, d)), 0.0);
         }
-        case SSAO_HORIZONS: {
-            out = gtao(id.xy);
+        case SSAO_HORIZONS, SSAO_HORIZONS_FULL: {
+            out = gtao(id.xy, ssao_step.dims.z == SSAO_HORIZONS_FULL);
+        }
+        case SSAO_UPSAMPLE: {
+            out = vec2<f32>(upsample(id.xy), 0.0);
         }
         default: {
-            out = vec2<f32>(upsample(id.xy), 0.0);
+            out = vec2<f32>(spatial_denoise(id.xy), 0.0);
         }
     }
     textureStore(destination, id.xy, vec4<f32>(out, 0.0, 0.0));

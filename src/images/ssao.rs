@@ -1,7 +1,8 @@
 //! f64 twin of HDRP's screen-space ambient occlusion as `render::passes::ssao` runs it
-//! (shaders/pass/ssao.wgsl): the closest-depth pyramid levels, the half-resolution GTAO horizon
-//! search and cosine-weighted integral without temporal history, and the bilateral upsample with
-//! the intensity power. Same names as the WGSL; the tests hold the GPU steps against it.
+//! (shaders/pass/ssao.wgsl): the closest-depth pyramid levels, the GTAO horizon search and
+//! cosine-weighted integral without temporal history, then at half resolution the bilateral
+//! upsample or at full resolution the spatial denoise, with the intensity power. Same names as the
+//! WGSL; the tests hold the GPU steps against it.
 
 use glam::{DVec2, DVec3};
 
@@ -40,10 +41,12 @@ fn quantise(x: f64, levels: f64) -> f64 {
 
 struct Gtao<'a> {
     frame: &'a SsaoFrame,
+    level0: &'a Plane,
     level1: &'a Plane,
     level2: &'a Plane,
     normals: &'a [DVec3],
-    full: (usize, usize),
+    /// Whether the search runs at the frame's resolution (FULL_RES) rather than half of it.
+    full_resolution: bool,
 }
 
 fn p(v: [f32; 4]) -> [f64; 4] {
@@ -114,13 +117,18 @@ fn gtao_offset(x: u32, y: u32, temporal: Option<TemporalFrame>) -> f64 {
 
 impl Gtao<'_> {
     fn depth_for_central(&self, x: i64, y: i64) -> f64 {
+        if self.full_resolution {
+            return self.level0.hdrp_load(x, y);
+        }
         let l = self.level1;
         l.hdrp_load(x - 1, y - 1).max(l.hdrp_load(x, y - 1)).max(l.hdrp_load(x - 1, y).max(l.hdrp_load(x, y)))
     }
 
     fn depth_sample(&self, position_ss: DVec2, lower_res: bool) -> f64 {
         let (x, y) = (position_ss.x as u32, position_ss.y as u32);
-        if lower_res {
+        if self.full_resolution {
+            self.level1.hdrp_load((x / 2) as i64, (y / 2) as i64)
+        } else if lower_res {
             self.level2.hdrp_load((x / 2) as i64, (y / 2) as i64)
         } else {
             self.level1.hdrp_load(x as i64, y as i64)
@@ -128,7 +136,7 @@ impl Gtao<'_> {
     }
 
     fn normal_vs(&self, x: i64, y: i64) -> DVec3 {
-        let (w, h) = (self.full.0 as i64, self.full.1 as i64);
+        let (w, h) = (self.level0.width as i64, self.level0.height as i64);
         let (x, y) = (x.clamp(0, w - 1), y.clamp(0, h - 1));
         let n = self.normals[((h - 1 - y) * w + x) as usize] * 2.0 - DVec3::ONE;
         let f = self.frame;
@@ -164,11 +172,13 @@ impl Gtao<'_> {
         max_horizon
     }
 
-    /// GTAOMain at half resolution: (AO, depth), quantised as packed; `temporal`: one frame of
-    /// the TEMPORAL variant, else every direction of the non-temporal one.
+    /// GTAOMain: (AO, depth), quantised as packed (depth in 24 bits at half resolution, 23 at
+    /// full); `temporal`: one frame of the TEMPORAL variant, else every direction of the
+    /// non-temporal one.
     fn gtao(&self, x: u32, y_top: u32, temporal: Option<TemporalFrame>) -> (f64, f64) {
         let f = self.frame;
-        let y = self.level1.height as u32 - 1 - y_top;
+        let running = if self.full_resolution { self.level0 } else { self.level1 };
+        let y = running.height as u32 - 1 - y_top;
         let curr_depth = self.depth_for_central(x as i64, y as i64);
         let ray_start = DVec2::new(x as f64, y as f64);
         let position_vs = get_position_vs(f, ray_start, curr_depth);
@@ -178,7 +188,8 @@ impl Gtao<'_> {
         let radius_ss = (radius * fov_correction / position_vs.z).clamp(step_count, f.params1[3] as f64);
         let step = (radius_ss * inv_steps).max(1.0);
         let dir_count = if temporal.is_some() { 1 } else { f.params1[2] as u32 };
-        let n_vs = self.normal_vs(2 * x as i64, 2 * y as i64);
+        let scale = if self.full_resolution { 1 } else { 2 };
+        let n_vs = self.normal_vs(scale * x as i64, scale * y as i64);
         let mut integral = 0.0;
         for i in 0..dir_count {
             let dir = gtao_direction(x, y, temporal.map_or(i as usize, |t| t.rotation));
@@ -211,7 +222,8 @@ impl Gtao<'_> {
         if curr_depth >= 1.0 || integral < -1e-2 {
             integral = 1.0;
         }
-        (quantise(integral, 255.0), quantise(curr_depth, 16777215.0))
+        let depth_levels = if self.full_resolution { 8388607.0 } else { 16777215.0 };
+        (quantise(integral, 255.0), quantise(curr_depth, depth_levels))
     }
 }
 
@@ -231,9 +243,16 @@ fn closest(finer: &Plane, size: (u32, u32)) -> Plane {
 
 /// The visibility (AO^intensity, 8-bit as HDRP stores it) per full-resolution pixel of a frame
 /// whose raw depth (0 near .. 1 far) and encoded world normals (n·0.5 + 0.5) are given, row-major,
-/// top row first.
-pub fn visibility(width: u32, height: u32, depth: &[f64], encoded_normals: &[DVec3], frame: &SsaoFrame) -> Vec<f64> {
-    visibility_over(width, height, depth, encoded_normals, frame, &[None])
+/// top row first, searched at full or half resolution.
+pub fn visibility(
+    width: u32,
+    height: u32,
+    depth: &[f64],
+    encoded_normals: &[DVec3],
+    frame: &SsaoFrame,
+    full_resolution: bool,
+) -> Vec<f64> {
+    visibility_over((width, height), depth, encoded_normals, frame, &[None], full_resolution)
 }
 
 /// What HDRP's default temporal GTAO converges to on a still frame: the half-resolution AO of its
@@ -248,40 +267,80 @@ pub fn temporal_visibility(
 ) -> Vec<f64> {
     let frames: Vec<Option<TemporalFrame>> =
         (0..24).map(|k| Some(TemporalFrame { rotation: k % 6, offset: (k / 6) % 4 })).collect();
-    visibility_over(width, height, depth, encoded_normals, frame, &frames)
+    visibility_over((width, height), depth, encoded_normals, frame, &frames, false)
 }
 
-/// The visibility from the mean half-resolution AO of `frames` (None: the non-temporal pass).
+/// PositivePow(AO, intensity) as HDRP's 8-bit occlusion texture holds its complement.
+fn final_visibility(ao: f64, intensity: f64) -> f64 {
+    let visibility = ao.abs().max(1.192092896e-7).powf(intensity);
+    1.0 - quantise(1.0 - visibility, 255.0)
+}
+
+/// BilateralWeight: sat(1 − (aggressiveness·|LinearEyeDepth(d) − central| + 0.01)).
+fn bilateral_weight(f: &SsaoFrame, sample_depth: f64, linear_central_depth: f64) -> f64 {
+    let delta = (linear_eye_depth(f, sample_depth) - linear_central_depth).abs();
+    (1.0 - (f.z_buffer[2] as f64 * delta + 0.01)).clamp(0.0, 1.0)
+}
+
+/// GTAOSpatialDenoise without TO_TEMPORAL: the 4×4 texels at HDRP's offsets −1 .. 2 around each
+/// pixel (rows from the bottom), the pixel weighted 1 and the rest by their depth; then
+/// OutputFinalAO.
+fn spatial_denoise(f: &SsaoFrame, ao: &Plane, packed_depth: &Plane) -> Vec<f64> {
+    let (w, h) = (ao.width as i64, ao.height as i64);
+    let mut out = Vec::with_capacity(ao.texels.len());
+    for y_top in 0..h {
+        for x in 0..w {
+            let y = h - 1 - y_top;
+            let linear_central_depth = linear_eye_depth(f, packed_depth.hdrp_load(x, y));
+            let (mut total, mut total_weight) = (0.0, 0.0);
+            for dy in -1..=2 {
+                for dx in -1..=2 {
+                    let weight = if (dx, dy) == (0, 0) {
+                        1.0
+                    } else {
+                        bilateral_weight(f, packed_depth.hdrp_load(x + dx, y + dy), linear_central_depth)
+                    };
+                    total += weight * ao.hdrp_load(x + dx, y + dy);
+                    total_weight += weight;
+                }
+            }
+            out.push(final_visibility(total / total_weight, f.params1[0] as f64));
+        }
+    }
+    out
+}
+
+/// The visibility from the mean AO of `frames` (None: the non-temporal pass) at the running
+/// resolution.
 fn visibility_over(
-    width: u32,
-    height: u32,
+    (width, height): (u32, u32),
     depth: &[f64],
     encoded_normals: &[DVec3],
     frame: &SsaoFrame,
     frames: &[Option<TemporalFrame>],
+    full_resolution: bool,
 ) -> Vec<f64> {
     let [full, l1, l2] = level_sizes(width, height);
     let depth0 = Plane { width: width as usize, height: height as usize, texels: depth.to_vec() };
     let level1 = closest(&depth0, l1);
     let level2 = closest(&level1, l2);
-    let g = Gtao {
-        frame,
-        level1: &level1,
-        level2: &level2,
-        normals: encoded_normals,
-        full: (full.0 as usize, full.1 as usize),
-    };
-    let mut ao = Plane::new(l1);
-    let mut packed_depth = Plane::new(l1);
-    for y in 0..l1.1 {
-        for x in 0..l1.0 {
-            let i = (y * l1.0 + x) as usize;
+    let g =
+        Gtao { frame, level0: &depth0, level1: &level1, level2: &level2, normals: encoded_normals, full_resolution };
+    let running = if full_resolution { full } else { l1 };
+    let mut ao = Plane::new(running);
+    let mut packed_depth = Plane::new(running);
+    for y in 0..running.1 {
+        for x in 0..running.0 {
+            let i = (y * running.0 + x) as usize;
             for t in frames {
                 let (a, d) = g.gtao(x, y, *t);
                 ao.texels[i] += a / frames.len() as f64;
                 packed_depth.texels[i] = d;
             }
         }
+    }
+    if full_resolution {
+        return spatial_denoise(frame, &ao, &packed_depth);
     }
     let intensity = frame.params1[0] as f64;
     let tolerance = 1e-7;
@@ -299,8 +358,7 @@ fn visibility_over(
                 sum += ao.load_clamped(tx, ty) * w;
                 total += w;
             }
-            let visibility = (sum / total).abs().max(1.192092896e-7).powf(intensity);
-            out.push(1.0 - quantise(1.0 - visibility, 255.0));
+            out.push(final_visibility(sum / total, intensity));
         }
     }
     out

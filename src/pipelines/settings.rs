@@ -80,11 +80,6 @@ impl HdrpQuality {
     pub fn names() -> Vec<&'static str> {
         HdrpQuality::ALL.map(HdrpQuality::name).to_vec()
     }
-
-    /// The levels this tool draws of a setting whose High it does not (yet) draw: Low and Medium.
-    pub fn drawn_below_high() -> Vec<&'static str> {
-        vec![HdrpQuality::Low.name(), HdrpQuality::Medium.name()]
-    }
 }
 
 /// HDAdditionalLightData's default shadow resolution override.
@@ -613,17 +608,12 @@ pub struct HdrpSettingsFile {
     pub bloom_quality: Option<String>,
 }
 
-/// A quality level as `[pipeline_settings.hdrp]` names it, among the levels drawn.
-fn hdrp_quality(
-    key: &str,
-    value: &Option<String>,
-    drawn: fn() -> Vec<&'static str>,
-) -> Result<HdrpQuality, SettingsError> {
+/// A quality level as `[pipeline_settings.hdrp]` names it.
+fn hdrp_quality(key: &str, value: &Option<String>) -> Result<HdrpQuality, SettingsError> {
     let Some(name) = value else { return Ok(HdrpQuality::Medium) };
-    let allowed = drawn();
-    match HdrpQuality::ALL.into_iter().find(|q| q.name() == name && allowed.contains(&q.name())) {
+    match HdrpQuality::ALL.into_iter().find(|q| q.name() == name) {
         Some(q) => Ok(q),
-        None => Err((format!("hdrp.{key}"), format!("`{name}`: allowed {}", allowed.join(", ")))),
+        None => Err((format!("hdrp.{key}"), format!("`{name}`: allowed {}", HdrpQuality::names().join(", ")))),
     }
 }
 
@@ -720,11 +710,11 @@ impl PipelineSettingsFile {
         let hdrp = HdrpSettings {
             light_unit,
             shadow_resolution: h.shadow_resolution.unwrap_or(HDRP_SHADOW_RESOLUTION),
-            shadow_filtering: hdrp_quality("shadow_filtering", &h.shadow_filtering, HdrpQuality::names)?,
+            shadow_filtering: hdrp_quality("shadow_filtering", &h.shadow_filtering)?,
             ssao: h.ssao.unwrap_or(true),
-            ssao_quality: hdrp_quality("ssao_quality", &h.ssao_quality, HdrpQuality::drawn_below_high)?,
+            ssao_quality: hdrp_quality("ssao_quality", &h.ssao_quality)?,
             bloom: h.bloom.unwrap_or(true),
-            bloom_quality: hdrp_quality("bloom_quality", &h.bloom_quality, HdrpQuality::names)?,
+            bloom_quality: hdrp_quality("bloom_quality", &h.bloom_quality)?,
         };
         Ok(PipelineSettings { builtin: self.builtin.resolve()?, urp: a, hdrp })
     }
@@ -756,19 +746,18 @@ mod tests {
     }
 
     #[test]
-    fn hdrps_quality_levels_are_read_and_an_undrawn_one_is_refused() {
+    fn hdrps_quality_levels_are_read_and_an_unknown_one_is_refused() {
         let f: PipelineSettingsFile =
-            toml::from_str("[hdrp]\nshadow_filtering = \"high\"\nbloom_quality = \"high\"\nssao_quality = \"low\"\n")
+            toml::from_str("[hdrp]\nshadow_filtering = \"high\"\nbloom_quality = \"low\"\nssao_quality = \"high\"\n")
                 .unwrap();
         let h = f.resolve().unwrap().hdrp;
         assert_eq!(
             (h.shadow_filtering, h.bloom_quality, h.ssao_quality),
-            (HdrpQuality::High, HdrpQuality::High, HdrpQuality::Low)
+            (HdrpQuality::High, HdrpQuality::Low, HdrpQuality::High)
         );
-        // SSAO's High runs at full resolution with a spatial denoise, which is not drawn.
-        let bad: PipelineSettingsFile = toml::from_str("[hdrp]\nssao_quality = \"high\"\n").unwrap();
+        let bad: PipelineSettingsFile = toml::from_str("[hdrp]\nssao_quality = \"ultra\"\n").unwrap();
         let (key, why) = bad.resolve().unwrap_err();
-        assert_eq!((key.as_str(), why.as_str()), ("hdrp.ssao_quality", "`high`: allowed low, medium"));
+        assert_eq!((key.as_str(), why.as_str()), ("hdrp.ssao_quality", "`ultra`: allowed low, medium, high"));
     }
 
     #[test]

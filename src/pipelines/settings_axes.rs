@@ -342,13 +342,7 @@ pub const SETTINGS: &[SettingRow] = &[
         settings.hdrp.shadow_filtering
     ),
     field!(Hdrp, "ssao", SettingKind::Bool, bool, settings.hdrp.ssao),
-    field!(
-        Hdrp,
-        "ssao_quality",
-        SettingKind::Choice(HdrpQuality::drawn_below_high),
-        HdrpQuality,
-        settings.hdrp.ssao_quality
-    ),
+    field!(Hdrp, "ssao_quality", SettingKind::Choice(HdrpQuality::names), HdrpQuality, settings.hdrp.ssao_quality),
     field!(Hdrp, "bloom", SettingKind::Bool, bool, settings.hdrp.bloom),
     field!(Hdrp, "bloom_quality", SettingKind::Choice(HdrpQuality::names), HdrpQuality, settings.hdrp.bloom_quality),
     SettingRow {
@@ -598,8 +592,10 @@ mod tests {
         assert_ne!(h(&lit, &no_ssao), h(&lit, &base()));
         let scene_off = SceneFacts { hdrp_ssao: false, ..lit };
         assert_eq!(h(&scene_off, &no_ssao), h(&scene_off, &base()));
-        assert_ne!(h(&lit, &hdrp("ssao_quality", "low")), h(&lit, &base()));
-        assert_eq!(h(&scene_off, &hdrp("ssao_quality", "low")), h(&scene_off, &base()));
+        for level in ["low", "high"] {
+            assert_ne!(h(&lit, &hdrp("ssao_quality", level)), h(&lit, &base()));
+            assert_eq!(h(&scene_off, &hdrp("ssao_quality", level)), h(&scene_off, &base()));
+        }
         let bloomed = SceneFacts { hdrp_bloom: true, ..lit };
         assert_ne!(h(&bloomed, &hdrp("bloom_quality", "low")), h(&bloomed, &base()));
         // MSAA on a deferred path, a light budget past the lights, URP fields in a built-in frame.

@@ -94,11 +94,14 @@ fn gpu_ssao_matches_its_twin_and_occludes_where_surfaces_meet() {
     let normals32: Vec<[f32; 3]> = normals.iter().map(|n| n.as_vec3().to_array()).collect();
     use shadematrix::pipelines::settings::HdrpQuality;
     let mut twins = Vec::new();
-    // Medium (the default profile's) and Low (4 steps, 1 direction, a 32-pixel cap).
-    for quality in [HdrpQuality::Medium, HdrpQuality::Low] {
-        let frame = SsaoFrame::new(&camera, size.0, size.1, &SsaoSettings::at(quality));
-        let twin = ssao_twin::visibility(size.0, size.1, &depth, &normals, &frame);
-        let got = visibility_of(&gpu, size, &depth32, &normals32, &frame).unwrap();
+    // Medium (the default profile's), Low (4 steps, 1 direction, a 32-pixel cap) and High (16
+    // steps, 4 directions, an 80-pixel cap, at full resolution with the spatial denoise).
+    for quality in [HdrpQuality::Medium, HdrpQuality::Low, HdrpQuality::High] {
+        let settings = SsaoSettings::at(quality);
+        let frame = SsaoFrame::new(&camera, size.0, size.1, &settings);
+        let full = settings.full_resolution;
+        let twin = ssao_twin::visibility(size.0, size.1, &depth, &normals, &frame, full);
+        let got = visibility_of(&gpu, size, &depth32, &normals32, &frame, full).unwrap();
         let n = got.len() as f64;
         let diffs: Vec<f64> = got.iter().zip(&twin).map(|(g, t)| (*g as f64 - t).abs()).collect();
         let mean = diffs.iter().sum::<f64>() / n;
@@ -116,14 +119,18 @@ fn gpu_ssao_matches_its_twin_and_occludes_where_surfaces_meet() {
     let changed = twins[0].iter().zip(&twins[1]).filter(|(m, l)| (*m - *l).abs() > 1.5 / 255.0).count();
     eprintln!("ssao Low against Medium: {changed} pixels move by more than a quantisation step");
     assert!(changed > 100, "{changed}");
-    let twin = &twins[0];
+    let changed = twins[0].iter().zip(&twins[2]).filter(|(m, h)| (*m - *h).abs() > 1.5 / 255.0).count();
+    eprintln!("ssao High against Medium: {changed} pixels move by more than a quantisation step");
+    assert!(changed > 100, "{changed}");
 
     // Where the box meets the floor, occlusion; on open floor far from both, hardly any.
-    let at = |x: u32, y: u32| twin[(y * size.0 + x) as usize];
-    let min = twin.iter().cloned().fold(1.0, f64::min);
-    assert!(min < 0.8, "the crease darkens: min visibility {min}");
-    let open = (0..size.0).map(|x| at(x, size.1 - 2)).fold(0.0, f64::max);
-    assert!(open > 0.97, "open floor stays lit: {open}");
+    for twin in [&twins[0], &twins[2]] {
+        let at = |x: u32, y: u32| twin[(y * size.0 + x) as usize];
+        let min = twin.iter().cloned().fold(1.0, f64::min);
+        assert!(min < 0.8, "the crease darkens: min visibility {min}");
+        let open = (0..size.0).map(|x| at(x, size.1 - 2)).fold(0.0, f64::max);
+        assert!(open > 0.97, "open floor stays lit: {open}");
+    }
 }
 
 /// A rendered room: linear RGB per pixel, the role per pixel, the timed pass names and the plan's passes.
@@ -139,6 +146,15 @@ fn render_room(
     edit: impl Fn(&mut shadematrix::declarations::scene::Scene),
     path: shadematrix::pipelines::RenderPath,
 ) -> Room {
+    render_room_at(edit, path, Default::default())
+}
+
+/// `render_room` with SSAO at a quality level.
+fn render_room_at(
+    edit: impl Fn(&mut shadematrix::declarations::scene::Scene),
+    path: shadematrix::pipelines::RenderPath,
+    ssao_quality: shadematrix::pipelines::settings::HdrpQuality,
+) -> Room {
     use shadematrix::pipelines::Pipeline;
     let mut scene = shadematrix::declarations::scene::Scene::load("default", None, "test", "composition").unwrap();
     scene.hdrp.bloom = false;
@@ -146,7 +162,8 @@ fn render_room(
     let mut renderer = shadematrix::render::renderer::Renderer::new(GpuContext::new().unwrap());
     let sliders =
         shadematrix::shading::registry::Sliders { base_color_linear: [0.8, 0.8, 0.8], metallic: 0.0, smoothness: 0.5 };
-    let cell = crate::common::cell_params(Pipeline::Hdrp, "lit", sliders, (2.0, 10.0), 128, path);
+    let mut cell = crate::common::cell_params(Pipeline::Hdrp, "lit", sliders, (2.0, 10.0), 128, path);
+    cell.settings.engine.hdrp.ssao_quality = ssao_quality;
     let prepared = renderer.prepare_scene(&scene).unwrap();
     let r = renderer.render(&prepared, &cell, 1, 0).unwrap();
     let timed = r.gpu_passes.map(|p| p.into_iter().map(|(n, _)| n).collect()).unwrap_or_default();
@@ -197,6 +214,42 @@ fn ssao_darkens_the_indirect_light_where_surfaces_meet_and_the_switch_turns_it_o
     };
     let on = render_room(dark, RenderPath::Forward).rgb;
     let off = render_room(|s| (dark(s), s.hdrp.ssao = false).1, RenderPath::Forward).rgb;
+    assert_eq!(on, off, "SSAO touches only the indirect light");
+}
+
+#[test]
+fn hdrps_ssao_high_reshapes_the_occlusion_alone() {
+    let _timer = crate::common::timed!();
+    use shadematrix::pipelines::settings::HdrpQuality;
+    use shadematrix::pipelines::RenderPath;
+    let path = RenderPath::Forward;
+    let medium = render_room(|_| {}, path).rgb;
+    let Room { rgb: high, roles, timed, .. } = render_room_at(|_| {}, path, HdrpQuality::High);
+    let off = render_room(|s| s.hdrp.ssao = false, path).rgb;
+    if !timed.is_empty() {
+        assert!(timed.contains(&Pass::Ssao), "{timed:?}");
+    }
+    let lum = |c: &[f32; 3]| (c[0] + c[1] + c[2]) as f64;
+    let objects: Vec<usize> = (0..roles.len()).filter(|&i| roles[i] != 0).collect();
+    let ratio = |a: &[[f32; 3]], i: usize| lum(&a[i]) / lum(&off[i]).max(1e-12);
+    let darker = objects.iter().filter(|&&i| ratio(&high, i) < 0.97).count();
+    let brighter = objects.iter().map(|&i| ratio(&high, i)).fold(0.0, f64::max);
+    let moved = objects.iter().filter(|&&i| (ratio(&high, i) - ratio(&medium, i)).abs() > 0.01).count();
+    eprintln!(
+        "High: {darker} of {} object pixels darker by >3 % than without SSAO, max ratio {brighter:.5}; \
+         {moved} move by more than 1 % against Medium",
+        objects.len()
+    );
+    assert!(darker > objects.len() / 50 && darker < objects.len() / 2, "{darker}");
+    assert!(brighter < 1.001, "occlusion never brightens: {brighter}");
+    assert!(moved > objects.len() / 200, "High draws another occlusion than Medium: {moved}");
+    // Without indirect light High has nothing to occlude either.
+    let dark = |s: &mut shadematrix::declarations::scene::Scene| {
+        s.environment.ambient_intensity = 0.0;
+        s.environment.reflections = shadematrix::declarations::scene::Reflections::Sky;
+    };
+    let on = render_room_at(dark, path, HdrpQuality::High).rgb;
+    let off = render_room(|s| (dark(s), s.hdrp.ssao = false).1, path).rgb;
     assert_eq!(on, off, "SSAO touches only the indirect light");
 }
 
@@ -252,7 +305,7 @@ fn the_temporal_path_converges_darker_than_the_single_frame_one() {
     let size = (128, 96);
     let (depth, normals) = synthetic_frame(&camera, size);
     let frame = SsaoFrame::new(&camera, size.0, size.1, &SsaoSettings::default());
-    let single = ssao_twin::visibility(size.0, size.1, &depth, &normals, &frame);
+    let single = ssao_twin::visibility(size.0, size.1, &depth, &normals, &frame, false);
     let temporal = ssao_twin::temporal_visibility(size.0, size.1, &depth, &normals, &frame);
     let n = single.len() as f64;
     let diffs: Vec<f64> = single.iter().zip(&temporal).map(|(a, b)| (a - b).abs()).collect();

@@ -31,6 +31,8 @@ const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
 const CLOSEST: u32 = 1;
 const HORIZONS: u32 = 2;
 const UPSAMPLE: u32 = 3;
+const HORIZONS_FULL: u32 = 4;
+const SPATIAL_DENOISE: u32 = 5;
 
 /// The AmbientOcclusion override as HDRP's default profile sets it, at a quality level.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -42,11 +44,25 @@ pub struct SsaoSettings {
     pub direction_count: u32,
     /// At 960×540 running resolution; scaled by √(pixels / 960·540), at least 16.
     pub maximum_radius_in_pixels: f64,
+    /// Whether the horizon search runs at the frame's resolution (then GTAOSpatialDenoise
+    /// filters it, without an upsample) or at half of it (then BilateralUpsample brings it up).
+    pub full_resolution: bool,
+    /// The spatial denoise's depth rejection (ScreenSpaceAmbientOcclusion's default 0.15; the
+    /// shader reads it × 15).
+    pub spatial_bilateral_aggressiveness: f64,
 }
 
 impl Default for SsaoSettings {
     fn default() -> Self {
-        SsaoSettings { intensity: 0.5, radius: 1.5, step_count: 6, direction_count: 2, maximum_radius_in_pixels: 40.0 }
+        SsaoSettings {
+            intensity: 0.5,
+            radius: 1.5,
+            step_count: 6,
+            direction_count: 2,
+            maximum_radius_in_pixels: 40.0,
+            full_resolution: false,
+            spatial_bilateral_aggressiveness: 0.15,
+        }
     }
 }
 
@@ -54,14 +70,22 @@ impl SsaoSettings {
     /// The default profile's override at a quality level (GlobalLightingQualitySettings: AOStepCount
     /// 4 / 6 / 16, AODirectionCount 1 / 2 / 4, AOMaximumRadiusPixels 32 / 40 / 80, AOFullRes off /
     /// off / on). Low and Medium run the same half-resolution steps (AOBilateralUpsample picks an
-    /// upsample for the temporal path alone); High's full resolution, with its spatial denoise, is
-    /// not drawn: `[pipeline_settings.hdrp]` refuses it, and this falls back to Medium.
+    /// upsample for the temporal path alone); High searches at full resolution and filters with
+    /// GTAOSpatialDenoise (HDRenderPipeline.AmbientOcclusion.cs RenderAmbientOcclusion).
     pub fn at(quality: crate::pipelines::settings::HdrpQuality) -> SsaoSettings {
+        use crate::pipelines::settings::HdrpQuality;
         match quality {
-            crate::pipelines::settings::HdrpQuality::Low => {
+            HdrpQuality::Low => {
                 SsaoSettings { step_count: 4, direction_count: 1, maximum_radius_in_pixels: 32.0, ..Default::default() }
             }
-            _ => SsaoSettings::default(),
+            HdrpQuality::Medium => SsaoSettings::default(),
+            HdrpQuality::High => SsaoSettings {
+                step_count: 16,
+                direction_count: 4,
+                maximum_radius_in_pixels: 80.0,
+                full_resolution: true,
+                ..Default::default()
+            },
         }
     }
 }
@@ -88,9 +112,11 @@ pub fn view_rows(camera: &Camera) -> [DVec3; 3] {
 }
 
 impl SsaoFrame {
-    /// PrepareRenderAOParameters for a `width`×`height` frame seen by `camera`, at half resolution.
+    /// PrepareRenderAOParameters for a `width`×`height` frame seen by `camera`, at the running
+    /// resolution `s` asks for: the frame's, or half of it.
     pub fn new(camera: &Camera, width: u32, height: u32, s: &SsaoSettings) -> SsaoFrame {
-        let (rw, rh) = (width as f64 * 0.5, height as f64 * 0.5);
+        let (rw, rh) =
+            if s.full_resolution { (width as f64, height as f64) } else { (width as f64 * 0.5, height as f64 * 0.5) };
         let inv_half_tan_fov = 1.0 / (camera.fov_y_deg.to_radians() * 0.5).tan();
         let aspect = rh / rw;
         let scale = rw * rh / (540.0 * 960.0);
@@ -112,7 +138,7 @@ impl SsaoFrame {
                 1.0 / (inv_half_tan_fov * aspect),
                 1.0 / inv_half_tan_fov,
             ]),
-            z_buffer: f([camera.near, camera.far, 0.0, 0.0]),
+            z_buffer: f([camera.near, camera.far, s.spatial_bilateral_aggressiveness * 15.0, 0.0]),
             view_x: f([x.x, x.y, x.z, 0.0]),
             view_y: f([y.x, y.y, y.z, 0.0]),
             view_z: f([z.x, z.y, z.z, 0.0]),
@@ -178,8 +204,8 @@ impl SsaoPipeline {
     }
 }
 
-/// The textures and dispatches of one frame size: the depth copy, the closest-depth levels, the
-/// packed half-resolution AO and the full-resolution visibility the lighting reads.
+/// The textures and dispatches of one frame size and running resolution: the depth copy, the
+/// closest-depth levels, the packed AO and the full-resolution visibility the lighting reads.
 pub struct SsaoChain {
     /// The prepass's normal target.
     pub normal: wgpu::TextureView,
@@ -191,12 +217,14 @@ pub struct SsaoChain {
 }
 
 impl SsaoChain {
-    /// The chain for `width`×`height` frames. `depth`: the prepass depth it copies (None: the
-    /// caller fills the returned full-resolution depth texture itself, as the tests do).
+    /// The chain for `width`×`height` frames searched at full or half resolution. `depth`: the
+    /// prepass depth it copies (None: the caller fills the returned full-resolution depth texture
+    /// itself, as the tests do).
     pub fn new(
         device: &wgpu::Device,
         pipeline: &SsaoPipeline,
         (width, height): (u32, u32),
+        full_resolution: bool,
         depth: Option<&wgpu::TextureView>,
         normal: Option<wgpu::TextureView>,
     ) -> (SsaoChain, wgpu::Texture) {
@@ -207,8 +235,8 @@ impl SsaoChain {
         let [full, l1, l2] = level_sizes(width, height);
         let depth0 = make("ssao depth", full, wgpu::TextureUsages::COPY_DST);
         let level1 = make("ssao depth level 1", l1, wgpu::TextureUsages::empty());
-        let level2 = make("ssao depth level 2", l2, wgpu::TextureUsages::empty());
-        let packed = make("ssao packed", l1, wgpu::TextureUsages::empty());
+        let running = if full_resolution { full } else { l1 };
+        let packed = make("ssao packed", running, wgpu::TextureUsages::empty());
         let visibility = make("ssao visibility", full, wgpu::TextureUsages::COPY_SRC);
         let normal = normal.unwrap_or_else(|| {
             crate::render::resources::texture_2d(
@@ -262,12 +290,23 @@ impl SsaoChain {
             });
             ComputeStep { group, size }
         };
-        let steps = vec![
-            step(CLOSEST, &depth0, &depth0, &level1, l1),
-            step(CLOSEST, &level1, &level1, &level2, l2),
-            step(HORIZONS, &level1, &level2, &packed, l1),
-            step(UPSAMPLE, &packed, &depth0, &visibility, full),
-        ];
+        // Full resolution reads levels 0 and 1 alone (GTAOCommon.hlsl FULL_RES has no
+        // LOWER_RES_SAMPLE), so level 2 is left out.
+        let steps = if full_resolution {
+            vec![
+                step(CLOSEST, &depth0, &depth0, &level1, l1),
+                step(HORIZONS_FULL, &depth0, &level1, &packed, full),
+                step(SPATIAL_DENOISE, &packed, &packed, &visibility, full),
+            ]
+        } else {
+            let level2 = make("ssao depth level 2", l2, wgpu::TextureUsages::empty());
+            vec![
+                step(CLOSEST, &depth0, &depth0, &level1, l1),
+                step(CLOSEST, &level1, &level1, &level2, l2),
+                step(HORIZONS, &level1, &level2, &packed, l1),
+                step(UPSAMPLE, &packed, &depth0, &visibility, full),
+            ]
+        };
         (SsaoChain { normal, visibility, frame, copy, steps }, depth0)
     }
 
@@ -310,12 +349,13 @@ pub fn visibility_of(
     depth: &[f32],
     encoded_normals: &[[f32; 3]],
     frame: &SsaoFrame,
+    full_resolution: bool,
 ) -> Result<Vec<f32>, Error> {
     let device = &gpu.device;
     let pipeline = SsaoPipeline::new(gpu)?;
     let normal_texture = test_normals(gpu, (width, height), encoded_normals);
-    let (chain, depth0) =
-        SsaoChain::new(device, &pipeline, (width, height), None, Some(normal_texture.create_view(&Default::default())));
+    let normal_view = Some(normal_texture.create_view(&Default::default()));
+    let (chain, depth0) = SsaoChain::new(device, &pipeline, (width, height), full_resolution, None, normal_view);
     let depth_texels: Vec<[f32; 2]> = depth.iter().map(|&d| [d, 0.0]).collect();
     write_whole(gpu, &depth0, bytemuck::cast_slice(&depth_texels), 8);
     chain.write_frame(&gpu.queue, frame);
@@ -362,8 +402,9 @@ pub(crate) fn write_whole(gpu: &GpuContext, texture: &wgpu::Texture, bytes: &[u8
 /// HDRP's (`SsaoPass`) and URP's (`urp_ssao::UrpSsaoPass`) differ in their pipeline and chain.
 pub(in crate::render) struct OcclusionPass<P, C> {
     pipeline: Option<P>,
-    /// (the targets' generation, the chain on their depth, the group reading its visibility)
-    chain: Option<(u64, C, wgpu::BindGroup)>,
+    /// ((the targets' generation, the chain's variant), the chain on their depth, the group
+    /// reading its visibility)
+    chain: Option<((u64, u64), C, wgpu::BindGroup)>,
     holds: Option<u64>,
 }
 
@@ -375,10 +416,11 @@ impl<P, C> Default for OcclusionPass<P, C> {
 
 impl<P, C> OcclusionPass<P, C> {
     /// The pipeline (`make` for the first frame) and the chain on `targets` (`chain` where the
-    /// targets are new: a new chain holds nothing yet).
+    /// targets are new or the frame needs another `variant` of it: a new chain holds nothing yet).
     pub(in crate::render) fn ensure(
         &mut self,
         targets: &crate::render::targets::Targets,
+        variant: u64,
         make: impl FnOnce() -> Result<P, Error>,
         chain: impl FnOnce(&P) -> (C, wgpu::BindGroup),
     ) -> Result<&C, Error> {
@@ -386,9 +428,10 @@ impl<P, C> OcclusionPass<P, C> {
             self.pipeline = Some(make()?);
         }
         let pipeline = self.pipeline.as_ref().expect("just made");
-        if self.chain.as_ref().is_none_or(|(generation, _, _)| *generation != targets.generation) {
+        let key = (targets.generation, variant);
+        if self.chain.as_ref().is_none_or(|(held, _, _)| *held != key) {
             let (c, group) = chain(pipeline);
-            self.chain = Some((targets.generation, c, group));
+            self.chain = Some((key, c, group));
             self.holds = None;
         }
         Ok(&self.chain.as_ref().expect("just made").1)
@@ -422,12 +465,14 @@ impl SsaoPass {
         camera: &Camera,
         settings: &SsaoSettings,
     ) -> Result<(), Error> {
+        let full = settings.full_resolution;
         let chain = self.ensure(
             targets,
+            full as u64,
             || SsaoPipeline::new(gpu),
             |pipeline| {
                 let size = (targets.width, targets.height);
-                let (chain, _) = SsaoChain::new(&gpu.device, pipeline, size, Some(&targets.depth_view), None);
+                let (chain, _) = SsaoChain::new(&gpu.device, pipeline, size, full, Some(&targets.depth_view), None);
                 let group = screen_group(&gpu.device, screen_layout, &chain.visibility);
                 (chain, group)
             },

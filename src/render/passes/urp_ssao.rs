@@ -274,6 +274,7 @@ impl UrpSsaoPass {
     ) -> Result<(), Error> {
         let chain = self.ensure(
             targets,
+            0,
             || UrpSsaoPipeline::new(gpu),
             |pipeline| {
                 let size = (targets.width, targets.height);
