@@ -94,7 +94,8 @@ done
 # Quality settings: the composite room's gold vase, a row per pipeline from its cheapest settings
 # to its own (built-in's quality levels Very Low, Medium, High, Ultra; URP's default asset, its
 # 1024 map, its soft shadows, High Fidelity; HDRP all low with SSAO off, its defaults, High
-# filtering (PCSS), High filtering and bloom); and each pipeline's tiers plot, stacked.
+# filtering (PCSS), every level High: PCSS, bloom and full-resolution SSAO); and each pipeline's
+# tiers plot, stacked.
 run quality matrices/quality.toml
 q=composite__builtin-forward__standard__gold__m1.00_s0.90_i1.5_r6
 u=composite__urp-forward__lit__gold__m1.00_s0.90_i1.5_r6
@@ -102,7 +103,7 @@ h=composite__hdrp-forward__lit__gold__m1.00_s0.90_i1.5_r6
 "$montage" "$work/quality" docs/quality.png 160 \
   "${q}_quality_level.very_low,${q}_quality_level.medium,${q}_quality_level.high,${q}" \
   "${u},${u}_main_light_shadow_resolution.1024,${u}_soft_shadows.on,${u}_asset.high_fidelity" \
-  "${h}_bloom_quality.low_shadow_filtering.low_shadow_resolution.256_ssao.off,${h},${h}_shadow_filtering.high,${h}_bloom_quality.high_shadow_filtering.high"
+  "${h}_bloom_quality.low_shadow_filtering.low_shadow_resolution.256_ssao.off,${h},${h}_shadow_filtering.high,${h}_bloom_quality.high_shadow_filtering.high_ssao_quality.high"
 printf '<html><body style="margin:0">%s</body></html>' \
   "$(for p in builtin urp hdrp; do printf '<img src="quality/plots/quality_%s.svg"><br>' "$p"; done)" \
   > "$work/quality_plots.html"
