@@ -28,6 +28,7 @@ pub mod materials;
 pub mod pipelines;
 pub mod plan;
 pub mod record;
+pub mod remap;
 pub mod render;
 pub mod report;
 pub mod run;

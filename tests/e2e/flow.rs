@@ -35,6 +35,8 @@ const STAGES: &[&str] = &[
     "run",
     "report",
     "audit",
+    // Carrying a material's look across pipelines: renders, compares and reports its fits.
+    "remap",
     "cli",
 ];
 

@@ -37,6 +37,7 @@ mod paths;
 mod probes;
 mod records;
 mod references;
+mod remap;
 mod render_ci;
 mod resume;
 mod reuse;

@@ -1,0 +1,364 @@
+//! The fit of a target model's material values to a source's frames, in two stages.
+//!
+//! 1. **Close, fast**: for a fixed smoothness and metallic every model here shades the subject
+//!    affinely in its base colour, channel by channel (diffuse ∝ albedo, F0 = lerp(0.04, albedo,
+//!    metallic)), up to HDRP's energy compensation, which multiplies F0 into the specular once
+//!    more. So two frames per scene, base colour black (A) and white (W), predict the frame of any
+//!    colour c as A + (W − A)·c, and the colour nearest the source's pixels in relative MSE is a
+//!    closed-form weighted least squares per channel. On the linear image the pipelines' units
+//!    differ by orders of magnitude (HDRP's lights are × 10⁴, and its fixed dielectric F0 of 0.04
+//!    alone outshines URP's whole frame there), which no material value can absorb: there the fit
+//!    takes an exposure k as well, the frame being k·(A + (W − A)·c), still closed form (k and k·c
+//!    are linear unknowns). On the displayed image the pipelines' own exposure stands (k = 1). Over a grid of smoothness (every 0.1 and the
+//!    source's own) × metallic (0, 1 and the source's) this gives the best node, judged by the
+//!    match's error on the predicted frames (displayed through the target's exposure and
+//!    tonemapper where the match is on the displayed image).
+//! 2. **Confirm and refine**: Nelder–Mead (argmin) on rendered frames from that node, over
+//!    smoothness, metallic (clamped to [0, 1]) and a log-scale factor per colour channel. It needs
+//!    no gradient, which a frame's FLIP does not give, tolerates the plateaus a clamped slider
+//!    makes, and takes few evaluations in five dimensions; each evaluation renders every scene.
+//!    The stage-1 node is kept unless a rendered frame beats it.
+
+use argmin::core::{CostFunction, Executor};
+use argmin::solver::neldermead::NelderMead;
+use std::cell::RefCell;
+
+use super::{error, frame_of, frames, Frame, MatchError, MatchSpace, MaterialValues, Side, Stage};
+use crate::error::Error;
+use crate::pipelines::DisplayTransform;
+use crate::render::Renderer;
+
+/// How hard a fit tries.
+#[derive(Debug, Clone, Copy)]
+pub struct FitOptions {
+    /// Smoothness steps of the stage-1 grid (0, 1/steps, …, 1, and the source's own value).
+    pub smoothness_steps: u32,
+    /// Rendered evaluations Nelder–Mead may take (0: stage 1 alone).
+    pub refine_iterations: u64,
+    /// On the linear image, the pipeline pair's exposure (`calibrate_exposure`) where it is
+    /// known; None fits one for the material with its values. Ignored on the displayed image.
+    pub exposure: Option<f64>,
+}
+
+impl Default for FitOptions {
+    fn default() -> Self {
+        FitOptions { smoothness_steps: 10, refine_iterations: 40, exposure: None }
+    }
+}
+
+/// The factor between two pipelines' linear frames of one material whose values carry over as
+/// they are (a Lambert-like reference): k = Σ w·T·S / Σ w·T² over the subject pixels, w =
+/// 1/(S² + 0.01), T the target's frames with the source's values. Fixing it before the materials
+/// are fitted keeps the units out of their colours: fitted with each material, an exposure and a
+/// colour trade against each other wherever the diffuse term dominates.
+pub fn calibrate_exposure(
+    renderer: &mut Renderer,
+    stage: &Stage,
+    reference: &MaterialValues,
+    source_frames: &[Frame],
+    target: &Side,
+) -> Result<f64, Error> {
+    let copied = frames(renderer, stage, target, reference)?;
+    let (mut num, mut den) = (0.0, 0.0);
+    for (s, t) in source_frames.iter().zip(&copied) {
+        for &i in &s.subject {
+            for c in 0..3 {
+                let (sv, tv) = (s.hdr[4 * i + c] as f64, t.hdr[4 * i + c] as f64);
+                let w = 1.0 / (sv * sv + 0.01);
+                num += w * tv * sv;
+                den += w * tv * tv;
+            }
+        }
+    }
+    if num > 0.0 && den > 0.0 {
+        Ok(num / den)
+    } else {
+        Err(Error::Other("the reference shows no light on its subject: no exposure to calibrate".into()))
+    }
+}
+
+/// A fitted material and what it leaves.
+#[derive(Debug, Clone, Copy)]
+pub struct Fit {
+    pub values: MaterialValues,
+    /// The factor on the target's linear frames (1 on the displayed image): the units and
+    /// exposure between the two pipelines as this material sees them.
+    pub exposure: f64,
+    /// The target with the source's values copied (Unity's material upgraders).
+    pub before: MatchError,
+    /// The target with the fitted values, rendered.
+    pub after: MatchError,
+    /// Frames rendered per scene: the grid's basis pairs, then the refinement's.
+    pub renders: u32,
+}
+
+/// The linear frame predicted for base colour `c` from the black and white frames.
+fn predicted(black: &Frame, white: &Frame, c: [f64; 3]) -> Vec<f32> {
+    black
+        .hdr
+        .iter()
+        .zip(&white.hdr)
+        .enumerate()
+        .map(|(i, (a, w))| if i % 4 == 3 { *a } else { (*a as f64 + (*w - *a) as f64 * c[i % 4]) as f32 })
+        .collect()
+}
+
+/// The weighted sums of the least squares over the subject pixels, w = 1/(S² + 0.01), B = W − A:
+/// per channel Σ w·A², Σ w·A·B, Σ w·B², Σ w·A·S, Σ w·B·S.
+fn moments(source: &[Frame], black: &[Frame], white: &[Frame]) -> [[f64; 5]; 3] {
+    let mut m = [[0.0; 5]; 3];
+    for ((s, a), w) in source.iter().zip(black).zip(white) {
+        for &i in &s.subject {
+            for (c, m) in m.iter_mut().enumerate() {
+                let k = 4 * i + c;
+                let (sv, av, bv) = (s.hdr[k] as f64, a.hdr[k] as f64, (w.hdr[k] - a.hdr[k]) as f64);
+                let weight = 1.0 / (sv * sv + 0.01);
+                for (acc, v) in m.iter_mut().zip([av * av, av * bv, bv * bv, av * sv, bv * sv]) {
+                    *acc += weight * v;
+                }
+            }
+        }
+    }
+    m
+}
+
+/// The base colour (in [0, 1]) and exposure whose predicted frames k·(A + B·c) are nearest
+/// `source` in relative MSE; the exposure is `fixed` where given.
+fn least_squares(source: &[Frame], black: &[Frame], white: &[Frame], fixed: Option<f64>) -> ([f64; 3], f64) {
+    let m = moments(source, black, white);
+    // With k fixed, each channel's c = (Σ w·B·S/k − Σ w·A·B)/Σ w·B².
+    let color_at =
+        |k: f64| m.map(|[_, ab, bb, _, bs]| if bb > 0.0 { ((bs / k - ab) / bb).clamp(0.0, 1.0) } else { 0.0 });
+    if let Some(k) = fixed {
+        return (color_at(k), k);
+    }
+    // Unknowns k and d = k·c: k·(Σ w·A² − Σ_c (Σ w·A·B)²/Σ w·B²) = Σ w·A·S − Σ_c Σ w·A·B·Σ w·B·S/Σ w·B².
+    let (mut lhs, mut rhs) = (0.0, 0.0);
+    for [aa, ab, bb, a_s, bs] in m {
+        lhs += aa - if bb > 0.0 { ab * ab / bb } else { 0.0 };
+        rhs += a_s - if bb > 0.0 { ab * bs / bb } else { 0.0 };
+    }
+    let k = if lhs > 0.0 && rhs > 0.0 { rhs / lhs } else { 1.0 };
+    let color = color_at(k);
+    // The colour clamped, k again for it: Σ w·P·S / Σ w·P² with P = A + B·c.
+    let (num, den) = m
+        .iter()
+        .zip(color)
+        .fold((0.0, 0.0), |(n, d), ([aa, ab, bb, a_s, bs], c)| (n + a_s + c * bs, d + aa + 2.0 * c * ab + c * c * bb));
+    (color, if num > 0.0 && den > 0.0 { num / den } else { k })
+}
+
+/// `frames` with their linear pixels × `k`, shown again through `displays`.
+fn exposed(frames: &[Frame], k: f64, size: u32, displays: &[DisplayTransform]) -> Vec<Frame> {
+    frames
+        .iter()
+        .zip(displays)
+        .map(|(f, d)| {
+            let hdr =
+                f.hdr.iter().enumerate().map(|(i, v)| if i % 4 == 3 { *v } else { (*v as f64 * k) as f32 }).collect();
+            frame_of(hdr, &subject_roles(f, size), size, d)
+        })
+        .collect()
+}
+
+/// The stage-1 grid's smoothness and metallic values, the source's own among them.
+fn grid(source: &MaterialValues, steps: u32) -> Vec<(f64, f64)> {
+    let mut smooth: Vec<f64> = (0..=steps).map(|k| k as f64 / steps.max(1) as f64).collect();
+    smooth.push(source.smoothness.clamp(0.0, 1.0));
+    let mut metal = vec![0.0, 1.0, source.metallic.clamp(0.0, 1.0)];
+    for v in [&mut smooth, &mut metal] {
+        v.sort_by(f64::total_cmp);
+        v.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
+    }
+    metal.iter().flat_map(|&m| smooth.iter().map(move |&s| (s, m))).collect()
+}
+
+/// The target's values that reproduce `source_frames` (rendered from `source` on `stage`).
+pub fn fit(
+    renderer: &mut Renderer,
+    stage: &Stage,
+    source: &MaterialValues,
+    source_frames: &[Frame],
+    target: &Side,
+    space: MatchSpace,
+    options: FitOptions,
+) -> Result<Fit, Error> {
+    let copied = frames(renderer, stage, target, source)?;
+    let before = error(source_frames, &copied, stage.size, space)?;
+    let displays: Vec<DisplayTransform> = stage
+        .scenes
+        .iter()
+        .map(|(scene, _)| DisplayTransform::new(target.pipeline, target.tonemap, &scene.hdrp))
+        .collect();
+    let fixed_exposure = match space {
+        MatchSpace::Display => Some(1.0),
+        MatchSpace::Linear => options.exposure,
+    };
+    let free_exposure = fixed_exposure.is_none();
+    let mut renders = 1;
+    let mut best: Option<(MaterialValues, f64, MatchError)> = None;
+    for (smoothness, metallic) in grid(source, options.smoothness_steps) {
+        let at = |color| MaterialValues { smoothness, metallic, color };
+        let black = frames(renderer, stage, target, &at([0.0; 3]))?;
+        let white = frames(renderer, stage, target, &at([1.0; 3]))?;
+        renders += 2;
+        let (color, k) = least_squares(source_frames, &black, &white, fixed_exposure);
+        let guess: Vec<Frame> = black
+            .iter()
+            .zip(&white)
+            .zip(&displays)
+            .map(|((a, w), d)| {
+                let hdr = predicted(a, w, color)
+                    .iter()
+                    .enumerate()
+                    .map(|(i, v)| if i % 4 == 3 { *v } else { (*v as f64 * k) as f32 })
+                    .collect();
+                frame_of(hdr, &subject_roles(a, stage.size), stage.size, d)
+            })
+            .collect();
+        let e = error(source_frames, &guess, stage.size, space)?;
+        if best.is_none_or(|(_, _, b)| e.flip < b.flip) {
+            best = Some((at(color), k, e));
+        }
+    }
+    let (start, start_k, _) = best.expect("the grid has nodes");
+    let rendered = exposed(&frames(renderer, stage, target, &start)?, start_k, stage.size, &displays);
+    let start_error = error(source_frames, &rendered, stage.size, space)?;
+    renders += 1;
+    let mut fitted = (start, start_k, start_error);
+    if options.refine_iterations > 0 && start_error.flip > 0.0 {
+        let (best, refined) = (RefCell::new(fitted), RefCell::new(0));
+        let problem = Refine {
+            renderer: RefCell::new(renderer),
+            stage,
+            target,
+            source_frames,
+            space,
+            start,
+            start_exposure: start_k,
+            free_exposure,
+            displays: &displays,
+            best: &best,
+            renders: &refined,
+        };
+        let solver = NelderMead::new(simplex_around(if free_exposure { 6 } else { 5 }))
+            .with_sd_tolerance(1e-4)
+            .map_err(|e| Error::Other(format!("setting up the refinement: {e}")))?;
+        Executor::new(problem, solver)
+            .configure(|state| state.max_iters(options.refine_iterations))
+            .run()
+            .map_err(|e| Error::Other(format!("refining a match: {e}")))?;
+        fitted = best.into_inner();
+        renders += refined.into_inner();
+    }
+    Ok(Fit { values: fitted.0, exposure: fitted.1, before, after: fitted.2, renders })
+}
+
+/// The roles a predicted frame keeps: its black basis frame's subject.
+fn subject_roles(frame: &Frame, size: u32) -> Vec<u8> {
+    let mut roles = vec![0u8; (size * size) as usize];
+    for &i in &frame.subject {
+        roles[i] = crate::render::uniforms::ROLE_SUBJECT;
+    }
+    roles
+}
+
+/// The refinement's start: the stage-1 node (all zeros) and a step along each of its `n`
+/// parameters (smoothness and metallic by 0.05, each colour channel and the exposure by a factor
+/// e^0.2).
+fn simplex_around(n: usize) -> Vec<Vec<f64>> {
+    let steps = [0.05, 0.05, 0.2, 0.2, 0.2, 0.2];
+    let mut simplex = vec![vec![0.0; n]];
+    for (k, step) in steps.iter().take(n).enumerate() {
+        let mut v = vec![0.0; n];
+        v[k] = *step;
+        simplex.push(v);
+    }
+    simplex
+}
+
+/// The refinement's cost: the error of the rendered frames of the values a parameter vector
+/// names, offsets from the stage-1 node (smoothness, metallic) and log factors of its colour and
+/// (on the linear image) its exposure.
+struct Refine<'a, 'r> {
+    renderer: RefCell<&'r mut Renderer>,
+    stage: &'a Stage,
+    target: &'a Side<'a>,
+    source_frames: &'a [Frame],
+    space: MatchSpace,
+    start: MaterialValues,
+    start_exposure: f64,
+    free_exposure: bool,
+    displays: &'a [DisplayTransform],
+    /// The best values rendered so far: Nelder–Mead's own best is a parameter vector, and
+    /// every evaluation's frames are already judged here.
+    best: &'a RefCell<(MaterialValues, f64, MatchError)>,
+    renders: &'a RefCell<u32>,
+}
+
+impl Refine<'_, '_> {
+    fn values(&self, p: &[f64]) -> MaterialValues {
+        let s = &self.start;
+        MaterialValues {
+            smoothness: (s.smoothness + p[0]).clamp(0.0, 1.0),
+            metallic: (s.metallic + p[1]).clamp(0.0, 1.0),
+            color: [0, 1, 2].map(|c| (s.color[c] * p[2 + c].exp()).clamp(0.0, 1.0)),
+        }
+    }
+}
+
+impl CostFunction for Refine<'_, '_> {
+    type Param = Vec<f64>;
+    type Output = f64;
+
+    fn cost(&self, p: &Self::Param) -> Result<f64, argmin::core::Error> {
+        let values = self.values(p);
+        let k = if self.free_exposure { self.start_exposure * p[5].exp() } else { self.start_exposure };
+        let mut renderer = self.renderer.borrow_mut();
+        let rendered = frames(&mut renderer, self.stage, self.target, &values)?;
+        *self.renders.borrow_mut() += 1;
+        let rendered = exposed(&rendered, k, self.stage.size, self.displays);
+        let e = error(self.source_frames, &rendered, self.stage.size, self.space)?;
+        let mut best = self.best.borrow_mut();
+        if e.flip < best.2.flip {
+            *best = (values, k, e);
+        }
+        Ok(e.flip)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_grid_holds_the_source_values_once() {
+        let source = MaterialValues { smoothness: 0.75, metallic: 0.0, color: [0.2; 3] };
+        let g = grid(&source, 10);
+        assert_eq!(g.len(), 12 * 2);
+        assert!(g.contains(&(0.75, 0.0)) && g.contains(&(1.0, 1.0)));
+    }
+
+    #[test]
+    fn least_squares_recovers_an_affine_colour() {
+        // Two pixels: the exposure and three colours are four unknowns, one pixel gives three.
+        let frame = |hdr: Vec<f32>| Frame { hdr, srgb8: vec![], subject: vec![0, 1] };
+        let a = frame(vec![0.1, 0.2, 0.0, 1.0, 0.3, 0.05, 0.2, 1.0]);
+        let w = frame(vec![0.5, 1.2, 0.4, 1.0, 0.9, 0.6, 0.7, 1.0]);
+        let c = [0.3, 0.6, 0.9];
+        let s = frame(predicted(&a, &w, c));
+        let (got, k) =
+            least_squares(std::slice::from_ref(&s), std::slice::from_ref(&a), std::slice::from_ref(&w), Some(1.0));
+        assert_eq!(k, 1.0);
+        for i in 0..3 {
+            assert!((got[i] - c[i]).abs() < 1e-6, "{got:?}");
+        }
+        // The same frame a thousand times dimmer: the exposure takes the factor, the colour stays.
+        let dim = frame(s.hdr.iter().map(|v| v * 1e-3).collect());
+        let (got, k) = least_squares(&[dim], &[a], &[w], None);
+        assert!((k * 1e3 - 1.0).abs() < 1e-6, "{k}");
+        for i in 0..3 {
+            assert!((got[i] - c[i]).abs() < 1e-6, "{got:?}");
+        }
+    }
+}

@@ -1,0 +1,98 @@
+//! Carrying a material's look across pipelines (`remap`): a model matched to itself gives back its
+//! own values, and URP Lit matched to HDRP Lit on a Lambert-like material in linear light gives
+//! back the units between them.
+
+use shadematrix::declarations::scene::Scene;
+use shadematrix::gpu::GpuContext;
+use shadematrix::pipelines::settings::HdrpLightUnit;
+use shadematrix::pipelines::{Pipeline, Tonemap};
+use shadematrix::plan::cell::CellSettings;
+use shadematrix::remap::fit::{calibrate_exposure, fit, FitOptions};
+use shadematrix::remap::{frames, MatchSpace, MaterialValues, Side, Stage};
+use shadematrix::render::Renderer;
+
+fn stage(renderer: &mut Renderer, size: u32) -> Stage {
+    let mut scene = Scene::load("default", None, "test", "composition").unwrap();
+    // Bloom spreads the subject's light over its neighbours; the match reads the subject alone.
+    scene.hdrp.bloom = false;
+    let prepared = renderer.prepare_scene(&scene).unwrap();
+    Stage { scenes: vec![(scene, prepared)], light_intensity: 2.0, light_range: 10.0, size }
+}
+
+fn side(pipeline: Pipeline, tonemap: Tonemap, settings: CellSettings) -> Side<'static> {
+    Side { pipeline, model: crate::common::find_model(pipeline, "lit").unwrap(), tonemap, settings }
+}
+
+#[test]
+fn a_model_matched_to_itself_keeps_its_values() {
+    let _timer = crate::common::timed!();
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let stage = stage(&mut renderer, 48);
+    let urp = side(Pipeline::Urp, Tonemap::None, CellSettings::default());
+    let plastic = MaterialValues { smoothness: 0.75, metallic: 0.0, color: [0.284, 0.284, 0.284] };
+    let source = frames(&mut renderer, &stage, &urp, &plastic).unwrap();
+    let options = FitOptions { smoothness_steps: 4, refine_iterations: 0, exposure: None };
+    let f = fit(&mut renderer, &stage, &plastic, &source, &urp, MatchSpace::Display, options).unwrap();
+    eprintln!("identity: {:?}, before {:?}, after {:?}", f.values, f.before, f.after);
+    assert_eq!(f.before.flip, 0.0);
+    assert!(f.after.flip < 1e-3, "{:?}", f.after);
+    assert!((f.values.smoothness - 0.75).abs() < 1e-9 && f.values.metallic == 0.0, "{:?}", f.values);
+    for c in f.values.color {
+        assert!((c - 0.284).abs() < 2e-3, "{:?}", f.values);
+    }
+}
+
+#[test]
+fn urp_lit_carried_to_hdrp_lit_in_linear_light_takes_the_units_ratio() {
+    let _timer = crate::common::timed!();
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let stage = stage(&mut renderer, 48);
+    let urp = side(Pipeline::Urp, Tonemap::None, CellSettings::default());
+    // HDRP reading URP's intensities as they are meant (π·I × 10⁴ candela, the sky × 10⁴): its
+    // linear radiance is URP's × 10⁴ wherever both shade alike, so on the linear image a
+    // Lambert-like material calibrates the pair's exposure to 10⁻⁴, and with it the material's
+    // fitted colour stays near its own.
+    let mut settings = CellSettings::default();
+    settings.engine.hdrp.light_unit = HdrpLightUnit::Unity;
+    let hdrp = side(Pipeline::Hdrp, Tonemap::Aces, settings);
+    let matte = MaterialValues { smoothness: 0.0, metallic: 0.0, color: [0.5, 0.4, 0.3] };
+    let source = frames(&mut renderer, &stage, &urp, &matte).unwrap();
+    let k = calibrate_exposure(&mut renderer, &stage, &matte, &source, &hdrp).unwrap();
+    let options = FitOptions { smoothness_steps: 4, refine_iterations: 0, exposure: Some(k) };
+    let f = fit(&mut renderer, &stage, &matte, &source, &hdrp, MatchSpace::Linear, options).unwrap();
+    eprintln!("URP → HDRP linear: exposure {k:.4e}; {:?}, before {:?}, after {:?}", f.values, f.before, f.after);
+    // Measured 8.70e-5: HDRP's Lit is no Lambert at smoothness 0 (Disney diffuse, a
+    // multiple-scattering GGX lobe on F0 0.04) and its sky lights 4 % more than URP's.
+    assert!((k * 1e4 - 1.0).abs() < 0.2, "exposure {k} against 1e-4");
+    assert_eq!(f.exposure, k);
+    for c in 0..3 {
+        assert!((f.values.color[c] / matte.color[c] - 1.0).abs() < 0.15, "{:?}", f.values);
+    }
+    assert!(f.after.rel_mse < 1e-3 * f.before.rel_mse, "{:?} against {:?}", f.after, f.before);
+}
+
+#[test]
+fn the_refinement_on_rendered_frames_never_ends_worse_than_its_start() {
+    let _timer = crate::common::timed!();
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let stage = stage(&mut renderer, 32);
+    let builtin = Side {
+        pipeline: Pipeline::Builtin,
+        model: crate::common::find_model(Pipeline::Builtin, "standard").unwrap(),
+        tonemap: Tonemap::None,
+        settings: CellSettings::default(),
+    };
+    let urp = side(Pipeline::Urp, Tonemap::None, CellSettings::default());
+    let gold = MaterialValues { smoothness: 0.9, metallic: 1.0, color: [1.0, 0.766, 0.336] };
+    let source = frames(&mut renderer, &stage, &builtin, &gold).unwrap();
+    let coarse = FitOptions { smoothness_steps: 2, refine_iterations: 0, exposure: None };
+    let start = fit(&mut renderer, &stage, &gold, &source, &urp, MatchSpace::Display, coarse).unwrap();
+    let refined = FitOptions { refine_iterations: 12, ..coarse };
+    let f = fit(&mut renderer, &stage, &gold, &source, &urp, MatchSpace::Display, refined).unwrap();
+    eprintln!(
+        "built-in Standard → URP Lit gold: copied {:.4}, grid {:.4}, refined {:.4} ({:?}, {} renders)",
+        f.before.flip, start.after.flip, f.after.flip, f.values, f.renders
+    );
+    assert!(f.after.flip <= start.after.flip && f.renders > start.renders, "{f:?} against {start:?}");
+    assert!(f.after.flip <= f.before.flip, "{f:?}");
+}
