@@ -7,6 +7,7 @@ pub mod brdf;
 pub mod diff;
 pub mod export_mesh;
 pub mod list;
+pub mod matching;
 pub mod runs;
 pub mod shaders;
 
@@ -178,6 +179,34 @@ pub enum Command {
         #[arg(long)]
         quick: bool,
     },
+    /// For each material a matrix sweeps in one pipeline/shader, the values of another that
+    /// reproduce its frames over every composition: tables/match.md|csv|json under --out.
+    Match {
+        /// The source, PIPELINE/SHADER (e.g. builtin/standard).
+        #[arg(long)]
+        from: String,
+        /// The target, PIPELINE/SHADER (e.g. urp/lit).
+        #[arg(long)]
+        to: String,
+        /// Matrix TOML file (default: the embedded default matrix): its compositions, presets and
+        /// sliders in the source.
+        matrix: Option<PathBuf>,
+        /// Output folder.
+        #[arg(long, default_value = "results/match")]
+        out: PathBuf,
+        /// The image compared: `display` (after exposure and tonemapping, what a person sees) or
+        /// `linear` (the radiance, the target's exposure calibrated on a matte grey).
+        #[arg(long, default_value = "display")]
+        space: String,
+        /// Side of the square frames fitted, pixels.
+        #[arg(long, default_value_t = 64)]
+        size: u32,
+        /// Rendered evaluations the refinement may take per material (0: the closed-form stage alone).
+        #[arg(long, default_value_t = 40)]
+        iterations: u64,
+        #[command(flatten)]
+        models: ModelsArg,
+    },
     /// FLIP and SSIM (and RMSE, PSNR, bad-value counts) of two PNGs or two EXRs; A is the reference.
     Diff {
         a: PathBuf,
@@ -296,6 +325,10 @@ pub fn dispatch(cmd: Command) -> Result<(), Error> {
         }
         Command::Audit { shader, json, out, models } => audit::audit(shader.as_deref(), json, out, &models),
         Command::Convergence { out, quick } => audit::convergence(out, quick),
+        Command::Match { from, to, matrix, out, space, size, iterations, models } => {
+            let req = matching::MatchRequest { from, to, matrix, out, space, size, iterations };
+            matching::run_match(&req, &models)
+        }
         Command::Diff { a, b, json, out, per_channel } => diff::diff(&a, &b, json, out.as_deref(), per_channel),
         Command::Check { run, baseline, flip_mean, ssim_min } => {
             runs::check(&run, baseline.as_deref(), flip_mean, ssim_min)

@@ -7,6 +7,7 @@
 //! material, so counting it would only dilute the difference.
 
 pub mod fit;
+pub mod table;
 
 use serde::{Deserialize, Serialize};
 

@@ -96,3 +96,35 @@ fn the_refinement_on_rendered_frames_never_ends_worse_than_its_start() {
     assert!(f.after.flip <= start.after.flip && f.renders > start.renders, "{f:?} against {start:?}");
     assert!(f.after.flip <= f.before.flip, "{f:?}");
 }
+
+#[test]
+fn the_match_command_writes_its_tables_and_refuses_a_mistyped_side() {
+    let _timer = crate::common::timed!();
+    let tmp = tempfile::tempdir().unwrap();
+    let body = "name = \"m\"\ncompositions = [\"default\"]\npipelines = [\"builtin\"]\nshaders = [\"standard\"]\n\
+        presets = [\"plastic\"]\n[sweep]\nsmoothness = [0.2, 0.8]\n";
+    let matrix = crate::common::write_matrix(tmp.path(), "m", body);
+    let m = matrix.to_str().unwrap();
+    let out = tmp.path().join("out");
+    let o = out.to_str().unwrap();
+    let args = ["match", "--from", "builtin/standard", "--to", "urp/lit", m, "--out", o, "--size", "24"];
+    let (code, _, err) = crate::common::shadematrix(tmp.path(), &[&args[..], &["--iterations", "3"]].concat(), &[]);
+    assert_eq!(code, 0, "{err}");
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("tables/match.json")).unwrap()).unwrap();
+    assert_eq!(json["schema"], 1);
+    let rows = json["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), 2, "one row per swept smoothness");
+    for r in rows {
+        let (copied, fitted) =
+            (r["copied_error"]["flip"].as_f64().unwrap(), r["fitted_error"]["flip"].as_f64().unwrap());
+        assert!(fitted <= copied, "{r}");
+    }
+    let csv = std::fs::read_to_string(out.join("tables/match.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 3, "{csv}");
+    assert!(std::fs::read_to_string(out.join("tables/match.md")).unwrap().contains("| plastic | 0.200 |"));
+    let bad = ["match", "--from", "builtin/standrd", "--to", "urp/lit", m, "--out", o];
+    let (code, _, err) = crate::common::shadematrix(tmp.path(), &bad, &[]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--from") && err.contains("did you mean `standard`?"), "{err}");
+}

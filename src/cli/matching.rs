@@ -1,0 +1,147 @@
+//! `shadematrix match --from PIPELINE/SHADER --to PIPELINE/SHADER [MATRIX]`: for each material the
+//! matrix sweeps in the source, the target's values that reproduce its frames over every
+//! composition at once (`remap::fit`), into `tables/match.md|csv|json`.
+
+use std::path::{Path, PathBuf};
+
+use crate::error::{Error, InputError};
+use crate::fsutil::write_atomic;
+use crate::input::names::unknown_name;
+use crate::pipelines::Pipeline;
+use crate::remap::fit::{calibrate_exposure, fit, FitOptions};
+use crate::remap::table::{MatchRecord, MatchRow, MATCH_SCHEMA};
+use crate::remap::{frames, MatchSpace, MaterialValues, Side, Stage};
+use crate::render::Renderer;
+use crate::shading::registry::Registry;
+
+const ORIGIN: &str = "command line";
+
+pub struct MatchRequest {
+    pub from: String,
+    pub to: String,
+    pub matrix: Option<PathBuf>,
+    pub out: PathBuf,
+    pub space: String,
+    pub size: u32,
+    pub iterations: u64,
+}
+
+/// `PIPELINE/SHADER` as `key` names it, resolved among the registry's models.
+fn side_of<'r>(
+    key: &str,
+    text: &str,
+    registry: &'r Registry,
+) -> Result<(Pipeline, &'r crate::shading::ShaderModel), Error> {
+    let (p, s) = text
+        .split_once('/')
+        .ok_or_else(|| InputError::at_key(ORIGIN, key, format!("`{text}` is not PIPELINE/SHADER (e.g. urp/lit)")))?;
+    let pipeline =
+        Pipeline::from_name(p).ok_or_else(|| unknown_name(ORIGIN, key, "pipeline", p, &Pipeline::names()))?;
+    let model = registry.find(pipeline, s).ok_or_else(|| {
+        unknown_name(ORIGIN, key, &format!("{} shader", pipeline.name()), s, &registry.names_for(pipeline))
+    })?;
+    Ok((pipeline, &**model))
+}
+
+pub fn run_match(req: &MatchRequest, models: &super::ModelsArg) -> Result<(), Error> {
+    let registry = super::registry_for(models, req.matrix.as_deref())?;
+    let space = match req.space.as_str() {
+        "display" => MatchSpace::Display,
+        "linear" => MatchSpace::Linear,
+        other => return Err(unknown_name(ORIGIN, "--space", "space", other, &["display", "linear"]).into()),
+    };
+    if !(16..=1024).contains(&req.size) {
+        return Err(InputError::at_key(ORIGIN, "--size", format!("{}: allowed 16..=1024", req.size)).into());
+    }
+    let (from_pipeline, from_model) = side_of("--from", &req.from, &registry)?;
+    let (to_pipeline, to_model) = side_of("--to", &req.to, &registry)?;
+    let matrix = super::load_matrix(req.matrix.as_deref(), registry.clone())?;
+    let expansion = crate::cells::expand(&matrix);
+    // The source's materials: one per distinct preset and slider values among the matrix's cells
+    // of the source pipeline and shader, in the matrix's order.
+    let mut materials: Vec<(String, MaterialValues)> = Vec::new();
+    let mut light = None;
+    for cell in expansion.cells.iter().filter(|c| c.pipeline == from_pipeline && c.shader == from_model.name) {
+        let m = &cell.material;
+        let values = MaterialValues { smoothness: m.smoothness, metallic: m.metallic, color: m.base_color_linear };
+        light.get_or_insert((cell.light_intensity, cell.light_range));
+        if !materials.iter().any(|(p, v)| *p == cell.preset && *v == values) {
+            materials.push((cell.preset.clone(), values));
+        }
+    }
+    let Some((light_intensity, light_range)) = light else {
+        let shown = req.matrix.as_ref().map_or("the default matrix".to_string(), |p| p.display().to_string());
+        let why = format!("no cell of {} to match: the matrix renders none", req.from);
+        return Err(InputError::at_key(shown, "pipelines/shaders", why).into());
+    };
+    let gpu = crate::gpu::GpuContext::new()?;
+    let adapter = gpu.record.name.clone();
+    let mut renderer = Renderer::new(gpu);
+    let mut scenes = Vec::new();
+    for scene in &matrix.compositions {
+        let prepared = renderer.prepare_scene(scene)?;
+        scenes.push((scene.clone(), prepared));
+    }
+    let stage = Stage { scenes, light_intensity, light_range, size: req.size };
+    let source_side =
+        |p, model| Side { pipeline: p, model, tonemap: matrix.tonemap_for(p), settings: Default::default() };
+    let source = source_side(from_pipeline, from_model);
+    let target = source_side(to_pipeline, to_model);
+    let exposure = match space {
+        MatchSpace::Display => 1.0,
+        MatchSpace::Linear => {
+            let grey = MaterialValues { smoothness: 0.0, metallic: 0.0, color: [0.5; 3] };
+            let source_frames = frames(&mut renderer, &stage, &source, &grey)?;
+            calibrate_exposure(&mut renderer, &stage, &grey, &source_frames, &target)?
+        }
+    };
+    let options = FitOptions { refine_iterations: req.iterations, exposure: Some(exposure), ..Default::default() };
+    let mut rows = Vec::new();
+    for (i, (preset, values)) in materials.iter().enumerate() {
+        let source_frames = frames(&mut renderer, &stage, &source, values)?;
+        let f = fit(&mut renderer, &stage, values, &source_frames, &target, space, options)?;
+        eprintln!(
+            "[{}/{}] {preset} s {:.2} m {:.2}: FLIP {:.4} copied, {:.4} fitted (s {:.3} m {:.3})",
+            i + 1,
+            materials.len(),
+            values.smoothness,
+            values.metallic,
+            f.before.flip,
+            f.after.flip,
+            f.values.smoothness,
+            f.values.metallic
+        );
+        rows.push(MatchRow {
+            preset: preset.clone(),
+            source: *values,
+            fitted: f.values,
+            copied_error: f.before,
+            fitted_error: f.after,
+            renders: f.renders,
+        });
+    }
+    let record = MatchRecord {
+        schema: MATCH_SCHEMA,
+        from: req.from.clone(),
+        to: req.to.clone(),
+        space,
+        compositions: matrix.compositions.iter().map(|s| s.name.clone()).collect(),
+        size: req.size,
+        exposure,
+        adapter,
+        rows,
+    };
+    write_tables(&req.out, &record)
+}
+
+/// The record and its tables into `out/tables`; JSON last, so a complete JSON means a complete set.
+fn write_tables(out: &Path, record: &MatchRecord) -> Result<(), Error> {
+    let tables = out.join("tables");
+    write_atomic(&tables.join("match.md"), record.markdown().as_bytes())?;
+    write_atomic(&tables.join("match.csv"), record.csv().as_bytes())?;
+    let json = serde_json::to_vec_pretty(record)
+        .map_err(|e| Error::Encode { what: "match.json".into(), source: Box::new(e) })?;
+    write_atomic(&tables.join("match.json"), &json)?;
+    eprintln!("match: {}", tables.display());
+    Ok(())
+}
