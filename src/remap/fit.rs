@@ -59,8 +59,14 @@ pub fn calibrate_exposure(
     target: &Side,
 ) -> Result<f64, Error> {
     let copied = frames(renderer, stage, target, reference)?;
+    scale_between(source_frames, &copied)
+        .ok_or_else(|| Error::Other("the reference shows no light on its subject: no exposure to calibrate".into()))
+}
+
+/// The factor k nearest to taking `target`'s subject pixels to `source`'s in relative MSE.
+fn scale_between(source: &[Frame], target: &[Frame]) -> Option<f64> {
     let (mut num, mut den) = (0.0, 0.0);
-    for (s, t) in source_frames.iter().zip(&copied) {
+    for (s, t) in source.iter().zip(target) {
         for &i in &s.subject {
             for c in 0..3 {
                 let (sv, tv) = (s.hdr[4 * i + c] as f64, t.hdr[4 * i + c] as f64);
@@ -70,12 +76,13 @@ pub fn calibrate_exposure(
             }
         }
     }
-    if num > 0.0 && den > 0.0 {
-        Ok(num / den)
-    } else {
-        Err(Error::Other("the reference shows no light on its subject: no exposure to calibrate".into()))
-    }
+    (num > 0.0 && den > 0.0).then(|| num / den)
 }
+
+/// Stage-1 nodes rendered before the refinement picks its start: the prediction is exact only
+/// where a model is affine in its colour (HDRP's energy compensation is not; a probe that sees the
+/// subject is not).
+const RENDERED_NODES: usize = 3;
 
 /// A fitted material and what it leaves.
 #[derive(Debug, Clone, Copy)]
@@ -196,7 +203,7 @@ pub fn fit(
     };
     let free_exposure = fixed_exposure.is_none();
     let mut renders = 1;
-    let mut best: Option<(MaterialValues, f64, MatchError)> = None;
+    let mut nodes: Vec<(MaterialValues, f64, f64)> = Vec::new();
     for (smoothness, metallic) in grid(source, options.smoothness_steps) {
         let at = |color| MaterialValues { smoothness, metallic, color };
         let black = frames(renderer, stage, target, &at([0.0; 3]))?;
@@ -216,15 +223,26 @@ pub fn fit(
                 frame_of(hdr, &subject_roles(a, stage.size), stage.size, d)
             })
             .collect();
-        let e = error(source_frames, &guess, stage.size, space)?;
-        if best.is_none_or(|(_, _, b)| e.flip < b.flip) {
-            best = Some((at(color), k, e));
+        nodes.push((at(color), k, error(source_frames, &guess, stage.size, space)?.flip));
+    }
+    nodes.sort_by(|a, b| a.2.total_cmp(&b.2));
+    // The start: the best rendered of the copied values (so a fit never ends worse than copying)
+    // and the best predicted nodes.
+    let copied_k = fixed_exposure.or_else(|| scale_between(source_frames, &copied)).unwrap_or(1.0);
+    let mut start = (
+        *source,
+        copied_k,
+        error(source_frames, &exposed(&copied, copied_k, stage.size, &displays), stage.size, space)?,
+    );
+    for (values, k, _) in nodes.into_iter().take(RENDERED_NODES) {
+        let rendered = exposed(&frames(renderer, stage, target, &values)?, k, stage.size, &displays);
+        renders += 1;
+        let e = error(source_frames, &rendered, stage.size, space)?;
+        if e.flip < start.2.flip {
+            start = (values, k, e);
         }
     }
-    let (start, start_k, _) = best.expect("the grid has nodes");
-    let rendered = exposed(&frames(renderer, stage, target, &start)?, start_k, stage.size, &displays);
-    let start_error = error(source_frames, &rendered, stage.size, space)?;
-    renders += 1;
+    let (start, start_k, start_error) = start;
     let mut fitted = (start, start_k, start_error);
     if options.refine_iterations > 0 && start_error.flip > 0.0 {
         let (best, refined) = (RefCell::new(fitted), RefCell::new(0));
