@@ -23,7 +23,7 @@ use argmin::core::{CostFunction, Executor};
 use argmin::solver::neldermead::NelderMead;
 use std::cell::RefCell;
 
-use super::{error, frame_of, frames, Frame, MatchError, MatchSpace, MaterialValues, Side, Stage};
+use super::{error, frames, Frame, MatchError, MatchSpace, MaterialValues, Side, Stage};
 use crate::error::Error;
 use crate::pipelines::DisplayTransform;
 use crate::render::Renderer;
@@ -157,15 +157,12 @@ fn least_squares(source: &[Frame], black: &[Frame], white: &[Frame], fixed: Opti
 
 /// `frames` with their linear pixels × `k`, shown again through `displays`.
 fn exposed(frames: &[Frame], k: f64, size: u32, displays: &[DisplayTransform]) -> Vec<Frame> {
-    frames
-        .iter()
-        .zip(displays)
-        .map(|(f, d)| {
-            let hdr =
-                f.hdr.iter().enumerate().map(|(i, v)| if i % 4 == 3 { *v } else { (*v as f64 * k) as f32 }).collect();
-            frame_of(hdr, &subject_roles(f, size), size, d)
-        })
-        .collect()
+    frames.iter().zip(displays).map(|(f, d)| f.with_pixels(scaled(&f.hdr, k), size, d)).collect()
+}
+
+/// Linear RGBA × `k`, alpha kept.
+fn scaled(hdr: &[f32], k: f64) -> Vec<f32> {
+    hdr.iter().enumerate().map(|(i, v)| if i % 4 == 3 { *v } else { (*v as f64 * k) as f32 }).collect()
 }
 
 /// The stage-1 grid's smoothness and metallic values, the source's own among them.
@@ -214,14 +211,7 @@ pub fn fit(
             .iter()
             .zip(&white)
             .zip(&displays)
-            .map(|((a, w), d)| {
-                let hdr = predicted(a, w, color)
-                    .iter()
-                    .enumerate()
-                    .map(|(i, v)| if i % 4 == 3 { *v } else { (*v as f64 * k) as f32 })
-                    .collect();
-                frame_of(hdr, &subject_roles(a, stage.size), stage.size, d)
-            })
+            .map(|((a, w), d)| a.with_pixels(scaled(&predicted(a, w, color), k), stage.size, d))
             .collect();
         nodes.push((at(color), k, error(source_frames, &guess, stage.size, space)?.flip));
     }
@@ -270,15 +260,6 @@ pub fn fit(
         renders += refined.into_inner();
     }
     Ok(Fit { values: fitted.0, exposure: fitted.1, before, after: fitted.2, renders })
-}
-
-/// The roles a predicted frame keeps: its black basis frame's subject.
-fn subject_roles(frame: &Frame, size: u32) -> Vec<u8> {
-    let mut roles = vec![0u8; (size * size) as usize];
-    for &i in &frame.subject {
-        roles[i] = crate::render::uniforms::ROLE_SUBJECT;
-    }
-    roles
 }
 
 /// The refinement's start: the stage-1 node (all zeros) and a step along each of its `n`

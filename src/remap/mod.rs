@@ -119,6 +119,14 @@ pub fn frame_of(hdr: Vec<f32>, roles: &[u8], size: u32, display: &DisplayTransfo
     Frame { hdr, srgb8, subject }
 }
 
+impl Frame {
+    /// Other linear pixels of the same scene (a prediction, an exposure), shown through `display`.
+    pub fn with_pixels(&self, hdr: Vec<f32>, size: u32, display: &DisplayTransform) -> Frame {
+        let (srgb8, _) = to_srgb8(&hdr, size, size, display);
+        Frame { hdr, srgb8, subject: self.subject.clone() }
+    }
+}
+
 /// How far a target's frames are from the source's, over the subject's pixels of every scene.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct MatchError {
