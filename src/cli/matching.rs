@@ -8,7 +8,8 @@ use crate::error::{Error, InputError};
 use crate::fsutil::write_atomic;
 use crate::input::names::unknown_name;
 use crate::pipelines::Pipeline;
-use crate::remap::fit::{calibrate_exposure, fit, FitOptions};
+use crate::remap::fit::{calibrate_exposure, fit, BasisCache, FitOptions, ParamAxis};
+use crate::remap::sheet::{write_frames, write_sheets};
 use crate::remap::table::{MatchRecord, MatchRow, MATCH_SCHEMA};
 use crate::remap::{frames, MatchSpace, MaterialValues, Side, Stage};
 use crate::render::Renderer;
@@ -63,7 +64,12 @@ pub fn run_match(req: &MatchRequest, models: &super::ModelsArg) -> Result<(), Er
     let mut light = None;
     for cell in expansion.cells.iter().filter(|c| c.pipeline == from_pipeline && c.shader == from_model.name) {
         let m = &cell.material;
-        let values = MaterialValues { smoothness: m.smoothness, metallic: m.metallic, color: m.base_color_linear };
+        let values = MaterialValues {
+            smoothness: m.smoothness,
+            metallic: m.metallic,
+            color: m.base_color_linear,
+            params: cell.coords.params.clone(),
+        };
         light.get_or_insert((cell.light_intensity, cell.light_range));
         if !materials.iter().any(|(p, v)| *p == cell.preset && *v == values) {
             materials.push((cell.preset.clone(), values));
@@ -90,16 +96,23 @@ pub fn run_match(req: &MatchRequest, models: &super::ModelsArg) -> Result<(), Er
     let exposure = match space {
         MatchSpace::Display => 1.0,
         MatchSpace::Linear => {
-            let grey = MaterialValues { smoothness: 0.0, metallic: 0.0, color: [0.5; 3] };
+            let grey = MaterialValues::new(0.0, 0.0, [0.5; 3]);
             let source_frames = frames(&mut renderer, &stage, &source, &grey)?;
             calibrate_exposure(&mut renderer, &stage, &grey, &source_frames, &target)?
         }
     };
-    let options = FitOptions { refine_iterations: req.iterations, exposure: Some(exposure), ..Default::default() };
+    let options = FitOptions {
+        refine_iterations: req.iterations,
+        exposure: Some(exposure),
+        params: ParamAxis::swept(to_model, &matrix.sweep.params),
+        ..Default::default()
+    };
+    let compositions: Vec<String> = matrix.compositions.iter().map(|s| s.name.clone()).collect();
+    let mut cache = BasisCache::default();
     let mut rows = Vec::new();
     for (i, (preset, values)) in materials.iter().enumerate() {
         let source_frames = frames(&mut renderer, &stage, &source, values)?;
-        let f = fit(&mut renderer, &stage, values, &source_frames, &target, space, options)?;
+        let f = fit(&mut renderer, &stage, values, &source_frames, &target, space, &options, &mut cache)?;
         eprintln!(
             "[{}/{}] {preset} s {:.2} m {:.2}: FLIP {:.4} copied, {:.4} fitted (s {:.3} m {:.3})",
             i + 1,
@@ -111,13 +124,15 @@ pub fn run_match(req: &MatchRequest, models: &super::ModelsArg) -> Result<(), Er
             f.values.smoothness,
             f.values.metallic
         );
+        let frames = write_frames(&req.out, i, &compositions, req.size, &source_frames, &f.frames)?;
         rows.push(MatchRow {
             preset: preset.clone(),
-            source: *values,
+            source: values.clone(),
             fitted: f.values,
             copied_error: f.before,
             fitted_error: f.after,
             renders: f.renders,
+            frames,
         });
     }
     let record = MatchRecord {
@@ -125,7 +140,7 @@ pub fn run_match(req: &MatchRequest, models: &super::ModelsArg) -> Result<(), Er
         from: req.from.clone(),
         to: req.to.clone(),
         space,
-        compositions: matrix.compositions.iter().map(|s| s.name.clone()).collect(),
+        compositions,
         size: req.size,
         exposure,
         adapter,
@@ -134,14 +149,19 @@ pub fn run_match(req: &MatchRequest, models: &super::ModelsArg) -> Result<(), Er
     write_tables(&req.out, &record)
 }
 
-/// The record and its tables into `out/tables`; JSON last, so a complete JSON means a complete set.
+/// The record and its tables into `out/tables`, the sheets, the curves and the page; JSON last, so
+/// a complete JSON means a complete set.
 fn write_tables(out: &Path, record: &MatchRecord) -> Result<(), Error> {
+    let sheets = write_sheets(out, record)?;
+    let plot = "plots/smoothness.svg";
+    write_atomic(&out.join(plot), crate::remap::plot::svg(record)?.as_bytes())?;
+    write_atomic(&out.join("index.html"), crate::remap::page::html(record, plot, &sheets)?.as_bytes())?;
     let tables = out.join("tables");
     write_atomic(&tables.join("match.md"), record.markdown().as_bytes())?;
     write_atomic(&tables.join("match.csv"), record.csv().as_bytes())?;
     let json = serde_json::to_vec_pretty(record)
         .map_err(|e| Error::Encode { what: "match.json".into(), source: Box::new(e) })?;
     write_atomic(&tables.join("match.json"), &json)?;
-    eprintln!("match: {}", tables.display());
+    eprintln!("match: {} (tables/, sheets/, plots/, frames/)", out.join("index.html").display());
     Ok(())
 }

@@ -18,18 +18,57 @@
 //!    no gradient, which a frame's FLIP does not give, tolerates the plateaus a clamped slider
 //!    makes, and takes few evaluations in five dimensions; each evaluation renders every scene.
 //!    The stage-1 node is kept unless a rendered frame beats it.
+//!
+//! A model's own parameters that the matrix sweeps (`[sweep.params]`) are fitted too: their swept
+//! values (and the source's own) join the stage-1 grid, and a continuous one (not a 0/1 switch)
+//! is refined within its range as well. The grid's basis frames depend on the node alone, not on
+//! the source, so a `BasisCache` renders them once for every material a match fits.
 
 use argmin::core::{CostFunction, Executor};
 use argmin::solver::neldermead::NelderMead;
 use std::cell::RefCell;
+use std::collections::{BTreeMap, HashMap};
+use std::rc::Rc;
 
 use super::{error, frames, Frame, MatchError, MatchSpace, MaterialValues, Side, Stage};
 use crate::error::Error;
 use crate::pipelines::DisplayTransform;
 use crate::render::Renderer;
+use crate::shading::ShaderModel;
 
-/// How hard a fit tries.
-#[derive(Debug, Clone, Copy)]
+/// A model parameter a fit sets: the values the matrix sweeps for it and, where it is continuous,
+/// the range the refinement moves it in.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ParamAxis {
+    pub name: String,
+    pub values: Vec<f64>,
+    /// `(min, max)` of a continuous parameter; None for a switch (only its swept values).
+    pub range: Option<(f64, f64)>,
+}
+
+impl ParamAxis {
+    /// The parameters of `model` that `swept` (a matrix's `[sweep.params]`) names. A parameter on
+    /// [0, 1] swept only at 0 and 1 is a switch (`normalize`, `specular_setup`): values between
+    /// mean nothing to its shader.
+    pub fn swept(model: &ShaderModel, swept: &BTreeMap<String, Vec<f64>>) -> Vec<ParamAxis> {
+        model
+            .params
+            .iter()
+            .filter_map(|spec| {
+                let values = swept.get(spec.name.as_ref())?.clone();
+                let switch = spec.min == 0.0 && spec.max == 1.0 && values.iter().all(|v| *v == 0.0 || *v == 1.0);
+                Some(ParamAxis {
+                    name: spec.name.to_string(),
+                    values,
+                    range: (!switch && spec.max > spec.min).then_some((spec.min, spec.max)),
+                })
+            })
+            .collect()
+    }
+}
+
+/// How hard a fit tries, and over what.
+#[derive(Debug, Clone)]
 pub struct FitOptions {
     /// Smoothness steps of the stage-1 grid (0, 1/steps, …, 1, and the source's own value).
     pub smoothness_steps: u32,
@@ -38,11 +77,85 @@ pub struct FitOptions {
     /// On the linear image, the pipeline pair's exposure (`calibrate_exposure`) where it is
     /// known; None fits one for the material with its values. Ignored on the displayed image.
     pub exposure: Option<f64>,
+    /// The target model's parameters to fit (`ParamAxis::swept`); the others keep the source's
+    /// value where the target has the parameter, else the target's default.
+    pub params: Vec<ParamAxis>,
 }
 
 impl Default for FitOptions {
     fn default() -> Self {
-        FitOptions { smoothness_steps: 10, refine_iterations: 40, exposure: None }
+        FitOptions { smoothness_steps: 10, refine_iterations: 40, exposure: None, params: Vec::new() }
+    }
+}
+
+/// The stage-1 grid's black and white frames by node, for one stage and target: they do not
+/// depend on the source material, so a match renders them once for all its materials. Bounded
+/// (`BASIS_BUDGET`); a node beyond it is rendered again when needed.
+#[derive(Default)]
+pub struct BasisCache {
+    /// Which stage and target the frames are of; another clears the cache.
+    owner: String,
+    nodes: HashMap<Vec<u64>, Rc<Basis>>,
+    bytes: usize,
+}
+
+/// A grid node's frames with base colour black and white, one per scene.
+struct Basis {
+    black: Vec<Frame>,
+    white: Vec<Frame>,
+}
+
+/// Bytes of basis frames a `BasisCache` keeps: 64² frames on four scenes take 0.7 MB a node.
+const BASIS_BUDGET: usize = 512 << 20;
+
+impl BasisCache {
+    fn bind(&mut self, stage: &Stage, target: &Side) {
+        let scenes: Vec<&str> = stage.scenes.iter().map(|(s, _)| s.name.as_str()).collect();
+        let owner = format!(
+            "{}/{} {:?} {:?} {}×{} {scenes:?} {} {}",
+            target.pipeline.name(),
+            target.model.name,
+            target.tonemap,
+            target.settings,
+            stage.size,
+            stage.size,
+            stage.light_intensity,
+            stage.light_range
+        );
+        if owner != self.owner {
+            *self = BasisCache { owner, ..Default::default() };
+        }
+    }
+
+    /// The black and white frames of `node` (its colour ignored), and whether they were rendered.
+    fn basis(
+        &mut self,
+        renderer: &mut Renderer,
+        stage: &Stage,
+        target: &Side,
+        node: &MaterialValues,
+    ) -> Result<(Rc<Basis>, bool), Error> {
+        let key: Vec<u64> = [node.smoothness, node.metallic]
+            .into_iter()
+            .chain(node.params.values().copied())
+            .map(f64::to_bits)
+            .chain(node.params.keys().flat_map(|k| k.bytes().map(u64::from)))
+            .collect();
+        if let Some(b) = self.nodes.get(&key) {
+            return Ok((b.clone(), false));
+        }
+        let at = |color| MaterialValues { color, ..node.clone() };
+        let pair = Rc::new(Basis {
+            black: frames(renderer, stage, target, &at([0.0; 3]))?,
+            white: frames(renderer, stage, target, &at([1.0; 3]))?,
+        });
+        let bytes: usize =
+            pair.black.iter().chain(&pair.white).map(|f| f.hdr.len() * 4 + f.srgb8.len() + f.subject.len() * 8).sum();
+        if self.bytes + bytes <= BASIS_BUDGET {
+            self.bytes += bytes;
+            self.nodes.insert(key, pair.clone());
+        }
+        Ok((pair, true))
     }
 }
 
@@ -85,7 +198,7 @@ fn scale_between(source: &[Frame], target: &[Frame]) -> Option<f64> {
 const RENDERED_NODES: usize = 3;
 
 /// A fitted material and what it leaves.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct Fit {
     pub values: MaterialValues,
     /// The factor on the target's linear frames (1 on the displayed image): the units and
@@ -95,8 +208,24 @@ pub struct Fit {
     pub before: MatchError,
     /// The target with the fitted values, rendered.
     pub after: MatchError,
-    /// Frames rendered per scene: the grid's basis pairs, then the refinement's.
+    /// Frames rendered per scene: the grid's basis pairs (those not already in the cache), then
+    /// the refinement's.
     pub renders: u32,
+    /// The frames the two errors are of, one per scene.
+    pub frames: FitFrames,
+}
+
+/// The target's frames with the values copied and with the fitted ones (exposed as compared).
+#[derive(Clone)]
+pub struct FitFrames {
+    pub copied: Vec<Frame>,
+    pub fitted: Vec<Frame>,
+}
+
+impl std::fmt::Debug for FitFrames {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "FitFrames({} scenes)", self.copied.len())
+    }
 }
 
 /// The linear frame predicted for base colour `c` from the black and white frames.
@@ -165,19 +294,46 @@ fn scaled(hdr: &[f32], k: f64) -> Vec<f32> {
     hdr.iter().enumerate().map(|(i, v)| if i % 4 == 3 { *v } else { (*v as f64 * k) as f32 }).collect()
 }
 
-/// The stage-1 grid's smoothness and metallic values, the source's own among them.
-fn grid(source: &MaterialValues, steps: u32) -> Vec<(f64, f64)> {
-    let mut smooth: Vec<f64> = (0..=steps).map(|k| k as f64 / steps.max(1) as f64).collect();
-    smooth.push(source.smoothness.clamp(0.0, 1.0));
-    let mut metal = vec![0.0, 1.0, source.metallic.clamp(0.0, 1.0)];
-    for v in [&mut smooth, &mut metal] {
+/// The stage-1 grid: smoothness × metallic × each fitted parameter's values, the source's own
+/// among them, on `base` (the values copied: the parameters the grid does not set).
+fn grid(source: &MaterialValues, base: &MaterialValues, steps: u32, params: &[ParamAxis]) -> Vec<MaterialValues> {
+    let sorted = |mut v: Vec<f64>| {
         v.sort_by(f64::total_cmp);
         v.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
+        v
+    };
+    let mut smooth: Vec<f64> = (0..=steps).map(|k| k as f64 / steps.max(1) as f64).collect();
+    smooth.push(source.smoothness.clamp(0.0, 1.0));
+    let metal = sorted(vec![0.0, 1.0, source.metallic.clamp(0.0, 1.0)]);
+    let mut nodes: Vec<MaterialValues> = sorted(smooth)
+        .into_iter()
+        .flat_map(|smoothness| {
+            metal.iter().map(move |&metallic| MaterialValues { smoothness, metallic, ..base.clone() })
+        })
+        .collect();
+    for axis in params {
+        let mut values = axis.values.clone();
+        if let (Some(v), Some((lo, hi))) = (source.params.get(&axis.name), axis.range) {
+            values.push(v.clamp(lo, hi));
+        }
+        nodes = nodes
+            .iter()
+            .flat_map(|n| {
+                sorted(values.clone()).into_iter().map(move |v| {
+                    let mut n = n.clone();
+                    n.params.insert(axis.name.clone(), v);
+                    n
+                })
+            })
+            .collect();
     }
-    metal.iter().flat_map(|&m| smooth.iter().map(move |&s| (s, m))).collect()
+    nodes.sort_by(|a, b| a.metallic.total_cmp(&b.metallic));
+    nodes
 }
 
-/// The target's values that reproduce `source_frames` (rendered from `source` on `stage`).
+/// The target's values that reproduce `source_frames` (rendered from `source` on `stage`); the
+/// grid's basis frames come from `cache` where it has them.
+#[allow(clippy::too_many_arguments)]
 pub fn fit(
     renderer: &mut Renderer,
     stage: &Stage,
@@ -185,9 +341,19 @@ pub fn fit(
     source_frames: &[Frame],
     target: &Side,
     space: MatchSpace,
-    options: FitOptions,
+    options: &FitOptions,
+    cache: &mut BasisCache,
 ) -> Result<Fit, Error> {
-    let copied = frames(renderer, stage, target, source)?;
+    cache.bind(stage, target);
+    let mut carried = source.carried_to(target.model);
+    // Every fitted parameter named, where the source does not set it at the value the model
+    // takes from the sliders (Oren–Nayar's σ = 1 − smoothness) or its default: the same frames,
+    // and the refinement moves it from there.
+    let taken = carried.surface(target.model, target.pipeline).params;
+    for spec in target.model.params.iter().filter(|p| options.params.iter().any(|a| a.name == p.name)) {
+        carried.params.entry(spec.name.to_string()).or_insert(taken[spec.slot]);
+    }
+    let copied = frames(renderer, stage, target, &carried)?;
     let before = error(source_frames, &copied, stage.size, space)?;
     let displays: Vec<DisplayTransform> = stage
         .scenes
@@ -201,40 +367,40 @@ pub fn fit(
     let free_exposure = fixed_exposure.is_none();
     let mut renders = 1;
     let mut nodes: Vec<(MaterialValues, f64, f64)> = Vec::new();
-    for (smoothness, metallic) in grid(source, options.smoothness_steps) {
-        let at = |color| MaterialValues { smoothness, metallic, color };
-        let black = frames(renderer, stage, target, &at([0.0; 3]))?;
-        let white = frames(renderer, stage, target, &at([1.0; 3]))?;
-        renders += 2;
-        let (color, k) = least_squares(source_frames, &black, &white, fixed_exposure);
+    for node in grid(source, &carried, options.smoothness_steps, &options.params) {
+        let (basis, rendered) = cache.basis(renderer, stage, target, &node)?;
+        let (black, white) = (&basis.black, &basis.white);
+        renders += 2 * rendered as u32;
+        let (color, k) = least_squares(source_frames, black, white, fixed_exposure);
         let guess: Vec<Frame> = black
             .iter()
-            .zip(&white)
+            .zip(white)
             .zip(&displays)
             .map(|((a, w), d)| a.with_pixels(scaled(&predicted(a, w, color), k), stage.size, d))
             .collect();
-        nodes.push((at(color), k, error(source_frames, &guess, stage.size, space)?.flip));
+        nodes.push((MaterialValues { color, ..node }, k, error(source_frames, &guess, stage.size, space)?.flip));
     }
     nodes.sort_by(|a, b| a.2.total_cmp(&b.2));
     // The start: the best rendered of the copied values (so a fit never ends worse than copying)
     // and the best predicted nodes.
     let copied_k = fixed_exposure.or_else(|| scale_between(source_frames, &copied)).unwrap_or(1.0);
-    let mut start = (
-        *source,
-        copied_k,
-        error(source_frames, &exposed(&copied, copied_k, stage.size, &displays), stage.size, space)?,
-    );
+    let copied_exposed = exposed(&copied, copied_k, stage.size, &displays);
+    let copied_error = error(source_frames, &copied_exposed, stage.size, space)?;
+    let mut start = Best { values: carried, exposure: copied_k, error: copied_error, frames: copied_exposed };
     for (values, k, _) in nodes.into_iter().take(RENDERED_NODES) {
         let rendered = exposed(&frames(renderer, stage, target, &values)?, k, stage.size, &displays);
         renders += 1;
         let e = error(source_frames, &rendered, stage.size, space)?;
-        if e.flip < start.2.flip {
-            start = (values, k, e);
+        if e.flip < start.error.flip {
+            start = Best { values, exposure: k, error: e, frames: rendered };
         }
     }
-    let (start, start_k, start_error) = start;
-    let mut fitted = (start, start_k, start_error);
-    if options.refine_iterations > 0 && start_error.flip > 0.0 {
+    let refined_params: Vec<(String, (f64, f64))> =
+        options.params.iter().filter_map(|a| a.range.map(|r| (a.name.clone(), r))).collect();
+    let mut fitted = start;
+    if options.refine_iterations > 0 && fitted.error.flip > 0.0 {
+        let dimensions = 5 + refined_params.len() + free_exposure as usize;
+        let (start_values, start_k) = (fitted.values.clone(), fitted.exposure);
         let (best, refined) = (RefCell::new(fitted), RefCell::new(0));
         let problem = Refine {
             renderer: RefCell::new(renderer),
@@ -242,14 +408,15 @@ pub fn fit(
             target,
             source_frames,
             space,
-            start,
+            start: start_values,
             start_exposure: start_k,
             free_exposure,
+            params: &refined_params,
             displays: &displays,
             best: &best,
             renders: &refined,
         };
-        let solver = NelderMead::new(simplex_around(if free_exposure { 6 } else { 5 }))
+        let solver = NelderMead::new(simplex_around(dimensions, &refined_params))
             .with_sd_tolerance(1e-4)
             .map_err(|e| Error::Other(format!("setting up the refinement: {e}")))?;
         Executor::new(problem, solver)
@@ -259,14 +426,33 @@ pub fn fit(
         fitted = best.into_inner();
         renders += refined.into_inner();
     }
-    Ok(Fit { values: fitted.0, exposure: fitted.1, before, after: fitted.2, renders })
+    Ok(Fit {
+        values: fitted.values,
+        exposure: fitted.exposure,
+        before,
+        after: fitted.error,
+        renders,
+        frames: FitFrames { copied, fitted: fitted.frames },
+    })
+}
+
+/// The best values rendered so far, with their exposure, error and frames.
+struct Best {
+    values: MaterialValues,
+    exposure: f64,
+    error: MatchError,
+    frames: Vec<Frame>,
 }
 
 /// The refinement's start: the stage-1 node (all zeros) and a step along each of its `n`
-/// parameters (smoothness and metallic by 0.05, each colour channel and the exposure by a factor
-/// e^0.2).
-fn simplex_around(n: usize) -> Vec<Vec<f64>> {
-    let steps = [0.05, 0.05, 0.2, 0.2, 0.2, 0.2];
+/// parameters: smoothness and metallic by 0.05, each colour channel by a factor e^0.2, each
+/// refined model parameter by 5 % of its range, and the exposure (where free) by e^0.2.
+fn simplex_around(n: usize, params: &[(String, (f64, f64))]) -> Vec<Vec<f64>> {
+    let steps: Vec<f64> = [0.05, 0.05, 0.2, 0.2, 0.2]
+        .into_iter()
+        .chain(params.iter().map(|(_, (lo, hi))| 0.05 * (hi - lo)))
+        .chain([0.2])
+        .collect();
     let mut simplex = vec![vec![0.0; n]];
     for (k, step) in steps.iter().take(n).enumerate() {
         let mut v = vec![0.0; n];
@@ -277,8 +463,9 @@ fn simplex_around(n: usize) -> Vec<Vec<f64>> {
 }
 
 /// The refinement's cost: the error of the rendered frames of the values a parameter vector
-/// names, offsets from the stage-1 node (smoothness, metallic) and log factors of its colour and
-/// (on the linear image) its exposure.
+/// names: offsets from the stage-1 node (smoothness, metallic), log factors of its colour,
+/// offsets of the refined model parameters and (on the linear image, where free) the log factor
+/// of its exposure.
 struct Refine<'a, 'r> {
     renderer: RefCell<&'r mut Renderer>,
     stage: &'a Stage,
@@ -288,20 +475,28 @@ struct Refine<'a, 'r> {
     start: MaterialValues,
     start_exposure: f64,
     free_exposure: bool,
+    /// The continuous model parameters refined, with their ranges.
+    params: &'a [(String, (f64, f64))],
     displays: &'a [DisplayTransform],
     /// The best values rendered so far: Nelder–Mead's own best is a parameter vector, and
     /// every evaluation's frames are already judged here.
-    best: &'a RefCell<(MaterialValues, f64, MatchError)>,
+    best: &'a RefCell<Best>,
     renders: &'a RefCell<u32>,
 }
 
 impl Refine<'_, '_> {
     fn values(&self, p: &[f64]) -> MaterialValues {
         let s = &self.start;
+        let mut params = s.params.clone();
+        for (k, (name, (lo, hi))) in self.params.iter().enumerate() {
+            let v = s.params.get(name).copied().unwrap_or(*lo); // `fit` names every one
+            params.insert(name.clone(), (v + p[5 + k]).clamp(*lo, *hi));
+        }
         MaterialValues {
             smoothness: (s.smoothness + p[0]).clamp(0.0, 1.0),
             metallic: (s.metallic + p[1]).clamp(0.0, 1.0),
             color: [0, 1, 2].map(|c| (s.color[c] * p[2 + c].exp()).clamp(0.0, 1.0)),
+            params,
         }
     }
 }
@@ -312,15 +507,18 @@ impl CostFunction for Refine<'_, '_> {
 
     fn cost(&self, p: &Self::Param) -> Result<f64, argmin::core::Error> {
         let values = self.values(p);
-        let k = if self.free_exposure { self.start_exposure * p[5].exp() } else { self.start_exposure };
+        let k = match self.free_exposure {
+            true => self.start_exposure * p[5 + self.params.len()].exp(),
+            false => self.start_exposure,
+        };
         let mut renderer = self.renderer.borrow_mut();
         let rendered = frames(&mut renderer, self.stage, self.target, &values)?;
         *self.renders.borrow_mut() += 1;
         let rendered = exposed(&rendered, k, self.stage.size, self.displays);
         let e = error(self.source_frames, &rendered, self.stage.size, self.space)?;
         let mut best = self.best.borrow_mut();
-        if e.flip < best.2.flip {
-            *best = (values, k, e);
+        if e.flip < best.error.flip {
+            *best = Best { values, exposure: k, error: e, frames: rendered };
         }
         Ok(e.flip)
     }
@@ -332,10 +530,21 @@ mod tests {
 
     #[test]
     fn the_grid_holds_the_source_values_once() {
-        let source = MaterialValues { smoothness: 0.75, metallic: 0.0, color: [0.2; 3] };
-        let g = grid(&source, 10);
+        let source = MaterialValues::new(0.75, 0.0, [0.2; 3]);
+        let g = grid(&source, &source, 10, &[]);
         assert_eq!(g.len(), 12 * 2);
-        assert!(g.contains(&(0.75, 0.0)) && g.contains(&(1.0, 1.0)));
+        let has = |s: f64, m: f64| g.iter().any(|n| n.smoothness == s && n.metallic == m);
+        assert!(has(0.75, 0.0) && has(1.0, 1.0));
+    }
+
+    #[test]
+    fn the_grid_spans_a_swept_parameter_and_the_sources_own_value() {
+        let mut source = MaterialValues::new(0.5, 0.0, [0.2; 3]);
+        source.params.insert("sigma".into(), 0.3);
+        let sigma = ParamAxis { name: "sigma".into(), values: vec![0.0, 0.5], range: Some((0.0, 1.5)) };
+        let g = grid(&source, &source, 2, &[sigma]);
+        assert_eq!(g.len(), 3 * 2 * 3, "smoothness 0, 0.5, 1 × metallic 0, 1 × sigma 0, 0.3, 0.5");
+        assert!(g.iter().any(|n| n.smoothness == 0.5 && n.params["sigma"] == 0.3));
     }
 
     #[test]

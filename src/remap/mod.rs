@@ -7,7 +7,12 @@
 //! material, so counting it would only dilute the difference.
 
 pub mod fit;
+pub mod page;
+pub mod plot;
+pub mod sheet;
 pub mod table;
+
+use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
@@ -18,20 +23,52 @@ use crate::pipelines::{DisplayTransform, Pipeline, Tonemap};
 use crate::plan::cell::{CellParams, CellSettings};
 use crate::render::uniforms::ROLE_SUBJECT;
 use crate::render::{PreparedScene, Renderer};
-use crate::shading::registry::{ShaderModel, Sliders};
+use crate::shading::registry::{apply_workflow_with, ShaderModel, Sliders};
+use crate::shading::twin::Surface;
 
-/// The material values a match fits: the sliders every model reads.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+/// The material values a match fits: the sliders every model reads, and a model's own parameters
+/// where the matrix sweeps them.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
 pub struct MaterialValues {
     pub smoothness: f64,
     pub metallic: f64,
     /// Linear base colour.
     pub color: [f64; 3],
+    /// Model parameters by name (`[sweep.params]`); a model takes those it has and keeps its
+    /// defaults for the rest.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub params: BTreeMap<String, f64>,
 }
 
 impl MaterialValues {
+    /// The sliders alone, the model's parameters at their defaults.
+    pub fn new(smoothness: f64, metallic: f64, color: [f64; 3]) -> MaterialValues {
+        MaterialValues { smoothness, metallic, color, params: BTreeMap::new() }
+    }
+
     pub fn sliders(&self) -> Sliders {
         Sliders { base_color_linear: self.color, metallic: self.metallic, smoothness: self.smoothness }
+    }
+
+    /// The subject's surface in `model`: the sliders as the pipeline maps them, the parameters
+    /// `model` has set by name, then its specular workflow where one of them turns it on (as a
+    /// cell's surface is built, `cells::Cell::surface`).
+    pub fn surface(&self, model: &ShaderModel, pipeline: Pipeline) -> Surface {
+        let mut s = model.surface(pipeline, &self.sliders());
+        for spec in &model.params {
+            if let Some(v) = self.params.get(spec.name.as_ref()) {
+                s.params[spec.slot] = *v;
+            }
+        }
+        apply_workflow_with(model, &mut s, glam::DVec3::splat(0.04));
+        s
+    }
+
+    /// These values with only the parameters `model` has: what copying them into it keeps.
+    pub fn carried_to(&self, model: &ShaderModel) -> MaterialValues {
+        let mut v = self.clone();
+        v.params.retain(|name, _| model.params.iter().any(|p| p.name == *name));
+        v
     }
 }
 
@@ -98,7 +135,7 @@ pub fn frames(
             let cell = CellParams {
                 pipeline: side.pipeline,
                 model: side.model,
-                surface: side.model.surface(side.pipeline, &values.sliders()),
+                surface: values.surface(side.model, side.pipeline),
                 light_intensity: stage.light_intensity,
                 light_range: stage.light_range,
                 width: stage.size,

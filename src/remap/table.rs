@@ -6,7 +6,8 @@ use serde::{Deserialize, Serialize};
 use super::{MatchError, MatchSpace, MaterialValues};
 
 /// The version of `MatchRecord`'s layout.
-pub const MATCH_SCHEMA: u32 = 1;
+/// 2: a row's `frames` folder; a material's `params` (its model parameters, where swept).
+pub const MATCH_SCHEMA: u32 = 2;
 
 /// One source material's match.
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -19,8 +20,20 @@ pub struct MatchRow {
     pub copied_error: MatchError,
     /// The target with the fitted values: what no value removes.
     pub fitted_error: MatchError,
-    /// Frames rendered per scene for the fit.
+    /// Frames rendered per scene for the fit (the grid's basis pairs only where first needed).
     pub renders: u32,
+    /// The folder, relative to the match's, of the row's frames: `<composition>-source.png`,
+    /// `-copied.png`, `-fitted.png` (as compared: exposed, on the displayed image).
+    pub frames: String,
+}
+
+/// One preset's rows summarised: the mean error copied and fitted.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PresetSummary {
+    pub preset: String,
+    pub rows: usize,
+    pub copied_flip: f64,
+    pub fitted_flip: f64,
 }
 
 /// A whole match: which sides, on which image, over which scenes.
@@ -42,11 +55,47 @@ pub struct MatchRecord {
     pub rows: Vec<MatchRow>,
 }
 
+/// `name=value` of a material's model parameters, `–` for none.
+fn params(v: &MaterialValues) -> String {
+    if v.params.is_empty() {
+        return "–".into();
+    }
+    v.params.iter().map(|(k, v)| format!("{k}={v:.3}")).collect::<Vec<_>>().join(" ")
+}
+
 fn rgb(c: [f64; 3]) -> String {
     format!("{:.4}, {:.4}, {:.4}", c[0], c[1], c[2])
 }
 
 impl MatchRecord {
+    /// Per preset (in the rows' order), then `all`: the mean FLIP over its rows, copied and fitted.
+    pub fn summary(&self) -> Vec<PresetSummary> {
+        let empty = |preset: &str| PresetSummary { preset: preset.into(), rows: 0, copied_flip: 0.0, fitted_flip: 0.0 };
+        let mut out: Vec<PresetSummary> = Vec::new();
+        let mut all = empty("all");
+        for r in &self.rows {
+            let i = match out.iter().position(|p| p.preset == r.preset) {
+                Some(i) => i,
+                None => {
+                    out.push(empty(&r.preset));
+                    out.len() - 1
+                }
+            };
+            for p in [&mut out[i], &mut all] {
+                p.rows += 1;
+                p.copied_flip += r.copied_error.flip;
+                p.fitted_flip += r.fitted_error.flip;
+            }
+        }
+        out.push(all);
+        out.retain(|p| p.rows > 0);
+        for p in &mut out {
+            p.copied_flip /= p.rows as f64;
+            p.fitted_flip /= p.rows as f64;
+        }
+        out
+    }
+
     pub fn markdown(&self) -> String {
         let mut s = format!(
             "# Match: {} → {}\n\nOn the {} image over {} ({}×{} frames, {}); mean FLIP and relative MSE over \
@@ -63,13 +112,17 @@ impl MatchRecord {
         if self.space == MatchSpace::Linear {
             s += &format!(" The target's linear frames × {:.4e} (calibrated on a matte grey).", self.exposure);
         }
+        s += "\n\n| preset | materials | mean FLIP copied | mean FLIP fitted |\n|---|---|---|---|\n";
+        for p in self.summary() {
+            s += &format!("| {} | {} | {:.4} | {:.4} |\n", p.preset, p.rows, p.copied_flip, p.fitted_flip);
+        }
         s +=
             "\n\n| preset | source smoothness | source metallic | source colour | fitted smoothness | fitted metallic \
-              | fitted colour | FLIP copied | FLIP fitted | relMSE copied | relMSE fitted |\n\
-              |---|---|---|---|---|---|---|---|---|---|---|\n";
+              | fitted colour | fitted parameters | FLIP copied | FLIP fitted | relMSE copied | relMSE fitted |\n\
+              |---|---|---|---|---|---|---|---|---|---|---|---|\n";
         for r in &self.rows {
             s += &format!(
-                "| {} | {:.3} | {:.3} | {} | {:.3} | {:.3} | {} | {:.4} | {:.4} | {:.4e} | {:.4e} |\n",
+                "| {} | {:.3} | {:.3} | {} | {:.3} | {:.3} | {} | {} | {:.4} | {:.4} | {:.4e} | {:.4e} |\n",
                 r.preset,
                 r.source.smoothness,
                 r.source.metallic,
@@ -77,6 +130,7 @@ impl MatchRecord {
                 r.fitted.smoothness,
                 r.fitted.metallic,
                 rgb(r.fitted.color),
+                params(&r.fitted),
                 r.copied_error.flip,
                 r.fitted_error.flip,
                 r.copied_error.rel_mse,
@@ -89,7 +143,8 @@ impl MatchRecord {
     pub fn csv(&self) -> String {
         let mut s = String::from(
             "preset,source_smoothness,source_metallic,source_r,source_g,source_b,fitted_smoothness,\
-             fitted_metallic,fitted_r,fitted_g,fitted_b,flip_copied,flip_fitted,rel_mse_copied,rel_mse_fitted\n",
+             fitted_metallic,fitted_r,fitted_g,fitted_b,flip_copied,flip_fitted,rel_mse_copied,rel_mse_fitted,\
+             fitted_params\n",
         );
         for r in &self.rows {
             let values = [
@@ -112,8 +167,45 @@ impl MatchRecord {
             for v in values {
                 s += &format!(",{v}");
             }
-            s.push('\n');
+            // `name=value` pairs joined by spaces: no comma to quote.
+            let p: Vec<String> = r.fitted.params.iter().map(|(k, v)| format!("{k}={v}")).collect();
+            s += &format!(",{}\n", p.join(" "));
         }
         s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_summary_averages_each_presets_own_rows() {
+        let row = |preset: &str, copied: f64, fitted: f64| MatchRow {
+            preset: preset.into(),
+            source: MaterialValues::new(0.5, 0.0, [0.5; 3]),
+            fitted: MaterialValues::new(0.5, 0.0, [0.5; 3]),
+            copied_error: MatchError { flip: copied, rel_mse: 0.0 },
+            fitted_error: MatchError { flip: fitted, rel_mse: 0.0 },
+            renders: 1,
+            frames: String::new(),
+        };
+        let record = MatchRecord {
+            schema: MATCH_SCHEMA,
+            from: "a/b".into(),
+            to: "c/d".into(),
+            space: MatchSpace::Display,
+            compositions: vec![],
+            size: 16,
+            exposure: 1.0,
+            adapter: String::new(),
+            rows: vec![row("gold", 0.4, 0.2), row("wood", 0.1, 0.1), row("gold", 0.6, 0.4)],
+        };
+        let got: Vec<(String, usize, f64, f64)> =
+            record.summary().into_iter().map(|p| (p.preset, p.rows, p.copied_flip, p.fitted_flip)).collect();
+        let close = |a: f64, b: f64| (a - b).abs() < 1e-12;
+        assert_eq!(got.iter().map(|g| (g.0.as_str(), g.1)).collect::<Vec<_>>(), [("gold", 2), ("wood", 1), ("all", 3)]);
+        assert!(close(got[0].2, 0.5) && close(got[0].3, 0.3) && close(got[1].2, 0.1), "{got:?}");
+        assert!(close(got[2].2, 1.1 / 3.0) && close(got[2].3, 0.7 / 3.0), "{got:?}");
     }
 }

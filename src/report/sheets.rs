@@ -92,6 +92,16 @@ pub fn grid(
 ) -> RgbaImage {
     let loaded: Vec<Vec<Option<std::sync::Arc<RgbaImage>>>> =
         tiles.iter().map(|r| r.iter().map(|p| p.as_ref().and_then(|p| cache.get(p))).collect()).collect();
+    grid_of_images(title, row_labels, col_labels, &loaded)
+}
+
+/// `grid` of images already loaded (None: an empty tile).
+pub fn grid_of_images(
+    title: &str,
+    row_labels: &[String],
+    col_labels: &[String],
+    loaded: &[Vec<Option<std::sync::Arc<RgbaImage>>>],
+) -> RgbaImage {
     let tile_w = loaded
         .iter()
         .flatten()
@@ -136,7 +146,7 @@ type LabelledRow = (String, Vec<Option<std::path::PathBuf>>);
 /// Rows per difference sheet.
 const DIFF_ROWS_PER_SHEET: usize = 32;
 
-fn file_safe(s: &str) -> String {
+pub fn file_safe(s: &str) -> String {
     s.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '.' { c } else { '_' }).collect()
 }
 

@@ -7,7 +7,7 @@ use shadematrix::gpu::GpuContext;
 use shadematrix::pipelines::settings::HdrpLightUnit;
 use shadematrix::pipelines::{Pipeline, Tonemap};
 use shadematrix::plan::cell::CellSettings;
-use shadematrix::remap::fit::{calibrate_exposure, fit, FitOptions};
+use shadematrix::remap::fit::{calibrate_exposure, fit, BasisCache, FitOptions, ParamAxis};
 use shadematrix::remap::{frames, MatchSpace, MaterialValues, Side, Stage};
 use shadematrix::render::Renderer;
 
@@ -29,10 +29,11 @@ fn a_model_matched_to_itself_keeps_its_values() {
     let mut renderer = Renderer::new(GpuContext::new().unwrap());
     let stage = stage(&mut renderer, 48);
     let urp = side(Pipeline::Urp, Tonemap::None, CellSettings::default());
-    let plastic = MaterialValues { smoothness: 0.75, metallic: 0.0, color: [0.284, 0.284, 0.284] };
+    let plastic = MaterialValues::new(0.75, 0.0, [0.284, 0.284, 0.284]);
     let source = frames(&mut renderer, &stage, &urp, &plastic).unwrap();
-    let options = FitOptions { smoothness_steps: 4, refine_iterations: 0, exposure: None };
-    let f = fit(&mut renderer, &stage, &plastic, &source, &urp, MatchSpace::Display, options).unwrap();
+    let options = FitOptions { smoothness_steps: 4, refine_iterations: 0, ..Default::default() };
+    let mut cache = BasisCache::default();
+    let f = fit(&mut renderer, &stage, &plastic, &source, &urp, MatchSpace::Display, &options, &mut cache).unwrap();
     eprintln!("identity: {:?}, before {:?}, after {:?}", f.values, f.before, f.after);
     assert_eq!(f.before.flip, 0.0);
     assert!(f.after.flip < 1e-3, "{:?}", f.after);
@@ -55,11 +56,12 @@ fn urp_lit_carried_to_hdrp_lit_in_linear_light_takes_the_units_ratio() {
     let mut settings = CellSettings::default();
     settings.engine.hdrp.light_unit = HdrpLightUnit::Unity;
     let hdrp = side(Pipeline::Hdrp, Tonemap::Aces, settings);
-    let matte = MaterialValues { smoothness: 0.0, metallic: 0.0, color: [0.5, 0.4, 0.3] };
+    let matte = MaterialValues::new(0.0, 0.0, [0.5, 0.4, 0.3]);
     let source = frames(&mut renderer, &stage, &urp, &matte).unwrap();
     let k = calibrate_exposure(&mut renderer, &stage, &matte, &source, &hdrp).unwrap();
-    let options = FitOptions { smoothness_steps: 4, refine_iterations: 0, exposure: Some(k) };
-    let f = fit(&mut renderer, &stage, &matte, &source, &hdrp, MatchSpace::Linear, options).unwrap();
+    let options = FitOptions { smoothness_steps: 4, refine_iterations: 0, exposure: Some(k), ..Default::default() };
+    let mut cache = BasisCache::default();
+    let f = fit(&mut renderer, &stage, &matte, &source, &hdrp, MatchSpace::Linear, &options, &mut cache).unwrap();
     eprintln!("URP → HDRP linear: exposure {k:.4e}; {:?}, before {:?}, after {:?}", f.values, f.before, f.after);
     // Measured 8.70e-5: HDRP's Lit is no Lambert at smoothness 0 (Disney diffuse, a
     // multiple-scattering GGX lobe on F0 0.04) and its sky lights 4 % more than URP's.
@@ -85,17 +87,21 @@ fn the_refinement_on_rendered_frames_never_ends_worse_than_its_start() {
         settings: CellSettings::default(),
     };
     let urp = side(Pipeline::Urp, Tonemap::None, CellSettings::default());
-    let gold = MaterialValues { smoothness: 0.9, metallic: 1.0, color: [1.0, 0.766, 0.336] };
+    let gold = MaterialValues::new(0.9, 1.0, [1.0, 0.766, 0.336]);
     let source = frames(&mut renderer, &stage, &builtin, &gold).unwrap();
-    let coarse = FitOptions { smoothness_steps: 2, refine_iterations: 0, exposure: None };
-    let start = fit(&mut renderer, &stage, &gold, &source, &urp, MatchSpace::Display, coarse).unwrap();
+    let coarse = FitOptions { smoothness_steps: 2, refine_iterations: 0, ..Default::default() };
+    let mut cache = BasisCache::default();
+    let start = fit(&mut renderer, &stage, &gold, &source, &urp, MatchSpace::Display, &coarse, &mut cache).unwrap();
     let refined = FitOptions { refine_iterations: 12, ..coarse };
-    let f = fit(&mut renderer, &stage, &gold, &source, &urp, MatchSpace::Display, refined).unwrap();
+    let f = fit(&mut renderer, &stage, &gold, &source, &urp, MatchSpace::Display, &refined, &mut cache).unwrap();
     eprintln!(
         "built-in Standard → URP Lit gold: copied {:.4}, grid {:.4}, refined {:.4} ({:?}, {} renders)",
         f.before.flip, start.after.flip, f.after.flip, f.values, f.renders
     );
-    assert!(f.after.flip <= start.after.flip && f.renders > start.renders, "{f:?} against {start:?}");
+    // The second fit found the grid's basis frames in the cache: it renders only the copied
+    // values, the three best nodes and the refinement's evaluations.
+    assert!(f.after.flip <= start.after.flip, "{f:?} against {start:?}");
+    assert!(start.renders > 2 * 6 && (1 + 3..=1 + 3 + 40).contains(&f.renders), "{f:?} against {start:?}");
     assert!(f.after.flip <= f.before.flip, "{f:?}");
 }
 
@@ -114,7 +120,7 @@ fn the_match_command_writes_its_tables_and_refuses_a_mistyped_side() {
     assert_eq!(code, 0, "{err}");
     let json: serde_json::Value =
         serde_json::from_slice(&std::fs::read(out.join("tables/match.json")).unwrap()).unwrap();
-    assert_eq!(json["schema"], 1);
+    assert_eq!(json["schema"], 2);
     let rows = json["rows"].as_array().unwrap();
     assert_eq!(rows.len(), 2, "one row per swept smoothness");
     for r in rows {
@@ -125,8 +131,53 @@ fn the_match_command_writes_its_tables_and_refuses_a_mistyped_side() {
     let csv = std::fs::read_to_string(out.join("tables/match.csv")).unwrap();
     assert_eq!(csv.lines().count(), 3, "{csv}");
     assert!(std::fs::read_to_string(out.join("tables/match.md")).unwrap().contains("| plastic | 0.200 |"));
+    // The pictures: every row's frames, the preset's sheet, the curves and the page naming them.
+    for r in rows {
+        for kind in ["source", "copied", "fitted"] {
+            let png = out.join(format!("{}/default-{kind}.png", r["frames"].as_str().unwrap()));
+            assert_eq!(image::image_dimensions(&png).unwrap(), (24, 24), "{}", png.display());
+        }
+    }
+    assert!(image::image_dimensions(out.join("sheets/plastic.png")).unwrap().1 > 2 * 24);
+    let svg = std::fs::read_to_string(out.join("plots/smoothness.svg")).unwrap();
+    assert!(svg.contains("plastic") && svg.contains("source smoothness"));
+    // The template escapes `/` in attributes as `&#x2f;`, which a browser reads back as `/`.
+    let page = std::fs::read_to_string(out.join("index.html")).unwrap().replace("&#x2f;", "/");
+    assert!(
+        page.contains("sheets/plastic.png") && page.contains("plots/smoothness.svg") && page.contains("frames/001")
+    );
     let bad = ["match", "--from", "builtin/standrd", "--to", "urp/lit", m, "--out", o];
     let (code, _, err) = crate::common::shadematrix(tmp.path(), &bad, &[]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("--from") && err.contains("did you mean `standard`?"), "{err}");
+}
+
+#[test]
+fn a_models_own_swept_parameter_is_fitted_too() {
+    let _timer = crate::common::timed!();
+    let mut renderer = Renderer::new(GpuContext::new().unwrap());
+    let stage = stage(&mut renderer, 32);
+    let urp = |name| Side {
+        pipeline: Pipeline::Urp,
+        model: crate::common::find_model(Pipeline::Urp, name).unwrap(),
+        tonemap: Tonemap::None,
+        settings: CellSettings::default(),
+    };
+    // Oren–Nayar at σ = 0 is Lambert: a Lambert source matched in Oren–Nayar whose σ the matrix
+    // sweeps at 0.5 and 1 (σ = 1 − smoothness = 0.5 copied) is fitted towards σ = 0.
+    let matte = MaterialValues::new(0.5, 0.0, [0.6, 0.5, 0.4]);
+    let source = frames(&mut renderer, &stage, &urp("lambert"), &matte).unwrap();
+    let sigma = ParamAxis { name: "sigma".into(), values: vec![0.5, 1.0], range: Some((0.0, 1.5)) };
+    let options = FitOptions { smoothness_steps: 1, refine_iterations: 30, params: vec![sigma], ..Default::default() };
+    let mut cache = BasisCache::default();
+    let oren_nayar = urp("oren_nayar");
+    let f =
+        fit(&mut renderer, &stage, &matte, &source, &oren_nayar, MatchSpace::Display, &options, &mut cache).unwrap();
+    eprintln!(
+        "Lambert → Oren–Nayar: {:?}, before {:?}, after {:?}, {} renders",
+        f.values, f.before, f.after, f.renders
+    );
+    let fitted_sigma = f.values.params["sigma"];
+    assert!(fitted_sigma < 0.5, "σ {fitted_sigma}: {:?}", f.values);
+    assert!(f.after.flip < f.before.flip, "{:?} against {:?}", f.after, f.before);
 }

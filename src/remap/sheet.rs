@@ -1,0 +1,88 @@
+//! A match's pictures: each material's frames (`frames/NNN/<composition>-source|copied|fitted.png`,
+//! as compared) and a sheet per preset (`sheets/<preset>.png`): one row per material and
+//! composition, the source's frame beside the target's with the values copied and fitted.
+
+use std::path::Path;
+
+use super::fit::FitFrames;
+use super::table::{MatchRecord, MatchRow};
+use super::Frame;
+use crate::error::Error;
+use crate::fsutil::write_atomic;
+use crate::images::encode::png_bytes;
+use crate::images::encode::read_png;
+use crate::report::sheets::{file_safe, grid_of_images};
+
+/// The three frames a row shows per composition, in the sheet's column order.
+pub const KINDS: [&str; 3] = ["source", "copied", "fitted"];
+
+/// The file of one frame of a row, relative to the match's folder.
+pub fn frame_path(row_frames: &str, composition: &str, kind: &str) -> String {
+    format!("{row_frames}/{}-{kind}.png", file_safe(composition))
+}
+
+/// Row `index`'s frames under `out`; returns their folder relative to `out`.
+pub fn write_frames(
+    out: &Path,
+    index: usize,
+    compositions: &[String],
+    size: u32,
+    source: &[Frame],
+    fitted: &FitFrames,
+) -> Result<String, Error> {
+    let folder = format!("frames/{index:03}");
+    for (k, composition) in compositions.iter().enumerate() {
+        for (kind, frame) in KINDS.iter().zip([&source[k], &fitted.copied[k], &fitted.fitted[k]]) {
+            write_atomic(&out.join(frame_path(&folder, composition, kind)), &png_bytes(size, size, &frame.srgb8)?)?;
+        }
+    }
+    Ok(folder)
+}
+
+/// The label of a row in its preset's sheet: its source values that vary within the preset.
+fn row_label(r: &MatchRow, composition: &str) -> String {
+    let mut label = format!("s {:.2} m {:.2}", r.source.smoothness, r.source.metallic);
+    for (k, v) in &r.source.params {
+        label += &format!(" {k} {v:.2}");
+    }
+    format!("{label} {composition}")
+}
+
+/// Frames are magnified by a whole factor (nearest neighbour, pixels kept sharp) to at least this
+/// side in a sheet: a 64² match frame is too small to judge.
+const TILE_SIDE: u32 = 128;
+
+/// A row's frame, magnified for its sheet.
+fn tile(path: &Path) -> Result<std::sync::Arc<image::RgbaImage>, Error> {
+    let img = read_png(path)?;
+    let k = TILE_SIDE.div_ceil(img.width().max(1)).max(1);
+    let big = image::imageops::resize(&img, img.width() * k, img.height() * k, image::imageops::FilterType::Nearest);
+    Ok(std::sync::Arc::new(big))
+}
+
+/// One sheet per preset under `out/sheets`; returns their paths relative to `out`.
+pub fn write_sheets(out: &Path, record: &MatchRecord) -> Result<Vec<String>, Error> {
+    let mut written = Vec::new();
+    for summary in record.summary().iter().filter(|p| p.preset != "all") {
+        let rows: Vec<&MatchRow> = record.rows.iter().filter(|r| r.preset == summary.preset).collect();
+        let (mut labels, mut tiles) = (Vec::new(), Vec::new());
+        for r in &rows {
+            for c in &record.compositions {
+                labels.push(row_label(r, c));
+                let row: Result<Vec<_>, Error> =
+                    KINDS.iter().map(|k| tile(&out.join(frame_path(&r.frames, c, k))).map(Some)).collect();
+                tiles.push(row?);
+            }
+        }
+        let title = format!(
+            "{}: {} -> {}, mean FLIP {:.3} copied, {:.3} fitted",
+            summary.preset, record.from, record.to, summary.copied_flip, summary.fitted_flip
+        );
+        let columns: Vec<String> = KINDS.iter().map(|k| k.to_string()).collect();
+        let img = grid_of_images(&title, &labels, &columns, &tiles);
+        let name = format!("sheets/{}.png", file_safe(&summary.preset));
+        write_atomic(&out.join(&name), &png_bytes(img.width(), img.height(), img.as_raw())?)?;
+        written.push(name);
+    }
+    Ok(written)
+}
