@@ -10,7 +10,7 @@ use crate::input::names::unknown_name;
 use crate::pipelines::Pipeline;
 use crate::remap::fit::{calibrate_exposure, fit, BasisCache, FitOptions, ParamAxis};
 use crate::remap::sheet::{write_frames, write_sheets};
-use crate::remap::table::{MatchRecord, MatchRow, MATCH_SCHEMA};
+use crate::remap::table::{MatchKey, MatchProgress, MatchRecord, MatchRow, MATCH_SCHEMA};
 use crate::remap::{frames, MatchSpace, MaterialValues, Side, Stage};
 use crate::render::Renderer;
 use crate::shading::registry::Registry;
@@ -25,6 +25,8 @@ pub struct MatchRequest {
     pub space: String,
     pub size: u32,
     pub iterations: u64,
+    /// Take the rows of `tables/match.progress.json` made under the same key.
+    pub resume: bool,
 }
 
 /// `PIPELINE/SHADER` as `key` names it, resolved among the registry's models.
@@ -108,9 +110,26 @@ pub fn run_match(req: &MatchRequest, models: &super::ModelsArg) -> Result<(), Er
         ..Default::default()
     };
     let compositions: Vec<String> = matrix.compositions.iter().map(|s| s.name.clone()).collect();
+    let key = MatchKey {
+        from: req.from.clone(),
+        to: req.to.clone(),
+        space,
+        size: req.size,
+        iterations: req.iterations,
+        matrix: matrix.hash.clone(),
+        exposure,
+        version: env!("CARGO_PKG_VERSION").into(),
+    };
+    let finished = resumable_rows(&req.out, &key, &compositions, req.resume)?;
     let mut cache = BasisCache::default();
     let mut rows = Vec::new();
     for (i, (preset, values)) in materials.iter().enumerate() {
+        if let Some(row) = finished.get(i).filter(|r| r.preset == *preset && r.source == *values) {
+            let (n, s, m) = (materials.len(), values.smoothness, values.metallic);
+            eprintln!("[{}/{n}] {preset} s {s:.2} m {m:.2}: taken from the earlier match", i + 1);
+            rows.push(row.clone());
+            continue;
+        }
         let source_frames = frames(&mut renderer, &stage, &source, values)?;
         let f = fit(&mut renderer, &stage, values, &source_frames, &target, space, &options, &mut cache)?;
         eprintln!(
@@ -134,6 +153,10 @@ pub fn run_match(req: &MatchRequest, models: &super::ModelsArg) -> Result<(), Er
             renders: f.renders,
             frames,
         });
+        let progress = MatchProgress { schema: MATCH_SCHEMA, key: key.clone(), rows: rows.clone() };
+        let json =
+            serde_json::to_vec(&progress).map_err(|e| Error::Encode { what: PROGRESS.into(), source: Box::new(e) })?;
+        write_atomic(&req.out.join(PROGRESS), &json)?;
     }
     let record = MatchRecord {
         schema: MATCH_SCHEMA,
@@ -147,6 +170,44 @@ pub fn run_match(req: &MatchRequest, models: &super::ModelsArg) -> Result<(), Er
         rows,
     };
     write_tables(&req.out, &record)
+}
+
+/// The journal of a match's finished rows, written after each.
+const PROGRESS: &str = "tables/match.progress.json";
+
+/// With `resume`, the rows an earlier match into `out` finished under the same `key` whose
+/// frames are all still there, in order (the first that is not ends them). The previous match's
+/// page and JSON are removed first: the frames about to be written would no longer be theirs.
+fn resumable_rows(out: &Path, key: &MatchKey, compositions: &[String], resume: bool) -> Result<Vec<MatchRow>, Error> {
+    for stale in ["index.html", "tables/match.json"] {
+        remove_if_there(&out.join(stale))?;
+    }
+    let path = out.join(PROGRESS);
+    if !resume || !path.exists() {
+        return Ok(Vec::new());
+    }
+    let progress = crate::input::read::read(&path, crate::input::read::RECORD)
+        .ok()
+        .and_then(|bytes| serde_json::from_slice::<MatchProgress>(&bytes).ok());
+    let Some(progress) = progress.filter(|p| p.schema == MATCH_SCHEMA && p.key == *key) else {
+        eprintln!("match: {} is of another match or unreadable: fitting every row", path.display());
+        return Ok(Vec::new());
+    };
+    let complete = |r: &MatchRow| {
+        compositions.iter().all(|c| {
+            crate::remap::sheet::KINDS
+                .iter()
+                .all(|k| out.join(crate::remap::sheet::frame_path(&r.frames, c, k)).is_file())
+        })
+    };
+    Ok(progress.rows.into_iter().take_while(complete).collect())
+}
+
+fn remove_if_there(path: &Path) -> Result<(), Error> {
+    match std::fs::remove_file(path) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(Error::io_path("removing", path, e)),
+        _ => Ok(()),
+    }
 }
 
 /// The record and its tables into `out/tables`, the sheets, the curves and the page; JSON last, so

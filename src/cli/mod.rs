@@ -180,7 +180,8 @@ pub enum Command {
         quick: bool,
     },
     /// For each material a matrix sweeps in one pipeline/shader, the values of another that
-    /// reproduce its frames over every composition: tables/match.md|csv|json under --out.
+    /// reproduce its frames over every composition: tables/match.md|csv|json, sheets, curves and
+    /// a page under --out.
     Match {
         /// The source, PIPELINE/SHADER (e.g. builtin/standard).
         #[arg(long)]
@@ -204,6 +205,10 @@ pub enum Command {
         /// Rendered evaluations the refinement may take per material (0: the closed-form stage alone).
         #[arg(long, default_value_t = 40)]
         iterations: u64,
+        /// Take the rows an earlier match into --out finished (tables/match.progress.json) with
+        /// the same sides, matrix, space, size and iterations, and fit only the rest.
+        #[arg(long)]
+        resume: bool,
         #[command(flatten)]
         models: ModelsArg,
     },
@@ -325,8 +330,8 @@ pub fn dispatch(cmd: Command) -> Result<(), Error> {
         }
         Command::Audit { shader, json, out, models } => audit::audit(shader.as_deref(), json, out, &models),
         Command::Convergence { out, quick } => audit::convergence(out, quick),
-        Command::Match { from, to, matrix, out, space, size, iterations, models } => {
-            let req = matching::MatchRequest { from, to, matrix, out, space, size, iterations };
+        Command::Match { from, to, matrix, out, space, size, iterations, resume, models } => {
+            let req = matching::MatchRequest { from, to, matrix, out, space, size, iterations, resume };
             matching::run_match(&req, &models)
         }
         Command::Diff { a, b, json, out, per_channel } => diff::diff(&a, &b, json, out.as_deref(), per_channel),

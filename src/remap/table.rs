@@ -10,7 +10,7 @@ use super::{MatchError, MatchSpace, MaterialValues};
 pub const MATCH_SCHEMA: u32 = 2;
 
 /// One source material's match.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct MatchRow {
     /// The preset the source material comes from.
     pub preset: String,
@@ -25,6 +25,32 @@ pub struct MatchRow {
     /// The folder, relative to the match's, of the row's frames: `<composition>-source.png`,
     /// `-copied.png`, `-fitted.png` (as compared: exposed, on the displayed image).
     pub frames: String,
+}
+
+/// What a match's rows depend on besides their own material: a row of an interrupted match is
+/// taken again only under the same key.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MatchKey {
+    pub from: String,
+    pub to: String,
+    pub space: MatchSpace,
+    pub size: u32,
+    pub iterations: u64,
+    /// The matrix's hash (its text and the files it names).
+    pub matrix: String,
+    /// The calibrated exposure (1 on the displayed image).
+    pub exposure: f64,
+    /// The shadematrix version that rendered the rows.
+    pub version: String,
+}
+
+/// The rows a match has finished (`tables/match.progress.json`), written after each: a match
+/// interrupted and run again with the same key takes them instead of fitting them again.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct MatchProgress {
+    pub schema: u32,
+    pub key: MatchKey,
+    pub rows: Vec<MatchRow>,
 }
 
 /// One preset's rows summarised: the mean error copied and fitted.

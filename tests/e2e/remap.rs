@@ -181,3 +181,44 @@ fn a_models_own_swept_parameter_is_fitted_too() {
     assert!(fitted_sigma < 0.5, "σ {fitted_sigma}: {:?}", f.values);
     assert!(f.after.flip < f.before.flip, "{:?} against {:?}", f.after, f.before);
 }
+
+#[test]
+fn an_interrupted_match_resumes_from_its_journal() {
+    let _timer = crate::common::timed!();
+    let tmp = tempfile::tempdir().unwrap();
+    let body = "name = \"m\"\ncompositions = [\"medusa\"]\npipelines = [\"urp\"]\nshaders = [\"lit\"]\n\
+        presets = [\"gold\"]\n[sweep]\nsmoothness = [0.3, 0.6, 0.9]\n";
+    let matrix = crate::common::write_matrix(tmp.path(), "m", body);
+    let out = tmp.path().join("out");
+    let args = |resume: bool| {
+        let mut a = vec!["match", "--from", "urp/lit", "--to", "hdrp/lit", matrix.to_str().unwrap()];
+        a.extend(["--out", out.to_str().unwrap(), "--size", "20", "--iterations", "2"]);
+        a.extend(resume.then_some("--resume"));
+        a
+    };
+    let (code, _, err) = crate::common::shadematrix(tmp.path(), &args(false), &[]);
+    assert_eq!(code, 0, "{err}");
+    let read = || -> serde_json::Value {
+        serde_json::from_slice(&std::fs::read(out.join("tables/match.json")).unwrap()).unwrap()
+    };
+    let first = read();
+    // Interrupted while writing the second row's frames, before the tables: the journal holds all
+    // three rows, but the second's frames are not all there.
+    std::fs::remove_file(out.join("tables/match.json")).unwrap();
+    std::fs::remove_file(out.join("frames/001/medusa-fitted.png")).unwrap();
+    let (code, _, err) = crate::common::shadematrix(tmp.path(), &args(true), &[]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(err.matches("taken from the earlier match").count(), 1, "only the first row is whole: {err}");
+    // The same rows, but for the renders they took: the resumed match's grid cache starts cold.
+    let without_renders = |v: serde_json::Value| {
+        let mut rows = v["rows"].as_array().unwrap().clone();
+        rows.iter_mut().for_each(|r| _ = r.as_object_mut().unwrap().remove("renders"));
+        rows
+    };
+    assert_eq!(without_renders(read()), without_renders(first), "the rows fitted again are the same");
+    assert!(out.join("frames/001/medusa-fitted.png").is_file());
+    // Without --resume every row is fitted again.
+    let (code, _, err) = crate::common::shadematrix(tmp.path(), &args(false), &[]);
+    assert_eq!(code, 0, "{err}");
+    assert!(!err.contains("taken from the earlier match"), "{err}");
+}
