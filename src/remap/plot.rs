@@ -50,9 +50,11 @@ pub fn svg(record: &MatchRecord) -> Result<String, crate::error::Error> {
     let fail = |e: &dyn std::fmt::Display| failed("the smoothness curves", e);
     let mut out = String::new();
     {
-        let root = SVGBackend::with_string(&mut out, (760, 520)).into_drawing_area();
+        let root = SVGBackend::with_string(&mut out, (900, 520)).into_drawing_area();
         root.fill(&WHITE).map_err(|e| fail(&e))?;
-        let mut chart = ChartBuilder::on(&root)
+        // The legend beside the chart: the curves span the whole square.
+        let (plot_area, legend_area) = root.split_horizontally(700);
+        let mut chart = ChartBuilder::on(&plot_area)
             .caption(&title, ("sans-serif", 15))
             .margin(14)
             .x_label_area_size(42)
@@ -67,20 +69,23 @@ pub fn svg(record: &MatchRecord) -> Result<String, crate::error::Error> {
             .draw()
             .map_err(|e| fail(&e))?;
         let grey = RGBColor(0x99, 0x99, 0x99);
-        chart
-            .draw_series(LineSeries::new([(0.0, 0.0), (1.0, 1.0)], grey.stroke_width(1)))
-            .map_err(|e| fail(&e))?
-            .label("copied (Unity's upgrader)")
-            .legend(move |(x, y)| PathElement::new([(x, y), (x + 16, y)], grey.stroke_width(1)));
+        chart.draw_series(LineSeries::new([(0.0, 0.0), (1.0, 1.0)], grey.stroke_width(1))).map_err(|e| fail(&e))?;
+        let key = |row: i32, colour: RGBColor, width: u32, name: &str, triangles: Option<bool>| {
+            let y = 40 + 18 * row;
+            legend_area.draw(&PathElement::new([(4, y), (28, y)], colour.stroke_width(width)))?;
+            match triangles {
+                Some(true) => legend_area.draw(&TriangleMarker::new((16, y), 5, colour.filled()))?,
+                Some(false) => legend_area.draw(&Circle::new((16, y), 3, colour.filled()))?,
+                None => {}
+            }
+            legend_area.draw(&Text::new(name.to_string(), (34, y - 6), ("sans-serif", 11)))
+        };
+        key(0, grey, 1, "copied (Unity's upgraders)", None).map_err(|e| fail(&e))?;
         for (i, (name, points)) in curves(record).into_iter().enumerate() {
             let colour = PALETTE[i % PALETTE.len()];
             // Past the palette's ten colours, triangles tell the curves apart.
             let triangles = i >= PALETTE.len();
-            chart
-                .draw_series(LineSeries::new(points.iter().copied(), colour.stroke_width(2)))
-                .map_err(|e| fail(&e))?
-                .label(name)
-                .legend(move |(x, y)| PathElement::new([(x, y), (x + 16, y)], colour.stroke_width(2)));
+            chart.draw_series(LineSeries::new(points.iter().copied(), colour.stroke_width(2))).map_err(|e| fail(&e))?;
             if triangles {
                 chart
                     .draw_series(points.iter().map(|p| TriangleMarker::new(*p, 5, colour.filled())))
@@ -88,15 +93,8 @@ pub fn svg(record: &MatchRecord) -> Result<String, crate::error::Error> {
             } else {
                 chart.draw_series(points.iter().map(|p| Circle::new(*p, 3, colour.filled()))).map_err(|e| fail(&e))?;
             }
+            key(i as i32 + 1, colour, 2, &name, Some(triangles)).map_err(|e| fail(&e))?;
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperLeft)
-            .label_font(("sans-serif", 10))
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .draw()
-            .map_err(|e| fail(&e))?;
         root.present().map_err(|e| fail(&e))?;
     }
     Ok(out)
