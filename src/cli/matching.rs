@@ -8,7 +8,7 @@ use crate::error::{Error, InputError};
 use crate::fsutil::write_atomic;
 use crate::input::names::unknown_name;
 use crate::pipelines::Pipeline;
-use crate::remap::fit::{calibrate_exposure, fit, BasisCache, FitOptions, ParamAxis};
+use crate::remap::fit::{calibrate_exposure, fit, BasisCache, FitOptions, Kept, ParamAxis};
 use crate::remap::sheet::{write_frames, write_sheets};
 use crate::remap::table::{MatchKey, MatchProgress, MatchRecord, MatchRow, MATCH_SCHEMA};
 use crate::remap::{frames, MatchSpace, MaterialValues, Side, Stage};
@@ -27,6 +27,8 @@ pub struct MatchRequest {
     pub iterations: u64,
     /// Take the rows of `tables/match.progress.json` made under the same key.
     pub resume: bool,
+    /// Source values the fit keeps (`Kept::NAMES`).
+    pub keep: Vec<String>,
 }
 
 /// `PIPELINE/SHADER` as `key` names it, resolved among the registry's models.
@@ -53,6 +55,8 @@ pub fn run_match(req: &MatchRequest, models: &super::ModelsArg) -> Result<(), Er
         "linear" => MatchSpace::Linear,
         other => return Err(unknown_name(ORIGIN, "--space", "space", other, &["display", "linear"]).into()),
     };
+    let keep = Kept::parse(req.keep.iter().map(String::as_str))
+        .map_err(|bad| unknown_name(ORIGIN, "--keep", "value", bad, &Kept::NAMES))?;
     if !(16..=1024).contains(&req.size) {
         return Err(InputError::at_key(ORIGIN, "--size", format!("{}: allowed 16..=1024", req.size)).into());
     }
@@ -107,6 +111,7 @@ pub fn run_match(req: &MatchRequest, models: &super::ModelsArg) -> Result<(), Er
         refine_iterations: req.iterations,
         exposure: Some(exposure),
         params: ParamAxis::swept(to_model, &matrix.sweep.params),
+        keep,
         ..Default::default()
     };
     let compositions: Vec<String> = matrix.compositions.iter().map(|s| s.name.clone()).collect();
@@ -118,6 +123,7 @@ pub fn run_match(req: &MatchRequest, models: &super::ModelsArg) -> Result<(), Er
         iterations: req.iterations,
         matrix: matrix.hash.clone(),
         exposure,
+        kept: keep,
         version: env!("CARGO_PKG_VERSION").into(),
     };
     let finished = resumable_rows(&req.out, &key, &compositions, req.resume)?;
@@ -166,6 +172,7 @@ pub fn run_match(req: &MatchRequest, models: &super::ModelsArg) -> Result<(), Er
         compositions,
         size: req.size,
         exposure,
+        kept: keep.names().into_iter().map(String::from).collect(),
         adapter,
         rows,
     };

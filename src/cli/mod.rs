@@ -209,6 +209,10 @@ pub enum Command {
         /// the same sides, matrix, space, size and iterations, and fit only the rest.
         #[arg(long)]
         resume: bool,
+        /// Source values the fit keeps as they are, comma-separated: smoothness, metallic, color
+        /// (e.g. `--keep metallic`: a dielectric stays one).
+        #[arg(long, value_delimiter = ',')]
+        keep: Vec<String>,
         #[command(flatten)]
         models: ModelsArg,
     },
@@ -330,8 +334,8 @@ pub fn dispatch(cmd: Command) -> Result<(), Error> {
         }
         Command::Audit { shader, json, out, models } => audit::audit(shader.as_deref(), json, out, &models),
         Command::Convergence { out, quick } => audit::convergence(out, quick),
-        Command::Match { from, to, matrix, out, space, size, iterations, resume, models } => {
-            let req = matching::MatchRequest { from, to, matrix, out, space, size, iterations, resume };
+        Command::Match { from, to, matrix, out, space, size, iterations, resume, keep, models } => {
+            let req = matching::MatchRequest { from, to, matrix, out, space, size, iterations, resume, keep };
             matching::run_match(&req, &models)
         }
         Command::Diff { a, b, json, out, per_channel } => diff::diff(&a, &b, json, out.as_deref(), per_channel),

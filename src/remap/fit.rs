@@ -17,6 +17,7 @@
 //!    smoothness, metallic (clamped to [0, 1]) and a log-scale factor per colour channel. It needs
 //!    no gradient, which a frame's FLIP does not give, tolerates the plateaus a clamped slider
 //!    makes, and takes few evaluations in five dimensions; each evaluation renders every scene.
+//!    Values the match keeps (`--keep`) are left out of the grid and the refinement.
 //!    The stage-1 node is kept unless a rendered frame beats it.
 //!
 //! A model's own parameters that the matrix sweeps (`[sweep.params]`) are fitted too: their swept
@@ -80,11 +81,55 @@ pub struct FitOptions {
     /// The target model's parameters to fit (`ParamAxis::swept`); the others keep the source's
     /// value where the target has the parameter, else the target's default.
     pub params: Vec<ParamAxis>,
+    /// The source's values the fit keeps as they are.
+    pub keep: Kept,
 }
 
 impl Default for FitOptions {
     fn default() -> Self {
-        FitOptions { smoothness_steps: 10, refine_iterations: 40, exposure: None, params: Vec::new() }
+        FitOptions {
+            smoothness_steps: 10,
+            refine_iterations: 40,
+            exposure: None,
+            params: Vec::new(),
+            keep: Kept::default(),
+        }
+    }
+}
+
+/// Which of the source's values a fit keeps (`match --keep`): a remap that may turn a dielectric
+/// into a rough metal when that looks closest is not always one a project can take.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct Kept {
+    pub smoothness: bool,
+    pub metallic: bool,
+    pub color: bool,
+}
+
+impl Kept {
+    pub const NAMES: [&'static str; 3] = ["smoothness", "metallic", "color"];
+
+    /// The values named, each one of `NAMES`; None names the first that is not.
+    pub fn parse<'a>(names: impl IntoIterator<Item = &'a str>) -> Result<Kept, &'a str> {
+        let mut k = Kept::default();
+        for n in names {
+            match n {
+                "smoothness" => k.smoothness = true,
+                "metallic" => k.metallic = true,
+                "color" => k.color = true,
+                other => return Err(other),
+            }
+        }
+        Ok(k)
+    }
+
+    pub fn names(&self) -> Vec<&'static str> {
+        Kept::NAMES
+            .into_iter()
+            .zip([self.smoothness, self.metallic, self.color])
+            .filter(|(_, k)| *k)
+            .map(|(n, _)| n)
+            .collect()
     }
 }
 
@@ -259,9 +304,29 @@ fn moments(source: &[Frame], black: &[Frame], white: &[Frame]) -> [[f64; 5]; 3] 
 }
 
 /// The base colour (in [0, 1]) and exposure whose predicted frames k·(A + B·c) are nearest
-/// `source` in relative MSE; the exposure is `fixed` where given.
-fn least_squares(source: &[Frame], black: &[Frame], white: &[Frame], fixed: Option<f64>) -> ([f64; 3], f64) {
+/// `source` in relative MSE; the exposure is `fixed` where given, the colour `kept` where given.
+fn least_squares(
+    source: &[Frame],
+    black: &[Frame],
+    white: &[Frame],
+    fixed: Option<f64>,
+    kept: Option<[f64; 3]>,
+) -> ([f64; 3], f64) {
     let m = moments(source, black, white);
+    // The exposure for a colour: Σ w·P·S / Σ w·P² with P = A + B·c.
+    let exposure_for = |color: [f64; 3], otherwise: f64| {
+        let (num, den) = m.iter().zip(color).fold((0.0, 0.0), |(n, d), ([aa, ab, bb, a_s, bs], c)| {
+            (n + a_s + c * bs, d + aa + 2.0 * c * ab + c * c * bb)
+        });
+        if num > 0.0 && den > 0.0 {
+            num / den
+        } else {
+            otherwise
+        }
+    };
+    if let Some(color) = kept {
+        return (color, fixed.unwrap_or_else(|| exposure_for(color, 1.0)));
+    }
     // With k fixed, each channel's c = (Σ w·B·S/k − Σ w·A·B)/Σ w·B².
     let color_at =
         |k: f64| m.map(|[_, ab, bb, _, bs]| if bb > 0.0 { ((bs / k - ab) / bb).clamp(0.0, 1.0) } else { 0.0 });
@@ -276,12 +341,8 @@ fn least_squares(source: &[Frame], black: &[Frame], white: &[Frame], fixed: Opti
     }
     let k = if lhs > 0.0 && rhs > 0.0 { rhs / lhs } else { 1.0 };
     let color = color_at(k);
-    // The colour clamped, k again for it: Σ w·P·S / Σ w·P² with P = A + B·c.
-    let (num, den) = m
-        .iter()
-        .zip(color)
-        .fold((0.0, 0.0), |(n, d), ([aa, ab, bb, a_s, bs], c)| (n + a_s + c * bs, d + aa + 2.0 * c * ab + c * c * bb));
-    (color, if num > 0.0 && den > 0.0 { num / den } else { k })
+    // The colour clamped, k again for it.
+    (color, exposure_for(color, k))
 }
 
 /// `frames` with their linear pixels × `k`, shown again through `displays`.
@@ -296,15 +357,27 @@ fn scaled(hdr: &[f32], k: f64) -> Vec<f32> {
 
 /// The stage-1 grid: smoothness × metallic × each fitted parameter's values, the source's own
 /// among them, on `base` (the values copied: the parameters the grid does not set).
-fn grid(source: &MaterialValues, base: &MaterialValues, steps: u32, params: &[ParamAxis]) -> Vec<MaterialValues> {
+fn grid(
+    source: &MaterialValues,
+    base: &MaterialValues,
+    steps: u32,
+    params: &[ParamAxis],
+    keep: Kept,
+) -> Vec<MaterialValues> {
     let sorted = |mut v: Vec<f64>| {
         v.sort_by(f64::total_cmp);
         v.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
         v
     };
-    let mut smooth: Vec<f64> = (0..=steps).map(|k| k as f64 / steps.max(1) as f64).collect();
+    let mut smooth: Vec<f64> = match keep.smoothness {
+        true => Vec::new(),
+        false => (0..=steps).map(|k| k as f64 / steps.max(1) as f64).collect(),
+    };
     smooth.push(source.smoothness.clamp(0.0, 1.0));
-    let metal = sorted(vec![0.0, 1.0, source.metallic.clamp(0.0, 1.0)]);
+    let metal = match keep.metallic {
+        true => vec![source.metallic.clamp(0.0, 1.0)],
+        false => sorted(vec![0.0, 1.0, source.metallic.clamp(0.0, 1.0)]),
+    };
     let mut nodes: Vec<MaterialValues> = sorted(smooth)
         .into_iter()
         .flat_map(|smoothness| {
@@ -367,11 +440,12 @@ pub fn fit(
     let free_exposure = fixed_exposure.is_none();
     let mut renders = 1;
     let mut nodes: Vec<(MaterialValues, f64, f64)> = Vec::new();
-    for node in grid(source, &carried, options.smoothness_steps, &options.params) {
+    let kept_color = options.keep.color.then_some(carried.color);
+    for node in grid(source, &carried, options.smoothness_steps, &options.params, options.keep) {
         let (basis, rendered) = cache.basis(renderer, stage, target, &node)?;
         let (black, white) = (&basis.black, &basis.white);
         renders += 2 * rendered as u32;
-        let (color, k) = least_squares(source_frames, black, white, fixed_exposure);
+        let (color, k) = least_squares(source_frames, black, white, fixed_exposure, kept_color);
         let guess: Vec<Frame> = black
             .iter()
             .zip(white)
@@ -395,12 +469,19 @@ pub fn fit(
             start = Best { values, exposure: k, error: e, frames: rendered };
         }
     }
-    let refined_params: Vec<(String, (f64, f64))> =
-        options.params.iter().filter_map(|a| a.range.map(|r| (a.name.clone(), r))).collect();
+    // The refinement's coordinates, in this order: what the fit may move.
+    let mut coords = Vec::new();
+    coords.extend((!options.keep.smoothness).then_some(Coord::Smoothness));
+    coords.extend((!options.keep.metallic).then_some(Coord::Metallic));
+    if !options.keep.color {
+        coords.extend([Coord::Color(0), Coord::Color(1), Coord::Color(2)]);
+    }
+    coords.extend(options.params.iter().filter_map(|a| a.range.map(|r| Coord::Param(a.name.clone(), r))));
+    coords.extend(free_exposure.then_some(Coord::Exposure));
     let mut fitted = start;
-    if options.refine_iterations > 0 && fitted.error.flip > 0.0 {
-        let dimensions = 5 + refined_params.len() + free_exposure as usize;
+    if options.refine_iterations > 0 && fitted.error.flip > 0.0 && !coords.is_empty() {
         let (start_values, start_k) = (fitted.values.clone(), fitted.exposure);
+        let simplex = simplex_around(&coords);
         let (best, refined) = (RefCell::new(fitted), RefCell::new(0));
         let problem = Refine {
             renderer: RefCell::new(renderer),
@@ -410,13 +491,12 @@ pub fn fit(
             space,
             start: start_values,
             start_exposure: start_k,
-            free_exposure,
-            params: &refined_params,
+            coords,
             displays: &displays,
             best: &best,
             renders: &refined,
         };
-        let solver = NelderMead::new(simplex_around(dimensions, &refined_params))
+        let solver = NelderMead::new(simplex)
             .with_sd_tolerance(1e-4)
             .map_err(|e| Error::Other(format!("setting up the refinement: {e}")))?;
         Executor::new(problem, solver)
@@ -444,28 +524,47 @@ struct Best {
     frames: Vec<Frame>,
 }
 
-/// The refinement's start: the stage-1 node (all zeros) and a step along each of its `n`
-/// parameters: smoothness and metallic by 0.05, each colour channel by a factor e^0.2, each
-/// refined model parameter by 5 % of its range, and the exposure (where free) by e^0.2.
-fn simplex_around(n: usize, params: &[(String, (f64, f64))]) -> Vec<Vec<f64>> {
-    let steps: Vec<f64> = [0.05, 0.05, 0.2, 0.2, 0.2]
-        .into_iter()
-        .chain(params.iter().map(|(_, (lo, hi))| 0.05 * (hi - lo)))
-        .chain([0.2])
-        .collect();
+/// One coordinate of the refinement's parameter vector.
+#[derive(Debug, Clone, PartialEq)]
+enum Coord {
+    /// An offset of the smoothness.
+    Smoothness,
+    /// An offset of the metallic.
+    Metallic,
+    /// The log factor of a colour channel.
+    Color(usize),
+    /// An offset of a continuous model parameter, within its range.
+    Param(String, (f64, f64)),
+    /// The log factor of the exposure (on the linear image, where not calibrated).
+    Exposure,
+}
+
+impl Coord {
+    /// Its step in the starting simplex: smoothness and metallic 0.05, a colour channel and the
+    /// exposure a factor e^0.2, a model parameter 5 % of its range.
+    fn step(&self) -> f64 {
+        match self {
+            Coord::Smoothness | Coord::Metallic => 0.05,
+            Coord::Color(_) | Coord::Exposure => 0.2,
+            Coord::Param(_, (lo, hi)) => 0.05 * (hi - lo),
+        }
+    }
+}
+
+/// The refinement's start: the stage-1 node (all zeros) and a step along each coordinate.
+fn simplex_around(coords: &[Coord]) -> Vec<Vec<f64>> {
+    let n = coords.len();
     let mut simplex = vec![vec![0.0; n]];
-    for (k, step) in steps.iter().take(n).enumerate() {
+    for (k, coord) in coords.iter().enumerate() {
         let mut v = vec![0.0; n];
-        v[k] = *step;
+        v[k] = coord.step();
         simplex.push(v);
     }
     simplex
 }
 
 /// The refinement's cost: the error of the rendered frames of the values a parameter vector
-/// names: offsets from the stage-1 node (smoothness, metallic), log factors of its colour,
-/// offsets of the refined model parameters and (on the linear image, where free) the log factor
-/// of its exposure.
+/// names, coordinate by coordinate (`Coord`) from the stage-1 node.
 struct Refine<'a, 'r> {
     renderer: RefCell<&'r mut Renderer>,
     stage: &'a Stage,
@@ -474,9 +573,7 @@ struct Refine<'a, 'r> {
     space: MatchSpace,
     start: MaterialValues,
     start_exposure: f64,
-    free_exposure: bool,
-    /// The continuous model parameters refined, with their ranges.
-    params: &'a [(String, (f64, f64))],
+    coords: Vec<Coord>,
     displays: &'a [DisplayTransform],
     /// The best values rendered so far: Nelder–Mead's own best is a parameter vector, and
     /// every evaluation's frames are already judged here.
@@ -485,19 +582,23 @@ struct Refine<'a, 'r> {
 }
 
 impl Refine<'_, '_> {
-    fn values(&self, p: &[f64]) -> MaterialValues {
+    /// The values and the exposure `p` names.
+    fn values(&self, p: &[f64]) -> (MaterialValues, f64) {
         let s = &self.start;
-        let mut params = s.params.clone();
-        for (k, (name, (lo, hi))) in self.params.iter().enumerate() {
-            let v = s.params.get(name).copied().unwrap_or(*lo); // `fit` names every one
-            params.insert(name.clone(), (v + p[5 + k]).clamp(*lo, *hi));
+        let (mut v, mut k) = (s.clone(), self.start_exposure);
+        for (coord, x) in self.coords.iter().zip(p) {
+            match coord {
+                Coord::Smoothness => v.smoothness = (s.smoothness + x).clamp(0.0, 1.0),
+                Coord::Metallic => v.metallic = (s.metallic + x).clamp(0.0, 1.0),
+                Coord::Color(c) => v.color[*c] = (s.color[*c] * x.exp()).clamp(0.0, 1.0),
+                Coord::Param(name, (lo, hi)) => {
+                    let from = s.params.get(name).copied().unwrap_or(*lo); // `fit` names every one
+                    v.params.insert(name.clone(), (from + x).clamp(*lo, *hi));
+                }
+                Coord::Exposure => k = self.start_exposure * x.exp(),
+            }
         }
-        MaterialValues {
-            smoothness: (s.smoothness + p[0]).clamp(0.0, 1.0),
-            metallic: (s.metallic + p[1]).clamp(0.0, 1.0),
-            color: [0, 1, 2].map(|c| (s.color[c] * p[2 + c].exp()).clamp(0.0, 1.0)),
-            params,
-        }
+        (v, k)
     }
 }
 
@@ -506,11 +607,7 @@ impl CostFunction for Refine<'_, '_> {
     type Output = f64;
 
     fn cost(&self, p: &Self::Param) -> Result<f64, argmin::core::Error> {
-        let values = self.values(p);
-        let k = match self.free_exposure {
-            true => self.start_exposure * p[5 + self.params.len()].exp(),
-            false => self.start_exposure,
-        };
+        let (values, k) = self.values(p);
         let mut renderer = self.renderer.borrow_mut();
         let rendered = frames(&mut renderer, self.stage, self.target, &values)?;
         *self.renders.borrow_mut() += 1;
@@ -531,7 +628,7 @@ mod tests {
     #[test]
     fn the_grid_holds_the_source_values_once() {
         let source = MaterialValues::new(0.75, 0.0, [0.2; 3]);
-        let g = grid(&source, &source, 10, &[]);
+        let g = grid(&source, &source, 10, &[], Kept::default());
         assert_eq!(g.len(), 12 * 2);
         let has = |s: f64, m: f64| g.iter().any(|n| n.smoothness == s && n.metallic == m);
         assert!(has(0.75, 0.0) && has(1.0, 1.0));
@@ -542,7 +639,7 @@ mod tests {
         let mut source = MaterialValues::new(0.5, 0.0, [0.2; 3]);
         source.params.insert("sigma".into(), 0.3);
         let sigma = ParamAxis { name: "sigma".into(), values: vec![0.0, 0.5], range: Some((0.0, 1.5)) };
-        let g = grid(&source, &source, 2, &[sigma]);
+        let g = grid(&source, &source, 2, &[sigma], Kept::default());
         assert_eq!(g.len(), 3 * 2 * 3, "smoothness 0, 0.5, 1 × metallic 0, 1 × sigma 0, 0.3, 0.5");
         assert!(g.iter().any(|n| n.smoothness == 0.5 && n.params["sigma"] == 0.3));
     }
@@ -555,18 +652,40 @@ mod tests {
         let w = frame(vec![0.5, 1.2, 0.4, 1.0, 0.9, 0.6, 0.7, 1.0]);
         let c = [0.3, 0.6, 0.9];
         let s = frame(predicted(&a, &w, c));
-        let (got, k) =
-            least_squares(std::slice::from_ref(&s), std::slice::from_ref(&a), std::slice::from_ref(&w), Some(1.0));
+        let (got, k) = least_squares(
+            std::slice::from_ref(&s),
+            std::slice::from_ref(&a),
+            std::slice::from_ref(&w),
+            Some(1.0),
+            None,
+        );
         assert_eq!(k, 1.0);
         for i in 0..3 {
             assert!((got[i] - c[i]).abs() < 1e-6, "{got:?}");
         }
         // The same frame a thousand times dimmer: the exposure takes the factor, the colour stays.
         let dim = frame(s.hdr.iter().map(|v| v * 1e-3).collect());
-        let (got, k) = least_squares(&[dim], &[a], &[w], None);
+        let (got, k) =
+            least_squares(std::slice::from_ref(&dim), std::slice::from_ref(&a), std::slice::from_ref(&w), None, None);
         assert!((k * 1e3 - 1.0).abs() < 1e-6, "{k}");
         for i in 0..3 {
             assert!((got[i] - c[i]).abs() < 1e-6, "{got:?}");
         }
+        // The colour kept: the exposure alone is solved for it.
+        let (got, k) = least_squares(&[dim], &[a], &[w], None, Some(c));
+        assert_eq!(got, c);
+        assert!((k * 1e3 - 1.0).abs() < 1e-6, "{k}");
+    }
+
+    #[test]
+    fn kept_values_leave_the_grid_and_the_refinement() {
+        let source = MaterialValues::new(0.35, 0.0, [0.2; 3]);
+        let keep = Kept { metallic: true, ..Default::default() };
+        let g = grid(&source, &source, 10, &[], keep);
+        assert_eq!(g.len(), 12, "smoothness 0, 0.1, …, 1 and 0.35, metallic 0 alone");
+        assert!(g.iter().all(|n| n.metallic == 0.0));
+        assert_eq!(Kept::parse(["color", "metallic"]), Ok(Kept { smoothness: false, metallic: true, color: true }));
+        assert_eq!(Kept::parse(["metalic"]), Err("metalic"));
+        assert_eq!(keep.names(), ["metallic"]);
     }
 }

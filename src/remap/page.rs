@@ -83,6 +83,7 @@ pub fn html(record: &MatchRecord, plot: &str, sheets: &[String]) -> Result<Strin
             compositions => record.compositions.join(", "),
             composition_list => record.compositions.iter().map(|c| PageComposition { name: c.clone(), file: file_safe(c) }).collect::<Vec<_>>(),
             size => record.size,
+            kept => record.kept.join(", "),
             adapter => record.adapter,
             exposure => (record.space == super::MatchSpace::Linear).then(|| format!("{:.4e}", record.exposure)),
             rows => rows,

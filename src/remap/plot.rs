@@ -129,6 +129,7 @@ mod tests {
             compositions: vec![],
             size: 16,
             exposure: 1.0,
+            kept: vec![],
             adapter: String::new(),
             rows,
         };

@@ -40,6 +40,8 @@ pub struct MatchKey {
     pub matrix: String,
     /// The calibrated exposure (1 on the displayed image).
     pub exposure: f64,
+    /// The source values the fit keeps.
+    pub kept: super::fit::Kept,
     /// The shadematrix version that rendered the rows.
     pub version: String,
 }
@@ -77,6 +79,9 @@ pub struct MatchRecord {
     /// On the linear image, the factor on the target's frames calibrated on a matte grey
     /// (smoothness 0, metallic 0, colour 0.5); 1 on the displayed image.
     pub exposure: f64,
+    /// The source's values the fit kept as they are (`--keep`): smoothness, metallic, color.
+    #[serde(default)]
+    pub kept: Vec<String>,
     pub adapter: String,
     pub rows: Vec<MatchRow>,
 }
@@ -137,6 +142,9 @@ impl MatchRecord {
         );
         if self.space == MatchSpace::Linear {
             s += &format!(" The target's linear frames × {:.4e} (calibrated on a matte grey).", self.exposure);
+        }
+        if !self.kept.is_empty() {
+            s += &format!(" Kept from the source: {}.", self.kept.join(", "));
         }
         s += "\n\n| preset | materials | mean FLIP copied | mean FLIP fitted |\n|---|---|---|---|\n";
         for p in self.summary() {
@@ -224,6 +232,7 @@ mod tests {
             compositions: vec![],
             size: 16,
             exposure: 1.0,
+            kept: vec![],
             adapter: String::new(),
             rows: vec![row("gold", 0.4, 0.2), row("wood", 0.1, 0.1), row("gold", 0.6, 0.4)],
         };

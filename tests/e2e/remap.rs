@@ -150,6 +150,26 @@ fn the_match_command_writes_its_tables_and_refuses_a_mistyped_side() {
     let (code, _, err) = crate::common::shadematrix(tmp.path(), &bad, &[]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("--from") && err.contains("did you mean `standard`?"), "{err}");
+    // Values kept from the source stay as they are; the rest is fitted.
+    let kept = out.join("kept");
+    let k = kept.to_str().unwrap();
+    let args = ["match", "--from", "builtin/standard", "--to", "urp/lit", m, "--out", k, "--size", "24"];
+    let (code, _, err) = crate::common::shadematrix(
+        tmp.path(),
+        &[&args[..], &["--iterations", "3", "--keep", "metallic,color"]].concat(),
+        &[],
+    );
+    assert_eq!(code, 0, "{err}");
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(kept.join("tables/match.json")).unwrap()).unwrap();
+    assert_eq!(json["kept"], serde_json::json!(["metallic", "color"]));
+    for r in json["rows"].as_array().unwrap() {
+        assert_eq!(r["fitted"]["metallic"], r["source"]["metallic"], "{r}");
+        assert_eq!(r["fitted"]["color"], r["source"]["color"], "{r}");
+    }
+    let (code, _, err) = crate::common::shadematrix(tmp.path(), &[&args[..], &["--keep", "metalic"]].concat(), &[]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--keep") && err.contains("did you mean `metallic`?"), "{err}");
 }
 
 #[test]
