@@ -103,7 +103,7 @@ pub fn svg(record: &MatchRecord) -> Result<String, crate::error::Error> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::remap::{MatchError, MatchSpace, MaterialValues};
+    use crate::remap::{MatchError, MaterialValues};
 
     fn row(preset: &str, s: f64, fitted: f64, metallic: f64) -> MatchRow {
         let e = MatchError { flip: 0.1, rel_mse: 0.1 };
@@ -121,18 +121,7 @@ mod tests {
     #[test]
     fn a_preset_makes_one_curve_sorted_by_the_source_and_a_varied_metallic_splits_it() {
         let rows = vec![row("gold", 1.0, 0.9, 1.0), row("gold", 0.0, 0.1, 1.0), row("wood", 0.5, 0.4, 0.0)];
-        let record = MatchRecord {
-            schema: 2,
-            from: "builtin/standard".into(),
-            to: "urp/lit".into(),
-            space: MatchSpace::Display,
-            compositions: vec![],
-            size: 16,
-            exposure: 1.0,
-            kept: vec![],
-            adapter: String::new(),
-            rows,
-        };
+        let record = crate::remap::table::record_of(rows);
         let c = curves(&record);
         assert_eq!(c, vec![("gold".into(), vec![(0.0, 0.1), (1.0, 0.9)]), ("wood".into(), vec![(0.5, 0.4)])]);
         let mut split = record.clone();

@@ -209,6 +209,23 @@ impl MatchRecord {
     }
 }
 
+/// A display-space match of `rows` from built-in Standard to URP Lit, for tests.
+#[cfg(test)]
+pub(crate) fn record_of(rows: Vec<MatchRow>) -> MatchRecord {
+    MatchRecord {
+        schema: MATCH_SCHEMA,
+        from: "builtin/standard".into(),
+        to: "urp/lit".into(),
+        space: MatchSpace::Display,
+        compositions: vec![],
+        size: 16,
+        exposure: 1.0,
+        kept: vec![],
+        adapter: String::new(),
+        rows,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -224,18 +241,7 @@ mod tests {
             renders: 1,
             frames: String::new(),
         };
-        let record = MatchRecord {
-            schema: MATCH_SCHEMA,
-            from: "a/b".into(),
-            to: "c/d".into(),
-            space: MatchSpace::Display,
-            compositions: vec![],
-            size: 16,
-            exposure: 1.0,
-            kept: vec![],
-            adapter: String::new(),
-            rows: vec![row("gold", 0.4, 0.2), row("wood", 0.1, 0.1), row("gold", 0.6, 0.4)],
-        };
+        let record = record_of(vec![row("gold", 0.4, 0.2), row("wood", 0.1, 0.1), row("gold", 0.6, 0.4)]);
         let got: Vec<(String, usize, f64, f64)> =
             record.summary().into_iter().map(|p| (p.preset, p.rows, p.copied_flip, p.fitted_flip)).collect();
         let close = |a: f64, b: f64| (a - b).abs() < 1e-12;
