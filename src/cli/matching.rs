@@ -221,6 +221,7 @@ fn remove_if_there(path: &Path) -> Result<(), Error> {
 /// a complete JSON means a complete set.
 fn write_tables(out: &Path, record: &MatchRecord) -> Result<(), Error> {
     let sheets = write_sheets(out, record)?;
+    crate::remap::sheet::prune_stale(out, record.rows.len(), &sheets)?;
     let plot = "plots/smoothness.svg";
     write_atomic(&out.join(plot), crate::remap::plot::svg(record)?.as_bytes())?;
     write_atomic(&out.join("index.html"), crate::remap::page::html(record, plot, &sheets)?.as_bytes())?;

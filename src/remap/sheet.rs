@@ -86,3 +86,28 @@ pub fn write_sheets(out: &Path, record: &MatchRecord) -> Result<Vec<String>, Err
     }
     Ok(written)
 }
+
+/// Removes what an earlier match into `out` left that this one does not name: `frames/NNN`
+/// folders past its `rows` and sheets of presets it has not (`sheets`, relative to `out`), so
+/// the folder holds one match. Only names of the shapes a match writes are touched.
+pub fn prune_stale(out: &Path, rows: usize, sheets: &[String]) -> Result<(), Error> {
+    let entries = |dir: &Path| -> Vec<std::fs::DirEntry> {
+        std::fs::read_dir(dir).map(|d| d.filter_map(Result::ok).collect()).unwrap_or_default()
+    };
+    for e in entries(&out.join("frames")) {
+        let name = e.file_name().to_string_lossy().to_string();
+        let stale = name.len() >= 3
+            && name.bytes().all(|b| b.is_ascii_digit())
+            && name.parse::<usize>().is_ok_and(|i| i >= rows);
+        if stale && e.path().is_dir() {
+            std::fs::remove_dir_all(e.path()).map_err(|err| Error::io_path("removing", &e.path(), err))?;
+        }
+    }
+    for e in entries(&out.join("sheets")) {
+        let name = format!("sheets/{}", e.file_name().to_string_lossy());
+        if name.ends_with(".png") && !sheets.contains(&name) && e.path().is_file() {
+            std::fs::remove_file(e.path()).map_err(|err| Error::io_path("removing", &e.path(), err))?;
+        }
+    }
+    Ok(())
+}

@@ -237,8 +237,14 @@ fn an_interrupted_match_resumes_from_its_journal() {
     };
     assert_eq!(without_renders(read()), without_renders(first), "the rows fitted again are the same");
     assert!(out.join("frames/001/medusa-fitted.png").is_file());
-    // Without --resume every row is fitted again.
+    // Without --resume every row is fitted again, and what a bigger match left is removed.
+    let (stale_frames, stale_sheet) = (out.join("frames/009"), out.join("sheets/brick.png"));
+    std::fs::create_dir_all(&stale_frames).unwrap();
+    std::fs::write(stale_frames.join("medusa-source.png"), b"old").unwrap();
+    std::fs::write(&stale_sheet, b"old").unwrap();
     let (code, _, err) = crate::common::shadematrix(tmp.path(), &args(false), &[]);
     assert_eq!(code, 0, "{err}");
     assert!(!err.contains("taken from the earlier match"), "{err}");
+    assert!(!stale_frames.exists() && !stale_sheet.exists());
+    assert!(out.join("frames/002/medusa-fitted.png").is_file() && out.join("sheets/gold.png").is_file());
 }
