@@ -8,6 +8,7 @@ use crate::error::{Error, InputError};
 use crate::fsutil::write_atomic;
 use crate::input::names::unknown_name;
 use crate::pipelines::Pipeline;
+use crate::plan::cell::CellSettings;
 use crate::remap::fit::{calibrate_exposure, fit, BasisCache, FitOptions, Kept, ParamAxis};
 use crate::remap::sheet::{write_frames, write_sheets};
 use crate::remap::table::{MatchKey, MatchProgress, MatchRecord, MatchRow, MATCH_SCHEMA};
@@ -95,10 +96,13 @@ pub fn run_match(req: &MatchRequest, models: &super::ModelsArg) -> Result<(), Er
         scenes.push((scene.clone(), prepared));
     }
     let stage = Stage { scenes, light_intensity, light_range, size: req.size };
-    let source_side =
-        |p, model| Side { pipeline: p, model, tonemap: matrix.tonemap_for(p), settings: Default::default() };
-    let source = source_side(from_pipeline, from_model);
-    let target = source_side(to_pipeline, to_model);
+    // Each side as the matrix sets its pipeline up (`[pipeline_settings]`: HDRP's light unit, the
+    // URP asset; the light budget), forward and without MSAA: a match compares flat materials.
+    let settings =
+        CellSettings { engine: matrix.pipeline_settings, light_budget: matrix.light_budget, ..Default::default() };
+    let side = |p, model| Side { pipeline: p, model, tonemap: matrix.tonemap_for(p), settings };
+    let source = side(from_pipeline, from_model);
+    let target = side(to_pipeline, to_model);
     let exposure = match space {
         MatchSpace::Display => 1.0,
         MatchSpace::Linear => {

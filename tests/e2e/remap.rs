@@ -248,3 +248,28 @@ fn an_interrupted_match_resumes_from_its_journal() {
     assert!(!stale_frames.exists() && !stale_sheet.exists());
     assert!(out.join("frames/002/medusa-fitted.png").is_file() && out.join("sheets/gold.png").is_file());
 }
+
+#[test]
+fn the_match_command_sets_the_pipelines_up_as_the_matrix_does() {
+    let _timer = crate::common::timed!();
+    let tmp = tempfile::tempdir().unwrap();
+    // HDRP reading URP's intensities as they are meant: on the linear image the calibrated
+    // exposure is the units' ratio, about 1e-4 (8.70e-5 measured through `fit` above).
+    let body = "name = \"m\"\ncompositions = [\"default\"]\npipelines = [\"urp\"]\nshaders = [\"lit\"]\n\
+        presets = [\"plastic\"]\n[pipeline_settings.hdrp]\nlight_unit = \"unity\"\n";
+    let matrix = crate::common::write_matrix(tmp.path(), "m", body);
+    let out = tmp.path().join("out");
+    let args =
+        ["match", "--from", "urp/lit", "--to", "hdrp/lit", matrix.to_str().unwrap(), "--out", out.to_str().unwrap()];
+    let (code, _, err) = crate::common::shadematrix(
+        tmp.path(),
+        &[&args[..], &["--space", "linear", "--size", "32", "--iterations", "0"]].concat(),
+        &[],
+    );
+    assert_eq!(code, 0, "{err}");
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("tables/match.json")).unwrap()).unwrap();
+    let k = json["exposure"].as_f64().unwrap();
+    eprintln!("URP → HDRP (light_unit unity) through the command: exposure {k:.4e}");
+    assert!((k * 1e4 - 1.0).abs() < 0.25, "exposure {k} against 1e-4");
+}
