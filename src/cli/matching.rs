@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, InputError};
-use crate::fsutil::write_atomic;
+use crate::fsutil::{write_atomic, write_json};
 use crate::input::names::unknown_name;
 use crate::pipelines::Pipeline;
 use crate::plan::cell::CellSettings;
@@ -164,9 +164,7 @@ pub fn run_match(req: &MatchRequest, models: &super::ModelsArg) -> Result<(), Er
             frames,
         });
         let progress = MatchProgress { schema: MATCH_SCHEMA, key: key.clone(), rows: rows.clone() };
-        let json =
-            serde_json::to_vec(&progress).map_err(|e| Error::Encode { what: PROGRESS.into(), source: Box::new(e) })?;
-        write_atomic(&req.out.join(PROGRESS), &json)?;
+        write_json(&req.out.join(PROGRESS), &progress)?;
     }
     let record = MatchRecord {
         schema: MATCH_SCHEMA,
@@ -197,10 +195,8 @@ fn resumable_rows(out: &Path, key: &MatchKey, compositions: &[String], resume: b
     if !resume || !path.exists() {
         return Ok(Vec::new());
     }
-    let progress = crate::input::read::read(&path, crate::input::read::RECORD)
-        .ok()
-        .and_then(|bytes| serde_json::from_slice::<MatchProgress>(&bytes).ok());
-    let Some(progress) = progress.filter(|p| p.schema == MATCH_SCHEMA && p.key == *key) else {
+    let progress = crate::record::read_record::<MatchProgress>(&path, MATCH_SCHEMA).ok();
+    let Some(progress) = progress.filter(|p| p.key == *key) else {
         eprintln!("match: {} is of another match or unreadable: fitting every row", path.display());
         return Ok(Vec::new());
     };
@@ -232,9 +228,7 @@ fn write_tables(out: &Path, record: &MatchRecord) -> Result<(), Error> {
     let tables = out.join("tables");
     write_atomic(&tables.join("match.md"), record.markdown().as_bytes())?;
     write_atomic(&tables.join("match.csv"), record.csv().as_bytes())?;
-    let json = serde_json::to_vec_pretty(record)
-        .map_err(|e| Error::Encode { what: "match.json".into(), source: Box::new(e) })?;
-    write_atomic(&tables.join("match.json"), &json)?;
+    write_json(&tables.join("match.json"), record)?;
     eprintln!("match: {} (tables/, sheets/, plots/, frames/)", out.join("index.html").display());
     Ok(())
 }

@@ -109,7 +109,7 @@ pub struct Kept {
 impl Kept {
     pub const NAMES: [&'static str; 3] = ["smoothness", "metallic", "color"];
 
-    /// The values named, each one of `NAMES`; None names the first that is not.
+    /// The values named, each one of `NAMES`; the error is the first name that is not.
     pub fn parse<'a>(names: impl IntoIterator<Item = &'a str>) -> Result<Kept, &'a str> {
         let mut k = Kept::default();
         for n in names {
@@ -140,9 +140,12 @@ impl Kept {
 pub struct BasisCache {
     /// Which stage and target the frames are of; another clears the cache.
     owner: String,
-    nodes: HashMap<Vec<u64>, Rc<Basis>>,
+    nodes: HashMap<NodeKey, Rc<Basis>>,
     bytes: usize,
 }
+
+/// A grid node as the cache finds it: smoothness, metallic and the parameters, bit for bit.
+type NodeKey = (u64, u64, Vec<(String, u64)>);
 
 /// A grid node's frames with base colour black and white, one per scene.
 struct Basis {
@@ -180,12 +183,11 @@ impl BasisCache {
         target: &Side,
         node: &MaterialValues,
     ) -> Result<(Rc<Basis>, bool), Error> {
-        let key: Vec<u64> = [node.smoothness, node.metallic]
-            .into_iter()
-            .chain(node.params.values().copied())
-            .map(f64::to_bits)
-            .chain(node.params.keys().flat_map(|k| k.bytes().map(u64::from)))
-            .collect();
+        let key: NodeKey = (
+            node.smoothness.to_bits(),
+            node.metallic.to_bits(),
+            node.params.iter().map(|(k, v)| (k.clone(), v.to_bits())).collect(),
+        );
         if let Some(b) = self.nodes.get(&key) {
             return Ok((b.clone(), false));
         }
@@ -260,7 +262,9 @@ pub struct Fit {
     pub frames: FitFrames,
 }
 
-/// The target's frames with the values copied and with the fitted ones (exposed as compared).
+/// The target's frames as the fit's two errors compare them: with the values copied (as they
+/// render, Unity's upgraders) and with the fitted ones (exposed where the exposure is fitted or
+/// calibrated).
 #[derive(Clone)]
 pub struct FitFrames {
     pub copied: Vec<Frame>,
@@ -400,6 +404,8 @@ fn grid(
             })
             .collect();
     }
+    // Metallic-major, as the grid has always been ordered: nodes whose predicted errors tie keep
+    // this order when they are ranked.
     nodes.sort_by(|a, b| a.metallic.total_cmp(&b.metallic));
     nodes
 }
@@ -678,7 +684,7 @@ mod tests {
     }
 
     #[test]
-    fn kept_values_leave_the_grid_and_the_refinement() {
+    fn kept_values_leave_the_grid_and_name_themselves() {
         let source = MaterialValues::new(0.35, 0.0, [0.2; 3]);
         let keep = Kept { metallic: true, ..Default::default() };
         let g = grid(&source, &source, 10, &[], keep);

@@ -48,8 +48,7 @@ pub fn html(record: &MatchRecord, plot: &str, sheets: &[String]) -> Result<Strin
                 values += &format!(", {k} {v:.3}");
             }
             PageRow {
-                label: format!("{} s {:.2} m {:.2}", r.preset, r.source.smoothness, r.source.metallic)
-                    + &r.source.params.iter().map(|(k, v)| format!(" {k} {v:.2}")).collect::<String>(),
+                label: format!("{} {}", r.preset, super::sheet::material_label(r)),
                 frames: r.frames.clone(),
                 copied: format!("{:.4}", r.copied_error.flip),
                 fitted: format!("{:.4}", r.fitted_error.flip),

@@ -9,8 +9,7 @@ use super::table::{MatchRecord, MatchRow};
 use super::Frame;
 use crate::error::Error;
 use crate::fsutil::write_atomic;
-use crate::images::encode::png_bytes;
-use crate::images::encode::read_png;
+use crate::images::encode::{png_bytes, read_png};
 use crate::report::sheets::{file_safe, grid_of_images};
 
 /// The three frames a row shows per composition, in the sheet's column order.
@@ -39,13 +38,14 @@ pub fn write_frames(
     Ok(folder)
 }
 
-/// The label of a row in its preset's sheet: its source values that vary within the preset.
-fn row_label(r: &MatchRow, composition: &str) -> String {
+/// A row's source material in a label: its smoothness, metallic and swept parameters (its preset
+/// and colour are the preset's).
+pub fn material_label(r: &MatchRow) -> String {
     let mut label = format!("s {:.2} m {:.2}", r.source.smoothness, r.source.metallic);
     for (k, v) in &r.source.params {
         label += &format!(" {k} {v:.2}");
     }
-    format!("{label} {composition}")
+    label
 }
 
 /// Frames are magnified by a whole factor (nearest neighbour, pixels kept sharp) to at least this
@@ -68,7 +68,7 @@ pub fn write_sheets(out: &Path, record: &MatchRecord) -> Result<Vec<String>, Err
         let (mut labels, mut tiles) = (Vec::new(), Vec::new());
         for r in &rows {
             for c in &record.compositions {
-                labels.push(row_label(r, c));
+                labels.push(format!("{} {c}", material_label(r)));
                 let row: Result<Vec<_>, Error> =
                     KINDS.iter().map(|k| tile(&out.join(frame_path(&r.frames, c, k))).map(Some)).collect();
                 tiles.push(row?);
